@@ -1,0 +1,226 @@
+// Shared by every pass: frame uniforms, the light record, G-buffer attribute packing and the
+// lighting model. Constants prefixed LS_ are generated from Rust (see renderer::wgsl_constants).
+
+struct Camera {
+    proj: mat4x4<f32>,
+    inv_proj: mat4x4<f32>,
+    // width, height, 1/width, 1/height
+    screen: vec4<f32>,
+    ambient: vec4<f32>,
+    // View-space direction towards the sun; w = 1 when the scene has a sun.
+    sun_dir: vec4<f32>,
+    sun_color: vec4<f32>,
+    background: vec4<f32>,
+    // x: exposure, y: depth value of the far plane (1, or 0 with reversed Z), z: debug view, w: selected light (-1 none)
+    params: vec4<f32>,
+};
+
+// A light in view space. `color` is colour x intensity.
+struct GpuLight {
+    position: vec3<f32>,
+    radius: f32,
+    color: vec3<f32>,
+    kind: u32,
+    direction: vec3<f32>,
+    cos_outer: f32,
+    cos_inner: f32,
+    tan_outer: f32,
+    pad0: f32,
+    pad1: f32,
+};
+
+struct GpuObject {
+    model_view: mat4x4<f32>,
+    normal_view: mat4x4<f32>,
+    albedo_spec: vec4<f32>,
+    emissive_exp: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<storage, read> lights: array<GpuLight>;
+@group(0) @binding(2) var<storage, read> objects: array<GpuObject>;
+
+// What a G-buffer pixel describes, decoded.
+struct Surface {
+    albedo: vec3<f32>,
+    spec_level: f32,
+    spec_exp: f32,
+    normal: vec3<f32>,
+    emissive: vec3<f32>,
+    // View-space position.
+    position: vec3<f32>,
+    depth: f32,
+    valid: bool,
+};
+
+// The stored (encoded) form: what the layout table distributes over channels.
+struct Attributes {
+    albedo: vec3<f32>,
+    spec_level: f32,
+    spec_exp: f32,
+    // Octahedral layouts use .xy.
+    normal: vec3<f32>,
+    emissive: vec3<f32>,
+    depth: f32,
+    position: vec3<f32>,
+};
+
+fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
+    let l2 = dot(v, v);
+    if !(l2 > 1e-20) || l2 > 1e30 {
+        return fallback;
+    }
+    return v * inverseSqrt(l2);
+}
+
+// Octahedral normal encoding (Cigolle et al., "A Survey of Efficient Representations for
+// Independent Unit Vectors", JCGT 2014).
+fn oct_wrap(v: vec2<f32>) -> vec2<f32> {
+    let s = select(vec2<f32>(-1.0), vec2<f32>(1.0), v >= vec2<f32>(0.0));
+    return (1.0 - abs(v.yx)) * s;
+}
+
+fn oct_encode(n: vec3<f32>) -> vec2<f32> {
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    if n.z < 0.0 {
+        return oct_wrap(p);
+    }
+    return p;
+}
+
+fn oct_decode(e: vec2<f32>) -> vec3<f32> {
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    let t = clamp(-n.z, 0.0, 1.0);
+    n.x += select(t, -t, n.x >= 0.0);
+    n.y += select(t, -t, n.y >= 0.0);
+    return safe_normalize(n, vec3<f32>(0.0, 0.0, 1.0));
+}
+
+const SPEC_EXP_LOG_RANGE: f32 = 11.0; // exponents 1 .. 2^11
+
+fn attributes_of(s: Surface) -> Attributes {
+    var a: Attributes;
+    a.albedo = clamp(s.albedo, vec3<f32>(0.0), vec3<f32>(1.0));
+    a.spec_level = clamp(s.spec_level, 0.0, 1.0);
+    a.spec_exp = clamp(log2(max(s.spec_exp, 1.0)) / SPEC_EXP_LOG_RANGE, 0.0, 1.0);
+    let n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    if GBUFFER_NORMAL_OCTAHEDRAL {
+        a.normal = vec3<f32>(oct_encode(n), 0.0);
+    } else {
+        a.normal = n;
+    }
+    a.emissive = max(s.emissive, vec3<f32>(0.0));
+    a.depth = s.depth;
+    a.position = s.position;
+    return a;
+}
+
+fn default_attributes() -> Attributes {
+    var a: Attributes;
+    a.albedo = vec3<f32>(0.0);
+    a.spec_level = 0.0;
+    a.spec_exp = 0.0;
+    a.normal = vec3<f32>(0.0, 0.0, 1.0);
+    a.emissive = vec3<f32>(0.0);
+    a.depth = camera.params.y;
+    a.position = vec3<f32>(0.0);
+    return a;
+}
+
+// Pixel centre to view space, from hardware depth (seed 001: position from depth).
+fn view_position_from_depth(p: vec2<i32>, depth: f32) -> vec3<f32> {
+    let uv = (vec2<f32>(p) + 0.5) * camera.screen.zw;
+    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, depth, 1.0);
+    let v = camera.inv_proj * ndc;
+    return v.xyz / v.w;
+}
+
+fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
+    var s: Surface;
+    s.albedo = a.albedo;
+    s.spec_level = a.spec_level;
+    s.spec_exp = exp2(a.spec_exp * SPEC_EXP_LOG_RANGE);
+    if GBUFFER_NORMAL_OCTAHEDRAL {
+        s.normal = oct_decode(a.normal.xy);
+    } else {
+        s.normal = safe_normalize(a.normal, vec3<f32>(0.0, 0.0, 1.0));
+    }
+    s.emissive = a.emissive;
+    if GBUFFER_HAS_DEPTH {
+        s.depth = a.depth;
+        s.valid = a.depth != camera.params.y;
+        s.position = view_position_from_depth(p, a.depth);
+    } else {
+        s.position = a.position;
+        s.valid = a.position.z < 0.0;
+        s.depth = 0.0;
+    }
+    return s;
+}
+
+struct Lighting {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+};
+
+// Smooth window that reaches exactly zero (with zero slope) at the radius.
+fn distance_attenuation(d: f32, radius: f32) -> f32 {
+    let x = d / radius;
+    let w = clamp(1.0 - x * x, 0.0, 1.0);
+    return w * w;
+}
+
+fn spot_attenuation(l: GpuLight, light_to_surface: vec3<f32>) -> f32 {
+    if l.kind != LS_LIGHT_SPOT {
+        return 1.0;
+    }
+    let c = dot(light_to_surface, l.direction);
+    if l.cos_inner - l.cos_outer < 1e-6 {
+        return select(0.0, 1.0, c >= l.cos_outer);
+    }
+    return smoothstep(l.cos_outer, l.cos_inner, c);
+}
+
+// Whether the surface point lies inside the light's true shape (radius and cone).
+fn inside_light(s: Surface, l: GpuLight) -> bool {
+    let v = s.position - l.position;
+    let d = length(v);
+    if !(d < l.radius) {
+        return false;
+    }
+    if l.kind == LS_LIGHT_SPOT && d > 0.0 {
+        return dot(v / d, l.direction) > l.cos_outer;
+    }
+    return true;
+}
+
+// Blinn-Phong: diffuse and specular kept apart (seed 002), attenuated smoothly to zero.
+fn shade_light(s: Surface, l: GpuLight) -> Lighting {
+    var r: Lighting;
+    r.diffuse = vec3<f32>(0.0);
+    r.specular = vec3<f32>(0.0);
+    let to_light = l.position - s.position;
+    let d = length(to_light);
+    if !(d < l.radius) {
+        return r;
+    }
+    // A light exactly on the surface lights it head-on.
+    let L = select(s.normal, to_light / d, d > 1e-6 * l.radius);
+    let att = distance_attenuation(d, l.radius) * spot_attenuation(l, -L);
+    let ndl = max(dot(s.normal, L), 0.0);
+    if att <= 0.0 || ndl <= 0.0 {
+        return r;
+    }
+    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+    let H = safe_normalize(L + V, s.normal);
+    let spec = pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level;
+    r.diffuse = l.color * (att * ndl);
+    r.specular = l.color * (att * ndl * spec);
+    return r;
+}
+
+fn fullscreen_position(vi: u32) -> vec4<f32> {
+    let x = f32((vi << 1u) & 2u) * 2.0 - 1.0;
+    let y = f32(vi & 2u) * 2.0 - 1.0;
+    return vec4<f32>(x, y, 0.5, 1.0);
+}

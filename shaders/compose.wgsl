@@ -1,0 +1,79 @@
+// Compose (seed 002's final pass): diffuse x albedo + specular + emissive, tonemapped, or one
+// of the debug views.
+
+@group(2) @binding(0) var light_diffuse: texture_2d<f32>;
+@group(2) @binding(1) var light_specular: texture_2d<f32>;
+@group(2) @binding(2) var debug_tex: texture_2d<f32>;
+
+// ACES filmic tonemapping curve, Narkowicz 2015 fit.
+fn aces(x: vec3<f32>) -> vec3<f32> {
+    let a = 2.51;
+    let b = 0.03;
+    let c = 2.43;
+    let d = 0.59;
+    let e = 0.14;
+    return clamp((x * (a * x + b)) / (x * (c * x + d) + e), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// fp16 overflow: +inf becomes the largest finite fp16 value; NaN becomes magenta-free zero.
+fn finite(v: vec3<f32>) -> vec3<f32> {
+    let c = min(v, vec3<f32>(65504.0));
+    return select(vec3<f32>(0.0), c, c == c);
+}
+
+fn heat(t: f32) -> vec3<f32> {
+    let x = clamp(t, 0.0, 1.0);
+    return clamp(vec3<f32>(1.5 * x, 1.5 * x - 0.5, 0.5 - abs(x - 0.5) + max(0.0, 3.0 * x - 2.0)), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+@vertex
+fn vs_compose(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
+@fragment
+fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(frag.xy);
+    let s = gbuffer_load(p);
+    let view = u32(camera.params.z);
+    let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
+    let specular = finite(textureLoad(light_specular, p, 0).rgb);
+    let exposure = camera.params.x;
+    let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
+    var c = aces(lit * exposure);
+    if view == LS_VIEW_ALBEDO {
+        c = s.albedo;
+    } else if view == LS_VIEW_NORMAL {
+        c = select(vec3<f32>(0.0), s.normal * 0.5 + 0.5, s.valid);
+    } else if view == LS_VIEW_DEPTH {
+        // Linear view distance on a log scale, 0.1 .. 1000 units.
+        let t = clamp(log2(max(-s.position.z, 0.1) / 0.1) / log2(10000.0), 0.0, 1.0);
+        c = select(vec3<f32>(0.0), vec3<f32>(1.0 - t), s.valid);
+    } else if view == LS_VIEW_SPECULAR {
+        c = vec3<f32>(s.spec_level, log2(s.spec_exp) / SPEC_EXP_LOG_RANGE, 0.0);
+    } else if view == LS_VIEW_EMISSIVE {
+        c = aces(s.emissive * exposure);
+    } else if view == LS_VIEW_DIFFUSE_LIGHT {
+        c = aces(diffuse * exposure);
+    } else if view == LS_VIEW_SPECULAR_LIGHT {
+        c = aces(specular * exposure);
+    } else if view == LS_VIEW_STENCIL {
+        // Seed 000's diagram over a dimmed picture: green lit, red passed Z in pass 2, blue
+        // passed Z in pass 1 and left the stencil intact.
+        let k = textureLoad(debug_tex, p, 0);
+        let base = vec3<f32>(dot(c, vec3<f32>(0.299, 0.587, 0.114)) * 0.35);
+        if k.g > 0.0 {
+            c = vec3<f32>(0.0, 1.0, 0.0);
+        } else if k.r > 0.0 {
+            c = vec3<f32>(1.0, 0.0, 0.0);
+        } else if k.b > 0.0 {
+            c = vec3<f32>(0.0, 0.0, 1.0);
+        } else {
+            c = base;
+        }
+    } else if view == LS_VIEW_COMPLEXITY {
+        let n = textureLoad(debug_tex, p, 0).r;
+        c = select(vec3<f32>(0.02), heat(n / 8.0), n > 0.0);
+    }
+    return vec4<f32>(c, 1.0);
+}

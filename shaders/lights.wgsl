@@ -1,0 +1,136 @@
+// Light accumulation (seeds 000/001/002): ambient + sun full-screen first, then one draw per
+// light, full-screen or as a bounding volume, blended additively into diffuse and specular.
+
+struct LightTargets {
+    @location(0) diffuse: vec4<f32>,
+    @location(1) specular: vec4<f32>,
+};
+
+struct LightVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) light: u32,
+};
+
+// Orthonormal basis around a unit vector (Duff et al. 2017).
+fn basis(n: vec3<f32>) -> mat3x3<f32> {
+    let sign = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let u = vec3<f32>(b, sign + n.y * n.y * a, -n.y);
+    return mat3x3<f32>(t, u, n);
+}
+
+// Places the unit bounding mesh on a light. w = 0: unit sphere (already circumscribing);
+// w = 1: unit cone, apex at the origin, axis +z, base at z = 1 circumscribing radius 1.
+fn volume_position(p: vec4<f32>, l: GpuLight) -> vec3<f32> {
+    if p.w < 0.5 {
+        return l.position + p.xyz * l.radius;
+    }
+    let b = basis(l.direction);
+    let r = l.radius * l.tan_outer;
+    return l.position + b[0] * (p.x * r) + b[1] * (p.y * r) + b[2] * (p.z * l.radius);
+}
+
+@vertex
+fn vs_volume(@location(0) p: vec4<f32>, @builtin(instance_index) light: u32) -> LightVarying {
+    var out: LightVarying;
+    out.clip = camera.proj * vec4<f32>(volume_position(p, lights[light]), 1.0);
+    out.light = light;
+    return out;
+}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) light: u32) -> LightVarying {
+    var out: LightVarying;
+    out.clip = fullscreen_position(vi);
+    out.light = light;
+    return out;
+}
+
+// The largest value one light may add to a channel: keeps a sum of thousands of bright lights
+// finite in fp16 (65504) for long enough, and the compose pass clamps what remains.
+const LS_LIGHT_CLAMP: f32 = 4096.0;
+
+@fragment
+fn fs_light(in: LightVarying) -> LightTargets {
+    let s = gbuffer_load(vec2<i32>(in.clip.xy));
+    var out: LightTargets;
+    out.diffuse = vec4<f32>(0.0);
+    out.specular = vec4<f32>(0.0);
+    if s.valid {
+        let r = shade_light(s, lights[in.light]);
+        out.diffuse = vec4<f32>(min(r.diffuse, vec3<f32>(LS_LIGHT_CLAMP)), 0.0);
+        out.specular = vec4<f32>(min(r.specular, vec3<f32>(LS_LIGHT_CLAMP)), 0.0);
+    }
+    return out;
+}
+
+// Ambient + sun: the accumulation buffer's starting value (seed 000's RT1).
+@fragment
+fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
+    let s = gbuffer_load(vec2<i32>(frag.xy));
+    var out: LightTargets;
+    out.diffuse = vec4<f32>(0.0);
+    out.specular = vec4<f32>(0.0);
+    if s.valid {
+        var d = camera.ambient.rgb;
+        var sp = vec3<f32>(0.0);
+        if camera.sun_dir.w > 0.5 {
+            let L = camera.sun_dir.xyz;
+            let ndl = max(dot(s.normal, L), 0.0);
+            let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+            let H = safe_normalize(L + V, s.normal);
+            d += camera.sun_color.rgb * ndl;
+            sp = camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
+        }
+        out.diffuse = vec4<f32>(d, 0.0);
+        out.specular = vec4<f32>(sp, 0.0);
+    }
+    return out;
+}
+
+@vertex
+fn vs_fullscreen_plain(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_position(vi);
+}
+
+// Stencil marking draws write no colour.
+@fragment
+fn fs_no_color() {
+}
+
+// Counts the ideal: samples whose G-buffer point lies inside the light's true shape.
+@fragment
+fn fs_ideal(in: LightVarying) {
+    let s = gbuffer_load(vec2<i32>(in.clip.xy));
+    if !s.valid || !inside_light(s, lights[in.light]) {
+        discard;
+    }
+}
+
+// Debug: seed 000's stencil diagram colours, combined with max blending.
+@fragment
+fn fs_blue() -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0, 0.0, 1.0, 1.0);
+}
+
+@fragment
+fn fs_red() -> @location(0) vec4<f32> {
+    return vec4<f32>(1.0, 0.0, 0.0, 1.0);
+}
+
+@fragment
+fn fs_green() -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0, 1.0, 0.0, 1.0);
+}
+
+// Debug: light complexity, +1 where a light touches the pixel (additive).
+@fragment
+fn fs_complexity(in: LightVarying) -> @location(0) vec4<f32> {
+    let s = gbuffer_load(vec2<i32>(in.clip.xy));
+    if !s.valid || !inside_light(s, lights[in.light]) {
+        discard;
+    }
+    return vec4<f32>(1.0, 0.0, 0.0, 0.0);
+}

@@ -1,0 +1,15 @@
+//! Lampshade's deferred core: a headless renderer for deferred shading with light-volume
+//! culling. No window, no UI: the viewer (`app`, feature `viewer`) sits on top.
+
+pub mod compare;
+pub mod gpu;
+pub mod headless;
+pub mod renderer;
+pub mod scene;
+
+#[cfg(feature = "viewer")]
+pub mod app;
+
+pub use gpu::Gpu;
+pub use renderer::{CullingMode, DebugView, FrameStats, LayoutChoice, Renderer, Settings};
+pub use scene::Scene;

@@ -1,0 +1,193 @@
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use lampshade::renderer::{
+    CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+};
+use lampshade::scene::builtin::{self, BuiltinOptions};
+use lampshade::Gpu;
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(
+    name = "lampshade",
+    version,
+    about = "A workbench for deferred shading with light-volume culling"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render one frame headless to a PNG.
+    Render(RenderArgs),
+    /// Open the viewer (the default command).
+    #[cfg(feature = "viewer")]
+    View(lampshade::app::ViewArgs),
+    /// List the built-in scenes.
+    Scenes,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// Built-in scene name (see `lampshade scenes`).
+    #[arg(default_value = "demo")]
+    scene: String,
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+    /// Image size, WxH.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    size: (u32, u32),
+    #[arg(long, value_enum)]
+    culling: Option<CullingMode>,
+    /// Number of point lights (demo).
+    #[arg(long)]
+    lights: Option<usize>,
+    /// Animation time in seconds.
+    #[arg(long, default_value_t = 0.0)]
+    time: f64,
+    #[arg(long, value_enum)]
+    layout: Option<LayoutChoice>,
+    #[arg(long, value_enum)]
+    debug_view: Option<DebugView>,
+    /// Restrict the stencil view to light K.
+    #[arg(long)]
+    light: Option<usize>,
+    /// Count the ideal fragments too (a full-screen counting pass per light).
+    #[arg(long)]
+    ideal: bool,
+    /// Write the frame's statistics as JSON.
+    #[arg(long)]
+    stats: Option<PathBuf>,
+    /// Start from a settings file (as the viewer's screenshots write); flags override it.
+    #[arg(long)]
+    settings: Option<PathBuf>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("size '{s}' is not WxH"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("width '{w}' is not a number"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("height '{h}' is not a number"))?;
+    if w == 0 || h == 0 || w > 8192 || h > 8192 {
+        return Err(format!("size {w}x{h} must be between 1x1 and 8192x8192"));
+    }
+    Ok((w, h))
+}
+
+fn render(args: RenderArgs) -> Result<()> {
+    let mut settings = match &args.settings {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading settings {}", path.display()))?;
+            serde_json::from_str::<Settings>(&text)
+                .with_context(|| format!("parsing settings {}", path.display()))?
+        }
+        None => Settings::default(),
+    };
+    if let Some(c) = args.culling {
+        settings.culling = c;
+    }
+    if let Some(l) = args.layout {
+        settings.layout = l;
+    }
+    if let Some(v) = args.debug_view {
+        settings.debug_view = v;
+    }
+    if args.light.is_some() {
+        settings.selected_light = args.light;
+    }
+    settings.count_ideal = args.ideal || args.stats.is_some();
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let scene = builtin::build(
+        &args.scene,
+        BuiltinOptions {
+            lights: args.lights,
+            time: args.time,
+        },
+    )
+    .map_err(anyhow::Error::msg)?;
+    if let Some(k) = settings.selected_light {
+        if k >= scene.lights.len() {
+            bail!(
+                "--light {k}: scene '{}' has {} lights",
+                args.scene,
+                scene.lights.len()
+            );
+        }
+    }
+    let gpu = Gpu::headless()?;
+    let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+    let (w, h) = args.size;
+    let (image, stats) =
+        lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
+    image
+        .save(&args.out)
+        .with_context(|| format!("writing {}", args.out.display()))?;
+    println!(
+        "{}: {} lights, {}, shaded {} fragments, ideal {}, gpu {} ms -> {}",
+        args.scene,
+        stats.lights,
+        settings.culling.name(),
+        stats.shaded_fragments.map_or("-".into(), |v| v.to_string()),
+        stats.ideal_fragments.map_or("-".into(), |v| v.to_string()),
+        stats.gpu_ms.total.map_or("-".into(), |v| format!("{v:.2}")),
+        args.out.display()
+    );
+    if let Some(path) = &args.stats {
+        let json = serde_json::json!({
+            "adapter": { "name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend) },
+            "scene": args.scene,
+            "time": args.time,
+            "settings": settings,
+            "stats": stats,
+            "size": stats.size,
+            "culling": stats.culling,
+            "lights": stats.lights,
+            "gpu_ms": stats.gpu_ms,
+            "shaded_fragments": stats.shaded_fragments,
+            "ideal_fragments": stats.ideal_fragments,
+            "efficiency": stats.efficiency,
+            "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
+            "per_light": stats.per_light,
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&json)?)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn main() {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Render(args)) => render(args),
+        Some(Command::Scenes) => {
+            for (name, what) in builtin::NAMES {
+                println!("{name:10} {what}");
+            }
+            Ok(())
+        }
+        #[cfg(feature = "viewer")]
+        Some(Command::View(args)) => lampshade::app::run(args),
+        #[cfg(feature = "viewer")]
+        None => lampshade::app::run(Default::default()),
+        #[cfg(not(feature = "viewer"))]
+        None => Err(anyhow::anyhow!(
+            "built without the viewer; use `lampshade render`"
+        )),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

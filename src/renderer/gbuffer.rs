@@ -1,0 +1,475 @@
+//! The G-buffer layout as data: which attribute goes to which channel of which target in which
+//! format. Seed 000's four fp16 targets and a packed 8-byte layout are table entries; the WGSL
+//! that writes and reads them (`gbuffer_store` / `gbuffer_load`) is generated from the table,
+//! so the encoding lives in exactly one place.
+
+use serde::{Deserialize, Serialize};
+use std::fmt::Write;
+
+/// A surface attribute the lighting model needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Attr {
+    /// Linear diffuse albedo, 3 components in [0, 1].
+    Albedo,
+    /// Specular level, 1 component in [0, 1].
+    SpecLevel,
+    /// Specular exponent, stored as log2(exp)/11 in [0, 1] (exponents 1..2048).
+    SpecExp,
+    /// View-space normal: 2 components (octahedral) or 3 (xyz), in [-1, 1].
+    Normal,
+    /// Linear emitted radiance, 3 components, >= 0.
+    Emissive,
+    /// Hardware depth, 1 component; position is reconstructed from it (seed 001).
+    Depth,
+    /// Stored view-space position, 3 components (seed 000 stores a view vector).
+    Position,
+}
+
+impl Attr {
+    /// Whether the attribute's natural range is [-1, 1] (needs remapping in unorm channels).
+    fn signed(self) -> bool {
+        matches!(self, Attr::Normal | Attr::Position)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum NormalEncoding {
+    /// Octahedral map to two channels (Cigolle et al. 2014).
+    Octahedral,
+    /// Three channels, x y z.
+    Xyz,
+}
+
+impl NormalEncoding {
+    fn components(self) -> usize {
+        match self {
+            NormalEncoding::Octahedral => 2,
+            NormalEncoding::Xyz => 3,
+        }
+    }
+}
+
+/// One channel of a target: component `comp` of attribute `attr`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Slot {
+    pub attr: Attr,
+    pub comp: u8,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct TargetDesc {
+    pub name: &'static str,
+    pub format: wgpu::TextureFormat,
+    /// One entry per channel of the format.
+    pub channels: Vec<Option<Slot>>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct GBufferLayout {
+    pub name: &'static str,
+    pub normal: NormalEncoding,
+    pub targets: Vec<TargetDesc>,
+}
+
+/// The layouts Lampshade knows, by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum LayoutChoice {
+    /// Albedo sRGB8 + spec; octahedral normal fp16 + exponent; emissive fp16; depth copy R32F.
+    #[default]
+    Compact,
+    /// Seed 000: four Rgba16Float targets, xyz normal, stored view-space position.
+    Seed000,
+    /// Eight bytes: albedo sRGB8 + spec, octahedral normal 8+8 + exponent; no emissive; depth copy.
+    Packed,
+}
+
+impl LayoutChoice {
+    pub const ALL: [LayoutChoice; 3] = [
+        LayoutChoice::Compact,
+        LayoutChoice::Seed000,
+        LayoutChoice::Packed,
+    ];
+
+    pub fn layout(self) -> GBufferLayout {
+        use wgpu::TextureFormat as F;
+        use Attr::*;
+        let s = |attr, comp| Some(Slot { attr, comp });
+        match self {
+            LayoutChoice::Compact => GBufferLayout {
+                name: "compact",
+                normal: NormalEncoding::Octahedral,
+                targets: vec![
+                    TargetDesc {
+                        name: "albedo+spec",
+                        format: F::Rgba8UnormSrgb,
+                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
+                    },
+                    TargetDesc {
+                        name: "normal+exp",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Normal, 0), s(Normal, 1), s(SpecExp, 0), None],
+                    },
+                    TargetDesc {
+                        name: "emissive",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
+                    },
+                    TargetDesc {
+                        name: "depth",
+                        format: F::R32Float,
+                        channels: vec![s(Depth, 0)],
+                    },
+                ],
+            },
+            LayoutChoice::Seed000 => GBufferLayout {
+                name: "seed000",
+                normal: NormalEncoding::Xyz,
+                targets: vec![
+                    TargetDesc {
+                        name: "albedo+spec",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
+                    },
+                    TargetDesc {
+                        name: "normal+exp",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
+                    },
+                    TargetDesc {
+                        name: "position",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Position, 0), s(Position, 1), s(Position, 2), None],
+                    },
+                    TargetDesc {
+                        name: "emissive",
+                        format: F::Rgba16Float,
+                        channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
+                    },
+                ],
+            },
+            LayoutChoice::Packed => GBufferLayout {
+                name: "packed",
+                normal: NormalEncoding::Octahedral,
+                targets: vec![
+                    TargetDesc {
+                        name: "albedo+spec",
+                        format: F::Rgba8UnormSrgb,
+                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
+                    },
+                    TargetDesc {
+                        name: "normal+exp",
+                        format: F::Rgba8Unorm,
+                        channels: vec![s(Normal, 0), s(Normal, 1), s(SpecExp, 0), None],
+                    },
+                    TargetDesc {
+                        name: "depth",
+                        format: F::R32Float,
+                        channels: vec![s(Depth, 0)],
+                    },
+                ],
+            },
+        }
+    }
+}
+
+fn channel_count(format: wgpu::TextureFormat) -> usize {
+    format.components() as usize
+}
+
+fn is_float(format: wgpu::TextureFormat) -> bool {
+    matches!(
+        format,
+        wgpu::TextureFormat::R16Float
+            | wgpu::TextureFormat::Rg16Float
+            | wgpu::TextureFormat::Rgba16Float
+            | wgpu::TextureFormat::R32Float
+            | wgpu::TextureFormat::Rg32Float
+            | wgpu::TextureFormat::Rgba32Float
+            | wgpu::TextureFormat::Rg11b10Ufloat
+    )
+}
+
+impl GBufferLayout {
+    /// Bytes per pixel of the colour targets (the depth-stencil buffer is reported apart).
+    pub fn bytes_per_pixel(&self) -> u32 {
+        self.targets
+            .iter()
+            .map(|t| t.format.block_copy_size(None).unwrap_or(0))
+            .sum()
+    }
+
+    pub fn has(&self, attr: Attr) -> bool {
+        self.targets
+            .iter()
+            .flat_map(|t| t.channels.iter())
+            .flatten()
+            .any(|s| s.attr == attr)
+    }
+
+    fn components(&self, attr: Attr) -> usize {
+        match attr {
+            Attr::Albedo | Attr::Emissive | Attr::Position => 3,
+            Attr::Normal => self.normal.components(),
+            Attr::SpecLevel | Attr::SpecExp | Attr::Depth => 1,
+        }
+    }
+
+    /// `.x`, `.y`, ... for vector attributes, nothing for scalars.
+    fn accessor(&self, s: &Slot) -> &'static str {
+        if self.components(s.attr) == 1 && !matches!(s.attr, Attr::Normal) {
+            ""
+        } else {
+            [".x", ".y", ".z", ".w"][s.comp as usize]
+        }
+    }
+
+    /// Checks that the table is complete and consistent.
+    pub fn validate(&self) -> Result<(), String> {
+        for t in &self.targets {
+            if t.channels.len() != channel_count(t.format) {
+                return Err(format!(
+                    "target {} lists {} channels for {:?}",
+                    t.name,
+                    t.channels.len(),
+                    t.format
+                ));
+            }
+            for s in t.channels.iter().flatten() {
+                if matches!(s.attr, Attr::Depth | Attr::Position) && !is_float(t.format) {
+                    return Err(format!(
+                        "{:?} needs a float channel, {} is {:?}",
+                        s.attr, t.name, t.format
+                    ));
+                }
+            }
+        }
+        for attr in [Attr::Albedo, Attr::Normal] {
+            for c in 0..self.components(attr) {
+                if !self
+                    .targets
+                    .iter()
+                    .flat_map(|t| t.channels.iter())
+                    .flatten()
+                    .any(|s| {
+                        *s == Slot {
+                            attr,
+                            comp: c as u8,
+                        }
+                    })
+                {
+                    return Err(format!("layout {} misses {:?}[{c}]", self.name, attr));
+                }
+            }
+        }
+        if !self.has(Attr::Depth) && !self.has(Attr::Position) {
+            return Err(format!(
+                "layout {} stores neither depth nor position",
+                self.name
+            ));
+        }
+        Ok(())
+    }
+
+    /// WGSL: bindings of the targets for reading (group `group`), the `GBufferOut` struct,
+    /// `gbuffer_store(Surface) -> GBufferOut` and `gbuffer_load(vec2<i32>) -> Surface`.
+    pub fn wgsl(&self, group: u32) -> String {
+        let mut w = String::new();
+        let _ = writeln!(w, "// Generated from G-buffer layout '{}'.", self.name);
+        let _ = writeln!(
+            w,
+            "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};",
+            self.normal == NormalEncoding::Octahedral
+        );
+        let _ = writeln!(
+            w,
+            "const GBUFFER_HAS_DEPTH: bool = {};",
+            self.has(Attr::Depth)
+        );
+        for (i, _) in self.targets.iter().enumerate() {
+            let _ = writeln!(
+                w,
+                "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;"
+            );
+        }
+        let _ = writeln!(w, "struct GBufferOut {{");
+        for (i, _) in self.targets.iter().enumerate() {
+            let _ = writeln!(w, "    @location({i}) t{i}: vec4<f32>,");
+        }
+        let _ = writeln!(w, "}};");
+        // Packed attribute vectors.
+        let _ = writeln!(w, "fn gbuffer_store(s: Surface) -> GBufferOut {{");
+        let _ = writeln!(w, "    var o: GBufferOut;");
+        let _ = writeln!(w, "    let a = attributes_of(s);");
+        let comps = ["x", "y", "z", "w"];
+        for (i, t) in self.targets.iter().enumerate() {
+            let _ = writeln!(w, "    o.t{i} = vec4<f32>(0.0);");
+            for (c, slot) in t.channels.iter().enumerate() {
+                if let Some(s) = slot {
+                    let src = format!("a.{}{}", attr_field(s.attr), self.accessor(s));
+                    let val = if s.attr.signed() && !is_float(t.format) {
+                        format!("{src} * 0.5 + 0.5")
+                    } else {
+                        src
+                    };
+                    let _ = writeln!(w, "    o.t{i}.{} = {val};", comps[c]);
+                }
+            }
+        }
+        let _ = writeln!(w, "    return o;\n}}");
+        let _ = writeln!(w, "fn gbuffer_load(p: vec2<i32>) -> Surface {{");
+        let _ = writeln!(w, "    var a = default_attributes();");
+        for (i, t) in self.targets.iter().enumerate() {
+            let _ = writeln!(w, "    let t{i} = textureLoad(gbuf{i}, p, 0);");
+            for (c, slot) in t.channels.iter().enumerate() {
+                if let Some(s) = slot {
+                    let src = format!("t{i}.{}", comps[c]);
+                    let val = if s.attr.signed() && !is_float(t.format) {
+                        format!("{src} * 2.0 - 1.0")
+                    } else {
+                        src
+                    };
+                    let _ = writeln!(
+                        w,
+                        "    a.{}{} = {val};",
+                        attr_field(s.attr),
+                        self.accessor(s)
+                    );
+                }
+            }
+        }
+        let _ = writeln!(w, "    return surface_of(a, p);\n}}");
+        w
+    }
+}
+
+fn attr_field(a: Attr) -> &'static str {
+    match a {
+        Attr::Albedo => "albedo",
+        Attr::SpecLevel => "spec_level",
+        Attr::SpecExp => "spec_exp",
+        Attr::Normal => "normal",
+        Attr::Emissive => "emissive",
+        Attr::Depth => "depth",
+        Attr::Position => "position",
+    }
+}
+
+/// The G-buffer's textures for one size.
+pub struct GBufferTargets {
+    pub layout: GBufferLayout,
+    pub textures: Vec<wgpu::Texture>,
+    pub views: Vec<wgpu::TextureView>,
+}
+
+impl GBufferTargets {
+    pub fn new(device: &wgpu::Device, layout: &GBufferLayout, width: u32, height: u32) -> Self {
+        let textures: Vec<wgpu::Texture> = layout
+            .targets
+            .iter()
+            .map(|t| {
+                device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(t.name),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: t.format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                })
+            })
+            .collect();
+        let views = textures
+            .iter()
+            .map(|t| t.create_view(&Default::default()))
+            .collect();
+        Self {
+            layout: layout.clone(),
+            textures,
+            views,
+        }
+    }
+
+    /// Bind group layout entries for reading every target with `textureLoad`.
+    pub fn bind_group_layout(
+        device: &wgpu::Device,
+        layout: &GBufferLayout,
+    ) -> wgpu::BindGroupLayout {
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..layout.targets.len())
+            .map(|i| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            })
+            .collect();
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gbuffer read"),
+            entries: &entries,
+        })
+    }
+
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        bgl: &wgpu::BindGroupLayout,
+    ) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gbuffer read"),
+            layout: bgl,
+            entries: &entries,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_built_in_layout_is_valid_and_reports_its_size() {
+        let sizes: Vec<u32> = LayoutChoice::ALL
+            .iter()
+            .map(|c| {
+                let l = c.layout();
+                l.validate().unwrap();
+                l.bytes_per_pixel()
+            })
+            .collect();
+        assert_eq!(sizes, vec![24, 32, 12]);
+    }
+
+    #[test]
+    fn a_layout_without_normals_is_rejected() {
+        let mut l = LayoutChoice::Compact.layout();
+        l.targets.remove(1);
+        assert!(l.validate().unwrap_err().contains("Normal"));
+    }
+
+    #[test]
+    fn depth_in_an_8_bit_channel_is_rejected() {
+        let mut l = LayoutChoice::Compact.layout();
+        l.targets[3].format = wgpu::TextureFormat::R8Unorm;
+        assert!(l.validate().is_err());
+    }
+}

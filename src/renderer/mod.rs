@@ -1,0 +1,1097 @@
+//! The deferred renderer: G-buffer, lights (each with its culling method), compose.
+//! It renders into a `TextureView` it is handed, so the same code draws the viewer's viewport
+//! and the headless image tests.
+
+pub mod gbuffer;
+pub mod pipelines;
+pub mod settings;
+pub mod stats;
+pub mod volumes;
+
+use crate::gpu::Gpu;
+use crate::scene::{Light, Scene};
+use anyhow::{bail, Result};
+use glam::{DMat4, Mat4, Vec3, Vec4};
+use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
+pub use settings::{CullingMode, DebugView, LayoutChoice, Settings};
+pub use stats::{FrameStats, LightStats, Method};
+use volumes::VolumeMesh;
+use wgpu::util::DeviceExt;
+
+/// Format of the headless output image.
+pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Sphere tessellation: 80 triangles (one subdivision of an icosahedron), seed 000's "low-poly".
+pub const SPHERE_SUBDIVISIONS: u32 = 1;
+pub const CONE_SIDES: u32 = 12;
+/// Above this share of the screen, `auto` draws a light full-screen (see `plan_light`).
+pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct CameraRaw {
+    proj: [[f32; 4]; 4],
+    inv_proj: [[f32; 4]; 4],
+    screen: [f32; 4],
+    ambient: [f32; 4],
+    sun_dir: [f32; 4],
+    sun_color: [f32; 4],
+    background: [f32; 4],
+    params: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LightRaw {
+    pub position: [f32; 3],
+    pub radius: f32,
+    pub color: [f32; 3],
+    pub kind: u32,
+    pub direction: [f32; 3],
+    pub cos_outer: f32,
+    pub cos_inner: f32,
+    pub tan_outer: f32,
+    pub pad: [f32; 2],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ObjectRaw {
+    model_view: [[f32; 4]; 4],
+    normal_view: [[f32; 4]; 4],
+    albedo_spec: [f32; 4],
+    emissive_exp: [f32; 4],
+}
+
+/// Which bounding mesh a light uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VolumeKind {
+    Sphere,
+    Cone,
+}
+
+/// What the CPU decided for one light this frame.
+#[derive(Clone, Copy, Debug)]
+pub struct LightPlan {
+    pub method: Method,
+    pub volume: VolumeKind,
+    /// The volume reaches in front of the near plane (or holds the camera).
+    pub crosses_near: bool,
+    /// The volume reaches beyond the far plane.
+    pub crosses_far: bool,
+    /// Share of the screen covered by the volume's projected bounding rectangle.
+    pub screen_share: f32,
+}
+
+struct SceneGeometry {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    /// Per object: index range and base vertex of its mesh.
+    draws: Vec<(std::ops::Range<u32>, i32)>,
+}
+
+struct Targets {
+    width: u32,
+    height: u32,
+    gbuffer: gbuffer::GBufferTargets,
+    depth: wgpu::TextureView,
+    diffuse: wgpu::Texture,
+    specular: wgpu::Texture,
+    diffuse_view: wgpu::TextureView,
+    specular_view: wgpu::TextureView,
+    debug_view: wgpu::TextureView,
+    gbuffer_group: wgpu::BindGroup,
+    compose_group: wgpu::BindGroup,
+}
+
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+
+    depth_format: wgpu::TextureFormat,
+    output_format: wgpu::TextureFormat,
+    pipelines: Pipelines,
+    camera_buf: wgpu::Buffer,
+    lights_buf: wgpu::Buffer,
+    objects_buf: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    volume_vertices: wgpu::Buffer,
+    volume_indices: wgpu::Buffer,
+    sphere: VolumeMesh,
+    cone: VolumeMesh,
+    geometry: Option<SceneGeometry>,
+    targets: Option<Targets>,
+    queries: stats::Queries,
+    /// Plans of the last frame, for the viewer's panels.
+    pub plans: Vec<LightPlan>,
+}
+
+fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}
+
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    w: u32,
+    h: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+impl Renderer {
+    pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
+        let device = gpu.device.clone();
+        let depth_format = if gpu.has(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
+            wgpu::TextureFormat::Depth32FloatStencil8
+        } else {
+            wgpu::TextureFormat::Depth24PlusStencil8
+        };
+        let layout = settings.layout.layout();
+        layout.validate().map_err(anyhow::Error::msg)?;
+        let key = PipelineKey {
+            layout,
+            depth_format,
+            output_format,
+            reversed_z: settings.reversed_z,
+            depth_clamp: gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
+        };
+        let pipelines = Self::build_pipelines(&device, key)?;
+        let camera_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("camera"),
+            size: std::mem::size_of::<CameraRaw>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let storage = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let lights_buf = storage("lights", 64 * 64);
+        let objects_buf = storage("objects", 160 * 64);
+        let frame_group =
+            Self::frame_group(&device, &pipelines, &camera_buf, &lights_buf, &objects_buf);
+        let sphere = VolumeMesh::sphere(SPHERE_SUBDIVISIONS);
+        let cone = VolumeMesh::cone(CONE_SIDES);
+        let all_vertices: Vec<Vec4> = sphere
+            .vertices
+            .iter()
+            .chain(cone.vertices.iter())
+            .copied()
+            .collect();
+        let all_indices: Vec<u32> = sphere
+            .indices
+            .iter()
+            .chain(cone.indices.iter())
+            .copied()
+            .collect();
+        let volume_vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volumes"),
+            contents: bytemuck::cast_slice(&all_vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let volume_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volume indices"),
+            contents: bytemuck::cast_slice(&all_indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        let queries = stats::Queries::new(gpu);
+        Ok(Self {
+            queue: gpu.queue.clone(),
+
+            depth_format,
+            output_format,
+            pipelines,
+            camera_buf,
+            lights_buf,
+            objects_buf,
+            frame_group,
+            volume_vertices,
+            volume_indices,
+            sphere,
+            cone,
+            geometry: None,
+            targets: None,
+            queries,
+            plans: Vec::new(),
+            device,
+        })
+    }
+
+    /// Builds pipelines, turning validation errors (a bad layout, a shader that fails to
+    /// compile) into an error instead of a panic.
+    fn build_pipelines(device: &wgpu::Device, key: PipelineKey) -> Result<Pipelines> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let p = Pipelines::new(device, key);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            bail!("building the pipelines failed: {e}");
+        }
+        Ok(p)
+    }
+
+    fn frame_group(
+        device: &wgpu::Device,
+        p: &Pipelines,
+        camera: &wgpu::Buffer,
+        lights: &wgpu::Buffer,
+        objects: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &p.frame_bgl,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: objects.as_entire_binding(),
+                },
+            ],
+        })
+    }
+
+    pub fn depth_format(&self) -> wgpu::TextureFormat {
+        self.depth_format
+    }
+
+    pub fn depth_clamp(&self) -> bool {
+        self.pipelines.key.depth_clamp
+    }
+
+    pub fn layout(&self) -> &gbuffer::GBufferLayout {
+        &self.pipelines.key.layout
+    }
+
+    /// G-buffer textures of the current size (for the viewer's thumbnails).
+    pub fn gbuffer_textures(&self) -> Option<&[wgpu::Texture]> {
+        self.targets.as_ref().map(|t| t.gbuffer.textures.as_slice())
+    }
+
+    /// Uploads the scene's meshes. Call once per scene; `render` uploads camera, objects and
+    /// lights every frame.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        scene.validate().map_err(anyhow::Error::msg)?;
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
+        let mut ranges = Vec::new();
+        for m in &scene.meshes {
+            let base = vertices.len() as i32;
+            let start = indices.len() as u32;
+            vertices.extend_from_slice(&m.vertices);
+            indices.extend_from_slice(&m.indices);
+            ranges.push((start..indices.len() as u32, base));
+        }
+        if vertices.is_empty() {
+            vertices.push(Default::default());
+            indices.extend([0, 0, 0]);
+        }
+        let vb = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene vertices"),
+                contents: bytemuck::cast_slice(&vertices),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+        let ib = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("scene indices"),
+                contents: bytemuck::cast_slice(&indices),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+        let draws = scene
+            .objects
+            .iter()
+            .map(|o| ranges[o.mesh].clone())
+            .collect();
+        self.geometry = Some(SceneGeometry {
+            vertices: vb,
+            indices: ib,
+            draws,
+        });
+        Ok(())
+    }
+
+    /// (Re)creates the size-dependent targets when the size or layout changed.
+    fn ensure_targets(&mut self, width: u32, height: u32) {
+        if let Some(t) = &self.targets {
+            if t.width == width
+                && t.height == height
+                && t.gbuffer.layout == self.pipelines.key.layout
+            {
+                return;
+            }
+        }
+        let d = &self.device;
+        use wgpu::TextureUsages as U;
+        let gbuffer = gbuffer::GBufferTargets::new(d, &self.pipelines.key.layout, width, height);
+        let depth = texture(
+            d,
+            "depth-stencil",
+            self.depth_format,
+            width,
+            height,
+            U::RENDER_ATTACHMENT,
+        )
+        .create_view(&Default::default());
+        let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let diffuse = texture(
+            d,
+            "light diffuse",
+            pipelines::ACCUM_FORMAT,
+            width,
+            height,
+            read,
+        );
+        let specular = texture(
+            d,
+            "light specular",
+            pipelines::ACCUM_FORMAT,
+            width,
+            height,
+            read,
+        );
+        let debug = texture(d, "debug", pipelines::DEBUG_FORMAT, width, height, read);
+        let diffuse_view = diffuse.create_view(&Default::default());
+        let specular_view = specular.create_view(&Default::default());
+        let debug_view = debug.create_view(&Default::default());
+        let gbuffer_group = gbuffer.bind_group(d, &self.pipelines.gbuffer_bgl);
+        let compose_group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("compose"),
+            layout: &self.pipelines.compose_bgl,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&diffuse_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&specular_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&debug_view),
+                },
+            ],
+        });
+        self.targets = Some(Targets {
+            width,
+            height,
+            gbuffer,
+            depth,
+            diffuse,
+            specular,
+            diffuse_view,
+            specular_view,
+            debug_view,
+            gbuffer_group,
+            compose_group,
+        });
+    }
+
+    /// Rebuilds pipelines when the settings change something they depend on.
+    fn ensure_pipelines(&mut self, settings: &Settings) -> Result<()> {
+        let layout = settings.layout.layout();
+        if layout != self.pipelines.key.layout
+            || settings.reversed_z != self.pipelines.key.reversed_z
+        {
+            layout.validate().map_err(anyhow::Error::msg)?;
+            let key = PipelineKey {
+                layout,
+                reversed_z: settings.reversed_z,
+                ..self.pipelines.key.clone()
+            };
+            self.pipelines = Self::build_pipelines(&self.device, key)?;
+            self.frame_group = Self::frame_group(
+                &self.device,
+                &self.pipelines,
+                &self.camera_buf,
+                &self.lights_buf,
+                &self.objects_buf,
+            );
+            self.targets = None;
+        }
+        Ok(())
+    }
+
+    fn grow(&mut self, lights: usize, objects: usize) {
+        let need_l = (lights.max(1) * std::mem::size_of::<LightRaw>()) as u64;
+        let need_o = (objects.max(1) * std::mem::size_of::<ObjectRaw>()) as u64;
+        let mut changed = false;
+        let make = |d: &wgpu::Device, label, size: u64| {
+            d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.next_power_of_two(),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        if self.lights_buf.size() < need_l {
+            self.lights_buf = make(&self.device, "lights", need_l);
+            changed = true;
+        }
+        if self.objects_buf.size() < need_o {
+            self.objects_buf = make(&self.device, "objects", need_o);
+            changed = true;
+        }
+        if changed {
+            self.frame_group = Self::frame_group(
+                &self.device,
+                &self.pipelines,
+                &self.camera_buf,
+                &self.lights_buf,
+                &self.objects_buf,
+            );
+        }
+    }
+
+    /// The light in view space, as the shaders see it.
+    pub(crate) fn light_raw(scene: &Scene, light: &Light) -> LightRaw {
+        let cam = &scene.camera;
+        let rot = cam.rotation();
+        match light {
+            Light::Point(p) => LightRaw {
+                position: cam.to_view(p.position).as_vec3().into(),
+                radius: p.radius,
+                color: (p.color * p.intensity).into(),
+                kind: LIGHT_KIND_POINT,
+                direction: [0.0, 0.0, -1.0],
+                cos_outer: -1.0,
+                cos_inner: -1.0,
+                tan_outer: 0.0,
+                pad: [0.0; 2],
+            },
+            Light::Spot(s) => LightRaw {
+                position: cam.to_view(s.position).as_vec3().into(),
+                radius: s.radius,
+                color: (s.color * s.intensity).into(),
+                kind: LIGHT_KIND_SPOT,
+                direction: (rot * s.direction.as_dvec3()).normalize().as_vec3().into(),
+                cos_outer: s.outer_angle.cos(),
+                cos_inner: s.inner_angle.cos(),
+                tan_outer: s.outer_angle.tan(),
+                pad: [0.0; 2],
+            },
+        }
+    }
+
+    /// Which mesh bounds the light, where it sits against the near and far planes, and how
+    /// much of the screen it covers; then which method draws it.
+    ///
+    /// `auto`'s rule: a volume that covers more than [`AUTO_FULLSCREEN_SHARE`] of the screen
+    /// is drawn full-screen (rasterising its faces buys nothing); otherwise the plain volume
+    /// (one draw, back faces, GreaterEqual), which on our measurements beats the stencil
+    /// methods because their extra marking draw costs more than the fragments it saves.
+    pub(crate) fn plan_light(
+        &self,
+        raw: &LightRaw,
+        proj: &Mat4,
+        near: f32,
+        far: f32,
+        mode: CullingMode,
+    ) -> LightPlan {
+        let volume = if raw.kind == LIGHT_KIND_SPOT
+            && raw.cos_outer > volumes::CONE_MAX_ANGLE_DEG.to_radians().cos()
+        {
+            VolumeKind::Cone
+        } else {
+            VolumeKind::Sphere
+        };
+        let pos = Vec3::from(raw.position);
+        let dir = Vec3::from(raw.direction);
+        let (mesh, cone) = match volume {
+            VolumeKind::Sphere => (&self.sphere, false),
+            VolumeKind::Cone => (&self.cone, true),
+        };
+        let (t, u) = dir.any_orthonormal_pair();
+        let mut crosses_near = false;
+        let mut crosses_far = false;
+        let (mut lo, mut hi) = (
+            glam::Vec2::splat(f32::INFINITY),
+            glam::Vec2::splat(f32::NEG_INFINITY),
+        );
+        for v in &mesh.vertices {
+            let p = if cone {
+                let r = raw.radius * raw.tan_outer;
+                pos + t * (v.x * r) + u * (v.y * r) + dir * (v.z * raw.radius)
+            } else {
+                pos + v.truncate() * raw.radius
+            };
+            let dist = -p.z;
+            if dist <= near * 1.01 {
+                crosses_near = true;
+            }
+            if dist >= far * 0.99 {
+                crosses_far = true;
+            }
+            let c = *proj * p.extend(1.0);
+            if c.w > 0.0 {
+                let n = glam::Vec2::new(c.x, c.y) / c.w;
+                lo = lo.min(n);
+                hi = hi.max(n);
+            }
+        }
+        let screen_share = if crosses_near {
+            1.0
+        } else {
+            let a = (hi.min(glam::Vec2::ONE) - lo.max(-glam::Vec2::ONE)).max(glam::Vec2::ZERO);
+            a.x * a.y / 4.0
+        };
+        let clamp = self.depth_clamp();
+        let method = if crosses_far && !clamp {
+            // Without depth clamp the far side would be clipped away: no volume method is
+            // correct, so the light is drawn full-screen.
+            Method::Fullscreen
+        } else {
+            match mode {
+                CullingMode::Fullscreen => Method::Fullscreen,
+                CullingMode::Volume => Method::Volume,
+                CullingMode::StencilTwoPass => Method::TwoPass,
+                CullingMode::StencilInvert => Method::Invert,
+                CullingMode::StencilReplace => Method::Replace,
+                CullingMode::Auto => {
+                    if screen_share > AUTO_FULLSCREEN_SHARE {
+                        Method::Fullscreen
+                    } else {
+                        Method::Volume
+                    }
+                }
+            }
+        };
+        LightPlan {
+            method,
+            volume,
+            crosses_near,
+            crosses_far,
+            screen_share,
+        }
+    }
+
+    fn upload(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        width: u32,
+        height: u32,
+    ) -> Vec<LightRaw> {
+        let cam = &scene.camera;
+        let aspect = width as f64 / height as f64;
+        let proj = cam.projection(aspect, settings.reversed_z);
+        let view = DMat4::from_mat3(cam.rotation()) * DMat4::from_translation(-cam.position);
+        let rot = cam.rotation();
+        let sun = scene.sun.map(|s| {
+            let d = (rot * (-s.direction.as_dvec3())).normalize().as_vec3();
+            (d.extend(1.0), (s.color * s.intensity).extend(0.0))
+        });
+        let (sun_dir, sun_color) = sun.unwrap_or((Vec4::ZERO, Vec4::ZERO));
+        let raw = CameraRaw {
+            proj: mat(proj),
+            inv_proj: mat(proj.inverse()),
+            screen: [
+                width as f32,
+                height as f32,
+                1.0 / width as f32,
+                1.0 / height as f32,
+            ],
+            ambient: scene.ambient.extend(0.0).into(),
+            sun_dir: sun_dir.into(),
+            sun_color: sun_color.into(),
+            background: scene.background.extend(1.0).into(),
+            params: [
+                settings.exposure,
+                if settings.reversed_z { 0.0 } else { 1.0 },
+                settings.debug_view as u32 as f32,
+                settings.selected_light.map(|i| i as f32).unwrap_or(-1.0),
+            ],
+        };
+        self.queue
+            .write_buffer(&self.camera_buf, 0, bytemuck::bytes_of(&raw));
+        let objects: Vec<ObjectRaw> = scene
+            .objects
+            .iter()
+            .map(|o| {
+                let mv = view * o.transform;
+                let nm = glam::DMat4::from_mat3(glam::DMat3::from_mat4(mv).inverse().transpose());
+                let m = &scene.materials[o.material];
+                ObjectRaw {
+                    model_view: mat(mv),
+                    normal_view: mat(nm),
+                    albedo_spec: m.diffuse.extend(m.specular_level).into(),
+                    emissive_exp: m.emissive.extend(m.specular_exponent).into(),
+                }
+            })
+            .collect();
+        let lights: Vec<LightRaw> = scene
+            .lights
+            .iter()
+            .map(|l| Self::light_raw(scene, l))
+            .collect();
+        self.grow(lights.len(), objects.len());
+        if !objects.is_empty() {
+            self.queue
+                .write_buffer(&self.objects_buf, 0, bytemuck::cast_slice(&objects));
+        }
+        if !lights.is_empty() {
+            self.queue
+                .write_buffer(&self.lights_buf, 0, bytemuck::cast_slice(&lights));
+        }
+        let proj32 = proj.as_mat4();
+        let (near, far) = (cam.near as f32, cam.far as f32);
+        self.plans = lights
+            .iter()
+            .map(|l| self.plan_light(l, &proj32, near, far, settings.culling))
+            .collect();
+        lights
+    }
+
+    fn volume_range(&self, kind: VolumeKind) -> (std::ops::Range<u32>, i32) {
+        let ns = self.sphere.indices.len() as u32;
+        match kind {
+            VolumeKind::Sphere => (0..ns, 0),
+            VolumeKind::Cone => (
+                ns..ns + self.cone.indices.len() as u32,
+                self.sphere.vertices.len() as i32,
+            ),
+        }
+    }
+
+    /// Renders one frame of `scene` into `target` (of the renderer's output format and the
+    /// given size). Returns the frame's statistics; counts and times are read back only when
+    /// `settings` asks for them.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        target: &wgpu::TextureView,
+        width: u32,
+        height: u32,
+    ) -> Result<FrameStats> {
+        if width == 0 || height == 0 {
+            bail!("cannot render a {width}x{height} frame");
+        }
+        settings.validate().map_err(anyhow::Error::msg)?;
+        scene.validate().map_err(anyhow::Error::msg)?;
+        if self
+            .geometry
+            .as_ref()
+            .is_none_or(|g| g.draws.len() != scene.objects.len())
+        {
+            self.load_scene(scene)?;
+        }
+        self.ensure_pipelines(settings)?;
+        self.ensure_targets(width, height);
+        let lights = self.upload(scene, settings, width, height);
+        let n = lights.len();
+        let want_counts = settings.count_fragments && n > 0;
+        let want_ideal = settings.count_ideal && n > 0;
+        let want_times = settings.timestamps && self.queries.timestamps.is_some();
+        self.queries.ensure_lights(&self.device, n);
+
+        let (Some(t), Some(geo)) = (&self.targets, &self.geometry) else {
+            bail!("internal: targets or geometry missing");
+        };
+        let p = &self.pipelines;
+        let ts = |begin: u32| -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+            if !want_times {
+                return None;
+            }
+            self.queries
+                .timestamps
+                .as_ref()
+                .map(|q| wgpu::RenderPassTimestampWrites {
+                    query_set: q,
+                    beginning_of_pass_write_index: Some(begin),
+                    end_of_pass_write_index: Some(begin + 1),
+                })
+        };
+        let far_depth = if settings.reversed_z { 0.0 } else { 1.0 };
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+
+        // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
+        {
+            let color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
+                .gbuffer
+                .views
+                .iter()
+                .map(|v| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: v,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: far_depth,
+                                g: 0.0,
+                                b: 0.0,
+                                a: 0.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })
+                })
+                .collect();
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("g-buffer"),
+                color_attachments: &color,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(far_depth as f32),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                }),
+                timestamp_writes: ts(0),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&p.geometry);
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            pass.set_vertex_buffer(0, geo.vertices.slice(..));
+            pass.set_index_buffer(geo.indices.slice(..), wgpu::IndexFormat::Uint32);
+            for (i, (range, base)) in geo.draws.iter().enumerate() {
+                pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
+            }
+        }
+
+        // 2. Lights: ambient + sun full-screen, then each light by its method, additively.
+        //    One render pass per block of lights (an occlusion query set holds 4096).
+        let chunk = stats::LIGHTS_PER_QUERY_SET;
+        let blocks = n.div_ceil(chunk).max(1);
+        let mut replace_counter = 0u32;
+        for b in 0..blocks {
+            let first = b == 0;
+            let last = b + 1 == blocks;
+            let accum_ops = wgpu::Operations {
+                load: if first {
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                } else {
+                    wgpu::LoadOp::Load
+                },
+                store: wgpu::StoreOp::Store,
+            };
+            let timestamp_writes = if want_times && (first || last) {
+                self.queries
+                    .timestamps
+                    .as_ref()
+                    .map(|q| wgpu::RenderPassTimestampWrites {
+                        query_set: q,
+                        beginning_of_pass_write_index: first.then_some(2),
+                        end_of_pass_write_index: last.then_some(3),
+                    })
+            } else {
+                None
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("lights"),
+                color_attachments: &[
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &t.diffuse_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: accum_ops,
+                    }),
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: &t.specular_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: accum_ops,
+                    }),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                }),
+                timestamp_writes,
+                occlusion_query_set: if want_counts {
+                    self.queries.occlusion.get(b)
+                } else {
+                    None
+                },
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            pass.set_bind_group(1, &t.gbuffer_group, &[]);
+            if first {
+                pass.push_debug_group("ambient + sun");
+                pass.set_pipeline(&p.ambient);
+                pass.draw(0..3, 0..1);
+                pass.pop_debug_group();
+            }
+            pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
+            pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+            for i in b * chunk..((b + 1) * chunk).min(n) {
+                let plan = self.plans[i];
+                let li = i as u32..i as u32 + 1;
+                let (range, base) = self.volume_range(plan.volume);
+                let q = (i - b * chunk) as u32;
+                let shade = |pass: &mut wgpu::RenderPass<'_>,
+                             pipeline: &wgpu::RenderPipeline,
+                             fullscreen: bool| {
+                    pass.set_pipeline(pipeline);
+                    if want_counts {
+                        pass.begin_occlusion_query(q);
+                    }
+                    if fullscreen {
+                        pass.draw(0..3, li.clone());
+                    } else {
+                        pass.draw_indexed(range.clone(), base, li.clone());
+                    }
+                    if want_counts {
+                        pass.end_occlusion_query();
+                    }
+                };
+                match plan.method {
+                    Method::Fullscreen => shade(&mut pass, &p.light_fullscreen, true),
+                    Method::Volume => shade(&mut pass, &p.light_volume, false),
+                    Method::TwoPass => {
+                        pass.set_pipeline(&p.two_pass_mark);
+                        pass.draw_indexed(range.clone(), base, li.clone());
+                        pass.set_stencil_reference(0);
+                        shade(&mut pass, &p.two_pass_shade, false);
+                    }
+                    Method::Invert => {
+                        pass.set_pipeline(&p.invert_mark);
+                        pass.draw_indexed(range.clone(), base, li.clone());
+                        pass.set_stencil_reference(0);
+                        shade(&mut pass, &p.invert_shade, false);
+                    }
+                    Method::Replace => {
+                        if replace_counter == 255 {
+                            pass.set_pipeline(&p.stencil_clear);
+                            pass.draw(0..3, 0..1);
+                            replace_counter = 0;
+                        }
+                        replace_counter += 1;
+                        pass.set_stencil_reference(replace_counter);
+                        pass.set_pipeline(&p.replace_mark);
+                        pass.draw_indexed(range.clone(), base, li.clone());
+                        let shade_pipe = if plan.crosses_near {
+                            &p.replace_shade_back
+                        } else {
+                            &p.replace_shade_front
+                        };
+                        shade(&mut pass, shade_pipe, false);
+                    }
+                }
+            }
+        }
+
+        // 2b. The ideal count: G-buffer points inside each light's true shape.
+        if want_ideal {
+            for b in 0..blocks {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("ideal count"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.diffuse_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            },
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.specular_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            },
+                        }),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: self.queries.ideal.get(b),
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &self.frame_group, &[]);
+                pass.set_bind_group(1, &t.gbuffer_group, &[]);
+                pass.set_pipeline(&p.ideal);
+                for i in b * chunk..((b + 1) * chunk).min(n) {
+                    pass.begin_occlusion_query((i - b * chunk) as u32);
+                    pass.draw(0..3, i as u32..i as u32 + 1);
+                    pass.end_occlusion_query();
+                }
+            }
+        }
+
+        // 2c. Debug views that need their own pass: seed 000's stencil diagram, light complexity.
+        if matches!(
+            settings.debug_view,
+            DebugView::Stencil | DebugView::Complexity
+        ) {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("debug view"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &t.debug_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            pass.set_bind_group(1, &t.gbuffer_group, &[]);
+            pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
+            pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+            let selected: Vec<usize> = match settings.selected_light {
+                Some(k) if k < n => vec![k],
+                Some(_) => Vec::new(),
+                None => (0..n).collect(),
+            };
+            for i in selected {
+                let li = i as u32..i as u32 + 1;
+                if settings.debug_view == DebugView::Complexity {
+                    pass.set_pipeline(&p.complexity);
+                    pass.draw(0..3, li);
+                    continue;
+                }
+                let (range, base) = self.volume_range(self.plans[i].volume);
+                pass.set_stencil_reference(0);
+                for pipe in [&p.classify_blue, &p.classify_red, &p.classify_green] {
+                    pass.set_pipeline(pipe);
+                    pass.draw_indexed(range.clone(), base, li.clone());
+                }
+            }
+        }
+
+        // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("compose"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: ts(4),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&p.compose);
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            pass.set_bind_group(1, &t.gbuffer_group, &[]);
+            pass.set_bind_group(2, &t.compose_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+
+        self.queries
+            .resolve(&mut encoder, n, want_counts, want_ideal, want_times);
+        self.queue.submit([encoder.finish()]);
+
+        let mut stats = FrameStats {
+            size: [width, height],
+            culling: settings.culling,
+            lights: n,
+            gbuffer_layout: self.pipelines.key.layout.name.to_string(),
+            gbuffer_bytes_per_pixel: self.pipelines.key.layout.bytes_per_pixel(),
+            depth_stencil_format: format!("{:?}", self.depth_format),
+            depth_clamp: self.depth_clamp(),
+            ..Default::default()
+        };
+        self.queries.read(
+            &self.device,
+            &self.queue,
+            &mut stats,
+            &self.plans,
+            scene,
+            want_counts,
+            want_ideal,
+            want_times,
+        )?;
+        Ok(stats)
+    }
+
+    pub fn output_format(&self) -> wgpu::TextureFormat {
+        self.output_format
+    }
+
+    /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks.
+    pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
+        let Some(t) = &self.targets else {
+            bail!("nothing rendered yet")
+        };
+        let to_f32 = |bytes: Vec<u8>| -> Vec<f32> {
+            bytes
+                .chunks_exact(2)
+                .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
+                .collect()
+        };
+        Ok((
+            to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?),
+            to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?),
+        ))
+    }
+}

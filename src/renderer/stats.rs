@@ -1,0 +1,271 @@
+//! Timestamp and occlusion queries turned into per-pass times and per-light fragment counts.
+//!
+//! Occlusion queries count samples that passed the depth and stencil tests of a light's
+//! shading draw: the fragments that reached the lighting shader. The ideal is counted with the
+//! same kind of query around a full-screen draw that discards every sample whose G-buffer point
+//! lies outside the light's true radius and cone.
+
+use super::{CullingMode, LightPlan};
+use crate::gpu::Gpu;
+use crate::scene::Scene;
+use anyhow::Result;
+use serde::{Deserialize, Serialize};
+
+pub const LIGHTS_PER_QUERY_SET: usize = wgpu::QUERY_SET_MAX_QUERIES as usize;
+
+/// How one light was drawn this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    #[default]
+    Fullscreen,
+    Volume,
+    TwoPass,
+    Invert,
+    Replace,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct GpuMs {
+    pub gbuffer: Option<f64>,
+    pub lighting: Option<f64>,
+    pub compose: Option<f64>,
+    pub total: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct LightStats {
+    pub index: usize,
+    pub kind: String,
+    pub method: Method,
+    pub crosses_near: bool,
+    pub crosses_far: bool,
+    pub screen_share: f32,
+    /// Samples that reached the lighting shader.
+    pub shaded: Option<u64>,
+    /// Samples whose G-buffer point lies inside the light's true shape.
+    pub ideal: Option<u64>,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct FrameStats {
+    pub size: [u32; 2],
+    pub culling: CullingMode,
+    pub lights: usize,
+    pub gpu_ms: GpuMs,
+    pub shaded_fragments: Option<u64>,
+    pub ideal_fragments: Option<u64>,
+    /// ideal / shaded.
+    pub efficiency: Option<f64>,
+    pub gbuffer_layout: String,
+    /// Colour targets of the G-buffer (the depth-stencil buffer is named apart).
+    pub gbuffer_bytes_per_pixel: u32,
+    pub depth_stencil_format: String,
+    pub depth_clamp: bool,
+    pub per_light: Vec<LightStats>,
+}
+
+pub struct Queries {
+    pub timestamps: Option<wgpu::QuerySet>,
+    period_ns: f32,
+    pub occlusion: Vec<wgpu::QuerySet>,
+    pub ideal: Vec<wgpu::QuerySet>,
+    resolve: Option<wgpu::Buffer>,
+    readback: Option<wgpu::Buffer>,
+    capacity: usize,
+}
+
+const TIMESTAMPS: u32 = 6;
+
+impl Queries {
+    pub fn new(gpu: &Gpu) -> Self {
+        let timestamps = gpu.has(wgpu::Features::TIMESTAMP_QUERY).then(|| {
+            gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: TIMESTAMPS,
+            })
+        });
+        Self {
+            timestamps,
+            period_ns: gpu.queue.get_timestamp_period(),
+            occlusion: Vec::new(),
+            ideal: Vec::new(),
+            resolve: None,
+            readback: None,
+            capacity: 0,
+        }
+    }
+
+    /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion blocks] [ideal blocks].
+    fn offsets(capacity: usize) -> (u64, u64, u64) {
+        let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
+        let blocks = capacity.div_ceil(LIGHTS_PER_QUERY_SET) as u64;
+        let occ = 256;
+        let ideal = occ + blocks * block;
+        (occ, ideal, ideal + blocks * block)
+    }
+
+    pub fn ensure_lights(&mut self, device: &wgpu::Device, n: usize) {
+        let blocks = n.div_ceil(LIGHTS_PER_QUERY_SET).max(1);
+        while self.occlusion.len() < blocks {
+            let make = |label| {
+                device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some(label),
+                    ty: wgpu::QueryType::Occlusion,
+                    count: LIGHTS_PER_QUERY_SET as u32,
+                })
+            };
+            self.occlusion.push(make("shaded fragments"));
+            self.ideal.push(make("ideal fragments"));
+        }
+        let capacity = blocks * LIGHTS_PER_QUERY_SET;
+        if capacity > self.capacity {
+            let (_, _, size) = Self::offsets(capacity);
+            self.resolve = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("query resolve"),
+                size,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }));
+            self.readback = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("query readback"),
+                size,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            }));
+            self.capacity = capacity;
+        }
+    }
+
+    pub fn resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        n: usize,
+        counts: bool,
+        ideal: bool,
+        times: bool,
+    ) {
+        let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
+            return;
+        };
+        let (occ_off, ideal_off, size) = Self::offsets(self.capacity);
+        if times {
+            if let Some(ts) = &self.timestamps {
+                encoder.resolve_query_set(ts, 0..TIMESTAMPS, resolve, 0);
+            }
+        }
+        let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
+        for b in 0..n.div_ceil(LIGHTS_PER_QUERY_SET) {
+            let count = (n - b * LIGHTS_PER_QUERY_SET).min(LIGHTS_PER_QUERY_SET) as u32;
+            if counts {
+                encoder.resolve_query_set(
+                    &self.occlusion[b],
+                    0..count,
+                    resolve,
+                    occ_off + b as u64 * block,
+                );
+            }
+            if ideal {
+                encoder.resolve_query_set(
+                    &self.ideal[b],
+                    0..count,
+                    resolve,
+                    ideal_off + b as u64 * block,
+                );
+            }
+        }
+        if counts || ideal || times {
+            encoder.copy_buffer_to_buffer(resolve, 0, readback, 0, size);
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        stats: &mut FrameStats,
+        plans: &[LightPlan],
+        scene: &Scene,
+        counts: bool,
+        ideal: bool,
+        times: bool,
+    ) -> Result<()> {
+        let _ = queue;
+        stats.per_light = plans
+            .iter()
+            .enumerate()
+            .map(|(i, p)| LightStats {
+                index: i,
+                kind: match scene.lights[i] {
+                    crate::scene::Light::Point(_) => "point".into(),
+                    crate::scene::Light::Spot(_) => "spot".into(),
+                },
+                method: p.method,
+                crosses_near: p.crosses_near,
+                crosses_far: p.crosses_far,
+                screen_share: p.screen_share,
+                shaded: None,
+                ideal: None,
+            })
+            .collect();
+        if !(counts || ideal || times) {
+            return Ok(());
+        }
+        let Some(readback) = &self.readback else {
+            return Ok(());
+        };
+        let slice = readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        rx.recv()?
+            .map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
+        {
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let words: &[u64] = bytemuck::cast_slice(&data);
+            let (occ_off, ideal_off, _) = Self::offsets(self.capacity);
+            if times && self.timestamps.is_some() {
+                let ms = |a: usize, b: usize| {
+                    let (t0, t1) = (words[a], words[b]);
+                    (t1 >= t0 && t0 != 0).then(|| (t1 - t0) as f64 * self.period_ns as f64 / 1e6)
+                };
+                stats.gpu_ms.gbuffer = ms(0, 1);
+                stats.gpu_ms.lighting = ms(2, 3);
+                stats.gpu_ms.compose = ms(4, 5);
+                stats.gpu_ms.total = ms(0, 5);
+            }
+            let block = LIGHTS_PER_QUERY_SET;
+            let at = |base: u64, i: usize| {
+                let b = i / block;
+                words[(base / 8) as usize + b * block + i % block]
+            };
+            for (i, l) in stats.per_light.iter_mut().enumerate() {
+                if counts {
+                    l.shaded = Some(at(occ_off, i));
+                }
+                if ideal {
+                    l.ideal = Some(at(ideal_off, i));
+                }
+            }
+        }
+        readback.unmap();
+        if counts {
+            stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
+        }
+        if ideal {
+            stats.ideal_fragments = Some(stats.per_light.iter().filter_map(|l| l.ideal).sum());
+        }
+        if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
+            stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,237 @@
+//! Bounding meshes for light volumes. A low-poly sphere whose vertices lie on the radius cuts
+//! the light off between its vertices (field.md, failure 3), so both meshes are scaled until
+//! they **circumscribe** the true shape: every face plane lies at or beyond the radius.
+
+use glam::{Vec3, Vec4};
+
+/// Relative safety margin on top of exact circumscription, for rasterisation of faces that
+/// coincide with geometry.
+pub const VOLUME_MARGIN: f32 = 1.002;
+
+/// Spot lights wider than this are bounded by a sphere: the capped pyramid's volume
+/// (R^3 tan^2(a) * 4/3 for a square base, larger for more sides) exceeds the sphere's
+/// (4/3 pi R^3) once tan(a) > ~1.8, i.e. about 61 degrees. We switch at 60.
+pub const CONE_MAX_ANGLE_DEG: f32 = 60.0;
+
+/// A unit mesh: positions with w = 0 (sphere) or 1 (cone), and triangle indices.
+#[derive(Clone, Debug)]
+pub struct VolumeMesh {
+    pub vertices: Vec<Vec4>,
+    pub indices: Vec<u32>,
+}
+
+impl VolumeMesh {
+    /// An icosphere with `subdivisions` levels, scaled to circumscribe the unit sphere.
+    pub fn sphere(subdivisions: u32) -> Self {
+        let t = (1.0 + 5f32.sqrt()) / 2.0;
+        let mut v: Vec<Vec3> = [
+            (-1.0, t, 0.0),
+            (1.0, t, 0.0),
+            (-1.0, -t, 0.0),
+            (1.0, -t, 0.0),
+            (0.0, -1.0, t),
+            (0.0, 1.0, t),
+            (0.0, -1.0, -t),
+            (0.0, 1.0, -t),
+            (t, 0.0, -1.0),
+            (t, 0.0, 1.0),
+            (-t, 0.0, -1.0),
+            (-t, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+        .collect();
+        let mut f: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        for _ in 0..subdivisions {
+            let mut cache = std::collections::HashMap::new();
+            let mut mid = |a: u32, b: u32, v: &mut Vec<Vec3>| -> u32 {
+                let key = (a.min(b), a.max(b));
+                *cache.entry(key).or_insert_with(|| {
+                    v.push(((v[a as usize] + v[b as usize]) * 0.5).normalize());
+                    (v.len() - 1) as u32
+                })
+            };
+            let mut next = Vec::with_capacity(f.len() * 4);
+            for [a, b, c] in f {
+                let ab = mid(a, b, &mut v);
+                let bc = mid(b, c, &mut v);
+                let ca = mid(c, a, &mut v);
+                next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+            }
+            f = next;
+        }
+        // Inradius: the nearest face plane. Scaling by its inverse puts every face at >= 1.
+        let inradius = f
+            .iter()
+            .map(|&[a, b, c]| {
+                let (a, b, c) = (v[a as usize], v[b as usize], v[c as usize]);
+                (b - a).cross(c - a).normalize().dot(a).abs()
+            })
+            .fold(f32::INFINITY, f32::min);
+        let scale = VOLUME_MARGIN / inradius;
+        Self {
+            vertices: v.iter().map(|p| (*p * scale).extend(0.0)).collect(),
+            indices: f.iter().flatten().copied().collect(),
+        }
+    }
+
+    /// A pyramid with `sides` sides: apex at the origin, axis +z, flat base at z = 1 whose
+    /// polygon circumscribes the unit circle. Scaled per light by (R tan(outer), R), it contains
+    /// the spot's true shape: every point within distance R of the apex and angle `outer` of the
+    /// axis has z <= R and radial distance <= z tan(outer).
+    pub fn cone(sides: u32) -> Self {
+        let r = VOLUME_MARGIN / (std::f32::consts::PI / sides as f32).cos();
+        let mut vertices = vec![Vec4::new(0.0, 0.0, 0.0, 1.0)];
+        // The apex sits exactly on the light; pull it back a hair so faces that graze the
+        // apex never exclude it.
+        vertices[0].z = -0.002;
+        for i in 0..sides {
+            let a = i as f32 / sides as f32 * std::f32::consts::TAU;
+            vertices.push(Vec4::new(r * a.cos(), r * a.sin(), VOLUME_MARGIN, 1.0));
+        }
+        let mut indices = Vec::new();
+        for i in 0..sides {
+            let a = 1 + i;
+            let b = 1 + (i + 1) % sides;
+            // Sides, counter-clockwise seen from outside.
+            indices.extend([0, b, a]);
+        }
+        for i in 1..sides - 1 {
+            // Base cap, facing +z.
+            indices.extend([1, 1 + i, 2 + i]);
+        }
+        Self { vertices, indices }
+    }
+
+    /// Signed distance from the origin-centred mesh's nearest face plane along direction `d`:
+    /// the distance to the mesh surface along the ray from `origin` in direction `d`
+    /// (for convex meshes containing `origin`).
+    pub fn ray_exit(&self, origin: Vec3, d: Vec3) -> f32 {
+        let mut t_exit = f32::INFINITY;
+        for tri in self.indices.chunks(3) {
+            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| self.vertices[i as usize].truncate());
+            let n = (b - a).cross(c - a).normalize();
+            // Orient outward (the origin of the unit mesh is inside).
+            let n = if n.dot(a) < 0.0 { -n } else { n };
+            let denom = n.dot(d);
+            if denom > 1e-9 {
+                let t = n.dot(a - origin) / denom;
+                t_exit = t_exit.min(t);
+            }
+        }
+        t_exit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn directions(n: usize) -> impl Iterator<Item = Vec3> {
+        // Fibonacci sphere.
+        (0..n).map(move |i| {
+            let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+            let r = (1.0 - y * y).sqrt();
+            let a = i as f32 * 2.399_963;
+            Vec3::new(r * a.cos(), y, r * a.sin())
+        })
+    }
+
+    #[test]
+    fn sphere_circumscribes_the_unit_sphere() {
+        for level in 0..3 {
+            let m = VolumeMesh::sphere(level);
+            let min = directions(20_000)
+                .map(|d| m.ray_exit(Vec3::ZERO, d))
+                .fold(f32::INFINITY, f32::min);
+            assert!(
+                min >= 1.0,
+                "level {level}: the mesh reaches only {min} of the radius"
+            );
+            // And it is not wastefully large.
+            assert!(min < 1.01, "level {level}: nearest face at {min}");
+        }
+    }
+
+    #[test]
+    fn uncorrected_icosphere_would_cut_light_off() {
+        // The failure the scaling prevents: vertices on the radius leave faces inside it.
+        let m = VolumeMesh::sphere(1);
+        let scale = m.vertices[0].truncate().length();
+        let min = directions(20_000)
+            .map(|d| m.ray_exit(Vec3::ZERO, d) / scale)
+            .fold(f32::INFINITY, f32::min);
+        assert!(
+            min < 0.97,
+            "an icosphere with vertices on the sphere reaches {min}"
+        );
+    }
+
+    #[test]
+    fn faces_wind_counter_clockwise_seen_from_outside() {
+        // Culling of front or back faces depends on it.
+        for m in [VolumeMesh::sphere(1), VolumeMesh::cone(12)] {
+            let centre =
+                m.vertices.iter().map(|v| v.truncate()).sum::<Vec3>() / m.vertices.len() as f32;
+            for tri in m.indices.chunks(3) {
+                let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
+                assert!(
+                    (b - a).cross(c - a).dot(a - centre) > 0.0,
+                    "a face winds inward"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn cone_contains_the_spot_shape() {
+        let m = VolumeMesh::cone(12);
+        // Points of the true shape in unit space, for a given outer angle a, have
+        // radial <= z tan(a) and |p| <= 1; the mesh is scaled by (tan a, tan a, 1).
+        for a_deg in [1.0f32, 20.0, 45.0, 60.0] {
+            let ta = a_deg.to_radians().tan();
+            for d in directions(4000) {
+                let ang = d.z.clamp(-1.0, 1.0).acos();
+                if ang > a_deg.to_radians() {
+                    continue;
+                }
+                // Points along d up to distance 1 (the radius), in mesh space.
+                for k in 1..=10 {
+                    let p = d * (k as f32 / 10.0);
+                    let q = Vec3::new(p.x / ta, p.y / ta, p.z);
+                    let inside = m.indices.chunks(3).all(|tri| {
+                        let [a, b, c] =
+                            [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
+                        let n = (b - a).cross(c - a);
+                        n.dot(q - a) <= 1e-5 * n.length()
+                    });
+                    assert!(
+                        inside,
+                        "angle {a_deg}: point {p} of the spot lies outside its cone mesh"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,426 @@
+//! Built-in deterministic scenes: seed 000's demo, seed 001's spot light, and the camera cases
+//! the culling modes must survive. Every value derives from an index hash, so a scene is the
+//! same on every machine and the first `k` lights do not change when more are asked for.
+
+use super::*;
+use glam::{DVec3, Vec3};
+
+/// The names `lampshade render SCENE` accepts.
+pub const NAMES: &[(&str, &str)] = &[
+    ("demo", "seed 000: floor, pillars and boxes, sun + ambient, 1024 animated point lights, a few spots"),
+    ("spot", "seed 001: one spot light over a floor and boxes"),
+    ("inside", "the camera stands inside a point light's volume"),
+    ("near", "a light volume crosses the near plane"),
+    ("far", "a light volume crosses the far plane"),
+    ("occluded", "a light hidden behind a wall"),
+    ("floating", "a light in front of all geometry, touching nothing"),
+    ("classify", "one light, one wall, one box: seed 000's stencil diagram"),
+];
+
+/// Options the CLI and the viewer pass to a built-in scene.
+#[derive(Clone, Copy, Debug)]
+pub struct BuiltinOptions {
+    /// Number of point lights in `demo` (default 1024).
+    pub lights: Option<usize>,
+    /// Animation time in seconds.
+    pub time: f64,
+}
+
+impl Default for BuiltinOptions {
+    fn default() -> Self {
+        Self {
+            lights: None,
+            time: 0.0,
+        }
+    }
+}
+
+/// Builds a built-in scene by name, or says which names exist.
+pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
+    let scene = match name {
+        "demo" => demo(opts.lights.unwrap_or(1024), opts.time),
+        "spot" => spot(),
+        "inside" => single_light_case(
+            name,
+            DVec3::new(0.0, 1.5, 4.0),
+            DVec3::new(0.5, 1.2, 3.0),
+            5.0,
+            0.1,
+            200.0,
+        ),
+        "near" => single_light_case(
+            name,
+            DVec3::new(0.0, 1.5, 8.0),
+            DVec3::new(0.0, 1.2, 5.5),
+            3.0,
+            0.1,
+            200.0,
+        ),
+        // The camera's far plane cuts through the volume of a light that still reaches the floor.
+        "far" => single_light_case(
+            name,
+            DVec3::new(0.0, 3.0, 14.0),
+            DVec3::new(0.0, 1.0, -8.0),
+            9.0,
+            0.1,
+            23.0,
+        ),
+        "occluded" => occluded(),
+        "floating" => floating(),
+        "classify" => classify(),
+        _ => {
+            let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
+            return Err(format!(
+                "unknown scene '{name}'; built-in scenes are: {}",
+                names.join(", ")
+            ));
+        }
+    };
+    if let Some(n) = opts.lights {
+        if n > 100_000 {
+            return Err(format!(
+                "--lights {n} is more than the 100000 Lampshade supports"
+            ));
+        }
+    }
+    Ok(scene)
+}
+
+fn hash(seed: u64, i: u64) -> u64 {
+    // splitmix64
+    let mut z = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ i.wrapping_add(0x632B_E59B_D9B4_E019);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A deterministic number in [0, 1).
+fn unit(seed: u64, i: u64) -> f64 {
+    (hash(seed, i) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn hue(h: f32) -> Vec3 {
+    let c = |o: f32| ((h * 6.0 + o).rem_euclid(6.0) - 3.0).abs().clamp(1.0, 2.0) - 1.0;
+    Vec3::new(1.0 - c(0.0), 1.0 - c(4.0), 1.0 - c(2.0)).max(Vec3::ZERO)
+}
+
+struct Builder {
+    scene: Scene,
+}
+
+impl Builder {
+    fn new(name: &str, camera: Camera) -> Self {
+        Self {
+            scene: Scene {
+                name: name.into(),
+                camera,
+                meshes: vec![Mesh::cube()],
+                materials: Vec::new(),
+                objects: Vec::new(),
+                lights: Vec::new(),
+                sun: None,
+                ambient: Vec3::splat(0.03),
+                background: Vec3::new(0.01, 0.012, 0.02),
+            },
+        }
+    }
+
+    fn material(&mut self, m: Material) -> usize {
+        self.scene.materials.push(m);
+        self.scene.materials.len() - 1
+    }
+
+    /// An axis-aligned box from its minimum corner to its maximum corner.
+    fn boxed(&mut self, min: DVec3, max: DVec3, material: usize) {
+        let t = DMat4::from_translation((min + max) * 0.5) * DMat4::from_scale(max - min);
+        self.scene.objects.push(Object {
+            mesh: 0,
+            material,
+            transform: t,
+        });
+    }
+
+    fn point(&mut self, position: DVec3, color: Vec3, intensity: f32, radius: f32) {
+        self.scene.lights.push(Light::Point(PointLight {
+            position,
+            color,
+            intensity,
+            radius,
+        }));
+    }
+}
+
+/// Seed 000's demo: a large floor with pillars and boxes, a sun, ambient, `n` coloured point
+/// lights circling above the floor at time `t`, and four spot lights.
+pub fn demo(n: usize, t: f64) -> Scene {
+    let camera = Camera {
+        far: 300.0,
+        ..Camera::looking_at(DVec3::new(0.0, 14.0, 46.0), DVec3::new(0.0, 0.0, 4.0))
+    };
+    let mut b = Builder::new("demo", camera);
+    b.scene.sun = Some(Sun {
+        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
+        color: Vec3::new(1.0, 0.9, 0.75),
+        intensity: 0.12,
+    });
+    b.scene.ambient = Vec3::new(0.025, 0.028, 0.035);
+    let floor = b.material(Material {
+        diffuse: Vec3::splat(0.55),
+        specular_level: 0.5,
+        specular_exponent: 48.0,
+        emissive: Vec3::ZERO,
+    });
+    b.boxed(
+        DVec3::new(-80.0, -1.0, -80.0),
+        DVec3::new(80.0, 0.0, 80.0),
+        floor,
+    );
+    // Pillars on a grid.
+    let pillar = b.material(Material {
+        diffuse: Vec3::new(0.7, 0.68, 0.62),
+        specular_level: 0.2,
+        specular_exponent: 16.0,
+        emissive: Vec3::ZERO,
+    });
+    for gx in -4..=4 {
+        for gz in -4..=4 {
+            let (x, z) = (gx as f64 * 16.0, gz as f64 * 16.0);
+            b.boxed(
+                DVec3::new(x - 0.8, 0.0, z - 0.8),
+                DVec3::new(x + 0.8, 9.0, z + 0.8),
+                pillar,
+            );
+        }
+    }
+    // Boxes of varied size and colour.
+    for i in 0..120u64 {
+        let c = hue(unit(7, i) as f32) * 0.6 + Vec3::splat(0.25);
+        let m = b.material(Material {
+            diffuse: c,
+            specular_level: unit(8, i) as f32 * 0.8,
+            specular_exponent: 8.0 + unit(9, i) as f32 * 120.0,
+            emissive: if i % 29 == 0 { c * 0.6 } else { Vec3::ZERO },
+        });
+        let x = (unit(1, i) - 0.5) * 140.0;
+        let z = (unit(2, i) - 0.5) * 140.0;
+        let sx = 0.6 + unit(3, i) * 3.0;
+        let sz = 0.6 + unit(4, i) * 3.0;
+        let sy = 0.4 + unit(5, i) * 3.5;
+        b.boxed(
+            DVec3::new(x - sx, 0.0, z - sz),
+            DVec3::new(x + sx, sy, z + sz),
+            m,
+        );
+    }
+    // Point lights: each circles its own centre.
+    for i in 0..n as u64 {
+        let cx = (unit(11, i) - 0.5) * 150.0;
+        let cz = (unit(12, i) - 0.5) * 150.0;
+        let orbit = 1.0 + unit(13, i) * 4.0;
+        let speed = 0.3 + unit(14, i) * 0.9;
+        let phase = unit(15, i) * std::f64::consts::TAU;
+        let a = phase + t * speed;
+        let y = 0.6 + unit(16, i) * 2.5 + 0.4 * (t * 1.3 + phase).sin();
+        let pos = DVec3::new(cx + orbit * a.cos(), y, cz + orbit * a.sin());
+        let color = hue(unit(17, i) as f32);
+        b.point(
+            pos,
+            color,
+            0.5 + unit(18, i) as f32 * 0.7,
+            2.5 + unit(19, i) as f32 * 3.0,
+        );
+    }
+    // A few spot lights sweeping the floor.
+    for k in 0..4u64 {
+        let a = k as f64 * std::f64::consts::FRAC_PI_2 + t * 0.2;
+        let pos = DVec3::new(20.0 * a.cos(), 10.0, 20.0 * a.sin());
+        let dir = (DVec3::new(12.0 * a.cos(), 0.0, 12.0 * a.sin()) - pos)
+            .normalize()
+            .as_vec3();
+        b.scene.lights.push(Light::Spot(SpotLight {
+            position: pos,
+            direction: dir,
+            color: hue(0.1 + k as f32 * 0.25) * 0.5 + Vec3::splat(0.5),
+            intensity: 4.0,
+            radius: 22.0,
+            inner_angle: 14f32.to_radians(),
+            outer_angle: 22f32.to_radians(),
+        }));
+    }
+    b.scene
+}
+
+/// Seed 001's case: one spot light over a floor and a few boxes.
+pub fn spot() -> Scene {
+    let camera = Camera::looking_at(DVec3::new(7.0, 7.0, 11.0), DVec3::new(0.0, 0.5, 0.0));
+    let mut b = Builder::new("spot", camera);
+    b.scene.ambient = Vec3::splat(0.02);
+    let floor = b.material(Material {
+        diffuse: Vec3::new(0.6, 0.58, 0.55),
+        specular_level: 0.4,
+        specular_exponent: 40.0,
+        emissive: Vec3::ZERO,
+    });
+    b.boxed(
+        DVec3::new(-12.0, -1.0, -12.0),
+        DVec3::new(12.0, 0.0, 12.0),
+        floor,
+    );
+    let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.55, 0.7)));
+    b.boxed(
+        DVec3::new(-12.0, 0.0, -12.0),
+        DVec3::new(12.0, 6.0, -11.0),
+        wall,
+    );
+    for (i, (x, z, s, h)) in [
+        (-1.5, 0.5, 1.0, 2.0),
+        (2.0, -1.5, 0.7, 1.2),
+        (0.5, 2.5, 0.5, 3.0),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let m = b.material(Material {
+            diffuse: hue(i as f32 * 0.3) * 0.6 + Vec3::splat(0.2),
+            specular_level: 0.6,
+            specular_exponent: 64.0,
+            emissive: Vec3::ZERO,
+        });
+        b.boxed(
+            DVec3::new(x - s, 0.0, z - s),
+            DVec3::new(x + s, *h, z + s),
+            m,
+        );
+    }
+    b.scene.lights.push(Light::Spot(SpotLight {
+        position: DVec3::new(-2.0, 7.0, 1.0),
+        direction: Vec3::new(0.25, -1.0, -0.1).normalize(),
+        color: Vec3::new(1.0, 0.92, 0.8),
+        intensity: 6.0,
+        radius: 13.0,
+        inner_angle: 20f32.to_radians(),
+        outer_angle: 32f32.to_radians(),
+    }));
+    b.scene
+}
+
+/// A floor, a back wall and one point light, seen from `eye`.
+fn single_light_case(
+    name: &str,
+    eye: DVec3,
+    light: DVec3,
+    radius: f32,
+    near: f64,
+    far: f64,
+) -> Scene {
+    let camera = Camera {
+        near,
+        far,
+        ..Camera::looking_at(eye, DVec3::new(0.0, 0.5, -4.0))
+    };
+    let mut b = Builder::new(name, camera);
+    let floor = b.material(Material {
+        diffuse: Vec3::splat(0.6),
+        specular_level: 0.5,
+        specular_exponent: 32.0,
+        emissive: Vec3::ZERO,
+    });
+    b.boxed(
+        DVec3::new(-30.0, -1.0, -40.0),
+        DVec3::new(30.0, 0.0, 30.0),
+        floor,
+    );
+    let wall = b.material(Material::diffuse(Vec3::new(0.6, 0.5, 0.4)));
+    b.boxed(
+        DVec3::new(-3.0, 0.0, -2.0),
+        DVec3::new(-1.0, 2.5, -1.0),
+        wall,
+    );
+    b.point(light, Vec3::new(1.0, 0.85, 0.6), 3.0, radius);
+    b.scene
+}
+
+/// A light behind a wall: no pixel it could light is visible.
+fn occluded() -> Scene {
+    let mut b = Builder::new(
+        "occluded",
+        Camera::looking_at(DVec3::new(0.0, 2.0, 10.0), DVec3::new(0.0, 2.0, 0.0)),
+    );
+    let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
+    b.boxed(
+        DVec3::new(-20.0, -1.0, -20.0),
+        DVec3::new(20.0, 0.0, 20.0),
+        floor,
+    );
+    let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.6, 0.5)));
+    b.boxed(
+        DVec3::new(-30.0, 0.0, 0.0),
+        DVec3::new(30.0, 30.0, 1.0),
+        wall,
+    );
+    // Radius 2 at 2 units behind the wall (which is 1 unit thick): it reaches nothing visible.
+    b.point(
+        DVec3::new(0.0, 3.0, -2.5),
+        Vec3::new(1.0, 0.3, 0.2),
+        4.0,
+        2.0,
+    );
+    // A visible light so the frame is not only ambient.
+    b.point(
+        DVec3::new(3.0, 1.0, 3.0),
+        Vec3::new(0.3, 0.6, 1.0),
+        3.0,
+        3.0,
+    );
+    b.scene
+}
+
+/// A light floating between the camera and the geometry, touching nothing.
+fn floating() -> Scene {
+    let mut b = Builder::new(
+        "floating",
+        Camera::looking_at(DVec3::new(0.0, 3.0, 12.0), DVec3::new(0.0, 0.0, 0.0)),
+    );
+    let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
+    b.boxed(
+        DVec3::new(-20.0, -1.0, -20.0),
+        DVec3::new(20.0, 0.0, 20.0),
+        floor,
+    );
+    b.point(
+        DVec3::new(0.0, 3.2, 8.0),
+        Vec3::new(1.0, 0.8, 0.3),
+        5.0,
+        1.5,
+    );
+    b.point(
+        DVec3::new(-3.0, 0.8, 0.0),
+        Vec3::new(0.3, 1.0, 0.5),
+        3.0,
+        3.0,
+    );
+    b.scene
+}
+
+/// Seed 000's diagram: one light, one wall, one box. From the camera the wall hides the left
+/// part of the light's volume, the box stands inside it, and the floor behind is out of reach.
+pub fn classify() -> Scene {
+    let mut b = Builder::new(
+        "classify",
+        Camera::looking_at(DVec3::new(0.0, 2.5, 9.0), DVec3::new(0.0, 1.0, 0.0)),
+    );
+    b.scene.ambient = Vec3::splat(0.05);
+    let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
+    b.boxed(
+        DVec3::new(-20.0, -1.0, -20.0),
+        DVec3::new(20.0, 0.0, 20.0),
+        floor,
+    );
+    let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.5, 0.6)));
+    // The wall stands in front of the light's left half.
+    b.boxed(DVec3::new(-6.0, 0.0, 4.0), DVec3::new(-1.0, 5.0, 4.5), wall);
+    let boxm = b.material(Material::diffuse(Vec3::new(0.7, 0.5, 0.3)));
+    b.boxed(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 1.0, 0.5), boxm);
+    b.point(DVec3::new(1.0, 1.8, 0.0), Vec3::ONE, 4.0, 3.0);
+    b.scene
+}

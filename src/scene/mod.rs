@@ -1,0 +1,314 @@
+//! What is drawn: camera, meshes, materials and lights. Plain data, no GPU objects.
+
+pub mod builtin;
+
+use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// A perspective camera. Position is f64 so scenes far from the origin keep their precision:
+/// the renderer works in camera-relative (view) space and never sends world positions to the GPU.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    /// Radians around +Y; 0 looks down -Z.
+    pub yaw: f64,
+    /// Radians above the horizon.
+    pub pitch: f64,
+    /// Vertical field of view in radians.
+    pub fov_y: f64,
+    pub near: f64,
+    pub far: f64,
+}
+
+impl Camera {
+    pub fn looking_at(position: DVec3, target: DVec3) -> Self {
+        let d = (target - position).normalize_or(DVec3::NEG_Z);
+        Self {
+            position,
+            yaw: d.x.atan2(-d.z),
+            pitch: d.y.clamp(-1.0, 1.0).asin(),
+            fov_y: 60f64.to_radians(),
+            near: 0.1,
+            far: 400.0,
+        }
+    }
+
+    pub fn forward(&self) -> DVec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        DVec3::new(sy * cp, sp, -cy * cp)
+    }
+
+    pub fn right(&self) -> DVec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        DVec3::new(cy, 0.0, sy)
+    }
+
+    /// World-to-view rotation (rows: right, up, back).
+    pub fn rotation(&self) -> DMat3 {
+        let f = self.forward();
+        let r = self.right();
+        let u = r.cross(f);
+        DMat3::from_cols(r, u, -f).transpose()
+    }
+
+    /// A world point in view space, computed in f64.
+    pub fn to_view(&self, p: DVec3) -> DVec3 {
+        self.rotation() * (p - self.position)
+    }
+
+    /// Right-handed projection to depth [0, 1]; `reversed` maps near to 1 and far to 0.
+    pub fn projection(&self, aspect: f64, reversed: bool) -> DMat4 {
+        let ys = 1.0 / (self.fov_y * 0.5).tan();
+        let xs = ys / aspect;
+        let (n, f) = if reversed {
+            (self.far, self.near)
+        } else {
+            (self.near, self.far)
+        };
+        DMat4::from_cols(
+            glam::DVec4::new(xs, 0.0, 0.0, 0.0),
+            glam::DVec4::new(0.0, ys, 0.0, 0.0),
+            glam::DVec4::new(0.0, 0.0, f / (n - f), -1.0),
+            glam::DVec4::new(0.0, 0.0, n * f / (n - f), 0.0),
+        )
+    }
+
+    /// Checks the values a user or a file can set.
+    pub fn validate(&self) -> Result<(), String> {
+        let finite = self.position.is_finite() && self.yaw.is_finite() && self.pitch.is_finite();
+        if !finite {
+            return Err("camera position and angles must be finite".into());
+        }
+        if !(self.fov_y > 1e-3 && self.fov_y < std::f64::consts::PI - 1e-3) {
+            return Err(format!(
+                "field of view {:.3} rad is outside (0, pi)",
+                self.fov_y
+            ));
+        }
+        if !(self.near > 0.0 && self.far > self.near && self.far.is_finite()) {
+            return Err(format!(
+                "need 0 < near < far, got near {} far {}",
+                self.near, self.far
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub name: String,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// An axis-aligned unit cube centred on the origin, with per-face normals.
+    pub fn cube() -> Self {
+        let mut m = Mesh {
+            name: "cube".into(),
+            ..Default::default()
+        };
+        let faces: [(Vec3, Vec3, Vec3); 6] = [
+            (Vec3::X, Vec3::Y, Vec3::Z),
+            (Vec3::NEG_X, Vec3::Y, Vec3::NEG_Z),
+            (Vec3::Y, Vec3::Z, Vec3::X),
+            (Vec3::NEG_Y, Vec3::Z, Vec3::NEG_X),
+            (Vec3::Z, Vec3::Y, Vec3::NEG_X),
+            (Vec3::NEG_Z, Vec3::Y, Vec3::X),
+        ];
+        for (n, up, right) in faces {
+            let base = m.vertices.len() as u32;
+            for (u, v) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                let p = n * 0.5 + right * (u - 0.5) + up * (v - 0.5);
+                m.vertices.push(Vertex {
+                    position: p.into(),
+                    normal: n.into(),
+                    uv: Vec2::new(u, v).into(),
+                });
+            }
+            // Counter-clockwise seen from outside: right x up = normal.
+            let ccw = right.cross(up).dot(n) > 0.0;
+            if ccw {
+                m.indices
+                    .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            } else {
+                m.indices
+                    .extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+            }
+        }
+        m
+    }
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Material {
+    /// Linear diffuse albedo.
+    pub diffuse: Vec3,
+    /// Blinn-Phong specular level in [0, 1].
+    pub specular_level: f32,
+    /// Blinn-Phong exponent in [1, 2048].
+    pub specular_exponent: f32,
+    /// Linear emitted radiance.
+    pub emissive: Vec3,
+}
+
+impl Material {
+    pub fn diffuse(c: Vec3) -> Self {
+        Self {
+            diffuse: c,
+            specular_level: 0.3,
+            specular_exponent: 32.0,
+            emissive: Vec3::ZERO,
+        }
+    }
+}
+
+/// One mesh placed in the world with one material.
+#[derive(Clone, Debug)]
+pub struct Object {
+    pub mesh: usize,
+    pub material: usize,
+    pub transform: DMat4,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PointLight {
+    pub position: DVec3,
+    pub color: Vec3,
+    pub intensity: f32,
+    /// Distance at which the light's contribution reaches exactly zero.
+    pub radius: f32,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct SpotLight {
+    pub position: DVec3,
+    pub direction: Vec3,
+    pub color: Vec3,
+    pub intensity: f32,
+    pub radius: f32,
+    /// Half-angle (radians) inside which the light is at full strength.
+    pub inner_angle: f32,
+    /// Half-angle (radians) at which it reaches zero.
+    pub outer_angle: f32,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+}
+
+impl Light {
+    pub fn position(&self) -> DVec3 {
+        match self {
+            Light::Point(p) => p.position,
+            Light::Spot(s) => s.position,
+        }
+    }
+    pub fn radius(&self) -> f32 {
+        match self {
+            Light::Point(p) => p.radius,
+            Light::Spot(s) => s.radius,
+        }
+    }
+    pub fn color(&self) -> Vec3 {
+        match self {
+            Light::Point(p) => p.color,
+            Light::Spot(s) => s.color,
+        }
+    }
+
+    pub fn validate(&self) -> Result<(), String> {
+        let (pos, color, intensity, radius) = match self {
+            Light::Point(p) => (p.position, p.color, p.intensity, p.radius),
+            Light::Spot(s) => {
+                if !s.direction.is_finite() || s.direction.length_squared() < 1e-12 {
+                    return Err("spot direction must be a finite non-zero vector".into());
+                }
+                let max = std::f32::consts::FRAC_PI_2;
+                if !(s.outer_angle >= 0.0 && s.outer_angle <= max && s.inner_angle >= 0.0) {
+                    return Err(format!(
+                        "spot outer angle {} must lie in [0, pi/2]",
+                        s.outer_angle
+                    ));
+                }
+                if s.inner_angle > s.outer_angle {
+                    return Err("spot inner angle exceeds the outer angle".into());
+                }
+                (s.position, s.color, s.intensity, s.radius)
+            }
+        };
+        if !pos.is_finite() || !color.is_finite() || !intensity.is_finite() || !radius.is_finite() {
+            return Err("light values must be finite".into());
+        }
+        if radius <= 0.0 || intensity < 0.0 || color.min_element() < 0.0 {
+            return Err(format!(
+                "light needs radius > 0 and non-negative colour/intensity (radius {radius})"
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Sun {
+    /// Direction the light travels (from the sun towards the ground).
+    pub direction: Vec3,
+    pub color: Vec3,
+    pub intensity: f32,
+}
+
+/// Everything a frame draws.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub camera: Camera,
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub objects: Vec<Object>,
+    pub lights: Vec<Light>,
+    pub sun: Option<Sun>,
+    pub ambient: Vec3,
+    pub background: Vec3,
+}
+
+impl Scene {
+    /// Rejects values that would make the frame meaningless, naming the first bad one.
+    pub fn validate(&self) -> Result<(), String> {
+        self.camera.validate()?;
+        for (i, o) in self.objects.iter().enumerate() {
+            if o.mesh >= self.meshes.len() || o.material >= self.materials.len() {
+                return Err(format!("object {i} refers to a missing mesh or material"));
+            }
+            if !o.transform.is_finite() {
+                return Err(format!("object {i} has a non-finite transform"));
+            }
+        }
+        for (i, l) in self.lights.iter().enumerate() {
+            l.validate().map_err(|e| format!("light {i}: {e}"))?;
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            if !m.diffuse.is_finite() || !m.emissive.is_finite() || !m.specular_level.is_finite() {
+                return Err(format!("material {i} has non-finite values"));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn any_emissive(&self) -> bool {
+        self.materials
+            .iter()
+            .any(|m| m.emissive.max_element() > 0.0)
+    }
+}

@@ -109,6 +109,7 @@ pub struct Renderer {
 
     depth_format: wgpu::TextureFormat,
     output_format: wgpu::TextureFormat,
+    clamp_available: bool,
     pipelines: Pipelines,
     camera_buf: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
@@ -168,7 +169,7 @@ impl Renderer {
             depth_format,
             output_format,
             reversed_z: settings.reversed_z,
-            depth_clamp: gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
+            depth_clamp: settings.depth_clamp && gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
         };
         let pipelines = Self::build_pipelines(&device, key)?;
         let camera_buf = device.create_buffer(&wgpu::BufferDescriptor {
@@ -219,6 +220,7 @@ impl Renderer {
 
             depth_format,
             output_format,
+            clamp_available: gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
             pipelines,
             camera_buf,
             lights_buf,

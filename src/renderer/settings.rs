@@ -121,6 +121,9 @@ pub struct Settings {
     pub count_ideal: bool,
     /// Read back GPU timestamps.
     pub timestamps: bool,
+    /// Use depth clamp on light volumes when the adapter has it. Off, lights whose volume
+    /// crosses the far plane fall back to full-screen draws (the path for adapters without it).
+    pub depth_clamp: bool,
 }
 
 impl Default for Settings {
@@ -135,6 +138,7 @@ impl Default for Settings {
             count_fragments: true,
             count_ideal: false,
             timestamps: true,
+            depth_clamp: true,
         }
     }
 }

@@ -418,7 +418,7 @@ pub fn classify() -> Scene {
     );
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.5, 0.6)));
     // The wall stands in front of the light's left half.
-    b.boxed(DVec3::new(-6.0, 0.0, 4.0), DVec3::new(-1.0, 5.0, 4.5), wall);
+    b.boxed(DVec3::new(-6.0, 0.0, 4.0), DVec3::new(0.4, 5.0, 4.5), wall);
     let boxm = b.material(Material::diffuse(Vec3::new(0.7, 0.5, 0.3)));
     b.boxed(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 1.0, 0.5), boxm);
     b.point(DVec3::new(1.0, 1.8, 0.0), Vec3::ONE, 4.0, 3.0);

@@ -1,0 +1,44 @@
+#![allow(dead_code)]
+//! Shared by the integration tests: one GPU per test binary, small renders, readbacks.
+
+use lampshade::headless::render_image;
+use lampshade::renderer::{FrameStats, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::scene::builtin::{self, BuiltinOptions};
+use lampshade::{Gpu, Scene};
+use std::sync::OnceLock;
+
+pub fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| Gpu::headless().expect("these tests need a GPU adapter (mesa-vulkan-drivers provides one)"))
+}
+
+pub fn scene(name: &str) -> Scene {
+    builtin::build(name, BuiltinOptions::default()).expect("built-in scene")
+}
+
+pub struct Frame {
+    pub image: image::RgbaImage,
+    pub stats: FrameStats,
+    pub diffuse: Vec<f32>,
+    pub specular: Vec<f32>,
+}
+
+pub fn render(scene: &Scene, settings: &Settings, w: u32, h: u32) -> Frame {
+    let gpu = gpu();
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings).expect("renderer");
+    let (image, stats) = render_image(gpu, &mut r, scene, settings, w, h).expect("render");
+    let (diffuse, specular) = r.read_accumulation(gpu).expect("accumulation readback");
+    Frame { image, stats, diffuse, specular }
+}
+
+/// Fails on NaN or infinity anywhere in the linear accumulation buffers.
+pub fn assert_finite(frame: &Frame, what: &str) {
+    let bad = frame.diffuse.iter().chain(frame.specular.iter()).filter(|v| !v.is_finite()).count();
+    assert_eq!(bad, 0, "{what}: {bad} non-finite values in the accumulation buffers");
+}
+
+/// Share of pixels that are not (near) black: an image test's guard against blank frames.
+pub fn lit_share(img: &image::RgbaImage) -> f64 {
+    let lit = img.pixels().filter(|p| p[0] as u32 + p[1] as u32 + p[2] as u32 > 24).count();
+    lit as f64 / (img.width() * img.height()) as f64
+}

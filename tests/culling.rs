@@ -1,0 +1,129 @@
+//! Culling may only skip work, never light: every mode renders the same picture as
+//! `fullscreen` on every built-in case, and the stencil modes shade no more than `volume`.
+
+mod common;
+use common::*;
+use lampshade::compare::{flip, max_channel_difference};
+use lampshade::renderer::{CullingMode, Method, Settings};
+
+const W: u32 = 192;
+const H: u32 = 108;
+/// Culling changes which fragments run, not their arithmetic: the images must agree to one
+/// 8-bit step per channel and a FLIP mean well under what an eye could see.
+const MAX_CHANNEL_STEP: u8 = 1;
+const FLIP_MEAN: f32 = 0.001;
+
+const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
+const STENCIL: [CullingMode; 3] = [CullingMode::StencilTwoPass, CullingMode::StencilInvert, CullingMode::StencilReplace];
+
+fn settings(culling: CullingMode) -> Settings {
+    Settings { culling, count_fragments: true, count_ideal: true, ..Settings::default() }
+}
+
+#[test]
+fn every_mode_matches_fullscreen_on_every_case() {
+    for name in CASES {
+        let mut scene = scene(name);
+        if *name == "demo" {
+            // Fewer lights keep the full-screen reference quick at test size.
+            scene.lights.truncate(200);
+        }
+        let reference = render(&scene, &settings(CullingMode::Fullscreen), W, H);
+        assert_finite(&reference, name);
+        assert!(lit_share(&reference.image) > 0.2, "{name}: the reference frame is mostly black");
+        let full = reference.stats.shaded_fragments.unwrap();
+        let mut volume_shaded = 0;
+        for mode in CullingMode::ALL.into_iter().skip(1) {
+            let f = render(&scene, &settings(mode), W, H);
+            assert_finite(&f, name);
+            let step = max_channel_difference(&reference.image, &f.image);
+            let (fl, _) = flip(&reference.image, &f.image).unwrap();
+            assert!(
+                step <= MAX_CHANNEL_STEP && fl.mean <= FLIP_MEAN,
+                "{name}/{}: differs from fullscreen by {step} steps, FLIP mean {}",
+                mode.name(),
+                fl.mean
+            );
+            let shaded = f.stats.shaded_fragments.unwrap();
+            assert_eq!(f.stats.ideal_fragments, reference.stats.ideal_fragments, "{name}: the ideal depends on the mode");
+            // Every culling mode shades at least the ideal: its volumes circumscribe the lights.
+            for l in &f.stats.per_light {
+                assert!(
+                    l.shaded.unwrap() >= l.ideal.unwrap(),
+                    "{name}/{}: light {} shaded {} < ideal {}",
+                    mode.name(),
+                    l.index,
+                    l.shaded.unwrap(),
+                    l.ideal.unwrap()
+                );
+            }
+            match mode {
+                CullingMode::Volume => {
+                    volume_shaded = shaded;
+                    assert!(shaded < full, "{name}: volume shades {shaded}, fullscreen {full}");
+                }
+                m if STENCIL.contains(&m) => {
+                    assert!(shaded <= volume_shaded, "{name}/{}: shades {shaded} > volume {volume_shaded}", m.name());
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+#[test]
+fn hidden_and_floating_lights_shade_nothing_in_stencil_modes() {
+    for name in ["occluded", "floating"] {
+        let scene = scene(name);
+        for mode in STENCIL {
+            let f = render(&scene, &settings(mode), W, H);
+            let l = &f.stats.per_light[0];
+            assert_eq!(l.ideal, Some(0), "{name}: the test light must touch no visible point");
+            assert_eq!(l.shaded, Some(0), "{name}/{}: light 0 shaded {:?} fragments", mode.name(), l.shaded);
+            // The second light is visible and lit: the counts are live, not stuck at zero.
+            assert!(f.stats.per_light[1].shaded.unwrap() > 0);
+        }
+        // Plain volumes (back faces, GreaterEqual) already skip the floating light, but shade
+        // the wall in front of the hidden one: that is the work the stencil saves.
+        let v = render(&scene, &settings(CullingMode::Volume), W, H);
+        let volume_shaded = v.stats.per_light[0].shaded.unwrap();
+        if name == "occluded" {
+            assert!(volume_shaded > 0, "volume mode should shade the wall in front of the hidden light");
+        } else {
+            assert_eq!(volume_shaded, 0);
+        }
+    }
+}
+
+#[test]
+fn camera_cases_use_the_paths_they_test() {
+    let inside = render(&scene("inside"), &settings(CullingMode::StencilReplace), W, H);
+    assert!(inside.stats.per_light[0].crosses_near, "the camera should be inside the light");
+    let far = render(&scene("far"), &settings(CullingMode::Volume), W, H);
+    assert!(far.stats.per_light[0].crosses_far, "the light should cross the far plane");
+    let expected = if far.stats.depth_clamp { Method::Volume } else { Method::Fullscreen };
+    assert_eq!(far.stats.per_light[0].method, expected);
+}
+
+#[test]
+fn without_depth_clamp_far_crossing_lights_fall_back_to_fullscreen() {
+    let scene = scene("far");
+    let reference = render(&scene, &settings(CullingMode::Fullscreen), W, H);
+    for mode in CullingMode::ALL {
+        let s = Settings { depth_clamp: false, ..settings(mode) };
+        let f = render(&scene, &s, W, H);
+        assert!(!f.stats.depth_clamp);
+        assert_eq!(f.stats.per_light[0].method, Method::Fullscreen, "{}", mode.name());
+        assert!(max_channel_difference(&reference.image, &f.image) <= MAX_CHANNEL_STEP);
+    }
+}
+
+#[test]
+fn stencil_replace_survives_more_than_255_lights() {
+    // The stencil is cleared every 255 lights; light 256 reuses reference value 1.
+    let mut scene = scene("demo");
+    scene.lights.truncate(600);
+    let a = render(&scene, &settings(CullingMode::Volume), W, H);
+    let b = render(&scene, &settings(CullingMode::StencilReplace), W, H);
+    assert!(max_channel_difference(&a.image, &b.image) <= MAX_CHANNEL_STEP);
+}

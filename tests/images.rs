@@ -1,0 +1,101 @@
+//! Image tests: each built-in scene at a fixed camera and time against a reference in
+//! `screenshots/`, compared with FLIP. `LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test images`
+//! rewrites the references; failures write `-actual.png` and `-difference.png` to
+//! `target/image-tests/`.
+
+mod common;
+use common::*;
+use lampshade::compare::{check_snapshot, flip};
+use lampshade::renderer::{DebugView, Settings};
+use std::path::{Path, PathBuf};
+
+const W: u32 = 256;
+const H: u32 = 144;
+/// FLIP mean allowed against the reference: the same software driver renders the same bytes,
+/// so this only absorbs rounding differences between driver builds.
+const THRESHOLD: f32 = 0.01;
+
+fn dirs() -> (PathBuf, PathBuf) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    (root.join("screenshots/reference"), root.join("target/image-tests"))
+}
+
+/// (reference name, scene, debug view)
+const CASES: &[(&str, &str, DebugView)] = &[
+    ("demo", "demo", DebugView::Lit),
+    ("spot", "spot", DebugView::Lit),
+    ("classify-stencil", "classify", DebugView::Stencil),
+    ("demo-normals", "demo", DebugView::Normal),
+];
+
+fn frame(scene_name: &str, view: DebugView) -> Frame {
+    let settings = Settings { debug_view: view, ..Settings::default() };
+    render(&scene(scene_name), &settings, W, H)
+}
+
+#[test]
+fn built_in_scenes_match_their_references() {
+    let (refs, out) = dirs();
+    std::fs::create_dir_all(&refs).unwrap();
+    let mut failures = Vec::new();
+    for (name, scene_name, view) in CASES {
+        let f = frame(scene_name, *view);
+        assert_finite(&f, name);
+        match check_snapshot(&refs, &out, name, &f.image, THRESHOLD) {
+            Ok(s) => assert!(s.created || s.flip.is_some(), "{name}: nothing was compared"),
+            Err(e) => failures.push(format!("{e:#}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The comparison itself must reject broken frames: a black frame, and a frame whose point
+/// and spot lights were dropped (ambient and sun only).
+#[test]
+fn the_comparison_rejects_broken_frames() {
+    let (refs, out) = dirs();
+    for (name, scene_name, _) in CASES {
+        let Ok(reference) = image::open(refs.join(format!("{name}.png"))) else {
+            panic!("reference {name}.png is missing: run LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test images");
+        };
+        let reference = reference.to_rgba8();
+        let black = image::RgbaImage::from_pixel(W, H, image::Rgba([0, 0, 0, 255]));
+        let (r, _) = flip(&reference, &black).unwrap();
+        assert!(r.mean > THRESHOLD * 5.0, "{name}: a black frame scores only {} against the reference", r.mean);
+        if *scene_name != "classify" {
+            let mut s = scene(scene_name);
+            s.lights.clear();
+            let unlit = render(&s, &Settings::default(), W, H);
+            let err = check_snapshot(&refs, &out.join("expected-failures"), name, &unlit.image, THRESHOLD);
+            assert!(err.is_err(), "{name}: a frame without its lights passed the image test");
+        }
+    }
+}
+
+#[test]
+fn the_stencil_diagram_has_its_colours_where_they_belong() {
+    // Seed 000's diagram on one light, one wall, one box: blue where the marking pass passed Z
+    // (the volume's front over empty space), red where only the shading pass did (the wall in
+    // front of the volume, the floor in front of it), green where the light shades (the floor
+    // and the box inside the volume).
+    let f = frame("classify", DebugView::Stencil);
+    let count = |rgb: [u8; 3]| f.image.pixels().filter(|p| p[0] == rgb[0] && p[1] == rgb[1] && p[2] == rgb[2]).count();
+    let (blue, red, green) = (count([0, 0, 255]), count([255, 0, 0]), count([0, 255, 0]));
+    let total = (W * H) as usize;
+    assert!(green > total / 100, "green {green}");
+    assert!(blue > total / 100, "blue {blue}");
+    assert!(red > total / 200, "red {red}");
+    // The light's centre projects near the middle of the frame; the pixel below it, on the
+    // floor inside the radius, is lit (green); the top-left corner is outside the volume.
+    let px = |x: u32, y: u32| f.image.get_pixel(x, y).0;
+    assert_eq!(px(2, 2)[1], px(2, 2)[0], "the corner should be grey, not classified");
+    // Cross-check with the counts: green pixels are exactly the samples the two-pass stencil
+    // method shades for this light.
+    let two_pass = render(
+        &scene("classify"),
+        &Settings { culling: lampshade::CullingMode::StencilTwoPass, ..Settings::default() },
+        W,
+        H,
+    );
+    assert_eq!(green as u64, two_pass.stats.shaded_fragments.unwrap());
+}

@@ -22,41 +22,21 @@ fn rgb(img: &RgbaImage) -> nv_flip::FlipImageRgb8 {
 /// Runs FLIP; returns the statistics and the colour-mapped error image.
 pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> Result<(FlipResult, RgbaImage)> {
     if reference.dimensions() != test.dimensions() {
-        bail!(
-            "image sizes differ: reference {:?}, test {:?}",
-            reference.dimensions(),
-            test.dimensions()
-        );
+        bail!("image sizes differ: reference {:?}, test {:?}", reference.dimensions(), test.dimensions());
     }
-    let err = nv_flip::flip(
-        rgb(reference),
-        rgb(test),
-        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
-    );
+    let err = nv_flip::flip(rgb(reference), rgb(test), nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     let mut pool = nv_flip::FlipPool::from_image(&err);
-    let result = FlipResult {
-        mean: pool.mean(),
-        max: pool.max_value(),
-        p99: pool.get_percentile(0.99, false),
-    };
+    let result = FlipResult { mean: pool.mean(), max: pool.max_value(), p99: pool.get_percentile(0.99, false) };
     let map = err.apply_color_lut(&nv_flip::magma_lut());
-    let rgba: Vec<u8> = map
-        .to_vec()
-        .chunks(3)
-        .flat_map(|c| [c[0], c[1], c[2], 255])
-        .collect();
-    let diff = RgbaImage::from_raw(reference.width(), reference.height(), rgba)
-        .context("FLIP map has the wrong size")?;
+    let rgba: Vec<u8> = map.to_vec().chunks(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect();
+    let diff =
+        RgbaImage::from_raw(reference.width(), reference.height(), rgba).context("FLIP map has the wrong size")?;
     Ok((result, diff))
 }
 
 /// The largest per-channel difference between two images (0..255).
 pub fn max_channel_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
-    a.pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
-        .max()
-        .unwrap_or(0)
+    a.pixels().zip(b.pixels()).flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]))).max().unwrap_or(0)
 }
 
 /// Outcome of comparing a rendering against its stored reference.
@@ -69,24 +49,12 @@ pub struct Snapshot {
 /// Compares `actual` with `dir/<name>.png` under `threshold` (FLIP mean). When the environment
 /// variable `LAMPSHADE_UPDATE_REFERENCES=1` is set the reference is (re)written instead. On a
 /// failure, `<name>-actual.png` and `<name>-difference.png` are written to `out_dir`.
-pub fn check_snapshot(
-    dir: &Path,
-    out_dir: &Path,
-    name: &str,
-    actual: &RgbaImage,
-    threshold: f32,
-) -> Result<Snapshot> {
+pub fn check_snapshot(dir: &Path, out_dir: &Path, name: &str, actual: &RgbaImage, threshold: f32) -> Result<Snapshot> {
     let reference_path = dir.join(format!("{name}.png"));
     let update = std::env::var("LAMPSHADE_UPDATE_REFERENCES").is_ok_and(|v| v == "1");
     if update {
-        actual
-            .save(&reference_path)
-            .with_context(|| format!("writing {}", reference_path.display()))?;
-        return Ok(Snapshot {
-            name: name.into(),
-            flip: None,
-            created: true,
-        });
+        actual.save(&reference_path).with_context(|| format!("writing {}", reference_path.display()))?;
+        return Ok(Snapshot { name: name.into(), flip: None, created: true });
     }
     let reference = image::open(&reference_path)
         .with_context(|| {
@@ -111,9 +79,5 @@ pub fn check_snapshot(
             d.display()
         );
     }
-    Ok(Snapshot {
-        name: name.into(),
-        flip: Some(result),
-        created: false,
-    })
+    Ok(Snapshot { name: name.into(), flip: Some(result), created: false })
 }

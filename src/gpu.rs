@@ -9,34 +9,13 @@ use anyhow::{anyhow, Context, Result};
 
 /// Features Lampshade uses when present, with what is lost without each.
 pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
-    (
-        wgpu::Features::TIMESTAMP_QUERY,
-        "per-pass GPU times are reported as null",
-    ),
-    (
-        wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES,
-        "no timestamps inside passes",
-    ),
-    (
-        wgpu::Features::DEPTH_CLIP_CONTROL,
-        "no depth clamp: light volumes crossing the far plane are drawn full-screen",
-    ),
-    (
-        wgpu::Features::PIPELINE_STATISTICS_QUERY,
-        "rasterised light-volume coverage is not reported",
-    ),
-    (
-        wgpu::Features::DEPTH32FLOAT_STENCIL8,
-        "depth falls back to Depth24PlusStencil8",
-    ),
-    (
-        wgpu::Features::FLOAT32_BLENDABLE,
-        "Rgba32Float accumulation is unavailable",
-    ),
-    (
-        wgpu::Features::POLYGON_MODE_LINE,
-        "light-volume wireframes are drawn as filled outlines",
-    ),
+    (wgpu::Features::TIMESTAMP_QUERY, "per-pass GPU times are reported as null"),
+    (wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES, "no timestamps inside passes"),
+    (wgpu::Features::DEPTH_CLIP_CONTROL, "no depth clamp: light volumes crossing the far plane are drawn full-screen"),
+    (wgpu::Features::PIPELINE_STATISTICS_QUERY, "rasterised light-volume coverage is not reported"),
+    (wgpu::Features::DEPTH32FLOAT_STENCIL8, "depth falls back to Depth24PlusStencil8"),
+    (wgpu::Features::FLOAT32_BLENDABLE, "Rgba32Float accumulation is unavailable"),
+    (wgpu::Features::POLYGON_MODE_LINE, "light-volume wireframes are drawn as filled outlines"),
 ];
 
 /// A device and what it can do.
@@ -52,8 +31,7 @@ pub struct Gpu {
 impl Gpu {
     /// A device with no window, for the CLI, the tests and the bench.
     pub fn headless() -> Result<Self> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         Self::from_instance(instance, None)
     }
 
@@ -62,10 +40,7 @@ impl Gpu {
         Self::from_instance(instance, Some(surface))
     }
 
-    fn from_instance(
-        instance: wgpu::Instance,
-        surface: Option<&wgpu::Surface<'_>>,
-    ) -> Result<Self> {
+    fn from_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Self> {
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             force_fallback_adapter: false,
@@ -79,12 +54,7 @@ impl Gpu {
             )
         })?;
         let info = adapter.get_info();
-        log::info!(
-            "adapter: {} ({:?}, {:?})",
-            info.name,
-            info.backend,
-            info.device_type
-        );
+        log::info!("adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
         let available = adapter.features();
         let mut features = wgpu::Features::empty();
         for (feature, consequence) in OPTIONAL_FEATURES {
@@ -97,8 +67,7 @@ impl Gpu {
         let adapter_limits = adapter.limits();
         let limits = wgpu::Limits {
             // Seed 000's layout alone is 4 x Rgba16Float = 32 bytes; a depth copy needs more.
-            max_color_attachment_bytes_per_sample: adapter_limits
-                .max_color_attachment_bytes_per_sample,
+            max_color_attachment_bytes_per_sample: adapter_limits.max_color_attachment_bytes_per_sample,
             max_color_attachments: adapter_limits.max_color_attachments,
             max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
             max_buffer_size: adapter_limits.max_buffer_size,
@@ -113,14 +82,7 @@ impl Gpu {
             trace: wgpu::Trace::Off,
         }))
         .context("the adapter refused to create a device")?;
-        Ok(Self {
-            instance,
-            adapter,
-            device,
-            queue,
-            features,
-            info,
-        })
+        Ok(Self { instance, adapter, device, queue, features, info })
     }
 
     pub fn has(&self, feature: wgpu::Features) -> bool {
@@ -129,9 +91,7 @@ impl Gpu {
 
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait(&self) -> Result<()> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| anyhow!("device poll failed: {e}"))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("device poll failed: {e}"))?;
         Ok(())
     }
 
@@ -143,31 +103,21 @@ impl Gpu {
             let _ = tx.send(r);
         });
         self.wait()?;
-        rx.recv()
-            .context("buffer map callback never ran")?
-            .map_err(|e| anyhow!("buffer map failed: {e}"))?;
-        let data = slice
-            .get_mapped_range()
-            .map_err(|e| anyhow!("mapped range unavailable: {e}"))?
-            .to_vec();
+        rx.recv().context("buffer map callback never ran")?.map_err(|e| anyhow!("buffer map failed: {e}"))?;
+        let data = slice.get_mapped_range().map_err(|e| anyhow!("mapped range unavailable: {e}"))?.to_vec();
         buffer.unmap();
         Ok(data)
     }
 
     /// Copies a 2-D texture (one aspect, mip 0) to the CPU, tightly packed rows.
-    pub fn read_texture(
-        &self,
-        texture: &wgpu::Texture,
-        aspect: wgpu::TextureAspect,
-    ) -> Result<Vec<u8>> {
+    pub fn read_texture(&self, texture: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<Vec<u8>> {
         let size = texture.size();
         let bpp = texture
             .format()
             .block_copy_size(Some(aspect))
             .ok_or_else(|| anyhow!("format {:?} cannot be copied", texture.format()))?;
         let unpadded = size.width * bpp;
-        let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded = unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size: (padded * size.height) as u64,
@@ -176,12 +126,7 @@ impl Gpu {
         });
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect,
-            },
+            wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
             wgpu::TexelCopyBufferInfo {
                 buffer: &buffer,
                 layout: wgpu::TexelCopyBufferLayout {
@@ -190,11 +135,7 @@ impl Gpu {
                     rows_per_image: Some(size.height),
                 },
             },
-            wgpu::Extent3d {
-                width: size.width,
-                height: size.height,
-                depth_or_array_layers: 1,
-            },
+            wgpu::Extent3d { width: size.width, height: size.height, depth_or_array_layers: 1 },
         );
         self.queue.submit([encoder.finish()]);
         let data = self.read_buffer(&buffer)?;

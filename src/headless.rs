@@ -16,11 +16,7 @@ impl Offscreen {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Self {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen output"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
@@ -31,18 +27,12 @@ impl Offscreen {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        Self {
-            texture,
-            view,
-            width,
-            height,
-        }
+        Self { texture, view, width, height }
     }
 
     pub fn read(&self, gpu: &Gpu) -> Result<image::RgbaImage> {
         let data = gpu.read_texture(&self.texture, wgpu::TextureAspect::All)?;
-        image::RgbaImage::from_raw(self.width, self.height, data)
-            .context("readback has the wrong size")
+        image::RgbaImage::from_raw(self.width, self.height, data).context("readback has the wrong size")
     }
 }
 

@@ -1,18 +1,12 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use lampshade::renderer::{
-    CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
-};
+use lampshade::renderer::{CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Gpu;
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(
-    name = "lampshade",
-    version,
-    about = "A workbench for deferred shading with light-volume culling"
-)]
+#[command(name = "lampshade", version, about = "A workbench for deferred shading with light-volume culling")]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -67,17 +61,9 @@ struct RenderArgs {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("size '{s}' is not WxH"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("width '{w}' is not a number"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("height '{h}' is not a number"))?;
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' is not WxH"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("width '{w}' is not a number"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("height '{h}' is not a number"))?;
     if w == 0 || h == 0 || w > 8192 || h > 8192 {
         return Err(format!("size {w}x{h} must be between 1x1 and 8192x8192"));
     }
@@ -87,10 +73,8 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 fn render(args: RenderArgs) -> Result<()> {
     let mut settings = match &args.settings {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading settings {}", path.display()))?;
-            serde_json::from_str::<Settings>(&text)
-                .with_context(|| format!("parsing settings {}", path.display()))?
+            let text = std::fs::read_to_string(path).with_context(|| format!("reading settings {}", path.display()))?;
+            serde_json::from_str::<Settings>(&text).with_context(|| format!("parsing settings {}", path.display()))?
         }
         None => Settings::default(),
     };
@@ -108,31 +92,18 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     settings.count_ideal = args.ideal || args.stats.is_some();
     settings.validate().map_err(anyhow::Error::msg)?;
-    let scene = builtin::build(
-        &args.scene,
-        BuiltinOptions {
-            lights: args.lights,
-            time: args.time,
-        },
-    )
-    .map_err(anyhow::Error::msg)?;
+    let scene = builtin::build(&args.scene, BuiltinOptions { lights: args.lights, time: args.time })
+        .map_err(anyhow::Error::msg)?;
     if let Some(k) = settings.selected_light {
         if k >= scene.lights.len() {
-            bail!(
-                "--light {k}: scene '{}' has {} lights",
-                args.scene,
-                scene.lights.len()
-            );
+            bail!("--light {k}: scene '{}' has {} lights", args.scene, scene.lights.len());
         }
     }
     let gpu = Gpu::headless()?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
     let (w, h) = args.size;
-    let (image, stats) =
-        lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
-    image
-        .save(&args.out)
-        .with_context(|| format!("writing {}", args.out.display()))?;
+    let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
+    image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     println!(
         "{}: {} lights, {}, shaded {} fragments, ideal {}, gpu {} ms -> {}",
         args.scene,
@@ -182,9 +153,7 @@ fn main() {
         #[cfg(feature = "viewer")]
         None => lampshade::app::run(Default::default()),
         #[cfg(not(feature = "viewer"))]
-        None => Err(anyhow::anyhow!(
-            "built without the viewer; use `lampshade render`"
-        )),
+        None => Err(anyhow::anyhow!("built without the viewer; use `lampshade render`")),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

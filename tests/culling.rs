@@ -14,7 +14,8 @@ const MAX_CHANNEL_STEP: u8 = 1;
 const FLIP_MEAN: f32 = 0.001;
 
 const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
-const STENCIL: [CullingMode; 3] = [CullingMode::StencilTwoPass, CullingMode::StencilInvert, CullingMode::StencilReplace];
+const STENCIL: [CullingMode; 3] =
+    [CullingMode::StencilTwoPass, CullingMode::StencilInvert, CullingMode::StencilReplace];
 
 fn settings(culling: CullingMode) -> Settings {
     Settings { culling, count_fragments: true, count_ideal: true, ..Settings::default() }
@@ -45,7 +46,10 @@ fn every_mode_matches_fullscreen_on_every_case() {
                 fl.mean
             );
             let shaded = f.stats.shaded_fragments.unwrap();
-            assert_eq!(f.stats.ideal_fragments, reference.stats.ideal_fragments, "{name}: the ideal depends on the mode");
+            assert_eq!(
+                f.stats.ideal_fragments, reference.stats.ideal_fragments,
+                "{name}: the ideal depends on the mode"
+            );
             // Every culling mode shades at least the ideal: its volumes circumscribe the lights.
             for l in &f.stats.per_light {
                 assert!(

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 
 /// A surface attribute the lighting model needs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Attr {
     /// Linear diffuse albedo, 3 components in [0, 1].
     Albedo,
@@ -27,7 +27,7 @@ pub enum Attr {
 
 impl Attr {
     /// Whether the attribute's natural range is [-1, 1] (needs remapping in unorm channels).
-    fn signed(self) -> bool {
+    pub(crate) fn signed(self) -> bool {
         matches!(self, Attr::Normal | Attr::Position)
     }
 }
@@ -85,11 +85,7 @@ pub enum LayoutChoice {
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 3] = [
-        LayoutChoice::Compact,
-        LayoutChoice::Seed000,
-        LayoutChoice::Packed,
-    ];
+    pub const ALL: [LayoutChoice; 3] = [LayoutChoice::Compact, LayoutChoice::Seed000, LayoutChoice::Packed];
 
     pub fn layout(self) -> GBufferLayout {
         use wgpu::TextureFormat as F;
@@ -115,11 +111,7 @@ impl LayoutChoice {
                         format: F::Rgba16Float,
                         channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
                     },
-                    TargetDesc {
-                        name: "depth",
-                        format: F::R32Float,
-                        channels: vec![s(Depth, 0)],
-                    },
+                    TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
                 ],
             },
             LayoutChoice::Seed000 => GBufferLayout {
@@ -162,11 +154,7 @@ impl LayoutChoice {
                         format: F::Rgba8Unorm,
                         channels: vec![s(Normal, 0), s(Normal, 1), s(SpecExp, 0), None],
                     },
-                    TargetDesc {
-                        name: "depth",
-                        format: F::R32Float,
-                        channels: vec![s(Depth, 0)],
-                    },
+                    TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
                 ],
             },
         }
@@ -177,7 +165,7 @@ fn channel_count(format: wgpu::TextureFormat) -> usize {
     format.components() as usize
 }
 
-fn is_float(format: wgpu::TextureFormat) -> bool {
+pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
     matches!(
         format,
         wgpu::TextureFormat::R16Float
@@ -193,18 +181,11 @@ fn is_float(format: wgpu::TextureFormat) -> bool {
 impl GBufferLayout {
     /// Bytes per pixel of the colour targets (the depth-stencil buffer is reported apart).
     pub fn bytes_per_pixel(&self) -> u32 {
-        self.targets
-            .iter()
-            .map(|t| t.format.block_copy_size(None).unwrap_or(0))
-            .sum()
+        self.targets.iter().map(|t| t.format.block_copy_size(None).unwrap_or(0)).sum()
     }
 
     pub fn has(&self, attr: Attr) -> bool {
-        self.targets
-            .iter()
-            .flat_map(|t| t.channels.iter())
-            .flatten()
-            .any(|s| s.attr == attr)
+        self.targets.iter().flat_map(|t| t.channels.iter()).flatten().any(|s| s.attr == attr)
     }
 
     fn components(&self, attr: Attr) -> usize {
@@ -228,19 +209,11 @@ impl GBufferLayout {
     pub fn validate(&self) -> Result<(), String> {
         for t in &self.targets {
             if t.channels.len() != channel_count(t.format) {
-                return Err(format!(
-                    "target {} lists {} channels for {:?}",
-                    t.name,
-                    t.channels.len(),
-                    t.format
-                ));
+                return Err(format!("target {} lists {} channels for {:?}", t.name, t.channels.len(), t.format));
             }
             for s in t.channels.iter().flatten() {
                 if matches!(s.attr, Attr::Depth | Attr::Position) && !is_float(t.format) {
-                    return Err(format!(
-                        "{:?} needs a float channel, {} is {:?}",
-                        s.attr, t.name, t.format
-                    ));
+                    return Err(format!("{:?} needs a float channel, {} is {:?}", s.attr, t.name, t.format));
                 }
             }
         }
@@ -251,22 +224,14 @@ impl GBufferLayout {
                     .iter()
                     .flat_map(|t| t.channels.iter())
                     .flatten()
-                    .any(|s| {
-                        *s == Slot {
-                            attr,
-                            comp: c as u8,
-                        }
-                    })
+                    .any(|s| *s == Slot { attr, comp: c as u8 })
                 {
                     return Err(format!("layout {} misses {:?}[{c}]", self.name, attr));
                 }
             }
         }
         if !self.has(Attr::Depth) && !self.has(Attr::Position) {
-            return Err(format!(
-                "layout {} stores neither depth nor position",
-                self.name
-            ));
+            return Err(format!("layout {} stores neither depth nor position", self.name));
         }
         Ok(())
     }
@@ -276,21 +241,10 @@ impl GBufferLayout {
     pub fn wgsl(&self, group: u32) -> String {
         let mut w = String::new();
         let _ = writeln!(w, "// Generated from G-buffer layout '{}'.", self.name);
-        let _ = writeln!(
-            w,
-            "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};",
-            self.normal == NormalEncoding::Octahedral
-        );
-        let _ = writeln!(
-            w,
-            "const GBUFFER_HAS_DEPTH: bool = {};",
-            self.has(Attr::Depth)
-        );
+        let _ = writeln!(w, "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};", self.normal == NormalEncoding::Octahedral);
+        let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
         for (i, _) in self.targets.iter().enumerate() {
-            let _ = writeln!(
-                w,
-                "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;"
-            );
+            let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;");
         }
         let _ = writeln!(w, "struct GBufferOut {{");
         for (i, _) in self.targets.iter().enumerate() {
@@ -307,11 +261,7 @@ impl GBufferLayout {
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let src = format!("a.{}{}", attr_field(s.attr), self.accessor(s));
-                    let val = if s.attr.signed() && !is_float(t.format) {
-                        format!("{src} * 0.5 + 0.5")
-                    } else {
-                        src
-                    };
+                    let val = if s.attr.signed() && !is_float(t.format) { format!("{src} * 0.5 + 0.5") } else { src };
                     let _ = writeln!(w, "    o.t{i}.{} = {val};", comps[c]);
                 }
             }
@@ -324,17 +274,8 @@ impl GBufferLayout {
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let src = format!("t{i}.{}", comps[c]);
-                    let val = if s.attr.signed() && !is_float(t.format) {
-                        format!("{src} * 2.0 - 1.0")
-                    } else {
-                        src
-                    };
-                    let _ = writeln!(
-                        w,
-                        "    a.{}{} = {val};",
-                        attr_field(s.attr),
-                        self.accessor(s)
-                    );
+                    let val = if s.attr.signed() && !is_float(t.format) { format!("{src} * 2.0 - 1.0") } else { src };
+                    let _ = writeln!(w, "    a.{}{} = {val};", attr_field(s.attr), self.accessor(s));
                 }
             }
         }
@@ -370,11 +311,7 @@ impl GBufferTargets {
             .map(|t| {
                 device.create_texture(&wgpu::TextureDescriptor {
                     label: Some(t.name),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
+                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
                     mip_level_count: 1,
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
@@ -386,22 +323,12 @@ impl GBufferTargets {
                 })
             })
             .collect();
-        let views = textures
-            .iter()
-            .map(|t| t.create_view(&Default::default()))
-            .collect();
-        Self {
-            layout: layout.clone(),
-            textures,
-            views,
-        }
+        let views = textures.iter().map(|t| t.create_view(&Default::default())).collect();
+        Self { layout: layout.clone(), textures, views }
     }
 
     /// Bind group layout entries for reading every target with `textureLoad`.
-    pub fn bind_group_layout(
-        device: &wgpu::Device,
-        layout: &GBufferLayout,
-    ) -> wgpu::BindGroupLayout {
+    pub fn bind_group_layout(device: &wgpu::Device, layout: &GBufferLayout) -> wgpu::BindGroupLayout {
         let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..layout.targets.len())
             .map(|i| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
@@ -420,19 +347,12 @@ impl GBufferTargets {
         })
     }
 
-    pub fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        bgl: &wgpu::BindGroupLayout,
-    ) -> wgpu::BindGroup {
+    pub fn bind_group(&self, device: &wgpu::Device, bgl: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry> = self
             .views
             .iter()
             .enumerate()
-            .map(|(i, v)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(v),
-            })
+            .map(|(i, v)| wgpu::BindGroupEntry { binding: i as u32, resource: wgpu::BindingResource::TextureView(v) })
             .collect();
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("gbuffer read"),

@@ -3,6 +3,7 @@
 //! and the headless image tests.
 
 pub mod gbuffer;
+pub mod inspect;
 pub mod pipelines;
 pub mod settings;
 pub mod stats;
@@ -12,6 +13,7 @@ use crate::gpu::Gpu;
 use crate::scene::{Light, Scene};
 use anyhow::{bail, Result};
 use glam::{DMat4, Mat4, Vec3, Vec4};
+pub use inspect::{volume_wireframe, PixelProbe};
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 pub use settings::{CullingMode, DebugView, LayoutChoice, Settings};
 pub use stats::{FrameStats, LightStats, Method};
@@ -25,6 +27,8 @@ pub const SPHERE_SUBDIVISIONS: u32 = 1;
 pub const CONE_SIDES: u32 = 12;
 /// Above this share of the screen, `auto` draws a light full-screen (see `plan_light`).
 pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
+/// Stride of the compose-parameter slots (the dynamic-offset alignment).
+const COMPOSE_SLOT: u64 = 256;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -67,6 +71,17 @@ struct ObjectRaw {
 pub enum VolumeKind {
     Sphere,
     Cone,
+}
+
+impl VolumeKind {
+    /// Spots narrower than [`volumes::CONE_MAX_ANGLE_DEG`] get a cone, everything else a sphere.
+    pub fn of(raw: &LightRaw) -> Self {
+        if raw.kind == LIGHT_KIND_SPOT && raw.cos_outer > volumes::CONE_MAX_ANGLE_DEG.to_radians().cos() {
+            VolumeKind::Cone
+        } else {
+            VolumeKind::Sphere
+        }
+    }
 }
 
 /// What the CPU decided for one light this frame.
@@ -122,6 +137,11 @@ pub struct Renderer {
     geometry: Option<SceneGeometry>,
     targets: Option<Targets>,
     queries: stats::Queries,
+    /// One 256-byte slot per debug view: the compose pass's view and scale.
+    compose_params: wgpu::Buffer,
+    /// The last frame's lights (view space) and inverse projection, for `probe`.
+    last_lights: Vec<LightRaw>,
+    last_inv_proj: DMat4,
     /// Plans of the last frame, for the viewer's panels.
     pub plans: Vec<LightPlan>,
 }
@@ -140,11 +160,7 @@ fn texture(
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -188,22 +204,11 @@ impl Renderer {
         };
         let lights_buf = storage("lights", 64 * 64);
         let objects_buf = storage("objects", 160 * 64);
-        let frame_group =
-            Self::frame_group(&device, &pipelines, &camera_buf, &lights_buf, &objects_buf);
+        let frame_group = Self::frame_group(&device, &pipelines, &camera_buf, &lights_buf, &objects_buf);
         let sphere = VolumeMesh::sphere(SPHERE_SUBDIVISIONS);
         let cone = VolumeMesh::cone(CONE_SIDES);
-        let all_vertices: Vec<Vec4> = sphere
-            .vertices
-            .iter()
-            .chain(cone.vertices.iter())
-            .copied()
-            .collect();
-        let all_indices: Vec<u32> = sphere
-            .indices
-            .iter()
-            .chain(cone.indices.iter())
-            .copied()
-            .collect();
+        let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
+        let all_indices: Vec<u32> = sphere.indices.iter().chain(cone.indices.iter()).copied().collect();
         let volume_vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("light volumes"),
             contents: bytemuck::cast_slice(&all_vertices),
@@ -215,7 +220,16 @@ impl Renderer {
             usage: wgpu::BufferUsages::INDEX,
         });
         let queries = stats::Queries::new(gpu);
+        let compose_params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compose params"),
+            size: COMPOSE_SLOT * (DebugView::ALL.len() as u64 + 1),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Ok(Self {
+            compose_params,
+            last_lights: Vec::new(),
+            last_inv_proj: DMat4::IDENTITY,
             queue: gpu.queue.clone(),
 
             depth_format,
@@ -260,18 +274,9 @@ impl Renderer {
             label: Some("frame"),
             layout: &p.frame_bgl,
             entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: camera.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: lights.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: objects.as_entire_binding(),
-                },
+                wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: objects.as_entire_binding() },
             ],
         })
     }
@@ -311,72 +316,36 @@ impl Renderer {
             vertices.push(Default::default());
             indices.extend([0, 0, 0]);
         }
-        let vb = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("scene vertices"),
-                contents: bytemuck::cast_slice(&vertices),
-                usage: wgpu::BufferUsages::VERTEX,
-            });
-        let ib = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("scene indices"),
-                contents: bytemuck::cast_slice(&indices),
-                usage: wgpu::BufferUsages::INDEX,
-            });
-        let draws = scene
-            .objects
-            .iter()
-            .map(|o| ranges[o.mesh].clone())
-            .collect();
-        self.geometry = Some(SceneGeometry {
-            vertices: vb,
-            indices: ib,
-            draws,
+        let vb = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene vertices"),
+            contents: bytemuck::cast_slice(&vertices),
+            usage: wgpu::BufferUsages::VERTEX,
         });
+        let ib = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        let draws = scene.objects.iter().map(|o| ranges[o.mesh].clone()).collect();
+        self.geometry = Some(SceneGeometry { vertices: vb, indices: ib, draws });
         Ok(())
     }
 
     /// (Re)creates the size-dependent targets when the size or layout changed.
     fn ensure_targets(&mut self, width: u32, height: u32) {
         if let Some(t) = &self.targets {
-            if t.width == width
-                && t.height == height
-                && t.gbuffer.layout == self.pipelines.key.layout
-            {
+            if t.width == width && t.height == height && t.gbuffer.layout == self.pipelines.key.layout {
                 return;
             }
         }
         let d = &self.device;
         use wgpu::TextureUsages as U;
         let gbuffer = gbuffer::GBufferTargets::new(d, &self.pipelines.key.layout, width, height);
-        let depth = texture(
-            d,
-            "depth-stencil",
-            self.depth_format,
-            width,
-            height,
-            U::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
+        let depth = texture(d, "depth-stencil", self.depth_format, width, height, U::RENDER_ATTACHMENT)
+            .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
-        let diffuse = texture(
-            d,
-            "light diffuse",
-            pipelines::ACCUM_FORMAT,
-            width,
-            height,
-            read,
-        );
-        let specular = texture(
-            d,
-            "light specular",
-            pipelines::ACCUM_FORMAT,
-            width,
-            height,
-            read,
-        );
+        let diffuse = texture(d, "light diffuse", pipelines::ACCUM_FORMAT, width, height, read);
+        let specular = texture(d, "light specular", pipelines::ACCUM_FORMAT, width, height, read);
         let debug = texture(d, "debug", pipelines::DEBUG_FORMAT, width, height, read);
         let diffuse_view = diffuse.create_view(&Default::default());
         let specular_view = specular.create_view(&Default::default());
@@ -386,17 +355,16 @@ impl Renderer {
             label: Some("compose"),
             layout: &self.pipelines.compose_bgl,
             entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&diffuse_view) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&specular_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&debug_view) },
                 wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&diffuse_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&specular_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&debug_view),
+                    binding: 3,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.compose_params,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(16),
+                    }),
                 },
             ],
         });
@@ -418,23 +386,14 @@ impl Renderer {
     /// Rebuilds pipelines when the settings change something they depend on.
     fn ensure_pipelines(&mut self, settings: &Settings) -> Result<()> {
         let layout = settings.layout.layout();
-        if layout != self.pipelines.key.layout
-            || settings.reversed_z != self.pipelines.key.reversed_z
-        {
+        let depth_clamp = settings.depth_clamp && self.clamp_available;
+        let k = &self.pipelines.key;
+        if layout != k.layout || settings.reversed_z != k.reversed_z || depth_clamp != k.depth_clamp {
             layout.validate().map_err(anyhow::Error::msg)?;
-            let key = PipelineKey {
-                layout,
-                reversed_z: settings.reversed_z,
-                ..self.pipelines.key.clone()
-            };
+            let key = PipelineKey { layout, reversed_z: settings.reversed_z, depth_clamp, ..k.clone() };
             self.pipelines = Self::build_pipelines(&self.device, key)?;
-            self.frame_group = Self::frame_group(
-                &self.device,
-                &self.pipelines,
-                &self.camera_buf,
-                &self.lights_buf,
-                &self.objects_buf,
-            );
+            self.frame_group =
+                Self::frame_group(&self.device, &self.pipelines, &self.camera_buf, &self.lights_buf, &self.objects_buf);
             self.targets = None;
         }
         Ok(())
@@ -461,13 +420,8 @@ impl Renderer {
             changed = true;
         }
         if changed {
-            self.frame_group = Self::frame_group(
-                &self.device,
-                &self.pipelines,
-                &self.camera_buf,
-                &self.lights_buf,
-                &self.objects_buf,
-            );
+            self.frame_group =
+                Self::frame_group(&self.device, &self.pipelines, &self.camera_buf, &self.lights_buf, &self.objects_buf);
         }
     }
 
@@ -508,41 +462,16 @@ impl Renderer {
     /// is drawn full-screen (rasterising its faces buys nothing); otherwise the plain volume
     /// (one draw, back faces, GreaterEqual), which on our measurements beats the stencil
     /// methods because their extra marking draw costs more than the fragments it saves.
-    pub(crate) fn plan_light(
-        &self,
-        raw: &LightRaw,
-        proj: &Mat4,
-        near: f32,
-        far: f32,
-        mode: CullingMode,
-    ) -> LightPlan {
-        let volume = if raw.kind == LIGHT_KIND_SPOT
-            && raw.cos_outer > volumes::CONE_MAX_ANGLE_DEG.to_radians().cos()
-        {
-            VolumeKind::Cone
-        } else {
-            VolumeKind::Sphere
-        };
+    pub(crate) fn plan_light(&self, raw: &LightRaw, proj: &Mat4, near: f32, far: f32, mode: CullingMode) -> LightPlan {
+        let volume = VolumeKind::of(raw);
         let pos = Vec3::from(raw.position);
         let dir = Vec3::from(raw.direction);
-        let (mesh, cone) = match volume {
-            VolumeKind::Sphere => (&self.sphere, false),
-            VolumeKind::Cone => (&self.cone, true),
-        };
-        let (t, u) = dir.any_orthonormal_pair();
+        let mesh = self.volume_mesh(volume);
         let mut crosses_near = false;
         let mut crosses_far = false;
-        let (mut lo, mut hi) = (
-            glam::Vec2::splat(f32::INFINITY),
-            glam::Vec2::splat(f32::NEG_INFINITY),
-        );
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
         for v in &mesh.vertices {
-            let p = if cone {
-                let r = raw.radius * raw.tan_outer;
-                pos + t * (v.x * r) + u * (v.y * r) + dir * (v.z * raw.radius)
-            } else {
-                pos + v.truncate() * raw.radius
-            };
+            let p = volumes::place(*v, pos, raw.radius, dir, raw.tan_outer);
             let dist = -p.z;
             if dist <= near * 1.01 {
                 crosses_near = true;
@@ -584,22 +513,10 @@ impl Renderer {
                 }
             }
         };
-        LightPlan {
-            method,
-            volume,
-            crosses_near,
-            crosses_far,
-            screen_share,
-        }
+        LightPlan { method, volume, crosses_near, crosses_far, screen_share }
     }
 
-    fn upload(
-        &mut self,
-        scene: &Scene,
-        settings: &Settings,
-        width: u32,
-        height: u32,
-    ) -> Vec<LightRaw> {
+    fn upload(&mut self, scene: &Scene, settings: &Settings, width: u32, height: u32) -> Vec<LightRaw> {
         let cam = &scene.camera;
         let aspect = width as f64 / height as f64;
         let proj = cam.projection(aspect, settings.reversed_z);
@@ -613,12 +530,7 @@ impl Renderer {
         let raw = CameraRaw {
             proj: mat(proj),
             inv_proj: mat(proj.inverse()),
-            screen: [
-                width as f32,
-                height as f32,
-                1.0 / width as f32,
-                1.0 / height as f32,
-            ],
+            screen: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
             ambient: scene.ambient.extend(0.0).into(),
             sun_dir: sun_dir.into(),
             sun_color: sun_color.into(),
@@ -630,8 +542,7 @@ impl Renderer {
                 settings.selected_light.map(|i| i as f32).unwrap_or(-1.0),
             ],
         };
-        self.queue
-            .write_buffer(&self.camera_buf, 0, bytemuck::bytes_of(&raw));
+        self.queue.write_buffer(&self.camera_buf, 0, bytemuck::bytes_of(&raw));
         let objects: Vec<ObjectRaw> = scene
             .objects
             .iter()
@@ -647,37 +558,34 @@ impl Renderer {
                 }
             })
             .collect();
-        let lights: Vec<LightRaw> = scene
-            .lights
-            .iter()
-            .map(|l| Self::light_raw(scene, l))
-            .collect();
+        let lights: Vec<LightRaw> = scene.lights.iter().map(|l| Self::light_raw(scene, l)).collect();
         self.grow(lights.len(), objects.len());
         if !objects.is_empty() {
-            self.queue
-                .write_buffer(&self.objects_buf, 0, bytemuck::cast_slice(&objects));
+            self.queue.write_buffer(&self.objects_buf, 0, bytemuck::cast_slice(&objects));
         }
         if !lights.is_empty() {
-            self.queue
-                .write_buffer(&self.lights_buf, 0, bytemuck::cast_slice(&lights));
+            self.queue.write_buffer(&self.lights_buf, 0, bytemuck::cast_slice(&lights));
         }
         let proj32 = proj.as_mat4();
         let (near, far) = (cam.near as f32, cam.far as f32);
-        self.plans = lights
-            .iter()
-            .map(|l| self.plan_light(l, &proj32, near, far, settings.culling))
-            .collect();
+        self.plans = lights.iter().map(|l| self.plan_light(l, &proj32, near, far, settings.culling)).collect();
+        self.last_lights = lights.clone();
+        self.last_inv_proj = proj.inverse();
         lights
+    }
+
+    pub(crate) fn volume_mesh(&self, kind: VolumeKind) -> &VolumeMesh {
+        match kind {
+            VolumeKind::Sphere => &self.sphere,
+            VolumeKind::Cone => &self.cone,
+        }
     }
 
     fn volume_range(&self, kind: VolumeKind) -> (std::ops::Range<u32>, i32) {
         let ns = self.sphere.indices.len() as u32;
         match kind {
             VolumeKind::Sphere => (0..ns, 0),
-            VolumeKind::Cone => (
-                ns..ns + self.cone.indices.len() as u32,
-                self.sphere.vertices.len() as i32,
-            ),
+            VolumeKind::Cone => (ns..ns + self.cone.indices.len() as u32, self.sphere.vertices.len() as i32),
         }
     }
 
@@ -697,11 +605,7 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        if self
-            .geometry
-            .as_ref()
-            .is_none_or(|g| g.draws.len() != scene.objects.len())
-        {
+        if self.geometry.as_ref().is_none_or(|g| g.draws.len() != scene.objects.len()) {
             self.load_scene(scene)?;
         }
         self.ensure_pipelines(settings)?;
@@ -721,21 +625,14 @@ impl Renderer {
             if !want_times {
                 return None;
             }
-            self.queries
-                .timestamps
-                .as_ref()
-                .map(|q| wgpu::RenderPassTimestampWrites {
-                    query_set: q,
-                    beginning_of_pass_write_index: Some(begin),
-                    end_of_pass_write_index: Some(begin + 1),
-                })
+            self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(begin),
+                end_of_pass_write_index: Some(begin + 1),
+            })
         };
         let far_depth = if settings.reversed_z { 0.0 } else { 1.0 };
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("frame"),
-            });
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
 
         // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
         {
@@ -749,12 +646,7 @@ impl Renderer {
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: far_depth,
-                                g: 0.0,
-                                b: 0.0,
-                                a: 0.0,
-                            }),
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r: far_depth, g: 0.0, b: 0.0, a: 0.0 }),
                             store: wgpu::StoreOp::Store,
                         },
                     })
@@ -769,10 +661,7 @@ impl Renderer {
                         load: wgpu::LoadOp::Clear(far_depth as f32),
                         store: wgpu::StoreOp::Store,
                     }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0),
-                        store: wgpu::StoreOp::Store,
-                    }),
+                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
                 }),
                 timestamp_writes: ts(0),
                 occlusion_query_set: None,
@@ -796,22 +685,15 @@ impl Renderer {
             let first = b == 0;
             let last = b + 1 == blocks;
             let accum_ops = wgpu::Operations {
-                load: if first {
-                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-                } else {
-                    wgpu::LoadOp::Load
-                },
+                load: if first { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load },
                 store: wgpu::StoreOp::Store,
             };
             let timestamp_writes = if want_times && (first || last) {
-                self.queries
-                    .timestamps
-                    .as_ref()
-                    .map(|q| wgpu::RenderPassTimestampWrites {
-                        query_set: q,
-                        beginning_of_pass_write_index: first.then_some(2),
-                        end_of_pass_write_index: last.then_some(3),
-                    })
+                self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                    query_set: q,
+                    beginning_of_pass_write_index: first.then_some(2),
+                    end_of_pass_write_index: last.then_some(3),
+                })
             } else {
                 None
             };
@@ -833,21 +715,11 @@ impl Renderer {
                 ],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &t.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0),
-                        store: wgpu::StoreOp::Store,
-                    }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
                 }),
                 timestamp_writes,
-                occlusion_query_set: if want_counts {
-                    self.queries.occlusion.get(b)
-                } else {
-                    None
-                },
+                occlusion_query_set: if want_counts { self.queries.occlusion.get(b) } else { None },
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.frame_group, &[]);
@@ -865,9 +737,7 @@ impl Renderer {
                 let li = i as u32..i as u32 + 1;
                 let (range, base) = self.volume_range(plan.volume);
                 let q = (i - b * chunk) as u32;
-                let shade = |pass: &mut wgpu::RenderPass<'_>,
-                             pipeline: &wgpu::RenderPipeline,
-                             fullscreen: bool| {
+                let shade = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, fullscreen: bool| {
                     pass.set_pipeline(pipeline);
                     if want_counts {
                         pass.begin_occlusion_query(q);
@@ -906,11 +776,7 @@ impl Renderer {
                         pass.set_stencil_reference(replace_counter);
                         pass.set_pipeline(&p.replace_mark);
                         pass.draw_indexed(range.clone(), base, li.clone());
-                        let shade_pipe = if plan.crosses_near {
-                            &p.replace_shade_back
-                        } else {
-                            &p.replace_shade_front
-                        };
+                        let shade_pipe = if plan.crosses_near { &p.replace_shade_back } else { &p.replace_shade_front };
                         shade(&mut pass, shade_pipe, false);
                     }
                 }
@@ -927,31 +793,19 @@ impl Renderer {
                             view: &t.diffuse_view,
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            },
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
                         }),
                         Some(wgpu::RenderPassColorAttachment {
                             view: &t.specular_view,
                             depth_slice: None,
                             resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Load,
-                                store: wgpu::StoreOp::Store,
-                            },
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
                         }),
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &t.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                     }),
                     timestamp_writes: None,
                     occlusion_query_set: self.queries.ideal.get(b),
@@ -969,10 +823,7 @@ impl Renderer {
         }
 
         // 2c. Debug views that need their own pass: seed 000's stencil diagram, light complexity.
-        if matches!(
-            settings.debug_view,
-            DebugView::Stencil | DebugView::Complexity
-        ) {
+        if matches!(settings.debug_view, DebugView::Stencil | DebugView::Complexity) {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("debug view"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -986,14 +837,8 @@ impl Renderer {
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &t.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0),
-                        store: wgpu::StoreOp::Store,
-                    }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
                 }),
                 timestamp_writes: None,
                 occlusion_query_set: None,
@@ -1025,32 +870,9 @@ impl Renderer {
         }
 
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("compose"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: target,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: ts(4),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&p.compose);
-            pass.set_bind_group(0, &self.frame_group, &[]);
-            pass.set_bind_group(1, &t.gbuffer_group, &[]);
-            pass.set_bind_group(2, &t.compose_group, &[]);
-            pass.draw(0..3, 0..1);
-        }
+        self.encode_compose(&mut encoder, settings.debug_view, 0, target, width, height, ts(4));
 
-        self.queries
-            .resolve(&mut encoder, n, want_counts, want_ideal, want_times);
+        self.queries.resolve(&mut encoder, n, want_counts, want_ideal, want_times);
         self.queue.submit([encoder.finish()]);
 
         let mut stats = FrameStats {
@@ -1076,20 +898,74 @@ impl Renderer {
         Ok(stats)
     }
 
+    /// Records the compose pass into `target` (`w`x`h`, scaled from the G-buffer's size),
+    /// with the view's parameters in compose slot `slot`.
+    #[allow(clippy::too_many_arguments)]
+    fn encode_compose(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        view: DebugView,
+        slot: u64,
+        target: &wgpu::TextureView,
+        w: u32,
+        h: u32,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let Some(t) = &self.targets else { return };
+        let params: [u32; 4] =
+            [view as u32, 0, (t.width as f32 / w as f32).to_bits(), (t.height as f32 / h as f32).to_bits()];
+        self.queue.write_buffer(&self.compose_params, slot * COMPOSE_SLOT, bytemuck::cast_slice(&params));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("compose"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipelines.compose);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(1, &t.gbuffer_group, &[]);
+        pass.set_bind_group(2, &t.compose_group, &[(slot * COMPOSE_SLOT) as u32]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Re-runs only the compose pass of the last frame with another view, into `target` of the
+    /// output format at any size (the G-buffer is point-sampled): the viewer's thumbnails.
+    /// The stencil and complexity views show what the last frame computed for them.
+    pub fn compose_view(&mut self, view: DebugView, target: &wgpu::TextureView, width: u32, height: u32) -> Result<()> {
+        if self.targets.is_none() {
+            bail!("nothing rendered yet");
+        }
+        if width == 0 || height == 0 {
+            bail!("cannot compose a {width}x{height} view");
+        }
+        let mut encoder =
+            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
+        self.encode_compose(&mut encoder, view, view as u64 + 1, target, width, height, None);
+        self.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// Size of the last frame.
+    pub fn size(&self) -> Option<(u32, u32)> {
+        self.targets.as_ref().map(|t| (t.width, t.height))
+    }
+
     pub fn output_format(&self) -> wgpu::TextureFormat {
         self.output_format
     }
 
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks.
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
-        let Some(t) = &self.targets else {
-            bail!("nothing rendered yet")
-        };
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let to_f32 = |bytes: Vec<u8>| -> Vec<f32> {
-            bytes
-                .chunks_exact(2)
-                .map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32())
-                .collect()
+            bytes.chunks_exact(2).map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32()).collect()
         };
         Ok((
             to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?),

@@ -13,9 +13,8 @@ pub const LIGHT_KIND_SPOT: u32 = 1;
 
 /// WGSL constants generated from Rust enums, so the two never drift apart.
 pub fn wgsl_constants() -> String {
-    let mut s = format!(
-        "const LS_LIGHT_POINT: u32 = {LIGHT_KIND_POINT}u;\nconst LS_LIGHT_SPOT: u32 = {LIGHT_KIND_SPOT}u;\n"
-    );
+    let mut s =
+        format!("const LS_LIGHT_POINT: u32 = {LIGHT_KIND_POINT}u;\nconst LS_LIGHT_SPOT: u32 = {LIGHT_KIND_SPOT}u;\n");
     for v in DebugView::ALL {
         s += &format!("const LS_VIEW_{}: u32 = {}u;\n", v.wgsl_name(), v as u32);
     }
@@ -71,21 +70,11 @@ pub struct Pipelines {
 }
 
 fn stencil_face(compare: Cmp, fail: Op, depth_fail: Op, pass: Op) -> wgpu::StencilFaceState {
-    wgpu::StencilFaceState {
-        compare,
-        fail_op: fail,
-        depth_fail_op: depth_fail,
-        pass_op: pass,
-    }
+    wgpu::StencilFaceState { compare, fail_op: fail, depth_fail_op: depth_fail, pass_op: pass }
 }
 
 fn stencil(front: wgpu::StencilFaceState, back: wgpu::StencilFaceState) -> wgpu::StencilState {
-    wgpu::StencilState {
-        front,
-        back,
-        read_mask: 0xff,
-        write_mask: 0xff,
-    }
+    wgpu::StencilState { front, back, read_mask: 0xff, write_mask: 0xff }
 }
 
 const KEEP: wgpu::StencilFaceState = wgpu::StencilFaceState::IGNORE;
@@ -207,7 +196,21 @@ impl Pipelines {
         };
         let compose_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("compose"),
-            entries: &[tex(0), tex(1), tex(2)],
+            entries: &[
+                tex(0),
+                tex(1),
+                tex(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(16),
+                    },
+                    count: None,
+                },
+            ],
         });
         let geometry_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("geometry"),
@@ -227,12 +230,8 @@ impl Pipelines {
 
         let z = |c| Self::z(key.reversed_z, c);
         let geometry = {
-            let targets: Vec<Option<wgpu::ColorTargetState>> = key
-                .layout
-                .targets
-                .iter()
-                .map(|t| Some(t.format.into()))
-                .collect();
+            let targets: Vec<Option<wgpu::ColorTargetState>> =
+                key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("geometry"),
                 layout: Some(&geometry_layout),
@@ -274,16 +273,8 @@ impl Pipelines {
         let light = |p: LightPipe| {
             let accum_targets = |blend: Option<wgpu::BlendState>, mask| {
                 vec![
-                    Some(wgpu::ColorTargetState {
-                        format: ACCUM_FORMAT,
-                        blend,
-                        write_mask: mask,
-                    }),
-                    Some(wgpu::ColorTargetState {
-                        format: ACCUM_FORMAT,
-                        blend,
-                        write_mask: mask,
-                    }),
+                    Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend, write_mask: mask }),
+                    Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend, write_mask: mask }),
                 ]
             };
             let targets = match p.out {
@@ -335,27 +326,15 @@ impl Pipelines {
         };
         let none = stencil(KEEP, KEEP);
         // Seed 000 pass 1: front faces, no colour, Z LessEqual, Z-fail increments (saturate).
-        let two_pass_mark_stencil = stencil(
-            stencil_face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep),
-            KEEP,
-        );
+        let two_pass_mark_stencil = stencil(stencil_face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), KEEP);
         // Seed 000 pass 2: back faces, Z GreaterEqual, stencil Equal 0, always writes zero.
         let two_pass_shade_stencil = {
             let f = stencil_face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero);
             stencil(f, f)
         };
         let invert = stencil_face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep);
-        let ll = |label, vs, fs, cull, depth, stencil, out| {
-            light(LightPipe {
-                label,
-                vs,
-                fs,
-                cull,
-                depth,
-                stencil,
-                out,
-            })
-        };
+        let ll =
+            |label, vs, fs, cull, depth, stencil, out| light(LightPipe { label, vs, fs, cull, depth, stencil, out });
         use wgpu::Face::{Back, Front};
         Self {
             ambient: ll(
@@ -483,15 +462,7 @@ impl Pipelines {
                 },
                 Out::NoColor,
             ),
-            ideal: ll(
-                "ideal count",
-                Vs::Fullscreen,
-                "fs_ideal",
-                None,
-                Cmp::Always,
-                none.clone(),
-                Out::NoColor,
-            ),
+            ideal: ll("ideal count", Vs::Fullscreen, "fs_ideal", None, Cmp::Always, none.clone(), Out::NoColor),
             classify_blue: ll(
                 "classify: pass 1 Z",
                 Vs::Volume,

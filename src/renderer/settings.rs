@@ -7,9 +7,7 @@ use serde::{Deserialize, Serialize};
 pub use super::gbuffer::LayoutChoice;
 
 /// How light volumes are applied.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum CullingMode {
     /// Every light a full-screen triangle: the no-culling reference.
@@ -50,9 +48,7 @@ impl CullingMode {
 }
 
 /// What the compose pass shows. The values are shared with WGSL as generated constants.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 #[repr(u32)]
 pub enum DebugView {
@@ -146,10 +142,7 @@ impl Default for Settings {
 impl Settings {
     pub fn validate(&self) -> Result<(), String> {
         if !(self.exposure.is_finite() && self.exposure > 0.0 && self.exposure < 1e6) {
-            return Err(format!(
-                "exposure {} must be a positive finite number",
-                self.exposure
-            ));
+            return Err(format!("exposure {} must be a positive finite number", self.exposure));
         }
         Ok(())
     }

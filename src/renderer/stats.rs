@@ -138,14 +138,7 @@ impl Queries {
         }
     }
 
-    pub fn resolve(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        n: usize,
-        counts: bool,
-        ideal: bool,
-        times: bool,
-    ) {
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, n: usize, counts: bool, ideal: bool, times: bool) {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
             return;
         };
@@ -159,20 +152,10 @@ impl Queries {
         for b in 0..n.div_ceil(LIGHTS_PER_QUERY_SET) {
             let count = (n - b * LIGHTS_PER_QUERY_SET).min(LIGHTS_PER_QUERY_SET) as u32;
             if counts {
-                encoder.resolve_query_set(
-                    &self.occlusion[b],
-                    0..count,
-                    resolve,
-                    occ_off + b as u64 * block,
-                );
+                encoder.resolve_query_set(&self.occlusion[b], 0..count, resolve, occ_off + b as u64 * block);
             }
             if ideal {
-                encoder.resolve_query_set(
-                    &self.ideal[b],
-                    0..count,
-                    resolve,
-                    ideal_off + b as u64 * block,
-                );
+                encoder.resolve_query_set(&self.ideal[b], 0..count, resolve, ideal_off + b as u64 * block);
             }
         }
         if counts || ideal || times {
@@ -221,15 +204,10 @@ impl Queries {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-        rx.recv()?
-            .map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
         {
-            let data = slice
-                .get_mapped_range()
-                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
             let words: &[u64] = bytemuck::cast_slice(&data);
             let (occ_off, ideal_off, _) = Self::offsets(self.capacity);
             if times && self.timestamps.is_some() {

@@ -13,6 +13,25 @@ pub const VOLUME_MARGIN: f32 = 1.002;
 /// (4/3 pi R^3) once tan(a) > ~1.8, i.e. about 61 degrees. We switch at 60.
 pub const CONE_MAX_ANGLE_DEG: f32 = 60.0;
 
+/// Orthonormal basis around a unit vector (Duff et al. 2017), the same as `basis` in
+/// `shaders/lights.wgsl`, so CPU-side placement matches what the GPU draws.
+pub fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// Places a unit-mesh vertex on a light (view space), as `volume_position` in the shader.
+pub fn place(v: Vec4, position: Vec3, radius: f32, direction: Vec3, tan_outer: f32) -> Vec3 {
+    if v.w < 0.5 {
+        return position + v.truncate() * radius;
+    }
+    let (t, u) = basis(direction);
+    let r = radius * tan_outer;
+    position + t * (v.x * r) + u * (v.y * r) + direction * (v.z * radius)
+}
+
 /// A unit mesh: positions with w = 0 (sphere) or 1 (cone), and triangle indices.
 #[derive(Clone, Debug)]
 pub struct VolumeMesh {
@@ -162,13 +181,8 @@ mod tests {
     fn sphere_circumscribes_the_unit_sphere() {
         for level in 0..3 {
             let m = VolumeMesh::sphere(level);
-            let min = directions(20_000)
-                .map(|d| m.ray_exit(Vec3::ZERO, d))
-                .fold(f32::INFINITY, f32::min);
-            assert!(
-                min >= 1.0,
-                "level {level}: the mesh reaches only {min} of the radius"
-            );
+            let min = directions(20_000).map(|d| m.ray_exit(Vec3::ZERO, d)).fold(f32::INFINITY, f32::min);
+            assert!(min >= 1.0, "level {level}: the mesh reaches only {min} of the radius");
             // And it is not wastefully large.
             assert!(min < 1.01, "level {level}: nearest face at {min}");
         }
@@ -179,27 +193,18 @@ mod tests {
         // The failure the scaling prevents: vertices on the radius leave faces inside it.
         let m = VolumeMesh::sphere(1);
         let scale = m.vertices[0].truncate().length();
-        let min = directions(20_000)
-            .map(|d| m.ray_exit(Vec3::ZERO, d) / scale)
-            .fold(f32::INFINITY, f32::min);
-        assert!(
-            min < 0.97,
-            "an icosphere with vertices on the sphere reaches {min}"
-        );
+        let min = directions(20_000).map(|d| m.ray_exit(Vec3::ZERO, d) / scale).fold(f32::INFINITY, f32::min);
+        assert!(min < 0.97, "an icosphere with vertices on the sphere reaches {min}");
     }
 
     #[test]
     fn faces_wind_counter_clockwise_seen_from_outside() {
         // Culling of front or back faces depends on it.
         for m in [VolumeMesh::sphere(1), VolumeMesh::cone(12)] {
-            let centre =
-                m.vertices.iter().map(|v| v.truncate()).sum::<Vec3>() / m.vertices.len() as f32;
+            let centre = m.vertices.iter().map(|v| v.truncate()).sum::<Vec3>() / m.vertices.len() as f32;
             for tri in m.indices.chunks(3) {
                 let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
-                assert!(
-                    (b - a).cross(c - a).dot(a - centre) > 0.0,
-                    "a face winds inward"
-                );
+                assert!((b - a).cross(c - a).dot(a - centre) > 0.0, "a face winds inward");
             }
         }
     }
@@ -221,15 +226,11 @@ mod tests {
                     let p = d * (k as f32 / 10.0);
                     let q = Vec3::new(p.x / ta, p.y / ta, p.z);
                     let inside = m.indices.chunks(3).all(|tri| {
-                        let [a, b, c] =
-                            [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
+                        let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
                         let n = (b - a).cross(c - a);
                         n.dot(q - a) <= 1e-5 * n.length()
                     });
-                    assert!(
-                        inside,
-                        "angle {a_deg}: point {p} of the spot lies outside its cone mesh"
-                    );
+                    assert!(inside, "angle {a_deg}: point {p} of the spot lies outside its cone mesh");
                 }
             }
         }

@@ -28,10 +28,7 @@ pub struct BuiltinOptions {
 
 impl Default for BuiltinOptions {
     fn default() -> Self {
-        Self {
-            lights: None,
-            time: 0.0,
-        }
+        Self { lights: None, time: 0.0 }
     }
 }
 
@@ -40,47 +37,21 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
     let scene = match name {
         "demo" => demo(opts.lights.unwrap_or(1024), opts.time),
         "spot" => spot(),
-        "inside" => single_light_case(
-            name,
-            DVec3::new(0.0, 1.5, 4.0),
-            DVec3::new(0.5, 1.2, 3.0),
-            5.0,
-            0.1,
-            200.0,
-        ),
-        "near" => single_light_case(
-            name,
-            DVec3::new(0.0, 1.5, 8.0),
-            DVec3::new(0.0, 1.2, 5.5),
-            3.0,
-            0.1,
-            200.0,
-        ),
+        "inside" => single_light_case(name, DVec3::new(0.0, 1.5, 4.0), DVec3::new(0.5, 1.2, 3.0), 5.0, 0.1, 200.0),
+        "near" => single_light_case(name, DVec3::new(0.0, 1.5, 8.0), DVec3::new(0.0, 1.2, 5.5), 3.0, 0.1, 200.0),
         // The camera's far plane cuts through the volume of a light that still reaches the floor.
-        "far" => single_light_case(
-            name,
-            DVec3::new(0.0, 3.0, 14.0),
-            DVec3::new(0.0, 1.0, -8.0),
-            9.0,
-            0.1,
-            23.0,
-        ),
+        "far" => single_light_case(name, DVec3::new(0.0, 3.0, 14.0), DVec3::new(0.0, 1.0, -8.0), 9.0, 0.1, 23.0),
         "occluded" => occluded(),
         "floating" => floating(),
         "classify" => classify(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
-            return Err(format!(
-                "unknown scene '{name}'; built-in scenes are: {}",
-                names.join(", ")
-            ));
+            return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
         }
     };
     if let Some(n) = opts.lights {
         if n > 100_000 {
-            return Err(format!(
-                "--lights {n} is more than the 100000 Lampshade supports"
-            ));
+            return Err(format!("--lights {n} is more than the 100000 Lampshade supports"));
         }
     }
     Ok(scene)
@@ -133,30 +104,18 @@ impl Builder {
     /// An axis-aligned box from its minimum corner to its maximum corner.
     fn boxed(&mut self, min: DVec3, max: DVec3, material: usize) {
         let t = DMat4::from_translation((min + max) * 0.5) * DMat4::from_scale(max - min);
-        self.scene.objects.push(Object {
-            mesh: 0,
-            material,
-            transform: t,
-        });
+        self.scene.objects.push(Object { mesh: 0, material, transform: t });
     }
 
     fn point(&mut self, position: DVec3, color: Vec3, intensity: f32, radius: f32) {
-        self.scene.lights.push(Light::Point(PointLight {
-            position,
-            color,
-            intensity,
-            radius,
-        }));
+        self.scene.lights.push(Light::Point(PointLight { position, color, intensity, radius }));
     }
 }
 
 /// Seed 000's demo: a large floor with pillars and boxes, a sun, ambient, `n` coloured point
 /// lights circling above the floor at time `t`, and four spot lights.
 pub fn demo(n: usize, t: f64) -> Scene {
-    let camera = Camera {
-        far: 300.0,
-        ..Camera::looking_at(DVec3::new(0.0, 14.0, 46.0), DVec3::new(0.0, 0.0, 4.0))
-    };
+    let camera = Camera { far: 300.0, ..Camera::looking_at(DVec3::new(0.0, 14.0, 46.0), DVec3::new(0.0, 0.0, 4.0)) };
     let mut b = Builder::new("demo", camera);
     b.scene.sun = Some(Sun {
         direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
@@ -170,11 +129,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
         specular_exponent: 48.0,
         emissive: Vec3::ZERO,
     });
-    b.boxed(
-        DVec3::new(-80.0, -1.0, -80.0),
-        DVec3::new(80.0, 0.0, 80.0),
-        floor,
-    );
+    b.boxed(DVec3::new(-80.0, -1.0, -80.0), DVec3::new(80.0, 0.0, 80.0), floor);
     // Pillars on a grid.
     let pillar = b.material(Material {
         diffuse: Vec3::new(0.7, 0.68, 0.62),
@@ -185,11 +140,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
     for gx in -4..=4 {
         for gz in -4..=4 {
             let (x, z) = (gx as f64 * 16.0, gz as f64 * 16.0);
-            b.boxed(
-                DVec3::new(x - 0.8, 0.0, z - 0.8),
-                DVec3::new(x + 0.8, 9.0, z + 0.8),
-                pillar,
-            );
+            b.boxed(DVec3::new(x - 0.8, 0.0, z - 0.8), DVec3::new(x + 0.8, 9.0, z + 0.8), pillar);
         }
     }
     // Boxes of varied size and colour.
@@ -206,11 +157,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
         let sx = 0.6 + unit(3, i) * 3.0;
         let sz = 0.6 + unit(4, i) * 3.0;
         let sy = 0.4 + unit(5, i) * 3.5;
-        b.boxed(
-            DVec3::new(x - sx, 0.0, z - sz),
-            DVec3::new(x + sx, sy, z + sz),
-            m,
-        );
+        b.boxed(DVec3::new(x - sx, 0.0, z - sz), DVec3::new(x + sx, sy, z + sz), m);
     }
     // Point lights: each circles its own centre.
     for i in 0..n as u64 {
@@ -223,20 +170,13 @@ pub fn demo(n: usize, t: f64) -> Scene {
         let y = 0.6 + unit(16, i) * 2.5 + 0.4 * (t * 1.3 + phase).sin();
         let pos = DVec3::new(cx + orbit * a.cos(), y, cz + orbit * a.sin());
         let color = hue(unit(17, i) as f32);
-        b.point(
-            pos,
-            color,
-            0.5 + unit(18, i) as f32 * 0.7,
-            2.5 + unit(19, i) as f32 * 3.0,
-        );
+        b.point(pos, color, 0.5 + unit(18, i) as f32 * 0.7, 2.5 + unit(19, i) as f32 * 3.0);
     }
     // A few spot lights sweeping the floor.
     for k in 0..4u64 {
         let a = k as f64 * std::f64::consts::FRAC_PI_2 + t * 0.2;
         let pos = DVec3::new(20.0 * a.cos(), 10.0, 20.0 * a.sin());
-        let dir = (DVec3::new(12.0 * a.cos(), 0.0, 12.0 * a.sin()) - pos)
-            .normalize()
-            .as_vec3();
+        let dir = (DVec3::new(12.0 * a.cos(), 0.0, 12.0 * a.sin()) - pos).normalize().as_vec3();
         b.scene.lights.push(Light::Spot(SpotLight {
             position: pos,
             direction: dir,
@@ -261,36 +201,17 @@ pub fn spot() -> Scene {
         specular_exponent: 40.0,
         emissive: Vec3::ZERO,
     });
-    b.boxed(
-        DVec3::new(-12.0, -1.0, -12.0),
-        DVec3::new(12.0, 0.0, 12.0),
-        floor,
-    );
+    b.boxed(DVec3::new(-12.0, -1.0, -12.0), DVec3::new(12.0, 0.0, 12.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.55, 0.7)));
-    b.boxed(
-        DVec3::new(-12.0, 0.0, -12.0),
-        DVec3::new(12.0, 6.0, -11.0),
-        wall,
-    );
-    for (i, (x, z, s, h)) in [
-        (-1.5, 0.5, 1.0, 2.0),
-        (2.0, -1.5, 0.7, 1.2),
-        (0.5, 2.5, 0.5, 3.0),
-    ]
-    .iter()
-    .enumerate()
-    {
+    b.boxed(DVec3::new(-12.0, 0.0, -12.0), DVec3::new(12.0, 6.0, -11.0), wall);
+    for (i, (x, z, s, h)) in [(-1.5, 0.5, 1.0, 2.0), (2.0, -1.5, 0.7, 1.2), (0.5, 2.5, 0.5, 3.0)].iter().enumerate() {
         let m = b.material(Material {
             diffuse: hue(i as f32 * 0.3) * 0.6 + Vec3::splat(0.2),
             specular_level: 0.6,
             specular_exponent: 64.0,
             emissive: Vec3::ZERO,
         });
-        b.boxed(
-            DVec3::new(x - s, 0.0, z - s),
-            DVec3::new(x + s, *h, z + s),
-            m,
-        );
+        b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
     }
     b.scene.lights.push(Light::Spot(SpotLight {
         position: DVec3::new(-2.0, 7.0, 1.0),
@@ -305,19 +226,8 @@ pub fn spot() -> Scene {
 }
 
 /// A floor, a back wall and one point light, seen from `eye`.
-fn single_light_case(
-    name: &str,
-    eye: DVec3,
-    light: DVec3,
-    radius: f32,
-    near: f64,
-    far: f64,
-) -> Scene {
-    let camera = Camera {
-        near,
-        far,
-        ..Camera::looking_at(eye, DVec3::new(0.0, 0.5, -4.0))
-    };
+fn single_light_case(name: &str, eye: DVec3, light: DVec3, radius: f32, near: f64, far: f64) -> Scene {
+    let camera = Camera { near, far, ..Camera::looking_at(eye, DVec3::new(0.0, 0.5, -4.0)) };
     let mut b = Builder::new(name, camera);
     let floor = b.material(Material {
         diffuse: Vec3::splat(0.6),
@@ -325,97 +235,44 @@ fn single_light_case(
         specular_exponent: 32.0,
         emissive: Vec3::ZERO,
     });
-    b.boxed(
-        DVec3::new(-30.0, -1.0, -40.0),
-        DVec3::new(30.0, 0.0, 30.0),
-        floor,
-    );
+    b.boxed(DVec3::new(-30.0, -1.0, -40.0), DVec3::new(30.0, 0.0, 30.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.6, 0.5, 0.4)));
-    b.boxed(
-        DVec3::new(-3.0, 0.0, -2.0),
-        DVec3::new(-1.0, 2.5, -1.0),
-        wall,
-    );
+    b.boxed(DVec3::new(-3.0, 0.0, -2.0), DVec3::new(-1.0, 2.5, -1.0), wall);
     b.point(light, Vec3::new(1.0, 0.85, 0.6), 3.0, radius);
     b.scene
 }
 
 /// A light behind a wall: no pixel it could light is visible.
 fn occluded() -> Scene {
-    let mut b = Builder::new(
-        "occluded",
-        Camera::looking_at(DVec3::new(0.0, 2.0, 10.0), DVec3::new(0.0, 2.0, 0.0)),
-    );
+    let mut b = Builder::new("occluded", Camera::looking_at(DVec3::new(0.0, 2.0, 10.0), DVec3::new(0.0, 2.0, 0.0)));
     let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
-    b.boxed(
-        DVec3::new(-20.0, -1.0, -20.0),
-        DVec3::new(20.0, 0.0, 20.0),
-        floor,
-    );
+    b.boxed(DVec3::new(-20.0, -1.0, -20.0), DVec3::new(20.0, 0.0, 20.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.6, 0.5)));
-    b.boxed(
-        DVec3::new(-30.0, 0.0, 0.0),
-        DVec3::new(30.0, 30.0, 1.0),
-        wall,
-    );
+    b.boxed(DVec3::new(-30.0, 0.0, 0.0), DVec3::new(30.0, 30.0, 1.0), wall);
     // Radius 2 at 2 units behind the wall (which is 1 unit thick): it reaches nothing visible.
-    b.point(
-        DVec3::new(0.0, 3.0, -2.5),
-        Vec3::new(1.0, 0.3, 0.2),
-        4.0,
-        2.0,
-    );
+    b.point(DVec3::new(0.0, 3.0, -2.5), Vec3::new(1.0, 0.3, 0.2), 4.0, 2.0);
     // A visible light so the frame is not only ambient.
-    b.point(
-        DVec3::new(3.0, 1.0, 3.0),
-        Vec3::new(0.3, 0.6, 1.0),
-        3.0,
-        3.0,
-    );
+    b.point(DVec3::new(3.0, 1.0, 3.0), Vec3::new(0.3, 0.6, 1.0), 3.0, 3.0);
     b.scene
 }
 
 /// A light floating between the camera and the geometry, touching nothing.
 fn floating() -> Scene {
-    let mut b = Builder::new(
-        "floating",
-        Camera::looking_at(DVec3::new(0.0, 3.0, 12.0), DVec3::new(0.0, 0.0, 0.0)),
-    );
+    let mut b = Builder::new("floating", Camera::looking_at(DVec3::new(0.0, 3.0, 12.0), DVec3::new(0.0, 0.0, 0.0)));
     let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
-    b.boxed(
-        DVec3::new(-20.0, -1.0, -20.0),
-        DVec3::new(20.0, 0.0, 20.0),
-        floor,
-    );
-    b.point(
-        DVec3::new(0.0, 3.2, 8.0),
-        Vec3::new(1.0, 0.8, 0.3),
-        5.0,
-        1.5,
-    );
-    b.point(
-        DVec3::new(-3.0, 0.8, 0.0),
-        Vec3::new(0.3, 1.0, 0.5),
-        3.0,
-        3.0,
-    );
+    b.boxed(DVec3::new(-20.0, -1.0, -20.0), DVec3::new(20.0, 0.0, 20.0), floor);
+    b.point(DVec3::new(0.0, 3.2, 8.0), Vec3::new(1.0, 0.8, 0.3), 5.0, 1.5);
+    b.point(DVec3::new(-3.0, 0.8, 0.0), Vec3::new(0.3, 1.0, 0.5), 3.0, 3.0);
     b.scene
 }
 
 /// Seed 000's diagram: one light, one wall, one box. From the camera the wall hides the left
 /// part of the light's volume, the box stands inside it, and the floor behind is out of reach.
 pub fn classify() -> Scene {
-    let mut b = Builder::new(
-        "classify",
-        Camera::looking_at(DVec3::new(0.0, 2.5, 9.0), DVec3::new(0.0, 1.0, 0.0)),
-    );
+    let mut b = Builder::new("classify", Camera::looking_at(DVec3::new(0.0, 2.5, 9.0), DVec3::new(0.0, 1.0, 0.0)));
     b.scene.ambient = Vec3::splat(0.05);
     let floor = b.material(Material::diffuse(Vec3::splat(0.5)));
-    b.boxed(
-        DVec3::new(-20.0, -1.0, -20.0),
-        DVec3::new(20.0, 0.0, 20.0),
-        floor,
-    );
+    b.boxed(DVec3::new(-20.0, -1.0, -20.0), DVec3::new(20.0, 0.0, 20.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.5, 0.6)));
     // The wall stands in front of the light's left half.
     b.boxed(DVec3::new(-6.0, 0.0, 4.0), DVec3::new(0.4, 5.0, 4.5), wall);

@@ -61,11 +61,7 @@ impl Camera {
     pub fn projection(&self, aspect: f64, reversed: bool) -> DMat4 {
         let ys = 1.0 / (self.fov_y * 0.5).tan();
         let xs = ys / aspect;
-        let (n, f) = if reversed {
-            (self.far, self.near)
-        } else {
-            (self.near, self.far)
-        };
+        let (n, f) = if reversed { (self.far, self.near) } else { (self.near, self.far) };
         DMat4::from_cols(
             glam::DVec4::new(xs, 0.0, 0.0, 0.0),
             glam::DVec4::new(0.0, ys, 0.0, 0.0),
@@ -81,16 +77,10 @@ impl Camera {
             return Err("camera position and angles must be finite".into());
         }
         if !(self.fov_y > 1e-3 && self.fov_y < std::f64::consts::PI - 1e-3) {
-            return Err(format!(
-                "field of view {:.3} rad is outside (0, pi)",
-                self.fov_y
-            ));
+            return Err(format!("field of view {:.3} rad is outside (0, pi)", self.fov_y));
         }
         if !(self.near > 0.0 && self.far > self.near && self.far.is_finite()) {
-            return Err(format!(
-                "need 0 < near < far, got near {} far {}",
-                self.near, self.far
-            ));
+            return Err(format!("need 0 < near < far, got near {} far {}", self.near, self.far));
         }
         Ok(())
     }
@@ -114,10 +104,7 @@ pub struct Mesh {
 impl Mesh {
     /// An axis-aligned unit cube centred on the origin, with per-face normals.
     pub fn cube() -> Self {
-        let mut m = Mesh {
-            name: "cube".into(),
-            ..Default::default()
-        };
+        let mut m = Mesh { name: "cube".into(), ..Default::default() };
         let faces: [(Vec3, Vec3, Vec3); 6] = [
             (Vec3::X, Vec3::Y, Vec3::Z),
             (Vec3::NEG_X, Vec3::Y, Vec3::NEG_Z),
@@ -130,20 +117,14 @@ impl Mesh {
             let base = m.vertices.len() as u32;
             for (u, v) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
                 let p = n * 0.5 + right * (u - 0.5) + up * (v - 0.5);
-                m.vertices.push(Vertex {
-                    position: p.into(),
-                    normal: n.into(),
-                    uv: Vec2::new(u, v).into(),
-                });
+                m.vertices.push(Vertex { position: p.into(), normal: n.into(), uv: Vec2::new(u, v).into() });
             }
             // Counter-clockwise seen from outside: right x up = normal.
             let ccw = right.cross(up).dot(n) > 0.0;
             if ccw {
-                m.indices
-                    .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+                m.indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
             } else {
-                m.indices
-                    .extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+                m.indices.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
             }
         }
         m
@@ -164,12 +145,7 @@ pub struct Material {
 
 impl Material {
     pub fn diffuse(c: Vec3) -> Self {
-        Self {
-            diffuse: c,
-            specular_level: 0.3,
-            specular_exponent: 32.0,
-            emissive: Vec3::ZERO,
-        }
+        Self { diffuse: c, specular_level: 0.3, specular_exponent: 32.0, emissive: Vec3::ZERO }
     }
 }
 
@@ -238,10 +214,7 @@ impl Light {
                 }
                 let max = std::f32::consts::FRAC_PI_2;
                 if !(s.outer_angle >= 0.0 && s.outer_angle <= max && s.inner_angle >= 0.0) {
-                    return Err(format!(
-                        "spot outer angle {} must lie in [0, pi/2]",
-                        s.outer_angle
-                    ));
+                    return Err(format!("spot outer angle {} must lie in [0, pi/2]", s.outer_angle));
                 }
                 if s.inner_angle > s.outer_angle {
                     return Err("spot inner angle exceeds the outer angle".into());
@@ -253,9 +226,7 @@ impl Light {
             return Err("light values must be finite".into());
         }
         if radius <= 0.0 || intensity < 0.0 || color.min_element() < 0.0 {
-            return Err(format!(
-                "light needs radius > 0 and non-negative colour/intensity (radius {radius})"
-            ));
+            return Err(format!("light needs radius > 0 and non-negative colour/intensity (radius {radius})"));
         }
         Ok(())
     }
@@ -307,8 +278,6 @@ impl Scene {
     }
 
     pub fn any_emissive(&self) -> bool {
-        self.materials
-            .iter()
-            .any(|m| m.emissive.max_element() > 0.0)
+        self.materials.iter().any(|m| m.emissive.max_element() > 0.0)
     }
 }

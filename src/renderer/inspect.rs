@@ -1,0 +1,225 @@
+//! Looking inside a frame: the values at one pixel (the viewer's hover probe) and the
+//! screen-space wireframe of a light's bounding volume.
+
+use super::gbuffer::{Attr, NormalEncoding};
+use super::{volumes, LightRaw, Renderer, VolumeKind, LIGHT_KIND_SPOT};
+use crate::gpu::Gpu;
+use crate::scene::Scene;
+use anyhow::{bail, Result};
+use glam::{DVec4, Vec2, Vec3};
+
+/// What the G-buffer and the light buffers hold at one pixel of the last frame, decoded.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct PixelProbe {
+    pub x: u32,
+    pub y: u32,
+    /// False where no geometry was drawn (background).
+    pub valid: bool,
+    pub albedo: Vec3,
+    pub specular_level: f32,
+    pub specular_exponent: f32,
+    /// View-space normal.
+    pub normal: Vec3,
+    pub emissive: Vec3,
+    /// View-space position.
+    pub position: Vec3,
+    pub diffuse_light: Vec3,
+    pub specular_light: Vec3,
+    /// diffuse x albedo + specular + emissive, linear, before tonemapping.
+    pub lit: Vec3,
+    /// Lights whose true shape contains the pixel's point.
+    pub lights: Vec<usize>,
+    /// Raw channel values per G-buffer target: (target name, format, RGBA).
+    pub raw: Vec<(String, String, [f32; 4])>,
+}
+
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
+    use wgpu::TextureFormat as F;
+    let mut out = [0.0f32; 4];
+    match format {
+        F::Rgba8Unorm => bytes.iter().take(4).enumerate().for_each(|(i, b)| out[i] = *b as f32 / 255.0),
+        F::Rgba8UnormSrgb => bytes.iter().take(4).enumerate().for_each(|(i, b)| {
+            let v = *b as f32 / 255.0;
+            out[i] = if i < 3 { srgb_to_linear(v) } else { v };
+        }),
+        F::Rgba16Float | F::Rg16Float | F::R16Float => {
+            for (i, c) in bytes.chunks_exact(2).take(4).enumerate() {
+                out[i] = half::f16::from_le_bytes([c[0], c[1]]).to_f32();
+            }
+        }
+        F::R32Float | F::Rg32Float | F::Rgba32Float => {
+            for (i, c) in bytes.chunks_exact(4).take(4).enumerate() {
+                out[i] = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+            }
+        }
+        other => bail!("cannot decode texels of {other:?}"),
+    }
+    Ok(out)
+}
+
+fn read_texel(gpu: &Gpu, texture: &wgpu::Texture, x: u32, y: u32) -> Result<[f32; 4]> {
+    let bpp = texture.format().block_copy_size(None).unwrap_or(16);
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe"),
+        size: 256,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x, y, z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: None, rows_per_image: None },
+        },
+        wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = gpu.read_buffer(&buffer)?;
+    texel(texture.format(), &bytes[..bpp as usize])
+}
+
+fn oct_decode(e: Vec2) -> Vec3 {
+    let mut n = Vec3::new(e.x, e.y, 1.0 - e.x.abs() - e.y.abs());
+    let t = (-n.z).clamp(0.0, 1.0);
+    n.x += if n.x >= 0.0 { -t } else { t };
+    n.y += if n.y >= 0.0 { -t } else { t };
+    n.normalize_or(Vec3::Z)
+}
+
+/// Whether view-space point `p` lies inside the light's true shape (as `inside_light` in WGSL).
+pub fn inside_light(l: &LightRaw, p: Vec3) -> bool {
+    let v = p - Vec3::from(l.position);
+    let d = v.length();
+    if d >= l.radius {
+        return false;
+    }
+    if l.kind == LIGHT_KIND_SPOT && d > 0.0 {
+        return (v / d).dot(Vec3::from(l.direction)) > l.cos_outer;
+    }
+    true
+}
+
+impl Renderer {
+    /// Decodes pixel (`x`, `y`) of the last frame on the CPU, following the layout table.
+    pub fn probe(&self, gpu: &Gpu, x: u32, y: u32) -> Result<PixelProbe> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if x >= t.width || y >= t.height {
+            bail!("pixel ({x}, {y}) is outside the {}x{} frame", t.width, t.height);
+        }
+        let layout = &t.gbuffer.layout;
+        let mut comps: std::collections::HashMap<(Attr, u8), f32> = Default::default();
+        let mut raw = Vec::new();
+        for (desc, tex) in layout.targets.iter().zip(&t.gbuffer.textures) {
+            let v = read_texel(gpu, tex, x, y)?;
+            raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
+            let float = desc.format.sample_type(None, None)
+                == Some(wgpu::TextureSampleType::Float { filterable: false })
+                || matches!(desc.format, wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::R32Float);
+            for (c, slot) in desc.channels.iter().enumerate() {
+                if let Some(s) = slot {
+                    let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
+                    comps.insert((s.attr, s.comp), val);
+                }
+            }
+        }
+        let get = |a: Attr, c: u8, default: f32| comps.get(&(a, c)).copied().unwrap_or(default);
+        let v3 = |a: Attr| Vec3::new(get(a, 0, 0.0), get(a, 1, 0.0), get(a, 2, 0.0));
+        let normal = match layout.normal {
+            NormalEncoding::Octahedral => oct_decode(Vec2::new(get(Attr::Normal, 0, 0.0), get(Attr::Normal, 1, 0.0))),
+            NormalEncoding::Xyz => v3(Attr::Normal).normalize_or(Vec3::Z),
+        };
+        let far_depth = if self.pipelines.key.reversed_z { 0.0 } else { 1.0 };
+        let (position, valid) = if layout.has(Attr::Depth) {
+            let d = get(Attr::Depth, 0, far_depth);
+            let ndc = DVec4::new(
+                (x as f64 + 0.5) / t.width as f64 * 2.0 - 1.0,
+                1.0 - (y as f64 + 0.5) / t.height as f64 * 2.0,
+                d as f64,
+                1.0,
+            );
+            let v = self.last_inv_proj * ndc;
+            ((v.truncate() / v.w).as_vec3(), d != far_depth)
+        } else {
+            let p = v3(Attr::Position);
+            (p, p.z < 0.0)
+        };
+        let diffuse = read_texel(gpu, &t.diffuse, x, y)?;
+        let specular = read_texel(gpu, &t.specular, x, y)?;
+        let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
+        let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
+        let albedo = v3(Attr::Albedo);
+        let emissive = v3(Attr::Emissive);
+        let lights = if valid {
+            self.last_lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
+        } else {
+            Vec::new()
+        };
+        Ok(PixelProbe {
+            x,
+            y,
+            valid,
+            albedo,
+            specular_level: get(Attr::SpecLevel, 0, 0.0),
+            specular_exponent: 2f32.powf(get(Attr::SpecExp, 0, 0.0) * 11.0),
+            normal,
+            emissive,
+            position,
+            diffuse_light,
+            specular_light,
+            lit: if valid { diffuse_light * albedo + specular_light + emissive } else { Vec3::ZERO },
+            lights,
+            raw,
+        })
+    }
+}
+
+/// Screen-space segments (pixels, origin top-left) of light `light`'s bounding volume as the
+/// renderer draws it, for a `width`x`height` view of `scene`. Edges behind the near plane are
+/// left out.
+pub fn volume_wireframe(scene: &Scene, light: usize, width: u32, height: u32) -> Vec<[Vec2; 2]> {
+    let Some(l) = scene.lights.get(light) else { return Vec::new() };
+    if width == 0 || height == 0 {
+        return Vec::new();
+    }
+    let raw = Renderer::light_raw(scene, l);
+    let mesh = match VolumeKind::of(&raw) {
+        VolumeKind::Sphere => volumes::VolumeMesh::sphere(super::SPHERE_SUBDIVISIONS),
+        VolumeKind::Cone => volumes::VolumeMesh::cone(super::CONE_SIDES),
+    };
+    let proj = scene.camera.projection(width as f64 / height as f64, false).as_mat4();
+    let near = scene.camera.near as f32;
+    let pts: Vec<Option<Vec2>> = mesh
+        .vertices
+        .iter()
+        .map(|v| {
+            let p = volumes::place(*v, raw.position.into(), raw.radius, raw.direction.into(), raw.tan_outer);
+            if -p.z < near {
+                return None;
+            }
+            let c = proj * p.extend(1.0);
+            let n = Vec2::new(c.x, c.y) / c.w;
+            Some(Vec2::new((n.x * 0.5 + 0.5) * width as f32, (0.5 - n.y * 0.5) * height as f32))
+        })
+        .collect();
+    let mut edges = std::collections::BTreeSet::new();
+    for tri in mesh.indices.chunks(3) {
+        for (a, b) in [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])] {
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    edges.into_iter().filter_map(|(a, b)| Some([pts[a as usize]?, pts[b as usize]?])).collect()
+}

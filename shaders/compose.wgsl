@@ -5,6 +5,14 @@
 @group(2) @binding(1) var light_specular: texture_2d<f32>;
 @group(2) @binding(2) var debug_tex: texture_2d<f32>;
 
+struct ComposeParams {
+    // Which view (LS_VIEW_*), and the scale from output pixels to G-buffer pixels (thumbnails).
+    view: u32,
+    pad: u32,
+    scale: vec2<f32>,
+};
+@group(2) @binding(3) var<uniform> compose: ComposeParams;
+
 // ACES filmic tonemapping curve, Narkowicz 2015 fit.
 fn aces(x: vec3<f32>) -> vec3<f32> {
     let a = 2.51;
@@ -33,9 +41,9 @@ fn vs_compose(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 
 @fragment
 fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(frag.xy);
+    let p = vec2<i32>(floor(frag.xy * compose.scale));
     let s = gbuffer_load(p);
-    let view = u32(camera.params.z);
+    let view = compose.view;
     let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
     let specular = finite(textureLoad(light_specular, p, 0).rgb);
     let exposure = camera.params.x;

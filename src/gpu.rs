@@ -15,7 +15,7 @@ pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
     (wgpu::Features::PIPELINE_STATISTICS_QUERY, "rasterised light-volume coverage is not reported"),
     (wgpu::Features::DEPTH32FLOAT_STENCIL8, "depth falls back to Depth24PlusStencil8"),
     (wgpu::Features::FLOAT32_BLENDABLE, "Rgba32Float accumulation is unavailable"),
-    (wgpu::Features::POLYGON_MODE_LINE, "light-volume wireframes are drawn as filled outlines"),
+    (wgpu::Features::RG11B10UFLOAT_RENDERABLE, "Rg11b10Ufloat accumulation is unavailable"),
 ];
 
 /// A device and what it can do.

@@ -1,6 +1,7 @@
 //! Lampshade's deferred core: a headless renderer for deferred shading with light-volume
 //! culling. No window, no UI: the viewer (`app`, feature `viewer`) sits on top.
 
+pub mod bench;
 pub mod compare;
 pub mod gpu;
 pub mod headless;

@@ -19,6 +19,8 @@ enum Command {
     /// Open the viewer (the default command).
     #[cfg(feature = "viewer")]
     View(lampshade::app::ViewArgs),
+    /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
+    Bench(BenchArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -58,6 +60,71 @@ struct RenderArgs {
     /// Start from a settings file (as the viewer's screenshots write); flags override it.
     #[arg(long)]
     settings: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[arg(default_value = "demo")]
+    scene: String,
+    /// Output directory for bench.csv, bench.md and bench.png.
+    #[arg(long)]
+    out: PathBuf,
+    /// A short sweep (small size, fewer lights and frames), about a minute.
+    #[arg(long)]
+    quick: bool,
+    /// Frames timed per configuration.
+    #[arg(long)]
+    frames: Option<usize>,
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    #[arg(long)]
+    lights: Option<usize>,
+    /// Only these groups (comma-separated): culling, layout, accumulation, depth, lights.
+    #[arg(long, value_delimiter = ',')]
+    only: Vec<String>,
+}
+
+fn bench(args: BenchArgs) -> Result<()> {
+    use lampshade::bench;
+    let mut o = bench::BenchOptions::new(&args.scene, args.quick);
+    if let Some(f) = args.frames {
+        if f == 0 || f > 1000 {
+            bail!("--frames {f} must be between 1 and 1000");
+        }
+        o.frames = f;
+    }
+    if let Some(s) = args.size {
+        o.size = s;
+    }
+    if let Some(n) = args.lights {
+        o.lights = n;
+    }
+    for g in &args.only {
+        if !bench::GROUPS.contains(&g.as_str()) {
+            bail!("--only {g}: groups are {}", bench::GROUPS.join(", "));
+        }
+    }
+    o.groups = args.only.clone();
+    builtin::build(&o.scene, BuiltinOptions::default()).map_err(anyhow::Error::msg)?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let gpu = Gpu::headless()?;
+    let bar = indicatif::ProgressBar::new(bench::configs(&o).len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .map_err(|e| anyhow::anyhow!("{e}"))?,
+    );
+    let rows = bench::run(&gpu, &o, |done, _, label| {
+        bar.set_position(done as u64);
+        bar.set_message(label.to_string());
+    })?;
+    bar.finish_with_message("done");
+    bench::write_csv(&rows, &args.out.join("bench.csv"))?;
+    let md = bench::markdown(&rows, &gpu.info.name, &o);
+    std::fs::write(args.out.join("bench.md"), &md)?;
+    bench::plot(&rows, &args.out.join("bench.png"))?;
+    println!("{md}");
+    println!("wrote {}/bench.csv, bench.md, bench.png", args.out.display());
+    Ok(())
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -142,6 +209,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
+        Some(Command::Bench(args)) => bench(args),
         Some(Command::Scenes) => {
             for (name, what) in builtin::NAMES {
                 println!("{name:10} {what}");

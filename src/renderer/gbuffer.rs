@@ -82,10 +82,13 @@ pub enum LayoutChoice {
     Seed000,
     /// Eight bytes: albedo sRGB8 + spec, octahedral normal 8+8 + exponent; no emissive; depth copy.
     Packed,
+    /// The accuracy reference: four Rgba32Float targets, xyz normal, stored view-space position.
+    Reference,
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 3] = [LayoutChoice::Compact, LayoutChoice::Seed000, LayoutChoice::Packed];
+    pub const ALL: [LayoutChoice; 4] =
+        [LayoutChoice::Compact, LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Reference];
 
     pub fn layout(self) -> GBufferLayout {
         use wgpu::TextureFormat as F;
@@ -136,6 +139,32 @@ impl LayoutChoice {
                     TargetDesc {
                         name: "emissive",
                         format: F::Rgba16Float,
+                        channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
+                    },
+                ],
+            },
+            LayoutChoice::Reference => GBufferLayout {
+                name: "reference",
+                normal: NormalEncoding::Xyz,
+                targets: vec![
+                    TargetDesc {
+                        name: "albedo+spec",
+                        format: F::Rgba32Float,
+                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
+                    },
+                    TargetDesc {
+                        name: "normal+exp",
+                        format: F::Rgba32Float,
+                        channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
+                    },
+                    TargetDesc {
+                        name: "position",
+                        format: F::Rgba32Float,
+                        channels: vec![s(Position, 0), s(Position, 1), s(Position, 2), None],
+                    },
+                    TargetDesc {
+                        name: "emissive",
+                        format: F::Rgba32Float,
                         channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
                     },
                 ],
@@ -376,7 +405,7 @@ mod tests {
                 l.bytes_per_pixel()
             })
             .collect();
-        assert_eq!(sizes, vec![24, 32, 12]);
+        assert_eq!(sizes, vec![24, 32, 12, 64]);
     }
 
     #[test]

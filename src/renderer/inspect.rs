@@ -41,7 +41,8 @@ fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
+/// Decodes one texel of the colour formats Lampshade renders to, as linear RGBA.
+pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
     use wgpu::TextureFormat as F;
     let mut out = [0.0f32; 4];
     match format {
@@ -54,6 +55,27 @@ fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
             for (i, c) in bytes.chunks_exact(2).take(4).enumerate() {
                 out[i] = half::f16::from_le_bytes([c[0], c[1]]).to_f32();
             }
+        }
+        F::Rg11b10Ufloat => {
+            let v = u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+            // Unsigned small floats: 5-bit exponent, 6/6/5-bit mantissa.
+            let small = |bits: u32, mantissa_bits: u32| {
+                let m = bits & ((1 << mantissa_bits) - 1);
+                let e = bits >> mantissa_bits;
+                let scale = (1 << mantissa_bits) as f32;
+                match e {
+                    0 => m as f32 / scale * 2f32.powi(-14),
+                    31 => {
+                        if m == 0 {
+                            f32::INFINITY
+                        } else {
+                            f32::NAN
+                        }
+                    }
+                    e => (1.0 + m as f32 / scale) * 2f32.powi(e as i32 - 15),
+                }
+            };
+            out = [small(v & 0x7ff, 6), small((v >> 11) & 0x7ff, 6), small(v >> 22, 5), 0.0];
         }
         F::R32Float | F::Rg32Float | F::Rgba32Float => {
             for (i, c) in bytes.chunks_exact(4).take(4).enumerate() {

@@ -15,7 +15,7 @@ use anyhow::{bail, Result};
 use glam::{DMat4, Mat4, Vec3, Vec4};
 pub use inspect::{volume_wireframe, PixelProbe};
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
-pub use settings::{CullingMode, DebugView, LayoutChoice, Settings};
+pub use settings::{AccumFormat, CullingMode, DebugView, LayoutChoice, Settings};
 pub use stats::{FrameStats, LightStats, Method};
 use volumes::VolumeMesh;
 use wgpu::util::DeviceExt;
@@ -27,6 +27,9 @@ pub const SPHERE_SUBDIVISIONS: u32 = 1;
 pub const CONE_SIDES: u32 = 12;
 /// Above this share of the screen, `auto` draws a light full-screen (see `plan_light`).
 pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
+/// Volumes whose projected bounding rectangle covers at least this many pixels are stencil
+/// culled by `auto` (the marking draw pays off); smaller ones are drawn as plain volumes.
+pub const AUTO_STENCIL_MIN_PIXELS: f32 = 4096.0;
 /// Stride of the compose-parameter slots (the dynamic-offset alignment).
 const COMPOSE_SLOT: u64 = 256;
 
@@ -125,6 +128,7 @@ pub struct Renderer {
     depth_format: wgpu::TextureFormat,
     output_format: wgpu::TextureFormat,
     clamp_available: bool,
+    features: wgpu::Features,
     pipelines: Pipelines,
     camera_buf: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
@@ -185,6 +189,7 @@ impl Renderer {
             depth_format,
             output_format,
             reversed_z: settings.reversed_z,
+            accum_format: settings.accumulation.format(gpu.features)?,
             depth_clamp: settings.depth_clamp && gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
         };
         let pipelines = Self::build_pipelines(&device, key)?;
@@ -235,6 +240,7 @@ impl Renderer {
             depth_format,
             output_format,
             clamp_available: gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
+            features: gpu.features,
             pipelines,
             camera_buf,
             lights_buf,
@@ -334,7 +340,11 @@ impl Renderer {
     /// (Re)creates the size-dependent targets when the size or layout changed.
     fn ensure_targets(&mut self, width: u32, height: u32) {
         if let Some(t) = &self.targets {
-            if t.width == width && t.height == height && t.gbuffer.layout == self.pipelines.key.layout {
+            if t.width == width
+                && t.height == height
+                && t.gbuffer.layout == self.pipelines.key.layout
+                && t.diffuse.format() == self.pipelines.key.accum_format
+            {
                 return;
             }
         }
@@ -344,8 +354,9 @@ impl Renderer {
         let depth = texture(d, "depth-stencil", self.depth_format, width, height, U::RENDER_ATTACHMENT)
             .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
-        let diffuse = texture(d, "light diffuse", pipelines::ACCUM_FORMAT, width, height, read);
-        let specular = texture(d, "light specular", pipelines::ACCUM_FORMAT, width, height, read);
+        let accum = self.pipelines.key.accum_format;
+        let diffuse = texture(d, "light diffuse", accum, width, height, read);
+        let specular = texture(d, "light specular", accum, width, height, read);
         let debug = texture(d, "debug", pipelines::DEBUG_FORMAT, width, height, read);
         let diffuse_view = diffuse.create_view(&Default::default());
         let specular_view = specular.create_view(&Default::default());
@@ -388,9 +399,14 @@ impl Renderer {
         let layout = settings.layout.layout();
         let depth_clamp = settings.depth_clamp && self.clamp_available;
         let k = &self.pipelines.key;
-        if layout != k.layout || settings.reversed_z != k.reversed_z || depth_clamp != k.depth_clamp {
+        let accum_format = settings.accumulation.format(self.features)?;
+        if layout != k.layout
+            || settings.reversed_z != k.reversed_z
+            || depth_clamp != k.depth_clamp
+            || accum_format != k.accum_format
+        {
             layout.validate().map_err(anyhow::Error::msg)?;
-            let key = PipelineKey { layout, reversed_z: settings.reversed_z, depth_clamp, ..k.clone() };
+            let key = PipelineKey { layout, reversed_z: settings.reversed_z, depth_clamp, accum_format, ..k.clone() };
             self.pipelines = Self::build_pipelines(&self.device, key)?;
             self.frame_group =
                 Self::frame_group(&self.device, &self.pipelines, &self.camera_buf, &self.lights_buf, &self.objects_buf);
@@ -462,38 +478,58 @@ impl Renderer {
     /// is drawn full-screen (rasterising its faces buys nothing); otherwise the plain volume
     /// (one draw, back faces, GreaterEqual), which on our measurements beats the stencil
     /// methods because their extra marking draw costs more than the fragments it saves.
-    pub(crate) fn plan_light(&self, raw: &LightRaw, proj: &Mat4, near: f32, far: f32, mode: CullingMode) -> LightPlan {
+    pub(crate) fn plan_light(
+        &self,
+        raw: &LightRaw,
+        proj: &Mat4,
+        near: f32,
+        far: f32,
+        size: (u32, u32),
+        mode: CullingMode,
+    ) -> LightPlan {
         let volume = VolumeKind::of(raw);
         let pos = Vec3::from(raw.position);
         let dir = Vec3::from(raw.direction);
         let mesh = self.volume_mesh(volume);
         let mut crosses_near = false;
         let mut crosses_far = false;
+        // Clip-space side planes: a convex volume with every vertex outside one of them is
+        // outside the frustum.
+        let mut outside = [true; 4];
+        let (mut all_before_near, mut all_beyond_far) = (true, true);
         let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
         for v in &mesh.vertices {
             let p = volumes::place(*v, pos, raw.radius, dir, raw.tan_outer);
             let dist = -p.z;
-            if dist <= near * 1.01 {
-                crosses_near = true;
-            }
-            if dist >= far * 0.99 {
-                crosses_far = true;
-            }
+            crosses_near |= dist <= near * 1.01;
+            crosses_far |= dist >= far * 0.99;
+            all_before_near &= dist < near;
+            all_beyond_far &= dist > far;
             let c = *proj * p.extend(1.0);
+            for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
+                outside[k] &= d < 0.0;
+            }
             if c.w > 0.0 {
                 let n = glam::Vec2::new(c.x, c.y) / c.w;
                 lo = lo.min(n);
                 hi = hi.max(n);
             }
         }
-        let screen_share = if crosses_near {
+        let off_screen = outside.iter().any(|&o| o)
+            || all_before_near
+            || all_beyond_far
+            || !(crosses_near || lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0);
+        let crosses_near = crosses_near && !off_screen;
+        let screen_share = if off_screen {
+            0.0
+        } else if crosses_near {
             1.0
         } else {
             let a = (hi.min(glam::Vec2::ONE) - lo.max(-glam::Vec2::ONE)).max(glam::Vec2::ZERO);
             a.x * a.y / 4.0
         };
-        let clamp = self.depth_clamp();
-        let method = if crosses_far && !clamp {
+        let pixels = screen_share * (size.0 * size.1) as f32;
+        let method = if crosses_far && !self.depth_clamp() && !(mode == CullingMode::Auto && off_screen) {
             // Without depth clamp the far side would be clipped away: no volume method is
             // correct, so the light is drawn full-screen.
             Method::Fullscreen
@@ -504,13 +540,10 @@ impl Renderer {
                 CullingMode::StencilTwoPass => Method::TwoPass,
                 CullingMode::StencilInvert => Method::Invert,
                 CullingMode::StencilReplace => Method::Replace,
-                CullingMode::Auto => {
-                    if screen_share > AUTO_FULLSCREEN_SHARE {
-                        Method::Fullscreen
-                    } else {
-                        Method::Volume
-                    }
-                }
+                CullingMode::Auto if off_screen => Method::Skipped,
+                CullingMode::Auto if screen_share > AUTO_FULLSCREEN_SHARE => Method::Fullscreen,
+                CullingMode::Auto if pixels >= AUTO_STENCIL_MIN_PIXELS => Method::TwoPass,
+                CullingMode::Auto => Method::Volume,
             }
         };
         LightPlan { method, volume, crosses_near, crosses_far, screen_share }
@@ -568,7 +601,8 @@ impl Renderer {
         }
         let proj32 = proj.as_mat4();
         let (near, far) = (cam.near as f32, cam.far as f32);
-        self.plans = lights.iter().map(|l| self.plan_light(l, &proj32, near, far, settings.culling)).collect();
+        self.plans =
+            lights.iter().map(|l| self.plan_light(l, &proj32, near, far, (width, height), settings.culling)).collect();
         self.last_lights = lights.clone();
         self.last_inv_proj = proj.inverse();
         lights
@@ -752,6 +786,13 @@ impl Renderer {
                     }
                 };
                 match plan.method {
+                    Method::Skipped => {
+                        // Outside the frustum: nothing to shade, the count is zero.
+                        if want_counts {
+                            pass.begin_occlusion_query(q);
+                            pass.end_occlusion_query();
+                        }
+                    }
                     Method::Fullscreen => shade(&mut pass, &p.light_fullscreen, true),
                     Method::Volume => shade(&mut pass, &p.light_volume, false),
                     Method::TwoPass => {
@@ -783,46 +824,7 @@ impl Renderer {
             }
         }
 
-        // 2b. The ideal count: G-buffer points inside each light's true shape.
-        if want_ideal {
-            for b in 0..blocks {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("ideal count"),
-                    color_attachments: &[
-                        Some(wgpu::RenderPassColorAttachment {
-                            view: &t.diffuse_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                        }),
-                        Some(wgpu::RenderPassColorAttachment {
-                            view: &t.specular_view,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                        }),
-                    ],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: self.queries.ideal.get(b),
-                    multiview_mask: None,
-                });
-                pass.set_bind_group(0, &self.frame_group, &[]);
-                pass.set_bind_group(1, &t.gbuffer_group, &[]);
-                pass.set_pipeline(&p.ideal);
-                for i in b * chunk..((b + 1) * chunk).min(n) {
-                    pass.begin_occlusion_query((i - b * chunk) as u32);
-                    pass.draw(0..3, i as u32..i as u32 + 1);
-                    pass.end_occlusion_query();
-                }
-            }
-        }
-
-        // 2c. Debug views that need their own pass: seed 000's stencil diagram, light complexity.
+        // 2b. Debug views that need their own pass: seed 000's stencil diagram, light complexity.
         if matches!(settings.debug_view, DebugView::Stencil | DebugView::Complexity) {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("debug view"),
@@ -871,6 +873,46 @@ impl Renderer {
 
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
         self.encode_compose(&mut encoder, settings.debug_view, 0, target, width, height, ts(4));
+
+        // 4. Measurement only, after the frame (outside its timestamps): the ideal count, the
+        //    G-buffer points inside each light's true shape.
+        if want_ideal {
+            for b in 0..blocks {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("ideal count"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.diffuse_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &t.specular_view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                        }),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: self.queries.ideal.get(b),
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &self.frame_group, &[]);
+                pass.set_bind_group(1, &t.gbuffer_group, &[]);
+                pass.set_pipeline(&p.ideal);
+                for i in b * chunk..((b + 1) * chunk).min(n) {
+                    pass.begin_occlusion_query((i - b * chunk) as u32);
+                    pass.draw(0..3, i as u32..i as u32 + 1);
+                    pass.end_occlusion_query();
+                }
+            }
+        }
 
         self.queries.resolve(&mut encoder, n, want_counts, want_ideal, want_times);
         self.queue.submit([encoder.finish()]);
@@ -964,12 +1006,18 @@ impl Renderer {
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks.
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
-        let to_f32 = |bytes: Vec<u8>| -> Vec<f32> {
-            bytes.chunks_exact(2).map(|b| half::f16::from_le_bytes([b[0], b[1]]).to_f32()).collect()
+        let format = t.diffuse.format();
+        let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {
+            let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
+            for c in bytes.chunks_exact(bpp) {
+                out.extend(inspect::texel(format, c)?);
+            }
+            Ok(out)
         };
         Ok((
-            to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?),
-            to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?),
+            to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?)?,
+            to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?,
         ))
     }
 }

@@ -6,7 +6,6 @@ use super::gbuffer::{GBufferLayout, GBufferTargets};
 use super::settings::DebugView;
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
-pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const LIGHT_KIND_POINT: u32 = 0;
 pub const LIGHT_KIND_SPOT: u32 = 1;
@@ -40,6 +39,8 @@ pub struct PipelineKey {
     pub depth_format: wgpu::TextureFormat,
     pub output_format: wgpu::TextureFormat,
     pub reversed_z: bool,
+    /// Format of the diffuse and specular light accumulation targets.
+    pub accum_format: wgpu::TextureFormat,
     /// Depth clamp (`unclipped_depth`) on light volumes.
     pub depth_clamp: bool,
 }
@@ -273,8 +274,8 @@ impl Pipelines {
         let light = |p: LightPipe| {
             let accum_targets = |blend: Option<wgpu::BlendState>, mask| {
                 vec![
-                    Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend, write_mask: mask }),
-                    Some(wgpu::ColorTargetState { format: ACCUM_FORMAT, blend, write_mask: mask }),
+                    Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask: mask }),
+                    Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask: mask }),
                 ]
             };
             let targets = match p.out {

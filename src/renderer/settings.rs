@@ -98,6 +98,36 @@ impl DebugView {
     }
 }
 
+/// Light accumulation precision (seed 002: "16-bit floating point enables HDR; can use 8-bit
+/// for higher performance, beware of saturation").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum AccumFormat {
+    #[default]
+    Rgba16Float,
+    Rgba32Float,
+    Rg11b10Ufloat,
+}
+
+impl AccumFormat {
+    pub const ALL: [AccumFormat; 3] = [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat];
+
+    /// The texture format, or why the adapter cannot blend into it.
+    pub fn format(self, features: wgpu::Features) -> anyhow::Result<wgpu::TextureFormat> {
+        let (format, needs) = match self {
+            AccumFormat::Rgba16Float => (wgpu::TextureFormat::Rgba16Float, wgpu::Features::empty()),
+            AccumFormat::Rgba32Float => (wgpu::TextureFormat::Rgba32Float, wgpu::Features::FLOAT32_BLENDABLE),
+            AccumFormat::Rg11b10Ufloat => {
+                (wgpu::TextureFormat::Rg11b10Ufloat, wgpu::Features::RG11B10UFLOAT_RENDERABLE)
+            }
+        };
+        if !features.contains(needs) {
+            anyhow::bail!("{self:?} accumulation needs {needs:?}, which this adapter lacks");
+        }
+        Ok(format)
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Settings {
@@ -117,6 +147,8 @@ pub struct Settings {
     pub count_ideal: bool,
     /// Read back GPU timestamps.
     pub timestamps: bool,
+    /// Format of the light accumulation targets.
+    pub accumulation: AccumFormat,
     /// Use depth clamp on light volumes when the adapter has it. Off, lights whose volume
     /// crosses the far plane fall back to full-screen draws (the path for adapters without it).
     pub depth_clamp: bool,
@@ -135,6 +167,7 @@ impl Default for Settings {
             count_ideal: false,
             timestamps: true,
             depth_clamp: true,
+            accumulation: AccumFormat::default(),
         }
     }
 }

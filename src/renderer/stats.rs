@@ -23,6 +23,8 @@ pub enum Method {
     TwoPass,
     Invert,
     Replace,
+    /// `auto` only: the volume lies outside the view frustum and is not drawn.
+    Skipped,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]

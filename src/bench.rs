@@ -1,0 +1,346 @@
+//! Speed against error: `lampshade bench` renders one scene under many configurations, times
+//! each pass (median of N frames, GPU timestamps), counts fragments, and measures the error of
+//! each image against a reference rendered without deferred approximations (every light
+//! full-screen, an Rgba32Float G-buffer with stored position, Rgba32Float accumulation).
+//! Output: `bench.csv`, `bench.md` and `bench.png` (time against error, Pareto front marked).
+
+use crate::compare::flip;
+use crate::gpu::Gpu;
+use crate::headless::render_image;
+use crate::renderer::{AccumFormat, CullingMode, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
+use crate::scene::builtin::{self, BuiltinOptions};
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::Path;
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: String,
+    pub quick: bool,
+    /// Frames timed per configuration (the median is reported).
+    pub frames: usize,
+    pub size: (u32, u32),
+    pub lights: usize,
+    pub time: f64,
+    /// Run only the configurations of these groups (all when empty).
+    pub groups: Vec<String>,
+}
+
+impl BenchOptions {
+    pub fn new(scene: &str, quick: bool) -> Self {
+        if quick {
+            Self { scene: scene.into(), quick, frames: 3, size: (320, 180), lights: 256, time: 0.0, groups: Vec::new() }
+        } else {
+            Self { scene: scene.into(), quick, frames: 10, size: (1280, 720), lights: 1024, time: 0.0, groups: Vec::new() }
+        }
+    }
+}
+
+/// One configuration: what it varies, and the settings, light count and size it runs with.
+#[derive(Clone, Debug)]
+pub struct Config {
+    pub group: &'static str,
+    pub label: String,
+    pub settings: Settings,
+    pub lights: usize,
+    pub size: (u32, u32),
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub group: String,
+    pub label: String,
+    pub culling: String,
+    pub layout: String,
+    pub accumulation: String,
+    pub reversed_z: bool,
+    pub lights: usize,
+    pub width: u32,
+    pub height: u32,
+    pub gbuffer_ms: f64,
+    pub lighting_ms: f64,
+    pub compose_ms: f64,
+    pub total_ms: f64,
+    pub shaded_fragments: u64,
+    pub ideal_fragments: u64,
+    pub efficiency: f64,
+    pub gbuffer_bytes_per_pixel: u32,
+    pub flip_mean: f32,
+    pub max_abs_light_error: f32,
+    pub psnr_db: f64,
+    pub pareto: bool,
+}
+
+/// The sweep. Every configuration differs from the default in one knob.
+pub fn configs(o: &BenchOptions) -> Vec<Config> {
+    let base = Settings { count_fragments: true, count_ideal: false, timestamps: true, ..Settings::default() };
+    let c = |group, label: String, settings: Settings, lights| Config { group, label, settings, lights, size: o.size };
+    let mut v = Vec::new();
+    for mode in CullingMode::ALL {
+        v.push(c("culling", mode.name().into(), Settings { culling: mode, ..base.clone() }, o.lights));
+    }
+    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed] {
+        v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
+    }
+    for accumulation in [AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat] {
+        v.push(c("accumulation", format!("{accumulation:?}"), Settings { accumulation, ..base.clone() }, o.lights));
+    }
+    v.push(c("depth", "reversed-z".into(), Settings { reversed_z: true, ..base.clone() }, o.lights));
+    let counts: &[usize] = if o.quick { &[16, 1024] } else { &[1, 64, 256, 4096] };
+    for &n in counts {
+        for mode in [CullingMode::Volume, CullingMode::StencilTwoPass] {
+            v.push(c("lights", format!("{} x{n}", mode.name()), Settings { culling: mode, ..base.clone() }, n));
+        }
+    }
+    v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
+    v
+}
+
+/// The configuration groups, for `--only`.
+pub const GROUPS: &[&str] = &["culling", "layout", "accumulation", "depth", "lights"];
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+struct Reference {
+    image: image::RgbaImage,
+    light: Vec<f32>,
+    peak: f32,
+}
+
+fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32)) -> Result<Reference> {
+    let settings = Settings {
+        culling: CullingMode::Fullscreen,
+        layout: LayoutChoice::Reference,
+        accumulation: AccumFormat::Rgba32Float,
+        count_fragments: false,
+        timestamps: false,
+        ..Settings::default()
+    };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings)?;
+    let (image, _) = render_image(gpu, &mut r, scene, &settings, size.0, size.1)?;
+    let (d, s) = r.read_accumulation(gpu)?;
+    let light: Vec<f32> = d.into_iter().chain(s).collect();
+    let peak = light.iter().copied().filter(|v| v.is_finite()).fold(0.0, f32::max);
+    Ok(Reference { image, light, peak })
+}
+
+/// Runs the sweep; `progress(done, total, label)` is called before each configuration.
+pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<Row>> {
+    let list = configs(o);
+    let mut refs: HashMap<(usize, (u32, u32)), Reference> = HashMap::new();
+    let mut rows = Vec::new();
+    for (k, cfg) in list.iter().enumerate() {
+        progress(k, list.len(), &cfg.label);
+        let scene = builtin::build(&o.scene, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
+            .map_err(anyhow::Error::msg)?;
+        let reference = match refs.entry((cfg.lights, cfg.size)) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
+        };
+        let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
+            Ok(r) => r,
+            Err(e) => {
+                log::warn!("skipping {}: {e:#}", cfg.label);
+                continue;
+            }
+        };
+        let (w, h) = cfg.size;
+        // Warm-up frame (shader JIT on software drivers), then timed frames.
+        render_image(gpu, &mut renderer, &scene, &cfg.settings, w, h)?;
+        let mut times: Vec<FrameStats> = Vec::new();
+        for _ in 0..o.frames.max(1) {
+            times.push(render_image(gpu, &mut renderer, &scene, &cfg.settings, w, h)?.1);
+        }
+        let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
+        let counted = Settings { count_ideal: true, timestamps: false, ..cfg.settings.clone() };
+        let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
+        let (d, s) = renderer.read_accumulation(gpu)?;
+        let (fl, _) = flip(&reference.image, &image)?;
+        let mut max_err = 0f32;
+        let mut sq = 0f64;
+        for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
+            let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
+            max_err = max_err.max(e);
+            sq += (e as f64).powi(2);
+        }
+        let mse = sq / reference.light.len().max(1) as f64;
+        let psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        rows.push(Row {
+            group: cfg.group.into(),
+            label: cfg.label.clone(),
+            culling: cfg.settings.culling.name().into(),
+            layout: format!("{:?}", cfg.settings.layout).to_lowercase(),
+            accumulation: format!("{:?}", cfg.settings.accumulation),
+            reversed_z: cfg.settings.reversed_z,
+            lights: scene.lights.len(),
+            width: w,
+            height: h,
+            gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
+            lighting_ms: pick(|s| s.gpu_ms.lighting),
+            compose_ms: pick(|s| s.gpu_ms.compose),
+            total_ms: pick(|s| s.gpu_ms.total),
+            shaded_fragments: stats.shaded_fragments.unwrap_or(0),
+            ideal_fragments: stats.ideal_fragments.unwrap_or(0),
+            efficiency: stats.efficiency.unwrap_or(f64::NAN),
+            gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
+            flip_mean: fl.mean,
+            max_abs_light_error: max_err,
+            psnr_db: psnr,
+            pareto: false,
+        });
+    }
+    progress(list.len(), list.len(), "done");
+    mark_pareto(&mut rows);
+    Ok(rows)
+}
+
+/// Marks the rows no other row of the same light count and size beats in both time and error.
+pub fn mark_pareto(rows: &mut [Row]) {
+    let snapshot: Vec<(usize, u32, f64, f32)> =
+        rows.iter().map(|r| (r.lights, r.width, r.total_ms, r.flip_mean)).collect();
+    for (i, r) in rows.iter_mut().enumerate() {
+        let (n, w, t, e) = snapshot[i];
+        r.pareto = !snapshot
+            .iter()
+            .enumerate()
+            .any(|(j, &(n2, w2, t2, e2))| j != i && n2 == n && w2 == w && t2 <= t && e2 <= e && (t2 < t || e2 < e));
+    }
+}
+
+pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
+    let mut out = String::from(
+        "group,label,culling,layout,accumulation,reversed_z,lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
+         shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
+    );
+    for r in rows {
+        out += &format!(
+            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            r.group,
+            r.label,
+            r.culling,
+            r.layout,
+            r.accumulation,
+            r.reversed_z,
+            r.lights,
+            r.width,
+            r.height,
+            r.gbuffer_ms,
+            r.lighting_ms,
+            r.compose_ms,
+            r.total_ms,
+            r.shaded_fragments,
+            r.ideal_fragments,
+            r.efficiency,
+            r.gbuffer_bytes_per_pixel,
+            r.flip_mean,
+            r.max_abs_light_error,
+            r.psnr_db,
+            r.pareto
+        );
+    }
+    std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
+}
+
+pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
+    let mut s = format!(
+        "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
+         (full-screen lights, Rgba32Float G-buffer and accumulation). Ratio: lighting time over `fullscreen`'s in the \
+         same run. * = on the Pareto front (time, FLIP) for its light count.\n\n",
+        o.scene, o.time, o.frames
+    );
+    s += "| group | configuration | lights | size | G-buffer B/px | gbuffer ms | lighting ms | total ms | lighting ratio | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let full: HashMap<usize, f64> =
+        rows.iter().filter(|r| r.label == "fullscreen").map(|r| (r.lights, r.lighting_ms)).collect();
+    for r in rows {
+        let ratio = full.get(&r.lights).map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
+        s += &format!(
+            "| {} | {}{} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            r.group,
+            r.label,
+            if r.pareto { " *" } else { "" },
+            r.lights,
+            r.width,
+            r.height,
+            r.gbuffer_bytes_per_pixel,
+            r.gbuffer_ms,
+            r.lighting_ms,
+            r.total_ms,
+            ratio,
+            r.shaded_fragments,
+            r.ideal_fragments,
+            r.efficiency,
+            r.flip_mean,
+            r.max_abs_light_error,
+            r.psnr_db
+        );
+    }
+    s
+}
+
+/// Time (x) against FLIP error (y), one point per configuration, Pareto front joined.
+pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+        .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
+    let root = BitMapBackend::new(path, (1100, 700)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let pts: Vec<&Row> = rows.iter().filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0).collect();
+    let max_t = pts.iter().map(|r| r.total_ms).fold(1.0, f64::max) * 1.3;
+    let min_t = pts.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min).max(1e-3) * 0.7;
+    let max_e = pts.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.2;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("Speed against error (lower left is better)", ("sans-serif", 26))
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d((min_t..max_t).log_scale(), 0.0..max_e)?;
+    chart
+        .configure_mesh()
+        .x_desc("GPU ms per frame (median, log scale)")
+        .y_desc("FLIP mean against the reference")
+        .label_style(("sans-serif", 15))
+        .draw()?;
+    let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+    let groups: Vec<&str> = {
+        let mut g: Vec<&str> = pts.iter().map(|r| r.group.as_str()).collect();
+        g.dedup();
+        g
+    };
+    for (gi, g) in groups.iter().enumerate() {
+        let color = palette[gi % palette.len()];
+        let series: Vec<(f64, f64)> =
+            pts.iter().filter(|r| r.group == *g).map(|r| (r.total_ms, r.flip_mean as f64)).collect();
+        chart
+            .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 5, color.filled())))?
+            .label(g.to_string())
+            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
+    }
+    for r in &pts {
+        chart.draw_series(std::iter::once(Text::new(
+            format!("{} ({})", r.label, r.lights),
+            (r.total_ms, r.flip_mean as f64),
+            ("sans-serif", 12),
+        )))?;
+    }
+    let mut front: Vec<(f64, f64)> = pts
+        .iter()
+        .filter(|r| r.pareto && r.lights == pts[0].lights)
+        .map(|r| (r.total_ms, r.flip_mean as f64))
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart
+        .draw_series(LineSeries::new(front, BLACK.stroke_width(2)))?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    root.present()?;
+    Ok(())
+}

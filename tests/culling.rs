@@ -131,3 +131,35 @@ fn stencil_replace_survives_more_than_255_lights() {
     let b = render(&scene, &settings(CullingMode::StencilReplace), W, H);
     assert!(max_channel_difference(&a.image, &b.image) <= MAX_CHANNEL_STEP);
 }
+
+#[test]
+fn stencil_modes_shade_exactly_the_points_inside_the_bounding_mesh() {
+    // Counted on the CPU from the G-buffer's reconstructed positions: a stencil mode's shaded
+    // count is the number of pixels whose point lies inside the light's bounding mesh (not
+    // inside the light itself: that is the ideal, which is smaller).
+    let gpu = gpu();
+    for name in ["spot", "classify", "inside", "near", "occluded"] {
+        let scene = scene(name);
+        for mode in STENCIL {
+            let s = settings(mode);
+            let mut r = lampshade::Renderer::new(gpu, lampshade::renderer::OUTPUT_FORMAT, &s).unwrap();
+            let (_, stats) = lampshade::headless::render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
+            let points = r.view_positions(gpu).unwrap();
+            for (i, l) in stats.per_light.iter().enumerate() {
+                let planes = r.volume_planes(i).unwrap();
+                let inside =
+                    points.iter().flatten().filter(|p| planes.iter().all(|(a, n)| n.dot(**p - *a) <= 0.0)).count()
+                        as u64;
+                let shaded = l.shaded.unwrap();
+                // Pixels whose point lies on a face within float rounding may go either way.
+                let slack = 2 + inside / 200;
+                assert!(
+                    shaded.abs_diff(inside) <= slack,
+                    "{name}/{}: light {i} shaded {shaded}, points inside its mesh {inside}",
+                    mode.name()
+                );
+                assert!(inside >= l.ideal.unwrap());
+            }
+        }
+    }
+}

@@ -136,6 +136,67 @@ pub fn inside_light(l: &LightRaw, p: Vec3) -> bool {
 }
 
 impl Renderer {
+    /// The view-space point of every pixel of the last frame (None for background), as the
+    /// lighting shaders reconstruct it: from the depth copy, or the stored position.
+    pub fn view_positions(&self, gpu: &Gpu) -> Result<Vec<Option<Vec3>>> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        let layout = &t.gbuffer.layout;
+        let find = |attr| layout.targets.iter().position(|d| d.channels.iter().flatten().any(|s| s.attr == attr));
+        let far_depth = if self.pipelines.key.reversed_z { 0.0 } else { 1.0 };
+        if let Some(i) = find(Attr::Depth) {
+            let format = layout.targets[i].format;
+            let bpp = format.block_copy_size(None).unwrap_or(4) as usize;
+            let bytes = gpu.read_texture(&t.gbuffer.textures[i], wgpu::TextureAspect::All)?;
+            let mut out = Vec::with_capacity(bytes.len() / bpp);
+            for (k, c) in bytes.chunks_exact(bpp).enumerate() {
+                let d = texel(format, c)?[0];
+                let (x, y) = ((k as u32 % t.width) as f64, (k as u32 / t.width) as f64);
+                out.push((d != far_depth).then(|| {
+                    let ndc = DVec4::new(
+                        (x + 0.5) / t.width as f64 * 2.0 - 1.0,
+                        1.0 - (y + 0.5) / t.height as f64 * 2.0,
+                        d as f64,
+                        1.0,
+                    );
+                    let v = self.last_inv_proj * ndc;
+                    (v.truncate() / v.w).as_vec3()
+                }));
+            }
+            return Ok(out);
+        }
+        let Some(i) = find(Attr::Position) else { bail!("layout {} stores no position", layout.name) };
+        let format = layout.targets[i].format;
+        let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let bytes = gpu.read_texture(&t.gbuffer.textures[i], wgpu::TextureAspect::All)?;
+        bytes
+            .chunks_exact(bpp)
+            .map(|c| {
+                let v = texel(format, c)?;
+                Ok((v[2] < 0.0).then(|| Vec3::new(v[0], v[1], v[2])))
+            })
+            .collect()
+    }
+
+    /// The faces of light `i`'s bounding mesh in view space, as (point, outward normal) planes.
+    pub fn volume_planes(&self, i: usize) -> Option<Vec<(Vec3, Vec3)>> {
+        let raw = self.last_lights.get(i)?;
+        let mesh = self.volume_mesh(VolumeKind::of(raw));
+        let pts: Vec<Vec3> = mesh
+            .vertices
+            .iter()
+            .map(|v| volumes::place(*v, raw.position.into(), raw.radius, raw.direction.into(), raw.tan_outer))
+            .collect();
+        Some(
+            mesh.indices
+                .chunks(3)
+                .map(|t| {
+                    let [a, b, c] = [pts[t[0] as usize], pts[t[1] as usize], pts[t[2] as usize]];
+                    (a, (b - a).cross(c - a).normalize_or_zero())
+                })
+                .collect(),
+        )
+    }
+
     /// Decodes pixel (`x`, `y`) of the last frame on the CPU, following the layout table.
     pub fn probe(&self, gpu: &Gpu, x: u32, y: u32) -> Result<PixelProbe> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };

@@ -1,12 +1,789 @@
-//! The winit + egui viewer (placeholder until the viewer lands).
-use anyhow::Result;
+//! The winit + egui viewer: the lit image in the central viewport, panels around it.
+//!
+//! A frame reads top to bottom in [`App::frame`]: script actions and keys change the plain
+//! [`state::UiState`]; the scene for the frame is built from it; the renderer draws into the
+//! viewport texture (and the thumbnails from the same frame); then egui lays out the panels around
+//! that texture and is drawn into the window after the scene, in the same frame. Panel edits
+//! reach the renderer on the next frame.
 
-#[derive(clap::Args, Default, Clone)]
+pub mod camera;
+pub mod gfx;
+pub mod script;
+pub mod state;
+pub mod ui;
+
+use crate::renderer::{volume_wireframe, DebugView, FrameStats, PixelProbe, Renderer, OUTPUT_FORMAT};
+use crate::scene::Scene;
+use crate::Gpu;
+use anyhow::{anyhow, Context, Result};
+use gfx::{Acquired, Image, Surface};
+use script::{Action, Script, SCRIPT_DT};
+use state::{SceneCache, UiState, Wireframes};
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+use ui::{Command, History, Sample, Status, ThumbGroup, UiOut};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+#[derive(clap::Args, Clone, Debug)]
 pub struct ViewArgs {
+    /// Built-in scene name (see `lampshade scenes`).
     #[arg(default_value = "demo")]
     pub scene: String,
+    /// Replay frame-numbered actions from FILE (see `src/app/script.rs`), e.g. in tests.
+    #[arg(long)]
+    pub script: Option<PathBuf>,
+    /// Number of point lights (demo).
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Window size in logical pixels, WxH.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Share of the viewport's pixels the scene is rendered at (0.1..2).
+    #[arg(long, default_value_t = state::DEFAULT_SCALE)]
+    pub scale: f32,
+    /// Where F12 writes screenshots.
+    #[arg(long, default_value = ".")]
+    pub screenshot_dir: PathBuf,
 }
 
-pub fn run(_args: ViewArgs) -> Result<()> {
-    anyhow::bail!("the viewer is not built yet; use `lampshade render`")
+impl Default for ViewArgs {
+    fn default() -> Self {
+        Self {
+            scene: "demo".into(),
+            script: None,
+            lights: None,
+            size: (1280, 720),
+            scale: state::DEFAULT_SCALE,
+            screenshot_dir: PathBuf::from("."),
+        }
+    }
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' is not WxH"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("width '{w}' is not a number"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("height '{h}' is not a number"))?;
+    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
+        return Err(format!("window size {w}x{h} must be between 64x64 and 8192x8192"));
+    }
+    Ok((w, h))
+}
+
+/// Opens the viewer. Everything a user controls is checked before the window opens: the scene
+/// name, the light count, the script.
+pub fn run(args: ViewArgs) -> Result<()> {
+    let mut state = UiState { scene: args.scene.clone(), lights: args.lights, ..UiState::default() };
+    if !(state::MIN_SCALE..=state::MAX_SCALE).contains(&args.scale) || !args.scale.is_finite() {
+        anyhow::bail!("--scale {} must lie in [{}, {}]", args.scale, state::MIN_SCALE, state::MAX_SCALE);
+    }
+    state.resolution_scale = args.scale;
+    let mut cache = SceneCache::default();
+    cache.frame_scene(&state).map_err(anyhow::Error::msg)?;
+    let script = args.script.as_deref().map(Script::load).transpose()?;
+    if script.is_some() {
+        // Scripted runs are deterministic: the lights hold still unless the script animates them.
+        state.animate = false;
+    }
+    let event_loop = EventLoop::new().context("cannot open a window (is DISPLAY or WAYLAND_DISPLAY set?)")?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App::new(args, state, cache, script);
+    event_loop.run_app(&mut app).context("the event loop failed")?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Everything that needs the window and the device.
+struct Gfx {
+    surface: Surface,
+    gpu: Gpu,
+    renderer: Renderer,
+    egui_ctx: egui::Context,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+    viewport: Image,
+    thumbs: HashMap<DebugView, Image>,
+    adapter: String,
+}
+
+/// Keys, held and tapped, from the keyboard and from the script.
+#[derive(Default)]
+struct Keys {
+    down: HashSet<KeyCode>,
+    /// Scripted holds: key -> last frame it is held.
+    holds: HashMap<KeyCode, u64>,
+    /// Pressed this frame (edges).
+    taps: Vec<KeyCode>,
+}
+
+struct App {
+    args: ViewArgs,
+    state: UiState,
+    cache: SceneCache,
+    script: Option<Script>,
+    frame: u64,
+    gfx: Option<Gfx>,
+    error: Option<anyhow::Error>,
+    keys: Keys,
+    /// Events to hand egui next frame (scripted pointer input).
+    injected: Vec<egui::Event>,
+    /// Injected after `injected` (a scripted click's release).
+    injected_next: Vec<egui::Event>,
+    stats: Option<FrameStats>,
+    history: History,
+    status: Option<Status>,
+    probe: Option<PixelProbe>,
+    scene: Option<Scene>,
+    /// From the last frame's layout.
+    viewport_rect: Option<egui::Rect>,
+    hover_pixel: Option<[u32; 2]>,
+    last_instant: Instant,
+    /// The last settings that rendered.
+    good_settings: Option<crate::renderer::Settings>,
+    /// The viewport texture holds a rendered frame.
+    have_image: bool,
+    cpu_ms: f64,
+    screenshots: u32,
+}
+
+impl App {
+    fn new(args: ViewArgs, state: UiState, cache: SceneCache, script: Option<Script>) -> Self {
+        Self {
+            args,
+            state,
+            cache,
+            script,
+            frame: 0,
+            gfx: None,
+            error: None,
+            keys: Keys::default(),
+            injected: Vec::new(),
+            injected_next: Vec::new(),
+            stats: None,
+            history: History::default(),
+            status: None,
+            probe: None,
+            scene: None,
+            viewport_rect: None,
+            hover_pixel: None,
+            last_instant: Instant::now(),
+            good_settings: None,
+            have_image: false,
+            cpu_ms: 0.0,
+            screenshots: 0,
+        }
+    }
+
+    fn scripted(&self) -> bool {
+        self.script.is_some()
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: anyhow::Error) {
+        if self.error.is_none() {
+            self.error = Some(e);
+        }
+        event_loop.exit();
+    }
+
+    fn say(&mut self, text: impl Into<String>, error: bool) {
+        let text = text.into();
+        if error {
+            log::warn!("{text}");
+            if self.scripted() {
+                eprintln!("frame {}: {text}", self.frame);
+            }
+        }
+        self.status = Some(Status { text, error });
+    }
+
+    fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let (w, h) = self.args.size;
+        let attrs = Window::default_attributes()
+            .with_title(format!("Lampshade — {}", self.state.scene))
+            .with_inner_size(winit::dpi::LogicalSize::new(w, h));
+        let window = Arc::new(event_loop.create_window(attrs).context("creating the window")?);
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+            event_loop.owned_display_handle(),
+        )));
+        let surface = instance.create_surface(window.clone()).context("creating the window surface")?;
+        let gpu = Gpu::for_surface(instance, &surface)?;
+        let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
+        let settings = self.state.frame_settings();
+        let renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+        let egui_ctx = egui::Context::default();
+        ui::style(&egui_ctx);
+        let max_side = gpu.device.limits().max_texture_dimension_2d as usize;
+        let egui_state = egui_winit::State::new(
+            egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(max_side),
+        );
+        let mut egui_renderer =
+            egui_wgpu::Renderer::new(&gpu.device, surface.format(), egui_wgpu::RendererOptions::default());
+        let viewport = Image::new(&gpu.device, &mut egui_renderer, "viewport", 64, 36, wgpu::FilterMode::Linear);
+        let adapter = format!("{} ({:?})", gpu.info.name, gpu.info.backend);
+        self.gfx = Some(Gfx {
+            surface,
+            gpu,
+            renderer,
+            egui_ctx,
+            egui_state,
+            egui_renderer,
+            viewport,
+            thumbs: HashMap::new(),
+            adapter,
+        });
+        Ok(())
+    }
+
+    fn held(&self, k: KeyCode) -> bool {
+        self.keys.down.contains(&k)
+            || self.keys.holds.get(&k).is_some_and(|last| *last >= self.frame)
+            || self.keys.taps.contains(&k)
+    }
+
+    /// Applies one scripted action that runs before drawing. Rejections are reported, not fatal.
+    fn apply(&mut self, action: Action) {
+        let frame = self.frame;
+        let st = &mut self.state;
+        match action {
+            Action::Key(k) => self.keys.taps.push(k),
+            Action::Hold(k, n) => {
+                self.keys.taps.push(k);
+                self.keys.holds.insert(k, frame + n - 1);
+            }
+            Action::Culling(m) => st.settings.culling = m,
+            Action::View(v) => st.settings.debug_view = v,
+            Action::Layout(l) => st.settings.layout = l,
+            Action::Select(k) => {
+                let n = self.scene.as_ref().map_or(0, |s| s.lights.len());
+                match k {
+                    Some(k) if k >= n => self.say(format!("select {k}: the scene has {n} lights"), true),
+                    _ => st.selected_light = k,
+                }
+            }
+            Action::Scope(s) => st.scope = s,
+            Action::Wireframes(w) => st.wireframes = w,
+            Action::WireColour(c) => st.wire_colour = c,
+            Action::Tab(t) => st.tab = t,
+            Action::Set(name, value) => {
+                let scene = match &self.scene {
+                    Some(s) => s.clone(),
+                    None => match self.cache.frame_scene(st) {
+                        Ok(s) => s,
+                        Err(e) => return self.say(e, true),
+                    },
+                };
+                match self.state.set(&name, &value, &scene) {
+                    Ok(msg) => self.say(msg, false),
+                    Err(e) => self.say(format!("rejected: {e}"), true),
+                }
+            }
+            Action::Hover(u, v) | Action::Click(u, v) => {
+                let Some(r) = self.viewport_rect else {
+                    return self.say("hover/click before the viewport was laid out", true);
+                };
+                let pos = r.min + egui::vec2(u * r.width(), v * r.height());
+                self.injected.push(egui::Event::PointerMoved(pos));
+                if matches!(action, Action::Click(..)) {
+                    let button = |pressed| egui::Event::PointerButton {
+                        pos,
+                        button: egui::PointerButton::Primary,
+                        pressed,
+                        modifiers: egui::Modifiers::NONE,
+                    };
+                    self.injected.push(button(true));
+                    self.injected_next.push(button(false));
+                }
+            }
+            Action::Resize(w, h) => {
+                if let Some(g) = &self.gfx {
+                    let _ = g.surface.window.request_inner_size(winit::dpi::LogicalSize::new(w, h));
+                }
+            }
+            Action::Minimize => {
+                if let Some(g) = &self.gfx {
+                    g.surface.window.set_minimized(true);
+                }
+            }
+            Action::Restore => {
+                if let Some(g) = &self.gfx {
+                    g.surface.window.set_minimized(false);
+                    g.surface.window.focus_window();
+                }
+            }
+            Action::Screenshot(_) | Action::Quit => {}
+        }
+    }
+
+    /// Keys that act once per press.
+    fn taps(&mut self, commands: &mut Vec<Command>) {
+        for k in std::mem::take(&mut self.keys.taps) {
+            match k {
+                KeyCode::Space => {
+                    self.state.animate = !self.state.animate;
+                    let s = if self.state.animate { "animating" } else { "paused" };
+                    self.say(s, false);
+                }
+                KeyCode::F12 => commands.push(Command::Screenshot),
+                KeyCode::F1 => {
+                    self.state.tab =
+                        if self.state.tab == state::Tab::Help { state::Tab::Scene } else { state::Tab::Help };
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// The camera the frame starts from: the user's, or the scene's own.
+    fn camera(&mut self) -> Option<crate::scene::Camera> {
+        if let Some(c) = self.state.camera {
+            return Some(c);
+        }
+        self.cache.base(&self.state).ok().map(|s| s.camera)
+    }
+
+    /// Screen position (viewport pixels) of a light's centre, if in front of the camera.
+    fn project(scene: &Scene, p: glam::DVec3, w: u32, h: u32) -> Option<glam::Vec2> {
+        let v = scene.camera.to_view(p);
+        if -v.z <= scene.camera.near {
+            return None;
+        }
+        let c = scene.camera.projection(w as f64 / h as f64, false) * v.extend(1.0);
+        let n = c.truncate().truncate() / c.w;
+        Some(glam::Vec2::new(((n.x * 0.5 + 0.5) * w as f64) as f32, ((0.5 - n.y * 0.5) * h as f64) as f32))
+    }
+
+    /// Selects the light whose centre is nearest the click (within a few pixels), else the
+    /// smallest light touching the clicked point, else nothing.
+    fn pick(&mut self, px: [f32; 2]) {
+        let (Some(scene), Some(g)) = (&self.scene, &self.gfx) else { return };
+        let (w, h) = (g.viewport.width, g.viewport.height);
+        let reach = 14.0 * w as f32 / self.viewport_rect.map_or(w as f32, |r| r.width().max(1.0));
+        let click = glam::Vec2::from(px);
+        let nearest = scene
+            .lights
+            .iter()
+            .enumerate()
+            .filter_map(|(i, l)| Some((i, Self::project(scene, l.position(), w, h)?.distance(click))))
+            .filter(|(_, d)| *d <= reach)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|(i, _)| i);
+        let touching = || -> Option<usize> {
+            let probe = g.renderer.probe(&g.gpu, (px[0] as u32).min(w - 1), (px[1] as u32).min(h - 1)).ok()?;
+            probe.lights.iter().copied().min_by(|a, b| scene.lights[*a].radius().total_cmp(&scene.lights[*b].radius()))
+        };
+        let chosen = nearest.or_else(touching);
+        self.state.selected_light = chosen;
+        match chosen {
+            Some(k) => self.say(format!("selected light {k}"), false),
+            None => self.say("no light there", false),
+        }
+    }
+
+    fn reset_scene_edits(&mut self) {
+        let st = &mut self.state;
+        st.camera = None;
+        st.lights = None;
+        st.light_edits.clear();
+        st.material_edits.clear();
+        st.ambient = None;
+        st.sun = None;
+        st.selected_light = None;
+        st.material_index = 0;
+        if let Some(g) = &self.gfx {
+            g.surface.window.set_title(&format!("Lampshade — {}", st.scene));
+        }
+    }
+
+    /// Writes the viewport image and its settings file (`stem.png`, `stem.json`).
+    fn save_viewport(&self, png: &Path) -> Result<PathBuf> {
+        let g = self.gfx.as_ref().ok_or_else(|| anyhow!("no window"))?;
+        let img = g.viewport.read(&g.gpu)?;
+        gfx::save_png(&img, png)?;
+        let json = png.with_extension("json");
+        let scene_camera = self.scene.as_ref().map(|s| s.camera);
+        let doc = ScreenshotSettings {
+            settings: self.state.frame_settings(),
+            scene: &self.state.scene,
+            lights: self.state.lights,
+            time: self.state.time,
+            camera: scene_camera,
+            size: [g.viewport.width, g.viewport.height],
+            viewer: &self.state,
+        };
+        let text = serde_json::to_string_pretty(&doc)?;
+        std::fs::write(&json, text).with_context(|| format!("writing {}", json.display()))?;
+        Ok(json)
+    }
+
+    fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let now = Instant::now();
+        let dt = if self.scripted() { SCRIPT_DT } else { now.duration_since(self.last_instant).as_secs_f64().min(0.1) };
+        self.cpu_ms = now.duration_since(self.last_instant).as_secs_f64() * 1000.0;
+        self.last_instant = now;
+
+        // 1. Script actions and keys change the state.
+        let mut post = Vec::new();
+        let actions = match &mut self.script {
+            Some(s) => s.take(self.frame),
+            None => Vec::new(),
+        };
+        for a in actions {
+            if a.is_post() {
+                post.push(a);
+            } else {
+                self.apply(a);
+            }
+        }
+        let mut commands = Vec::new();
+        let egui_keys = self.gfx.as_ref().is_some_and(|g| g.egui_ctx.egui_wants_keyboard_input());
+        if !egui_keys {
+            if let Some(mut cam) = self.camera() {
+                let held = |k: KeyCode| self.held(k);
+                if camera::apply_keys(&mut cam, &held, self.state.move_speed, dt) {
+                    self.state.camera = Some(cam);
+                }
+            }
+        }
+        self.taps(&mut commands);
+        if self.state.animate {
+            self.state.time += dt * self.state.time_speed;
+        }
+
+        // 2. The frame's scene and settings.
+        match self.cache.frame_scene(&self.state) {
+            Ok(s) => self.scene = Some(s),
+            Err(e) => self.say(format!("scene rejected, showing the last good one: {e}"), true),
+        }
+        if self.state.selected_light.is_some_and(|k| self.scene.as_ref().is_none_or(|s| k >= s.lights.len())) {
+            self.state.selected_light = None;
+        }
+        let settings = self.state.frame_settings();
+        let Some(g) = self.gfx.as_mut() else { return Ok(()) };
+
+        // 3. The scene into the viewport texture, at the viewport's size times the scale.
+        let ppp = g.egui_ctx.pixels_per_point();
+        let rect = self.viewport_rect;
+        let size = rect.map(|r| {
+            let s = self.state.resolution_scale.clamp(state::MIN_SCALE, state::MAX_SCALE) * ppp;
+            (((r.width() * s).round() as u32).clamp(1, 8192), ((r.height() * s).round() as u32).clamp(1, 8192))
+        });
+        let minimised = g.surface.window.is_minimized().unwrap_or(false) || {
+            let s = g.surface.window.inner_size();
+            s.width == 0 || s.height == 0
+        };
+        let mut rendered = false;
+        if let (Some((w, h)), Some(scene), false) = (size, &self.scene, minimised) {
+            if g.viewport.resize(&g.gpu.device, &mut g.egui_renderer, w, h, wgpu::FilterMode::Linear) {
+                self.have_image = false;
+            }
+            match g.renderer.render(scene, &settings, &g.viewport.target, w, h) {
+                Ok(stats) => {
+                    self.history.push(Sample {
+                        gpu_total: stats.gpu_ms.total,
+                        lighting: stats.gpu_ms.lighting,
+                        shaded: stats.shaded_fragments,
+                        ideal: stats.ideal_fragments,
+                    });
+                    self.stats = Some(stats);
+                    self.good_settings = Some(self.state.settings.clone());
+                    rendered = true;
+                    self.have_image = true;
+                }
+                Err(e) => {
+                    // A setting the adapter cannot do (an accumulation format, say) is rejected:
+                    // back to the last settings that rendered, with the reason on the status line.
+                    let text = match &self.good_settings {
+                        Some(good) if *good != self.state.settings => {
+                            self.state.settings = good.clone();
+                            format!("rejected: {e:#}")
+                        }
+                        _ => format!("render failed: {e:#}"),
+                    };
+                    self.status = Some(Status { text, error: true });
+                }
+            }
+        }
+
+        // 4. Thumbnails: the compose pass of this frame again, once per view, at thumbnail size.
+        let accum = settings.accumulation.format(g.gpu.features).ok();
+        let groups: Vec<ThumbGroup> = ui::thumb_groups(g.renderer.layout(), accum, g.renderer.depth_format());
+        if rendered {
+            let (vw, vh) = (g.viewport.width, g.viewport.height);
+            let tw = 224u32;
+            let th = ((tw as f32 * vh as f32 / vw.max(1) as f32).round() as u32).clamp(16, 224);
+            let views: Vec<DebugView> = groups.iter().flat_map(|gr| gr.views.iter().map(|(v, _)| *v)).collect();
+            for v in views {
+                let img = g.thumbs.entry(v).or_insert_with(|| {
+                    Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", tw, th, wgpu::FilterMode::Linear)
+                });
+                img.resize(&g.gpu.device, &mut g.egui_renderer, tw, th, wgpu::FilterMode::Linear);
+                if let Err(e) = g.renderer.compose_view(v, &img.target, tw, th) {
+                    log::warn!("thumbnail {v:?}: {e:#}");
+                }
+            }
+        }
+
+        // 5. The pixel under the pointer.
+        self.probe = match (self.hover_pixel, rendered) {
+            (Some([x, y]), true) if x < g.viewport.width && y < g.viewport.height => {
+                g.renderer.probe(&g.gpu, x, y).ok()
+            }
+            (Some(_), _) => self.probe.take(),
+            (None, _) => None,
+        };
+
+        // 6. Light-volume wireframes for the overlay.
+        let wireframes: Vec<(usize, Vec<[glam::Vec2; 2]>)> = match (&self.scene, self.state.wireframes) {
+            (Some(scene), Wireframes::All) => {
+                let mut order: Vec<(usize, f32)> = match &self.stats {
+                    Some(s) => {
+                        s.per_light.iter().filter(|l| l.screen_share > 0.0).map(|l| (l.index, l.screen_share)).collect()
+                    }
+                    None => (0..scene.lights.len()).map(|i| (i, 1.0)).collect(),
+                };
+                order.sort_by(|a, b| b.1.total_cmp(&a.1));
+                order
+                    .into_iter()
+                    .take(ui::MAX_WIREFRAMES)
+                    .map(|(i, _)| (i, volume_wireframe(scene, i, g.viewport.width, g.viewport.height)))
+                    .collect()
+            }
+            (Some(scene), Wireframes::Selected) => self
+                .state
+                .selected_light
+                .map(|i| vec![(i, volume_wireframe(scene, i, g.viewport.width, g.viewport.height))])
+                .unwrap_or_default(),
+            _ => Vec::new(),
+        };
+
+        // 7. The panels, around the viewport texture.
+        let mut raw = g.egui_state.take_egui_input(&g.surface.window);
+        raw.events.append(&mut self.injected);
+        self.injected = std::mem::take(&mut self.injected_next);
+        let thumb_ids: HashMap<DebugView, egui::TextureId> = g.thumbs.iter().map(|(v, i)| (*v, i.id)).collect();
+        let layout = g.renderer.layout();
+        let info = ui::FrameInfo {
+            stats: self.stats.as_ref(),
+            history: &self.history,
+            scene: self.scene.as_ref(),
+            viewport: self.have_image.then_some((g.viewport.id, [g.viewport.width, g.viewport.height])),
+            thumbs: &thumb_ids,
+            groups: &groups,
+            layout_name: layout.name,
+            gbuffer_bytes: layout.bytes_per_pixel(),
+            probe: self.probe.as_ref(),
+            adapter: &g.adapter,
+            status: self.status.as_ref(),
+            cpu_ms: self.cpu_ms,
+            scripted: self.script.is_some(),
+            wireframes: &wireframes,
+        };
+        let mut out = UiOut::default();
+        let state = &mut self.state;
+        let mut full = g.egui_ctx.run_ui(raw, |ui| ui::draw(ui, state, &info, &mut out));
+        g.egui_state.handle_platform_output(&g.surface.window, full.platform_output);
+        if out.viewport_rect.is_some() {
+            self.viewport_rect = out.viewport_rect;
+        }
+        self.hover_pixel = out.hover_pixel;
+
+        // 8. egui into the window, after the scene; capture it if a screenshot asks.
+        let want_window = post.iter().find_map(|a| match a {
+            Action::Screenshot(p) => Some(p.clone()),
+            _ => None,
+        });
+        let mut window_image = None;
+        let g = self.gfx.as_mut().ok_or_else(|| anyhow!("no window"))?;
+        // egui assumes every delta is applied, whether or not this frame reaches the window.
+        for (id, deltas) in full.textures_delta.set.drain() {
+            for d in &deltas {
+                g.egui_renderer.update_texture(&g.gpu.device, &g.gpu.queue, id, d);
+            }
+        }
+        let freed: Vec<egui::TextureId> = full.textures_delta.free.drain().collect();
+        let jobs = g.egui_ctx.tessellate(full.shapes, full.pixels_per_point);
+        if let Acquired::Frame(frame) = g.surface.acquire(&g.gpu)? {
+            let size = frame.texture.size();
+            let screen = egui_wgpu::ScreenDescriptor {
+                size_in_pixels: [size.width, size.height],
+                pixels_per_point: full.pixels_per_point,
+            };
+            let mut encoder =
+                g.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("egui") });
+            let user = g.egui_renderer.update_buffers(&g.gpu.device, &g.gpu.queue, &mut encoder, &jobs, &screen);
+            {
+                let view = frame.texture.create_view(&Default::default());
+                let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("egui"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.05, g: 0.05, b: 0.05, a: 1.0 }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+            }
+            g.gpu.queue.submit(user.into_iter().chain([encoder.finish()]));
+            if want_window.is_some() {
+                window_image = Some(g.surface.capture(&g.gpu, &frame));
+            }
+            g.surface.window.pre_present_notify();
+            g.gpu.queue.present(frame);
+        }
+        for id in &freed {
+            g.egui_renderer.free_texture(id);
+        }
+
+        // 9. What the panels asked for.
+        for c in out.commands.into_iter().chain(commands) {
+            match c {
+                Command::Screenshot => {
+                    self.screenshots += 1;
+                    let stamp = std::time::SystemTime::now()
+                        .duration_since(std::time::UNIX_EPOCH)
+                        .map(|d| d.as_secs())
+                        .unwrap_or(0);
+                    let png = self.args.screenshot_dir.join(format!("lampshade-{stamp}-{}.png", self.screenshots));
+                    match self.save_viewport(&png) {
+                        Ok(json) => self.say(format!("saved {} and {}", png.display(), json.display()), false),
+                        Err(e) => self.say(format!("screenshot failed: {e:#}"), true),
+                    }
+                }
+                Command::ResetCamera => self.state.camera = None,
+                Command::SceneChanged => self.reset_scene_edits(),
+                Command::Status(s) => self.say(s.text, s.error),
+            }
+        }
+        if let Some(px) = out.click_pixel {
+            self.pick(px);
+        }
+        if out.drag != egui::Vec2::ZERO {
+            if let Some(mut cam) = self.camera() {
+                camera::look(&mut cam, out.drag.x as f64 * camera::DRAG_SPEED, -out.drag.y as f64 * camera::DRAG_SPEED);
+                self.state.camera = Some(cam);
+            }
+        }
+
+        // 10. Scripted screenshots and quit, after the frame is drawn.
+        for a in post {
+            match a {
+                Action::Screenshot(path) => {
+                    let img = window_image
+                        .take()
+                        .ok_or_else(|| anyhow!("frame {}: the window was not drawn (minimised?)", self.frame))??;
+                    gfx::save_png(&img, &path)?;
+                    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("screenshot");
+                    let vp = path.with_file_name(format!("{stem}-viewport.png"));
+                    self.save_viewport(&vp)?;
+                    println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
+                }
+                Action::Quit => event_loop.exit(),
+                _ => {}
+            }
+        }
+        self.frame += 1;
+        Ok(())
+    }
+}
+
+/// The file F12 writes beside its PNG: a `Settings` (so `lampshade render --settings FILE`
+/// reads it) plus the scene, light count, time, camera and size of the image, and the viewer's
+/// whole state.
+#[derive(serde::Serialize)]
+struct ScreenshotSettings<'a> {
+    #[serde(flatten)]
+    settings: crate::renderer::Settings,
+    scene: &'a str,
+    lights: Option<usize>,
+    time: f64,
+    camera: Option<crate::scene::Camera>,
+    size: [u32; 2],
+    viewer: &'a UiState,
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_none() {
+            if let Err(e) = self.init(event_loop) {
+                self.fail(event_loop, e);
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let scripted = self.scripted();
+        let Some(g) = self.gfx.as_mut() else { return };
+        // In a scripted run the real pointer and keyboard are ignored: only the script acts.
+        let input = matches!(
+            event,
+            WindowEvent::KeyboardInput { .. }
+                | WindowEvent::ModifiersChanged(_)
+                | WindowEvent::CursorMoved { .. }
+                | WindowEvent::CursorEntered { .. }
+                | WindowEvent::CursorLeft { .. }
+                | WindowEvent::MouseInput { .. }
+                | WindowEvent::MouseWheel { .. }
+                | WindowEvent::Touch(_)
+                | WindowEvent::Ime(_)
+        );
+        if scripted && input {
+            return;
+        }
+        let consumed = g.egui_state.on_window_event(&g.surface.window, &event).consumed;
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => g.surface.resize(&g.gpu, size.width, size.height),
+            WindowEvent::KeyboardInput { event: k, .. } => {
+                if let PhysicalKey::Code(code) = k.physical_key {
+                    match k.state {
+                        ElementState::Pressed => {
+                            let text_focus = g.egui_ctx.egui_wants_keyboard_input();
+                            if !k.repeat && !(consumed && text_focus) {
+                                self.keys.taps.push(code);
+                            }
+                            if !text_focus {
+                                self.keys.down.insert(code);
+                            }
+                        }
+                        ElementState::Released => {
+                            self.keys.down.remove(&code);
+                        }
+                    }
+                }
+            }
+            WindowEvent::Focused(false) => self.keys.down.clear(),
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.frame(event_loop) {
+                    self.fail(event_loop, e);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(g) = &self.gfx {
+            g.surface.window.request_redraw();
+        }
+    }
 }

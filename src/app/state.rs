@@ -1,0 +1,464 @@
+//! The viewer's UI state: plain serde data, apart from every GPU object. Panels and scripts change
+//! it; the next frame builds its `Scene` and `Settings` from it.
+
+use crate::renderer::{CullingMode, DebugView, LayoutChoice, Settings};
+use crate::scene::builtin::{self, BuiltinOptions};
+use crate::scene::{Camera, Light, Material, Scene, Sun};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Largest light count the viewer accepts (the core's own limit).
+pub const MAX_LIGHTS: usize = 100_000;
+/// Resolution scale bounds: share of the viewport's pixels the scene is rendered at.
+pub const MIN_SCALE: f32 = 0.1;
+pub const MAX_SCALE: f32 = 2.0;
+/// The default resolution scale: keeps the 1024-light demo responsive on a software rasteriser.
+pub const DEFAULT_SCALE: f32 = 0.5;
+
+/// Which lights the stencil and complexity views (and the wireframes) show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scope {
+    #[default]
+    All,
+    Selected,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Wireframes {
+    #[default]
+    Off,
+    All,
+    Selected,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum WireColour {
+    /// The light's own colour.
+    #[default]
+    Light,
+    /// ideal / shaded per light: red wastes work, green shades only what it lights.
+    Efficiency,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Tab {
+    #[default]
+    Scene,
+    Lights,
+    Materials,
+    Camera,
+    Help,
+}
+
+impl Tab {
+    pub const ALL: [Tab; 5] = [Tab::Scene, Tab::Lights, Tab::Materials, Tab::Camera, Tab::Help];
+    pub fn name(self) -> &'static str {
+        match self {
+            Tab::Scene => "scene",
+            Tab::Lights => "lights",
+            Tab::Materials => "materials",
+            Tab::Camera => "camera",
+            Tab::Help => "help",
+        }
+    }
+}
+
+/// What the user changed on one light; position and direction keep following the animation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LightEdit {
+    pub color: Vec3,
+    pub intensity: f32,
+    pub radius: f32,
+    /// Spot half-angles (inner, outer) in radians; `None` for point lights.
+    pub angles: Option<(f32, f32)>,
+}
+
+impl LightEdit {
+    pub fn of(light: &Light) -> Self {
+        match light {
+            Light::Point(p) => Self { color: p.color, intensity: p.intensity, radius: p.radius, angles: None },
+            Light::Spot(s) => Self {
+                color: s.color,
+                intensity: s.intensity,
+                radius: s.radius,
+                angles: Some((s.inner_angle, s.outer_angle)),
+            },
+        }
+    }
+
+    pub fn apply(&self, light: &mut Light) {
+        match light {
+            Light::Point(p) => {
+                p.color = self.color;
+                p.intensity = self.intensity;
+                p.radius = self.radius;
+            }
+            Light::Spot(s) => {
+                s.color = self.color;
+                s.intensity = self.intensity;
+                s.radius = self.radius;
+                if let Some((inner, outer)) = self.angles {
+                    s.inner_angle = inner;
+                    s.outer_angle = outer;
+                }
+            }
+        }
+    }
+}
+
+/// Everything the panels control. Serialisable, so a screenshot can record it.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(default)]
+pub struct UiState {
+    pub scene: String,
+    /// Point lights in `demo` (`None`: the scene's default).
+    pub lights: Option<usize>,
+    /// Animation time in seconds.
+    pub time: f64,
+    pub animate: bool,
+    /// Animation speed factor.
+    pub time_speed: f64,
+    pub settings: Settings,
+    pub resolution_scale: f32,
+    pub selected_light: Option<usize>,
+    /// Stencil / complexity views for all lights or the selected one.
+    pub scope: Scope,
+    pub wireframes: Wireframes,
+    pub wire_colour: WireColour,
+    /// `None` until the user moves: the scene's own camera.
+    pub camera: Option<Camera>,
+    /// Camera speed in units per second (Shift: x4).
+    pub move_speed: f64,
+    pub light_edits: BTreeMap<usize, LightEdit>,
+    /// Multipliers on every light's radius and intensity.
+    pub radius_scale: f32,
+    pub intensity_scale: f32,
+    pub material_edits: BTreeMap<usize, Material>,
+    pub ambient: Option<Vec3>,
+    /// `Some(None)`: the user switched the sun off.
+    pub sun: Option<Option<Sun>>,
+    pub tab: Tab,
+    /// Material the materials tab edits.
+    pub material_index: usize,
+}
+
+impl Default for UiState {
+    fn default() -> Self {
+        Self {
+            scene: "demo".into(),
+            lights: None,
+            time: 0.0,
+            animate: true,
+            time_speed: 1.0,
+            settings: Settings { count_ideal: false, ..Settings::default() },
+            resolution_scale: DEFAULT_SCALE,
+            selected_light: None,
+            scope: Scope::All,
+            wireframes: Wireframes::Off,
+            wire_colour: WireColour::Light,
+            camera: None,
+            move_speed: 8.0,
+            light_edits: BTreeMap::new(),
+            radius_scale: 1.0,
+            intensity_scale: 1.0,
+            material_edits: BTreeMap::new(),
+            ambient: None,
+            sun: None,
+            tab: Tab::Scene,
+            material_index: 0,
+        }
+    }
+}
+
+fn parse_bool(v: &str) -> Result<bool, String> {
+    match v {
+        "on" | "true" | "1" | "yes" => Ok(true),
+        "off" | "false" | "0" | "no" => Ok(false),
+        _ => Err(format!("'{v}' is not on/off")),
+    }
+}
+
+fn parse_f64(v: &str) -> Result<f64, String> {
+    let x: f64 = v.parse().map_err(|_| format!("'{v}' is not a number"))?;
+    if !x.is_finite() {
+        return Err(format!("'{v}' is not a finite number"));
+    }
+    Ok(x)
+}
+
+fn in_range(name: &str, x: f64, lo: f64, hi: f64) -> Result<f64, String> {
+    if x < lo || x > hi {
+        return Err(format!("{name} {x} is outside [{lo}, {hi}]"));
+    }
+    Ok(x)
+}
+
+/// Parses `#rrggbb` or `r,g,b` (linear, 0..=1000).
+pub fn parse_colour(v: &str) -> Result<Vec3, String> {
+    if let Some(hex) = v.strip_prefix('#') {
+        if hex.len() != 6 {
+            return Err(format!("colour '{v}' is not #rrggbb"));
+        }
+        let c = u32::from_str_radix(hex, 16).map_err(|_| format!("colour '{v}' is not #rrggbb"))?;
+        let f = |s: u32| ((c >> s) & 255) as f32 / 255.0;
+        return Ok(Vec3::new(f(16), f(8), f(0)));
+    }
+    let parts: Vec<&str> = v.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!("colour '{v}' is not r,g,b or #rrggbb"));
+    }
+    let mut c = [0.0f32; 3];
+    for (i, p) in parts.iter().enumerate() {
+        c[i] = in_range("colour component", parse_f64(p.trim())?, 0.0, 1000.0)? as f32;
+    }
+    Ok(Vec3::from(c))
+}
+
+pub fn parse_culling(v: &str) -> Result<CullingMode, String> {
+    CullingMode::ALL.into_iter().find(|m| m.name() == v).ok_or_else(|| {
+        let names: Vec<&str> = CullingMode::ALL.iter().map(|m| m.name()).collect();
+        format!("unknown culling mode '{v}' (one of {})", names.join(", "))
+    })
+}
+
+pub fn view_name(v: DebugView) -> &'static str {
+    match v {
+        DebugView::Lit => "lit",
+        DebugView::Albedo => "albedo",
+        DebugView::Normal => "normal",
+        DebugView::Depth => "depth",
+        DebugView::Specular => "specular",
+        DebugView::Emissive => "emissive",
+        DebugView::DiffuseLight => "diffuse-light",
+        DebugView::SpecularLight => "specular-light",
+        DebugView::Stencil => "stencil",
+        DebugView::Complexity => "complexity",
+    }
+}
+
+pub fn parse_view(v: &str) -> Result<DebugView, String> {
+    DebugView::ALL.into_iter().find(|m| view_name(*m) == v).ok_or_else(|| {
+        let names: Vec<&str> = DebugView::ALL.iter().map(|m| view_name(*m)).collect();
+        format!("unknown view '{v}' (one of {})", names.join(", "))
+    })
+}
+
+pub fn layout_name(l: LayoutChoice) -> &'static str {
+    l.layout().name
+}
+
+pub fn parse_layout(v: &str) -> Result<LayoutChoice, String> {
+    LayoutChoice::ALL.into_iter().find(|m| layout_name(*m) == v).ok_or_else(|| {
+        let names: Vec<&str> = LayoutChoice::ALL.iter().map(|m| layout_name(*m)).collect();
+        format!("unknown layout '{v}' (one of {})", names.join(", "))
+    })
+}
+
+impl UiState {
+    /// The renderer's settings for this frame: the stencil scope folded into `selected_light`.
+    pub fn frame_settings(&self) -> Settings {
+        Settings {
+            selected_light: match self.scope {
+                Scope::All => None,
+                Scope::Selected => self.selected_light,
+            },
+            ..self.settings.clone()
+        }
+    }
+
+    /// The edit record of light `i` of `scene`, created from the light's current values.
+    pub fn light_edit(&mut self, scene: &Scene, i: usize) -> Option<&mut LightEdit> {
+        let light = scene.lights.get(i)?;
+        Some(self.light_edits.entry(i).or_insert_with(|| LightEdit::of(light)))
+    }
+
+    /// Sets one named value the way the panels do, rejecting nonsense with a message. Scripts
+    /// use this (`set NAME VALUE`); `scene` is the frame's current scene (for the selected light).
+    pub fn set(&mut self, name: &str, value: &str, scene: &Scene) -> Result<String, String> {
+        match name {
+            "lights" => {
+                if self.scene != "demo" {
+                    return Err(format!("scene '{}' has a fixed set of lights", self.scene));
+                }
+                let n: usize = value.parse().map_err(|_| format!("light count '{value}' is not a whole number"))?;
+                if n > MAX_LIGHTS {
+                    return Err(format!("light count {n} is more than {MAX_LIGHTS}"));
+                }
+                self.lights = Some(n);
+                if self.selected_light.is_some_and(|k| k >= n + 4) {
+                    self.selected_light = None;
+                }
+            }
+            "scale" => {
+                self.resolution_scale =
+                    in_range("resolution scale", parse_f64(value)?, MIN_SCALE as f64, MAX_SCALE as f64)? as f32
+            }
+            "exposure" => self.settings.exposure = in_range("exposure", parse_f64(value)?, 0.01, 100.0)? as f32,
+            "time" => self.time = in_range("time", parse_f64(value)?, -1e6, 1e6)?,
+            "speed" => self.time_speed = in_range("time speed", parse_f64(value)?, -100.0, 100.0)?,
+            "move-speed" => self.move_speed = in_range("move speed", parse_f64(value)?, 0.01, 1000.0)?,
+            "animate" => self.animate = parse_bool(value)?,
+            "counts" => self.settings.count_fragments = parse_bool(value)?,
+            "ideal" => self.settings.count_ideal = parse_bool(value)?,
+            "timestamps" => self.settings.timestamps = parse_bool(value)?,
+            "reversed-z" => self.settings.reversed_z = parse_bool(value)?,
+            "depth-clamp" => self.settings.depth_clamp = parse_bool(value)?,
+            "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
+            "intensity-scale" => {
+                self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32
+            }
+            "ambient" => self.ambient = Some(parse_colour(value)?),
+            "sun" => {
+                if parse_bool(value)? {
+                    let base = builtin::build(&self.scene, BuiltinOptions::default()).ok().and_then(|s| s.sun);
+                    self.sun = Some(Some(base.unwrap_or(Sun {
+                        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
+                        color: Vec3::ONE,
+                        intensity: 0.12,
+                    })));
+                } else {
+                    self.sun = Some(None);
+                }
+            }
+            "radius" | "intensity" | "colour" | "color" | "inner" | "outer" => {
+                let Some(k) = self.selected_light else {
+                    return Err(format!("'{name}' edits the selected light: select one first"));
+                };
+                let edit = self.light_edit(scene, k).ok_or_else(|| format!("light {k} does not exist"))?;
+                let mut e = *edit;
+                match name {
+                    "radius" => e.radius = in_range("radius", parse_f64(value)?, 0.01, 10_000.0)? as f32,
+                    "intensity" => e.intensity = in_range("intensity", parse_f64(value)?, 0.0, 10_000.0)? as f32,
+                    "colour" | "color" => e.color = parse_colour(value)?,
+                    _ => {
+                        let Some((inner, outer)) = e.angles else {
+                            return Err(format!("light {k} is a point light: it has no cone angles"));
+                        };
+                        let a = (in_range("angle", parse_f64(value)?, 0.0, 90.0)? as f32).to_radians();
+                        e.angles = Some(if name == "inner" {
+                            if a > outer {
+                                return Err(format!("inner angle {value}° exceeds the outer angle"));
+                            }
+                            (a, outer)
+                        } else {
+                            (inner.min(a), a)
+                        });
+                    }
+                }
+                let mut l = scene.lights[k];
+                e.apply(&mut l);
+                l.validate().map_err(|err| format!("light {k}: {err}"))?;
+                *edit = e;
+            }
+            _ => return Err(format!("unknown setting '{name}'")),
+        }
+        Ok(format!("{name} = {value}"))
+    }
+}
+
+/// Builds the frame's scene: the built-in scene at the state's time, then the user's edits.
+/// The built-in part is cached and rebuilt only when scene, light count or time change.
+#[derive(Default)]
+pub struct SceneCache {
+    key: Option<(String, Option<usize>, u64)>,
+    base: Option<Scene>,
+}
+
+impl SceneCache {
+    pub fn base(&mut self, state: &UiState) -> Result<&Scene, String> {
+        let key = (state.scene.clone(), state.lights, state.time.to_bits());
+        if self.key.as_ref() != Some(&key) || self.base.is_none() {
+            let scene = builtin::build(&state.scene, BuiltinOptions { lights: state.lights, time: state.time })?;
+            self.base = Some(scene);
+            self.key = Some(key);
+        }
+        self.base.as_ref().ok_or_else(|| "no scene".to_string())
+    }
+
+    /// The scene as the renderer should draw it this frame.
+    pub fn frame_scene(&mut self, state: &UiState) -> Result<Scene, String> {
+        let mut scene = self.base(state)?.clone();
+        if let Some(c) = state.camera {
+            scene.camera = c;
+        }
+        for (i, l) in scene.lights.iter_mut().enumerate() {
+            if let Some(e) = state.light_edits.get(&i) {
+                e.apply(l);
+            }
+            match l {
+                Light::Point(p) => {
+                    p.radius *= state.radius_scale;
+                    p.intensity *= state.intensity_scale;
+                }
+                Light::Spot(s) => {
+                    s.radius *= state.radius_scale;
+                    s.intensity *= state.intensity_scale;
+                }
+            }
+        }
+        for (i, m) in &state.material_edits {
+            if let Some(slot) = scene.materials.get_mut(*i) {
+                *slot = *m;
+            }
+        }
+        if let Some(a) = state.ambient {
+            scene.ambient = a;
+        }
+        if let Some(s) = state.sun {
+            scene.sun = s;
+        }
+        scene.validate()?;
+        Ok(scene)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nonsense_is_rejected_and_leaves_the_state_alone() {
+        let mut s = UiState::default();
+        let scene = builtin::build("demo", BuiltinOptions { lights: Some(4), time: 0.0 }).unwrap();
+        for (k, v) in [
+            ("exposure", "-1"),
+            ("exposure", "NaN"),
+            ("scale", "0"),
+            ("lights", "-3"),
+            ("lights", "1e9"),
+            ("radius", "5"),
+            ("ambient", "red"),
+            ("bogus", "1"),
+        ] {
+            assert!(s.set(k, v, &scene).is_err(), "{k} {v} was accepted");
+        }
+        assert_eq!(s.settings.exposure, 1.0);
+        s.selected_light = Some(0);
+        assert!(s.set("radius", "-2", &scene).is_err());
+        assert!(s.set("outer", "10", &scene).is_err(), "a point light has no cone");
+        s.set("radius", "7.5", &scene).unwrap();
+        assert_eq!(s.light_edits[&0].radius, 7.5);
+        s.selected_light = Some(4); // the first spot
+        s.set("outer", "10", &scene).unwrap();
+        assert!(s.set("inner", "20", &scene).is_err());
+    }
+
+    #[test]
+    fn edits_survive_animation() {
+        let mut s = UiState::default();
+        s.lights = Some(8);
+        let mut cache = SceneCache::default();
+        let a = cache.frame_scene(&s).unwrap();
+        s.selected_light = Some(2);
+        s.set("colour", "#ff0000", &a).unwrap();
+        s.time = 3.0;
+        let b = cache.frame_scene(&s).unwrap();
+        assert_eq!(b.lights[2].color(), Vec3::X);
+        assert_ne!(a.lights[2].position(), b.lights[2].position());
+    }
+}

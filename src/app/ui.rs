@@ -1,0 +1,1057 @@
+//! The panels. `draw` reads the last frame's figures (`FrameInfo`), edits the plain `UiState`
+//! and reports what only the application can do (screenshots, picking) in `UiOut`; it never
+//! touches a GPU object.
+
+use super::camera;
+use super::state::{self, Scope, Tab, UiState, WireColour, Wireframes, MAX_LIGHTS, MAX_SCALE, MIN_SCALE};
+use crate::renderer::gbuffer::{Attr, GBufferLayout};
+use crate::renderer::settings::AccumFormat;
+use crate::renderer::{CullingMode, DebugView, FrameStats, LayoutChoice, Method, PixelProbe};
+use crate::scene::builtin;
+use crate::scene::{Light, Scene, Sun};
+use egui::{Color32, Pos2, Rect, RichText, Sense, Stroke, Vec2};
+use glam::Vec3;
+use std::collections::{BTreeMap, HashMap, VecDeque};
+
+/// Frames kept for the history plot.
+pub const HISTORY: usize = 240;
+/// "All" wireframes draws at most this many volumes (the largest on screen).
+pub const MAX_WIREFRAMES: usize = 256;
+/// Height of the G-buffer thumbnail strip, in points.
+const GBUFFER_STRIP: f32 = 158.0;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sample {
+    pub gpu_total: Option<f64>,
+    pub lighting: Option<f64>,
+    pub shaded: Option<u64>,
+    pub ideal: Option<u64>,
+}
+
+#[derive(Default)]
+pub struct History {
+    pub samples: VecDeque<Sample>,
+}
+
+impl History {
+    pub fn push(&mut self, s: Sample) {
+        if self.samples.len() == HISTORY {
+            self.samples.pop_front();
+        }
+        self.samples.push_back(s);
+    }
+}
+
+/// A status line message: what the last action did, or why it was rejected.
+#[derive(Clone, Debug)]
+pub struct Status {
+    pub text: String,
+    pub error: bool,
+}
+
+/// One G-buffer target (or other buffer) and the views that show it readably.
+pub struct ThumbGroup {
+    pub name: String,
+    pub format: String,
+    pub bytes_per_pixel: Option<u32>,
+    pub views: Vec<(DebugView, &'static str)>,
+}
+
+/// The thumbnail strip for a layout: every target with the views that decode it, then the light
+/// accumulation, then the depth-stencil buffer.
+pub fn thumb_groups(
+    layout: &GBufferLayout,
+    accum: Option<wgpu::TextureFormat>,
+    depth_format: wgpu::TextureFormat,
+) -> Vec<ThumbGroup> {
+    let mut groups = vec![ThumbGroup {
+        name: "output".into(),
+        format: format!("{:?}", crate::renderer::OUTPUT_FORMAT),
+        bytes_per_pixel: None,
+        views: vec![(DebugView::Lit, "lit")],
+    }];
+    for t in &layout.targets {
+        let mut views: Vec<(DebugView, &'static str)> = Vec::new();
+        for slot in t.channels.iter().flatten() {
+            let v = match slot.attr {
+                Attr::Albedo => (DebugView::Albedo, "albedo"),
+                Attr::SpecLevel | Attr::SpecExp => (DebugView::Specular, "specular"),
+                Attr::Normal => (DebugView::Normal, "normal"),
+                Attr::Emissive => (DebugView::Emissive, "emissive"),
+                Attr::Depth => (DebugView::Depth, "depth"),
+                Attr::Position => (DebugView::Depth, "position (depth)"),
+            };
+            if !views.iter().any(|(w, _)| *w == v.0) {
+                views.push(v);
+            }
+        }
+        groups.push(ThumbGroup {
+            name: t.name.to_string(),
+            format: format!("{:?}", t.format),
+            bytes_per_pixel: t.format.block_copy_size(None),
+            views,
+        });
+    }
+    groups.push(ThumbGroup {
+        name: "light accumulation (HDR)".into(),
+        format: accum.map_or("-".into(), |a| format!("2 x {a:?}")),
+        bytes_per_pixel: accum.and_then(|a| a.block_copy_size(None)).map(|b| b * 2),
+        views: vec![(DebugView::DiffuseLight, "diffuse"), (DebugView::SpecularLight, "specular")],
+    });
+    let has_depth_view = groups.iter().any(|g| g.views.iter().any(|(v, _)| *v == DebugView::Depth));
+    let mut ds = Vec::new();
+    if !has_depth_view {
+        ds.push((DebugView::Depth, "depth"));
+    }
+    ds.push((DebugView::Stencil, "stencil"));
+    ds.push((DebugView::Complexity, "complexity"));
+    groups.push(ThumbGroup {
+        name: "depth-stencil".into(),
+        format: format!("{depth_format:?}"),
+        bytes_per_pixel: depth_format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).map(|b| b + 1),
+        views: ds,
+    });
+    groups
+}
+
+/// What the UI shows this frame (read only).
+pub struct FrameInfo<'a> {
+    pub stats: Option<&'a FrameStats>,
+    pub history: &'a History,
+    pub scene: Option<&'a Scene>,
+    /// The viewport image and its size in pixels.
+    pub viewport: Option<(egui::TextureId, [u32; 2])>,
+    pub thumbs: &'a HashMap<DebugView, egui::TextureId>,
+    pub groups: &'a [ThumbGroup],
+    pub layout_name: &'a str,
+    pub gbuffer_bytes: u32,
+    pub probe: Option<&'a PixelProbe>,
+    pub adapter: &'a str,
+    pub status: Option<&'a Status>,
+    pub cpu_ms: f64,
+    pub scripted: bool,
+    /// Per-light volume wireframes, in viewport pixels: (light, segments).
+    pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
+}
+
+#[derive(Clone, Debug)]
+pub enum Command {
+    Screenshot,
+    ResetCamera,
+    SceneChanged,
+    Status(Status),
+}
+
+/// What the UI asks of the application.
+#[derive(Default)]
+pub struct UiOut {
+    /// The viewport's rectangle in points.
+    pub viewport_rect: Option<Rect>,
+    /// The viewport pixel under the pointer.
+    pub hover_pixel: Option<[u32; 2]>,
+    /// A click (not a drag) on the viewport, in viewport pixels.
+    pub click_pixel: Option<[f32; 2]>,
+    /// Drag on the viewport in points (look around).
+    pub drag: Vec2,
+    pub commands: Vec<Command>,
+}
+
+fn colour32(c: Vec3) -> Color32 {
+    let m = c.max_element().max(1e-6);
+    let c = if m > 1.0 { c / m } else { c };
+    Color32::from_rgb(
+        (c.x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8,
+        (c.y.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8,
+        (c.z.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8,
+    )
+}
+
+/// Red (wasted work) to green (only useful work).
+pub fn efficiency_colour(e: f64) -> Color32 {
+    let e = e.clamp(0.0, 1.0) as f32;
+    Color32::from_rgb(((1.0 - e) * 255.0) as u8, (e * 220.0 + 35.0) as u8, 40)
+}
+
+/// The method's serde name (kebab-case), so new methods in the core need no change here.
+fn method_name(m: Method) -> String {
+    serde_json::to_value(m).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_else(|| format!("{m:?}"))
+}
+
+fn culling_help(m: CullingMode) -> &'static str {
+    match m {
+        CullingMode::Fullscreen => "Every light a full-screen triangle: the no-culling reference.",
+        CullingMode::Volume => "Volume back faces, depth GreaterEqual, no stencil.",
+        CullingMode::StencilTwoPass => "Seed 000: front faces mark on depth fail, back faces shade where stencil = 0.",
+        CullingMode::StencilInvert => {
+            "Seed 001: one double-sided draw inverts stencil on depth fail; shade where != 0."
+        }
+        CullingMode::StencilReplace => "Seed 002: depth-fail REPLACE of a per-light value; shade where equal.",
+        CullingMode::Auto => "Per light, the cheapest correct method.",
+    }
+}
+
+fn fmt_opt<T: std::fmt::Display>(v: Option<T>) -> String {
+    v.map_or("-".into(), |v| v.to_string())
+}
+
+fn fmt_ms(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.2} ms"))
+}
+
+fn fmt_count(v: u64) -> String {
+    let s = v.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push('\u{2009}');
+        }
+        out.push(c);
+    }
+    out
+}
+
+pub fn style(ctx: &egui::Context) {
+    ctx.all_styles_mut(|s| {
+        s.spacing.item_spacing = Vec2::new(6.0, 4.0);
+        s.spacing.interact_size.y = 18.0;
+        s.visuals.panel_fill = Color32::from_gray(30);
+        s.visuals.extreme_bg_color = Color32::from_gray(14);
+    });
+}
+
+/// Draws every panel and the viewport.
+pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    top_bar(ui, st, f, out);
+    status_bar(ui, st, f);
+    egui::Panel::left("left")
+        .resizable(true)
+        .default_size(260.0)
+        .min_size(200.0)
+        .show(ui, |ui| left_panel(ui, st, f, out));
+    egui::Panel::right("right")
+        .resizable(true)
+        .default_size(280.0)
+        .min_size(220.0)
+        .show(ui, |ui| right_panel(ui, st, f));
+    egui::Panel::bottom("gbuffer").resizable(false).exact_size(GBUFFER_STRIP).show(ui, |ui| gbuffer_strip(ui, st, f));
+    egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
+}
+
+fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    egui::Panel::top("top").show(ui, |ui| {
+        ui.horizontal(|ui| {
+            ui.label(RichText::new("Lampshade").strong().size(15.0));
+            ui.separator();
+            ui.label("scene");
+            let before = st.scene.clone();
+            egui::ComboBox::from_id_salt("scene").selected_text(&st.scene).width(90.0).show_ui(ui, |ui| {
+                for (name, what) in builtin::NAMES {
+                    ui.selectable_value(&mut st.scene, name.to_string(), *name).on_hover_text(*what);
+                }
+            });
+            if st.scene != before {
+                out.commands.push(Command::SceneChanged);
+            }
+            ui.label("culling");
+            egui::ComboBox::from_id_salt("culling").selected_text(st.settings.culling.name()).width(120.0).show_ui(
+                ui,
+                |ui| {
+                    for m in CullingMode::ALL {
+                        ui.selectable_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                    }
+                },
+            );
+            ui.label("view");
+            egui::ComboBox::from_id_salt("view")
+                .selected_text(state::view_name(st.settings.debug_view))
+                .width(110.0)
+                .show_ui(ui, |ui| {
+                    for v in DebugView::ALL {
+                        ui.selectable_value(&mut st.settings.debug_view, v, state::view_name(v));
+                    }
+                });
+            ui.separator();
+            let anim = if st.animate { "pause (Space)" } else { "animate (Space)" };
+            if ui.button(anim).clicked() {
+                st.animate = !st.animate;
+            }
+            if ui.button("screenshot (F12)").clicked() {
+                out.commands.push(Command::Screenshot);
+            }
+            if ui.selectable_label(st.tab == Tab::Help, "help (F1)").clicked() {
+                st.tab = if st.tab == Tab::Help { Tab::Scene } else { Tab::Help };
+            }
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                ui.label(RichText::new(f.adapter).weak());
+            });
+        });
+    });
+}
+
+fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
+    egui::Panel::bottom("status").show(ui, |ui| {
+        ui.horizontal(|ui| {
+            if let Some((_, [w, h])) = f.viewport {
+                ui.label(format!("{w}x{h} px ({:.0}%)", st.resolution_scale * 100.0));
+            }
+            ui.label(format!("frame {:.1} ms", f.cpu_ms));
+            if let Some(ms) = f.stats.and_then(|s| s.gpu_ms.total) {
+                ui.label(format!("gpu {ms:.2} ms"));
+            }
+            ui.label(format!("t = {:.2} s{}", st.time, if st.animate { "" } else { " (paused)" }));
+            if f.scripted {
+                ui.label(RichText::new("scripted run").color(Color32::LIGHT_BLUE));
+            }
+            ui.separator();
+            if let Some(s) = f.status {
+                let c = if s.error { Color32::from_rgb(255, 110, 90) } else { Color32::from_gray(200) };
+                ui.label(RichText::new(&s.text).color(c));
+            }
+        });
+    });
+}
+
+fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    ui.horizontal(|ui| {
+        ui.spacing_mut().item_spacing.x = 2.0;
+        // Help has its own button in the top bar (F1).
+        for t in Tab::ALL.into_iter().filter(|t| *t != Tab::Help) {
+            ui.selectable_value(&mut st.tab, t, t.name());
+        }
+    });
+    ui.separator();
+    egui::ScrollArea::vertical().id_salt("left-scroll").show(ui, |ui| match st.tab {
+        Tab::Scene => scene_tab(ui, st, f),
+        Tab::Lights => lights_tab(ui, st, f, out),
+        Tab::Materials => materials_tab(ui, st, f, out),
+        Tab::Camera => camera_tab(ui, st, f, out),
+        Tab::Help => help_tab(ui),
+    });
+}
+
+fn reject(out: &mut UiOut, text: String) {
+    out.commands.push(Command::Status(Status { text, error: true }));
+}
+
+fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    egui::Grid::new("scene-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("lights");
+        if st.scene == "demo" {
+            let mut n = st.lights.unwrap_or(1024);
+            let r = ui
+                .add(egui::DragValue::new(&mut n).range(0..=MAX_LIGHTS).speed(4.0))
+                .on_hover_text("point lights in the demo (0..100000)");
+            if r.changed() {
+                st.lights = Some(n);
+            }
+        } else {
+            ui.label(format!("{} (fixed)", f.scene.map_or(0, |s| s.lights.len())));
+        }
+        ui.end_row();
+        ui.label("animate");
+        ui.checkbox(&mut st.animate, "lights move (Space)");
+        ui.end_row();
+        ui.label("time");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).suffix(" s"));
+            ui.add(egui::DragValue::new(&mut st.time_speed).range(-100.0..=100.0).speed(0.05).prefix("x"));
+        });
+        ui.end_row();
+        ui.label("resolution");
+        ui.add(egui::Slider::new(&mut st.resolution_scale, MIN_SCALE..=MAX_SCALE).fixed_decimals(2))
+            .on_hover_text("share of the viewport's pixels the scene renders at");
+        ui.end_row();
+        ui.label("exposure");
+        ui.add(egui::Slider::new(&mut st.settings.exposure, 0.05..=16.0).logarithmic(true));
+        ui.end_row();
+        ui.label("radius x");
+        ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true))
+            .on_hover_text("every light's radius");
+        ui.end_row();
+        ui.label("intensity x");
+        ui.add(egui::Slider::new(&mut st.intensity_scale, 0.0..=20.0)).on_hover_text("every light's intensity");
+        ui.end_row();
+        ui.label("accumulation");
+        egui::ComboBox::from_id_salt("accum").selected_text(format!("{:?}", st.settings.accumulation)).show_ui(
+            ui,
+            |ui| {
+                for a in AccumFormat::ALL {
+                    ui.selectable_value(&mut st.settings.accumulation, a, format!("{a:?}"));
+                }
+            },
+        );
+        ui.end_row();
+        ui.label("G-buffer");
+        egui::ComboBox::from_id_salt("layout-left").selected_text(state::layout_name(st.settings.layout)).show_ui(
+            ui,
+            |ui| {
+                for l in LayoutChoice::ALL {
+                    ui.selectable_value(&mut st.settings.layout, l, state::layout_name(l));
+                }
+            },
+        );
+        ui.end_row();
+    });
+    ui.separator();
+    ui.label(RichText::new("Ambient and sun").strong());
+    let Some(scene) = f.scene else { return };
+    egui::Grid::new("sun-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("ambient");
+        let mut a = st.ambient.unwrap_or(scene.ambient).to_array();
+        if ui.color_edit_button_rgb(&mut a).changed() {
+            st.ambient = Some(Vec3::from(a));
+        }
+        ui.end_row();
+        let mut sun = st.sun.unwrap_or(scene.sun);
+        let mut on = sun.is_some();
+        ui.label("sun");
+        if ui.checkbox(&mut on, "on").changed() {
+            sun = on.then_some(Sun {
+                direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
+                color: Vec3::new(1.0, 0.9, 0.75),
+                intensity: 0.12,
+            });
+            st.sun = Some(sun);
+        }
+        ui.end_row();
+        if let Some(mut s) = sun {
+            let before = s;
+            ui.label("colour");
+            let mut c = s.color.to_array();
+            ui.color_edit_button_rgb(&mut c);
+            s.color = Vec3::from(c);
+            ui.end_row();
+            ui.label("intensity");
+            ui.add(egui::DragValue::new(&mut s.intensity).range(0.0..=100.0).speed(0.01));
+            ui.end_row();
+            // Direction as azimuth / elevation of the direction the light comes from.
+            let d = -s.direction.normalize_or(Vec3::NEG_Y);
+            let mut elev = d.y.clamp(-1.0, 1.0).asin().to_degrees();
+            let mut azim = d.z.atan2(d.x).to_degrees();
+            ui.label("elevation");
+            let e = ui.add(egui::DragValue::new(&mut elev).range(1.0..=90.0).suffix("°"));
+            ui.end_row();
+            ui.label("azimuth");
+            let z = ui.add(egui::DragValue::new(&mut azim).range(-180.0..=180.0).suffix("°"));
+            ui.end_row();
+            if e.changed() || z.changed() {
+                let (el, az) = (elev.to_radians(), azim.to_radians());
+                s.direction = -Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin());
+            }
+            if s != before {
+                st.sun = Some(Some(s));
+            }
+        }
+    });
+}
+
+fn light_label(i: usize, l: &Light) -> String {
+    match l {
+        Light::Point(_) => format!("#{i} point"),
+        Light::Spot(_) => format!("#{i} spot"),
+    }
+}
+
+fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else {
+        ui.label("no scene");
+        return;
+    };
+    ui.label(RichText::new("Selected light").strong());
+    match st.selected_light.filter(|k| *k < scene.lights.len()) {
+        None => {
+            ui.label("none: click a light in the viewport or the list below");
+        }
+        Some(k) => {
+            let light = scene.lights[k];
+            ui.horizontal(|ui| {
+                ui.label(light_label(k, &light));
+                if ui.button("deselect").clicked() {
+                    st.selected_light = None;
+                }
+                if st.light_edits.contains_key(&k) && ui.button("reset").clicked() {
+                    st.light_edits.remove(&k);
+                }
+            });
+            if let Some(ls) = f.stats.and_then(|s| s.per_light.get(k)) {
+                ui.label(format!(
+                    "{} | shaded {} | ideal {} | screen {:.1}%{}{}",
+                    method_name(ls.method),
+                    fmt_opt(ls.shaded),
+                    fmt_opt(ls.ideal),
+                    ls.screen_share * 100.0,
+                    if ls.crosses_near { " | crosses near" } else { "" },
+                    if ls.crosses_far { " | crosses far" } else { "" }
+                ));
+            }
+            let p = light.position();
+            ui.label(format!("position {:.2}, {:.2}, {:.2}", p.x, p.y, p.z));
+            // Edit the un-scaled values (the global multipliers apply on top).
+            let Some(edit) = st.light_edits.get(&k).copied().or_else(|| {
+                let mut base = light;
+                match &mut base {
+                    Light::Point(p) => {
+                        p.radius /= st.radius_scale.max(1e-6);
+                        p.intensity /= st.intensity_scale.max(1e-6);
+                    }
+                    Light::Spot(s) => {
+                        s.radius /= st.radius_scale.max(1e-6);
+                        s.intensity /= st.intensity_scale.max(1e-6);
+                    }
+                }
+                Some(state::LightEdit::of(&base))
+            }) else {
+                return;
+            };
+            let mut e = edit;
+            egui::Grid::new("light-edit").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+                ui.label("colour");
+                let mut c = e.color.to_array();
+                ui.color_edit_button_rgb(&mut c);
+                e.color = Vec3::from(c);
+                ui.end_row();
+                ui.label("intensity");
+                ui.add(egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02));
+                ui.end_row();
+                ui.label("radius");
+                ui.add(egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05));
+                ui.end_row();
+                if let Some((mut inner, mut outer)) = e.angles {
+                    let (mut i_deg, mut o_deg) = (inner.to_degrees(), outer.to_degrees());
+                    ui.label("inner angle");
+                    ui.add(egui::DragValue::new(&mut i_deg).range(0.0..=90.0).suffix("°"));
+                    ui.end_row();
+                    ui.label("outer angle");
+                    ui.add(egui::DragValue::new(&mut o_deg).range(0.0..=90.0).suffix("°"));
+                    ui.end_row();
+                    if i_deg > o_deg {
+                        // Clamp visibly rather than hand the renderer an inverted cone.
+                        ui.label("");
+                        ui.label(RichText::new("inner clamped to outer").color(Color32::from_rgb(255, 170, 80)));
+                        ui.end_row();
+                        i_deg = o_deg;
+                    }
+                    inner = i_deg.to_radians();
+                    outer = o_deg.to_radians();
+                    e.angles = Some((inner, outer));
+                }
+            });
+            if e != edit {
+                let mut l = light;
+                e.apply(&mut l);
+                match l.validate() {
+                    Ok(()) => {
+                        st.light_edits.insert(k, e);
+                    }
+                    Err(err) => reject(out, format!("light {k}: {err}")),
+                }
+            }
+        }
+    }
+    ui.separator();
+    ui.label(RichText::new(format!("All lights ({})", scene.lights.len())).strong());
+    let row_h = 18.0;
+    let per_light = f.stats.map(|s| s.per_light.as_slice()).unwrap_or(&[]);
+    egui::ScrollArea::vertical()
+        .id_salt("light-list")
+        .max_height(ui.available_height().max(120.0))
+        .auto_shrink([false, true])
+        .show_rows(ui, row_h, scene.lights.len(), |ui, range| {
+            for i in range {
+                let l = &scene.lights[i];
+                ui.horizontal(|ui| {
+                    let (r, _) = ui.allocate_exact_size(Vec2::new(12.0, 12.0), Sense::hover());
+                    ui.painter().rect_filled(r, 2.0, colour32(l.color()));
+                    let ls = per_light.get(i);
+                    let text = format!(
+                        "{:<12} {:>9} {}",
+                        light_label(i, l),
+                        ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
+                        ls.map_or(String::new(), |s| method_name(s.method))
+                    );
+                    let sel = st.selected_light == Some(i);
+                    if ui.selectable_label(sel, RichText::new(text).monospace()).clicked() {
+                        st.selected_light = if sel { None } else { Some(i) };
+                    }
+                });
+            }
+        });
+}
+
+fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else { return };
+    let n = scene.materials.len();
+    if n == 0 {
+        ui.label("the scene has no materials");
+        return;
+    }
+    st.material_index = st.material_index.min(n - 1);
+    ui.horizontal(|ui| {
+        ui.label("material");
+        ui.add(egui::DragValue::new(&mut st.material_index).range(0..=n - 1));
+        ui.label(format!("of {n}"));
+    });
+    let k = st.material_index;
+    let before = scene.materials[k];
+    let mut m = before;
+    egui::Grid::new("material").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("diffuse");
+        let mut c = m.diffuse.to_array();
+        ui.color_edit_button_rgb(&mut c);
+        m.diffuse = Vec3::from(c);
+        ui.end_row();
+        ui.label("specular level");
+        ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=1.0));
+        ui.end_row();
+        ui.label("specular exponent");
+        ui.add(egui::Slider::new(&mut m.specular_exponent, 1.0..=2048.0).logarithmic(true));
+        ui.end_row();
+        ui.label("emissive");
+        let mut e = m.emissive.to_array();
+        ui.color_edit_button_rgb(&mut e);
+        m.emissive = Vec3::from(e);
+        ui.end_row();
+    });
+    if m != before {
+        if m.diffuse.is_finite() && m.emissive.is_finite() && m.emissive.min_element() >= 0.0 {
+            st.material_edits.insert(k, m);
+        } else {
+            reject(out, format!("material {k}: values must be finite and non-negative"));
+        }
+    }
+    if st.material_edits.contains_key(&k) && ui.button("reset material").clicked() {
+        st.material_edits.remove(&k);
+    }
+}
+
+fn camera_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else { return };
+    let before = scene.camera;
+    let mut c = before;
+    let mut yaw = c.yaw.to_degrees();
+    let mut pitch = c.pitch.to_degrees();
+    let mut fov = c.fov_y.to_degrees();
+    egui::Grid::new("camera").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("position");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut c.position.x).speed(0.1).max_decimals(2));
+            ui.add(egui::DragValue::new(&mut c.position.y).speed(0.1).max_decimals(2));
+            ui.add(egui::DragValue::new(&mut c.position.z).speed(0.1).max_decimals(2));
+        });
+        ui.end_row();
+        ui.label("yaw");
+        ui.add(egui::DragValue::new(&mut yaw).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("pitch");
+        ui.add(egui::DragValue::new(&mut pitch).range(-89.0..=89.0).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("field of view");
+        ui.add(egui::DragValue::new(&mut fov).range(5.0..=170.0).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("near / far");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut c.near).range(0.001..=1000.0).speed(0.01));
+            ui.add(egui::DragValue::new(&mut c.far).range(0.01..=100_000.0).speed(1.0));
+        });
+        ui.end_row();
+        ui.label("speed");
+        ui.add(egui::DragValue::new(&mut st.move_speed).range(0.01..=1000.0).speed(0.1).suffix(" /s"));
+        ui.end_row();
+    });
+    if yaw != before.yaw.to_degrees() {
+        c.yaw = yaw.to_radians();
+    }
+    if pitch != before.pitch.to_degrees() {
+        c.pitch = pitch.to_radians();
+    }
+    if fov != before.fov_y.to_degrees() {
+        c.fov_y = fov.to_radians();
+    }
+    if c != before {
+        match c.validate() {
+            Ok(()) => st.camera = Some(c),
+            Err(e) => reject(out, format!("camera: {e}")),
+        }
+    }
+    if ui.button("reset camera").clicked() {
+        out.commands.push(Command::ResetCamera);
+    }
+}
+
+fn help_tab(ui: &mut egui::Ui) {
+    ui.label(RichText::new("Controls").strong());
+    egui::Grid::new("help").num_columns(2).striped(true).show(ui, |ui| {
+        for (k, what) in camera::BINDINGS {
+            ui.label(RichText::new(*k).monospace());
+            ui.label(*what);
+            ui.end_row();
+        }
+    });
+    ui.separator();
+    ui.label(RichText::new("Views").strong());
+    ui.label("Click a G-buffer thumbnail to show it full size; click 'lit' to return.");
+    ui.label("Stencil view (seed 000): blue passed Z when marking, red passed Z when shading, green was lit.");
+    ui.label("Complexity: how many lights shaded each pixel.");
+    ui.separator();
+    ui.label(RichText::new("Scripts").strong());
+    ui.label("lampshade view SCENE --script FILE: one 'FRAME ACTION ARGS' per line (see src/app/script.rs).");
+}
+
+fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    egui::ScrollArea::vertical().id_salt("right-scroll").show(ui, |ui| {
+        ui.label(RichText::new("Light culling").strong());
+        for m in CullingMode::ALL {
+            ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+        }
+        ui.separator();
+        figures(ui, st, f);
+        ui.separator();
+        ui.label(RichText::new("History").strong());
+        plots(ui, f.history);
+        ui.separator();
+        ui.label(RichText::new("Culling views").strong());
+        ui.horizontal(|ui| {
+            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity] {
+                ui.selectable_value(&mut st.settings.debug_view, v, state::view_name(v));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("lights");
+            ui.selectable_value(&mut st.scope, Scope::All, "all");
+            ui.add_enabled_ui(st.selected_light.is_some(), |ui| {
+                ui.selectable_value(&mut st.scope, Scope::Selected, "selected");
+            });
+        });
+        if st.settings.debug_view == DebugView::Stencil {
+            ui.horizontal_wrapped(|ui| {
+                for (c, t) in [
+                    (Color32::BLUE, "passed Z marking"),
+                    (Color32::RED, "passed Z shading"),
+                    (Color32::GREEN, "lit (passed stencil)"),
+                ] {
+                    let (r, _) = ui.allocate_exact_size(Vec2::splat(10.0), Sense::hover());
+                    ui.painter().rect_filled(r, 1.0, c);
+                    ui.label(t);
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            ui.label("wireframes");
+            ui.selectable_value(&mut st.wireframes, Wireframes::Off, "off");
+            ui.selectable_value(&mut st.wireframes, Wireframes::All, "all");
+            ui.selectable_value(&mut st.wireframes, Wireframes::Selected, "selected");
+        });
+        ui.horizontal(|ui| {
+            ui.label("colour by");
+            ui.selectable_value(&mut st.wire_colour, WireColour::Light, "light");
+            ui.selectable_value(&mut st.wire_colour, WireColour::Efficiency, "efficiency");
+        });
+        if st.wire_colour == WireColour::Efficiency && !st.settings.count_ideal {
+            ui.label(RichText::new("efficiency needs 'count ideal'").color(Color32::from_rgb(255, 170, 80)));
+        }
+        ui.separator();
+        ui.label(RichText::new("Counters").strong());
+        ui.checkbox(&mut st.settings.count_fragments, "count shaded fragments");
+        ui.checkbox(&mut st.settings.count_ideal, "count ideal (a full-screen pass per light)");
+        ui.checkbox(&mut st.settings.timestamps, "GPU timestamps");
+        ui.checkbox(&mut st.settings.depth_clamp, "depth clamp on volumes");
+        ui.checkbox(&mut st.settings.reversed_z, "reversed Z");
+        ui.separator();
+        pixel_panel(ui, f);
+    });
+}
+
+fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
+    let Some(s) = f.stats else {
+        ui.label("no frame yet");
+        return;
+    };
+    let drawn = s.per_light.iter().filter(|l| l.shaded.is_some_and(|v| v > 0)).count();
+    let mut methods: BTreeMap<String, usize> = BTreeMap::new();
+    for l in &s.per_light {
+        *methods.entry(method_name(l.method)).or_default() += 1;
+    }
+    egui::Grid::new("figures").num_columns(2).striped(true).spacing([12.0, 2.0]).show(ui, |ui| {
+        let row = |ui: &mut egui::Ui, k: &str, v: String| {
+            ui.label(k);
+            ui.label(RichText::new(v).monospace());
+            ui.end_row();
+        };
+        row(ui, "lights", format!("{}", s.lights));
+        row(
+            ui,
+            "lights drawn",
+            if s.shaded_fragments.is_some() { format!("{drawn} shaded > 0") } else { "- (counts off)".into() },
+        );
+        let m: Vec<String> = methods.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        row(ui, "methods", m.join(", "));
+        row(ui, "shaded fragments", s.shaded_fragments.map_or("-".into(), fmt_count));
+        row(
+            ui,
+            "ideal fragments",
+            s.ideal_fragments.map_or(if st.settings.count_ideal { "-".into() } else { "off".into() }, fmt_count),
+        );
+        row(ui, "efficiency", s.efficiency.map_or("-".into(), |e| format!("{:.1} %", e * 100.0)));
+        row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
+        row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
+        row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
+        row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
+        row(ui, "size", format!("{}x{}", s.size[0], s.size[1]));
+    });
+}
+
+fn plot(ui: &mut egui::Ui, title: &str, series: &[(&str, Color32, Vec<Option<f64>>)], unit: &str) {
+    let width = ui.available_width().max(100.0);
+    let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 64.0), Sense::hover());
+    let p = ui.painter_at(rect);
+    p.rect_filled(rect, 2.0, Color32::from_gray(18));
+    let max = series.iter().flat_map(|(_, _, v)| v.iter().flatten()).fold(0.0f64, |a, b| a.max(*b)).max(1e-9);
+    for (_, colour, values) in series {
+        let n = values.len().max(2);
+        let mut run: Vec<Pos2> = Vec::new();
+        for (i, v) in values.iter().enumerate() {
+            match v {
+                Some(v) => run.push(Pos2::new(
+                    rect.left() + rect.width() * i as f32 / (n - 1) as f32,
+                    rect.bottom() - 2.0 - (rect.height() - 14.0) * (*v / max) as f32,
+                )),
+                None => {
+                    if run.len() > 1 {
+                        p.line(std::mem::take(&mut run), Stroke::new(1.2, *colour));
+                    }
+                    run.clear();
+                }
+            }
+        }
+        if run.len() > 1 {
+            p.line(run, Stroke::new(1.2, *colour));
+        }
+    }
+    let legend: Vec<String> = series
+        .iter()
+        .map(|(name, _, v)| {
+            format!("{name} {}", v.iter().rev().flatten().next().map_or("-".into(), |x| format!("{x:.1}")))
+        })
+        .collect();
+    p.text(
+        rect.left_top() + Vec2::new(4.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{title}: {}   (max {max:.1}{unit})", legend.join(", ")),
+        egui::FontId::proportional(10.0),
+        Color32::from_gray(190),
+    );
+}
+
+fn plots(ui: &mut egui::Ui, h: &History) {
+    let ms = |g: fn(&Sample) -> Option<f64>| h.samples.iter().map(g).collect::<Vec<_>>();
+    plot(
+        ui,
+        "GPU ms",
+        &[
+            ("total", Color32::from_rgb(250, 200, 80), ms(|s| s.gpu_total)),
+            ("lights", Color32::from_rgb(120, 180, 255), ms(|s| s.lighting)),
+        ],
+        " ms",
+    );
+    let k =
+        |g: fn(&Sample) -> Option<u64>| h.samples.iter().map(|s| g(s).map(|v| v as f64 / 1000.0)).collect::<Vec<_>>();
+    plot(
+        ui,
+        "k fragments",
+        &[
+            ("shaded", Color32::from_rgb(255, 120, 90), k(|s| s.shaded)),
+            ("ideal", Color32::from_rgb(110, 220, 110), k(|s| s.ideal)),
+        ],
+        "k",
+    );
+}
+
+fn v3(v: Vec3) -> String {
+    format!("{:.3} {:.3} {:.3}", v.x, v.y, v.z)
+}
+
+fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
+    ui.label(RichText::new("Pixel under the cursor").strong());
+    let Some(p) = f.probe else {
+        ui.label("hover the viewport");
+        return;
+    };
+    egui::Grid::new("probe").num_columns(2).striped(true).spacing([10.0, 2.0]).show(ui, |ui| {
+        let row = |ui: &mut egui::Ui, k: &str, v: String| {
+            ui.label(k);
+            ui.label(RichText::new(v).monospace());
+            ui.end_row();
+        };
+        row(ui, "pixel", format!("{}, {}", p.x, p.y));
+        if !p.valid {
+            row(ui, "surface", "background".into());
+        } else {
+            row(ui, "albedo", v3(p.albedo));
+            row(ui, "spec level / exp", format!("{:.3} / {:.1}", p.specular_level, p.specular_exponent));
+            row(ui, "normal (view)", v3(p.normal));
+            row(ui, "emissive", v3(p.emissive));
+            row(ui, "position (view)", v3(p.position));
+            row(ui, "diffuse light", v3(p.diffuse_light));
+            row(ui, "specular light", v3(p.specular_light));
+            row(ui, "lit (linear)", v3(p.lit));
+        }
+        let shown: Vec<String> = p.lights.iter().take(12).map(|i| i.to_string()).collect();
+        let more = if p.lights.len() > 12 { format!(" +{}", p.lights.len() - 12) } else { String::new() };
+        row(ui, "lights touching", format!("{}: {}{more}", p.lights.len(), shown.join(" ")));
+    });
+    ui.collapsing("raw G-buffer channels", |ui| {
+        for (name, format, v) in &p.raw {
+            ui.label(RichText::new(format!("{name} ({format})")).weak());
+            ui.label(RichText::new(format!("{:.4} {:.4} {:.4} {:.4}", v[0], v[1], v[2], v[3])).monospace());
+        }
+    });
+}
+
+fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    // In a horizontal scroll area the last items get little width: never wrap their labels.
+    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+    ui.horizontal(|ui| {
+        ui.label(RichText::new("G-buffer").strong());
+        egui::ComboBox::from_id_salt("layout")
+            .selected_text(state::layout_name(st.settings.layout))
+            .width(90.0)
+            .show_ui(ui, |ui| {
+                for l in LayoutChoice::ALL {
+                    ui.selectable_value(&mut st.settings.layout, l, state::layout_name(l));
+                }
+            });
+        ui.label(format!("{}: {} bytes/pixel in colour targets", f.layout_name, f.gbuffer_bytes));
+        ui.label(RichText::new("click a view to show it full size").weak());
+    });
+    // Thumbnails as tall as the strip allows (group title, format, label around each), in
+    // the viewport's aspect.
+    let aspect = f.viewport.map_or(16.0 / 9.0, |(_, [w, h])| w as f32 / h.max(1) as f32);
+    let thumb_h = (ui.available_height() - 64.0).clamp(24.0, 120.0);
+    let thumb_w = (thumb_h * aspect).clamp(48.0, 200.0);
+    egui::ScrollArea::horizontal().id_salt("thumbs").auto_shrink([false, true]).max_height(thumb_h + 60.0).show(
+        ui,
+        |ui| {
+            ui.horizontal(|ui| {
+                for g in f.groups {
+                    egui::Frame::group(ui.style()).inner_margin(4.0).show(ui, |ui| {
+                        ui.vertical(|ui| {
+                            let bytes = g.bytes_per_pixel.map_or(String::new(), |b| format!(" · {b} B"));
+                            ui.label(RichText::new(&g.name).small().strong());
+                            ui.label(RichText::new(format!("{}{bytes}", g.format)).small().weak());
+                            ui.horizontal(|ui| {
+                                for (view, label) in &g.views {
+                                    ui.vertical(|ui| {
+                                        let selected = st.settings.debug_view == *view;
+                                        let (rect, resp) =
+                                            ui.allocate_exact_size(Vec2::new(thumb_w, thumb_h), Sense::click());
+                                        match f.thumbs.get(view) {
+                                            Some(id) => {
+                                                ui.painter().image(
+                                                    *id,
+                                                    rect,
+                                                    Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+                                                    Color32::WHITE,
+                                                );
+                                            }
+                                            None => {
+                                                ui.painter().rect_filled(rect, 0.0, Color32::from_gray(10));
+                                            }
+                                        }
+                                        let stroke = if selected {
+                                            Stroke::new(2.0, Color32::from_rgb(255, 200, 60))
+                                        } else if resp.hovered() {
+                                            Stroke::new(1.0, Color32::from_gray(200))
+                                        } else {
+                                            Stroke::new(1.0, Color32::from_gray(60))
+                                        };
+                                        ui.painter().rect_stroke(rect, 0.0, stroke, egui::StrokeKind::Outside);
+                                        if matches!(view, DebugView::Stencil | DebugView::Complexity) && !selected {
+                                            ui.painter().text(
+                                                rect.center(),
+                                                egui::Align2::CENTER_CENTER,
+                                                "click to compute",
+                                                egui::FontId::proportional(10.0),
+                                                Color32::from_gray(150),
+                                            );
+                                        }
+                                        if resp.clicked() {
+                                            st.settings.debug_view = if selected { DebugView::Lit } else { *view };
+                                        }
+                                        ui.label(RichText::new(*label).small());
+                                    });
+                                }
+                            });
+                        });
+                    });
+                }
+            });
+        },
+    );
+}
+
+fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let rect = ui.available_rect_before_wrap();
+    out.viewport_rect = Some(rect);
+    let resp = ui.allocate_rect(rect, Sense::click_and_drag());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::BLACK);
+    let Some((id, [w, h])) = f.viewport else {
+        painter.text(
+            rect.center(),
+            egui::Align2::CENTER_CENTER,
+            "no image",
+            egui::FontId::proportional(14.0),
+            Color32::GRAY,
+        );
+        return;
+    };
+    painter.image(id, rect, Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)), Color32::WHITE);
+    let to_screen = |p: glam::Vec2| rect.min + Vec2::new(p.x / w as f32 * rect.width(), p.y / h as f32 * rect.height());
+    // Light-volume wireframes, coloured by light colour or by the light's efficiency.
+    if let Some(scene) = f.scene {
+        for (i, segs) in f.wireframes {
+            let colour = match st.wire_colour {
+                WireColour::Light => colour32(scene.lights.get(*i).map_or(Vec3::ONE, |l| l.color())),
+                WireColour::Efficiency => {
+                    match f.stats.and_then(|s| s.per_light.get(*i)).and_then(|l| Some((l.shaded?, l.ideal?))) {
+                        Some((s, i)) => efficiency_colour(if s == 0 { 1.0 } else { i as f64 / s as f64 }),
+                        None => Color32::GRAY,
+                    }
+                }
+            };
+            let width = if st.selected_light == Some(*i) { 1.8 } else { 0.8 };
+            for [a, b] in segs {
+                painter.line_segment([to_screen(*a), to_screen(*b)], Stroke::new(width, colour));
+            }
+        }
+    }
+    let to_pixel = |pos: Pos2| -> [f32; 2] {
+        [(pos.x - rect.left()) / rect.width() * w as f32, (pos.y - rect.top()) / rect.height() * h as f32]
+    };
+    if let Some(pos) = resp.hover_pos() {
+        let [x, y] = to_pixel(pos);
+        if x >= 0.0 && y >= 0.0 && (x as u32) < w && (y as u32) < h {
+            out.hover_pixel = Some([x as u32, y as u32]);
+            let c = Color32::from_rgba_unmultiplied(255, 255, 255, 120);
+            painter.line_segment([Pos2::new(pos.x - 8.0, pos.y), Pos2::new(pos.x + 8.0, pos.y)], Stroke::new(1.0, c));
+            painter.line_segment([Pos2::new(pos.x, pos.y - 8.0), Pos2::new(pos.x, pos.y + 8.0)], Stroke::new(1.0, c));
+        }
+    }
+    if resp.clicked() {
+        if let Some(pos) = resp.interact_pointer_pos() {
+            out.click_pixel = Some(to_pixel(pos));
+        }
+    }
+    if resp.dragged() {
+        out.drag += resp.drag_delta();
+    }
+    if st.settings.debug_view != DebugView::Lit {
+        painter.text(
+            rect.left_top() + Vec2::new(6.0, 4.0),
+            egui::Align2::LEFT_TOP,
+            format!("view: {}", state::view_name(st.settings.debug_view)),
+            egui::FontId::proportional(12.0),
+            Color32::from_rgb(255, 200, 60),
+        );
+    }
+}

@@ -11,7 +11,8 @@ struct Camera {
     sun_dir: vec4<f32>,
     sun_color: vec4<f32>,
     background: vec4<f32>,
-    // x: exposure, y: depth value of the far plane (1, or 0 with reversed Z), z: debug view, w: selected light (-1 none)
+    // x: exposure, y: depth value of the far plane (1, or 0 with reversed Z), z: debug view,
+    // w: the most one light (or ambient + sun) may add to a channel, see `light_clamp`
     params: vec4<f32>,
 };
 

@@ -48,9 +48,6 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) light:
     return out;
 }
 
-// The largest value one light may add to a channel: keeps a sum of thousands of bright lights
-// finite in fp16 (65504) for long enough, and the compose pass clamps what remains.
-const LS_LIGHT_CLAMP: f32 = 4096.0;
 
 @fragment
 fn fs_light(in: LightVarying) -> LightTargets {
@@ -60,8 +57,8 @@ fn fs_light(in: LightVarying) -> LightTargets {
     out.specular = vec4<f32>(0.0);
     if s.valid {
         let r = shade_light(s, lights[in.light]);
-        out.diffuse = vec4<f32>(min(r.diffuse, vec3<f32>(LS_LIGHT_CLAMP)), 0.0);
-        out.specular = vec4<f32>(min(r.specular, vec3<f32>(LS_LIGHT_CLAMP)), 0.0);
+        out.diffuse = vec4<f32>(min(r.diffuse, vec3<f32>(camera.params.w)), 0.0);
+        out.specular = vec4<f32>(min(r.specular, vec3<f32>(camera.params.w)), 0.0);
     }
     return out;
 }
@@ -84,8 +81,8 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
             d += camera.sun_color.rgb * ndl;
             sp = camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
         }
-        out.diffuse = vec4<f32>(d, 0.0);
-        out.specular = vec4<f32>(sp, 0.0);
+        out.diffuse = vec4<f32>(min(d, vec3<f32>(camera.params.w)), 0.0);
+        out.specular = vec4<f32>(min(sp, vec3<f32>(camera.params.w)), 0.0);
     }
     return out;
 }

@@ -69,6 +69,19 @@ struct ObjectRaw {
     emissive_exp: [f32; 4],
 }
 
+/// The most one light (and the ambient + sun pass) may add to a channel of the accumulation
+/// buffer: the format's largest finite value shared among all `lights + 1` contributions, so
+/// even 10,000 overlapping bright lights cannot overflow fp16 into infinity (and NaN after it).
+/// With 1024 lights and fp16 that is 63.9 per light, far above what the built-in scenes use.
+pub fn light_clamp(format: wgpu::TextureFormat, lights: usize) -> f32 {
+    let max = match format {
+        wgpu::TextureFormat::Rgba16Float => 65504.0,
+        wgpu::TextureFormat::Rg11b10Ufloat => 64512.0,
+        _ => return f32::MAX,
+    };
+    max / (lights as f32 + 1.0)
+}
+
 /// Which bounding mesh a light uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VolumeKind {
@@ -572,7 +585,7 @@ impl Renderer {
                 settings.exposure,
                 if settings.reversed_z { 0.0 } else { 1.0 },
                 settings.debug_view as u32 as f32,
-                settings.selected_light.map(|i| i as f32).unwrap_or(-1.0),
+                light_clamp(self.pipelines.key.accum_format, scene.lights.len()),
             ],
         };
         self.queue.write_buffer(&self.camera_buf, 0, bytemuck::bytes_of(&raw));

@@ -15,6 +15,14 @@ pub const NAMES: &[(&str, &str)] = &[
     ("occluded", "a light hidden behind a wall"),
     ("floating", "a light in front of all geometry, touching nothing"),
     ("classify", "one light, one wall, one box: seed 000's stencil diagram"),
+    ("on-surface", "hard case: point lights exactly on the floor and on a wall"),
+    ("grazing", "hard case: the camera skims the floor at 1 degree"),
+    ("far-origin", "hard case: `classify` moved 100,000 units from the origin"),
+    ("tiny-radius", "hard case: lights of radius 0.001 beside lights of radius 10,000"),
+    ("overflow", "hard case: 10,000 bright overlapping lights (fp16 overflow)"),
+    ("normals", "hard case: normals at the encoding's singularities, facing away, and zero-length"),
+    ("spot-extremes", "hard case: spot cones of 0 and 89 degrees"),
+    ("coincident", "hard case: a light volume touching a wall; a light inside a box"),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -44,6 +52,14 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "occluded" => occluded(),
         "floating" => floating(),
         "classify" => classify(),
+        "on-surface" => on_surface(),
+        "grazing" => grazing(),
+        "far-origin" => translated(classify(), DVec3::new(1e5, 0.0, -1e5), "far-origin"),
+        "tiny-radius" => tiny_radius(),
+        "overflow" => overflow(opts.lights.unwrap_or(10_000)),
+        "normals" => normals(),
+        "spot-extremes" => spot_extremes(),
+        "coincident" => coincident(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -279,5 +295,131 @@ pub fn classify() -> Scene {
     let boxm = b.material(Material::diffuse(Vec3::new(0.7, 0.5, 0.3)));
     b.boxed(DVec3::new(0.5, 0.0, -0.5), DVec3::new(1.5, 1.0, 0.5), boxm);
     b.point(DVec3::new(1.0, 1.8, 0.0), Vec3::ONE, 4.0, 3.0);
+    b.scene
+}
+
+/// A floor and a wall with a few lights, the base of several hard cases.
+fn room(name: &str, camera: Camera) -> Builder {
+    let mut b = Builder::new(name, camera);
+    b.scene.ambient = Vec3::splat(0.04);
+    let floor = b.material(Material {
+        diffuse: Vec3::splat(0.6),
+        specular_level: 0.5,
+        specular_exponent: 64.0,
+        emissive: Vec3::ZERO,
+    });
+    b.boxed(DVec3::new(-20.0, -1.0, -20.0), DVec3::new(20.0, 0.0, 20.0), floor);
+    let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.55, 0.6)));
+    b.boxed(DVec3::new(-20.0, 0.0, -6.0), DVec3::new(20.0, 8.0, -5.0), wall);
+    b
+}
+
+fn on_surface() -> Scene {
+    let mut b = room("on-surface", Camera::looking_at(DVec3::new(0.0, 4.0, 8.0), DVec3::new(0.0, 0.5, -2.0)));
+    b.point(DVec3::new(-2.0, 0.0, 0.0), Vec3::new(1.0, 0.6, 0.3), 3.0, 3.0);
+    b.point(DVec3::new(2.0, 2.0, -5.0), Vec3::new(0.3, 0.6, 1.0), 3.0, 3.0);
+    b.point(DVec3::new(0.0, 0.0, -5.0), Vec3::ONE, 2.0, 2.0);
+    b.scene
+}
+
+fn grazing() -> Scene {
+    let mut cam = Camera::looking_at(DVec3::new(0.0, 0.05, 15.0), DVec3::new(0.0, 0.0, -5.0));
+    cam.pitch = -1f64.to_radians();
+    let mut b = room("grazing", cam);
+    for i in 0..12 {
+        let x = -11.0 + 2.0 * i as f64;
+        b.point(DVec3::new(x, 0.3, 2.0 - i as f64), hue(i as f32 / 12.0), 3.0, 4.0);
+    }
+    b.scene
+}
+
+/// Moves a whole scene: positions far from the origin must render like the original,
+/// because the renderer works camera-relative in f64 before converting to f32.
+pub fn translated(mut scene: Scene, by: DVec3, name: &str) -> Scene {
+    scene.name = name.into();
+    scene.camera.position += by;
+    for o in &mut scene.objects {
+        o.transform = DMat4::from_translation(by) * o.transform;
+    }
+    for l in &mut scene.lights {
+        match l {
+            Light::Point(p) => p.position += by,
+            Light::Spot(s) => s.position += by,
+        }
+    }
+    scene
+}
+
+fn tiny_radius() -> Scene {
+    let mut b = room("tiny-radius", Camera::looking_at(DVec3::new(0.0, 3.0, 8.0), DVec3::new(0.0, 0.0, 0.0)));
+    b.point(DVec3::new(0.0, 0.0005, 0.0), Vec3::new(1.0, 0.2, 0.2), 50.0, 1e-3);
+    b.point(DVec3::new(1.0, 1.0, 1.0), Vec3::new(0.2, 1.0, 0.2), 50.0, 1e-3);
+    b.point(DVec3::new(3.0, 20.0, -40.0), Vec3::new(0.3, 0.3, 0.6), 0.2, 1e4);
+    b.scene
+}
+
+fn overflow(n: usize) -> Scene {
+    let mut b = room("overflow", Camera::looking_at(DVec3::new(0.0, 4.0, 8.0), DVec3::new(0.0, 0.0, 0.0)));
+    for i in 0..n as u64 {
+        let p = DVec3::new((unit(21, i) - 0.5) * 6.0, 0.2 + unit(22, i) * 2.0, (unit(23, i) - 0.5) * 6.0);
+        b.point(p, hue(unit(24, i) as f32), 1000.0, 6.0);
+    }
+    b.scene
+}
+
+fn normals() -> Scene {
+    // Straight down: the floor's normal is exactly +z in view space.
+    let mut cam = Camera::looking_at(DVec3::new(0.0, 10.0, 0.0), DVec3::new(0.0, 0.0, 0.0));
+    cam.pitch = -std::f64::consts::FRAC_PI_2;
+    cam.yaw = 0.0;
+    let mut b = room("normals", cam);
+    // A quad whose normals face away from the viewer (-z in view space) and one whose normals
+    // are zero-length, as a broken file might have them.
+    let quad = |normal: [f32; 3]| Mesh {
+        name: "quad".into(),
+        vertices: [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+            .iter()
+            .map(|&(x, z)| Vertex { position: [x, 0.0, z], normal, uv: [x + 0.5, z + 0.5] })
+            .collect(),
+        indices: vec![0, 2, 1, 0, 3, 2],
+    };
+    b.scene.meshes.push(quad([0.0, -1.0, 0.0]));
+    b.scene.meshes.push(quad([0.0, 0.0, 0.0]));
+    let m = b.material(Material::diffuse(Vec3::new(0.8, 0.7, 0.3)));
+    for (mesh, x) in [(1usize, -2.0), (2, 2.0)] {
+        let t = DMat4::from_translation(DVec3::new(x, 0.5, 0.0)) * DMat4::from_scale(DVec3::splat(3.0));
+        b.scene.objects.push(Object { mesh, material: m, transform: t });
+    }
+    b.point(DVec3::new(-2.0, 1.5, 0.0), Vec3::ONE, 3.0, 4.0);
+    b.point(DVec3::new(2.0, 1.5, 0.0), Vec3::new(1.0, 0.5, 0.2), 3.0, 4.0);
+    b.point(DVec3::new(0.0, 1.0, 3.0), Vec3::new(0.2, 0.5, 1.0), 3.0, 4.0);
+    b.scene
+}
+
+fn spot_extremes() -> Scene {
+    let mut b = room("spot-extremes", Camera::looking_at(DVec3::new(0.0, 5.0, 9.0), DVec3::new(0.0, 0.0, -1.0)));
+    for (x, outer, inner) in [(-3.0, 0.0f32, 0.0f32), (3.0, 89.0, 80.0), (0.0, 0.5, 0.5)] {
+        b.scene.lights.push(Light::Spot(SpotLight {
+            position: DVec3::new(x, 3.0, 0.0),
+            direction: Vec3::new(0.0, -1.0, -0.2).normalize(),
+            color: Vec3::new(1.0, 0.9, 0.7),
+            intensity: 5.0,
+            radius: 8.0,
+            inner_angle: inner.to_radians(),
+            outer_angle: outer.to_radians(),
+        }));
+    }
+    b.scene
+}
+
+fn coincident() -> Scene {
+    let mut b = room("coincident", Camera::looking_at(DVec3::new(0.0, 3.0, 7.0), DVec3::new(0.0, 1.0, -3.0)));
+    // The wall's front face is the plane z = -5: this light's sphere just touches it.
+    b.point(DVec3::new(-2.0, 2.0, -2.0), Vec3::new(1.0, 0.7, 0.4), 4.0, 3.0);
+    // A light sitting on the floor's top face with a box around it.
+    let m = b.material(Material::diffuse(Vec3::new(0.4, 0.6, 0.4)));
+    b.boxed(DVec3::new(1.0, 0.0, -2.0), DVec3::new(3.0, 1.5, 0.0), m);
+    b.point(DVec3::new(2.0, 0.75, -1.0), Vec3::new(0.4, 0.7, 1.0), 4.0, 2.0);
+    b.point(DVec3::new(0.0, 1.0, 1.0), Vec3::ONE, 2.0, 5.0);
     b.scene
 }

@@ -1,0 +1,82 @@
+//! The lighting model again, on the CPU in f64: checks the GPU shader's arithmetic at sampled
+//! pixels, from the same G-buffer inputs the shader read (see `Renderer::probe`). It mirrors
+//! `shade_light` and `fs_ambient` in the WGSL line for line; lights come from the scene in f64.
+
+use crate::renderer::PixelProbe;
+use crate::scene::{Light, Scene};
+use glam::DVec3;
+
+fn safe_normalize(v: DVec3, fallback: DVec3) -> DVec3 {
+    let l2 = v.length_squared();
+    if !(l2 > 1e-20) || l2 > 1e30 {
+        fallback
+    } else {
+        v / l2.sqrt()
+    }
+}
+
+fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// Diffuse and specular light (before albedo) at a probed pixel: ambient + sun + every light,
+/// each light's contribution clamped to `clamp` as the shader does.
+pub fn shade(scene: &Scene, p: &PixelProbe, clamp: f64) -> (DVec3, DVec3) {
+    if !p.valid {
+        return (DVec3::ZERO, DVec3::ZERO);
+    }
+    let cam = &scene.camera;
+    let rot = cam.rotation();
+    let n = p.normal.as_dvec3();
+    let pos = p.position.as_dvec3();
+    let spec_exp = p.specular_exponent as f64;
+    let spec_level = p.specular_level as f64;
+    let v = safe_normalize(-pos, DVec3::Z);
+    let mut diffuse = scene.ambient.as_dvec3();
+    let mut specular = DVec3::ZERO;
+    if let Some(sun) = scene.sun {
+        let l = (rot * (-sun.direction.as_dvec3())).normalize();
+        let c = (sun.color * sun.intensity).as_dvec3();
+        let ndl = n.dot(l).max(0.0);
+        let h = safe_normalize(l + v, n);
+        diffuse += c * ndl;
+        specular = c * (ndl * n.dot(h).max(0.0).powf(spec_exp) * spec_level);
+    }
+    diffuse = diffuse.min(DVec3::splat(clamp));
+    specular = specular.min(DVec3::splat(clamp));
+    for light in &scene.lights {
+        let (lp, radius, color, spot) = match light {
+            Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
+            Light::Spot(s) => (
+                s.position,
+                s.radius as f64,
+                (s.color * s.intensity).as_dvec3(),
+                Some(((rot * s.direction.as_dvec3()).normalize(), s.outer_angle as f64, s.inner_angle as f64)),
+            ),
+        };
+        let to_light = cam.to_view(lp) - pos;
+        let d = to_light.length();
+        if !(d < radius) {
+            continue;
+        }
+        let l = if d > 1e-6 * radius { to_light / d } else { n };
+        let x = d / radius;
+        let w = (1.0 - x * x).clamp(0.0, 1.0);
+        let mut att = w * w;
+        if let Some((dir, outer, inner)) = spot {
+            let (co, ci) = (outer.cos(), inner.cos());
+            let c = (-l).dot(dir);
+            att *= if ci - co < 1e-6 { f64::from(u8::from(c >= co)) } else { smoothstep(co, ci, c) };
+        }
+        let ndl = n.dot(l).max(0.0);
+        if att <= 0.0 || ndl <= 0.0 {
+            continue;
+        }
+        let h = safe_normalize(l + v, n);
+        let spec = n.dot(h).max(0.0).powf(spec_exp) * spec_level;
+        diffuse += (color * (att * ndl)).min(DVec3::splat(clamp));
+        specular += (color * (att * ndl * spec)).min(DVec3::splat(clamp));
+    }
+    (diffuse, specular)
+}

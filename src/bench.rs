@@ -80,7 +80,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for mode in CullingMode::ALL {
         v.push(c("culling", mode.name().into(), Settings { culling: mode, ..base.clone() }, o.lights));
     }
-    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed] {
+    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Fit] {
         v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
     }
     for accumulation in [AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat] {

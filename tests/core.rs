@@ -123,3 +123,29 @@ fn bad_values_are_errors_not_panics() {
     // And the renderer still works afterwards.
     assert!(r.render(&scene("spot"), &s, &out.view, 8, 8).is_ok());
 }
+
+#[test]
+fn the_fitted_layout_models_only_what_the_scene_needs() {
+    use lampshade::renderer::gbuffer::{fit, Attr};
+    // classify: no emissive material, exponents of 32: 8+8-bit normals, no emissive target.
+    let small = fit(&scene("classify"));
+    small.validate().unwrap();
+    assert!(!small.has(Attr::Emissive));
+    assert_eq!(small.bytes_per_pixel(), 4 + 4 + 4);
+    // demo: emissive boxes and exponents up to 128: emissive kept, 16-bit normals.
+    let demo = fit(&scene("demo"));
+    assert!(demo.has(Attr::Emissive));
+    assert_eq!(demo.targets[1].format, wgpu::TextureFormat::Rgba16Float);
+    // An all-diffuse scene keeps no specular channel at all.
+    let mut dull = scene("classify");
+    dull.materials.iter_mut().for_each(|m| m.specular_level = 0.0);
+    let dull = fit(&dull);
+    assert!(!dull.has(Attr::SpecLevel) && !dull.has(Attr::SpecExp));
+    assert_eq!(dull.bytes_per_pixel(), 4 + 2 + 4);
+    // And the fitted frame matches the default one.
+    let a = render(&scene("classify"), &Settings::default(), W, H);
+    let b = render(&scene("classify"), &Settings { layout: LayoutChoice::Fit, ..Settings::default() }, W, H);
+    assert_eq!(b.stats.gbuffer_bytes_per_pixel, 12);
+    let (r, _) = flip(&a.image, &b.image).unwrap();
+    assert!(r.mean < 0.01, "FLIP mean {}", r.mean);
+}

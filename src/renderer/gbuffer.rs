@@ -84,18 +84,34 @@ pub enum LayoutChoice {
     Packed,
     /// The accuracy reference: four Rgba32Float targets, xyz normal, stored view-space position.
     Reference,
+    /// Derived from the scene: only the channels its materials use (see `fit`).
+    Fit,
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 4] =
-        [LayoutChoice::Compact, LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Reference];
+    pub const ALL: [LayoutChoice; 5] = [
+        LayoutChoice::Compact,
+        LayoutChoice::Seed000,
+        LayoutChoice::Packed,
+        LayoutChoice::Reference,
+        LayoutChoice::Fit,
+    ];
 
+    /// The layout for `scene`: the fixed tables ignore it, `Fit` derives one from it.
+    pub fn layout_for(self, scene: &crate::scene::Scene) -> GBufferLayout {
+        match self {
+            LayoutChoice::Fit => fit(scene),
+            other => other.layout(),
+        }
+    }
+
+    /// The fixed layout (`Fit` without a scene falls back to `Compact`).
     pub fn layout(self) -> GBufferLayout {
         use wgpu::TextureFormat as F;
         use Attr::*;
         let s = |attr, comp| Some(Slot { attr, comp });
         match self {
-            LayoutChoice::Compact => GBufferLayout {
+            LayoutChoice::Compact | LayoutChoice::Fit => GBufferLayout {
                 name: "compact",
                 normal: NormalEncoding::Octahedral,
                 targets: vec![
@@ -188,6 +204,54 @@ impl LayoutChoice {
             },
         }
     }
+}
+
+/// Largest octahedral 8+8-bit angular error (field.md: 0.946 degrees).
+pub const OCT8_MAX_ERROR_DEG: f64 = 0.946;
+/// Relative error the quantised normal may cause in a specular highlight.
+pub const FIT_SPECULAR_ERROR_BOUND: f64 = 0.01;
+
+/// Model only what the scene needs: albedo always; the specular level and exponent only when
+/// some material is specular; emissive only when something emits; octahedral normals in 8+8
+/// bits when the sharpest highlight tolerates it (cos(0.946 deg)^e >= 1 - 1%, i.e. exponents up
+/// to ~72), else 16+16 float; depth always (position from depth).
+pub fn fit(scene: &crate::scene::Scene) -> GBufferLayout {
+    use wgpu::TextureFormat as F;
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    let specular = scene.materials.iter().any(|m| m.specular_level > 0.0);
+    let max_exp = scene
+        .materials
+        .iter()
+        .filter(|m| m.specular_level > 0.0)
+        .map(|m| m.specular_exponent as f64)
+        .fold(1.0, f64::max);
+    let eight_bit = !specular || OCT8_MAX_ERROR_DEG.to_radians().cos().powf(max_exp) >= 1.0 - FIT_SPECULAR_ERROR_BOUND;
+    let mut targets = vec![TargetDesc {
+        name: "albedo+spec",
+        format: F::Rgba8UnormSrgb,
+        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), if specular { s(SpecLevel, 0) } else { None }],
+    }];
+    let normal_format = match (eight_bit, specular) {
+        (true, true) => F::Rgba8Unorm,
+        (true, false) => F::Rg8Unorm,
+        (false, true) => F::Rgba16Float,
+        (false, false) => F::Rg16Float,
+    };
+    let mut channels = vec![s(Normal, 0), s(Normal, 1)];
+    if specular {
+        channels.extend([s(SpecExp, 0), None]);
+    }
+    targets.push(TargetDesc { name: "normal+exp", format: normal_format, channels });
+    if scene.any_emissive() {
+        targets.push(TargetDesc {
+            name: "emissive",
+            format: F::Rgba16Float,
+            channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
+        });
+    }
+    targets.push(TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] });
+    GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, targets }
 }
 
 fn channel_count(format: wgpu::TextureFormat) -> usize {
@@ -405,7 +469,7 @@ mod tests {
                 l.bytes_per_pixel()
             })
             .collect();
-        assert_eq!(sizes, vec![24, 32, 12, 64]);
+        assert_eq!(sizes, vec![24, 32, 12, 64, 24]);
     }
 
     #[test]

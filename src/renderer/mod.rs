@@ -408,8 +408,8 @@ impl Renderer {
     }
 
     /// Rebuilds pipelines when the settings change something they depend on.
-    fn ensure_pipelines(&mut self, settings: &Settings) -> Result<()> {
-        let layout = settings.layout.layout();
+    fn ensure_pipelines(&mut self, settings: &Settings, scene: &Scene) -> Result<()> {
+        let layout = settings.layout.layout_for(scene);
         let depth_clamp = settings.depth_clamp && self.clamp_available;
         let k = &self.pipelines.key;
         let accum_format = settings.accumulation.format(self.features)?;
@@ -655,7 +655,7 @@ impl Renderer {
         if self.geometry.as_ref().is_none_or(|g| g.draws.len() != scene.objects.len()) {
             self.load_scene(scene)?;
         }
-        self.ensure_pipelines(settings)?;
+        self.ensure_pipelines(settings, scene)?;
         self.ensure_targets(width, height);
         let lights = self.upload(scene, settings, width, height);
         let n = lights.len();

@@ -62,6 +62,7 @@ pub struct Row {
     pub lighting_ms: f64,
     pub compose_ms: f64,
     pub total_ms: f64,
+    pub coverage_fragments: u64,
     pub shaded_fragments: u64,
     pub ideal_fragments: u64,
     pub efficiency: f64,
@@ -186,6 +187,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             lighting_ms: pick(|s| s.gpu_ms.lighting),
             compose_ms: pick(|s| s.gpu_ms.compose),
             total_ms: pick(|s| s.gpu_ms.total),
+            coverage_fragments: stats.coverage_fragments.unwrap_or(0),
             shaded_fragments: stats.shaded_fragments.unwrap_or(0),
             ideal_fragments: stats.ideal_fragments.unwrap_or(0),
             efficiency: stats.efficiency.unwrap_or(f64::NAN),
@@ -217,11 +219,11 @@ pub fn mark_pareto(rows: &mut [Row]) {
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
         "group,label,culling,layout,accumulation,reversed_z,lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
-         shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
+         coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
             r.group,
             r.label,
             r.culling,
@@ -235,6 +237,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.lighting_ms,
             r.compose_ms,
             r.total_ms,
+            r.coverage_fragments,
             r.shaded_fragments,
             r.ideal_fragments,
             r.efficiency,
@@ -255,14 +258,14 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
          same run. * = on the Pareto front (time, FLIP) for its light count.\n\n",
         o.scene, o.time, o.frames
     );
-    s += "| group | configuration | lights | size | G-buffer B/px | gbuffer ms | lighting ms | total ms | lighting ratio | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| group | configuration | lights | size | G-buffer B/px | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<usize, f64> =
         rows.iter().filter(|r| r.label == "fullscreen").map(|r| (r.lights, r.lighting_ms)).collect();
     for r in rows {
         let ratio = full.get(&r.lights).map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -274,6 +277,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.lighting_ms,
             r.total_ms,
             ratio,
+            r.coverage_fragments,
             r.shaded_fragments,
             r.ideal_fragments,
             r.efficiency,

@@ -194,6 +194,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "gpu_ms": stats.gpu_ms,
             "shaded_fragments": stats.shaded_fragments,
             "ideal_fragments": stats.ideal_fragments,
+            "coverage_fragments": stats.coverage_fragments,
             "efficiency": stats.efficiency,
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
             "per_light": stats.per_light,

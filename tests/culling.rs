@@ -52,6 +52,9 @@ fn every_mode_matches_fullscreen_on_every_case() {
             );
             // Every culling mode shades at least the ideal: its volumes circumscribe the lights.
             for l in &f.stats.per_light {
+                if let Some(c) = l.coverage {
+                    assert!(c >= l.shaded.unwrap(), "{name}/{}: coverage {c} below shaded", mode.name());
+                }
                 assert!(
                     l.shaded.unwrap() >= l.ideal.unwrap(),
                     "{name}/{}: light {} shaded {} < ideal {}",

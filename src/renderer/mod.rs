@@ -786,13 +786,20 @@ impl Renderer {
                 let q = (i - b * chunk) as u32;
                 let shade = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, fullscreen: bool| {
                     pass.set_pipeline(pipeline);
+                    let coverage = if want_counts { self.queries.coverage.get(b) } else { None };
                     if want_counts {
                         pass.begin_occlusion_query(q);
+                    }
+                    if let Some(set) = coverage {
+                        pass.begin_pipeline_statistics_query(set, q);
                     }
                     if fullscreen {
                         pass.draw(0..3, li.clone());
                     } else {
                         pass.draw_indexed(range.clone(), base, li.clone());
+                    }
+                    if coverage.is_some() {
+                        pass.end_pipeline_statistics_query();
                     }
                     if want_counts {
                         pass.end_occlusion_query();
@@ -804,6 +811,10 @@ impl Renderer {
                         if want_counts {
                             pass.begin_occlusion_query(q);
                             pass.end_occlusion_query();
+                            if let Some(set) = self.queries.coverage.get(b) {
+                                pass.begin_pipeline_statistics_query(set, q);
+                                pass.end_pipeline_statistics_query();
+                            }
                         }
                     }
                     Method::Fullscreen => shade(&mut pass, &p.light_fullscreen, true),

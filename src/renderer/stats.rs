@@ -47,6 +47,9 @@ pub struct LightStats {
     pub shaded: Option<u64>,
     /// Samples whose G-buffer point lies inside the light's true shape.
     pub ideal: Option<u64>,
+    /// Fragment-shader invocations of the shading draw (pipeline statistics; on lavapipe the
+    /// rasterised coverage before depth and stencil tests).
+    pub coverage: Option<u64>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -57,6 +60,8 @@ pub struct FrameStats {
     pub gpu_ms: GpuMs,
     pub shaded_fragments: Option<u64>,
     pub ideal_fragments: Option<u64>,
+    /// Rasterised coverage of the shading draws (pipeline statistics), where supported.
+    pub coverage_fragments: Option<u64>,
     /// ideal / shaded.
     pub efficiency: Option<f64>,
     pub gbuffer_layout: String,
@@ -72,6 +77,11 @@ pub struct Queries {
     period_ns: f32,
     pub occlusion: Vec<wgpu::QuerySet>,
     pub ideal: Vec<wgpu::QuerySet>,
+    /// Fragment-shader invocations of each shading draw (pipeline statistics), when the
+    /// adapter has them. On lavapipe this is rasterised coverage before the depth and stencil
+    /// tests, not the fragments shaded.
+    pub coverage: Vec<wgpu::QuerySet>,
+    coverage_supported: bool,
     resolve: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
     capacity: usize,
@@ -93,6 +103,8 @@ impl Queries {
             period_ns: gpu.queue.get_timestamp_period(),
             occlusion: Vec::new(),
             ideal: Vec::new(),
+            coverage: Vec::new(),
+            coverage_supported: gpu.has(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             resolve: None,
             readback: None,
             capacity: 0,
@@ -100,12 +112,14 @@ impl Queries {
     }
 
     /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion blocks] [ideal blocks].
-    fn offsets(capacity: usize) -> (u64, u64, u64) {
+    /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion] [ideal] [coverage] [end].
+    fn offsets(capacity: usize) -> (u64, u64, u64, u64) {
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         let blocks = capacity.div_ceil(LIGHTS_PER_QUERY_SET) as u64;
         let occ = 256;
         let ideal = occ + blocks * block;
-        (occ, ideal, ideal + blocks * block)
+        let coverage = ideal + blocks * block;
+        (occ, ideal, coverage, coverage + blocks * block)
     }
 
     pub fn ensure_lights(&mut self, device: &wgpu::Device, n: usize) {
@@ -120,10 +134,17 @@ impl Queries {
             };
             self.occlusion.push(make("shaded fragments"));
             self.ideal.push(make("ideal fragments"));
+            if self.coverage_supported {
+                self.coverage.push(device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("coverage"),
+                    ty: wgpu::QueryType::PipelineStatistics(wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS),
+                    count: LIGHTS_PER_QUERY_SET as u32,
+                }));
+            }
         }
         let capacity = blocks * LIGHTS_PER_QUERY_SET;
         if capacity > self.capacity {
-            let (_, _, size) = Self::offsets(capacity);
+            let (_, _, _, size) = Self::offsets(capacity);
             self.resolve = Some(device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("query resolve"),
                 size,
@@ -144,7 +165,7 @@ impl Queries {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
             return;
         };
-        let (occ_off, ideal_off, size) = Self::offsets(self.capacity);
+        let (occ_off, ideal_off, cov_off, size) = Self::offsets(self.capacity);
         if times {
             if let Some(ts) = &self.timestamps {
                 encoder.resolve_query_set(ts, 0..TIMESTAMPS, resolve, 0);
@@ -155,6 +176,9 @@ impl Queries {
             let count = (n - b * LIGHTS_PER_QUERY_SET).min(LIGHTS_PER_QUERY_SET) as u32;
             if counts {
                 encoder.resolve_query_set(&self.occlusion[b], 0..count, resolve, occ_off + b as u64 * block);
+                if let Some(set) = self.coverage.get(b) {
+                    encoder.resolve_query_set(set, 0..count, resolve, cov_off + b as u64 * block);
+                }
             }
             if ideal {
                 encoder.resolve_query_set(&self.ideal[b], 0..count, resolve, ideal_off + b as u64 * block);
@@ -193,6 +217,7 @@ impl Queries {
                 screen_share: p.screen_share,
                 shaded: None,
                 ideal: None,
+                coverage: None,
             })
             .collect();
         if !(counts || ideal || times) {
@@ -211,7 +236,7 @@ impl Queries {
         {
             let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
             let words: &[u64] = bytemuck::cast_slice(&data);
-            let (occ_off, ideal_off, _) = Self::offsets(self.capacity);
+            let (occ_off, ideal_off, cov_off, _) = Self::offsets(self.capacity);
             if times && self.timestamps.is_some() {
                 let ms = |a: usize, b: usize| {
                     let (t0, t1) = (words[a], words[b]);
@@ -230,6 +255,9 @@ impl Queries {
             for (i, l) in stats.per_light.iter_mut().enumerate() {
                 if counts {
                     l.shaded = Some(at(occ_off, i));
+                    if self.coverage_supported {
+                        l.coverage = Some(at(cov_off, i));
+                    }
                 }
                 if ideal {
                     l.ideal = Some(at(ideal_off, i));
@@ -239,6 +267,9 @@ impl Queries {
         readback.unmap();
         if counts {
             stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
+        }
+        if counts && self.coverage_supported {
+            stats.coverage_fragments = Some(stats.per_light.iter().filter_map(|l| l.coverage).sum());
         }
         if ideal {
             stats.ideal_fragments = Some(stats.per_light.iter().filter_map(|l| l.ideal).sum());

@@ -17,8 +17,11 @@ use std::collections::{BTreeMap, HashMap, VecDeque};
 pub const HISTORY: usize = 240;
 /// "All" wireframes draws at most this many volumes (the largest on screen).
 pub const MAX_WIREFRAMES: usize = 256;
-/// Height of the G-buffer thumbnail strip, in points.
+/// Fixed panel sizes in points: the viewport keeps its size whatever the panels show.
 const GBUFFER_STRIP: f32 = 158.0;
+const LEFT_WIDTH: f32 = 272.0;
+const RIGHT_WIDTH: f32 = 292.0;
+const PIXEL_PANEL: f32 = 236.0;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Sample {
@@ -223,16 +226,8 @@ pub fn style(ctx: &egui::Context) {
 pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     top_bar(ui, st, f, out);
     status_bar(ui, st, f);
-    egui::Panel::left("left")
-        .resizable(true)
-        .default_size(260.0)
-        .min_size(200.0)
-        .show(ui, |ui| left_panel(ui, st, f, out));
-    egui::Panel::right("right")
-        .resizable(true)
-        .default_size(280.0)
-        .min_size(220.0)
-        .show(ui, |ui| right_panel(ui, st, f));
+    egui::Panel::left("left").resizable(false).exact_size(LEFT_WIDTH).show(ui, |ui| left_panel(ui, st, f, out));
+    egui::Panel::right("right").resizable(false).exact_size(RIGHT_WIDTH).show(ui, |ui| right_panel(ui, st, f));
     egui::Panel::bottom("gbuffer").resizable(false).exact_size(GBUFFER_STRIP).show(ui, |ui| gbuffer_strip(ui, st, f));
     egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
 }
@@ -312,6 +307,8 @@ fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
 }
 
 fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    // The pixel inspector stays in view at the bottom while the tabs scroll above it.
+    egui::Panel::bottom("pixel").resizable(false).exact_size(PIXEL_PANEL).show(ui, |ui| pixel_panel(ui, f));
     ui.horizontal(|ui| {
         ui.spacing_mut().item_spacing.x = 2.0;
         // Help has its own button in the top bar (F1).
@@ -320,7 +317,7 @@ fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
         }
     });
     ui.separator();
-    egui::ScrollArea::vertical().id_salt("left-scroll").show(ui, |ui| match st.tab {
+    egui::ScrollArea::vertical().id_salt("left-scroll").auto_shrink([false, false]).show(ui, |ui| match st.tab {
         Tab::Scene => scene_tab(ui, st, f),
         Tab::Lights => lights_tab(ui, st, f, out),
         Tab::Materials => materials_tab(ui, st, f, out),
@@ -570,7 +567,7 @@ fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
                         ls.map_or(String::new(), |s| method_name(s.method))
                     );
                     let sel = st.selected_light == Some(i);
-                    if ui.selectable_label(sel, RichText::new(text).monospace()).clicked() {
+                    if ui.add(egui::Button::selectable(sel, RichText::new(text).monospace()).truncate()).clicked() {
                         st.selected_light = if sel { None } else { Some(i) };
                     }
                 });
@@ -698,40 +695,42 @@ fn help_tab(ui: &mut egui::Ui) {
 }
 
 fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
-    egui::ScrollArea::vertical().id_salt("right-scroll").show(ui, |ui| {
+    egui::ScrollArea::vertical().id_salt("right-scroll").auto_shrink([false, false]).show(ui, |ui| {
         ui.label(RichText::new("Light culling").strong());
-        for m in CullingMode::ALL {
-            ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
-        }
+        egui::Grid::new("modes").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
+            for (i, m) in CullingMode::ALL.into_iter().enumerate() {
+                ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                if i % 2 == 1 {
+                    ui.end_row();
+                }
+            }
+        });
         ui.separator();
         figures(ui, st, f);
         ui.separator();
-        ui.label(RichText::new("History").strong());
         plots(ui, f.history);
         ui.separator();
-        ui.label(RichText::new("Culling views").strong());
         ui.horizontal(|ui| {
+            ui.label("view");
             for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity] {
                 ui.selectable_value(&mut st.settings.debug_view, v, state::view_name(v));
             }
         });
         ui.horizontal(|ui| {
-            ui.label("lights");
+            ui.label("of lights");
             ui.selectable_value(&mut st.scope, Scope::All, "all");
             ui.add_enabled_ui(st.selected_light.is_some(), |ui| {
                 ui.selectable_value(&mut st.scope, Scope::Selected, "selected");
             });
         });
         if st.settings.debug_view == DebugView::Stencil {
-            ui.horizontal_wrapped(|ui| {
-                for (c, t) in [
-                    (Color32::BLUE, "passed Z marking"),
-                    (Color32::RED, "passed Z shading"),
-                    (Color32::GREEN, "lit (passed stencil)"),
-                ] {
+            ui.horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 3.0;
+                for (c, t) in [(Color32::BLUE, "Z pass mark"), (Color32::RED, "Z pass shade"), (Color32::GREEN, "lit")]
+                {
                     let (r, _) = ui.allocate_exact_size(Vec2::splat(10.0), Sense::hover());
                     ui.painter().rect_filled(r, 1.0, c);
-                    ui.label(t);
+                    ui.label(RichText::new(t).small());
                 }
             });
         }
@@ -750,14 +749,13 @@ fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             ui.label(RichText::new("efficiency needs 'count ideal'").color(Color32::from_rgb(255, 170, 80)));
         }
         ui.separator();
-        ui.label(RichText::new("Counters").strong());
-        ui.checkbox(&mut st.settings.count_fragments, "count shaded fragments");
-        ui.checkbox(&mut st.settings.count_ideal, "count ideal (a full-screen pass per light)");
-        ui.checkbox(&mut st.settings.timestamps, "GPU timestamps");
-        ui.checkbox(&mut st.settings.depth_clamp, "depth clamp on volumes");
-        ui.checkbox(&mut st.settings.reversed_z, "reversed Z");
-        ui.separator();
-        pixel_panel(ui, f);
+        egui::CollapsingHeader::new("Counters and depth").default_open(false).show(ui, |ui| {
+            ui.checkbox(&mut st.settings.count_fragments, "count shaded fragments");
+            ui.checkbox(&mut st.settings.count_ideal, "count ideal (full-screen pass per light)");
+            ui.checkbox(&mut st.settings.timestamps, "GPU timestamps");
+            ui.checkbox(&mut st.settings.depth_clamp, "depth clamp on volumes");
+            ui.checkbox(&mut st.settings.reversed_z, "reversed Z");
+        });
     });
 }
 
@@ -774,14 +772,18 @@ fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
     egui::Grid::new("figures").num_columns(2).striped(true).spacing([12.0, 2.0]).show(ui, |ui| {
         let row = |ui: &mut egui::Ui, k: &str, v: String| {
             ui.label(k);
-            ui.label(RichText::new(v).monospace());
+            // Truncated: an exact-size panel must never be pushed wider by its content.
+            ui.add(egui::Label::new(RichText::new(v).monospace()).truncate());
             ui.end_row();
         };
-        row(ui, "lights", format!("{}", s.lights));
         row(
             ui,
-            "lights drawn",
-            if s.shaded_fragments.is_some() { format!("{drawn} shaded > 0") } else { "- (counts off)".into() },
+            "lights shading",
+            if s.shaded_fragments.is_some() {
+                format!("{drawn} of {}", s.lights)
+            } else {
+                format!("? of {} (counts off)", s.lights)
+            },
         );
         let m: Vec<String> = methods.iter().map(|(k, v)| format!("{k} {v}")).collect();
         row(ui, "methods", m.join(", "));
@@ -796,13 +798,12 @@ fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
-        row(ui, "size", format!("{}x{}", s.size[0], s.size[1]));
     });
 }
 
 fn plot(ui: &mut egui::Ui, title: &str, series: &[(&str, Color32, Vec<Option<f64>>)], unit: &str) {
     let width = ui.available_width().max(100.0);
-    let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 64.0), Sense::hover());
+    let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 52.0), Sense::hover());
     let p = ui.painter_at(rect);
     p.rect_filled(rect, 2.0, Color32::from_gray(18));
     let max = series.iter().flat_map(|(_, _, v)| v.iter().flatten()).fold(0.0f64, |a, b| a.max(*b)).max(1e-9);
@@ -879,7 +880,8 @@ fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
     egui::Grid::new("probe").num_columns(2).striped(true).spacing([10.0, 2.0]).show(ui, |ui| {
         let row = |ui: &mut egui::Ui, k: &str, v: String| {
             ui.label(k);
-            ui.label(RichText::new(v).monospace());
+            // Truncated: an exact-size panel must never be pushed wider by its content.
+            ui.add(egui::Label::new(RichText::new(v).monospace()).truncate());
             ui.end_row();
         };
         row(ui, "pixel", format!("{}, {}", p.x, p.y));
@@ -897,9 +899,14 @@ fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
         }
         let shown: Vec<String> = p.lights.iter().take(12).map(|i| i.to_string()).collect();
         let more = if p.lights.len() > 12 { format!(" +{}", p.lights.len() - 12) } else { String::new() };
-        row(ui, "lights touching", format!("{}: {}{more}", p.lights.len(), shown.join(" ")));
+        let list = if p.lights.is_empty() {
+            "none".to_string()
+        } else {
+            format!("{}: {}{more}", p.lights.len(), shown.join(" "))
+        };
+        row(ui, "lights touching", list);
     });
-    ui.collapsing("raw G-buffer channels", |ui| {
+    ui.label(RichText::new("raw G-buffer channels (hover)").weak()).on_hover_ui(|ui| {
         for (name, format, v) in &p.raw {
             ui.label(RichText::new(format!("{name} ({format})")).weak());
             ui.label(RichText::new(format!("{:.4} {:.4} {:.4} {:.4}", v[0], v[1], v[2], v[3])).monospace());

@@ -133,58 +133,9 @@ impl LayoutChoice {
                     TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
                 ],
             },
-            LayoutChoice::Seed000 => GBufferLayout {
-                name: "seed000",
-                normal: NormalEncoding::Xyz,
-                targets: vec![
-                    TargetDesc {
-                        name: "albedo+spec",
-                        format: F::Rgba16Float,
-                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
-                    },
-                    TargetDesc {
-                        name: "normal+exp",
-                        format: F::Rgba16Float,
-                        channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
-                    },
-                    TargetDesc {
-                        name: "position",
-                        format: F::Rgba16Float,
-                        channels: vec![s(Position, 0), s(Position, 1), s(Position, 2), None],
-                    },
-                    TargetDesc {
-                        name: "emissive",
-                        format: F::Rgba16Float,
-                        channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
-                    },
-                ],
-            },
-            LayoutChoice::Reference => GBufferLayout {
-                name: "reference",
-                normal: NormalEncoding::Xyz,
-                targets: vec![
-                    TargetDesc {
-                        name: "albedo+spec",
-                        format: F::Rgba32Float,
-                        channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
-                    },
-                    TargetDesc {
-                        name: "normal+exp",
-                        format: F::Rgba32Float,
-                        channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
-                    },
-                    TargetDesc {
-                        name: "position",
-                        format: F::Rgba32Float,
-                        channels: vec![s(Position, 0), s(Position, 1), s(Position, 2), None],
-                    },
-                    TargetDesc {
-                        name: "emissive",
-                        format: F::Rgba32Float,
-                        channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None],
-                    },
-                ],
-            },
+            // Seed 000's four fp16 targets with a stored position, and the same table in f32.
+            LayoutChoice::Seed000 => four_stored("seed000", F::Rgba16Float),
+            LayoutChoice::Reference => four_stored("reference", F::Rgba32Float),
             LayoutChoice::Packed => GBufferLayout {
                 name: "packed",
                 normal: NormalEncoding::Octahedral,
@@ -203,6 +154,24 @@ impl LayoutChoice {
                 ],
             },
         }
+    }
+}
+
+/// Four targets of one format: albedo + specular level, xyz normal + exponent, stored
+/// view-space position, emissive.
+fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout {
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    let target = |name, channels| TargetDesc { name, format, channels };
+    GBufferLayout {
+        name,
+        normal: NormalEncoding::Xyz,
+        targets: vec![
+            target("albedo+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
+            target("normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
+            target("position", vec![s(Position, 0), s(Position, 1), s(Position, 2), None]),
+            target("emissive", vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), None]),
+        ],
     }
 }
 

@@ -82,6 +82,19 @@ pub fn light_clamp(format: wgpu::TextureFormat, lights: usize) -> f32 {
     max / (lights as f32 + 1.0)
 }
 
+/// What every pass of one frame reads.
+#[derive(Clone, Copy)]
+struct Frame<'a> {
+    t: &'a Targets,
+    geo: &'a SceneGeometry,
+    n: usize,
+    want_counts: bool,
+    want_ideal: bool,
+    want_times: bool,
+    far_depth: f64,
+    settings: &'a Settings,
+}
+
 /// Which bounding mesh a light uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VolumeKind {
@@ -667,20 +680,67 @@ impl Renderer {
         let (Some(t), Some(geo)) = (&self.targets, &self.geometry) else {
             bail!("internal: targets or geometry missing");
         };
-        let p = &self.pipelines;
-        let ts = |begin: u32| -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-            if !want_times {
-                return None;
-            }
-            self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(begin),
-                end_of_pass_write_index: Some(begin + 1),
-            })
+        let f = Frame {
+            t,
+            geo,
+            n,
+            want_counts,
+            want_ideal,
+            want_times,
+            far_depth: if settings.reversed_z { 0.0 } else { 1.0 },
+            settings,
         };
-        let far_depth = if settings.reversed_z { 0.0 } else { 1.0 };
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
 
+        // The frame as the seeds draw it:
+        // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
+        self.gbuffer_pass(&mut encoder, &f);
+        // 2. Lights: ambient + sun full-screen, then each light with its culling method.
+        self.light_pass(&mut encoder, &f);
+        self.debug_pass(&mut encoder, &f);
+        // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
+        self.encode_compose(
+            &mut encoder,
+            settings.debug_view,
+            0,
+            target,
+            width,
+            height,
+            self.pass_timestamps(want_times, 4),
+        );
+        // 4. Measurement only: the ideal count.
+        self.ideal_pass(&mut encoder, &f);
+
+        self.queries.resolve(&mut encoder, n, want_counts, want_ideal, want_times);
+        self.queue.submit([encoder.finish()]);
+
+        let mut stats = FrameStats {
+            size: [width, height],
+            culling: settings.culling,
+            lights: n,
+            gbuffer_layout: self.pipelines.key.layout.name.to_string(),
+            gbuffer_bytes_per_pixel: self.pipelines.key.layout.bytes_per_pixel(),
+            depth_stencil_format: format!("{:?}", self.depth_format),
+            depth_clamp: self.depth_clamp(),
+            ..Default::default()
+        };
+        self.queries.read(
+            &self.device,
+            &self.queue,
+            &mut stats,
+            &self.plans,
+            scene,
+            want_counts,
+            want_ideal,
+            want_times,
+        )?;
+        Ok(stats)
+    }
+
+    /// Records the G-buffer pass.
+    fn gbuffer_pass(&self, encoder: &mut wgpu::CommandEncoder, f: &Frame<'_>) {
+        let p = &self.pipelines;
+        let Frame { t, geo, want_times, far_depth, .. } = *f;
         // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
         {
             let color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
@@ -710,7 +770,7 @@ impl Renderer {
                     }),
                     stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
                 }),
-                timestamp_writes: ts(0),
+                timestamp_writes: self.pass_timestamps(want_times, 0),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
@@ -722,7 +782,12 @@ impl Renderer {
                 pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
             }
         }
+    }
 
+    /// Records the light accumulation: ambient + sun, then each light by its planned method.
+    fn light_pass(&self, encoder: &mut wgpu::CommandEncoder, f: &Frame<'_>) {
+        let p = &self.pipelines;
+        let Frame { t, n, want_counts, want_times, .. } = *f;
         // 2. Lights: ambient + sun full-screen, then each light by its method, additively.
         //    One render pass per block of lights (an occlusion query set holds 4096).
         let chunk = stats::LIGHTS_PER_QUERY_SET;
@@ -847,7 +912,12 @@ impl Renderer {
                 }
             }
         }
+    }
 
+    /// Records the passes some debug views need (stencil diagram, light complexity).
+    fn debug_pass(&self, encoder: &mut wgpu::CommandEncoder, f: &Frame<'_>) {
+        let p = &self.pipelines;
+        let Frame { t, n, settings, .. } = *f;
         // 2b. Debug views that need their own pass: seed 000's stencil diagram, light complexity.
         if matches!(settings.debug_view, DebugView::Stencil | DebugView::Complexity) {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -894,13 +964,17 @@ impl Renderer {
                 }
             }
         }
+    }
 
-        // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        self.encode_compose(&mut encoder, settings.debug_view, 0, target, width, height, ts(4));
-
+    /// Records the ideal count (measurement only, after the frame's timestamps).
+    fn ideal_pass(&self, encoder: &mut wgpu::CommandEncoder, f: &Frame<'_>) {
+        let p = &self.pipelines;
+        let Frame { t, n, want_ideal, .. } = *f;
         // 4. Measurement only, after the frame (outside its timestamps): the ideal count, the
         //    G-buffer points inside each light's true shape.
         if want_ideal {
+            let chunk = stats::LIGHTS_PER_QUERY_SET;
+            let blocks = n.div_ceil(chunk).max(1);
             for b in 0..blocks {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("ideal count"),
@@ -937,31 +1011,17 @@ impl Renderer {
                 }
             }
         }
+    }
 
-        self.queries.resolve(&mut encoder, n, want_counts, want_ideal, want_times);
-        self.queue.submit([encoder.finish()]);
-
-        let mut stats = FrameStats {
-            size: [width, height],
-            culling: settings.culling,
-            lights: n,
-            gbuffer_layout: self.pipelines.key.layout.name.to_string(),
-            gbuffer_bytes_per_pixel: self.pipelines.key.layout.bytes_per_pixel(),
-            depth_stencil_format: format!("{:?}", self.depth_format),
-            depth_clamp: self.depth_clamp(),
-            ..Default::default()
-        };
-        self.queries.read(
-            &self.device,
-            &self.queue,
-            &mut stats,
-            &self.plans,
-            scene,
-            want_counts,
-            want_ideal,
-            want_times,
-        )?;
-        Ok(stats)
+    fn pass_timestamps(&self, want: bool, begin: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        if !want {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: Some(begin),
+            end_of_pass_write_index: Some(begin + 1),
+        })
     }
 
     /// Records the compose pass into `target` (`w`x`h`, scaled from the G-buffer's size),

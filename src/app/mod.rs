@@ -306,6 +306,7 @@ impl App {
                     self.injected_next.push(button(false));
                 }
             }
+            Action::Leave => self.injected.push(egui::Event::PointerGone),
             Action::Resize(w, h) => {
                 if let Some(g) = &self.gfx {
                     let _ = g.surface.window.request_inner_size(winit::dpi::LogicalSize::new(w, h));

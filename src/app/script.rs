@@ -23,6 +23,7 @@
 //!                        ambient sun radius intensity colour inner outer
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)
 //! click U V              click the viewport at (U, V) (selects the light there)
+//! leave                  take the pointer out of the window
 //! resize W H             ask for a window of W x H logical pixels
 //! minimize | restore     minimise / restore the window
 //! screenshot PATH        after drawing: the whole window to PATH, the viewport image to
@@ -58,6 +59,7 @@ pub enum Action {
     Set(String, String),
     Hover(f32, f32),
     Click(f32, f32),
+    Leave,
     Resize(u32, u32),
     Minimize,
     Restore,
@@ -198,6 +200,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
             } else {
                 Action::Click(u, v)
             }
+        }
+        "leave" => {
+            want(0)?;
+            Action::Leave
         }
         "resize" => {
             want(2)?;

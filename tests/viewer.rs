@@ -1,0 +1,474 @@
+//! The viewer's real window, driven by scripts (`lampshade view SCENE --script FILE`) and judged
+//! by the screenshots it takes of itself: the whole window and, apart, the viewport image.
+//!
+//! Needs an X server: CI runs `xvfb-run -a -s "-screen 0 1280x720x24" cargo test`. Without
+//! DISPLAY the window tests print that they are skipped; the bad-input tests run anyway.
+
+use image::RgbaImage;
+use lampshade::compare::{flip, max_channel_difference};
+use lampshade::renderer::Settings;
+use lampshade::scene::builtin::{self, BuiltinOptions};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+/// Same bound as the culling tests: culling changes which fragments run, not their arithmetic.
+const MAX_CHANNEL_STEP: u8 = 1;
+const FLIP_MEAN: f32 = 0.001;
+/// A scripted run that takes longer than this is hung.
+const TIMEOUT: Duration = Duration::from_secs(600);
+
+fn has_display() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var(v).is_ok_and(|s| !s.is_empty()))
+}
+
+macro_rules! need_display {
+    () => {
+        if !has_display() {
+            eprintln!(
+                "SKIPPED {}: no DISPLAY. Run the window tests under an X server: \
+                 xvfb-run -a -s \"-screen 0 1280x720x24\" cargo test --test viewer",
+                module_path!()
+            );
+            return;
+        }
+    };
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh output directory for one run.
+fn out_dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer").join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("creating the test output directory");
+    d
+}
+
+/// winit and Mesa want a private runtime directory.
+fn runtime_dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-xdg-runtime");
+    std::fs::create_dir_all(&d).expect("creating XDG_RUNTIME_DIR");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&d, std::fs::Permissions::from_mode(0o700)).expect("chmod 700");
+    }
+    d
+}
+
+/// A private copy of the binary cargo built for this test. `target/debug/lampshade` is shared
+/// by every feature set: a `--no-default-features` build elsewhere replaces it with one that has
+/// no viewer, so the tests take their copy once, first, and check it has `view`.
+fn binary() -> &'static Path {
+    static BIN: OnceLock<PathBuf> = OnceLock::new();
+    BIN.get_or_init(|| {
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("viewer-bin");
+        std::fs::create_dir_all(&dir).expect("creating the binary directory");
+        let copy = dir.join(format!("lampshade-{}", std::process::id()));
+        std::fs::copy(env!("CARGO_BIN_EXE_lampshade"), &copy).expect("copying the lampshade binary");
+        let help = Command::new(&copy).args(["view", "--help"]).output().expect("running lampshade");
+        assert!(
+            help.status.success(),
+            "{} has no `view` command: it was built without the `viewer` feature (another build in \
+             the same target directory may have replaced it). Rebuild and rerun.",
+            env!("CARGO_BIN_EXE_lampshade")
+        );
+        copy
+    })
+}
+
+/// Runs the built binary in `cwd` and waits (at most `TIMEOUT`).
+fn lampshade(args: &[&str], cwd: &Path) -> Output {
+    let mut child = Command::new(binary())
+        .args(args)
+        .current_dir(cwd)
+        .env("XDG_RUNTIME_DIR", runtime_dir())
+        .env("RUST_BACKTRACE", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starting lampshade");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("waiting for lampshade").is_some() {
+            break;
+        }
+        if start.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("collecting output");
+            panic!("lampshade {args:?} ran longer than {TIMEOUT:?}\nstderr:\n{}", String::from_utf8_lossy(&out.stderr));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.wait_with_output().expect("collecting output")
+}
+
+fn text(out: &Output) -> (String, String) {
+    (String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// Runs a script on a scene and insists on a clean exit.
+fn view(scene: &str, script: &Path, extra: &[&str], dir: &Path) -> Output {
+    let script = script.to_str().expect("utf-8 path");
+    let mut args = vec!["view", scene, "--script", script];
+    args.extend_from_slice(extra);
+    let out = lampshade(&args, dir);
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "lampshade {args:?} failed ({}).\nstdout:\n{stdout}\nstderr:\n{stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "the viewer panicked:\n{stderr}");
+    out
+}
+
+/// The tour (`tests/viewer.script`) on the demo, run once for all the tests that read it.
+struct Tour {
+    dir: PathBuf,
+    stderr: String,
+}
+
+fn tour() -> &'static Tour {
+    static TOUR: OnceLock<Tour> = OnceLock::new();
+    TOUR.get_or_init(|| {
+        let dir = out_dir("tour");
+        let out = view("demo", &root().join("tests/viewer.script"), &[], &dir);
+        Tour { dir, stderr: text(&out).1 }
+    })
+}
+
+fn load(dir: &Path, name: &str) -> RgbaImage {
+    let p = dir.join(name);
+    image::open(&p).unwrap_or_else(|e| panic!("reading {}: {e}", p.display())).to_rgba8()
+}
+
+fn json(dir: &Path, name: &str) -> serde_json::Value {
+    let p = dir.join(name);
+    let t = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("reading {}: {e}", p.display()));
+    serde_json::from_str(&t).unwrap_or_else(|e| panic!("parsing {}: {e}", p.display()))
+}
+
+fn lit_share(img: &RgbaImage) -> f64 {
+    let lit = img.pixels().filter(|p| p[0] as u32 + p[1] as u32 + p[2] as u32 > 24).count();
+    lit as f64 / (img.width() * img.height()) as f64
+}
+
+fn luma(img: &RgbaImage, x: f32, y: f32) -> Option<f32> {
+    if x < 0.0 || y < 0.0 || x >= img.width() as f32 || y >= img.height() as f32 {
+        return None;
+    }
+    let p = img.get_pixel(x as u32, y as u32);
+    Some(0.299 * p[0] as f32 + 0.587 * p[1] as f32 + 0.114 * p[2] as f32)
+}
+
+/// Mean absolute luma difference between `after` and `before` sampled through `map`
+/// (after-pixel -> before-position), over the inner 60% of the image.
+fn mismatch(before: &RgbaImage, after: &RgbaImage, map: impl Fn(f32, f32) -> (f32, f32)) -> f32 {
+    let (w, h) = (after.width() as f32, after.height() as f32);
+    let (mut sum, mut n) = (0.0, 0);
+    for y in (h * 0.2) as u32..(h * 0.8) as u32 {
+        for x in (w * 0.2) as u32..(w * 0.8) as u32 {
+            let (bx, by) = map(x as f32, y as f32);
+            if let (Some(a), Some(b)) = (luma(after, x as f32, y as f32), luma(before, bx, by)) {
+                sum += (a - b).abs();
+                n += 1;
+            }
+        }
+    }
+    sum / n.max(1) as f32
+}
+
+#[test]
+fn the_window_draws_panels_around_the_viewport() {
+    need_display!();
+    let t = tour();
+    let window = load(&t.dir, "volume.png");
+    let viewport = load(&t.dir, "volume-viewport.png");
+    assert!(window.width() >= 640 && window.height() >= 400, "window {:?}", window.dimensions());
+    // The panels: egui's dark panel fill with text on it, in the left and right columns.
+    let (w, h) = window.dimensions();
+    for (name, x0, x1) in [("left", 0, w / 6), ("right", w - w / 6, w)] {
+        let mut fill = 0;
+        let mut text = 0;
+        let mut total = 0;
+        for y in h / 10..h - h / 10 {
+            for x in x0..x1 {
+                let p = window.get_pixel(x, y);
+                let grey = p[0].abs_diff(p[1]) < 6 && p[1].abs_diff(p[2]) < 6;
+                if grey && (20..=40).contains(&p[0]) {
+                    fill += 1;
+                }
+                if grey && p[0] > 140 {
+                    text += 1;
+                }
+                total += 1;
+            }
+        }
+        assert!(fill * 3 > total, "{name} panel: only {fill} of {total} pixels have the panel fill");
+        assert!(text > 300, "{name} panel: {text} text pixels: are the labels drawn?");
+    }
+    // The viewport: the lit demo, not a blank frame.
+    assert!(lit_share(&viewport) > 0.5, "the viewport image is mostly black");
+    let colours: std::collections::HashSet<[u8; 3]> = window.pixels().map(|p| [p[0], p[1], p[2]]).collect();
+    assert!(colours.len() > 2000, "the window has only {} colours", colours.len());
+}
+
+#[test]
+fn the_window_shows_the_rendered_bytes_unchanged() {
+    need_display!();
+    // At resolution scale 1 the viewport texture maps 1:1 onto window pixels: find it in the
+    // window capture and compare. egui dithers by at most one step.
+    let t = tour();
+    let window = load(&t.dir, "scale1.png");
+    let viewport = load(&t.dir, "scale1-viewport.png");
+    let (vw, vh) = viewport.dimensions();
+    assert!(vw <= window.width() && vh <= window.height(), "viewport {vw}x{vh} larger than the window");
+    let diff_at = |ox: u32, oy: u32, step: u32| -> u32 {
+        let mut worst = 0;
+        for y in (0..vh).step_by(step as usize) {
+            for x in (0..vw).step_by(step as usize) {
+                let a = viewport.get_pixel(x, y);
+                let b = window.get_pixel(ox + x, oy + y);
+                worst = worst.max((0..3).map(|c| a[c].abs_diff(b[c]) as u32).max().unwrap_or(0));
+            }
+        }
+        worst
+    };
+    let mut best = (u32::MAX, 0, 0);
+    for oy in 0..=(window.height() - vh).min(80) {
+        for ox in 0..=(window.width() - vw) {
+            let d = diff_at(ox, oy, 7);
+            if d < best.0 {
+                best = (d, ox, oy);
+            }
+        }
+    }
+    let (_, ox, oy) = best;
+    let d = diff_at(ox, oy, 1);
+    eprintln!("viewport {vw}x{vh} found in the window at ({ox}, {oy}), largest difference {d}");
+    assert!(d <= 2, "the viewport image is not in the window unchanged: best offset ({ox}, {oy}) differs by {d}");
+}
+
+#[test]
+fn every_culling_mode_leaves_the_viewport_unchanged() {
+    need_display!();
+    let t = tour();
+    let reference = load(&t.dir, "volume-viewport.png");
+    assert!(lit_share(&reference) > 0.5, "the reference frame is mostly black");
+    for mode in ["fullscreen", "stencil-two-pass", "stencil-invert", "stencil-replace", "auto"] {
+        let img = load(&t.dir, &format!("{mode}-viewport.png"));
+        let settings: Settings =
+            serde_json::from_value(json(&t.dir, &format!("{mode}-viewport.json"))).expect("a Settings file");
+        assert_eq!(settings.culling.name(), mode, "the screenshot was taken in the wrong mode");
+        let step = max_channel_difference(&reference, &img);
+        let (f, _) = flip(&reference, &img).expect("same size");
+        eprintln!("{mode}: {step} steps, FLIP mean {} against volume", f.mean);
+        assert!(
+            step <= MAX_CHANNEL_STEP && f.mean <= FLIP_MEAN,
+            "{mode}: the viewport differs from volume by {step} steps, FLIP mean {}",
+            f.mean
+        );
+    }
+    // The panels did change: the window shows which mode is on.
+    let a = load(&t.dir, "volume.png");
+    let b = load(&t.dir, "stencil-two-pass.png");
+    assert!(max_channel_difference(&a, &b) > 100, "switching the mode changed nothing in the panels");
+}
+
+#[test]
+fn the_stencil_view_shows_seed_000s_colours() {
+    need_display!();
+    let t = tour();
+    let img = load(&t.dir, "stencil-viewport.png");
+    let total = (img.width() * img.height()) as usize;
+    let count = |rgb: [u8; 3]| img.pixels().filter(|p| p[0] == rgb[0] && p[1] == rgb[1] && p[2] == rgb[2]).count();
+    let (blue, red, green) = (count([0, 0, 255]), count([255, 0, 0]), count([0, 255, 0]));
+    // The demo's floor is mostly lit by some light (green); pillars and boxes in front of
+    // volumes pass Z only when shading (red); volume fronts over empty space pass Z marking (blue).
+    eprintln!("stencil view: blue {blue}, red {red}, green {green} of {total} pixels");
+    assert!(green > total / 5, "green (lit) {green} of {total}");
+    assert!(red > total / 50, "red (passed Z shading) {red} of {total}");
+    assert!(blue > total / 100, "blue (passed Z marking) {blue} of {total}");
+    assert!(blue + red + green > total / 2, "the stencil view is mostly unclassified");
+    // The complexity heatmap is a different picture again.
+    let heat = load(&t.dir, "complexity-viewport.png");
+    assert!(max_channel_difference(&heat, &img) > 100);
+    assert!(lit_share(&heat) > 0.3, "the complexity view is mostly black");
+}
+
+fn camera_of(v: &serde_json::Value) -> ([f64; 3], f64, f64) {
+    let c = &v["camera"];
+    let p = &c["position"];
+    let f = |v: &serde_json::Value| v.as_f64().expect("a number");
+    ([f(&p[0]), f(&p[1]), f(&p[2])], f(&c["yaw"]), f(&c["pitch"]))
+}
+
+#[test]
+fn keys_move_the_camera_as_seed_000_binds_them() {
+    need_display!();
+    let t = tour();
+    let before = load(&t.dir, "before-move-viewport.png");
+    let forward = load(&t.dir, "forward-viewport.png");
+    let up = load(&t.dir, "up-viewport.png");
+    let (p0, yaw, pitch) = camera_of(&json(&t.dir, "before-move-viewport.json"));
+    let (p1, yaw1, pitch1) = camera_of(&json(&t.dir, "forward-viewport.json"));
+    let (p2, _, _) = camera_of(&json(&t.dir, "up-viewport.json"));
+    assert_eq!((yaw, pitch), (yaw1, pitch1), "E must not turn the camera");
+    // E: 12 frames at 8 units/s of 1/30 s along the view direction.
+    let fwd = [yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos()];
+    let d1: Vec<f64> = (0..3).map(|i| p1[i] - p0[i]).collect();
+    let along: f64 = (0..3).map(|i| d1[i] * fwd[i]).sum();
+    assert!((along - 3.2).abs() < 0.05, "E moved {along} along the view, expected 3.2 ({d1:?})");
+    // W: along the camera's up (its y component is cos(pitch) > 0).
+    assert!(p2[1] - p1[1] > 2.5, "W should raise the camera: {p1:?} -> {p2:?}");
+
+    // The images: moving forward magnifies the view about its centre ...
+    let (cx, cy) = (before.width() as f32 / 2.0, before.height() as f32 / 2.0);
+    let zoom = |s: f32| mismatch(&before, &forward, |x, y| (cx + (x - cx) / s, cy + (y - cy) / s));
+    let still = zoom(1.0);
+    let (best_s, best) =
+        (0..=40).map(|i| 1.0 + i as f32 * 0.01).map(|s| (s, zoom(s))).min_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+    eprintln!("E: best zoom {best_s} (mean luma error {best:.2}, unmoved {still:.2})");
+    assert!(
+        best_s >= 1.03 && best < 0.7 * still,
+        "E: the forward image is best explained by zoom {best_s} (error {best} vs {still} unmoved)"
+    );
+    // ... and moving up slides the scene down the screen.
+    let shift = |dy: f32| mismatch(&forward, &up, |x, y| (x, y - dy));
+    let still = shift(0.0);
+    let (best_dy, best) = (-30..=30).map(|d| (d as f32, shift(d as f32))).min_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+    eprintln!("W: best shift {best_dy} px (mean luma error {best:.2}, unmoved {still:.2})");
+    assert!(
+        best_dy >= 3.0 && best < 0.7 * still,
+        "W: the up image is best explained by a shift of {best_dy} px (error {best} vs {still} unmoved)"
+    );
+}
+
+#[test]
+fn nonsense_panel_input_is_rejected_visibly_and_the_run_goes_on() {
+    need_display!();
+    let t = tour();
+    assert!(t.stderr.contains("rejected: exposure -4"), "stderr:\n{}", t.stderr);
+    assert!(t.stderr.contains("rejected: light count 'many'"), "stderr:\n{}", t.stderr);
+    let after = json(&t.dir, "probe-viewport.json");
+    assert_eq!(after["exposure"].as_f64(), Some(1.0), "the rejected exposure was applied");
+    assert_eq!(after["viewer"]["selected_light"].as_u64(), Some(1024), "the light list selection was lost");
+}
+
+#[test]
+fn a_screenshot_settings_file_reproduces_the_viewport() {
+    need_display!();
+    let t = tour();
+    let file = t.dir.join("volume-viewport.json");
+    let doc = json(&t.dir, "volume-viewport.json");
+    // The file is a Settings (what `render --settings` reads) with the scene's keys beside it.
+    let settings: Settings = serde_json::from_value(doc.clone()).expect("the screenshot JSON is a Settings");
+    assert_eq!(settings.culling.name(), "volume");
+    for key in ["scene", "time", "camera", "size", "lights", "viewer"] {
+        assert!(doc.get(key).is_some(), "the settings file lacks '{key}'");
+    }
+    let size = format!("{}x{}", doc["size"][0], doc["size"][1]);
+    let time = doc["time"].as_f64().expect("time").to_string();
+    let scene = doc["scene"].as_str().expect("scene");
+    let png = t.dir.join("rendered.png");
+    let args = [
+        "render",
+        scene,
+        "--settings",
+        file.to_str().unwrap(),
+        "--size",
+        &size,
+        "--time",
+        &time,
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = lampshade(&args, &t.dir);
+    assert!(out.status.success(), "render failed: {}", text(&out).1);
+    let rendered = load(&t.dir, "rendered.png");
+    let shown = load(&t.dir, "volume-viewport.png");
+    let step = max_channel_difference(&rendered, &shown);
+    assert!(step <= MAX_CHANNEL_STEP, "the viewport and `lampshade render` differ by {step} steps");
+}
+
+/// Where light `k`'s centre appears in the viewport, as fractions of its size.
+fn light_uv(scene: &str, k: usize, aspect: f64) -> (f32, f32) {
+    let s = builtin::build(scene, BuiltinOptions::default()).expect("scene");
+    let v = s.camera.to_view(s.lights[k].position());
+    let c = s.camera.projection(aspect, false) * v.extend(1.0);
+    ((c.x / c.w * 0.5 + 0.5) as f32, (0.5 - c.y / c.w * 0.5) as f32)
+}
+
+#[test]
+fn clicking_a_light_in_the_viewport_selects_it() {
+    need_display!();
+    let dir = out_dir("click");
+    // The tour's viewport aspect at the default window size.
+    let aspect = {
+        let probe = out_dir("click-size");
+        let script = probe.join("size.script");
+        std::fs::write(&script, "3 screenshot size.png\n3 quit\n").unwrap();
+        view("classify", &script, &[], &probe);
+        let d = json(&probe, "size-viewport.json");
+        d["size"][0].as_f64().unwrap() / d["size"][1].as_f64().unwrap()
+    };
+    let (u, v) = light_uv("classify", 0, aspect);
+    let script = dir.join("click.script");
+    std::fs::write(
+        &script,
+        format!(
+            "3 click {u:.4} {v:.4}\n6 wireframes selected\n6 hover {u:.4} {:.4}\n8 screenshot click.png\n8 quit\n",
+            v + 0.1
+        ),
+    )
+    .unwrap();
+    view("classify", &script, &[], &dir);
+    let doc = json(&dir, "click-viewport.json");
+    assert_eq!(doc["viewer"]["selected_light"].as_u64(), Some(0), "the click at ({u}, {v}) selected nothing");
+}
+
+#[test]
+fn the_window_survives_resizing_and_minimising() {
+    need_display!();
+    let dir = out_dir("resize");
+    let script = dir.join("resize.script");
+    std::fs::write(
+        &script,
+        "3 resize 700 420\n8 screenshot small.png\n9 resize 120 90\n12 set scale 0.1\n14 minimize\n18 restore\n\
+         19 set scale 2\n20 resize 1000 600\n26 screenshot restored.png\n27 quit\n",
+    )
+    .unwrap();
+    view("spot", &script, &["--lights", "3"], &dir);
+    let small = load(&dir, "small.png");
+    let restored = load(&dir, "restored.png");
+    assert_eq!(small.dimensions(), (700, 420), "the window did not take the asked size");
+    assert_eq!(restored.dimensions(), (1000, 600));
+    assert!(lit_share(&load(&dir, "restored-viewport.png")) > 0.3, "the restored viewport is black");
+}
+
+#[test]
+fn bad_input_fails_with_a_message_and_no_panic() {
+    // All of these are refused before a window opens, so they need no display.
+    let dir = out_dir("bad-input");
+    let bad_line = dir.join("bad.script");
+    std::fs::write(&bad_line, "# fine\n5 culling sometimes\n").unwrap();
+    let empty = dir.join("empty.script");
+    std::fs::write(&empty, "# nothing to do\n").unwrap();
+    let missing = dir.join("missing.script");
+    let cases: [(Vec<&str>, &str); 6] = [
+        (vec!["view", "nowhere"], "unknown scene 'nowhere'"),
+        (vec!["view", "demo", "--script", missing.to_str().unwrap()], "reading script"),
+        (vec!["view", "demo", "--script", bad_line.to_str().unwrap()], "line 2: unknown culling mode 'sometimes'"),
+        (vec!["view", "demo", "--script", empty.to_str().unwrap()], "no actions"),
+        (vec!["view", "demo", "--lights", "1000000"], "more than"),
+        (vec!["view", "demo", "--scale", "0"], "--scale 0"),
+    ];
+    for (args, needle) in cases {
+        let out = lampshade(&args, &dir);
+        let (_, stderr) = text(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?} should fail with status 1:\n{stderr}");
+        assert!(stderr.contains(needle), "{args:?}: expected '{needle}' in:\n{stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
+    }
+}

@@ -401,31 +401,73 @@ fn light_uv(scene: &str, k: usize, aspect: f64) -> (f32, f32) {
 }
 
 #[test]
-fn clicking_a_light_in_the_viewport_selects_it() {
+fn clicking_a_light_selects_it_for_editing_and_the_keys_act() {
     need_display!();
+    // The viewport's aspect at the default window size, from a first short run.
+    let plain = out_dir("click-plain");
+    let script = plain.join("plain.script");
+    std::fs::write(&script, "3 screenshot plain.png\n3 quit\n").unwrap();
+    view("classify", &script, &[], &plain);
+    let d = json(&plain, "plain-viewport.json");
+    let aspect = d["size"][0].as_f64().unwrap() / d["size"][1].as_f64().unwrap();
+
     let dir = out_dir("click");
-    // The tour's viewport aspect at the default window size.
-    let aspect = {
-        let probe = out_dir("click-size");
-        let script = probe.join("size.script");
-        std::fs::write(&script, "3 screenshot size.png\n3 quit\n").unwrap();
-        view("classify", &script, &[], &probe);
-        let d = json(&probe, "size-viewport.json");
-        d["size"][0].as_f64().unwrap() / d["size"][1].as_f64().unwrap()
-    };
     let (u, v) = light_uv("classify", 0, aspect);
     let script = dir.join("click.script");
     std::fs::write(
         &script,
         format!(
-            "3 click {u:.4} {v:.4}\n6 wireframes selected\n6 hover {u:.4} {:.4}\n8 screenshot click.png\n8 quit\n",
-            v + 0.1
+            "3 click {u:.4} {v:.4}\n\
+             5 set radius 1.5\n\
+             5 set colour 1,0.125,0\n\
+             6 wireframes selected\n\
+             6 hover {u:.4} {:.4}\n\
+             8 screenshot click.png\n\
+             9 key F12\n\
+             10 key Space\n\
+             16 screenshot animated.png\n\
+             17 scene spot\n\
+             20 screenshot spot.png\n\
+             20 quit\n",
+            (v + 0.1).min(1.0)
         ),
     )
     .unwrap();
-    view("classify", &script, &[], &dir);
+    view("classify", &script, &["--screenshot-dir", "shots"], &dir);
+
+    // The click selected light 0, and the light tab's fields edited it.
     let doc = json(&dir, "click-viewport.json");
     assert_eq!(doc["viewer"]["selected_light"].as_u64(), Some(0), "the click at ({u}, {v}) selected nothing");
+    let edit = &doc["viewer"]["light_edits"]["0"];
+    assert_eq!(edit["radius"].as_f64(), Some(1.5), "light edits: {}", doc["viewer"]["light_edits"]);
+    assert_eq!(edit["color"][1].as_f64(), Some(0.125));
+    // A smaller, red light: red pixels where there were none.
+    let red = |img: &RgbaImage| img.pixels().filter(|p| p[0] as i32 > p[1] as i32 + 40).count();
+    let (before, after) = (load(&plain, "plain-viewport.png"), load(&dir, "click-viewport.png"));
+    assert!(
+        red(&before) < 10 && red(&after) > 30,
+        "red pixels {} -> {}: the colour edit did not reach the frame",
+        red(&before),
+        red(&after)
+    );
+
+    // F12 wrote a PNG and its settings beside it.
+    let shots: Vec<PathBuf> =
+        std::fs::read_dir(dir.join("shots")).expect("F12 made the directory").map(|e| e.unwrap().path()).collect();
+    let png = shots.iter().find(|p| p.extension().is_some_and(|e| e == "png")).expect("F12 wrote a PNG");
+    assert!(png.with_extension("json").exists(), "F12 wrote no settings file beside {}", png.display());
+
+    // Space started the animation: 6 frames of 1/30 s.
+    let anim = json(&dir, "animated-viewport.json");
+    assert_eq!(anim["viewer"]["animate"].as_bool(), Some(true));
+    let time = anim["time"].as_f64().unwrap();
+    assert!((time - 0.2).abs() < 0.05, "time {time} after 6 animated frames");
+
+    // Switching scene drops the old scene's selection and edits.
+    let spot = json(&dir, "spot-viewport.json");
+    assert_eq!(spot["scene"].as_str(), Some("spot"));
+    assert!(spot["viewer"]["selected_light"].is_null());
+    assert_eq!(spot["viewer"]["light_edits"].as_object().map(|m| m.len()), Some(0));
 }
 
 #[test]

@@ -262,6 +262,10 @@ impl App {
                 self.keys.taps.push(k);
                 self.keys.holds.insert(k, frame + n - 1);
             }
+            Action::Scene(name) => {
+                st.scene = name;
+                self.reset_scene_edits();
+            }
             Action::Culling(m) => st.settings.culling = m,
             Action::View(v) => st.settings.debug_view = v,
             Action::Layout(l) => st.settings.layout = l,

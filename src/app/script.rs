@@ -8,6 +8,7 @@
 //! key NAME               tap a key (down this frame, up the next): W A S D E Q Z X Up Down
 //!                        Left Right Shift Space F1 F12
 //! hold NAME FRAMES       hold a key for FRAMES frames
+//! scene NAME             switch to another built-in scene (as the scene selector does)
 //! culling MODE           fullscreen | volume | stencil-two-pass | stencil-invert | stencil-replace | auto
 //! view VIEW              lit | albedo | normal | depth | specular | emissive | diffuse-light |
 //!                        specular-light | stencil | complexity (the viewport's view, as a G-buffer click)
@@ -21,6 +22,7 @@
 //!                        lights scale exposure time speed move-speed animate counts ideal
 //!                        timestamps reversed-z depth-clamp radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer
+//!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)
 //! click U V              click the viewport at (U, V) (selects the light there)
 //! leave                  take the pointer out of the window
@@ -48,6 +50,7 @@ pub const SCRIPT_DT: f64 = 1.0 / 30.0;
 pub enum Action {
     Key(KeyCode),
     Hold(KeyCode, u64),
+    Scene(String),
     Culling(CullingMode),
     View(DebugView),
     Layout(LayoutChoice),
@@ -137,6 +140,13 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
                 return Err("hold needs at least 1 frame".into());
             }
             Action::Hold(key_code(args[0])?, n)
+        }
+        "scene" => {
+            want(1)?;
+            if !crate::scene::builtin::NAMES.iter().any(|(n, _)| *n == args[0]) {
+                return Err(format!("unknown scene '{}' (see `lampshade scenes`)", args[0]));
+            }
+            Action::Scene(args[0].to_string())
         }
         "culling" => {
             want(1)?;

@@ -27,23 +27,22 @@ enum Command {
 
 #[derive(clap::Args)]
 struct RenderArgs {
-    /// Built-in scene name (see `lampshade scenes`).
-    #[arg(default_value = "demo")]
-    scene: String,
+    /// Built-in scene name (see `lampshade scenes`); default `demo`, or the settings file's.
+    scene: Option<String>,
     /// Output PNG.
     #[arg(long)]
     out: PathBuf,
-    /// Image size, WxH.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    size: (u32, u32),
+    /// Image size, WxH (default 1280x720, or the settings file's).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
     #[arg(long, value_enum)]
     culling: Option<CullingMode>,
     /// Number of point lights (demo).
     #[arg(long)]
     lights: Option<usize>,
-    /// Animation time in seconds.
-    #[arg(long, default_value_t = 0.0)]
-    time: f64,
+    /// Animation time in seconds (default 0, or the settings file's).
+    #[arg(long)]
+    time: Option<f64>,
     #[arg(long, value_enum)]
     layout: Option<LayoutChoice>,
     #[arg(long, value_enum)]
@@ -57,7 +56,8 @@ struct RenderArgs {
     /// Write the frame's statistics as JSON.
     #[arg(long)]
     stats: Option<PathBuf>,
-    /// Start from a settings file (as the viewer's screenshots write); flags override it.
+    /// Start from a settings file (as the viewer's F12 screenshots write: renderer settings plus
+    /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]
     settings: Option<PathBuf>,
 }
@@ -137,14 +137,39 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// What a settings file may carry beside the renderer's `Settings`.
+#[derive(serde::Deserialize, Default)]
+struct SceneKeys {
+    scene: Option<String>,
+    lights: Option<usize>,
+    time: Option<f64>,
+    camera: Option<lampshade::scene::Camera>,
+    size: Option<[u32; 2]>,
+}
+
 fn render(args: RenderArgs) -> Result<()> {
-    let mut settings = match &args.settings {
+    let (mut settings, keys) = match &args.settings {
         Some(path) => {
             let text = std::fs::read_to_string(path).with_context(|| format!("reading settings {}", path.display()))?;
-            serde_json::from_str::<Settings>(&text).with_context(|| format!("parsing settings {}", path.display()))?
+            let settings = serde_json::from_str::<Settings>(&text)
+                .with_context(|| format!("parsing settings {}", path.display()))?;
+            let keys = serde_json::from_str::<SceneKeys>(&text)
+                .with_context(|| format!("parsing the scene keys of {}", path.display()))?;
+            (settings, keys)
         }
-        None => Settings::default(),
+        None => (Settings::default(), SceneKeys::default()),
     };
+    let scene_name = args.scene.clone().or(keys.scene).unwrap_or_else(|| "demo".into());
+    let time = args.time.or(keys.time).unwrap_or(0.0);
+    let lights = args.lights.or(keys.lights);
+    let (w, h) = match (args.size, keys.size) {
+        (Some(s), _) => s,
+        (None, Some([w, h])) => parse_size(&format!("{w}x{h}")).map_err(anyhow::Error::msg)?,
+        (None, None) => (1280, 720),
+    };
+    if !time.is_finite() {
+        bail!("time {time} must be finite");
+    }
     if let Some(c) = args.culling {
         settings.culling = c;
     }
@@ -159,21 +184,23 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     settings.count_ideal = args.ideal || args.stats.is_some();
     settings.validate().map_err(anyhow::Error::msg)?;
-    let scene = builtin::build(&args.scene, BuiltinOptions { lights: args.lights, time: args.time })
-        .map_err(anyhow::Error::msg)?;
+    let mut scene = builtin::build(&scene_name, BuiltinOptions { lights, time }).map_err(anyhow::Error::msg)?;
+    if let Some(camera) = keys.camera {
+        camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
+        scene.camera = camera;
+    }
     if let Some(k) = settings.selected_light {
         if k >= scene.lights.len() {
-            bail!("--light {k}: scene '{}' has {} lights", args.scene, scene.lights.len());
+            bail!("--light {k}: scene '{scene_name}' has {} lights", scene.lights.len());
         }
     }
     let gpu = Gpu::headless()?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
-    let (w, h) = args.size;
     let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
     image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     println!(
         "{}: {} lights, {}, shaded {} fragments, ideal {}, gpu {} ms -> {}",
-        args.scene,
+        scene_name,
         stats.lights,
         settings.culling.name(),
         stats.shaded_fragments.map_or("-".into(), |v| v.to_string()),
@@ -184,8 +211,8 @@ fn render(args: RenderArgs) -> Result<()> {
     if let Some(path) = &args.stats {
         let json = serde_json::json!({
             "adapter": { "name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend) },
-            "scene": args.scene,
-            "time": args.time,
+            "scene": scene_name,
+            "time": time,
             "settings": settings,
             "stats": stats,
             "size": stats.size,

@@ -26,24 +26,6 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("F1", "help"),
 ];
 
-/// Keys that act while held.
-pub const HELD_KEYS: &[KeyCode] = &[
-    KeyCode::KeyW,
-    KeyCode::KeyA,
-    KeyCode::KeyS,
-    KeyCode::KeyD,
-    KeyCode::KeyE,
-    KeyCode::KeyQ,
-    KeyCode::KeyZ,
-    KeyCode::KeyX,
-    KeyCode::ArrowUp,
-    KeyCode::ArrowDown,
-    KeyCode::ArrowLeft,
-    KeyCode::ArrowRight,
-    KeyCode::ShiftLeft,
-    KeyCode::ShiftRight,
-];
-
 /// Camera-relative up: right x forward.
 pub fn up(c: &Camera) -> DVec3 {
     c.right().cross(c.forward())

@@ -23,7 +23,7 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-use ui::{Command, History, Sample, Status, ThumbGroup, UiOut};
+use ui::{Command, History, Sample, Status, Thumb, UiOut};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
@@ -405,6 +405,7 @@ impl App {
         st.ambient = None;
         st.sun = None;
         st.selected_light = None;
+        st.scope = state::Scope::All;
         st.material_index = 0;
         if let Some(g) = &self.gfx {
             g.surface.window.set_title(&format!("Lampshade — {}", st.scene));
@@ -488,6 +489,10 @@ impl App {
             let s = g.surface.window.inner_size();
             s.width == 0 || s.height == 0
         };
+        if minimised {
+            // Nothing to draw into: do not spin while the window is away.
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
         let mut rendered = false;
         if let (Some((w, h)), Some(scene), false) = (size, &self.scene, minimised) {
             if g.viewport.resize(&g.gpu.device, &mut g.egui_renderer, w, h, wgpu::FilterMode::Linear) {
@@ -523,12 +528,12 @@ impl App {
 
         // 4. Thumbnails: the compose pass of this frame again, once per view, at thumbnail size.
         let accum = settings.accumulation.format(g.gpu.features).ok();
-        let groups: Vec<ThumbGroup> = ui::thumb_groups(g.renderer.layout(), accum, g.renderer.depth_format());
+        let tiles: Vec<Thumb> = ui::thumbs(g.renderer.layout(), accum, g.renderer.depth_format());
         if rendered {
             let (vw, vh) = (g.viewport.width, g.viewport.height);
             let tw = 224u32;
             let th = ((tw as f32 * vh as f32 / vw.max(1) as f32).round() as u32).clamp(16, 224);
-            let views: Vec<DebugView> = groups.iter().flat_map(|gr| gr.views.iter().map(|(v, _)| *v)).collect();
+            let views: Vec<DebugView> = tiles.iter().map(|t| t.view).collect();
             for v in views {
                 let img = g.thumbs.entry(v).or_insert_with(|| {
                     Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", tw, th, wgpu::FilterMode::Linear)
@@ -585,8 +590,8 @@ impl App {
             scene: self.scene.as_ref(),
             viewport: self.have_image.then_some((g.viewport.id, [g.viewport.width, g.viewport.height])),
             thumbs: &thumb_ids,
-            groups: &groups,
-            layout_name: layout.name,
+            tiles: &tiles,
+            depth_format: format!("{:?}", g.renderer.depth_format()),
             gbuffer_bytes: layout.bytes_per_pixel(),
             probe: self.probe.as_ref(),
             adapter: &g.adapter,

@@ -20,7 +20,7 @@
 //! tab NAME               left panel tab: scene | lights | materials | camera | help
 //! set NAME VALUE         a panel value, validated as the panel does (see `UiState::set`):
 //!                        lights scale exposure time speed move-speed animate counts ideal
-//!                        timestamps reversed-z depth-clamp radius-scale intensity-scale
+//!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)

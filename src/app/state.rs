@@ -1,6 +1,7 @@
 //! The viewer's UI state: plain serde data, apart from every GPU object. Panels and scripts change
 //! it; the next frame builds its `Scene` and `Settings` from it.
 
+use crate::renderer::settings::AccumFormat;
 use crate::renderer::{CullingMode, DebugView, LayoutChoice, Settings};
 use crate::scene::builtin::{self, BuiltinOptions};
 use crate::scene::{Camera, Light, Material, Scene, Sun};
@@ -308,6 +309,12 @@ impl UiState {
             "timestamps" => self.settings.timestamps = parse_bool(value)?,
             "reversed-z" => self.settings.reversed_z = parse_bool(value)?,
             "depth-clamp" => self.settings.depth_clamp = parse_bool(value)?,
+            "accumulation" => {
+                self.settings.accumulation = AccumFormat::ALL
+                    .into_iter()
+                    .find(|a| serde_json::to_value(a).ok().and_then(|v| v.as_str().map(|s| s == value)) == Some(true))
+                    .ok_or_else(|| format!("unknown accumulation format '{value}'"))?
+            }
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32

@@ -18,7 +18,7 @@ pub const HISTORY: usize = 240;
 /// "All" wireframes draws at most this many volumes (the largest on screen).
 pub const MAX_WIREFRAMES: usize = 256;
 /// Fixed panel sizes in points: the viewport keeps its size whatever the panels show.
-const GBUFFER_STRIP: f32 = 158.0;
+const GBUFFER_STRIP: f32 = 128.0;
 const LEFT_WIDTH: f32 = 272.0;
 const RIGHT_WIDTH: f32 = 292.0;
 const PIXEL_PANEL: f32 = 236.0;
@@ -52,69 +52,45 @@ pub struct Status {
     pub error: bool,
 }
 
-/// One G-buffer target (or other buffer) and the views that show it readably.
-pub struct ThumbGroup {
-    pub name: String,
+/// One thumbnail: a view that shows one buffer of the frame readably.
+pub struct Thumb {
+    pub view: DebugView,
+    pub label: &'static str,
+    /// The buffer it shows, e.g. "albedo+spec".
+    pub buffer: String,
     pub format: String,
-    pub bytes_per_pixel: Option<u32>,
-    pub views: Vec<(DebugView, &'static str)>,
 }
 
-/// The thumbnail strip for a layout: every target with the views that decode it, then the light
-/// accumulation, then the depth-stencil buffer.
-pub fn thumb_groups(
-    layout: &GBufferLayout,
-    accum: Option<wgpu::TextureFormat>,
-    depth_format: wgpu::TextureFormat,
-) -> Vec<ThumbGroup> {
-    let mut groups = vec![ThumbGroup {
-        name: "output".into(),
-        format: format!("{:?}", crate::renderer::OUTPUT_FORMAT),
-        bytes_per_pixel: None,
-        views: vec![(DebugView::Lit, "lit")],
-    }];
+/// The thumbnail strip for a layout: each G-buffer target by the views that decode its
+/// attributes (each view once), the light accumulation, then depth-stencil: stencil diagram
+/// and light complexity.
+pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth: wgpu::TextureFormat) -> Vec<Thumb> {
+    let mut out: Vec<Thumb> = Vec::new();
+    let mut add = |view, label, buffer: &str, format: String| {
+        if !out.iter().any(|t| t.view == view) {
+            out.push(Thumb { view, label, buffer: buffer.to_string(), format });
+        }
+    };
     for t in &layout.targets {
-        let mut views: Vec<(DebugView, &'static str)> = Vec::new();
         for slot in t.channels.iter().flatten() {
-            let v = match slot.attr {
+            let (view, label) = match slot.attr {
                 Attr::Albedo => (DebugView::Albedo, "albedo"),
                 Attr::SpecLevel | Attr::SpecExp => (DebugView::Specular, "specular"),
                 Attr::Normal => (DebugView::Normal, "normal"),
                 Attr::Emissive => (DebugView::Emissive, "emissive"),
                 Attr::Depth => (DebugView::Depth, "depth"),
-                Attr::Position => (DebugView::Depth, "position (depth)"),
+                Attr::Position => (DebugView::Depth, "position z"),
             };
-            if !views.iter().any(|(w, _)| *w == v.0) {
-                views.push(v);
-            }
+            add(view, label, t.name, format!("{:?}", t.format));
         }
-        groups.push(ThumbGroup {
-            name: t.name.to_string(),
-            format: format!("{:?}", t.format),
-            bytes_per_pixel: t.format.block_copy_size(None),
-            views,
-        });
     }
-    groups.push(ThumbGroup {
-        name: "light accumulation (HDR)".into(),
-        format: accum.map_or("-".into(), |a| format!("2 x {a:?}")),
-        bytes_per_pixel: accum.and_then(|a| a.block_copy_size(None)).map(|b| b * 2),
-        views: vec![(DebugView::DiffuseLight, "diffuse"), (DebugView::SpecularLight, "specular")],
-    });
-    let has_depth_view = groups.iter().any(|g| g.views.iter().any(|(v, _)| *v == DebugView::Depth));
-    let mut ds = Vec::new();
-    if !has_depth_view {
-        ds.push((DebugView::Depth, "depth"));
-    }
-    ds.push((DebugView::Stencil, "stencil"));
-    ds.push((DebugView::Complexity, "complexity"));
-    groups.push(ThumbGroup {
-        name: "depth-stencil".into(),
-        format: format!("{depth_format:?}"),
-        bytes_per_pixel: depth_format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).map(|b| b + 1),
-        views: ds,
-    });
-    groups
+    let accum = accum.map_or("-".into(), |a| format!("{a:?}"));
+    add(DebugView::DiffuseLight, "diffuse light", "accumulation", accum.clone());
+    add(DebugView::SpecularLight, "specular light", "accumulation", accum);
+    add(DebugView::Depth, "depth", "depth-stencil", format!("{depth:?}"));
+    add(DebugView::Stencil, "stencil", "depth-stencil", format!("{depth:?}"));
+    add(DebugView::Complexity, "complexity", "lights per pixel", "heatmap".into());
+    out
 }
 
 /// What the UI shows this frame (read only).
@@ -125,8 +101,8 @@ pub struct FrameInfo<'a> {
     /// The viewport image and its size in pixels.
     pub viewport: Option<(egui::TextureId, [u32; 2])>,
     pub thumbs: &'a HashMap<DebugView, egui::TextureId>,
-    pub groups: &'a [ThumbGroup],
-    pub layout_name: &'a str,
+    pub tiles: &'a [Thumb],
+    pub depth_format: String,
     pub gbuffer_bytes: u32,
     pub probe: Option<&'a PixelProbe>,
     pub adapter: &'a str,
@@ -350,7 +326,7 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.end_row();
         ui.label("time");
         ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).suffix(" s"));
+            ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).max_decimals(2).suffix(" s"));
             ui.add(egui::DragValue::new(&mut st.time_speed).range(-100.0..=100.0).speed(0.05).prefix("x"));
         });
         ui.end_row();
@@ -508,10 +484,10 @@ fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
                 e.color = Vec3::from(c);
                 ui.end_row();
                 ui.label("intensity");
-                ui.add(egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02));
+                ui.add(egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02).max_decimals(2));
                 ui.end_row();
                 ui.label("radius");
-                ui.add(egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05));
+                ui.add(egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05).max_decimals(2));
                 ui.end_row();
                 if let Some((mut inner, mut outer)) = e.angles {
                     let (mut i_deg, mut o_deg) = (inner.to_degrees(), outer.to_degrees());
@@ -561,7 +537,7 @@ fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
                     ui.painter().rect_filled(r, 2.0, colour32(l.color()));
                     let ls = per_light.get(i);
                     let text = format!(
-                        "{:<12} {:>9} {}",
+                        "{:<10}{:>8} {}",
                         light_label(i, l),
                         ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
                         ls.map_or(String::new(), |s| method_name(s.method))
@@ -927,73 +903,65 @@ fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                     ui.selectable_value(&mut st.settings.layout, l, state::layout_name(l));
                 }
             });
-        ui.label(format!("{}: {} bytes/pixel in colour targets", f.layout_name, f.gbuffer_bytes));
+        ui.label(format!("{} B/pixel in colour targets + {}", f.gbuffer_bytes, f.depth_format));
         ui.label(RichText::new("click a view to show it full size").weak());
     });
-    // Thumbnails as tall as the strip allows (group title, format, label around each), in
-    // the viewport's aspect.
+    // As many tiles as fit side by side, in the viewport's aspect, as tall as the strip allows.
+    let n = f.tiles.len().max(1) as f32;
+    let gap = 6.0;
     let aspect = f.viewport.map_or(16.0 / 9.0, |(_, [w, h])| w as f32 / h.max(1) as f32);
-    let thumb_h = (ui.available_height() - 64.0).clamp(24.0, 120.0);
-    let thumb_w = (thumb_h * aspect).clamp(48.0, 200.0);
-    egui::ScrollArea::horizontal().id_salt("thumbs").auto_shrink([false, true]).max_height(thumb_h + 60.0).show(
-        ui,
-        |ui| {
-            ui.horizontal(|ui| {
-                for g in f.groups {
-                    egui::Frame::group(ui.style()).inner_margin(4.0).show(ui, |ui| {
-                        ui.vertical(|ui| {
-                            let bytes = g.bytes_per_pixel.map_or(String::new(), |b| format!(" · {b} B"));
-                            ui.label(RichText::new(&g.name).small().strong());
-                            ui.label(RichText::new(format!("{}{bytes}", g.format)).small().weak());
-                            ui.horizontal(|ui| {
-                                for (view, label) in &g.views {
-                                    ui.vertical(|ui| {
-                                        let selected = st.settings.debug_view == *view;
-                                        let (rect, resp) =
-                                            ui.allocate_exact_size(Vec2::new(thumb_w, thumb_h), Sense::click());
-                                        match f.thumbs.get(view) {
-                                            Some(id) => {
-                                                ui.painter().image(
-                                                    *id,
-                                                    rect,
-                                                    Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
-                                                    Color32::WHITE,
-                                                );
-                                            }
-                                            None => {
-                                                ui.painter().rect_filled(rect, 0.0, Color32::from_gray(10));
-                                            }
-                                        }
-                                        let stroke = if selected {
-                                            Stroke::new(2.0, Color32::from_rgb(255, 200, 60))
-                                        } else if resp.hovered() {
-                                            Stroke::new(1.0, Color32::from_gray(200))
-                                        } else {
-                                            Stroke::new(1.0, Color32::from_gray(60))
-                                        };
-                                        ui.painter().rect_stroke(rect, 0.0, stroke, egui::StrokeKind::Outside);
-                                        if matches!(view, DebugView::Stencil | DebugView::Complexity) && !selected {
-                                            ui.painter().text(
-                                                rect.center(),
-                                                egui::Align2::CENTER_CENTER,
-                                                "click to compute",
-                                                egui::FontId::proportional(10.0),
-                                                Color32::from_gray(150),
-                                            );
-                                        }
-                                        if resp.clicked() {
-                                            st.settings.debug_view = if selected { DebugView::Lit } else { *view };
-                                        }
-                                        ui.label(RichText::new(*label).small());
-                                    });
-                                }
-                            });
-                        });
-                    });
-                }
-            });
-        },
-    );
+    let max_h = (ui.available_height() - 40.0).clamp(24.0, 120.0);
+    let thumb_w = ((ui.available_width() - gap * (n - 1.0)) / n).clamp(64.0, max_h * aspect);
+    let thumb_h = thumb_w / aspect;
+    egui::ScrollArea::horizontal().id_salt("thumbs").auto_shrink([false, true]).show(ui, |ui| {
+        ui.horizontal(|ui| {
+            ui.spacing_mut().item_spacing.x = gap;
+            for t in f.tiles {
+                ui.vertical(|ui| {
+                    ui.set_width(thumb_w);
+                    ui.spacing_mut().item_spacing.y = 1.0;
+                    let selected = st.settings.debug_view == t.view;
+                    let (rect, resp) = ui.allocate_exact_size(Vec2::new(thumb_w, thumb_h), Sense::click());
+                    match f.thumbs.get(&t.view) {
+                        Some(id) => {
+                            let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
+                            // The stencil and complexity views need passes of their own: the
+                            // frame computes them only while shown, else the tile is stale.
+                            let stale = matches!(t.view, DebugView::Stencil | DebugView::Complexity) && !selected;
+                            let tint = if stale { Color32::from_gray(70) } else { Color32::WHITE };
+                            ui.painter().image(*id, rect, uv, tint);
+                        }
+                        None => {
+                            ui.painter().rect_filled(rect, 0.0, Color32::from_gray(10));
+                        }
+                    }
+                    let stroke = if selected {
+                        Stroke::new(2.0, Color32::from_rgb(255, 200, 60))
+                    } else if resp.hovered() {
+                        Stroke::new(1.0, Color32::from_gray(200))
+                    } else {
+                        Stroke::new(1.0, Color32::from_gray(60))
+                    };
+                    ui.painter().rect_stroke(rect, 0.0, stroke, egui::StrokeKind::Outside);
+                    if matches!(t.view, DebugView::Stencil | DebugView::Complexity) && !selected {
+                        ui.painter().text(
+                            rect.center(),
+                            egui::Align2::CENTER_CENTER,
+                            "click to compute",
+                            egui::FontId::proportional(10.0),
+                            Color32::from_gray(150),
+                        );
+                    }
+                    let resp = resp.on_hover_text(format!("{}: {} ({})", t.label, t.buffer, t.format));
+                    if resp.clicked() {
+                        st.settings.debug_view = if selected { DebugView::Lit } else { t.view };
+                    }
+                    ui.add(egui::Label::new(RichText::new(t.label).small()).truncate());
+                    ui.add(egui::Label::new(RichText::new(&t.format).small().weak()).truncate());
+                });
+            }
+        });
+    });
 }
 
 fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {

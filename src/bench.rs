@@ -32,7 +32,15 @@ impl BenchOptions {
         if quick {
             Self { scene: scene.into(), quick, frames: 3, size: (320, 180), lights: 256, time: 0.0, groups: Vec::new() }
         } else {
-            Self { scene: scene.into(), quick, frames: 10, size: (1280, 720), lights: 1024, time: 0.0, groups: Vec::new() }
+            Self {
+                scene: scene.into(),
+                quick,
+                frames: 10,
+                size: (1280, 720),
+                lights: 1024,
+                time: 0.0,
+                groups: Vec::new(),
+            }
         }
     }
 }
@@ -135,16 +143,15 @@ fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32)) -> Result<Refere
 /// Runs the sweep; `progress(done, total, label)` is called before each configuration.
 pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<Row>> {
     let list = configs(o);
-    let mut refs: HashMap<(usize, (u32, u32)), Reference> = HashMap::new();
-    let mut rows = Vec::new();
+    let frames = o.frames.max(1);
+    // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.
+    let steps = list.len() * 2 + frames;
+    // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT).
+    let mut prepared = Vec::new();
     for (k, cfg) in list.iter().enumerate() {
-        progress(k, list.len(), &cfg.label);
+        progress(k, steps, &format!("prepare {}", cfg.label));
         let scene = builtin::build(&o.scene, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
             .map_err(anyhow::Error::msg)?;
-        let reference = match refs.entry((cfg.lights, cfg.size)) {
-            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
-        };
         let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
             Ok(r) => r,
             Err(e) => {
@@ -152,13 +159,26 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
                 continue;
             }
         };
-        let (w, h) = cfg.size;
-        // Warm-up frame (shader JIT on software drivers), then timed frames.
-        render_image(gpu, &mut renderer, &scene, &cfg.settings, w, h)?;
-        let mut times: Vec<FrameStats> = Vec::new();
-        for _ in 0..o.frames.max(1) {
-            times.push(render_image(gpu, &mut renderer, &scene, &cfg.settings, w, h)?.1);
+        render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1)?;
+        prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
+    }
+    // Timed rounds, interleaved: each round renders every configuration once, so background
+    // load on a shared machine falls on all of them alike and the ratios stay comparable.
+    for round in 0..frames {
+        progress(list.len() + round, steps, &format!("timed round {}/{frames}", round + 1));
+        for (cfg, scene, renderer, times) in prepared.iter_mut() {
+            times.push(render_image(gpu, renderer, scene, &cfg.settings, cfg.size.0, cfg.size.1)?.1);
         }
+    }
+    let mut refs: HashMap<(usize, (u32, u32)), Reference> = HashMap::new();
+    let mut rows = Vec::new();
+    for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
+        progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
+        let (w, h) = cfg.size;
+        let reference = match refs.entry((cfg.lights, cfg.size)) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
+        };
         let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
         let counted = Settings { count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
@@ -198,7 +218,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             pareto: false,
         });
     }
-    progress(list.len(), list.len(), "done");
+    progress(steps, steps, "done");
     mark_pareto(&mut rows);
     Ok(rows)
 }

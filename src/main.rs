@@ -108,12 +108,13 @@ fn bench(args: BenchArgs) -> Result<()> {
     builtin::build(&o.scene, BuiltinOptions::default()).map_err(anyhow::Error::msg)?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let gpu = Gpu::headless()?;
-    let bar = indicatif::ProgressBar::new(bench::configs(&o).len() as u64);
+    let bar = indicatif::ProgressBar::new((bench::configs(&o).len() * 2 + o.frames.max(1)) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
             .map_err(|e| anyhow::anyhow!("{e}"))?,
     );
-    let rows = bench::run(&gpu, &o, |done, _, label| {
+    let rows = bench::run(&gpu, &o, |done, total, label| {
+        bar.set_length(total as u64);
         bar.set_position(done as u64);
         bar.set_message(label.to_string());
     })?;

@@ -438,6 +438,7 @@ fn clicking_a_light_selects_it_for_editing_and_the_keys_act() {
     // The click selected light 0, and the light tab's fields edited it.
     let doc = json(&dir, "click-viewport.json");
     assert_eq!(doc["viewer"]["selected_light"].as_u64(), Some(0), "the click at ({u}, {v}) selected nothing");
+    assert_eq!(doc["viewer"]["tab"].as_str(), Some("lights"), "picking a light should open its editor");
     let edit = &doc["viewer"]["light_edits"]["0"];
     assert_eq!(edit["radius"].as_f64(), Some(1.5), "light edits: {}", doc["viewer"]["light_edits"]);
     assert_eq!(edit["color"][1].as_f64(), Some(0.125));

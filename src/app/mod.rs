@@ -149,6 +149,8 @@ struct App {
     good_settings: Option<crate::renderer::Settings>,
     /// The viewport texture holds a rendered frame.
     have_image: bool,
+    /// The light list scrolls to this light next frame.
+    scroll_to_light: Option<usize>,
     cpu_ms: f64,
     screenshots: u32,
 }
@@ -176,6 +178,7 @@ impl App {
             last_instant: Instant::now(),
             good_settings: None,
             have_image: false,
+            scroll_to_light: None,
             cpu_ms: 0.0,
             screenshots: 0,
         }
@@ -390,6 +393,11 @@ impl App {
         };
         let chosen = nearest.or_else(touching);
         self.state.selected_light = chosen;
+        if chosen.is_some() {
+            // Show the picked light's editor, its row in view.
+            self.state.tab = state::Tab::Lights;
+            self.scroll_to_light = chosen;
+        }
         match chosen {
             Some(k) => self.say(format!("selected light {k}"), false),
             None => self.say("no light there", false),
@@ -599,6 +607,7 @@ impl App {
             cpu_ms: self.cpu_ms,
             scripted: self.script.is_some(),
             wireframes: &wireframes,
+            scroll_to_light: self.scroll_to_light.take(),
         };
         let mut out = UiOut::default();
         let state = &mut self.state;

@@ -19,8 +19,10 @@ pub const HISTORY: usize = 240;
 pub const MAX_WIREFRAMES: usize = 256;
 /// Fixed panel sizes in points: the viewport keeps its size whatever the panels show.
 const GBUFFER_STRIP: f32 = 128.0;
+/// Side panel widths at a 1280-point window; narrower windows shrink them down to the minimum.
 const LEFT_WIDTH: f32 = 272.0;
 const RIGHT_WIDTH: f32 = 292.0;
+const MIN_SIDE_WIDTH: f32 = 170.0;
 const PIXEL_PANEL: f32 = 236.0;
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -109,6 +111,8 @@ pub struct FrameInfo<'a> {
     pub status: Option<&'a Status>,
     pub cpu_ms: f64,
     pub scripted: bool,
+    /// Scroll the light list to this light (it was just picked in the viewport).
+    pub scroll_to_light: Option<usize>,
     /// Per-light volume wireframes, in viewport pixels: (light, segments).
     pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
 }
@@ -202,8 +206,12 @@ pub fn style(ctx: &egui::Context) {
 pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     top_bar(ui, st, f, out);
     status_bar(ui, st, f);
-    egui::Panel::left("left").resizable(false).exact_size(LEFT_WIDTH).show(ui, |ui| left_panel(ui, st, f, out));
-    egui::Panel::right("right").resizable(false).exact_size(RIGHT_WIDTH).show(ui, |ui| right_panel(ui, st, f));
+    // Fixed widths (the viewport keeps its size whatever the panels show), scaled down with
+    // the window so a small window keeps a usable viewport.
+    let k = (ui.available_width() / 1280.0).min(1.0);
+    let side = |w: f32| (w * k).max(MIN_SIDE_WIDTH).round();
+    egui::Panel::left("left").resizable(false).exact_size(side(LEFT_WIDTH)).show(ui, |ui| left_panel(ui, st, f, out));
+    egui::Panel::right("right").resizable(false).exact_size(side(RIGHT_WIDTH)).show(ui, |ui| right_panel(ui, st, f));
     egui::Panel::bottom("gbuffer").resizable(false).exact_size(GBUFFER_STRIP).show(ui, |ui| gbuffer_strip(ui, st, f));
     egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
 }
@@ -388,14 +396,18 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         }
         ui.end_row();
         if let Some(mut s) = sun {
-            let before = s;
+            // Only what a widget reports as changed is written back: widgets round values
+            // (colour pickers, degrees), and merely showing them must not create an edit.
+            let mut changed = false;
             ui.label("colour");
             let mut c = s.color.to_array();
-            ui.color_edit_button_rgb(&mut c);
-            s.color = Vec3::from(c);
+            if ui.color_edit_button_rgb(&mut c).changed() {
+                s.color = Vec3::from(c);
+                changed = true;
+            }
             ui.end_row();
             ui.label("intensity");
-            ui.add(egui::DragValue::new(&mut s.intensity).range(0.0..=100.0).speed(0.01));
+            changed |= ui.add(egui::DragValue::new(&mut s.intensity).range(0.0..=100.0).speed(0.01)).changed();
             ui.end_row();
             // Direction as azimuth / elevation of the direction the light comes from.
             let d = -s.direction.normalize_or(Vec3::NEG_Y);
@@ -410,8 +422,9 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             if e.changed() || z.changed() {
                 let (el, az) = (elev.to_radians(), azim.to_radians());
                 s.direction = -Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin());
+                changed = true;
             }
-            if s != before {
+            if changed {
                 st.sun = Some(Some(s));
             }
         }
@@ -477,39 +490,46 @@ fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
                 return;
             };
             let mut e = edit;
+            let mut changed = false;
             egui::Grid::new("light-edit").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
                 ui.label("colour");
                 let mut c = e.color.to_array();
-                ui.color_edit_button_rgb(&mut c);
-                e.color = Vec3::from(c);
+                if ui.color_edit_button_rgb(&mut c).changed() {
+                    e.color = Vec3::from(c);
+                    changed = true;
+                }
                 ui.end_row();
                 ui.label("intensity");
-                ui.add(egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02).max_decimals(2));
+                let w = egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02).max_decimals(2);
+                changed |= ui.add(w).changed();
                 ui.end_row();
                 ui.label("radius");
-                ui.add(egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05).max_decimals(2));
+                let w = egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05).max_decimals(2);
+                changed |= ui.add(w).changed();
                 ui.end_row();
-                if let Some((mut inner, mut outer)) = e.angles {
+                if let Some((inner, outer)) = e.angles {
                     let (mut i_deg, mut o_deg) = (inner.to_degrees(), outer.to_degrees());
                     ui.label("inner angle");
-                    ui.add(egui::DragValue::new(&mut i_deg).range(0.0..=90.0).suffix("°"));
+                    let ri = ui.add(egui::DragValue::new(&mut i_deg).range(0.0..=90.0).suffix("°").max_decimals(1));
                     ui.end_row();
                     ui.label("outer angle");
-                    ui.add(egui::DragValue::new(&mut o_deg).range(0.0..=90.0).suffix("°"));
+                    let ro = ui.add(egui::DragValue::new(&mut o_deg).range(0.0..=90.0).suffix("°").max_decimals(1));
                     ui.end_row();
-                    if i_deg > o_deg {
-                        // Clamp visibly rather than hand the renderer an inverted cone.
-                        ui.label("");
-                        ui.label(RichText::new("inner clamped to outer").color(Color32::from_rgb(255, 170, 80)));
-                        ui.end_row();
-                        i_deg = o_deg;
+                    if ri.changed() || ro.changed() {
+                        if i_deg > o_deg {
+                            // Clamp visibly rather than hand the renderer an inverted cone.
+                            i_deg = o_deg;
+                            out.commands.push(Command::Status(Status {
+                                text: "inner angle clamped to the outer angle".into(),
+                                error: true,
+                            }));
+                        }
+                        e.angles = Some((i_deg.to_radians(), o_deg.to_radians()));
+                        changed = true;
                     }
-                    inner = i_deg.to_radians();
-                    outer = o_deg.to_radians();
-                    e.angles = Some((inner, outer));
                 }
             });
-            if e != edit {
+            if changed {
                 let mut l = light;
                 e.apply(&mut l);
                 match l.validate() {
@@ -525,30 +545,34 @@ fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
     ui.label(RichText::new(format!("All lights ({})", scene.lights.len())).strong());
     let row_h = 18.0;
     let per_light = f.stats.map(|s| s.per_light.as_slice()).unwrap_or(&[]);
-    egui::ScrollArea::vertical()
+    let mut list = egui::ScrollArea::vertical()
         .id_salt("light-list")
         .max_height(ui.available_height().max(120.0))
-        .auto_shrink([false, true])
-        .show_rows(ui, row_h, scene.lights.len(), |ui, range| {
-            for i in range {
-                let l = &scene.lights[i];
-                ui.horizontal(|ui| {
-                    let (r, _) = ui.allocate_exact_size(Vec2::new(12.0, 12.0), Sense::hover());
-                    ui.painter().rect_filled(r, 2.0, colour32(l.color()));
-                    let ls = per_light.get(i);
-                    let text = format!(
-                        "{:<10}{:>8} {}",
-                        light_label(i, l),
-                        ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
-                        ls.map_or(String::new(), |s| method_name(s.method))
-                    );
-                    let sel = st.selected_light == Some(i);
-                    if ui.add(egui::Button::selectable(sel, RichText::new(text).monospace()).truncate()).clicked() {
-                        st.selected_light = if sel { None } else { Some(i) };
-                    }
-                });
-            }
-        });
+        .auto_shrink([false, true]);
+    if let Some(k) = f.scroll_to_light {
+        // A light picked in the viewport: bring its row into view, a few rows from the top.
+        list = list.vertical_scroll_offset((k.saturating_sub(3)) as f32 * (row_h + ui.spacing().item_spacing.y));
+    }
+    list.show_rows(ui, row_h, scene.lights.len(), |ui, range| {
+        for i in range {
+            let l = &scene.lights[i];
+            ui.horizontal(|ui| {
+                let (r, _) = ui.allocate_exact_size(Vec2::new(12.0, 12.0), Sense::hover());
+                ui.painter().rect_filled(r, 2.0, colour32(l.color()));
+                let ls = per_light.get(i);
+                let text = format!(
+                    "{:<10}{:>8} {}",
+                    light_label(i, l),
+                    ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
+                    ls.map_or(String::new(), |s| method_name(s.method))
+                );
+                let sel = st.selected_light == Some(i);
+                if ui.add(egui::Button::selectable(sel, RichText::new(text).monospace()).truncate()).clicked() {
+                    st.selected_light = if sel { None } else { Some(i) };
+                }
+            });
+        }
+    });
 }
 
 fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
@@ -565,27 +589,31 @@ fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut U
         ui.label(format!("of {n}"));
     });
     let k = st.material_index;
-    let before = scene.materials[k];
-    let mut m = before;
+    let mut m = scene.materials[k];
+    let mut changed = false;
     egui::Grid::new("material").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         ui.label("diffuse");
         let mut c = m.diffuse.to_array();
-        ui.color_edit_button_rgb(&mut c);
-        m.diffuse = Vec3::from(c);
+        if ui.color_edit_button_rgb(&mut c).changed() {
+            m.diffuse = Vec3::from(c);
+            changed = true;
+        }
         ui.end_row();
         ui.label("specular level");
-        ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=1.0));
+        changed |= ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=1.0)).changed();
         ui.end_row();
         ui.label("specular exponent");
-        ui.add(egui::Slider::new(&mut m.specular_exponent, 1.0..=2048.0).logarithmic(true));
+        changed |= ui.add(egui::Slider::new(&mut m.specular_exponent, 1.0..=2048.0).logarithmic(true)).changed();
         ui.end_row();
         ui.label("emissive");
         let mut e = m.emissive.to_array();
-        ui.color_edit_button_rgb(&mut e);
-        m.emissive = Vec3::from(e);
+        if ui.color_edit_button_rgb(&mut e).changed() {
+            m.emissive = Vec3::from(e);
+            changed = true;
+        }
         ui.end_row();
     });
-    if m != before {
+    if changed {
         if m.diffuse.is_finite() && m.emissive.is_finite() && m.emissive.min_element() >= 0.0 {
             st.material_edits.insert(k, m);
         } else {
@@ -868,7 +896,8 @@ fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
             row(ui, "spec level / exp", format!("{:.3} / {:.1}", p.specular_level, p.specular_exponent));
             row(ui, "normal (view)", v3(p.normal));
             row(ui, "emissive", v3(p.emissive));
-            row(ui, "position (view)", v3(p.position));
+            let q = p.position;
+            row(ui, "position (view)", format!("{:.2} {:.2} {:.2}", q.x, q.y, q.z));
             row(ui, "diffuse light", v3(p.diffuse_light));
             row(ui, "specular light", v3(p.specular_light));
             row(ui, "lit (linear)", v3(p.lit));
@@ -911,7 +940,7 @@ fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     let gap = 6.0;
     let aspect = f.viewport.map_or(16.0 / 9.0, |(_, [w, h])| w as f32 / h.max(1) as f32);
     let max_h = (ui.available_height() - 40.0).clamp(24.0, 120.0);
-    let thumb_w = ((ui.available_width() - gap * (n - 1.0)) / n).clamp(64.0, max_h * aspect);
+    let thumb_w = ((ui.available_width() - gap * (n - 1.0)) / n).clamp(64.0, (max_h * aspect).max(64.0));
     let thumb_h = thumb_w / aspect;
     egui::ScrollArea::horizontal().id_salt("thumbs").auto_shrink([false, true]).show(ui, |ui| {
         ui.horizontal(|ui| {

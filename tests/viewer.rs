@@ -23,13 +23,19 @@ fn has_display() -> bool {
     ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var(v).is_ok_and(|s| !s.is_empty()))
 }
 
+/// Skips a window test without a display, loudly: written straight to stderr, which the test
+/// harness does not capture (it captures only `print!`/`eprint!`), so the skip shows in every run.
 macro_rules! need_display {
     () => {
         if !has_display() {
-            eprintln!(
+            use std::io::Write as _;
+            fn here() {}
+            let test = std::any::type_name_of_val(&here).trim_end_matches("::here");
+            let _ = writeln!(
+                std::io::stderr(),
                 "SKIPPED {}: no DISPLAY. Run the window tests under an X server: \
                  xvfb-run -a -s \"-screen 0 1280x720x24\" cargo test --test viewer",
-                module_path!()
+                test
             );
             return;
         }

@@ -3,6 +3,8 @@
 //!
 //! Needs an X server: CI runs `xvfb-run -a -s "-screen 0 1280x720x24" cargo test`. Without
 //! DISPLAY the window tests print that they are skipped; the bad-input tests run anyway.
+//! Built only with the `viewer` feature (the default): the core tests without it.
+#![cfg(feature = "viewer")]
 
 use image::RgbaImage;
 use lampshade::compare::{flip, max_channel_difference};
@@ -574,4 +576,17 @@ fn bad_input_fails_with_a_message_and_no_panic() {
         assert!(stderr.contains(needle), "{args:?}: expected '{needle}' in:\n{stderr}");
         assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
     }
+}
+
+#[test]
+fn every_script_in_tests_parses() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(root().join("tests")).expect("tests/") {
+        let path = entry.expect("a directory entry").path();
+        if path.extension().is_some_and(|e| e == "script") {
+            lampshade::app::script::Script::load(&path).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+            n += 1;
+        }
+    }
+    assert!(n >= 1, "no tests/*.script found");
 }

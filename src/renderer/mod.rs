@@ -747,13 +747,17 @@ impl Renderer {
                 .gbuffer
                 .views
                 .iter()
-                .map(|v| {
+                .zip(&t.gbuffer.layout.targets)
+                .map(|(v, desc)| {
+                    // Background: the depth copy holds the far plane's depth, the rest zero.
+                    let has_depth = desc.channels.iter().flatten().any(|s| s.attr == gbuffer::Attr::Depth);
+                    let r = if has_depth { far_depth } else { 0.0 };
                     Some(wgpu::RenderPassColorAttachment {
                         view: v,
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color { r: far_depth, g: 0.0, b: 0.0, a: 0.0 }),
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r, g: 0.0, b: 0.0, a: 0.0 }),
                             store: wgpu::StoreOp::Store,
                         },
                     })

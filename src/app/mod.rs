@@ -777,7 +777,7 @@ impl ApplicationHandler for App {
                     match k.state {
                         ElementState::Pressed => {
                             let text_focus = g.egui_ctx.egui_wants_keyboard_input();
-                            if !k.repeat && !(consumed && text_focus) {
+                            if !(k.repeat || consumed && text_focus) {
                                 self.keys.taps.push(code);
                             }
                             if !text_focus {

@@ -457,8 +457,7 @@ mod tests {
 
     #[test]
     fn edits_survive_animation() {
-        let mut s = UiState::default();
-        s.lights = Some(8);
+        let mut s = UiState { lights: Some(8), ..UiState::default() };
         let mut cache = SceneCache::default();
         let a = cache.frame_scene(&s).unwrap();
         s.selected_light = Some(2);

@@ -16,14 +16,14 @@ const MAX_PITCH: f64 = 1.55;
 pub const BINDINGS: &[(&str, &str)] = &[
     ("W / S", "move up / down"),
     ("A / D", "move left / right"),
-    ("E / Q", "move forward / back"),
-    ("Z / X", "rotate around the point in view"),
-    ("Arrows, left drag", "look around"),
+    ("E / Q", "forward / back"),
+    ("Z / X", "rotate about the view"),
+    ("Arrows, drag", "look around"),
     ("Shift", "4x faster"),
-    ("Space", "animate lights on / off"),
-    ("Click in viewport", "select the light there"),
-    ("F12", "screenshot (PNG + settings JSON)"),
-    ("F1", "help"),
+    ("Space", "animate lights"),
+    ("Click", "select a light"),
+    ("F12", "screenshot + settings"),
+    ("F1", "this help"),
 ];
 
 /// Camera-relative up: right x forward.

@@ -683,7 +683,7 @@ fn help_tab(ui: &mut egui::Ui) {
     ui.label(RichText::new("Controls").strong());
     egui::Grid::new("help").num_columns(2).striped(true).show(ui, |ui| {
         for (k, what) in camera::BINDINGS {
-            ui.label(RichText::new(*k).monospace());
+            ui.label(RichText::new(*k).strong());
             ui.label(*what);
             ui.end_row();
         }
@@ -695,7 +695,7 @@ fn help_tab(ui: &mut egui::Ui) {
     ui.label("Complexity: how many lights shaded each pixel.");
     ui.separator();
     ui.label(RichText::new("Scripts").strong());
-    ui.label("lampshade view SCENE --script FILE: one 'FRAME ACTION ARGS' per line (see src/app/script.rs).");
+    ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");
 }
 
 fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {

@@ -368,36 +368,26 @@ fn nonsense_panel_input_is_rejected_visibly_and_the_run_goes_on() {
 fn a_screenshot_settings_file_reproduces_the_viewport() {
     need_display!();
     let t = tour();
-    let file = t.dir.join("volume-viewport.json");
-    let doc = json(&t.dir, "volume-viewport.json");
-    // The file is a Settings (what `render --settings` reads) with the scene's keys beside it.
-    let settings: Settings = serde_json::from_value(doc.clone()).expect("the screenshot JSON is a Settings");
-    assert_eq!(settings.culling.name(), "volume");
-    for key in ["scene", "time", "camera", "size", "lights", "viewer"] {
-        assert!(doc.get(key).is_some(), "the settings file lacks '{key}'");
+    // The file is a Settings (what `render --settings` reads) with the scene's keys beside it;
+    // `render --settings FILE` alone reproduces the image: scene, lights, time, camera, size.
+    // `up` was taken after the camera moved, `stencil` in another view.
+    for shot in ["volume", "up", "stencil"] {
+        let name = format!("{shot}-viewport.json");
+        let doc = json(&t.dir, &name);
+        let _: Settings = serde_json::from_value(doc.clone()).expect("the screenshot JSON is a Settings");
+        for key in ["scene", "time", "camera", "size", "lights", "viewer"] {
+            assert!(doc.get(key).is_some(), "{name} lacks '{key}'");
+        }
+        let file = t.dir.join(&name);
+        let png = t.dir.join(format!("{shot}-rendered.png"));
+        let out = lampshade(&["render", "--settings", file.to_str().unwrap(), "--out", png.to_str().unwrap()], &t.dir);
+        assert!(out.status.success(), "render --settings {name} failed: {}", text(&out).1);
+        let rendered = load(&t.dir, &format!("{shot}-rendered.png"));
+        let shown = load(&t.dir, &format!("{shot}-viewport.png"));
+        assert_eq!(rendered.dimensions(), shown.dimensions(), "{name}: size");
+        let step = max_channel_difference(&rendered, &shown);
+        assert!(step <= MAX_CHANNEL_STEP, "{shot}: the viewport and `lampshade render` differ by {step} steps");
     }
-    let size = format!("{}x{}", doc["size"][0], doc["size"][1]);
-    let time = doc["time"].as_f64().expect("time").to_string();
-    let scene = doc["scene"].as_str().expect("scene");
-    let png = t.dir.join("rendered.png");
-    let args = [
-        "render",
-        scene,
-        "--settings",
-        file.to_str().unwrap(),
-        "--size",
-        &size,
-        "--time",
-        &time,
-        "--out",
-        png.to_str().unwrap(),
-    ];
-    let out = lampshade(&args, &t.dir);
-    assert!(out.status.success(), "render failed: {}", text(&out).1);
-    let rendered = load(&t.dir, "rendered.png");
-    let shown = load(&t.dir, "volume-viewport.png");
-    let step = max_channel_difference(&rendered, &shown);
-    assert!(step <= MAX_CHANNEL_STEP, "the viewport and `lampshade render` differ by {step} steps");
 }
 
 /// Where light `k`'s centre appears in the viewport, as fractions of its size.

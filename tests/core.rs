@@ -149,3 +149,24 @@ fn the_fitted_layout_models_only_what_the_scene_needs() {
     let (r, _) = flip(&a.image, &b.image).unwrap();
     assert!(r.mean < 0.01, "FLIP mean {}", r.mean);
 }
+
+#[test]
+fn light_complexity_counts_the_lights_touching_each_pixel() {
+    // The heatmap is drawn with light volumes; it must agree with the probe's CPU list of
+    // lights whose true shape holds the pixel's point.
+    let gpu = gpu();
+    let scene = scene("coincident");
+    let s = Settings { debug_view: DebugView::Complexity, ..Settings::default() };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+    let (img, _) = render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for k in 0..64u32 {
+        let (x, y) = ((k * 29 + 7) % W, (k * 13 + 5) % H);
+        let p = r.probe(gpu, x, y).unwrap();
+        let shown = img.get_pixel(x, y).0;
+        let grey_background = shown[0] == shown[1] && shown[1] == shown[2];
+        assert_eq!(p.lights.is_empty(), grey_background, "({x},{y}): lights {:?}, pixel {shown:?}", p.lights);
+        seen.insert(p.lights.len());
+    }
+    assert!(seen.len() >= 2, "the samples should see pixels with different light counts: {seen:?}");
+}

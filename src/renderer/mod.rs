@@ -955,12 +955,17 @@ impl Renderer {
             };
             for i in selected {
                 let li = i as u32..i as u32 + 1;
+                let (range, base) = self.volume_range(self.plans[i].volume);
                 if settings.debug_view == DebugView::Complexity {
-                    pass.set_pipeline(&p.complexity);
-                    pass.draw(0..3, li);
+                    if self.plans[i].crosses_far && !self.depth_clamp() {
+                        pass.set_pipeline(&p.complexity_fullscreen);
+                        pass.draw(0..3, li);
+                    } else {
+                        pass.set_pipeline(&p.complexity);
+                        pass.draw_indexed(range, base, li);
+                    }
                     continue;
                 }
-                let (range, base) = self.volume_range(self.plans[i].volume);
                 pass.set_stencil_reference(0);
                 for pipe in [&p.classify_blue, &p.classify_red, &p.classify_green] {
                     pass.set_pipeline(pipe);

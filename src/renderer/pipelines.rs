@@ -67,6 +67,7 @@ pub struct Pipelines {
     pub classify_red: wgpu::RenderPipeline,
     pub classify_green: wgpu::RenderPipeline,
     pub complexity: wgpu::RenderPipeline,
+    pub complexity_fullscreen: wgpu::RenderPipeline,
     pub compose: wgpu::RenderPipeline,
 }
 
@@ -491,8 +492,19 @@ impl Pipelines {
                 two_pass_shade_stencil.clone(),
                 Out::Debug(MAX),
             ),
+            // Light complexity counts the points inside each light's true shape (the shader
+            // discards the rest), drawn as the plain volume method draws the light.
             complexity: ll(
                 "light complexity",
+                Vs::Volume,
+                "fs_complexity",
+                Some(Front),
+                Cmp::GreaterEqual,
+                none.clone(),
+                Out::Debug(ADDITIVE),
+            ),
+            complexity_fullscreen: ll(
+                "light complexity (full-screen)",
                 Vs::Fullscreen,
                 "fs_complexity",
                 None,

@@ -855,20 +855,13 @@ impl Renderer {
                 let q = (i - b * chunk) as u32;
                 let shade = |pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, fullscreen: bool| {
                     pass.set_pipeline(pipeline);
-                    let coverage = if want_counts { self.queries.coverage.get(b) } else { None };
                     if want_counts {
                         pass.begin_occlusion_query(q);
-                    }
-                    if let Some(set) = coverage {
-                        pass.begin_pipeline_statistics_query(set, q);
                     }
                     if fullscreen {
                         pass.draw(0..3, li.clone());
                     } else {
                         pass.draw_indexed(range.clone(), base, li.clone());
-                    }
-                    if coverage.is_some() {
-                        pass.end_pipeline_statistics_query();
                     }
                     if want_counts {
                         pass.end_occlusion_query();
@@ -880,10 +873,6 @@ impl Renderer {
                         if want_counts {
                             pass.begin_occlusion_query(q);
                             pass.end_occlusion_query();
-                            if let Some(set) = self.queries.coverage.get(b) {
-                                pass.begin_pipeline_statistics_query(set, q);
-                                pass.end_pipeline_statistics_query();
-                            }
                         }
                     }
                     Method::Fullscreen => shade(&mut pass, &p.light_fullscreen, true),
@@ -1017,6 +1006,49 @@ impl Renderer {
                     pass.begin_occlusion_query((i - b * chunk) as u32);
                     pass.draw(0..3, i as u32..i as u32 + 1);
                     pass.end_occlusion_query();
+                }
+                drop(pass);
+                let load_accum = [&t.diffuse_view, &t.specular_view].map(|view| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+                    })
+                });
+                // Rasterised coverage of each volume's back faces (what the volume methods
+                // rasterise), from pipeline statistics, in a pass of its own: lavapipe returns
+                // wrong occlusion counts when pipeline-statistics queries share their pass.
+                let Some(set) = self.queries.coverage.get(b) else { continue };
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("coverage count"),
+                    color_attachments: &load_accum,
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &self.frame_group, &[]);
+                pass.set_bind_group(1, &t.gbuffer_group, &[]);
+                pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
+                pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+                for i in b * chunk..((b + 1) * chunk).min(n) {
+                    let li = i as u32..i as u32 + 1;
+                    let plan = self.plans[i];
+                    pass.begin_pipeline_statistics_query(set, (i - b * chunk) as u32);
+                    if plan.method == Method::Fullscreen {
+                        pass.set_pipeline(&p.coverage_fullscreen);
+                        pass.draw(0..3, li);
+                    } else if plan.method != Method::Skipped {
+                        let (range, base) = self.volume_range(plan.volume);
+                        pass.set_pipeline(&p.coverage);
+                        pass.draw_indexed(range, base, li);
+                    }
+                    pass.end_pipeline_statistics_query();
                 }
             }
         }

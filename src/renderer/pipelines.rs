@@ -67,6 +67,8 @@ pub struct Pipelines {
     pub classify_red: wgpu::RenderPipeline,
     pub classify_green: wgpu::RenderPipeline,
     pub complexity: wgpu::RenderPipeline,
+    pub coverage: wgpu::RenderPipeline,
+    pub coverage_fullscreen: wgpu::RenderPipeline,
     pub complexity_fullscreen: wgpu::RenderPipeline,
     pub compose: wgpu::RenderPipeline,
 }
@@ -502,6 +504,16 @@ impl Pipelines {
                 Cmp::GreaterEqual,
                 none.clone(),
                 Out::Debug(ADDITIVE),
+            ),
+            coverage: ll("coverage", Vs::Volume, "fs_no_color", Some(Front), Cmp::Always, none.clone(), Out::NoColor),
+            coverage_fullscreen: ll(
+                "coverage (full-screen)",
+                Vs::Fullscreen,
+                "fs_no_color",
+                None,
+                Cmp::Always,
+                none.clone(),
+                Out::NoColor,
             ),
             complexity_fullscreen: ll(
                 "light complexity (full-screen)",

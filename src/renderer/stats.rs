@@ -47,8 +47,9 @@ pub struct LightStats {
     pub shaded: Option<u64>,
     /// Samples whose G-buffer point lies inside the light's true shape.
     pub ideal: Option<u64>,
-    /// Fragment-shader invocations of the shading draw (pipeline statistics; on lavapipe the
-    /// rasterised coverage before depth and stencil tests).
+    /// Rasterised coverage of the light's bounding volume (its back faces, or the screen for
+    /// full-screen lights): fragment-shader invocations from pipeline statistics, counted with
+    /// the ideal.
     pub coverage: Option<u64>,
 }
 
@@ -176,12 +177,12 @@ impl Queries {
             let count = (n - b * LIGHTS_PER_QUERY_SET).min(LIGHTS_PER_QUERY_SET) as u32;
             if counts {
                 encoder.resolve_query_set(&self.occlusion[b], 0..count, resolve, occ_off + b as u64 * block);
-                if let Some(set) = self.coverage.get(b) {
-                    encoder.resolve_query_set(set, 0..count, resolve, cov_off + b as u64 * block);
-                }
             }
             if ideal {
                 encoder.resolve_query_set(&self.ideal[b], 0..count, resolve, ideal_off + b as u64 * block);
+                if let Some(set) = self.coverage.get(b) {
+                    encoder.resolve_query_set(set, 0..count, resolve, cov_off + b as u64 * block);
+                }
             }
         }
         if counts || ideal || times {
@@ -255,12 +256,12 @@ impl Queries {
             for (i, l) in stats.per_light.iter_mut().enumerate() {
                 if counts {
                     l.shaded = Some(at(occ_off, i));
-                    if self.coverage_supported {
-                        l.coverage = Some(at(cov_off, i));
-                    }
                 }
                 if ideal {
                     l.ideal = Some(at(ideal_off, i));
+                    if self.coverage_supported {
+                        l.coverage = Some(at(cov_off, i));
+                    }
                 }
             }
         }
@@ -268,7 +269,7 @@ impl Queries {
         if counts {
             stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
         }
-        if counts && self.coverage_supported {
+        if ideal && self.coverage_supported {
             stats.coverage_fragments = Some(stats.per_light.iter().filter_map(|l| l.coverage).sum());
         }
         if ideal {

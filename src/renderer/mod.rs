@@ -200,6 +200,22 @@ fn texture(
     })
 }
 
+impl Targets {
+    /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to
+    /// zero or kept.
+    fn depth_attachment(&self, clear_stencil: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        let store = wgpu::StoreOp::Store;
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.depth,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store }),
+            stencil_ops: Some(wgpu::Operations {
+                load: if clear_stencil { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                store,
+            }),
+        }
+    }
+}
+
 impl Renderer {
     pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
         let device = gpu.device.clone();
@@ -832,11 +848,7 @@ impl Renderer {
                         ops: accum_ops,
                     }),
                 ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &t.depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
-                }),
+                depth_stencil_attachment: Some(t.depth_attachment(true)),
                 timestamp_writes,
                 occlusion_query_set: if want_counts { self.queries.occlusion.get(b) } else { None },
                 multiview_mask: None,
@@ -927,11 +939,7 @@ impl Renderer {
                         store: wgpu::StoreOp::Store,
                     },
                 })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &t.depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
-                }),
+                depth_stencil_attachment: Some(t.depth_attachment(true)),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,
@@ -993,11 +1001,7 @@ impl Renderer {
                             ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
                         }),
                     ],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    }),
+                    depth_stencil_attachment: Some(t.depth_attachment(false)),
                     timestamp_writes: None,
                     occlusion_query_set: self.queries.ideal.get(b),
                     multiview_mask: None,
@@ -1026,11 +1030,7 @@ impl Renderer {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("coverage count"),
                     color_attachments: &load_accum,
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                    }),
+                    depth_stencil_attachment: Some(t.depth_attachment(false)),
                     timestamp_writes: None,
                     occlusion_query_set: None,
                     multiview_mask: None,

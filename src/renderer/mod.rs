@@ -853,16 +853,13 @@ impl Renderer {
                 occlusion_query_set: if want_counts { self.queries.occlusion.get(b) } else { None },
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &self.frame_group, &[]);
-            pass.set_bind_group(1, &t.gbuffer_group, &[]);
+            self.bind_light_inputs(&mut pass, t);
             if first {
                 pass.push_debug_group("ambient + sun");
                 pass.set_pipeline(&p.ambient);
                 pass.draw(0..3, 0..1);
                 pass.pop_debug_group();
             }
-            pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
-            pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
             for i in b * chunk..((b + 1) * chunk).min(n) {
                 let plan = self.plans[i];
                 let li = i as u32..i as u32 + 1;
@@ -944,10 +941,7 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &self.frame_group, &[]);
-            pass.set_bind_group(1, &t.gbuffer_group, &[]);
-            pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
-            pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+            self.bind_light_inputs(&mut pass, t);
             let selected: Vec<usize> = match settings.selected_light {
                 Some(k) if k < n => vec![k],
                 Some(_) => Vec::new(),
@@ -1006,8 +1000,7 @@ impl Renderer {
                     occlusion_query_set: self.queries.ideal.get(b),
                     multiview_mask: None,
                 });
-                pass.set_bind_group(0, &self.frame_group, &[]);
-                pass.set_bind_group(1, &t.gbuffer_group, &[]);
+                self.bind_light_inputs(&mut pass, t);
                 pass.set_pipeline(&p.ideal);
                 for i in b * chunk..((b + 1) * chunk).min(n) {
                     pass.begin_occlusion_query((i - b * chunk) as u32);
@@ -1035,10 +1028,7 @@ impl Renderer {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_bind_group(0, &self.frame_group, &[]);
-                pass.set_bind_group(1, &t.gbuffer_group, &[]);
-                pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
-                pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
+                self.bind_light_inputs(&mut pass, t);
                 for i in b * chunk..((b + 1) * chunk).min(n) {
                     let li = i as u32..i as u32 + 1;
                     let plan = self.plans[i];
@@ -1055,6 +1045,14 @@ impl Renderer {
                 }
             }
         }
+    }
+
+    /// Frame uniforms, the G-buffer and the light-volume meshes: what every light draw reads.
+    fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>, t: &Targets) {
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(1, &t.gbuffer_group, &[]);
+        pass.set_vertex_buffer(0, self.volume_vertices.slice(..));
+        pass.set_index_buffer(self.volume_indices.slice(..), wgpu::IndexFormat::Uint32);
     }
 
     fn pass_timestamps(&self, want: bool, begin: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {

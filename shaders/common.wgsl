@@ -35,11 +35,19 @@ struct GpuObject {
     normal_view: mat4x4<f32>,
     albedo_spec: vec4<f32>,
     emissive_exp: vec4<f32>,
+    // alpha factor, alpha cutoff (mask), normal scale, 0
+    material: vec4<f32>,
+    // metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness texture
+    pbr: vec4<f32>,
+    // flags (LS_MAT_*), first entry in light_lists, count (forward-shaded objects), 0
+    info: vec4<u32>,
 };
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> lights: array<GpuLight>;
 @group(0) @binding(2) var<storage, read> objects: array<GpuObject>;
+// Per forward-shaded object, the lights that reach it (indices into `lights`).
+@group(0) @binding(3) var<storage, read> light_lists: array<u32>;
 
 // What a G-buffer pixel describes, decoded.
 struct Surface {

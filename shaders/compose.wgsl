@@ -12,6 +12,8 @@ struct ComposeParams {
     scale: vec2<f32>,
 };
 @group(2) @binding(3) var<uniform> compose: ComposeParams;
+// The HDR scene colour (only scenes with blended surfaces compose through it).
+@group(3) @binding(0) var hdr_color: texture_2d<f32>;
 
 // ACES filmic tonemapping curve, Narkowicz 2015 fit.
 fn aces(x: vec3<f32>) -> vec3<f32> {
@@ -37,6 +39,24 @@ fn heat(t: f32) -> vec3<f32> {
 @vertex
 fn vs_compose(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
     return fullscreen_position(vi);
+}
+
+// The lit picture in linear HDR, before exposure and tonemapping: what the forward pass blends
+// transparent surfaces over.
+@fragment
+fn fs_compose_hdr(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let s = gbuffer_load(p);
+    let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
+    let specular = finite(textureLoad(light_specular, p, 0).rgb);
+    return vec4<f32>(select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid), 1.0);
+}
+
+// Exposure and tonemapping of the HDR scene colour.
+@fragment
+fn fs_tonemap(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = finite(textureLoad(hdr_color, vec2<i32>(floor(frag.xy)), 0).rgb);
+    return vec4<f32>(aces(c * camera.params.x), 1.0);
 }
 
 @fragment

@@ -1,10 +1,22 @@
-// G-buffer pass (seed 000: all lighting inputs in one pass with multiple render targets).
+// G-buffer pass (seed 000: all lighting inputs in one pass with multiple render targets), with
+// the material's textures (seed 003: diffuse, normal and specular maps), and the forward pass
+// that shades what deferred shading cannot: blended (transparent) surfaces (seeds 002-004).
+
+// Group 1 is the G-buffer in the lighting passes of this module; the material's bindings start
+// at 10 so the two never share a slot.
+@group(1) @binding(10) var base_color_tex: texture_2d<f32>;
+@group(1) @binding(11) var normal_tex: texture_2d<f32>;
+@group(1) @binding(12) var emissive_tex: texture_2d<f32>;
+@group(1) @binding(13) var metal_rough_tex: texture_2d<f32>;
+@group(1) @binding(14) var material_sampler: sampler;
 
 struct GeometryOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) view_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) object: u32,
+    @location(3) uv: vec2<f32>,
+    @location(4) tangent: vec4<f32>,
 };
 
 @vertex
@@ -12,6 +24,7 @@ fn vs_geometry(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
     @builtin(instance_index) object: u32,
 ) -> GeometryOut {
     let o = objects[object];
@@ -21,21 +34,102 @@ fn vs_geometry(
     out.view_pos = v.xyz;
     out.normal = (o.normal_view * vec4<f32>(normal, 0.0)).xyz;
     out.object = object;
+    out.uv = uv;
+    // Tangents transform with the model-view matrix (they lie in the surface).
+    out.tangent = vec4<f32>((o.model_view * vec4<f32>(tangent.xyz, 0.0)).xyz, tangent.w);
     return out;
+}
+
+// Blinn-Phong terms from metallic-roughness, per pixel; the same mapping as
+// `Material::blinn_phong_from_pbr` in Rust (keep the two in step).
+fn blinn_phong_from_pbr(base: vec3<f32>, metallic: f32, roughness: f32, f0_dielectric: f32, s: ptr<function, Surface>) {
+    let m = clamp(metallic, 0.0, 1.0);
+    let r = clamp(roughness, 0.0, 1.0);
+    let lum = dot(base, vec3<f32>(0.2126, 0.7152, 0.0722));
+    let f0 = mix(f0_dielectric, lum, m);
+    let a = max(r * r, 1e-3);
+    let e = clamp(2.0 / (a * a) - 2.0, 1.0, 2048.0);
+    (*s).albedo = base * (1.0 - m);
+    (*s).spec_exp = e;
+    (*s).spec_level = clamp(f0 * (e + 8.0) / 8.0, 0.0, 1.0);
+}
+
+// The surface a fragment describes, with its material's textures applied; .w of the result
+// is the alpha.
+fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> f32 {
+    let o = objects[in.object];
+    let flags = o.info.x;
+    let base = textureSample(base_color_tex, material_sampler, in.uv);
+    (*s).albedo = o.albedo_spec.rgb * base.rgb;
+    (*s).spec_level = o.albedo_spec.a;
+    (*s).spec_exp = o.emissive_exp.a;
+    if (flags & LS_MAT_METAL_ROUGH) != 0u {
+        let mr = textureSample(metal_rough_tex, material_sampler, in.uv);
+        blinn_phong_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.y * mr.g, o.pbr.z, s);
+    }
+    var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
+    if (flags & LS_MAT_NORMAL_MAP) != 0u {
+        // Tangent space from the interpolated frame (MikkTSpace convention: the bitangent is
+        // rebuilt from normal x tangent with the stored sign, not interpolated).
+        let t = safe_normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+        let b = cross(n, t) * select(1.0, -1.0, in.tangent.w < 0.0);
+        let m = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
+        let scaled = vec3<f32>(m.xy * o.material.z, m.z);
+        n = safe_normalize(t * scaled.x + b * scaled.y + n * scaled.z, n);
+    }
+    // Back faces (double-sided materials) are lit from their own side.
+    (*s).normal = select(-n, n, front);
+    (*s).emissive = o.emissive_exp.rgb * textureSample(emissive_tex, material_sampler, in.uv).rgb;
+    (*s).position = in.view_pos;
+    (*s).depth = in.clip.z;
+    (*s).valid = true;
+    return o.material.x * base.a;
 }
 
 @fragment
 fn fs_geometry(in: GeometryOut, @builtin(front_facing) front: bool) -> GBufferOut {
-    let o = objects[in.object];
     var s: Surface;
-    s.albedo = o.albedo_spec.rgb;
-    s.spec_level = o.albedo_spec.a;
-    s.spec_exp = o.emissive_exp.a;
-    let n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
-    s.normal = select(-n, n, front);
-    s.emissive = o.emissive_exp.rgb;
-    s.position = in.view_pos;
-    s.depth = in.clip.z;
-    s.valid = true;
+    _ = material_surface(in, front, &s);
     return gbuffer_store(s);
+}
+
+// Alpha MASK: punch-through, the fragment is dropped below the cutoff.
+@fragment
+fn fs_geometry_masked(in: GeometryOut, @builtin(front_facing) front: bool) -> GBufferOut {
+    var s: Surface;
+    let alpha = material_surface(in, front, &s);
+    if alpha < objects[in.object].material.y {
+        discard;
+    }
+    return gbuffer_store(s);
+}
+
+// Alpha BLEND: shaded forward, in the same lighting model, by the lights whose volume reaches
+// the object (its list is built on the CPU), into the HDR scene colour the compose pass wrote.
+// The result is blended over it with the material's alpha.
+@fragment
+fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    var s: Surface;
+    let alpha = clamp(material_surface(in, front, &s), 0.0, 1.0);
+    let o = objects[in.object];
+    let clamp_max = vec3<f32>(camera.params.w);
+    var diffuse = camera.ambient.rgb;
+    var specular = vec3<f32>(0.0);
+    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+    if camera.sun_dir.w > 0.5 {
+        let L = camera.sun_dir.xyz;
+        let ndl = max(dot(s.normal, L), 0.0);
+        let H = safe_normalize(L + V, s.normal);
+        diffuse += camera.sun_color.rgb * ndl;
+        specular += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
+    }
+    diffuse = min(diffuse, clamp_max);
+    specular = min(specular, clamp_max);
+    for (var k = 0u; k < o.info.z; k++) {
+        let r = shade_light(s, lights[light_lists[o.info.y + k]]);
+        diffuse += min(r.diffuse, clamp_max);
+        specular += min(r.specular, clamp_max);
+    }
+    let lit = diffuse * s.albedo + specular + s.emissive;
+    return vec4<f32>(min(lit, vec3<f32>(65504.0)), alpha);
 }

@@ -27,8 +27,15 @@ enum Command {
 
 #[derive(clap::Args)]
 struct RenderArgs {
-    /// Built-in scene name (see `lampshade scenes`); default `demo`, or the settings file's.
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default
+    /// `demo`, or the settings file's.
     scene: Option<String>,
+    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
+    #[arg(long, default_value_t = 8)]
+    light_grid: u32,
+    /// Start from the file's viewpoint K (its cameras in order, then a framing view).
+    #[arg(long)]
+    viewpoint: Option<usize>,
     /// Output PNG.
     #[arg(long)]
     out: PathBuf,
@@ -185,7 +192,17 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     settings.count_ideal = args.ideal || args.stats.is_some();
     settings.validate().map_err(anyhow::Error::msg)?;
-    let mut scene = builtin::build(&scene_name, BuiltinOptions { lights, time }).map_err(anyhow::Error::msg)?;
+    let import = lampshade::scene::import::ImportOptions { light_grid: args.light_grid, ..Default::default() };
+    let (mut scene, warnings) = open_scene(&scene_name, BuiltinOptions { lights, time }, &import)?;
+    for w in &warnings {
+        eprintln!("warning: {scene_name}: {w}");
+    }
+    if let Some(k) = args.viewpoint {
+        let Some((_, camera)) = scene.viewpoints.get(k) else {
+            bail!("--viewpoint {k}: '{scene_name}' offers {} viewpoint(s)", scene.viewpoints.len());
+        };
+        scene.camera = *camera;
+    }
     if let Some(camera) = keys.camera {
         camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
         scene.camera = camera;
@@ -231,6 +248,26 @@ fn render(args: RenderArgs) -> Result<()> {
             .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
+}
+
+/// Opens a built-in scene or a glTF file, showing the load's progress on a terminal.
+fn open_scene(
+    name: &str,
+    builtin: BuiltinOptions,
+    import: &lampshade::scene::import::ImportOptions,
+) -> Result<(lampshade::Scene, Vec<String>)> {
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let result = lampshade::scene::open(name, builtin, import, &mut |p| {
+        bar.set_message(p.stage.to_string());
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+    });
+    bar.finish_and_clear();
+    result
 }
 
 fn main() {

@@ -4,6 +4,7 @@
 
 pub mod gbuffer;
 pub mod inspect;
+pub mod materials;
 pub mod pipelines;
 pub mod settings;
 pub mod stats;
@@ -17,6 +18,7 @@ pub use inspect::{volume_wireframe, PixelProbe};
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 pub use settings::{AccumFormat, CullingMode, DebugView, LayoutChoice, Settings};
 pub use stats::{FrameStats, LightStats, Method};
+use materials::DefaultTextures;
 use volumes::VolumeMesh;
 use wgpu::util::DeviceExt;
 
@@ -67,6 +69,9 @@ struct ObjectRaw {
     normal_view: [[f32; 4]; 4],
     albedo_spec: [f32; 4],
     emissive_exp: [f32; 4],
+    material: [f32; 4],
+    pbr: [f32; 4],
+    info: [u32; 4],
 }
 
 /// The most one light (and the ambient + sun pass) may add to a channel of the accumulation
@@ -131,6 +136,47 @@ struct SceneGeometry {
     indices: wgpu::Buffer,
     /// Per object: index range and base vertex of its mesh.
     draws: Vec<(std::ops::Range<u32>, i32)>,
+    /// Per mesh: bounding sphere (centre, radius) in model space.
+    bounds: Vec<(glam::DVec3, f64)>,
+    /// Per material: its textures and sampler.
+    materials: Vec<wgpu::BindGroup>,
+    /// What was loaded, to notice a different scene.
+    fingerprint: SceneFingerprint,
+    /// Kept alive for the bind groups.
+    _textures: Vec<wgpu::Texture>,
+}
+
+/// Enough of a scene to tell that `render` was handed a different one than was loaded.
+#[derive(Clone, Debug, PartialEq)]
+struct SceneFingerprint {
+    name: String,
+    meshes: usize,
+    vertices: usize,
+    objects: usize,
+    materials: usize,
+    textures: Vec<usize>,
+}
+
+impl SceneFingerprint {
+    fn of(scene: &Scene) -> Self {
+        Self {
+            name: scene.name.clone(),
+            meshes: scene.meshes.len(),
+            vertices: scene.meshes.iter().map(|m| m.vertices.len()).sum(),
+            objects: scene.objects.len(),
+            materials: scene.materials.len(),
+            textures: scene.textures.iter().map(|t| std::sync::Arc::as_ptr(t) as usize).collect(),
+        }
+    }
+}
+
+/// Objects of one frame by how they are drawn.
+#[derive(Default)]
+struct DrawLists {
+    /// Into the G-buffer: (object, geometry pipeline index, material).
+    gbuffer: Vec<(usize, usize, usize)>,
+    /// Forward, blended, sorted back to front: (object, forward pipeline index, material).
+    forward: Vec<(usize, usize, usize)>,
 }
 
 struct Targets {
@@ -145,6 +191,8 @@ struct Targets {
     debug_view: wgpu::TextureView,
     gbuffer_group: wgpu::BindGroup,
     compose_group: wgpu::BindGroup,
+    /// HDR scene colour and its bind group; only for scenes with blended surfaces.
+    hdr: Option<(wgpu::TextureView, wgpu::BindGroup)>,
 }
 
 pub struct Renderer {
@@ -159,7 +207,12 @@ pub struct Renderer {
     camera_buf: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
     objects_buf: wgpu::Buffer,
+    light_lists_buf: wgpu::Buffer,
     frame_group: wgpu::BindGroup,
+    /// The material sampler and the 1x1 textures that stand in for absent ones.
+    sampler: wgpu::Sampler,
+    defaults: DefaultTextures,
+    draw_lists: DrawLists,
     volume_vertices: wgpu::Buffer,
     volume_indices: wgpu::Buffer,
     sphere: VolumeMesh,
@@ -250,8 +303,20 @@ impl Renderer {
             })
         };
         let lights_buf = storage("lights", 64 * 64);
-        let objects_buf = storage("objects", 160 * 64);
-        let frame_group = Self::frame_group(&device, &pipelines, &camera_buf, &lights_buf, &objects_buf);
+        let objects_buf = storage("objects", 256 * 64);
+        let light_lists_buf = storage("light lists", 4 * 64);
+        let frame_group =
+            Self::frame_group(&device, &pipelines, [&camera_buf, &lights_buf, &objects_buf, &light_lists_buf]);
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("material"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let defaults = DefaultTextures::new(&device, &gpu.queue);
         let sphere = VolumeMesh::sphere(SPHERE_SUBDIVISIONS);
         let cone = VolumeMesh::cone(CONE_SIDES);
         let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
@@ -287,7 +352,11 @@ impl Renderer {
             camera_buf,
             lights_buf,
             objects_buf,
+            light_lists_buf,
             frame_group,
+            sampler,
+            defaults,
+            draw_lists: DrawLists::default(),
             volume_vertices,
             volume_indices,
             sphere,
@@ -311,22 +380,22 @@ impl Renderer {
         Ok(p)
     }
 
-    fn frame_group(
-        device: &wgpu::Device,
-        p: &Pipelines,
-        camera: &wgpu::Buffer,
-        lights: &wgpu::Buffer,
-        objects: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &p.frame_bgl,
-            entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: lights.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: objects.as_entire_binding() },
-            ],
-        })
+    /// Camera uniforms, lights, objects and the forward pass's light lists.
+    fn frame_group(device: &wgpu::Device, p: &Pipelines, buffers: [&wgpu::Buffer; 4]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: &p.frame_bgl, entries: &entries })
+    }
+
+    fn rebuild_frame_group(&mut self) {
+        self.frame_group = Self::frame_group(
+            &self.device,
+            &self.pipelines,
+            [&self.camera_buf, &self.lights_buf, &self.objects_buf, &self.light_lists_buf],
+        );
     }
 
     pub fn depth_format(&self) -> wgpu::TextureFormat {
@@ -346,19 +415,29 @@ impl Renderer {
         self.targets.as_ref().map(|t| t.gbuffer.textures.as_slice())
     }
 
-    /// Uploads the scene's meshes. Call once per scene; `render` uploads camera, objects and
-    /// lights every frame.
+    /// Uploads the scene's meshes and textures. Call once per scene (`render` calls it when it
+    /// is handed a different scene); `render` uploads camera, objects and lights every frame.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<()> {
         scene.validate().map_err(anyhow::Error::msg)?;
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let mut ranges = Vec::new();
+        let mut bounds = Vec::new();
         for m in &scene.meshes {
             let base = vertices.len() as i32;
             let start = indices.len() as u32;
             vertices.extend_from_slice(&m.vertices);
             indices.extend_from_slice(&m.indices);
             ranges.push((start..indices.len() as u32, base));
+            let (mut lo, mut hi) = (glam::DVec3::splat(f64::INFINITY), glam::DVec3::splat(f64::NEG_INFINITY));
+            for v in &m.vertices {
+                let p = Vec3::from(v.position).as_dvec3();
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+            let centre = if lo.x <= hi.x { (lo + hi) * 0.5 } else { glam::DVec3::ZERO };
+            let radius = m.vertices.iter().map(|v| (Vec3::from(v.position).as_dvec3() - centre).length()).fold(0.0, f64::max);
+            bounds.push((centre, radius));
         }
         if vertices.is_empty() {
             vertices.push(Default::default());
@@ -374,18 +453,42 @@ impl Renderer {
             contents: bytemuck::cast_slice(&indices),
             usage: wgpu::BufferUsages::INDEX,
         });
+        let limit = self.device.limits().max_texture_dimension_2d;
+        if let Some(t) = scene.textures.iter().find(|t| t.width > limit || t.height > limit) {
+            bail!("texture {} is {}x{}, larger than this GPU's limit of {limit}", t.name, t.width, t.height);
+        }
+        let textures: Vec<wgpu::Texture> =
+            scene.textures.iter().map(|t| materials::upload(&self.device, &self.queue, t)).collect();
+        let views: Vec<wgpu::TextureView> = textures.iter().map(|t| t.create_view(&Default::default())).collect();
+        let material_groups = materials::bind_groups(
+            &self.device,
+            &self.pipelines.material_bgl,
+            scene,
+            &views,
+            &self.defaults,
+            &self.sampler,
+        );
         let draws = scene.objects.iter().map(|o| ranges[o.mesh].clone()).collect();
-        self.geometry = Some(SceneGeometry { vertices: vb, indices: ib, draws });
+        self.geometry = Some(SceneGeometry {
+            vertices: vb,
+            indices: ib,
+            draws,
+            bounds,
+            materials: material_groups,
+            fingerprint: SceneFingerprint::of(scene),
+            _textures: textures,
+        });
         Ok(())
     }
 
     /// (Re)creates the size-dependent targets when the size or layout changed.
-    fn ensure_targets(&mut self, width: u32, height: u32) {
+    fn ensure_targets(&mut self, width: u32, height: u32, hdr: bool) {
         if let Some(t) = &self.targets {
             if t.width == width
                 && t.height == height
                 && t.gbuffer.layout == self.pipelines.key.layout
                 && t.diffuse.format() == self.pipelines.key.accum_format
+                && t.hdr.is_some() == hdr
             {
                 return;
             }
@@ -421,7 +524,19 @@ impl Renderer {
                 },
             ],
         });
+        // Only scenes with blended surfaces need the HDR scene colour (model what the scene needs).
+        let hdr = hdr.then(|| {
+            let view = texture(d, "hdr colour", pipelines::HDR_FORMAT, width, height, read)
+                .create_view(&Default::default());
+            let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hdr colour"),
+                layout: &self.pipelines.hdr_bgl,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+            });
+            (view, group)
+        });
         self.targets = Some(Targets {
+            hdr,
             width,
             height,
             gbuffer,
@@ -450,16 +565,18 @@ impl Renderer {
             layout.validate().map_err(anyhow::Error::msg)?;
             let key = PipelineKey { layout, reversed_z: settings.reversed_z, depth_clamp, accum_format, ..k.clone() };
             self.pipelines = Self::build_pipelines(&self.device, key)?;
-            self.frame_group =
-                Self::frame_group(&self.device, &self.pipelines, &self.camera_buf, &self.lights_buf, &self.objects_buf);
+            self.rebuild_frame_group();
             self.targets = None;
+            // Material bind groups belong to the old layout.
+            self.geometry = None;
         }
         Ok(())
     }
 
-    fn grow(&mut self, lights: usize, objects: usize) {
+    fn grow(&mut self, lights: usize, objects: usize, list_entries: usize) {
         let need_l = (lights.max(1) * std::mem::size_of::<LightRaw>()) as u64;
         let need_o = (objects.max(1) * std::mem::size_of::<ObjectRaw>()) as u64;
+        let need_ll = (list_entries.max(1) * 4) as u64;
         let mut changed = false;
         let make = |d: &wgpu::Device, label, size: u64| {
             d.create_buffer(&wgpu::BufferDescriptor {
@@ -477,9 +594,12 @@ impl Renderer {
             self.objects_buf = make(&self.device, "objects", need_o);
             changed = true;
         }
+        if self.light_lists_buf.size() < need_ll {
+            self.light_lists_buf = make(&self.device, "light lists", need_ll);
+            changed = true;
+        }
         if changed {
-            self.frame_group =
-                Self::frame_group(&self.device, &self.pipelines, &self.camera_buf, &self.lights_buf, &self.objects_buf);
+            self.rebuild_frame_group();
         }
     }
 
@@ -628,18 +748,38 @@ impl Renderer {
                 let mv = view * o.transform;
                 let nm = glam::DMat4::from_mat3(glam::DMat3::from_mat4(mv).inverse().transpose());
                 let m = &scene.materials[o.material];
+                let mut flags = 0;
+                if m.textures.normal.is_some() {
+                    flags |= pipelines::MAT_NORMAL_MAP;
+                }
+                if m.textures.metallic_roughness.is_some() {
+                    flags |= pipelines::MAT_METAL_ROUGH;
+                }
+                let cutoff = match m.alpha_mode {
+                    crate::scene::AlphaMode::Mask { cutoff } => cutoff,
+                    _ => 0.0,
+                };
                 ObjectRaw {
                     model_view: mat(mv),
                     normal_view: mat(nm),
                     albedo_spec: m.diffuse.extend(m.specular_level).into(),
                     emissive_exp: m.emissive.extend(m.specular_exponent).into(),
+                    material: [m.alpha, cutoff, m.normal_scale, 0.0],
+                    // With a metallic-roughness map the importer keeps f0 in specular_level.
+                    pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
+                    info: [flags, 0, 0, 0],
                 }
             })
             .collect();
+        let mut objects = objects;
         let lights: Vec<LightRaw> = scene.lights.iter().map(|l| Self::light_raw(scene, l)).collect();
-        self.grow(lights.len(), objects.len());
+        let lists = self.plan_draws(scene, &mut objects);
+        self.grow(lights.len(), objects.len(), lists.len());
         if !objects.is_empty() {
             self.queue.write_buffer(&self.objects_buf, 0, bytemuck::cast_slice(&objects));
+        }
+        if !lists.is_empty() {
+            self.queue.write_buffer(&self.light_lists_buf, 0, bytemuck::cast_slice(&lists));
         }
         if !lights.is_empty() {
             self.queue.write_buffer(&self.lights_buf, 0, bytemuck::cast_slice(&lights));
@@ -651,6 +791,49 @@ impl Renderer {
         self.last_lights = lights.clone();
         self.last_inv_proj = proj.inverse();
         lights
+    }
+
+    /// Sorts the objects into the G-buffer pass (opaque, masked) and the forward pass (blended,
+    /// back to front by the view depth of their bounding sphere's centre), and builds each
+    /// blended object's light list: the lights whose sphere reaches its bounding sphere.
+    /// Returns the concatenated lists; each object's `info` gets its offset and count.
+    fn plan_draws(&mut self, scene: &Scene, objects: &mut [ObjectRaw]) -> Vec<u32> {
+        let mut lists = Vec::new();
+        let mut draws = DrawLists::default();
+        let Some(geo) = &self.geometry else { return lists };
+        let mut forward: Vec<(f64, usize, usize, usize)> = Vec::new();
+        for (i, o) in scene.objects.iter().enumerate() {
+            let m = &scene.materials[o.material];
+            match m.alpha_mode {
+                crate::scene::AlphaMode::Blend => {
+                    let (c, r) = geo.bounds.get(o.mesh).copied().unwrap_or((glam::DVec3::ZERO, 0.0));
+                    let centre = o.transform.transform_point3(c);
+                    let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
+                    let radius = r * scale;
+                    let first = lists.len() as u32;
+                    for (k, l) in scene.lights.iter().enumerate() {
+                        if (l.position() - centre).length() < radius + l.radius() as f64 {
+                            lists.push(k as u32);
+                        }
+                    }
+                    objects[i].info[1] = first;
+                    objects[i].info[2] = lists.len() as u32 - first;
+                    let depth = scene.camera.to_view(centre).z;
+                    forward.push((depth, i, m.double_sided as usize, o.material));
+                }
+                mode => {
+                    let masked = matches!(mode, crate::scene::AlphaMode::Mask { .. });
+                    draws.gbuffer.push((i, Pipelines::geometry_index(masked, m.double_sided), o.material));
+                }
+            }
+        }
+        // View space looks down -z: the farthest has the most negative z and is drawn first.
+        forward.sort_by(|a, b| a.0.total_cmp(&b.0));
+        draws.forward = forward.into_iter().map(|(_, i, p, m)| (i, p, m)).collect();
+        // Fewer pipeline and material switches in the G-buffer pass.
+        draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
+        self.draw_lists = draws;
+        lists
     }
 
     pub(crate) fn volume_mesh(&self, kind: VolumeKind) -> &VolumeMesh {
@@ -684,11 +867,14 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        if self.geometry.as_ref().is_none_or(|g| g.draws.len() != scene.objects.len()) {
+        self.ensure_pipelines(settings, scene)?;
+        if self.geometry.as_ref().is_none_or(|g| g.fingerprint != SceneFingerprint::of(scene)) {
             self.load_scene(scene)?;
         }
-        self.ensure_pipelines(settings, scene)?;
-        self.ensure_targets(width, height);
+        // Transparency is shaded forward over the HDR picture, in the final view only (the
+        // debug views show the G-buffer and its lighting, which hold no transparent surface).
+        let forward = settings.debug_view == DebugView::Lit && scene.any_blended();
+        self.ensure_targets(width, height, forward);
         let lights = self.upload(scene, settings, width, height);
         let n = lights.len();
         let want_counts = settings.count_fragments && n > 0;
@@ -718,15 +904,21 @@ impl Renderer {
         self.light_pass(&mut encoder, &f);
         self.debug_pass(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        self.encode_compose(
-            &mut encoder,
-            settings.debug_view,
-            0,
-            target,
-            width,
-            height,
-            self.pass_timestamps(want_times, 4),
-        );
+        if forward {
+            // 3'. With blended surfaces: compose in HDR, shade them forward over it back to
+            //     front, then tonemap (seeds 002-004: deferred shading cannot do transparency).
+            self.forward_pass(&mut encoder, &f, target);
+        } else {
+            self.encode_compose(
+                &mut encoder,
+                settings.debug_view,
+                0,
+                target,
+                width,
+                height,
+                self.pass_timestamps(want_times, 4),
+            );
+        }
         // 4. Measurement only: the ideal count.
         self.ideal_pass(&mut encoder, &f);
 
@@ -797,14 +989,113 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&p.geometry);
             pass.set_bind_group(0, &self.frame_group, &[]);
-            pass.set_vertex_buffer(0, geo.vertices.slice(..));
-            pass.set_index_buffer(geo.indices.slice(..), wgpu::IndexFormat::Uint32);
-            for (i, (range, base)) in geo.draws.iter().enumerate() {
-                pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
-            }
+            self.draw_surfaces(&mut pass, geo, &self.draw_lists.gbuffer, &p.geometry);
         }
+    }
+
+    /// Draws objects with their material bind groups, switching pipelines as the list asks.
+    fn draw_surfaces(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        geo: &SceneGeometry,
+        list: &[(usize, usize, usize)],
+        pipes: &[wgpu::RenderPipeline],
+    ) {
+        pass.set_vertex_buffer(0, geo.vertices.slice(..));
+        pass.set_index_buffer(geo.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
+        for &(i, p, m) in list {
+            if p != pipe {
+                pass.set_pipeline(&pipes[p]);
+                pipe = p;
+            }
+            if m != mat {
+                if let Some(g) = geo.materials.get(m) {
+                    pass.set_bind_group(1, g, &[]);
+                }
+                mat = m;
+            }
+            let (range, base) = &geo.draws[i];
+            pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
+        }
+    }
+
+    /// Compose into the HDR scene colour, blended surfaces forward over it (back to front, depth
+    /// tested against the G-buffer's depth, not written), then exposure and tonemapping.
+    fn forward_pass(&self, encoder: &mut wgpu::CommandEncoder, f: &Frame<'_>, target: &wgpu::TextureView) {
+        let Frame { t, geo, want_times, .. } = *f;
+        let Some((hdr_view, hdr_group)) = &t.hdr else { return };
+        let p = &self.pipelines;
+        let timestamps = |begin: Option<u32>, end: Option<u32>| {
+            if !want_times {
+                return None;
+            }
+            self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: begin,
+                end_of_pass_write_index: end,
+            })
+        };
+        let params: [u32; 4] = [DebugView::Lit as u32, 0, 1f32.to_bits(), 1f32.to_bits()];
+        self.queue.write_buffer(&self.compose_params, 0, bytemuck::cast_slice(&params));
+        let color = |view| {
+            [Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+            })]
+        };
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("compose (HDR)"),
+                color_attachments: &color(hdr_view),
+                depth_stencil_attachment: None,
+                timestamp_writes: timestamps(Some(4), None),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&p.compose_hdr);
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            pass.set_bind_group(1, &t.gbuffer_group, &[]);
+            pass.set_bind_group(2, &t.compose_group, &[0]);
+            pass.draw(0..3, 0..1);
+        }
+        {
+            let mut attach = color(hdr_view);
+            if let Some(a) = &mut attach[0] {
+                a.ops.load = wgpu::LoadOp::Load;
+            }
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward (blended)"),
+                color_attachments: &attach,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            self.draw_surfaces(&mut pass, geo, &self.draw_lists.forward, &p.forward);
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tonemap"),
+            color_attachments: &color(target),
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps(None, Some(5)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&p.tonemap);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(1, &t.gbuffer_group, &[]);
+        pass.set_bind_group(2, &t.compose_group, &[0]);
+        pass.set_bind_group(3, hdr_group, &[]);
+        pass.draw(0..3, 0..1);
     }
 
     /// Records the light accumulation: ambient + sun, then each light by its planned method.

@@ -9,11 +9,17 @@ use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const LIGHT_KIND_POINT: u32 = 0;
 pub const LIGHT_KIND_SPOT: u32 = 1;
+/// Format of the HDR scene colour that scenes with blended surfaces compose through.
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Material flags (`GpuObject.info.x`).
+pub const MAT_NORMAL_MAP: u32 = 1;
+pub const MAT_METAL_ROUGH: u32 = 2;
 
 /// WGSL constants generated from Rust enums, so the two never drift apart.
 pub fn wgsl_constants() -> String {
     let mut s =
         format!("const LS_LIGHT_POINT: u32 = {LIGHT_KIND_POINT}u;\nconst LS_LIGHT_SPOT: u32 = {LIGHT_KIND_SPOT}u;\n");
+    s += &format!("const LS_MAT_NORMAL_MAP: u32 = {MAT_NORMAL_MAP}u;\nconst LS_MAT_METAL_ROUGH: u32 = {MAT_METAL_ROUGH}u;\n");
     for v in DebugView::ALL {
         s += &format!("const LS_VIEW_{}: u32 = {}u;\n", v.wgsl_name(), v as u32);
     }
@@ -50,7 +56,16 @@ pub struct Pipelines {
     pub frame_bgl: wgpu::BindGroupLayout,
     pub gbuffer_bgl: wgpu::BindGroupLayout,
     pub compose_bgl: wgpu::BindGroupLayout,
-    pub geometry: wgpu::RenderPipeline,
+    /// A material's textures and sampler (group 1 of the geometry and forward pipelines).
+    pub material_bgl: wgpu::BindGroupLayout,
+    /// The HDR scene colour for the tonemap pass (group 3).
+    pub hdr_bgl: wgpu::BindGroupLayout,
+    /// G-buffer pipelines by [`Pipelines::geometry_index`]: opaque or masked, one- or two-sided.
+    pub geometry: [wgpu::RenderPipeline; 4],
+    /// Forward pass for blended surfaces, one- and two-sided.
+    pub forward: [wgpu::RenderPipeline; 2],
+    pub compose_hdr: wgpu::RenderPipeline,
+    pub tonemap: wgpu::RenderPipeline,
     pub ambient: wgpu::RenderPipeline,
     pub light_fullscreen: wgpu::RenderPipeline,
     pub light_volume: wgpu::RenderPipeline,
@@ -140,6 +155,10 @@ struct LightPipe {
 }
 
 impl Pipelines {
+    pub fn geometry_index(masked: bool, double_sided: bool) -> usize {
+        masked as usize * 2 + double_sided as usize
+    }
+
     /// Maps a compare function written for standard depth to the depth convention in use.
     pub fn z(reversed: bool, c: Cmp) -> Cmp {
         if !reversed {
@@ -185,6 +204,7 @@ impl Pipelines {
                 },
                 storage(1),
                 storage(2),
+                storage(3),
             ],
         });
         let gbuffer_bgl = GBufferTargets::bind_group_layout(device, &key.layout);
@@ -216,9 +236,43 @@ impl Pipelines {
                 },
             ],
         });
+        let material_tex = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let material_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("material"),
+            entries: &[
+                material_tex(10),
+                material_tex(11),
+                material_tex(12),
+                material_tex(13),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 14,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let hdr_bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hdr colour"),
+            entries: &[tex(0)],
+        });
         let geometry_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("geometry"),
-            bind_group_layouts: &[Some(&frame_bgl)],
+            bind_group_layouts: &[Some(&frame_bgl), Some(&material_bgl)],
+            immediate_size: 0,
+        });
+        let tonemap_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tonemap"),
+            bind_group_layouts: &[Some(&frame_bgl), Some(&gbuffer_bgl), Some(&compose_bgl), Some(&hdr_bgl)],
             immediate_size: 0,
         });
         let light_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -233,36 +287,79 @@ impl Pipelines {
         });
 
         let z = |c| Self::z(key.reversed_z, c);
-        let geometry = {
-            let targets: Vec<Option<wgpu::ColorTargetState>> =
-                key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
+        let vertex_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+        })];
+        // Surfaces: the G-buffer pass (opaque and masked) and the forward pass (blended).
+        let surface = |label: &str, fs: &str, double_sided: bool, targets: &[Option<wgpu::ColorTargetState>], write| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("geometry"),
+                label: Some(label),
                 layout: Some(&geometry_layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs_geometry"),
                     compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2],
-                    })],
+                    buffers: &vertex_buffers,
                 },
-                primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: if double_sided { None } else { Some(wgpu::Face::Back) },
+                    ..Default::default()
+                },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: key.depth_format,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(z(Cmp::Less)),
+                    depth_write_enabled: Some(write),
+                    depth_compare: Some(z(if write { Cmp::Less } else { Cmp::LessEqual })),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some("fs_geometry"),
+                    entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &targets,
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let gbuffer_targets: Vec<Option<wgpu::ColorTargetState>> =
+            key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
+        let geometry = [
+            surface("geometry", "fs_geometry", false, &gbuffer_targets, true),
+            surface("geometry (two-sided)", "fs_geometry", true, &gbuffer_targets, true),
+            surface("geometry (masked)", "fs_geometry_masked", false, &gbuffer_targets, true),
+            surface("geometry (masked, two-sided)", "fs_geometry_masked", true, &gbuffer_targets, true),
+        ];
+        let blended = [Some(wgpu::ColorTargetState {
+            format: HDR_FORMAT,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let forward = [
+            surface("forward (blended)", "fs_forward", false, &blended, false),
+            surface("forward (blended, two-sided)", "fs_forward", true, &blended, false),
+        ];
+        let fullscreen_pass = |label: &str, layout: &wgpu::PipelineLayout, fs: &str, format: wgpu::TextureFormat| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_compose"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(format.into())],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -524,27 +621,12 @@ impl Pipelines {
                 none.clone(),
                 Out::Debug(ADDITIVE),
             ),
-            compose: device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("compose"),
-                layout: Some(&compose_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_compose"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_compose"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(key.output_format.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            }),
+            compose: fullscreen_pass("compose", &compose_layout, "fs_compose", key.output_format),
+            compose_hdr: fullscreen_pass("compose (HDR)", &compose_layout, "fs_compose_hdr", HDR_FORMAT),
+            tonemap: fullscreen_pass("tonemap", &tonemap_layout, "fs_tonemap", key.output_format),
+            forward,
+            material_bgl,
+            hdr_bgl,
             geometry,
             frame_bgl,
             gbuffer_bgl,

@@ -86,7 +86,7 @@ fn unit(seed: u64, i: u64) -> f64 {
     (hash(seed, i) >> 11) as f64 / (1u64 << 53) as f64
 }
 
-fn hue(h: f32) -> Vec3 {
+pub(crate) fn hue(h: f32) -> Vec3 {
     let c = |o: f32| ((h * 6.0 + o).rem_euclid(6.0) - 3.0).abs().clamp(1.0, 2.0) - 1.0;
     Vec3::new(1.0 - c(0.0), 1.0 - c(4.0), 1.0 - c(2.0)).max(Vec3::ZERO)
 }
@@ -108,6 +108,8 @@ impl Builder {
                 sun: None,
                 ambient: Vec3::splat(0.03),
                 background: Vec3::new(0.01, 0.012, 0.02),
+                textures: Vec::new(),
+                viewpoints: Vec::new(),
             },
         }
     }
@@ -144,6 +146,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
         specular_level: 0.5,
         specular_exponent: 48.0,
         emissive: Vec3::ZERO,
+        ..Material::default()
     });
     b.boxed(DVec3::new(-80.0, -1.0, -80.0), DVec3::new(80.0, 0.0, 80.0), floor);
     // Pillars on a grid.
@@ -152,6 +155,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
         specular_level: 0.2,
         specular_exponent: 16.0,
         emissive: Vec3::ZERO,
+        ..Material::default()
     });
     for gx in -4..=4 {
         for gz in -4..=4 {
@@ -167,6 +171,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
             specular_level: unit(8, i) as f32 * 0.8,
             specular_exponent: 8.0 + unit(9, i) as f32 * 120.0,
             emissive: if i % 29 == 0 { c * 0.6 } else { Vec3::ZERO },
+            ..Material::default()
         });
         let x = (unit(1, i) - 0.5) * 140.0;
         let z = (unit(2, i) - 0.5) * 140.0;
@@ -216,6 +221,7 @@ pub fn spot() -> Scene {
         specular_level: 0.4,
         specular_exponent: 40.0,
         emissive: Vec3::ZERO,
+        ..Material::default()
     });
     b.boxed(DVec3::new(-12.0, -1.0, -12.0), DVec3::new(12.0, 0.0, 12.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.55, 0.7)));
@@ -226,6 +232,7 @@ pub fn spot() -> Scene {
             specular_level: 0.6,
             specular_exponent: 64.0,
             emissive: Vec3::ZERO,
+            ..Material::default()
         });
         b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
     }
@@ -250,6 +257,7 @@ fn single_light_case(name: &str, eye: DVec3, light: DVec3, radius: f32, near: f6
         specular_level: 0.5,
         specular_exponent: 32.0,
         emissive: Vec3::ZERO,
+        ..Material::default()
     });
     b.boxed(DVec3::new(-30.0, -1.0, -40.0), DVec3::new(30.0, 0.0, 30.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.6, 0.5, 0.4)));
@@ -307,6 +315,7 @@ fn room(name: &str, camera: Camera) -> Builder {
         specular_level: 0.5,
         specular_exponent: 64.0,
         emissive: Vec3::ZERO,
+        ..Material::default()
     });
     b.boxed(DVec3::new(-20.0, -1.0, -20.0), DVec3::new(20.0, 0.0, 20.0), floor);
     let wall = b.material(Material::diffuse(Vec3::new(0.5, 0.55, 0.6)));
@@ -379,7 +388,7 @@ fn normals() -> Scene {
         name: "quad".into(),
         vertices: [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
             .iter()
-            .map(|&(x, z)| Vertex { position: [x, 0.0, z], normal, uv: [x + 0.5, z + 0.5] })
+            .map(|&(x, z)| Vertex::new([x, 0.0, z], normal, [x + 0.5, z + 0.5]))
             .collect(),
         indices: vec![0, 2, 1, 0, 3, 2],
     };

@@ -1,6 +1,7 @@
 //! What is drawn: camera, meshes, materials and lights. Plain data, no GPU objects.
 
 pub mod builtin;
+pub mod import;
 
 use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -92,6 +93,56 @@ pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub uv: [f32; 2],
+    /// xyz: tangent along +u, w: handedness (+1/-1) of the bitangent. Zero when the mesh has no
+    /// normal map (the shader then ignores it).
+    pub tangent: [f32; 4],
+}
+
+impl Vertex {
+    pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2]) -> Self {
+        Self { position, normal, uv, tangent: [0.0; 4] }
+    }
+}
+
+/// An RGBA8 image a material samples. Colour textures (base colour, emissive) are sRGB-encoded;
+/// data textures (normal, metallic-roughness) are linear.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub srgb: bool,
+    /// `width * height * 4` bytes, rows top to bottom.
+    pub rgba: Vec<u8>,
+}
+
+impl Texture {
+    /// The visible stand-in for a texture that could not be loaded: a magenta and black checker,
+    /// as engines show a missing texture.
+    pub fn missing(name: &str, srgb: bool) -> Self {
+        let n = 8u32;
+        let mut rgba = Vec::with_capacity((n * n * 4) as usize);
+        for y in 0..n {
+            for x in 0..n {
+                let on = (x / 2 + y / 2) % 2 == 0;
+                rgba.extend_from_slice(if on { &[255, 0, 255, 255] } else { &[0, 0, 0, 255] });
+            }
+        }
+        Self { name: format!("{name} (missing)"), width: n, height: n, srgb, rgba }
+    }
+}
+
+/// How a material's alpha is used (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha ignored: drawn into the G-buffer.
+    #[default]
+    Opaque,
+    /// Punch-through: fragments with alpha below the cutoff are discarded in the G-buffer pass.
+    Mask { cutoff: f32 },
+    /// Blended: deferred shading cannot shade it (one surface per pixel), so it is drawn after
+    /// lighting in a forward pass, sorted back to front, lit by the same lights.
+    Blend,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -117,7 +168,7 @@ impl Mesh {
             let base = m.vertices.len() as u32;
             for (u, v) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
                 let p = n * 0.5 + right * (u - 0.5) + up * (v - 0.5);
-                m.vertices.push(Vertex { position: p.into(), normal: n.into(), uv: Vec2::new(u, v).into() });
+                m.vertices.push(Vertex::new(p.into(), n.into(), Vec2::new(u, v).into()));
             }
             // Counter-clockwise seen from outside: right x up = normal.
             let ccw = right.cross(up).dot(n) > 0.0;
@@ -141,11 +192,96 @@ pub struct Material {
     pub specular_exponent: f32,
     /// Linear emitted radiance.
     pub emissive: Vec3,
+    /// Opacity (glTF base colour alpha factor), multiplied by the base colour texture's alpha.
+    #[serde(default = "one")]
+    pub alpha: f32,
+    #[serde(default)]
+    pub alpha_mode: AlphaMode,
+    /// Both faces drawn (back faces with the normal flipped); else back faces are culled.
+    #[serde(default)]
+    pub double_sided: bool,
+    #[serde(default)]
+    pub textures: MaterialTextures,
+    /// Strength of the normal map (glTF `normalTexture.scale`).
+    #[serde(default = "one")]
+    pub normal_scale: f32,
+    /// glTF metallic and roughness factors, used per pixel when `textures.metallic_roughness`
+    /// is set: the shader then derives diffuse, specular level and exponent from them with
+    /// [`Material::from_metallic_roughness`]'s mapping. Without that texture the mapping is
+    /// applied once on the CPU and these are informational.
+    #[serde(default)]
+    pub metallic: f32,
+    #[serde(default = "one")]
+    pub roughness: f32,
 }
+
+fn one() -> f32 {
+    1.0
+}
+
+/// Indices into [`Scene::textures`].
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct MaterialTextures {
+    /// sRGB; multiplies `diffuse` (rgb) and `alpha` (a).
+    pub base_color: Option<usize>,
+    /// Linear, tangent space (glTF convention: +y up in the texture).
+    pub normal: Option<usize>,
+    /// sRGB; multiplies `emissive`.
+    pub emissive: Option<usize>,
+    /// Linear; roughness in green, metallic in blue (glTF).
+    pub metallic_roughness: Option<usize>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self::diffuse(Vec3::splat(0.8))
+    }
+}
+
+/// Dielectric reflectance at normal incidence (glTF's default, ior 1.5).
+pub const DIELECTRIC_F0: f32 = 0.04;
 
 impl Material {
     pub fn diffuse(c: Vec3) -> Self {
-        Self { diffuse: c, specular_level: 0.3, specular_exponent: 32.0, emissive: Vec3::ZERO }
+        Self {
+            diffuse: c,
+            specular_level: 0.3,
+            specular_exponent: 32.0,
+            emissive: Vec3::ZERO,
+            alpha: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+            textures: MaterialTextures::default(),
+            normal_scale: 1.0,
+            metallic: 0.0,
+            roughness: 1.0,
+        }
+    }
+
+    /// Blinn-Phong terms from glTF's metallic-roughness model (mirrored in WGSL by
+    /// `blinn_phong_from_pbr`; keep the two in step):
+    /// - diffuse = base x (1 - metallic): metals have no diffuse term;
+    /// - f0 = mix(dielectric_f0, luminance(base), metallic): the specular colour of a metal is
+    ///   reduced to a scalar level, since our specular term is white (a stated limitation);
+    /// - alpha = roughness^2, exponent = 2/alpha^2 - 2 (the Blinn-Phong lobe with the same
+    ///   width as a Beckmann/GGX lobe of that roughness), clamped to [1, 2048];
+    /// - level = f0 x (exponent + 8) / 8, clamped to 1: the Blinn-Phong normalisation, so a
+    ///   smooth surface's narrow highlight keeps its energy instead of vanishing.
+    ///
+    /// Returns (diffuse, specular level, specular exponent).
+    pub fn blinn_phong_from_pbr(base: Vec3, metallic: f32, roughness: f32, dielectric_f0: f32) -> (Vec3, f32, f32) {
+        let m = metallic.clamp(0.0, 1.0);
+        let r = roughness.clamp(0.0, 1.0);
+        let lum = base.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let f0 = dielectric_f0 + (lum - dielectric_f0) * m;
+        let a = (r * r).max(1e-3);
+        let exponent = (2.0 / (a * a) - 2.0).clamp(1.0, 2048.0);
+        let level = (f0 * (exponent + 8.0) / 8.0).clamp(0.0, 1.0);
+        (base * (1.0 - m), level, exponent)
+    }
+
+    pub fn is_blended(&self) -> bool {
+        self.alpha_mode == AlphaMode::Blend
     }
 }
 
@@ -252,6 +388,10 @@ pub struct Scene {
     pub sun: Option<Sun>,
     pub ambient: Vec3,
     pub background: Vec3,
+    /// Images the materials sample (shared, so cloning a scene does not copy pixels).
+    pub textures: Vec<std::sync::Arc<Texture>>,
+    /// Named cameras a file offers (a glTF scene's cameras); `camera` starts at the first.
+    pub viewpoints: Vec<(String, Camera)>,
 }
 
 impl Scene {
@@ -270,14 +410,75 @@ impl Scene {
             l.validate().map_err(|e| format!("light {i}: {e}"))?;
         }
         for (i, m) in self.materials.iter().enumerate() {
-            if !m.diffuse.is_finite() || !m.emissive.is_finite() || !m.specular_level.is_finite() {
+            let finite = m.diffuse.is_finite()
+                && m.emissive.is_finite()
+                && m.specular_level.is_finite()
+                && m.specular_exponent.is_finite()
+                && m.alpha.is_finite()
+                && m.normal_scale.is_finite()
+                && m.metallic.is_finite()
+                && m.roughness.is_finite();
+            if !finite {
                 return Err(format!("material {i} has non-finite values"));
+            }
+            let t = m.textures;
+            for k in [t.base_color, t.normal, t.emissive, t.metallic_roughness].into_iter().flatten() {
+                if k >= self.textures.len() {
+                    return Err(format!("material {i} refers to missing texture {k}"));
+                }
+            }
+            if let AlphaMode::Mask { cutoff } = m.alpha_mode {
+                if !cutoff.is_finite() {
+                    return Err(format!("material {i} has a non-finite alpha cutoff"));
+                }
+            }
+        }
+        for (i, t) in self.textures.iter().enumerate() {
+            if t.width == 0 || t.height == 0 || t.rgba.len() != (t.width as usize) * (t.height as usize) * 4 {
+                return Err(format!("texture {i} ({}) has {} bytes for {}x{}", t.name, t.rgba.len(), t.width, t.height));
             }
         }
         Ok(())
     }
 
+    /// Whether anything is drawn by the forward transparency pass.
+    pub fn any_blended(&self) -> bool {
+        self.objects.iter().any(|o| self.materials.get(o.material).is_some_and(|m| m.is_blended()))
+    }
+
+    /// World-space bounds of every object (min, max), or `None` for an empty scene.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for o in &self.objects {
+            let Some(mesh) = self.meshes.get(o.mesh) else { continue };
+            for v in &mesh.vertices {
+                let p = o.transform.transform_point3(DVec3::from(glam::Vec3::from(v.position).as_dvec3()));
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
+    }
+
     pub fn any_emissive(&self) -> bool {
         self.materials.iter().any(|m| m.emissive.max_element() > 0.0)
+    }
+}
+
+/// A built-in scene by name, or a glTF file by path (`.gltf`/`.glb`). Returns the scene and the
+/// loader's warnings (empty for built-in scenes).
+pub fn open(
+    name: &str,
+    builtin: builtin::BuiltinOptions,
+    options: &import::ImportOptions,
+    progress: &mut dyn FnMut(import::Progress<'_>),
+) -> anyhow::Result<(Scene, Vec<String>)> {
+    if import::is_gltf_path(name) {
+        let imported = import::load(std::path::Path::new(name), options, progress)?;
+        log::info!("{name}: {:?}", imported.stats);
+        Ok((imported.scene, imported.warnings))
+    } else {
+        Ok((builtin::build(name, builtin).map_err(anyhow::Error::msg)?, Vec::new()))
     }
 }

@@ -23,6 +23,12 @@ enum Command {
     Bench(BenchArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Regenerate the project's own glTF scene (assets/room) from code.
+    MakeAssets {
+        /// Output directory.
+        #[arg(long, default_value = "assets/room")]
+        out: PathBuf,
+    },
 }
 
 #[derive(clap::Args)]
@@ -276,6 +282,7 @@ fn main() {
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),
         Some(Command::Scenes) => {
             for (name, what) in builtin::NAMES {
                 println!("{name:10} {what}");

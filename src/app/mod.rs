@@ -32,9 +32,12 @@ use winit::window::{Window, WindowId};
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct ViewArgs {
-    /// Built-in scene name (see `lampshade scenes`).
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb).
     #[arg(default_value = "demo")]
     pub scene: String,
+    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
+    #[arg(long, default_value_t = 8)]
+    pub light_grid: u32,
     /// Replay frame-numbered actions from FILE (see `src/app/script.rs`), e.g. in tests.
     #[arg(long)]
     pub script: Option<PathBuf>,
@@ -56,6 +59,7 @@ impl Default for ViewArgs {
     fn default() -> Self {
         Self {
             scene: "demo".into(),
+            light_grid: 8,
             script: None,
             lights: None,
             size: (1280, 720),
@@ -84,8 +88,27 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     state.resolution_scale = args.scale;
     let mut cache = SceneCache::default();
+    cache.import_options.light_grid = args.light_grid;
+    if crate::scene::import::is_gltf_path(&args.scene) {
+        // The first file loads before the window opens, with a progress bar on the terminal;
+        // a bad file is an error and a non-zero exit, as in `render`.
+        let bar = indicatif::ProgressBar::new(0);
+        let imported = crate::scene::import::load(std::path::Path::new(&args.scene), &cache.import_options, &mut |p| {
+            bar.set_message(p.stage.to_string());
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+        });
+        bar.finish_and_clear();
+        let imported = imported?;
+        for w in &imported.warnings {
+            eprintln!("warning: {}: {w}", args.scene);
+        }
+        cache.insert_loaded(&args.scene, imported.scene, imported.warnings);
+    }
     cache.frame_scene(&state).map_err(anyhow::Error::msg)?;
     let script = args.script.as_deref().map(Script::load).transpose()?;
+    // Scripted runs load files on the spot, so that what follows sees the new scene.
+    cache.blocking = script.is_some();
     if script.is_some() {
         // Scripted runs are deterministic: the lights hold still unless the script animates them.
         state.animate = false;
@@ -266,8 +289,12 @@ impl App {
                 self.keys.holds.insert(k, frame + n - 1);
             }
             Action::Scene(name) => {
+                let file = crate::scene::import::is_gltf_path(&name);
                 st.scene = name;
-                self.reset_scene_edits();
+                // A file's edits are reset once it has loaded (a failed load keeps them).
+                if !file {
+                    self.reset_scene_edits();
+                }
             }
             Action::Culling(m) => st.settings.culling = m,
             Action::View(v) => st.settings.debug_view = v,
@@ -476,8 +503,24 @@ impl App {
         }
 
         // 2. The frame's scene and settings.
-        match self.cache.frame_scene(&self.state) {
+        let frame_scene = self.cache.frame_scene(&self.state);
+        if let Some((file, e)) = self.cache.take_failure() {
+            // Keep the scene the viewer had: its name goes back, the user's edits stay.
+            let previous = self.cache.current().unwrap_or("demo").to_string();
+            self.say(format!("cannot load {file}: {e} (keeping {previous})"), true);
+            self.state.scene = previous;
+        } else if let Some(file) = self.cache.take_loaded() {
+            self.reset_scene_edits();
+            let n = self.cache.warnings.len();
+            let first = self.cache.warnings.first().cloned().unwrap_or_default();
+            match n {
+                0 => self.say(format!("loaded {file}"), false),
+                _ => self.say(format!("loaded {file} with {n} warning(s): {first}"), false),
+            }
+        }
+        match frame_scene {
             Ok(s) => self.scene = Some(s),
+            Err(e) if self.cache.progress().is_some() => log::debug!("{e}"),
             Err(e) => self.say(format!("scene rejected, showing the last good one: {e}"), true),
         }
         if self.state.selected_light.is_some_and(|k| self.scene.as_ref().is_none_or(|s| k >= s.lights.len())) {
@@ -608,6 +651,7 @@ impl App {
             scripted: self.script.is_some(),
             wireframes: &wireframes,
             scroll_to_light: self.scroll_to_light.take(),
+            loading: self.cache.progress(),
         };
         let mut out = UiOut::default();
         let state = &mut self.state;
@@ -689,7 +733,11 @@ impl App {
                     }
                 }
                 Command::ResetCamera => self.state.camera = None,
-                Command::SceneChanged => self.reset_scene_edits(),
+                Command::SceneChanged => {
+                    if !crate::scene::import::is_gltf_path(&self.state.scene) {
+                        self.reset_scene_edits();
+                    }
+                }
                 Command::Status(s) => self.say(s.text, s.error),
             }
         }

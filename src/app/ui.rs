@@ -115,6 +115,8 @@ pub struct FrameInfo<'a> {
     pub scroll_to_light: Option<usize>,
     /// Per-light volume wireframes, in viewport pixels: (light, segments).
     pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
+    /// A glTF file loading in the background.
+    pub loading: Option<state::LoadProgress>,
 }
 
 #[derive(Clone, Debug)]
@@ -223,11 +225,45 @@ fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) 
             ui.separator();
             ui.label("scene");
             let before = st.scene.clone();
-            egui::ComboBox::from_id_salt("scene").selected_text(&st.scene).width(90.0).show_ui(ui, |ui| {
-                for (name, what) in builtin::NAMES {
-                    ui.selectable_value(&mut st.scene, name.to_string(), *name).on_hover_text(*what);
+            let shown =
+                std::path::Path::new(&st.scene).file_name().map_or(st.scene.clone(), |n| n.to_string_lossy().into());
+            egui::ComboBox::from_id_salt("scene")
+                .selected_text(shown)
+                .width(90.0)
+                .show_ui(ui, |ui| {
+                    for (name, what) in builtin::NAMES {
+                        ui.selectable_value(&mut st.scene, name.to_string(), *name).on_hover_text(*what);
+                    }
+                })
+                .response
+                .on_hover_text(&st.scene);
+            // A glTF file by path; it loads in the background and the current scene stays until
+            // it has (or for good, if it fails).
+            let field = ui
+                .add(egui::TextEdit::singleline(&mut st.open_path).hint_text("file.gltf / .glb").desired_width(130.0));
+            let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("open").on_hover_text("load a .gltf or .glb file").clicked() || enter)
+                && !st.open_path.trim().is_empty()
+            {
+                let path = st.open_path.trim().to_string();
+                if crate::scene::import::is_gltf_path(&path) {
+                    st.scene = path;
+                } else {
+                    out.commands.push(Command::Status(Status {
+                        text: format!("'{path}' is not a .gltf or .glb file"),
+                        error: true,
+                    }));
                 }
-            });
+            }
+            if let Some(p) = &f.loading {
+                let frac = if p.total > 0 { p.done as f32 / p.total as f32 } else { 0.0 };
+                ui.add(
+                    egui::ProgressBar::new(frac)
+                        .desired_width(150.0)
+                        .text(format!("{} {}/{}", p.stage, p.done, p.total)),
+                )
+                .on_hover_text(format!("loading {}", p.name));
+            }
             if st.scene != before {
                 out.commands.push(Command::SceneChanged);
             }
@@ -627,6 +663,17 @@ fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut U
 
 fn camera_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     let Some(scene) = f.scene else { return };
+    if !scene.viewpoints.is_empty() {
+        // The file's cameras, and a view that frames the whole scene.
+        ui.horizontal_wrapped(|ui| {
+            ui.label("viewpoints");
+            for (name, camera) in &scene.viewpoints {
+                if ui.button(name).clicked() {
+                    st.camera = Some(*camera);
+                }
+            }
+        });
+    }
     let before = scene.camera;
     let mut c = before;
     let mut yaw = c.yaw.to_degrees();

@@ -117,7 +117,10 @@ pub fn bind_groups(
             let mut entries: Vec<wgpu::BindGroupEntry<'_>> = maps
                 .iter()
                 .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry { binding: 10 + i as u32, resource: wgpu::BindingResource::TextureView(v) })
+                .map(|(i, v)| wgpu::BindGroupEntry {
+                    binding: 10 + i as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                })
                 .collect();
             entries.push(wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::Sampler(sampler) });
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("material"), layout, entries: &entries })

@@ -15,10 +15,10 @@ use crate::scene::{Light, Scene};
 use anyhow::{bail, Result};
 use glam::{DMat4, Mat4, Vec3, Vec4};
 pub use inspect::{volume_wireframe, PixelProbe};
+use materials::DefaultTextures;
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 pub use settings::{AccumFormat, CullingMode, DebugView, LayoutChoice, Settings};
 pub use stats::{FrameStats, LightStats, Method};
-use materials::DefaultTextures;
 use volumes::VolumeMesh;
 use wgpu::util::DeviceExt;
 
@@ -387,7 +387,11 @@ impl Renderer {
             .enumerate()
             .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
             .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: &p.frame_bgl, entries: &entries })
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &p.frame_bgl,
+            entries: &entries,
+        })
     }
 
     fn rebuild_frame_group(&mut self) {
@@ -436,7 +440,8 @@ impl Renderer {
                 hi = hi.max(p);
             }
             let centre = if lo.x <= hi.x { (lo + hi) * 0.5 } else { glam::DVec3::ZERO };
-            let radius = m.vertices.iter().map(|v| (Vec3::from(v.position).as_dvec3() - centre).length()).fold(0.0, f64::max);
+            let radius =
+                m.vertices.iter().map(|v| (Vec3::from(v.position).as_dvec3() - centre).length()).fold(0.0, f64::max);
             bounds.push((centre, radius));
         }
         if vertices.is_empty() {
@@ -526,8 +531,8 @@ impl Renderer {
         });
         // Only scenes with blended surfaces need the HDR scene colour (model what the scene needs).
         let hdr = hdr.then(|| {
-            let view = texture(d, "hdr colour", pipelines::HDR_FORMAT, width, height, read)
-                .create_view(&Default::default());
+            let view =
+                texture(d, "hdr colour", pipelines::HDR_FORMAT, width, height, read).create_view(&Default::default());
             let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("hdr colour"),
                 layout: &self.pipelines.hdr_bgl,
@@ -1409,6 +1414,12 @@ impl Renderer {
         self.encode_compose(&mut encoder, view, view as u64 + 1, target, width, height, None);
         self.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// The blended objects of the last frame in the order the forward pass drew them (back to
+    /// front), for the viewer and the tests.
+    pub fn forward_order(&self) -> Vec<usize> {
+        self.draw_lists.forward.iter().map(|d| d.0).collect()
     }
 
     /// Size of the last frame.

@@ -19,7 +19,9 @@ pub const MAT_METAL_ROUGH: u32 = 2;
 pub fn wgsl_constants() -> String {
     let mut s =
         format!("const LS_LIGHT_POINT: u32 = {LIGHT_KIND_POINT}u;\nconst LS_LIGHT_SPOT: u32 = {LIGHT_KIND_SPOT}u;\n");
-    s += &format!("const LS_MAT_NORMAL_MAP: u32 = {MAT_NORMAL_MAP}u;\nconst LS_MAT_METAL_ROUGH: u32 = {MAT_METAL_ROUGH}u;\n");
+    s += &format!(
+        "const LS_MAT_NORMAL_MAP: u32 = {MAT_NORMAL_MAP}u;\nconst LS_MAT_METAL_ROUGH: u32 = {MAT_METAL_ROUGH}u;\n"
+    );
     for v in DebugView::ALL {
         s += &format!("const LS_VIEW_{}: u32 = {}u;\n", v.wgsl_name(), v as u32);
     }

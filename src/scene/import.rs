@@ -24,12 +24,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// Extensions the importer understands; a file that requires any other is rejected.
-pub const SUPPORTED_EXTENSIONS: &[&str] = &[
-    "KHR_lights_punctual",
-    "KHR_materials_specular",
-    "KHR_materials_ior",
-    "KHR_materials_emissive_strength",
-];
+pub const SUPPORTED_EXTENSIONS: &[&str] =
+    &["KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_ior", "KHR_materials_emissive_strength"];
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
 pub const RANGE_CUTOFF: f32 = 0.05;
@@ -122,7 +118,10 @@ pub fn load_bytes(
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| anyhow!("not a valid glTF file: {e}"))?;
     for ext in gltf.document.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
-            bail!("the file requires the extension {ext}, which Lampshade does not support (it reads {})", SUPPORTED_EXTENSIONS.join(", "));
+            bail!(
+                "the file requires the extension {ext}, which Lampshade does not support (it reads {})",
+                SUPPORTED_EXTENSIONS.join(", ")
+            );
         }
     }
     // Validation proper (indices in range, required fields): parse again with the checks on.
@@ -142,6 +141,7 @@ pub fn load_bytes(
             warnings.push(format!("extension {ext} is used but not supported; its data is ignored"));
         }
     }
+    check_json(&doc)?;
     let buffers = load_buffers(&doc, base, blob, progress)?;
     check_views(&doc, &buffers)?;
 
@@ -200,7 +200,7 @@ fn load_buffers(
                 None => bail!("{what} refers to the binary chunk, which the file does not have"),
             },
             gltf::buffer::Source::Uri(uri) => {
-                check_external(base, uri).with_context(|| format!("{what}"))?;
+                check_external(base, uri).with_context(|| what.clone())?;
                 gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), base)
                     .map_err(|e| anyhow!("{what}: cannot load '{}': {e}", short_uri(uri)))?
                     .0
@@ -237,6 +237,32 @@ fn check_external(base: Option<&Path>, uri: &str) -> Result<()> {
         }
         if meta.len() > MAX_FILE_BYTES {
             bail!("'{uri}' is {} bytes, more than the {} this loader accepts", meta.len(), MAX_FILE_BYTES);
+        }
+    }
+    Ok(())
+}
+
+/// What the `gltf` crate's accessors assume without validating (they would panic otherwise):
+/// an image has a source, an image in a buffer view has a MIME type, a camera has the
+/// projection its type names.
+fn check_json(doc: &gltf::Document) -> Result<()> {
+    let root = doc.as_json();
+    for (i, image) in root.images.iter().enumerate() {
+        match (&image.buffer_view, &image.uri) {
+            (Some(_), _) if image.mime_type.is_none() => bail!("image {i} is in a buffer view but has no mimeType"),
+            (None, None) => bail!("image {i} has neither a uri nor a bufferView"),
+            _ => {}
+        }
+    }
+    for (i, camera) in root.cameras.iter().enumerate() {
+        use gltf::json::camera::Type;
+        let ok = match camera.type_ {
+            gltf::json::validation::Checked::Valid(Type::Perspective) => camera.perspective.is_some(),
+            gltf::json::validation::Checked::Valid(Type::Orthographic) => camera.orthographic.is_some(),
+            _ => false,
+        };
+        if !ok {
+            bail!("camera {i} lacks the projection its type names");
         }
     }
     Ok(())
@@ -446,7 +472,8 @@ impl Importer<'_> {
             self.texture_slots.get(&(t.source().index(), role)).copied()
         };
         let w = &mut self.warnings;
-        textures.base_color = tex(pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "base colour", w);
+        textures.base_color =
+            tex(pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "base colour", w);
         textures.emissive = tex(m.emissive_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "emissive", w);
         textures.metallic_roughness = tex(
             pbr.metallic_roughness_texture().map(|i| (i.texture(), i.tex_coord())),
@@ -458,7 +485,8 @@ impl Importer<'_> {
         if normal_ok {
             textures.normal = tex(normal.as_ref().map(|n| (n.texture(), n.tex_coord())), Role::Data, "normal map", w);
         }
-        for info in [pbr.base_color_texture(), m.emissive_texture(), pbr.metallic_roughness_texture()].iter().flatten() {
+        for info in [pbr.base_color_texture(), m.emissive_texture(), pbr.metallic_roughness_texture()].iter().flatten()
+        {
             if info.texture_transform().is_some() {
                 w.push(format!("{label}: KHR_texture_transform is not supported; the texture is drawn untransformed"));
             }
@@ -502,12 +530,10 @@ impl Importer<'_> {
         };
         // Values the file controls: keep them finite and in range.
         let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };
-        material.diffuse = Vec3::new(fix(diffuse.x, 0.0, 1.0, 0.8), fix(diffuse.y, 0.0, 1.0, 0.8), fix(diffuse.z, 0.0, 1.0, 0.8));
-        material.emissive = Vec3::new(
-            fix(emissive.x, 0.0, 1e4, 0.0),
-            fix(emissive.y, 0.0, 1e4, 0.0),
-            fix(emissive.z, 0.0, 1e4, 0.0),
-        );
+        material.diffuse =
+            Vec3::new(fix(diffuse.x, 0.0, 1.0, 0.8), fix(diffuse.y, 0.0, 1.0, 0.8), fix(diffuse.z, 0.0, 1.0, 0.8));
+        material.emissive =
+            Vec3::new(fix(emissive.x, 0.0, 1e4, 0.0), fix(emissive.y, 0.0, 1e4, 0.0), fix(emissive.z, 0.0, 1e4, 0.0));
         material.alpha = fix(a, 0.0, 1.0, 1.0);
         material.specular_level = fix(level, 0.0, 1.0, DIELECTRIC_F0);
         material.specular_exponent = fix(exponent, 1.0, 2048.0, 32.0);
@@ -591,7 +617,8 @@ impl Importer<'_> {
             let (mesh_index, normal_ok) = match self.mesh_slots.get(&key) {
                 Some(&v) => v,
                 None => {
-                    let Some(built) = self.primitive(&prim, mirrored).with_context(|| format!("primitive {}", prim.index()))?
+                    let Some(built) =
+                        self.primitive(&prim, mirrored).with_context(|| format!("primitive {}", prim.index()))?
                     else {
                         continue;
                     };
@@ -622,23 +649,34 @@ impl Importer<'_> {
             self.warnings.push(format!("a primitive of mode {mode:?} is skipped: only triangles are drawn"));
             return Ok(None);
         }
-        let check = |sem: &gltf::Semantic, what: &str, dims: &[Dimensions], types: &[DataType]| -> Result<Option<usize>> {
-            let Some(acc) = prim.get(sem) else { return Ok(None) };
-            if !dims.contains(&acc.dimensions()) || !types.contains(&acc.data_type()) {
-                bail!("{what} accessor {} is {:?} {:?}, which glTF does not allow", acc.index(), acc.dimensions(), acc.data_type());
-            }
-            if acc.view().is_none() && acc.sparse().is_none() {
-                bail!("{what} accessor {} has no data (no buffer view)", acc.index());
-            }
-            Ok(Some(acc.count()))
-        };
+        let check =
+            |sem: &gltf::Semantic, what: &str, dims: &[Dimensions], types: &[DataType]| -> Result<Option<usize>> {
+                let Some(acc) = prim.get(sem) else { return Ok(None) };
+                if !dims.contains(&acc.dimensions()) || !types.contains(&acc.data_type()) {
+                    bail!(
+                        "{what} accessor {} is {:?} {:?}, which glTF does not allow",
+                        acc.index(),
+                        acc.dimensions(),
+                        acc.data_type()
+                    );
+                }
+                if acc.view().is_none() && acc.sparse().is_none() {
+                    bail!("{what} accessor {} has no data (no buffer view)", acc.index());
+                }
+                Ok(Some(acc.count()))
+            };
         let f32_only = [DataType::F32];
         let Some(n) = check(&gltf::Semantic::Positions, "POSITION", &[Dimensions::Vec3], &f32_only)? else {
             bail!("it has no POSITION attribute");
         };
         let n_normals = check(&gltf::Semantic::Normals, "NORMAL", &[Dimensions::Vec3], &f32_only)?;
         let n_tangents = check(&gltf::Semantic::Tangents, "TANGENT", &[Dimensions::Vec4], &f32_only)?;
-        let n_uv = check(&gltf::Semantic::TexCoords(0), "TEXCOORD_0", &[Dimensions::Vec2], &[DataType::F32, DataType::U8, DataType::U16])?;
+        let n_uv = check(
+            &gltf::Semantic::TexCoords(0),
+            "TEXCOORD_0",
+            &[Dimensions::Vec2],
+            &[DataType::F32, DataType::U8, DataType::U16],
+        )?;
         for (what, count) in [("NORMAL", n_normals), ("TANGENT", n_tangents), ("TEXCOORD_0", n_uv)] {
             if let Some(c) = count {
                 if c != n {
@@ -647,7 +685,8 @@ impl Importer<'_> {
             }
         }
         let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
-        let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(|| anyhow!("POSITION cannot be read"))?.collect();
+        let positions: Vec<[f32; 3]> =
+            reader.read_positions().ok_or_else(|| anyhow!("POSITION cannot be read"))?.collect();
         if positions.len() != n {
             bail!("POSITION yields {} of its {n} elements", positions.len());
         }
@@ -674,7 +713,12 @@ impl Importer<'_> {
                 if acc.dimensions() != Dimensions::Scalar
                     || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
                 {
-                    bail!("index accessor {} is {:?} {:?}; indices must be unsigned scalars", acc.index(), acc.dimensions(), acc.data_type());
+                    bail!(
+                        "index accessor {} is {:?} {:?}; indices must be unsigned scalars",
+                        acc.index(),
+                        acc.dimensions(),
+                        acc.data_type()
+                    );
                 }
                 let idx: Vec<u32> = reader
                     .read_indices()
@@ -705,8 +749,9 @@ impl Importer<'_> {
                 .collect(),
             _ => (2..raw_indices.len()).map(|i| [raw_indices[0], raw_indices[i - 1], raw_indices[i]]).collect(),
         };
-        if mode == Mode::Triangles && raw_indices.len() % 3 != 0 {
-            self.warnings.push(format!("{} trailing indices do not make a triangle and are ignored", raw_indices.len() % 3));
+        if mode == Mode::Triangles && !raw_indices.len().is_multiple_of(3) {
+            self.warnings
+                .push(format!("{} trailing indices do not make a triangle and are ignored", raw_indices.len() % 3));
         }
         // Zero-area triangles draw nothing and break normal and tangent generation.
         let before = tris.len();
@@ -739,7 +784,9 @@ impl Importer<'_> {
         }
 
         let mut mesh = Mesh { name: prim_label(prim), ..Default::default() };
-        let uv_at = |i: usize| uvs.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] });
+        let uv_at = |i: usize| {
+            uvs.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] })
+        };
         match &normals {
             None => {
                 // glTF: without normals, flat shading. Each triangle gets its own vertices.
@@ -757,8 +804,7 @@ impl Importer<'_> {
             Some(normals) => {
                 let mut bad = 0;
                 let mut fixed: Vec<Vec3> = normals.iter().map(|n| Vec3::from(*n)).collect();
-                let broken: Vec<bool> =
-                    fixed.iter().map(|n| !n.is_finite() || n.length_squared() < 1e-12).collect();
+                let broken: Vec<bool> = fixed.iter().map(|n| !n.is_finite() || n.length_squared() < 1e-12).collect();
                 if broken.iter().any(|&b| b) {
                     // Replace unusable normals with the area-weighted normal of their faces.
                     let mut acc = vec![Vec3::ZERO; n];
@@ -876,7 +922,11 @@ impl Importer<'_> {
             let skipped = self.stats.skipped_primitives;
             bail!(
                 "nothing to draw: the scene has no triangles{}",
-                if skipped > 0 { format!(" ({skipped} point or line primitive(s), which are not drawn)") } else { String::new() }
+                if skipped > 0 {
+                    format!(" ({skipped} point or line primitive(s), which are not drawn)")
+                } else {
+                    String::new()
+                }
             );
         }
         let bounds = self.scene.bounds();
@@ -893,7 +943,7 @@ impl Importer<'_> {
         framing.far = (distance + radius) * 3.0;
         let mut views = std::mem::take(&mut self.scene.viewpoints);
         for (name, c) in &mut views {
-            if !(c.far > c.near) {
+            if c.far.partial_cmp(&c.near) != Some(std::cmp::Ordering::Greater) {
                 c.far = (c.position - centre).length() + radius * 3.0;
                 c.far = c.far.max(c.near * 10.0);
             }
@@ -1041,7 +1091,9 @@ mod tests {
     #[test]
     fn garbage_is_an_error_not_a_panic() {
         let mut quiet = |_: Progress<'_>| {};
-        for bytes in [&b""[..], b"{", b"glTF\x02\x00\x00\x00", b"{\"asset\":{\"version\":\"2.0\"},\"nodes\":[{\"mesh\":5}]}"] {
+        for bytes in
+            [&b""[..], b"{", b"glTF\x02\x00\x00\x00", b"{\"asset\":{\"version\":\"2.0\"},\"nodes\":[{\"mesh\":5}]}"]
+        {
             let r = load_bytes(bytes, None, "x", &ImportOptions::default(), &mut quiet);
             assert!(r.is_err(), "{bytes:?} loaded");
         }

@@ -2,6 +2,7 @@
 
 pub mod builtin;
 pub mod import;
+pub mod room;
 
 use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -435,7 +436,13 @@ impl Scene {
         }
         for (i, t) in self.textures.iter().enumerate() {
             if t.width == 0 || t.height == 0 || t.rgba.len() != (t.width as usize) * (t.height as usize) * 4 {
-                return Err(format!("texture {i} ({}) has {} bytes for {}x{}", t.name, t.rgba.len(), t.width, t.height));
+                return Err(format!(
+                    "texture {i} ({}) has {} bytes for {}x{}",
+                    t.name,
+                    t.rgba.len(),
+                    t.width,
+                    t.height
+                ));
             }
         }
         Ok(())

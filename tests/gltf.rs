@@ -367,8 +367,7 @@ fn degenerate_triangles_are_dropped_not_drawn() {
 fn truncated_binaries_never_panic() {
     let glb = std::fs::read(Path::new(ASSIMP).join("BoxTextured-glTF-Binary/BoxTextured.glb"))
         .expect("assimp-testmodels is installed (.ci/run does)");
-    let mut opts = ImportOptions::default();
-    opts.max_texture_size = 64;
+    let opts = ImportOptions { max_texture_size: 64, ..Default::default() };
     for cut in (0..glb.len()).step_by(61) {
         let r = import::load_bytes(&glb[..cut], None, "cut", &opts, &mut quiet());
         assert!(r.is_err(), "a glb cut at {cut} of {} bytes loaded", glb.len());

@@ -489,6 +489,45 @@ fn the_window_survives_resizing_and_minimising() {
 }
 
 #[test]
+fn a_gltf_file_loads_in_the_window_and_a_bad_one_keeps_the_scene() {
+    need_display!();
+    let dir = out_dir("gltf");
+    let room = root().join("assets/room/room.gltf");
+    let bad = dir.join("broken.gltf");
+    std::fs::write(&bad, "{ \"asset\": ").unwrap();
+    let script = dir.join("gltf.script");
+    std::fs::write(
+        &script,
+        format!(
+            "2 screenshot before.png\n3 scene {}\n5 screenshot after-bad.png\n6 scene {}\n9 screenshot room.png\n\
+             10 tab camera\n10 screenshot camera-tab.png\n11 quit\n",
+            bad.display(),
+            room.display()
+        ),
+    )
+    .unwrap();
+    let out = view("spot", &script, &[], &dir);
+    let stderr = text(&out).1;
+    assert!(stderr.contains("cannot load") && stderr.contains("broken.gltf"), "stderr:\n{stderr}");
+    assert!(stderr.contains("keeping spot"), "stderr:\n{stderr}");
+    let before = load(&dir, "before-viewport.png");
+    let after_bad = load(&dir, "after-bad-viewport.png");
+    assert!(max_channel_difference(&before, &after_bad) <= MAX_CHANNEL_STEP, "a failed load changed the picture");
+    assert_eq!(json(&dir, "after-bad-viewport.json")["scene"].as_str(), Some("spot"));
+    let shown = load(&dir, "room-viewport.png");
+    assert!(lit_share(&shown) > 0.5, "the room renders mostly black in the viewer");
+    assert!(max_channel_difference(&before, &shown) > 40, "the room did not replace the spot scene");
+    assert_eq!(json(&dir, "room-viewport.json")["scene"].as_str(), room.to_str());
+    // `render` with the screenshot's settings reproduces what the window showed.
+    let file = dir.join("room-viewport.json");
+    let png = dir.join("room-rendered.png");
+    let r = lampshade(&["render", "--settings", file.to_str().unwrap(), "--out", png.to_str().unwrap()], &dir);
+    assert!(r.status.success(), "render --settings failed: {}", text(&r).1);
+    let step = max_channel_difference(&load(&dir, "room-rendered.png"), &shown);
+    assert!(step <= MAX_CHANNEL_STEP, "the viewport and `lampshade render` differ by {step} steps on the room");
+}
+
+#[test]
 fn every_scene_layout_view_and_option_renders() {
     need_display!();
     use lampshade::app::state::{layout_name, view_name};

@@ -143,8 +143,9 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         }
         "scene" => {
             want(1)?;
-            if !crate::scene::builtin::NAMES.iter().any(|(n, _)| *n == args[0]) {
-                return Err(format!("unknown scene '{}' (see `lampshade scenes`)", args[0]));
+            let file = crate::scene::import::is_gltf_path(args[0]);
+            if !file && !crate::scene::builtin::NAMES.iter().any(|(n, _)| *n == args[0]) {
+                return Err(format!("unknown scene '{}' (see `lampshade scenes`, or a .gltf/.glb file)", args[0]));
             }
             Action::Scene(args[0].to_string())
         }

@@ -460,7 +460,7 @@ impl Scene {
         for o in &self.objects {
             let Some(mesh) = self.meshes.get(o.mesh) else { continue };
             for v in &mesh.vertices {
-                let p = o.transform.transform_point3(DVec3::from(glam::Vec3::from(v.position).as_dvec3()));
+                let p = o.transform.transform_point3(glam::Vec3::from(v.position).as_dvec3());
                 lo = lo.min(p);
                 hi = hi.max(p);
             }

@@ -189,7 +189,7 @@ fn textures() -> Result<Vec<(&'static str, Vec<u8>)>> {
     // Metallic-roughness: vertical bands of polished metal and rough paint (G roughness,
     // B metallic).
     let metal_rough = image::RgbaImage::from_fn(n, n, |x, _| {
-        if (x * 6 / n) % 2 == 0 {
+        if (x * 6 / n).is_multiple_of(2) {
             image::Rgba([0, 50, 255, 255])
         } else {
             image::Rgba([0, 230, 0, 255])

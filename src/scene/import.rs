@@ -141,6 +141,15 @@ pub fn load_bytes(
             warnings.push(format!("extension {ext} is used but not supported; its data is ignored"));
         }
     }
+    if doc.skins().len() > 0 {
+        warnings.push("skins are not applied: skinned meshes are drawn in their bind pose".into());
+    }
+    if doc.animations().len() > 0 {
+        warnings.push("animations are not played: the scene is drawn as posed in the file".into());
+    }
+    if doc.meshes().any(|m| m.primitives().any(|p| p.morph_targets().len() > 0)) {
+        warnings.push("morph targets are not applied: meshes are drawn with their base shape".into());
+    }
     check_json(&doc)?;
     let buffers = load_buffers(&doc, base, blob, progress)?;
     check_views(&doc, &buffers)?;

@@ -318,7 +318,7 @@ pub fn write(dir: &Path) -> Result<()> {
 }
 
 /// A load test: `n` UV spheres (3,968 triangles each) in a grid, each with its own material and
-/// 64x64 base-colour texture, as (file name, bytes) for `stress.gltf`.
+/// 256x256 base-colour texture, as (file name, bytes) for `stress.gltf`.
 pub fn stress(n: usize) -> Result<Vec<(String, Vec<u8>)>> {
     let mut w = Writer::default();
     let side = (n as f64).sqrt().ceil() as usize;
@@ -330,8 +330,8 @@ pub fn stress(n: usize) -> Result<Vec<(String, Vec<u8>)>> {
         let mesh = w.mesh(&format!("sphere {i}"), &sphere([x, 1.0, -z], 1.0, 32, 64), i);
         nodes.push(json!({ "mesh": mesh }));
         let hue = crate::scene::builtin::hue(i as f32 / n as f32);
-        let img = image::RgbaImage::from_fn(64, 64, |px, py| {
-            let k = if (px / 8 + py / 8) % 2 == 0 { 1.0 } else { 0.5 };
+        let img = image::RgbaImage::from_fn(256, 256, |px, py| {
+            let k = if (px / 32 + py / 32) % 2 == 0 { 1.0 } else { 0.5 };
             let c = hue * k * 255.0;
             image::Rgba([c.x as u8, c.y as u8, c.z as u8, 255])
         });

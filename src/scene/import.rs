@@ -30,6 +30,9 @@ pub const SUPPORTED_EXTENSIONS: &[&str] =
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
 pub const RANGE_CUTOFF: f32 = 0.05;
 
+/// Largest element count of one accessor.
+pub const MAX_ACCESSOR_COUNT: usize = 1 << 26;
+
 /// Files larger than this are refused before they are read (a guard against reading a device or
 /// an enormous file by mistake).
 pub const MAX_FILE_BYTES: u64 = 2 << 30;
@@ -317,6 +320,11 @@ fn check_views(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(
     };
     for acc in doc.accessors() {
         let what = format!("accessor {}", acc.index());
+        // A sparse accessor without a view is zeros plus a few values: its count is not
+        // bounded by the file's size, so it is bounded here.
+        if acc.count() > MAX_ACCESSOR_COUNT {
+            bail!("{what} has {} elements, more than the {MAX_ACCESSOR_COUNT} this loader accepts", acc.count());
+        }
         if let Some(view) = acc.view() {
             span(what.clone(), &view, acc.offset(), acc.count(), acc.size())?;
         } else if acc.sparse().is_none() && acc.count() > 0 {

@@ -97,21 +97,7 @@ struct Builder {
 
 impl Builder {
     fn new(name: &str, camera: Camera) -> Self {
-        Self {
-            scene: Scene {
-                name: name.into(),
-                camera,
-                meshes: vec![Mesh::cube()],
-                materials: Vec::new(),
-                objects: Vec::new(),
-                lights: Vec::new(),
-                sun: None,
-                ambient: Vec3::splat(0.03),
-                background: Vec3::new(0.01, 0.012, 0.02),
-                textures: Vec::new(),
-                viewpoints: Vec::new(),
-            },
-        }
+        Self { scene: Scene { meshes: vec![Mesh::cube()], ..Scene::new(name, camera) } }
     }
 
     fn material(&mut self, m: Material) -> usize {

@@ -396,6 +396,23 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// An empty scene: no geometry, no lights, the default ambient and background.
+    pub fn new(name: &str, camera: Camera) -> Self {
+        Self {
+            name: name.into(),
+            camera,
+            meshes: Vec::new(),
+            materials: Vec::new(),
+            objects: Vec::new(),
+            lights: Vec::new(),
+            sun: None,
+            ambient: Vec3::splat(0.03),
+            background: Vec3::new(0.01, 0.012, 0.02),
+            textures: Vec::new(),
+            viewpoints: Vec::new(),
+        }
+    }
+
     /// Rejects values that would make the frame meaningless, naming the first bad one.
     pub fn validate(&self) -> Result<(), String> {
         self.camera.validate()?;

@@ -44,8 +44,8 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy * compose.scale));
     let s = gbuffer_load(p);
     let view = compose.view;
-    let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
-    let specular = finite(textureLoad(light_specular, p, 0).rgb);
+    let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
+    let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
     let exposure = camera.params.x;
     let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
     var c = aces(lit * exposure);

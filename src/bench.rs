@@ -7,7 +7,9 @@
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
-use crate::renderer::{AccumFormat, CullingMode, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
+use crate::renderer::{
+    AccumFormat, CullingMode, DepthFormat, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+};
 use crate::scene::builtin::{self, BuiltinOptions};
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -45,7 +47,7 @@ impl BenchOptions {
     }
 }
 
-/// One configuration: what it varies, and the settings, light count and size it runs with.
+/// One configuration: what it varies, and the settings, light count, size and scene it runs with.
 #[derive(Clone, Debug)]
 pub struct Config {
     pub group: &'static str,
@@ -53,16 +55,26 @@ pub struct Config {
     pub settings: Settings,
     pub lights: usize,
     pub size: (u32, u32),
+    /// Another built-in scene than the bench's (the depth group's `far-origin` rows).
+    pub scene: Option<&'static str>,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     pub group: String,
     pub label: String,
+    pub scene: String,
     pub culling: String,
     pub layout: String,
     pub accumulation: String,
     pub reversed_z: bool,
+    /// The depth-stencil format the frame used (the adapter's fallback shows here).
+    pub depth_format: String,
+    pub light_cutoff: f32,
+    pub sphere_subdivisions: u32,
+    pub cone_sides: u32,
+    /// Bounding meshes the frame drew, e.g. "sphere+cone".
+    pub volumes: String,
     pub lights: usize,
     pub width: u32,
     pub height: u32,
@@ -81,21 +93,99 @@ pub struct Row {
     pub pareto: bool,
 }
 
-/// The sweep. Every configuration differs from the default in one knob.
+/// The cut-off thresholds the `cutoff` group sweeps (fractions of each light's peak).
+pub const CUTOFFS: [(f32, &str); 4] = [(0.0, "0"), (1.0 / 256.0, "1/256"), (1.0 / 64.0, "1/64"), (1.0 / 16.0, "1/16")];
+
+/// The sweep. Every configuration differs from the default (`volume` culling, `compact`
+/// layout, Rgba16Float accumulation, Depth32FloatStencil8, exact radii, an 80-triangle sphere
+/// and a 12-sided cone) in one knob; `--quick` keeps a subset of each group.
 pub fn configs(o: &BenchOptions) -> Vec<Config> {
     let base = Settings { count_fragments: true, count_ideal: false, timestamps: true, ..Settings::default() };
-    let c = |group, label: String, settings: Settings, lights| Config { group, label, settings, lights, size: o.size };
+    let c = |group, label: String, settings: Settings, lights| Config {
+        group,
+        label,
+        settings,
+        lights,
+        size: o.size,
+        scene: None,
+    };
+    let q = o.quick;
     let mut v = Vec::new();
     for mode in CullingMode::ALL {
         v.push(c("culling", mode.name().into(), Settings { culling: mode, ..base.clone() }, o.lights));
     }
-    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Fit] {
-        v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
+    // Seed 000's fp16 targets, the packed and fitted layouts, and the normal encodings with
+    // everything else as `compact` stores it (compact itself is the `volume` row).
+    let layouts: &[LayoutChoice] = if q {
+        &[LayoutChoice::Seed000, LayoutChoice::Oct8, LayoutChoice::Xyz8]
+    } else {
+        &[
+            LayoutChoice::Seed000,
+            LayoutChoice::Packed,
+            LayoutChoice::Fit,
+            LayoutChoice::Oct8,
+            LayoutChoice::Oct16,
+            LayoutChoice::Xyz8,
+            LayoutChoice::Xyz16f,
+        ]
+    };
+    for &layout in layouts {
+        v.push(c("layout", layout.layout().name.into(), Settings { layout, ..base.clone() }, o.lights));
     }
-    for accumulation in [AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat] {
+    let accumulations: &[AccumFormat] = if q {
+        &[AccumFormat::Rgba8Log]
+    } else {
+        &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log]
+    };
+    for &accumulation in accumulations {
         v.push(c("accumulation", format!("{accumulation:?}"), Settings { accumulation, ..base.clone() }, o.lights));
     }
-    v.push(c("depth", "reversed-z".into(), Settings { reversed_z: true, ..base.clone() }, o.lights));
+    // Depth format x depth convention, on the bench's scene and on the far-origin hard case.
+    let scenes: &[Option<&'static str>] = if q { &[None] } else { &[None, Some("far-origin")] };
+    for &scene in scenes {
+        for depth_format in DepthFormat::ALL {
+            for reversed_z in [false, true] {
+                if q && depth_format == DepthFormat::default() && !reversed_z {
+                    continue; // the `volume` row
+                }
+                let label = format!(
+                    "{}{}{}",
+                    scene.map_or(String::new(), |s| format!("{s} ")),
+                    depth_format.name(),
+                    if reversed_z { " reversed-z" } else { "" }
+                );
+                let settings = Settings { depth_format, reversed_z, ..base.clone() };
+                v.push(Config { scene, ..c("depth", label, settings, o.lights) });
+            }
+        }
+    }
+    for (t, name) in CUTOFFS {
+        if t == 0.0 && q {
+            continue;
+        }
+        v.push(c("cutoff", format!("cutoff {name}"), Settings { light_cutoff: t, ..base.clone() }, o.lights));
+    }
+    let subdivisions: &[u32] = if q { &[0, 2] } else { &[0, 1, 2, 3] };
+    for &sphere_subdivisions in subdivisions {
+        let faces = 20 * 4u32.pow(sphere_subdivisions);
+        let label = format!("sphere {faces} tris");
+        v.push(c("tessellation", label, Settings { sphere_subdivisions, ..base.clone() }, o.lights));
+    }
+    let sides: &[u32] = if q { &[] } else { &[6, 24] };
+    for &cone_sides in sides {
+        v.push(c(
+            "tessellation",
+            format!("cone {cone_sides} sides"),
+            Settings { cone_sides, ..base.clone() },
+            o.lights,
+        ));
+    }
+    let sizes: &[(u32, u32)] =
+        if q { &[(160, 90), (640, 360)] } else { &[(160, 90), (320, 180), (640, 360), (1280, 720)] };
+    for &size in sizes {
+        let label = format!("{}x{}", size.0, size.1);
+        v.push(Config { size, ..c("resolution", label, base.clone(), o.lights) });
+    }
     let counts: &[usize] = if o.quick { &[16, 1024] } else { &[1, 64, 256, 4096] };
     for &n in counts {
         for mode in [CullingMode::Volume, CullingMode::StencilTwoPass] {
@@ -107,7 +197,8 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
 }
 
 /// The configuration groups, for `--only`.
-pub const GROUPS: &[&str] = &["culling", "layout", "accumulation", "depth", "lights"];
+pub const GROUPS: &[&str] =
+    &["culling", "layout", "accumulation", "depth", "cutoff", "tessellation", "resolution", "lights"];
 
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -150,7 +241,8 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     let mut prepared = Vec::new();
     for (k, cfg) in list.iter().enumerate() {
         progress(k, steps, &format!("prepare {}", cfg.label));
-        let scene = builtin::build(&o.scene, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
+        let name = cfg.scene.unwrap_or(&o.scene);
+        let scene = builtin::build(name, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
             .map_err(anyhow::Error::msg)?;
         let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
             Ok(r) => r,
@@ -170,12 +262,12 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             times.push(render_image(gpu, renderer, scene, &cfg.settings, cfg.size.0, cfg.size.1)?.1);
         }
     }
-    let mut refs: HashMap<(usize, (u32, u32)), Reference> = HashMap::new();
+    let mut refs: HashMap<(&str, usize, (u32, u32)), Reference> = HashMap::new();
     let mut rows = Vec::new();
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
         let (w, h) = cfg.size;
-        let reference = match refs.entry((cfg.lights, cfg.size)) {
+        let reference = match refs.entry((cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size)) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
         };
@@ -196,10 +288,16 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         rows.push(Row {
             group: cfg.group.into(),
             label: cfg.label.clone(),
+            scene: cfg.scene.unwrap_or(&o.scene).to_string(),
             culling: cfg.settings.culling.name().into(),
-            layout: format!("{:?}", cfg.settings.layout).to_lowercase(),
+            layout: stats.gbuffer_layout.clone(),
             accumulation: format!("{:?}", cfg.settings.accumulation),
             reversed_z: cfg.settings.reversed_z,
+            depth_format: stats.depth_stencil_format.clone(),
+            light_cutoff: cfg.settings.light_cutoff,
+            sphere_subdivisions: cfg.settings.sphere_subdivisions,
+            cone_sides: cfg.settings.cone_sides,
+            volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
             lights: scene.lights.len(),
             width: w,
             height: h,
@@ -223,33 +321,41 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     Ok(rows)
 }
 
-/// Marks the rows no other row of the same light count and size beats in both time and error.
+/// Marks the rows no other row of the same scene, light count and size beats in both time and
+/// error.
 pub fn mark_pareto(rows: &mut [Row]) {
-    let snapshot: Vec<(usize, u32, f64, f32)> =
-        rows.iter().map(|r| (r.lights, r.width, r.total_ms, r.flip_mean)).collect();
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    let snapshot: Vec<(_, f64, f32)> = rows.iter().map(|r| (key(r), r.total_ms, r.flip_mean)).collect();
     for (i, r) in rows.iter_mut().enumerate() {
-        let (n, w, t, e) = snapshot[i];
+        let (k, t, e) = &snapshot[i];
         r.pareto = !snapshot
             .iter()
             .enumerate()
-            .any(|(j, &(n2, w2, t2, e2))| j != i && n2 == n && w2 == w && t2 <= t && e2 <= e && (t2 < t || e2 < e));
+            .any(|(j, (k2, t2, e2))| j != i && k2 == k && t2 <= t && e2 <= e && (t2 < t || e2 < e));
     }
 }
 
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
-        "group,label,culling,layout,accumulation,reversed_z,lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
+        "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
+         lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
             r.group,
             r.label,
+            r.scene,
             r.culling,
             r.layout,
             r.accumulation,
             r.reversed_z,
+            r.depth_format,
+            r.light_cutoff,
+            r.sphere_subdivisions,
+            r.cone_sides,
+            r.volumes,
             r.lights,
             r.width,
             r.height,
@@ -275,17 +381,24 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     let mut s = format!(
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
          (full-screen lights, Rgba32Float G-buffer and accumulation). Ratio: lighting time over `fullscreen`'s in the \
-         same run. * = on the Pareto front (time, FLIP) for its light count.\n\n",
+         same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
+         Volumes: the bounding meshes the frame drew (only the kinds its lights need).\n\n",
         o.scene, o.time, o.frames
     );
-    s += "| group | configuration | lights | size | G-buffer B/px | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    let full: HashMap<usize, f64> =
-        rows.iter().filter(|r| r.label == "fullscreen").map(|r| (r.lights, r.lighting_ms)).collect();
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let full: HashMap<(usize, u32, u32), f64> = rows
+        .iter()
+        .filter(|r| r.label == "fullscreen")
+        .map(|r| ((r.lights, r.width, r.height), r.lighting_ms))
+        .collect();
     for r in rows {
-        let ratio = full.get(&r.lights).map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
+        let ratio = full
+            .get(&(r.lights, r.width, r.height))
+            .filter(|_| r.scene == o.scene)
+            .map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -293,6 +406,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.width,
             r.height,
             r.gbuffer_bytes_per_pixel,
+            r.volumes,
             r.gbuffer_ms,
             r.lighting_ms,
             r.total_ms,
@@ -332,7 +446,8 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         .y_desc("FLIP mean against the reference")
         .label_style(("sans-serif", 15))
         .draw()?;
-    let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
+    let palette =
+        [RED, BLUE, GREEN, MAGENTA, CYAN, RGBColor(230, 140, 0), RGBColor(120, 70, 20), RGBColor(120, 120, 120)];
     let groups: Vec<&str> = {
         let mut g: Vec<&str> = pts.iter().map(|r| r.group.as_str()).collect();
         g.dedup();
@@ -354,9 +469,11 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
             ("sans-serif", 12),
         )))?;
     }
+    // The front of the main configurations (the first row's scene, light count and size).
+    let main = pts.first().map(|r| (r.scene.clone(), r.lights, r.width, r.height));
     let mut front: Vec<(f64, f64)> = pts
         .iter()
-        .filter(|r| r.pareto && r.lights == pts[0].lights)
+        .filter(|r| r.pareto && Some((r.scene.clone(), r.lights, r.width, r.height)) == main)
         .map(|r| (r.total_ms, r.flip_mean as f64))
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -1180,6 +1180,11 @@ impl Renderer {
         Ok(())
     }
 
+    /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).
+    pub fn light_records(&self) -> &[LightRaw] {
+        &self.last_lights
+    }
+
     /// Size of the last frame.
     pub fn size(&self) -> Option<(u32, u32)> {
         self.targets.as_ref().map(|t| (t.width, t.height))

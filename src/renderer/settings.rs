@@ -304,3 +304,77 @@ impl Settings {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_files_without_the_new_knobs_still_load() {
+        // A settings file as the viewer wrote it before depth format, cut-off and tessellation.
+        let old = r#"{"culling":"stencil-two-pass","layout":"compact","debug_view":"lit","selected_light":null,
+            "reversed_z":true,"exposure":1.5,"count_fragments":true,"count_ideal":false,"timestamps":true,
+            "accumulation":"rgba16-float","depth_clamp":true}"#;
+        let s: Settings = serde_json::from_str(old).unwrap();
+        assert_eq!(s.culling, CullingMode::StencilTwoPass);
+        assert!(s.reversed_z);
+        assert_eq!(s.depth_format, DepthFormat::Depth32FloatStencil8);
+        assert_eq!((s.light_cutoff, s.sphere_subdivisions, s.cone_sides), (0.0, 1, 12));
+        s.validate().unwrap();
+        // And the new ones round-trip.
+        let new = Settings {
+            accumulation: AccumFormat::Rgba8Log,
+            depth_format: DepthFormat::Depth24PlusStencil8,
+            light_cutoff: 1.0 / 64.0,
+            sphere_subdivisions: 3,
+            cone_sides: 24,
+            ..Settings::default()
+        };
+        let text = serde_json::to_string(&new).unwrap();
+        assert!(text.contains("\"rgba8-log\"") && text.contains("\"depth24-plus-stencil8\""), "{text}");
+        assert_eq!(serde_json::from_str::<Settings>(&text).unwrap(), new);
+    }
+
+    #[test]
+    fn bad_knob_values_are_clear_errors() {
+        let bad = |s: Settings| s.validate().unwrap_err();
+        for t in [1.0, -0.1, f32::NAN, f32::INFINITY] {
+            assert!(bad(Settings { light_cutoff: t, ..Settings::default() }).contains("cut-off"), "{t}");
+        }
+        assert!(bad(Settings { sphere_subdivisions: 5, ..Settings::default() }).contains("sphere subdivisions 5"));
+        assert!(bad(Settings { cone_sides: 2, ..Settings::default() }).contains("cone sides 2"));
+        assert!(bad(Settings { cone_sides: 65, ..Settings::default() }).contains("between 3 and 64"));
+        assert!(serde_json::from_str::<Settings>(r#"{"depth_format":"depth16"}"#).is_err());
+        assert!(serde_json::from_str::<Settings>(r#"{"accumulation":"rgba8"}"#).is_err());
+    }
+
+    #[test]
+    fn the_cutoff_radius_is_where_the_attenuation_reaches_the_threshold() {
+        let attenuation = |d: f32, r: f32| (1.0 - (d / r).powi(2)).clamp(0.0, 1.0).powi(2);
+        assert_eq!(cutoff_radius(10.0, 0.0), 10.0);
+        for t in [1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0, 0.5] {
+            let r = cutoff_radius(10.0, t);
+            assert!(r < 10.0);
+            assert!((attenuation(r, 10.0) - t).abs() < 1e-5, "{t}: attenuation {} at {r}", attenuation(r, 10.0));
+        }
+        assert!((cutoff_radius(1.0, 1.0 / 16.0) - 0.75f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_log_encoding_decodes_what_it_stores() {
+        // Light L is stored as the 8-bit code nearest 255 * 2^-L; decoding is within the stated
+        // bound for one write, and saturation decodes to the finite top of the range.
+        for k in 0..=800 {
+            let light = k as f32 / 100.0;
+            let code = (255.0 * (-light).exp2()).round() / 255.0;
+            let back = log_accum_decode(code);
+            if light < LOG_ACCUM_MAX - 1.0 {
+                let err = (back - light).abs();
+                assert!(err <= log_accum_error_bound(light, 1), "{light}: decoded {back}");
+            }
+            assert!(back.is_finite() && back <= LOG_ACCUM_MAX);
+        }
+        assert_eq!(log_accum_decode(0.0), LOG_ACCUM_MAX);
+        assert_eq!(log_accum_decode(1.0), 0.0);
+    }
+}

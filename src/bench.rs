@@ -130,7 +130,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         ]
     };
     for &layout in layouts {
-        v.push(c("layout", layout.layout().name.into(), Settings { layout, ..base.clone() }, o.lights));
+        v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
     }
     let accumulations: &[AccumFormat] = if q {
         &[AccumFormat::Rgba8Log]
@@ -423,65 +423,110 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     s
 }
 
-/// Time (x) against FLIP error (y), one point per configuration, Pareto front joined.
+/// Time (x) against FLIP error (y): one panel per group, one labelled point per configuration,
+/// the default configuration (`culling` / `volume`) in grey in every panel for comparison, and
+/// the Pareto front of the panel's scene, light count and size joined by a black line (points
+/// on it ringed).
 pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     use plotters::prelude::*;
     plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
         .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
-    let root = BitMapBackend::new(path, (1100, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
     let pts: Vec<&Row> = rows.iter().filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0).collect();
-    let max_t = pts.iter().map(|r| r.total_ms).fold(1.0, f64::max) * 1.3;
-    let min_t = pts.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min).max(1e-3) * 0.7;
-    let max_e = pts.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.2;
-    let mut chart = ChartBuilder::on(&root)
-        .caption("Speed against error (lower left is better)", ("sans-serif", 26))
-        .margin(20)
-        .x_label_area_size(50)
-        .y_label_area_size(70)
-        .build_cartesian_2d((min_t..max_t).log_scale(), 0.0..max_e)?;
-    chart
-        .configure_mesh()
-        .x_desc("GPU ms per frame (median, log scale)")
-        .y_desc("FLIP mean against the reference")
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    let palette =
-        [RED, BLUE, GREEN, MAGENTA, CYAN, RGBColor(230, 140, 0), RGBColor(120, 70, 20), RGBColor(120, 120, 120)];
-    let groups: Vec<&str> = {
-        let mut g: Vec<&str> = pts.iter().map(|r| r.group.as_str()).collect();
-        g.dedup();
-        g
-    };
-    for (gi, g) in groups.iter().enumerate() {
-        let color = palette[gi % palette.len()];
-        let series: Vec<(f64, f64)> =
-            pts.iter().filter(|r| r.group == *g).map(|r| (r.total_ms, r.flip_mean as f64)).collect();
-        chart
-            .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 5, color.filled())))?
-            .label(g.to_string())
-            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
-    }
+    let mut groups: Vec<&str> = Vec::new();
     for r in &pts {
-        chart.draw_series(std::iter::once(Text::new(
-            format!("{} ({})", r.label, r.lights),
-            (r.total_ms, r.flip_mean as f64),
-            ("sans-serif", 12),
-        )))?;
+        if !groups.contains(&r.group.as_str()) {
+            groups.push(&r.group);
+        }
     }
-    // The front of the main configurations (the first row's scene, light count and size).
-    let main = pts.first().map(|r| (r.scene.clone(), r.lights, r.width, r.height));
-    let mut front: Vec<(f64, f64)> = pts
-        .iter()
-        .filter(|r| r.pareto && Some((r.scene.clone(), r.lights, r.width, r.height)) == main)
-        .map(|r| (r.total_ms, r.flip_mean as f64))
-        .collect();
-    front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    chart
-        .draw_series(LineSeries::new(front, BLACK.stroke_width(2)))?
-        .label("Pareto front")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    let cols = groups.len().clamp(1, 4);
+    let rows_n = groups.len().div_ceil(cols).max(1);
+    let root = BitMapBackend::new(path, (480 * cols as u32, 400 * rows_n as u32 + 50)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title, body) = root.split_vertically(50);
+    title.titled("Speed against error, one panel per knob (lower left is better)", ("sans-serif", 26))?;
+    let panels = body.split_evenly((rows_n, cols));
+    let palette = [
+        RED,
+        BLUE,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        RGBColor(230, 120, 0),
+        RGBColor(120, 70, 20),
+        RGBColor(90, 90, 90),
+    ];
+    let default = pts.iter().find(|r| r.group == "culling" && r.label == "volume").copied();
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    for (gi, (g, area)) in groups.iter().zip(panels.iter()).enumerate() {
+        let color = palette[gi % palette.len()];
+        let mut mine: Vec<&Row> = pts.iter().filter(|r| r.group == *g).copied().collect();
+        if let Some(d) = default.filter(|_| *g != "culling") {
+            mine.push(d);
+        }
+        let t_lo = mine.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min) / 1.5;
+        let t_hi = mine.iter().map(|r| r.total_ms).fold(0.0, f64::max) * 2.5;
+        let e_hi = mine.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.25;
+        let mut chart = ChartBuilder::on(area)
+            .caption(g.to_string(), ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(56)
+            .build_cartesian_2d((t_lo..t_hi).log_scale(), 0.0..e_hi)?;
+        chart
+            .configure_mesh()
+            .x_desc("GPU ms per frame (median)")
+            .y_desc("FLIP mean")
+            .label_style(("sans-serif", 13))
+            .light_line_style(RGBColor(238, 238, 238))
+            .x_labels(8)
+            .y_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .draw()?;
+        // The Pareto front of each scene/lights/size among this panel's points.
+        let mut keys: Vec<_> = mine.iter().map(|r| key(r)).collect();
+        keys.dedup();
+        for k in keys {
+            let mut front: Vec<(f64, f64)> =
+                mine.iter().filter(|r| r.pareto && key(r) == k).map(|r| (r.total_ms, r.flip_mean as f64)).collect();
+            front.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if front.len() > 1 {
+                chart.draw_series(LineSeries::new(front, BLACK.stroke_width(1)))?;
+            }
+        }
+        // Labels stacked downwards where they would overlap (pixel rectangles).
+        let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+        mine.sort_by(|a, b| a.total_ms.total_cmp(&b.total_ms).then(b.flip_mean.total_cmp(&a.flip_mean)));
+        for r in &mine {
+            let is_default = default.is_some_and(|d| std::ptr::eq(d, *r)) && *g != "culling";
+            let c = if is_default { RGBColor(160, 160, 160) } else { color };
+            let p = (r.total_ms, r.flip_mean as f64);
+            let label = if is_default {
+                "default".to_string()
+            } else if r.lights == default.map_or(0, |d| d.lights) {
+                r.label.clone()
+            } else {
+                format!("{} ({} lights)", r.label, r.lights)
+            };
+            let (px, py) = chart.backend_coord(&p);
+            let w = 7 * label.chars().count() as i32;
+            let mut dy = -7;
+            while placed
+                .iter()
+                .any(|&(x0, y0, x1, y1)| px + 8 < x1 && px + 8 + w > x0 && py + dy < y1 && py + dy + 13 > y0)
+            {
+                dy += 14;
+            }
+            placed.push((px + 8, py + dy, px + 8 + w, py + dy + 13));
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(p)
+                    + Circle::new((0, 0), 5, c.filled())
+                    + Text::new(label, (8, dy), ("sans-serif", 13).into_font().color(&c)),
+            ))?;
+            if r.pareto {
+                chart.draw_series(std::iter::once(Circle::new(p, 8, BLACK.stroke_width(1))))?;
+            }
+        }
+    }
     root.present()?;
     Ok(())
 }

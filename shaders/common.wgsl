@@ -26,7 +26,9 @@ struct GpuLight {
     cos_outer: f32,
     cos_inner: f32,
     tan_outer: f32,
-    pad0: f32,
+    // Where the attenuation reaches zero; `radius` is where the light is cut off (the same, or
+    // less under a cut-off threshold) and what its volume bounds.
+    falloff: f32,
     pad1: f32,
 };
 
@@ -214,8 +216,8 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
         return r;
     }
     // A light exactly on the surface lights it head-on.
-    let L = select(s.normal, to_light / d, d > 1e-6 * l.radius);
-    let att = distance_attenuation(d, l.radius) * spot_attenuation(l, -L);
+    let L = select(s.normal, to_light / d, d > 1e-6 * l.falloff);
+    let att = distance_attenuation(d, l.falloff) * spot_attenuation(l, -L);
     let ndl = max(dot(s.normal, L), 0.0);
     if att <= 0.0 || ndl <= 0.0 {
         return r;
@@ -226,6 +228,23 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     r.diffuse = l.color * (att * ndl);
     r.specular = l.color * (att * ndl * spec);
     return r;
+}
+
+// Seed 004's logarithmic Rgba8 accumulation (LS_ACCUM_LOG): a light is stored as exp2(-light)
+// and blended multiplicatively, so the product encodes the sum; decoded with -log2. A stored 0
+// (saturated) decodes to the top of the range, never infinity.
+fn encode_light(v: vec3<f32>) -> vec4<f32> {
+    if LS_ACCUM_LOG {
+        return vec4<f32>(exp2(-max(v, vec3<f32>(0.0))), 1.0);
+    }
+    return vec4<f32>(v, 0.0);
+}
+
+fn decode_light(v: vec3<f32>) -> vec3<f32> {
+    if LS_ACCUM_LOG {
+        return min(-log2(max(v, vec3<f32>(1.0 / 255.0))), vec3<f32>(LS_LOG_ACCUM_MAX));
+    }
+    return v;
 }
 
 fn fullscreen_position(vi: u32) -> vec4<f32> {

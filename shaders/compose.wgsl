@@ -47,8 +47,8 @@ fn vs_compose(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 fn fs_compose_hdr(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy));
     let s = gbuffer_load(p);
-    let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
-    let specular = finite(textureLoad(light_specular, p, 0).rgb);
+    let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
+    let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
     return vec4<f32>(select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid), 1.0);
 }
 
@@ -64,8 +64,8 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy * compose.scale));
     let s = gbuffer_load(p);
     let view = compose.view;
-    let diffuse = finite(textureLoad(light_diffuse, p, 0).rgb);
-    let specular = finite(textureLoad(light_specular, p, 0).rgb);
+    let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
+    let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
     let exposure = camera.params.x;
     let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
     var c = aces(lit * exposure);

@@ -53,12 +53,12 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) light:
 fn fs_light(in: LightVarying) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(in.clip.xy));
     var out: LightTargets;
-    out.diffuse = vec4<f32>(0.0);
-    out.specular = vec4<f32>(0.0);
+    out.diffuse = encode_light(vec3<f32>(0.0));
+    out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         let r = shade_light(s, lights[in.light]);
-        out.diffuse = vec4<f32>(min(r.diffuse, vec3<f32>(camera.params.w)), 0.0);
-        out.specular = vec4<f32>(min(r.specular, vec3<f32>(camera.params.w)), 0.0);
+        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.params.w)));
+        out.specular = encode_light(min(r.specular, vec3<f32>(camera.params.w)));
     }
     return out;
 }
@@ -68,8 +68,8 @@ fn fs_light(in: LightVarying) -> LightTargets {
 fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(frag.xy));
     var out: LightTargets;
-    out.diffuse = vec4<f32>(0.0);
-    out.specular = vec4<f32>(0.0);
+    out.diffuse = encode_light(vec3<f32>(0.0));
+    out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         var d = camera.ambient.rgb;
         var sp = vec3<f32>(0.0);
@@ -81,8 +81,8 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
             d += camera.sun_color.rgb * ndl;
             sp = camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
         }
-        out.diffuse = vec4<f32>(min(d, vec3<f32>(camera.params.w)), 0.0);
-        out.specular = vec4<f32>(min(sp, vec3<f32>(camera.params.w)), 0.0);
+        out.diffuse = encode_light(min(d, vec3<f32>(camera.params.w)));
+        out.specular = encode_light(min(sp, vec3<f32>(camera.params.w)));
     }
     return out;
 }

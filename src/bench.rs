@@ -7,7 +7,9 @@
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
-use crate::renderer::{AccumFormat, CullingMode, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
+use crate::renderer::{
+    AccumFormat, CullingMode, DepthFormat, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+};
 use crate::scene::builtin::{self, BuiltinOptions};
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -45,7 +47,7 @@ impl BenchOptions {
     }
 }
 
-/// One configuration: what it varies, and the settings, light count and size it runs with.
+/// One configuration: what it varies, and the settings, light count, size and scene it runs with.
 #[derive(Clone, Debug)]
 pub struct Config {
     pub group: &'static str,
@@ -53,16 +55,26 @@ pub struct Config {
     pub settings: Settings,
     pub lights: usize,
     pub size: (u32, u32),
+    /// Another built-in scene than the bench's (the depth group's `far-origin` rows).
+    pub scene: Option<&'static str>,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     pub group: String,
     pub label: String,
+    pub scene: String,
     pub culling: String,
     pub layout: String,
     pub accumulation: String,
     pub reversed_z: bool,
+    /// The depth-stencil format the frame used (the adapter's fallback shows here).
+    pub depth_format: String,
+    pub light_cutoff: f32,
+    pub sphere_subdivisions: u32,
+    pub cone_sides: u32,
+    /// Bounding meshes the frame drew, e.g. "sphere+cone".
+    pub volumes: String,
     pub lights: usize,
     pub width: u32,
     pub height: u32,
@@ -81,21 +93,99 @@ pub struct Row {
     pub pareto: bool,
 }
 
-/// The sweep. Every configuration differs from the default in one knob.
+/// The cut-off thresholds the `cutoff` group sweeps (fractions of each light's peak).
+pub const CUTOFFS: [(f32, &str); 4] = [(0.0, "0"), (1.0 / 256.0, "1/256"), (1.0 / 64.0, "1/64"), (1.0 / 16.0, "1/16")];
+
+/// The sweep. Every configuration differs from the default (`volume` culling, `compact`
+/// layout, Rgba16Float accumulation, Depth32FloatStencil8, exact radii, an 80-triangle sphere
+/// and a 12-sided cone) in one knob; `--quick` keeps a subset of each group.
 pub fn configs(o: &BenchOptions) -> Vec<Config> {
     let base = Settings { count_fragments: true, count_ideal: false, timestamps: true, ..Settings::default() };
-    let c = |group, label: String, settings: Settings, lights| Config { group, label, settings, lights, size: o.size };
+    let c = |group, label: String, settings: Settings, lights| Config {
+        group,
+        label,
+        settings,
+        lights,
+        size: o.size,
+        scene: None,
+    };
+    let q = o.quick;
     let mut v = Vec::new();
     for mode in CullingMode::ALL {
         v.push(c("culling", mode.name().into(), Settings { culling: mode, ..base.clone() }, o.lights));
     }
-    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Fit] {
+    // Seed 000's fp16 targets, the packed and fitted layouts, and the normal encodings with
+    // everything else as `compact` stores it (compact itself is the `volume` row).
+    let layouts: &[LayoutChoice] = if q {
+        &[LayoutChoice::Seed000, LayoutChoice::Oct8, LayoutChoice::Xyz8]
+    } else {
+        &[
+            LayoutChoice::Seed000,
+            LayoutChoice::Packed,
+            LayoutChoice::Fit,
+            LayoutChoice::Oct8,
+            LayoutChoice::Oct16,
+            LayoutChoice::Xyz8,
+            LayoutChoice::Xyz16f,
+        ]
+    };
+    for &layout in layouts {
         v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
     }
-    for accumulation in [AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat] {
+    let accumulations: &[AccumFormat] = if q {
+        &[AccumFormat::Rgba8Log]
+    } else {
+        &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log]
+    };
+    for &accumulation in accumulations {
         v.push(c("accumulation", format!("{accumulation:?}"), Settings { accumulation, ..base.clone() }, o.lights));
     }
-    v.push(c("depth", "reversed-z".into(), Settings { reversed_z: true, ..base.clone() }, o.lights));
+    // Depth format x depth convention, on the bench's scene and on the far-origin hard case.
+    let scenes: &[Option<&'static str>] = if q { &[None] } else { &[None, Some("far-origin")] };
+    for &scene in scenes {
+        for depth_format in DepthFormat::ALL {
+            for reversed_z in [false, true] {
+                if q && depth_format == DepthFormat::default() && !reversed_z {
+                    continue; // the `volume` row
+                }
+                let label = format!(
+                    "{}{}{}",
+                    scene.map_or(String::new(), |s| format!("{s} ")),
+                    depth_format.name(),
+                    if reversed_z { " reversed-z" } else { "" }
+                );
+                let settings = Settings { depth_format, reversed_z, ..base.clone() };
+                v.push(Config { scene, ..c("depth", label, settings, o.lights) });
+            }
+        }
+    }
+    for (t, name) in CUTOFFS {
+        if t == 0.0 && q {
+            continue;
+        }
+        v.push(c("cutoff", format!("cutoff {name}"), Settings { light_cutoff: t, ..base.clone() }, o.lights));
+    }
+    let subdivisions: &[u32] = if q { &[0, 2] } else { &[0, 1, 2, 3] };
+    for &sphere_subdivisions in subdivisions {
+        let faces = 20 * 4u32.pow(sphere_subdivisions);
+        let label = format!("sphere {faces} tris");
+        v.push(c("tessellation", label, Settings { sphere_subdivisions, ..base.clone() }, o.lights));
+    }
+    let sides: &[u32] = if q { &[] } else { &[6, 24] };
+    for &cone_sides in sides {
+        v.push(c(
+            "tessellation",
+            format!("cone {cone_sides} sides"),
+            Settings { cone_sides, ..base.clone() },
+            o.lights,
+        ));
+    }
+    let sizes: &[(u32, u32)] =
+        if q { &[(160, 90), (640, 360)] } else { &[(160, 90), (320, 180), (640, 360), (1280, 720)] };
+    for &size in sizes {
+        let label = format!("{}x{}", size.0, size.1);
+        v.push(Config { size, ..c("resolution", label, base.clone(), o.lights) });
+    }
     let counts: &[usize] = if o.quick { &[16, 1024] } else { &[1, 64, 256, 4096] };
     for &n in counts {
         for mode in [CullingMode::Volume, CullingMode::StencilTwoPass] {
@@ -107,7 +197,8 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
 }
 
 /// The configuration groups, for `--only`.
-pub const GROUPS: &[&str] = &["culling", "layout", "accumulation", "depth", "lights"];
+pub const GROUPS: &[&str] =
+    &["culling", "layout", "accumulation", "depth", "cutoff", "tessellation", "resolution", "lights"];
 
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -150,7 +241,8 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     let mut prepared = Vec::new();
     for (k, cfg) in list.iter().enumerate() {
         progress(k, steps, &format!("prepare {}", cfg.label));
-        let scene = builtin::build(&o.scene, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
+        let name = cfg.scene.unwrap_or(&o.scene);
+        let scene = builtin::build(name, BuiltinOptions { lights: Some(cfg.lights), time: o.time })
             .map_err(anyhow::Error::msg)?;
         let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
             Ok(r) => r,
@@ -170,12 +262,12 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             times.push(render_image(gpu, renderer, scene, &cfg.settings, cfg.size.0, cfg.size.1)?.1);
         }
     }
-    let mut refs: HashMap<(usize, (u32, u32)), Reference> = HashMap::new();
+    let mut refs: HashMap<(&str, usize, (u32, u32)), Reference> = HashMap::new();
     let mut rows = Vec::new();
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
         let (w, h) = cfg.size;
-        let reference = match refs.entry((cfg.lights, cfg.size)) {
+        let reference = match refs.entry((cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size)) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
         };
@@ -196,10 +288,16 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         rows.push(Row {
             group: cfg.group.into(),
             label: cfg.label.clone(),
+            scene: cfg.scene.unwrap_or(&o.scene).to_string(),
             culling: cfg.settings.culling.name().into(),
-            layout: format!("{:?}", cfg.settings.layout).to_lowercase(),
+            layout: stats.gbuffer_layout.clone(),
             accumulation: format!("{:?}", cfg.settings.accumulation),
             reversed_z: cfg.settings.reversed_z,
+            depth_format: stats.depth_stencil_format.clone(),
+            light_cutoff: cfg.settings.light_cutoff,
+            sphere_subdivisions: cfg.settings.sphere_subdivisions,
+            cone_sides: cfg.settings.cone_sides,
+            volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
             lights: scene.lights.len(),
             width: w,
             height: h,
@@ -223,33 +321,41 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     Ok(rows)
 }
 
-/// Marks the rows no other row of the same light count and size beats in both time and error.
+/// Marks the rows no other row of the same scene, light count and size beats in both time and
+/// error.
 pub fn mark_pareto(rows: &mut [Row]) {
-    let snapshot: Vec<(usize, u32, f64, f32)> =
-        rows.iter().map(|r| (r.lights, r.width, r.total_ms, r.flip_mean)).collect();
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    let snapshot: Vec<(_, f64, f32)> = rows.iter().map(|r| (key(r), r.total_ms, r.flip_mean)).collect();
     for (i, r) in rows.iter_mut().enumerate() {
-        let (n, w, t, e) = snapshot[i];
+        let (k, t, e) = &snapshot[i];
         r.pareto = !snapshot
             .iter()
             .enumerate()
-            .any(|(j, &(n2, w2, t2, e2))| j != i && n2 == n && w2 == w && t2 <= t && e2 <= e && (t2 < t || e2 < e));
+            .any(|(j, (k2, t2, e2))| j != i && k2 == k && t2 <= t && e2 <= e && (t2 < t || e2 < e));
     }
 }
 
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
-        "group,label,culling,layout,accumulation,reversed_z,lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
+        "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
+         lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
             r.group,
             r.label,
+            r.scene,
             r.culling,
             r.layout,
             r.accumulation,
             r.reversed_z,
+            r.depth_format,
+            r.light_cutoff,
+            r.sphere_subdivisions,
+            r.cone_sides,
+            r.volumes,
             r.lights,
             r.width,
             r.height,
@@ -275,17 +381,24 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     let mut s = format!(
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
          (full-screen lights, Rgba32Float G-buffer and accumulation). Ratio: lighting time over `fullscreen`'s in the \
-         same run. * = on the Pareto front (time, FLIP) for its light count.\n\n",
+         same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
+         Volumes: the bounding meshes the frame drew (only the kinds its lights need).\n\n",
         o.scene, o.time, o.frames
     );
-    s += "| group | configuration | lights | size | G-buffer B/px | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    let full: HashMap<usize, f64> =
-        rows.iter().filter(|r| r.label == "fullscreen").map(|r| (r.lights, r.lighting_ms)).collect();
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let full: HashMap<(usize, u32, u32), f64> = rows
+        .iter()
+        .filter(|r| r.label == "fullscreen")
+        .map(|r| ((r.lights, r.width, r.height), r.lighting_ms))
+        .collect();
     for r in rows {
-        let ratio = full.get(&r.lights).map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
+        let ratio = full
+            .get(&(r.lights, r.width, r.height))
+            .filter(|_| r.scene == o.scene)
+            .map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -293,6 +406,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.width,
             r.height,
             r.gbuffer_bytes_per_pixel,
+            r.volumes,
             r.gbuffer_ms,
             r.lighting_ms,
             r.total_ms,
@@ -309,62 +423,110 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     s
 }
 
-/// Time (x) against FLIP error (y), one point per configuration, Pareto front joined.
+/// Time (x) against FLIP error (y): one panel per group, one labelled point per configuration,
+/// the default configuration (`culling` / `volume`) in grey in every panel for comparison, and
+/// the Pareto front of the panel's scene, light count and size joined by a black line (points
+/// on it ringed).
 pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     use plotters::prelude::*;
     plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
         .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
-    let root = BitMapBackend::new(path, (1100, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
     let pts: Vec<&Row> = rows.iter().filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0).collect();
-    let max_t = pts.iter().map(|r| r.total_ms).fold(1.0, f64::max) * 1.3;
-    let min_t = pts.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min).max(1e-3) * 0.7;
-    let max_e = pts.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.2;
-    let mut chart = ChartBuilder::on(&root)
-        .caption("Speed against error (lower left is better)", ("sans-serif", 26))
-        .margin(20)
-        .x_label_area_size(50)
-        .y_label_area_size(70)
-        .build_cartesian_2d((min_t..max_t).log_scale(), 0.0..max_e)?;
-    chart
-        .configure_mesh()
-        .x_desc("GPU ms per frame (median, log scale)")
-        .y_desc("FLIP mean against the reference")
-        .label_style(("sans-serif", 15))
-        .draw()?;
-    let palette = [RED, BLUE, GREEN, MAGENTA, CYAN, BLACK];
-    let groups: Vec<&str> = {
-        let mut g: Vec<&str> = pts.iter().map(|r| r.group.as_str()).collect();
-        g.dedup();
-        g
-    };
-    for (gi, g) in groups.iter().enumerate() {
-        let color = palette[gi % palette.len()];
-        let series: Vec<(f64, f64)> =
-            pts.iter().filter(|r| r.group == *g).map(|r| (r.total_ms, r.flip_mean as f64)).collect();
-        chart
-            .draw_series(series.iter().map(|&(x, y)| Circle::new((x, y), 5, color.filled())))?
-            .label(g.to_string())
-            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
-    }
+    let mut groups: Vec<&str> = Vec::new();
     for r in &pts {
-        chart.draw_series(std::iter::once(Text::new(
-            format!("{} ({})", r.label, r.lights),
-            (r.total_ms, r.flip_mean as f64),
-            ("sans-serif", 12),
-        )))?;
+        if !groups.contains(&r.group.as_str()) {
+            groups.push(&r.group);
+        }
     }
-    let mut front: Vec<(f64, f64)> = pts
-        .iter()
-        .filter(|r| r.pareto && r.lights == pts[0].lights)
-        .map(|r| (r.total_ms, r.flip_mean as f64))
-        .collect();
-    front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    chart
-        .draw_series(LineSeries::new(front, BLACK.stroke_width(2)))?
-        .label("Pareto front")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    let cols = groups.len().clamp(1, 4);
+    let rows_n = groups.len().div_ceil(cols).max(1);
+    let root = BitMapBackend::new(path, (480 * cols as u32, 400 * rows_n as u32 + 50)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title, body) = root.split_vertically(50);
+    title.titled("Speed against error, one panel per knob (lower left is better)", ("sans-serif", 26))?;
+    let panels = body.split_evenly((rows_n, cols));
+    let palette = [
+        RED,
+        BLUE,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        RGBColor(230, 120, 0),
+        RGBColor(120, 70, 20),
+        RGBColor(90, 90, 90),
+    ];
+    let default = pts.iter().find(|r| r.group == "culling" && r.label == "volume").copied();
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    for (gi, (g, area)) in groups.iter().zip(panels.iter()).enumerate() {
+        let color = palette[gi % palette.len()];
+        let mut mine: Vec<&Row> = pts.iter().filter(|r| r.group == *g).copied().collect();
+        if let Some(d) = default.filter(|_| *g != "culling") {
+            mine.push(d);
+        }
+        let t_lo = mine.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min) / 1.5;
+        let t_hi = mine.iter().map(|r| r.total_ms).fold(0.0, f64::max) * 2.5;
+        let e_hi = mine.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.25;
+        let mut chart = ChartBuilder::on(area)
+            .caption(g.to_string(), ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(36)
+            .y_label_area_size(56)
+            .build_cartesian_2d((t_lo..t_hi).log_scale(), 0.0..e_hi)?;
+        chart
+            .configure_mesh()
+            .x_desc("GPU ms per frame (median)")
+            .y_desc("FLIP mean")
+            .label_style(("sans-serif", 13))
+            .light_line_style(RGBColor(238, 238, 238))
+            .x_labels(8)
+            .y_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .draw()?;
+        // The Pareto front of each scene/lights/size among this panel's points.
+        let mut keys: Vec<_> = mine.iter().map(|r| key(r)).collect();
+        keys.dedup();
+        for k in keys {
+            let mut front: Vec<(f64, f64)> =
+                mine.iter().filter(|r| r.pareto && key(r) == k).map(|r| (r.total_ms, r.flip_mean as f64)).collect();
+            front.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if front.len() > 1 {
+                chart.draw_series(LineSeries::new(front, BLACK.stroke_width(1)))?;
+            }
+        }
+        // Labels stacked downwards where they would overlap (pixel rectangles).
+        let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+        mine.sort_by(|a, b| a.total_ms.total_cmp(&b.total_ms).then(b.flip_mean.total_cmp(&a.flip_mean)));
+        for r in &mine {
+            let is_default = default.is_some_and(|d| std::ptr::eq(d, *r)) && *g != "culling";
+            let c = if is_default { RGBColor(160, 160, 160) } else { color };
+            let p = (r.total_ms, r.flip_mean as f64);
+            let label = if is_default {
+                "default".to_string()
+            } else if r.lights == default.map_or(0, |d| d.lights) {
+                r.label.clone()
+            } else {
+                format!("{} ({} lights)", r.label, r.lights)
+            };
+            let (px, py) = chart.backend_coord(&p);
+            let w = 7 * label.chars().count() as i32;
+            let mut dy = -7;
+            while placed
+                .iter()
+                .any(|&(x0, y0, x1, y1)| px + 8 < x1 && px + 8 + w > x0 && py + dy < y1 && py + dy + 13 > y0)
+            {
+                dy += 14;
+            }
+            placed.push((px + 8, py + dy, px + 8 + w, py + dy + 13));
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(p)
+                    + Circle::new((0, 0), 5, c.filled())
+                    + Text::new(label, (8, dy), ("sans-serif", 13).into_font().color(&c)),
+            ))?;
+            if r.pareto {
+                chart.draw_series(std::iter::once(Circle::new(p, 8, BLACK.stroke_width(1))))?;
+            }
+        }
+    }
     root.present()?;
     Ok(())
 }

@@ -16,6 +16,12 @@ pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
     (wgpu::Features::DEPTH32FLOAT_STENCIL8, "depth falls back to Depth24PlusStencil8"),
     (wgpu::Features::FLOAT32_BLENDABLE, "Rgba32Float accumulation is unavailable"),
     (wgpu::Features::RG11B10UFLOAT_RENDERABLE, "Rg11b10Ufloat accumulation is unavailable"),
+    (wgpu::Features::TEXTURE_FORMAT_16BIT_NORM, "the oct16 G-buffer layout (Rg16Unorm normals) is unavailable"),
+    // Rendering to Rg16Unorm is an adapter-specific capability beyond the feature above.
+    (
+        wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES,
+        "the oct16 G-buffer layout (rendering to Rg16Unorm) is unavailable",
+    ),
 ];
 
 /// A device and what it can do.

@@ -1,6 +1,8 @@
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use lampshade::renderer::{CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::renderer::{
+    AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Gpu;
 use std::path::PathBuf;
@@ -60,6 +62,21 @@ struct RenderArgs {
     layout: Option<LayoutChoice>,
     #[arg(long, value_enum)]
     debug_view: Option<DebugView>,
+    /// Light accumulation format.
+    #[arg(long, value_enum)]
+    accumulation: Option<AccumFormat>,
+    /// Depth-stencil format.
+    #[arg(long, value_enum)]
+    depth_format: Option<DepthFormat>,
+    /// Cut lights off where they fall below this fraction of their peak (0 ..< 1, 0 = exact).
+    #[arg(long)]
+    light_cutoff: Option<f32>,
+    /// Subdivisions of the point lights' bounding icosphere (0 ..= 4).
+    #[arg(long)]
+    sphere_subdivisions: Option<u32>,
+    /// Sides of the spot lights' bounding pyramid (3 ..= 64).
+    #[arg(long)]
+    cone_sides: Option<u32>,
     /// Restrict the stencil view to light K.
     #[arg(long)]
     light: Option<usize>,
@@ -92,7 +109,8 @@ struct BenchArgs {
     size: Option<(u32, u32)>,
     #[arg(long)]
     lights: Option<usize>,
-    /// Only these groups (comma-separated): culling, layout, accumulation, depth, lights.
+    /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
+    /// tessellation, resolution, lights.
     #[arg(long, value_delimiter = ',')]
     only: Vec<String>,
 }
@@ -192,6 +210,21 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     if let Some(v) = args.debug_view {
         settings.debug_view = v;
+    }
+    if let Some(a) = args.accumulation {
+        settings.accumulation = a;
+    }
+    if let Some(d) = args.depth_format {
+        settings.depth_format = d;
+    }
+    if let Some(t) = args.light_cutoff {
+        settings.light_cutoff = t;
+    }
+    if let Some(n) = args.sphere_subdivisions {
+        settings.sphere_subdivisions = n;
+    }
+    if let Some(n) = args.cone_sides {
+        settings.cone_sides = n;
     }
     if args.light.is_some() {
         settings.selected_light = args.light;

@@ -170,3 +170,128 @@ fn light_complexity_counts_the_lights_touching_each_pixel() {
     }
     assert!(seen.len() >= 2, "the samples should see pixels with different light counts: {seen:?}");
 }
+
+/// For each pixel, the lights whose exact shape (uncut radius) holds its point, from a renderer
+/// whose last frame drew `scene` with no cut-off.
+fn lights_at_pixels(gpu: &lampshade::Gpu, r: &Renderer) -> Vec<Vec<usize>> {
+    use lampshade::renderer::inspect::inside_light;
+    let points = r.view_positions(gpu).unwrap();
+    let lights = r.light_records();
+    points
+        .iter()
+        .map(|p| match p {
+            Some(p) => (0..lights.len()).filter(|&i| inside_light(&lights[i], *p)).collect(),
+            None => Vec::new(),
+        })
+        .collect()
+}
+
+fn demo_with(lights: usize) -> lampshade::Scene {
+    let mut s = scene("demo");
+    s.lights.truncate(lights);
+    s
+}
+
+#[test]
+fn the_light_cutoff_trades_fragments_for_an_error_below_threshold_times_peak() {
+    use lampshade::renderer::AccumFormat;
+    let gpu = gpu();
+    for (name, scene) in
+        [("classify", scene("classify")), ("coincident", scene("coincident")), ("demo", demo_with(120))]
+    {
+        // f32 accumulation, so the comparison sees the cut-off and not fp16 rounding.
+        let base = Settings { accumulation: AccumFormat::Rgba32Float, count_ideal: true, ..Settings::default() };
+        let mut r0 = Renderer::new(gpu, OUTPUT_FORMAT, &base).unwrap();
+        let (_, exact_stats) = render_image(gpu, &mut r0, &scene, &base, W, H).unwrap();
+        let (d0, s0) = r0.read_accumulation(gpu).unwrap();
+        let touching = lights_at_pixels(gpu, &r0);
+        let colours: Vec<glam::Vec3> = r0.light_records().iter().map(|l| glam::Vec3::from(l.color)).collect();
+        let mut last_shaded = exact_stats.shaded_fragments.unwrap();
+        for t in [1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0] {
+            let s = Settings { light_cutoff: t, ..base.clone() };
+            let f = render(&scene, &s, W, H);
+            let shaded = f.stats.shaded_fragments.unwrap();
+            assert!(shaded < last_shaded, "{name} cut-off {t}: shaded {shaded}, before {last_shaded}");
+            last_shaded = shaded;
+            // A light cut off at `t` of its peak loses at most t x its colour at any point.
+            let mut worst = 0f32;
+            let mut changed = 0;
+            for (px, lights) in touching.iter().enumerate() {
+                let allowed: glam::Vec3 = lights.iter().map(|&i| colours[i] * t).sum();
+                for c in 0..3 {
+                    for (cut, exact) in [(&f.diffuse, &d0), (&f.specular, &s0)] {
+                        let err = (cut[px * 4 + c] - exact[px * 4 + c]).abs();
+                        changed += (err > 0.0) as usize;
+                        worst = worst.max(err / allowed[c].max(1e-6));
+                        assert!(
+                            err <= allowed[c] * 1.001 + 1e-5,
+                            "{name} cut-off {t}, pixel {px}: error {err} above {}",
+                            allowed[c]
+                        );
+                    }
+                }
+            }
+            // Not vacuous: the biggest cut-off removes light somewhere in every case.
+            assert!(changed > 0 || t < 1.0 / 16.0, "{name} cut-off {t}: nothing changed");
+            println!(
+                "{name} cut-off {t}: shaded {shaded}, {changed} values changed, worst error {worst:.3} of the bound"
+            );
+        }
+    }
+}
+
+#[test]
+fn log_accumulation_stays_within_its_derived_bound() {
+    use lampshade::renderer::settings::{log_accum_error_bound, LOG_ACCUM_MAX};
+    use lampshade::renderer::AccumFormat;
+    let gpu = gpu();
+    for (name, scene) in [("classify", scene("classify")), ("spot", scene("spot")), ("demo", demo_with(120))] {
+        let exact = Settings { accumulation: AccumFormat::Rgba32Float, ..Settings::default() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &exact).unwrap();
+        render_image(gpu, &mut r, &scene, &exact, W, H).unwrap();
+        let (d, s) = r.read_accumulation(gpu).unwrap();
+        let touching = lights_at_pixels(gpu, &r);
+        let log = render(&scene, &Settings { accumulation: AccumFormat::Rgba8Log, ..Settings::default() }, W, H);
+        assert_finite(&log, name);
+        let (mut checked, mut saturated, mut brightest, mut worst) = (0, 0, 0f32, 0f32);
+        for (px, lights) in touching.iter().enumerate() {
+            // The ambient + sun write and one blend per light touching the point.
+            let blends = 1 + lights.len() as u32;
+            for c in 0..3 {
+                for (got, want) in [(&log.diffuse, &d), (&log.specular, &s)] {
+                    let (got, want) = (got[px * 4 + c], want[px * 4 + c]);
+                    let bound = log_accum_error_bound(want, blends);
+                    if want + bound > LOG_ACCUM_MAX - 0.5 {
+                        // Near the top of the range one code spans most of a unit: saturation.
+                        saturated += 1;
+                        continue;
+                    }
+                    checked += 1;
+                    brightest = brightest.max(want);
+                    worst = worst.max((got - want).abs() / bound);
+                    assert!(
+                        (got - want).abs() <= bound + 1e-5,
+                        "{name} pixel {px}: decoded {got}, exact {want}, bound {bound} ({blends} writes)"
+                    );
+                }
+            }
+        }
+        assert!(checked > 6 * (W * H) as usize * 9 / 10, "{name}: only {checked} values checked");
+        assert!(brightest > 0.5, "{name}: the check never saw bright light ({brightest})");
+        println!("{name}: worst error {worst:.3} of the bound, {saturated} saturated values, brightest {brightest}");
+    }
+}
+
+#[test]
+fn the_frame_reports_the_volume_meshes_it_drew() {
+    // Volume kinds only for the light types present: no cone without narrow spots.
+    let points_only = render(&scene("classify"), &Settings::default(), W, H);
+    assert_eq!(points_only.stats.volume_meshes, vec!["sphere"]);
+    let spot = render(&scene("spot"), &Settings::default(), W, H);
+    assert!(spot.stats.volume_meshes.contains(&"cone".to_string()), "{:?}", spot.stats.volume_meshes);
+    let full = render(&scene("spot"), &Settings { culling: CullingMode::Fullscreen, ..Settings::default() }, W, H);
+    assert!(full.stats.volume_meshes.is_empty(), "full-screen lights draw no mesh");
+    let fine =
+        render(&scene("spot"), &Settings { sphere_subdivisions: 3, cone_sides: 24, ..Settings::default() }, W, H);
+    assert_eq!((fine.stats.sphere_triangles, fine.stats.cone_triangles), (1280, 24 + 22));
+}

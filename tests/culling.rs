@@ -187,3 +187,72 @@ fn the_stencil_modes_agree_light_by_light_on_the_full_demo() {
         }
     }
 }
+
+/// Every mode against `fullscreen` under `base` on `cases`: within one 8-bit step, and never
+/// shading fewer fragments than a light's true shape holds.
+fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
+    for name in cases {
+        let mut scene = scene(name);
+        scene.lights.truncate(200);
+        let s = |culling| Settings { culling, ..base.clone() };
+        let reference = render(&scene, &s(CullingMode::Fullscreen), W, H);
+        assert_finite(&reference, name);
+        for mode in CullingMode::ALL.into_iter().skip(1) {
+            let f = render(&scene, &s(mode), W, H);
+            assert_finite(&f, name);
+            let step = max_channel_difference(&reference.image, &f.image);
+            assert!(step <= MAX_CHANNEL_STEP, "{what} {name}/{}: {step} steps from fullscreen", mode.name());
+            for l in &f.stats.per_light {
+                assert!(
+                    l.shaded.unwrap() >= l.ideal.unwrap(),
+                    "{what} {name}/{}: light {} shaded {} < ideal {}",
+                    mode.name(),
+                    l.index,
+                    l.shaded.unwrap(),
+                    l.ideal.unwrap()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn every_mode_matches_fullscreen_with_log_accumulation() {
+    // Seed 004's multiplicative blend: a light outside its shape multiplies by exactly 1, so
+    // skipping it (culling) changes nothing.
+    let s = Settings { accumulation: lampshade::renderer::AccumFormat::Rgba8Log, ..settings(CullingMode::Volume) };
+    modes_match_fullscreen(&s, &["demo", "spot", "inside", "near", "far"], "rgba8-log");
+}
+
+#[test]
+fn every_mode_matches_fullscreen_with_a_light_cutoff() {
+    // The cut-off shrinks the volume and the shader's radius alike.
+    for t in [1.0 / 64.0, 1.0 / 16.0] {
+        let s = Settings { light_cutoff: t, ..settings(CullingMode::Volume) };
+        modes_match_fullscreen(&s, &["demo", "spot", "inside", "near"], &format!("cut-off {t}"));
+    }
+}
+
+#[test]
+fn tessellation_changes_the_work_not_the_picture() {
+    // Coarse and fine volumes all circumscribe their lights: the picture stays the fullscreen
+    // one, and finer meshes shade fewer fragments (closer to the ideal).
+    for (sphere_subdivisions, cone_sides) in [(0, 3), (0, 6), (2, 24), (3, 12)] {
+        let s = Settings { sphere_subdivisions, cone_sides, ..settings(CullingMode::Volume) };
+        modes_match_fullscreen(
+            &s,
+            &["demo", "spot", "inside"],
+            &format!("sphere {sphere_subdivisions} cone {cone_sides}"),
+        );
+    }
+    let shaded = |name: &str, sphere_subdivisions, cone_sides| {
+        let mut scene = scene(name);
+        scene.lights.truncate(200);
+        let s = Settings { sphere_subdivisions, cone_sides, ..settings(CullingMode::Volume) };
+        render(&scene, &s, W, H).stats.shaded_fragments.unwrap()
+    };
+    let spheres: Vec<u64> = (0..=3).map(|k| shaded("demo", k, 12)).collect();
+    assert!(spheres.windows(2).all(|p| p[1] < p[0]), "demo shaded by subdivision 0..3: {spheres:?}");
+    let cones: Vec<u64> = [3, 6, 24].into_iter().map(|n| shaded("spot", 1, n)).collect();
+    assert!(cones.windows(2).all(|p| p[1] < p[0]), "spot shaded by 3, 6, 24 sides: {cones:?}");
+}

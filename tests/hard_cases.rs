@@ -6,7 +6,9 @@ mod common;
 use common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::render_image;
-use lampshade::renderer::{light_clamp, AccumFormat, CullingMode, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::renderer::{
+    light_clamp, AccumFormat, CullingMode, DepthFormat, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+};
 
 const CASES: &[&str] = &[
     "inside",
@@ -40,20 +42,28 @@ const ABS: f64 = 1e-4;
 
 #[test]
 fn every_culling_mode_matches_the_reference_on_every_hard_case() {
+    // With either depth-stencil format: the volumes' depth tests run against it.
     let mut failures = Vec::new();
-    for name in CASES {
-        let scene = scene(name);
-        let (w, h) = size(name);
-        let s = |culling| Settings { culling, count_ideal: false, ..Settings::default() };
-        let reference = render(&scene, &s(CullingMode::Fullscreen), w, h);
-        assert_finite(&reference, name);
-        assert!(lit_share(&reference.image) > 0.05, "{name}: the reference is black");
-        for mode in CullingMode::ALL.into_iter().skip(1) {
-            let f = render(&scene, &s(mode), w, h);
-            assert_finite(&f, name);
-            let step = max_channel_difference(&reference.image, &f.image);
-            if step > 1 {
-                failures.push(format!("{name}/{}: {step} steps from the reference", mode.name()));
+    for depth_format in DepthFormat::ALL {
+        for name in CASES {
+            let scene = scene(name);
+            let (w, h) = size(name);
+            let s = |culling| Settings { culling, count_ideal: false, depth_format, ..Settings::default() };
+            let reference = render(&scene, &s(CullingMode::Fullscreen), w, h);
+            assert_finite(&reference, name);
+            assert!(lit_share(&reference.image) > 0.05, "{name}: the reference is black");
+            for mode in CullingMode::ALL.into_iter().skip(1) {
+                let f = render(&scene, &s(mode), w, h);
+                assert_finite(&f, name);
+                assert_eq!(f.stats.depth_stencil_format, format!("{:?}", depth_format.format(gpu().features)));
+                let step = max_channel_difference(&reference.image, &f.image);
+                if step > 1 {
+                    failures.push(format!(
+                        "{name}/{}/{}: {step} steps from the reference",
+                        mode.name(),
+                        depth_format.name()
+                    ));
+                }
             }
         }
     }
@@ -68,10 +78,12 @@ fn gpu_lighting_matches_f64_at_sampled_pixels() {
         let scene = scene(name);
         let (w, h) = size(name);
         // Full precision everywhere, so the comparison sees the shader's arithmetic.
+        // No cut-off (the exact radius): the CPU evaluates the full falloff.
         let settings = Settings {
             culling: CullingMode::Volume,
             layout: LayoutChoice::Reference,
             accumulation: AccumFormat::Rgba32Float,
+            light_cutoff: 0.0,
             ..Settings::default()
         };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
@@ -124,4 +136,79 @@ fn ten_thousand_bright_lights_stay_finite_under_the_stated_clamp() {
     // Without the clamp IEEE hardware overflows to infinity and lavapipe saturates at exactly
     // 65504; with it the sum stays strictly below.
     assert!(max < 65504.0 && max > 100.0, "largest accumulated value {max}");
+}
+
+#[test]
+fn d24_and_d32_depth_agree_on_every_hard_case() {
+    // Position comes from the G-buffer's R32Float depth copy either way, so the depth-stencil
+    // format only decides the depth *tests*. Where they differ it shows as pixels whose
+    // visibility flips between surfaces closer than a 24-bit step; stated bound below.
+    let mut report = Vec::new();
+    for name in CASES {
+        let scene = scene(name);
+        let (w, h) = size(name);
+        for reversed_z in [false, true] {
+            let s = |depth_format| Settings { depth_format, reversed_z, ..Settings::default() };
+            let d32 = render(&scene, &s(DepthFormat::Depth32FloatStencil8), w, h);
+            let d24 = render(&scene, &s(DepthFormat::Depth24PlusStencil8), w, h);
+            assert_finite(&d24, name);
+            let (fl, _) = flip(&d32.image, &d24.image).unwrap();
+            let differing = d32.image.pixels().zip(d24.image.pixels()).filter(|(a, b)| a != b).count();
+            report.push(format!("{name} reversed {reversed_z}: FLIP {:.5}, {differing} pixels differ", fl.mean));
+            assert!(fl.mean <= D24_FLIP_BOUND, "{name} reversed {reversed_z}: D24 vs D32 FLIP mean {}", fl.mean);
+        }
+    }
+    println!("{}", report.join("\n"));
+}
+
+/// FLIP mean allowed between Depth24PlusStencil8 and Depth32FloatStencil8 frames of a hard case.
+const D24_FLIP_BOUND: f32 = 0.005;
+
+#[test]
+fn normals_stay_within_each_layouts_encoding_bound() {
+    // The decoded normal of every layout against the f32 xyz normal of the reference layout, at
+    // the same pixels of the `normals` case (normals at +z and -z, the octahedral encoding's
+    // singular points, facing away, zero-length) and of `demo` (every direction in between).
+    let gpu = gpu();
+    for name in ["normals", "demo"] {
+        let scene = scene(name);
+        let (w, h) = (96, 54);
+        let pixels: Vec<(u32, u32)> = (0..240u32).map(|k| ((k * 37 + 5) % w, (k * 23 + 3) % h)).collect();
+        let probe_all = |layout| {
+            let s = Settings { layout, ..Settings::default() };
+            let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+            render_image(gpu, &mut r, &scene, &s, w, h).unwrap();
+            let bound = r.layout().normal_error_bound();
+            (pixels.iter().map(|&(x, y)| r.probe(gpu, x, y).unwrap()).collect::<Vec<_>>(), bound)
+        };
+        let (exact, _) = probe_all(LayoutChoice::Reference);
+        for layout in LayoutChoice::ALL {
+            if Renderer::new(gpu, OUTPUT_FORMAT, &Settings { layout, ..Settings::default() }).is_err() {
+                println!("{layout:?}: not available on this adapter");
+                continue;
+            }
+            let (got, bound) = probe_all(layout);
+            let mut worst = 0f64;
+            let mut valid = 0;
+            for (a, b) in exact.iter().zip(&got) {
+                assert_eq!(a.valid, b.valid);
+                if !a.valid {
+                    continue;
+                }
+                valid += 1;
+                let (a, b) = (a.normal.as_dvec3(), b.normal.as_dvec3());
+                let angle = a.cross(b).length().atan2(a.dot(b));
+                worst = worst.max(angle);
+            }
+            assert!(valid > 100, "{name}: only {valid} sampled pixels hit geometry");
+            // The bound is the quantisation's; f32 arithmetic adds well under 1e-6 rad.
+            assert!(
+                worst <= bound + 1e-6,
+                "{name} {layout:?}: normal off by {:.4} deg, bound {:.4} deg",
+                worst.to_degrees(),
+                bound.to_degrees()
+            );
+            println!("{name} {layout:?}: worst {:.5} deg, bound {:.5} deg", worst.to_degrees(), bound.to_degrees());
+        }
+    }
 }

@@ -12,7 +12,7 @@ pub mod script;
 pub mod state;
 pub mod ui;
 
-use crate::renderer::{volume_wireframe, DebugView, FrameStats, PixelProbe, Renderer, OUTPUT_FORMAT};
+use crate::renderer::{volume_wireframe_with, DebugView, FrameStats, PixelProbe, Renderer, OUTPUT_FORMAT};
 use crate::scene::Scene;
 use crate::Gpu;
 use anyhow::{anyhow, Context, Result};
@@ -618,13 +618,20 @@ impl App {
                 order
                     .into_iter()
                     .take(ui::MAX_WIREFRAMES)
-                    .map(|(i, _)| (i, volume_wireframe(scene, i, g.viewport.width, g.viewport.height)))
+                    .map(|(i, _)| {
+                        (i, volume_wireframe_with(scene, i, g.viewport.width, g.viewport.height, &self.state.settings))
+                    })
                     .collect()
             }
             (Some(scene), Wireframes::Selected) => self
                 .state
                 .selected_light
-                .map(|i| vec![(i, volume_wireframe(scene, i, g.viewport.width, g.viewport.height))])
+                .map(|i| {
+                    vec![(
+                        i,
+                        volume_wireframe_with(scene, i, g.viewport.width, g.viewport.height, &self.state.settings),
+                    )]
+                })
                 .unwrap_or_default(),
             _ => Vec::new(),
         };

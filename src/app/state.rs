@@ -322,6 +322,25 @@ impl UiState {
                     .find(|a| serde_json::to_value(a).ok().and_then(|v| v.as_str().map(|s| s == value)) == Some(true))
                     .ok_or_else(|| format!("unknown accumulation format '{value}'"))?
             }
+            "depth-format" => {
+                self.settings.depth_format =
+                    crate::renderer::DepthFormat::ALL
+                        .into_iter()
+                        .find(|d| d.name() == value)
+                        .ok_or_else(|| format!("unknown depth format '{value}' (d32s8 or d24s8)"))?
+            }
+            "light-cutoff" | "sphere-subdivisions" | "cone-sides" => {
+                let mut s = self.settings.clone();
+                match name {
+                    "light-cutoff" => s.light_cutoff = parse_f64(value)? as f32,
+                    "sphere-subdivisions" => {
+                        s.sphere_subdivisions = value.parse().map_err(|_| format!("'{value}' is not a whole number"))?
+                    }
+                    _ => s.cone_sides = value.parse().map_err(|_| format!("'{value}' is not a whole number"))?,
+                }
+                s.validate()?;
+                self.settings = s;
+            }
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32

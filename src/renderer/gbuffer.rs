@@ -86,16 +86,33 @@ pub enum LayoutChoice {
     Reference,
     /// Derived from the scene: only the channels its materials use (see `fit`).
     Fit,
+    /// `compact` with the normal alone in an octahedral Rg8Unorm target (8+8 bits); the
+    /// exponent moves to the emissive target's free fp16 channel, so only the normal differs.
+    Oct8,
+    /// The same with octahedral Rg16Unorm (16+16 bits; needs TEXTURE_FORMAT_16BIT_NORM).
+    Oct16,
+    /// The same with x y z in Rgba8Unorm (8 bits each).
+    Xyz8,
+    /// The same with x y z in Rgba16Float.
+    Xyz16f,
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 5] = [
+    pub const ALL: [LayoutChoice; 9] = [
         LayoutChoice::Compact,
         LayoutChoice::Seed000,
         LayoutChoice::Packed,
         LayoutChoice::Reference,
         LayoutChoice::Fit,
+        LayoutChoice::Oct8,
+        LayoutChoice::Oct16,
+        LayoutChoice::Xyz8,
+        LayoutChoice::Xyz16f,
     ];
+
+    /// The layouts that differ from `compact` in the normal's encoding only.
+    pub const NORMAL_ENCODINGS: [LayoutChoice; 4] =
+        [LayoutChoice::Oct8, LayoutChoice::Oct16, LayoutChoice::Xyz8, LayoutChoice::Xyz16f];
 
     /// The layout for `scene`: the fixed tables ignore it, `Fit` derives one from it.
     pub fn layout_for(self, scene: &crate::scene::Scene) -> GBufferLayout {
@@ -134,6 +151,10 @@ impl LayoutChoice {
                 ],
             },
             // Seed 000's four fp16 targets with a stored position, and the same table in f32.
+            LayoutChoice::Oct8 => normal_apart("oct8", F::Rg8Unorm, NormalEncoding::Octahedral),
+            LayoutChoice::Oct16 => normal_apart("oct16", F::Rg16Unorm, NormalEncoding::Octahedral),
+            LayoutChoice::Xyz8 => normal_apart("xyz8", F::Rgba8Unorm, NormalEncoding::Xyz),
+            LayoutChoice::Xyz16f => normal_apart("xyz16f", F::Rgba16Float, NormalEncoding::Xyz),
             LayoutChoice::Seed000 => four_stored("seed000", F::Rgba16Float),
             LayoutChoice::Reference => four_stored("reference", F::Rgba32Float),
             LayoutChoice::Packed => GBufferLayout {
@@ -154,6 +175,35 @@ impl LayoutChoice {
                 ],
             },
         }
+    }
+}
+
+/// `compact` with the normal in a target of its own, of `format`, and the specular exponent in
+/// the emissive target's fourth (fp16) channel: everything but the normal's encoding is stored
+/// as `compact` stores it, so a sweep over these isolates the normal's error.
+fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalEncoding) -> GBufferLayout {
+    use wgpu::TextureFormat as F;
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    let mut channels: Vec<Option<Slot>> = (0..normal.components() as u8).map(|c| s(Normal, c)).collect();
+    channels.resize(channel_count(format), None);
+    GBufferLayout {
+        name,
+        normal,
+        targets: vec![
+            TargetDesc {
+                name: "albedo+spec",
+                format: F::Rgba8UnormSrgb,
+                channels: vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)],
+            },
+            TargetDesc { name: "normal", format, channels },
+            TargetDesc {
+                name: "emissive+exp",
+                format: F::Rgba16Float,
+                channels: vec![s(Emissive, 0), s(Emissive, 1), s(Emissive, 2), s(SpecExp, 0)],
+            },
+            TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
+        ],
     }
 }
 
@@ -240,7 +290,66 @@ pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
     )
 }
 
+/// Largest rounding error of one stored normal component in [-1, 1]: half a step of a
+/// normalised format (whose step is 2 / (2^bits - 1) after the [-1, 1] -> [0, 1] remap), half an
+/// ulp below 1 of a float format.
+fn component_rounding(format: wgpu::TextureFormat) -> f64 {
+    use wgpu::TextureFormat as F;
+    match format {
+        F::R8Unorm | F::Rg8Unorm | F::Rgba8Unorm | F::Rgba8UnormSrgb => 1.0 / 255.0,
+        F::R16Unorm | F::Rg16Unorm | F::Rgba16Unorm => 1.0 / 65535.0,
+        // 10 stored mantissa bits: values in [0.5, 1) are 2^-11 apart.
+        F::R16Float | F::Rg16Float | F::Rgba16Float => 2f64.powi(-12),
+        F::R32Float | F::Rg32Float | F::Rgba32Float => 2f64.powi(-25),
+        _ => 1.0,
+    }
+}
+
 impl GBufferLayout {
+    /// The largest angle (radians) between a unit normal and what this layout's encoding gives
+    /// back, from the quantisation alone (`q`: [`component_rounding`] of the normal's format):
+    ///
+    /// * xyz: the stored vector is off by at most `sqrt(3) q`, so after renormalising the
+    ///   direction is off by at most `asin(sqrt(3) q)`;
+    /// * octahedral: a point v = (x, y, 1 - |x| - |y|) of the octahedron has |v| >= 1/sqrt(3);
+    ///   an error of at most `q` in x and y moves v by at most sqrt(q^2 + q^2 + (2q)^2) = sqrt(6) q
+    ///   and the normalised direction by at most |dv| / |v| <= sqrt(6) sqrt(3) q = 3 sqrt(2) q
+    ///   (the lower hemisphere's fold only permutes and reflects the coordinates). For 8+8 bits
+    ///   that is 0.955 degrees (0.946 measured, `OCT8_MAX_ERROR_DEG`).
+    pub fn normal_error_bound(&self) -> f64 {
+        let Some(t) = self.targets.iter().find(|t| t.channels.iter().flatten().any(|s| s.attr == Attr::Normal)) else {
+            return std::f64::consts::PI;
+        };
+        let q = component_rounding(t.format);
+        match self.normal {
+            NormalEncoding::Xyz => (3f64.sqrt() * q).min(1.0).asin(),
+            NormalEncoding::Octahedral => 3.0 * 2f64.sqrt() * q,
+        }
+    }
+
+    /// Checks that the adapter can render every target's format.
+    pub fn check_features(&self, features: wgpu::Features) -> Result<(), String> {
+        for t in &self.targets {
+            let mut needs = t.format.required_features();
+            if !t
+                .format
+                .guaranteed_format_features(needs)
+                .allowed_usages
+                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+            {
+                // Renderable only where the adapter says so (Rg16Unorm).
+                needs |= wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+            }
+            if !features.contains(needs) {
+                return Err(format!(
+                    "layout {} stores {} as {:?}, which needs {needs:?}; this adapter lacks it",
+                    self.name, t.name, t.format
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Bytes per pixel of the colour targets (the depth-stencil buffer is reported apart).
     pub fn bytes_per_pixel(&self) -> u32 {
         self.targets.iter().map(|t| t.format.block_copy_size(None).unwrap_or(0)).sum()
@@ -438,7 +547,40 @@ mod tests {
                 l.bytes_per_pixel()
             })
             .collect();
-        assert_eq!(sizes, vec![24, 32, 12, 64, 24]);
+        assert_eq!(sizes, vec![24, 32, 12, 64, 24, 18, 20, 20, 24]);
+    }
+
+    #[test]
+    fn the_normal_layouts_differ_from_compact_in_the_normal_only() {
+        let compact = LayoutChoice::Compact.layout();
+        let names: Vec<&str> = LayoutChoice::ALL.iter().map(|c| c.layout().name).collect();
+        for c in LayoutChoice::NORMAL_ENCODINGS {
+            let l = c.layout();
+            assert_eq!(names.iter().filter(|n| **n == l.name).count(), 1, "{} is not a unique name", l.name);
+            // Every attribute but the normal sits in a channel of the same format as in compact.
+            for attr in [Attr::Albedo, Attr::SpecLevel, Attr::SpecExp, Attr::Emissive, Attr::Depth] {
+                let format_of = |l: &GBufferLayout| {
+                    l.targets.iter().find(|t| t.channels.iter().flatten().any(|s| s.attr == attr)).map(|t| t.format)
+                };
+                assert_eq!(format_of(&l), format_of(&compact), "{}: {attr:?} is stored differently", l.name);
+            }
+        }
+    }
+
+    #[test]
+    fn normal_error_bounds_follow_the_quantisation() {
+        let deg = |c: LayoutChoice| c.layout().normal_error_bound().to_degrees();
+        // Octahedral 8+8: 3 sqrt(2) / 255 rad, just above the 0.946 degrees measured.
+        assert!((deg(LayoutChoice::Oct8) - 0.9533).abs() < 1e-3, "{}", deg(LayoutChoice::Oct8));
+        assert!(deg(LayoutChoice::Oct8) >= OCT8_MAX_ERROR_DEG);
+        assert_eq!(deg(LayoutChoice::Packed), deg(LayoutChoice::Oct8));
+        // xyz 8-bit: asin(sqrt(3) / 255).
+        assert!((deg(LayoutChoice::Xyz8) - 0.3892).abs() < 1e-3, "{}", deg(LayoutChoice::Xyz8));
+        // 16-bit unorm is 257 times finer than 8-bit; fp16 (11 significant bits below 1) 16 times.
+        assert!(deg(LayoutChoice::Oct16) < deg(LayoutChoice::Oct8) / 250.0);
+        assert!(deg(LayoutChoice::Xyz16f) < deg(LayoutChoice::Xyz8) / 15.0);
+        assert!(deg(LayoutChoice::Compact) < deg(LayoutChoice::Oct8) / 15.0);
+        assert!(deg(LayoutChoice::Reference) < 1e-5);
     }
 
     #[test]

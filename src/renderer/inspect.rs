@@ -53,6 +53,11 @@ pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
             let v = *b as f32 / 255.0;
             out[i] = if i < 3 { srgb_to_linear(v) } else { v };
         }),
+        F::Rgba16Unorm | F::Rg16Unorm | F::R16Unorm => {
+            for (i, c) in bytes.chunks_exact(2).take(4).enumerate() {
+                out[i] = u16::from_le_bytes([c[0], c[1]]) as f32 / 65535.0;
+            }
+        }
         F::Rgba16Float | F::Rg16Float | F::R16Float => {
             for (i, c) in bytes.chunks_exact(2).take(4).enumerate() {
                 out[i] = half::f16::from_le_bytes([c[0], c[1]]).to_f32();
@@ -211,9 +216,8 @@ impl Renderer {
         for (desc, tex) in layout.targets.iter().zip(&t.gbuffer.textures) {
             let v = read_texel(gpu, tex, x, y)?;
             raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
-            let float = desc.format.sample_type(None, None)
-                == Some(wgpu::TextureSampleType::Float { filterable: false })
-                || matches!(desc.format, wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::R32Float);
+            // Signed attributes are remapped in normalised channels only (as the WGSL does).
+            let float = super::gbuffer::is_float(desc.format);
             for (c, slot) in desc.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
@@ -242,8 +246,15 @@ impl Renderer {
             let p = v3(Attr::Position);
             (p, p.z < 0.0)
         };
-        let diffuse = read_texel(gpu, &t.diffuse, x, y)?;
-        let specular = read_texel(gpu, &t.specular, x, y)?;
+        let decode = |v: [f32; 4]| {
+            if super::pipelines::log_accum(t.diffuse.format()) {
+                v.map(super::settings::log_accum_decode)
+            } else {
+                v
+            }
+        };
+        let diffuse = decode(read_texel(gpu, &t.diffuse, x, y)?);
+        let specular = decode(read_texel(gpu, &t.specular, x, y)?);
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
@@ -273,17 +284,28 @@ impl Renderer {
 }
 
 /// Screen-space segments (pixels, origin top-left) of light `light`'s bounding volume as the
-/// renderer draws it, for a `width`x`height` view of `scene`. Edges behind the near plane are
-/// left out.
+/// renderer draws it with default settings, for a `width`x`height` view of `scene`. Edges
+/// behind the near plane are left out.
 pub fn volume_wireframe(scene: &Scene, light: usize, width: u32, height: u32) -> Vec<[Vec2; 2]> {
+    volume_wireframe_with(scene, light, width, height, &super::Settings::default())
+}
+
+/// [`volume_wireframe`] under `settings` (its cut-off and tessellation).
+pub fn volume_wireframe_with(
+    scene: &Scene,
+    light: usize,
+    width: u32,
+    height: u32,
+    settings: &super::Settings,
+) -> Vec<[Vec2; 2]> {
     let Some(l) = scene.lights.get(light) else { return Vec::new() };
-    if width == 0 || height == 0 {
+    if width == 0 || height == 0 || settings.validate().is_err() {
         return Vec::new();
     }
-    let raw = Renderer::light_raw(scene, l);
+    let raw = Renderer::light_raw(scene, l, settings.light_cutoff);
     let mesh = match VolumeKind::of(&raw) {
-        VolumeKind::Sphere => volumes::VolumeMesh::sphere(super::SPHERE_SUBDIVISIONS),
-        VolumeKind::Cone => volumes::VolumeMesh::cone(super::CONE_SIDES),
+        VolumeKind::Sphere => volumes::VolumeMesh::sphere(settings.sphere_subdivisions),
+        VolumeKind::Cone => volumes::VolumeMesh::cone(settings.cone_sides),
     };
     let proj = scene.camera.projection(width as f64 / height as f64, false).as_mat4();
     let near = scene.camera.near as f32;

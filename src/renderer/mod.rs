@@ -14,19 +14,21 @@ use crate::gpu::Gpu;
 use crate::scene::{Light, Scene};
 use anyhow::{bail, Result};
 use glam::{DMat4, Mat4, Vec3, Vec4};
-pub use inspect::{volume_wireframe, PixelProbe};
+pub use inspect::{volume_wireframe, volume_wireframe_with, PixelProbe};
 use materials::DefaultTextures;
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
-pub use settings::{AccumFormat, CullingMode, DebugView, LayoutChoice, Settings};
+pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Settings};
 pub use stats::{FrameStats, LightStats, Method};
 use volumes::VolumeMesh;
 use wgpu::util::DeviceExt;
 
 /// Format of the headless output image.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-/// Sphere tessellation: 80 triangles (one subdivision of an icosahedron), seed 000's "low-poly".
-pub const SPHERE_SUBDIVISIONS: u32 = 1;
-pub const CONE_SIDES: u32 = 12;
+/// Default sphere tessellation: 80 triangles (one subdivision of an icosahedron), seed 000's
+/// "low-poly" (`Settings::sphere_subdivisions`).
+pub const SPHERE_SUBDIVISIONS: u32 = settings::DEFAULT_SPHERE_SUBDIVISIONS;
+/// Default sides of the spot pyramid (`Settings::cone_sides`).
+pub const CONE_SIDES: u32 = settings::DEFAULT_CONE_SIDES;
 /// Above this share of the screen, `auto` draws a light full-screen (see `plan_light`).
 pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
 /// Volumes whose projected bounding rectangle covers at least this many pixels are stencil
@@ -59,7 +61,10 @@ pub struct LightRaw {
     pub cos_outer: f32,
     pub cos_inner: f32,
     pub tan_outer: f32,
-    pub pad: [f32; 2],
+    /// The radius the attenuation falls to zero at. `radius` is where the light is cut off and
+    /// what its volume bounds: the same, or less under `Settings::light_cutoff`.
+    pub falloff: f32,
+    pub pad: f32,
 }
 
 #[repr(C)]
@@ -82,6 +87,8 @@ pub fn light_clamp(format: wgpu::TextureFormat, lights: usize) -> f32 {
     let max = match format {
         wgpu::TextureFormat::Rgba16Float => 65504.0,
         wgpu::TextureFormat::Rg11b10Ufloat => 64512.0,
+        // Rgba8Log's product of factors saturates at zero, which decodes to a finite maximum;
+        // Rgba32Float's sums stay finite for any count Lampshade draws.
         _ => return f32::MAX,
     };
     max / (lights as f32 + 1.0)
@@ -182,6 +189,7 @@ struct DrawLists {
 struct Targets {
     width: u32,
     height: u32,
+    depth_format: wgpu::TextureFormat,
     gbuffer: gbuffer::GBufferTargets,
     depth: wgpu::TextureView,
     diffuse: wgpu::Texture,
@@ -217,6 +225,8 @@ pub struct Renderer {
     volume_indices: wgpu::Buffer,
     sphere: VolumeMesh,
     cone: VolumeMesh,
+    /// (sphere subdivisions, cone sides) the volume meshes were built with.
+    tessellation: (u32, u32),
     geometry: Option<SceneGeometry>,
     targets: Option<Targets>,
     queries: stats::Queries,
@@ -272,13 +282,11 @@ impl Targets {
 impl Renderer {
     pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
         let device = gpu.device.clone();
-        let depth_format = if gpu.has(wgpu::Features::DEPTH32FLOAT_STENCIL8) {
-            wgpu::TextureFormat::Depth32FloatStencil8
-        } else {
-            wgpu::TextureFormat::Depth24PlusStencil8
-        };
+        settings.validate().map_err(anyhow::Error::msg)?;
+        let depth_format = settings.depth_format.format(gpu.features);
         let layout = settings.layout.layout();
         layout.validate().map_err(anyhow::Error::msg)?;
+        layout.check_features(gpu.features).map_err(anyhow::Error::msg)?;
         let key = PipelineKey {
             layout,
             depth_format,
@@ -317,20 +325,8 @@ impl Renderer {
             ..Default::default()
         });
         let defaults = DefaultTextures::new(&device, &gpu.queue);
-        let sphere = VolumeMesh::sphere(SPHERE_SUBDIVISIONS);
-        let cone = VolumeMesh::cone(CONE_SIDES);
-        let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
-        let all_indices: Vec<u32> = sphere.indices.iter().chain(cone.indices.iter()).copied().collect();
-        let volume_vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light volumes"),
-            contents: bytemuck::cast_slice(&all_vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let volume_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light volume indices"),
-            contents: bytemuck::cast_slice(&all_indices),
-            usage: wgpu::BufferUsages::INDEX,
-        });
+        let tessellation = (settings.sphere_subdivisions, settings.cone_sides);
+        let (sphere, cone, volume_vertices, volume_indices) = Self::volume_meshes(&device, tessellation);
         let queries = stats::Queries::new(gpu);
         let compose_params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("compose params"),
@@ -361,6 +357,7 @@ impl Renderer {
             volume_indices,
             sphere,
             cone,
+            tessellation,
             geometry: None,
             targets: None,
             queries,
@@ -378,6 +375,28 @@ impl Renderer {
             bail!("building the pipelines failed: {e}");
         }
         Ok(p)
+    }
+
+    /// The sphere and cone at a tessellation, and one vertex and index buffer holding both.
+    fn volume_meshes(
+        device: &wgpu::Device,
+        (subdivisions, sides): (u32, u32),
+    ) -> (VolumeMesh, VolumeMesh, wgpu::Buffer, wgpu::Buffer) {
+        let sphere = VolumeMesh::sphere(subdivisions);
+        let cone = VolumeMesh::cone(sides);
+        let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
+        let all_indices: Vec<u32> = sphere.indices.iter().chain(cone.indices.iter()).copied().collect();
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volumes"),
+            contents: bytemuck::cast_slice(&all_vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volume indices"),
+            contents: bytemuck::cast_slice(&all_indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        (sphere, cone, vertices, indices)
     }
 
     /// Camera uniforms, lights, objects and the forward pass's light lists.
@@ -491,6 +510,7 @@ impl Renderer {
         if let Some(t) = &self.targets {
             if t.width == width
                 && t.height == height
+                && t.depth_format == self.depth_format
                 && t.gbuffer.layout == self.pipelines.key.layout
                 && t.diffuse.format() == self.pipelines.key.accum_format
                 && t.hdr.is_some() == hdr
@@ -544,6 +564,7 @@ impl Renderer {
             hdr,
             width,
             height,
+            depth_format: self.depth_format,
             gbuffer,
             depth,
             diffuse,
@@ -562,13 +583,30 @@ impl Renderer {
         let depth_clamp = settings.depth_clamp && self.clamp_available;
         let k = &self.pipelines.key;
         let accum_format = settings.accumulation.format(self.features)?;
+        let depth_format = settings.depth_format.format(self.features);
+        let tessellation = (settings.sphere_subdivisions, settings.cone_sides);
+        if tessellation != self.tessellation {
+            (self.sphere, self.cone, self.volume_vertices, self.volume_indices) =
+                Self::volume_meshes(&self.device, tessellation);
+            self.tessellation = tessellation;
+        }
         if layout != k.layout
             || settings.reversed_z != k.reversed_z
             || depth_clamp != k.depth_clamp
             || accum_format != k.accum_format
+            || depth_format != k.depth_format
         {
             layout.validate().map_err(anyhow::Error::msg)?;
-            let key = PipelineKey { layout, reversed_z: settings.reversed_z, depth_clamp, accum_format, ..k.clone() };
+            layout.check_features(self.features).map_err(anyhow::Error::msg)?;
+            self.depth_format = depth_format;
+            let key = PipelineKey {
+                layout,
+                reversed_z: settings.reversed_z,
+                depth_clamp,
+                accum_format,
+                depth_format,
+                ..k.clone()
+            };
             self.pipelines = Self::build_pipelines(&self.device, key)?;
             self.rebuild_frame_group();
             self.targets = None;
@@ -608,32 +646,35 @@ impl Renderer {
         }
     }
 
-    /// The light in view space, as the shaders see it.
-    pub(crate) fn light_raw(scene: &Scene, light: &Light) -> LightRaw {
+    /// The light in view space, as the shaders see it, cut off at `cutoff` of its peak
+    /// (`Settings::light_cutoff`).
+    pub(crate) fn light_raw(scene: &Scene, light: &Light, cutoff: f32) -> LightRaw {
         let cam = &scene.camera;
         let rot = cam.rotation();
         match light {
             Light::Point(p) => LightRaw {
                 position: cam.to_view(p.position).as_vec3().into(),
-                radius: p.radius,
+                radius: settings::cutoff_radius(p.radius, cutoff),
+                falloff: p.radius,
                 color: (p.color * p.intensity).into(),
                 kind: LIGHT_KIND_POINT,
                 direction: [0.0, 0.0, -1.0],
                 cos_outer: -1.0,
                 cos_inner: -1.0,
                 tan_outer: 0.0,
-                pad: [0.0; 2],
+                pad: 0.0,
             },
             Light::Spot(s) => LightRaw {
                 position: cam.to_view(s.position).as_vec3().into(),
-                radius: s.radius,
+                radius: settings::cutoff_radius(s.radius, cutoff),
+                falloff: s.radius,
                 color: (s.color * s.intensity).into(),
                 kind: LIGHT_KIND_SPOT,
                 direction: (rot * s.direction.as_dvec3()).normalize().as_vec3().into(),
                 cos_outer: s.outer_angle.cos(),
                 cos_inner: s.inner_angle.cos(),
                 tan_outer: s.outer_angle.tan(),
-                pad: [0.0; 2],
+                pad: 0.0,
             },
         }
     }
@@ -777,7 +818,8 @@ impl Renderer {
             })
             .collect();
         let mut objects = objects;
-        let lights: Vec<LightRaw> = scene.lights.iter().map(|l| Self::light_raw(scene, l)).collect();
+        let lights: Vec<LightRaw> =
+            scene.lights.iter().map(|l| Self::light_raw(scene, l, settings.light_cutoff)).collect();
         let lists = self.plan_draws(scene, &mut objects);
         self.grow(lights.len(), objects.len(), lists.len());
         if !objects.is_empty() {
@@ -839,6 +881,19 @@ impl Renderer {
         draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
         self.draw_lists = draws;
         lists
+    }
+
+    /// The bounding meshes this frame's plans draw ("sphere", "cone"): volume kinds are drawn
+    /// only for the light types present (a scene without narrow spots draws no cone).
+    fn volume_meshes_drawn(&self) -> Vec<String> {
+        let drawn = |kind| {
+            self.plans.iter().any(|p| p.volume == kind && !matches!(p.method, Method::Fullscreen | Method::Skipped))
+        };
+        [(VolumeKind::Sphere, "sphere"), (VolumeKind::Cone, "cone")]
+            .into_iter()
+            .filter(|&(k, _)| drawn(k))
+            .map(|(_, name)| name.to_string())
+            .collect()
     }
 
     pub(crate) fn volume_mesh(&self, kind: VolumeKind) -> &VolumeMesh {
@@ -938,6 +993,11 @@ impl Renderer {
             gbuffer_bytes_per_pixel: self.pipelines.key.layout.bytes_per_pixel(),
             depth_stencil_format: format!("{:?}", self.depth_format),
             depth_clamp: self.depth_clamp(),
+            accumulation_format: format!("{:?}", self.pipelines.key.accum_format),
+            light_cutoff: settings.light_cutoff,
+            sphere_triangles: (self.sphere.indices.len() / 3) as u32,
+            cone_triangles: (self.cone.indices.len() / 3) as u32,
+            volume_meshes: self.volume_meshes_drawn(),
             ..Default::default()
         };
         self.queries.read(
@@ -1422,6 +1482,11 @@ impl Renderer {
         self.draw_lists.forward.iter().map(|d| d.0).collect()
     }
 
+    /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).
+    pub fn light_records(&self) -> &[LightRaw] {
+        &self.last_lights
+    }
+
     /// Size of the last frame.
     pub fn size(&self) -> Option<(u32, u32)> {
         self.targets.as_ref().map(|t| (t.width, t.height))
@@ -1431,15 +1496,18 @@ impl Renderer {
         self.output_format
     }
 
-    /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks.
+    /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks
+    /// (decoded, for the logarithmic Rgba8 format).
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let format = t.diffuse.format();
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
         let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {
             let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
+            let log = pipelines::log_accum(format);
             for c in bytes.chunks_exact(bpp) {
-                out.extend(inspect::texel(format, c)?);
+                let v = inspect::texel(format, c)?;
+                out.extend(if log { v.map(settings::log_accum_decode) } else { v });
             }
             Ok(out)
         };

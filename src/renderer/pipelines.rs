@@ -15,6 +15,12 @@ pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub const MAT_NORMAL_MAP: u32 = 1;
 pub const MAT_METAL_ROUGH: u32 = 2;
 
+/// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
+/// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).
+pub fn log_accum(format: wgpu::TextureFormat) -> bool {
+    format == wgpu::TextureFormat::Rgba8Unorm
+}
+
 /// WGSL constants generated from Rust enums, so the two never drift apart.
 pub fn wgsl_constants() -> String {
     let mut s =
@@ -22,15 +28,17 @@ pub fn wgsl_constants() -> String {
     s += &format!(
         "const LS_MAT_NORMAL_MAP: u32 = {MAT_NORMAL_MAP}u;\nconst LS_MAT_METAL_ROUGH: u32 = {MAT_METAL_ROUGH}u;\n"
     );
+    s += &format!("const LS_LOG_ACCUM_MAX: f32 = {:?};\n", super::settings::LOG_ACCUM_MAX);
     for v in DebugView::ALL {
         s += &format!("const LS_VIEW_{}: u32 = {}u;\n", v.wgsl_name(), v as u32);
     }
     s
 }
 
-pub fn shader_source(layout: &GBufferLayout) -> String {
+pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat) -> String {
     [
         wgsl_constants(),
+        format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format)),
         layout.wgsl(1),
         include_str!("../../shaders/common.wgsl").to_string(),
         include_str!("../../shaders/geometry.wgsl").to_string(),
@@ -113,6 +121,21 @@ const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
+/// Seed 004's logarithmic accumulation: dst = src x dst, so the product of every light's
+/// exp2(-light) is exp2(-sum).
+const MULTIPLY: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Dst,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::DstAlpha,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
 const MAX: wgpu::BlendState = wgpu::BlendState {
     color: wgpu::BlendComponent {
         src_factor: wgpu::BlendFactor::One,
@@ -178,7 +201,7 @@ impl Pipelines {
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
-            source: wgpu::ShaderSource::Wgsl(shader_source(&key.layout).into()),
+            source: wgpu::ShaderSource::Wgsl(shader_source(&key.layout, key.accum_format).into()),
         });
         let vis = wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT;
         let storage = |binding| wgpu::BindGroupLayoutEntry {
@@ -381,7 +404,10 @@ impl Pipelines {
                 ]
             };
             let targets = match p.out {
-                Out::Accumulate => accum_targets(Some(ADDITIVE), wgpu::ColorWrites::ALL),
+                Out::Accumulate => accum_targets(
+                    Some(if log_accum(key.accum_format) { MULTIPLY } else { ADDITIVE }),
+                    wgpu::ColorWrites::ALL,
+                ),
                 Out::NoColor => accum_targets(None, wgpu::ColorWrites::empty()),
                 Out::Replace => accum_targets(None, wgpu::ColorWrites::ALL),
                 Out::Debug(blend) => vec![Some(wgpu::ColorTargetState {

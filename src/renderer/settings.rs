@@ -4,6 +4,12 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Default sphere tessellation: 80 triangles (one subdivision of an icosahedron), seed 000's
+/// "low-poly".
+pub const DEFAULT_SPHERE_SUBDIVISIONS: u32 = 1;
+/// Default sides of the spot lights' bounding pyramid.
+pub const DEFAULT_CONE_SIDES: u32 = 12;
+
 pub use super::gbuffer::LayoutChoice;
 
 /// How light volumes are applied.
@@ -107,10 +113,41 @@ pub enum AccumFormat {
     Rgba16Float,
     Rgba32Float,
     Rg11b10Ufloat,
+    /// Seed 004 (Unity's deferred lighting): Rgba8Unorm holding `exp2(-light)`, blended
+    /// multiplicatively (src x dst), so the product of the lights' factors encodes the sum of
+    /// their light; compose decodes `-log2`. Range: 0 ..= [`LOG_ACCUM_MAX`] (= log2 255, about 8):
+    /// more light saturates at the top of the range. Precision: one 8-bit step of the stored
+    /// value is `log2(q / (q - 1))` of light at code q, i.e. 0.0057 near 0, 0.011 at 1, 0.09 at 4
+    /// and 1.0 at the top; every blend rounds once more (see [`log_accum_error_bound`]).
+    Rgba8Log,
+}
+
+/// Largest light an [`AccumFormat::Rgba8Log`] channel holds: the smallest non-zero code, 1/255,
+/// decodes to log2(255). A code of 0 (saturated) decodes to the same value, never infinity.
+pub const LOG_ACCUM_MAX: f32 = 7.994_353_4;
+
+/// Decodes a stored [`AccumFormat::Rgba8Log`] value (in 0..=1) to light, as compose does.
+pub fn log_accum_decode(stored: f32) -> f32 {
+    -(stored.max(1.0 / 255.0)).log2()
+}
+
+/// How far an [`AccumFormat::Rgba8Log`] channel may be from the exact sum `light` when `blends`
+/// writes (the ambient pass and each light touching the pixel) produced it and the sum is below
+/// [`LOG_ACCUM_MAX`]: each write rounds the source factor and the product to the nearest 8-bit
+/// code (half a step, 0.5/255, each), an error `e` in a stored value `v >= 2^-light` moves the
+/// decoded light by at most `e / (v ln 2)`. So at most `blends x (1/255) x 2^light / ln 2`.
+pub fn log_accum_error_bound(light: f32, blends: u32) -> f32 {
+    blends as f32 * (1.0 / 255.0) * light.exp2() / std::f32::consts::LN_2
 }
 
 impl AccumFormat {
-    pub const ALL: [AccumFormat; 3] = [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat];
+    pub const ALL: [AccumFormat; 4] =
+        [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log];
+
+    /// Whether the targets hold seed 004's logarithmic encoding.
+    pub fn log_encoded(self) -> bool {
+        self == AccumFormat::Rgba8Log
+    }
 
     /// The texture format, or why the adapter cannot blend into it.
     pub fn format(self, features: wgpu::Features) -> anyhow::Result<wgpu::TextureFormat> {
@@ -120,6 +157,7 @@ impl AccumFormat {
             AccumFormat::Rg11b10Ufloat => {
                 (wgpu::TextureFormat::Rg11b10Ufloat, wgpu::Features::RG11B10UFLOAT_RENDERABLE)
             }
+            AccumFormat::Rgba8Log => (wgpu::TextureFormat::Rgba8Unorm, wgpu::Features::empty()),
         };
         if !features.contains(needs) {
             anyhow::bail!("{self:?} accumulation needs {needs:?}, which this adapter lacks");
@@ -127,6 +165,59 @@ impl AccumFormat {
         Ok(format)
     }
 }
+
+/// The depth-stencil buffer's format. Position is reconstructed from the G-buffer's R32Float
+/// depth copy either way; this decides the precision of every depth *test* (visibility in the
+/// G-buffer pass, the light volumes' tests against the scene).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum DepthFormat {
+    /// Depth32FloatStencil8 (needs the adapter's DEPTH32FLOAT_STENCIL8; without it the renderer
+    /// falls back to Depth24PlusStencil8 and says so in the frame's stats).
+    #[default]
+    Depth32FloatStencil8,
+    /// Depth24PlusStencil8: 24-bit (or better, the implementation's choice) depth.
+    Depth24PlusStencil8,
+}
+
+impl DepthFormat {
+    pub const ALL: [DepthFormat; 2] = [DepthFormat::Depth32FloatStencil8, DepthFormat::Depth24PlusStencil8];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DepthFormat::Depth32FloatStencil8 => "d32s8",
+            DepthFormat::Depth24PlusStencil8 => "d24s8",
+        }
+    }
+
+    /// The texture format on an adapter with `features`.
+    pub fn format(self, features: wgpu::Features) -> wgpu::TextureFormat {
+        match self {
+            DepthFormat::Depth32FloatStencil8 if features.contains(wgpu::Features::DEPTH32FLOAT_STENCIL8) => {
+                wgpu::TextureFormat::Depth32FloatStencil8
+            }
+            _ => wgpu::TextureFormat::Depth24PlusStencil8,
+        }
+    }
+}
+
+/// The radius a light is drawn (and shaded) to under a cut-off `threshold` (a fraction of the
+/// light's peak): the attenuation `(1 - (d/r)^2)^2` falls below `threshold` at
+/// `d = r sqrt(1 - sqrt(threshold))`. 0 keeps the exact radius; 1/256 gives 0.968 r, 1/64
+/// 0.935 r, 1/16 0.866 r. Beyond it the light is cut off, so the largest error one light causes
+/// is `threshold` times its peak (colour x intensity).
+pub fn cutoff_radius(radius: f32, threshold: f32) -> f32 {
+    if threshold <= 0.0 {
+        return radius;
+    }
+    radius * (1.0 - threshold.sqrt()).max(0.0).sqrt()
+}
+
+/// Sphere subdivisions allowed in [`Settings::sphere_subdivisions`] (level 0 is the 20-face
+/// icosahedron, each level multiplies the faces by 4).
+pub const MAX_SPHERE_SUBDIVISIONS: u32 = 4;
+/// Cone sides allowed in [`Settings::cone_sides`].
+pub const CONE_SIDES_RANGE: std::ops::RangeInclusive<u32> = 3..=64;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -152,6 +243,15 @@ pub struct Settings {
     /// Use depth clamp on light volumes when the adapter has it. Off, lights whose volume
     /// crosses the far plane fall back to full-screen draws (the path for adapters without it).
     pub depth_clamp: bool,
+    /// Format of the depth-stencil buffer.
+    pub depth_format: DepthFormat,
+    /// Cut each light off where its attenuation falls below this fraction of its peak (see
+    /// [`cutoff_radius`]); 0 draws and shades the exact radius.
+    pub light_cutoff: f32,
+    /// Subdivisions of the icosphere bounding point lights (0 ..= 4).
+    pub sphere_subdivisions: u32,
+    /// Sides of the pyramid bounding spot lights (3 ..= 64).
+    pub cone_sides: u32,
 }
 
 impl Default for Settings {
@@ -168,6 +268,10 @@ impl Default for Settings {
             timestamps: true,
             depth_clamp: true,
             accumulation: AccumFormat::default(),
+            depth_format: DepthFormat::default(),
+            light_cutoff: 0.0,
+            sphere_subdivisions: DEFAULT_SPHERE_SUBDIVISIONS,
+            cone_sides: DEFAULT_CONE_SIDES,
         }
     }
 }
@@ -177,6 +281,100 @@ impl Settings {
         if !(self.exposure.is_finite() && self.exposure > 0.0 && self.exposure < 1e6) {
             return Err(format!("exposure {} must be a positive finite number", self.exposure));
         }
+        if !(self.light_cutoff.is_finite() && (0.0..1.0).contains(&self.light_cutoff)) {
+            return Err(format!(
+                "light cut-off {} must be a fraction of the light's peak in 0 ..< 1 (0 = exact radius)",
+                self.light_cutoff
+            ));
+        }
+        if self.sphere_subdivisions > MAX_SPHERE_SUBDIVISIONS {
+            return Err(format!(
+                "sphere subdivisions {} must be between 0 and {MAX_SPHERE_SUBDIVISIONS}",
+                self.sphere_subdivisions
+            ));
+        }
+        if !CONE_SIDES_RANGE.contains(&self.cone_sides) {
+            return Err(format!(
+                "cone sides {} must be between {} and {}",
+                self.cone_sides,
+                CONE_SIDES_RANGE.start(),
+                CONE_SIDES_RANGE.end()
+            ));
+        }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_files_without_the_new_knobs_still_load() {
+        // A settings file as the viewer wrote it before depth format, cut-off and tessellation.
+        let old = r#"{"culling":"stencil-two-pass","layout":"compact","debug_view":"lit","selected_light":null,
+            "reversed_z":true,"exposure":1.5,"count_fragments":true,"count_ideal":false,"timestamps":true,
+            "accumulation":"rgba16-float","depth_clamp":true}"#;
+        let s: Settings = serde_json::from_str(old).unwrap();
+        assert_eq!(s.culling, CullingMode::StencilTwoPass);
+        assert!(s.reversed_z);
+        assert_eq!(s.depth_format, DepthFormat::Depth32FloatStencil8);
+        assert_eq!((s.light_cutoff, s.sphere_subdivisions, s.cone_sides), (0.0, 1, 12));
+        s.validate().unwrap();
+        // And the new ones round-trip.
+        let new = Settings {
+            accumulation: AccumFormat::Rgba8Log,
+            depth_format: DepthFormat::Depth24PlusStencil8,
+            light_cutoff: 1.0 / 64.0,
+            sphere_subdivisions: 3,
+            cone_sides: 24,
+            ..Settings::default()
+        };
+        let text = serde_json::to_string(&new).unwrap();
+        assert!(text.contains("\"rgba8-log\"") && text.contains("\"depth24-plus-stencil8\""), "{text}");
+        assert_eq!(serde_json::from_str::<Settings>(&text).unwrap(), new);
+    }
+
+    #[test]
+    fn bad_knob_values_are_clear_errors() {
+        let bad = |s: Settings| s.validate().unwrap_err();
+        for t in [1.0, -0.1, f32::NAN, f32::INFINITY] {
+            assert!(bad(Settings { light_cutoff: t, ..Settings::default() }).contains("cut-off"), "{t}");
+        }
+        assert!(bad(Settings { sphere_subdivisions: 5, ..Settings::default() }).contains("sphere subdivisions 5"));
+        assert!(bad(Settings { cone_sides: 2, ..Settings::default() }).contains("cone sides 2"));
+        assert!(bad(Settings { cone_sides: 65, ..Settings::default() }).contains("between 3 and 64"));
+        assert!(serde_json::from_str::<Settings>(r#"{"depth_format":"depth16"}"#).is_err());
+        assert!(serde_json::from_str::<Settings>(r#"{"accumulation":"rgba8"}"#).is_err());
+    }
+
+    #[test]
+    fn the_cutoff_radius_is_where_the_attenuation_reaches_the_threshold() {
+        let attenuation = |d: f32, r: f32| (1.0 - (d / r).powi(2)).clamp(0.0, 1.0).powi(2);
+        assert_eq!(cutoff_radius(10.0, 0.0), 10.0);
+        for t in [1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0, 0.5] {
+            let r = cutoff_radius(10.0, t);
+            assert!(r < 10.0);
+            assert!((attenuation(r, 10.0) - t).abs() < 1e-5, "{t}: attenuation {} at {r}", attenuation(r, 10.0));
+        }
+        assert!((cutoff_radius(1.0, 1.0 / 16.0) - 0.75f32.sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_log_encoding_decodes_what_it_stores() {
+        // Light L is stored as the 8-bit code nearest 255 * 2^-L; decoding is within the stated
+        // bound for one write, and saturation decodes to the finite top of the range.
+        for k in 0..=800 {
+            let light = k as f32 / 100.0;
+            let code = (255.0 * (-light).exp2()).round() / 255.0;
+            let back = log_accum_decode(code);
+            if light < LOG_ACCUM_MAX - 1.0 {
+                let err = (back - light).abs();
+                assert!(err <= log_accum_error_bound(light, 1), "{light}: decoded {back}");
+            }
+            assert!(back.is_finite() && back <= LOG_ACCUM_MAX);
+        }
+        assert_eq!(log_accum_decode(0.0), LOG_ACCUM_MAX);
+        assert_eq!(log_accum_decode(1.0), 0.0);
     }
 }

@@ -54,6 +54,7 @@ pub struct LightStats {
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
 pub struct FrameStats {
     pub size: [u32; 2],
     pub culling: CullingMode,
@@ -70,6 +71,15 @@ pub struct FrameStats {
     pub gbuffer_bytes_per_pixel: u32,
     pub depth_stencil_format: String,
     pub depth_clamp: bool,
+    /// Format of the light accumulation targets.
+    pub accumulation_format: String,
+    /// `Settings::light_cutoff` this frame was drawn with.
+    pub light_cutoff: f32,
+    /// Triangles of the point lights' bounding sphere and of the spots' pyramid.
+    pub sphere_triangles: u32,
+    pub cone_triangles: u32,
+    /// The bounding meshes the frame drew ("sphere", "cone"): only the kinds its lights need.
+    pub volume_meshes: Vec<String>,
     pub per_light: Vec<LightStats>,
 }
 

@@ -179,7 +179,8 @@ mod tests {
 
     #[test]
     fn sphere_circumscribes_the_unit_sphere() {
-        for level in 0..3 {
+        // Every tessellation `Settings::sphere_subdivisions` allows.
+        for level in 0..=crate::renderer::settings::MAX_SPHERE_SUBDIVISIONS {
             let m = VolumeMesh::sphere(level);
             let min = directions(20_000).map(|d| m.ray_exit(Vec3::ZERO, d)).fold(f32::INFINITY, f32::min);
             assert!(min >= 1.0, "level {level}: the mesh reaches only {min} of the radius");
@@ -200,7 +201,9 @@ mod tests {
     #[test]
     fn faces_wind_counter_clockwise_seen_from_outside() {
         // Culling of front or back faces depends on it.
-        for m in [VolumeMesh::sphere(1), VolumeMesh::cone(12)] {
+        let spheres = (0..=crate::renderer::settings::MAX_SPHERE_SUBDIVISIONS).map(VolumeMesh::sphere);
+        let cones = [3, 6, 12, 24, 64].into_iter().map(VolumeMesh::cone);
+        for m in spheres.chain(cones) {
             let centre = m.vertices.iter().map(|v| v.truncate()).sum::<Vec3>() / m.vertices.len() as f32;
             for tri in m.indices.chunks(3) {
                 let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| m.vertices[i as usize].truncate());
@@ -211,7 +214,31 @@ mod tests {
 
     #[test]
     fn cone_contains_the_spot_shape() {
-        let m = VolumeMesh::cone(12);
+        // At every number of sides `Settings::cone_sides` allows, from the 3-sided extreme.
+        for sides in [3, 4, 6, 12, 24, 64] {
+            cone_contains_the_spot_shape_with(sides);
+        }
+    }
+
+    #[test]
+    fn a_cone_through_the_cap_circle_would_cut_the_spot_off() {
+        // The failure the base polygon's scaling prevents: with its corners on the cap circle
+        // (no 1/cos(pi/sides)), the middle of each side lies inside the cone.
+        for sides in [6u32, 12, 24] {
+            let m = VolumeMesh::cone(sides);
+            let corner = m.vertices[1].truncate();
+            let shrink = (std::f32::consts::PI / sides as f32).cos();
+            let a = m.vertices[1].truncate() * Vec3::new(shrink, shrink, 1.0);
+            let b = m.vertices[2].truncate() * Vec3::new(shrink, shrink, 1.0);
+            let mid = (a + b) * 0.5;
+            let radial = (mid.x * mid.x + mid.y * mid.y).sqrt() / mid.z;
+            assert!(radial < 1.0, "{sides} sides: the side's middle is at {radial} of the cap");
+            assert!(corner.z > 0.0);
+        }
+    }
+
+    fn cone_contains_the_spot_shape_with(sides: u32) {
+        let m = VolumeMesh::cone(sides);
         // Points of the true shape in unit space, for a given outer angle a, have
         // radial <= z tan(a) and |p| <= 1; the mesh is scaled by (tan a, tan a, 1).
         for a_deg in [1.0f32, 20.0, 45.0, 60.0] {
@@ -230,7 +257,7 @@ mod tests {
                         let n = (b - a).cross(c - a);
                         n.dot(q - a) <= 1e-5 * n.length()
                     });
-                    assert!(inside, "angle {a_deg}: point {p} of the spot lies outside its cone mesh");
+                    assert!(inside, "{sides} sides, angle {a_deg}: point {p} of the spot lies outside its cone mesh");
                 }
             }
         }

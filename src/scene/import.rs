@@ -118,7 +118,9 @@ pub fn load_bytes(
 ) -> Result<Imported> {
     let start = std::time::Instant::now();
     progress(Progress { stage: "parsing", done: 0, total: 1 });
+    check_glb_header(bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| anyhow!("not a valid glTF file: {e}"))?;
+    check_before_validation(gltf.document.as_json())?;
     for ext in gltf.document.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
             bail!(
@@ -237,6 +239,40 @@ fn check_external(base: Option<&Path>, uri: &str) -> Result<()> {
         }
         if meta.len() > MAX_FILE_BYTES {
             bail!("'{uri}' is {} bytes, more than the {} this loader accepts", meta.len(), MAX_FILE_BYTES);
+        }
+    }
+    Ok(())
+}
+
+/// A .glb header whose total length is shorter than the header itself makes the `gltf` crate
+/// subtract past zero (a panic in debug builds; found by the fuzzer).
+fn check_glb_header(bytes: &[u8]) -> Result<()> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let Some(len) = bytes.get(8..12) else { bail!("not a valid glTF file: the .glb header is cut short") };
+    let length = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
+    if length < 20 {
+        bail!("not a valid glTF file: the .glb header declares {length} bytes, less than a header and a chunk");
+    }
+    Ok(())
+}
+
+/// What `gltf-json`'s own validation indexes without checking (a panic otherwise; found by the
+/// fuzzer): the POSITION accessor of every primitive.
+fn check_before_validation(root: &gltf::json::Root) -> Result<()> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= root.accessors.len() {
+                    bail!(
+                        "the glTF is invalid: meshes[{m}].primitives[{p}].attributes[{:?}] refers to accessor {}, but there are {}",
+                        semantic,
+                        index.value(),
+                        root.accessors.len()
+                    );
+                }
+            }
         }
     }
     Ok(())

@@ -388,7 +388,7 @@ fn fuzzer_findings_stay_fixed() {
     let mut n = 0;
     for e in entries.flatten() {
         let bytes = std::fs::read(e.path()).unwrap();
-        let opts = ImportOptions { light_grid: 2, max_texture_size: 256 };
+        let opts = ImportOptions { light_grid: 2, max_texture_size: 256, max_elements: 1 << 20 };
         let r = import::load_bytes(&bytes, None, "fuzz", &opts, &mut quiet());
         assert!(r.is_err(), "{} loaded", e.path().display());
         n += 1;

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes small hand-made glTF seeds (all data embedded) into the corpus directory given
-(default: corpus/import_gltf next to this script's parent), and, with --assimp DIR, embeds the
-external buffers/images of the .gltf files under DIR as data URIs (those files are third-party:
-they go to the gitignored corpus only)."""
+(default: ../corpus/import_gltf from this script), and, with --assimp DIR, copies the .gltf/.glb
+files under DIR and writes copies of the .gltf ones with their external buffers/images embedded
+as data URIs (third-party files: they go to the gitignored corpus only)."""
 import base64, json, os, struct, sys, zlib
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -170,9 +170,15 @@ if assimp:
     n = 0
     for root, _, files in os.walk(assimp):
         for fn in files:
-            if not fn.endswith(".gltf"):
+            if not fn.endswith((".gltf", ".glb")):
                 continue
             p = os.path.join(root, fn)
+            d = os.path.basename(root)
+            if os.path.getsize(p) <= 4 << 20:  # the raw file as well (libFuzzer truncates to -max_len)
+                open(os.path.join(out, f"assimp_{d}_{fn}"), "wb").write(open(p, "rb").read())
+                n += 1
+            if fn.endswith(".glb"):
+                continue
             try:
                 g = json.load(open(p, "rb"))
                 changed = False
@@ -188,9 +194,8 @@ if assimp:
                 if changed:
                     data = json.dumps(g, separators=(",", ":")).encode()
                     if len(data) <= 65536:
-                        d = os.path.basename(root)
                         open(os.path.join(out, f"assimp_embedded_{d}_{fn}"), "wb").write(data)
                         n += 1
             except Exception as e:
                 print("skip", p, e)
-    print(f"wrote {n} embedded copies of assimp models")
+    print(f"wrote {n} assimp models and embedded copies")

@@ -32,6 +32,10 @@ pub const RANGE_CUTOFF: f32 = 0.05;
 
 /// Largest element count of one accessor.
 pub const MAX_ACCESSOR_COUNT: usize = 1 << 26;
+/// Largest count of a sparse accessor without a buffer view (zeros plus a few values: its
+/// size is not bounded by the file's, so a 1 KB file could ask for gigabytes; found by the
+/// fuzzer).
+pub const MAX_SPARSE_ONLY_COUNT: usize = 1 << 22;
 
 /// Files larger than this are refused before they are read (a guard against reading a device or
 /// an enormous file by mistake).
@@ -43,11 +47,14 @@ pub struct ImportOptions {
     pub light_grid: u32,
     /// Textures with a side longer than this are downscaled.
     pub max_texture_size: u32,
+    /// Most vertices plus indices the primitives of one file may decode in all: a budget that
+    /// keeps a small file that reuses a big accessor many times from running for minutes.
+    pub max_elements: usize,
 }
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        Self { light_grid: 8, max_texture_size: 4096 }
+        Self { light_grid: 8, max_texture_size: 4096, max_elements: 1 << 25 }
     }
 }
 
@@ -171,6 +178,7 @@ pub fn load_bytes(
         material_slots: HashMap::new(),
         mesh_slots: HashMap::new(),
         first_sun: true,
+        decoded: 0,
     };
     b.textures(progress)?;
     b.nodes(progress)?;
@@ -349,6 +357,12 @@ fn check_views(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(
         if acc.count() > MAX_ACCESSOR_COUNT {
             bail!("{what} has {} elements, more than the {MAX_ACCESSOR_COUNT} this loader accepts", acc.count());
         }
+        if acc.view().is_none() && acc.count() > MAX_SPARSE_ONLY_COUNT {
+            bail!(
+                "{what} is a sparse accessor without a buffer view of {} elements (at most {MAX_SPARSE_ONLY_COUNT})",
+                acc.count()
+            );
+        }
         if let Some(view) = acc.view() {
             span(what.clone(), &view, acc.offset(), acc.count(), acc.size())?;
         } else if acc.sparse().is_none() && acc.count() > 0 {
@@ -387,6 +401,8 @@ struct Importer<'a> {
     /// (mesh, primitive, mirrored) -> scene mesh and whether its material may use a normal map.
     mesh_slots: HashMap<(usize, usize, bool), (usize, bool)>,
     first_sun: bool,
+    /// Vertices and indices decoded so far (against `options.max_elements`).
+    decoded: usize,
 }
 
 impl Importer<'_> {
@@ -710,6 +726,10 @@ impl Importer<'_> {
         let Some(n) = check(&gltf::Semantic::Positions, "POSITION", &[Dimensions::Vec3], &f32_only)? else {
             bail!("it has no POSITION attribute");
         };
+        self.decoded = self.decoded.saturating_add(n).saturating_add(prim.indices().map_or(0, |a| a.count()));
+        if self.decoded > self.options.max_elements {
+            bail!("the primitives add up to more than {} vertices and indices", self.options.max_elements);
+        }
         let n_normals = check(&gltf::Semantic::Normals, "NORMAL", &[Dimensions::Vec3], &f32_only)?;
         let n_tangents = check(&gltf::Semantic::Tangents, "TANGENT", &[Dimensions::Vec4], &f32_only)?;
         let n_uv = check(

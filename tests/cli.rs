@@ -69,6 +69,8 @@ fn bad_input_is_a_clear_error() {
     let p = png.to_str().unwrap();
     let bad_settings = tmp("bad.json");
     std::fs::write(&bad_settings, "{\"culling\": \"sideways\"}").unwrap();
+    let bad_gltf = tmp("bad.glb");
+    std::fs::write(&bad_gltf, b"glTF\x02\x00\x00\x00\xff\xff").unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["render", "nowhere", "--out", p], "unknown scene"),
         (vec!["render", "spot", "--out", p, "--size", "0x10"], "size"),
@@ -79,6 +81,19 @@ fn bad_input_is_a_clear_error() {
         (vec!["render", "spot", "--out", p, "--settings", bad_settings.to_str().unwrap()], "sideways"),
         (vec!["render", "spot", "--size", "8x8", "--out", "/no/such/dir/x.png"], "writing"),
         (vec!["bench", "--out", p, "--only", "nothing"], "groups are"),
+        (vec!["render", "/no/such/model.gltf", "--out", p], "/no/such/model.gltf: cannot open"),
+        (vec!["render", bad_gltf.to_str().unwrap(), "--out", p], "not a valid glTF"),
+        (
+            vec![
+                "render",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf"),
+                "--out",
+                p,
+                "--viewpoint",
+                "9",
+            ],
+            "offers 2 viewpoint",
+        ),
     ];
     for (args, expect) in cases {
         let out = lampshade(&args);

@@ -467,7 +467,7 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         let t_hi = mine.iter().map(|r| r.total_ms).fold(0.0, f64::max) * 2.5;
         let e_hi = mine.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.25;
         let mut chart = ChartBuilder::on(area)
-            .caption(g.to_string(), ("sans-serif", 20))
+            .caption(*g, ("sans-serif", 20))
             .margin(12)
             .x_label_area_size(36)
             .y_label_area_size(56)

@@ -467,7 +467,7 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         let t_hi = mine.iter().map(|r| r.total_ms).fold(0.0, f64::max) * 2.5;
         let e_hi = mine.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.25;
         let mut chart = ChartBuilder::on(area)
-            .caption(g.to_string(), ("sans-serif", 20))
+            .caption(*g, ("sans-serif", 20))
             .margin(12)
             .x_label_area_size(36)
             .y_label_area_size(56)
@@ -529,4 +529,78 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     }
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn both_sweeps_cover_every_group_with_valid_settings() {
+        for quick in [true, false] {
+            let o = BenchOptions::new("demo", quick);
+            let list = configs(&o);
+            assert!(list.len() >= 8, "{} configurations", list.len());
+            for g in GROUPS {
+                assert!(list.iter().any(|c| c.group == *g), "quick {quick}: no {g} configuration");
+            }
+            for c in &list {
+                c.settings.validate().unwrap();
+            }
+            let labels: std::collections::HashSet<_> = list.iter().map(|c| (c.group, c.label.clone())).collect();
+            assert_eq!(labels.len(), list.len(), "duplicate labels");
+        }
+        let full = configs(&BenchOptions::new("demo", false));
+        let cutoffs: Vec<f32> = full.iter().filter(|c| c.group == "cutoff").map(|c| c.settings.light_cutoff).collect();
+        assert_eq!(cutoffs, vec![0.0, 1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0]);
+        let depth = full.iter().filter(|c| c.group == "depth" && c.scene == Some("far-origin")).count();
+        assert_eq!(depth, 4, "far-origin under both depth formats and both conventions");
+        let mut only = BenchOptions::new("demo", true);
+        only.groups = vec!["tessellation".into()];
+        assert!(configs(&only).iter().all(|c| c.group == "tessellation"));
+    }
+
+    #[test]
+    fn the_pareto_front_is_per_scene_light_count_and_size() {
+        let row = |label: &str, scene: &str, ms: f64, flip: f32| Row {
+            group: "g".into(),
+            label: label.into(),
+            scene: scene.into(),
+            culling: String::new(),
+            layout: String::new(),
+            accumulation: String::new(),
+            reversed_z: false,
+            depth_format: String::new(),
+            light_cutoff: 0.0,
+            sphere_subdivisions: 1,
+            cone_sides: 12,
+            volumes: String::new(),
+            lights: 10,
+            width: 8,
+            height: 8,
+            gbuffer_ms: 0.0,
+            lighting_ms: 0.0,
+            compose_ms: 0.0,
+            total_ms: ms,
+            coverage_fragments: 0,
+            shaded_fragments: 0,
+            ideal_fragments: 0,
+            efficiency: 0.0,
+            gbuffer_bytes_per_pixel: 0,
+            flip_mean: flip,
+            max_abs_light_error: 0.0,
+            psnr_db: 0.0,
+            pareto: false,
+        };
+        let mut rows = vec![
+            row("fast", "a", 1.0, 0.02),
+            row("exact", "a", 5.0, 0.001),
+            row("dominated", "a", 6.0, 0.01),
+            // Another scene is not compared with scene a.
+            row("other", "b", 9.0, 0.5),
+        ];
+        mark_pareto(&mut rows);
+        let front: Vec<&str> = rows.iter().filter(|r| r.pareto).map(|r| r.label.as_str()).collect();
+        assert_eq!(front, vec!["fast", "exact", "other"]);
+    }
 }

@@ -295,3 +295,29 @@ fn the_frame_reports_the_volume_meshes_it_drew() {
         render(&scene("spot"), &Settings { sphere_subdivisions: 3, cone_sides: 24, ..Settings::default() }, W, H);
     assert_eq!((fine.stats.sphere_triangles, fine.stats.cone_triangles), (1280, 24 + 22));
 }
+
+#[test]
+fn one_renderer_switches_the_bench_knobs_live() {
+    // Depth format, accumulation, cut-off and tessellation rebuild what they must on a reused
+    // renderer: its frames equal a fresh renderer's, in either order of switching.
+    use lampshade::renderer::{AccumFormat, DepthFormat};
+    let gpu = gpu();
+    let scene = demo_with(150);
+    let base = Settings::default();
+    let knobs = [
+        Settings { depth_format: DepthFormat::Depth24PlusStencil8, ..base.clone() },
+        Settings { accumulation: AccumFormat::Rgba8Log, ..base.clone() },
+        Settings { light_cutoff: 1.0 / 16.0, ..base.clone() },
+        Settings { sphere_subdivisions: 0, cone_sides: 5, ..base.clone() },
+        Settings { sphere_subdivisions: 3, culling: CullingMode::StencilTwoPass, ..base.clone() },
+        base.clone(),
+    ];
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &base).unwrap();
+    for s in knobs.iter().chain(knobs.iter().rev()) {
+        let (live, stats) = render_image(gpu, &mut r, &scene, s, W, H).unwrap();
+        let fresh = render(&scene, s, W, H);
+        assert_eq!(max_channel_difference(&live, &fresh.image), 0, "{s:?}: a reused renderer differs");
+        assert_eq!(stats.shaded_fragments, fresh.stats.shaded_fragments, "{s:?}");
+        assert_eq!(stats.depth_stencil_format, fresh.stats.depth_stencil_format);
+    }
+}

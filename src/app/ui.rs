@@ -388,6 +388,25 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.label("intensity x");
         ui.add(egui::Slider::new(&mut st.intensity_scale, 0.0..=20.0)).on_hover_text("every light's intensity");
         ui.end_row();
+        ui.label("depth");
+        egui::ComboBox::from_id_salt("depth-format").selected_text(st.settings.depth_format.name()).show_ui(ui, |ui| {
+            for d in crate::renderer::DepthFormat::ALL {
+                ui.selectable_value(&mut st.settings.depth_format, d, d.name());
+            }
+        });
+        ui.end_row();
+        ui.label("light cut-off");
+        ui.add(egui::Slider::new(&mut st.settings.light_cutoff, 0.0..=0.25).fixed_decimals(4))
+            .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
+        ui.end_row();
+        ui.label("sphere / cone");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut st.settings.sphere_subdivisions).range(0..=4).prefix("subdiv "));
+            ui.add(egui::DragValue::new(&mut st.settings.cone_sides).range(3..=64).suffix(" sides"));
+        })
+        .response
+        .on_hover_text("tessellation of the light volumes");
+        ui.end_row();
         ui.label("accumulation");
         egui::ComboBox::from_id_salt("accum").selected_text(format!("{:?}", st.settings.accumulation)).show_ui(
             ui,

@@ -149,7 +149,8 @@ struct SceneGeometry {
     materials: Vec<wgpu::BindGroup>,
     /// What was loaded, to notice a different scene.
     fingerprint: SceneFingerprint,
-    /// Kept alive for the bind groups.
+    /// The material textures' views, to rebuild the bind groups when the pipelines change.
+    views: Vec<wgpu::TextureView>,
     _textures: Vec<wgpu::Texture>,
 }
 
@@ -500,6 +501,7 @@ impl Renderer {
             bounds,
             materials: material_groups,
             fingerprint: SceneFingerprint::of(scene),
+            views,
             _textures: textures,
         });
         Ok(())
@@ -610,8 +612,17 @@ impl Renderer {
             self.pipelines = Self::build_pipelines(&self.device, key)?;
             self.rebuild_frame_group();
             self.targets = None;
-            // Material bind groups belong to the old layout.
-            self.geometry = None;
+            // Material bind groups belong to the old layout; the textures stay uploaded.
+            if let Some(geo) = &mut self.geometry {
+                geo.materials = materials::bind_groups(
+                    &self.device,
+                    &self.pipelines.material_bgl,
+                    scene,
+                    &geo.views,
+                    &self.defaults,
+                    &self.sampler,
+                );
+            }
         }
         Ok(())
     }

@@ -485,10 +485,14 @@ impl SceneCache {
             // Another file is still loading; its result is dropped when it ends.
             self.loading = None;
         }
-        if self.loading.is_none() {
+        if self.blocking {
+            // Scripted runs: load on this thread, so the next action sees the result.
+            let result = import::load(std::path::Path::new(name), &self.import_options, &mut |_| {});
+            self.finish_load(name, Ok(result));
+        } else if self.loading.is_none() {
             let progress = Arc::new(Mutex::new(LoadProgress { name: name.to_string(), ..Default::default() }));
             let (p, path, options) = (progress.clone(), PathBuf::from(name), self.import_options.clone());
-            let run = move || {
+            let handle = std::thread::spawn(move || {
                 import::load(&path, &options, &mut |pr| {
                     if let Ok(mut g) = p.lock() {
                         g.stage = pr.stage.to_string();
@@ -496,29 +500,27 @@ impl SceneCache {
                         g.total = pr.total;
                     }
                 })
-            };
-            let handle = if self.blocking {
-                let result = run();
-                std::thread::spawn(move || result)
-            } else {
-                std::thread::spawn(run)
-            };
+            });
             self.loading = Some(Loading { name: name.to_string(), progress, handle });
         }
-        let finished = self.loading.as_ref().is_some_and(|l| l.handle.is_finished()) || self.blocking;
-        if finished {
+        if self.loading.as_ref().is_some_and(|l| l.handle.is_finished()) {
             if let Some(l) = self.loading.take() {
-                match l.handle.join() {
-                    Ok(Ok(imported)) => {
-                        self.insert_loaded(name, imported.scene, imported.warnings);
-                        self.loaded = Some(name.to_string());
-                    }
-                    Ok(Err(e)) => self.failed = Some((name.to_string(), format!("{e:#}"))),
-                    Err(_) => self.failed = Some((name.to_string(), "the loader stopped unexpectedly".into())),
-                }
+                self.finish_load(name, l.handle.join());
             }
         }
         self.base.as_ref().ok_or_else(|| format!("loading {name}"))
+    }
+
+    /// Takes a finished load: the new base scene, or a failure the viewer reports.
+    fn finish_load(&mut self, name: &str, result: std::thread::Result<anyhow::Result<Imported>>) {
+        match result {
+            Ok(Ok(imported)) => {
+                self.insert_loaded(name, imported.scene, imported.warnings);
+                self.loaded = Some(name.to_string());
+            }
+            Ok(Err(e)) => self.failed = Some((name.to_string(), format!("{e:#}"))),
+            Err(_) => self.failed = Some((name.to_string(), "the loader stopped unexpectedly".into())),
+        }
     }
 
     /// The scene as the renderer should draw it this frame.

@@ -45,7 +45,11 @@ struct GpuObject {
     info: vec4<u32>,
 };
 
-@group(0) @binding(0) var<uniform> camera: Camera;
+// Read-only storage, not uniform: Mesa 22.3's lavapipe "inlines" uniform-buffer values that
+// branches depend on and recompiles the shader whenever the buffer is written, leaking the old
+// variant (about 0.4 MB per draw with the compose pass's view switch). No uniform buffers
+// anywhere, so no shader is recompiled per frame (tests/soak.rs).
+@group(0) @binding(0) var<storage, read> camera: Camera;
 @group(0) @binding(1) var<storage, read> lights: array<GpuLight>;
 @group(0) @binding(2) var<storage, read> objects: array<GpuObject>;
 // Per forward-shaded object, the lights that reach it (indices into `lights`).

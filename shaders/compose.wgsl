@@ -11,7 +11,8 @@ struct ComposeParams {
     pad: u32,
     scale: vec2<f32>,
 };
-@group(2) @binding(3) var<uniform> compose: ComposeParams;
+// Storage, not uniform, like the camera (see common.wgsl).
+@group(2) @binding(3) var<storage, read> compose: ComposeParams;
 // The HDR scene colour (only scenes with blended surfaces compose through it).
 @group(3) @binding(0) var hdr_color: texture_2d<f32>;
 

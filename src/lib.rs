@@ -5,6 +5,7 @@ pub mod bench;
 pub mod compare;
 pub mod gpu;
 pub mod headless;
+pub mod memory;
 pub mod reference;
 pub mod renderer;
 pub mod scene;

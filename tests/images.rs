@@ -99,3 +99,63 @@ fn the_stencil_diagram_has_its_colours_where_they_belong() {
     );
     assert_eq!(green as u64, two_pass.stats.shaded_fragments.unwrap());
 }
+
+/// Every stored-reference case: (name, scene, view, width, height). The room is `tests/gltf.rs`'s.
+fn reference_cases() -> Vec<(&'static str, lampshade::Scene, DebugView, u32, u32)> {
+    let mut cases: Vec<_> = CASES.iter().map(|(n, s, v)| (*n, scene(s), *v, W, H)).collect();
+    let room = lampshade::scene::import::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/room/room.gltf"),
+        &Default::default(),
+        &mut |_| {},
+    )
+    .expect("the room loads");
+    cases.push(("room", room.scene, DebugView::Lit, 160, 90));
+    cases
+}
+
+/// Not a test: the measurement behind `lampshade::compare::CROSS_CPU`. Renders every
+/// stored-reference case at its size and at twice its size into `target/cross-cpu/VARIANT/`
+/// (VARIANT from `LAMPSHADE_VARIANT`, default `native`) and, for a variant other than
+/// `native`, compares each image with the `native` run's: largest step, share of pixels that
+/// differ, FLIP mean at both sizes. Lavapipe compiles shaders for the CPU it runs on; Mesa's
+/// `GALLIUM_OVERRIDE_CPU_CAPS` (sse2, sse4.1, avx) and `LP_NATIVE_VECTOR_WIDTH=128` make it
+/// compile for lesser CPUs on this one:
+///
+/// ```sh
+/// cargo test --release --test images -- --ignored --nocapture cross_cpu
+/// LAMPSHADE_VARIANT=sse4.1 GALLIUM_OVERRIDE_CPU_CAPS=sse4.1 cargo test --release --test images -- --ignored --nocapture cross_cpu
+/// ```
+#[test]
+#[ignore = "a measurement, run by hand (see the doc comment)"]
+fn cross_cpu_variation() {
+    let variant = std::env::var("LAMPSHADE_VARIANT").unwrap_or_else(|_| "native".into());
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/cross-cpu");
+    let dir = base.join(&variant);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, scene, view, w, h) in reference_cases() {
+        for k in [1, 2] {
+            let settings = Settings { debug_view: view, ..Settings::default() };
+            let img = render(&scene, &settings, w * k, h * k).image;
+            let file = format!("{name}-{k}x.png");
+            img.save(dir.join(&file)).unwrap();
+            if variant == "native" {
+                continue;
+            }
+            let Ok(native) = image::open(base.join("native").join(&file)) else {
+                eprintln!("{file}: no native run to compare with; run without LAMPSHADE_VARIANT first");
+                continue;
+            };
+            let native = native.to_rgba8();
+            let steps = lampshade::compare::max_channel_difference(&native, &img);
+            let differ = native.pixels().zip(img.pixels()).filter(|(a, b)| a != b).count();
+            let (f, _) = flip(&native, &img).unwrap();
+            println!(
+                "{variant:>8} {name:>16} {}x{}: max {steps} steps, {:.1}% of pixels differ, FLIP mean {:.5}",
+                w * k,
+                h * k,
+                100.0 * differ as f64 / (w * k * h * k) as f64,
+                f.mean
+            );
+        }
+    }
+}

@@ -8,6 +8,7 @@
 
 pub mod camera;
 pub mod gfx;
+pub mod persist;
 pub mod script;
 pub mod state;
 pub mod ui;
@@ -30,11 +31,11 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-#[derive(clap::Args, Clone, Debug)]
+#[derive(clap::Args, Clone, Debug, Default)]
 pub struct ViewArgs {
-    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb).
-    #[arg(default_value = "demo")]
-    pub scene: String,
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default: the
+    /// last one shown (saved state), else `demo`.
+    pub scene: Option<String>,
     /// glTF without lights: point lights per side of the grid added over the scene (0: none).
     #[arg(long, default_value_t = 8)]
     pub light_grid: u32,
@@ -44,29 +45,24 @@ pub struct ViewArgs {
     /// Number of point lights (demo).
     #[arg(long)]
     pub lights: Option<usize>,
-    /// Window size in logical pixels, WxH.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    pub size: (u32, u32),
-    /// Share of the viewport's pixels the scene is rendered at (0.1..2).
-    #[arg(long, default_value_t = state::DEFAULT_SCALE)]
-    pub scale: f32,
+    /// Window size in logical pixels, WxH (default: the saved size, else 1280x720).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Share of the viewport's pixels the scene is rendered at (0.1..2; default: the saved
+    /// scale, else 0.5).
+    #[arg(long)]
+    pub scale: Option<f32>,
     /// Where F12 writes screenshots.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
-}
-
-impl Default for ViewArgs {
-    fn default() -> Self {
-        Self {
-            scene: "demo".into(),
-            light_grid: 8,
-            script: None,
-            lights: None,
-            size: (1280, 720),
-            scale: state::DEFAULT_SCALE,
-            screenshot_dir: PathBuf::from("."),
-        }
-    }
+    /// The viewer's saved state (window size, panels, scale, culling mode, layout, last scene):
+    /// read at start, written on exit. Default: `<config dir>/lampshade/viewer.json`; scripted
+    /// runs use none unless this is given.
+    #[arg(long, conflicts_with = "no_state")]
+    pub state: Option<PathBuf>,
+    /// Neither read nor write the saved state.
+    #[arg(long)]
+    pub no_state: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -82,18 +78,50 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// Opens the viewer. Everything a user controls is checked before the window opens: the scene
 /// name, the light count, the script.
 pub fn run(args: ViewArgs) -> Result<()> {
-    let mut state = UiState { scene: args.scene.clone(), lights: args.lights, ..UiState::default() };
-    if !(state::MIN_SCALE..=state::MAX_SCALE).contains(&args.scale) || !args.scale.is_finite() {
-        anyhow::bail!("--scale {} must lie in [{}, {}]", args.scale, state::MIN_SCALE, state::MAX_SCALE);
+    // The saved state, unless this run asks for none (scripted runs are reproducible: they
+    // use a state file only when told which).
+    let state_path = match (&args.state, args.no_state || args.script.is_some()) {
+        (Some(p), _) => Some(p.clone()),
+        (None, true) => None,
+        (None, false) => persist::default_path(),
+    };
+    let (saved, state_warning) = match &state_path {
+        Some(p) => persist::load(p),
+        None => (persist::Persisted::default(), None),
+    };
+    if let Some(w) = &state_warning {
+        eprintln!("warning: {w}");
     }
-    state.resolution_scale = args.scale;
+    let scale = args.scale.unwrap_or(saved.resolution_scale);
+    if !(state::MIN_SCALE..=state::MAX_SCALE).contains(&scale) || !scale.is_finite() {
+        anyhow::bail!("--scale {scale} must lie in [{}, {}]", state::MIN_SCALE, state::MAX_SCALE);
+    }
+    let mut scene = args.scene.clone().unwrap_or_else(|| saved.scene.clone());
+    let mut scene_warning = None;
+    if args.scene.is_none() && crate::scene::import::is_gltf_path(&scene) && !std::path::Path::new(&scene).is_file() {
+        // The last file is gone: say so and start on the demo instead of failing.
+        scene_warning = Some(format!("the last file {scene} is no longer there; showing demo"));
+        scene = "demo".into();
+    }
+    let mut state = UiState {
+        scene: scene.clone(),
+        lights: args.lights,
+        resolution_scale: scale,
+        panels: saved.panels,
+        ..UiState::default()
+    };
+    if state_path.is_some() {
+        state.settings.culling = saved.culling;
+        state.settings.layout = saved.layout;
+    }
+    let size = args.size.unwrap_or((saved.window[0], saved.window[1]));
     let mut cache = SceneCache::default();
     cache.import_options.light_grid = args.light_grid;
-    if crate::scene::import::is_gltf_path(&args.scene) {
+    if crate::scene::import::is_gltf_path(&scene) {
         // The first file loads before the window opens, with a progress bar on the terminal;
         // a bad file is an error and a non-zero exit, as in `render`.
         let bar = indicatif::ProgressBar::new(0);
-        let imported = crate::scene::import::load(std::path::Path::new(&args.scene), &cache.import_options, &mut |p| {
+        let imported = crate::scene::import::load(std::path::Path::new(&scene), &cache.import_options, &mut |p| {
             bar.set_message(p.stage.to_string());
             bar.set_length(p.total as u64);
             bar.set_position(p.done as u64);
@@ -101,9 +129,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
         bar.finish_and_clear();
         let imported = imported?;
         for w in &imported.warnings {
-            eprintln!("warning: {}: {w}", args.scene);
+            eprintln!("warning: {scene}: {w}");
         }
-        cache.insert_loaded(&args.scene, imported.scene, imported.warnings);
+        cache.insert_loaded(&scene, imported.scene, imported.warnings);
     }
     cache.frame_scene(&state).map_err(anyhow::Error::msg)?;
     let script = args.script.as_deref().map(Script::load).transpose()?;
@@ -115,8 +143,26 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let event_loop = EventLoop::new().context("cannot open a window (is DISPLAY or WAYLAND_DISPLAY set?)")?;
     event_loop.set_control_flow(ControlFlow::Poll);
+    if let Some(w) = &scene_warning {
+        eprintln!("warning: {w}");
+    }
     let mut app = App::new(args, state, cache, script);
+    app.size = size;
+    app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
     event_loop.run_app(&mut app).context("the event loop failed")?;
+    if let Some(p) = &state_path {
+        let saved = persist::Persisted {
+            window: [app.size.0, app.size.1],
+            panels: app.state.panels,
+            resolution_scale: app.state.resolution_scale,
+            culling: app.state.settings.culling,
+            layout: app.state.settings.layout,
+            scene: app.state.scene.clone(),
+        };
+        if let Err(e) = persist::save(p, &saved) {
+            eprintln!("warning: could not save the viewer's state: {e:#}");
+        }
+    }
     match app.error {
         Some(e) => Err(e),
         None => Ok(()),
@@ -176,6 +222,8 @@ struct App {
     scroll_to_light: Option<usize>,
     cpu_ms: f64,
     screenshots: u32,
+    /// The window's size in logical pixels (saved on exit).
+    size: (u32, u32),
 }
 
 impl App {
@@ -204,6 +252,7 @@ impl App {
             scroll_to_light: None,
             cpu_ms: 0.0,
             screenshots: 0,
+            size: (1280, 720),
         }
     }
 
@@ -230,7 +279,7 @@ impl App {
     }
 
     fn init(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        let (w, h) = self.args.size;
+        let (w, h) = self.size;
         let attrs = Window::default_attributes()
             .with_title(format!("Lampshade — {}", self.state.scene))
             .with_inner_size(winit::dpi::LogicalSize::new(w, h));
@@ -357,7 +406,7 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
-            Action::Screenshot(_) | Action::Quit => {}
+            Action::Screenshot(_) | Action::Memory | Action::Quit => {}
         }
     }
 
@@ -771,6 +820,10 @@ impl App {
                     self.save_viewport(&vp)?;
                     println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
                 }
+                Action::Memory => match crate::memory::resident_bytes() {
+                    Some(b) => println!("frame {}: resident {b} bytes", self.frame),
+                    None => println!("frame {}: resident memory unavailable on this system", self.frame),
+                },
                 Action::Quit => event_loop.exit(),
                 _ => {}
             }
@@ -826,7 +879,13 @@ impl ApplicationHandler for App {
         let consumed = g.egui_state.on_window_event(&g.surface.window, &event).consumed;
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::Resized(size) => g.surface.resize(&g.gpu, size.width, size.height),
+            WindowEvent::Resized(size) => {
+                g.surface.resize(&g.gpu, size.width, size.height);
+                let logical = size.to_logical::<f64>(g.surface.window.scale_factor());
+                if size.width > 0 && size.height > 0 && !g.surface.window.is_minimized().unwrap_or(false) {
+                    self.size = ((logical.width.round() as u32).max(64), (logical.height.round() as u32).max(64));
+                }
+            }
             WindowEvent::KeyboardInput { event: k, .. } => {
                 if let PhysicalKey::Code(code) = k.physical_key {
                     match k.state {

@@ -20,6 +20,7 @@
 //! tab NAME               left panel tab: scene | lights | materials | camera | help
 //! set NAME VALUE         a panel value, validated as the panel does (see `UiState::set`):
 //!                        lights scale exposure time speed move-speed animate counts ideal
+//!                        panel-left panel-right panel-gbuffer
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
@@ -30,6 +31,8 @@
 //! minimize | restore     minimise / restore the window
 //! screenshot PATH        after drawing: the whole window to PATH, the viewport image to
 //!                        PATH-stem + "-viewport.png" and its settings to PATH-stem + "-viewport.json"
+//! memory                 after drawing: print the frame number and the resident memory
+//!                        (`frame N: resident BYTES bytes`) to stdout, for soak runs
 //! quit                   after drawing: exit with status 0
 //! ```
 //!
@@ -67,13 +70,14 @@ pub enum Action {
     Minimize,
     Restore,
     Screenshot(PathBuf),
+    Memory,
     Quit,
 }
 
 impl Action {
     /// Runs after the frame is drawn.
     pub fn is_post(&self) -> bool {
-        matches!(self, Action::Screenshot(_) | Action::Quit)
+        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Quit)
     }
 }
 
@@ -236,6 +240,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
             want(1)?;
             let p = Path::new(args[0]);
             Action::Screenshot(if p.is_absolute() { p.to_path_buf() } else { base.join(p) })
+        }
+        "memory" => {
+            want(0)?;
+            Action::Memory
         }
         "quit" => {
             want(0)?;

@@ -152,6 +152,23 @@ pub struct UiState {
     /// The path typed into the "open" field.
     #[serde(skip)]
     pub open_path: String,
+    /// Which panels the user wants; a window too small for them hides some anyway (`ui::draw`).
+    pub panels: Panels,
+}
+
+/// The panels around the viewport, each shown or hidden from the top bar.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Panels {
+    pub left: bool,
+    pub right: bool,
+    pub gbuffer: bool,
+}
+
+impl Default for Panels {
+    fn default() -> Self {
+        Self { left: true, right: true, gbuffer: true }
+    }
 }
 
 impl Default for UiState {
@@ -173,6 +190,7 @@ impl Default for UiState {
             light_edits: BTreeMap::new(),
             radius_scale: 1.0,
             intensity_scale: 1.0,
+            panels: Panels::default(),
             material_edits: BTreeMap::new(),
             ambient: None,
             sun: None,
@@ -311,6 +329,9 @@ impl UiState {
             "speed" => self.time_speed = in_range("time speed", parse_f64(value)?, -100.0, 100.0)?,
             "move-speed" => self.move_speed = in_range("move speed", parse_f64(value)?, 0.01, 1000.0)?,
             "animate" => self.animate = parse_bool(value)?,
+            "panel-left" => self.panels.left = parse_bool(value)?,
+            "panel-right" => self.panels.right = parse_bool(value)?,
+            "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,
             "counts" => self.settings.count_fragments = parse_bool(value)?,
             "ideal" => self.settings.count_ideal = parse_bool(value)?,
             "timestamps" => self.settings.timestamps = parse_bool(value)?,

@@ -3,7 +3,7 @@
 //! touches a GPU object.
 
 use super::camera;
-use super::state::{self, Scope, Tab, UiState, WireColour, Wireframes, MAX_LIGHTS, MAX_SCALE, MIN_SCALE};
+use super::state::{self, Panels, Scope, Tab, UiState, WireColour, Wireframes, MAX_LIGHTS, MAX_SCALE, MIN_SCALE};
 use crate::renderer::gbuffer::{Attr, GBufferLayout};
 use crate::renderer::settings::AccumFormat;
 use crate::renderer::{CullingMode, DebugView, FrameStats, LayoutChoice, Method, PixelProbe};
@@ -24,6 +24,8 @@ const LEFT_WIDTH: f32 = 272.0;
 const RIGHT_WIDTH: f32 = 292.0;
 const MIN_SIDE_WIDTH: f32 = 170.0;
 const PIXEL_PANEL: f32 = 236.0;
+/// The left panel pins the pixel probe below the tabs only when the tabs keep this much height.
+const MIN_TAB_HEIGHT: f32 = 200.0;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Sample {
@@ -208,19 +210,63 @@ pub fn style(ctx: &egui::Context) {
 pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     top_bar(ui, st, f, out);
     status_bar(ui, st, f);
-    // Fixed widths (the viewport keeps its size whatever the panels show), scaled down with
-    // the window so a small window keeps a usable viewport.
+    let shown = fit_panels(st.panels, ui.available_width(), ui.available_height());
     let k = (ui.available_width() / 1280.0).min(1.0);
     let side = |w: f32| (w * k).max(MIN_SIDE_WIDTH).round();
-    egui::Panel::left("left").resizable(false).exact_size(side(LEFT_WIDTH)).show(ui, |ui| left_panel(ui, st, f, out));
-    egui::Panel::right("right").resizable(false).exact_size(side(RIGHT_WIDTH)).show(ui, |ui| right_panel(ui, st, f));
-    egui::Panel::bottom("gbuffer").resizable(false).exact_size(GBUFFER_STRIP).show(ui, |ui| gbuffer_strip(ui, st, f));
+    if shown.left {
+        egui::Panel::left("left")
+            .resizable(false)
+            .exact_size(side(LEFT_WIDTH))
+            .show(ui, |ui| left_panel(ui, st, f, out));
+    }
+    if shown.right {
+        egui::Panel::right("right")
+            .resizable(false)
+            .exact_size(side(RIGHT_WIDTH))
+            .show(ui, |ui| right_panel(ui, st, f));
+    }
+    if shown.gbuffer {
+        egui::Panel::bottom("gbuffer")
+            .resizable(false)
+            .exact_size(GBUFFER_STRIP)
+            .show(ui, |ui| gbuffer_strip(ui, st, f));
+    }
     egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
+}
+
+/// The smallest viewport (points) the panels leave: a window too small for the panels the user
+/// wants hides the right panel first, then the left one, then the G-buffer strip, so that the
+/// viewport keeps at least this size while the window can give it (side panels shrink with the
+/// window down to `MIN_SIDE_WIDTH` first). Below `MIN_WINDOW` (points) every panel is hidden
+/// and the viewport takes what the top and status bars leave.
+pub const MIN_VIEWPORT: [f32; 2] = [320.0, 180.0];
+pub const MIN_WINDOW: [f32; 2] = [MIN_VIEWPORT[0] + 2.0 * MIN_SIDE_WIDTH, MIN_VIEWPORT[1] + GBUFFER_STRIP + 90.0];
+
+/// The panels shown in a central area of `width` x `height` points (below the top bar, above
+/// the status bar): the wanted ones, less those that would leave the viewport smaller than
+/// `MIN_VIEWPORT`.
+pub fn fit_panels(want: Panels, width: f32, height: f32) -> Panels {
+    let k = (width / 1280.0).min(1.0);
+    let side = |w: f32| (w * k).max(MIN_SIDE_WIDTH).round();
+    let mut shown = want;
+    let used =
+        |p: Panels| (if p.left { side(LEFT_WIDTH) } else { 0.0 }) + if p.right { side(RIGHT_WIDTH) } else { 0.0 };
+    if width - used(shown) < MIN_VIEWPORT[0] {
+        shown.right = false;
+    }
+    if width - used(shown) < MIN_VIEWPORT[0] {
+        shown.left = false;
+    }
+    if shown.gbuffer && height - GBUFFER_STRIP < MIN_VIEWPORT[1] {
+        shown.gbuffer = false;
+    }
+    shown
 }
 
 fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     egui::Panel::top("top").show(ui, |ui| {
-        ui.horizontal(|ui| {
+        // Wraps onto more rows in a narrow window instead of running off its edge.
+        ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("Lampshade").strong().size(15.0));
             ui.separator();
             ui.label("scene");
@@ -296,6 +342,17 @@ fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) 
             if ui.selectable_label(st.tab == Tab::Help, "help (F1)").clicked() {
                 st.tab = if st.tab == Tab::Help { Tab::Scene } else { Tab::Help };
             }
+            ui.separator();
+            ui.label("panels");
+            for (on, name, what) in [
+                (&mut st.panels.left, "left", "scene, lights, materials, camera, help and the pixel probe"),
+                (&mut st.panels.right, "right", "culling figures, GPU times, history"),
+                (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
+            ] {
+                ui.toggle_value(on, name).on_hover_text(format!(
+                    "show or hide the {what}; a window too small for a panel hides it until it grows"
+                ));
+            }
             ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                 ui.label(RichText::new(f.adapter).weak());
             });
@@ -327,9 +384,14 @@ fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
 }
 
 fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
-    // The pixel inspector stays in view at the bottom while the tabs scroll above it.
-    egui::Panel::bottom("pixel").resizable(false).exact_size(PIXEL_PANEL).show(ui, |ui| pixel_panel(ui, f));
-    ui.horizontal(|ui| {
+    // The pixel inspector stays in view at the bottom while the tabs scroll above it, when the
+    // panel is tall enough for both; in a short window it scrolls with the tab instead of
+    // being drawn over it.
+    let pinned = ui.available_height() >= PIXEL_PANEL + MIN_TAB_HEIGHT;
+    if pinned {
+        egui::Panel::bottom("pixel").resizable(false).exact_size(PIXEL_PANEL).show(ui, |ui| pixel_panel(ui, f));
+    }
+    ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 2.0;
         // Help has its own button in the top bar (F1).
         for t in Tab::ALL.into_iter().filter(|t| *t != Tab::Help) {
@@ -337,12 +399,18 @@ fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOu
         }
     });
     ui.separator();
-    egui::ScrollArea::vertical().id_salt("left-scroll").auto_shrink([false, false]).show(ui, |ui| match st.tab {
-        Tab::Scene => scene_tab(ui, st, f),
-        Tab::Lights => lights_tab(ui, st, f, out),
-        Tab::Materials => materials_tab(ui, st, f, out),
-        Tab::Camera => camera_tab(ui, st, f, out),
-        Tab::Help => help_tab(ui),
+    egui::ScrollArea::vertical().id_salt("left-scroll").auto_shrink([false, false]).show(ui, |ui| {
+        match st.tab {
+            Tab::Scene => scene_tab(ui, st, f),
+            Tab::Lights => lights_tab(ui, st, f, out),
+            Tab::Materials => materials_tab(ui, st, f, out),
+            Tab::Camera => camera_tab(ui, st, f, out),
+            Tab::Help => help_tab(ui),
+        }
+        if !pinned {
+            ui.separator();
+            pixel_panel(ui, f);
+        }
     });
 }
 
@@ -1123,5 +1191,40 @@ fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
             egui::FontId::proportional(12.0),
             Color32::from_rgb(255, 200, 60),
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn panels_give_way_to_a_usable_viewport() {
+        let all = Panels::default();
+        // A full-size window keeps every panel.
+        assert_eq!(fit_panels(all, 1280.0, 640.0), all);
+        // Every central area from 200 to 2000 points wide keeps the viewport at least
+        // MIN_VIEWPORT wide where the window can give it, and never hides a panel it has room for.
+        for w in (200..2000).step_by(10) {
+            for h in (100..1200).step_by(20) {
+                let (w, h) = (w as f32, h as f32);
+                let p = fit_panels(all, w, h);
+                let k = (w / 1280.0).min(1.0);
+                let side = |x: f32| (x * k).max(MIN_SIDE_WIDTH).round();
+                let used = if p.left { side(LEFT_WIDTH) } else { 0.0 } + if p.right { side(RIGHT_WIDTH) } else { 0.0 };
+                if p.left || p.right {
+                    assert!(w - used >= MIN_VIEWPORT[0], "{w}x{h}: viewport {} wide", w - used);
+                }
+                if p.gbuffer {
+                    assert!(h - GBUFFER_STRIP >= MIN_VIEWPORT[1], "{w}x{h}");
+                }
+                if w >= MIN_VIEWPORT[0] + side(LEFT_WIDTH) + side(RIGHT_WIDTH) {
+                    assert!(p.left && p.right, "{w}x{h}: a panel was hidden with room for it");
+                }
+            }
+        }
+        // The user's choice stands: a hidden panel is not shown by a large window.
+        let no_right = Panels { right: false, ..all };
+        assert_eq!(fit_panels(no_right, 1920.0, 1000.0), no_right);
     }
 }

@@ -36,6 +36,9 @@ pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
 pub const AUTO_STENCIL_MIN_PIXELS: f32 = 4096.0;
 /// Stride of the compose-parameter slots (the dynamic-offset alignment).
 const COMPOSE_SLOT: u64 = 256;
+/// Pipeline sets kept for configurations other than the current one (layout, accumulation,
+/// depth format and convention, depth clamp).
+const PIPELINE_CACHE: usize = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -213,6 +216,8 @@ pub struct Renderer {
     clamp_available: bool,
     features: wgpu::Features,
     pipelines: Pipelines,
+    /// Pipelines of recent other configurations, least recently used first.
+    pipeline_cache: Vec<Pipelines>,
     camera_buf: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
     objects_buf: wgpu::Buffer,
@@ -300,7 +305,7 @@ impl Renderer {
         let camera_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("camera"),
             size: std::mem::size_of::<CameraRaw>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let storage = |label, size| {
@@ -332,7 +337,7 @@ impl Renderer {
         let compose_params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("compose params"),
             size: COMPOSE_SLOT * (DebugView::ALL.len() as u64 + 1),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         Ok(Self {
@@ -346,6 +351,7 @@ impl Renderer {
             clamp_available: gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL),
             features: gpu.features,
             pipelines,
+            pipeline_cache: Vec::new(),
             camera_buf,
             lights_buf,
             objects_buf,
@@ -609,7 +615,17 @@ impl Renderer {
                 depth_format,
                 ..k.clone()
             };
-            self.pipelines = Self::build_pipelines(&self.device, key)?;
+            // Switching back to a configuration seen recently reuses its pipelines instead of
+            // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
+            let next = match self.pipeline_cache.iter().position(|p| p.key == key) {
+                Some(i) => self.pipeline_cache.remove(i),
+                None => Self::build_pipelines(&self.device, key)?,
+            };
+            let previous = std::mem::replace(&mut self.pipelines, next);
+            self.pipeline_cache.push(previous);
+            if self.pipeline_cache.len() > PIPELINE_CACHE {
+                self.pipeline_cache.remove(0);
+            }
             self.rebuild_frame_group();
             self.targets = None;
             // Material bind groups belong to the old layout; the textures stay uploaded.

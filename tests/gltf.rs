@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use lampshade::compare::{check_snapshot, flip, max_channel_difference};
+use lampshade::compare::{check_snapshot, flip, max_channel_difference, CROSS_CPU};
 use lampshade::renderer::{CullingMode, Settings};
 use lampshade::scene::import::{self, ImportOptions, Imported, Progress};
 use lampshade::scene::{room, AlphaMode, Scene};
@@ -107,7 +107,8 @@ fn the_room_renders_as_its_reference_in_every_culling_mode() {
     assert_finite(&reference, "room");
     assert!(lit_share(&reference.image) > 0.5, "the room is mostly black");
     let dirs = (root().join("screenshots/reference"), root().join("target/image-tests"));
-    let snap = check_snapshot(&dirs.0, &dirs.1, "room", &reference.image, 0.01).unwrap_or_else(|e| panic!("{e:#}"));
+    let snap =
+        check_snapshot(&dirs.0, &dirs.1, "room", &reference.image, CROSS_CPU).unwrap_or_else(|e| panic!("{e:#}"));
     assert!(snap.created || snap.flip.is_some());
     for mode in CullingMode::ALL.into_iter().skip(1) {
         let f = render(&scene, &settings(mode), W, H);

@@ -714,3 +714,54 @@ fn the_viewer_runs_thousands_of_frames_in_constant_memory() {
     // of its views, not black.
     assert!(lit_share(&load(&dir, "last-viewport.png")) > 0.05, "the last viewport is black");
 }
+
+/// The viewer's state survives a restart: a run that changes the culling mode, the scale, a
+/// panel, the layout and the window size, then quits, leaves them in its state file; the next
+/// run, given no scene, starts from them. A state file that cannot be parsed is reported and
+/// replaced by the defaults, and the viewer starts anyway.
+#[test]
+fn the_viewer_state_survives_a_restart_and_a_bad_state_file_is_reported() {
+    need_display!();
+    let dir = out_dir("state");
+    let state = dir.join("viewer.json");
+    let state_arg = state.to_str().unwrap();
+    let first = dir.join("first.script");
+    std::fs::write(
+        &first,
+        "1 culling stencil-invert\n1 set scale 0.3\n1 set panel-right false\n1 layout seed000\n2 resize 800 500\n\
+         6 quit\n",
+    )
+    .unwrap();
+    view("spot", &first, &["--state", state_arg], &dir);
+    let saved = json(&dir, "viewer.json");
+    assert_eq!(saved["culling"], "stencil-invert", "{saved}");
+    assert_eq!(saved["layout"], "seed000", "{saved}");
+    assert_eq!(saved["scene"], "spot", "{saved}");
+    assert_eq!(saved["window"], serde_json::json!([800, 500]), "{saved}");
+    assert_eq!(saved["panels"]["right"], false, "{saved}");
+    assert!((saved["resolution_scale"].as_f64().unwrap() - 0.3).abs() < 1e-6, "{saved}");
+
+    // No scene argument: the saved one, with the saved window, mode and scale.
+    let second = dir.join("second.script");
+    std::fs::write(&second, "3 screenshot again.png\n3 quit\n").unwrap();
+    let out = lampshade(&["view", "--script", second.to_str().unwrap(), "--state", state_arg], &dir);
+    assert!(out.status.success(), "{}", text(&out).1);
+    assert_eq!(load(&dir, "again.png").dimensions(), (800, 500), "the saved window size was not used");
+    let settings = json(&dir, "again-viewport.json");
+    assert_eq!(settings["scene"], "spot");
+    assert_eq!(settings["culling"], "stencil-invert");
+    assert_eq!(settings["layout"], "seed000");
+    assert!((settings["viewer"]["resolution_scale"].as_f64().unwrap() - 0.3).abs() < 1e-6);
+    assert_eq!(settings["viewer"]["panels"]["right"], false);
+
+    // A broken state file: a warning naming it, the defaults, a normal run.
+    std::fs::write(&state, "{\"culling\": 12, ").unwrap();
+    let out = lampshade(&["view", "--script", second.to_str().unwrap(), "--state", state_arg], &dir);
+    let (_, stderr) = text(&out);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: ignoring") && stderr.contains("viewer.json"), "no warning:\n{stderr}");
+    assert_eq!(load(&dir, "again.png").dimensions(), (1280, 720), "the defaults were not used");
+    assert_eq!(json(&dir, "again-viewport.json")["scene"], "demo");
+    // ...and the run wrote a good state file over it.
+    assert_eq!(json(&dir, "viewer.json")["scene"], "demo");
+}

@@ -8,6 +8,7 @@ pub mod headless;
 pub mod reference;
 pub mod renderer;
 pub mod scene;
+pub mod settings_file;
 
 #[cfg(feature = "viewer")]
 pub mod app;

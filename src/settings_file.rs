@@ -32,6 +32,10 @@ pub struct SceneKeys {
 /// them: `Settings::validate`, a finite time, a size within 1x1 ..= [`MAX_SIZE`]² and a valid
 /// camera. Errors say which part is wrong.
 pub fn parse(text: &str) -> Result<(Settings, SceneKeys)> {
+    // serde reads a struct from an array too (its fields in order): `[]` would be the defaults.
+    if !text.trim_start().starts_with('{') {
+        bail!("a settings file is one JSON object ({{\"culling\": ..., \"scene\": ...}})");
+    }
     let settings = serde_json::from_str::<Settings>(text).context("renderer settings")?;
     let keys = serde_json::from_str::<SceneKeys>(text).context("scene keys")?;
     settings.validate().map_err(anyhow::Error::msg).context("renderer settings")?;
@@ -61,7 +65,16 @@ mod tests {
             scene: Some("demo".into()),
             lights: Some(64),
             time: Some(1.5),
-            camera: Some(Camera::looking_at(glam::DVec3::new(0.0, 2.0, 8.0), glam::DVec3::ZERO)),
+            // Values JSON holds exactly: serde_json (without its `float_roundtrip` feature) may
+            // read some f64s back one ulp off, e.g. the pitch of `Camera::looking_at`.
+            camera: Some(Camera {
+                position: glam::DVec3::new(0.0, 2.0, 8.0),
+                yaw: 0.5,
+                pitch: -0.25,
+                fov_y: 1.0,
+                near: 0.1,
+                far: 400.0,
+            }),
             size: Some([640, 360]),
         };
         let settings = Settings { exposure: 1.5, ..Settings::default() };
@@ -77,8 +90,9 @@ mod tests {
     #[test]
     fn bad_files_are_clear_errors() {
         for (text, needle) in [
-            ("", "EOF"),
-            ("[]", "renderer settings"),
+            ("", "one JSON object"),
+            ("[]", "one JSON object"),
+            ("  [1.0]", "one JSON object"),
             (r#"{"culling": "sideways"}"#, "sideways"),
             (r#"{"exposure": 0}"#, "exposure 0"),
             (r#"{"cone_sides": 99}"#, "cone sides 99"),

@@ -9,6 +9,7 @@ pub mod memory;
 pub mod reference;
 pub mod renderer;
 pub mod scene;
+pub mod settings_file;
 
 #[cfg(feature = "viewer")]
 pub mod app;

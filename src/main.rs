@@ -169,27 +169,13 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// What a settings file may carry beside the renderer's `Settings`.
-#[derive(serde::Deserialize, Default)]
-struct SceneKeys {
-    scene: Option<String>,
-    lights: Option<usize>,
-    time: Option<f64>,
-    camera: Option<lampshade::scene::Camera>,
-    size: Option<[u32; 2]>,
-}
-
 fn render(args: RenderArgs) -> Result<()> {
     let (mut settings, keys) = match &args.settings {
         Some(path) => {
             let text = std::fs::read_to_string(path).with_context(|| format!("reading settings {}", path.display()))?;
-            let settings = serde_json::from_str::<Settings>(&text)
-                .with_context(|| format!("parsing settings {}", path.display()))?;
-            let keys = serde_json::from_str::<SceneKeys>(&text)
-                .with_context(|| format!("parsing the scene keys of {}", path.display()))?;
-            (settings, keys)
+            lampshade::settings_file::parse(&text).with_context(|| format!("parsing settings {}", path.display()))?
         }
-        None => (Settings::default(), SceneKeys::default()),
+        None => (Settings::default(), Default::default()),
     };
     let scene_name = args.scene.clone().or(keys.scene).unwrap_or_else(|| "demo".into());
     let time = args.time.or(keys.time).unwrap_or(0.0);

@@ -49,6 +49,12 @@ use super::state::{self, Scope, Tab, WireColour, Wireframes};
 /// Seconds per frame in a scripted run.
 pub const SCRIPT_DT: f64 = 1.0 / 30.0;
 
+/// Largest frame number and `hold` length a script may use: 2^32 frames, over four years at 30
+/// frames a second. The viewer computes a hold's last frame as `frame + n - 1`; with both
+/// bounded it cannot overflow (it did, and panicked in debug builds, for
+/// `1 hold W 18446744073709551615`).
+pub const MAX_FRAME: u64 = 1 << 32;
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
     Key(KeyCode),
@@ -142,6 +148,9 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
             let n: u64 = count(args[1], "frame count")?;
             if n == 0 {
                 return Err("hold needs at least 1 frame".into());
+            }
+            if n > MAX_FRAME {
+                return Err(format!("hold of {n} frames is longer than {MAX_FRAME}"));
             }
             Action::Hold(key_code(args[0])?, n)
         }
@@ -268,6 +277,9 @@ impl Script {
                 Ok(f) => f,
                 Err(_) => bail!("line {}: '{}' is not a frame number", i + 1, words[0]),
             };
+            if frame > MAX_FRAME {
+                bail!("line {}: frame {frame} is past the last frame a script may use ({MAX_FRAME})", i + 1);
+            }
             let action = parse_action(&words[1..], base).map_err(|e| anyhow::anyhow!("line {}: {e}", i + 1))?;
             actions.push((frame, action));
         }
@@ -335,6 +347,8 @@ mod tests {
             ("1 culling sometimes", "unknown culling mode"),
             ("1 hover 2 0", "outside [0, 1]"),
             ("1 hold W 0", "at least 1"),
+            ("1 hold W 18446744073709551615", "longer than 4294967296"),
+            ("4294967297 quit", "past the last frame"),
             ("1 select -1", "not a whole number"),
             ("1 quit now", "takes 0"),
             ("# nothing", "no actions"),

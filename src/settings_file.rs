@@ -1,0 +1,112 @@
+//! Settings files: what `lampshade render --settings FILE` reads and the viewer's F12 writes
+//! beside its screenshot. A JSON object holding the renderer's [`Settings`] fields (flattened)
+//! plus the scene keys `scene`, `lights`, `time`, `camera` and `size`. Other keys (the viewer's
+//! `viewer` state) are ignored.
+//!
+//! The text comes from the user, so [`parse`] never panics: any input gives the settings or an
+//! error that says what is wrong (fuzzed by `fuzz/fuzz_targets/settings_file.rs`).
+
+use crate::renderer::Settings;
+use crate::scene::Camera;
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+
+/// Largest image side a settings file may ask for (as `lampshade render --size`).
+pub const MAX_SIZE: u32 = 8192;
+
+/// What a settings file may carry beside the renderer's [`Settings`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SceneKeys {
+    /// Built-in scene name or glTF file.
+    pub scene: Option<String>,
+    /// Light count (the demo scene).
+    pub lights: Option<usize>,
+    /// Animation time in seconds.
+    pub time: Option<f64>,
+    pub camera: Option<Camera>,
+    /// Image size, `[width, height]`.
+    pub size: Option<[u32; 2]>,
+}
+
+/// Parses a settings file's text into the renderer settings and the scene keys, and checks
+/// them: `Settings::validate`, a finite time, a size within 1x1 ..= [`MAX_SIZE`]² and a valid
+/// camera. Errors say which part is wrong.
+pub fn parse(text: &str) -> Result<(Settings, SceneKeys)> {
+    // serde reads a struct from an array too (its fields in order): `[]` would be the defaults.
+    if !text.trim_start().starts_with('{') {
+        bail!("a settings file is one JSON object ({{\"culling\": ..., \"scene\": ...}})");
+    }
+    let settings = serde_json::from_str::<Settings>(text).context("renderer settings")?;
+    let keys = serde_json::from_str::<SceneKeys>(text).context("scene keys")?;
+    settings.validate().map_err(anyhow::Error::msg).context("renderer settings")?;
+    if let Some(t) = keys.time {
+        if !t.is_finite() {
+            bail!("time {t} must be finite");
+        }
+    }
+    if let Some([w, h]) = keys.size {
+        if w == 0 || h == 0 || w > MAX_SIZE || h > MAX_SIZE {
+            bail!("size {w}x{h} must be between 1x1 and {MAX_SIZE}x{MAX_SIZE}");
+        }
+    }
+    if let Some(camera) = &keys.camera {
+        camera.validate().map_err(|e| anyhow::anyhow!("camera: {e}"))?;
+    }
+    Ok((settings, keys))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_viewer_file_round_trips() {
+        let keys = SceneKeys {
+            scene: Some("demo".into()),
+            lights: Some(64),
+            time: Some(1.5),
+            // Values JSON holds exactly: serde_json (without its `float_roundtrip` feature) may
+            // read some f64s back one ulp off, e.g. the pitch of `Camera::looking_at`.
+            camera: Some(Camera {
+                position: glam::DVec3::new(0.0, 2.0, 8.0),
+                yaw: 0.5,
+                pitch: -0.25,
+                fov_y: 1.0,
+                near: 0.1,
+                far: 400.0,
+            }),
+            size: Some([640, 360]),
+        };
+        let settings = Settings { exposure: 1.5, ..Settings::default() };
+        let mut doc = serde_json::to_value(&settings).unwrap();
+        let extra = serde_json::to_value(&keys).unwrap();
+        doc.as_object_mut().unwrap().extend(extra.as_object().unwrap().clone());
+        doc["viewer"] = serde_json::json!({ "anything": [1, 2, 3] });
+        let (s, k) = parse(&doc.to_string()).unwrap();
+        assert_eq!((s, k), (settings, keys));
+        assert_eq!(parse("{}").unwrap(), (Settings::default(), SceneKeys::default()));
+    }
+
+    #[test]
+    fn bad_files_are_clear_errors() {
+        for (text, needle) in [
+            ("", "one JSON object"),
+            ("[]", "one JSON object"),
+            ("  [1.0]", "one JSON object"),
+            (r#"{"culling": "sideways"}"#, "sideways"),
+            (r#"{"exposure": 0}"#, "exposure 0"),
+            (r#"{"cone_sides": 99}"#, "cone sides 99"),
+            (r#"{"size": [0, 10]}"#, "size 0x10"),
+            (r#"{"size": [10]}"#, "scene keys"),
+            (r#"{"lights": -1}"#, "scene keys"),
+            (r#"{"time": 1e400}"#, "out of range"),
+            (
+                r#"{"camera": {"position": [0,0,0], "yaw": 0, "pitch": 0, "fov_y": 4, "near": 0.1, "far": 10}}"#,
+                "field of view",
+            ),
+        ] {
+            let e = format!("{:#}", parse(text).unwrap_err());
+            assert!(e.contains(needle), "{text:?}: {e}");
+        }
+    }
+}

@@ -224,6 +224,8 @@ struct App {
     screenshots: u32,
     /// The window's size in logical pixels (saved on exit).
     size: (u32, u32),
+    /// Resident memory and wgpu's buffer + texture bytes, sampled every 30 frames.
+    memory: Option<(u64, i64)>,
 }
 
 impl App {
@@ -253,6 +255,7 @@ impl App {
             cpu_ms: 0.0,
             screenshots: 0,
             size: (1280, 720),
+            memory: None,
         }
     }
 
@@ -335,7 +338,7 @@ impl App {
             Action::Key(k) => self.keys.taps.push(k),
             Action::Hold(k, n) => {
                 self.keys.taps.push(k);
-                self.keys.holds.insert(k, frame + n - 1);
+                self.keys.holds.insert(k, frame.saturating_add(n - 1));
             }
             Action::Scene(name) => {
                 let file = crate::scene::import::is_gltf_path(&name);
@@ -685,6 +688,12 @@ impl App {
             _ => Vec::new(),
         };
 
+        if self.frame % 30 == 0 {
+            let hal = g.gpu.device.get_internal_counters().hal;
+            let gpu_bytes = hal.buffer_memory.read() as i64 + hal.texture_memory.read() as i64;
+            self.memory = crate::memory::resident_bytes().map(|r| (r, gpu_bytes));
+        }
+
         // 7. The panels, around the viewport texture.
         let mut raw = g.egui_state.take_egui_input(&g.surface.window);
         raw.events.append(&mut self.injected);
@@ -708,6 +717,7 @@ impl App {
             wireframes: &wireframes,
             scroll_to_light: self.scroll_to_light.take(),
             loading: self.cache.progress(),
+            memory: self.memory,
         };
         let mut out = UiOut::default();
         let state = &mut self.state;

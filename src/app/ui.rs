@@ -99,6 +99,8 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
 
 /// What the UI shows this frame (read only).
 pub struct FrameInfo<'a> {
+    /// Resident memory of the process and wgpu's live buffer + texture bytes.
+    pub memory: Option<(u64, i64)>,
     pub stats: Option<&'a FrameStats>,
     pub history: &'a History,
     pub scene: Option<&'a Scene>,
@@ -353,9 +355,9 @@ fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) 
                     "show or hide the {what}; a window too small for a panel hides it until it grows"
                 ));
             }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                ui.label(RichText::new(f.adapter).weak());
-            });
+            // Last, so it wraps onto its own row rather than being drawn over the buttons.
+            ui.separator();
+            ui.label(RichText::new(f.adapter).weak());
         });
     });
 }
@@ -834,6 +836,10 @@ fn help_tab(ui: &mut egui::Ui) {
 
 fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     egui::ScrollArea::vertical().id_salt("right-scroll").auto_shrink([false, false]).show(ui, |ui| {
+        if let Some((resident, gpu)) = f.memory {
+            ui.label(format!("memory: {} MiB resident, {} MiB in GPU buffers and textures", resident >> 20, gpu >> 20))
+                .on_hover_text("sampled every 30 frames; it should stay flat while the viewer runs");
+        }
         ui.label(RichText::new("Light culling").strong());
         egui::Grid::new("modes").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
             for (i, m) in CullingMode::ALL.into_iter().enumerate() {

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 
 const W: u32 = 256;
 const H: u32 = 144;
-/// References are compared under `lampshade::compare::CROSS_CPU`: the steps lavapipe's
-/// shader code differs by between CPUs (measured, see `Tolerance`), nothing looser. Comparisons
-/// made on one machine (modes against full-screen, GPU against f64) stay strict elsewhere.
+// References are compared under `lampshade::compare::CROSS_CPU`: the steps lavapipe's
+// shader code differs by between CPUs (measured, see `Tolerance`), nothing looser. Comparisons
+// made on one machine (modes against full-screen, GPU against f64) stay strict elsewhere.
 
 fn dirs() -> (PathBuf, PathBuf) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

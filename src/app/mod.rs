@@ -688,7 +688,7 @@ impl App {
             _ => Vec::new(),
         };
 
-        if self.frame % 30 == 0 {
+        if self.frame.is_multiple_of(30) {
             let hal = g.gpu.device.get_internal_counters().hal;
             let gpu_bytes = hal.buffer_memory.read() as i64 + hal.texture_memory.read() as i64;
             self.memory = crate::memory::resident_bytes().map(|r| (r, gpu_bytes));

@@ -284,13 +284,8 @@ impl Renderer {
 }
 
 /// Screen-space segments (pixels, origin top-left) of light `light`'s bounding volume as the
-/// renderer draws it with default settings, for a `width`x`height` view of `scene`. Edges
-/// behind the near plane are left out.
-pub fn volume_wireframe(scene: &Scene, light: usize, width: u32, height: u32) -> Vec<[Vec2; 2]> {
-    volume_wireframe_with(scene, light, width, height, &super::Settings::default())
-}
-
-/// [`volume_wireframe`] under `settings` (its cut-off and tessellation).
+/// renderer draws it under `settings` (its cut-off and tessellation), for a `width`x`height`
+/// view of `scene`. Edges behind the near plane are left out.
 pub fn volume_wireframe_with(
     scene: &Scene,
     light: usize,

@@ -14,7 +14,7 @@ use crate::gpu::Gpu;
 use crate::scene::{Light, Scene};
 use anyhow::{bail, Result};
 use glam::{DMat4, Mat4, Vec3, Vec4};
-pub use inspect::{volume_wireframe, volume_wireframe_with, PixelProbe};
+pub use inspect::{volume_wireframe_with, PixelProbe};
 use materials::DefaultTextures;
 use pipelines::{PipelineKey, Pipelines, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Settings};
@@ -24,11 +24,6 @@ use wgpu::util::DeviceExt;
 
 /// Format of the headless output image.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-/// Default sphere tessellation: 80 triangles (one subdivision of an icosahedron), seed 000's
-/// "low-poly" (`Settings::sphere_subdivisions`).
-pub const SPHERE_SUBDIVISIONS: u32 = settings::DEFAULT_SPHERE_SUBDIVISIONS;
-/// Default sides of the spot pyramid (`Settings::cone_sides`).
-pub const CONE_SIDES: u32 = settings::DEFAULT_CONE_SIDES;
 /// Above this share of the screen, `auto` draws a light full-screen (see `plan_light`).
 pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
 /// Volumes whose projected bounding rectangle covers at least this many pixels are stencil
@@ -438,11 +433,6 @@ impl Renderer {
 
     pub fn layout(&self) -> &gbuffer::GBufferLayout {
         &self.pipelines.key.layout
-    }
-
-    /// G-buffer textures of the current size (for the viewer's thumbnails).
-    pub fn gbuffer_textures(&self) -> Option<&[wgpu::Texture]> {
-        self.targets.as_ref().map(|t| t.gbuffer.textures.as_slice())
     }
 
     /// Uploads the scene's meshes and textures. Call once per scene (`render` calls it when it
@@ -1027,16 +1017,7 @@ impl Renderer {
             volume_meshes: self.volume_meshes_drawn(),
             ..Default::default()
         };
-        self.queries.read(
-            &self.device,
-            &self.queue,
-            &mut stats,
-            &self.plans,
-            scene,
-            want_counts,
-            want_ideal,
-            want_times,
-        )?;
+        self.queries.read(&self.device, &mut stats, &self.plans, scene, want_counts, want_ideal, want_times)?;
         Ok(stats)
     }
 

@@ -144,11 +144,6 @@ impl AccumFormat {
     pub const ALL: [AccumFormat; 4] =
         [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log];
 
-    /// Whether the targets hold seed 004's logarithmic encoding.
-    pub fn log_encoded(self) -> bool {
-        self == AccumFormat::Rgba8Log
-    }
-
     /// The texture format, or why the adapter cannot blend into it.
     pub fn format(self, features: wgpu::Features) -> anyhow::Result<wgpu::TextureFormat> {
         let (format, needs) = match self {

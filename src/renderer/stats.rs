@@ -204,7 +204,6 @@ impl Queries {
     pub fn read(
         &self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
         stats: &mut FrameStats,
         plans: &[LightPlan],
         scene: &Scene,
@@ -212,7 +211,6 @@ impl Queries {
         ideal: bool,
         times: bool,
     ) -> Result<()> {
-        let _ = queue;
         stats.per_light = plans
             .iter()
             .enumerate()

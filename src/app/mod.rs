@@ -31,7 +31,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-#[derive(clap::Args, Clone, Debug, Default)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct ViewArgs {
     /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default: the
     /// last one shown (saved state), else `demo`.
@@ -63,6 +63,39 @@ pub struct ViewArgs {
     /// Neither read nor write the saved state.
     #[arg(long)]
     pub no_state: bool,
+}
+
+/// What `lampshade` with no subcommand runs: the same defaults as `lampshade view`.
+impl Default for ViewArgs {
+    fn default() -> Self {
+        Self {
+            scene: None,
+            light_grid: 8,
+            script: None,
+            lights: None,
+            size: None,
+            scale: None,
+            screenshot_dir: PathBuf::from("."),
+            state: None,
+            no_state: false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_default_view_is_the_view_command_without_arguments() {
+        use clap::Parser;
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            view: super::ViewArgs,
+        }
+        let parsed = Cli::parse_from(["lampshade"]).view;
+        let default = super::ViewArgs::default();
+        assert_eq!(format!("{parsed:?}"), format!("{default:?}"));
+    }
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -1,5 +1,5 @@
 // Shared by every pass: frame uniforms, the light record, G-buffer attribute packing and the
-// lighting model. Constants prefixed LS_ are generated from Rust (see renderer::wgsl_constants).
+// lighting model. Constants prefixed LS_ are generated from Rust (see renderer::passes::wgsl_constants).
 
 struct Camera {
     proj: mat4x4<f32>,
@@ -11,9 +11,12 @@ struct Camera {
     sun_dir: vec4<f32>,
     sun_color: vec4<f32>,
     background: vec4<f32>,
-    // x: exposure, y: depth value of the far plane (1, or 0 with reversed Z), z: debug view,
-    // w: the most one light (or ambient + sun) may add to a channel, see `light_clamp`
-    params: vec4<f32>,
+    exposure: f32,
+    // Depth value of the far plane: 1, or 0 with reversed Z.
+    far_depth: f32,
+    // The most one light (or ambient + sun) may add to a channel, see `records::light_clamp`.
+    light_clamp: f32,
+    pad0: f32,
 };
 
 // A light in view space. `color` is colour x intensity.
@@ -29,7 +32,7 @@ struct GpuLight {
     // Where the attenuation reaches zero; `radius` is where the light is cut off (the same, or
     // less under a cut-off threshold) and what its volume bounds.
     falloff: f32,
-    pad1: f32,
+    pad0: f32,
 };
 
 struct GpuObject {
@@ -45,15 +48,7 @@ struct GpuObject {
     info: vec4<u32>,
 };
 
-// Read-only storage, not uniform: Mesa 22.3's lavapipe "inlines" uniform-buffer values that
-// branches depend on and recompiles the shader whenever the buffer is written, leaking the old
-// variant (about 0.4 MB per draw with the compose pass's view switch). No uniform buffers
-// anywhere, so no shader is recompiled per frame (tests/soak.rs).
-@group(0) @binding(0) var<storage, read> camera: Camera;
-@group(0) @binding(1) var<storage, read> lights: array<GpuLight>;
-@group(0) @binding(2) var<storage, read> objects: array<GpuObject>;
-// Per forward-shaded object, the lights that reach it (indices into `lights`).
-@group(0) @binding(3) var<storage, read> light_lists: array<u32>;
+// The bindings (group 0, the frame's storage buffers) are declared from Rust: renderer::bindings.
 
 // What a G-buffer pixel describes, decoded.
 struct Surface {
@@ -111,13 +106,12 @@ fn oct_decode(e: vec2<f32>) -> vec3<f32> {
     return safe_normalize(n, vec3<f32>(0.0, 0.0, 1.0));
 }
 
-const SPEC_EXP_LOG_RANGE: f32 = 11.0; // exponents 1 .. 2^11
 
 fn attributes_of(s: Surface) -> Attributes {
     var a: Attributes;
     a.albedo = clamp(s.albedo, vec3<f32>(0.0), vec3<f32>(1.0));
     a.spec_level = clamp(s.spec_level, 0.0, 1.0);
-    a.spec_exp = clamp(log2(max(s.spec_exp, 1.0)) / SPEC_EXP_LOG_RANGE, 0.0, 1.0);
+    a.spec_exp = clamp(log2(max(s.spec_exp, 1.0)) / LS_SPEC_EXP_LOG_RANGE, 0.0, 1.0);
     let n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
     if GBUFFER_NORMAL_OCTAHEDRAL {
         a.normal = vec3<f32>(oct_encode(n), 0.0);
@@ -137,7 +131,7 @@ fn default_attributes() -> Attributes {
     a.spec_exp = 0.0;
     a.normal = vec3<f32>(0.0, 0.0, 1.0);
     a.emissive = vec3<f32>(0.0);
-    a.depth = camera.params.y;
+    a.depth = camera.far_depth;
     a.position = vec3<f32>(0.0);
     return a;
 }
@@ -154,7 +148,7 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     var s: Surface;
     s.albedo = a.albedo;
     s.spec_level = a.spec_level;
-    s.spec_exp = exp2(a.spec_exp * SPEC_EXP_LOG_RANGE);
+    s.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
     if GBUFFER_NORMAL_OCTAHEDRAL {
         s.normal = oct_decode(a.normal.xy);
     } else {
@@ -163,7 +157,7 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     s.emissive = a.emissive;
     if GBUFFER_HAS_DEPTH {
         s.depth = a.depth;
-        s.valid = a.depth != camera.params.y;
+        s.valid = a.depth != camera.far_depth;
         s.position = view_position_from_depth(p, a.depth);
     } else {
         s.position = a.position;

@@ -1,20 +1,13 @@
+// Bindings (groups 2 and 3) are declared from Rust: renderer::bindings::{COMPOSE, HDR}.
 // Compose (seed 002's final pass): diffuse x albedo + specular + emissive, tonemapped, or one
 // of the debug views.
-
-@group(2) @binding(0) var light_diffuse: texture_2d<f32>;
-@group(2) @binding(1) var light_specular: texture_2d<f32>;
-@group(2) @binding(2) var debug_tex: texture_2d<f32>;
 
 struct ComposeParams {
     // Which view (LS_VIEW_*), and the scale from output pixels to G-buffer pixels (thumbnails).
     view: u32,
-    pad: u32,
+    pad0: u32,
     scale: vec2<f32>,
 };
-// Storage, not uniform, like the camera (see common.wgsl).
-@group(2) @binding(3) var<storage, read> compose: ComposeParams;
-// The HDR scene colour (only scenes with blended surfaces compose through it).
-@group(3) @binding(0) var hdr_color: texture_2d<f32>;
 
 // ACES filmic tonemapping curve, Narkowicz 2015 fit.
 fn aces(x: vec3<f32>) -> vec3<f32> {
@@ -28,7 +21,7 @@ fn aces(x: vec3<f32>) -> vec3<f32> {
 
 // fp16 overflow: +inf becomes the largest finite fp16 value; NaN becomes magenta-free zero.
 fn finite(v: vec3<f32>) -> vec3<f32> {
-    let c = min(v, vec3<f32>(65504.0));
+    let c = min(v, vec3<f32>(LS_FP16_MAX));
     return select(vec3<f32>(0.0), c, c == c);
 }
 
@@ -57,7 +50,7 @@ fn fs_compose_hdr(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> 
 @fragment
 fn fs_tonemap(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let c = finite(textureLoad(hdr_color, vec2<i32>(floor(frag.xy)), 0).rgb);
-    return vec4<f32>(aces(c * camera.params.x), 1.0);
+    return vec4<f32>(aces(c * camera.exposure), 1.0);
 }
 
 @fragment
@@ -67,7 +60,7 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let view = compose.view;
     let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
     let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
-    let exposure = camera.params.x;
+    let exposure = camera.exposure;
     let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
     var c = aces(lit * exposure);
     if view == LS_VIEW_ALBEDO {
@@ -79,7 +72,7 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let t = clamp(log2(max(-s.position.z, 0.1) / 0.1) / log2(10000.0), 0.0, 1.0);
         c = select(vec3<f32>(0.0), vec3<f32>(1.0 - t), s.valid);
     } else if view == LS_VIEW_SPECULAR {
-        c = vec3<f32>(s.spec_level, log2(s.spec_exp) / SPEC_EXP_LOG_RANGE, 0.0);
+        c = vec3<f32>(s.spec_level, log2(s.spec_exp) / LS_SPEC_EXP_LOG_RANGE, 0.0);
     } else if view == LS_VIEW_EMISSIVE {
         c = aces(s.emissive * exposure);
     } else if view == LS_VIEW_DIFFUSE_LIGHT {

@@ -2,13 +2,7 @@
 // the material's textures (seed 003: diffuse, normal and specular maps), and the forward pass
 // that shades what deferred shading cannot: blended (transparent) surfaces (seeds 002-004).
 
-// Group 1 is the G-buffer in the lighting passes of this module; the material's bindings start
-// at 10 so the two never share a slot.
-@group(1) @binding(10) var base_color_tex: texture_2d<f32>;
-@group(1) @binding(11) var normal_tex: texture_2d<f32>;
-@group(1) @binding(12) var emissive_tex: texture_2d<f32>;
-@group(1) @binding(13) var metal_rough_tex: texture_2d<f32>;
-@group(1) @binding(14) var material_sampler: sampler;
+// The material's bindings (group 1) are declared from Rust: renderer::bindings::MATERIAL.
 
 struct GeometryOut {
     @builtin(position) clip: vec4<f32>,
@@ -112,7 +106,7 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     var s: Surface;
     let alpha = clamp(material_surface(in, front, &s), 0.0, 1.0);
     let o = objects[in.object];
-    let clamp_max = vec3<f32>(camera.params.w);
+    let clamp_max = vec3<f32>(camera.light_clamp);
     var diffuse = camera.ambient.rgb;
     var specular = vec3<f32>(0.0);
     let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
@@ -131,5 +125,5 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
         specular += min(r.specular, clamp_max);
     }
     let lit = diffuse * s.albedo + specular + s.emissive;
-    return vec4<f32>(min(lit, vec3<f32>(65504.0)), alpha);
+    return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), alpha);
 }

@@ -57,8 +57,8 @@ fn fs_light(in: LightVarying) -> LightTargets {
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         let r = shade_light(s, lights[in.light]);
-        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.params.w)));
-        out.specular = encode_light(min(r.specular, vec3<f32>(camera.params.w)));
+        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.light_clamp)));
+        out.specular = encode_light(min(r.specular, vec3<f32>(camera.light_clamp)));
     }
     return out;
 }
@@ -81,8 +81,8 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
             d += camera.sun_color.rgb * ndl;
             sp = camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
         }
-        out.diffuse = encode_light(min(d, vec3<f32>(camera.params.w)));
-        out.specular = encode_light(min(sp, vec3<f32>(camera.params.w)));
+        out.diffuse = encode_light(min(d, vec3<f32>(camera.light_clamp)));
+        out.specular = encode_light(min(sp, vec3<f32>(camera.light_clamp)));
     }
     return out;
 }

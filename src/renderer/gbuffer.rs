@@ -6,6 +6,10 @@
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 
+/// Specular exponents are stored as `log2(exponent) / SPEC_EXP_LOG_RANGE`: exponents 1 ..= 2^11.
+/// The shaders get it as the generated constant `LS_SPEC_EXP_LOG_RANGE`.
+pub const SPEC_EXP_LOG_RANGE: f32 = 11.0;
+
 /// A surface attribute the lighting model needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Attr {
@@ -13,7 +17,7 @@ pub enum Attr {
     Albedo,
     /// Specular level, 1 component in [0, 1].
     SpecLevel,
-    /// Specular exponent, stored as log2(exp)/11 in [0, 1] (exponents 1..2048).
+    /// Specular exponent, stored as log2(exp) / [`SPEC_EXP_LOG_RANGE`] in [0, 1] (exponents 1..2048).
     SpecExp,
     /// View-space normal: 2 components (octahedral) or 3 (xyz), in [-1, 1].
     Normal,

@@ -2,7 +2,9 @@
 //! screen-space wireframe of a light's bounding volume.
 
 use super::gbuffer::{Attr, NormalEncoding};
-use super::{volumes, LightRaw, Renderer, VolumeKind, LIGHT_KIND_SPOT};
+use super::records::{LightRecord, LIGHT_KIND_SPOT};
+use super::volumes::{self, VolumeKind};
+use super::Renderer;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
@@ -130,7 +132,7 @@ fn oct_decode(e: Vec2) -> Vec3 {
 }
 
 /// Whether view-space point `p` lies inside the light's true shape (as `inside_light` in WGSL).
-pub fn inside_light(l: &LightRaw, p: Vec3) -> bool {
+pub fn inside_light(l: &LightRecord, p: Vec3) -> bool {
     let v = p - Vec3::from(l.position);
     let d = v.length();
     if d >= l.radius {
@@ -149,7 +151,7 @@ impl Renderer {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let layout = &t.gbuffer.layout;
         let find = |attr| layout.targets.iter().position(|d| d.channels.iter().flatten().any(|s| s.attr == attr));
-        let far_depth = if self.pipelines.key.reversed_z { 0.0 } else { 1.0 };
+        let far_depth = if self.passes.key().reversed_z { 0.0 } else { 1.0 };
         if let Some(i) = find(Attr::Depth) {
             let format = layout.targets[i].format;
             let bpp = format.block_copy_size(None).unwrap_or(4) as usize;
@@ -165,7 +167,7 @@ impl Renderer {
                         d as f64,
                         1.0,
                     );
-                    let v = self.last_inv_proj * ndc;
+                    let v = self.last.inv_proj * ndc;
                     (v.truncate() / v.w).as_vec3()
                 }));
             }
@@ -186,8 +188,8 @@ impl Renderer {
 
     /// The faces of light `i`'s bounding mesh in view space, as (point, outward normal) planes.
     pub fn volume_planes(&self, i: usize) -> Option<Vec<(Vec3, Vec3)>> {
-        let raw = self.last_lights.get(i)?;
-        let mesh = self.volume_mesh(VolumeKind::of(raw));
+        let raw = self.last.lights.get(i)?;
+        let mesh = self.volumes.mesh(VolumeKind::of(raw));
         let pts: Vec<Vec3> = mesh
             .vertices
             .iter()
@@ -231,7 +233,7 @@ impl Renderer {
             NormalEncoding::Octahedral => oct_decode(Vec2::new(get(Attr::Normal, 0, 0.0), get(Attr::Normal, 1, 0.0))),
             NormalEncoding::Xyz => v3(Attr::Normal).normalize_or(Vec3::Z),
         };
-        let far_depth = if self.pipelines.key.reversed_z { 0.0 } else { 1.0 };
+        let far_depth = if self.passes.key().reversed_z { 0.0 } else { 1.0 };
         let (position, valid) = if layout.has(Attr::Depth) {
             let d = get(Attr::Depth, 0, far_depth);
             let ndc = DVec4::new(
@@ -240,14 +242,14 @@ impl Renderer {
                 d as f64,
                 1.0,
             );
-            let v = self.last_inv_proj * ndc;
+            let v = self.last.inv_proj * ndc;
             ((v.truncate() / v.w).as_vec3(), d != far_depth)
         } else {
             let p = v3(Attr::Position);
             (p, p.z < 0.0)
         };
         let decode = |v: [f32; 4]| {
-            if super::pipelines::log_accum(t.diffuse.format()) {
+            if super::passes::log_accum(t.diffuse.format()) {
                 v.map(super::settings::log_accum_decode)
             } else {
                 v
@@ -260,7 +262,7 @@ impl Renderer {
         let albedo = v3(Attr::Albedo);
         let emissive = v3(Attr::Emissive);
         let lights = if valid {
-            self.last_lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
+            self.last.lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
         } else {
             Vec::new()
         };
@@ -270,7 +272,7 @@ impl Renderer {
             valid,
             albedo,
             specular_level: get(Attr::SpecLevel, 0, 0.0),
-            specular_exponent: 2f32.powf(get(Attr::SpecExp, 0, 0.0) * 11.0),
+            specular_exponent: 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::gbuffer::SPEC_EXP_LOG_RANGE),
             normal,
             emissive,
             position,
@@ -297,7 +299,7 @@ pub fn volume_wireframe_with(
     if width == 0 || height == 0 || settings.validate().is_err() {
         return Vec::new();
     }
-    let raw = Renderer::light_raw(scene, l, settings.light_cutoff);
+    let raw = LightRecord::in_view(&scene.camera, l, settings.light_cutoff);
     let mesh = match VolumeKind::of(&raw) {
         VolumeKind::Sphere => volumes::VolumeMesh::sphere(settings.sphere_subdivisions),
         VolumeKind::Cone => volumes::VolumeMesh::cone(settings.cone_sides),

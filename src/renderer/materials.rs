@@ -114,15 +114,11 @@ pub fn bind_groups(
                 pick(t.emissive, &defaults.white_srgb),
                 pick(t.metallic_roughness, &defaults.white_linear),
             ];
-            let mut entries: Vec<wgpu::BindGroupEntry<'_>> = maps
-                .iter()
-                .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry {
-                    binding: 10 + i as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                })
-                .collect();
-            entries.push(wgpu::BindGroupEntry { binding: 14, resource: wgpu::BindingResource::Sampler(sampler) });
+            // In the order of `bindings::MATERIAL`: base colour, normal, emissive, metal-rough, sampler.
+            let mut resources: Vec<wgpu::BindingResource<'_>> =
+                maps.iter().map(wgpu::BindingResource::TextureView).collect();
+            resources.push(wgpu::BindingResource::Sampler(sampler));
+            let entries = super::bindings::MATERIAL.entries(resources);
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("material"), layout, entries: &entries })
         })
         .collect()

@@ -12,6 +12,51 @@ pub const DEFAULT_CONE_SIDES: u32 = 12;
 
 pub use super::gbuffer::LayoutChoice;
 
+/// The one name of a knob's value, used by the CLI, settings files, scripts, the viewer and the
+/// bench: clap's `ValueEnum` name, which is the kebab-case name serde writes (the
+/// `every_knob_value_has_one_name` test holds the two together).
+pub fn name_of<T: clap::ValueEnum>(v: &T) -> String {
+    v.to_possible_value().map_or_else(String::new, |p| p.get_name().to_string())
+}
+
+/// The value of a knob (`what`, for the message) named `s` (or one of its old aliases).
+pub fn parse_name<T: clap::ValueEnum>(what: &str, s: &str) -> Result<T, String> {
+    T::from_str(s, false).map_err(|_| {
+        let names: Vec<String> = T::value_variants().iter().map(name_of).collect();
+        format!("unknown {what} '{s}' (one of {})", names.join(", "))
+    })
+}
+
+/// The value's one-line description (its doc comment), for tooltips.
+pub fn help_of<T: clap::ValueEnum>(v: &T) -> String {
+    v.to_possible_value().and_then(|p| p.get_help().map(|h| h.to_string())).unwrap_or_default()
+}
+
+/// `name()` and `parse()` for a knob enum, in terms of [`name_of`] and [`parse_name`].
+macro_rules! knob_names {
+    ($($t:ty => $what:literal),* $(,)?) => {$(
+        impl $t {
+            /// The value's one name (see [`name_of`]).
+            pub fn name(self) -> String {
+                name_of(&self)
+            }
+
+            #[doc = concat!("Parses a ", $what, " by its name (see [`parse_name`]).")]
+            pub fn parse(s: &str) -> Result<Self, String> {
+                parse_name($what, s)
+            }
+        }
+    )*};
+}
+
+knob_names!(
+    CullingMode => "culling mode",
+    DebugView => "view",
+    AccumFormat => "accumulation format",
+    DepthFormat => "depth format",
+    LayoutChoice => "layout",
+);
+
 /// How light volumes are applied.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
@@ -40,17 +85,6 @@ impl CullingMode {
         CullingMode::StencilReplace,
         CullingMode::Auto,
     ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            CullingMode::Fullscreen => "fullscreen",
-            CullingMode::Volume => "volume",
-            CullingMode::StencilTwoPass => "stencil-two-pass",
-            CullingMode::StencilInvert => "stencil-invert",
-            CullingMode::StencilReplace => "stencil-replace",
-            CullingMode::Auto => "auto",
-        }
-    }
 }
 
 /// What the compose pass shows. The values are shared with WGSL as generated constants.
@@ -88,19 +122,9 @@ impl DebugView {
         DebugView::Complexity,
     ];
 
-    pub fn wgsl_name(self) -> &'static str {
-        match self {
-            DebugView::Lit => "LIT",
-            DebugView::Albedo => "ALBEDO",
-            DebugView::Normal => "NORMAL",
-            DebugView::Depth => "DEPTH",
-            DebugView::Specular => "SPECULAR",
-            DebugView::Emissive => "EMISSIVE",
-            DebugView::DiffuseLight => "DIFFUSE_LIGHT",
-            DebugView::SpecularLight => "SPECULAR_LIGHT",
-            DebugView::Stencil => "STENCIL",
-            DebugView::Complexity => "COMPLEXITY",
-        }
+    /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
+    pub fn wgsl_name(self) -> String {
+        self.name().to_uppercase().replace('-', "_")
     }
 }
 
@@ -170,20 +194,17 @@ pub enum DepthFormat {
     /// Depth32FloatStencil8 (needs the adapter's DEPTH32FLOAT_STENCIL8; without it the renderer
     /// falls back to Depth24PlusStencil8 and says so in the frame's stats).
     #[default]
+    #[value(alias = "d32s8")]
+    #[serde(alias = "d32s8")]
     Depth32FloatStencil8,
     /// Depth24PlusStencil8: 24-bit (or better, the implementation's choice) depth.
+    #[value(alias = "d24s8")]
+    #[serde(alias = "d24s8")]
     Depth24PlusStencil8,
 }
 
 impl DepthFormat {
     pub const ALL: [DepthFormat; 2] = [DepthFormat::Depth32FloatStencil8, DepthFormat::Depth24PlusStencil8];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            DepthFormat::Depth32FloatStencil8 => "d32s8",
-            DepthFormat::Depth24PlusStencil8 => "d24s8",
-        }
-    }
 
     /// The texture format on an adapter with `features`.
     pub fn format(self, features: wgpu::Features) -> wgpu::TextureFormat {
@@ -328,6 +349,38 @@ mod tests {
         let text = serde_json::to_string(&new).unwrap();
         assert!(text.contains("\"rgba8-log\"") && text.contains("\"depth24-plus-stencil8\""), "{text}");
         assert_eq!(serde_json::from_str::<Settings>(&text).unwrap(), new);
+    }
+
+    /// The serde name (settings files) and the clap name (CLI, scripts, viewer, bench) of every
+    /// knob value are the same string, and `parse` takes it back.
+    fn one_name<T: clap::ValueEnum + Serialize + PartialEq + std::fmt::Debug>() {
+        for v in T::value_variants() {
+            let serde_name = serde_json::to_value(v).unwrap();
+            assert_eq!(serde_name.as_str(), Some(name_of(v).as_str()), "{v:?}");
+            assert_eq!(parse_name::<T>("knob", &name_of(v)).as_ref(), Ok(v));
+        }
+    }
+
+    #[test]
+    fn every_knob_value_has_one_name() {
+        one_name::<CullingMode>();
+        one_name::<DebugView>();
+        one_name::<AccumFormat>();
+        one_name::<DepthFormat>();
+        one_name::<LayoutChoice>();
+        for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
+            assert_eq!(l.layout().name, l.name(), "the layout table's name");
+        }
+        for m in CullingMode::ALL {
+            if let Some(method) = m.method() {
+                assert_eq!(serde_json::to_value(method).unwrap().as_str(), Some(m.name().as_str()));
+                assert_eq!(method.name(), m.name());
+            }
+        }
+        // The old short names still load.
+        assert_eq!(DepthFormat::parse("d24s8"), Ok(DepthFormat::Depth24PlusStencil8));
+        assert_eq!(serde_json::from_str::<DepthFormat>("\"d32s8\"").unwrap(), DepthFormat::Depth32FloatStencil8);
+        assert!(CullingMode::parse("stencil").unwrap_err().contains("one of fullscreen, volume, stencil-two-pass"));
     }
 
     #[test]

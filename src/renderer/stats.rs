@@ -5,7 +5,8 @@
 //! same kind of query around a full-screen draw that discards every sample whose G-buffer point
 //! lies outside the light's true radius and cone.
 
-use super::{CullingMode, LightPlan};
+use super::plan::{LightPlan, Method};
+use super::CullingMode;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use anyhow::Result;
@@ -13,18 +14,21 @@ use serde::{Deserialize, Serialize};
 
 pub const LIGHTS_PER_QUERY_SET: usize = wgpu::QUERY_SET_MAX_QUERIES as usize;
 
-/// How one light was drawn this frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    #[default]
-    Fullscreen,
-    Volume,
-    TwoPass,
-    Invert,
-    Replace,
-    /// `auto` only: the volume lies outside the view frustum and is not drawn.
-    Skipped,
+/// The frame's timestamp slots: the beginning and end of each timed pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub enum Stamp {
+    GBufferBegin = 0,
+    GBufferEnd = 1,
+    LightsBegin = 2,
+    LightsEnd = 3,
+    /// The compose, or with blended surfaces the HDR compose, forward pass and tonemap.
+    ComposeBegin = 4,
+    ComposeEnd = 5,
+}
+
+impl Stamp {
+    pub const COUNT: u32 = 6;
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -98,15 +102,13 @@ pub struct Queries {
     capacity: usize,
 }
 
-const TIMESTAMPS: u32 = 6;
-
 impl Queries {
     pub fn new(gpu: &Gpu) -> Self {
         let timestamps = gpu.has(wgpu::Features::TIMESTAMP_QUERY).then(|| {
             gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
                 ty: wgpu::QueryType::Timestamp,
-                count: TIMESTAMPS,
+                count: Stamp::COUNT,
             })
         });
         Self {
@@ -122,7 +124,6 @@ impl Queries {
         }
     }
 
-    /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion blocks] [ideal blocks].
     /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion] [ideal] [coverage] [end].
     fn offsets(capacity: usize) -> (u64, u64, u64, u64) {
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
@@ -179,7 +180,7 @@ impl Queries {
         let (occ_off, ideal_off, cov_off, size) = Self::offsets(self.capacity);
         if times {
             if let Some(ts) = &self.timestamps {
-                encoder.resolve_query_set(ts, 0..TIMESTAMPS, resolve, 0);
+                encoder.resolve_query_set(ts, 0..Stamp::COUNT, resolve, 0);
             }
         }
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
@@ -251,10 +252,11 @@ impl Queries {
                     let (t0, t1) = (words[a], words[b]);
                     (t1 >= t0 && t0 != 0).then(|| (t1 - t0) as f64 * self.period_ns as f64 / 1e6)
                 };
-                stats.gpu_ms.gbuffer = ms(0, 1);
-                stats.gpu_ms.lighting = ms(2, 3);
-                stats.gpu_ms.compose = ms(4, 5);
-                stats.gpu_ms.total = ms(0, 5);
+                let span = |a: Stamp, b: Stamp| ms(a as usize, b as usize);
+                stats.gpu_ms.gbuffer = span(Stamp::GBufferBegin, Stamp::GBufferEnd);
+                stats.gpu_ms.lighting = span(Stamp::LightsBegin, Stamp::LightsEnd);
+                stats.gpu_ms.compose = span(Stamp::ComposeBegin, Stamp::ComposeEnd);
+                stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
             }
             let block = LIGHTS_PER_QUERY_SET;
             let at = |base: u64, i: usize| {

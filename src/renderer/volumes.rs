@@ -2,7 +2,9 @@
 //! the light off between its vertices (field.md, failure 3), so both meshes are scaled until
 //! they **circumscribe** the true shape: every face plane lies at or beyond the radius.
 
+use super::records::{LightRecord, LIGHT_KIND_SPOT};
 use glam::{Vec3, Vec4};
+use wgpu::util::DeviceExt;
 
 /// Relative safety margin on top of exact circumscription, for rasterisation of faces that
 /// coincide with geometry.
@@ -160,6 +162,83 @@ impl VolumeMesh {
             }
         }
         t_exit
+    }
+}
+
+/// Which bounding mesh a light uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VolumeKind {
+    Sphere,
+    Cone,
+}
+
+impl VolumeKind {
+    /// Spots narrower than [`CONE_MAX_ANGLE_DEG`] get a cone, everything else a sphere.
+    pub fn of(light: &LightRecord) -> Self {
+        if light.kind == LIGHT_KIND_SPOT && light.cos_outer > CONE_MAX_ANGLE_DEG.to_radians().cos() {
+            VolumeKind::Cone
+        } else {
+            VolumeKind::Sphere
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            VolumeKind::Sphere => "sphere",
+            VolumeKind::Cone => "cone",
+        }
+    }
+}
+
+/// The sphere and the cone at one tessellation, in one vertex and one index buffer.
+pub struct Volumes {
+    pub sphere: VolumeMesh,
+    pub cone: VolumeMesh,
+    /// (sphere subdivisions, cone sides) the meshes were built with.
+    pub tessellation: (u32, u32),
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+}
+
+impl Volumes {
+    pub fn new(device: &wgpu::Device, tessellation: (u32, u32)) -> Self {
+        let sphere = VolumeMesh::sphere(tessellation.0);
+        let cone = VolumeMesh::cone(tessellation.1);
+        let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
+        let all_indices: Vec<u32> = sphere.indices.iter().chain(cone.indices.iter()).copied().collect();
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volumes"),
+            contents: bytemuck::cast_slice(&all_vertices),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volume indices"),
+            contents: bytemuck::cast_slice(&all_indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Self { sphere, cone, tessellation, vertices, indices }
+    }
+
+    pub fn mesh(&self, kind: VolumeKind) -> &VolumeMesh {
+        match kind {
+            VolumeKind::Sphere => &self.sphere,
+            VolumeKind::Cone => &self.cone,
+        }
+    }
+
+    /// The index range and base vertex of `kind`'s mesh in the shared buffers.
+    pub fn range(&self, kind: VolumeKind) -> (std::ops::Range<u32>, i32) {
+        let ns = self.sphere.indices.len() as u32;
+        match kind {
+            VolumeKind::Sphere => (0..ns, 0),
+            VolumeKind::Cone => (ns..ns + self.cone.indices.len() as u32, self.sphere.vertices.len() as i32),
+        }
+    }
+
+    /// Binds the volume meshes as the vertex and index buffer of `pass`.
+    pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
     }
 }
 

@@ -1,0 +1,153 @@
+//! The bind groups the shaders declare, as data: each table below writes both the WGSL
+//! declarations (prepended to the shader source) and the `wgpu::BindGroupLayout`, so a binding
+//! number or a type is written once. The G-buffer's group is generated the same way by
+//! `GBufferLayout::wgsl`.
+//!
+//! There is no uniform-buffer kind on purpose: Mesa 22.3's lavapipe recompiles a shader whose
+//! branches read a uniform buffer every time that buffer is written, and keeps the old
+//! compilation (about 0.4 MB per draw; `tests/soak.rs`). Everything the shaders read per frame
+//! is read-only storage; `tests/shader_contract.rs` checks that no `var<uniform>` appears.
+
+use std::fmt::Write;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `var<storage, read>`; `dynamic` with a dynamic offset of `min_size` bytes' binding.
+    Storage { dynamic: bool, min_size: u64 },
+    /// A 2D float texture, filterable or not.
+    Texture { filterable: bool },
+    /// A filtering sampler.
+    Sampler,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    pub slot: u32,
+    pub name: &'static str,
+    /// The WGSL type: a struct, `array<…>`, `texture_2d<f32>`, `sampler`.
+    pub wgsl_type: &'static str,
+    pub kind: Kind,
+}
+
+/// A bind group: its index in the pipeline layouts and its bindings.
+pub struct Group {
+    pub label: &'static str,
+    pub index: u32,
+    pub bindings: &'static [Binding],
+}
+
+const fn storage(slot: u32, name: &'static str, wgsl_type: &'static str) -> Binding {
+    Binding { slot, name, wgsl_type, kind: Kind::Storage { dynamic: false, min_size: 0 } }
+}
+
+const fn texture(slot: u32, name: &'static str, filterable: bool) -> Binding {
+    Binding { slot, name, wgsl_type: "texture_2d<f32>", kind: Kind::Texture { filterable } }
+}
+
+/// Group 0: what every pass reads once per frame (`records::FrameBuffers`).
+pub const FRAME: Group = Group {
+    label: "frame",
+    index: 0,
+    bindings: &[
+        storage(0, "camera", "Camera"),
+        storage(1, "lights", "array<GpuLight>"),
+        storage(2, "objects", "array<GpuObject>"),
+        // Per forward-shaded object, the lights that reach it (indices into `lights`).
+        storage(3, "light_lists", "array<u32>"),
+    ],
+};
+
+/// Group 1 of the surface passes: a material's maps and sampler. The G-buffer takes group 1 in
+/// the lighting passes; the material's slots start at 10 so the two never share a number.
+pub const MATERIAL: Group = Group {
+    label: "material",
+    index: 1,
+    bindings: &[
+        texture(10, "base_color_tex", true),
+        texture(11, "normal_tex", true),
+        texture(12, "emissive_tex", true),
+        texture(13, "metal_rough_tex", true),
+        Binding { slot: 14, name: "material_sampler", wgsl_type: "sampler", kind: Kind::Sampler },
+    ],
+};
+
+/// Size of one compose-parameter record as bound (a dynamic offset selects the slot).
+pub const COMPOSE_PARAMS_SIZE: u64 = std::mem::size_of::<super::records::ComposeParams>() as u64;
+
+/// Group 2 of the compose passes: the light accumulation, the debug target and the parameters.
+pub const COMPOSE: Group = Group {
+    label: "compose",
+    index: 2,
+    bindings: &[
+        texture(0, "light_diffuse", false),
+        texture(1, "light_specular", false),
+        texture(2, "debug_tex", false),
+        Binding {
+            slot: 3,
+            name: "compose",
+            wgsl_type: "ComposeParams",
+            kind: Kind::Storage { dynamic: true, min_size: COMPOSE_PARAMS_SIZE },
+        },
+    ],
+};
+
+/// Group 3 of the tonemap pass: the HDR scene colour (only scenes with blended surfaces compose
+/// through it).
+pub const HDR: Group = Group { label: "hdr colour", index: 3, bindings: &[texture(0, "hdr_color", false)] };
+
+/// Every group above, in the order the shader source declares them.
+pub const GROUPS: [&Group; 4] = [&FRAME, &MATERIAL, &COMPOSE, &HDR];
+
+impl Group {
+    /// The WGSL declarations of the group's bindings.
+    pub fn wgsl(&self) -> String {
+        let mut s = String::new();
+        for b in self.bindings {
+            let var = match b.kind {
+                Kind::Storage { .. } => "var<storage, read>",
+                Kind::Texture { .. } | Kind::Sampler => "var",
+            };
+            let _ = writeln!(s, "@group({}) @binding({}) {var} {}: {};", self.index, b.slot, b.name, b.wgsl_type);
+        }
+        s
+    }
+
+    pub fn layout(&self, device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = self
+            .bindings
+            .iter()
+            .map(|b| wgpu::BindGroupLayoutEntry {
+                binding: b.slot,
+                visibility: match b.kind {
+                    Kind::Storage { .. } => wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                    _ => wgpu::ShaderStages::FRAGMENT,
+                },
+                ty: match b.kind {
+                    Kind::Storage { dynamic, min_size } => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: dynamic,
+                        min_binding_size: wgpu::BufferSize::new(min_size),
+                    },
+                    Kind::Texture { filterable } => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    Kind::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                },
+                count: None,
+            })
+            .collect();
+        device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label), entries: &entries })
+    }
+
+    /// Bind group entries for `resources`, given in the table's order.
+    pub fn entries<'a>(&self, resources: Vec<wgpu::BindingResource<'a>>) -> Vec<wgpu::BindGroupEntry<'a>> {
+        debug_assert_eq!(resources.len(), self.bindings.len(), "{}: one resource per binding", self.label);
+        self.bindings
+            .iter()
+            .zip(resources)
+            .map(|(b, resource)| wgpu::BindGroupEntry { binding: b.slot, resource })
+            .collect()
+    }
+}

@@ -1,0 +1,107 @@
+//! Compose (seed 002's final pass): diffuse x albedo + specular + emissive, tonemapped, or one
+//! of the debug views. Scenes with blended surfaces compose into the HDR scene colour instead,
+//! the forward pass draws over it, and `tonemap` finishes the frame.
+
+use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::records::{ComposeParams, FrameBuffers};
+use crate::renderer::settings::DebugView;
+use crate::renderer::stats::Stamp;
+use crate::renderer::targets::{attachment, Targets};
+
+pub struct ComposePass {
+    compose: wgpu::RenderPipeline,
+    compose_hdr: wgpu::RenderPipeline,
+    tonemap: wgpu::RenderPipeline,
+}
+
+/// Where and how to compose: the target, its size, the view and its parameter slot.
+pub struct ComposeTarget<'a> {
+    pub view: &'a wgpu::TextureView,
+    pub size: (u32, u32),
+    pub debug_view: DebugView,
+    /// Slot 0 is the frame's own compose; the viewer's thumbnails use one slot per view.
+    pub slot: u64,
+}
+
+impl ComposePass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let out = shared.key.output_format;
+        Self {
+            compose: shared.fullscreen_pipeline(device, "compose", &shared.compose_layout, "fs_compose", out),
+            compose_hdr: shared.fullscreen_pipeline(
+                device,
+                "compose (HDR)",
+                &shared.compose_layout,
+                "fs_compose_hdr",
+                HDR_FORMAT,
+            ),
+            tonemap: shared.fullscreen_pipeline(device, "tonemap", &shared.tonemap_layout, "fs_tonemap", out),
+        }
+    }
+
+    /// Records the compose into `to` (scaled from the G-buffer's size).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        queue: &wgpu::Queue,
+        targets: &Targets,
+        frame: &FrameBuffers,
+        to: &ComposeTarget<'_>,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        let scale = [targets.width as f32 / to.size.0 as f32, targets.height as f32 / to.size.1 as f32];
+        let offset = frame.compose_slot(queue, to.slot, ComposeParams { view: to.debug_view as u32, pad0: 0, scale });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("compose"),
+            color_attachments: &[attachment(to.view, Some(wgpu::Color::BLACK))],
+            depth_stencil_attachment: None,
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.compose);
+        pass.set_bind_group(0, &frame.group, &[]);
+        pass.set_bind_group(1, &targets.gbuffer_group, &[]);
+        pass.set_bind_group(2, &targets.compose_group, &[offset]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Composes the lit frame into the HDR scene colour (the start of the compose timing).
+    pub fn encode_hdr(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, f: &FrameInputs<'_>) {
+        let Some((hdr_view, _)) = &f.targets.hdr else { return };
+        let offset = f.frame.compose_slot(queue, 0, ComposeParams { view: DebugView::Lit as u32, pad0: 0, scale: [1.0; 2] });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("compose (HDR)"),
+            color_attachments: &[attachment(hdr_view, Some(wgpu::Color::BLACK))],
+            depth_stencil_attachment: None,
+            timestamp_writes: f.timestamps(Some(Stamp::ComposeBegin), None),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.compose_hdr);
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+        pass.set_bind_group(2, &f.targets.compose_group, &[offset]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Exposure and tonemapping of the HDR scene colour into `target` (the end of the compose
+    /// timing).
+    pub fn encode_tonemap(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, target: &wgpu::TextureView) {
+        let Some((_, hdr_group)) = &f.targets.hdr else { return };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tonemap"),
+            color_attachments: &[attachment(target, Some(wgpu::Color::BLACK))],
+            depth_stencil_attachment: None,
+            timestamp_writes: f.timestamps(None, Some(Stamp::ComposeEnd)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.tonemap);
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+        pass.set_bind_group(2, &f.targets.compose_group, &[0]);
+        pass.set_bind_group(3, hdr_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

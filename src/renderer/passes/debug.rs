@@ -1,0 +1,85 @@
+//! The debug views that need a pass of their own: seed 000's stencil diagram (blue: passed Z in
+//! the marking pass; red: passed Z in the shading pass; green: passed the stencil test, lit),
+//! drawn with the two-pass method's own states, and the light-complexity heatmap.
+
+use super::lights::{STENCIL_TWO_PASS, VOLUME};
+use super::{DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX, NO_STENCIL};
+use crate::renderer::settings::DebugView;
+use crate::renderer::targets::attachment;
+use wgpu::CompareFunction as Cmp;
+
+pub struct DebugPass {
+    /// Seed 000's diagram: the two-pass mark, the volume test alone, the two-pass shade.
+    classify: [wgpu::RenderPipeline; 3],
+    complexity: wgpu::RenderPipeline,
+    complexity_fullscreen: wgpu::RenderPipeline,
+}
+
+impl DebugPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let pipe = |label, vs, fs, state, out| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out });
+        let mark = STENCIL_TWO_PASS.mark.clone().unwrap_or_else(|| VOLUME.shade.clone());
+        Self {
+            classify: [
+                pipe("classify: pass 1 Z", Vs::Volume, "fs_blue", mark, Out::Debug(MAX)),
+                pipe("classify: pass 2 Z", Vs::Volume, "fs_red", VOLUME.shade.clone(), Out::Debug(MAX)),
+                pipe("classify: pass 2 stencil", Vs::Volume, "fs_green", STENCIL_TWO_PASS.shade.clone(), Out::Debug(MAX)),
+            ],
+            // Light complexity counts the points inside each light's true shape (the shader
+            // discards the rest), drawn as the plain volume method draws the light.
+            complexity: pipe("light complexity", Vs::Volume, "fs_complexity", VOLUME.shade.clone(), Out::Debug(ADDITIVE)),
+            complexity_fullscreen: pipe(
+                "light complexity (full-screen)",
+                Vs::Fullscreen,
+                "fs_complexity",
+                DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL },
+                Out::Debug(ADDITIVE),
+            ),
+        }
+    }
+
+    /// Records the stencil diagram or the complexity heatmap into the debug target, for all
+    /// lights or the selected one; nothing for the other views.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        let view = f.settings.debug_view;
+        if !matches!(view, DebugView::Stencil | DebugView::Complexity) {
+            return;
+        }
+        let t = f.targets;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("debug view"),
+            color_attachments: &[attachment(&t.debug_view, Some(wgpu::Color::TRANSPARENT))],
+            depth_stencil_attachment: Some(t.depth_attachment(true)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        f.bind_light_inputs(&mut pass);
+        let n = f.plan.lights.len();
+        let selected: Vec<usize> = match f.settings.selected_light {
+            Some(k) if k < n => vec![k],
+            Some(_) => Vec::new(),
+            None => (0..n).collect(),
+        };
+        for i in selected {
+            let li = i as u32..i as u32 + 1;
+            let plan = f.plan.lights[i];
+            let (range, base) = f.volumes.range(plan.volume);
+            if view == DebugView::Complexity {
+                if plan.crosses_far && !f.depth_clamp {
+                    pass.set_pipeline(&self.complexity_fullscreen);
+                    pass.draw(0..3, li);
+                } else {
+                    pass.set_pipeline(&self.complexity);
+                    pass.draw_indexed(range, base, li);
+                }
+                continue;
+            }
+            pass.set_stencil_reference(0);
+            for pipe in &self.classify {
+                pass.set_pipeline(pipe);
+                pass.draw_indexed(range.clone(), base, li.clone());
+            }
+        }
+    }
+}

@@ -1,0 +1,42 @@
+//! Forward shading of blended surfaces (seeds 002-004: deferred shading cannot do
+//! transparency): back to front over the HDR scene colour, depth tested against the G-buffer
+//! pass's depth and not written, each object lit by its light list.
+
+use super::gbuffer::surface_pipeline;
+use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::targets::attachment;
+
+pub struct ForwardPass {
+    /// One- and two-sided.
+    pipelines: [wgpu::RenderPipeline; 2],
+}
+
+impl ForwardPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let blended = [Some(wgpu::ColorTargetState {
+            format: HDR_FORMAT,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let p = |label, two_sided| surface_pipeline(device, shared, label, "fs_forward", two_sided, &blended, false);
+        Self { pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)] }
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        let Some((hdr_view, _)) = &f.targets.hdr else { return };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("forward (blended)"),
+            color_attachments: &[attachment(hdr_view, None)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &f.targets.depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        f.scene.draw(&mut pass, &f.plan.draws.forward, &self.pipelines);
+    }
+}

@@ -1,0 +1,116 @@
+//! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
+//! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
+
+use super::{FrameInputs, Shared, Stamp};
+use crate::renderer::gbuffer::Attr;
+use crate::renderer::targets::attachment;
+use wgpu::CompareFunction as Cmp;
+
+/// Index into [`GBufferPass::pipelines`]: opaque or masked, one- or two-sided.
+pub fn pipeline_index(masked: bool, double_sided: bool) -> usize {
+    masked as usize * 2 + double_sided as usize
+}
+
+/// A surface pipeline (scene vertices, frame + material groups): the G-buffer's, and the
+/// forward pass's for blended surfaces.
+pub(crate) fn surface_pipeline(
+    device: &wgpu::Device,
+    shared: &Shared,
+    label: &str,
+    fs: &str,
+    double_sided: bool,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth_write: bool,
+) -> wgpu::RenderPipeline {
+    let vertex_buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+    })];
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&shared.surface_layout),
+        vertex: wgpu::VertexState {
+            module: &shared.module,
+            entry_point: Some("vs_geometry"),
+            compilation_options: Default::default(),
+            buffers: &vertex_buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: if double_sided { None } else { Some(wgpu::Face::Back) },
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: shared.key.depth_format,
+            depth_write_enabled: Some(depth_write),
+            depth_compare: Some(shared.z(if depth_write { Cmp::Less } else { Cmp::LessEqual })),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &shared.module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+pub struct GBufferPass {
+    /// By [`pipeline_index`].
+    pub pipelines: [wgpu::RenderPipeline; 4],
+}
+
+impl GBufferPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let targets: Vec<Option<wgpu::ColorTargetState>> =
+            shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
+        let p = |label, fs, two_sided| surface_pipeline(device, shared, label, fs, two_sided, &targets, true);
+        Self {
+            pipelines: [
+                p("geometry", "fs_geometry", false),
+                p("geometry (two-sided)", "fs_geometry", true),
+                p("geometry (masked)", "fs_geometry_masked", false),
+                p("geometry (masked, two-sided)", "fs_geometry_masked", true),
+            ],
+        }
+    }
+
+    /// Clears the G-buffer (the depth copy to the far plane, the rest to zero), depth and
+    /// stencil, and draws the frame's G-buffer list.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        let t = f.targets;
+        let far_depth = f.far_depth();
+        let color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
+            .gbuffer
+            .views
+            .iter()
+            .zip(&t.gbuffer.layout.targets)
+            .map(|(view, desc)| {
+                let has_depth = desc.channels.iter().flatten().any(|s| s.attr == Attr::Depth);
+                let r = if has_depth { far_depth } else { 0.0 };
+                attachment(view, Some(wgpu::Color { r, g: 0.0, b: 0.0, a: 0.0 }))
+            })
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("g-buffer"),
+            color_attachments: &color,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(far_depth as f32),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
+            }),
+            timestamp_writes: f.timestamps(Some(Stamp::GBufferBegin), Some(Stamp::GBufferEnd)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        f.scene.draw(&mut pass, &f.plan.draws.gbuffer, &self.pipelines);
+    }
+}

@@ -1,0 +1,86 @@
+//! Measurement only, after the frame (outside its timestamps): the ideal count (the G-buffer
+//! points inside each light's true shape) and the rasterised coverage of each light's volume.
+
+use super::{DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::plan::Method;
+use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
+use wgpu::CompareFunction as Cmp;
+
+pub struct MeasurePass {
+    ideal: wgpu::RenderPipeline,
+    coverage: wgpu::RenderPipeline,
+    coverage_fullscreen: wgpu::RenderPipeline,
+}
+
+impl MeasurePass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let pipe = |label, vs, fs, state| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out: Out::NoColor });
+        let fullscreen = DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL };
+        Self {
+            ideal: pipe("ideal count", Vs::Fullscreen, "fs_ideal", fullscreen.clone()),
+            // What the volume methods rasterise: the back faces, untested.
+            coverage: pipe(
+                "coverage",
+                Vs::Volume,
+                "fs_no_color",
+                DrawState { faces: Faces::Back, depth: Cmp::Always, stencil: NO_STENCIL },
+            ),
+            coverage_fullscreen: pipe("coverage (full-screen)", Vs::Fullscreen, "fs_no_color", fullscreen),
+        }
+    }
+
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        if !f.ideal {
+            return;
+        }
+        let t = f.targets;
+        let n = f.plan.lights.len();
+        let chunk = LIGHTS_PER_QUERY_SET;
+        for b in 0..n.div_ceil(chunk).max(1) {
+            let lights = b * chunk..((b + 1) * chunk).min(n);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("ideal count"),
+                color_attachments: &t.accumulation(false),
+                depth_stencil_attachment: Some(t.depth_attachment(false)),
+                timestamp_writes: None,
+                occlusion_query_set: f.queries.ideal.get(b),
+                multiview_mask: None,
+            });
+            f.bind_light_inputs(&mut pass);
+            pass.set_pipeline(&self.ideal);
+            for i in lights.clone() {
+                pass.begin_occlusion_query((i - b * chunk) as u32);
+                pass.draw(0..3, i as u32..i as u32 + 1);
+                pass.end_occlusion_query();
+            }
+            drop(pass);
+            // Rasterised coverage of each volume's back faces (what the volume methods
+            // rasterise), from pipeline statistics, in a pass of its own: lavapipe returns wrong
+            // occlusion counts when pipeline-statistics queries share their pass.
+            let Some(set) = f.queries.coverage.get(b) else { continue };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("coverage count"),
+                color_attachments: &t.accumulation(false),
+                depth_stencil_attachment: Some(t.depth_attachment(false)),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            f.bind_light_inputs(&mut pass);
+            for i in lights {
+                let li = i as u32..i as u32 + 1;
+                let plan = f.plan.lights[i];
+                pass.begin_pipeline_statistics_query(set, (i - b * chunk) as u32);
+                if plan.method == Method::Fullscreen {
+                    pass.set_pipeline(&self.coverage_fullscreen);
+                    pass.draw(0..3, li);
+                } else if plan.method != Method::Skipped {
+                    let (range, base) = f.volumes.range(plan.volume);
+                    pass.set_pipeline(&self.coverage);
+                    pass.draw_indexed(range, base, li);
+                }
+                pass.end_pipeline_statistics_query();
+            }
+        }
+    }
+}

@@ -1,0 +1,457 @@
+//! The frame's passes, one file each. A pass is a struct that builds its own pipelines in
+//! `new(&Shared)` and records itself in `encode(&self, encoder, &FrameInputs, …)`. `Shared`
+//! holds what they have in common: the configuration they are built for ([`PipelineKey`]), the
+//! shader module (generated constants, bindings and G-buffer layout, then the WGSL files) and
+//! the bind-group layouts.
+//!
+//! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
+//! [`z`] flips the compare functions when reversed Z is on.
+
+pub mod compose;
+pub mod debug;
+pub mod forward;
+pub mod gbuffer;
+pub mod lights;
+pub mod measure;
+
+use super::bindings;
+use super::gbuffer::{GBufferLayout, GBufferTargets};
+use super::plan::FramePlan;
+use super::records::{self, FrameBuffers};
+use super::scene_gpu::SceneGpu;
+use super::settings::{self, DebugView, Settings};
+use super::stats::{Queries, Stamp};
+use super::targets::Targets;
+use super::volumes::Volumes;
+use wgpu::CompareFunction as Cmp;
+
+/// Format of the debug target (stencil diagram, light complexity).
+pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the HDR scene colour that scenes with blended surfaces compose through.
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
+/// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).
+pub fn log_accum(format: wgpu::TextureFormat) -> bool {
+    format == wgpu::TextureFormat::Rgba8Unorm
+}
+
+/// WGSL constants generated from Rust, so the two never drift apart.
+pub fn wgsl_constants() -> String {
+    let mut s = String::new();
+    let mut u = |name: &str, v: u32| s += &format!("const LS_{name}: u32 = {v}u;\n");
+    u("LIGHT_POINT", records::LIGHT_KIND_POINT);
+    u("LIGHT_SPOT", records::LIGHT_KIND_SPOT);
+    u("MAT_NORMAL_MAP", records::MAT_NORMAL_MAP);
+    u("MAT_METAL_ROUGH", records::MAT_METAL_ROUGH);
+    for v in DebugView::ALL {
+        u(&format!("VIEW_{}", v.wgsl_name()), v as u32);
+    }
+    let mut f = |name: &str, v: f32| s += &format!("const LS_{name}: f32 = {v:?};\n");
+    f("LOG_ACCUM_MAX", settings::LOG_ACCUM_MAX);
+    f("FP16_MAX", records::FP16_MAX);
+    // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
+    f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
+    s
+}
+
+/// The whole shader source for a G-buffer layout and accumulation format: generated constants,
+/// binding declarations and G-buffer layout, then the WGSL files.
+pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat) -> String {
+    let mut parts = vec![wgsl_constants(), format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format))];
+    parts.push(layout.wgsl(1));
+    parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
+    parts.extend(
+        [
+            include_str!("../../../shaders/common.wgsl"),
+            include_str!("../../../shaders/geometry.wgsl"),
+            include_str!("../../../shaders/lights.wgsl"),
+            include_str!("../../../shaders/compose.wgsl"),
+        ]
+        .map(String::from),
+    );
+    parts.join("\n")
+}
+
+/// Key of everything the pipelines depend on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PipelineKey {
+    pub layout: GBufferLayout,
+    pub depth_format: wgpu::TextureFormat,
+    pub output_format: wgpu::TextureFormat,
+    pub reversed_z: bool,
+    /// Format of the diffuse and specular light accumulation targets.
+    pub accum_format: wgpu::TextureFormat,
+    /// Depth clamp (`unclipped_depth`) on light volumes.
+    pub depth_clamp: bool,
+}
+
+/// What every pass's pipelines are built from.
+pub struct Shared {
+    pub key: PipelineKey,
+    pub module: wgpu::ShaderModule,
+    pub frame_bgl: wgpu::BindGroupLayout,
+    pub gbuffer_bgl: wgpu::BindGroupLayout,
+    pub material_bgl: wgpu::BindGroupLayout,
+    pub compose_bgl: wgpu::BindGroupLayout,
+    pub hdr_bgl: wgpu::BindGroupLayout,
+    /// Frame + material: the surface passes (G-buffer, forward).
+    pub surface_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer: everything drawn per light.
+    pub light_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer + compose.
+    pub compose_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer + compose + HDR colour.
+    pub tonemap_layout: wgpu::PipelineLayout,
+}
+
+impl Shared {
+    pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(key.layout.name),
+            source: wgpu::ShaderSource::Wgsl(shader_source(&key.layout, key.accum_format).into()),
+        });
+        let frame_bgl = bindings::FRAME.layout(device);
+        let gbuffer_bgl = GBufferTargets::bind_group_layout(device, &key.layout);
+        let material_bgl = bindings::MATERIAL.layout(device);
+        let compose_bgl = bindings::COMPOSE.layout(device);
+        let hdr_bgl = bindings::HDR.layout(device);
+        let layout = |label, groups: &[&wgpu::BindGroupLayout]| {
+            let groups: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().map(|g| Some(*g)).collect();
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &groups,
+                immediate_size: 0,
+            })
+        };
+        let surface_layout = layout("surfaces", &[&frame_bgl, &material_bgl]);
+        let light_layout = layout("lights", &[&frame_bgl, &gbuffer_bgl]);
+        let compose_layout = layout("compose", &[&frame_bgl, &gbuffer_bgl, &compose_bgl]);
+        let tonemap_layout = layout("tonemap", &[&frame_bgl, &gbuffer_bgl, &compose_bgl, &hdr_bgl]);
+        Self {
+            key,
+            module,
+            frame_bgl,
+            gbuffer_bgl,
+            material_bgl,
+            compose_bgl,
+            hdr_bgl,
+            surface_layout,
+            light_layout,
+            compose_layout,
+            tonemap_layout,
+        }
+    }
+
+    /// Maps a compare function written for standard depth to the depth convention in use.
+    pub fn z(&self, c: Cmp) -> Cmp {
+        z(self.key.reversed_z, c)
+    }
+
+    /// A pipeline drawing a full-screen triangle (`vs_compose`) into one target, no depth.
+    pub fn fullscreen_pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        fs: &str,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::RenderPipeline {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_compose"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// A pipeline of the per-light passes (lights, debug views, measurement): a volume or a
+    /// full-screen triangle against the G-buffer's depth, with the draw's faces, depth and
+    /// stencil state.
+    pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
+        let key = &self.key;
+        let accum = |blend: Option<wgpu::BlendState>, write_mask| {
+            vec![Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask }); 2]
+        };
+        let targets = match p.out {
+            Out::Accumulate => {
+                accum(Some(if log_accum(key.accum_format) { MULTIPLY } else { ADDITIVE }), wgpu::ColorWrites::ALL)
+            }
+            Out::NoColor => accum(None, wgpu::ColorWrites::empty()),
+            Out::Replace => accum(None, wgpu::ColorWrites::ALL),
+            Out::Debug(blend) => vec![Some(wgpu::ColorTargetState {
+                format: DEBUG_FORMAT,
+                blend: Some(blend),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        };
+        let volume_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+        })];
+        let (entry, buffers): (&str, &[Option<wgpu::VertexBufferLayout>]) = match p.vs {
+            Vs::Fullscreen => ("vs_fullscreen", &[]),
+            Vs::FullscreenPlain => ("vs_fullscreen_plain", &[]),
+            Vs::Volume => ("vs_volume", &volume_buffers),
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(p.label),
+            layout: Some(&self.light_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: p.state.faces.cull_mode(),
+                unclipped_depth: key.depth_clamp && matches!(p.vs, Vs::Volume),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: key.depth_format,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(self.z(p.state.depth)),
+                stencil: p.state.stencil,
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(p.fs),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// Maps a compare function written for standard depth to reversed Z when `reversed`.
+pub fn z(reversed: bool, c: Cmp) -> Cmp {
+    if !reversed {
+        return c;
+    }
+    match c {
+        Cmp::Less => Cmp::Greater,
+        Cmp::LessEqual => Cmp::GreaterEqual,
+        Cmp::Greater => Cmp::Less,
+        Cmp::GreaterEqual => Cmp::LessEqual,
+        other => other,
+    }
+}
+
+/// Which faces of a volume a draw rasterises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Faces {
+    Front,
+    Back,
+    Both,
+}
+
+impl Faces {
+    fn cull_mode(self) -> Option<wgpu::Face> {
+        match self {
+            Faces::Front => Some(wgpu::Face::Back),
+            Faces::Back => Some(wgpu::Face::Front),
+            Faces::Both => None,
+        }
+    }
+}
+
+/// One draw's raster state as the seeds' tables give it: faces drawn, depth test (standard
+/// depth; never written), stencil.
+#[derive(Clone, Debug)]
+pub struct DrawState {
+    pub faces: Faces,
+    pub depth: Cmp,
+    pub stencil: wgpu::StencilState,
+}
+
+/// Which colour targets a per-light pipeline writes.
+#[derive(Clone, Copy)]
+pub enum Out {
+    /// Diffuse + specular accumulation, additive (multiplicative for the log encoding).
+    Accumulate,
+    /// Same targets, colour writes off (stencil marking, counting).
+    NoColor,
+    /// Same targets, replaced (the ambient + sun pass starts the accumulation).
+    Replace,
+    /// The debug target with a blend.
+    Debug(wgpu::BlendState),
+}
+
+/// The vertex stage of a per-light pipeline.
+#[derive(Clone, Copy)]
+pub enum Vs {
+    /// A full-screen triangle per light instance.
+    Fullscreen,
+    /// A full-screen triangle, no light.
+    FullscreenPlain,
+    /// The light's bounding volume.
+    Volume,
+}
+
+pub struct LightPipe {
+    pub label: &'static str,
+    pub vs: Vs,
+    pub fs: &'static str,
+    pub state: DrawState,
+    pub out: Out,
+}
+
+/// A stencil face state: compare, then the ops on stencil fail, depth fail and pass.
+pub const fn face(
+    compare: Cmp,
+    fail_op: wgpu::StencilOperation,
+    depth_fail_op: wgpu::StencilOperation,
+    pass_op: wgpu::StencilOperation,
+) -> wgpu::StencilFaceState {
+    wgpu::StencilFaceState { compare, fail_op, depth_fail_op, pass_op }
+}
+
+/// A stencil state with full read and write masks.
+pub const fn stencil(front: wgpu::StencilFaceState, back: wgpu::StencilFaceState) -> wgpu::StencilState {
+    wgpu::StencilState { front, back, read_mask: 0xff, write_mask: 0xff }
+}
+
+/// Stencil off.
+pub const NO_STENCIL: wgpu::StencilState = stencil(KEEP, KEEP);
+/// A face that ignores the stencil.
+pub const KEEP: wgpu::StencilFaceState = wgpu::StencilFaceState::IGNORE;
+
+pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// Seed 004's logarithmic accumulation: dst = src x dst, so the product of every light's
+/// exp2(-light) is exp2(-sum).
+pub const MULTIPLY: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Dst,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::DstAlpha,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+pub const MAX: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Max,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Max,
+    },
+};
+
+/// What the frame's passes read: targets, scene, frame buffers, plan and what to measure.
+pub struct FrameInputs<'a> {
+    pub targets: &'a Targets,
+    pub scene: &'a SceneGpu,
+    pub frame: &'a FrameBuffers,
+    pub volumes: &'a Volumes,
+    pub plan: &'a FramePlan,
+    pub queries: &'a Queries,
+    pub settings: &'a Settings,
+    /// Count each light's shaded fragments (occlusion queries).
+    pub counts: bool,
+    /// Count the ideal and the coverage (measurement passes).
+    pub ideal: bool,
+    /// Write timestamps.
+    pub times: bool,
+    pub depth_clamp: bool,
+}
+
+impl FrameInputs<'_> {
+    /// Timestamp writes at the beginning and/or end of a pass, when the frame is timed.
+    pub fn timestamps(&self, begin: Option<Stamp>, end: Option<Stamp>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        if !self.times {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: begin.map(|s| s as u32),
+            end_of_pass_write_index: end.map(|s| s as u32),
+        })
+    }
+
+    /// Frame buffers, the G-buffer and the light-volume meshes: what every light draw reads.
+    pub fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_bind_group(0, &self.frame.group, &[]);
+        pass.set_bind_group(1, &self.targets.gbuffer_group, &[]);
+        self.volumes.bind(pass);
+    }
+
+    /// Depth value of the far plane (1, or 0 with reversed Z).
+    pub fn far_depth(&self) -> f64 {
+        if self.settings.reversed_z {
+            0.0
+        } else {
+            1.0
+        }
+    }
+}
+
+/// Every pass of the frame, built for one [`PipelineKey`].
+pub struct Passes {
+    pub shared: Shared,
+    pub gbuffer: gbuffer::GBufferPass,
+    pub lights: lights::LightPass,
+    pub debug: debug::DebugPass,
+    pub compose: compose::ComposePass,
+    pub forward: forward::ForwardPass,
+    pub measure: measure::MeasurePass,
+}
+
+impl Passes {
+    pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
+        let shared = Shared::new(device, key);
+        Self {
+            gbuffer: gbuffer::GBufferPass::new(device, &shared),
+            lights: lights::LightPass::new(device, &shared),
+            debug: debug::DebugPass::new(device, &shared),
+            compose: compose::ComposePass::new(device, &shared),
+            forward: forward::ForwardPass::new(device, &shared),
+            measure: measure::MeasurePass::new(device, &shared),
+            shared,
+        }
+    }
+
+    pub fn key(&self) -> &PipelineKey {
+        &self.shared.key
+    }
+}

@@ -1,0 +1,240 @@
+//! What the CPU decides before any pass is recorded: per light, the culling method that draws
+//! it (and the facts that decide it: its volume, the planes it crosses, its screen share); per
+//! object, whether it goes into the G-buffer or is shaded forward, in which order, and which
+//! lights reach it.
+
+use super::records::{FrameRecords, LightRecord};
+use super::settings::CullingMode;
+use super::volumes::{self, VolumeKind, Volumes};
+use crate::scene::{AlphaMode, Scene};
+use glam::{DVec3, Mat4, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// Above this share of the screen, `auto` draws a light full-screen (see [`plan_light`]).
+pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
+/// Volumes whose projected bounding rectangle covers at least this many pixels are stencil
+/// culled by `auto` (the marking draw pays off); smaller ones are drawn as plain volumes.
+pub const AUTO_STENCIL_MIN_PIXELS: f32 = 4096.0;
+
+/// How one light is drawn this frame: a fixed [`CullingMode`]'s method, or what `auto` chose.
+/// The names are the culling modes' names (the old short names still load).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    #[default]
+    Fullscreen,
+    Volume,
+    #[serde(alias = "two-pass")]
+    StencilTwoPass,
+    #[serde(alias = "invert")]
+    StencilInvert,
+    #[serde(alias = "replace")]
+    StencilReplace,
+    /// `auto` only: the volume lies outside the view frustum and is not drawn.
+    Skipped,
+}
+
+impl Method {
+    /// The name in stats, the viewer and the bench: the culling mode's name, or `skipped`.
+    pub fn name(self) -> String {
+        match CullingMode::ALL.into_iter().find(|m| m.method() == Some(self)) {
+            Some(m) => m.name().to_string(),
+            None => "skipped".into(),
+        }
+    }
+}
+
+impl CullingMode {
+    /// The one method a fixed mode draws every light with; `None` for `auto`.
+    pub fn method(self) -> Option<Method> {
+        match self {
+            CullingMode::Fullscreen => Some(Method::Fullscreen),
+            CullingMode::Volume => Some(Method::Volume),
+            CullingMode::StencilTwoPass => Some(Method::StencilTwoPass),
+            CullingMode::StencilInvert => Some(Method::StencilInvert),
+            CullingMode::StencilReplace => Some(Method::StencilReplace),
+            CullingMode::Auto => None,
+        }
+    }
+}
+
+/// What the CPU decided for one light this frame.
+#[derive(Clone, Copy, Debug)]
+pub struct LightPlan {
+    pub method: Method,
+    pub volume: VolumeKind,
+    /// The volume reaches in front of the near plane (or holds the camera).
+    pub crosses_near: bool,
+    /// The volume reaches beyond the far plane.
+    pub crosses_far: bool,
+    /// Share of the screen covered by the volume's projected bounding rectangle.
+    pub screen_share: f32,
+}
+
+/// The view a frame's lights are planned against.
+pub struct PlanView {
+    pub proj: Mat4,
+    pub near: f32,
+    pub far: f32,
+    pub size: (u32, u32),
+    pub mode: CullingMode,
+    /// Light volumes are drawn with depth clamp (so they may cross the far plane).
+    pub depth_clamp: bool,
+}
+
+/// Which mesh bounds the light, where it sits against the near and far planes, and how much of
+/// the screen it covers; then which method draws it.
+///
+/// `auto`'s rule, per light: outside the frustum, skip it; covering more than
+/// [`AUTO_FULLSCREEN_SHARE`] of the screen, draw it full-screen (rasterising its faces buys
+/// nothing); a screen rectangle of at least [`AUTO_STENCIL_MIN_PIXELS`], seed 000's two-pass
+/// stencil (the marking draw saves thousands of shaded fragments); else the plain volume (one
+/// draw, back faces, GreaterEqual), since for small volumes the extra marking draw costs more
+/// than the fragments it saves. Thresholds from `lampshade bench --only culling` on lavapipe at
+/// 320x180, 640x360 and 1280x720 (README, "Measurements").
+pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> LightPlan {
+    let volume = VolumeKind::of(light);
+    let pos = Vec3::from(light.position);
+    let dir = Vec3::from(light.direction);
+    let (near, far) = (view.near, view.far);
+    let mut crosses_near = false;
+    let mut crosses_far = false;
+    // Clip-space side planes: a convex volume with every vertex outside one of them is outside
+    // the frustum.
+    let mut outside = [true; 4];
+    let (mut all_before_near, mut all_beyond_far) = (true, true);
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for v in &volumes.mesh(volume).vertices {
+        let p = volumes::place(*v, pos, light.radius, dir, light.tan_outer);
+        let dist = -p.z;
+        crosses_near |= dist <= near * 1.01;
+        crosses_far |= dist >= far * 0.99;
+        all_before_near &= dist < near;
+        all_beyond_far &= dist > far;
+        let c = view.proj * p.extend(1.0);
+        for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
+            outside[k] &= d < 0.0;
+        }
+        if c.w > 0.0 {
+            let n = Vec2::new(c.x, c.y) / c.w;
+            lo = lo.min(n);
+            hi = hi.max(n);
+        }
+    }
+    let off_screen = outside.iter().any(|&o| o)
+        || all_before_near
+        || all_beyond_far
+        || !(crosses_near || lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0);
+    let crosses_near = crosses_near && !off_screen;
+    let screen_share = if off_screen {
+        0.0
+    } else if crosses_near {
+        1.0
+    } else {
+        let a = (hi.min(Vec2::ONE) - lo.max(-Vec2::ONE)).max(Vec2::ZERO);
+        a.x * a.y / 4.0
+    };
+    let pixels = screen_share * (view.size.0 * view.size.1) as f32;
+    let method = if crosses_far && !view.depth_clamp && !(view.mode == CullingMode::Auto && off_screen) {
+        // Without depth clamp the far side would be clipped away: no volume method is correct,
+        // so the light is drawn full-screen.
+        Method::Fullscreen
+    } else if let Some(fixed) = view.mode.method() {
+        fixed
+    } else if off_screen {
+        Method::Skipped
+    } else if screen_share > AUTO_FULLSCREEN_SHARE {
+        Method::Fullscreen
+    } else if pixels >= AUTO_STENCIL_MIN_PIXELS {
+        Method::StencilTwoPass
+    } else {
+        Method::Volume
+    };
+    LightPlan { method, volume, crosses_near, crosses_far, screen_share }
+}
+
+/// One object draw: (object, pipeline index within its pass, material).
+pub type Draw = (usize, usize, usize);
+
+/// Objects of one frame by how they are drawn.
+#[derive(Default)]
+pub struct DrawLists {
+    /// Into the G-buffer: pipeline index from `passes::gbuffer::pipeline_index`.
+    pub gbuffer: Vec<Draw>,
+    /// Forward, blended, sorted back to front; pipeline index 1 for two-sided.
+    pub forward: Vec<Draw>,
+}
+
+/// Everything decided on the CPU for one frame.
+#[derive(Default)]
+pub struct FramePlan {
+    pub lights: Vec<LightPlan>,
+    pub draws: DrawLists,
+    /// The forward-shaded objects' light lists, concatenated (each object's `info` holds its
+    /// offset and count).
+    pub light_lists: Vec<u32>,
+}
+
+impl FramePlan {
+    /// Plans the lights and the object draws of `scene`; fills the objects' light-list fields
+    /// in `records`. `bounds` is each mesh's bounding sphere (model space).
+    pub fn new(scene: &Scene, records: &mut FrameRecords, bounds: &[(DVec3, f64)], volumes: &Volumes, view: &PlanView) -> Self {
+        let lights = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
+        let (draws, light_lists) = plan_draws(scene, &mut records.objects, bounds);
+        Self { lights, draws, light_lists }
+    }
+
+    /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for
+    /// the light types present (a scene without narrow spots draws no cone).
+    pub fn volume_meshes_drawn(&self) -> Vec<String> {
+        let drawn = |kind| {
+            self.lights.iter().any(|p| p.volume == kind && !matches!(p.method, Method::Fullscreen | Method::Skipped))
+        };
+        [VolumeKind::Sphere, VolumeKind::Cone].into_iter().filter(|&k| drawn(k)).map(|k| k.name().to_string()).collect()
+    }
+}
+
+/// Sorts the objects into the G-buffer pass (opaque, masked) and the forward pass (blended,
+/// back to front by the view depth of their bounding sphere's centre), and builds each blended
+/// object's light list: the lights whose sphere reaches its bounding sphere. Returns the lists
+/// and the concatenated light lists; each blended object's `info` gets its offset and count.
+fn plan_draws(
+    scene: &Scene,
+    objects: &mut [super::records::ObjectRecord],
+    bounds: &[(DVec3, f64)],
+) -> (DrawLists, Vec<u32>) {
+    let mut lists = Vec::new();
+    let mut draws = DrawLists::default();
+    let mut forward: Vec<(f64, usize, usize, usize)> = Vec::new();
+    for (i, o) in scene.objects.iter().enumerate() {
+        let m = &scene.materials[o.material];
+        match m.alpha_mode {
+            AlphaMode::Blend => {
+                let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
+                let centre = o.transform.transform_point3(c);
+                let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
+                let radius = r * scale;
+                let first = lists.len() as u32;
+                for (k, l) in scene.lights.iter().enumerate() {
+                    if (l.position() - centre).length() < radius + l.radius() as f64 {
+                        lists.push(k as u32);
+                    }
+                }
+                objects[i].info[1] = first;
+                objects[i].info[2] = lists.len() as u32 - first;
+                let depth = scene.camera.to_view(centre).z;
+                forward.push((depth, i, m.double_sided as usize, o.material));
+            }
+            mode => {
+                let masked = matches!(mode, AlphaMode::Mask { .. });
+                draws.gbuffer.push((i, super::passes::gbuffer::pipeline_index(masked, m.double_sided), o.material));
+            }
+        }
+    }
+    // View space looks down -z: the farthest has the most negative z and is drawn first.
+    forward.sort_by(|a, b| a.0.total_cmp(&b.0));
+    draws.forward = forward.into_iter().map(|(_, i, p, m)| (i, p, m)).collect();
+    // Fewer pipeline and material switches in the G-buffer pass.
+    draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
+    (draws, lists)
+}

@@ -1,0 +1,342 @@
+//! The records the shaders read, with named fields, and the frame's storage buffers that hold
+//! them. Each record is declared once, through [`gpu_record!`], which also lists its fields so
+//! that `tests/shader_contract.rs` can hold every record against its WGSL twin (member names,
+//! offsets and size, parsed from the final shader source with naga).
+
+use super::settings::{self, Settings};
+use crate::scene::{AlphaMode, Camera, Light, Scene};
+use glam::{DMat4, Vec4};
+
+/// `GpuLight.kind` of a point light.
+pub const LIGHT_KIND_POINT: u32 = 0;
+/// `GpuLight.kind` of a spot light.
+pub const LIGHT_KIND_SPOT: u32 = 1;
+/// Material flags (`GpuObject.info.x`): the object samples a normal map.
+pub const MAT_NORMAL_MAP: u32 = 1;
+/// The object samples a metallic-roughness map.
+pub const MAT_METAL_ROUGH: u32 = 2;
+/// The largest finite fp16 value: what the fp16 targets saturate at.
+pub const FP16_MAX: f32 = 65504.0;
+/// The largest finite Rg11b10Ufloat value.
+pub const RG11B10_MAX: f32 = 64512.0;
+
+/// A record's WGSL twin: its struct name and its fields' names and byte offsets, in order.
+pub struct RecordLayout {
+    pub wgsl: &'static str,
+    pub size: usize,
+    pub fields: Vec<(&'static str, usize)>,
+}
+
+/// Declares a `#[repr(C)]` record and its [`RecordLayout`] from one field list.
+macro_rules! gpu_record {
+    ($(#[$m:meta])* pub struct $name:ident as $wgsl:literal {
+        $($(#[$fm:meta])* pub $field:ident : $ty:ty,)*
+    }) => {
+        $(#[$m])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name { $($(#[$fm])* pub $field: $ty,)* }
+
+        impl $name {
+            pub fn layout() -> RecordLayout {
+                RecordLayout {
+                    wgsl: $wgsl,
+                    size: std::mem::size_of::<$name>(),
+                    fields: vec![$((stringify!($field), std::mem::offset_of!($name, $field)),)*],
+                }
+            }
+        }
+    };
+}
+
+gpu_record! {
+    /// The camera and what every pass reads once per frame (`camera` in the shaders).
+    pub struct CameraRecord as "Camera" {
+        pub proj: [[f32; 4]; 4],
+        pub inv_proj: [[f32; 4]; 4],
+        /// width, height, 1/width, 1/height.
+        pub screen: [f32; 4],
+        pub ambient: [f32; 4],
+        /// View-space direction towards the sun; w = 1 when the scene has a sun.
+        pub sun_dir: [f32; 4],
+        pub sun_color: [f32; 4],
+        pub background: [f32; 4],
+        pub exposure: f32,
+        /// Depth value of the far plane: 1, or 0 with reversed Z.
+        pub far_depth: f32,
+        /// The most one light (or ambient + sun) may add to a channel, see [`light_clamp`].
+        pub light_clamp: f32,
+        pub pad0: f32,
+    }
+}
+
+gpu_record! {
+    /// A light in view space, as the shaders see it. `color` is colour x intensity.
+    pub struct LightRecord as "GpuLight" {
+        pub position: [f32; 3],
+        pub radius: f32,
+        pub color: [f32; 3],
+        pub kind: u32,
+        pub direction: [f32; 3],
+        pub cos_outer: f32,
+        pub cos_inner: f32,
+        pub tan_outer: f32,
+        /// The radius the attenuation falls to zero at. `radius` is where the light is cut off
+        /// and what its volume bounds: the same, or less under `Settings::light_cutoff`.
+        pub falloff: f32,
+        pub pad0: f32,
+    }
+}
+
+gpu_record! {
+    /// One drawn object: transforms and material factors.
+    pub struct ObjectRecord as "GpuObject" {
+        pub model_view: [[f32; 4]; 4],
+        pub normal_view: [[f32; 4]; 4],
+        /// Albedo, specular level.
+        pub albedo_spec: [f32; 4],
+        /// Emissive, specular exponent.
+        pub emissive_exp: [f32; 4],
+        /// Alpha factor, alpha cut-off (mask), normal scale, 0.
+        pub material: [f32; 4],
+        /// Metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness map.
+        pub pbr: [f32; 4],
+        /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects), 0.
+        pub info: [u32; 4],
+    }
+}
+
+gpu_record! {
+    /// The compose pass's parameters, one 256-byte slot per view (`compose` in the shaders).
+    pub struct ComposeParams as "ComposeParams" {
+        /// A `DebugView`.
+        pub view: u32,
+        pub pad0: u32,
+        /// Target pixel to G-buffer pixel.
+        pub scale: [f32; 2],
+    }
+}
+
+/// Every record that has a WGSL twin.
+pub fn layouts() -> Vec<RecordLayout> {
+    vec![CameraRecord::layout(), LightRecord::layout(), ObjectRecord::layout(), ComposeParams::layout()]
+}
+
+/// The most one light (and the ambient + sun pass) may add to a channel of the accumulation
+/// buffer: the format's largest finite value shared among all `lights + 1` contributions, so
+/// even 10,000 overlapping bright lights cannot overflow fp16 into infinity (and NaN after it).
+/// With 1024 lights and fp16 that is 63.9 per light, far above what the built-in scenes use.
+pub fn light_clamp(format: wgpu::TextureFormat, lights: usize) -> f32 {
+    let max = match format {
+        wgpu::TextureFormat::Rgba16Float => FP16_MAX,
+        wgpu::TextureFormat::Rg11b10Ufloat => RG11B10_MAX,
+        // Rgba8Log's product of factors saturates at zero, which decodes to a finite maximum;
+        // Rgba32Float's sums stay finite for any count Lampshade draws.
+        _ => return f32::MAX,
+    };
+    max / (lights as f32 + 1.0)
+}
+
+pub(crate) fn mat(m: DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}
+
+impl LightRecord {
+    /// The light in `camera`'s view space, cut off at `cutoff` of its peak
+    /// (`Settings::light_cutoff`).
+    pub fn in_view(camera: &Camera, light: &Light, cutoff: f32) -> Self {
+        let rot = camera.rotation();
+        match light {
+            Light::Point(p) => Self {
+                position: camera.to_view(p.position).as_vec3().into(),
+                radius: settings::cutoff_radius(p.radius, cutoff),
+                falloff: p.radius,
+                color: (p.color * p.intensity).into(),
+                kind: LIGHT_KIND_POINT,
+                direction: [0.0, 0.0, -1.0],
+                cos_outer: -1.0,
+                cos_inner: -1.0,
+                tan_outer: 0.0,
+                pad0: 0.0,
+            },
+            Light::Spot(s) => Self {
+                position: camera.to_view(s.position).as_vec3().into(),
+                radius: settings::cutoff_radius(s.radius, cutoff),
+                falloff: s.radius,
+                color: (s.color * s.intensity).into(),
+                kind: LIGHT_KIND_SPOT,
+                direction: (rot * s.direction.as_dvec3()).normalize().as_vec3().into(),
+                cos_outer: s.outer_angle.cos(),
+                cos_inner: s.inner_angle.cos(),
+                tan_outer: s.outer_angle.tan(),
+                pad0: 0.0,
+            },
+        }
+    }
+}
+
+impl CameraRecord {
+    pub fn new(scene: &Scene, settings: &Settings, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
+        let (width, height) = size;
+        let cam = &scene.camera;
+        let proj = cam.projection(width as f64 / height as f64, settings.reversed_z);
+        let rot = cam.rotation();
+        let sun = scene.sun.map(|s| {
+            let d = (rot * (-s.direction.as_dvec3())).normalize().as_vec3();
+            (d.extend(1.0), (s.color * s.intensity).extend(0.0))
+        });
+        let (sun_dir, sun_color) = sun.unwrap_or((Vec4::ZERO, Vec4::ZERO));
+        Self {
+            proj: mat(proj),
+            inv_proj: mat(proj.inverse()),
+            screen: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
+            ambient: scene.ambient.extend(0.0).into(),
+            sun_dir: sun_dir.into(),
+            sun_color: sun_color.into(),
+            background: scene.background.extend(1.0).into(),
+            exposure: settings.exposure,
+            far_depth: if settings.reversed_z { 0.0 } else { 1.0 },
+            light_clamp: light_clamp(accum, scene.lights.len()),
+            pad0: 0.0,
+        }
+    }
+}
+
+impl ObjectRecord {
+    /// Object `o` of `scene` seen from `view` (world to view). The light-list fields are left
+    /// at zero for `plan::plan_draws` to fill.
+    pub fn new(scene: &Scene, o: &crate::scene::Object, view: DMat4) -> Self {
+        let mv = view * o.transform;
+        let nm = DMat4::from_mat3(glam::DMat3::from_mat4(mv).inverse().transpose());
+        let m = &scene.materials[o.material];
+        let mut flags = 0;
+        if m.textures.normal.is_some() {
+            flags |= MAT_NORMAL_MAP;
+        }
+        if m.textures.metallic_roughness.is_some() {
+            flags |= MAT_METAL_ROUGH;
+        }
+        let cutoff = match m.alpha_mode {
+            AlphaMode::Mask { cutoff } => cutoff,
+            _ => 0.0,
+        };
+        Self {
+            model_view: mat(mv),
+            normal_view: mat(nm),
+            albedo_spec: m.diffuse.extend(m.specular_level).into(),
+            emissive_exp: m.emissive.extend(m.specular_exponent).into(),
+            material: [m.alpha, cutoff, m.normal_scale, 0.0],
+            // With a metallic-roughness map the importer keeps f0 in specular_level.
+            pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
+            info: [flags, 0, 0, 0],
+        }
+    }
+}
+
+/// The records of one frame, before upload.
+pub struct FrameRecords {
+    pub camera: CameraRecord,
+    pub lights: Vec<LightRecord>,
+    pub objects: Vec<ObjectRecord>,
+    /// The projection the frame is drawn with (f64, for the probe and the plans).
+    pub proj: DMat4,
+}
+
+impl FrameRecords {
+    pub fn new(scene: &Scene, settings: &Settings, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
+        let cam = &scene.camera;
+        let view = DMat4::from_mat3(cam.rotation()) * DMat4::from_translation(-cam.position);
+        Self {
+            camera: CameraRecord::new(scene, settings, size, accum),
+            lights: scene.lights.iter().map(|l| LightRecord::in_view(cam, l, settings.light_cutoff)).collect(),
+            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view)).collect(),
+            proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
+        }
+    }
+}
+
+/// Stride of the compose-parameter slots (the dynamic-offset alignment).
+pub const COMPOSE_SLOT: u64 = 256;
+
+/// The frame's storage buffers (group 0) and the compose parameters. No uniform buffers: see
+/// `shaders/common.wgsl` (Mesa 22.3's lavapipe recompiles shaders whose branches read one).
+pub struct FrameBuffers {
+    pub camera: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    pub objects: wgpu::Buffer,
+    pub light_lists: wgpu::Buffer,
+    /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
+    pub compose: wgpu::Buffer,
+    pub group: wgpu::BindGroup,
+}
+
+fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl FrameBuffers {
+    pub fn new(device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) -> Self {
+        let camera = storage(device, "camera", std::mem::size_of::<CameraRecord>() as u64);
+        let lights = storage(device, "lights", 64 * std::mem::size_of::<LightRecord>() as u64);
+        let objects = storage(device, "objects", 64 * std::mem::size_of::<ObjectRecord>() as u64);
+        let light_lists = storage(device, "light lists", 4 * 64);
+        let views = super::DebugView::ALL.len() as u64;
+        let compose = storage(device, "compose params", COMPOSE_SLOT * (views + 1));
+        let group = Self::bind(device, frame_bgl, [&camera, &lights, &objects, &light_lists]);
+        Self { camera, lights, objects, light_lists, compose, group }
+    }
+
+    fn bind(device: &wgpu::Device, bgl: &wgpu::BindGroupLayout, buffers: [&wgpu::Buffer; 4]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: bgl, entries: &entries })
+    }
+
+    /// Binds the buffers again for another pipeline configuration's layout.
+    pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
+        self.group = Self::bind(device, frame_bgl, [&self.camera, &self.lights, &self.objects, &self.light_lists]);
+    }
+
+    /// Writes the frame's records, growing the buffers (to the next power of two) as needed.
+    pub fn upload(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        frame_bgl: &wgpu::BindGroupLayout,
+        records: &FrameRecords,
+        light_lists: &[u32],
+    ) {
+        let mut grown = false;
+        let mut fit = |buffer: &mut wgpu::Buffer, label: &str, bytes: &[u8]| {
+            let need = bytes.len().max(1) as u64;
+            if buffer.size() < need {
+                *buffer = storage(device, label, need.next_power_of_two());
+                grown = true;
+            }
+            if !bytes.is_empty() {
+                queue.write_buffer(buffer, 0, bytes);
+            }
+        };
+        fit(&mut self.lights, "lights", bytemuck::cast_slice(&records.lights));
+        fit(&mut self.objects, "objects", bytemuck::cast_slice(&records.objects));
+        fit(&mut self.light_lists, "light lists", bytemuck::cast_slice(light_lists));
+        if grown {
+            self.rebind(device, frame_bgl);
+        }
+        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&records.camera));
+    }
+
+    /// Writes compose slot `slot` and returns its dynamic offset.
+    pub fn compose_slot(&self, queue: &wgpu::Queue, slot: u64, params: ComposeParams) -> u32 {
+        queue.write_buffer(&self.compose, slot * COMPOSE_SLOT, bytemuck::bytes_of(&params));
+        (slot * COMPOSE_SLOT) as u32
+    }
+}

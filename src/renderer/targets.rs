@@ -1,0 +1,153 @@
+//! The size-dependent render targets: G-buffer, depth-stencil, light accumulation, the debug
+//! target, the HDR scene colour (scenes with blended surfaces only), and their bind groups.
+
+use super::bindings;
+use super::gbuffer::GBufferTargets;
+use super::passes::{Shared, DEBUG_FORMAT, HDR_FORMAT};
+
+pub fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    (width, height): (u32, u32),
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+pub struct Targets {
+    pub width: u32,
+    pub height: u32,
+    pub depth_format: wgpu::TextureFormat,
+    pub gbuffer: GBufferTargets,
+    pub depth: wgpu::TextureView,
+    pub diffuse: wgpu::Texture,
+    pub specular: wgpu::Texture,
+    pub diffuse_view: wgpu::TextureView,
+    pub specular_view: wgpu::TextureView,
+    pub debug_view: wgpu::TextureView,
+    /// The G-buffer as the lighting passes read it (group 1).
+    pub gbuffer_group: wgpu::BindGroup,
+    /// Accumulation, debug target and compose parameters (group 2).
+    pub compose_group: wgpu::BindGroup,
+    /// HDR scene colour and its bind group (group 3); only for scenes with blended surfaces.
+    pub hdr: Option<(wgpu::TextureView, wgpu::BindGroup)>,
+}
+
+impl Targets {
+    pub fn new(
+        device: &wgpu::Device,
+        shared: &Shared,
+        size: (u32, u32),
+        hdr: bool,
+        compose_params: &wgpu::Buffer,
+    ) -> Self {
+        use wgpu::TextureUsages as U;
+        let key = &shared.key;
+        let gbuffer = GBufferTargets::new(device, &key.layout, size.0, size.1);
+        let depth =
+            texture(device, "depth-stencil", key.depth_format, size, U::RENDER_ATTACHMENT).create_view(&Default::default());
+        let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
+        let specular = texture(device, "light specular", key.accum_format, size, read);
+        let debug = texture(device, "debug", DEBUG_FORMAT, size, read);
+        let diffuse_view = diffuse.create_view(&Default::default());
+        let specular_view = specular.create_view(&Default::default());
+        let debug_view = debug.create_view(&Default::default());
+        let gbuffer_group = gbuffer.bind_group(device, &shared.gbuffer_bgl);
+        let compose_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("compose"),
+            layout: &shared.compose_bgl,
+            entries: &bindings::COMPOSE.entries(vec![
+                wgpu::BindingResource::TextureView(&diffuse_view),
+                wgpu::BindingResource::TextureView(&specular_view),
+                wgpu::BindingResource::TextureView(&debug_view),
+                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: compose_params,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(bindings::COMPOSE_PARAMS_SIZE),
+                }),
+            ]),
+        });
+        // Only scenes with blended surfaces need the HDR scene colour (model what the scene needs).
+        let hdr = hdr.then(|| {
+            let view = texture(device, "hdr colour", HDR_FORMAT, size, read).create_view(&Default::default());
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hdr colour"),
+                layout: &shared.hdr_bgl,
+                entries: &bindings::HDR.entries(vec![wgpu::BindingResource::TextureView(&view)]),
+            });
+            (view, group)
+        });
+        Self {
+            width: size.0,
+            height: size.1,
+            depth_format: key.depth_format,
+            gbuffer,
+            depth,
+            diffuse,
+            specular,
+            diffuse_view,
+            specular_view,
+            debug_view,
+            gbuffer_group,
+            compose_group,
+            hdr,
+        }
+    }
+
+    /// Whether these targets serve a frame of `size` drawn with `shared`'s configuration.
+    pub fn fit(&self, shared: &Shared, size: (u32, u32), hdr: bool) -> bool {
+        (self.width, self.height) == size
+            && self.depth_format == shared.key.depth_format
+            && self.gbuffer.layout == shared.key.layout
+            && self.diffuse.format() == shared.key.accum_format
+            && self.hdr.is_some() == hdr
+    }
+
+    /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero
+    /// or kept.
+    pub fn depth_attachment(&self, clear_stencil: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        let store = wgpu::StoreOp::Store;
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.depth,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store }),
+            stencil_ops: Some(wgpu::Operations {
+                load: if clear_stencil { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                store,
+            }),
+        }
+    }
+
+    /// The diffuse and specular accumulation as colour attachments, loaded or cleared.
+    pub fn accumulation(&self, clear: bool) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
+        let ops = wgpu::Operations {
+            load: if clear { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load },
+            store: wgpu::StoreOp::Store,
+        };
+        [&self.diffuse_view, &self.specular_view]
+            .map(|view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops }))
+    }
+}
+
+/// One colour attachment, cleared to `clear` or loaded.
+pub fn attachment(view: &wgpu::TextureView, clear: Option<wgpu::Color>) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}

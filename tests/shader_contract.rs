@@ -1,0 +1,88 @@
+//! One contract between Rust and WGSL: the final shader source (generated constants, bindings
+//! and G-buffer layout, then the WGSL files), parsed with naga, must declare every record with
+//! the members, offsets and size of its Rust twin, every binding the Rust tables list, and no
+//! uniform buffer.
+
+use lampshade::renderer::bindings::GROUPS;
+use lampshade::renderer::passes::shader_source;
+use lampshade::renderer::records::{self, RecordLayout};
+use lampshade::renderer::LayoutChoice;
+
+/// The differences between `record` and the WGSL struct of the same name in `module`.
+fn mismatches(module: &naga::Module, record: &RecordLayout) -> Vec<String> {
+    let mut layouter = naga::proc::Layouter::default();
+    if let Err(e) = layouter.update(module.to_ctx()) {
+        return vec![format!("layout of the module failed: {e}")];
+    }
+    let found = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(record.wgsl));
+    let Some((handle, ty)) = found else { return vec![format!("no WGSL struct named {}", record.wgsl)] };
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        return vec![format!("{} is not a struct in WGSL", record.wgsl)];
+    };
+    let mut out = Vec::new();
+    let wgsl: Vec<(String, usize)> =
+        members.iter().map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize)).collect();
+    let rust: Vec<(String, usize)> = record.fields.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+    if wgsl != rust {
+        out.push(format!("{}: WGSL members {wgsl:?} but Rust fields {rust:?}", record.wgsl));
+    }
+    if *span as usize != record.size || layouter[handle].size as usize != record.size {
+        out.push(format!("{}: WGSL size {span} but Rust size {}", record.wgsl, record.size));
+    }
+    out
+}
+
+fn parse(source: &str) -> naga::Module {
+    naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)))
+}
+
+#[test]
+fn every_record_has_the_layout_of_its_wgsl_twin_in_every_shader_configuration() {
+    for layout in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
+        for accum in [wgpu::TextureFormat::Rgba16Float, wgpu::TextureFormat::Rgba8Unorm] {
+            let module = parse(&shader_source(&layout.layout(), accum));
+            for record in records::layouts() {
+                let bad = mismatches(&module, &record);
+                assert!(bad.is_empty(), "{layout:?}, {accum:?}: {bad:#?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_field_added_on_one_side_only_breaks_the_contract() {
+    // The check itself must be able to fail: add a member to the WGSL light record only, then
+    // a field to the Rust side only.
+    let source = shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float);
+    let light = records::LightRecord::layout();
+    assert!(mismatches(&parse(&source), &light).is_empty());
+    let extra = source.replacen("struct GpuLight {\n", "struct GpuLight {\n    extra: vec4<f32>,\n", 1);
+    assert_ne!(extra, source, "the WGSL light record was not found to edit");
+    let bad = mismatches(&parse(&extra), &light);
+    assert!(bad.iter().any(|m| m.contains("WGSL members")) && bad.iter().any(|m| m.contains("size")), "{bad:?}");
+    let mut rust_only = records::LightRecord::layout();
+    rust_only.fields.push(("shadow_index", rust_only.size));
+    rust_only.size += 16;
+    let bad = mismatches(&parse(&source), &rust_only);
+    assert_eq!(bad.len(), 2, "{bad:?}");
+}
+
+#[test]
+fn every_binding_is_declared_as_the_rust_tables_say_and_none_is_a_uniform() {
+    let module = parse(&shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float));
+    for (_, g) in module.global_variables.iter() {
+        assert!(
+            !matches!(g.space, naga::AddressSpace::Uniform),
+            "{:?} is a uniform buffer: lavapipe recompiles (and leaks) shaders reading one; use storage",
+            g.name
+        );
+    }
+    for group in GROUPS {
+        for b in group.bindings {
+            let found = module.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(b.name));
+            let Some((_, g)) = found else { panic!("{} is not declared", b.name) };
+            let rb = g.binding.as_ref().map(|r| (r.group, r.binding));
+            assert_eq!(rb, Some((group.index, b.slot)), "{}", b.name);
+        }
+    }
+}

@@ -1,119 +1,11 @@
+//! `lampshade`: the commands. Their arguments are declared in `lampshade::cli`.
+
 use anyhow::{bail, Context, Result};
-use clap::{Parser, Subcommand};
-use lampshade::renderer::{
-    AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
-};
+use clap::Parser;
+use lampshade::cli::{image_size, BenchArgs, Cli, Command, RenderArgs};
+use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Gpu;
-use std::path::PathBuf;
-
-#[derive(Parser)]
-#[command(name = "lampshade", version, about = "A workbench for deferred shading with light-volume culling")]
-struct Cli {
-    #[command(subcommand)]
-    command: Option<Command>,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Render one frame headless to a PNG.
-    Render(RenderArgs),
-    /// Open the viewer (the default command).
-    #[cfg(feature = "viewer")]
-    View(lampshade::app::ViewArgs),
-    /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
-    Bench(BenchArgs),
-    /// List the built-in scenes.
-    Scenes,
-    /// Regenerate the project's own glTF scene (assets/room) from code.
-    MakeAssets {
-        /// Output directory.
-        #[arg(long, default_value = "assets/room")]
-        out: PathBuf,
-    },
-}
-
-#[derive(clap::Args)]
-struct RenderArgs {
-    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default
-    /// `demo`, or the settings file's.
-    scene: Option<String>,
-    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
-    #[arg(long, default_value_t = 8)]
-    light_grid: u32,
-    /// Start from the file's viewpoint K (its cameras in order, then a framing view).
-    #[arg(long)]
-    viewpoint: Option<usize>,
-    /// Output PNG.
-    #[arg(long)]
-    out: PathBuf,
-    /// Image size, WxH (default 1280x720, or the settings file's).
-    #[arg(long, value_parser = parse_size)]
-    size: Option<(u32, u32)>,
-    #[arg(long, value_enum)]
-    culling: Option<CullingMode>,
-    /// Number of point lights (demo).
-    #[arg(long)]
-    lights: Option<usize>,
-    /// Animation time in seconds (default 0, or the settings file's).
-    #[arg(long)]
-    time: Option<f64>,
-    #[arg(long, value_enum)]
-    layout: Option<LayoutChoice>,
-    #[arg(long, value_enum)]
-    debug_view: Option<DebugView>,
-    /// Light accumulation format.
-    #[arg(long, value_enum)]
-    accumulation: Option<AccumFormat>,
-    /// Depth-stencil format.
-    #[arg(long, value_enum)]
-    depth_format: Option<DepthFormat>,
-    /// Cut lights off where they fall below this fraction of their peak (0 ..< 1, 0 = exact).
-    #[arg(long)]
-    light_cutoff: Option<f32>,
-    /// Subdivisions of the point lights' bounding icosphere (0 ..= 4).
-    #[arg(long)]
-    sphere_subdivisions: Option<u32>,
-    /// Sides of the spot lights' bounding pyramid (3 ..= 64).
-    #[arg(long)]
-    cone_sides: Option<u32>,
-    /// Restrict the stencil view to light K.
-    #[arg(long)]
-    light: Option<usize>,
-    /// Count the ideal fragments too (a full-screen counting pass per light).
-    #[arg(long)]
-    ideal: bool,
-    /// Write the frame's statistics as JSON.
-    #[arg(long)]
-    stats: Option<PathBuf>,
-    /// Start from a settings file (as the viewer's F12 screenshots write: renderer settings plus
-    /// scene, lights, time, camera and size); flags override it.
-    #[arg(long)]
-    settings: Option<PathBuf>,
-}
-
-#[derive(clap::Args)]
-struct BenchArgs {
-    #[arg(default_value = "demo")]
-    scene: String,
-    /// Output directory for bench.csv, bench.md and bench.png.
-    #[arg(long)]
-    out: PathBuf,
-    /// A short sweep (small size, fewer lights and frames), about a minute.
-    #[arg(long)]
-    quick: bool,
-    /// Frames timed per configuration.
-    #[arg(long)]
-    frames: Option<usize>,
-    #[arg(long, value_parser = parse_size)]
-    size: Option<(u32, u32)>,
-    #[arg(long)]
-    lights: Option<usize>,
-    /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
-    /// tessellation, resolution, lights.
-    #[arg(long, value_delimiter = ',')]
-    only: Vec<String>,
-}
 
 fn bench(args: BenchArgs) -> Result<()> {
     use lampshade::bench;
@@ -159,16 +51,6 @@ fn bench(args: BenchArgs) -> Result<()> {
     Ok(())
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' is not WxH"))?;
-    let w: u32 = w.trim().parse().map_err(|_| format!("width '{w}' is not a number"))?;
-    let h: u32 = h.trim().parse().map_err(|_| format!("height '{h}' is not a number"))?;
-    if w == 0 || h == 0 || w > 8192 || h > 8192 {
-        return Err(format!("size {w}x{h} must be between 1x1 and 8192x8192"));
-    }
-    Ok((w, h))
-}
-
 fn render(args: RenderArgs) -> Result<()> {
     let (mut settings, keys) = match &args.settings {
         Some(path) => {
@@ -182,36 +64,13 @@ fn render(args: RenderArgs) -> Result<()> {
     let lights = args.lights.or(keys.lights);
     let (w, h) = match (args.size, keys.size) {
         (Some(s), _) => s,
-        (None, Some([w, h])) => parse_size(&format!("{w}x{h}")).map_err(anyhow::Error::msg)?,
+        (None, Some([w, h])) => image_size(&format!("{w}x{h}")).map_err(anyhow::Error::msg)?,
         (None, None) => (1280, 720),
     };
     if !time.is_finite() {
         bail!("time {time} must be finite");
     }
-    if let Some(c) = args.culling {
-        settings.culling = c;
-    }
-    if let Some(l) = args.layout {
-        settings.layout = l;
-    }
-    if let Some(v) = args.debug_view {
-        settings.debug_view = v;
-    }
-    if let Some(a) = args.accumulation {
-        settings.accumulation = a;
-    }
-    if let Some(d) = args.depth_format {
-        settings.depth_format = d;
-    }
-    if let Some(t) = args.light_cutoff {
-        settings.light_cutoff = t;
-    }
-    if let Some(n) = args.sphere_subdivisions {
-        settings.sphere_subdivisions = n;
-    }
-    if let Some(n) = args.cone_sides {
-        settings.cone_sides = n;
-    }
+    args.knobs.apply(&mut settings).map_err(anyhow::Error::msg)?;
     if args.light.is_some() {
         settings.selected_light = args.light;
     }

@@ -44,7 +44,7 @@ use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use winit::keyboard::KeyCode;
 
-use super::state::{self, Scope, Tab, WireColour, Wireframes};
+use super::state::{Scope, Tab, WireColour, Wireframes};
 
 /// Seconds per frame in a scripted run.
 pub const SCRIPT_DT: f64 = 1.0 / 30.0;
@@ -164,15 +164,15 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         }
         "culling" => {
             want(1)?;
-            Action::Culling(state::parse_culling(args[0])?)
+            Action::Culling(CullingMode::parse(args[0])?)
         }
         "view" => {
             want(1)?;
-            Action::View(state::parse_view(args[0])?)
+            Action::View(DebugView::parse(args[0])?)
         }
         "layout" => {
             want(1)?;
-            Action::Layout(state::parse_layout(args[0])?)
+            Action::Layout(LayoutChoice::parse(args[0])?)
         }
         "select" => {
             want(1)?;
@@ -180,37 +180,19 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         }
         "scope" => {
             want(1)?;
-            Action::Scope(match args[0] {
-                "all" => Scope::All,
-                "selected" => Scope::Selected,
-                o => return Err(format!("scope '{o}' is not all/selected")),
-            })
+            Action::Scope(Scope::parse(args[0])?)
         }
         "wireframes" => {
             want(1)?;
-            Action::Wireframes(match args[0] {
-                "off" => Wireframes::Off,
-                "all" => Wireframes::All,
-                "selected" => Wireframes::Selected,
-                o => return Err(format!("wireframes '{o}' is not off/all/selected")),
-            })
+            Action::Wireframes(Wireframes::parse(args[0])?)
         }
         "wire-colour" | "wire-color" => {
             want(1)?;
-            Action::WireColour(match args[0] {
-                "light" => WireColour::Light,
-                "efficiency" => WireColour::Efficiency,
-                o => return Err(format!("wire colour '{o}' is not light/efficiency")),
-            })
+            Action::WireColour(WireColour::parse(args[0])?)
         }
         "tab" => {
             want(1)?;
-            Action::Tab(
-                Tab::ALL
-                    .into_iter()
-                    .find(|t| t.name() == args[0])
-                    .ok_or_else(|| format!("unknown tab '{}' (scene, lights, materials, camera, help)", args[0]))?,
-            )
+            Action::Tab(Tab::parse(args[0])?)
         }
         "set" => {
             want(2)?;

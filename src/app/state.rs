@@ -1,8 +1,8 @@
 //! The viewer's UI state: plain serde data, apart from every GPU object. Panels and scripts change
 //! it; the next frame builds its `Scene` and `Settings` from it.
 
-use crate::renderer::settings::AccumFormat;
-use crate::renderer::{CullingMode, DebugView, LayoutChoice, Settings};
+use crate::renderer::knobs::{self, parse_switch as parse_bool};
+use crate::renderer::Settings;
 use crate::scene::builtin::{self, BuiltinOptions};
 use crate::scene::import::{self, ImportOptions, Imported};
 use crate::scene::{Camera, Light, Material, Scene, Sun};
@@ -21,7 +21,7 @@ pub const MAX_SCALE: f32 = 2.0;
 pub const DEFAULT_SCALE: f32 = 0.5;
 
 /// Which lights the stencil and complexity views (and the wireframes) show.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scope {
     #[default]
@@ -29,7 +29,7 @@ pub enum Scope {
     Selected,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum Wireframes {
     #[default]
@@ -38,7 +38,7 @@ pub enum Wireframes {
     Selected,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum WireColour {
     /// The light's own colour.
@@ -48,7 +48,7 @@ pub enum WireColour {
     Efficiency,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum Tab {
     #[default]
@@ -61,16 +61,10 @@ pub enum Tab {
 
 impl Tab {
     pub const ALL: [Tab; 5] = [Tab::Scene, Tab::Lights, Tab::Materials, Tab::Camera, Tab::Help];
-    pub fn name(self) -> &'static str {
-        match self {
-            Tab::Scene => "scene",
-            Tab::Lights => "lights",
-            Tab::Materials => "materials",
-            Tab::Camera => "camera",
-            Tab::Help => "help",
-        }
-    }
 }
+
+// One name per value (clap's, which is serde's), as for the renderer's knobs.
+crate::renderer::settings::knob_names!(Scope => "scope", Wireframes => "wireframes", WireColour => "wire colour", Tab => "tab");
 
 /// What the user changed on one light; position and direction keep following the animation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -201,14 +195,6 @@ impl Default for UiState {
     }
 }
 
-fn parse_bool(v: &str) -> Result<bool, String> {
-    match v {
-        "on" | "true" | "1" | "yes" => Ok(true),
-        "off" | "false" | "0" | "no" => Ok(false),
-        _ => Err(format!("'{v}' is not on/off")),
-    }
-}
-
 fn parse_f64(v: &str) -> Result<f64, String> {
     let x: f64 = v.parse().map_err(|_| format!("'{v}' is not a number"))?;
     if !x.is_finite() {
@@ -245,46 +231,6 @@ pub fn parse_colour(v: &str) -> Result<Vec3, String> {
     Ok(Vec3::from(c))
 }
 
-pub fn parse_culling(v: &str) -> Result<CullingMode, String> {
-    CullingMode::ALL.into_iter().find(|m| m.name() == v).ok_or_else(|| {
-        let names: Vec<&str> = CullingMode::ALL.iter().map(|m| m.name()).collect();
-        format!("unknown culling mode '{v}' (one of {})", names.join(", "))
-    })
-}
-
-pub fn view_name(v: DebugView) -> &'static str {
-    match v {
-        DebugView::Lit => "lit",
-        DebugView::Albedo => "albedo",
-        DebugView::Normal => "normal",
-        DebugView::Depth => "depth",
-        DebugView::Specular => "specular",
-        DebugView::Emissive => "emissive",
-        DebugView::DiffuseLight => "diffuse-light",
-        DebugView::SpecularLight => "specular-light",
-        DebugView::Stencil => "stencil",
-        DebugView::Complexity => "complexity",
-    }
-}
-
-pub fn parse_view(v: &str) -> Result<DebugView, String> {
-    DebugView::ALL.into_iter().find(|m| view_name(*m) == v).ok_or_else(|| {
-        let names: Vec<&str> = DebugView::ALL.iter().map(|m| view_name(*m)).collect();
-        format!("unknown view '{v}' (one of {})", names.join(", "))
-    })
-}
-
-pub fn layout_name(l: LayoutChoice) -> &'static str {
-    l.layout().name
-}
-
-pub fn parse_layout(v: &str) -> Result<LayoutChoice, String> {
-    LayoutChoice::ALL.into_iter().find(|m| layout_name(*m) == v).ok_or_else(|| {
-        let names: Vec<&str> = LayoutChoice::ALL.iter().map(|m| layout_name(*m)).collect();
-        format!("unknown layout '{v}' (one of {})", names.join(", "))
-    })
-}
-
 impl UiState {
     /// The renderer's settings for this frame: the stencil scope folded into `selected_light`.
     pub fn frame_settings(&self) -> Settings {
@@ -306,6 +252,10 @@ impl UiState {
     /// Sets one named value the way the panels do, rejecting nonsense with a message. Scripts
     /// use this (`set NAME VALUE`); `scene` is the frame's current scene (for the selected light).
     pub fn set(&mut self, name: &str, value: &str, scene: &Scene) -> Result<String, String> {
+        if knobs::find(name).is_some() {
+            self.settings.set(name, value)?;
+            return Ok(format!("{name} = {value}"));
+        }
         match name {
             "lights" => {
                 if self.scene != "demo" {
@@ -324,7 +274,6 @@ impl UiState {
                 self.resolution_scale =
                     in_range("resolution scale", parse_f64(value)?, MIN_SCALE as f64, MAX_SCALE as f64)? as f32
             }
-            "exposure" => self.settings.exposure = in_range("exposure", parse_f64(value)?, 0.01, 100.0)? as f32,
             "time" => self.time = in_range("time", parse_f64(value)?, -1e6, 1e6)?,
             "speed" => self.time_speed = in_range("time speed", parse_f64(value)?, -100.0, 100.0)?,
             "move-speed" => self.move_speed = in_range("move speed", parse_f64(value)?, 0.01, 1000.0)?,
@@ -332,52 +281,14 @@ impl UiState {
             "panel-left" => self.panels.left = parse_bool(value)?,
             "panel-right" => self.panels.right = parse_bool(value)?,
             "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,
-            "counts" => self.settings.count_fragments = parse_bool(value)?,
-            "ideal" => self.settings.count_ideal = parse_bool(value)?,
-            "timestamps" => self.settings.timestamps = parse_bool(value)?,
-            "reversed-z" => self.settings.reversed_z = parse_bool(value)?,
-            "depth-clamp" => self.settings.depth_clamp = parse_bool(value)?,
-            "accumulation" => {
-                self.settings.accumulation = AccumFormat::ALL
-                    .into_iter()
-                    .find(|a| serde_json::to_value(a).ok().and_then(|v| v.as_str().map(|s| s == value)) == Some(true))
-                    .ok_or_else(|| format!("unknown accumulation format '{value}'"))?
-            }
-            "depth-format" => {
-                self.settings.depth_format =
-                    crate::renderer::DepthFormat::ALL
-                        .into_iter()
-                        .find(|d| d.name() == value)
-                        .ok_or_else(|| format!("unknown depth format '{value}' (d32s8 or d24s8)"))?
-            }
-            "light-cutoff" | "sphere-subdivisions" | "cone-sides" => {
-                let mut s = self.settings.clone();
-                match name {
-                    "light-cutoff" => s.light_cutoff = parse_f64(value)? as f32,
-                    "sphere-subdivisions" => {
-                        s.sphere_subdivisions = value.parse().map_err(|_| format!("'{value}' is not a whole number"))?
-                    }
-                    _ => s.cone_sides = value.parse().map_err(|_| format!("'{value}' is not a whole number"))?,
-                }
-                s.validate()?;
-                self.settings = s;
-            }
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32
             }
             "ambient" => self.ambient = Some(parse_colour(value)?),
             "sun" => {
-                if parse_bool(value)? {
-                    let base = builtin::build(&self.scene, BuiltinOptions::default()).ok().and_then(|s| s.sun);
-                    self.sun = Some(Some(base.unwrap_or(Sun {
-                        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-                        color: Vec3::ONE,
-                        intensity: 0.12,
-                    })));
-                } else {
-                    self.sun = Some(None);
-                }
+                // The same sun as the panel's checkbox.
+                self.sun = Some(parse_bool(value)?.then(Sun::default_sun));
             }
             "radius" | "intensity" | "colour" | "color" | "inner" | "outer" => {
                 let Some(k) = self.selected_light else {

@@ -325,14 +325,14 @@ fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) 
                 },
             );
             ui.label("view");
-            egui::ComboBox::from_id_salt("view")
-                .selected_text(state::view_name(st.settings.debug_view))
-                .width(110.0)
-                .show_ui(ui, |ui| {
+            egui::ComboBox::from_id_salt("view").selected_text(st.settings.debug_view.name()).width(110.0).show_ui(
+                ui,
+                |ui| {
                     for v in DebugView::ALL {
-                        ui.selectable_value(&mut st.settings.debug_view, v, state::view_name(v));
+                        ui.selectable_value(&mut st.settings.debug_view, v, v.name());
                     }
-                });
+                },
+            );
             ui.separator();
             let anim = if st.animate { "pause (Space)" } else { "animate (Space)" };
             if ui.button(anim).clicked() {
@@ -488,14 +488,11 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         );
         ui.end_row();
         ui.label("G-buffer");
-        egui::ComboBox::from_id_salt("layout-left").selected_text(state::layout_name(st.settings.layout)).show_ui(
-            ui,
-            |ui| {
-                for l in LayoutChoice::ALL {
-                    ui.selectable_value(&mut st.settings.layout, l, state::layout_name(l));
-                }
-            },
-        );
+        egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
+            for l in LayoutChoice::ALL {
+                ui.selectable_value(&mut st.settings.layout, l, l.name());
+            }
+        });
         ui.end_row();
     });
     ui.separator();
@@ -512,11 +509,7 @@ fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         let mut on = sun.is_some();
         ui.label("sun");
         if ui.checkbox(&mut on, "on").changed() {
-            sun = on.then_some(Sun {
-                direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-                color: Vec3::new(1.0, 0.9, 0.75),
-                intensity: 0.12,
-            });
+            sun = on.then(Sun::default_sun);
             st.sun = Some(sun);
         }
         ui.end_row();
@@ -857,7 +850,7 @@ fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.horizontal(|ui| {
             ui.label("view");
             for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity] {
-                ui.selectable_value(&mut st.settings.debug_view, v, state::view_name(v));
+                ui.selectable_value(&mut st.settings.debug_view, v, v.name());
             }
         });
         ui.horizontal(|ui| {
@@ -1064,14 +1057,11 @@ fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
     ui.horizontal(|ui| {
         ui.label(RichText::new("G-buffer").strong());
-        egui::ComboBox::from_id_salt("layout")
-            .selected_text(state::layout_name(st.settings.layout))
-            .width(90.0)
-            .show_ui(ui, |ui| {
-                for l in LayoutChoice::ALL {
-                    ui.selectable_value(&mut st.settings.layout, l, state::layout_name(l));
-                }
-            });
+        egui::ComboBox::from_id_salt("layout").selected_text(st.settings.layout.name()).width(90.0).show_ui(ui, |ui| {
+            for l in LayoutChoice::ALL {
+                ui.selectable_value(&mut st.settings.layout, l, l.name());
+            }
+        });
         ui.label(format!("{} B/pixel in colour targets + {}", f.gbuffer_bytes, f.depth_format));
         ui.label(RichText::new("click a view to show it full size").weak());
     });
@@ -1193,7 +1183,7 @@ fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
         painter.text(
             rect.left_top() + Vec2::new(6.0, 4.0),
             egui::Align2::LEFT_TOP,
-            format!("view: {}", state::view_name(st.settings.debug_view)),
+            format!("view: {}", st.settings.debug_view.name()),
             egui::FontId::proportional(12.0),
             Color32::from_rgb(255, 200, 60),
         );

@@ -178,7 +178,13 @@ pub struct FramePlan {
 impl FramePlan {
     /// Plans the lights and the object draws of `scene`; fills the objects' light-list fields
     /// in `records`. `bounds` is each mesh's bounding sphere (model space).
-    pub fn new(scene: &Scene, records: &mut FrameRecords, bounds: &[(DVec3, f64)], volumes: &Volumes, view: &PlanView) -> Self {
+    pub fn new(
+        scene: &Scene,
+        records: &mut FrameRecords,
+        bounds: &[(DVec3, f64)],
+        volumes: &Volumes,
+        view: &PlanView,
+    ) -> Self {
         let lights = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
         let (draws, light_lists) = plan_draws(scene, &mut records.objects, bounds);
         Self { lights, draws, light_lists }

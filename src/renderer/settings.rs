@@ -38,16 +38,18 @@ macro_rules! knob_names {
         impl $t {
             /// The value's one name (see [`name_of`]).
             pub fn name(self) -> String {
-                name_of(&self)
+                $crate::renderer::settings::name_of(&self)
             }
 
             #[doc = concat!("Parses a ", $what, " by its name (see [`parse_name`]).")]
             pub fn parse(s: &str) -> Result<Self, String> {
-                parse_name($what, s)
+                $crate::renderer::settings::parse_name($what, s)
             }
         }
     )*};
 }
+
+pub(crate) use knob_names;
 
 knob_names!(
     CullingMode => "culling mode",
@@ -293,31 +295,10 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// Checks every knob against its row of the table ([`super::knobs::KNOBS`]): one place for
+    /// the ranges that the CLI, settings files, scripts and the viewer's sliders share.
     pub fn validate(&self) -> Result<(), String> {
-        if !(self.exposure.is_finite() && self.exposure > 0.0 && self.exposure < 1e6) {
-            return Err(format!("exposure {} must be a positive finite number", self.exposure));
-        }
-        if !(self.light_cutoff.is_finite() && (0.0..1.0).contains(&self.light_cutoff)) {
-            return Err(format!(
-                "light cut-off {} must be a fraction of the light's peak in 0 ..< 1 (0 = exact radius)",
-                self.light_cutoff
-            ));
-        }
-        if self.sphere_subdivisions > MAX_SPHERE_SUBDIVISIONS {
-            return Err(format!(
-                "sphere subdivisions {} must be between 0 and {MAX_SPHERE_SUBDIVISIONS}",
-                self.sphere_subdivisions
-            ));
-        }
-        if !CONE_SIDES_RANGE.contains(&self.cone_sides) {
-            return Err(format!(
-                "cone sides {} must be between {} and {}",
-                self.cone_sides,
-                CONE_SIDES_RANGE.start(),
-                CONE_SIDES_RANGE.end()
-            ));
-        }
-        Ok(())
+        super::knobs::KNOBS.iter().try_for_each(|k| k.check(self))
     }
 }
 

@@ -54,8 +54,8 @@ impl Targets {
         use wgpu::TextureUsages as U;
         let key = &shared.key;
         let gbuffer = GBufferTargets::new(device, &key.layout, size.0, size.1);
-        let depth =
-            texture(device, "depth-stencil", key.depth_format, size, U::RENDER_ATTACHMENT).create_view(&Default::default());
+        let depth = texture(device, "depth-stencil", key.depth_format, size, U::RENDER_ATTACHMENT)
+            .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
         let specular = texture(device, "light specular", key.accum_format, size, read);

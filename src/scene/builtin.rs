@@ -121,11 +121,7 @@ impl Builder {
 pub fn demo(n: usize, t: f64) -> Scene {
     let camera = Camera { far: 300.0, ..Camera::looking_at(DVec3::new(0.0, 14.0, 46.0), DVec3::new(0.0, 0.0, 4.0)) };
     let mut b = Builder::new("demo", camera);
-    b.scene.sun = Some(Sun {
-        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-        color: Vec3::new(1.0, 0.9, 0.75),
-        intensity: 0.12,
-    });
+    b.scene.sun = Some(Sun::default_sun());
     b.scene.ambient = Vec3::new(0.025, 0.028, 0.035);
     let floor = b.material(Material {
         diffuse: Vec3::splat(0.55),

@@ -1019,11 +1019,7 @@ impl Importer<'_> {
         self.scene.viewpoints = views;
 
         if self.scene.lights.is_empty() && self.scene.sun.is_none() {
-            self.scene.sun = Some(Sun {
-                direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-                color: Vec3::new(1.0, 0.95, 0.85),
-                intensity: 0.6,
-            });
+            self.scene.sun = Some(Sun::fill_sun());
             self.add_light_grid(lo, hi);
         }
         self.stats.meshes = self.scene.meshes.len();

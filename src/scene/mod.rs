@@ -377,6 +377,25 @@ pub struct Sun {
     pub intensity: f32,
 }
 
+impl Sun {
+    /// The demo's sun, and the one the viewer's "sun on" (panel or `set sun on`) brings back.
+    pub const DEFAULT: Sun =
+        Sun { direction: Vec3::new(-0.4, -1.0, -0.3), color: Vec3::new(1.0, 0.9, 0.75), intensity: 0.12 };
+    /// The brighter sun a glTF file with no lights of its own gets (with the light grid).
+    pub const FILL: Sun =
+        Sun { direction: Vec3::new(-0.4, -1.0, -0.3), color: Vec3::new(1.0, 0.95, 0.85), intensity: 0.6 };
+
+    /// `DEFAULT` with its direction normalised.
+    pub fn default_sun() -> Sun {
+        Sun { direction: Self::DEFAULT.direction.normalize(), ..Self::DEFAULT }
+    }
+
+    /// `FILL` with its direction normalised.
+    pub fn fill_sun() -> Sun {
+        Sun { direction: Self::FILL.direction.normalize(), ..Self::FILL }
+    }
+}
+
 /// Everything a frame draws.
 #[derive(Clone, Debug)]
 pub struct Scene {

@@ -69,7 +69,8 @@ impl ComposePass {
     /// Composes the lit frame into the HDR scene colour (the start of the compose timing).
     pub fn encode_hdr(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
-        let offset = f.frame.compose_slot(queue, 0, ComposeParams { view: DebugView::Lit as u32, pad0: 0, scale: [1.0; 2] });
+        let offset =
+            f.frame.compose_slot(queue, 0, ComposeParams { view: DebugView::Lit as u32, pad0: 0, scale: [1.0; 2] });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("compose (HDR)"),
             color_attachments: &[attachment(hdr_view, Some(wgpu::Color::BLACK))],

@@ -23,11 +23,23 @@ impl DebugPass {
             classify: [
                 pipe("classify: pass 1 Z", Vs::Volume, "fs_blue", mark, Out::Debug(MAX)),
                 pipe("classify: pass 2 Z", Vs::Volume, "fs_red", VOLUME.shade.clone(), Out::Debug(MAX)),
-                pipe("classify: pass 2 stencil", Vs::Volume, "fs_green", STENCIL_TWO_PASS.shade.clone(), Out::Debug(MAX)),
+                pipe(
+                    "classify: pass 2 stencil",
+                    Vs::Volume,
+                    "fs_green",
+                    STENCIL_TWO_PASS.shade.clone(),
+                    Out::Debug(MAX),
+                ),
             ],
             // Light complexity counts the points inside each light's true shape (the shader
             // discards the rest), drawn as the plain volume method draws the light.
-            complexity: pipe("light complexity", Vs::Volume, "fs_complexity", VOLUME.shade.clone(), Out::Debug(ADDITIVE)),
+            complexity: pipe(
+                "light complexity",
+                Vs::Volume,
+                "fs_complexity",
+                VOLUME.shade.clone(),
+                Out::Debug(ADDITIVE),
+            ),
             complexity_fullscreen: pipe(
                 "light complexity (full-screen)",
                 Vs::Fullscreen,

@@ -62,7 +62,10 @@ pub const STENCIL_TWO_PASS: StencilMethod = StencilMethod {
     shade: DrawState {
         faces: Faces::Back,
         depth: Cmp::GreaterEqual,
-        stencil: stencil(face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero), face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero)),
+        stencil: stencil(
+            face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero),
+            face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero),
+        ),
     },
     shade_crossing_near: None,
     reference: Reference::Zero,
@@ -76,12 +79,18 @@ pub const STENCIL_INVERT: StencilMethod = StencilMethod {
     mark: Some(DrawState {
         faces: Faces::Both,
         depth: Cmp::Less,
-        stencil: stencil(face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep), face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep)),
+        stencil: stencil(
+            face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep),
+            face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep),
+        ),
     }),
     shade: DrawState {
         faces: Faces::Back,
         depth: Cmp::Always,
-        stencil: stencil(face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero), face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero)),
+        stencil: stencil(
+            face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero),
+            face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero),
+        ),
     },
     shade_crossing_near: None,
     reference: Reference::Zero,
@@ -98,7 +107,10 @@ pub const STENCIL_REPLACE: StencilMethod = StencilMethod {
     mark: Some(DrawState {
         faces: Faces::Back,
         depth: Cmp::Less,
-        stencil: stencil(face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep), face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep)),
+        stencil: stencil(
+            face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep),
+            face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep),
+        ),
     }),
     shade: DrawState { faces: Faces::Front, depth: Cmp::LessEqual, stencil: EQUAL_REFERENCE },
     shade_crossing_near: Some(DrawState { faces: Faces::Back, depth: Cmp::Always, stencil: EQUAL_REFERENCE }),

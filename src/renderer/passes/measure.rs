@@ -14,7 +14,8 @@ pub struct MeasurePass {
 
 impl MeasurePass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let pipe = |label, vs, fs, state| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out: Out::NoColor });
+        let pipe =
+            |label, vs, fs, state| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out: Out::NoColor });
         let fullscreen = DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL };
         Self {
             ideal: pipe("ideal count", Vs::Fullscreen, "fs_ideal", fullscreen.clone()),

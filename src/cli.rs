@@ -1,0 +1,188 @@
+//! The command line: every subcommand's arguments in one place. The renderer's knobs are not
+//! listed here one by one: `RenderArgs` flattens [`KnobArgs`], which builds a flag per row of
+//! the knob table.
+
+use crate::renderer::knobs::KnobArgs;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Parses `WxH` with each side in `min ..= 8192`.
+fn size_at_least(s: &str, min: u32, what: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("size '{s}' is not WxH"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("width '{w}' is not a number"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("height '{h}' is not a number"))?;
+    if !(min..=8192).contains(&w) || !(min..=8192).contains(&h) {
+        return Err(format!("{what} {w}x{h} must be between {min}x{min} and 8192x8192"));
+    }
+    Ok((w, h))
+}
+
+/// An image size, `WxH`, 1x1 to 8192x8192.
+pub fn image_size(s: &str) -> Result<(u32, u32), String> {
+    size_at_least(s, 1, "size")
+}
+
+/// A window size in logical pixels, `WxH`, 64x64 to 8192x8192.
+pub fn window_size(s: &str) -> Result<(u32, u32), String> {
+    size_at_least(s, 64, "window size")
+}
+
+#[derive(Parser)]
+#[command(name = "lampshade", version, about = "A workbench for deferred shading with light-volume culling")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render one frame headless to a PNG.
+    Render(RenderArgs),
+    /// Open the viewer (the default command).
+    #[cfg(feature = "viewer")]
+    View(ViewArgs),
+    /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
+    Bench(BenchArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Regenerate the project's own glTF scene (assets/room) from code.
+    MakeAssets {
+        /// Output directory.
+        #[arg(long, default_value = "assets/room")]
+        out: PathBuf,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default
+    /// `demo`, or the settings file's.
+    pub scene: Option<String>,
+    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
+    #[arg(long, default_value_t = 8)]
+    pub light_grid: u32,
+    /// Start from the file's viewpoint K (its cameras in order, then a framing view).
+    #[arg(long)]
+    pub viewpoint: Option<usize>,
+    /// Output PNG.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH (default 1280x720, or the settings file's).
+    #[arg(long, value_parser = image_size)]
+    pub size: Option<(u32, u32)>,
+    /// Number of point lights (demo).
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Animation time in seconds (default 0, or the settings file's).
+    #[arg(long)]
+    pub time: Option<f64>,
+    /// The renderer's knobs, one flag per row of `renderer::knobs::KNOBS` (`--culling`,
+    /// `--layout`, `--debug-view`, `--accumulation`, `--depth-format`, `--light-cutoff`, …).
+    #[command(flatten)]
+    pub knobs: KnobArgs,
+    /// Restrict the stencil view to light K.
+    #[arg(long)]
+    pub light: Option<usize>,
+    /// Count the ideal fragments too (a full-screen counting pass per light).
+    #[arg(long)]
+    pub ideal: bool,
+    /// Write the frame's statistics as JSON.
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
+    /// Start from a settings file (as the viewer's F12 screenshots write: renderer settings plus
+    /// scene, lights, time, camera and size); flags override it.
+    #[arg(long)]
+    pub settings: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    #[arg(default_value = "demo")]
+    pub scene: String,
+    /// Output directory for bench.csv, bench.md and bench.png.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// A short sweep (small size, fewer lights and frames), about a minute.
+    #[arg(long)]
+    pub quick: bool,
+    /// Frames timed per configuration.
+    #[arg(long)]
+    pub frames: Option<usize>,
+    #[arg(long, value_parser = image_size)]
+    pub size: Option<(u32, u32)>,
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
+    /// tessellation, resolution, lights.
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
+}
+
+#[derive(clap::Args, Clone, Debug)]
+pub struct ViewArgs {
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default: the
+    /// last one shown (saved state), else `demo`.
+    pub scene: Option<String>,
+    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
+    #[arg(long, default_value_t = 8)]
+    pub light_grid: u32,
+    /// Replay frame-numbered actions from FILE (see `src/app/script.rs`), e.g. in tests.
+    #[arg(long)]
+    pub script: Option<PathBuf>,
+    /// Number of point lights (demo).
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Window size in logical pixels, WxH (default: the saved size, else 1280x720).
+    #[arg(long, value_parser = window_size)]
+    pub size: Option<(u32, u32)>,
+    /// Share of the viewport's pixels the scene is rendered at (0.1..2; default: the saved
+    /// scale, else 0.5).
+    #[arg(long)]
+    pub scale: Option<f32>,
+    /// Where F12 writes screenshots.
+    #[arg(long, default_value = ".")]
+    pub screenshot_dir: PathBuf,
+    /// The viewer's saved state (window size, panels, scale, culling mode, layout, last scene):
+    /// read at start, written on exit. Default: `<config dir>/lampshade/viewer.json`; scripted
+    /// runs use none unless this is given.
+    #[arg(long, conflicts_with = "no_state")]
+    pub state: Option<PathBuf>,
+    /// Neither read nor write the saved state.
+    #[arg(long)]
+    pub no_state: bool,
+}
+
+/// What `lampshade` with no subcommand runs: the same defaults as `lampshade view`.
+impl Default for ViewArgs {
+    fn default() -> Self {
+        Self {
+            scene: None,
+            light_grid: 8,
+            script: None,
+            lights: None,
+            size: None,
+            scale: None,
+            screenshot_dir: PathBuf::from("."),
+            state: None,
+            no_state: false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_view_is_the_view_command_without_arguments() {
+        use clap::Parser;
+        #[derive(clap::Parser)]
+        struct Cli {
+            #[command(flatten)]
+            view: ViewArgs,
+        }
+        let parsed = Cli::parse_from(["lampshade"]).view;
+        let default = ViewArgs::default();
+        assert_eq!(format!("{parsed:?}"), format!("{default:?}"));
+    }
+}

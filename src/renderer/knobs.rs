@@ -1,0 +1,375 @@
+//! The renderer's knobs as one table. Each row names a [`Settings`] field once and says what
+//! values it takes; the rest is derived from the table:
+//! - `Settings::validate` checks every row's range;
+//! - `lampshade render --NAME VALUE` (the flags are built from the rows with `cli`);
+//! - `set NAME VALUE` in viewer scripts and `UiState::set`;
+//! - the viewer's sliders and choice boxes (their ranges and value names).
+//!
+//! A value's one name is its clap `ValueEnum` name, which is also its serde name in settings
+//! files (see [`super::settings::name_of`]).
+
+use super::settings::{
+    name_of, AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Settings, CONE_SIDES_RANGE,
+    MAX_SPHERE_SUBDIVISIONS,
+};
+
+/// The values a knob takes.
+#[derive(Clone, Copy, Debug)]
+pub enum Values {
+    /// One of the names of a `ValueEnum`.
+    Choice(fn() -> Vec<String>),
+    /// A finite number in `min ..= max` (`min ..< max` when `open_max`).
+    Float { min: f64, max: f64, open_max: bool },
+    /// A whole number in `min ..= max`.
+    Whole { min: u32, max: u32 },
+    /// on / off (also true/false, 1/0, yes/no).
+    Switch,
+}
+
+/// One knob: its name (CLI flag, script `set` name; the settings file's key is the same name in
+/// snake case), what it does, its values, and how to read and write it.
+pub struct Knob {
+    pub name: &'static str,
+    /// The knob in a sentence ("light cut-off"), for messages.
+    pub what: &'static str,
+    pub help: &'static str,
+    pub values: Values,
+    /// `lampshade render` takes it as `--NAME VALUE`.
+    pub cli: bool,
+    pub get: fn(&Settings) -> String,
+    /// Writes the parsed value; the range is checked by `Settings::validate` afterwards.
+    put: fn(&mut Settings, &str) -> Result<(), String>,
+}
+
+fn names<T: clap::ValueEnum>() -> Vec<String> {
+    T::value_variants().iter().map(name_of).collect()
+}
+
+fn choice<T: clap::ValueEnum>(what: &str, s: &str) -> Result<T, String> {
+    super::settings::parse_name(what, s)
+}
+
+pub fn parse_switch(v: &str) -> Result<bool, String> {
+    match v {
+        "on" | "true" | "1" | "yes" => Ok(true),
+        "off" | "false" | "0" | "no" => Ok(false),
+        _ => Err(format!("'{v}' is not on/off")),
+    }
+}
+
+pub fn switch_name(b: bool) -> String {
+    if b { "on" } else { "off" }.into()
+}
+
+fn number(v: &str) -> Result<f64, String> {
+    let x: f64 = v.trim().parse().map_err(|_| format!("'{v}' is not a number"))?;
+    if !x.is_finite() {
+        return Err(format!("'{v}' is not a finite number"));
+    }
+    Ok(x)
+}
+
+fn whole(v: &str) -> Result<u32, String> {
+    v.trim().parse().map_err(|_| format!("'{v}' is not a whole number"))
+}
+
+/// Smallest and largest exposure (a factor on the lit picture before tonemapping).
+pub const EXPOSURE_RANGE: (f64, f64) = (0.01, 100.0);
+/// Light cut-off thresholds: 0 (exact radius) ..< 1.
+pub const LIGHT_CUTOFF_RANGE: (f64, f64) = (0.0, 1.0);
+
+/// Every knob, in the order `--help` and the script documentation list them.
+pub const KNOBS: &[Knob] = &[
+    Knob {
+        name: "culling",
+        what: "culling mode",
+        help: "How light volumes are culled",
+        values: Values::Choice(names::<CullingMode>),
+        cli: true,
+        get: |s| name_of(&s.culling),
+        put: |s, v| Ok(s.culling = choice("culling mode", v)?),
+    },
+    Knob {
+        name: "layout",
+        what: "layout",
+        help: "G-buffer layout",
+        values: Values::Choice(names::<LayoutChoice>),
+        cli: true,
+        get: |s| name_of(&s.layout),
+        put: |s, v| Ok(s.layout = choice("layout", v)?),
+    },
+    Knob {
+        name: "debug-view",
+        what: "view",
+        help: "What the frame shows: the lit picture or one of the debug views",
+        values: Values::Choice(names::<DebugView>),
+        cli: true,
+        get: |s| name_of(&s.debug_view),
+        put: |s, v| Ok(s.debug_view = choice("view", v)?),
+    },
+    Knob {
+        name: "accumulation",
+        what: "accumulation format",
+        help: "Light accumulation format",
+        values: Values::Choice(names::<AccumFormat>),
+        cli: true,
+        get: |s| name_of(&s.accumulation),
+        put: |s, v| Ok(s.accumulation = choice("accumulation format", v)?),
+    },
+    Knob {
+        name: "depth-format",
+        what: "depth format",
+        help: "Depth-stencil format",
+        values: Values::Choice(names::<DepthFormat>),
+        cli: true,
+        get: |s| name_of(&s.depth_format),
+        put: |s, v| Ok(s.depth_format = choice("depth format", v)?),
+    },
+    Knob {
+        name: "light-cutoff",
+        what: "light cut-off",
+        help: "Cut lights off where they fall below this fraction of their peak (0 = exact radius)",
+        values: Values::Float { min: LIGHT_CUTOFF_RANGE.0, max: LIGHT_CUTOFF_RANGE.1, open_max: true },
+        cli: true,
+        get: |s| s.light_cutoff.to_string(),
+        put: |s, v| Ok(s.light_cutoff = number(v)? as f32),
+    },
+    Knob {
+        name: "sphere-subdivisions",
+        what: "sphere subdivisions",
+        help: "Subdivisions of the point lights' bounding icosphere",
+        values: Values::Whole { min: 0, max: MAX_SPHERE_SUBDIVISIONS },
+        cli: true,
+        get: |s| s.sphere_subdivisions.to_string(),
+        put: |s, v| Ok(s.sphere_subdivisions = whole(v)?),
+    },
+    Knob {
+        name: "cone-sides",
+        what: "cone sides",
+        help: "Sides of the spot lights' bounding pyramid",
+        values: Values::Whole { min: *CONE_SIDES_RANGE.start(), max: *CONE_SIDES_RANGE.end() },
+        cli: true,
+        get: |s| s.cone_sides.to_string(),
+        put: |s, v| Ok(s.cone_sides = whole(v)?),
+    },
+    Knob {
+        name: "exposure",
+        what: "exposure",
+        help: "Exposure: a factor on the lit picture before tonemapping",
+        values: Values::Float { min: EXPOSURE_RANGE.0, max: EXPOSURE_RANGE.1, open_max: false },
+        cli: true,
+        get: |s| s.exposure.to_string(),
+        put: |s, v| Ok(s.exposure = number(v)? as f32),
+    },
+    Knob {
+        name: "reversed-z",
+        what: "reversed Z",
+        help: "Store depth reversed (near = 1)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.reversed_z),
+        put: |s, v| Ok(s.reversed_z = parse_switch(v)?),
+    },
+    Knob {
+        name: "depth-clamp",
+        what: "depth clamp",
+        help: "Depth clamp on light volumes (off: volumes crossing the far plane go full-screen)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.depth_clamp),
+        put: |s, v| Ok(s.depth_clamp = parse_switch(v)?),
+    },
+    Knob {
+        name: "counts",
+        what: "fragment counting",
+        help: "Count each light's shaded fragments (occlusion queries)",
+        values: Values::Switch,
+        cli: false,
+        get: |s| switch_name(s.count_fragments),
+        put: |s, v| Ok(s.count_fragments = parse_switch(v)?),
+    },
+    Knob {
+        name: "ideal",
+        what: "ideal counting",
+        help: "Count the ideal fragments too (a full-screen counting pass per light)",
+        values: Values::Switch,
+        cli: false,
+        get: |s| switch_name(s.count_ideal),
+        put: |s, v| Ok(s.count_ideal = parse_switch(v)?),
+    },
+    Knob {
+        name: "timestamps",
+        what: "timestamps",
+        help: "Read back GPU timestamps",
+        values: Values::Switch,
+        cli: false,
+        get: |s| switch_name(s.timestamps),
+        put: |s, v| Ok(s.timestamps = parse_switch(v)?),
+    },
+];
+
+/// The knob named `name`.
+pub fn find(name: &str) -> Option<&'static Knob> {
+    KNOBS.iter().find(|k| k.name == name)
+}
+
+/// The knob named `name`; an unknown name is an error listing the known ones.
+pub fn knob(name: &str) -> Result<&'static Knob, String> {
+    find(name).ok_or_else(|| {
+        let all: Vec<&str> = KNOBS.iter().map(|k| k.name).collect();
+        format!("unknown setting '{name}' (one of {})", all.join(", "))
+    })
+}
+
+impl Knob {
+    /// Whether `s`'s value of this knob lies in its range.
+    pub fn check(&self, s: &Settings) -> Result<(), String> {
+        let value = (self.get)(s);
+        let bad = |why: String| Err(format!("{} {value} {why}", self.what));
+        match self.values {
+            Values::Float { min, max, open_max } => {
+                let x: f64 = value.parse().unwrap_or(f64::NAN);
+                let inside = x.is_finite() && x >= min && if open_max { x < max } else { x <= max };
+                if !inside {
+                    let to = if open_max { "..<" } else { "..=" };
+                    return bad(format!("must be a finite number in {min} {to} {max}"));
+                }
+            }
+            Values::Whole { min, max } => {
+                let x: u32 = value.parse().unwrap_or(u32::MAX);
+                if !(min..=max).contains(&x) {
+                    return bad(format!("must be between {min} and {max}"));
+                }
+            }
+            Values::Choice(_) | Values::Switch => {}
+        }
+        Ok(())
+    }
+
+    /// The float range, for sliders (`None` for other kinds).
+    pub fn float_range(&self) -> Option<std::ops::RangeInclusive<f64>> {
+        match self.values {
+            Values::Float { min, max, open_max } => Some(min..=if open_max { max - 1e-3 } else { max }),
+            _ => None,
+        }
+    }
+
+    /// The whole-number range, for drag values (`None` for other kinds).
+    pub fn whole_range(&self) -> Option<std::ops::RangeInclusive<u32>> {
+        match self.values {
+            Values::Whole { min, max } => Some(min..=max),
+            _ => None,
+        }
+    }
+
+    /// The names a choice knob takes, `on`/`off` for a switch, none for numbers.
+    pub fn names(&self) -> Vec<String> {
+        match self.values {
+            Values::Choice(f) => f(),
+            Values::Switch => vec!["on".into(), "off".into()],
+            _ => Vec::new(),
+        }
+    }
+}
+
+impl Settings {
+    /// Sets knob `name` to `value` (its one name, or a number), checked against the knob's range
+    /// and every other rule of [`Settings::validate`]; on error `self` is unchanged.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+        let k = knob(name)?;
+        let mut next = self.clone();
+        (k.put)(&mut next, value)?;
+        next.validate()?;
+        *self = next;
+        Ok(())
+    }
+
+    /// The value of knob `name` as `set` takes it.
+    pub fn get(&self, name: &str) -> Result<String, String> {
+        Ok((knob(name)?.get)(self))
+    }
+}
+
+/// The `render` command's knob flags, built from [`KNOBS`]: `--NAME VALUE` for every row with
+/// `cli`, in the table's order. Parsed into (name, value) pairs that [`Settings::set`] applies.
+#[derive(Clone, Debug, Default)]
+pub struct KnobArgs(pub Vec<(&'static str, String)>);
+
+impl KnobArgs {
+    /// Applies the flags given, in the table's order.
+    pub fn apply(&self, settings: &mut Settings) -> Result<(), String> {
+        for (name, value) in &self.0 {
+            settings.set(name, value).map_err(|e| format!("--{name}: {e}"))?;
+        }
+        Ok(())
+    }
+}
+
+impl clap::FromArgMatches for KnobArgs {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut out = Vec::new();
+        for k in KNOBS.iter().filter(|k| k.cli) {
+            if let Some(v) = m.get_one::<String>(k.name) {
+                out.push((k.name, v.clone()));
+            }
+        }
+        Ok(Self(out))
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl clap::Args for KnobArgs {
+    fn augment_args(mut cmd: clap::Command) -> clap::Command {
+        for k in KNOBS.iter().filter(|k| k.cli) {
+            // Values are checked by `Settings::set` (with the table's message), so a choice's old
+            // aliases (`d32s8`) parse too; the help lists the one names and the ranges.
+            let values = match k.values {
+                Values::Choice(_) | Values::Switch => format!("one of {}", k.names().join(", ")),
+                Values::Float { min, max, open_max } => format!("{min} {} {max}", if open_max { "..<" } else { "..=" }),
+                Values::Whole { min, max } => format!("{min} ..= {max}"),
+            };
+            let arg = clap::Arg::new(k.name).long(k.name).value_name("VALUE").help(format!("{} [{values}]", k.help));
+            cmd = cmd.arg(arg);
+        }
+        cmd
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_knob_round_trips_its_default_and_rejects_nonsense() {
+        let d = Settings::default();
+        for k in KNOBS {
+            let mut s = d.clone();
+            let v = (k.get)(&d);
+            s.set(k.name, &v).unwrap_or_else(|e| panic!("{}: {e}", k.name));
+            assert_eq!(s, d, "{}", k.name);
+            assert!(s.set(k.name, "nonsense").is_err(), "{} took 'nonsense'", k.name);
+            assert_eq!(s, d, "{}: a rejected value changed the settings", k.name);
+        }
+        assert!(d.clone().set("no-such-knob", "1").unwrap_err().contains("unknown setting"));
+    }
+
+    #[test]
+    fn ranges_come_from_the_table() {
+        let mut s = Settings::default();
+        assert!(s.set("light-cutoff", "1").is_err(), "the cut-off range is open at 1");
+        s.set("light-cutoff", "0.5").unwrap();
+        assert!(s.set("cone-sides", "2").unwrap_err().contains("cone sides 2 must be between 3 and 64"));
+        assert!(s.set("sphere-subdivisions", "5").is_err());
+        assert!(s.set("exposure", "0").is_err());
+        s.set("depth-format", "d24s8").unwrap();
+        assert_eq!(s.depth_format, DepthFormat::Depth24PlusStencil8);
+    }
+}

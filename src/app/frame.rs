@@ -1,0 +1,407 @@
+//! One frame of the viewer, as named steps. [`App::frame`] reads top to bottom: input changes
+//! the plain `UiState`; the frame's scene is built from it; the renderer draws the viewport and
+//! the thumbnails; egui lays the panels out around them and is drawn into the window; then what
+//! the panels and the script asked for is done. Each step's outputs are passed to the next.
+
+use super::gfx::{self, Acquired, Image};
+use super::script::{Action, SCRIPT_DT};
+use super::state::{self, Wireframes};
+use super::ui::{self, Command, Sample, Status, Thumb, UiOut};
+use super::{camera, App};
+use crate::renderer::{volume_wireframe_with, DebugView, Settings};
+use anyhow::{anyhow, Result};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::time::Instant;
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::KeyCode;
+
+/// Per-light volume outlines in viewport pixels: (light, segments).
+type Wires = Vec<(usize, Vec<[glam::Vec2; 2]>)>;
+
+/// Side of a G-buffer thumbnail, in pixels.
+const THUMB_WIDTH: u32 = 224;
+
+impl App {
+    pub(super) fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let dt = self.tick();
+        // 1. Script actions and keys change the state; actions that read the drawn frame wait.
+        let (post, commands) = self.input(dt);
+        // 2. The frame's scene and settings.
+        self.update_scene();
+        let settings = self.state.frame_settings();
+        if self.gfx.is_none() {
+            return Ok(());
+        }
+        // 3. The scene into the viewport texture, at the viewport's size times the scale.
+        let rendered = self.render_viewport(&settings);
+        // 4. Thumbnails: the compose pass of this frame again, once per view.
+        let tiles = self.render_thumbnails(&settings, rendered);
+        // 5. The pixel under the pointer, 6. the light-volume wireframes, memory now and then.
+        self.update_probe(rendered);
+        let wires = self.wireframes();
+        self.sample_memory();
+        // 7. The panels, around the viewport texture.
+        let (full, out) = self.run_panels(&tiles, &wires);
+        // 8. egui into the window, after the scene; captured when a screenshot asks.
+        let capture = post.iter().any(|a| matches!(a, Action::Screenshot(_)));
+        let window_image = self.present(full, capture)?;
+        // 9. What the panels and keys asked for.
+        self.apply_commands(out, commands);
+        // 10. Scripted screenshots, memory and quit, after the frame is drawn.
+        self.after_frame(post, window_image, event_loop)?;
+        self.frame += 1;
+        Ok(())
+    }
+
+    /// The time step: fixed in scripted runs, the wall clock's (at most 0.1 s) otherwise.
+    fn tick(&mut self) -> f64 {
+        let now = Instant::now();
+        let since = now.duration_since(self.last_instant).as_secs_f64();
+        self.cpu_ms = since * 1000.0;
+        self.last_instant = now;
+        if self.scripted() {
+            SCRIPT_DT
+        } else {
+            since.min(0.1)
+        }
+    }
+
+    /// Applies this frame's script actions and keys. Returns the actions that run after drawing
+    /// (screenshots, memory, quit) and the commands the keys gave.
+    fn input(&mut self, dt: f64) -> (Vec<Action>, Vec<Command>) {
+        let mut post = Vec::new();
+        let actions = match &mut self.script {
+            Some(s) => s.take(self.frame),
+            None => Vec::new(),
+        };
+        for a in actions {
+            if a.is_post() {
+                post.push(a);
+            } else {
+                self.apply(a);
+            }
+        }
+        let mut commands = Vec::new();
+        let egui_keys = self.gfx.as_ref().is_some_and(|g| g.egui_ctx.egui_wants_keyboard_input());
+        if !egui_keys {
+            if let Some(mut cam) = self.camera() {
+                let held = |k: KeyCode| self.held(k);
+                if camera::apply_keys(&mut cam, &held, self.state.move_speed, dt) {
+                    self.state.camera = Some(cam);
+                }
+            }
+        }
+        self.taps(&mut commands);
+        if self.state.animate {
+            self.state.time += dt * self.state.time_speed;
+        }
+        (post, commands)
+    }
+
+    /// Builds the frame's scene from the state; reports a file that finished loading or failed.
+    fn update_scene(&mut self) {
+        let frame_scene = self.cache.frame_scene(&self.state);
+        if let Some((file, e)) = self.cache.take_failure() {
+            // Keep the scene the viewer had: its name goes back, the user's edits stay.
+            let previous = self.cache.current().unwrap_or("demo").to_string();
+            self.say(format!("cannot load {file}: {e} (keeping {previous})"), true);
+            self.state.scene = previous;
+        } else if let Some(file) = self.cache.take_loaded() {
+            self.reset_scene_edits();
+            let n = self.cache.warnings.len();
+            let first = self.cache.warnings.first().cloned().unwrap_or_default();
+            match n {
+                0 => self.say(format!("loaded {file}"), false),
+                _ => self.say(format!("loaded {file} with {n} warning(s): {first}"), false),
+            }
+        }
+        match frame_scene {
+            Ok(s) => self.scene = Some(s),
+            Err(e) if self.cache.progress().is_some() => log::debug!("{e}"),
+            Err(e) => self.say(format!("scene rejected, showing the last good one: {e}"), true),
+        }
+        if self.state.selected_light.is_some_and(|k| self.scene.as_ref().is_none_or(|s| k >= s.lights.len())) {
+            self.state.selected_light = None;
+        }
+    }
+
+    /// Renders the scene into the viewport texture. A setting the adapter cannot do (an
+    /// accumulation format, say) is rejected: back to the last settings that rendered, with the
+    /// reason on the status line. Returns whether a frame was rendered.
+    fn render_viewport(&mut self, settings: &Settings) -> bool {
+        let Some(g) = self.gfx.as_mut() else { return false };
+        let ppp = g.egui_ctx.pixels_per_point();
+        let size = self.viewport_rect.map(|r| {
+            let s = self.state.resolution_scale.clamp(state::MIN_SCALE, state::MAX_SCALE) * ppp;
+            (((r.width() * s).round() as u32).clamp(1, 8192), ((r.height() * s).round() as u32).clamp(1, 8192))
+        });
+        let minimised = g.surface.window.is_minimized().unwrap_or(false) || {
+            let s = g.surface.window.inner_size();
+            s.width == 0 || s.height == 0
+        };
+        if minimised {
+            // Nothing to draw into: do not spin while the window is away.
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            return false;
+        }
+        let (Some((w, h)), Some(scene)) = (size, &self.scene) else { return false };
+        if g.viewport.resize(&g.gpu.device, &mut g.egui_renderer, w, h, wgpu::FilterMode::Linear) {
+            self.have_image = false;
+        }
+        match g.renderer.render(scene, settings, &g.viewport.target, w, h) {
+            Ok(stats) => {
+                self.history.push(Sample {
+                    gpu_total: stats.gpu_ms.total,
+                    lighting: stats.gpu_ms.lighting,
+                    shaded: stats.shaded_fragments,
+                    ideal: stats.ideal_fragments,
+                });
+                self.stats = Some(stats);
+                self.good_settings = Some(self.state.settings.clone());
+                self.have_image = true;
+                true
+            }
+            Err(e) => {
+                let text = match &self.good_settings {
+                    Some(good) if *good != self.state.settings => {
+                        self.state.settings = good.clone();
+                        format!("rejected: {e:#}")
+                    }
+                    _ => format!("render failed: {e:#}"),
+                };
+                self.status = Some(Status { text, error: true });
+                false
+            }
+        }
+    }
+
+    /// The G-buffer strip's tiles; when a frame was rendered, each tile's view composed again
+    /// from it at thumbnail size.
+    fn render_thumbnails(&mut self, settings: &Settings, rendered: bool) -> Vec<Thumb> {
+        let Some(g) = self.gfx.as_mut() else { return Vec::new() };
+        let accum = settings.accumulation.format(g.gpu.features).ok();
+        let tiles = ui::thumbs(g.renderer.layout(), accum, g.renderer.depth_format());
+        if rendered {
+            let (vw, vh) = (g.viewport.width, g.viewport.height);
+            let tw = THUMB_WIDTH;
+            let th = ((tw as f32 * vh as f32 / vw.max(1) as f32).round() as u32).clamp(16, THUMB_WIDTH);
+            for v in tiles.iter().map(|t| t.view) {
+                let img = g.thumbs.entry(v).or_insert_with(|| {
+                    Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", tw, th, wgpu::FilterMode::Linear)
+                });
+                img.resize(&g.gpu.device, &mut g.egui_renderer, tw, th, wgpu::FilterMode::Linear);
+                if let Err(e) = g.renderer.compose_view(v, &img.target, tw, th) {
+                    log::warn!("thumbnail {v:?}: {e:#}");
+                }
+            }
+        }
+        tiles
+    }
+
+    /// Reads the G-buffer and lights of the pixel under the pointer (kept while not rendering).
+    fn update_probe(&mut self, rendered: bool) {
+        let Some(g) = self.gfx.as_ref() else { return };
+        self.probe = match (self.hover_pixel, rendered) {
+            (Some([x, y]), true) if x < g.viewport.width && y < g.viewport.height => {
+                g.renderer.probe(&g.gpu, x, y).ok()
+            }
+            (Some(_), _) => self.probe.take(),
+            (None, _) => None,
+        };
+    }
+
+    /// The light-volume outlines the overlay draws: every light's (the largest on screen first,
+    /// at most `ui::MAX_WIREFRAMES`), the selected light's, or none.
+    fn wireframes(&self) -> Wires {
+        let (Some(scene), Some(g)) = (&self.scene, &self.gfx) else { return Vec::new() };
+        let (w, h) = (g.viewport.width, g.viewport.height);
+        let outline = |i: usize| (i, volume_wireframe_with(scene, i, w, h, &self.state.settings));
+        match self.state.wireframes {
+            Wireframes::All => {
+                let mut order: Vec<(usize, f32)> = match &self.stats {
+                    Some(s) => {
+                        s.per_light.iter().filter(|l| l.screen_share > 0.0).map(|l| (l.index, l.screen_share)).collect()
+                    }
+                    None => (0..scene.lights.len()).map(|i| (i, 1.0)).collect(),
+                };
+                order.sort_by(|a, b| b.1.total_cmp(&a.1));
+                order.into_iter().take(ui::MAX_WIREFRAMES).map(|(i, _)| outline(i)).collect()
+            }
+            Wireframes::Selected => self.state.selected_light.map(|i| vec![outline(i)]).unwrap_or_default(),
+            Wireframes::Off => Vec::new(),
+        }
+    }
+
+    /// Every 30 frames: resident memory and wgpu's live buffer + texture bytes.
+    fn sample_memory(&mut self) {
+        let Some(g) = self.gfx.as_ref() else { return };
+        if self.frame.is_multiple_of(30) {
+            let hal = g.gpu.device.get_internal_counters().hal;
+            let gpu_bytes = hal.buffer_memory.read() as i64 + hal.texture_memory.read() as i64;
+            self.memory = crate::memory::resident_bytes().map(|r| (r, gpu_bytes));
+        }
+    }
+
+    /// Lays out the panels (egui) from this frame's figures; they edit the state and return what
+    /// only the application can do.
+    fn run_panels(&mut self, tiles: &[Thumb], wires: &Wires) -> (egui::FullOutput, UiOut) {
+        let Some(g) = self.gfx.as_mut() else { return (Default::default(), UiOut::default()) };
+        let mut raw = g.egui_state.take_egui_input(&g.surface.window);
+        raw.events.append(&mut self.injected);
+        self.injected = std::mem::take(&mut self.injected_next);
+        let thumb_ids: HashMap<DebugView, egui::TextureId> = g.thumbs.iter().map(|(v, i)| (*v, i.id)).collect();
+        let layout = g.renderer.layout();
+        let info = ui::FrameInfo {
+            stats: self.stats.as_ref(),
+            history: &self.history,
+            scene: self.scene.as_ref(),
+            viewport: self.have_image.then_some((g.viewport.id, [g.viewport.width, g.viewport.height])),
+            thumbs: &thumb_ids,
+            tiles,
+            depth_format: format!("{:?}", g.renderer.depth_format()),
+            gbuffer_bytes: layout.bytes_per_pixel(),
+            probe: self.probe.as_ref(),
+            adapter: &g.adapter,
+            status: self.status.as_ref(),
+            cpu_ms: self.cpu_ms,
+            scripted: self.script.is_some(),
+            wireframes: wires,
+            scroll_to_light: self.scroll_to_light.take(),
+            loading: self.cache.progress(),
+            memory: self.memory,
+        };
+        let mut out = UiOut::default();
+        let state = &mut self.state;
+        let mut full = g.egui_ctx.run_ui(raw, |ui| ui::draw(ui, state, &info, &mut out));
+        g.egui_state.handle_platform_output(&g.surface.window, std::mem::take(&mut full.platform_output));
+        if out.viewport_rect.is_some() {
+            self.viewport_rect = out.viewport_rect;
+        }
+        self.hover_pixel = out.hover_pixel;
+        (full, out)
+    }
+
+    /// Draws egui into the window (the viewport texture inside it) and presents; returns the
+    /// window's pixels when `capture` asks (a scripted screenshot), `None` if nothing was drawn.
+    fn present(&mut self, mut full: egui::FullOutput, capture: bool) -> Result<Option<Result<image::RgbaImage>>> {
+        let g = self.gfx.as_mut().ok_or_else(|| anyhow!("no window"))?;
+        let mut window_image = None;
+        // egui assumes every delta is applied, whether or not this frame reaches the window.
+        for (id, deltas) in full.textures_delta.set.drain() {
+            for d in &deltas {
+                g.egui_renderer.update_texture(&g.gpu.device, &g.gpu.queue, id, d);
+            }
+        }
+        let freed: Vec<egui::TextureId> = full.textures_delta.free.drain().collect();
+        let jobs = g.egui_ctx.tessellate(full.shapes, full.pixels_per_point);
+        if let Acquired::Frame(frame) = g.surface.acquire(&g.gpu)? {
+            let size = frame.texture.size();
+            let screen = egui_wgpu::ScreenDescriptor {
+                size_in_pixels: [size.width, size.height],
+                pixels_per_point: full.pixels_per_point,
+            };
+            let mut encoder =
+                g.gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("egui") });
+            let user = g.egui_renderer.update_buffers(&g.gpu.device, &g.gpu.queue, &mut encoder, &jobs, &screen);
+            {
+                let view = frame.texture.create_view(&Default::default());
+                let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("egui"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.05, g: 0.05, b: 0.05, a: 1.0 }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+            }
+            g.gpu.queue.submit(user.into_iter().chain([encoder.finish()]));
+            if capture {
+                window_image = Some(g.surface.capture(&g.gpu, &frame));
+            }
+            g.surface.window.pre_present_notify();
+            g.gpu.queue.present(frame);
+        }
+        for id in &freed {
+            g.egui_renderer.free_texture(id);
+        }
+        Ok(window_image)
+    }
+
+    /// Does what the panels and keys asked for: screenshots, camera reset, scene change, status,
+    /// picking a light, looking around.
+    fn apply_commands(&mut self, out: UiOut, commands: Vec<Command>) {
+        for c in out.commands.into_iter().chain(commands) {
+            match c {
+                Command::Screenshot => {
+                    self.screenshots += 1;
+                    let stamp = std::time::SystemTime::now()
+                        .duration_since(std::time::UNIX_EPOCH)
+                        .map(|d| d.as_secs())
+                        .unwrap_or(0);
+                    let png = self.args.screenshot_dir.join(format!("lampshade-{stamp}-{}.png", self.screenshots));
+                    match self.save_viewport(&png) {
+                        Ok(json) => self.say(format!("saved {} and {}", png.display(), json.display()), false),
+                        Err(e) => self.say(format!("screenshot failed: {e:#}"), true),
+                    }
+                }
+                Command::ResetCamera => self.state.camera = None,
+                Command::SceneChanged => {
+                    if !crate::scene::import::is_gltf_path(&self.state.scene) {
+                        self.reset_scene_edits();
+                    }
+                }
+                Command::Status(s) => self.say(s.text, s.error),
+            }
+        }
+        if let Some(px) = out.click_pixel {
+            self.pick(px);
+        }
+        if out.drag != egui::Vec2::ZERO {
+            if let Some(mut cam) = self.camera() {
+                camera::look(&mut cam, out.drag.x as f64 * camera::DRAG_SPEED, -out.drag.y as f64 * camera::DRAG_SPEED);
+                self.state.camera = Some(cam);
+            }
+        }
+    }
+
+    /// The script's actions that read the drawn frame: screenshots (window and viewport),
+    /// memory, quit.
+    fn after_frame(
+        &mut self,
+        post: Vec<Action>,
+        mut window_image: Option<Result<image::RgbaImage>>,
+        event_loop: &ActiveEventLoop,
+    ) -> Result<()> {
+        for a in post {
+            match a {
+                Action::Screenshot(path) => {
+                    let img = window_image
+                        .take()
+                        .ok_or_else(|| anyhow!("frame {}: the window was not drawn (minimised?)", self.frame))??;
+                    gfx::save_png(&img, &path)?;
+                    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("screenshot");
+                    let vp: PathBuf = path.with_file_name(format!("{stem}-viewport.png"));
+                    self.save_viewport(&vp)?;
+                    println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
+                }
+                Action::Memory => match crate::memory::resident_bytes() {
+                    Some(b) => println!("frame {}: resident {b} bytes", self.frame),
+                    None => println!("frame {}: resident memory unavailable on this system", self.frame),
+                },
+                Action::Quit => event_loop.exit(),
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+}

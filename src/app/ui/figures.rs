@@ -1,0 +1,202 @@
+//! The right panel: the frame's figures (lights drawn, fragments, efficiency, GPU ms per pass), their history plot, the culling modes and views.
+
+use super::*;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sample {
+    pub gpu_total: Option<f64>,
+    pub lighting: Option<f64>,
+    pub shaded: Option<u64>,
+    pub ideal: Option<u64>,
+}
+
+#[derive(Default)]
+pub struct History {
+    pub samples: VecDeque<Sample>,
+}
+
+impl History {
+    pub fn push(&mut self, s: Sample) {
+        if self.samples.len() == HISTORY {
+            self.samples.pop_front();
+        }
+        self.samples.push_back(s);
+    }
+}
+
+pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    egui::ScrollArea::vertical().id_salt("right-scroll").auto_shrink([false, false]).show(ui, |ui| {
+        if let Some((resident, gpu)) = f.memory {
+            ui.label(format!("memory: {} MiB resident, {} MiB in GPU buffers and textures", resident >> 20, gpu >> 20))
+                .on_hover_text("sampled every 30 frames; it should stay flat while the viewer runs");
+        }
+        ui.label(RichText::new("Light culling").strong());
+        egui::Grid::new("modes").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
+            for (i, m) in CullingMode::ALL.into_iter().enumerate() {
+                ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                if i % 2 == 1 {
+                    ui.end_row();
+                }
+            }
+        });
+        ui.separator();
+        figures(ui, st, f);
+        ui.separator();
+        plots(ui, f.history);
+        ui.separator();
+        ui.horizontal(|ui| {
+            ui.label("view");
+            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity] {
+                ui.selectable_value(&mut st.settings.debug_view, v, v.name());
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("of lights");
+            ui.selectable_value(&mut st.scope, Scope::All, "all");
+            ui.add_enabled_ui(st.selected_light.is_some(), |ui| {
+                ui.selectable_value(&mut st.scope, Scope::Selected, "selected");
+            });
+        });
+        if st.settings.debug_view == DebugView::Stencil {
+            ui.horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 3.0;
+                for (c, t) in [(Color32::BLUE, "Z pass mark"), (Color32::RED, "Z pass shade"), (Color32::GREEN, "lit")]
+                {
+                    let (r, _) = ui.allocate_exact_size(Vec2::splat(10.0), Sense::hover());
+                    ui.painter().rect_filled(r, 1.0, c);
+                    ui.label(RichText::new(t).small());
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            ui.label("wireframes");
+            ui.selectable_value(&mut st.wireframes, Wireframes::Off, "off");
+            ui.selectable_value(&mut st.wireframes, Wireframes::All, "all");
+            ui.selectable_value(&mut st.wireframes, Wireframes::Selected, "selected");
+        });
+        ui.horizontal(|ui| {
+            ui.label("colour by");
+            ui.selectable_value(&mut st.wire_colour, WireColour::Light, "light");
+            ui.selectable_value(&mut st.wire_colour, WireColour::Efficiency, "efficiency");
+        });
+        if st.wire_colour == WireColour::Efficiency && !st.settings.count_ideal {
+            ui.label(RichText::new("efficiency needs 'count ideal'").color(Color32::from_rgb(255, 170, 80)));
+        }
+        ui.separator();
+        egui::CollapsingHeader::new("Counters and depth").default_open(false).show(ui, |ui| {
+            ui.checkbox(&mut st.settings.count_fragments, "count shaded fragments");
+            ui.checkbox(&mut st.settings.count_ideal, "count ideal (full-screen pass per light)");
+            ui.checkbox(&mut st.settings.timestamps, "GPU timestamps");
+            ui.checkbox(&mut st.settings.depth_clamp, "depth clamp on volumes");
+            ui.checkbox(&mut st.settings.reversed_z, "reversed Z");
+        });
+    });
+}
+
+pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
+    let Some(s) = f.stats else {
+        ui.label("no frame yet");
+        return;
+    };
+    let drawn = s.per_light.iter().filter(|l| l.shaded.is_some_and(|v| v > 0)).count();
+    let mut methods: BTreeMap<String, usize> = BTreeMap::new();
+    for l in &s.per_light {
+        *methods.entry(method_name(l.method)).or_default() += 1;
+    }
+    egui::Grid::new("figures").num_columns(2).striped(true).spacing([12.0, 2.0]).show(ui, |ui| {
+        let row = |ui: &mut egui::Ui, k: &str, v: String| {
+            ui.label(k);
+            // Truncated: an exact-size panel must never be pushed wider by its content.
+            ui.add(egui::Label::new(RichText::new(v).monospace()).truncate());
+            ui.end_row();
+        };
+        row(
+            ui,
+            "lights shading",
+            if s.shaded_fragments.is_some() {
+                format!("{drawn} of {}", s.lights)
+            } else {
+                format!("? of {} (counts off)", s.lights)
+            },
+        );
+        let m: Vec<String> = methods.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        row(ui, "methods", m.join(", "));
+        row(ui, "shaded fragments", s.shaded_fragments.map_or("-".into(), fmt_count));
+        row(
+            ui,
+            "ideal fragments",
+            s.ideal_fragments.map_or(if st.settings.count_ideal { "-".into() } else { "off".into() }, fmt_count),
+        );
+        row(ui, "efficiency", s.efficiency.map_or("-".into(), |e| format!("{:.1} %", e * 100.0)));
+        row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
+        row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
+        row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
+        row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
+    });
+}
+
+pub(super) fn plot(ui: &mut egui::Ui, title: &str, series: &[(&str, Color32, Vec<Option<f64>>)], unit: &str) {
+    let width = ui.available_width().max(100.0);
+    let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 52.0), Sense::hover());
+    let p = ui.painter_at(rect);
+    p.rect_filled(rect, 2.0, Color32::from_gray(18));
+    let max = series.iter().flat_map(|(_, _, v)| v.iter().flatten()).fold(0.0f64, |a, b| a.max(*b)).max(1e-9);
+    for (_, colour, values) in series {
+        let n = values.len().max(2);
+        let mut run: Vec<Pos2> = Vec::new();
+        for (i, v) in values.iter().enumerate() {
+            match v {
+                Some(v) => run.push(Pos2::new(
+                    rect.left() + rect.width() * i as f32 / (n - 1) as f32,
+                    rect.bottom() - 2.0 - (rect.height() - 14.0) * (*v / max) as f32,
+                )),
+                None => {
+                    if run.len() > 1 {
+                        p.line(std::mem::take(&mut run), Stroke::new(1.2, *colour));
+                    }
+                    run.clear();
+                }
+            }
+        }
+        if run.len() > 1 {
+            p.line(run, Stroke::new(1.2, *colour));
+        }
+    }
+    let legend: Vec<String> = series
+        .iter()
+        .map(|(name, _, v)| {
+            format!("{name} {}", v.iter().rev().flatten().next().map_or("-".into(), |x| format!("{x:.1}")))
+        })
+        .collect();
+    p.text(
+        rect.left_top() + Vec2::new(4.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{title}: {}   (max {max:.1}{unit})", legend.join(", ")),
+        egui::FontId::proportional(10.0),
+        Color32::from_gray(190),
+    );
+}
+
+pub(super) fn plots(ui: &mut egui::Ui, h: &History) {
+    let ms = |g: fn(&Sample) -> Option<f64>| h.samples.iter().map(g).collect::<Vec<_>>();
+    plot(
+        ui,
+        "GPU ms",
+        &[
+            ("total", Color32::from_rgb(250, 200, 80), ms(|s| s.gpu_total)),
+            ("lights", Color32::from_rgb(120, 180, 255), ms(|s| s.lighting)),
+        ],
+        " ms",
+    );
+    let k =
+        |g: fn(&Sample) -> Option<u64>| h.samples.iter().map(|s| g(s).map(|v| v as f64 / 1000.0)).collect::<Vec<_>>();
+    plot(
+        ui,
+        "k fragments",
+        &[
+            ("shaded", Color32::from_rgb(255, 120, 90), k(|s| s.shaded)),
+            ("ideal", Color32::from_rgb(110, 220, 110), k(|s| s.ideal)),
+        ],
+        "k",
+    );
+}

@@ -1,0 +1,157 @@
+//! The lights tab: the light list with per-light figures, and the selected light's editor.
+
+use super::*;
+
+pub(super) fn light_label(i: usize, l: &Light) -> String {
+    match l {
+        Light::Point(_) => format!("#{i} point"),
+        Light::Spot(_) => format!("#{i} spot"),
+    }
+}
+
+pub(super) fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else {
+        ui.label("no scene");
+        return;
+    };
+    ui.label(RichText::new("Selected light").strong());
+    match st.selected_light.filter(|k| *k < scene.lights.len()) {
+        None => {
+            ui.label("none: click a light in the viewport or the list below");
+        }
+        Some(k) => {
+            let light = scene.lights[k];
+            ui.horizontal(|ui| {
+                ui.label(light_label(k, &light));
+                if ui.button("deselect").clicked() {
+                    st.selected_light = None;
+                }
+                if st.light_edits.contains_key(&k) && ui.button("reset").clicked() {
+                    st.light_edits.remove(&k);
+                }
+            });
+            if let Some(ls) = f.stats.and_then(|s| s.per_light.get(k)) {
+                ui.label(format!(
+                    "{} | shaded {} | ideal {} | screen {:.1}%{}{}",
+                    method_name(ls.method),
+                    fmt_opt(ls.shaded),
+                    fmt_opt(ls.ideal),
+                    ls.screen_share * 100.0,
+                    if ls.crosses_near { " | crosses near" } else { "" },
+                    if ls.crosses_far { " | crosses far" } else { "" }
+                ));
+            }
+            let p = light.position();
+            ui.label(format!("position {:.2}, {:.2}, {:.2}", p.x, p.y, p.z));
+            // Edit the un-scaled values (the global multipliers apply on top).
+            let Some(edit) = st.light_edits.get(&k).copied().or_else(|| {
+                let mut base = light;
+                match &mut base {
+                    Light::Point(p) => {
+                        p.radius /= st.radius_scale.max(1e-6);
+                        p.intensity /= st.intensity_scale.max(1e-6);
+                    }
+                    Light::Spot(s) => {
+                        s.radius /= st.radius_scale.max(1e-6);
+                        s.intensity /= st.intensity_scale.max(1e-6);
+                    }
+                }
+                Some(state::LightEdit::of(&base))
+            }) else {
+                return;
+            };
+            light_editor(ui, st, out, k, light, edit);
+        }
+    }
+    light_list(ui, st, f, scene);
+}
+
+/// The selected light's colour, intensity, radius and cone angles; a valid edit is kept.
+fn light_editor(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize, light: Light, edit: state::LightEdit) {
+    let mut e = edit;
+    let mut changed = false;
+    egui::Grid::new("light-edit").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("colour");
+        let mut c = e.color.to_array();
+        if ui.color_edit_button_rgb(&mut c).changed() {
+            e.color = Vec3::from(c);
+            changed = true;
+        }
+        ui.end_row();
+        ui.label("intensity");
+        let w = egui::DragValue::new(&mut e.intensity).range(0.0..=10_000.0).speed(0.02).max_decimals(2);
+        changed |= ui.add(w).changed();
+        ui.end_row();
+        ui.label("radius");
+        let w = egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05).max_decimals(2);
+        changed |= ui.add(w).changed();
+        ui.end_row();
+        if let Some((inner, outer)) = e.angles {
+            let (mut i_deg, mut o_deg) = (inner.to_degrees(), outer.to_degrees());
+            ui.label("inner angle");
+            let ri = ui.add(egui::DragValue::new(&mut i_deg).range(0.0..=90.0).suffix("°").max_decimals(1));
+            ui.end_row();
+            ui.label("outer angle");
+            let ro = ui.add(egui::DragValue::new(&mut o_deg).range(0.0..=90.0).suffix("°").max_decimals(1));
+            ui.end_row();
+            if ri.changed() || ro.changed() {
+                if i_deg > o_deg {
+                    // Clamp visibly rather than hand the renderer an inverted cone.
+                    i_deg = o_deg;
+                    out.commands.push(Command::Status(Status {
+                        text: "inner angle clamped to the outer angle".into(),
+                        error: true,
+                    }));
+                }
+                e.angles = Some((i_deg.to_radians(), o_deg.to_radians()));
+                changed = true;
+            }
+        }
+    });
+    if changed {
+        let mut l = light;
+        e.apply(&mut l);
+        match l.validate() {
+            Ok(()) => {
+                st.light_edits.insert(k, e);
+            }
+            Err(err) => reject(out, format!("light {k}: {err}")),
+        }
+    }
+}
+
+/// Every light with its shaded count and method; a click selects it.
+fn light_list(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, scene: &Scene) {
+    ui.separator();
+    ui.label(RichText::new(format!("All lights ({})", scene.lights.len())).strong());
+    let row_h = 18.0;
+    let per_light = f.stats.map(|s| s.per_light.as_slice()).unwrap_or(&[]);
+    let mut list = egui::ScrollArea::vertical()
+        .id_salt("light-list")
+        .max_height(ui.available_height().max(120.0))
+        .auto_shrink([false, true]);
+    if let Some(k) = f.scroll_to_light {
+        // A light picked in the viewport: bring its row into view, a few rows from the top.
+        list = list.vertical_scroll_offset((k.saturating_sub(3)) as f32 * (row_h + ui.spacing().item_spacing.y));
+    }
+    list.show_rows(ui, row_h, scene.lights.len(), |ui, range| {
+        for i in range {
+            let l = &scene.lights[i];
+            ui.horizontal(|ui| {
+                let (r, _) = ui.allocate_exact_size(Vec2::new(12.0, 12.0), Sense::hover());
+                ui.painter().rect_filled(r, 2.0, colour32(l.color()));
+                let ls = per_light.get(i);
+                let text = format!(
+                    "{:<10}{:>8} {}",
+                    light_label(i, l),
+                    ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
+                    ls.map_or(String::new(), |s| method_name(s.method))
+                );
+                let sel = st.selected_light == Some(i);
+                if ui.add(egui::Button::selectable(sel, RichText::new(text).monospace()).truncate()).clicked() {
+                    st.selected_light = if sel { None } else { Some(i) };
+                }
+            });
+        }
+    });
+}

@@ -1,0 +1,309 @@
+//! The left panel: its tabs (scene, materials, camera, help; lights in `lights_tab`) and the pixel probe below them.
+
+use super::*;
+use crate::renderer::knobs;
+use crate::renderer::settings::{CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS};
+
+pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    // The pixel inspector stays in view at the bottom while the tabs scroll above it, when the
+    // panel is tall enough for both; in a short window it scrolls with the tab instead of
+    // being drawn over it.
+    let pinned = ui.available_height() >= PIXEL_PANEL + MIN_TAB_HEIGHT;
+    if pinned {
+        egui::Panel::bottom("pixel").resizable(false).exact_size(PIXEL_PANEL).show(ui, |ui| pixel_panel(ui, f));
+    }
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 2.0;
+        // Help has its own button in the top bar (F1).
+        for t in Tab::ALL.into_iter().filter(|t| *t != Tab::Help) {
+            ui.selectable_value(&mut st.tab, t, t.name());
+        }
+    });
+    ui.separator();
+    egui::ScrollArea::vertical().id_salt("left-scroll").auto_shrink([false, false]).show(ui, |ui| {
+        match st.tab {
+            Tab::Scene => scene_tab(ui, st, f),
+            Tab::Lights => lights_tab(ui, st, f, out),
+            Tab::Materials => materials_tab(ui, st, f, out),
+            Tab::Camera => camera_tab(ui, st, f, out),
+            Tab::Help => help_tab(ui),
+        }
+        if !pinned {
+            ui.separator();
+            pixel_panel(ui, f);
+        }
+    });
+}
+
+
+pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    egui::Grid::new("scene-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("lights");
+        if st.scene == "demo" {
+            let mut n = st.lights.unwrap_or(1024);
+            let r = ui
+                .add(egui::DragValue::new(&mut n).range(0..=MAX_LIGHTS).speed(4.0))
+                .on_hover_text("point lights in the demo (0..100000)");
+            if r.changed() {
+                st.lights = Some(n);
+            }
+        } else {
+            ui.label(format!("{} (fixed)", f.scene.map_or(0, |s| s.lights.len())));
+        }
+        ui.end_row();
+        ui.label("animate");
+        ui.checkbox(&mut st.animate, "lights move (Space)");
+        ui.end_row();
+        ui.label("time");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).max_decimals(2).suffix(" s"));
+            ui.add(egui::DragValue::new(&mut st.time_speed).range(-100.0..=100.0).speed(0.05).prefix("x"));
+        });
+        ui.end_row();
+        ui.label("resolution");
+        ui.add(egui::Slider::new(&mut st.resolution_scale, MIN_SCALE..=MAX_SCALE).fixed_decimals(2))
+            .on_hover_text("share of the viewport's pixels the scene renders at");
+        ui.end_row();
+        ui.label("exposure");
+        let (lo, hi) = knobs::EXPOSURE_RANGE;
+        ui.add(egui::Slider::new(&mut st.settings.exposure, lo as f32..=hi as f32).logarithmic(true));
+        ui.end_row();
+        ui.label("radius x");
+        ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true))
+            .on_hover_text("every light's radius");
+        ui.end_row();
+        ui.label("intensity x");
+        ui.add(egui::Slider::new(&mut st.intensity_scale, 0.0..=20.0)).on_hover_text("every light's intensity");
+        ui.end_row();
+        ui.label("depth");
+        egui::ComboBox::from_id_salt("depth-format").selected_text(st.settings.depth_format.name()).show_ui(ui, |ui| {
+            for d in crate::renderer::DepthFormat::ALL {
+                ui.selectable_value(&mut st.settings.depth_format, d, d.name());
+            }
+        });
+        ui.end_row();
+        ui.label("light cut-off");
+        // The range is open at 1 (a cut-off of 1 would remove the light).
+        let (lo, hi) = knobs::LIGHT_CUTOFF_RANGE;
+        ui.add(egui::Slider::new(&mut st.settings.light_cutoff, lo as f32..=hi as f32 - 1e-3).logarithmic(true).fixed_decimals(4))
+            .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
+        ui.end_row();
+        ui.label("sphere / cone");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut st.settings.sphere_subdivisions).range(0..=MAX_SPHERE_SUBDIVISIONS).prefix("subdiv "));
+            ui.add(egui::DragValue::new(&mut st.settings.cone_sides).range(CONE_SIDES_RANGE).suffix(" sides"));
+        })
+        .response
+        .on_hover_text("tessellation of the light volumes");
+        ui.end_row();
+        ui.label("accumulation");
+        egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(
+            ui,
+            |ui| {
+                for a in AccumFormat::ALL {
+                    ui.selectable_value(&mut st.settings.accumulation, a, a.name());
+                }
+            },
+        );
+        ui.end_row();
+        ui.label("G-buffer");
+        egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
+            for l in LayoutChoice::ALL {
+                ui.selectable_value(&mut st.settings.layout, l, l.name());
+            }
+        });
+        ui.end_row();
+    });
+    ui.separator();
+    ui.label(RichText::new("Ambient and sun").strong());
+    if let Some(scene) = f.scene {
+        ambient_and_sun(ui, st, scene);
+    }
+}
+
+/// Ambient colour, the sun on or off, its colour, intensity and direction.
+fn ambient_and_sun(ui: &mut egui::Ui, st: &mut UiState, scene: &Scene) {
+    egui::Grid::new("sun-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("ambient");
+        let mut a = st.ambient.unwrap_or(scene.ambient).to_array();
+        if ui.color_edit_button_rgb(&mut a).changed() {
+            st.ambient = Some(Vec3::from(a));
+        }
+        ui.end_row();
+        let mut sun = st.sun.unwrap_or(scene.sun);
+        let mut on = sun.is_some();
+        ui.label("sun");
+        if ui.checkbox(&mut on, "on").changed() {
+            sun = on.then(Sun::default_sun);
+            st.sun = Some(sun);
+        }
+        ui.end_row();
+        if let Some(mut s) = sun {
+            // Only what a widget reports as changed is written back: widgets round values
+            // (colour pickers, degrees), and merely showing them must not create an edit.
+            let mut changed = false;
+            ui.label("colour");
+            let mut c = s.color.to_array();
+            if ui.color_edit_button_rgb(&mut c).changed() {
+                s.color = Vec3::from(c);
+                changed = true;
+            }
+            ui.end_row();
+            ui.label("intensity");
+            changed |= ui.add(egui::DragValue::new(&mut s.intensity).range(0.0..=100.0).speed(0.01)).changed();
+            ui.end_row();
+            // Direction as azimuth / elevation of the direction the light comes from.
+            let d = -s.direction.normalize_or(Vec3::NEG_Y);
+            let mut elev = d.y.clamp(-1.0, 1.0).asin().to_degrees();
+            let mut azim = d.z.atan2(d.x).to_degrees();
+            ui.label("elevation");
+            let e = ui.add(egui::DragValue::new(&mut elev).range(1.0..=90.0).suffix("°"));
+            ui.end_row();
+            ui.label("azimuth");
+            let z = ui.add(egui::DragValue::new(&mut azim).range(-180.0..=180.0).suffix("°"));
+            ui.end_row();
+            if e.changed() || z.changed() {
+                let (el, az) = (elev.to_radians(), azim.to_radians());
+                s.direction = -Vec3::new(el.cos() * az.cos(), el.sin(), el.cos() * az.sin());
+                changed = true;
+            }
+            if changed {
+                st.sun = Some(Some(s));
+            }
+        }
+    });
+}
+
+pub(super) fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else { return };
+    let n = scene.materials.len();
+    if n == 0 {
+        ui.label("the scene has no materials");
+        return;
+    }
+    st.material_index = st.material_index.min(n - 1);
+    ui.horizontal(|ui| {
+        ui.label("material");
+        ui.add(egui::DragValue::new(&mut st.material_index).range(0..=n - 1));
+        ui.label(format!("of {n}"));
+    });
+    let k = st.material_index;
+    let mut m = scene.materials[k];
+    let mut changed = false;
+    egui::Grid::new("material").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("diffuse");
+        let mut c = m.diffuse.to_array();
+        if ui.color_edit_button_rgb(&mut c).changed() {
+            m.diffuse = Vec3::from(c);
+            changed = true;
+        }
+        ui.end_row();
+        ui.label("specular level");
+        changed |= ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=1.0)).changed();
+        ui.end_row();
+        ui.label("specular exponent");
+        changed |= ui.add(egui::Slider::new(&mut m.specular_exponent, 1.0..=2048.0).logarithmic(true)).changed();
+        ui.end_row();
+        ui.label("emissive");
+        let mut e = m.emissive.to_array();
+        if ui.color_edit_button_rgb(&mut e).changed() {
+            m.emissive = Vec3::from(e);
+            changed = true;
+        }
+        ui.end_row();
+    });
+    if changed {
+        if m.diffuse.is_finite() && m.emissive.is_finite() && m.emissive.min_element() >= 0.0 {
+            st.material_edits.insert(k, m);
+        } else {
+            reject(out, format!("material {k}: values must be finite and non-negative"));
+        }
+    }
+    if st.material_edits.contains_key(&k) && ui.button("reset material").clicked() {
+        st.material_edits.remove(&k);
+    }
+}
+
+pub(super) fn camera_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    let Some(scene) = f.scene else { return };
+    if !scene.viewpoints.is_empty() {
+        // The file's cameras, and a view that frames the whole scene.
+        ui.horizontal_wrapped(|ui| {
+            ui.label("viewpoints");
+            for (name, camera) in &scene.viewpoints {
+                if ui.button(name).clicked() {
+                    st.camera = Some(*camera);
+                }
+            }
+        });
+    }
+    let before = scene.camera;
+    let mut c = before;
+    let mut yaw = c.yaw.to_degrees();
+    let mut pitch = c.pitch.to_degrees();
+    let mut fov = c.fov_y.to_degrees();
+    egui::Grid::new("camera").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("position");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut c.position.x).speed(0.1).max_decimals(2));
+            ui.add(egui::DragValue::new(&mut c.position.y).speed(0.1).max_decimals(2));
+            ui.add(egui::DragValue::new(&mut c.position.z).speed(0.1).max_decimals(2));
+        });
+        ui.end_row();
+        ui.label("yaw");
+        ui.add(egui::DragValue::new(&mut yaw).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("pitch");
+        ui.add(egui::DragValue::new(&mut pitch).range(-89.0..=89.0).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("field of view");
+        ui.add(egui::DragValue::new(&mut fov).range(5.0..=170.0).speed(0.5).suffix("°").max_decimals(1));
+        ui.end_row();
+        ui.label("near / far");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut c.near).range(0.001..=1000.0).speed(0.01));
+            ui.add(egui::DragValue::new(&mut c.far).range(0.01..=100_000.0).speed(1.0));
+        });
+        ui.end_row();
+        ui.label("speed");
+        ui.add(egui::DragValue::new(&mut st.move_speed).range(0.01..=1000.0).speed(0.1).suffix(" /s"));
+        ui.end_row();
+    });
+    if yaw != before.yaw.to_degrees() {
+        c.yaw = yaw.to_radians();
+    }
+    if pitch != before.pitch.to_degrees() {
+        c.pitch = pitch.to_radians();
+    }
+    if fov != before.fov_y.to_degrees() {
+        c.fov_y = fov.to_radians();
+    }
+    if c != before {
+        match c.validate() {
+            Ok(()) => st.camera = Some(c),
+            Err(e) => reject(out, format!("camera: {e}")),
+        }
+    }
+    if ui.button("reset camera").clicked() {
+        out.commands.push(Command::ResetCamera);
+    }
+}
+
+pub(super) fn help_tab(ui: &mut egui::Ui) {
+    ui.label(RichText::new("Controls").strong());
+    egui::Grid::new("help").num_columns(2).striped(true).show(ui, |ui| {
+        for (k, what) in camera::BINDINGS {
+            ui.label(RichText::new(*k).strong());
+            ui.label(*what);
+            ui.end_row();
+        }
+    });
+    ui.separator();
+    ui.label(RichText::new("Views").strong());
+    ui.label("Click a G-buffer thumbnail to show it full size; click 'lit' to return.");
+    ui.label("Stencil view (seed 000): blue passed Z when marking, red passed Z when shading, green was lit.");
+    ui.label("Complexity: how many lights shaded each pixel.");
+    ui.separator();
+    ui.label(RichText::new("Scripts").strong());
+    ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");
+}

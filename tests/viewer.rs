@@ -545,7 +545,6 @@ fn a_gltf_file_loads_in_the_window_and_a_bad_one_keeps_the_scene() {
 #[test]
 fn every_scene_layout_view_and_option_renders() {
     need_display!();
-    use lampshade::app::state::{layout_name, view_name};
     use lampshade::renderer::{DebugView, LayoutChoice};
     let dir = out_dir("everything");
     let mut lines = vec!["1 wireframes all".to_string(), "1 hover 0.5 0.6".to_string()];
@@ -555,11 +554,11 @@ fn every_scene_layout_view_and_option_renders() {
         frame += 1;
     };
     for l in LayoutChoice::ALL {
-        at(format!("layout {}", layout_name(l)));
+        at(format!("layout {}", l.name()));
     }
     at("layout compact".into());
     for v in DebugView::ALL {
-        at(format!("view {}", view_name(v)));
+        at(format!("view {}", v.name()));
     }
     at("view lit".into());
     for opt in [

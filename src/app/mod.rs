@@ -7,6 +7,7 @@
 //! reach the renderer on the next frame.
 
 pub mod camera;
+pub mod loading;
 mod frame;
 pub mod gfx;
 pub mod persist;
@@ -20,7 +21,8 @@ use crate::Gpu;
 use anyhow::{anyhow, Context, Result};
 use gfx::{Image, Surface};
 use script::{Action, Script};
-use state::{SceneCache, UiState};
+use loading::SceneCache;
+use state::UiState;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -75,7 +75,7 @@ pub struct FrameInfo<'a> {
     /// Per-light volume wireframes, in viewport pixels: (light, segments).
     pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
     /// A glTF file loading in the background.
-    pub loading: Option<state::LoadProgress>,
+    pub loading: Option<super::loading::LoadProgress>,
 }
 
 #[derive(Clone, Debug)]

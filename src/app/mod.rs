@@ -7,9 +7,9 @@
 //! reach the renderer on the next frame.
 
 pub mod camera;
-pub mod loading;
 mod frame;
 pub mod gfx;
+pub mod loading;
 pub mod persist;
 pub mod script;
 pub mod state;
@@ -20,8 +20,8 @@ use crate::scene::Scene;
 use crate::Gpu;
 use anyhow::{anyhow, Context, Result};
 use gfx::{Image, Surface};
-use script::{Action, Script};
 use loading::SceneCache;
+use script::{Action, Script};
 use state::UiState;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};

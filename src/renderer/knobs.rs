@@ -18,12 +18,26 @@ use super::settings::{
 pub enum Values {
     /// One of the names of a `ValueEnum`.
     Choice(fn() -> Vec<String>),
-    /// A finite number in `min ..= max` (`min ..< max` when `open_max`).
-    Float { min: f64, max: f64, open_max: bool },
+    /// A finite number between `min` and `max`, each end excluded when `open` says so; the
+    /// viewer's slider spans `slider`, the part of the range a user moves through.
+    Float { min: f64, max: f64, open: (bool, bool), slider: (f64, f64) },
     /// A whole number in `min ..= max`.
     Whole { min: u32, max: u32 },
     /// on / off (also true/false, 1/0, yes/no).
     Switch,
+}
+
+impl Values {
+    /// The range in words: `0 ..< 1`, `3 ..= 64`, `0 <.. 1000000` (`<` marks an excluded end).
+    pub fn describe(&self) -> String {
+        match *self {
+            Values::Float { min, max, open, .. } => {
+                format!("{min} {}..{} {max}", if open.0 { "<" } else { "" }, if open.1 { "<" } else { "=" })
+            }
+            Values::Whole { min, max } => format!("{min} ..= {max}"),
+            Values::Choice(_) | Values::Switch => String::new(),
+        }
+    }
 }
 
 /// One knob: its name (CLI flag, script `set` name; the settings file's key is the same name in
@@ -72,11 +86,6 @@ fn number(v: &str) -> Result<f64, String> {
 fn whole(v: &str) -> Result<u32, String> {
     v.trim().parse().map_err(|_| format!("'{v}' is not a whole number"))
 }
-
-/// Smallest and largest exposure (a factor on the lit picture before tonemapping).
-pub const EXPOSURE_RANGE: (f64, f64) = (0.01, 100.0);
-/// Light cut-off thresholds: 0 (exact radius) ..< 1.
-pub const LIGHT_CUTOFF_RANGE: (f64, f64) = (0.0, 1.0);
 
 /// Every knob, in the order `--help` and the script documentation list them.
 pub const KNOBS: &[Knob] = &[
@@ -129,7 +138,8 @@ pub const KNOBS: &[Knob] = &[
         name: "light-cutoff",
         what: "light cut-off",
         help: "Cut lights off where they fall below this fraction of their peak (0 = exact radius)",
-        values: Values::Float { min: LIGHT_CUTOFF_RANGE.0, max: LIGHT_CUTOFF_RANGE.1, open_max: true },
+        // 1 would remove the light; the slider covers cut-offs up to a quarter of the peak.
+        values: Values::Float { min: 0.0, max: 1.0, open: (false, true), slider: (0.0, 0.25) },
         cli: true,
         get: |s| s.light_cutoff.to_string(),
         put: |s, v| Ok(s.light_cutoff = number(v)? as f32),
@@ -156,7 +166,7 @@ pub const KNOBS: &[Knob] = &[
         name: "exposure",
         what: "exposure",
         help: "Exposure: a factor on the lit picture before tonemapping",
-        values: Values::Float { min: EXPOSURE_RANGE.0, max: EXPOSURE_RANGE.1, open_max: false },
+        values: Values::Float { min: 0.0, max: 1e6, open: (true, true), slider: (0.05, 16.0) },
         cli: true,
         get: |s| s.exposure.to_string(),
         put: |s, v| Ok(s.exposure = number(v)? as f32),
@@ -227,12 +237,12 @@ impl Knob {
         let value = (self.get)(s);
         let bad = |why: String| Err(format!("{} {value} {why}", self.what));
         match self.values {
-            Values::Float { min, max, open_max } => {
+            Values::Float { min, max, open, .. } => {
                 let x: f64 = value.parse().unwrap_or(f64::NAN);
-                let inside = x.is_finite() && x >= min && if open_max { x < max } else { x <= max };
-                if !inside {
-                    let to = if open_max { "..<" } else { "..=" };
-                    return bad(format!("must be a finite number in {min} {to} {max}"));
+                let above = if open.0 { x > min } else { x >= min };
+                let below = if open.1 { x < max } else { x <= max };
+                if !(x.is_finite() && above && below) {
+                    return bad(format!("must be a finite number in {}", self.values.describe()));
                 }
             }
             Values::Whole { min, max } => {
@@ -246,10 +256,10 @@ impl Knob {
         Ok(())
     }
 
-    /// The float range, for sliders (`None` for other kinds).
-    pub fn float_range(&self) -> Option<std::ops::RangeInclusive<f64>> {
+    /// The viewer's slider span (`None` for other kinds).
+    pub fn slider(&self) -> Option<std::ops::RangeInclusive<f32>> {
         match self.values {
-            Values::Float { min, max, open_max } => Some(min..=if open_max { max - 1e-3 } else { max }),
+            Values::Float { slider, .. } => Some(slider.0 as f32..=slider.1 as f32),
             _ => None,
         }
     }
@@ -329,8 +339,7 @@ impl clap::Args for KnobArgs {
             // aliases (`d32s8`) parse too; the help lists the one names and the ranges.
             let values = match k.values {
                 Values::Choice(_) | Values::Switch => format!("one of {}", k.names().join(", ")),
-                Values::Float { min, max, open_max } => format!("{min} {} {max}", if open_max { "..<" } else { "..=" }),
-                Values::Whole { min, max } => format!("{min} ..= {max}"),
+                _ => k.values.describe(),
             };
             let arg = clap::Arg::new(k.name).long(k.name).value_name("VALUE").help(format!("{} [{values}]", k.help));
             cmd = cmd.arg(arg);
@@ -369,6 +378,7 @@ mod tests {
         assert!(s.set("cone-sides", "2").unwrap_err().contains("cone sides 2 must be between 3 and 64"));
         assert!(s.set("sphere-subdivisions", "5").is_err());
         assert!(s.set("exposure", "0").is_err());
+        s.set("exposure", "999999").unwrap();
         s.set("depth-format", "d24s8").unwrap();
         assert_eq!(s.depth_format, DepthFormat::Depth24PlusStencil8);
     }

@@ -21,10 +21,10 @@ mod tabs;
 mod top_bar;
 mod viewport;
 
-pub use figures::{History, Sample};
-pub use gbuffer_strip::{thumbs, Thumb};
 use figures::right_panel;
+pub use figures::{History, Sample};
 use gbuffer_strip::gbuffer_strip;
+pub use gbuffer_strip::{thumbs, Thumb};
 use lights_tab::lights_tab;
 use probe::pixel_panel;
 use tabs::left_panel;

@@ -35,7 +35,6 @@ pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
     });
 }
 
-
 pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     egui::Grid::new("scene-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         ui.label("lights");
@@ -65,8 +64,7 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             .on_hover_text("share of the viewport's pixels the scene renders at");
         ui.end_row();
         ui.label("exposure");
-        let (lo, hi) = knobs::EXPOSURE_RANGE;
-        ui.add(egui::Slider::new(&mut st.settings.exposure, lo as f32..=hi as f32).logarithmic(true));
+        ui.add(egui::Slider::new(&mut st.settings.exposure, slider("exposure")).logarithmic(true));
         ui.end_row();
         ui.label("radius x");
         ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true))
@@ -83,28 +81,27 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         });
         ui.end_row();
         ui.label("light cut-off");
-        // The range is open at 1 (a cut-off of 1 would remove the light).
-        let (lo, hi) = knobs::LIGHT_CUTOFF_RANGE;
-        ui.add(egui::Slider::new(&mut st.settings.light_cutoff, lo as f32..=hi as f32 - 1e-3).logarithmic(true).fixed_decimals(4))
+        ui.add(egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff")).fixed_decimals(4))
             .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
         ui.end_row();
         ui.label("sphere / cone");
         ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut st.settings.sphere_subdivisions).range(0..=MAX_SPHERE_SUBDIVISIONS).prefix("subdiv "));
+            ui.add(
+                egui::DragValue::new(&mut st.settings.sphere_subdivisions)
+                    .range(0..=MAX_SPHERE_SUBDIVISIONS)
+                    .prefix("subdiv "),
+            );
             ui.add(egui::DragValue::new(&mut st.settings.cone_sides).range(CONE_SIDES_RANGE).suffix(" sides"));
         })
         .response
         .on_hover_text("tessellation of the light volumes");
         ui.end_row();
         ui.label("accumulation");
-        egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(
-            ui,
-            |ui| {
-                for a in AccumFormat::ALL {
-                    ui.selectable_value(&mut st.settings.accumulation, a, a.name());
-                }
-            },
-        );
+        egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(ui, |ui| {
+            for a in AccumFormat::ALL {
+                ui.selectable_value(&mut st.settings.accumulation, a, a.name());
+            }
+        });
         ui.end_row();
         ui.label("G-buffer");
         egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
@@ -306,4 +303,20 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
     ui.separator();
     ui.label(RichText::new("Scripts").strong());
     ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");
+}
+
+/// The slider span of knob `name` from the knob table.
+fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
+    // The names are this file's literals; `every_slider_knob_has_a_span` checks them.
+    knobs::find(name).and_then(|k| k.slider()).unwrap_or(0.0..=1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_slider_knob_has_a_span() {
+        for name in ["exposure", "light-cutoff"] {
+            assert!(super::knobs::find(name).and_then(|k| k.slider()).is_some(), "{name}");
+        }
+    }
 }

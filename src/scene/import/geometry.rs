@@ -1,0 +1,298 @@
+//! A glTF primitive into a `Mesh`, in three steps: read and check its attributes, turn its
+//! indices into triangles (strips and fans too, zero-area ones dropped, mirrored ones turned),
+//! then build the vertices (flat normals without NORMAL, broken normals replaced, MikkTSpace
+//! tangents when a normal map needs them and the file has none).
+
+use super::*;
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+
+/// A primitive's vertex attributes, read and checked: every present one has `positions.len()`
+/// elements, and every position is finite.
+struct Attributes {
+    positions: Vec<[f32; 3]>,
+    normals: Option<Vec<[f32; 3]>>,
+    tangents: Option<Vec<[f32; 4]>>,
+    uvs: Option<Vec<[f32; 2]>>,
+}
+
+impl Importer<'_> {
+    /// The primitive's mesh and whether it has texture coordinates, or `None` (with a warning)
+    /// when it draws nothing: a point or line primitive, or no triangle with area.
+    pub(super) fn primitive(&mut self, prim: &gltf::Primitive<'_>, mirrored: bool) -> Result<Option<(Mesh, bool)>> {
+        let mode = prim.mode();
+        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            self.stats.skipped_primitives += 1;
+            self.warnings.push(format!("a primitive of mode {mode:?} is skipped: only triangles are drawn"));
+            return Ok(None);
+        }
+        let attributes = self.attributes(prim)?;
+        let Some(tris) = self.triangles(prim, &attributes.positions, mirrored)? else { return Ok(None) };
+        let wants_normal_map = prim.material().normal_texture().is_some();
+        let has_uv = attributes.uvs.is_some();
+        if wants_normal_map && !has_uv {
+            self.warnings.push(format!("{}: a normal map without TEXCOORD_0 is ignored", prim_label(prim)));
+        }
+        let mut mesh = self.vertices(prim, &attributes, &tris, mirrored);
+        let tangents_missing = mesh.vertices.iter().any(|v| v.tangent[3] == 0.0);
+        if wants_normal_map && has_uv && tangents_missing {
+            generate_tangents(&mut mesh);
+        }
+        Ok(Some((mesh, has_uv)))
+    }
+
+    /// Reads POSITION, NORMAL, TANGENT and TEXCOORD_0, checking their types, their counts
+    /// against POSITION's, that they can be read in full, and the load's element budget.
+    fn attributes(&mut self, prim: &gltf::Primitive<'_>) -> Result<Attributes> {
+        let check =
+            |sem: &gltf::Semantic, what: &str, dims: &[Dimensions], types: &[DataType]| -> Result<Option<usize>> {
+                let Some(acc) = prim.get(sem) else { return Ok(None) };
+                if !dims.contains(&acc.dimensions()) || !types.contains(&acc.data_type()) {
+                    bail!(
+                        "{what} accessor {} is {:?} {:?}, which glTF does not allow",
+                        acc.index(),
+                        acc.dimensions(),
+                        acc.data_type()
+                    );
+                }
+                if acc.view().is_none() && acc.sparse().is_none() {
+                    bail!("{what} accessor {} has no data (no buffer view)", acc.index());
+                }
+                Ok(Some(acc.count()))
+            };
+        let f32_only = [DataType::F32];
+        let Some(n) = check(&gltf::Semantic::Positions, "POSITION", &[Dimensions::Vec3], &f32_only)? else {
+            bail!("it has no POSITION attribute");
+        };
+        self.decoded = self.decoded.saturating_add(n).saturating_add(prim.indices().map_or(0, |a| a.count()));
+        if self.decoded > self.options.max_elements {
+            bail!("the primitives add up to more than {} vertices and indices", self.options.max_elements);
+        }
+        let n_normals = check(&gltf::Semantic::Normals, "NORMAL", &[Dimensions::Vec3], &f32_only)?;
+        let n_tangents = check(&gltf::Semantic::Tangents, "TANGENT", &[Dimensions::Vec4], &f32_only)?;
+        let n_uv = check(
+            &gltf::Semantic::TexCoords(0),
+            "TEXCOORD_0",
+            &[Dimensions::Vec2],
+            &[DataType::F32, DataType::U8, DataType::U16],
+        )?;
+        for (what, count) in [("NORMAL", n_normals), ("TANGENT", n_tangents), ("TEXCOORD_0", n_uv)] {
+            if let Some(c) = count {
+                if c != n {
+                    bail!("{what} has {c} elements but POSITION has {n}: the accessor counts disagree");
+                }
+            }
+        }
+        let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
+        let positions: Vec<[f32; 3]> =
+            reader.read_positions().ok_or_else(|| anyhow!("POSITION cannot be read"))?.collect();
+        if positions.len() != n {
+            bail!("POSITION yields {} of its {n} elements", positions.len());
+        }
+        if let Some(i) = positions.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
+            bail!("vertex {i} has a non-finite position {:?}", positions[i]);
+        }
+        let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
+        let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|it| it.collect());
+        let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+        for (what, len) in [
+            ("NORMAL", normals.as_ref().map(|v| v.len())),
+            ("TANGENT", tangents.as_ref().map(|v| v.len())),
+            ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),
+        ] {
+            if len.is_some_and(|l| l != n) {
+                bail!("{what} cannot be read in full");
+            }
+        }
+        if n_normals.is_some() && normals.is_none() || n_uv.is_some() && uvs.is_none() {
+            bail!("an attribute's data cannot be read");
+        }
+        Ok(Attributes { positions, normals, tangents, uvs })
+    }
+
+    /// The primitive's indices (checked against the vertex count) as triangles, without the
+    /// zero-area ones, wound front-facing under a mirroring transform; `None` (with a warning)
+    /// when no triangle has area.
+    fn triangles(
+        &mut self,
+        prim: &gltf::Primitive<'_>,
+        positions: &[[f32; 3]],
+        mirrored: bool,
+    ) -> Result<Option<Vec<[u32; 3]>>> {
+        let n = positions.len();
+        let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
+        let raw_indices: Vec<u32> = match prim.indices() {
+            Some(acc) => {
+                if acc.dimensions() != Dimensions::Scalar
+                    || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+                {
+                    bail!(
+                        "index accessor {} is {:?} {:?}; indices must be unsigned scalars",
+                        acc.index(),
+                        acc.dimensions(),
+                        acc.data_type()
+                    );
+                }
+                let idx: Vec<u32> = reader
+                    .read_indices()
+                    .ok_or_else(|| anyhow!("index accessor {} cannot be read", acc.index()))?
+                    .into_u32()
+                    .collect();
+                if idx.len() != acc.count() {
+                    bail!("index accessor {} yields {} of its {} elements", acc.index(), idx.len(), acc.count());
+                }
+                if let Some((k, &bad)) = idx.iter().enumerate().find(|(_, &i)| i as usize >= n) {
+                    bail!("index {k} is {bad}, out of range for {n} vertices");
+                }
+                idx
+            }
+            None => (0..n as u32).collect(),
+        };
+        let mode = prim.mode();
+        let mut tris: Vec<[u32; 3]> = match mode {
+            Mode::Triangles => raw_indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+            Mode::TriangleStrip => (2..raw_indices.len())
+                .map(|i| {
+                    let (a, b, c) = (raw_indices[i - 2], raw_indices[i - 1], raw_indices[i]);
+                    if i % 2 == 0 {
+                        [a, b, c]
+                    } else {
+                        [b, a, c]
+                    }
+                })
+                .collect(),
+            _ => (2..raw_indices.len()).map(|i| [raw_indices[0], raw_indices[i - 1], raw_indices[i]]).collect(),
+        };
+        if mode == Mode::Triangles && !raw_indices.len().is_multiple_of(3) {
+            self.warnings
+                .push(format!("{} trailing indices do not make a triangle and are ignored", raw_indices.len() % 3));
+        }
+        // Zero-area triangles draw nothing and break normal and tangent generation.
+        let before = tris.len();
+        tris.retain(|t| {
+            let p = t.map(|i| glam::Vec3::from(positions[i as usize]).as_dvec3());
+            let c = (p[1] - p[0]).cross(p[2] - p[0]);
+            let scale = (p[1] - p[0]).length_squared().max((p[2] - p[0]).length_squared());
+            c.length_squared() > 1e-24 * scale * scale && c.is_finite()
+        });
+        self.stats.dropped_triangles += before - tris.len();
+        if tris.is_empty() {
+            self.warnings.push("a primitive has no triangles with area and is skipped".into());
+            return Ok(None);
+        }
+        if mirrored {
+            // A mirroring transform turns counter-clockwise into clockwise: swap to keep the
+            // front faces in front for back-face culling.
+            for t in &mut tris {
+                t.swap(1, 2);
+            }
+        }
+        Ok(Some(tris))
+    }
+
+    /// The mesh's vertices and indices: flat-shaded without normals (glTF's rule), else the
+    /// file's normals with unusable ones replaced by their faces' normal, and its tangents.
+    fn vertices(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes, tris: &[[u32; 3]], mirrored: bool) -> Mesh {
+        let positions = &a.positions;
+        let n = positions.len();
+        let mut mesh = Mesh { name: prim_label(prim), ..Default::default() };
+        let uv_at = |i: usize| {
+            a.uvs.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] })
+        };
+        let Some(normals) = &a.normals else {
+            // glTF: without normals, flat shading. Each triangle gets its own vertices.
+            for t in tris {
+                let p = t.map(|i| glam::Vec3::from(positions[i as usize]));
+                let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                let n = if mirrored { -n } else { n };
+                let base = mesh.vertices.len() as u32;
+                for &i in t {
+                    mesh.vertices.push(Vertex::new(positions[i as usize], n.into(), uv_at(i as usize)));
+                }
+                mesh.indices.extend([base, base + 1, base + 2]);
+            }
+            return mesh;
+        };
+        let mut fixed: Vec<Vec3> = normals.iter().map(|n| Vec3::from(*n)).collect();
+        let broken: Vec<bool> = fixed.iter().map(|n| !n.is_finite() || n.length_squared() < 1e-12).collect();
+        if broken.iter().any(|&b| b) {
+            // Replace unusable normals with the area-weighted normal of their faces.
+            let mut acc = vec![Vec3::ZERO; n];
+            for t in tris {
+                let p = t.map(|i| glam::Vec3::from(positions[i as usize]));
+                let fnorm = (p[1] - p[0]).cross(p[2] - p[0]);
+                let fnorm = if mirrored { -fnorm } else { fnorm };
+                for &i in t {
+                    acc[i as usize] += fnorm;
+                }
+            }
+            let mut bad = 0;
+            for i in 0..n {
+                if broken[i] {
+                    fixed[i] = acc[i].normalize_or(Vec3::Y);
+                    bad += 1;
+                }
+            }
+            self.warnings.push(format!(
+                "{}: {bad} normal(s) are zero or not finite; replaced by the faces' normal",
+                prim_label(prim)
+            ));
+        }
+        for i in 0..n {
+            let mut v = Vertex::new(positions[i], fixed[i].normalize().into(), uv_at(i));
+            if let Some(t) = &a.tangents {
+                let t = glam::Vec4::from(t[i]);
+                if t.is_finite() && t.truncate().length_squared() > 1e-12 {
+                    v.tangent = [t.x, t.y, t.z, if t.w < 0.0 { -1.0 } else { 1.0 }];
+                }
+            }
+            mesh.vertices.push(v);
+        }
+        mesh.indices = tris.iter().flatten().copied().collect();
+        mesh
+    }
+}
+
+fn prim_label(prim: &gltf::Primitive<'_>) -> String {
+    format!("primitive {}", prim.index())
+}
+
+/// MikkTSpace tangents (what glTF's normal maps are baked against), written per vertex.
+fn generate_tangents(mesh: &mut Mesh) {
+    struct Geo<'a>(&'a mut Mesh);
+    impl bevy_mikktspace::Geometry for Geo<'_> {
+        fn num_faces(&self) -> usize {
+            self.0.indices.len() / 3
+        }
+        fn num_vertices_of_face(&self, _face: usize) -> usize {
+            3
+        }
+        fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+            self.0.vertices[self.0.indices[face * 3 + vert] as usize].position
+        }
+        fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+            self.0.vertices[self.0.indices[face * 3 + vert] as usize].normal
+        }
+        fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+            self.0.vertices[self.0.indices[face * 3 + vert] as usize].uv
+        }
+        fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, face: usize, vert: usize) {
+            let i = self.0.indices[face * 3 + vert] as usize;
+            let t = t.unwrap_or_default().tangent_encoded();
+            if t.iter().all(|v| v.is_finite()) {
+                self.0.vertices[i].tangent = t;
+            }
+        }
+    }
+    if bevy_mikktspace::generate_tangents(&mut Geo(mesh)).is_err() {
+        log::warn!("tangent generation failed for {}", mesh.name);
+    }
+    // Anything still without a tangent gets one perpendicular to its normal.
+    for v in &mut mesh.vertices {
+        if v.tangent[3] == 0.0 {
+            let n = Vec3::from(v.normal);
+            let t = n.any_orthonormal_vector();
+            v.tangent = [t.x, t.y, t.z, 1.0];
+        }
+    }
+}

@@ -1,0 +1,232 @@
+//! Materials and their textures: images decoded once per role (colour or data) on all cores,
+//! with size limits and a visible fallback; glTF's metallic-roughness materials mapped to the
+//! renderer's Blinn-Phong (`Material::blinn_phong_from_pbr`).
+
+use super::*;
+
+impl Importer<'_> {
+    /// Decodes every image a material uses, in the roles it is used in, on all cores.
+    pub(super) fn textures(&mut self, progress: &mut dyn FnMut(Progress<'_>)) -> Result<()> {
+        let mut wanted: Vec<(usize, Role)> = Vec::new();
+        for m in self.doc.materials() {
+            let pbr = m.pbr_metallic_roughness();
+            let mut want = |t: Option<gltf::Texture<'_>>, role| {
+                if let Some(t) = t {
+                    let key = (t.source().index(), role);
+                    if !wanted.contains(&key) {
+                        wanted.push(key);
+                    }
+                }
+            };
+            want(pbr.base_color_texture().map(|i| i.texture()), Role::Color);
+            want(m.emissive_texture().map(|i| i.texture()), Role::Color);
+            want(m.normal_texture().map(|i| i.texture()), Role::Data);
+            want(pbr.metallic_roughness_texture().map(|i| i.texture()), Role::Data);
+        }
+        let total = wanted.len();
+        progress(Progress { stage: "textures", done: 0, total });
+        // Encoded bytes first (sequential: they may come from the buffers or from files).
+        let mut encoded: Vec<Result<Vec<u8>>> = Vec::with_capacity(total);
+        for &(image, _) in &wanted {
+            encoded.push(self.image_bytes(image));
+        }
+        let max = self.options.max_texture_size.max(1);
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).clamp(1, 8);
+        let mut decoded: Vec<Option<Result<Texture>>> = (0..total).map(|_| None).collect();
+        let done = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            let chunks: Vec<_> = decoded.chunks_mut(total.div_ceil(threads).max(1)).collect();
+            let mut start = 0;
+            let mut handles = Vec::new();
+            for chunk in chunks {
+                let first = start;
+                start += chunk.len();
+                let (wanted, encoded, done) = (&wanted, &encoded, &done);
+                handles.push(s.spawn(move || {
+                    for (k, slot) in chunk.iter_mut().enumerate() {
+                        let i = first + k;
+                        let (image, role) = wanted[i];
+                        *slot = Some(match &encoded[i] {
+                            Ok(bytes) => decode_image(bytes, max).map(|mut t| {
+                                t.srgb = role == Role::Color;
+                                t.name = format!("image {image}");
+                                t
+                            }),
+                            Err(e) => Err(anyhow!("{e:#}")),
+                        });
+                        done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    }
+                }));
+            }
+            // Report progress from this thread while the workers run.
+            loop {
+                let n = done.load(std::sync::atomic::Ordering::Relaxed);
+                progress(Progress { stage: "textures", done: n, total });
+                if handles.iter().all(|h| h.is_finished()) {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+        });
+        for (i, ((image, role), result)) in wanted.iter().zip(decoded).enumerate() {
+            let name = self.doc.images().nth(*image).and_then(|im| im.name().map(String::from));
+            let label = name.unwrap_or_else(|| format!("image {image}"));
+            let texture = match result {
+                Some(Ok(mut t)) => {
+                    t.name = label;
+                    t
+                }
+                Some(Err(e)) => {
+                    self.warnings.push(format!("{label}: {e:#}; shown as a magenta checker"));
+                    Texture::missing(&label, *role == Role::Color)
+                }
+                None => Texture::missing(&label, *role == Role::Color),
+            };
+            self.texture_slots.insert((*image, *role), i);
+            self.scene.textures.push(Arc::new(texture));
+        }
+        progress(Progress { stage: "textures", done: total, total });
+        self.stats.textures = total;
+        Ok(())
+    }
+
+    /// The encoded bytes of an image (from a buffer view, a data URI or a file).
+    pub(super) fn image_bytes(&self, index: usize) -> Result<Vec<u8>> {
+        let Some(image) = self.doc.images().nth(index) else { bail!("image {index} does not exist") };
+        match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                let data = &self.buffers[view.buffer().index()].0;
+                // `check_views` has already put the view inside its buffer.
+                Ok(data[view.offset()..view.offset() + view.length()].to_vec())
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                check_external(self.base, uri)?;
+                gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), self.base)
+                    .map(|d| d.0)
+                    .map_err(|e| anyhow!("cannot load '{}': {e}", short_uri(uri)))
+            }
+        }
+    }
+
+    /// The scene material for a glTF material (None: glTF's default material). `normal_ok` is
+    /// false for primitives without UVs, which cannot use a normal map.
+    pub(super) fn material(&mut self, m: &gltf::Material<'_>, normal_ok: bool) -> usize {
+        let key = (m.index(), normal_ok);
+        if let Some(&k) = self.material_slots.get(&key) {
+            return k;
+        }
+        let label = m.name().map_or_else(|| format!("material {:?}", m.index()), |n| format!("material '{n}'"));
+        let pbr = m.pbr_metallic_roughness();
+        let [r, g, bl, a] = pbr.base_color_factor();
+        let base = Vec3::new(r, g, bl);
+        let mut textures = MaterialTextures::default();
+        let tex = |info: Option<(gltf::Texture<'_>, u32)>, role: Role, what: &str, warnings: &mut Vec<String>| {
+            let (t, set) = info?;
+            if set != 0 {
+                warnings.push(format!("{label}: {what} uses TEXCOORD_{set}; only TEXCOORD_0 is read"));
+            }
+            self.texture_slots.get(&(t.source().index(), role)).copied()
+        };
+        let w = &mut self.warnings;
+        textures.base_color =
+            tex(pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "base colour", w);
+        textures.emissive = tex(m.emissive_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "emissive", w);
+        textures.metallic_roughness = tex(
+            pbr.metallic_roughness_texture().map(|i| (i.texture(), i.tex_coord())),
+            Role::Data,
+            "metallic-roughness",
+            w,
+        );
+        let normal = m.normal_texture();
+        if normal_ok {
+            textures.normal = tex(normal.as_ref().map(|n| (n.texture(), n.tex_coord())), Role::Data, "normal map", w);
+        }
+        for info in [pbr.base_color_texture(), m.emissive_texture(), pbr.metallic_roughness_texture()].iter().flatten()
+        {
+            if info.texture_transform().is_some() {
+                w.push(format!("{label}: KHR_texture_transform is not supported; the texture is drawn untransformed"));
+            }
+        }
+        // KHR_materials_specular / KHR_materials_ior: the dielectric reflectance.
+        let ior = m.ior().unwrap_or(1.5).max(1.0);
+        let mut f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
+        if let Some(spec) = m.specular() {
+            let c = Vec3::from(spec.specular_color_factor());
+            f0 = (f0 * c.max_element()).min(1.0) * spec.specular_factor();
+        }
+        if !f0.is_finite() {
+            f0 = DIELECTRIC_F0;
+        }
+        let metallic = pbr.metallic_factor();
+        let roughness = pbr.roughness_factor();
+        let (diffuse, level, exponent) = if textures.metallic_roughness.is_some() {
+            // Derived per pixel by the shader; keep the factors.
+            (base, f0, 1.0)
+        } else {
+            Material::blinn_phong_from_pbr(base, metallic, roughness, f0)
+        };
+        let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        let alpha_mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: m.alpha_cutoff().unwrap_or(0.5) },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let mut material = Material {
+            diffuse,
+            specular_level: level,
+            specular_exponent: exponent,
+            emissive,
+            alpha: a,
+            alpha_mode,
+            double_sided: m.double_sided(),
+            textures,
+            normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
+            metallic,
+            roughness,
+        };
+        // Values the file controls: keep them finite and in range.
+        let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };
+        material.diffuse =
+            Vec3::new(fix(diffuse.x, 0.0, 1.0, 0.8), fix(diffuse.y, 0.0, 1.0, 0.8), fix(diffuse.z, 0.0, 1.0, 0.8));
+        material.emissive =
+            Vec3::new(fix(emissive.x, 0.0, 1e4, 0.0), fix(emissive.y, 0.0, 1e4, 0.0), fix(emissive.z, 0.0, 1e4, 0.0));
+        material.alpha = fix(a, 0.0, 1.0, 1.0);
+        material.specular_level = fix(level, 0.0, 1.0, DIELECTRIC_F0);
+        material.specular_exponent = fix(exponent, 1.0, 2048.0, 32.0);
+        material.normal_scale = fix(material.normal_scale, -16.0, 16.0, 1.0);
+        material.metallic = fix(metallic, 0.0, 1.0, 0.0);
+        material.roughness = fix(roughness, 0.0, 1.0, 1.0);
+        if let AlphaMode::Mask { cutoff } = material.alpha_mode {
+            material.alpha_mode = AlphaMode::Mask { cutoff: fix(cutoff, 0.0, 1.0, 0.5) };
+        }
+        self.scene.materials.push(material);
+        let k = self.scene.materials.len() - 1;
+        self.material_slots.insert(key, k);
+        k
+    }
+}
+
+/// Decodes an image to RGBA8 with allocation limits, downscaled to at most `max` a side.
+fn decode_image(bytes: &[u8], max: u32) -> Result<Texture> {
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(16384);
+    limits.max_image_height = Some(16384);
+    limits.max_alloc = Some(1 << 30);
+    reader.limits(limits);
+    if reader.format().is_none() {
+        bail!("not a PNG or JPEG image");
+    }
+    let mut img = reader.decode().context("cannot decode the image")?.to_rgba8();
+    let (w, h) = img.dimensions();
+    if w == 0 || h == 0 {
+        bail!("the image is empty");
+    }
+    if w > max || h > max {
+        let s = max as f64 / w.max(h) as f64;
+        let (nw, nh) = (((w as f64 * s) as u32).max(1), ((h as f64 * s) as u32).max(1));
+        img = image::imageops::resize(&img, nw, nh, image::imageops::FilterType::Triangle);
+    }
+    let (width, height) = img.dimensions();
+    Ok(Texture { name: String::new(), width, height, srgb: true, rgba: img.into_raw() })
+}

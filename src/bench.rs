@@ -112,7 +112,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     let q = o.quick;
     let mut v = Vec::new();
     for mode in CullingMode::ALL {
-        v.push(c("culling", mode.name().into(), Settings { culling: mode, ..base.clone() }, o.lights));
+        v.push(c("culling", mode.name(), Settings { culling: mode, ..base.clone() }, o.lights));
     }
     // Seed 000's fp16 targets, the packed and fitted layouts, and the normal encodings with
     // everything else as `compact` stores it (compact itself is the `volume` row).
@@ -138,7 +138,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log]
     };
     for &accumulation in accumulations {
-        v.push(c("accumulation", format!("{accumulation:?}"), Settings { accumulation, ..base.clone() }, o.lights));
+        v.push(c("accumulation", accumulation.name(), Settings { accumulation, ..base.clone() }, o.lights));
     }
     // Depth format x depth convention, on the bench's scene and on the far-origin hard case.
     let scenes: &[Option<&'static str>] = if q { &[None] } else { &[None, Some("far-origin")] };
@@ -289,9 +289,9 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             group: cfg.group.into(),
             label: cfg.label.clone(),
             scene: cfg.scene.unwrap_or(&o.scene).to_string(),
-            culling: cfg.settings.culling.name().into(),
+            culling: cfg.settings.culling.name(),
             layout: stats.gbuffer_layout.clone(),
-            accumulation: format!("{:?}", cfg.settings.accumulation),
+            accumulation: cfg.settings.accumulation.name(),
             reversed_z: cfg.settings.reversed_z,
             depth_format: stats.depth_stencil_format.clone(),
             light_cutoff: cfg.settings.light_cutoff,

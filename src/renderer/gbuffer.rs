@@ -229,7 +229,7 @@ fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout
     }
 }
 
-/// Largest octahedral 8+8-bit angular error (field.md: 0.946 degrees).
+/// Largest octahedral 8+8-bit angular error, as published for octahedral quantisation (0.946 degrees).
 pub const OCT8_MAX_ERROR_DEG: f64 = 0.946;
 /// Relative error the quantised normal may cause in a specular highlight.
 pub const FIT_SPECULAR_ERROR_BOUND: f64 = 0.01;

@@ -1,5 +1,5 @@
 //! Bounding meshes for light volumes. A low-poly sphere whose vertices lie on the radius cuts
-//! the light off between its vertices (field.md, failure 3), so both meshes are scaled until
+//! the light off between its vertices (a failure users of other deferred renderers report), so both meshes are scaled until
 //! they **circumscribe** the true shape: every face plane lies at or beyond the radius.
 
 use super::records::{LightRecord, LIGHT_KIND_SPOT};

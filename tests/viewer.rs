@@ -643,15 +643,18 @@ fn every_script_in_tests_parses() {
 /// animated, switching the culling mode, the viewport's view and the G-buffer layout every 40
 /// frames (every mode, view and layout the script language has), hovering the probe and moving
 /// the camera. The viewer prints its resident memory every 250 frames (`memory`); after the
-/// warm-up (frame 750: the schedule has visited every combination it repeats) it may grow by
-/// less than 5% to the end. Before the fix this grew by about 35 MB a second (issue: the viewer
+/// warm-up (frame 1,250: one period of the schedule) it is judged by `memory::judge_soak`: a leak grows it in every 250-frame
+/// interval, so at most two intervals may grow by more than 1 MiB (one-off steps: llvmpipe
+/// compiles a shader variant the first time a pipeline state is drawn, and the moving camera
+/// reaches new states late in the run) and the total growth stays under 10%. Before the fix this grew by about 35 MB a second (issue: the viewer
 /// went from 0.7 GB to 3.4 GB in 70 s).
 #[test]
 fn the_viewer_runs_thousands_of_frames_in_constant_memory() {
     need_display!();
     const FRAMES: u64 = 3000;
-    const WARMUP: u64 = 750;
-    const MAX_GROWTH: f64 = 0.05;
+    // The schedule repeats its (mode, view, layout) combinations every 30 steps of 40 frames:
+    // by frame 1,250 it has drawn each once.
+    const WARMUP: u64 = 1250;
     let dir = out_dir("soak");
     let script = dir.join("soak.script");
     let modes = ["fullscreen", "volume", "stencil-two-pass", "stencil-invert", "stencil-replace", "auto"];
@@ -699,16 +702,11 @@ fn the_viewer_runs_thousands_of_frames_in_constant_memory() {
         return;
     }
     assert_eq!(samples.len() as u64, FRAMES / 250, "memory lines missing from the viewer's output:\n{stdout}");
-    let at = |f: u64| samples.iter().find(|s| s.0 == f).map(|s| s.1).unwrap();
-    let (start, end) = (at(WARMUP), at(FRAMES));
-    let growth = end as f64 / start as f64 - 1.0;
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
-    eprintln!("viewer resident MiB by frame: {mib:?}; growth after frame {WARMUP}: {:.1}%", growth * 100.0);
-    assert!(
-        growth < MAX_GROWTH,
-        "the viewer's resident memory grew by {:.1}% from frame {WARMUP} to {FRAMES} ({mib:?} MiB)",
-        growth * 100.0
-    );
+    eprintln!("viewer resident MiB by frame: {mib:?}");
+    if let Err(e) = lampshade::memory::judge_soak(&samples, WARMUP) {
+        panic!("the viewer's memory: {e}");
+    }
     // The run is judged on frames that were drawn: the last viewport shows the lit scene or one
     // of its views, not black.
     assert!(lit_share(&load(&dir, "last-viewport.png")) > 0.05, "the last viewport is black");

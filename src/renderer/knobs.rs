@@ -96,7 +96,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Choice(names::<CullingMode>),
         cli: true,
         get: |s| name_of(&s.culling),
-        put: |s, v| Ok(s.culling = choice("culling mode", v)?),
+        put: |s, v| {
+            s.culling = choice("culling mode", v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "layout",
@@ -105,7 +108,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Choice(names::<LayoutChoice>),
         cli: true,
         get: |s| name_of(&s.layout),
-        put: |s, v| Ok(s.layout = choice("layout", v)?),
+        put: |s, v| {
+            s.layout = choice("layout", v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "debug-view",
@@ -114,7 +120,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Choice(names::<DebugView>),
         cli: true,
         get: |s| name_of(&s.debug_view),
-        put: |s, v| Ok(s.debug_view = choice("view", v)?),
+        put: |s, v| {
+            s.debug_view = choice("view", v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "accumulation",
@@ -123,7 +132,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Choice(names::<AccumFormat>),
         cli: true,
         get: |s| name_of(&s.accumulation),
-        put: |s, v| Ok(s.accumulation = choice("accumulation format", v)?),
+        put: |s, v| {
+            s.accumulation = choice("accumulation format", v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "depth-format",
@@ -132,7 +144,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Choice(names::<DepthFormat>),
         cli: true,
         get: |s| name_of(&s.depth_format),
-        put: |s, v| Ok(s.depth_format = choice("depth format", v)?),
+        put: |s, v| {
+            s.depth_format = choice("depth format", v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "light-cutoff",
@@ -142,7 +157,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Float { min: 0.0, max: 1.0, open: (false, true), slider: (0.0, 0.25) },
         cli: true,
         get: |s| s.light_cutoff.to_string(),
-        put: |s, v| Ok(s.light_cutoff = number(v)? as f32),
+        put: |s, v| {
+            s.light_cutoff = number(v)? as f32;
+            Ok(())
+        },
     },
     Knob {
         name: "sphere-subdivisions",
@@ -151,7 +169,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Whole { min: 0, max: MAX_SPHERE_SUBDIVISIONS },
         cli: true,
         get: |s| s.sphere_subdivisions.to_string(),
-        put: |s, v| Ok(s.sphere_subdivisions = whole(v)?),
+        put: |s, v| {
+            s.sphere_subdivisions = whole(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "cone-sides",
@@ -160,7 +181,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Whole { min: *CONE_SIDES_RANGE.start(), max: *CONE_SIDES_RANGE.end() },
         cli: true,
         get: |s| s.cone_sides.to_string(),
-        put: |s, v| Ok(s.cone_sides = whole(v)?),
+        put: |s, v| {
+            s.cone_sides = whole(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "exposure",
@@ -169,7 +193,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Float { min: 0.0, max: 1e6, open: (true, true), slider: (0.05, 16.0) },
         cli: true,
         get: |s| s.exposure.to_string(),
-        put: |s, v| Ok(s.exposure = number(v)? as f32),
+        put: |s, v| {
+            s.exposure = number(v)? as f32;
+            Ok(())
+        },
     },
     Knob {
         name: "reversed-z",
@@ -178,7 +205,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Switch,
         cli: true,
         get: |s| switch_name(s.reversed_z),
-        put: |s, v| Ok(s.reversed_z = parse_switch(v)?),
+        put: |s, v| {
+            s.reversed_z = parse_switch(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "depth-clamp",
@@ -187,7 +217,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Switch,
         cli: true,
         get: |s| switch_name(s.depth_clamp),
-        put: |s, v| Ok(s.depth_clamp = parse_switch(v)?),
+        put: |s, v| {
+            s.depth_clamp = parse_switch(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "counts",
@@ -196,7 +229,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Switch,
         cli: false,
         get: |s| switch_name(s.count_fragments),
-        put: |s, v| Ok(s.count_fragments = parse_switch(v)?),
+        put: |s, v| {
+            s.count_fragments = parse_switch(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "ideal",
@@ -205,7 +241,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Switch,
         cli: false,
         get: |s| switch_name(s.count_ideal),
-        put: |s, v| Ok(s.count_ideal = parse_switch(v)?),
+        put: |s, v| {
+            s.count_ideal = parse_switch(v)?;
+            Ok(())
+        },
     },
     Knob {
         name: "timestamps",
@@ -214,7 +253,10 @@ pub const KNOBS: &[Knob] = &[
         values: Values::Switch,
         cli: false,
         get: |s| switch_name(s.timestamps),
-        put: |s, v| Ok(s.timestamps = parse_switch(v)?),
+        put: |s, v| {
+            s.timestamps = parse_switch(v)?;
+            Ok(())
+        },
     },
 ];
 

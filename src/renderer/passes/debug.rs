@@ -2,11 +2,10 @@
 //! the marking pass; red: passed Z in the shading pass; green: passed the stencil test, lit),
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
-use super::lights::{STENCIL_TWO_PASS, VOLUME};
-use super::{DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX, NO_STENCIL};
+use super::lights::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
+use super::{FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::settings::DebugView;
 use crate::renderer::targets::attachment;
-use wgpu::CompareFunction as Cmp;
 
 pub struct DebugPass {
     /// Seed 000's diagram: the two-pass mark, the volume test alone, the two-pass shade.
@@ -44,7 +43,7 @@ impl DebugPass {
                 "light complexity (full-screen)",
                 Vs::Fullscreen,
                 "fs_complexity",
-                DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL },
+                FULLSCREEN.shade.clone(),
                 Out::Debug(ADDITIVE),
             ),
         }

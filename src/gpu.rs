@@ -24,6 +24,20 @@ pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
     ),
 ];
 
+/// Keeps Mesa's Vulkan device-select layer from connecting to a Wayland display when there is
+/// none: without `XDG_RUNTIME_DIR` that layer prints "error: XDG_RUNTIME_DIR is invalid or not
+/// set" twice per run, although a headless run needs no display. The layer only orders the
+/// adapters by the display's GPU, so it is switched off (`NODEVICE_SELECT=1`) when there is no
+/// runtime directory and the user has not asked it for a device (`MESA_VK_DEVICE_SELECT`).
+///
+/// Call it at the start of `main`, before any thread exists: it sets an environment variable.
+pub fn quiet_headless_device_select() {
+    let has = |k: &str| std::env::var_os(k).is_some_and(|v| !v.is_empty());
+    if !has("XDG_RUNTIME_DIR") && !has("MESA_VK_DEVICE_SELECT") && !has("NODEVICE_SELECT") {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
 /// A device and what it can do.
 pub struct Gpu {
     pub instance: wgpu::Instance,
@@ -36,8 +50,14 @@ pub struct Gpu {
 
 impl Gpu {
     /// A device with no window, for the CLI, the tests and the bench.
+    ///
+    /// Only the primary backends (Vulkan, Metal, DX12) unless `WGPU_BACKEND` says otherwise:
+    /// OpenGL needs a display connection and, on a headless machine, only logs EGL errors
+    /// before Vulkan is chosen anyway.
     pub fn headless() -> Result<Self> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::PRIMARY;
+        let instance = wgpu::Instance::new(desc.with_env());
         Self::from_instance(instance, None)
     }
 

@@ -74,7 +74,9 @@ fn render(args: RenderArgs) -> Result<()> {
     if args.light.is_some() {
         settings.selected_light = args.light;
     }
-    settings.count_ideal = args.ideal || args.stats.is_some();
+    // Ideal counting costs a full-screen pass per light: only when asked for, never implied
+    // by `--stats` (whose JSON says whether it ran).
+    settings.count_ideal = args.ideal;
     settings.validate().map_err(anyhow::Error::msg)?;
     let import = lampshade::scene::import::ImportOptions { light_grid: args.light_grid, ..Default::default() };
     let (mut scene, warnings) = open_scene(&scene_name, BuiltinOptions { lights, time }, &import)?;
@@ -106,7 +108,7 @@ fn render(args: RenderArgs) -> Result<()> {
         stats.lights,
         settings.culling.name(),
         stats.shaded_fragments.map_or("-".into(), |v| v.to_string()),
-        stats.ideal_fragments.map_or("-".into(), |v| v.to_string()),
+        stats.ideal_fragments.map_or("not counted (--ideal)".into(), |v| v.to_string()),
         stats.gpu_ms.total.map_or("-".into(), |v| format!("{v:.2}")),
         args.out.display()
     );
@@ -123,6 +125,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "gpu_ms": stats.gpu_ms,
             "shaded_fragments": stats.shaded_fragments,
             "ideal_fragments": stats.ideal_fragments,
+            "ideal_counted": settings.count_ideal,
             "coverage_fragments": stats.coverage_fragments,
             "efficiency": stats.efficiency,
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
@@ -158,6 +161,9 @@ fn open_scene(
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
+    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_))) {
+        lampshade::gpu::quiet_headless_device_select();
+    }
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),

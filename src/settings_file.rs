@@ -1,7 +1,9 @@
 //! Settings files: what `lampshade render --settings FILE` reads and the viewer's F12 writes
 //! beside its screenshot. A JSON object holding the renderer's [`Settings`] fields (flattened)
-//! plus the scene keys `scene`, `lights`, `time`, `camera` and `size`. Other keys (the viewer's
-//! `viewer` state) are ignored.
+//! plus the scene keys `scene`, `lights`, `time`, `camera` and `size`, and the viewer's own
+//! `viewer` state (which `render` does not use). The renderer's fields may also sit in a nested
+//! `"renderer": {...}` object. Any other key is an error that names it: a misspelt knob is
+//! never ignored silently.
 //!
 //! The text comes from the user, so [`parse`] never panics: any input gives the settings or an
 //! error that says what is wrong (fuzzed by `fuzz/fuzz_targets/settings_file.rs`).
@@ -28,6 +30,29 @@ pub struct SceneKeys {
     pub size: Option<[u32; 2]>,
 }
 
+/// The key under which the viewer's F12 stores its own state.
+pub const VIEWER_KEY: &str = "viewer";
+/// The key of an optional nested object of renderer settings.
+pub const RENDERER_KEY: &str = "renderer";
+
+/// The field names of a struct, read from its serialised default (every field is written).
+fn field_names<T: Serialize>(value: &T) -> Vec<String> {
+    match serde_json::to_value(value) {
+        Ok(serde_json::Value::Object(m)) => m.keys().cloned().collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// The renderer settings' keys.
+pub fn settings_keys() -> Vec<String> {
+    field_names(&Settings::default())
+}
+
+/// The scene keys.
+pub fn scene_keys() -> Vec<String> {
+    field_names(&SceneKeys::default())
+}
+
 /// Parses a settings file's text into the renderer settings and the scene keys, and checks
 /// them: `Settings::validate`, a finite time, a size within 1x1 ..= [`MAX_SIZE`]² and a valid
 /// camera. Errors say which part is wrong.
@@ -36,8 +61,46 @@ pub fn parse(text: &str) -> Result<(Settings, SceneKeys)> {
     if !text.trim_start().starts_with('{') {
         bail!("a settings file is one JSON object ({{\"culling\": ..., \"scene\": ...}})");
     }
-    let settings = serde_json::from_str::<Settings>(text).context("renderer settings")?;
+    // The keys first, values skipped (without recursion, so a deeply nested `viewer` value
+    // cannot overflow the stack).
+    let top: std::collections::BTreeMap<String, serde::de::IgnoredAny> =
+        serde_json::from_str(text).context("not a JSON object")?;
+    let (renderer, scene) = (settings_keys(), scene_keys());
+    for k in top.keys() {
+        if !renderer.contains(k) && !scene.contains(k) && k != VIEWER_KEY && k != RENDERER_KEY {
+            bail!(
+                "unknown key \"{k}\": a settings file holds renderer settings ({}), scene keys ({}), \"{RENDERER_KEY}\" and \"{VIEWER_KEY}\"",
+                renderer.join(", "),
+                scene.join(", ")
+            );
+        }
+    }
+    let mut settings = serde_json::from_str::<Settings>(text).context("renderer settings")?;
     let keys = serde_json::from_str::<SceneKeys>(text).context("scene keys")?;
+    // `{"renderer": {"exposure": 3}}` reads as `{"exposure": 3}`.
+    if top.contains_key(RENDERER_KEY) {
+        #[derive(Deserialize)]
+        struct Outer {
+            renderer: serde_json::Value,
+        }
+        let outer: Outer = serde_json::from_str(text).context("\"renderer\"")?;
+        let serde_json::Value::Object(nested) = outer.renderer else {
+            bail!("\"renderer\" must be an object of renderer settings ({{\"exposure\": 2, ...}})");
+        };
+        for k in nested.keys() {
+            if !renderer.contains(k) {
+                bail!("unknown key \"renderer.{k}\": renderer settings are {}", renderer.join(", "));
+            }
+            if top.contains_key(k) {
+                bail!("\"{k}\" is given both at the top level and in \"renderer\"");
+            }
+        }
+        let mut merged = serde_json::to_value(&settings).context("renderer settings")?;
+        if let Some(m) = merged.as_object_mut() {
+            m.extend(nested);
+        }
+        settings = Settings::deserialize(merged).context("renderer settings")?;
+    }
     settings.validate().map_err(anyhow::Error::msg).context("renderer settings")?;
     if let Some(t) = keys.time {
         if !t.is_finite() {
@@ -88,6 +151,25 @@ mod tests {
     }
 
     #[test]
+    fn a_nested_renderer_object_is_read_like_top_level_keys() {
+        let (s, _) = parse(r#"{"renderer": {"exposure": 3, "culling": "volume"}, "scene": "spot"}"#).unwrap();
+        assert_eq!(s.exposure, 3.0);
+        assert_eq!(s.culling, crate::renderer::CullingMode::Volume);
+        // Validated like the rest.
+        assert!(parse(r#"{"renderer": {"exposure": -1}}"#).is_err());
+    }
+
+    #[test]
+    fn every_settings_and_scene_field_is_a_known_key() {
+        // The key lists come from the serialised structs: a new field is known at once.
+        let s = settings_keys();
+        for k in ["culling", "exposure", "light_cutoff", "cone_sides", "selected_light"] {
+            assert!(s.contains(&k.to_string()), "{k} missing from {s:?}");
+        }
+        assert_eq!(scene_keys(), ["camera", "lights", "scene", "size", "time"]);
+    }
+
+    #[test]
     fn bad_files_are_clear_errors() {
         for (text, needle) in [
             ("", "one JSON object"),
@@ -100,6 +182,10 @@ mod tests {
             (r#"{"size": [10]}"#, "scene keys"),
             (r#"{"lights": -1}"#, "scene keys"),
             (r#"{"time": 1e400}"#, "out of range"),
+            (r#"{"exposur": 2}"#, "unknown key \"exposur\""),
+            (r#"{"renderer": {"exposur": 2}}"#, "unknown key \"renderer.exposur\""),
+            (r#"{"renderer": 3}"#, "must be an object"),
+            (r#"{"renderer": {"exposure": 2}, "exposure": 3}"#, "both at the top level"),
             (
                 r#"{"camera": {"position": [0,0,0], "yaw": 0, "pitch": 0, "fov_y": 4, "near": 0.1, "far": 10}}"#,
                 "field of view",

@@ -32,6 +32,7 @@ fn render_writes_an_image_and_complete_stats() {
         png.to_str().unwrap(),
         "--stats",
         json.to_str().unwrap(),
+        "--ideal",
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let img = image::open(&png).unwrap().to_rgba8();
@@ -61,6 +62,41 @@ fn render_writes_an_image_and_complete_stats() {
         assert!(v["gpu_ms"].get(pass).is_some(), "gpu_ms lacks {pass}");
     }
     assert!(v["shaded_fragments"].as_u64().unwrap() >= v["ideal_fragments"].as_u64().unwrap());
+}
+
+#[test]
+fn stats_alone_do_not_count_the_ideal_and_say_so() {
+    let png = tmp("no-ideal.png");
+    let json = tmp("no-ideal.json");
+    let args = ["render", "demo", "--size", "64x36", "--lights", "16", "--out", png.to_str().unwrap()];
+    let out = lampshade(&[&args[..], &["--stats", json.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["ideal_counted"], false);
+    assert!(v["ideal_fragments"].is_null(), "ideal counted without --ideal: {}", v["ideal_fragments"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("not counted (--ideal)"));
+    let out = lampshade(&[&args[..], &["--stats", json.to_str().unwrap(), "--ideal"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["ideal_counted"], true);
+    assert!(v["ideal_fragments"].as_u64().is_some_and(|n| n > 0));
+}
+
+#[test]
+fn a_headless_render_needs_no_runtime_dir_and_prints_no_display_errors() {
+    let png = tmp("no-xdg.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_lampshade"))
+        .args(["render", "spot", "--size", "32x32", "--out", png.to_str().unwrap()])
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .env_remove("WGPU_BACKEND")
+        .output()
+        .expect("spawn");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    for noise in ["XDG_RUNTIME_DIR", "EGL", "ERROR"] {
+        assert!(!err.contains(noise), "stderr mentions {noise}: {err}");
+    }
 }
 
 #[test]

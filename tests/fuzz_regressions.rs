@@ -39,7 +39,8 @@ fn settings_file_edge_cases() {
     let ok = Ok(());
     let cases: &[(&str, Result<(), &str>)] = &[
         ("{}", ok),
-        (r#"{"viewer": {"anything": [1, {"x": null}]}, "unknown": 3}"#, ok),
+        (r#"{"viewer": {"anything": [1, {"x": null}]}}"#, ok),
+        (r#"{"viewer": {"anything": [1, {"x": null}]}, "unknown": 3}"#, Err("unknown key \"unknown\"")),
         (r#"{"selected_light": 18446744073709551615, "lights": 18446744073709551615}"#, ok),
         (r#"{"exposure": 999999, "light_cutoff": 0.999999, "size": [8192, 1], "time": -1.7e308}"#, ok),
         (r#"{"scene": "d\u00e9mo \ud83d\ude00", "scene": null}"#, Err("duplicate field")),

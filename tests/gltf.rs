@@ -349,6 +349,91 @@ fn a_corrupt_texture_is_a_warning_and_a_visible_fallback() {
     assert!(magenta > 200, "the fallback is not visible ({magenta} magenta pixels)");
 }
 
+/// The room with one texture file corrupted, and the room with the material slot that uses it
+/// removed: (corrupt, without).
+fn corrupt_and_without(file: &str, remove: impl Fn(&mut serde_json::Value)) -> (Imported, Imported) {
+    let corrupt = room_copy(&format!("corrupt-{file}"));
+    std::fs::write(corrupt.join(file), b"\x89PNG\r\n\x1a\nthis is not a png").unwrap();
+    let without = room_copy(&format!("without-{file}"));
+    edit_json(&without, |v| {
+        for m in v["materials"].as_array_mut().unwrap() {
+            remove(m);
+        }
+    });
+    let a = load(&corrupt.join("room.gltf")).expect("a bad texture still loads");
+    let b = load(&without.join("room.gltf")).expect("the room without the map loads");
+    (a, b)
+}
+
+#[test]
+fn an_unreadable_normal_or_metal_roughness_map_reads_as_no_map() {
+    use lampshade::renderer::DebugView;
+    let cases: [(&str, fn(&mut serde_json::Value)); 2] = [
+        ("floor_normal.png", |m| {
+            m.as_object_mut().unwrap().remove("normalTexture");
+        }),
+        ("metal_rough.png", |m| {
+            if let Some(pbr) = m.get_mut("pbrMetallicRoughness").and_then(|p| p.as_object_mut()) {
+                pbr.remove("metallicRoughnessTexture");
+            }
+        }),
+    ];
+    for (file, remove) in cases {
+        let (corrupt, without) = corrupt_and_without(file, remove);
+        // The warning names the file in full and says what happens instead.
+        assert!(
+            corrupt.warnings.iter().any(|w| w.contains(&format!("({file})")) && w.contains("not used")),
+            "{file}: {:?}",
+            corrupt.warnings
+        );
+        assert!(corrupt.scene.textures.iter().all(|t| !t.name.contains("missing")), "{file}: a checker was made");
+        for view in [DebugView::Normal, DebugView::Specular, DebugView::Albedo, DebugView::Lit] {
+            let s = Settings { debug_view: view, ..Settings::default() };
+            let a = render(&corrupt.scene, &s, W, H).image;
+            let b = render(&without.scene, &s, W, H).image;
+            let d = max_channel_difference(&a, &b);
+            assert_eq!(d, 0, "{file}, {view:?} view: the unreadable map differs from no map by {d} steps");
+        }
+    }
+}
+
+#[test]
+fn the_missing_texture_checker_is_sharp_and_only_in_colour_slots() {
+    use lampshade::scene::{Texture, MISSING_CELL};
+    let t = Texture::missing("x", true);
+    // 8 x 8 squares: neighbouring squares alternate magenta and black.
+    assert_eq!((t.width, t.height), (8 * MISSING_CELL, 8 * MISSING_CELL));
+    let at = |x: u32, y: u32| &t.rgba[((y * t.width + x) * 4) as usize..][..3];
+    assert_eq!(at(0, 0), [255, 0, 255]);
+    assert_eq!(at(MISSING_CELL, 0), [0, 0, 0]);
+    assert_eq!(at(MISSING_CELL, MISSING_CELL), [255, 0, 255]);
+    // Rendered on the room's floor (the base-colour map corrupted, the albedo view), the near
+    // floor (the image's bottom third) is clean squares: most pixels are either near the
+    // brightest magenta or near black, few are the blend between them.
+    let (corrupt, _) = corrupt_and_without("floor_color.png", |_| {});
+    assert!(corrupt.warnings.iter().any(|w| w.contains("(floor_color.png)") && w.contains("magenta")));
+    let s = Settings { debug_view: lampshade::renderer::DebugView::Albedo, ..Settings::default() };
+    let img = render(&corrupt.scene, &s, 320, 180).image;
+    let floor: Vec<[f32; 3]> = (120..180)
+        .flat_map(|y| (0..320).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let p = img.get_pixel(x, y);
+            [p[0] as f32, p[1] as f32, p[2] as f32]
+        })
+        .collect();
+    let top = floor.iter().map(|p| p[0].min(p[2])).fold(0.0, f32::max);
+    assert!(top > 100.0, "no magenta on the floor (brightest {top})");
+    let magenta = floor.iter().filter(|p| p[0].min(p[2]) > 0.6 * top && p[1] < 0.2 * top).count();
+    let black = floor.iter().filter(|p| p[0].max(p[1]).max(p[2]) < 0.25 * top).count();
+    let clean = (magenta + black) as f64 / floor.len() as f64;
+    assert!(magenta > floor.len() / 5 && black > floor.len() / 5, "{magenta} magenta, {black} black pixels");
+    assert!(
+        clean > 0.7,
+        "the checker is washed out: only {:.0}% of the near floor is clean magenta or black",
+        clean * 100.0
+    );
+}
+
 #[test]
 fn degenerate_triangles_are_dropped_not_drawn() {
     let dir = room_copy("degenerate");

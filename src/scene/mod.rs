@@ -117,15 +117,20 @@ pub struct Texture {
     pub rgba: Vec<u8>,
 }
 
+/// Texels per square of [`Texture::missing`]'s checker.
+pub const MISSING_CELL: u32 = 16;
+
 impl Texture {
-    /// The visible stand-in for a texture that could not be loaded: a magenta and black checker,
-    /// as engines show a missing texture.
+    /// The visible stand-in for a colour texture that could not be loaded: a magenta and black
+    /// checker, as engines show a missing texture. 8 x 8 squares of [`MISSING_CELL`] texels:
+    /// magnified with bilinear filtering, only a one-texel band at each square's edge blends,
+    /// so the squares stay sharp instead of washing into a pink gradient.
     pub fn missing(name: &str, srgb: bool) -> Self {
-        let n = 8u32;
+        let n = 8 * MISSING_CELL;
         let mut rgba = Vec::with_capacity((n * n * 4) as usize);
         for y in 0..n {
             for x in 0..n {
-                let on = (x / 2 + y / 2) % 2 == 0;
+                let on = (x / MISSING_CELL + y / MISSING_CELL) % 2 == 0;
                 rgba.extend_from_slice(if on { &[255, 0, 255, 255] } else { &[0, 0, 0, 255] });
             }
         }

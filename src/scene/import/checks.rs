@@ -38,9 +38,9 @@ pub(super) fn load_buffers(
     Ok(out)
 }
 
-/// A data URI shortened for messages.
+/// A URI for messages: a data URI shortened (it holds the whole payload), a file name in full.
 pub(super) fn short_uri(uri: &str) -> String {
-    if uri.len() > 48 {
+    if uri.starts_with("data:") && uri.len() > 48 {
         format!("{}...", &uri[..uri.char_indices().nth(40).map_or(uri.len(), |(i, _)| i)])
     } else {
         uri.to_string()

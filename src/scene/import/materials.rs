@@ -68,26 +68,51 @@ impl Importer<'_> {
                 std::thread::sleep(std::time::Duration::from_millis(20));
             }
         });
-        for (i, ((image, role), result)) in wanted.iter().zip(decoded).enumerate() {
-            let name = self.doc.images().nth(*image).and_then(|im| im.name().map(String::from));
-            let label = name.unwrap_or_else(|| format!("image {image}"));
-            let texture = match result {
-                Some(Ok(mut t)) => {
+        for ((image, role), result) in wanted.iter().zip(decoded) {
+            let label = self.image_label(*image);
+            let texture = match (result, role) {
+                (Some(Ok(mut t)), _) => {
                     t.name = label;
                     t
                 }
-                Some(Err(e)) => {
+                // A colour map that cannot be read shows as the magenta checker, so the user
+                // sees which surface lacks it.
+                (Some(Err(e)), Role::Color) => {
                     self.warnings.push(format!("{label}: {e:#}; shown as a magenta checker"));
-                    Texture::missing(&label, *role == Role::Color)
+                    Texture::missing(&label, true)
                 }
-                None => Texture::missing(&label, *role == Role::Color),
+                (None, Role::Color) => Texture::missing(&label, true),
+                // A data map that cannot be read is left out: a missing normal map means a flat
+                // surface, a missing metallic-roughness map the material's factors alone. A
+                // checker there would bend the normals and make the surface metallic.
+                (Some(Err(e)), Role::Data) => {
+                    self.warnings.push(format!(
+                        "{label}: {e:#}; not used: as a normal map the surface is flat, as a metallic-roughness map the material's factors apply"
+                    ));
+                    continue;
+                }
+                (None, Role::Data) => continue,
             };
-            self.texture_slots.insert((*image, *role), i);
+            self.texture_slots.insert((*image, *role), self.scene.textures.len());
             self.scene.textures.push(Arc::new(texture));
         }
         progress(Progress { stage: "textures", done: total, total });
-        self.stats.textures = total;
+        self.stats.textures = self.scene.textures.len();
         Ok(())
+    }
+
+    /// An image as messages and the viewer name it: its index, its name and, for an external
+    /// file, the file's URI in full.
+    pub(super) fn image_label(&self, index: usize) -> String {
+        let Some(image) = self.doc.images().nth(index) else { return format!("image {index}") };
+        let source = match image.source() {
+            gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => format!(" ({uri})"),
+            _ => String::new(),
+        };
+        match image.name() {
+            Some(n) => format!("image {index} '{n}'{source}"),
+            None => format!("image {index}{source}"),
+        }
     }
 
     /// The encoded bytes of an image (from a buffer view, a data URI or a file).

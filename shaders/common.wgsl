@@ -110,8 +110,11 @@ fn oct_decode(e: vec2<f32>) -> vec3<f32> {
 fn attributes_of(s: Surface) -> Attributes {
     var a: Attributes;
     a.albedo = clamp(s.albedo, vec3<f32>(0.0), vec3<f32>(1.0));
-    a.spec_level = clamp(s.spec_level, 0.0, 1.0);
     a.spec_exp = clamp(log2(max(s.spec_exp, 1.0)) / LS_SPEC_EXP_LOG_RANGE, 0.0, 1.0);
+    // The specular channel holds the reflectance f0 = level x 8 / (exponent + 8), which lies in
+    // [0, 1] for every physical material, and `surface_of` multiplies the normalisation back:
+    // the level itself reaches (2048 + 8) / 8 for a polished metal and would not fit.
+    a.spec_level = clamp(s.spec_level * 8.0 / (exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE) + 8.0), 0.0, 1.0);
     let n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
     if GBUFFER_NORMAL_OCTAHEDRAL {
         a.normal = vec3<f32>(oct_encode(n), 0.0);
@@ -147,8 +150,8 @@ fn view_position_from_depth(p: vec2<i32>, depth: f32) -> vec3<f32> {
 fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     var s: Surface;
     s.albedo = a.albedo;
-    s.spec_level = a.spec_level;
     s.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
+    s.spec_level = a.spec_level * (s.spec_exp + 8.0) / 8.0;
     if GBUFFER_NORMAL_OCTAHEDRAL {
         s.normal = oct_decode(a.normal.xy);
     } else {
@@ -201,6 +204,14 @@ fn inside_light(s: Surface, l: GpuLight) -> bool {
         return dot(v / d, l.direction) > l.cos_outer;
     }
     return true;
+}
+
+// The specular light a uniform ambient A reflects: the normalised Blinn-Phong lobe
+// (level = f0 (n + 8) / 8) integrates over the hemisphere to f0, so the result is A f0 (the
+// uniform-environment limit of image-based lighting; without it a metal, which has no diffuse
+// term, is black away from its highlights). Mirrored by `reference::shade`.
+fn ambient_specular(s: Surface) -> vec3<f32> {
+    return camera.ambient.rgb * (s.spec_level * 8.0 / (s.spec_exp + 8.0));
 }
 
 // Blinn-Phong: diffuse and specular kept apart (seed 002), attenuated smoothly to zero.

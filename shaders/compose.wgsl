@@ -72,7 +72,8 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let t = clamp(log2(max(-s.position.z, 0.1) / 0.1) / log2(10000.0), 0.0, 1.0);
         c = select(vec3<f32>(0.0), vec3<f32>(1.0 - t), s.valid);
     } else if view == LS_VIEW_SPECULAR {
-        c = vec3<f32>(s.spec_level, log2(s.spec_exp) / LS_SPEC_EXP_LOG_RANGE, 0.0);
+        // Reflectance f0 (the stored channel; the level is f0 (n + 8) / 8) and exponent.
+        c = vec3<f32>(s.spec_level * 8.0 / (s.spec_exp + 8.0), log2(s.spec_exp) / LS_SPEC_EXP_LOG_RANGE, 0.0);
     } else if view == LS_VIEW_EMISSIVE {
         c = aces(s.emissive * exposure);
     } else if view == LS_VIEW_DIFFUSE_LIGHT {

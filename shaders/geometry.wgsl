@@ -45,7 +45,7 @@ fn blinn_phong_from_pbr(base: vec3<f32>, metallic: f32, roughness: f32, f0_diele
     let e = clamp(2.0 / (a * a) - 2.0, 1.0, 2048.0);
     (*s).albedo = base * (1.0 - m);
     (*s).spec_exp = e;
-    (*s).spec_level = clamp(f0 * (e + 8.0) / 8.0, 0.0, 1.0);
+    (*s).spec_level = f0 * (e + 8.0) / 8.0;
 }
 
 // The surface a fragment describes, with its material's textures applied; .w of the result
@@ -108,7 +108,7 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     let o = objects[in.object];
     let clamp_max = vec3<f32>(camera.light_clamp);
     var diffuse = camera.ambient.rgb;
-    var specular = vec3<f32>(0.0);
+    var specular = ambient_specular(s);
     let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
     if camera.sun_dir.w > 0.5 {
         let L = camera.sun_dir.xyz;

@@ -72,14 +72,14 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         var d = camera.ambient.rgb;
-        var sp = vec3<f32>(0.0);
+        var sp = ambient_specular(s);
         if camera.sun_dir.w > 0.5 {
             let L = camera.sun_dir.xyz;
             let ndl = max(dot(s.normal, L), 0.0);
             let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
             let H = safe_normalize(L + V, s.normal);
             d += camera.sun_color.rgb * ndl;
-            sp = camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
+            sp += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
         }
         out.diffuse = encode_light(min(d, vec3<f32>(camera.light_clamp)));
         out.specular = encode_light(min(sp, vec3<f32>(camera.light_clamp)));

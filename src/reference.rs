@@ -34,14 +34,15 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: f64) -> (DVec3, DVec3) {
     let spec_level = p.specular_level as f64;
     let v = safe_normalize(-pos, DVec3::Z);
     let mut diffuse = scene.ambient.as_dvec3();
-    let mut specular = DVec3::ZERO;
+    // `ambient_specular`: the normalised lobe integrates to f0 = level x 8 / (n + 8).
+    let mut specular = scene.ambient.as_dvec3() * (spec_level * 8.0 / (spec_exp + 8.0));
     if let Some(sun) = scene.sun {
         let l = (rot * (-sun.direction.as_dvec3())).normalize();
         let c = (sun.color * sun.intensity).as_dvec3();
         let ndl = n.dot(l).max(0.0);
         let h = safe_normalize(l + v, n);
         diffuse += c * ndl;
-        specular = c * (ndl * n.dot(h).max(0.0).powf(spec_exp) * spec_level);
+        specular += c * (ndl * n.dot(h).max(0.0).powf(spec_exp) * spec_level);
     }
     diffuse = diffuse.min(DVec3::splat(clamp));
     specular = specular.min(DVec3::splat(clamp));

@@ -10,6 +10,13 @@ use std::fmt::Write;
 /// The shaders get it as the generated constant `LS_SPEC_EXP_LOG_RANGE`.
 pub const SPEC_EXP_LOG_RANGE: f32 = 11.0;
 
+/// The specular channel stores the reflectance f0 = level x 8 / (exponent + 8), in [0, 1] for
+/// every material (the level reaches 257 for a polished metal); this is the level back.
+/// Mirrors `surface_of` in `shaders/common.wgsl`.
+pub fn level_from_reflectance(f0: f32, exponent: f32) -> f32 {
+    f0 * (exponent + 8.0) / 8.0
+}
+
 /// A surface attribute the lighting model needs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Attr {

@@ -260,6 +260,7 @@ impl Renderer {
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
+        let exponent = 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::gbuffer::SPEC_EXP_LOG_RANGE);
         let emissive = v3(Attr::Emissive);
         let lights = if valid {
             self.last.lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
@@ -271,8 +272,8 @@ impl Renderer {
             y,
             valid,
             albedo,
-            specular_level: get(Attr::SpecLevel, 0, 0.0),
-            specular_exponent: 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::gbuffer::SPEC_EXP_LOG_RANGE),
+            specular_level: super::gbuffer::level_from_reflectance(get(Attr::SpecLevel, 0, 0.0), exponent),
+            specular_exponent: exponent,
             normal,
             emissive,
             position,

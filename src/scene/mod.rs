@@ -244,6 +244,12 @@ impl Default for Material {
     }
 }
 
+/// The largest specular level a material of this exponent can have: reflectance f0 = 1 under
+/// the Blinn-Phong normalisation, (exponent + 8) / 8.
+pub fn max_specular_level(exponent: f32) -> f32 {
+    (exponent.max(1.0) + 8.0) / 8.0
+}
+
 /// Dielectric reflectance at normal incidence (glTF's default, ior 1.5).
 pub const DIELECTRIC_F0: f32 = 0.04;
 
@@ -271,8 +277,10 @@ impl Material {
     ///   reduced to a scalar level, since our specular term is white (a stated limitation);
     /// - alpha = roughness^2, exponent = 2/alpha^2 - 2 (the Blinn-Phong lobe with the same
     ///   width as a Beckmann/GGX lobe of that roughness), clamped to [1, 2048];
-    /// - level = f0 x (exponent + 8) / 8, clamped to 1: the Blinn-Phong normalisation, so a
-    ///   smooth surface's narrow highlight keeps its energy instead of vanishing.
+    /// - level = f0 x (exponent + 8) / 8: the Blinn-Phong normalisation, so a smooth surface's
+    ///   narrow highlight keeps its energy instead of vanishing. Not clamped: a polished metal's
+    ///   level reaches (2048 + 8) / 8 = 257; the G-buffer stores f0 (see
+    ///   `renderer::gbuffer::level_from_reflectance`).
     ///
     /// Returns (diffuse, specular level, specular exponent).
     pub fn blinn_phong_from_pbr(base: Vec3, metallic: f32, roughness: f32, dielectric_f0: f32) -> (Vec3, f32, f32) {
@@ -282,7 +290,7 @@ impl Material {
         let f0 = dielectric_f0 + (lum - dielectric_f0) * m;
         let a = (r * r).max(1e-3);
         let exponent = (2.0 / (a * a) - 2.0).clamp(1.0, 2048.0);
-        let level = (f0 * (exponent + 8.0) / 8.0).clamp(0.0, 1.0);
+        let level = f0.clamp(0.0, 1.0) * (exponent + 8.0) / 8.0;
         (base * (1.0 - m), level, exponent)
     }
 

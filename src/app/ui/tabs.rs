@@ -196,7 +196,8 @@ pub(super) fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, 
         }
         ui.end_row();
         ui.label("specular level");
-        changed |= ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=1.0)).changed();
+        let most = crate::scene::max_specular_level(m.specular_exponent);
+        changed |= ui.add(egui::Slider::new(&mut m.specular_level, 0.0..=most).logarithmic(most > 10.0)).changed();
         ui.end_row();
         ui.label("specular exponent");
         changed |= ui.add(egui::Slider::new(&mut m.specular_exponent, 1.0..=2048.0).logarithmic(true)).changed();

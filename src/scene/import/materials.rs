@@ -216,8 +216,9 @@ impl Importer<'_> {
         material.emissive =
             Vec3::new(fix(emissive.x, 0.0, 1e4, 0.0), fix(emissive.y, 0.0, 1e4, 0.0), fix(emissive.z, 0.0, 1e4, 0.0));
         material.alpha = fix(a, 0.0, 1.0, 1.0);
-        material.specular_level = fix(level, 0.0, 1.0, DIELECTRIC_F0);
         material.specular_exponent = fix(exponent, 1.0, 2048.0, 32.0);
+        let most = crate::scene::max_specular_level(material.specular_exponent);
+        material.specular_level = fix(level, 0.0, most, DIELECTRIC_F0);
         material.normal_scale = fix(material.normal_scale, -16.0, 16.0, 1.0);
         material.metallic = fix(metallic, 0.0, 1.0, 0.0);
         material.roughness = fix(roughness, 0.0, 1.0, 1.0);

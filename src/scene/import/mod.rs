@@ -470,11 +470,12 @@ mod tests {
         assert_eq!(d, Vec3::ONE);
         assert_eq!(exp, 1.0);
         assert!((level - DIELECTRIC_F0 * 9.0 / 8.0).abs() < 1e-6);
-        // Polished metal: no diffuse, the exponent at its clamp, level 1.
+        // Polished metal: no diffuse, the exponent at its clamp, the level unclamped: f0 = 0.9
+        // (the base's luminance) times the normalisation (2048 + 8) / 8.
         let (d, level, exp) = Material::blinn_phong_from_pbr(Vec3::splat(0.9), 1.0, 0.0, DIELECTRIC_F0);
         assert_eq!(d, Vec3::ZERO);
         assert_eq!(exp, 2048.0);
-        assert_eq!(level, 1.0);
+        assert!((level - 0.9 * 2056.0 / 8.0).abs() < 1e-3, "level {level}");
         // Roughness 0.5: alpha 0.25, exponent 2/0.0625 - 2 = 30.
         let (_, _, exp) = Material::blinn_phong_from_pbr(Vec3::ONE, 0.0, 0.5, DIELECTRIC_F0);
         assert!((exp - 30.0).abs() < 1e-4);

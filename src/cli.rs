@@ -58,9 +58,9 @@ pub struct RenderArgs {
     /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default
     /// `demo`, or the settings file's.
     pub scene: Option<String>,
-    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
-    #[arg(long, default_value_t = 8)]
-    pub light_grid: u32,
+    /// glTF without lights: add N x N point lights (the same as `--lights` N²).
+    #[arg(long, conflicts_with = "lights")]
+    pub light_grid: Option<u32>,
     /// Start from the file's viewpoint K (its cameras in order, then a framing view).
     #[arg(long)]
     pub viewpoint: Option<usize>,
@@ -70,7 +70,8 @@ pub struct RenderArgs {
     /// Image size, WxH (default 1280x720, or the settings file's).
     #[arg(long, value_parser = image_size)]
     pub size: Option<(u32, u32)>,
-    /// Number of point lights (demo).
+    /// Number of point lights: the demo's (default 1024), or those added to a glTF file that has
+    /// none (default 64, on a dome around the model; see the README).
     #[arg(long)]
     pub lights: Option<usize>,
     /// Animation time in seconds (default 0, or the settings file's).
@@ -95,8 +96,14 @@ pub struct RenderArgs {
     pub settings: Option<PathBuf>,
 }
 
+/// `--lights N` or `--light-grid N` (N² lights): the light count a scene is asked for, if any.
+pub fn requested_lights(lights: Option<usize>, light_grid: Option<u32>) -> Option<usize> {
+    lights.or(light_grid.map(|n| (n as usize) * (n as usize)))
+}
+
 #[derive(clap::Args)]
 pub struct BenchArgs {
+    /// Built-in scene name or a glTF file (.gltf, .glb).
     #[arg(default_value = "demo")]
     pub scene: String,
     /// Output directory for bench.csv, bench.md and bench.png.
@@ -110,8 +117,13 @@ pub struct BenchArgs {
     pub frames: Option<usize>,
     #[arg(long, value_parser = image_size)]
     pub size: Option<(u32, u32)>,
+    /// Number of point lights: the demo's, or those added to a glTF file that has none (default
+    /// for both: 1024, or 256 with --quick; the `lights` group varies it).
     #[arg(long)]
     pub lights: Option<usize>,
+    /// glTF without lights: N x N point lights (the same as `--lights` N²).
+    #[arg(long, conflicts_with = "lights")]
+    pub light_grid: Option<u32>,
     /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
     /// tessellation, resolution, lights.
     #[arg(long, value_delimiter = ',')]
@@ -123,13 +135,14 @@ pub struct ViewArgs {
     /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default: the
     /// last one shown (saved state), else `demo`.
     pub scene: Option<String>,
-    /// glTF without lights: point lights per side of the grid added over the scene (0: none).
-    #[arg(long, default_value_t = 8)]
-    pub light_grid: u32,
+    /// glTF without lights: add N x N point lights (the same as `--lights` N²).
+    #[arg(long, conflicts_with = "lights")]
+    pub light_grid: Option<u32>,
     /// Replay frame-numbered actions from FILE (see `src/app/script.rs`), e.g. in tests.
     #[arg(long)]
     pub script: Option<PathBuf>,
-    /// Number of point lights (demo).
+    /// Number of point lights: the demo's (default 1024), or those added to a glTF file that has
+    /// none (default 64).
     #[arg(long)]
     pub lights: Option<usize>,
     /// Window size in logical pixels, WxH (default: the saved size, else 1280x720).
@@ -157,7 +170,7 @@ impl Default for ViewArgs {
     fn default() -> Self {
         Self {
             scene: None,
-            light_grid: 8,
+            light_grid: None,
             script: None,
             lights: None,
             size: None,

@@ -19,8 +19,34 @@ fn bench(args: BenchArgs) -> Result<()> {
     if let Some(s) = args.size {
         o.size = s;
     }
-    if let Some(n) = args.lights {
+    // The scene is opened once here, so that a bad name or file fails before the sweep starts,
+    // its warnings are shown once, and a scene with its own lights keeps them.
+    let requested = lampshade::cli::requested_lights(args.lights, args.light_grid);
+    let is_file = lampshade::scene::import::is_gltf_path(&args.scene);
+    if is_file {
+        o.lights = lampshade::scene::import::DEFAULT_ADDED_LIGHTS;
+    }
+    if let Some(n) = requested {
         o.lights = n;
+    }
+    let (scene, warnings) =
+        open_scene(&args.scene, BuiltinOptions { lights: requested, time: 0.0 }, &Default::default())?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    o.fixed_lights = if is_file {
+        // Lights were added only if the file has none: then there are exactly `o.lights` point
+        // lights and the fill sun (a file's own sun would have kept them out).
+        !(scene.lights.len() == o.lights && scene.sun == Some(lampshade::scene::Sun::fill_sun()))
+    } else {
+        !builtin::TAKES_LIGHT_COUNT.contains(&args.scene.as_str())
+    };
+    if o.fixed_lights {
+        eprintln!(
+            "note: {} brings its own {} light(s): the bench does not vary the light count",
+            args.scene,
+            scene.lights.len()
+        );
     }
     for g in &args.only {
         if !bench::GROUPS.contains(&g.as_str()) {
@@ -28,7 +54,6 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     o.groups = args.only.clone();
-    builtin::build(&o.scene, BuiltinOptions::default()).map_err(anyhow::Error::msg)?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let gpu = Gpu::headless()?;
     let bar = indicatif::ProgressBar::new((bench::configs(&o).len() * 2 + o.frames.max(1)) as u64);
@@ -61,7 +86,7 @@ fn render(args: RenderArgs) -> Result<()> {
     };
     let scene_name = args.scene.clone().or(keys.scene).unwrap_or_else(|| "demo".into());
     let time = args.time.or(keys.time).unwrap_or(0.0);
-    let lights = args.lights.or(keys.lights);
+    let lights = lampshade::cli::requested_lights(args.lights, args.light_grid).or(keys.lights);
     let (w, h) = match (args.size, keys.size) {
         (Some(s), _) => s,
         (None, Some([w, h])) => image_size(&format!("{w}x{h}")).map_err(anyhow::Error::msg)?,
@@ -78,7 +103,7 @@ fn render(args: RenderArgs) -> Result<()> {
     // by `--stats` (whose JSON says whether it ran).
     settings.count_ideal = args.ideal;
     settings.validate().map_err(anyhow::Error::msg)?;
-    let import = lampshade::scene::import::ImportOptions { light_grid: args.light_grid, ..Default::default() };
+    let import = lampshade::scene::import::ImportOptions::default();
     let (mut scene, warnings) = open_scene(&scene_name, BuiltinOptions { lights, time }, &import)?;
     for w in &warnings {
         eprintln!("warning: {scene_name}: {w}");

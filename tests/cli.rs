@@ -99,6 +99,99 @@ fn a_headless_render_needs_no_runtime_dir_and_prints_no_display_errors() {
     }
 }
 
+/// A copy of the project's room without its lights, in a scratch directory.
+fn lightless_room(tag: &str) -> std::path::PathBuf {
+    let dir = tmp(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    lampshade::scene::room::write(&dir).unwrap();
+    let path = dir.join("room.gltf");
+    let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    for n in v["nodes"].as_array_mut().unwrap() {
+        n.as_object_mut().unwrap().remove("extensions");
+    }
+    v["extensions"].as_object_mut().unwrap().remove("KHR_lights_punctual");
+    v["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != "KHR_lights_punctual");
+    std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+    path
+}
+
+fn bench_rows(csv: &std::path::Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(csv).unwrap();
+    text.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect()
+}
+
+#[test]
+fn bench_takes_a_gltf_file_and_a_light_count_for_it() {
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf");
+    let quick = ["--quick", "--frames", "1", "--size", "64x36"];
+    // The room brings 11 lights: they are kept, and the light count is not varied.
+    let out_dir = tmp("bench-room");
+    let out = lampshade(
+        &[&["bench", room, "--out", out_dir.to_str().unwrap(), "--only", "culling,lights"][..], &quick].concat(),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("brings its own 11 light(s)"), "{err}");
+    let rows = bench_rows(&out_dir.join("bench.csv"));
+    assert_eq!(rows.len(), 6, "one row per culling mode, no `lights` rows: {rows:?}");
+    assert!(rows.iter().all(|r| r[2] == room), "{rows:?}");
+    // A file without lights takes --lights N: N lights, and the `lights` group varies it.
+    let path = lightless_room("lightless-bench");
+    let out_dir = tmp("bench-lightless");
+    let out = lampshade(
+        &[
+            &[
+                "bench",
+                path.to_str().unwrap(),
+                "--lights",
+                "8",
+                "--out",
+                out_dir.to_str().unwrap(),
+                "--only",
+                "culling,lights",
+            ][..],
+            &quick,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows = bench_rows(&out_dir.join("bench.csv"));
+    let header = std::fs::read_to_string(out_dir.join("bench.csv")).unwrap();
+    let lights_col = header.lines().next().unwrap().split(',').position(|c| c == "lights").unwrap();
+    let culling: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "culling").collect();
+    assert_eq!(culling.len(), 6);
+    assert!(culling.iter().all(|r| r[lights_col] == "8"), "{culling:?}");
+    let counts: Vec<&str> = rows.iter().filter(|r| r[0] == "lights").map(|r| r[lights_col].as_str()).collect();
+    assert!(counts.contains(&"16") && counts.contains(&"64"), "{counts:?}");
+}
+
+#[test]
+fn a_light_count_a_scene_does_not_take_is_a_warning() {
+    let png = tmp("unused-lights.png");
+    let p = png.to_str().unwrap();
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf");
+    for (scene, expect) in [(room, "the file has 11 light(s) of its own"), ("spot", "has a fixed set of lights")] {
+        let out = lampshade(&["render", scene, "--size", "32x18", "--lights", "5", "--out", p]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(err.contains("--lights 5 is not used") && err.contains(expect), "{scene}: {err}");
+    }
+    // Taken: no warning.
+    let out = lampshade(&[
+        "render",
+        lightless_room("lightless-render").to_str().unwrap(),
+        "--size",
+        "32x18",
+        "--lights",
+        "5",
+        "--out",
+        p,
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !err.contains("not used"), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains(": 5 lights"), "{}", String::from_utf8_lossy(&out.stdout));
+}
+
 #[test]
 fn bad_input_is_a_clear_error() {
     let png = tmp("x.png");

@@ -434,6 +434,83 @@ fn the_missing_texture_checker_is_sharp_and_only_in_colour_slots() {
     );
 }
 
+/// A copy of the room without its lights (a file that brings none); with `only`, just the nodes
+/// whose mesh uses the material of that name.
+fn lightless_room(tag: &str, only: Option<&str>) -> PathBuf {
+    let dir = room_copy(tag);
+    edit_json(&dir, |v| {
+        for n in v["nodes"].as_array_mut().unwrap() {
+            n.as_object_mut().unwrap().remove("extensions");
+        }
+        v["extensions"].as_object_mut().unwrap().remove("KHR_lights_punctual");
+        v["extensionsUsed"].as_array_mut().unwrap().retain(|e| e != "KHR_lights_punctual");
+        if let Some(name) = only {
+            let m = v["materials"].as_array().unwrap().iter().position(|m| m["name"] == name).unwrap();
+            let uses = |n: &serde_json::Value| {
+                n["mesh"].as_u64().is_some_and(|k| {
+                    v["meshes"][k as usize]["primitives"].as_array().unwrap().iter().any(|p| p["material"] == m)
+                })
+            };
+            let keep: Vec<usize> =
+                (0..v["nodes"].as_array().unwrap().len()).filter(|&i| uses(&v["nodes"][i])).collect();
+            v["scenes"][0]["nodes"] = serde_json::json!(keep);
+        }
+    });
+    dir.join("room.gltf")
+}
+
+/// Mean 8-bit luma of the pixels that differ from the background (the corner pixel), and the
+/// share of the image's width and height those pixels span.
+fn model_brightness(img: &image::RgbaImage) -> (f64, f64, f64) {
+    let bg = *img.get_pixel(0, 0);
+    let (mut sum, mut n) = (0.0, 0usize);
+    let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
+    for (x, y, p) in img.enumerate_pixels() {
+        if (0..3).any(|k| p[k].abs_diff(bg[k]) > 6) {
+            sum += 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
+            n += 1;
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+    }
+    let (w, h) = img.dimensions();
+    if n == 0 {
+        return (0.0, 0.0, 0.0);
+    }
+    (sum / n as f64, (x1 - x0 + 1) as f64 / w as f64, (y1 - y0 + 1) as f64 / h as f64)
+}
+
+#[test]
+fn a_file_without_lights_gets_a_lit_and_framed_first_picture() {
+    // The room's gold sphere alone (metallic 1, roughness 0.55: no diffuse term at all), the
+    // room's blue box (a dielectric), and the whole room, each without lights, from the framing
+    // viewpoint at the default size's shape.
+    for (tag, only, least_mean) in [
+        ("lightless-gold", Some("gold"), 120.0),
+        ("lightless-paint", Some("blue paint"), 120.0),
+        ("lightless-room", None, 120.0),
+    ] {
+        let imported = load(&lightless_room(tag, only)).unwrap();
+        assert_eq!(imported.stats.lights_added, import::DEFAULT_ADDED_LIGHTS, "{tag}");
+        let mut s = imported.scene;
+        let framing = s.viewpoints.last().unwrap();
+        assert_eq!(framing.0, "framing");
+        s.camera = framing.1;
+        let img = render(&s, &Settings::default(), 320, 180).image;
+        let _ = img.save(root().join(format!("target/gltf-tests/{tag}.png")));
+        let (mean, width, height) = model_brightness(&img);
+        eprintln!(
+            "{tag}: mean luma {mean:.1}, spans {:.0}% of the width, {:.0}% of the height",
+            width * 100.0,
+            height * 100.0
+        );
+        assert!(mean >= least_mean, "{tag}: the model's mean brightness is {mean:.1} of 255 (at least {least_mean})");
+        assert!(
+            width.max(height) >= 0.8,
+            "{tag}: the model spans {width:.2} of the width and {height:.2} of the height"
+        );
+    }
+}
+
 #[test]
 fn degenerate_triangles_are_dropped_not_drawn() {
     let dir = room_copy("degenerate");
@@ -474,7 +551,7 @@ fn fuzzer_findings_stay_fixed() {
     let mut n = 0;
     for e in entries.flatten() {
         let bytes = std::fs::read(e.path()).unwrap();
-        let opts = ImportOptions { light_grid: 2, max_texture_size: 256, max_elements: 1 << 20 };
+        let opts = ImportOptions { lights: 4, max_texture_size: 256, max_elements: 1 << 20 };
         let r = import::load_bytes(&bytes, None, "fuzz", &opts, &mut quiet());
         assert!(r.is_err(), "{} loaded", e.path().display());
         n += 1;

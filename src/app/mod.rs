@@ -66,7 +66,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let mut state = UiState {
         scene: scene.clone(),
-        lights: args.lights,
+        lights: crate::cli::requested_lights(args.lights, args.light_grid),
         resolution_scale: scale,
         panels: saved.panels,
         ..UiState::default()
@@ -77,7 +77,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let size = args.size.unwrap_or((saved.window[0], saved.window[1]));
     let mut cache = SceneCache::default();
-    cache.import_options.light_grid = args.light_grid;
+    if let Some(n) = crate::cli::requested_lights(args.lights, args.light_grid) {
+        cache.import_options.lights = n;
+    }
     if crate::scene::import::is_gltf_path(&scene) {
         // The first file loads before the window opens, with a progress bar on the terminal;
         // a bad file is an error and a non-zero exit, as in `render`.

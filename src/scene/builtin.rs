@@ -40,6 +40,9 @@ impl Default for BuiltinOptions {
     }
 }
 
+/// The built-in scenes whose light count `--lights` sets.
+pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow"];
+
 /// Builds a built-in scene by name, or says which names exist.
 pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
     let scene = match name {

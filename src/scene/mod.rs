@@ -531,10 +531,29 @@ pub fn open(
     progress: &mut dyn FnMut(import::Progress<'_>),
 ) -> anyhow::Result<(Scene, Vec<String>)> {
     if import::is_gltf_path(name) {
-        let imported = import::load(std::path::Path::new(name), options, progress)?;
+        // `--lights N` on a file: the number of lights added when it has none.
+        let mut options = options.clone();
+        if let Some(n) = builtin.lights {
+            options.lights = n;
+        }
+        let imported = import::load(std::path::Path::new(name), &options, progress)?;
         log::info!("{name}: {:?}", imported.stats);
-        Ok((imported.scene, imported.warnings))
+        let mut warnings = imported.warnings;
+        if let (Some(n), true) = (builtin.lights, imported.stats.lights_from_file > 0) {
+            warnings.push(format!(
+                "--lights {n} is not used: the file has {} light(s) of its own, and lights are added only to a file without any",
+                imported.stats.lights_from_file
+            ));
+        }
+        Ok((imported.scene, warnings))
     } else {
-        Ok((builtin::build(name, builtin).map_err(anyhow::Error::msg)?, Vec::new()))
+        let mut warnings = Vec::new();
+        if let (Some(n), false) = (builtin.lights, builtin::TAKES_LIGHT_COUNT.contains(&name)) {
+            warnings.push(format!(
+                "--lights {n} is not used: the built-in scene '{name}' has a fixed set of lights (a count is taken by {})",
+                builtin::TAKES_LIGHT_COUNT.join(", ")
+            ));
+        }
+        Ok((builtin::build(name, builtin).map_err(anyhow::Error::msg)?, warnings))
     }
 }

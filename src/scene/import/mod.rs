@@ -25,6 +25,7 @@ use std::sync::Arc;
 
 mod checks;
 mod geometry;
+pub mod lighting;
 mod materials;
 
 use checks::{
@@ -34,6 +35,9 @@ use checks::{
 /// Extensions the importer understands; a file that requires any other is rejected.
 pub const SUPPORTED_EXTENSIONS: &[&str] =
     &["KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_ior", "KHR_materials_emissive_strength"];
+
+/// Point lights a file without lights gets by default (`--lights N` for another count).
+pub const DEFAULT_ADDED_LIGHTS: usize = 64;
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
 pub const RANGE_CUTOFF: f32 = 0.05;
@@ -51,8 +55,8 @@ pub const MAX_FILE_BYTES: u64 = 2 << 30;
 
 #[derive(Clone, Debug)]
 pub struct ImportOptions {
-    /// Point lights per side of the grid added when the file has no lights (0: none).
-    pub light_grid: u32,
+    /// Point lights added when the file has no lights (0: none; see [`lighting`]).
+    pub lights: usize,
     /// Textures with a side longer than this are downscaled.
     pub max_texture_size: u32,
     /// Most vertices plus indices the primitives of one file may decode in all: a budget that
@@ -62,7 +66,7 @@ pub struct ImportOptions {
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        Self { light_grid: 8, max_texture_size: 4096, max_elements: 1 << 25 }
+        Self { lights: DEFAULT_ADDED_LIGHTS, max_texture_size: 4096, max_elements: 1 << 25 }
     }
 }
 
@@ -398,14 +402,9 @@ impl Importer<'_> {
         let (lo, hi) = bounds.unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
         let centre = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(1e-3);
-        // A framing viewpoint: front, above, whole scene in view.
-        let fov: f64 = 50f64.to_radians();
-        let distance = radius / (fov * 0.5).sin() * 1.05;
-        let eye = centre + DVec3::new(0.45, 0.35, 1.0).normalize() * distance;
-        let mut framing = Camera::looking_at(eye, centre);
-        framing.fov_y = fov;
-        framing.near = (distance - radius).max(radius * 1e-3) * 0.5;
-        framing.far = (distance + radius) * 3.0;
+        let points: Vec<DVec3> =
+            lighting::sample_vertices(&self.scene, lighting::FRAMING_SAMPLES).into_iter().map(|(p, _)| p).collect();
+        let framing = lighting::framing(lo, hi, &points);
         let mut views = std::mem::take(&mut self.scene.viewpoints);
         for (name, c) in &mut views {
             if c.far.partial_cmp(&c.near) != Some(std::cmp::Ordering::Greater) {
@@ -423,39 +422,12 @@ impl Importer<'_> {
         self.scene.viewpoints = views;
 
         if self.scene.lights.is_empty() && self.scene.sun.is_none() {
-            self.scene.sun = Some(Sun::fill_sun());
-            self.add_light_grid(lo, hi);
+            self.add_default_lights(lo, hi);
         }
         self.stats.meshes = self.scene.meshes.len();
         self.stats.objects = self.scene.objects.len();
         self.stats.materials = self.scene.materials.len();
         Ok(())
-    }
-
-    /// The default lights of a scene without any: an n x n grid of coloured point lights over
-    /// the bounds' footprint, a little above the lowest quarter of its height.
-    fn add_light_grid(&mut self, lo: DVec3, hi: DVec3) {
-        let n = self.options.light_grid;
-        if n == 0 {
-            return;
-        }
-        let extent = hi - lo;
-        let spacing = (extent.x.max(extent.z) / n as f64).max(1e-3);
-        let y = lo.y + extent.y * 0.25 + spacing * 0.2;
-        for i in 0..n {
-            for j in 0..n {
-                let x = lo.x + (i as f64 + 0.5) * extent.x / n as f64;
-                let z = lo.z + (j as f64 + 0.5) * extent.z / n as f64;
-                let h = ((i * n + j) as f32 * 0.618_034).fract();
-                self.scene.lights.push(Light::Point(PointLight {
-                    position: DVec3::new(x, y, z),
-                    color: super::builtin::hue(h) * 0.7 + Vec3::splat(0.3),
-                    intensity: 1.5,
-                    radius: (spacing * 1.5) as f32,
-                }));
-                self.stats.lights_added += 1;
-            }
-        }
     }
 }
 

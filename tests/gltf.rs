@@ -368,7 +368,8 @@ fn corrupt_and_without(file: &str, remove: impl Fn(&mut serde_json::Value)) -> (
 #[test]
 fn an_unreadable_normal_or_metal_roughness_map_reads_as_no_map() {
     use lampshade::renderer::DebugView;
-    let cases: [(&str, fn(&mut serde_json::Value)); 2] = [
+    type Remove = fn(&mut serde_json::Value);
+    let cases: [(&str, Remove); 2] = [
         ("floor_normal.png", |m| {
             m.as_object_mut().unwrap().remove("normalTexture");
         }),

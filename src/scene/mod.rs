@@ -130,7 +130,7 @@ impl Texture {
         let mut rgba = Vec::with_capacity((n * n * 4) as usize);
         for y in 0..n {
             for x in 0..n {
-                let on = (x / MISSING_CELL + y / MISSING_CELL) % 2 == 0;
+                let on = (x / MISSING_CELL + y / MISSING_CELL).is_multiple_of(2);
                 rgba.extend_from_slice(if on { &[255, 0, 255, 255] } else { &[0, 0, 0, 255] });
             }
         }

@@ -497,22 +497,47 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         let t_lo = mine.iter().map(|r| r.total_ms).fold(f64::INFINITY, f64::min) / 1.5;
         let t_hi = mine.iter().map(|r| r.total_ms).fold(0.0, f64::max) * 2.5;
         let e_hi = mine.iter().map(|r| r.flip_mean as f64).fold(1e-4, f64::max) * 1.25;
+        // Ticks of our own: at least three per axis, labels distinct (plotters' log axis labels
+        // only powers of ten, so a narrow range had one tick or none).
+        let x_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
+        let y_ticks = crate::plot_layout::linear_ticks(0.0, e_hi);
+        let (x_dec, y_dec) = (crate::plot_layout::tick_decimals(&x_ticks), crate::plot_layout::tick_decimals(&y_ticks));
         let mut chart = ChartBuilder::on(area)
             .caption(*g, ("sans-serif", 20))
             .margin(12)
             .x_label_area_size(36)
-            .y_label_area_size(56)
+            .y_label_area_size(64)
             .build_cartesian_2d((t_lo..t_hi).log_scale(), 0.0..e_hi)?;
         chart
             .configure_mesh()
             .x_desc("GPU ms per frame (median)")
             .y_desc("FLIP mean")
             .label_style(("sans-serif", 13))
-            .light_line_style(RGBColor(238, 238, 238))
-            .x_labels(8)
-            .y_label_formatter(&|v| format!("{v:.3}"))
-            .x_label_formatter(&|v| format!("{v:.0}"))
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            // The log axis still labels its powers of ten: blank, the ticks are drawn below.
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
             .draw()?;
+        let font: TextStyle = ("sans-serif", 13).into_font().into();
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let base = area.get_base_pixel();
+        let grid = RGBColor(225, 225, 225);
+        for &t in &x_ticks {
+            chart.draw_series(LineSeries::new([(t, 0.0), (t, e_hi)], grid))?;
+            let text = format!("{t:.x_dec$}");
+            let (w, _) = area.estimate_text_size(&text, &font)?;
+            let (px, _) = chart.backend_coord(&(t, 0.0));
+            area.draw(&Text::new(text, (px - w as i32 / 2 - base.0, yr.end + 4 - base.1), font.clone()))?;
+        }
+        for &e in &y_ticks {
+            chart.draw_series(LineSeries::new([(t_lo, e), (t_hi, e)], grid))?;
+            let text = format!("{e:.y_dec$}");
+            let (w, h) = area.estimate_text_size(&text, &font)?;
+            let (_, py) = chart.backend_coord(&(t_lo, e));
+            area.draw(&Text::new(text, (xr.start - 6 - w as i32 - base.0, py - h as i32 / 2 - base.1), font.clone()))?;
+        }
         // The Pareto front of each scene/lights/size among this panel's points.
         let mut keys: Vec<_> = mine.iter().map(|r| key(r)).collect();
         keys.dedup();
@@ -524,9 +549,12 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
                 chart.draw_series(LineSeries::new(front, BLACK.stroke_width(1)))?;
             }
         }
-        // Labels stacked downwards where they would overlap (pixel rectangles).
-        let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+        // Markers first, then each label where it covers no marker and no other label and
+        // stays inside the plotting area (`plot_layout::place_labels`).
         mine.sort_by(|a, b| a.total_ms.total_cmp(&b.total_ms).then(b.flip_mean.total_cmp(&a.flip_mean)));
+        let mut points = Vec::new();
+        let mut sizes = Vec::new();
+        let mut labels = Vec::new();
         for r in &mine {
             let is_default = default.is_some_and(|d| std::ptr::eq(d, *r)) && *g != "culling";
             let c = if is_default { RGBColor(160, 160, 160) } else { color };
@@ -538,24 +566,33 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
             } else {
                 format!("{} ({} lights)", r.label, r.lights)
             };
-            let (px, py) = chart.backend_coord(&p);
-            let w = 7 * label.chars().count() as i32;
-            let mut dy = -7;
-            while placed
-                .iter()
-                .any(|&(x0, y0, x1, y1)| px + 8 < x1 && px + 8 + w > x0 && py + dy < y1 && py + dy + 13 > y0)
-            {
-                dy += 14;
-            }
-            placed.push((px + 8, py + dy, px + 8 + w, py + dy + 13));
-            chart.draw_series(std::iter::once(
-                EmptyElement::at(p)
-                    + Circle::new((0, 0), 5, c.filled())
-                    + Text::new(label, (8, dy), ("sans-serif", 13).into_font().color(&c)),
-            ))?;
+            chart.draw_series(std::iter::once(Circle::new(p, 5, c.filled())))?;
             if r.pareto {
                 chart.draw_series(std::iter::once(Circle::new(p, 8, BLACK.stroke_width(1))))?;
             }
+            let (w, h) = area.estimate_text_size(&label, &font)?;
+            points.push(chart.backend_coord(&p));
+            sizes.push((w as i32, h as i32));
+            labels.push((p, label, c));
+        }
+        let spots = crate::plot_layout::place_labels(&points, &sizes, 8, (xr.start, yr.start, xr.end, yr.end));
+        let mut left_out = 0;
+        for (((p, label, c), spot), (px, py)) in labels.into_iter().zip(spots).zip(points) {
+            let Some((l, t, _, _)) = spot else {
+                left_out += 1;
+                continue;
+            };
+            chart.draw_series(std::iter::once(
+                EmptyElement::at(p) + Text::new(label, (l - px, t - py), font.color(&c)),
+            ))?;
+        }
+        if left_out > 0 {
+            let (x0, y1) = (xr.start + 4, yr.end - 16);
+            area.draw(&Text::new(
+                format!("{left_out} label(s) left out: no free spot (see bench.md)"),
+                (x0 - base.0, y1 - base.1),
+                font.color(&BLACK),
+            ))?;
         }
     }
     root.present()?;

@@ -35,17 +35,18 @@ pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     linear_ticks(lo, hi)
 }
 
-/// Four to ten ticks at a 1-2-5 step over `lo..=hi`.
+/// Three to nine ticks at a 1-2-5 step over `lo..=hi`.
 pub fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
     if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
         return vec![lo];
     }
     let raw = (hi - lo) / 5.0;
     let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| (hi - lo) / s <= 10.0).unwrap_or(10.0 * mag);
+    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| (hi - lo) / s <= 8.0).unwrap_or(10.0 * mag);
     let first = (lo / step).ceil() as i64;
     let last = (hi / step).floor() as i64;
-    (first..=last).map(|i| i as f64 * step).collect()
+    // Rounding may put the last multiple a hair outside the range.
+    (first..=last).map(|i| i as f64 * step).filter(|v| *v >= lo && *v <= hi).collect()
 }
 
 /// The fewest decimals (0 ..= 8) that give every tick a different label.

@@ -152,6 +152,9 @@ pub struct ViewArgs {
     /// scale, else 0.5).
     #[arg(long)]
     pub scale: Option<f32>,
+    /// Exposure: a factor on the lit picture before tonemapping (the knob table's range).
+    #[arg(long)]
+    pub exposure: Option<f32>,
     /// Where F12 writes screenshots.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
@@ -175,6 +178,7 @@ impl Default for ViewArgs {
             lights: None,
             size: None,
             scale: None,
+            exposure: None,
             screenshot_dir: PathBuf::from("."),
             state: None,
             no_state: false,

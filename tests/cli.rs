@@ -210,6 +210,8 @@ fn bad_input_is_a_clear_error() {
         (vec!["render", "spot", "--out", p, "--settings", bad_settings.to_str().unwrap()], "sideways"),
         (vec!["render", "spot", "--size", "8x8", "--out", "/no/such/dir/x.png"], "writing"),
         (vec!["bench", "--out", p, "--only", "nothing"], "groups are"),
+        (vec!["bench", "nowhere", "--out", p], "unknown scene"),
+        (vec!["view", "--no-state", "--exposure=0"], "exposure 0 must be"),
         (vec!["render", "/no/such/model.gltf", "--out", p], "/no/such/model.gltf: cannot open"),
         (vec!["render", bad_gltf.to_str().unwrap(), "--out", p], "not a valid glTF"),
         (

@@ -513,6 +513,20 @@ fn a_file_without_lights_gets_a_lit_and_framed_first_picture() {
 }
 
 #[test]
+fn occlusion_and_specular_maps_are_warned_about_not_dropped() {
+    let dir = room_copy("unused-maps");
+    edit_json(&dir, |v| {
+        let m = &mut v["materials"][1];
+        m["occlusionTexture"] = serde_json::json!({ "index": 0 });
+        m["extensions"]["KHR_materials_specular"] = serde_json::json!({ "specularTexture": { "index": 0 } });
+    });
+    let imported = load(&dir.join("room.gltf")).unwrap();
+    let w = &imported.warnings;
+    assert!(w.iter().any(|w| w.contains("'plaster'") && w.contains("occlusion map is not used")), "{w:?}");
+    assert!(w.iter().any(|w| w.contains("'plaster'") && w.contains("KHR_materials_specular textures")), "{w:?}");
+}
+
+#[test]
 fn degenerate_triangles_are_dropped_not_drawn() {
     let dir = room_copy("degenerate");
     // Make the floor's first triangle zero-area (its three indices equal).

@@ -75,6 +75,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
         state.settings.culling = saved.culling;
         state.settings.layout = saved.layout;
     }
+    if let Some(e) = args.exposure {
+        state.settings.set("exposure", &e.to_string()).map_err(|e| anyhow::anyhow!("--exposure: {e}"))?;
+    }
     let size = args.size.unwrap_or((saved.window[0], saved.window[1]));
     let mut cache = SceneCache::default();
     if let Some(n) = crate::cli::requested_lights(args.lights, args.light_grid) {

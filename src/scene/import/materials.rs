@@ -141,6 +141,7 @@ impl Importer<'_> {
             return k;
         }
         let label = m.name().map_or_else(|| format!("material {:?}", m.index()), |n| format!("material '{n}'"));
+        self.warn_unused_maps(m, &label);
         let pbr = m.pbr_metallic_roughness();
         let [r, g, bl, a] = pbr.base_color_factor();
         let base = Vec3::new(r, g, bl);
@@ -229,6 +230,24 @@ impl Importer<'_> {
         let k = self.scene.materials.len() - 1;
         self.material_slots.insert(key, k);
         k
+    }
+}
+
+impl Importer<'_> {
+    /// Maps the renderer has no input for, said once per material rather than dropped.
+    fn warn_unused_maps(&mut self, m: &gltf::Material<'_>, label: &str) {
+        if m.occlusion_texture().is_some() {
+            self.warnings.push(format!(
+                "{label}: its occlusion map is not used (Lampshade has no ambient-occlusion input; ambient light is unoccluded)"
+            ));
+        }
+        if let Some(spec) = m.specular() {
+            if spec.specular_texture().is_some() || spec.specular_color_texture().is_some() {
+                self.warnings.push(format!(
+                    "{label}: its KHR_materials_specular textures are not used (the specular factors are)"
+                ));
+            }
+        }
     }
 }
 

@@ -444,3 +444,130 @@ fn switching_layouts_keeps_the_textures() {
     let magenta = again.pixels().filter(|p| p[0] > 100 && p[2] > 100 && p[1] < p[0] / 2).count();
     assert!(magenta < 50, "textures went missing after the switch");
 }
+
+/// `N`-byte elements encoded by meshoptimizer's vertex codec.
+fn encode_vertices<const N: usize>(data: &[u8]) -> Vec<u8> {
+    let items: Vec<[u8; N]> = data.chunks_exact(N).map(|c| c.try_into().unwrap()).collect();
+    meshopt::encode_vertex_buffer(&items).unwrap()
+}
+
+/// A copy of the room with every buffer view compressed by meshoptimizer's codecs
+/// (`EXT_meshopt_compression`, no filter, so lossless): vertex data by the vertex codec, index
+/// data by the triangle codec, into a new `room_meshopt.bin`; the views point into a fallback
+/// buffer without data, and the plain `room.bin` is deleted.
+fn meshopt_room(tag: &str) -> PathBuf {
+    let dir = room_copy(tag);
+    let bin = std::fs::read(dir.join("room.bin")).unwrap();
+    let mut packed: Vec<u8> = Vec::new();
+    edit_json(&dir, |v| {
+        let accessors = v["accessors"].as_array().unwrap().clone();
+        let index_accessors: Vec<u64> = v["meshes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|m| m["primitives"].as_array().unwrap().iter())
+            .filter_map(|p| {
+                assert!(p.get("mode").is_none_or(|m| m == 4), "the room draws triangle lists only");
+                p["indices"].as_u64()
+            })
+            .collect();
+        for (i, view) in v["bufferViews"].as_array_mut().unwrap().iter_mut().enumerate() {
+            let (k, acc) = accessors
+                .iter()
+                .enumerate()
+                .find(|(_, a)| a["bufferView"].as_u64() == Some(i as u64))
+                .unwrap_or_else(|| panic!("buffer view {i} holds no accessor"));
+            let offset = view["byteOffset"].as_u64().unwrap_or(0) as usize;
+            let len = view["byteLength"].as_u64().unwrap() as usize;
+            let data = &bin[offset..offset + len];
+            let count = acc["count"].as_u64().unwrap() as usize;
+            let (mode, stride, encoded) = if index_accessors.contains(&(k as u64)) {
+                let idx: Vec<u32> = match acc["componentType"].as_u64().unwrap() {
+                    5123 => data.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]]) as u32).collect(),
+                    5125 => data.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect(),
+                    other => panic!("index type {other}"),
+                };
+                let vertices = *idx.iter().max().unwrap() as usize + 1;
+                ("TRIANGLES", len / count, meshopt::encode_index_buffer(&idx, vertices).unwrap())
+            } else {
+                let stride = len / count;
+                let encoded = match stride {
+                    8 => encode_vertices::<8>(data),
+                    12 => encode_vertices::<12>(data),
+                    16 => encode_vertices::<16>(data),
+                    other => panic!("vertex stride {other}"),
+                };
+                ("ATTRIBUTES", stride, encoded)
+            };
+            packed.resize(packed.len().next_multiple_of(4), 0);
+            view["buffer"] = serde_json::json!(1);
+            view["extensions"] = serde_json::json!({"EXT_meshopt_compression": {
+                "buffer": 0, "byteOffset": packed.len(), "byteLength": encoded.len(),
+                "byteStride": stride, "count": count, "mode": mode,
+            }});
+            packed.extend(encoded);
+        }
+        v["buffers"] = serde_json::json!([
+            {"uri": "room_meshopt.bin", "byteLength": packed.len()},
+            {"byteLength": bin.len(), "extensions": {"EXT_meshopt_compression": {"fallback": true}}},
+        ]);
+        for key in ["extensionsUsed", "extensionsRequired"] {
+            let list = v[key].as_array().cloned().unwrap_or_default();
+            v[key] = serde_json::Value::Array(list);
+            v[key].as_array_mut().unwrap().push(serde_json::json!("EXT_meshopt_compression"));
+        }
+    });
+    std::fs::write(dir.join("room_meshopt.bin"), &packed).unwrap();
+    std::fs::remove_file(dir.join("room.bin")).unwrap();
+    assert!(packed.len() < bin.len(), "meshopt made the room's data bigger ({} > {})", packed.len(), bin.len());
+    dir
+}
+
+#[test]
+fn a_meshopt_compressed_room_renders_the_same_pixels_as_the_room() {
+    let dir = meshopt_room("meshopt");
+    let imported = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}"));
+    assert!(imported.warnings.is_empty(), "warnings: {:?}", imported.warnings);
+    let (plain, packed) = (room_scene(), imported.scene);
+    assert_eq!(plain.meshes.len(), packed.meshes.len());
+    for (a, b) in plain.meshes.iter().zip(&packed.meshes) {
+        assert_eq!(a.indices, b.indices, "{}: indices differ", a.name);
+        let bytes = |m: &lampshade::scene::Mesh| bytemuck::cast_slice::<_, u8>(&m.vertices).to_vec();
+        assert!(bytes(a) == bytes(b), "{}: vertices differ", a.name);
+    }
+    let a = render(&plain, &Settings::default(), W, H).image;
+    let b = render(&packed, &Settings::default(), W, H).image;
+    assert!(lit_share(&b) > 0.5, "the compressed room is mostly black");
+    assert_eq!(max_channel_difference(&a, &b), 0, "the compressed room renders differently");
+}
+
+#[test]
+fn broken_meshopt_data_is_an_error_that_names_the_view() {
+    let broken_meshopt = |tag: &str, edit: &dyn Fn(&Path)| -> String {
+        let dir = meshopt_room(tag);
+        edit(&dir);
+        match load_with_deadline(&dir.join("room.gltf"), 30) {
+            Ok(_) => panic!("{tag}: the broken file loaded"),
+            Err(e) => format!("{e:#}"),
+        }
+    };
+    let garbage = broken_meshopt("meshopt-garbage", &|d| {
+        let p = d.join("room_meshopt.bin");
+        let mut b = std::fs::read(&p).unwrap();
+        b.iter_mut().for_each(|x| *x = 0xff);
+        std::fs::write(&p, b).unwrap();
+    });
+    assert!(garbage.contains("room.gltf") && garbage.contains("does not decode"), "{garbage}");
+    assert!(garbage.contains("buffer view 0 (EXT_meshopt_compression)"), "{garbage}");
+    let stride = broken_meshopt("meshopt-stride", &|d| {
+        edit_json(d, |v| v["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteStride"] = 6.into())
+    });
+    assert!(stride.contains("byteStride 6 is not allowed"), "{stride}");
+    let past = broken_meshopt("meshopt-past", &|d| {
+        edit_json(d, |v| v["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 1_000_000.into())
+    });
+    assert!(past.contains("reaches past the end of buffer 0"), "{past}");
+    let huge =
+        broken_meshopt("meshopt-huge", &|d| edit_json(d, |v| v["buffers"][1]["byteLength"] = (3u64 << 30).into()));
+    assert!(huge.contains("decode to more than"), "{huge}");
+}

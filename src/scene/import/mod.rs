@@ -26,14 +26,20 @@ use std::sync::Arc;
 mod checks;
 mod geometry;
 mod materials;
+mod meshopt;
 
 use checks::{
     check_before_validation, check_external, check_glb_header, check_json, check_views, load_buffers, short_uri,
 };
 
 /// Extensions the importer understands; a file that requires any other is rejected.
-pub const SUPPORTED_EXTENSIONS: &[&str] =
-    &["KHR_lights_punctual", "KHR_materials_specular", "KHR_materials_ior", "KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_materials_emissive_strength",
+    "EXT_meshopt_compression",
+];
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
 pub const RANGE_CUTOFF: f32 = 0.05;
@@ -145,14 +151,18 @@ pub fn load_bytes(
         }
     }
     // Validation proper (indices in range, required fields): parse again with the checks on.
-    let gltf::Gltf { document: doc, blob } = gltf::Gltf::from_slice(bytes).map_err(|e| match e {
-        gltf::Error::Validation(list) => {
-            let shown: Vec<String> = list.iter().take(4).map(|(path, err)| format!("{path}: {err}")).collect();
-            let more = if list.len() > 4 { format!(" (and {} more)", list.len() - 4) } else { String::new() };
-            anyhow!("the glTF is invalid: {}{more}", shown.join("; "))
+    let gltf::Gltf { document: doc, blob } = match gltf::Gltf::from_slice(bytes) {
+        Ok(checked) => checked,
+        // The `gltf` crate refuses the extensions it does not know (EXT_meshopt_compression)
+        // in extensionsRequired; those were held against SUPPORTED_EXTENSIONS above, so only
+        // its other findings count.
+        Err(gltf::Error::Validation(list))
+            if list.iter().all(|(path, _)| path.as_str().starts_with("extensionsRequired")) =>
+        {
+            gltf
         }
-        other => anyhow!("not a valid glTF file: {other}"),
-    })?;
+        Err(e) => return Err(validation_error(e)),
+    };
     progress(Progress { stage: "parsing", done: 1, total: 1 });
 
     let mut warnings = Vec::new();
@@ -171,7 +181,11 @@ pub fn load_bytes(
         warnings.push("morph targets are not applied: meshes are drawn with their base shape".into());
     }
     check_json(&doc)?;
-    let buffers = load_buffers(&doc, base, blob, progress)?;
+    let compressed = meshopt::Meshopt::read(bytes, &doc)?;
+    let mut buffers = load_buffers(&doc, base, blob, &compressed.fallback, progress)?;
+    if !compressed.is_empty() {
+        compressed.decode(&doc, &mut buffers)?;
+    }
     check_views(&doc, &buffers)?;
 
     let mut b = Importer {
@@ -196,6 +210,18 @@ pub fn load_bytes(
     let scene = b.scene;
     scene.validate().map_err(|e| anyhow!("the imported scene is inconsistent: {e}"))?;
     Ok(Imported { scene, warnings: b.warnings, stats })
+}
+
+/// The `gltf` crate's parse or validation error as a message.
+fn validation_error(e: gltf::Error) -> anyhow::Error {
+    match e {
+        gltf::Error::Validation(list) => {
+            let shown: Vec<String> = list.iter().take(4).map(|(path, err)| format!("{path}: {err}")).collect();
+            let more = if list.len() > 4 { format!(" (and {} more)", list.len() - 4) } else { String::new() };
+            anyhow!("the glTF is invalid: {}{more}", shown.join("; "))
+        }
+        other => anyhow!("not a valid glTF file: {other}"),
+    }
 }
 
 /// Which way a texture is read: colour (sRGB) or data (linear).

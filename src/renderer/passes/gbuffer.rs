@@ -25,7 +25,7 @@ pub(crate) fn surface_pipeline(
     let vertex_buffers = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
     })];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),

@@ -4,6 +4,7 @@
 //! tangents when a normal map needs them and the file has none).
 
 use super::*;
+use glam::Vec2;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
@@ -14,6 +15,7 @@ struct Attributes {
     normals: Option<Vec<[f32; 3]>>,
     tangents: Option<Vec<[f32; 4]>>,
     uvs: Option<Vec<[f32; 2]>>,
+    uvs1: Option<Vec<[f32; 2]>>,
 }
 
 impl Importer<'_> {
@@ -29,19 +31,30 @@ impl Importer<'_> {
         let attributes = self.attributes(prim)?;
         let Some(tris) = self.triangles(prim, &attributes.positions, mirrored)? else { return Ok(None) };
         let wants_normal_map = prim.material().normal_texture().is_some();
-        let has_uv = attributes.uvs.is_some();
+        let uvs = materials::material_uvs(&prim.material(), "", &mut Vec::new());
+        let has = |set: u32| if set == 1 { attributes.uvs1.is_some() } else { attributes.uvs.is_some() };
+        let has_uv = has(uvs.normal.set);
         if wants_normal_map && !has_uv {
-            self.warnings.push(format!("{}: a normal map without TEXCOORD_0 is ignored", prim_label(prim)));
+            self.warnings.push(format!(
+                "{}: a normal map without TEXCOORD_{} is ignored",
+                prim_label(prim),
+                uvs.normal.set
+            ));
+        }
+        let uses_uv1 = prim.material().index().is_some()
+            && [uvs.base_color, uvs.emissive, uvs.metallic_roughness].iter().any(|t| t.set == 1);
+        if uses_uv1 && attributes.uvs1.is_none() {
+            self.warnings.push(format!("{}: its material reads TEXCOORD_1, which it does not have", prim_label(prim)));
         }
         let mut mesh = self.vertices(prim, &attributes, &tris, mirrored);
         let tangents_missing = mesh.vertices.iter().any(|v| v.tangent[3] == 0.0);
         if wants_normal_map && has_uv && tangents_missing {
-            generate_tangents(&mut mesh);
+            generate_tangents(&mut mesh, uvs.normal);
         }
         Ok(Some((mesh, has_uv)))
     }
 
-    /// Reads POSITION, NORMAL, TANGENT and TEXCOORD_0, checking their types, their counts
+    /// Reads POSITION, NORMAL, TANGENT, TEXCOORD_0 and TEXCOORD_1, checking their types, their counts
     /// against POSITION's, that they can be read in full, and the load's element budget.
     fn attributes(&mut self, prim: &gltf::Primitive<'_>) -> Result<Attributes> {
         let check =
@@ -76,7 +89,15 @@ impl Importer<'_> {
             &[Dimensions::Vec2],
             &[DataType::F32, DataType::U8, DataType::U16],
         )?;
-        for (what, count) in [("NORMAL", n_normals), ("TANGENT", n_tangents), ("TEXCOORD_0", n_uv)] {
+        let n_uv1 = check(
+            &gltf::Semantic::TexCoords(1),
+            "TEXCOORD_1",
+            &[Dimensions::Vec2],
+            &[DataType::F32, DataType::U8, DataType::U16],
+        )?;
+        for (what, count) in
+            [("NORMAL", n_normals), ("TANGENT", n_tangents), ("TEXCOORD_0", n_uv), ("TEXCOORD_1", n_uv1)]
+        {
             if let Some(c) = count {
                 if c != n {
                     bail!("{what} has {c} elements but POSITION has {n}: the accessor counts disagree");
@@ -95,19 +116,24 @@ impl Importer<'_> {
         let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
         let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|it| it.collect());
         let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
+        let uvs1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|it| it.into_f32().collect());
         for (what, len) in [
             ("NORMAL", normals.as_ref().map(|v| v.len())),
             ("TANGENT", tangents.as_ref().map(|v| v.len())),
             ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),
+            ("TEXCOORD_1", uvs1.as_ref().map(|v| v.len())),
         ] {
             if len.is_some_and(|l| l != n) {
                 bail!("{what} cannot be read in full");
             }
         }
-        if n_normals.is_some() && normals.is_none() || n_uv.is_some() && uvs.is_none() {
+        if n_normals.is_some() && normals.is_none()
+            || n_uv.is_some() && uvs.is_none()
+            || n_uv1.is_some() && uvs1.is_none()
+        {
             bail!("an attribute's data cannot be read");
         }
-        Ok(Attributes { positions, normals, tangents, uvs })
+        Ok(Attributes { positions, normals, tangents, uvs, uvs1 })
     }
 
     /// The primitive's indices (checked against the vertex count) as triangles, without the
@@ -196,8 +222,13 @@ impl Importer<'_> {
         let positions = &a.positions;
         let n = positions.len();
         let mut mesh = Mesh { name: prim_label(prim), ..Default::default() };
-        let uv_at = |i: usize| {
-            a.uvs.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] })
+        let finite_at = |set: &Option<Vec<[f32; 2]>>, i: usize| {
+            set.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] })
+        };
+        let uv_at = |i: usize| finite_at(&a.uvs, i);
+        let vertex = |i: usize, normal: [f32; 3]| Vertex {
+            uv1: finite_at(&a.uvs1, i),
+            ..Vertex::new(positions[i], normal, uv_at(i))
         };
         let Some(normals) = &a.normals else {
             // glTF: without normals, flat shading. Each triangle gets its own vertices.
@@ -207,7 +238,7 @@ impl Importer<'_> {
                 let n = if mirrored { -n } else { n };
                 let base = mesh.vertices.len() as u32;
                 for &i in t {
-                    mesh.vertices.push(Vertex::new(positions[i as usize], n.into(), uv_at(i as usize)));
+                    mesh.vertices.push(vertex(i as usize, n.into()));
                 }
                 mesh.indices.extend([base, base + 1, base + 2]);
             }
@@ -239,7 +270,7 @@ impl Importer<'_> {
             ));
         }
         for i in 0..n {
-            let mut v = Vertex::new(positions[i], fixed[i].normalize().into(), uv_at(i));
+            let mut v = vertex(i, fixed[i].normalize().into());
             if let Some(t) = &a.tangents {
                 let t = glam::Vec4::from(t[i]);
                 if t.is_finite() && t.truncate().length_squared() > 1e-12 {
@@ -257,9 +288,11 @@ fn prim_label(prim: &gltf::Primitive<'_>) -> String {
     format!("primitive {}", prim.index())
 }
 
-/// MikkTSpace tangents (what glTF's normal maps are baked against), written per vertex.
-fn generate_tangents(mesh: &mut Mesh) {
-    struct Geo<'a>(&'a mut Mesh);
+/// MikkTSpace tangents (what glTF's normal maps are baked against) from the normal map's
+/// texture coordinates: its set, transformed by its `KHR_texture_transform` (so a rotated or
+/// mirrored normal map is read in its own frame), written per vertex.
+fn generate_tangents(mesh: &mut Mesh, uv: UvTransform) {
+    struct Geo<'a>(&'a mut Mesh, UvTransform);
     impl bevy_mikktspace::Geometry for Geo<'_> {
         fn num_faces(&self) -> usize {
             self.0.indices.len() / 3
@@ -274,7 +307,8 @@ fn generate_tangents(mesh: &mut Mesh) {
             self.0.vertices[self.0.indices[face * 3 + vert] as usize].normal
         }
         fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-            self.0.vertices[self.0.indices[face * 3 + vert] as usize].uv
+            let v = &self.0.vertices[self.0.indices[face * 3 + vert] as usize];
+            self.1.apply(Vec2::from(if self.1.set == 1 { v.uv1 } else { v.uv })).into()
         }
         fn set_tangent(&mut self, t: Option<bevy_mikktspace::TangentSpace>, face: usize, vert: usize) {
             let i = self.0.indices[face * 3 + vert] as usize;
@@ -284,7 +318,7 @@ fn generate_tangents(mesh: &mut Mesh) {
             }
         }
     }
-    if bevy_mikktspace::generate_tangents(&mut Geo(mesh)).is_err() {
+    if bevy_mikktspace::generate_tangents(&mut Geo(mesh, uv)).is_err() {
         log::warn!("tangent generation failed for {}", mesh.name);
     }
     // Anything still without a tangent gets one perpendicular to its normal.

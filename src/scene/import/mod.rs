@@ -14,8 +14,8 @@
 //! warning). Exposure is the viewer's to adjust.
 
 use super::{
-    AlphaMode, Camera, Light, Material, MaterialTextures, Mesh, Object, PointLight, Scene, SpotLight, Sun, Texture,
-    Vertex, DIELECTRIC_F0,
+    AlphaMode, Camera, Light, Material, MaterialTextures, MaterialUvs, Mesh, Object, PointLight, Scene, SpotLight, Sun,
+    Texture, UvTransform, Vertex, DIELECTRIC_F0,
 };
 use anyhow::{anyhow, bail, Context, Result};
 use glam::{DMat4, DVec3, Vec3};
@@ -39,6 +39,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
+    "KHR_texture_transform",
 ];
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
@@ -504,6 +505,23 @@ mod tests {
         // Roughness 0.5: alpha 0.25, exponent 2/0.0625 - 2 = 30.
         let (_, _, exp) = Material::blinn_phong_from_pbr(Vec3::ONE, 0.0, 0.5, DIELECTRIC_F0);
         assert!((exp - 30.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn texture_transforms_rotate_as_the_khronos_sample_expects() {
+        // With the opposite sign, TextureTransformTest.gltf (assimp-testmodels) shows its
+        // arrow pointing at the red "rotated the wrong way" marker (looked at).
+        let quarter = UvTransform { rotation: std::f32::consts::FRAC_PI_2, ..Default::default() };
+        assert!((quarter.apply(glam::Vec2::X) - glam::Vec2::new(0.0, -1.0)).length() < 1e-6);
+        // Translation x rotation x scale: scale first, offset last.
+        let t = UvTransform {
+            set: 0,
+            offset: glam::Vec2::new(0.5, 0.25),
+            rotation: quarter.rotation,
+            scale: glam::Vec2::new(2.0, 3.0),
+        };
+        assert!((t.apply(glam::Vec2::ONE) - glam::Vec2::new(3.5, -1.75)).length() < 1e-6);
+        assert!(UvTransform::default().is_identity() && !t.is_identity());
     }
 
     #[test]

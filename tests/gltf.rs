@@ -217,9 +217,21 @@ fn third_party_samples_render_or_fail_with_a_clear_error() {
     expect_error("IndexOutOfRange/IndexOutOfRange.gltf", "out of range");
     expect_error("MissingBin/BoxTextured.gltf", "BoxTextured0.bin");
     expect_error("RecursiveNodes/RecursiveNodes.gltf", "nothing to draw");
-    expect_error("Mesh_PrimitiveMode_00.gltf", "point or line");
     expect_error("wrongTypes/badNumber.gltf", "not a valid glTF");
-    for ok in ["BoxTextured-glTF-Binary/BoxTextured.glb", "2CylinderEngine.glb", "Mesh_PrimitiveMode_05.gltf"] {
+    for ok in [
+        "BoxTextured-glTF-Binary/BoxTextured.glb",
+        "2CylinderEngine.glb",
+        "Mesh_PrimitiveMode_05.gltf",
+        // Points, lines, line loops and line strips, without and with indices.
+        "Mesh_PrimitiveMode_00.gltf",
+        "Mesh_PrimitiveMode_01.gltf",
+        "Mesh_PrimitiveMode_02.gltf",
+        "Mesh_PrimitiveMode_03.gltf",
+        "Mesh_PrimitiveMode_07.gltf",
+        "Mesh_PrimitiveMode_08.gltf",
+        "Mesh_PrimitiveMode_09.gltf",
+        "Mesh_PrimitiveMode_10.gltf",
+    ] {
         assert!(rendered.iter().any(|f| f.ends_with(ok)), "{ok} did not render");
     }
     assert!(rendered.len() >= 20, "only {} files rendered", rendered.len());
@@ -716,4 +728,57 @@ fn texcoord_sets_above_1_are_a_warning() {
     edit_json(&dir, |v| v["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 2.into());
     let imported = load(&dir.join("room.gltf")).unwrap();
     assert!(imported.warnings.iter().any(|w| w.contains("TEXCOORD_2")), "{:?}", imported.warnings);
+}
+
+#[test]
+fn point_and_line_primitives_are_drawn_facing_the_viewer() {
+    use lampshade::renderer::DebugView;
+    // A square across the middle of the room as a line loop, and its corners as points.
+    let dir = room_copy("lines");
+    let mut bin = std::fs::read(dir.join("room.bin")).unwrap();
+    let offset = bin.len();
+    for [x, y] in [[-2.0f32, 1.0], [2.0, 1.0], [2.0, 3.0], [-2.0, 3.0]] {
+        for v in [x, y, 0.0] {
+            bin.extend(v.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.join("room.bin"), &bin).unwrap();
+    edit_json(&dir, |v| {
+        v["buffers"][0]["byteLength"] = bin.len().into();
+        let views = v["bufferViews"].as_array_mut().unwrap();
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": 48}));
+        let view = views.len() - 1;
+        let accessors = v["accessors"].as_array_mut().unwrap();
+        accessors.push(serde_json::json!({"bufferView": view, "componentType": 5126, "count": 4, "type": "VEC3",
+            "min": [-2.0, 1.0, 0.0], "max": [2.0, 3.0, 0.0]}));
+        let acc = accessors.len() - 1;
+        let meshes = v["meshes"].as_array_mut().unwrap();
+        meshes.push(serde_json::json!({"name": "wire", "primitives": [
+            {"attributes": {"POSITION": acc}, "mode": 2, "material": 1},
+            {"attributes": {"POSITION": acc}, "mode": 0, "material": 1},
+        ]}));
+        let mesh = meshes.len() - 1;
+        let nodes = v["nodes"].as_array_mut().unwrap();
+        nodes.push(serde_json::json!({"name": "wire", "mesh": mesh}));
+        let node = nodes.len() - 1;
+        v["scenes"][0]["nodes"].as_array_mut().unwrap().push(node.into());
+    });
+    let imported = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}"));
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+    assert_eq!((imported.stats.lines, imported.stats.points), (4, 4), "a loop of four is four segments");
+    let plain = room_scene();
+    let (lit_plain, lit) = (render_view(&plain, DebugView::Lit), render_view(&imported.scene, DebugView::Lit));
+    let drawn: Vec<(u32, u32)> =
+        lit_plain.enumerate_pixels().filter(|(x, y, p)| *p != lit.get_pixel(*x, *y)).map(|(x, y, _)| (x, y)).collect();
+    assert!(drawn.len() > 60, "only {} pixels show the lines", drawn.len());
+    // Without normals, lines face the viewer: view-space +z, (0.5, 0.5, 1) in the normal view.
+    let normals = render_view(&imported.scene, DebugView::Normal);
+    let facing = drawn
+        .iter()
+        .filter(|&&(x, y)| {
+            let p = normals.get_pixel(x, y);
+            p[2] >= 250 && p[0].abs_diff(p[1]) <= 2 && p[0].abs_diff(188) <= 3
+        })
+        .count();
+    assert!(facing * 10 >= drawn.len() * 9, "{facing} of {} line pixels face the viewer", drawn.len());
 }

@@ -148,11 +148,24 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// How a mesh's indices are drawn: triangle lists, or glTF's points and lines (line strips and
+/// loops become lists), which are drawn one pixel wide into the G-buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Topology {
+    #[default]
+    Triangles,
+    Lines,
+    Points,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
+    /// Lines and points usually have no normals: theirs are zero, and a zero normal is shaded
+    /// as facing the viewer (`safe_normalize`'s fallback in the shaders).
+    pub topology: Topology,
 }
 
 impl Mesh {

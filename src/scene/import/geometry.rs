@@ -19,16 +19,14 @@ struct Attributes {
 }
 
 impl Importer<'_> {
-    /// The primitive's mesh and whether it has texture coordinates, or `None` (with a warning)
-    /// when it draws nothing: a point or line primitive, or no triangle with area.
+    /// The primitive's mesh and whether it may use a normal map (it has the texture coordinates
+    /// the map reads), or `None` (with a warning) when it draws nothing: no triangle with area.
     pub(super) fn primitive(&mut self, prim: &gltf::Primitive<'_>, mirrored: bool) -> Result<Option<(Mesh, bool)>> {
         let mode = prim.mode();
-        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            self.stats.skipped_primitives += 1;
-            self.warnings.push(format!("a primitive of mode {mode:?} is skipped: only triangles are drawn"));
-            return Ok(None);
-        }
         let attributes = self.attributes(prim)?;
+        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            return self.lines_or_points(prim, &attributes).map(|m| Some((m, false)));
+        }
         let Some(tris) = self.triangles(prim, &attributes.positions, mirrored)? else { return Ok(None) };
         let wants_normal_map = prim.material().normal_texture().is_some();
         let uvs = materials::material_uvs(&prim.material(), "", &mut Vec::new());
@@ -136,18 +134,64 @@ impl Importer<'_> {
         Ok(Attributes { positions, normals, tangents, uvs, uvs1 })
     }
 
-    /// The primitive's indices (checked against the vertex count) as triangles, without the
-    /// zero-area ones, wound front-facing under a mirroring transform; `None` (with a warning)
-    /// when no triangle has area.
-    fn triangles(
-        &mut self,
-        prim: &gltf::Primitive<'_>,
-        positions: &[[f32; 3]],
-        mirrored: bool,
-    ) -> Result<Option<Vec<[u32; 3]>>> {
-        let n = positions.len();
+    /// A point or line primitive as a mesh of points or line segments (strips and loops made
+    /// lists). Without NORMAL its normals are zero, which the shaders light as facing the
+    /// viewer; a normal map is not used (a line has no tangent frame).
+    fn lines_or_points(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes) -> Result<Mesh> {
+        let raw = self.indices(prim, a.positions.len())?;
+        let (topology, indices) = match prim.mode() {
+            Mode::Points => (Topology::Points, raw),
+            Mode::Lines => {
+                if raw.len() % 2 != 0 {
+                    self.warnings
+                        .push(format!("{}: a trailing index does not make a line and is ignored", prim_label(prim)));
+                }
+                (Topology::Lines, raw[..raw.len() / 2 * 2].to_vec())
+            }
+            mode => {
+                let mut list: Vec<u32> = raw.windows(2).flatten().copied().collect();
+                if mode == Mode::LineLoop && raw.len() > 2 {
+                    list.extend([raw[raw.len() - 1], raw[0]]);
+                }
+                (Topology::Lines, list)
+            }
+        };
+        if indices.is_empty() {
+            bail!("the {:?} primitive has too few vertices to draw anything", prim.mode());
+        }
+        if prim.material().alpha_mode() == gltf::material::AlphaMode::Blend {
+            self.warnings.push(format!("{}: blended points and lines are drawn opaque", prim_label(prim)));
+        }
+        if prim.material().normal_texture().is_some() {
+            self.warnings.push(format!("{}: points and lines do not use normal maps", prim_label(prim)));
+        }
+        let normal_at = |i: usize| {
+            a.normals.as_ref().map_or([0.0; 3], |n| {
+                let v = Vec3::from(n[i]);
+                if v.is_finite() && v.length_squared() > 1e-12 {
+                    v.normalize().into()
+                } else {
+                    [0.0; 3]
+                }
+            })
+        };
+        let finite = |set: &Option<Vec<[f32; 2]>>, i: usize| {
+            set.as_ref().map_or([0.0, 0.0], |u| if u[i].iter().all(|v| v.is_finite()) { u[i] } else { [0.0, 0.0] })
+        };
+        let vertices = (0..a.positions.len())
+            .map(|i| Vertex { uv1: finite(&a.uvs1, i), ..Vertex::new(a.positions[i], normal_at(i), finite(&a.uvs, i)) })
+            .collect();
+        match topology {
+            Topology::Points => self.stats.points += indices.len(),
+            _ => self.stats.lines += indices.len() / 2,
+        }
+        Ok(Mesh { name: prim_label(prim), vertices, indices, topology })
+    }
+
+    /// The primitive's indices, checked against the vertex count `n` (0..n without indices).
+    fn indices(&mut self, prim: &gltf::Primitive<'_>, n: usize) -> Result<Vec<u32>> {
         let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
-        let raw_indices: Vec<u32> = match prim.indices() {
+        Ok(match prim.indices() {
             Some(acc) => {
                 if acc.dimensions() != Dimensions::Scalar
                     || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
@@ -173,7 +217,19 @@ impl Importer<'_> {
                 idx
             }
             None => (0..n as u32).collect(),
-        };
+        })
+    }
+
+    /// The primitive's indices (checked against the vertex count) as triangles, without the
+    /// zero-area ones, wound front-facing under a mirroring transform; `None` (with a warning)
+    /// when no triangle has area.
+    fn triangles(
+        &mut self,
+        prim: &gltf::Primitive<'_>,
+        positions: &[[f32; 3]],
+        mirrored: bool,
+    ) -> Result<Option<Vec<[u32; 3]>>> {
+        let raw_indices = self.indices(prim, positions.len())?;
         let mode = prim.mode();
         let mut tris: Vec<[u32; 3]> = match mode {
             Mode::Triangles => raw_indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),

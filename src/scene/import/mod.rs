@@ -1,10 +1,10 @@
 //! glTF 2.0 import (`.gltf`, `.glb`) with the `gltf` crate: the default scene's node hierarchy,
-//! triangle primitives, materials with their textures, KHR_lights_punctual lights and cameras.
+//! triangle, line and point primitives, materials with their textures, KHR_lights_punctual lights and cameras.
 //!
 //! Every value the file controls is checked before it is used: a bad file is an error that names
 //! the problem (the caller adds the file name), never a panic or a hang. Where the scene can
-//! still be shown (a texture that does not decode, a point or line primitive, a degenerate
-//! triangle) the loader warns and goes on, with a visible fallback for missing textures.
+//! still be shown (a texture that does not decode, a blended line, a degenerate triangle) the
+//! loader warns and goes on, with a visible fallback for missing textures.
 //!
 //! Light units: glTF gives point and spot intensities in candela with an inverse-square falloff,
 //! ours fall off with the window (1 - (d/r)^2)^2 and no inverse square. The mapping matches the
@@ -15,7 +15,7 @@
 
 use super::{
     AlphaMode, Camera, Light, Material, MaterialTextures, MaterialUvs, Mesh, Object, PointLight, Scene, SpotLight, Sun,
-    Texture, UvTransform, Vertex, DIELECTRIC_F0,
+    Texture, Topology, UvTransform, Vertex, DIELECTRIC_F0,
 };
 use anyhow::{anyhow, bail, Context, Result};
 use glam::{DMat4, DVec3, Vec3};
@@ -94,8 +94,9 @@ pub struct ImportStats {
     pub cameras: usize,
     /// Zero-area triangles removed.
     pub dropped_triangles: usize,
-    /// Point and line primitives, which a deferred renderer of surfaces does not draw.
-    pub skipped_primitives: usize,
+    /// Line segments (strips and loops counted as their segments) and points drawn.
+    pub lines: usize,
+    pub points: usize,
     pub load_ms: f64,
 }
 
@@ -326,7 +327,9 @@ impl Importer<'_> {
                         continue;
                     };
                     let normal_ok = built.1;
-                    self.stats.triangles += built.0.indices.len() / 3;
+                    if built.0.topology == Topology::Triangles {
+                        self.stats.triangles += built.0.indices.len() / 3;
+                    }
                     self.stats.vertices += built.0.vertices.len();
                     self.scene.meshes.push(built.0);
                     let v = (self.scene.meshes.len() - 1, normal_ok);
@@ -411,15 +414,7 @@ impl Importer<'_> {
     /// Camera, viewpoints and default lights once the geometry is known.
     fn finish(&mut self) -> Result<()> {
         if self.scene.objects.is_empty() {
-            let skipped = self.stats.skipped_primitives;
-            bail!(
-                "nothing to draw: the scene has no triangles{}",
-                if skipped > 0 {
-                    format!(" ({skipped} point or line primitive(s), which are not drawn)")
-                } else {
-                    String::new()
-                }
-            );
+            bail!("nothing to draw: the scene has no triangles, lines or points");
         }
         let bounds = self.scene.bounds();
         let (lo, hi) = bounds.unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));

@@ -10,12 +10,12 @@ use gltf::mesh::Mode;
 
 /// A primitive's vertex attributes, read and checked: every present one has `positions.len()`
 /// elements, and every position is finite.
-struct Attributes {
-    positions: Vec<[f32; 3]>,
-    normals: Option<Vec<[f32; 3]>>,
-    tangents: Option<Vec<[f32; 4]>>,
-    uvs: Option<Vec<[f32; 2]>>,
-    uvs1: Option<Vec<[f32; 2]>>,
+pub(super) struct Attributes {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Option<Vec<[f32; 3]>>,
+    pub tangents: Option<Vec<[f32; 4]>>,
+    pub uvs: Option<Vec<[f32; 2]>>,
+    pub uvs1: Option<Vec<[f32; 2]>>,
 }
 
 impl Importer<'_> {
@@ -23,11 +23,18 @@ impl Importer<'_> {
     /// the map reads), or `None` (with a warning) when it draws nothing: no triangle with area.
     pub(super) fn primitive(&mut self, prim: &gltf::Primitive<'_>, mirrored: bool) -> Result<Option<(Mesh, bool)>> {
         let mode = prim.mode();
-        let attributes = self.attributes(prim)?;
+        let (attributes, indices) = match self.draco(prim)? {
+            Some((a, indices)) => (a, indices),
+            None => {
+                let a = self.attributes(prim)?;
+                let indices = self.indices(prim, a.positions.len())?;
+                (a, indices)
+            }
+        };
         if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            return self.lines_or_points(prim, &attributes).map(|m| Some((m, false)));
+            return self.lines_or_points(prim, &attributes, indices).map(|m| Some((m, false)));
         }
-        let Some(tris) = self.triangles(prim, &attributes.positions, mirrored)? else { return Ok(None) };
+        let Some(tris) = self.triangles(prim, &attributes.positions, indices, mirrored)? else { return Ok(None) };
         let wants_normal_map = prim.material().normal_texture().is_some();
         let uvs = materials::material_uvs(&prim.material(), "", &mut Vec::new());
         let has = |set: u32| if set == 1 { attributes.uvs1.is_some() } else { attributes.uvs.is_some() };
@@ -137,12 +144,11 @@ impl Importer<'_> {
     /// A point or line primitive as a mesh of points or line segments (strips and loops made
     /// lists). Without NORMAL its normals are zero, which the shaders light as facing the
     /// viewer; a normal map is not used (a line has no tangent frame).
-    fn lines_or_points(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes) -> Result<Mesh> {
-        let raw = self.indices(prim, a.positions.len())?;
+    fn lines_or_points(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes, raw: Vec<u32>) -> Result<Mesh> {
         let (topology, indices) = match prim.mode() {
             Mode::Points => (Topology::Points, raw),
             Mode::Lines => {
-                if raw.len() % 2 != 0 {
+                if !raw.len().is_multiple_of(2) {
                     self.warnings
                         .push(format!("{}: a trailing index does not make a line and is ignored", prim_label(prim)));
                 }
@@ -227,9 +233,9 @@ impl Importer<'_> {
         &mut self,
         prim: &gltf::Primitive<'_>,
         positions: &[[f32; 3]],
+        raw_indices: Vec<u32>,
         mirrored: bool,
     ) -> Result<Option<Vec<[u32; 3]>>> {
-        let raw_indices = self.indices(prim, positions.len())?;
         let mode = prim.mode();
         let mut tris: Vec<[u32; 3]> = match mode {
             Mode::Triangles => raw_indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),

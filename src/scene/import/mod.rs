@@ -24,6 +24,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 mod checks;
+mod draco;
 mod geometry;
 mod materials;
 mod meshopt;
@@ -40,6 +41,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
     "KHR_texture_transform",
+    "KHR_draco_mesh_compression",
 ];
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.
@@ -153,13 +155,23 @@ pub fn load_bytes(
         }
     }
     // Validation proper (indices in range, required fields): parse again with the checks on.
+    let draco_used = gltf.document.extensions_used().any(|e| e == draco::NAME);
     let gltf::Gltf { document: doc, blob } = match gltf::Gltf::from_slice(bytes) {
         Ok(checked) => checked,
         // The `gltf` crate refuses the extensions it does not know (EXT_meshopt_compression)
-        // in extensionsRequired; those were held against SUPPORTED_EXTENSIONS above, so only
-        // its other findings count.
+        // in extensionsRequired; those were held against SUPPORTED_EXTENSIONS above. It also
+        // wants a buffer view for every accessor, which Draco-compressed primitives' accessors
+        // do not have (an accessor without data used elsewhere is an error when it is read).
+        // Only its other findings count.
         Err(gltf::Error::Validation(list))
-            if list.iter().all(|(path, _)| path.as_str().starts_with("extensionsRequired")) =>
+            if list.iter().all(|(path, err)| {
+                let path = path.as_str();
+                path.starts_with("extensionsRequired")
+                    || draco_used
+                        && path.starts_with("accessors[")
+                        && path.ends_with("].bufferView")
+                        && matches!(err, gltf::json::validation::Error::Missing)
+            }) =>
         {
             gltf
         }

@@ -826,4 +826,9 @@ fn broken_draco_data_is_an_error_that_names_the_extension() {
     let msg = format!("{:#}", load_with_deadline(&dir.join("2CylinderEngine.gltf"), 30).err().expect("garbage loaded"));
     assert!(msg.contains("2CylinderEngine.gltf") && msg.contains("KHR_draco_mesh_compression"), "{msg}");
     assert!(msg.contains("does not decode"), "{msg}");
+    // The element budget bounds what a stream may declare.
+    let small = ImportOptions { max_elements: 5000, ..Default::default() };
+    let r = import::load(&src.join("2CylinderEngine.gltf"), &small, &mut quiet());
+    let msg = format!("{:#}", r.err().expect("the engine fits a budget of 5,000 elements"));
+    assert!(msg.contains("KHR_draco_mesh_compression") || msg.contains("more than 5000"), "{msg}");
 }

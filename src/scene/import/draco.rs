@@ -1,8 +1,9 @@
 //! `KHR_draco_mesh_compression`: a triangle primitive whose attributes and indices are one
 //! Draco bitstream in a buffer view, decoded by `draco-core` (a pure-Rust Draco decoder). The
 //! extension maps each glTF attribute to a Draco attribute id; the primitive's accessors give
-//! the types. Draco's own limits bound what a stream may declare, and the decoded points and
-//! indices count against the load's element budget like any other primitive's.
+//! the types. What is left of the load's element budget (`ImportOptions::max_elements`) bounds
+//! the points and faces a stream may declare, and the decoded ones count against it like any
+//! other primitive's.
 
 use super::geometry::Attributes;
 use super::*;
@@ -26,9 +27,12 @@ impl Importer<'_> {
         };
         // `check_views` has put every view inside its buffer.
         let data = &self.buffers[view.buffer().index()].0[view.offset()..view.offset() + view.length()];
+        // What is left of the load's element budget bounds what the stream may declare.
+        let left = self.options.max_elements.saturating_sub(self.decoded) as u64;
+        let limits = draco_core::DecodeLimits::default().with_max_points(left).with_max_faces(left / 3);
         let mut mesh = draco_core::Mesh::new();
         draco_core::MeshDecoder::new()
-            .decode(&mut draco_core::DecoderBuffer::new(data), &mut mesh)
+            .decode(&mut draco_core::DecoderBuffer::new(data).with_limits(limits), &mut mesh)
             .map_err(|e| anyhow!("{}: buffer view {view_index} does not decode: {e}", what()))?;
         let n = mesh.num_points();
         let faces = mesh.num_faces();

@@ -339,9 +339,9 @@ fn broken_files_are_rejected_with_errors_that_say_what_is_wrong() {
         (
             "required extension",
             broken("extension", |d| {
-                edit_json(d, |v| v["extensionsRequired"] = serde_json::json!(["KHR_mesh_quantization"]))
+                edit_json(d, |v| v["extensionsRequired"] = serde_json::json!(["KHR_materials_variants"]))
             }),
-            "KHR_mesh_quantization",
+            "KHR_materials_variants",
         ),
         ("schema", broken("schema", |d| edit_json(d, |v| v["nodes"][0]["mesh"] = serde_json::json!(99))), "invalid"),
     ];
@@ -831,4 +831,78 @@ fn broken_draco_data_is_an_error_that_names_the_extension() {
     let r = import::load(&src.join("2CylinderEngine.gltf"), &small, &mut quiet());
     let msg = format!("{:#}", r.err().expect("the engine fits a budget of 5,000 elements"));
     assert!(msg.contains("KHR_draco_mesh_compression") || msg.contains("more than 5000"), "{msg}");
+}
+
+#[test]
+fn quantized_attributes_read_as_their_float_values() {
+    // KHR_mesh_quantization: the floor's positions as 16-bit integers (-5, 0, 5 exactly),
+    // its normals as normalized 8-bit (1.0 = 127) and its texture coordinates as 8-bit
+    // integers (0 and 4): the same values, so the same pixels.
+    let dir = room_copy("quantized");
+    let mut bin = std::fs::read(dir.join("room.bin")).unwrap();
+    let read = |bin: &[u8], k: usize, n: usize| -> Vec<f32> {
+        let at = accessor_offset(&dir, k);
+        (0..n).map(|i| f32::from_le_bytes(bin[at + 4 * i..at + 4 * i + 4].try_into().unwrap())).collect()
+    };
+    let (pos, nrm, uv) = (read(&bin, 0, 12), read(&bin, 1, 12), read(&bin, 2, 8));
+    let start = bin.len();
+    for p in pos.chunks(3) {
+        for v in p {
+            bin.extend((*v as i16).to_le_bytes());
+        }
+        bin.extend([0, 0]); // 4-byte aligned elements
+    }
+    for n in nrm.chunks(3) {
+        bin.extend(n.iter().map(|v| (v * 127.0).round() as i8 as u8));
+        bin.push(0);
+    }
+    for t in uv.chunks(2) {
+        bin.extend(t.iter().map(|v| *v as u8));
+        bin.extend([0, 0]);
+    }
+    std::fs::write(dir.join("room.bin"), &bin).unwrap();
+    edit_json(&dir, |v| {
+        v["buffers"][0]["byteLength"] = bin.len().into();
+        let views = v["bufferViews"].as_array_mut().unwrap();
+        let base = views.len();
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": start, "byteLength": 32, "byteStride": 8}));
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": start + 32, "byteLength": 16, "byteStride": 4}));
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": start + 48, "byteLength": 16, "byteStride": 4}));
+        let acc = &mut v["accessors"];
+        acc[0]["bufferView"] = base.into();
+        acc[0]["componentType"] = 5122.into();
+        acc[1]["bufferView"] = (base + 1).into();
+        acc[1]["componentType"] = 5120.into();
+        acc[1]["normalized"] = true.into();
+        acc[2]["bufferView"] = (base + 2).into();
+        acc[2]["componentType"] = 5121.into();
+        for key in ["extensionsUsed", "extensionsRequired"] {
+            let mut list = v[key].as_array().cloned().unwrap_or_default();
+            list.push("KHR_mesh_quantization".into());
+            v[key] = serde_json::Value::Array(list);
+        }
+    });
+    let imported = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}"));
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+    let plain = room_scene();
+    for (a, b) in plain.meshes[0].vertices.iter().zip(&imported.scene.meshes[0].vertices) {
+        assert_eq!((a.position, a.uv), (b.position, b.uv));
+        assert!((glam::Vec3::from(a.normal) - glam::Vec3::from(b.normal)).length() < 1e-6);
+    }
+    let step = max_channel_difference(
+        &render(&plain, &Settings::default(), W, H).image,
+        &render(&imported.scene, &Settings::default(), W, H).image,
+    );
+    assert!(step <= 1, "the quantized floor renders {step} steps away");
+    // Without the extension the same file is an error that names it.
+    edit_json(&dir, |v| {
+        for key in ["extensionsUsed", "extensionsRequired"] {
+            let list: Vec<serde_json::Value> =
+                v[key].as_array().unwrap().iter().filter(|e| *e != "KHR_mesh_quantization").cloned().collect();
+            v[key] = serde_json::Value::Array(list);
+        }
+    });
+    let msg =
+        format!("{:#}", load(&dir.join("room.gltf")).err().expect("integer positions loaded without the extension"));
+    assert!(msg.contains("without KHR_mesh_quantization"), "{msg}");
 }

@@ -5,6 +5,44 @@
 
 use super::*;
 use glam::Vec2;
+
+/// The extension that allows integer vertex attributes.
+pub(super) const QUANTIZATION: &str = "KHR_mesh_quantization";
+
+/// An integer component as f32: divided by the type's largest value when normalized (and not
+/// below -1, glTF's rule for signed types), else as it is.
+fn dequantize<T: Copy + Into<f64>, const N: usize>(v: [T; N], max: f64, normalized: bool) -> [f32; N] {
+    v.map(|x| {
+        let f: f64 = x.into();
+        (if normalized { (f / max).max(-1.0) } else { f }) as f32
+    })
+}
+
+/// Reads accessor `$acc` of `$n` components of any glTF component type as f32 (`None` when it
+/// cannot be read).
+macro_rules! read_floats {
+    ($acc:expr, $get:expr, $n:literal, $normalized:expr) => {{
+        use gltf::accessor::Iter;
+        let normalized = $normalized;
+        let acc = $acc;
+        match acc.data_type() {
+            DataType::F32 => Iter::<[f32; $n]>::new(acc, $get).map(|it| it.collect::<Vec<_>>()),
+            DataType::I8 => {
+                Iter::<[i8; $n]>::new(acc, $get).map(|it| it.map(|v| dequantize(v, 127.0, normalized)).collect())
+            }
+            DataType::U8 => {
+                Iter::<[u8; $n]>::new(acc, $get).map(|it| it.map(|v| dequantize(v, 255.0, normalized)).collect())
+            }
+            DataType::I16 => {
+                Iter::<[i16; $n]>::new(acc, $get).map(|it| it.map(|v| dequantize(v, 32767.0, normalized)).collect())
+            }
+            DataType::U16 => {
+                Iter::<[u16; $n]>::new(acc, $get).map(|it| it.map(|v| dequantize(v, 65535.0, normalized)).collect())
+            }
+            _ => None,
+        }
+    }};
+}
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
@@ -62,15 +100,17 @@ impl Importer<'_> {
     /// Reads POSITION, NORMAL, TANGENT, TEXCOORD_0 and TEXCOORD_1, checking their types, their counts
     /// against POSITION's, that they can be read in full, and the load's element budget.
     fn attributes(&mut self, prim: &gltf::Primitive<'_>) -> Result<Attributes> {
+        let quantized = self.doc.extensions_used().any(|e| e == QUANTIZATION);
         let check =
             |sem: &gltf::Semantic, what: &str, dims: &[Dimensions], types: &[DataType]| -> Result<Option<usize>> {
                 let Some(acc) = prim.get(sem) else { return Ok(None) };
                 if !dims.contains(&acc.dimensions()) || !types.contains(&acc.data_type()) {
                     bail!(
-                        "{what} accessor {} is {:?} {:?}, which glTF does not allow",
+                        "{what} accessor {} is {:?} {:?}, which glTF does not allow{}",
                         acc.index(),
                         acc.dimensions(),
-                        acc.data_type()
+                        acc.data_type(),
+                        if quantized { "" } else { " without KHR_mesh_quantization" }
                     );
                 }
                 if acc.view().is_none() && acc.sparse().is_none() {
@@ -78,28 +118,25 @@ impl Importer<'_> {
                 }
                 Ok(Some(acc.count()))
             };
-        let f32_only = [DataType::F32];
-        let Some(n) = check(&gltf::Semantic::Positions, "POSITION", &[Dimensions::Vec3], &f32_only)? else {
+        // KHR_mesh_quantization: integer positions, normals, tangents and texture coordinates
+        // (normalized or not, as each accessor says).
+        use DataType::{F32, I16, I8, U16, U8};
+        let (position_types, unit_types, uv_types): (&[DataType], &[DataType], &[DataType]) = if quantized {
+            (&[F32, I8, U8, I16, U16], &[F32, I8, I16], &[F32, I8, U8, I16, U16])
+        } else {
+            (&[F32], &[F32], &[F32, U8, U16])
+        };
+        let Some(n) = check(&gltf::Semantic::Positions, "POSITION", &[Dimensions::Vec3], position_types)? else {
             bail!("it has no POSITION attribute");
         };
         self.decoded = self.decoded.saturating_add(n).saturating_add(prim.indices().map_or(0, |a| a.count()));
         if self.decoded > self.options.max_elements {
             bail!("the primitives add up to more than {} vertices and indices", self.options.max_elements);
         }
-        let n_normals = check(&gltf::Semantic::Normals, "NORMAL", &[Dimensions::Vec3], &f32_only)?;
-        let n_tangents = check(&gltf::Semantic::Tangents, "TANGENT", &[Dimensions::Vec4], &f32_only)?;
-        let n_uv = check(
-            &gltf::Semantic::TexCoords(0),
-            "TEXCOORD_0",
-            &[Dimensions::Vec2],
-            &[DataType::F32, DataType::U8, DataType::U16],
-        )?;
-        let n_uv1 = check(
-            &gltf::Semantic::TexCoords(1),
-            "TEXCOORD_1",
-            &[Dimensions::Vec2],
-            &[DataType::F32, DataType::U8, DataType::U16],
-        )?;
+        let n_normals = check(&gltf::Semantic::Normals, "NORMAL", &[Dimensions::Vec3], unit_types)?;
+        let n_tangents = check(&gltf::Semantic::Tangents, "TANGENT", &[Dimensions::Vec4], unit_types)?;
+        let n_uv = check(&gltf::Semantic::TexCoords(0), "TEXCOORD_0", &[Dimensions::Vec2], uv_types)?;
+        let n_uv1 = check(&gltf::Semantic::TexCoords(1), "TEXCOORD_1", &[Dimensions::Vec2], uv_types)?;
         for (what, count) in
             [("NORMAL", n_normals), ("TANGENT", n_tangents), ("TEXCOORD_0", n_uv), ("TEXCOORD_1", n_uv1)]
         {
@@ -109,19 +146,24 @@ impl Importer<'_> {
                 }
             }
         }
-        let reader = prim.reader(|b| self.buffers.get(b.index()).map(|d| d.0.as_slice()));
-        let positions: Vec<[f32; 3]> =
-            reader.read_positions().ok_or_else(|| anyhow!("POSITION cannot be read"))?.collect();
+        let get = |b: gltf::Buffer<'_>| self.buffers.get(b.index()).map(|d| d.0.as_slice());
+        // Core glTF's integer texture coordinates are normalized whatever the accessor says
+        // (as the `gltf` crate reads them); under KHR_mesh_quantization the accessor decides.
+        let uv_normalized = |a: &gltf::Accessor<'_>| a.normalized() || (!quantized && a.data_type() != F32);
+        let positions: Vec<[f32; 3]> = prim
+            .get(&gltf::Semantic::Positions)
+            .and_then(|a| read_floats!(a, get, 3, a.normalized()))
+            .ok_or_else(|| anyhow!("POSITION cannot be read"))?;
         if positions.len() != n {
             bail!("POSITION yields {} of its {n} elements", positions.len());
         }
         if let Some(i) = positions.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
             bail!("vertex {i} has a non-finite position {:?}", positions[i]);
         }
-        let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|it| it.collect());
-        let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|it| it.collect());
-        let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|it| it.into_f32().collect());
-        let uvs1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|it| it.into_f32().collect());
+        let normals = prim.get(&gltf::Semantic::Normals).and_then(|a| read_floats!(a, get, 3, a.normalized()));
+        let tangents = prim.get(&gltf::Semantic::Tangents).and_then(|a| read_floats!(a, get, 4, a.normalized()));
+        let uvs = prim.get(&gltf::Semantic::TexCoords(0)).and_then(|a| read_floats!(a, get, 2, uv_normalized(&a)));
+        let uvs1 = prim.get(&gltf::Semantic::TexCoords(1)).and_then(|a| read_floats!(a, get, 2, uv_normalized(&a)));
         for (what, len) in [
             ("NORMAL", normals.as_ref().map(|v| v.len())),
             ("TANGENT", tangents.as_ref().map(|v| v.len())),

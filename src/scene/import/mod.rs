@@ -42,6 +42,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_texture_transform",
     "KHR_draco_mesh_compression",
+    geometry::QUANTIZATION,
 ];
 
 /// Without a `range`, a light reaches as far as its inverse-square intensity exceeds this.

@@ -463,11 +463,23 @@ fn encode_vertices<const N: usize>(data: &[u8]) -> Vec<u8> {
     meshopt::encode_vertex_buffer(&items).unwrap()
 }
 
+/// 8-bit octahedral encoding of a unit vector as meshoptimizer's OCTAHEDRAL filter stores it:
+/// x and y signed, z holding the scale (127, which tells the decoder the bit count), w unused.
+fn octahedral8(n: [f32; 3]) -> [u8; 4] {
+    let l = n[0].abs() + n[1].abs() + n[2].abs();
+    let (u, v) = (n[0] / l, n[1] / l);
+    let (u, v) = if n[2] >= 0.0 { (u, v) } else { ((1.0 - v.abs()) * u.signum(), (1.0 - u.abs()) * v.signum()) };
+    let q = |f: f32| (f * 127.0).round() as i8 as u8;
+    [q(u), q(v), 127, 0]
+}
+
 /// A copy of the room with every buffer view compressed by meshoptimizer's codecs
-/// (`EXT_meshopt_compression`, no filter, so lossless): vertex data by the vertex codec, index
-/// data by the triangle codec, into a new `room_meshopt.bin`; the views point into a fallback
-/// buffer without data, and the plain `room.bin` is deleted.
-fn meshopt_room(tag: &str) -> PathBuf {
+/// (`EXT_meshopt_compression`): vertex data by the vertex codec, index data by the triangle
+/// codec, into a new `room_meshopt.bin`; the views point into a fallback buffer without data,
+/// and the plain `room.bin` is deleted. With `octahedral`, normals are stored as gltfpack stores
+/// them: the OCTAHEDRAL filter over 8-bit values (lossy), as normalized bytes
+/// (`KHR_mesh_quantization`); else no filter, so the copy is lossless.
+fn meshopt_room(tag: &str, octahedral: bool) -> PathBuf {
     let dir = room_copy(tag);
     let bin = std::fs::read(dir.join("room.bin")).unwrap();
     let mut packed: Vec<u8> = Vec::new();
@@ -483,6 +495,14 @@ fn meshopt_room(tag: &str) -> PathBuf {
                 p["indices"].as_u64()
             })
             .collect();
+        let normal_accessors: Vec<u64> = v["meshes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|m| m["primitives"].as_array().unwrap().iter())
+            .filter_map(|p| p["attributes"]["NORMAL"].as_u64())
+            .collect();
+        let mut filtered = Vec::new();
         for (i, view) in v["bufferViews"].as_array_mut().unwrap().iter_mut().enumerate() {
             let (k, acc) = accessors
                 .iter()
@@ -493,6 +513,7 @@ fn meshopt_room(tag: &str) -> PathBuf {
             let len = view["byteLength"].as_u64().unwrap() as usize;
             let data = &bin[offset..offset + len];
             let count = acc["count"].as_u64().unwrap() as usize;
+            let mut filter = "NONE";
             let (mode, stride, encoded) = if index_accessors.contains(&(k as u64)) {
                 let idx: Vec<u32> = match acc["componentType"].as_u64().unwrap() {
                     5123 => data.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]]) as u32).collect(),
@@ -501,6 +522,19 @@ fn meshopt_room(tag: &str) -> PathBuf {
                 };
                 let vertices = *idx.iter().max().unwrap() as usize + 1;
                 ("TRIANGLES", len / count, meshopt::encode_index_buffer(&idx, vertices).unwrap())
+            } else if octahedral && normal_accessors.contains(&(k as u64)) {
+                let oct: Vec<u8> = data
+                    .chunks_exact(12)
+                    .flat_map(|c| {
+                        let f = |i: usize| f32::from_le_bytes(c[i..i + 4].try_into().unwrap());
+                        octahedral8([f(0), f(4), f(8)])
+                    })
+                    .collect();
+                filter = "OCTAHEDRAL";
+                filtered.push(k);
+                view["byteLength"] = (4 * count).into();
+                view["byteStride"] = 4.into();
+                ("ATTRIBUTES", 4, encode_vertices::<4>(&oct))
             } else {
                 let stride = len / count;
                 let encoded = match stride {
@@ -515,7 +549,7 @@ fn meshopt_room(tag: &str) -> PathBuf {
             view["buffer"] = serde_json::json!(1);
             view["extensions"] = serde_json::json!({"EXT_meshopt_compression": {
                 "buffer": 0, "byteOffset": packed.len(), "byteLength": encoded.len(),
-                "byteStride": stride, "count": count, "mode": mode,
+                "byteStride": stride, "count": count, "mode": mode, "filter": filter,
             }});
             packed.extend(encoded);
         }
@@ -523,10 +557,17 @@ fn meshopt_room(tag: &str) -> PathBuf {
             {"uri": "room_meshopt.bin", "byteLength": packed.len()},
             {"byteLength": bin.len(), "extensions": {"EXT_meshopt_compression": {"fallback": true}}},
         ]);
+        for k in filtered {
+            v["accessors"][k]["componentType"] = 5120.into();
+            v["accessors"][k]["normalized"] = true.into();
+        }
         for key in ["extensionsUsed", "extensionsRequired"] {
             let list = v[key].as_array().cloned().unwrap_or_default();
             v[key] = serde_json::Value::Array(list);
             v[key].as_array_mut().unwrap().push(serde_json::json!("EXT_meshopt_compression"));
+            if octahedral {
+                v[key].as_array_mut().unwrap().push(serde_json::json!("KHR_mesh_quantization"));
+            }
         }
     });
     std::fs::write(dir.join("room_meshopt.bin"), &packed).unwrap();
@@ -537,7 +578,7 @@ fn meshopt_room(tag: &str) -> PathBuf {
 
 #[test]
 fn a_meshopt_compressed_room_renders_the_same_pixels_as_the_room() {
-    let dir = meshopt_room("meshopt");
+    let dir = meshopt_room("meshopt", false);
     let imported = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}"));
     assert!(imported.warnings.is_empty(), "warnings: {:?}", imported.warnings);
     let (plain, packed) = (room_scene(), imported.scene);
@@ -556,7 +597,7 @@ fn a_meshopt_compressed_room_renders_the_same_pixels_as_the_room() {
 #[test]
 fn broken_meshopt_data_is_an_error_that_names_the_view() {
     let broken_meshopt = |tag: &str, edit: &dyn Fn(&Path)| -> String {
-        let dir = meshopt_room(tag);
+        let dir = meshopt_room(tag, false);
         edit(&dir);
         match load_with_deadline(&dir.join("room.gltf"), 30) {
             Ok(_) => panic!("{tag}: the broken file loaded"),
@@ -905,4 +946,27 @@ fn quantized_attributes_read_as_their_float_values() {
     let msg =
         format!("{:#}", load(&dir.join("room.gltf")).err().expect("integer positions loaded without the extension"));
     assert!(msg.contains("without KHR_mesh_quantization"), "{msg}");
+}
+
+#[test]
+fn meshopt_octahedral_normals_decode_to_the_room_s_normals() {
+    // As gltfpack writes normals: 8-bit octahedral (lossy: within about a degree).
+    let dir = meshopt_room("meshopt-oct", true);
+    let imported = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}"));
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+    let (plain, packed) = (room_scene(), imported.scene);
+    let mut worst = 0.0f32;
+    for (a, b) in plain.meshes.iter().zip(&packed.meshes) {
+        assert_eq!(a.indices, b.indices);
+        for (p, q) in a.vertices.iter().zip(&b.vertices) {
+            assert_eq!(p.position, q.position);
+            let d = glam::Vec3::from(p.normal).dot(glam::Vec3::from(q.normal)).clamp(-1.0, 1.0).acos();
+            worst = worst.max(d.to_degrees());
+        }
+    }
+    assert!(worst < 1.5, "a normal turned by {worst} degrees");
+    let (fl, _) =
+        flip(&render(&plain, &Settings::default(), W, H).image, &render(&packed, &Settings::default(), W, H).image)
+            .unwrap();
+    assert!(fl.mean < 0.005, "FLIP {} against the room", fl.mean);
 }

@@ -970,3 +970,28 @@ fn meshopt_octahedral_normals_decode_to_the_room_s_normals() {
             .unwrap();
     assert!(fl.mean < 0.005, "FLIP {} against the room", fl.mean);
 }
+
+#[test]
+fn compressed_data_with_flipped_bytes_never_panics() {
+    // Any outcome but a panic (or a hang): an error, or a picture of damaged geometry.
+    let flips = |dir: &Path, gltf: &str, bin: &str| {
+        let path = dir.join(bin);
+        let original = std::fs::read(&path).unwrap();
+        let step = (original.len() / 150).max(1);
+        for at in (0..original.len()).step_by(step) {
+            let mut b = original.clone();
+            b[at] ^= 0x5a;
+            std::fs::write(&path, &b).unwrap();
+            let _ = load_with_deadline(&dir.join(gltf), 30);
+        }
+    };
+    let meshopt = meshopt_room("meshopt-flips", true);
+    flips(&meshopt, "room.gltf", "room_meshopt.bin");
+    let draco = root().join("target/gltf-tests/draco-flips");
+    let _ = std::fs::remove_dir_all(&draco);
+    std::fs::create_dir_all(&draco).unwrap();
+    for f in ["2CylinderEngine.gltf", "2CylinderEngine.bin"] {
+        std::fs::copy(Path::new(ASSIMP).join("draco").join(f), draco.join(f)).unwrap();
+    }
+    flips(&draco, "2CylinderEngine.gltf", "2CylinderEngine.bin");
+}

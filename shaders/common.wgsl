@@ -46,6 +46,9 @@ struct GpuObject {
     pbr: vec4<f32>,
     // flags (LS_MAT_*), first entry in light_lists, count (forward-shaded objects), 0
     info: vec4<u32>,
+    // per map (base colour, normal, emissive, metal-rough) two rows of its uv transform;
+    // the first row's w is the texture coordinate set
+    uv_transform: array<vec4<f32>, 8>,
 };
 
 // The bindings (group 0, the frame's storage buffers) are declared from Rust: renderer::bindings.

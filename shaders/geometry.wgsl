@@ -11,6 +11,7 @@ struct GeometryOut {
     @location(2) @interpolate(flat) object: u32,
     @location(3) uv: vec2<f32>,
     @location(4) tangent: vec4<f32>,
+    @location(5) uv1: vec2<f32>,
 };
 
 @vertex
@@ -19,6 +20,7 @@ fn vs_geometry(
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    @location(4) uv1: vec2<f32>,
     @builtin(instance_index) object: u32,
 ) -> GeometryOut {
     let o = objects[object];
@@ -29,6 +31,7 @@ fn vs_geometry(
     out.normal = (o.normal_view * vec4<f32>(normal, 0.0)).xyz;
     out.object = object;
     out.uv = uv;
+    out.uv1 = uv1;
     // Tangents transform with the model-view matrix (they lie in the surface).
     out.tangent = vec4<f32>((o.model_view * vec4<f32>(tangent.xyz, 0.0)).xyz, tangent.w);
     return out;
@@ -48,17 +51,35 @@ fn blinn_phong_from_pbr(base: vec3<f32>, metallic: f32, roughness: f32, f0_diele
     (*s).spec_level = f0 * (e + 8.0) / 8.0;
 }
 
+// The texture coordinates map `slot` samples (0 base colour, 1 normal, 2 emissive,
+// 3 metal-rough): its set, transformed by its KHR_texture_transform (`UvTransform::rows`).
+fn map_uv(in: GeometryOut, o: GpuObject, slot: u32) -> vec2<f32> {
+    let r0 = o.uv_transform[slot * 2u];
+    let r1 = o.uv_transform[slot * 2u + 1u];
+    let uv = vec3<f32>(select(in.uv, in.uv1, r0.w > 0.5), 1.0);
+    return vec2<f32>(dot(r0.xyz, uv), dot(r1.xyz, uv));
+}
+
+// Map `slot` of the object's material sampled at its coordinates (`map_uv`), or at the
+// interpolated TEXCOORD_0 itself when the map reads those untransformed.
+fn sample_map(tex: texture_2d<f32>, in: GeometryOut, o: GpuObject, slot: u32) -> vec4<f32> {
+    if (o.info.x & (LS_MAT_UV_TRANSFORMED << slot)) != 0u {
+        return textureSample(tex, material_sampler, map_uv(in, o, slot));
+    }
+    return textureSample(tex, material_sampler, in.uv);
+}
+
 // The surface a fragment describes, with its material's textures applied; .w of the result
 // is the alpha.
 fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> f32 {
     let o = objects[in.object];
     let flags = o.info.x;
-    let base = textureSample(base_color_tex, material_sampler, in.uv);
+    let base = sample_map(base_color_tex, in, o, 0u);
     (*s).albedo = o.albedo_spec.rgb * base.rgb;
     (*s).spec_level = o.albedo_spec.a;
     (*s).spec_exp = o.emissive_exp.a;
     if (flags & LS_MAT_METAL_ROUGH) != 0u {
-        let mr = textureSample(metal_rough_tex, material_sampler, in.uv);
+        let mr = sample_map(metal_rough_tex, in, o, 3u);
         blinn_phong_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.y * mr.g, o.pbr.z, s);
     }
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
@@ -67,13 +88,13 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
         // rebuilt from normal x tangent with the stored sign, not interpolated).
         let t = safe_normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
         let b = cross(n, t) * select(1.0, -1.0, in.tangent.w < 0.0);
-        let m = textureSample(normal_tex, material_sampler, in.uv).xyz * 2.0 - 1.0;
+        let m = sample_map(normal_tex, in, o, 1u).xyz * 2.0 - 1.0;
         let scaled = vec3<f32>(m.xy * o.material.z, m.z);
         n = safe_normalize(t * scaled.x + b * scaled.y + n * scaled.z, n);
     }
     // Back faces (double-sided materials) are lit from their own side.
     (*s).normal = select(-n, n, front);
-    (*s).emissive = o.emissive_exp.rgb * textureSample(emissive_tex, material_sampler, in.uv).rgb;
+    (*s).emissive = o.emissive_exp.rgb * sample_map(emissive_tex, in, o, 2u).rgb;
     (*s).position = in.view_pos;
     (*s).depth = in.clip.z;
     (*s).valid = true;

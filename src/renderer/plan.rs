@@ -214,6 +214,15 @@ fn plan_draws(
     let mut forward: Vec<(f64, usize, usize, usize)> = Vec::new();
     for (i, o) in scene.objects.iter().enumerate() {
         let m = &scene.materials[o.material];
+        let topology = scene.meshes.get(o.mesh).map_or(Default::default(), |mesh| mesh.topology);
+        if topology != crate::scene::Topology::Triangles {
+            // Lines and points go into the G-buffer whatever their alpha mode (the importer
+            // warns about blended ones).
+            let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
+            let p = super::passes::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
+            draws.gbuffer.push((i, p, o.material));
+            continue;
+        }
         match m.alpha_mode {
             AlphaMode::Blend => {
                 let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));

@@ -15,6 +15,12 @@ pub const LIGHT_KIND_SPOT: u32 = 1;
 pub const MAT_NORMAL_MAP: u32 = 1;
 /// The object samples a metallic-roughness map.
 pub const MAT_METAL_ROUGH: u32 = 2;
+/// The first of four flags, one per map (base colour, normal, emissive, metallic-roughness):
+/// the map reads other coordinates than TEXCOORD_0 as they are (`ObjectRecord::uv_transform`).
+/// Unflagged maps sample the interpolated TEXCOORD_0 directly, as before transforms existed
+/// (some rasterisers, lavapipe among them, pick a mip level slightly differently for a computed
+/// coordinate than for an interpolated one).
+pub const MAT_UV_TRANSFORMED: u32 = 4;
 /// The largest finite fp16 value: what the fp16 targets saturate at.
 pub const FP16_MAX: f32 = 65504.0;
 /// The largest finite Rg11b10Ufloat value.
@@ -103,6 +109,9 @@ gpu_record! {
         pub pbr: [f32; 4],
         /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects), 0.
         pub info: [u32; 4],
+        /// Per map (base colour, normal, emissive, metallic-roughness) the two rows of its
+        /// `UvTransform`; the first row's w is the texture coordinate set.
+        pub uv_transform: [[f32; 4]; 8],
     }
 }
 
@@ -216,6 +225,12 @@ impl ObjectRecord {
         if m.textures.metallic_roughness.is_some() {
             flags |= MAT_METAL_ROUGH;
         }
+        let u = &m.uvs;
+        for (k, t) in [u.base_color, u.normal, u.emissive, u.metallic_roughness].iter().enumerate() {
+            if !t.is_identity() || t.set != 0 {
+                flags |= MAT_UV_TRANSFORMED << k;
+            }
+        }
         let cutoff = match m.alpha_mode {
             AlphaMode::Mask { cutoff } => cutoff,
             _ => 0.0,
@@ -229,6 +244,11 @@ impl ObjectRecord {
             // With a metallic-roughness map the importer keeps f0 in specular_level.
             pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
             info: [flags, 0, 0, 0],
+            uv_transform: {
+                let u = &m.uvs;
+                let [a, b, c, d] = [u.base_color, u.normal, u.emissive, u.metallic_roughness].map(|t| t.rows());
+                [a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]]
+            },
         }
     }
 }

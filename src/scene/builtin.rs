@@ -376,6 +376,7 @@ fn normals() -> Scene {
             .map(|&(x, z)| Vertex::new([x, 0.0, z], normal, [x + 0.5, z + 0.5]))
             .collect(),
         indices: vec![0, 2, 1, 0, 3, 2],
+        ..Default::default()
     };
     b.scene.meshes.push(quad([0.0, -1.0, 0.0]));
     b.scene.meshes.push(quad([0.0, 0.0, 0.0]));

@@ -97,11 +97,13 @@ pub struct Vertex {
     /// xyz: tangent along +u, w: handedness (+1/-1) of the bitangent. Zero when the mesh has no
     /// normal map (the shader then ignores it).
     pub tangent: [f32; 4],
+    /// The second texture coordinate set (glTF TEXCOORD_1), for maps that name it.
+    pub uv1: [f32; 2],
 }
 
 impl Vertex {
     pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2]) -> Self {
-        Self { position, normal, uv, tangent: [0.0; 4] }
+        Self { position, normal, uv, tangent: [0.0; 4], uv1: [0.0; 2] }
     }
 }
 
@@ -151,11 +153,24 @@ pub enum AlphaMode {
     Blend,
 }
 
+/// How a mesh's indices are drawn: triangle lists, or glTF's points and lines (line strips and
+/// loops become lists), which are drawn one pixel wide into the G-buffer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Topology {
+    #[default]
+    Triangles,
+    Lines,
+    Points,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
+    /// Lines and points usually have no normals: theirs are zero, and a zero normal is shaded
+    /// as facing the viewer (`safe_normalize`'s fallback in the shaders).
+    pub topology: Topology,
 }
 
 impl Mesh {
@@ -219,6 +234,9 @@ pub struct Material {
     pub metallic: f32,
     #[serde(default = "one")]
     pub roughness: f32,
+    /// Each map's texture coordinate set and transform.
+    #[serde(default)]
+    pub uvs: MaterialUvs,
 }
 
 fn one() -> f32 {
@@ -236,6 +254,55 @@ pub struct MaterialTextures {
     pub emissive: Option<usize>,
     /// Linear; roughness in green, metallic in blue (glTF).
     pub metallic_roughness: Option<usize>,
+}
+
+/// Which texture coordinates a map reads and how they are transformed before sampling
+/// (glTF's `texCoord` and `KHR_texture_transform`): uv' = offset + R(rotation) (scale * uv),
+/// the extension's translation x rotation x scale.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct UvTransform {
+    /// 0: `Vertex::uv`, 1: `Vertex::uv1`.
+    pub set: u32,
+    pub offset: Vec2,
+    /// Radians, counter-clockwise in the texture as glTF defines it.
+    pub rotation: f32,
+    pub scale: Vec2,
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        Self { set: 0, offset: Vec2::ZERO, rotation: 0.0, scale: Vec2::ONE }
+    }
+}
+
+impl UvTransform {
+    /// The two rows of the 2x3 matrix, each with a fourth value: the set (first row), 0.
+    /// The extension's matrix is T R S with R = [[cos, sin], [-sin, cos]] (row-major), the
+    /// direction Khronos' TextureTransformTest sample checks.
+    pub fn rows(&self) -> [[f32; 4]; 2] {
+        let (s, c) = self.rotation.sin_cos();
+        let (sx, sy) = (self.scale.x, self.scale.y);
+        [[c * sx, s * sy, self.offset.x, self.set as f32], [-s * sx, c * sy, self.offset.y, 0.0]]
+    }
+
+    /// The transformed coordinates of `uv` (what the shader computes).
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let [r0, r1] = self.rows();
+        Vec2::new(r0[0] * uv.x + r0[1] * uv.y + r0[2], r1[0] * uv.x + r1[1] * uv.y + r1[2])
+    }
+
+    pub fn is_identity(&self) -> bool {
+        *self == Self { set: self.set, ..Self::default() }
+    }
+}
+
+/// Per map of a material, its [`UvTransform`] (the same slots as [`MaterialTextures`]).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct MaterialUvs {
+    pub base_color: UvTransform,
+    pub normal: UvTransform,
+    pub emissive: UvTransform,
+    pub metallic_roughness: UvTransform,
 }
 
 impl Default for Material {
@@ -267,6 +334,7 @@ impl Material {
             normal_scale: 1.0,
             metallic: 0.0,
             roughness: 1.0,
+            uvs: MaterialUvs::default(),
         }
     }
 
@@ -467,7 +535,10 @@ impl Scene {
                 && m.alpha.is_finite()
                 && m.normal_scale.is_finite()
                 && m.metallic.is_finite()
-                && m.roughness.is_finite();
+                && m.roughness.is_finite()
+                && [m.uvs.base_color, m.uvs.normal, m.uvs.emissive, m.uvs.metallic_roughness]
+                    .iter()
+                    .all(|t| t.rows().iter().flatten().all(|v| v.is_finite()) && t.set <= 1);
             if !finite {
                 return Err(format!("material {i} has non-finite values"));
             }

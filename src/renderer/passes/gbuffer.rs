@@ -4,11 +4,23 @@
 use super::{FrameInputs, Shared, Stamp};
 use crate::renderer::gbuffer::Attr;
 use crate::renderer::targets::attachment;
+use crate::scene::Topology;
 use wgpu::CompareFunction as Cmp;
 
 /// Index into [`GBufferPass::pipelines`]: opaque or masked, one- or two-sided.
 pub fn pipeline_index(masked: bool, double_sided: bool) -> usize {
     masked as usize * 2 + double_sided as usize
+}
+
+/// Index into [`GBufferPass::pipelines`] of a mesh of `topology`: lines and points have one
+/// pipeline each (no faces to cull; the masked fragment shader, whose cutoff is 0 for opaque
+/// materials).
+pub fn topology_pipeline_index(topology: Topology, masked: bool, double_sided: bool) -> usize {
+    match topology {
+        Topology::Triangles => pipeline_index(masked, double_sided),
+        Topology::Lines => 4,
+        Topology::Points => 5,
+    }
 }
 
 /// A surface pipeline (scene vertices, frame + material groups): the G-buffer's, and the
@@ -22,10 +34,25 @@ pub(crate) fn surface_pipeline(
     targets: &[Option<wgpu::ColorTargetState>],
     depth_write: bool,
 ) -> wgpu::RenderPipeline {
+    surface_pipeline_of(device, shared, label, fs, double_sided, targets, depth_write, Topology::Triangles)
+}
+
+/// [`surface_pipeline`] for meshes of `topology`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn surface_pipeline_of(
+    device: &wgpu::Device,
+    shared: &Shared,
+    label: &str,
+    fs: &str,
+    double_sided: bool,
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth_write: bool,
+    topology: Topology,
+) -> wgpu::RenderPipeline {
     let vertex_buffers = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4],
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
     })];
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
@@ -37,7 +64,12 @@ pub(crate) fn surface_pipeline(
             buffers: &vertex_buffers,
         },
         primitive: wgpu::PrimitiveState {
-            cull_mode: if double_sided { None } else { Some(wgpu::Face::Back) },
+            topology: match topology {
+                Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
+                Topology::Lines => wgpu::PrimitiveTopology::LineList,
+                Topology::Points => wgpu::PrimitiveTopology::PointList,
+            },
+            cull_mode: if double_sided || topology != Topology::Triangles { None } else { Some(wgpu::Face::Back) },
             ..Default::default()
         },
         depth_stencil: Some(wgpu::DepthStencilState {
@@ -60,8 +92,8 @@ pub(crate) fn surface_pipeline(
 }
 
 pub struct GBufferPass {
-    /// By [`pipeline_index`].
-    pub pipelines: [wgpu::RenderPipeline; 4],
+    /// By [`pipeline_index`], then lines and points ([`topology_pipeline_index`]).
+    pub pipelines: [wgpu::RenderPipeline; 6],
 }
 
 impl GBufferPass {
@@ -69,12 +101,17 @@ impl GBufferPass {
         let targets: Vec<Option<wgpu::ColorTargetState>> =
             shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
         let p = |label, fs, two_sided| surface_pipeline(device, shared, label, fs, two_sided, &targets, true);
+        let of = |label, topology| {
+            surface_pipeline_of(device, shared, label, "fs_geometry_masked", true, &targets, true, topology)
+        };
         Self {
             pipelines: [
                 p("geometry", "fs_geometry", false),
                 p("geometry (two-sided)", "fs_geometry", true),
                 p("geometry (masked)", "fs_geometry_masked", false),
                 p("geometry (masked, two-sided)", "fs_geometry_masked", true),
+                of("geometry (lines)", Topology::Lines),
+                of("geometry (points)", Topology::Points),
             ],
         }
     }

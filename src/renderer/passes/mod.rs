@@ -44,6 +44,7 @@ pub fn wgsl_constants() -> String {
     u("LIGHT_SPOT", records::LIGHT_KIND_SPOT);
     u("MAT_NORMAL_MAP", records::MAT_NORMAL_MAP);
     u("MAT_METAL_ROUGH", records::MAT_METAL_ROUGH);
+    u("MAT_UV_TRANSFORMED", records::MAT_UV_TRANSFORMED);
     for v in DebugView::ALL {
         u(&format!("VIEW_{}", v.wgsl_name()), v as u32);
     }

@@ -7,10 +7,12 @@ pub(super) fn load_buffers(
     doc: &gltf::Document,
     base: Option<&Path>,
     mut blob: Option<Vec<u8>>,
+    fallback: &[bool],
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Vec<gltf::buffer::Data>> {
     let total = doc.buffers().len();
     let mut out = Vec::with_capacity(total);
+    let mut fallback_bytes = 0usize;
     for (i, buffer) in doc.buffers().enumerate() {
         progress(Progress { stage: "buffers", done: i, total });
         let what = match buffer.name() {
@@ -18,6 +20,18 @@ pub(super) fn load_buffers(
             None => format!("buffer {i}"),
         };
         let data = match buffer.source() {
+            // EXT_meshopt_compression's fallback: no data of its own, its views are decoded
+            // into it (`meshopt::Meshopt::decode`).
+            _ if fallback.get(i).copied().unwrap_or(false) => {
+                fallback_bytes = fallback_bytes.saturating_add(buffer.length());
+                if fallback_bytes > super::meshopt::MAX_FALLBACK_BYTES {
+                    bail!(
+                        "{what}: the compressed buffers decode to more than {} bytes",
+                        super::meshopt::MAX_FALLBACK_BYTES
+                    );
+                }
+                vec![0; buffer.length()]
+            }
             gltf::buffer::Source::Bin => match blob.take() {
                 Some(b) => b,
                 None => bail!("{what} refers to the binary chunk, which the file does not have"),

@@ -146,33 +146,18 @@ impl Importer<'_> {
         let [r, g, bl, a] = pbr.base_color_factor();
         let base = Vec3::new(r, g, bl);
         let mut textures = MaterialTextures::default();
-        let tex = |info: Option<(gltf::Texture<'_>, u32)>, role: Role, what: &str, warnings: &mut Vec<String>| {
-            let (t, set) = info?;
-            if set != 0 {
-                warnings.push(format!("{label}: {what} uses TEXCOORD_{set}; only TEXCOORD_0 is read"));
-            }
-            self.texture_slots.get(&(t.source().index(), role)).copied()
+        // Texture coordinate sets and transforms: `material_uvs`.
+        let tex = |t: Option<gltf::Texture<'_>>, role: Role| {
+            t.and_then(|t| self.texture_slots.get(&(t.source().index(), role)).copied())
         };
-        let w = &mut self.warnings;
-        textures.base_color =
-            tex(pbr.base_color_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "base colour", w);
-        textures.emissive = tex(m.emissive_texture().map(|i| (i.texture(), i.tex_coord())), Role::Color, "emissive", w);
-        textures.metallic_roughness = tex(
-            pbr.metallic_roughness_texture().map(|i| (i.texture(), i.tex_coord())),
-            Role::Data,
-            "metallic-roughness",
-            w,
-        );
+        textures.base_color = tex(pbr.base_color_texture().map(|i| i.texture()), Role::Color);
+        textures.emissive = tex(m.emissive_texture().map(|i| i.texture()), Role::Color);
+        textures.metallic_roughness = tex(pbr.metallic_roughness_texture().map(|i| i.texture()), Role::Data);
         let normal = m.normal_texture();
         if normal_ok {
-            textures.normal = tex(normal.as_ref().map(|n| (n.texture(), n.tex_coord())), Role::Data, "normal map", w);
+            textures.normal = tex(normal.as_ref().map(|n| n.texture()), Role::Data);
         }
-        for info in [pbr.base_color_texture(), m.emissive_texture(), pbr.metallic_roughness_texture()].iter().flatten()
-        {
-            if info.texture_transform().is_some() {
-                w.push(format!("{label}: KHR_texture_transform is not supported; the texture is drawn untransformed"));
-            }
-        }
+        let uvs = material_uvs(m, &label, &mut self.warnings);
         // KHR_materials_specular / KHR_materials_ior: the dielectric reflectance.
         let ior = m.ior().unwrap_or(1.5).max(1.0);
         let mut f0 = ((ior - 1.0) / (ior + 1.0)).powi(2);
@@ -209,6 +194,7 @@ impl Importer<'_> {
             normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
             metallic,
             roughness,
+            uvs,
         };
         // Values the file controls: keep them finite and in range.
         let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };
@@ -248,6 +234,62 @@ impl Importer<'_> {
                 ));
             }
         }
+    }
+}
+
+/// A map's `KHR_texture_transform` as the file gives it: offset, rotation, scale, `texCoord`.
+type FileTransform = ([f32; 2], f32, [f32; 2], Option<u32>);
+
+/// Each map's texture coordinate set and `KHR_texture_transform`, with a warning for what
+/// cannot be honoured (sets above 1, non-finite transforms).
+pub(super) fn material_uvs(m: &gltf::Material<'_>, label: &str, warnings: &mut Vec<String>) -> MaterialUvs {
+    let pbr = m.pbr_metallic_roughness();
+    let from_info = |info: Option<gltf::texture::Info<'_>>| {
+        info.map(|i| {
+            let t = i.texture_transform();
+            (i.tex_coord(), t.map(|t| (t.offset(), t.rotation(), t.scale(), t.tex_coord())))
+        })
+    };
+    // The `gltf` crate keeps a normal texture's extensions as JSON.
+    let normal = m.normal_texture().map(|n| {
+        let t = n.extension_value("KHR_texture_transform").map(|v| {
+            let pair = |key: &str, default: f32| -> [f32; 2] {
+                let a = v.get(key).and_then(|a| a.as_array());
+                let at = |k: usize| a.and_then(|a| a.get(k)).and_then(|x| x.as_f64()).map_or(default, |x| x as f32);
+                [at(0), at(1)]
+            };
+            let rotation = v.get("rotation").and_then(|r| r.as_f64()).map_or(0.0, |r| r as f32);
+            let set = v.get("texCoord").and_then(|c| c.as_u64()).map(|c| c.min(u32::MAX as u64) as u32);
+            (pair("offset", 0.0), rotation, pair("scale", 1.0), set)
+        });
+        (n.tex_coord(), t)
+    });
+    let mut one = |what: &str, slot: Option<(u32, Option<FileTransform>)>| {
+        let Some((tex_coord, transform)) = slot else { return UvTransform::default() };
+        let mut t = UvTransform::default();
+        let mut set = tex_coord;
+        if let Some((offset, rotation, scale, over)) = transform {
+            let candidate = UvTransform { set: 0, offset: offset.into(), rotation, scale: scale.into() };
+            if candidate.rows().iter().flatten().all(|v| v.is_finite()) {
+                t = candidate;
+            } else {
+                warnings.push(format!("{label}: the {what} map's KHR_texture_transform is not finite; ignored"));
+            }
+            set = over.unwrap_or(set);
+        }
+        if set > 1 {
+            warnings
+                .push(format!("{label}: the {what} map uses TEXCOORD_{set}; only sets 0 and 1 are read, it reads 0"));
+            set = 0;
+        }
+        t.set = set;
+        t
+    };
+    MaterialUvs {
+        base_color: one("base colour", from_info(pbr.base_color_texture())),
+        normal: one("normal", normal),
+        emissive: one("emissive", from_info(m.emissive_texture())),
+        metallic_roughness: one("metallic-roughness", from_info(pbr.metallic_roughness_texture())),
     }
 }
 

@@ -113,7 +113,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub lights: Option<usize>,
     /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
-    /// tessellation, resolution, lights.
+    /// tessellation, resolution, lights, forward.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }

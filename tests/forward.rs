@@ -139,3 +139,93 @@ fn lights_that_just_reach_a_corner_are_kept() {
         assert_eq!(n, 0, "'{}' lists change {n} pixels (up to {max} steps)", mode.name());
     }
 }
+
+/// Every visible point a light can reach lies in a tile whose list holds the light (checked on
+/// the CPU against the plan's lists, at sampled points inside each light's true shape: the
+/// cut-off radius, and the cone for spots).
+#[test]
+fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
+    use glam::{Vec2, Vec3, Vec4Swizzles};
+    use lampshade::renderer::plan::{FramePlan, PlanView};
+    use lampshade::renderer::records::FrameRecords;
+    use lampshade::renderer::volumes::Volumes;
+    use lampshade::renderer::CullingMode;
+    let scene = glass(256);
+    let (w, h) = (203u32, 117u32);
+    for cutoff in [0.0, 1.0 / 16.0] {
+        let settings = Settings { light_cutoff: cutoff, ..Settings::default() };
+        let mut records = FrameRecords::new(&scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+        let proj = records.proj.as_mat4();
+        let view = PlanView {
+            proj,
+            near: scene.camera.near as f32,
+            far: scene.camera.far as f32,
+            size: (w, h),
+            mode: CullingMode::Volume,
+            depth_clamp: true,
+            forward_lights: ForwardLights::Tiled,
+        };
+        let bounds: Vec<(glam::DVec3, f64)> = scene
+            .meshes
+            .iter()
+            .map(|m| {
+                let r = m.vertices.iter().map(|v| Vec3::from(v.position).length() as f64).fold(0.0, f64::max);
+                (glam::DVec3::ZERO, r)
+            })
+            .collect();
+        let volumes = Volumes::new(&gpu().device, (settings.sphere_subdivisions, settings.cone_sides));
+        let plan = FramePlan::new(&scene, &mut records, &bounds, &volumes, &view);
+        let [tile, tx, _, header] = records.camera.forward_tiles;
+        assert_eq!(tile, 16);
+        let lists = &plan.light_lists;
+        let in_objects: std::collections::HashSet<u32> = records
+            .objects
+            .iter()
+            .filter(|o| o.info[2] > 0)
+            .flat_map(|o| lists[o.info[1] as usize..(o.info[1] + o.info[2]) as usize].iter().copied())
+            .collect();
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 40) as f32) / (1u64 << 24) as f32
+        };
+        let mut checked = 0;
+        for (k, l) in records.lights.iter().enumerate() {
+            if !in_objects.contains(&(k as u32)) {
+                continue;
+            }
+            let centre = Vec3::from(l.position);
+            for _ in 0..400 {
+                let d = Vec3::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0);
+                if d.length() > 1.0 || d.length() < 1e-3 {
+                    continue;
+                }
+                // Mostly near the surface, where a list's edge would show.
+                let p = centre + d.normalize() * l.radius * (0.9 + 0.0999 * rnd());
+                if l.kind == lampshade::renderer::LIGHT_KIND_SPOT
+                    && (p - centre).normalize().dot(Vec3::from(l.direction)) <= l.cos_outer
+                {
+                    continue;
+                }
+                let c = proj * p.extend(1.0);
+                if -p.z <= view.near || c.w <= 0.0 {
+                    continue;
+                }
+                let ndc = c.xy() / c.w;
+                if ndc.abs().max_element() >= 1.0 {
+                    continue;
+                }
+                let px = Vec2::new((ndc.x + 1.0) * 0.5 * w as f32, (1.0 - ndc.y) * 0.5 * h as f32);
+                let t = (px.y as u32 / tile) * tx + px.x as u32 / tile;
+                let at = (header + 2 * t) as usize;
+                let list = &lists[lists[at] as usize..(lists[at] + lists[at + 1]) as usize];
+                assert!(
+                    list.contains(&(k as u32)),
+                    "cut-off {cutoff}: light {k} reaches pixel {px} but tile {t} leaves it out"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 10_000, "only {checked} points checked");
+    }
+}

@@ -17,6 +17,9 @@ struct Camera {
     // The most one light (or ambient + sun) may add to a channel, see `records::light_clamp`.
     light_clamp: f32,
     pad0: f32,
+    // The forward pass's screen tiles: tile size in pixels (0: no tile lists), tiles across,
+    // tiles down, and where the tiles' (first, count) pairs start in `light_lists`.
+    forward_tiles: vec4<u32>,
 };
 
 // A light in view space. `color` is colour x intensity.

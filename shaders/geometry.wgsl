@@ -119,8 +119,9 @@ fn fs_geometry_masked(in: GeometryOut, @builtin(front_facing) front: bool) -> GB
     return gbuffer_store(s);
 }
 
-// Alpha BLEND: shaded forward, in the same lighting model, by the lights whose volume reaches
-// the object (its list is built on the CPU), into the HDR scene colour the compose pass wrote.
+// Alpha BLEND: shaded forward, in the same lighting model, by the lights that can reach the
+// fragment (lists built on the CPU, see `plan::plan_draws`), into the HDR scene colour the
+// compose pass wrote.
 // The result is blended over it with the material's alpha.
 @fragment
 fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
@@ -140,8 +141,23 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     }
     diffuse = min(diffuse, clamp_max);
     specular = min(specular, clamp_max);
-    for (var k = 0u; k < o.info.z; k++) {
-        let r = shade_light(s, lights[light_lists[o.info.y + k]]);
+    // Two lists hold every light that can reach this fragment: the object's and its screen
+    // tile's (lights whose volume's screen rectangle covers the tile); the shorter is walked.
+    // Both are in light order, so the same non-zero terms are summed in the same order.
+    var first = o.info.y;
+    var count = o.info.z;
+    let grid = camera.forward_tiles;
+    if grid.x > 0u {
+        let t = min(vec2<u32>(max(in.clip.xy, vec2<f32>(0.0))) / grid.x, vec2<u32>(grid.y - 1u, grid.z - 1u));
+        let h = grid.w + 2u * (t.y * grid.y + t.x);
+        if light_lists[h + 1u] < count {
+            first = light_lists[h];
+            count = light_lists[h + 1u];
+        }
+    }
+    for (var k = 0u; k < count; k++) {
+        // shade_light returns zero before any BRDF work outside the light's radius and cone.
+        let r = shade_light(s, lights[light_lists[first + k]]);
         diffuse += min(r.diffuse, clamp_max);
         specular += min(r.specular, clamp_max);
     }

@@ -8,7 +8,7 @@ use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
 use crate::renderer::{
-    AccumFormat, CullingMode, DepthFormat, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
+    AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
@@ -94,6 +94,8 @@ pub struct Row {
     pub gbuffer_ms: f64,
     pub lighting_ms: f64,
     pub compose_ms: f64,
+    /// The forward pass of blended surfaces (0 without any).
+    pub forward_ms: f64,
     pub total_ms: f64,
     pub coverage_fragments: u64,
     pub shaded_fragments: u64,
@@ -213,13 +215,19 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             v.push(c("lights", format!("{} x{n}", mode.name()), Settings { culling: mode, ..base.clone() }, n));
         }
     }
+    // The forward pass's light lists (the same picture each; its time is `forward_ms`; only
+    // scenes with blended surfaces, e.g. `glass`, have a forward pass).
+    for forward_lights in ForwardLights::ALL {
+        let label = format!("forward {}", forward_lights.name());
+        v.push(c("forward", label, Settings { forward_lights, ..base.clone() }, o.lights));
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     v
 }
 
 /// The configuration groups, for `--only`.
 pub const GROUPS: &[&str] =
-    &["culling", "layout", "accumulation", "depth", "cutoff", "tessellation", "resolution", "lights"];
+    &["culling", "layout", "accumulation", "depth", "cutoff", "tessellation", "resolution", "lights", "forward"];
 
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -335,6 +343,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
             lighting_ms: pick(|s| s.gpu_ms.lighting),
             compose_ms: pick(|s| s.gpu_ms.compose),
+            forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
             total_ms: pick(|s| s.gpu_ms.total),
             coverage_fragments: stats.coverage_fragments.unwrap_or(0),
             shaded_fragments: stats.shaded_fragments.unwrap_or(0),
@@ -369,12 +378,12 @@ pub fn mark_pareto(rows: &mut [Row]) {
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
-         lights,width,height,gbuffer_ms,lighting_ms,compose_ms,total_ms,\
+         lights,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,total_ms,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -393,6 +402,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.gbuffer_ms,
             r.lighting_ms,
             r.compose_ms,
+            r.forward_ms,
             r.total_ms,
             r.coverage_fragments,
             r.shaded_fragments,
@@ -416,8 +426,8 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
          Volumes: the bounding meshes the frame drew (only the kinds its lights need).\n\n",
         o.scene, o.time, o.frames
     );
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()
         .filter(|r| r.label == "fullscreen")
@@ -429,7 +439,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             .filter(|_| r.scene == o.scene)
             .map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -440,6 +450,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.volumes,
             r.gbuffer_ms,
             r.lighting_ms,
+            r.forward_ms,
             r.total_ms,
             ratio,
             r.coverage_fragments,
@@ -649,6 +660,7 @@ mod tests {
             gbuffer_ms: 0.0,
             lighting_ms: 0.0,
             compose_ms: 0.0,
+            forward_ms: 0.0,
             total_ms: ms,
             coverage_fragments: 0,
             shaded_fragments: 0,

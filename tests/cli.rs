@@ -193,6 +193,21 @@ fn a_light_count_a_scene_does_not_take_is_a_warning() {
 }
 
 #[test]
+fn the_forward_pass_has_its_own_stats() {
+    let (png, json) = (tmp("glass.png"), tmp("glass.json"));
+    let args = ["render", "glass", "--size", "160x90", "--lights", "64", "--forward-lights", "object", "--out"];
+    let out = lampshade(&[&args[..], &[png.to_str().unwrap(), "--stats", json.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v["gpu_ms"]["forward"].as_f64().is_some(), "gpu_ms: {}", v["gpu_ms"]);
+    let f = &v["forward"];
+    assert_eq!(f["lights"], "object");
+    assert_eq!(f["objects"], 17);
+    assert!(f["fragments"].as_u64().is_some_and(|n| n > 0), "forward: {f}");
+    assert_eq!(f["tiles"], 0);
+}
+
+#[test]
 fn bad_input_is_a_clear_error() {
     let png = tmp("x.png");
     let p = png.to_str().unwrap();

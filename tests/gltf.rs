@@ -6,7 +6,7 @@
 mod common;
 use common::*;
 use lampshade::compare::{check_snapshot, flip, max_channel_difference, CROSS_CPU};
-use lampshade::renderer::{CullingMode, Settings};
+use lampshade::renderer::{CullingMode, ForwardLights, Settings};
 use lampshade::scene::import::{self, ImportOptions, Imported, Progress};
 use lampshade::scene::{room, AlphaMode, Scene};
 use std::path::{Path, PathBuf};
@@ -150,6 +150,21 @@ fn masked_and_blended_materials_change_the_picture_where_they_should() {
         }
     });
     assert!(clear > 100 && solid > 100, "the forward pass draws nothing visible ({clear}, {solid})");
+}
+
+#[test]
+fn the_glass_is_lit_the_same_whichever_light_lists_the_forward_pass_walks() {
+    let scene = room_scene();
+    let at = |forward_lights| render(&scene, &Settings { forward_lights, ..Settings::default() }, W, H);
+    let all = at(ForwardLights::All);
+    for mode in [ForwardLights::Object, ForwardLights::Tiled] {
+        let f = at(mode);
+        let changed = all.image.pixels().zip(f.image.pixels()).filter(|(a, b)| a != b).count();
+        assert_eq!(changed, 0, "room: '{}' lists change {changed} pixels", mode.name());
+        let lists = f.stats.forward.expect("the room's glass is drawn forward");
+        assert_eq!(lists.objects, 2, "two glass panes");
+        assert!(lists.fragments.is_some_and(|n| n > 0));
+    }
 }
 
 #[test]

@@ -9,7 +9,7 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Settings, CONE_SIDES_RANGE,
+    name_of, AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings, CONE_SIDES_RANGE,
     MAX_SPHERE_SUBDIVISIONS,
 };
 
@@ -183,6 +183,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| s.cone_sides.to_string(),
         put: |s, v| {
             s.cone_sides = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "forward-lights",
+        what: "forward light list",
+        help: "Lights the forward pass evaluates per blended fragment",
+        values: Values::Choice(names::<ForwardLights>),
+        cli: true,
+        get: |s| name_of(&s.forward_lights),
+        put: |s, v| {
+            s.forward_lights = choice("forward light list", v)?;
             Ok(())
         },
     },

@@ -37,7 +37,7 @@ pub use plan::{LightPlan, Method, AUTO_FULLSCREEN_SHARE, AUTO_STENCIL_MIN_PIXELS
 pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
-pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, LayoutChoice, Settings};
+pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings};
 use stats::Stamp;
 pub use stats::{FrameStats, LightStats};
 use targets::Targets;
@@ -230,6 +230,7 @@ impl Renderer {
             size,
             mode: settings.culling,
             depth_clamp: self.passes.key().depth_clamp,
+            forward_lights: settings.forward_lights,
         };
         let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, &plan.light_lists);
@@ -246,6 +247,7 @@ impl Renderer {
             counts: settings.count_fragments && n > 0,
             ideal: settings.count_ideal && n > 0,
             times: settings.timestamps && self.queries.timestamps.is_some(),
+            forward_counts: settings.count_fragments && blended,
             depth_clamp: self.passes.key().depth_clamp,
         };
 
@@ -259,8 +261,9 @@ impl Renderer {
         // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
         p.debug.encode(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        //    With blended surfaces: compose in HDR, shade them forward over it back to front,
-        //    then tonemap (seeds 002-004: deferred shading cannot do transparency).
+        //    With blended surfaces: compose in HDR, shade them forward over it back to front
+        //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
+        //    shading cannot do transparency).
         if blended {
             p.compose.encode_hdr(&mut encoder, &self.queue, &f);
             p.forward.encode(&mut encoder, &f);
@@ -272,7 +275,7 @@ impl Renderer {
         }
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         p.measure.encode(&mut encoder, &f);
-        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times);
+        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts);
         self.queue.submit([encoder.finish()]);
 
         let key = self.passes.key();
@@ -289,10 +292,11 @@ impl Renderer {
             sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
             cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
             volume_meshes: plan.volume_meshes_drawn(),
+            forward: plan.forward.clone().filter(|_| blended),
             ..Default::default()
         };
-        let (counts, ideal, times) = (f.counts, f.ideal, f.times);
-        self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times)?;
+        let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
+        self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
         self.last = LastFrame { inv_proj: records.proj.inverse(), lights: records.lights, plan };
         Ok(stats)
     }

@@ -3,8 +3,9 @@
 //! object, whether it goes into the G-buffer or is shaded forward, in which order, and which
 //! lights reach it.
 
-use super::records::{FrameRecords, LightRecord};
-use super::settings::CullingMode;
+use super::records::{CameraRecord, FrameRecords, LightRecord};
+use super::settings::{CullingMode, ForwardLights};
+use super::stats::ForwardStats;
 use super::volumes::{self, VolumeKind, Volumes};
 use crate::scene::{AlphaMode, Scene};
 use glam::{DVec3, Mat4, Vec2, Vec3};
@@ -69,6 +70,10 @@ pub struct LightPlan {
     pub crosses_far: bool,
     /// Share of the screen covered by the volume's projected bounding rectangle.
     pub screen_share: f32,
+    /// That rectangle in normalised device coordinates (min, max), not clipped to the screen;
+    /// the whole screen when the volume crosses the near plane, `None` when it is off screen.
+    /// It bounds every visible point the light can reach (the volume circumscribes the light).
+    pub screen_rect: Option<(Vec2, Vec2)>,
 }
 
 /// The view a frame's lights are planned against.
@@ -80,6 +85,8 @@ pub struct PlanView {
     pub mode: CullingMode,
     /// Light volumes are drawn with depth clamp (so they may cross the far plane).
     pub depth_clamp: bool,
+    /// Which lights the forward pass walks per blended fragment.
+    pub forward_lights: ForwardLights,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -150,7 +157,14 @@ pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Li
     } else {
         Method::Volume
     };
-    LightPlan { method, volume, crosses_near, crosses_far, screen_share }
+    let screen_rect = if off_screen {
+        None
+    } else if crosses_near {
+        Some((-Vec2::ONE, Vec2::ONE))
+    } else {
+        Some((lo, hi))
+    };
+    LightPlan { method, volume, crosses_near, crosses_far, screen_share, screen_rect }
 }
 
 /// One object draw: (object, pipeline index within its pass, material).
@@ -170,9 +184,12 @@ pub struct DrawLists {
 pub struct FramePlan {
     pub lights: Vec<LightPlan>,
     pub draws: DrawLists,
-    /// The forward-shaded objects' light lists, concatenated (each object's `info` holds its
-    /// offset and count).
+    /// The forward pass's light lists: the blended objects' lists (each object's `info` holds
+    /// its offset and count), then, with tiles, each tile's (offset, count) and the tiles' lists
+    /// (the camera record's `forward_tiles` says where).
     pub light_lists: Vec<u32>,
+    /// The sizes of those lists (`None` without blended objects).
+    pub forward: Option<ForwardStats>,
 }
 
 impl FramePlan {
@@ -185,9 +202,10 @@ impl FramePlan {
         volumes: &Volumes,
         view: &PlanView,
     ) -> Self {
-        let lights = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
-        let (draws, light_lists) = plan_draws(scene, &mut records.objects, bounds);
-        Self { lights, draws, light_lists }
+        let lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
+        let (draws, light_lists, forward) =
+            plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
+        Self { lights, draws, light_lists, forward }
     }
 
     /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for
@@ -200,18 +218,35 @@ impl FramePlan {
     }
 }
 
+/// Size in pixels of the forward pass's screen tiles.
+pub const FORWARD_TILE: u32 = 16;
+
 /// Sorts the objects into the G-buffer pass (opaque, masked) and the forward pass (blended,
-/// back to front by the view depth of their bounding sphere's centre), and builds each blended
-/// object's light list: the lights whose sphere reaches its bounding sphere. Returns the lists
-/// and the concatenated light lists; each blended object's `info` gets its offset and count.
+/// back to front by the view depth of their bounding sphere's centre), and builds the forward
+/// pass's light lists (see [`ForwardLights`]):
+/// - per blended object, the lights whose sphere reaches its bounding sphere (`tiled` also
+///   drops lights off screen; `all` lists every light);
+/// - with `tiled`, per [`FORWARD_TILE`]-pixel screen tile, the lights of those lists whose
+///   screen rectangle ([`LightPlan::screen_rect`], widened by a pixel against rounding) covers
+///   the tile; `camera.forward_tiles` tells the shader where they are.
+///
+/// A light is left out of a list only where it cannot reach: every list is in light order, so
+/// a fragment sums the same non-zero terms in the same order whichever list it walks.
 fn plan_draws(
     scene: &Scene,
     objects: &mut [super::records::ObjectRecord],
+    camera: &mut CameraRecord,
     bounds: &[(DVec3, f64)],
-) -> (DrawLists, Vec<u32>) {
+    plans: &[LightPlan],
+    view: &PlanView,
+) -> (DrawLists, Vec<u32>, Option<ForwardStats>) {
+    let mode = view.forward_lights;
     let mut lists = Vec::new();
     let mut draws = DrawLists::default();
     let mut forward: Vec<(f64, usize, usize, usize)> = Vec::new();
+    let mut stats = ForwardStats { lights: mode, ..Default::default() };
+    // Lights in at least one blended object's list: the only ones a tile needs.
+    let mut reaches_glass = vec![false; scene.lights.len()];
     for (i, o) in scene.objects.iter().enumerate() {
         let m = &scene.materials[o.material];
         let topology = scene.meshes.get(o.mesh).map_or(Default::default(), |mesh| mesh.topology);
@@ -231,12 +266,25 @@ fn plan_draws(
                 let radius = r * scale;
                 let first = lists.len() as u32;
                 for (k, l) in scene.lights.iter().enumerate() {
-                    if (l.position() - centre).length() < radius + l.radius() as f64 {
+                    let keep = match mode {
+                        ForwardLights::All => true,
+                        ForwardLights::Object => (l.position() - centre).length() < radius + l.radius() as f64,
+                        ForwardLights::Tiled => {
+                            plans.get(k).is_some_and(|p| p.screen_rect.is_some())
+                                && (l.position() - centre).length() < radius + l.radius() as f64
+                        }
+                    };
+                    if keep {
                         lists.push(k as u32);
+                        reaches_glass[k] = true;
                     }
                 }
+                let count = lists.len() as u32 - first;
                 objects[i].info[1] = first;
-                objects[i].info[2] = lists.len() as u32 - first;
+                objects[i].info[2] = count;
+                stats.objects += 1;
+                stats.object_list_entries += count as u64;
+                stats.longest_object_list = stats.longest_object_list.max(count);
                 let depth = scene.camera.to_view(centre).z;
                 forward.push((depth, i, m.double_sided as usize, o.material));
             }
@@ -246,10 +294,47 @@ fn plan_draws(
             }
         }
     }
+    camera.forward_tiles = [0; 4];
+    if mode == ForwardLights::Tiled && !forward.is_empty() {
+        let (w, h) = view.size;
+        let (tx, ty) = (w.div_ceil(FORWARD_TILE), h.div_ceil(FORWARD_TILE));
+        let mut tiles: Vec<Vec<u32>> = vec![Vec::new(); (tx * ty) as usize];
+        for (k, p) in plans.iter().enumerate() {
+            let Some((lo, hi)) = p.screen_rect.filter(|_| reaches_glass[k]) else { continue };
+            // NDC to pixels (y down), widened by a pixel; a fragment's centre lies inside.
+            let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
+            let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+            let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / FORWARD_TILE;
+            let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+            let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+            if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
+                continue;
+            }
+            for y in tile(y0, h)..=tile(y1, h) {
+                for x in tile(x0, w)..=tile(x1, w) {
+                    tiles[(y * tx + x) as usize].push(k as u32);
+                }
+            }
+        }
+        let header = lists.len() as u32;
+        let mut first = header + 2 * tiles.len() as u32;
+        for t in &tiles {
+            lists.extend([first, t.len() as u32]);
+            first += t.len() as u32;
+            stats.tile_list_entries += t.len() as u64;
+            stats.longest_tile_list = stats.longest_tile_list.max(t.len() as u32);
+        }
+        for t in &tiles {
+            lists.extend_from_slice(t);
+        }
+        stats.tiles = tiles.len() as u64;
+        camera.forward_tiles = [FORWARD_TILE, tx, ty, header];
+    }
     // View space looks down -z: the farthest has the most negative z and is drawn first.
     forward.sort_by(|a, b| a.0.total_cmp(&b.0));
     draws.forward = forward.into_iter().map(|(_, i, p, m)| (i, p, m)).collect();
     // Fewer pipeline and material switches in the G-buffer pass.
     draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
-    (draws, lists)
+    let stats = (!draws.forward.is_empty()).then_some(stats);
+    (draws, lists, stats)
 }

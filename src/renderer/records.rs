@@ -73,6 +73,10 @@ gpu_record! {
         /// The most one light (or ambient + sun) may add to a channel, see [`light_clamp`].
         pub light_clamp: f32,
         pub pad0: f32,
+        /// The forward pass's screen tiles: tile size in pixels (0: no tile lists), tiles
+        /// across, tiles down, and where the tiles' (first, count) pairs start in the light
+        /// lists (filled by `plan::plan_draws`).
+        pub forward_tiles: [u32; 4],
     }
 }
 
@@ -207,6 +211,7 @@ impl CameraRecord {
             far_depth: if settings.reversed_z { 0.0 } else { 1.0 },
             light_clamp: light_clamp(accum, scene.lights.len()),
             pad0: 0.0,
+            forward_tiles: [0; 4],
         }
     }
 }

@@ -57,7 +57,27 @@ knob_names!(
     AccumFormat => "accumulation format",
     DepthFormat => "depth format",
     LayoutChoice => "layout",
+    ForwardLights => "forward light list",
 );
+
+/// Which lights the forward pass (blended surfaces) evaluates at each of its fragments. Every
+/// choice gives the same picture: a light left out reaches no fragment it is left out of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ForwardLights {
+    /// Per fragment, the shorter of its object's list and its screen tile's list (the lights
+    /// whose volume's screen rectangle covers the tile).
+    #[default]
+    Tiled,
+    /// The object's list alone: the lights whose sphere reaches its bounding sphere.
+    Object,
+    /// Every light at every fragment: the unculled reference.
+    All,
+}
+
+impl ForwardLights {
+    pub const ALL: [ForwardLights; 3] = [ForwardLights::Tiled, ForwardLights::Object, ForwardLights::All];
+}
 
 /// How light volumes are applied.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
@@ -270,6 +290,8 @@ pub struct Settings {
     pub sphere_subdivisions: u32,
     /// Sides of the pyramid bounding spot lights (3 ..= 64).
     pub cone_sides: u32,
+    /// Which lights the forward pass evaluates per blended fragment.
+    pub forward_lights: ForwardLights,
 }
 
 impl Default for Settings {
@@ -290,6 +312,7 @@ impl Default for Settings {
             light_cutoff: 0.0,
             sphere_subdivisions: DEFAULT_SPHERE_SUBDIVISIONS,
             cone_sides: DEFAULT_CONE_SIDES,
+            forward_lights: ForwardLights::default(),
         }
     }
 }
@@ -349,6 +372,7 @@ mod tests {
         one_name::<AccumFormat>();
         one_name::<DepthFormat>();
         one_name::<LayoutChoice>();
+        one_name::<ForwardLights>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

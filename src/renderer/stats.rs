@@ -6,6 +6,7 @@
 //! lies outside the light's true radius and cone.
 
 use super::plan::{LightPlan, Method};
+use super::settings::ForwardLights;
 use super::CullingMode;
 use crate::gpu::Gpu;
 use crate::scene::Scene;
@@ -22,21 +23,52 @@ pub enum Stamp {
     GBufferEnd = 1,
     LightsBegin = 2,
     LightsEnd = 3,
-    /// The compose, or with blended surfaces the HDR compose, forward pass and tonemap.
+    /// The compose, or with blended surfaces the HDR compose, forward pass and tonemap (the
+    /// forward pass's own span is taken out of `gpu_ms.compose`).
     ComposeBegin = 4,
     ComposeEnd = 5,
+    /// The forward pass of blended surfaces.
+    ForwardBegin = 6,
+    ForwardEnd = 7,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 6;
+    pub const COUNT: u32 = 8;
 }
+
+/// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
+/// after the timestamps' (resolve offsets are multiples of 256).
+const FORWARD_QUERY_OFFSET: u64 = 256;
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct GpuMs {
     pub gbuffer: Option<f64>,
     pub lighting: Option<f64>,
+    /// The compose (and with blended surfaces the tonemap), without the forward pass.
     pub compose: Option<f64>,
+    /// The forward pass of blended surfaces (`None` when the frame has none).
+    #[serde(default)]
+    pub forward: Option<f64>,
     pub total: Option<f64>,
+}
+
+/// The forward pass's work: its light lists (from the plan) and the fragments it shaded.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct ForwardStats {
+    /// Which lists the pass walked (`Settings::forward_lights`).
+    pub lights: ForwardLights,
+    /// Blended objects drawn.
+    pub objects: usize,
+    /// Entries of the objects' lists, summed, and the longest.
+    pub object_list_entries: u64,
+    pub longest_object_list: u32,
+    /// Screen tiles (`tiled` only), their lists' entries summed, and the longest.
+    pub tiles: u64,
+    pub tile_list_entries: u64,
+    pub longest_tile_list: u32,
+    /// Samples the forward pass shaded (passed the depth test; occlusion query), when counting.
+    pub fragments: Option<u64>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -70,6 +102,8 @@ pub struct FrameStats {
     pub coverage_fragments: Option<u64>,
     /// ideal / shaded.
     pub efficiency: Option<f64>,
+    /// The forward pass of blended surfaces, when the frame drew one.
+    pub forward: Option<ForwardStats>,
     pub gbuffer_layout: String,
     /// Colour targets of the G-buffer (the depth-stencil buffer is named apart).
     pub gbuffer_bytes_per_pixel: u32,
@@ -89,6 +123,8 @@ pub struct FrameStats {
 
 pub struct Queries {
     pub timestamps: Option<wgpu::QuerySet>,
+    /// One occlusion query over the whole forward pass.
+    pub forward: wgpu::QuerySet,
     period_ns: f32,
     pub occlusion: Vec<wgpu::QuerySet>,
     pub ideal: Vec<wgpu::QuerySet>,
@@ -111,8 +147,14 @@ impl Queries {
                 count: Stamp::COUNT,
             })
         });
+        let forward = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("forward fragments"),
+            ty: wgpu::QueryType::Occlusion,
+            count: 1,
+        });
         Self {
             timestamps,
+            forward,
             period_ns: gpu.queue.get_timestamp_period(),
             occlusion: Vec::new(),
             ideal: Vec::new(),
@@ -124,11 +166,12 @@ impl Queries {
         }
     }
 
-    /// Layout of the resolve buffer: [timestamps (256 B)] [occlusion] [ideal] [coverage] [end].
+    /// Layout of the resolve buffer: [timestamps (256 B)] [forward pass (256 B)] [occlusion]
+    /// [ideal] [coverage] [end].
     fn offsets(capacity: usize) -> (u64, u64, u64, u64) {
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         let blocks = capacity.div_ceil(LIGHTS_PER_QUERY_SET) as u64;
-        let occ = 256;
+        let occ = FORWARD_QUERY_OFFSET + 256;
         let ideal = occ + blocks * block;
         let coverage = ideal + blocks * block;
         (occ, ideal, coverage, coverage + blocks * block)
@@ -173,7 +216,17 @@ impl Queries {
         }
     }
 
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder, n: usize, counts: bool, ideal: bool, times: bool) {
+    /// Resolves the frame's queries; `forward` when the forward pass counted its fragments.
+    #[allow(clippy::too_many_arguments)]
+    pub fn resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        n: usize,
+        counts: bool,
+        ideal: bool,
+        times: bool,
+        forward: bool,
+    ) {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
             return;
         };
@@ -182,6 +235,9 @@ impl Queries {
             if let Some(ts) = &self.timestamps {
                 encoder.resolve_query_set(ts, 0..Stamp::COUNT, resolve, 0);
             }
+        }
+        if forward {
+            encoder.resolve_query_set(&self.forward, 0..1, resolve, FORWARD_QUERY_OFFSET);
         }
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         for b in 0..n.div_ceil(LIGHTS_PER_QUERY_SET) {
@@ -196,7 +252,7 @@ impl Queries {
                 }
             }
         }
-        if counts || ideal || times {
+        if counts || ideal || times || forward {
             encoder.copy_buffer_to_buffer(resolve, 0, readback, 0, size);
         }
     }
@@ -211,6 +267,7 @@ impl Queries {
         counts: bool,
         ideal: bool,
         times: bool,
+        forward: bool,
     ) -> Result<()> {
         stats.per_light = plans
             .iter()
@@ -230,7 +287,7 @@ impl Queries {
                 coverage: None,
             })
             .collect();
-        if !(counts || ideal || times) {
+        if !(counts || ideal || times || forward) {
             return Ok(());
         }
         let Some(readback) = &self.readback else {
@@ -256,7 +313,17 @@ impl Queries {
                 stats.gpu_ms.gbuffer = span(Stamp::GBufferBegin, Stamp::GBufferEnd);
                 stats.gpu_ms.lighting = span(Stamp::LightsBegin, Stamp::LightsEnd);
                 stats.gpu_ms.compose = span(Stamp::ComposeBegin, Stamp::ComposeEnd);
+                if stats.forward.is_some() {
+                    stats.gpu_ms.forward = span(Stamp::ForwardBegin, Stamp::ForwardEnd);
+                    // The forward pass runs between the HDR compose and the tonemap.
+                    if let (Some(c), Some(f)) = (stats.gpu_ms.compose, stats.gpu_ms.forward) {
+                        stats.gpu_ms.compose = Some((c - f).max(0.0));
+                    }
+                }
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+            }
+            if let Some(f) = stats.forward.as_mut().filter(|_| forward) {
+                f.fragments = Some(words[(FORWARD_QUERY_OFFSET / 8) as usize]);
             }
             let block = LIGHTS_PER_QUERY_SET;
             let at = |base: u64, i: usize| {

@@ -23,6 +23,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("normals", "hard case: normals at the encoding's singularities, facing away, and zero-length"),
     ("spot-extremes", "hard case: spot cones of 0 and 89 degrees"),
     ("coincident", "hard case: a light volume touching a wall; a light inside a box"),
+    ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case"),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -41,7 +42,7 @@ impl Default for BuiltinOptions {
 }
 
 /// The built-in scenes whose light count `--lights` sets.
-pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow"];
+pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass"];
 
 /// Builds a built-in scene by name, or says which names exist.
 pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
@@ -63,6 +64,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "normals" => normals(),
         "spot-extremes" => spot_extremes(),
         "coincident" => coincident(),
+        "glass" => glass(opts.lights.unwrap_or(1024), opts.time),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -192,6 +194,43 @@ pub fn demo(n: usize, t: f64) -> Scene {
             inner_angle: 14f32.to_radians(),
             outer_angle: 22f32.to_radians(),
         }));
+    }
+    b.scene
+}
+
+/// The forward pass's stress case: the demo (its lights, floor, pillars and boxes) with five
+/// 120-unit glass walls across the view and a dozen glass boxes, all blended. Each wall's
+/// bounding sphere reaches most of the lights, so per-object light lists hold hundreds.
+pub fn glass(n: usize, t: f64) -> Scene {
+    let mut scene = demo(n, t);
+    scene.name = "glass".into();
+    let mut b = Builder { scene };
+    let pane = b.material(Material {
+        diffuse: Vec3::new(0.55, 0.75, 0.8),
+        specular_level: 0.9,
+        specular_exponent: 256.0,
+        emissive: Vec3::ZERO,
+        alpha: 0.3,
+        alpha_mode: AlphaMode::Blend,
+        ..Material::default()
+    });
+    for z in [24.0, 8.0, -8.0, -24.0, -40.0] {
+        b.boxed(DVec3::new(-60.0, 0.0, z - 0.1), DVec3::new(60.0, 6.0, z + 0.1), pane);
+    }
+    for i in 0..12u64 {
+        let tint = b.material(Material {
+            diffuse: hue(unit(21, i) as f32) * 0.5 + Vec3::splat(0.4),
+            specular_level: 0.8,
+            specular_exponent: 128.0,
+            emissive: Vec3::ZERO,
+            alpha: 0.25 + unit(22, i) as f32 * 0.4,
+            alpha_mode: AlphaMode::Blend,
+            ..Material::default()
+        });
+        let x = (unit(23, i) - 0.5) * 100.0;
+        let z = (unit(24, i) - 0.5) * 100.0;
+        let s = 1.0 + unit(25, i) * 2.5;
+        b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, 2.0 * s, z + s), tint);
     }
     b.scene
 }

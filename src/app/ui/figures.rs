@@ -131,6 +131,15 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
+        if let Some(fw) = &s.forward {
+            // Blended surfaces: the forward pass, its fragments and the lights per fragment it
+            // may walk (the longest list).
+            row(ui, "GPU forward", fmt_ms(s.gpu_ms.forward));
+            row(ui, "forward fragments", fw.fragments.map_or("-".into(), fmt_count));
+            let longest =
+                if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
+            row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
+        }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
     });
 }

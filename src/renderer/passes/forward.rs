@@ -1,9 +1,12 @@
 //! Forward shading of blended surfaces (seeds 002-004: deferred shading cannot do
 //! transparency): back to front over the HDR scene colour, depth tested against the G-buffer
-//! pass's depth and not written, each object lit by its light list.
+//! pass's depth and not written, each fragment lit by the shorter of its object's and its
+//! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
+//! (`forward.fragments`) as its own pass.
 
 use super::gbuffer::surface_pipeline;
 use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::stats::Stamp;
 use crate::renderer::targets::attachment;
 
 pub struct ForwardPass {
@@ -32,11 +35,17 @@ impl ForwardPass {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
+            timestamp_writes: f.timestamps(Some(Stamp::ForwardBegin), Some(Stamp::ForwardEnd)),
+            occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
             multiview_mask: None,
         });
         pass.set_bind_group(0, &f.frame.group, &[]);
+        if f.forward_counts {
+            pass.begin_occlusion_query(0);
+        }
         f.scene.draw(&mut pass, &f.plan.draws.forward, &self.pipelines);
+        if f.forward_counts {
+            pass.end_occlusion_query();
+        }
     }
 }

@@ -394,6 +394,8 @@ pub struct FrameInputs<'a> {
     pub ideal: bool,
     /// Write timestamps.
     pub times: bool,
+    /// Count the forward pass's fragments (an occlusion query over the pass).
+    pub forward_counts: bool,
     pub depth_clamp: bool,
 }
 

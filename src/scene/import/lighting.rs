@@ -145,35 +145,35 @@ pub(super) fn sample_vertices(scene: &Scene, most: usize) -> Vec<(DVec3, DVec3)>
     out
 }
 
-/// The intensity that gives the median reached sample [`TARGET_IRRADIANCE`] from lights of
-/// unit intensity at `lights` (position, radius, colour), with the renderer's falloff
-/// (1 - (d/r)^2)^2 and cos θ. 1 when no sample is reached.
-pub fn normalising_intensity(samples: &[(DVec3, DVec3)], lights: &[(DVec3, f64, Vec3)]) -> f32 {
-    let mut irradiance: Vec<f64> = samples
+/// Diffuse irradiance at a point `p` with normal `n` from lights (position, radius, colour) of
+/// unit intensity, with the renderer's falloff (1 - (d/r)^2)^2 and cos θ; colour counts by its
+/// luminance.
+pub fn irradiance(p: DVec3, n: DVec3, lights: &[(DVec3, f64, Vec3)]) -> f64 {
+    lights
         .iter()
-        .map(|&(p, n)| {
-            lights
-                .iter()
-                .map(|&(lp, r, c)| {
-                    let to = lp - p;
-                    let d = to.length();
-                    if d >= r || d <= 0.0 || d.is_nan() {
-                        return 0.0;
-                    }
-                    let x = d / r;
-                    let w = (1.0 - x * x).powi(2);
-                    let lum = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)) as f64;
-                    lum * w * n.dot(to / d).max(0.0)
-                })
-                .sum::<f64>()
+        .map(|&(lp, r, c)| {
+            let to = lp - p;
+            let d = to.length();
+            if d >= r || d <= 0.0 || d.is_nan() {
+                return 0.0;
+            }
+            let x = d / r;
+            let w = (1.0 - x * x).powi(2);
+            let lum = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)) as f64;
+            lum * w * n.dot(to / d).max(0.0)
         })
-        .filter(|&e| e > 0.0)
-        .collect();
-    if irradiance.is_empty() {
+        .sum()
+}
+
+/// The intensity that gives the median reached sample [`TARGET_IRRADIANCE`] from `lights`
+/// ([`irradiance`] at unit intensity). 1 when no sample is reached.
+pub fn normalising_intensity(samples: &[(DVec3, DVec3)], lights: &[(DVec3, f64, Vec3)]) -> f32 {
+    let mut reached: Vec<f64> = samples.iter().map(|&(p, n)| irradiance(p, n, lights)).filter(|&e| e > 0.0).collect();
+    if reached.is_empty() {
         return 1.0;
     }
-    irradiance.sort_by(f64::total_cmp);
-    let median = irradiance[irradiance.len() / 2];
+    reached.sort_by(f64::total_cmp);
+    let median = reached[reached.len() / 2];
     (TARGET_IRRADIANCE / median).clamp(1e-3, 1e4) as f32
 }
 
@@ -253,22 +253,7 @@ mod tests {
             .collect();
         let placed: Vec<_> = lights.iter().map(|&(p, r)| (p, r, Vec3::ONE)).collect();
         let i = normalising_intensity(&samples, &placed) as f64;
-        let mut e: Vec<f64> = samples
-            .iter()
-            .map(|&(p, n)| {
-                placed
-                    .iter()
-                    .map(|&(lp, r, _)| {
-                        let d = (lp - p).length();
-                        if d < r {
-                            i * (1.0 - (d / r).powi(2)).powi(2) * n.dot((lp - p) / d).max(0.0)
-                        } else {
-                            0.0
-                        }
-                    })
-                    .sum()
-            })
-            .collect();
+        let mut e: Vec<f64> = samples.iter().map(|&(p, n)| i * irradiance(p, n, &placed)).collect();
         assert!(e[3] == 0.0 && e.iter().enumerate().all(|(k, &x)| k == 3 || x > 0.0), "{e:?}");
         // The median of the five reached sides is the target.
         e.sort_by(f64::total_cmp);

@@ -113,7 +113,8 @@ impl App {
             let first = self.cache.warnings.first().cloned().unwrap_or_default();
             match n {
                 0 => self.say(format!("loaded {file}"), false),
-                _ => self.say(format!("loaded {file} with {n} warning(s): {first}"), false),
+                1 => self.say(format!("loaded {file} with a warning: {first}"), false),
+                _ => self.say(format!("loaded {file} with {n} warnings (hover for all): {first}"), false),
             }
         }
         match frame_scene {
@@ -264,6 +265,7 @@ impl App {
             probe: self.probe.as_ref(),
             adapter: &g.adapter,
             status: self.status.as_ref(),
+            warnings: &self.cache.warnings,
             cpu_ms: self.cpu_ms,
             scripted: self.script.is_some(),
             wireframes: wires,

@@ -83,6 +83,7 @@ impl SceneCache {
             let scene = builtin::build(&state.scene, BuiltinOptions { lights: state.lights, time: state.time })?;
             self.base = Some(scene);
             self.key = Some(key);
+            self.warnings.clear();
         }
         self.base.as_ref().ok_or_else(|| "no scene".to_string())
     }

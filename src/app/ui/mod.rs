@@ -68,6 +68,8 @@ pub struct FrameInfo<'a> {
     pub probe: Option<&'a PixelProbe>,
     pub adapter: &'a str,
     pub status: Option<&'a Status>,
+    /// The loaded file's warnings, in full (the status line shows the first; hovering it, all).
+    pub warnings: &'a [String],
     pub cpu_ms: f64,
     pub scripted: bool,
     /// Scroll the light list to this light (it was just picked in the viewport).

@@ -116,7 +116,10 @@ pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             ui.separator();
             if let Some(s) = f.status {
                 let c = if s.error { Color32::from_rgb(255, 110, 90) } else { Color32::from_gray(200) };
-                ui.label(RichText::new(&s.text).color(c));
+                let label = ui.label(RichText::new(&s.text).color(c));
+                if !f.warnings.is_empty() {
+                    label.on_hover_text(f.warnings.join("\n"));
+                }
             }
         });
     });

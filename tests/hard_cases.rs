@@ -263,3 +263,17 @@ fn auto_shades_like_the_best_fixed_mode_with_the_camera_among_lights() {
         }
     }
 }
+
+#[test]
+fn auto_draws_full_screen_only_a_light_whose_sphere_holds_the_whole_frustum() {
+    // `tiny-radius`: light 2 has a radius of 10,000 and holds the frustum (far plane 400 units
+    // away), so a full-screen triangle shades exactly what its volume would; the two lights of
+    // radius 0.001 and every other light stay volumes.
+    let scene = scene("tiny-radius");
+    let s = Settings { culling: CullingMode::Auto, count_fragments: true, ..Settings::default() };
+    let f = render(&scene, &s, 160, 90);
+    let methods: Vec<Method> = f.stats.per_light.iter().map(|l| l.method).collect();
+    assert_eq!(methods[2], Method::Fullscreen, "{methods:?}");
+    assert!(methods[..2].iter().all(|&m| m != Method::Fullscreen), "{methods:?}");
+    assert_eq!(f.stats.per_light[2].screen_share, 1.0);
+}

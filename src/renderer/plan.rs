@@ -100,7 +100,7 @@ pub struct PlanView {
 /// full-screen for covering much of the screen: its shading draw (back faces, GreaterEqual; the
 /// two-pass mark simply finds no front face where they are clipped) still shades only the points
 /// in front of its far side, while a full-screen draw shades every pixel. The old rule (more
-/// than half the screen, near-crossing counted as all of it: full-screen) shaded 3.8x the
+/// than half the screen, near-crossing counted as all of it: full-screen) shaded 4.5x the
 /// fragments of two-pass on the `street` hard case and lost to it in time (README,
 /// "Measurements"). Thresholds from `lampshade bench --only culling` on lavapipe at 320x180,
 /// 640x360 and 1280x720.

@@ -33,7 +33,7 @@ pub use inspect::{volume_wireframe_with, PixelProbe};
 use passes::compose::ComposeTarget;
 use passes::{FrameInputs, Passes, PipelineKey};
 use plan::{FramePlan, PlanView};
-pub use plan::{LightPlan, Method, AUTO_FULLSCREEN_SHARE, AUTO_STENCIL_MIN_PIXELS};
+pub use plan::{LightPlan, Method, AUTO_STENCIL_MIN_PIXELS};
 pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};

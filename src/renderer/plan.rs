@@ -11,8 +11,6 @@ use crate::scene::{AlphaMode, Scene};
 use glam::{DVec3, Mat4, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
-/// Above this share of the screen, `auto` draws a light full-screen (see [`plan_light`]).
-pub const AUTO_FULLSCREEN_SHARE: f32 = 0.5;
 /// Volumes whose projected bounding rectangle covers at least this many pixels are stencil
 /// culled by `auto` (the marking draw pays off); smaller ones are drawn as plain volumes.
 pub const AUTO_STENCIL_MIN_PIXELS: f32 = 4096.0;
@@ -68,7 +66,8 @@ pub struct LightPlan {
     pub crosses_near: bool,
     /// The volume reaches beyond the far plane.
     pub crosses_far: bool,
-    /// Share of the screen covered by the volume's projected bounding rectangle.
+    /// Share of the screen covered by the volume's footprint: the mesh clipped at the near plane
+    /// and projected (its convex hull, clipped to the screen). 1 when the volume holds the eye.
     pub screen_share: f32,
     /// That rectangle in normalised device coordinates (min, max), not clipped to the screen;
     /// the whole screen when the volume crosses the near plane, `None` when it is off screen.
@@ -92,27 +91,41 @@ pub struct PlanView {
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
 /// the screen it covers; then which method draws it.
 ///
-/// `auto`'s rule, per light: outside the frustum, skip it; covering more than
-/// [`AUTO_FULLSCREEN_SHARE`] of the screen, draw it full-screen (rasterising its faces buys
-/// nothing); a screen rectangle of at least [`AUTO_STENCIL_MIN_PIXELS`], seed 000's two-pass
-/// stencil (the marking draw saves thousands of shaded fragments); else the plain volume (one
-/// draw, back faces, GreaterEqual), since for small volumes the extra marking draw costs more
-/// than the fragments it saves. Thresholds from `lampshade bench --only culling` on lavapipe at
-/// 320x180, 640x360 and 1280x720 (README, "Measurements").
+/// `auto`'s rule, per light:
+/// - outside the frustum: skip it;
+/// - a sphere that holds the whole view frustum (its eight corners): full-screen, which shades
+///   exactly the fragments a volume would (every visible point is inside) without rasterising
+///   faces;
+/// - a screen rectangle of at least [`AUTO_STENCIL_MIN_PIXELS`]: seed 000's two-pass stencil
+///   (the marking draw saves thousands of shaded fragments);
+/// - else the plain volume (one draw, back faces, GreaterEqual), since for small volumes the
+///   extra marking draw costs more than the fragments it saves.
+///
+/// The rectangle and `screen_share` come from the volume's real footprint: the mesh clipped at
+/// the near plane (its vertices beyond it and its edges' crossings), projected. A volume that
+/// crosses the near plane is no longer counted as the whole screen, and it is never sent
+/// full-screen for covering much of the screen: its shading draw (back faces, GreaterEqual; the
+/// two-pass mark simply finds no front face where they are clipped) still shades only the points
+/// in front of its far side, while a full-screen draw shades every pixel. The old rule (more
+/// than half the screen, near-crossing counted as all of it: full-screen) shaded 4.5x the
+/// fragments of two-pass on the `street` hard case and lost to it in time (README,
+/// "Measurements"). Thresholds from `lampshade bench --only culling` on lavapipe at 320x180,
+/// 640x360 and 1280x720.
 pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> LightPlan {
     let volume = VolumeKind::of(light);
     let pos = Vec3::from(light.position);
     let dir = Vec3::from(light.direction);
     let (near, far) = (view.near, view.far);
+    let mesh = volumes.mesh(volume);
+    let placed: Vec<Vec3> =
+        mesh.vertices.iter().map(|v| volumes::place(*v, pos, light.radius, dir, light.tan_outer)).collect();
     let mut crosses_near = false;
     let mut crosses_far = false;
     // Clip-space side planes: a convex volume with every vertex outside one of them is outside
     // the frustum.
     let mut outside = [true; 4];
     let (mut all_before_near, mut all_beyond_far) = (true, true);
-    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-    for v in &volumes.mesh(volume).vertices {
-        let p = volumes::place(*v, pos, light.radius, dir, light.tan_outer);
+    for p in &placed {
         let dist = -p.z;
         crosses_near |= dist <= near * 1.01;
         crosses_far |= dist >= far * 0.99;
@@ -122,26 +135,39 @@ pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Li
         for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
             outside[k] &= d < 0.0;
         }
-        if c.w > 0.0 {
-            let n = Vec2::new(c.x, c.y) / c.w;
-            lo = lo.min(n);
-            hi = hi.max(n);
-        }
+    }
+    // The footprint: the volume clipped at the near plane, projected. It is convex (a convex
+    // volume in front of the eye projects to a convex region), so the hull of the projected
+    // corners of the clipped volume is exactly the area its back faces rasterise.
+    let footprint = clipped_footprint(&placed, &mesh.indices, view.proj, near);
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for n in &footprint {
+        lo = lo.min(*n);
+        hi = hi.max(*n);
     }
     let off_screen = outside.iter().any(|&o| o)
         || all_before_near
         || all_beyond_far
         || !(crosses_near || lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0);
     let crosses_near = crosses_near && !off_screen;
-    let screen_share = if off_screen {
-        0.0
-    } else if crosses_near {
-        1.0
+    let (screen_share, rect_share) = if off_screen {
+        (0.0, 0.0)
     } else {
         let a = (hi.min(Vec2::ONE) - lo.max(-Vec2::ONE)).max(Vec2::ZERO);
-        a.x * a.y / 4.0
+        (screen_area(&footprint) / 4.0, a.x * a.y / 4.0)
     };
-    let pixels = screen_share * (view.size.0 * view.size.1) as f32;
+    let pixels = rect_share * (view.size.0 * view.size.1) as f32;
+    // The sphere holds the whole view frustum (all eight corners): every visible point is inside
+    // it, so a full-screen triangle shades exactly the fragments a volume would, without
+    // rasterising faces. The mesh circumscribes the sphere, so this is conservative.
+    let holds_frustum = volume == VolumeKind::Sphere && {
+        let (xs, ys) = (view.proj.x_axis.x, view.proj.y_axis.y);
+        [near, far].into_iter().all(|d| {
+            [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+                .into_iter()
+                .all(|(sx, sy)| Vec3::new(sx * d / xs, sy * d / ys, -d).distance(pos) < light.radius)
+        })
+    };
     let method = if crosses_far && !view.depth_clamp && !(view.mode == CullingMode::Auto && off_screen) {
         // Without depth clamp the far side would be clipped away: no volume method is correct,
         // so the light is drawn full-screen.
@@ -150,7 +176,7 @@ pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Li
         fixed
     } else if off_screen {
         Method::Skipped
-    } else if screen_share > AUTO_FULLSCREEN_SHARE {
+    } else if holds_frustum {
         Method::Fullscreen
     } else if pixels >= AUTO_STENCIL_MIN_PIXELS {
         Method::StencilTwoPass
@@ -165,6 +191,85 @@ pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Li
         Some((lo, hi))
     };
     LightPlan { method, volume, crosses_near, crosses_far, screen_share, screen_rect }
+}
+
+/// The projected corners (NDC) of a convex volume clipped at the near plane: its vertices at or
+/// beyond the plane, and where its edges cross it. `placed` are the mesh's view-space vertices.
+fn clipped_footprint(placed: &[Vec3], indices: &[u32], proj: Mat4, near: f32) -> Vec<Vec2> {
+    let project = |p: Vec3| {
+        let c = proj * p.extend(1.0);
+        Vec2::new(c.x, c.y) / c.w
+    };
+    let mut out: Vec<Vec2> = placed.iter().filter(|p| -p.z >= near).map(|&p| project(p)).collect();
+    for tri in indices.chunks_exact(3) {
+        for (i, j) in [(0, 1), (1, 2), (2, 0)] {
+            let (Some(&a), Some(&b)) = (placed.get(tri[i] as usize), placed.get(tri[j] as usize)) else {
+                continue;
+            };
+            let (da, db) = (-a.z - near, -b.z - near);
+            // One end strictly on each side: the edge crosses the plane (each edge is met twice,
+            // from both of its triangles; a repeated point does not change the hull).
+            if (da < 0.0) != (db < 0.0) && da != db {
+                let t = da / (da - db);
+                let mut p = a + (b - a) * t;
+                p.z = -near;
+                out.push(project(p));
+            }
+        }
+    }
+    out
+}
+
+/// Area (NDC units, the screen is 4) of the convex hull of `points` inside the screen square.
+fn screen_area(points: &[Vec2]) -> f32 {
+    let mut poly = convex_hull(points);
+    // Sutherland-Hodgman against x <= 1, x >= -1, y <= 1, y >= -1.
+    for (axis, sign) in [(0usize, 1.0f32), (0, -1.0), (1, 1.0), (1, -1.0)] {
+        if poly.is_empty() {
+            break;
+        }
+        let inside = |p: Vec2| sign * p[axis] <= 1.0;
+        let mut next = Vec::with_capacity(poly.len() + 1);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            if inside(a) {
+                next.push(a);
+            }
+            if inside(a) != inside(b) {
+                let t = (sign - a[axis]) / (b[axis] - a[axis]);
+                next.push(a + (b - a) * t);
+            }
+        }
+        poly = next;
+    }
+    let twice: f32 = (0..poly.len()).map(|k| poly[k].perp_dot(poly[(k + 1) % poly.len()])).sum();
+    (twice * 0.5).abs()
+}
+
+/// Andrew's monotone chain: the hull's corners in counter-clockwise order (non-finite points
+/// are dropped).
+fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
+    let mut p: Vec<Vec2> = points.iter().copied().filter(|p| p.is_finite()).collect();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Vec2>> =
+            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
+        for &q in iter {
+            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    hull
 }
 
 /// One object draw: (object, pipeline index within its pass, material).
@@ -337,4 +442,92 @@ fn plan_draws(
     draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
     let stats = (!draws.forward.is_empty()).then_some(stats);
     (draws, lists, stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::renderer::volumes::VolumeMesh;
+    use crate::scene::Camera;
+
+    /// Pixels whose centre's view ray meets the mesh beyond the near plane (what its back faces
+    /// rasterise), counted ray by ray on the CPU.
+    fn pixels_hit(placed: &[Vec3], indices: &[u32], proj: Mat4, near: f32, (w, h): (u32, u32)) -> u32 {
+        let centre = placed.iter().copied().sum::<Vec3>() / placed.len() as f32;
+        let planes: Vec<(Vec3, f32)> = indices
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|i| placed[i as usize]);
+                let n = (b - a).cross(c - a);
+                let n = if n.dot(a - centre) < 0.0 { -n } else { n };
+                (n, n.dot(a))
+            })
+            .collect();
+        let mut hit = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let ndc = Vec2::new(2.0 * (x as f32 + 0.5) / w as f32 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5) / h as f32);
+                // The point at view depth t is d * t.
+                let d = Vec3::new(ndc.x / proj.x_axis.x, ndc.y / proj.y_axis.y, -1.0);
+                let (mut t0, mut t1) = (near, f32::INFINITY);
+                for &(n, k) in &planes {
+                    let nd = n.dot(d);
+                    if nd > 0.0 {
+                        t1 = t1.min(k / nd);
+                    } else if nd < 0.0 {
+                        t0 = t0.max(k / nd);
+                    } else if k < 0.0 {
+                        t1 = f32::NEG_INFINITY;
+                    }
+                }
+                hit += (t0 <= t1) as u32;
+            }
+        }
+        hit
+    }
+
+    #[test]
+    fn the_footprint_is_the_share_of_pixels_whose_rays_meet_the_clipped_volume() {
+        let size = (320u32, 180u32);
+        let cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
+        let proj = cam.projection(size.0 as f64 / size.1 as f64, false).as_mat4();
+        let near = cam.near as f32;
+        let sphere = VolumeMesh::sphere(1);
+        let cone = VolumeMesh::cone(12);
+        let down = Vec3::new(0.3, -1.0, -0.2).normalize();
+        // (mesh, position, radius, direction, tan of the cone's angle, what)
+        let cases = [
+            (&sphere, Vec3::new(0.0, 0.0, -10.0), 3.0, down, 0.0, "ahead"),
+            (&sphere, Vec3::new(0.5, -0.3, 1.0), 3.0, down, 0.0, "holds the eye"),
+            (&sphere, Vec3::new(3.5, 0.0, 0.0), 3.0, down, 0.0, "beside, crossing near"),
+            (&sphere, Vec3::new(-2.0, 0.3, 0.3), 1.9, down, 0.0, "left, crossing near"),
+            (&sphere, Vec3::new(1.0, -2.0, -1.5), 2.6, down, 0.0, "below, crossing near"),
+            (&sphere, Vec3::new(20.0, 0.0, -5.0), 3.0, down, 0.0, "off to the side"),
+            (&cone, Vec3::new(-1.0, 2.0, -1.0), 6.0, down, 0.6, "a cone crossing near"),
+            (&cone, Vec3::new(0.0, 1.0, -12.0), 8.0, down, 0.5, "a cone ahead"),
+        ];
+        let total = (size.0 * size.1) as f32;
+        for (mesh, pos, radius, dir, tan, what) in cases {
+            let placed: Vec<Vec3> = mesh.vertices.iter().map(|v| volumes::place(*v, pos, radius, dir, tan)).collect();
+            let share = screen_area(&clipped_footprint(&placed, &mesh.indices, proj, near)) / 4.0;
+            let counted = pixels_hit(&placed, &mesh.indices, proj, near, size) as f32 / total;
+            println!("{what}: footprint {share:.5}, rays {counted:.5}");
+            // Only pixels on the footprint's outline can differ (pixel centres against area).
+            assert!((share - counted).abs() <= 0.002, "{what}: footprint {share}, rays {counted}");
+        }
+    }
+
+    #[test]
+    fn the_hull_and_the_screen_clip_measure_areas() {
+        // A square twice the screen's size covers it all; a triangle inside keeps its area.
+        let big = [Vec2::new(-2.0, -2.0), Vec2::new(2.0, -2.0), Vec2::new(2.0, 2.0), Vec2::new(-2.0, 2.0)];
+        assert!((screen_area(&big) - 4.0).abs() < 1e-6);
+        let tri = [Vec2::new(0.0, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.0, 0.5), Vec2::new(0.1, 0.1)];
+        assert!((screen_area(&tri) - 0.125).abs() < 1e-6);
+        // Half outside on the right.
+        let half = [Vec2::new(0.5, -0.5), Vec2::new(1.5, -0.5), Vec2::new(1.5, 0.5), Vec2::new(0.5, 0.5)];
+        assert!((screen_area(&half) - 0.5).abs() < 1e-6);
+        assert_eq!(screen_area(&[Vec2::ZERO, Vec2::ONE]), 0.0);
+        assert_eq!(screen_area(&[Vec2::NAN, Vec2::ZERO]), 0.0);
+    }
 }

@@ -24,6 +24,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("spot-extremes", "hard case: spot cones of 0 and 89 degrees"),
     ("coincident", "hard case: a light volume touching a wall; a light inside a box"),
     ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case"),
+    ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -42,7 +43,7 @@ impl Default for BuiltinOptions {
 }
 
 /// The built-in scenes whose light count `--lights` sets.
-pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass"];
+pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street"];
 
 /// Builds a built-in scene by name, or says which names exist.
 pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
@@ -65,6 +66,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "spot-extremes" => spot_extremes(),
         "coincident" => coincident(),
         "glass" => glass(opts.lights.unwrap_or(1024), opts.time),
+        "street" => street(opts.lights.unwrap_or(64)),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -455,5 +457,77 @@ fn coincident() -> Scene {
     b.boxed(DVec3::new(1.0, 0.0, -2.0), DVec3::new(3.0, 1.5, 0.0), m);
     b.point(DVec3::new(2.0, 0.75, -1.0), Vec3::new(0.4, 0.7, 1.0), 4.0, 2.0);
     b.point(DVec3::new(0.0, 1.0, 1.0), Vec3::ONE, 2.0, 5.0);
+    b.scene
+}
+
+/// A street between two rows of buildings, seen from eye height, with the camera standing among
+/// `n` point lights: the first quarter hang around the camera (many of their volumes hold it or
+/// cross the near plane), the rest line the street ahead.
+fn street(n: usize) -> Scene {
+    let camera = Camera { far: 200.0, ..Camera::looking_at(DVec3::new(0.0, 1.7, 0.0), DVec3::new(0.3, 1.2, -40.0)) };
+    let mut b = Builder::new("street", camera);
+    b.scene.ambient = Vec3::splat(0.03);
+    let road = b.material(Material {
+        diffuse: Vec3::splat(0.35),
+        specular_level: 0.4,
+        specular_exponent: 24.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-40.0, -1.0, -130.0), DVec3::new(40.0, 0.0, 30.0), road);
+    // Pavements, then blocks of buildings with alleys between them.
+    let kerb = b.material(Material::diffuse(Vec3::new(0.55, 0.53, 0.5)));
+    for side in [-1.0, 1.0] {
+        let (x0, x1) = if side < 0.0 { (-9.0, -5.0) } else { (5.0, 9.0) };
+        b.boxed(DVec3::new(x0, 0.0, -130.0), DVec3::new(x1, 0.15, 30.0), kerb);
+    }
+    for i in 0..28u64 {
+        let side = if i % 2 == 0 { -1.0 } else { 1.0 };
+        let z1 = 26.0 - (i / 2) as f64 * 11.0;
+        let z0 = z1 - 8.0 - unit(31, i) * 2.0;
+        let h = 6.0 + unit(32, i) * 18.0;
+        let depth = 8.0 + unit(33, i) * 6.0;
+        let (x0, x1) = if side < 0.0 { (-9.0 - depth, -9.0) } else { (9.0, 9.0 + depth) };
+        let m = b.material(Material {
+            diffuse: hue(unit(34, i) as f32) * 0.25 + Vec3::splat(0.45),
+            specular_level: unit(35, i) as f32 * 0.5,
+            specular_exponent: 8.0 + unit(36, i) as f32 * 60.0,
+            emissive: Vec3::ZERO,
+            ..Material::default()
+        });
+        b.boxed(DVec3::new(x0, 0.0, z0), DVec3::new(x1, h, z1), m);
+    }
+    // Parked cars and kiosks along the kerbs.
+    for i in 0..16u64 {
+        let x = if i % 2 == 0 { -4.0 } else { 3.0 } + unit(41, i) * 0.6;
+        let z = 6.0 - unit(42, i) * 110.0;
+        let m = b.material(Material {
+            diffuse: hue(unit(43, i) as f32) * 0.6 + Vec3::splat(0.2),
+            specular_level: 0.7,
+            specular_exponent: 90.0,
+            emissive: Vec3::ZERO,
+            ..Material::default()
+        });
+        b.boxed(DVec3::new(x, 0.0, z - 2.0), DVec3::new(x + 1.0, 1.4, z + 2.0), m);
+    }
+    let eye = b.scene.camera.position;
+    for i in 0..n as u64 {
+        let color = hue(unit(51, i) as f32);
+        let intensity = 0.6 + unit(52, i) as f32 * 0.8;
+        if i < (n as u64).div_ceil(4) {
+            // Around the camera, in every direction, 1 to 6 units away, radius 3 to 7.
+            let a = unit(53, i) * std::f64::consts::TAU;
+            let d = 1.0 + unit(54, i) * 5.0;
+            let y = 0.4 + unit(55, i) * 4.0;
+            let pos = DVec3::new(eye.x + d * a.cos(), y, eye.z + d * a.sin());
+            b.point(pos, color, intensity, 3.0 + unit(56, i) as f32 * 4.0);
+        } else {
+            // Down the street ahead, over the road and the pavements.
+            let x = (unit(57, i) - 0.5) * 16.0;
+            let z = 4.0 - unit(58, i) * 100.0;
+            let y = 0.4 + unit(59, i) * 5.0;
+            b.point(DVec3::new(x, y, z), color, intensity, 2.5 + unit(60, i) as f32 * 4.5);
+        }
+    }
     b.scene
 }

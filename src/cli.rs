@@ -117,8 +117,9 @@ pub struct BenchArgs {
     pub frames: Option<usize>,
     #[arg(long, value_parser = image_size)]
     pub size: Option<(u32, u32)>,
-    /// Number of point lights: the demo's, or those added to a glTF file that has none (default
-    /// for both: 1024, or 256 with --quick; the `lights` group varies it).
+    /// Number of point lights: a built-in scene's that takes a count (default 1024, or 256 with
+    /// --quick), or those added to a glTF file that has none (default 64); the `lights` group
+    /// varies it.
     #[arg(long)]
     pub lights: Option<usize>,
     /// glTF without lights: N x N point lights (the same as `--lights` N²).

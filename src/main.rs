@@ -99,9 +99,9 @@ fn render(args: RenderArgs) -> Result<()> {
     if args.light.is_some() {
         settings.selected_light = args.light;
     }
-    // Ideal counting costs a full-screen pass per light: only when asked for, never implied
-    // by `--stats` (whose JSON says whether it ran).
-    settings.count_ideal = args.ideal;
+    // Ideal counting costs a full-screen pass per light: only when asked for (`--ideal`, or a
+    // settings file's `count_ideal`), never implied by `--stats` (whose JSON says whether it ran).
+    settings.count_ideal |= args.ideal;
     settings.validate().map_err(anyhow::Error::msg)?;
     let import = lampshade::scene::import::ImportOptions::default();
     let (mut scene, warnings) = open_scene(&scene_name, BuiltinOptions { lights, time }, &import)?;

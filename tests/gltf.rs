@@ -487,14 +487,13 @@ fn lightless_room(tag: &str, only: Option<&str>) -> PathBuf {
     dir.join("room.gltf")
 }
 
-/// Mean 8-bit luma of the pixels that differ from the background (the corner pixel), and the
-/// share of the image's width and height those pixels span.
-fn model_brightness(img: &image::RgbaImage) -> (f64, f64, f64) {
-    let bg = *img.get_pixel(0, 0);
+/// Mean 8-bit luma of the model's pixels in `img` (those the depth view `depth` shows as
+/// geometry: not black), and the share of the image's width and height they span.
+fn model_brightness(img: &image::RgbaImage, depth: &image::RgbaImage) -> (f64, f64, f64) {
     let (mut sum, mut n) = (0.0, 0usize);
     let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
     for (x, y, p) in img.enumerate_pixels() {
-        if (0..3).any(|k| p[k].abs_diff(bg[k]) > 6) {
+        if depth.get_pixel(x, y).0[..3] != [0, 0, 0] {
             sum += 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64;
             n += 1;
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
@@ -524,8 +523,15 @@ fn a_file_without_lights_gets_a_lit_and_framed_first_picture() {
         assert_eq!(framing.0, "framing");
         s.camera = framing.1;
         let img = render(&s, &Settings::default(), 320, 180).image;
+        let depth = render(
+            &s,
+            &Settings { debug_view: lampshade::renderer::DebugView::Depth, ..Settings::default() },
+            320,
+            180,
+        )
+        .image;
         let _ = img.save(root().join(format!("target/gltf-tests/{tag}.png")));
-        let (mean, width, height) = model_brightness(&img);
+        let (mean, width, height) = model_brightness(&img, &depth);
         eprintln!(
             "{tag}: mean luma {mean:.1}, spans {:.0}% of the width, {:.0}% of the height",
             width * 100.0,
@@ -551,6 +557,29 @@ fn occlusion_and_specular_maps_are_warned_about_not_dropped() {
     let w = &imported.warnings;
     assert!(w.iter().any(|w| w.contains("'plaster'") && w.contains("occlusion map is not used")), "{w:?}");
     assert!(w.iter().any(|w| w.contains("'plaster'") && w.contains("KHR_materials_specular textures")), "{w:?}");
+}
+
+#[test]
+fn a_line_primitive_too_short_to_draw_is_skipped_with_a_warning() {
+    let dir = room_copy("short-line");
+    edit_json(&dir, |v| {
+        // One index of the floor's index data as a LINES primitive: no line at all.
+        let mut one = v["accessors"][3].clone();
+        one["count"] = serde_json::json!(1);
+        v["accessors"].as_array_mut().unwrap().push(one);
+        let acc = v["accessors"].as_array().unwrap().len() - 1;
+        v["meshes"].as_array_mut().unwrap().push(serde_json::json!({
+            "name": "stub", "primitives": [{ "attributes": { "POSITION": 0 }, "indices": acc, "mode": 1 }]
+        }));
+        let mesh = v["meshes"].as_array().unwrap().len() - 1;
+        v["nodes"].as_array_mut().unwrap().push(serde_json::json!({ "mesh": mesh }));
+        let node = v["nodes"].as_array().unwrap().len() - 1;
+        v["scenes"][0]["nodes"].as_array_mut().unwrap().push(serde_json::json!(node));
+    });
+    let imported = load(&dir.join("room.gltf")).expect("the rest of the file still loads");
+    let w = &imported.warnings;
+    assert!(w.iter().any(|w| w.contains("too few vertices to draw anything; skipped")), "{w:?}");
+    assert_eq!(imported.scene.objects.len(), room_scene().objects.len(), "the stub is drawn");
 }
 
 #[test]

@@ -601,6 +601,22 @@ fn every_scene_layout_view_and_option_renders() {
 }
 
 #[test]
+fn a_light_count_the_scene_does_not_take_is_a_warning_in_the_viewer_too() {
+    need_display!();
+    let dir = out_dir("unused-lights");
+    let quit = dir.join("quit.script");
+    std::fs::write(&quit, "1 quit\n").unwrap();
+    let room = root().join("assets/room/room.gltf");
+    for (scene, expect) in [("spot", "has a fixed set of lights"), (room.to_str().unwrap(), "11 light(s) of its own")] {
+        let out = view(scene, &quit, &["--lights", "5", "--size", "320x200"], &dir);
+        let (_, stderr) = text(&out);
+        assert!(stderr.contains("--lights 5 is not used") && stderr.contains(expect), "{scene}:\n{stderr}");
+    }
+    let out = view("demo", &quit, &["--lights", "5", "--size", "320x200"], &dir);
+    assert!(!text(&out).1.contains("not used"), "{}", text(&out).1);
+}
+
+#[test]
 fn bad_input_fails_with_a_message_and_no_panic() {
     // All of these are refused before a window opens, so they need no display.
     let dir = out_dir("bad-input");

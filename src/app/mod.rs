@@ -93,11 +93,18 @@ pub fn run(args: ViewArgs) -> Result<()> {
             bar.set_position(p.done as u64);
         });
         bar.finish_and_clear();
-        let imported = imported?;
+        let mut imported = imported?;
+        let requested = crate::cli::requested_lights(args.lights, args.light_grid);
+        imported.warnings.extend(crate::scene::unused_light_count(&scene, requested, imported.stats.lights_from_file));
         for w in &imported.warnings {
             eprintln!("warning: {scene}: {w}");
         }
         cache.insert_loaded(&scene, imported.scene, imported.warnings);
+    } else if let Some(w) =
+        crate::scene::unused_light_count(&scene, crate::cli::requested_lights(args.lights, args.light_grid), 0)
+    {
+        // Printed with the other start-up warning below, and shown on the status line.
+        scene_warning = Some(format!("{scene}: {w}"));
     }
     cache.frame_scene(&state).map_err(anyhow::Error::msg)?;
     let script = args.script.as_deref().map(Script::load).transpose()?;

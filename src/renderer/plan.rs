@@ -323,6 +323,10 @@ impl FramePlan {
     }
 }
 
+/// Most u32 entries the forward pass's light lists (object and tile lists together) may hold:
+/// 128 MiB, the storage-buffer binding size WebGPU guarantees.
+pub const MAX_FORWARD_LIST_ENTRIES: usize = (128 << 20) / 4;
+
 /// Size in pixels of the forward pass's screen tiles.
 pub const FORWARD_TILE: u32 = 16;
 
@@ -421,6 +425,15 @@ fn plan_draws(
                 }
             }
         }
+        let entries: usize = tiles.iter().map(Vec::len).sum();
+        if lists.len() + 2 * tiles.len() + entries > MAX_FORWARD_LIST_ENTRIES {
+            // Too many to upload in one storage buffer: the pass walks the object lists alone
+            // (the same picture, slower), and the stats show no tiles.
+            log::warn!(
+                "forward tile lists would hold {entries} entries (most {MAX_FORWARD_LIST_ENTRIES}); using the object lists"
+            );
+            tiles.clear();
+        }
         let header = lists.len() as u32;
         let mut first = header + 2 * tiles.len() as u32;
         for t in &tiles {
@@ -433,7 +446,9 @@ fn plan_draws(
             lists.extend_from_slice(t);
         }
         stats.tiles = tiles.len() as u64;
-        camera.forward_tiles = [FORWARD_TILE, tx, ty, header];
+        if !tiles.is_empty() {
+            camera.forward_tiles = [FORWARD_TILE, tx, ty, header];
+        }
     }
     // View space looks down -z: the farthest has the most negative z and is drawn first.
     forward.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -180,11 +180,13 @@ pub(super) fn check_views(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) 
     for acc in doc.accessors() {
         let what = format!("accessor {}", acc.index());
         // A sparse accessor without a view is zeros plus a few values: its count is not
-        // bounded by the file's size, so it is bounded here.
+        // bounded by the file's size, so it is bounded here. An accessor with neither a view nor
+        // sparse values reads as nothing (a Draco primitive's accessors: the stream holds the
+        // data, bounded by the element budget), so its count allocates nothing.
         if acc.count() > MAX_ACCESSOR_COUNT {
             bail!("{what} has {} elements, more than the {MAX_ACCESSOR_COUNT} this loader accepts", acc.count());
         }
-        if acc.view().is_none() && acc.count() > MAX_SPARSE_ONLY_COUNT {
+        if acc.view().is_none() && acc.sparse().is_some() && acc.count() > MAX_SPARSE_ONLY_COUNT {
             bail!(
                 "{what} is a sparse accessor without a buffer view of {} elements (at most {MAX_SPARSE_ONLY_COUNT})",
                 acc.count()

@@ -70,7 +70,7 @@ impl Importer<'_> {
             }
         };
         if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            return self.lines_or_points(prim, &attributes, indices).map(|m| Some((m, false)));
+            return self.lines_or_points(prim, &attributes, indices).map(|m| m.map(|m| (m, false)));
         }
         let Some(tris) = self.triangles(prim, &attributes.positions, indices, mirrored)? else { return Ok(None) };
         let wants_normal_map = prim.material().normal_texture().is_some();
@@ -186,7 +186,7 @@ impl Importer<'_> {
     /// A point or line primitive as a mesh of points or line segments (strips and loops made
     /// lists). Without NORMAL its normals are zero, which the shaders light as facing the
     /// viewer; a normal map is not used (a line has no tangent frame).
-    fn lines_or_points(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes, raw: Vec<u32>) -> Result<Mesh> {
+    fn lines_or_points(&mut self, prim: &gltf::Primitive<'_>, a: &Attributes, raw: Vec<u32>) -> Result<Option<Mesh>> {
         let (topology, indices) = match prim.mode() {
             Mode::Points => (Topology::Points, raw),
             Mode::Lines => {
@@ -205,7 +205,13 @@ impl Importer<'_> {
             }
         };
         if indices.is_empty() {
-            bail!("the {:?} primitive has too few vertices to draw anything", prim.mode());
+            // As a primitive of zero-area triangles: skipped with a word, the rest of the file drawn.
+            self.warnings.push(format!(
+                "{}: the {:?} primitive has too few vertices to draw anything; skipped",
+                prim_label(prim),
+                prim.mode()
+            ));
+            return Ok(None);
         }
         if prim.material().alpha_mode() == gltf::material::AlphaMode::Blend {
             self.warnings.push(format!("{}: blended points and lines are drawn opaque", prim_label(prim)));
@@ -233,7 +239,7 @@ impl Importer<'_> {
             Topology::Points => self.stats.points += indices.len(),
             _ => self.stats.lines += indices.len() / 2,
         }
-        Ok(Mesh { name: prim_label(prim), vertices, indices, topology })
+        Ok(Some(Mesh { name: prim_label(prim), vertices, indices, topology }))
     }
 
     /// The primitive's indices, checked against the vertex count `n` (0..n without indices).

@@ -10,7 +10,8 @@
 //! from above and around, a little from below), placed on the ellipsoid around the bounding
 //! box that [`DOME_SCALE`] gives (a flat scene's dome is kept at least a quarter as high as it
 //! is wide, so its lights stand above it rather than beside it). Each light reaches
-//! [`REACH`] times its distance to the centre, so it lights every surface facing it. The
+//! [`REACH`] times its distance to the centre: past the centre, so the part of the model
+//! nearer to it than the centre is in reach (a far corner facing it may not be). The
 //! intensities are then set so that the lights give the median sampled vertex (among those
 //! any light reaches) a diffuse irradiance of [`TARGET_IRRADIANCE`]: the picture's brightness
 //! does not depend on the model's size or the light count. With [`FILL_AMBIENT`] and the fill
@@ -137,8 +138,9 @@ pub(super) fn sample_vertices(scene: &Scene, most: usize) -> Vec<(DVec3, DVec3)>
             }
             let p = o.transform.transform_point3(Vec3::from(v.position).as_dvec3());
             let n = (normal_matrix * Vec3::from(v.normal).as_dvec3()).normalize_or_zero();
-            if p.is_finite() && n != DVec3::ZERO && n.is_finite() {
-                out.push((p, n));
+            // Kept without a normal too (points and lines): framed, though no light reaches them.
+            if p.is_finite() {
+                out.push((p, if n.is_finite() { n } else { DVec3::ZERO }));
             }
         }
     }

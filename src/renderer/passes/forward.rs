@@ -4,7 +4,7 @@
 //! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
 //! (`forward.fragments`) as its own pass.
 
-use super::gbuffer::surface_pipeline;
+use super::gbuffer::{surface_pipeline, SurfacePipe};
 use super::{FrameInputs, Shared, HDR_FORMAT};
 use crate::renderer::stats::Stamp;
 use crate::renderer::targets::attachment;
@@ -21,7 +21,9 @@ impl ForwardPass {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        let p = |label, two_sided| surface_pipeline(device, shared, label, "fs_forward", two_sided, &blended, false);
+        let p = |label, two_sided| {
+            surface_pipeline(device, shared, SurfacePipe::triangles(label, "fs_forward", two_sided, false), &blended)
+        };
         Self { pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)] }
     }
 

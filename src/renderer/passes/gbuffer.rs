@@ -23,32 +23,32 @@ pub fn topology_pipeline_index(topology: Topology, masked: bool, double_sided: b
     }
 }
 
-/// A surface pipeline (scene vertices, frame + material groups): the G-buffer's, and the
-/// forward pass's for blended surfaces.
+/// What varies between the surface pipelines (scene vertices, frame + material groups): the
+/// G-buffer's and the forward pass's for blended surfaces.
+pub(crate) struct SurfacePipe<'a> {
+    pub label: &'a str,
+    /// Fragment entry point.
+    pub fs: &'a str,
+    pub double_sided: bool,
+    pub depth_write: bool,
+    pub topology: Topology,
+}
+
+impl<'a> SurfacePipe<'a> {
+    /// Triangles, one- or two-sided.
+    pub fn triangles(label: &'a str, fs: &'a str, double_sided: bool, depth_write: bool) -> Self {
+        Self { label, fs, double_sided, depth_write, topology: Topology::Triangles }
+    }
+}
+
+/// The pipeline `pipe` describes, writing `targets`.
 pub(crate) fn surface_pipeline(
     device: &wgpu::Device,
     shared: &Shared,
-    label: &str,
-    fs: &str,
-    double_sided: bool,
+    pipe: SurfacePipe<'_>,
     targets: &[Option<wgpu::ColorTargetState>],
-    depth_write: bool,
 ) -> wgpu::RenderPipeline {
-    surface_pipeline_of(device, shared, label, fs, double_sided, targets, depth_write, Topology::Triangles)
-}
-
-/// [`surface_pipeline`] for meshes of `topology`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn surface_pipeline_of(
-    device: &wgpu::Device,
-    shared: &Shared,
-    label: &str,
-    fs: &str,
-    double_sided: bool,
-    targets: &[Option<wgpu::ColorTargetState>],
-    depth_write: bool,
-    topology: Topology,
-) -> wgpu::RenderPipeline {
+    let SurfacePipe { label, fs, double_sided, depth_write, topology } = pipe;
     let vertex_buffers = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
@@ -100,9 +100,12 @@ impl GBufferPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let targets: Vec<Option<wgpu::ColorTargetState>> =
             shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
-        let p = |label, fs, two_sided| surface_pipeline(device, shared, label, fs, two_sided, &targets, true);
+        let p = |label, fs, two_sided| {
+            surface_pipeline(device, shared, SurfacePipe::triangles(label, fs, two_sided, true), &targets)
+        };
         let of = |label, topology| {
-            surface_pipeline_of(device, shared, label, "fs_geometry_masked", true, &targets, true, topology)
+            let pipe = SurfacePipe { label, fs: "fs_geometry_masked", double_sided: true, depth_write: true, topology };
+            surface_pipeline(device, shared, pipe, &targets)
         };
         Self {
             pipelines: [

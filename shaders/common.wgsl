@@ -4,6 +4,9 @@
 struct Camera {
     proj: mat4x4<f32>,
     inv_proj: mat4x4<f32>,
+    // World to view rotation: world-space layouts (GBUFFER_WORLD) store normals and view vectors
+    // turned back by its transpose.
+    view_rotation: mat4x4<f32>,
     // width, height, 1/width, 1/height
     screen: vec4<f32>,
     ambient: vec4<f32>,
@@ -121,7 +124,15 @@ fn attributes_of(s: Surface) -> Attributes {
     // [0, 1] for every physical material, and `surface_of` multiplies the normalisation back:
     // the level itself reaches (2048 + 8) / 8 for a polished metal and would not fit.
     a.spec_level = clamp(s.spec_level * 8.0 / (exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE) + 8.0), 0.0, 1.0);
-    let n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    var n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    a.position = s.position;
+    if GBUFFER_WORLD {
+        // Seed 000: world-space normal and the world-space, not normalised, view vector (from
+        // the surface to the eye).
+        let to_world = transpose(camera.view_rotation);
+        n = (to_world * vec4<f32>(n, 0.0)).xyz;
+        a.position = (to_world * vec4<f32>(-s.position, 0.0)).xyz;
+    }
     if GBUFFER_NORMAL_OCTAHEDRAL {
         a.normal = vec3<f32>(oct_encode(n), 0.0);
     } else {
@@ -129,7 +140,6 @@ fn attributes_of(s: Surface) -> Attributes {
     }
     a.emissive = max(s.emissive, vec3<f32>(0.0));
     a.depth = s.depth;
-    a.position = s.position;
     return a;
 }
 
@@ -163,14 +173,22 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     } else {
         s.normal = safe_normalize(a.normal, vec3<f32>(0.0, 0.0, 1.0));
     }
+    var position = a.position;
+    var valid = a.position.z < 0.0;
+    if GBUFFER_WORLD {
+        s.normal = safe_normalize((camera.view_rotation * vec4<f32>(s.normal, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
+        position = -(camera.view_rotation * vec4<f32>(a.position, 0.0)).xyz;
+        // Cleared to zero where no surface was drawn; a surface is in front of the eye.
+        valid = position.z < 0.0;
+    }
     s.emissive = a.emissive;
     if GBUFFER_HAS_DEPTH {
         s.depth = a.depth;
         s.valid = a.depth != camera.far_depth;
         s.position = view_position_from_depth(p, a.depth);
     } else {
-        s.position = a.position;
-        s.valid = a.position.z < 0.0;
+        s.position = position;
+        s.valid = valid;
         s.depth = 0.0;
     }
     return s;

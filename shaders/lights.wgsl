@@ -63,7 +63,36 @@ fn fs_light(in: LightVarying) -> LightTargets {
     return out;
 }
 
-// Ambient + sun: the accumulation buffer's starting value (seed 000's RT1).
+// Ambient + sun at a surface point: the accumulation's starting value (seed 000's RT1). Written
+// by the G-buffer pass itself (`gbuffer_store`, from the surface as stored: `as_stored`), or by
+// `fs_ambient` from the decoded G-buffer where the device cannot take the extra targets.
+fn ambient_sun(s: Surface) -> Lighting {
+    var r: Lighting;
+    r.diffuse = camera.ambient.rgb;
+    r.specular = ambient_specular(s);
+    if camera.sun_dir.w > 0.5 {
+        let L = camera.sun_dir.xyz;
+        let ndl = max(dot(s.normal, L), 0.0);
+        let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+        let H = safe_normalize(L + V, s.normal);
+        r.diffuse += camera.sun_color.rgb * ndl;
+        r.specular += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
+    }
+    return r;
+}
+
+// The surface as the G-buffer stores it, without the targets' rounding: exponent and
+// reflectance clamped to their stored ranges, the normal normalised (`attributes_of`,
+// `surface_of`), the position exact.
+fn as_stored(s: Surface) -> Surface {
+    let a = attributes_of(s);
+    var r = s;
+    r.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
+    r.spec_level = a.spec_level * (r.spec_exp + 8.0) / 8.0;
+    r.normal = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    return r;
+}
+
 @fragment
 fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(frag.xy));
@@ -71,18 +100,9 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
-        var d = camera.ambient.rgb;
-        var sp = ambient_specular(s);
-        if camera.sun_dir.w > 0.5 {
-            let L = camera.sun_dir.xyz;
-            let ndl = max(dot(s.normal, L), 0.0);
-            let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
-            let H = safe_normalize(L + V, s.normal);
-            d += camera.sun_color.rgb * ndl;
-            sp += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
-        }
-        out.diffuse = encode_light(min(d, vec3<f32>(camera.light_clamp)));
-        out.specular = encode_light(min(sp, vec3<f32>(camera.light_clamp)));
+        let r = ambient_sun(s);
+        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.light_clamp)));
+        out.specular = encode_light(min(r.specular, vec3<f32>(camera.light_clamp)));
     }
     return out;
 }

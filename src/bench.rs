@@ -70,6 +70,8 @@ pub struct Config {
     pub size: (u32, u32),
     /// Another built-in scene than the bench's (the depth group's `far-origin` rows).
     pub scene: Option<&'static str>,
+    /// Every light's radius times this (the `radius` group; 1 elsewhere).
+    pub radius_scale: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -89,6 +91,8 @@ pub struct Row {
     /// Bounding meshes the frame drew, e.g. "sphere+cone".
     pub volumes: String,
     pub lights: usize,
+    /// The scene's light radii were scaled by this (the `radius` group; 1 elsewhere).
+    pub radius_scale: f64,
     pub width: u32,
     pub height: u32,
     pub gbuffer_ms: f64,
@@ -106,6 +110,12 @@ pub struct Row {
     pub max_abs_light_error: f32,
     pub psnr_db: f64,
     pub pareto: bool,
+    /// The culling mode of the reference this row's error is measured against: `fullscreen`,
+    /// or `volume` where a full-screen reference would take minutes (see [`reference_culling`]).
+    pub reference: String,
+    /// `total_ms` over the same run's `limit` row for this scene, light count, size and radius
+    /// (NaN where the group has none; 1 on the `limit` row itself).
+    pub limit_ratio: f64,
 }
 
 /// The cut-off thresholds the `cutoff` group sweeps (fractions of each light's peak).
@@ -123,6 +133,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         lights,
         size: o.size,
         scene: None,
+        radius_scale: 1.0,
     };
     let q = o.quick;
     let mut v = Vec::new();
@@ -201,6 +212,8 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("{}x{}", size.0, size.1);
         v.push(Config { size, ..c("resolution", label, base.clone(), o.lights) });
     }
+    // Where each culling mode wins, over the light count: every mode at every count, but
+    // `fullscreen` (every light over every pixel) only where a frame takes seconds, not minutes.
     // A file's added lights each reach past the model's centre (a dome around it), so their
     // cost grows much faster with the count than the demo's small lights.
     let counts: &[usize] = match (crate::scene::import::is_gltf_path(&o.scene), o.quick) {
@@ -208,11 +221,24 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         (true, true) => &[16, 64],
         (true, false) => &[16, 64, 256],
         (false, true) => &[16, 1024],
-        (false, false) => &[1, 64, 256, 4096],
+        (false, false) => &LIGHT_COUNTS,
     };
     for &n in counts {
-        for mode in [CullingMode::Volume, CullingMode::StencilTwoPass] {
+        for mode in CullingMode::ALL {
+            if mode == CullingMode::Fullscreen && n > FULLSCREEN_MAX_LIGHTS {
+                continue;
+            }
             v.push(c("lights", format!("{} x{n}", mode.name()), Settings { culling: mode, ..base.clone() }, n));
+        }
+    }
+    // Over the light radius: every mode with each light's radius scaled (the bench's light
+    // count; a file's own lights are scaled too).
+    let scales: &[f64] = if q { &[0.5, 2.0] } else { &RADIUS_SCALES };
+    for &radius_scale in scales {
+        for mode in CullingMode::ALL {
+            let label = format!("{} r x{radius_scale}", mode.name());
+            let settings = Settings { culling: mode, ..base.clone() };
+            v.push(Config { radius_scale, ..c("radius", label, settings, o.lights) });
         }
     }
     // The forward pass's light lists (the same picture each; its time is `forward_ms`; only
@@ -226,8 +252,51 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
 }
 
 /// The configuration groups, for `--only`.
-pub const GROUPS: &[&str] =
-    &["culling", "layout", "accumulation", "depth", "cutoff", "tessellation", "resolution", "lights", "forward"];
+pub const GROUPS: &[&str] = &[
+    "culling",
+    "layout",
+    "accumulation",
+    "depth",
+    "cutoff",
+    "tessellation",
+    "resolution",
+    "lights",
+    "radius",
+    "forward",
+];
+
+/// The light counts the full sweep's `lights` group runs every mode at (plus the scene's spots).
+pub const LIGHT_COUNTS: [usize; 5] = [64, 256, 1024, 4096, 16384];
+/// `fullscreen` runs in the `lights` group only up to this many lights: at 1280x720 each light is
+/// 0.9 M fragments (~17 ns each on lavapipe), so 256 lights are ~4 s a frame and 16,384 would be
+/// over four minutes.
+pub const FULLSCREEN_MAX_LIGHTS: usize = 256;
+/// The radius factors of the `radius` group.
+pub const RADIUS_SCALES: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
+/// A reference frame is rendered with every light full-screen while lights x pixels stays under
+/// this (about 40 s on lavapipe); above it the reference draws plain volumes, which every
+/// culling test holds equal to full-screen within one 8-bit step (`tests/culling.rs`), so the
+/// error figures stay those of the layout and accumulation, not of a culling approximation.
+pub const REFERENCE_FULLSCREEN_BUDGET: f64 = 2.5e9;
+
+/// The culling mode of the reference frame for `lights` lights at `size`.
+pub fn reference_culling(lights: usize, size: (u32, u32)) -> CullingMode {
+    if lights as f64 * size.0 as f64 * size.1 as f64 <= REFERENCE_FULLSCREEN_BUDGET {
+        CullingMode::Fullscreen
+    } else {
+        CullingMode::Volume
+    }
+}
+
+/// Scales every light's radius (and so its reach and volume) by `k`.
+pub fn scale_light_radii(scene: &mut crate::Scene, k: f64) {
+    for l in &mut scene.lights {
+        match l {
+            crate::scene::Light::Point(p) => p.radius *= k as f32,
+            crate::scene::Light::Spot(s) => s.radius *= k as f32,
+        }
+    }
+}
 
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -245,7 +314,7 @@ struct Reference {
 
 fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32)) -> Result<Reference> {
     let settings = Settings {
-        culling: CullingMode::Fullscreen,
+        culling: reference_culling(scene.lights.len(), size),
         layout: LayoutChoice::Reference,
         accumulation: AccumFormat::Rgba32Float,
         count_fragments: false,
@@ -269,17 +338,18 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT). A file is
     // read once per light count.
     let mut prepared = Vec::new();
-    let mut scenes: HashMap<(&str, usize), crate::Scene> = HashMap::new();
+    let mut scenes: HashMap<(&str, usize, u64), crate::Scene> = HashMap::new();
     for (k, cfg) in list.iter().enumerate() {
         progress(k, steps, &format!("prepare {}", cfg.label));
         let name = cfg.scene.unwrap_or(&o.scene);
         let lights = (!o.fixed_lights || cfg.scene.is_some()).then_some(cfg.lights);
-        let scene = match scenes.entry((name, cfg.lights)) {
+        let scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
             std::collections::hash_map::Entry::Occupied(e) => e.get().clone(),
             std::collections::hash_map::Entry::Vacant(e) => {
                 let options = crate::scene::import::ImportOptions::default();
-                let (scene, _) =
+                let (mut scene, _) =
                     crate::scene::open(name, BuiltinOptions { lights, time: o.time }, &options, &mut |_| {})?;
+                scale_light_radii(&mut scene, cfg.radius_scale);
                 e.insert(scene).clone()
             }
         };
@@ -301,17 +371,20 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             times.push(render_image(gpu, renderer, scene, &cfg.settings, cfg.size.0, cfg.size.1)?.1);
         }
     }
-    let mut refs: HashMap<(&str, usize, (u32, u32)), Reference> = HashMap::new();
+    // By scene, light count, size and radius factor (bits).
+    type RefKey<'a> = (&'a str, usize, (u32, u32), u64);
+    let mut refs: HashMap<RefKey, Reference> = HashMap::new();
     let mut rows = Vec::new();
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
         let (w, h) = cfg.size;
-        let reference = match refs.entry((cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size)) {
-            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
-        };
+        let reference =
+            match refs.entry((cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits())) {
+                std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+                std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
+            };
         let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
-        let counted = Settings { count_ideal: true, timestamps: false, ..cfg.settings.clone() };
+        let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
         let (d, s) = renderer.read_accumulation(gpu)?;
         let (fl, _) = flip(&reference.image, &image)?;
@@ -338,6 +411,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             cone_sides: cfg.settings.cone_sides,
             volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
             lights: scene.lights.len(),
+            radius_scale: cfg.radius_scale,
             width: w,
             height: h,
             gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
@@ -354,11 +428,90 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             max_abs_light_error: max_err,
             psnr_db: psnr,
             pareto: false,
+            reference: reference_culling(scene.lights.len(), cfg.size).name(),
+            limit_ratio: f64::NAN,
         });
     }
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
+    add_limits(&mut rows);
     Ok(rows)
+}
+
+/// The groups whose rows are culling modes, and so get a `limit` row.
+pub const LIMIT_GROUPS: [&str; 3] = ["culling", "lights", "radius"];
+
+/// What a frame could cost if lighting did only the ideal work: G-buffer ms + compose ms + ideal
+/// fragments x `fullscreen`'s lighting ms per shaded fragment, all from the same run.
+/// `fullscreen` shades every pixel for every light, so its ms per fragment is the price of one
+/// light-fragment evaluation with no per-draw or culling overhead worth counting (1,028 lights x
+/// 0.9 M fragments); the ideal is the fragments inside the lights' true shapes. G-buffer and
+/// compose do the same work in every mode, so their medians over the key's rows are used.
+pub fn limit_ms(gbuffer_ms: f64, compose_ms: f64, ideal: u64, ms_per_fragment: f64) -> f64 {
+    gbuffer_ms + compose_ms + ideal as f64 * ms_per_fragment
+}
+
+/// Adds a `limit` row after the last row of each (group, scene, light count, size, radius) among
+/// [`LIMIT_GROUPS`], and sets every such row's `limit_ratio`. The ms per fragment comes from the
+/// `fullscreen` row of the same scene and size (same light count and radius if the run has one,
+/// else the one with the most shaded fragments); without any `fullscreen` row there is no limit.
+pub fn add_limits(rows: &mut Vec<Row>) {
+    type Key = (String, String, usize, u32, u32, u64);
+    let key = |r: &Row| (r.group.clone(), r.scene.clone(), r.lights, r.width, r.height, r.radius_scale.to_bits());
+    let full: Vec<Row> = rows
+        .iter()
+        .filter(|r| r.culling == "fullscreen" && r.label != "limit" && r.shaded_fragments > 0)
+        .cloned()
+        .collect();
+    let per_fragment = |k: &Key| -> Option<f64> {
+        let same = |r: &&Row| r.scene == k.1 && r.width == k.3 && r.height == k.4;
+        let exact = full.iter().find(|r| same(r) && r.lights == k.2 && r.radius_scale.to_bits() == k.5);
+        let best = exact.or_else(|| full.iter().filter(same).max_by_key(|r| r.shaded_fragments))?;
+        Some(best.lighting_ms / best.shaded_fragments as f64)
+    };
+    let mut keys: Vec<Key> = Vec::new();
+    for r in rows.iter().filter(|r| LIMIT_GROUPS.contains(&r.group.as_str())) {
+        if !keys.contains(&key(r)) {
+            keys.push(key(r));
+        }
+    }
+    for k in keys {
+        let Some(ms_per_fragment) = per_fragment(&k) else { continue };
+        let mine: Vec<&Row> = rows.iter().filter(|r| key(r) == k).collect();
+        let Some(first) = mine.first() else { continue };
+        let gbuffer = median(mine.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
+        let compose = median(mine.iter().map(|r| r.compose_ms).filter(|v| v.is_finite()).collect());
+        // Every mode counts the same ideal (tested); the largest guards against a row that did
+        // not count it.
+        let ideal = mine.iter().map(|r| r.ideal_fragments).max().unwrap_or(0);
+        let lighting = ideal as f64 * ms_per_fragment;
+        let limit = limit_ms(gbuffer, compose, ideal, ms_per_fragment);
+        let row = Row {
+            label: "limit".into(),
+            culling: "limit".into(),
+            volumes: "-".into(),
+            gbuffer_ms: gbuffer,
+            lighting_ms: lighting,
+            compose_ms: compose,
+            forward_ms: 0.0,
+            total_ms: limit,
+            coverage_fragments: 0,
+            shaded_fragments: ideal,
+            ideal_fragments: ideal,
+            efficiency: 1.0,
+            flip_mean: f32::NAN,
+            max_abs_light_error: f32::NAN,
+            psnr_db: f64::NAN,
+            pareto: false,
+            limit_ratio: 1.0,
+            ..(*first).clone()
+        };
+        for r in rows.iter_mut().filter(|r| key(r) == k) {
+            r.limit_ratio = r.total_ms / limit;
+        }
+        let at = rows.iter().rposition(|r| key(r) == k).map_or(rows.len(), |i| i + 1);
+        rows.insert(at, row);
+    }
 }
 
 /// Marks the rows no other row of the same scene, light count and size beats in both time and
@@ -378,12 +531,13 @@ pub fn mark_pareto(rows: &mut [Row]) {
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
-         lights,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,total_ms,\
-         coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto\n",
+         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,total_ms,\
+         coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
+         reference,limit_ratio\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
             r.group,
             r.label,
             r.scene,
@@ -397,6 +551,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.cone_sides,
             r.volumes,
             r.lights,
+            r.radius_scale,
             r.width,
             r.height,
             r.gbuffer_ms,
@@ -412,7 +567,9 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.flip_mean,
             r.max_abs_light_error,
             r.psnr_db,
-            r.pareto
+            r.pareto,
+            r.reference,
+            r.limit_ratio
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -423,11 +580,30 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
          (full-screen lights, Rgba32Float G-buffer and accumulation). Ratio: lighting time over `fullscreen`'s in the \
          same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
-         Volumes: the bounding meshes the frame drew (only the kinds its lights need).\n\n",
+         Volumes: the bounding meshes the frame drew (only the kinds its lights need). \
+         `limit` (groups culling, lights, radius): G-buffer ms + compose ms + ideal fragments x `fullscreen`'s \
+         lighting ms per shaded fragment, from this run; `x limit` is each row's total over it.\n\n",
         o.scene, o.time, o.frames
     );
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | total ms | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let volume_refs: Vec<String> = rows
+        .iter()
+        .filter(|r| r.reference != "fullscreen" && r.label != "limit")
+        .map(|r| format!("{} lights at {}x{}", r.lights, r.width, r.height))
+        .fold(Vec::new(), |mut v, k| {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+            v
+        });
+    if !volume_refs.is_empty() {
+        s += &format!(
+            "References drawn with plain volumes (a full-screen one would take minutes; volumes are tested equal to \
+             full-screen within one 8-bit step): {}.\n\n",
+            volume_refs.join(", ")
+        );
+    }
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | total ms | x limit | lighting ratio | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()
         .filter(|r| r.label == "fullscreen")
@@ -437,9 +613,12 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         let ratio = full
             .get(&(r.lights, r.width, r.height))
             .filter(|_| r.scene == o.scene)
+            .filter(|_| r.label != "limit")
             .map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
+        let x_limit = if r.limit_ratio.is_finite() { format!("{:.2}", r.limit_ratio) } else { "-".into() };
+        let error = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {:.3} | {:.5} | {:.4} | {:.1} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -452,14 +631,15 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.lighting_ms,
             r.forward_ms,
             r.total_ms,
+            x_limit,
             ratio,
             r.coverage_fragments,
             r.shaded_fragments,
             r.ideal_fragments,
             r.efficiency,
-            r.flip_mean,
-            r.max_abs_light_error,
-            r.psnr_db
+            error(r.flip_mean as f64, 5),
+            error(r.max_abs_light_error as f64, 4),
+            error(r.psnr_db, 1)
         );
     }
     s
@@ -473,7 +653,10 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     use plotters::prelude::*;
     plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
         .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
-    let pts: Vec<&Row> = rows.iter().filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0).collect();
+    let pts: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.total_ms.is_finite() && r.total_ms > 0.0 && r.flip_mean.is_finite() && r.label != "limit")
+        .collect();
     let mut groups: Vec<&str> = Vec::new();
     for r in &pts {
         if !groups.contains(&r.group.as_str()) {
@@ -610,6 +793,151 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// For each x (light count in `lights`, radius factor in `radius`), the culling mode with the
+/// lowest total time: where each mode wins.
+pub fn winners(rows: &[Row], group: &str) -> Vec<(f64, String, f64)> {
+    let x = |r: &Row| if group == "radius" { r.radius_scale } else { r.lights as f64 };
+    let mut xs: Vec<f64> = rows.iter().filter(|r| r.group == group).map(x).collect();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    xs.into_iter()
+        .filter_map(|v| {
+            rows.iter()
+                .filter(|r| r.group == group && x(r) == v && r.label != "limit" && r.total_ms.is_finite())
+                .min_by(|a, b| a.total_ms.total_cmp(&b.total_ms))
+                .map(|r| (v, r.culling.clone(), r.total_ms))
+        })
+        .collect()
+}
+
+/// Where each culling mode wins: total GPU ms (log) against the light count (log) and against
+/// the light radius factor, one line per mode, the `limit` dashed in black, the fastest mode at
+/// each point ringed. Rows of the `lights` and `radius` groups.
+pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+        .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
+    let root = BitMapBackend::new(path, (1200, 560)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title, body) = root.split_vertically(50);
+    title.titled("Where each culling mode wins (total GPU ms per frame, lower is better)", ("sans-serif", 24))?;
+    let panels = body.split_evenly((1, 2));
+    let palette = [
+        RED,
+        BLUE,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        RGBColor(230, 120, 0),
+        RGBColor(120, 70, 20),
+        RGBColor(90, 90, 90),
+    ];
+    for (group, area) in ["lights", "radius"].into_iter().zip(panels.iter()) {
+        let x = |r: &Row| if group == "radius" { r.radius_scale } else { r.lights as f64 };
+        let mine: Vec<&Row> =
+            rows.iter().filter(|r| r.group == group && r.total_ms.is_finite() && r.total_ms > 0.0).collect();
+        if mine.is_empty() {
+            area.titled(&format!("{group}: not run"), ("sans-serif", 18))?;
+            continue;
+        }
+        let (x_lo, x_hi) = mine.iter().map(|r| x(r)).fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (t_lo, t_hi) =
+            mine.iter().map(|r| r.total_ms).fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (x_lo, x_hi) = (x_lo / 1.3, x_hi * 1.3);
+        let (t_lo, t_hi) = (t_lo / 1.3, t_hi * 1.3);
+        let x_ticks = crate::plot_layout::log_ticks(x_lo, x_hi);
+        let t_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
+        let (x_dec, t_dec) = (crate::plot_layout::tick_decimals(&x_ticks), crate::plot_layout::tick_decimals(&t_ticks));
+        let caption = if group == "radius" {
+            format!("over light radius ({} lights, radius x factor)", mine[0].lights)
+        } else {
+            "over light count (radius as the scene gives it)".to_string()
+        };
+        let mut chart = ChartBuilder::on(area)
+            .caption(caption, ("sans-serif", 18))
+            .margin(14)
+            .x_label_area_size(40)
+            .y_label_area_size(64)
+            .build_cartesian_2d((x_lo..x_hi).log_scale(), (t_lo..t_hi).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(if group == "radius" { "light radius factor" } else { "lights" })
+            .y_desc("GPU ms per frame (median)")
+            .label_style(("sans-serif", 13))
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
+            .draw()?;
+        let font: TextStyle = ("sans-serif", 13).into_font().into();
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let base = area.get_base_pixel();
+        let grid = RGBColor(225, 225, 225);
+        for &v in &x_ticks {
+            chart.draw_series(LineSeries::new([(v, t_lo), (v, t_hi)], grid))?;
+            let text = format!("{v:.x_dec$}");
+            let (w, _) = area.estimate_text_size(&text, &font)?;
+            let (px, _) = chart.backend_coord(&(v, t_lo));
+            area.draw(&Text::new(text, (px - w as i32 / 2 - base.0, yr.end + 4 - base.1), font.clone()))?;
+        }
+        for &t in &t_ticks {
+            chart.draw_series(LineSeries::new([(x_lo, t), (x_hi, t)], grid))?;
+            let text = format!("{t:.t_dec$}");
+            let (w, h) = area.estimate_text_size(&text, &font)?;
+            let (_, py) = chart.backend_coord(&(x_lo, t));
+            area.draw(&Text::new(text, (xr.start - 6 - w as i32 - base.0, py - h as i32 / 2 - base.1), font.clone()))?;
+        }
+        let mut modes: Vec<String> = Vec::new();
+        for r in &mine {
+            if !modes.contains(&r.culling) {
+                modes.push(r.culling.clone());
+            }
+        }
+        let wins = winners(rows, group);
+        for (i, mode) in modes.iter().enumerate() {
+            let mut line: Vec<(f64, f64)> =
+                mine.iter().filter(|r| &r.culling == mode).map(|r| (x(r), r.total_ms)).collect();
+            line.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let is_limit = mode == "limit";
+            let color = if is_limit { BLACK } else { palette[i % palette.len()] };
+            let style = color.stroke_width(if is_limit { 1 } else { 2 });
+            if is_limit {
+                // Dashed: every other segment of a finely split line (log x).
+                let mut dashes = Vec::new();
+                for w in line.windows(2) {
+                    let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+                    for k in (0..20).step_by(2) {
+                        let at = |f: f64| (x0 * (x1 / x0).powf(f), y0 * (y1 / y0).powf(f));
+                        dashes.push([at(k as f64 / 20.0), at((k + 1) as f64 / 20.0)]);
+                    }
+                }
+                for d in dashes {
+                    chart.draw_series(LineSeries::new(d, style))?;
+                }
+            } else {
+                chart.draw_series(LineSeries::new(line.clone(), style))?;
+            }
+            chart
+                .draw_series(line.iter().map(|&p| Circle::new(p, 4, color.filled())))?
+                .label(mode.as_str())
+                .legend(move |(lx, ly)| Rectangle::new([(lx, ly - 4), (lx + 14, ly + 4)], color.filled()));
+        }
+        for (v, _, t) in &wins {
+            chart.draw_series(std::iter::once(Circle::new((*v, *t), 9, BLACK.stroke_width(2))))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -655,6 +983,7 @@ mod tests {
             cone_sides: 12,
             volumes: String::new(),
             lights: 10,
+            radius_scale: 1.0,
             width: 8,
             height: 8,
             gbuffer_ms: 0.0,
@@ -671,6 +1000,8 @@ mod tests {
             max_abs_light_error: 0.0,
             psnr_db: 0.0,
             pareto: false,
+            reference: "fullscreen".into(),
+            limit_ratio: f64::NAN,
         };
         let mut rows = vec![
             row("fast", "a", 1.0, 0.02),
@@ -682,5 +1013,67 @@ mod tests {
         mark_pareto(&mut rows);
         let front: Vec<&str> = rows.iter().filter(|r| r.pareto).map(|r| r.label.as_str()).collect();
         assert_eq!(front, vec!["fast", "exact", "other"]);
+    }
+
+    #[test]
+    fn the_limit_row_is_gbuffer_plus_compose_plus_the_ideal_at_fullscreen_cost() {
+        let row = |label: &str, culling: &str, lights: usize, g: f64, l: f64, c: f64, shaded: u64| Row {
+            group: "culling".into(),
+            label: label.into(),
+            scene: "s".into(),
+            culling: culling.into(),
+            layout: String::new(),
+            accumulation: String::new(),
+            reversed_z: false,
+            depth_format: String::new(),
+            light_cutoff: 0.0,
+            sphere_subdivisions: 1,
+            cone_sides: 12,
+            volumes: String::new(),
+            lights,
+            radius_scale: 1.0,
+            width: 8,
+            height: 8,
+            gbuffer_ms: g,
+            lighting_ms: l,
+            compose_ms: c,
+            forward_ms: 0.0,
+            total_ms: g + l + c,
+            coverage_fragments: 0,
+            shaded_fragments: shaded,
+            ideal_fragments: 1000,
+            efficiency: 0.0,
+            gbuffer_bytes_per_pixel: 0,
+            flip_mean: 0.0,
+            max_abs_light_error: 0.0,
+            psnr_db: 0.0,
+            pareto: false,
+            reference: "fullscreen".into(),
+            limit_ratio: f64::NAN,
+        };
+        let mut rows = vec![
+            // 100 ms for 100,000 fragments: 0.001 ms a fragment.
+            row("fullscreen", "fullscreen", 10, 10.0, 100.0, 4.0, 100_000),
+            row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000),
+            row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
+            // Another light count without a fullscreen row borrows its ms per fragment.
+            row("volume", "volume", 40, 11.0, 30.0, 5.0, 9000),
+        ];
+        add_limits(&mut rows);
+        let labels: Vec<(&str, usize)> = rows.iter().map(|r| (r.label.as_str(), r.lights)).collect();
+        assert_eq!(
+            labels,
+            vec![("fullscreen", 10), ("volume", 10), ("stencil", 10), ("limit", 10), ("volume", 40), ("limit", 40)]
+        );
+        // Medians of G-buffer (11) and compose (5), plus 1,000 ideal fragments at 0.001 ms.
+        let limit = &rows[3];
+        assert!((limit.total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", limit.total_ms);
+        assert!((rows[2].limit_ratio - 21.0 / 17.0).abs() < 1e-9, "{}", rows[2].limit_ratio);
+        assert!((rows[5].total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9);
+        // Without any fullscreen row there is no limit.
+        let mut alone = vec![row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000)];
+        add_limits(&mut alone);
+        assert_eq!(alone.len(), 1);
+        assert!(alone[0].limit_ratio.is_nan());
     }
 }

@@ -71,8 +71,21 @@ fn bench(args: BenchArgs) -> Result<()> {
     let md = bench::markdown(&rows, &gpu.info.name, &o);
     std::fs::write(args.out.join("bench.md"), &md)?;
     bench::plot(&rows, &args.out.join("bench.png"))?;
+    let scaling = rows.iter().any(|r| r.group == "lights" || r.group == "radius");
+    if scaling {
+        bench::plot_scaling(&rows, &args.out.join("scaling.png"))?;
+    }
     println!("{md}");
-    println!("wrote {}/bench.csv, bench.md, bench.png", args.out.display());
+    for group in ["lights", "radius"] {
+        for (x, mode, ms) in bench::winners(&rows, group) {
+            println!("{group} {x}: fastest {mode} ({ms:.1} ms)");
+        }
+    }
+    println!(
+        "wrote {}/bench.csv, bench.md, bench.png{}",
+        args.out.display(),
+        if scaling { ", scaling.png" } else { "" }
+    );
     Ok(())
 }
 

@@ -133,8 +133,10 @@ fn bench_takes_a_gltf_file_and_a_light_count_for_it() {
     assert!(out.status.success(), "{err}");
     assert!(err.contains("brings its own 11 light(s)"), "{err}");
     let rows = bench_rows(&out_dir.join("bench.csv"));
-    assert_eq!(rows.len(), 6, "one row per culling mode, no `lights` rows: {rows:?}");
+    let modes = lampshade::renderer::CullingMode::ALL.len();
+    assert_eq!(rows.len(), modes + 1, "one row per culling mode and the limit, no `lights` rows: {rows:?}");
     assert!(rows.iter().all(|r| r[2] == room), "{rows:?}");
+    assert_eq!(rows.iter().filter(|r| r[1] == "limit").count(), 1, "{rows:?}");
     // A file without lights takes --lights N: N lights, and the `lights` group varies it.
     let path = lightless_room("lightless-bench");
     let out_dir = tmp("bench-lightless");
@@ -158,8 +160,8 @@ fn bench_takes_a_gltf_file_and_a_light_count_for_it() {
     let rows = bench_rows(&out_dir.join("bench.csv"));
     let header = std::fs::read_to_string(out_dir.join("bench.csv")).unwrap();
     let lights_col = header.lines().next().unwrap().split(',').position(|c| c == "lights").unwrap();
-    let culling: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "culling").collect();
-    assert_eq!(culling.len(), 6);
+    let culling: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "culling" && r[1] != "limit").collect();
+    assert_eq!(culling.len(), modes);
     assert!(culling.iter().all(|r| r[lights_col] == "8"), "{culling:?}");
     let counts: Vec<&str> = rows.iter().filter(|r| r[0] == "lights").map(|r| r[lights_col].as_str()).collect();
     assert!(counts.contains(&"16") && counts.contains(&"64"), "{counts:?}");

@@ -321,3 +321,95 @@ fn one_renderer_switches_the_bench_knobs_live() {
         assert_eq!(stats.depth_stencil_format, fresh.stats.depth_stencil_format);
     }
 }
+
+/// Seed 000 writes ambient + sun into the accumulation from the G-buffer pass (its RT1): the
+/// same light as the full-screen ambient pass, which reads it back from the G-buffer. With f32
+/// targets (`reference` layout, Rgba32Float accumulation) the two differ only by the f32 rounding
+/// of storing and re-reading the normal, position and exponent: a few ulps, so 2e-6 relative
+/// (plus 1e-7) bounds them. With `compact`'s fp16 normals the G-buffer pass works from the
+/// normal before rounding, so the pictures may differ by a step where the sun grazes.
+#[test]
+fn ambient_and_sun_written_by_the_gbuffer_pass_equal_their_own_pass() {
+    use lampshade::renderer::AccumFormat;
+    for (name, scene) in [("demo", demo_with(40)), ("classify", scene("classify")), ("spot", scene("spot"))] {
+        assert!(scene.sun.is_some() || scene.ambient.max_element() > 0.0, "{name}: nothing to compare");
+        let exact = Settings {
+            layout: LayoutChoice::Reference,
+            accumulation: AccumFormat::Rgba32Float,
+            count_fragments: false,
+            ..Settings::default()
+        };
+        let folded = render(&scene, &exact, W, H);
+        let own = render(&scene, &Settings { ambient_in_gbuffer: false, ..exact.clone() }, W, H);
+        assert!(folded.stats.ambient_in_gbuffer && !own.stats.ambient_in_gbuffer, "{name}: the knob was not applied");
+        let mut worst = 0f32;
+        let mut lit = 0;
+        for (a, b) in folded.diffuse.iter().chain(&folded.specular).zip(own.diffuse.iter().chain(&own.specular)) {
+            let err = (a - b).abs();
+            lit += (*b > 0.0) as usize;
+            worst = worst.max(err / b.abs().max(1e-3));
+            assert!(err <= 2e-6 * b.abs() + 1e-7, "{name}: G-buffer pass {a}, own pass {b}");
+        }
+        assert!(lit > (W * H) as usize, "{name}: too little light to compare ({lit} values)");
+        println!("{name}: worst relative difference {worst:.2e}");
+        let compact = Settings { count_fragments: false, ..Settings::default() };
+        let a = render(&scene, &compact, W, H);
+        let b = render(&scene, &Settings { ambient_in_gbuffer: false, ..compact.clone() }, W, H);
+        let step = max_channel_difference(&a.image, &b.image);
+        assert!(step <= 1, "{name}: compact differs by {step} steps");
+    }
+}
+
+/// `seed000` is seed 000's own layout: RT2 holds the world-space normal and RT3 the world-space,
+/// not normalised, view vector (surface to eye), whatever way the camera looks. Checked against
+/// `compact`, which stores a view-space normal and reconstructs the position from depth: at the
+/// same pixels, seed000's stored vectors are compact's turned into world space (to fp16
+/// precision: 2^-11 relative, and the normals' encoding bounds), and on `demo`'s floor (the plane
+/// y = 0) the stored normal is the world's up and the view vector's y the eye's height.
+#[test]
+fn seed000_stores_world_space_normals_and_view_vectors() {
+    let gpu = gpu();
+    let scene = demo_with(8);
+    let probe_at = |layout: LayoutChoice| {
+        let settings = Settings { layout, count_fragments: false, ..Settings::default() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
+        render_image(gpu, &mut r, &scene, &settings, W, H).unwrap();
+        r
+    };
+    let seed = probe_at(LayoutChoice::Seed000);
+    let compact = probe_at(LayoutChoice::Compact);
+    assert_eq!(seed.layout().targets.len(), 3, "RT0, RT2, RT3 (RT1 is the accumulation)");
+    let eye_y = scene.camera.position.y as f32;
+    let to_world = scene.camera.rotation().transpose().as_mat3();
+    let (mut checked, mut floor) = (0, 0);
+    for k in 0..40u32 {
+        let (x, y) = ((k * 37 + 5) % W, H / 2 + (k * 23 + 3) % (H / 2));
+        let (p, c) = (seed.probe(gpu, x, y).unwrap(), compact.probe(gpu, x, y).unwrap());
+        if !p.valid || !c.valid {
+            continue;
+        }
+        let raw = |name: &str| {
+            let v = p.raw.iter().find(|(n, _, _)| n == name).map(|(_, _, v)| *v).unwrap();
+            glam::Vec3::new(v[0], v[1], v[2])
+        };
+        let (n, v) = (raw("world normal+exp"), raw("view vector"));
+        let (n_expected, v_expected) = (to_world * c.normal, to_world * -c.position);
+        assert!((n - n_expected).length() < 3e-3, "({x},{y}): stored normal {n} vs {n_expected}");
+        assert!(
+            (v - v_expected).length() < 2e-3 * v_expected.length(),
+            "({x},{y}): stored view vector {v} vs {v_expected}"
+        );
+        // Decoded back into view space for the lighting.
+        assert!(
+            (p.position - c.position).length() < 2e-3 * c.position.length(),
+            "({x},{y}): {} vs {}",
+            p.position,
+            c.position
+        );
+        if (n - glam::Vec3::Y).length() < 3e-3 && (v.y - eye_y).abs() < 0.02 {
+            floor += 1;
+        }
+        checked += 1;
+    }
+    assert!(checked >= 20 && floor >= 3, "checked {checked} pixels, {floor} on the floor");
+}

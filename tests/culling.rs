@@ -50,6 +50,11 @@ fn every_mode_matches_fullscreen_on_every_case() {
                 f.stats.ideal_fragments, reference.stats.ideal_fragments,
                 "{name}: the ideal depends on the mode"
             );
+            // Light by light too: volume modes count the ideal over the light's bounding volume,
+            // `fullscreen` over the whole screen (`passes/measure.rs`).
+            for (l, r) in f.stats.per_light.iter().zip(&reference.stats.per_light) {
+                assert_eq!(l.ideal, r.ideal, "{name}/{}: light {}'s ideal depends on the mode", mode.name(), l.index);
+            }
             // Every culling mode shades at least the ideal: its volumes circumscribe the lights.
             for l in &f.stats.per_light {
                 if let Some(c) = l.coverage {

@@ -40,10 +40,12 @@ fn parse(source: &str) -> naga::Module {
 fn every_record_has_the_layout_of_its_wgsl_twin_in_every_shader_configuration() {
     for layout in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
         for accum in [wgpu::TextureFormat::Rgba16Float, wgpu::TextureFormat::Rgba8Unorm] {
-            let module = parse(&shader_source(&layout.layout(), accum));
-            for record in records::layouts() {
-                let bad = mismatches(&module, &record);
-                assert!(bad.is_empty(), "{layout:?}, {accum:?}: {bad:#?}");
+            for ambient_in_gbuffer in [true, false] {
+                let module = parse(&shader_source(&layout.layout(), accum, ambient_in_gbuffer));
+                for record in records::layouts() {
+                    let bad = mismatches(&module, &record);
+                    assert!(bad.is_empty(), "{layout:?}, {accum:?}, {ambient_in_gbuffer}: {bad:#?}");
+                }
             }
         }
     }
@@ -53,7 +55,7 @@ fn every_record_has_the_layout_of_its_wgsl_twin_in_every_shader_configuration() 
 fn a_field_added_on_one_side_only_breaks_the_contract() {
     // The check itself must be able to fail: add a member to the WGSL light record only, then
     // a field to the Rust side only.
-    let source = shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float);
+    let source = shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float, true);
     let light = records::LightRecord::layout();
     assert!(mismatches(&parse(&source), &light).is_empty());
     let extra = source.replacen("struct GpuLight {\n", "struct GpuLight {\n    extra: vec4<f32>,\n", 1);
@@ -69,7 +71,7 @@ fn a_field_added_on_one_side_only_breaks_the_contract() {
 
 #[test]
 fn every_binding_is_declared_as_the_rust_tables_say_and_none_is_a_uniform() {
-    let module = parse(&shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float));
+    let module = parse(&shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float, true));
     for (_, g) in module.global_variables.iter() {
         assert!(
             !matches!(g.space, naga::AddressSpace::Uniform),

@@ -79,6 +79,10 @@ pub struct TargetDesc {
 pub struct GBufferLayout {
     pub name: &'static str,
     pub normal: NormalEncoding,
+    /// Normals and positions are stored in world space (seed 000: the world-space normal and
+    /// the world-space, not normalised, view vector from the surface to the eye), turned into
+    /// view space on reading; otherwise in view space.
+    pub world: bool,
     pub targets: Vec<TargetDesc>,
 }
 
@@ -89,7 +93,8 @@ pub enum LayoutChoice {
     /// Albedo sRGB8 + spec; octahedral normal fp16 + exponent; emissive fp16; depth copy R32F.
     #[default]
     Compact,
-    /// Seed 000: four Rgba16Float targets, xyz normal, stored view-space position.
+    /// Seed 000's own: RT0 diffuse RGB + specular level, RT1 the light accumulation, RT2
+    /// world-space normal (+ exponent), RT3 world-space view vector, all Rgba16Float.
     Seed000,
     /// Eight bytes: albedo sRGB8 + spec, octahedral normal 8+8 + exponent; no emissive; depth copy.
     Packed,
@@ -142,6 +147,7 @@ impl LayoutChoice {
             LayoutChoice::Compact | LayoutChoice::Fit => GBufferLayout {
                 name: "compact",
                 normal: NormalEncoding::Octahedral,
+                world: false,
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -166,11 +172,12 @@ impl LayoutChoice {
             LayoutChoice::Oct16 => normal_apart("oct16", F::Rg16Unorm, NormalEncoding::Octahedral),
             LayoutChoice::Xyz8 => normal_apart("xyz8", F::Rgba8Unorm, NormalEncoding::Xyz),
             LayoutChoice::Xyz16f => normal_apart("xyz16f", F::Rgba16Float, NormalEncoding::Xyz),
-            LayoutChoice::Seed000 => four_stored("seed000", F::Rgba16Float),
+            LayoutChoice::Seed000 => seed000(),
             LayoutChoice::Reference => four_stored("reference", F::Rgba32Float),
             LayoutChoice::Packed => GBufferLayout {
                 name: "packed",
                 normal: NormalEncoding::Octahedral,
+                world: false,
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -201,6 +208,7 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
     GBufferLayout {
         name,
         normal,
+        world: false,
         targets: vec![
             TargetDesc {
                 name: "albedo+spec",
@@ -218,6 +226,28 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
     }
 }
 
+/// Seed 000's own layout, all Rgba16Float: RT0 diffuse colour + specular level, RT1 the light
+/// accumulation (the renderer's accumulation targets, which the G-buffer pass starts with
+/// ambient and sun), RT2 the world-space normal, RT3 the world-space, not normalised, view
+/// vector. The seed's alphas hold "nothing"; RT2's carries the specular exponent, which the
+/// seed's fixed Phong did not need. There is no emissive target: the G-buffer pass writes a
+/// surface's emission into the accumulation (`GBufferLayout::wgsl`), as RT1 holds all light.
+fn seed000() -> GBufferLayout {
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    let target = |name, channels| TargetDesc { name, format: wgpu::TextureFormat::Rgba16Float, channels };
+    GBufferLayout {
+        name: "seed000",
+        normal: NormalEncoding::Xyz,
+        world: true,
+        targets: vec![
+            target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
+            target("world normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
+            target("view vector", vec![s(Position, 0), s(Position, 1), s(Position, 2), None]),
+        ],
+    }
+}
+
 /// Four targets of one format: albedo + specular level, xyz normal + exponent, stored
 /// view-space position, emissive.
 fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout {
@@ -227,6 +257,7 @@ fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout
     GBufferLayout {
         name,
         normal: NormalEncoding::Xyz,
+        world: false,
         targets: vec![
             target("albedo+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -281,7 +312,7 @@ pub fn fit(scene: &crate::scene::Scene) -> GBufferLayout {
         });
     }
     targets.push(TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] });
-    GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, targets }
+    GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, world: false, targets }
 }
 
 fn channel_count(format: wgpu::TextureFormat) -> usize {
@@ -419,18 +450,27 @@ impl GBufferLayout {
     }
 
     /// WGSL: bindings of the targets for reading (group `group`), the `GBufferOut` struct,
-    /// `gbuffer_store(Surface) -> GBufferOut` and `gbuffer_load(vec2<i32>) -> Surface`.
-    pub fn wgsl(&self, group: u32) -> String {
+    /// `gbuffer_store(Surface) -> GBufferOut` and `gbuffer_load(vec2<i32>) -> Surface`. With
+    /// `ambient`, `GBufferOut` also has the two light accumulation targets after the layout's
+    /// (`light_diffuse`, `light_specular`), which `gbuffer_store` fills with ambient + sun
+    /// (`ambient_sun`, seed 000's RT1 starting value).
+    pub fn wgsl(&self, group: u32, ambient: bool) -> String {
         let mut w = String::new();
         let _ = writeln!(w, "// Generated from G-buffer layout '{}'.", self.name);
         let _ = writeln!(w, "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};", self.normal == NormalEncoding::Octahedral);
         let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
+        let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
         for (i, _) in self.targets.iter().enumerate() {
             let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;");
         }
         let _ = writeln!(w, "struct GBufferOut {{");
         for (i, _) in self.targets.iter().enumerate() {
             let _ = writeln!(w, "    @location({i}) t{i}: vec4<f32>,");
+        }
+        if ambient {
+            let n = self.targets.len();
+            let _ = writeln!(w, "    @location({n}) light_diffuse: vec4<f32>,");
+            let _ = writeln!(w, "    @location({}) light_specular: vec4<f32>,", n + 1);
         }
         let _ = writeln!(w, "}};");
         // Packed attribute vectors.
@@ -447,6 +487,19 @@ impl GBufferLayout {
                     let _ = writeln!(w, "    o.t{i}.{} = {val};", comps[c]);
                 }
             }
+        }
+        if ambient {
+            let _ = writeln!(w, "    let light = ambient_sun(as_stored(s));");
+            let _ =
+                writeln!(w, "    o.light_diffuse = encode_light(min(light.diffuse, vec3<f32>(camera.light_clamp)));");
+            // A layout without an emissive target (seed 000's) writes the surface's emission
+            // into the accumulation here: it is light, and compose adds the specular target
+            // as it is.
+            let emitted = if self.has(Attr::Emissive) { "" } else { " + max(s.emissive, vec3<f32>(0.0))" };
+            let _ = writeln!(
+                w,
+                "    o.light_specular = encode_light(min(light.specular{emitted}, vec3<f32>(camera.light_clamp)));"
+            );
         }
         let _ = writeln!(w, "    return o;\n}}");
         let _ = writeln!(w, "fn gbuffer_load(p: vec2<i32>) -> Surface {{");

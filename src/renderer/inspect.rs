@@ -233,6 +233,10 @@ impl Renderer {
             NormalEncoding::Octahedral => oct_decode(Vec2::new(get(Attr::Normal, 0, 0.0), get(Attr::Normal, 1, 0.0))),
             NormalEncoding::Xyz => v3(Attr::Normal).normalize_or(Vec3::Z),
         };
+        // World-space layouts (seed 000) store the normal and the view vector (surface to eye)
+        // in world space, as `surface_of` turns them back.
+        let rot = self.last.view_rotation.as_mat3();
+        let normal = if layout.world { (rot * normal).normalize_or(Vec3::Z) } else { normal };
         let far_depth = if self.passes.key().reversed_z { 0.0 } else { 1.0 };
         let (position, valid) = if layout.has(Attr::Depth) {
             let d = get(Attr::Depth, 0, far_depth);
@@ -245,7 +249,7 @@ impl Renderer {
             let v = self.last.inv_proj * ndc;
             ((v.truncate() / v.w).as_vec3(), d != far_depth)
         } else {
-            let p = v3(Attr::Position);
+            let p = if layout.world { -(rot * v3(Attr::Position)) } else { v3(Attr::Position) };
             (p, p.z < 0.0)
         };
         let decode = |v: [f32; 4]| {

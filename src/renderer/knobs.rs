@@ -223,6 +223,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "ambient-in-gbuffer",
+        what: "ambient + sun in the G-buffer pass",
+        help: "Write ambient + sun into the light accumulation from the G-buffer pass (seed 000) instead of a full-screen pass",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.ambient_in_gbuffer),
+        put: |s, v| {
+            s.ambient_in_gbuffer = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "depth-clamp",
         what: "depth clamp",
         help: "Depth clamp on light volumes (off: volumes crossing the far plane go full-screen)",

@@ -56,6 +56,8 @@ struct LastFrame {
     /// The lights (view space) as the shaders saw them.
     lights: Vec<LightRecord>,
     inv_proj: DMat4,
+    /// World to view rotation (world-space G-buffer layouts are turned back with it).
+    view_rotation: glam::DMat3,
     plan: FramePlan,
 }
 
@@ -65,6 +67,7 @@ pub struct Renderer {
     output_format: wgpu::TextureFormat,
     clamp_available: bool,
     features: wgpu::Features,
+    limits: wgpu::Limits,
     passes: Passes,
     /// Passes of recent other configurations, least recently used first.
     pass_cache: Vec<Passes>,
@@ -93,7 +96,8 @@ impl Renderer {
         let device = gpu.device.clone();
         settings.validate().map_err(anyhow::Error::msg)?;
         let clamp_available = gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL);
-        let key = Self::key(settings, settings.layout.layout(), gpu.features, output_format, clamp_available)?;
+        let limits = device.limits();
+        let key = Self::key(settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
         let passes = build_passes(&device, key)?;
         Ok(Self {
             frame: FrameBuffers::new(&device, &passes.shared.frame_bgl),
@@ -104,6 +108,7 @@ impl Renderer {
             output_format,
             clamp_available,
             features: gpu.features,
+            limits,
             passes,
             pass_cache: Vec::new(),
             scene: None,
@@ -119,17 +124,20 @@ impl Renderer {
         settings: &Settings,
         layout: gbuffer::GBufferLayout,
         features: wgpu::Features,
+        limits: &wgpu::Limits,
         output_format: wgpu::TextureFormat,
         clamp_available: bool,
     ) -> Result<PipelineKey> {
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_features(features).map_err(anyhow::Error::msg)?;
+        let accum_format = settings.accumulation.format(features)?;
         Ok(PipelineKey {
+            ambient_in_gbuffer: settings.ambient_in_gbuffer && passes::ambient_fits(&layout, accum_format, limits),
             layout,
             depth_format: settings.depth_format.format(features),
             output_format,
             reversed_z: settings.reversed_z,
-            accum_format: settings.accumulation.format(features)?,
+            accum_format,
             depth_clamp: settings.depth_clamp && clamp_available,
         })
     }
@@ -165,6 +173,7 @@ impl Renderer {
             settings,
             settings.layout.layout_for(scene),
             self.features,
+            &self.limits,
             self.output_format,
             self.clamp_available,
         )?;
@@ -287,6 +296,7 @@ impl Renderer {
             gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
             depth_stencil_format: format!("{:?}", key.depth_format),
             depth_clamp: key.depth_clamp,
+            ambient_in_gbuffer: key.ambient_in_gbuffer,
             accumulation_format: format!("{:?}", key.accum_format),
             light_cutoff: settings.light_cutoff,
             sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
@@ -297,7 +307,12 @@ impl Renderer {
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
-        self.last = LastFrame { inv_proj: records.proj.inverse(), lights: records.lights, plan };
+        self.last = LastFrame {
+            inv_proj: records.proj.inverse(),
+            view_rotation: scene.camera.rotation(),
+            lights: records.lights,
+            plan,
+        };
         Ok(stats)
     }
 

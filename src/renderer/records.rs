@@ -60,6 +60,9 @@ gpu_record! {
     pub struct CameraRecord as "Camera" {
         pub proj: [[f32; 4]; 4],
         pub inv_proj: [[f32; 4]; 4],
+        /// World to view rotation (no translation): world-space G-buffer layouts (`seed000`)
+        /// store normals and view vectors turned back by its transpose.
+        pub view_rotation: [[f32; 4]; 4],
         /// width, height, 1/width, 1/height.
         pub screen: [f32; 4],
         pub ambient: [f32; 4],
@@ -202,6 +205,7 @@ impl CameraRecord {
         Self {
             proj: mat(proj),
             inv_proj: mat(proj.inverse()),
+            view_rotation: mat(DMat4::from_mat3(rot)),
             screen: [width as f32, height as f32, 1.0 / width as f32, 1.0 / height as f32],
             ambient: scene.ambient.extend(0.0).into(),
             sun_dir: sun_dir.into(),

@@ -292,6 +292,11 @@ pub struct Settings {
     pub cone_sides: u32,
     /// Which lights the forward pass evaluates per blended fragment.
     pub forward_lights: ForwardLights,
+    /// Write ambient + sun into the light accumulation from the G-buffer pass itself (seed
+    /// 000: its RT1 starts with them), instead of a full-screen pass of their own. Where the
+    /// device cannot take the accumulation targets beside the G-buffer's (colour attachment
+    /// bytes per sample), the own pass is used and the stats say so.
+    pub ambient_in_gbuffer: bool,
 }
 
 impl Default for Settings {
@@ -313,6 +318,7 @@ impl Default for Settings {
             sphere_subdivisions: DEFAULT_SPHERE_SUBDIVISIONS,
             cone_sides: DEFAULT_CONE_SIDES,
             forward_lights: ForwardLights::default(),
+            ambient_in_gbuffer: true,
         }
     }
 }

@@ -109,6 +109,9 @@ pub struct FrameStats {
     pub gbuffer_bytes_per_pixel: u32,
     pub depth_stencil_format: String,
     pub depth_clamp: bool,
+    /// Ambient + sun were written by the G-buffer pass (`Settings::ambient_in_gbuffer`, where
+    /// the device allows), not by a full-screen pass of their own.
+    pub ambient_in_gbuffer: bool,
     /// Format of the light accumulation targets.
     pub accumulation_format: String,
     /// `Settings::light_cutoff` this frame was drawn with.

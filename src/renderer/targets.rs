@@ -130,8 +130,11 @@ impl Targets {
 
     /// The diffuse and specular accumulation as colour attachments, loaded or cleared.
     pub fn accumulation(&self, clear: bool) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
+        // Cleared to no light: 0, or exp2(-0) = 1 in seed 004's logarithmic encoding.
+        let none =
+            if super::passes::log_accum(self.diffuse.format()) { wgpu::Color::WHITE } else { wgpu::Color::TRANSPARENT };
         let ops = wgpu::Operations {
-            load: if clear { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load },
+            load: if clear { wgpu::LoadOp::Clear(none) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,
         };
         [&self.diffuse_view, &self.specular_view]

@@ -94,12 +94,18 @@ pub(crate) fn surface_pipeline(
 pub struct GBufferPass {
     /// By [`pipeline_index`], then lines and points ([`topology_pipeline_index`]).
     pub pipelines: [wgpu::RenderPipeline; 6],
+    /// The pass also writes the accumulation targets (ambient + sun).
+    ambient_in_gbuffer: bool,
 }
 
 impl GBufferPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let targets: Vec<Option<wgpu::ColorTargetState>> =
+        let mut targets: Vec<Option<wgpu::ColorTargetState>> =
             shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
+        if shared.key.ambient_in_gbuffer {
+            // Seed 000's RT1: the light accumulation starts with ambient + sun, written here.
+            targets.extend([Some(shared.key.accum_format.into()), Some(shared.key.accum_format.into())]);
+        }
         let p = |label, fs, two_sided| {
             surface_pipeline(device, shared, SurfacePipe::triangles(label, fs, two_sided, true), &targets)
         };
@@ -116,15 +122,17 @@ impl GBufferPass {
                 of("geometry (lines)", Topology::Lines),
                 of("geometry (points)", Topology::Points),
             ],
+            ambient_in_gbuffer: shared.key.ambient_in_gbuffer,
         }
     }
 
     /// Clears the G-buffer (the depth copy to the far plane, the rest to zero), depth and
-    /// stencil, and draws the frame's G-buffer list.
+    /// stencil, and draws the frame's G-buffer list; with `ambient_in_gbuffer`, also clears the
+    /// light accumulation to no light and writes ambient + sun into it where a surface is drawn.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let t = f.targets;
         let far_depth = f.far_depth();
-        let color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
+        let mut color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
             .gbuffer
             .views
             .iter()
@@ -135,6 +143,9 @@ impl GBufferPass {
                 attachment(view, Some(wgpu::Color { r, g: 0.0, b: 0.0, a: 0.0 }))
             })
             .collect();
+        if self.ambient_in_gbuffer {
+            color.extend(t.accumulation(true));
+        }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("g-buffer"),
             color_attachments: &color,

@@ -147,6 +147,8 @@ struct MethodPipelines {
 
 pub struct LightPass {
     ambient: wgpu::RenderPipeline,
+    /// The G-buffer pass wrote ambient + sun: the accumulation is loaded, not started here.
+    ambient_in_gbuffer: bool,
     /// By [`DRAWN`]'s order.
     methods: Vec<MethodPipelines>,
     /// Zeroes the stencil (REPLACE, every 255 lights).
@@ -183,6 +185,7 @@ impl LightPass {
         let clear = face(Cmp::Always, Op::Zero, Op::Zero, Op::Zero);
         Self {
             ambient: pipe("ambient+sun", Vs::FullscreenPlain, "fs_ambient", fullscreen.clone(), Out::Replace),
+            ambient_in_gbuffer: shared.key.ambient_in_gbuffer,
             methods,
             stencil_clear: pipe(
                 "stencil clear",
@@ -199,7 +202,7 @@ impl LightPass {
     }
 
     /// Records the accumulation: one render pass per block of lights (an occlusion query set
-    /// holds 4096), the first starting with ambient + sun.
+    /// holds 4096), the first starting with ambient + sun unless the G-buffer pass wrote them.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let t = f.targets;
         let n = f.plan.lights.len();
@@ -210,7 +213,7 @@ impl LightPass {
             let (first, last) = (b == 0, b + 1 == blocks);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("lights"),
-                color_attachments: &t.accumulation(first),
+                color_attachments: &t.accumulation(first && !self.ambient_in_gbuffer),
                 depth_stencil_attachment: Some(t.depth_attachment(true)),
                 timestamp_writes: if first || last {
                     f.timestamps(first.then_some(Stamp::LightsBegin), last.then_some(Stamp::LightsEnd))
@@ -221,7 +224,7 @@ impl LightPass {
                 multiview_mask: None,
             });
             f.bind_light_inputs(&mut pass);
-            if first {
+            if first && !self.ambient_in_gbuffer {
                 pass.push_debug_group("ambient + sun");
                 pass.set_pipeline(&self.ambient);
                 pass.draw(0..3, 0..1);

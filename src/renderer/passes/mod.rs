@@ -58,9 +58,9 @@ pub fn wgsl_constants() -> String {
 
 /// The whole shader source for a G-buffer layout and accumulation format: generated constants,
 /// binding declarations and G-buffer layout, then the WGSL files.
-pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat) -> String {
+pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, ambient_in_gbuffer: bool) -> String {
     let mut parts = vec![wgsl_constants(), format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format))];
-    parts.push(layout.wgsl(1));
+    parts.push(layout.wgsl(1, ambient_in_gbuffer));
     parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
     parts.extend(
         [
@@ -85,6 +85,19 @@ pub struct PipelineKey {
     pub accum_format: wgpu::TextureFormat,
     /// Depth clamp (`unclipped_depth`) on light volumes.
     pub depth_clamp: bool,
+    /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's
+    /// RT1); otherwise the light pass starts with a full-screen ambient + sun draw.
+    pub ambient_in_gbuffer: bool,
+}
+
+/// Whether the G-buffer pass can also write the two accumulation targets on a device with
+/// `limits`: the colour attachments and their bytes per sample, G-buffer and accumulation
+/// together, must fit (WebGPU's default 32 bytes do not take `compact`'s 24 plus two Rgba16Float
+/// targets; lavapipe allows 128).
+pub fn ambient_fits(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, limits: &wgpu::Limits) -> bool {
+    let accum = accum_format.block_copy_size(None).unwrap_or(16);
+    (layout.targets.len() + 2) as u32 <= limits.max_color_attachments
+        && layout.bytes_per_pixel() + 2 * accum <= limits.max_color_attachment_bytes_per_sample
 }
 
 /// What every pass's pipelines are built from.
@@ -110,7 +123,9 @@ impl Shared {
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
-            source: wgpu::ShaderSource::Wgsl(shader_source(&key.layout, key.accum_format).into()),
+            source: wgpu::ShaderSource::Wgsl(
+                shader_source(&key.layout, key.accum_format, key.ambient_in_gbuffer).into(),
+            ),
         });
         let frame_bgl = bindings::FRAME.layout(device);
         let gbuffer_bgl = GBufferTargets::bind_group_layout(device, &key.layout);

@@ -241,6 +241,12 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             v.push(Config { radius_scale, ..c("radius", label, settings, o.lights) });
         }
     }
+    // Seed 000's ambient + sun written by the G-buffer pass (the default) against a full-screen
+    // pass of their own.
+    for ambient_in_gbuffer in [true, false] {
+        let label = if ambient_in_gbuffer { "ambient in g-buffer pass" } else { "ambient own pass" };
+        v.push(c("ambient", label.into(), Settings { ambient_in_gbuffer, ..base.clone() }, o.lights));
+    }
     // The forward pass's light lists (the same picture each; its time is `forward_ms`; only
     // scenes with blended surfaces, e.g. `glass`, have a forward pass).
     for forward_lights in ForwardLights::ALL {
@@ -262,6 +268,7 @@ pub const GROUPS: &[&str] = &[
     "resolution",
     "lights",
     "radius",
+    "ambient",
     "forward",
 ];
 

@@ -11,6 +11,7 @@
 //! - `bindings`, `gbuffer` — the Rust/WGSL contracts that write their own WGSL;
 //! - `stats`, `inspect` — what is read back: counts, times, pixels.
 
+pub mod batches;
 pub mod bindings;
 pub mod gbuffer;
 pub mod inspect;
@@ -231,9 +232,11 @@ impl Renderer {
             mode: settings.culling,
             depth_clamp: self.passes.key().depth_clamp,
             forward_lights: settings.forward_lights,
+            light_batching: settings.light_batching,
         };
         let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
-        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, &plan.light_lists);
+        let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
+        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
         let f = FrameInputs {
@@ -257,7 +260,7 @@ impl Renderer {
         // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
         p.gbuffer.encode(&mut encoder, &f);
         // 2. Lights: ambient + sun full-screen, then each light with its culling method.
-        p.lights.encode(&mut encoder, &f);
+        let draw_calls = p.lights.encode(&mut encoder, &f);
         // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
         p.debug.encode(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
@@ -293,6 +296,8 @@ impl Renderer {
             cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
             volume_meshes: plan.volume_meshes_drawn(),
             forward: plan.forward.clone().filter(|_| blended),
+            draw_calls,
+            light_batches: plan.batches.batches.len() as u64,
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);

@@ -292,6 +292,10 @@ pub struct Settings {
     pub cone_sides: u32,
     /// Which lights the forward pass evaluates per blended fragment.
     pub forward_lights: ForwardLights,
+    /// Draw lights in instanced batches (`renderer::batches`): one draw per volume kind for
+    /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled
+    /// lights whose screen rectangles do not overlap. Off: a draw (or two) per light.
+    pub light_batching: bool,
 }
 
 impl Default for Settings {
@@ -313,6 +317,7 @@ impl Default for Settings {
             sphere_subdivisions: DEFAULT_SPHERE_SUBDIVISIONS,
             cone_sides: DEFAULT_CONE_SIDES,
             forward_lights: ForwardLights::default(),
+            light_batching: true,
         }
     }
 }

@@ -208,16 +208,17 @@ fn draw_calls_fall_on_the_full_demo() {
 
 #[test]
 fn stencil_replace_batches_survive_more_than_255_batches_and_several_query_blocks() {
-    // `overflow`: 10,000 overlapping lights (3 blocks of 4,096 occlusion queries), far more
-    // than 255 batches, so the stencil is cleared between batches as it was between lights.
+    // demo with 16,384 lights at 160x90: 4 blocks of 4,096 occlusion queries, and more than
+    // 255 batches, so the stencil is cleared between batches as it was between lights.
     let gpu = gpu();
-    let scene = scene("overflow");
-    let size = (96, 54);
+    let scene = builtin::build("demo", BuiltinOptions { lights: Some(16384), time: 0.0 }).unwrap();
+    let size = (160, 90);
     for mode in [CullingMode::StencilReplace, CullingMode::StencilTwoPass] {
         let s = |light_batching| Settings { culling: mode, light_batching, ..Settings::default() };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s(true)).unwrap();
         let u = run(&mut r, &scene, &s(false), size);
         let b = run(&mut r, &scene, &s(true), size);
+        println!("{}: {} lights in {} batches", mode.name(), b.stats.lights, b.stats.light_batches);
         assert!(b.stats.light_batches > 255, "{}: only {} batches", mode.name(), b.stats.light_batches);
         assert!(b.stats.light_batches < u.stats.light_batches);
         assert!(max_channel_difference(&u.image, &b.image) <= 1, "{}", mode.name());

@@ -70,7 +70,7 @@ fn summation_order_ratio(a: &Run, b: &Run, (w, h): (u32, u32)) -> (f32, usize) {
         let terms = (k[pixel] + 1) as f32;
         let bound = 2.0 * terms * (FP16_U * x.abs().max(y.abs()) + FP16_TINY);
         let ratio = (x - y).abs() / bound;
-        if !(ratio <= worst.0) {
+        if ratio.is_nan() || ratio > worst.0 {
             worst = (ratio, i);
         }
     }
@@ -348,4 +348,29 @@ fn a_lights_footprint_holds_every_pixel_its_volume_can_rasterise() {
         }
     }
     assert!(checked > 10_000, "only {checked} vertices checked");
+}
+
+#[test]
+fn the_complexity_view_is_the_same_batched() {
+    // The heatmap adds 1 per light whose true shape holds the pixel's point: small integers,
+    // exact in fp16 in any order, so batched and unbatched views are identical.
+    let gpu = gpu();
+    for name in ["demo", "spot", "inside", "far"] {
+        let scene = scene(name);
+        for mode in [CullingMode::Fullscreen, CullingMode::Volume, CullingMode::StencilTwoPass, CullingMode::Auto] {
+            let s = |light_batching| Settings {
+                culling: mode,
+                light_batching,
+                debug_view: lampshade::renderer::DebugView::Complexity,
+                ..Settings::default()
+            };
+            let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s(true)).unwrap();
+            let (u, _) = render_image(gpu, &mut r, &scene, &s(false), W, H).unwrap();
+            let (b, _) = render_image(gpu, &mut r, &scene, &s(true), W, H).unwrap();
+            let shades: std::collections::HashSet<[u8; 4]> = u.pixels().map(|p| p.0).collect();
+            let least = if name == "demo" { 3 } else { 2 };
+            assert!(shades.len() >= least, "{name}: the heatmap shows {} colours", shades.len());
+            assert_eq!(max_channel_difference(&u, &b), 0, "{name}/{}", mode.name());
+        }
+    }
 }

@@ -374,3 +374,23 @@ fn the_complexity_view_is_the_same_batched() {
         }
     }
 }
+
+#[test]
+fn log_accumulation_stays_unbatched() {
+    // Rgba8Log rounds each blend to 8 bits: its sum depends on the blend order, which batching
+    // changes, so its frames keep a draw per light (and `culling.rs`'s log test its one step).
+    let gpu = gpu();
+    let mut scene = scene("demo");
+    scene.lights.truncate(200);
+    let s = Settings {
+        culling: CullingMode::StencilTwoPass,
+        accumulation: lampshade::renderer::AccumFormat::Rgba8Log,
+        ..Settings::default()
+    };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+    let (_, st) = render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
+    assert_eq!(st.light_batches, 200);
+    let fp16 = Settings { accumulation: lampshade::renderer::AccumFormat::Rgba16Float, ..s };
+    let (_, st) = render_image(gpu, &mut r, &scene, &fp16, W, H).unwrap();
+    assert!(st.light_batches < 100, "{} batches", st.light_batches);
+}

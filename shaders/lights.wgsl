@@ -1,5 +1,6 @@
-// Light accumulation (seeds 000/001/002): ambient + sun full-screen first, then one draw per
-// light, full-screen or as a bounding volume, blended additively into diffuse and specular.
+// Light accumulation (seeds 000/001/002): ambient + sun full-screen first, then the lights in
+// instanced draws, full-screen or as bounding volumes, blended additively into diffuse and
+// specular.
 
 struct LightTargets {
     @location(0) diffuse: vec4<f32>,
@@ -32,8 +33,11 @@ fn volume_position(p: vec4<f32>, l: GpuLight) -> vec3<f32> {
     return l.position + b[0] * (p.x * r) + b[1] * (p.y * r) + b[2] * (p.z * l.radius);
 }
 
+// Light draws are instanced: instance i draws light draw_lights[i] (instance_index counts from
+// the draw's first instance). The list starts with the identity, for draws of one light.
 @vertex
-fn vs_volume(@location(0) p: vec4<f32>, @builtin(instance_index) light: u32) -> LightVarying {
+fn vs_volume(@location(0) p: vec4<f32>, @builtin(instance_index) instance: u32) -> LightVarying {
+    let light = draw_lights[instance];
     var out: LightVarying;
     out.clip = camera.proj * vec4<f32>(volume_position(p, lights[light]), 1.0);
     out.light = light;
@@ -41,10 +45,10 @@ fn vs_volume(@location(0) p: vec4<f32>, @builtin(instance_index) light: u32) -> 
 }
 
 @vertex
-fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) light: u32) -> LightVarying {
+fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) instance: u32) -> LightVarying {
     var out: LightVarying;
     out.clip = fullscreen_position(vi);
-    out.light = light;
+    out.light = draw_lights[instance];
     return out;
 }
 

@@ -164,6 +164,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             mode: CullingMode::Volume,
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
+            light_batching: true,
         };
         let bounds: Vec<(glam::DVec3, f64)> = scene
             .meshes

@@ -54,6 +54,8 @@ pub const FRAME: Group = Group {
         storage(2, "objects", "array<GpuObject>"),
         // Per forward-shaded object, the lights that reach it (indices into `lights`).
         storage(3, "light_lists", "array<u32>"),
+        // The light of each instance of a light draw (`batches::LightBatches::list`).
+        storage(4, "draw_lights", "array<u32>"),
     ],
 };
 

@@ -247,6 +247,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "light-batching",
+        what: "light batching",
+        help: "Draw lights in instanced batches (off: a draw per light, the same picture)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.light_batching),
+        put: |s, v| {
+            s.light_batching = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "counts",
         what: "fragment counting",
         help: "Count each light's shaded fragments (occlusion queries)",

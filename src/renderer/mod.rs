@@ -11,6 +11,7 @@
 //! - `bindings`, `gbuffer` — the Rust/WGSL contracts that write their own WGSL;
 //! - `stats`, `inspect` — what is read back: counts, times, pixels.
 
+pub mod batches;
 pub mod bindings;
 pub mod gbuffer;
 pub mod inspect;
@@ -240,9 +241,14 @@ impl Renderer {
             mode: settings.culling,
             depth_clamp: self.passes.key().depth_clamp,
             forward_lights: settings.forward_lights,
+            // Seed 004's log encoding rounds every blend to 8 bits, so its sum depends on the
+            // order lights are blended in far more than fp16's: batching reorders them (up to 3
+            // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
+            light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
         };
         let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
-        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, &plan.light_lists);
+        let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
+        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
         let f = FrameInputs {
@@ -266,7 +272,7 @@ impl Renderer {
         // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
         p.gbuffer.encode(&mut encoder, &f);
         // 2. Lights: ambient + sun full-screen, then each light with its culling method.
-        p.lights.encode(&mut encoder, &f);
+        let draw_calls = p.lights.encode(&mut encoder, &f);
         // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
         p.debug.encode(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
@@ -303,6 +309,8 @@ impl Renderer {
             cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
             volume_meshes: plan.volume_meshes_drawn(),
             forward: plan.forward.clone().filter(|_| blended),
+            draw_calls,
+            light_batches: plan.batches.batches.len() as u64,
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);

@@ -3,6 +3,7 @@
 //! object, whether it goes into the G-buffer or is shaded forward, in which order, and which
 //! lights reach it.
 
+use super::batches::LightBatches;
 use super::records::{CameraRecord, FrameRecords, LightRecord};
 use super::settings::{CullingMode, ForwardLights};
 use super::stats::ForwardStats;
@@ -86,6 +87,8 @@ pub struct PlanView {
     pub depth_clamp: bool,
     /// Which lights the forward pass walks per blended fragment.
     pub forward_lights: ForwardLights,
+    /// Draw lights in batches (`Settings::light_batching`; see `batches.rs`).
+    pub light_batching: bool,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -302,6 +305,8 @@ pub struct FramePlan {
     pub light_lists: Vec<u32>,
     /// The sizes of those lists (`None` without blended objects).
     pub forward: Option<ForwardStats>,
+    /// Which lights share an instanced draw, and the draw list they index.
+    pub batches: LightBatches,
 }
 
 impl FramePlan {
@@ -317,7 +322,8 @@ impl FramePlan {
         let lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
         let (draws, light_lists, forward) =
             plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
-        Self { lights, draws, light_lists, forward }
+        let batches = LightBatches::new(&lights, &records.lights, volumes, view);
+        Self { lights, draws, light_lists, forward, batches }
     }
 
     /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for

@@ -284,6 +284,15 @@ impl FrameRecords {
     }
 }
 
+/// The frame's u32 lists, from the plan.
+#[derive(Clone, Copy)]
+pub struct FrameLists<'a> {
+    /// The forward pass's light lists (`FramePlan::light_lists`).
+    pub forward: &'a [u32],
+    /// The light of each instance of a light draw (`batches::LightBatches::list`).
+    pub draw: &'a [u32],
+}
+
 /// Stride of the compose-parameter slots (the dynamic-offset alignment).
 pub const COMPOSE_SLOT: u64 = 256;
 
@@ -294,6 +303,8 @@ pub struct FrameBuffers {
     pub lights: wgpu::Buffer,
     pub objects: wgpu::Buffer,
     pub light_lists: wgpu::Buffer,
+    /// The light of each instance of a light draw (`batches::LightBatches::list`).
+    pub draw_lights: wgpu::Buffer,
     /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
     pub compose: wgpu::Buffer,
     pub group: wgpu::BindGroup,
@@ -314,13 +325,14 @@ impl FrameBuffers {
         let lights = storage(device, "lights", 64 * std::mem::size_of::<LightRecord>() as u64);
         let objects = storage(device, "objects", 64 * std::mem::size_of::<ObjectRecord>() as u64);
         let light_lists = storage(device, "light lists", 4 * 64);
+        let draw_lights = storage(device, "draw lights", 4 * 64);
         let views = super::DebugView::ALL.len() as u64;
         let compose = storage(device, "compose params", COMPOSE_SLOT * (views + 1));
-        let group = Self::bind(device, frame_bgl, [&camera, &lights, &objects, &light_lists]);
-        Self { camera, lights, objects, light_lists, compose, group }
+        let group = Self::bind(device, frame_bgl, [&camera, &lights, &objects, &light_lists, &draw_lights]);
+        Self { camera, lights, objects, light_lists, draw_lights, compose, group }
     }
 
-    fn bind(device: &wgpu::Device, bgl: &wgpu::BindGroupLayout, buffers: [&wgpu::Buffer; 4]) -> wgpu::BindGroup {
+    fn bind(device: &wgpu::Device, bgl: &wgpu::BindGroupLayout, buffers: [&wgpu::Buffer; 5]) -> wgpu::BindGroup {
         let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
             .enumerate()
@@ -331,7 +343,8 @@ impl FrameBuffers {
 
     /// Binds the buffers again for another pipeline configuration's layout.
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
-        self.group = Self::bind(device, frame_bgl, [&self.camera, &self.lights, &self.objects, &self.light_lists]);
+        let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
+        self.group = Self::bind(device, frame_bgl, buffers);
     }
 
     /// Writes the frame's records, growing the buffers (to the next power of two) as needed.
@@ -341,7 +354,7 @@ impl FrameBuffers {
         queue: &wgpu::Queue,
         frame_bgl: &wgpu::BindGroupLayout,
         records: &FrameRecords,
-        light_lists: &[u32],
+        lists: FrameLists<'_>,
     ) {
         let mut grown = false;
         let mut fit = |buffer: &mut wgpu::Buffer, label: &str, bytes: &[u8]| {
@@ -356,7 +369,8 @@ impl FrameBuffers {
         };
         fit(&mut self.lights, "lights", bytemuck::cast_slice(&records.lights));
         fit(&mut self.objects, "objects", bytemuck::cast_slice(&records.objects));
-        fit(&mut self.light_lists, "light lists", bytemuck::cast_slice(light_lists));
+        fit(&mut self.light_lists, "light lists", bytemuck::cast_slice(lists.forward));
+        fit(&mut self.draw_lights, "draw lights", bytemuck::cast_slice(lists.draw));
         if grown {
             self.rebind(device, frame_bgl);
         }

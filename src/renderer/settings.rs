@@ -297,6 +297,10 @@ pub struct Settings {
     /// device cannot take the accumulation targets beside the G-buffer's (colour attachment
     /// bytes per sample), the own pass is used and the stats say so.
     pub ambient_in_gbuffer: bool,
+    /// Draw lights in instanced batches (`renderer::batches`): one draw per volume kind for
+    /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled
+    /// lights whose screen rectangles do not overlap. Off: a draw (or two) per light.
+    pub light_batching: bool,
 }
 
 impl Default for Settings {
@@ -319,6 +323,7 @@ impl Default for Settings {
             cone_sides: DEFAULT_CONE_SIDES,
             forward_lights: ForwardLights::default(),
             ambient_in_gbuffer: true,
+            light_batching: true,
         }
     }
 }

@@ -121,6 +121,13 @@ pub struct FrameStats {
     pub cone_triangles: u32,
     /// The bounding meshes the frame drew ("sphere", "cone"): only the kinds its lights need.
     pub volume_meshes: Vec<String>,
+    /// Draws the light pass issued for lights: marking and shading draws and REPLACE's stencil
+    /// clears (not the ambient + sun draw). With `count_fragments` each light's shading is a
+    /// draw of its own (its occlusion query), so counted frames issue more.
+    pub draw_calls: u64,
+    /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
+    /// light with `light_batching` off.
+    pub light_batches: u64,
     pub per_light: Vec<LightStats>,
 }
 

@@ -128,6 +128,9 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             s.ideal_fragments.map_or(if st.settings.count_ideal { "-".into() } else { "off".into() }, fmt_count),
         );
         row(ui, "efficiency", s.efficiency.map_or("-".into(), |e| format!("{:.1} %", e * 100.0)));
+        // Draws the light pass issued (marks, shades, stencil clears) and the instanced batches
+        // the lights were grouped into; counting splits each batch's shading draw per light.
+        row(ui, "light draws", format!("{} in {} batches", s.draw_calls, s.light_batches));
         row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));

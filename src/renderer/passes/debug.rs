@@ -4,6 +4,7 @@
 
 use super::lights::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
 use super::{FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
+use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;
 use crate::renderer::targets::attachment;
 
@@ -67,6 +68,23 @@ impl DebugPass {
         });
         f.bind_light_inputs(&mut pass);
         let n = f.plan.lights.len();
+        if view == DebugView::Complexity && f.settings.selected_light.is_none() {
+            // Additive and stencil-free: the frame's batches draw it (`batches.rs`), full-screen
+            // batches full-screen, the others as plain volumes. Either way the shader keeps only
+            // the points inside the light's true shape, which the volume holds; skipped lights
+            // reach no visible point.
+            for batch in &f.plan.batches.batches {
+                if batch.method == Method::Fullscreen {
+                    pass.set_pipeline(&self.complexity_fullscreen);
+                    pass.draw(0..3, batch.instances());
+                } else {
+                    let (range, base) = f.volumes.range(batch.volume);
+                    pass.set_pipeline(&self.complexity);
+                    pass.draw_indexed(range, base, batch.instances());
+                }
+            }
+            return;
+        }
         let selected: Vec<usize> = match f.settings.selected_light {
             Some(k) if k < n => vec![k],
             Some(_) => Vec::new(),

@@ -1,5 +1,6 @@
 //! The light accumulation (seeds 000-002): ambient + sun full-screen, then every light with the
-//! method its plan chose, additively into the diffuse and specular targets.
+//! method its plan chose, additively into the diffuse and specular targets, in instanced
+//! batches (`renderer::batches`).
 //!
 //! Each culling method is one [`StencilMethod`] literal below, to be held against the seeds'
 //! tables: the marking draw (if any) and the shading draw, each as faces, depth test and
@@ -20,7 +21,8 @@ pub struct StencilMethod {
     /// Replaces `shade` for lights whose volume crosses the near plane (its front faces are
     /// clipped away there).
     pub shade_crossing_near: Option<DrawState>,
-    /// The stencil reference: zero, or a value per light (1..=255, cleared every 255 lights).
+    /// The stencil reference: zero, or a value per batch of lights whose pixels never meet
+    /// (1..=255, cleared every 255 batches; see `batches.rs`).
     pub reference: Reference,
     /// Whether the shading draw is the light's volume or a full-screen triangle.
     pub fullscreen: bool,
@@ -101,8 +103,9 @@ pub const STENCIL_INVERT: StencilMethod = StencilMethod {
 /// scene point is at or in front of the far side. Shade: front faces, Z LessEqual, stencil
 /// Equal X: the point is also at or behind the near side, i.e. inside. Where no front face
 /// exists (camera inside, volume crossing the near plane) the shade draws back faces with the
-/// depth test off instead; stencil Equal X alone is then exact. X = 1..255 differs per light, so
-/// the stencil is cleared only once every 255 lights.
+/// depth test off instead; stencil Equal X alone is then exact. X = 1..255 differs per light
+/// (per batch: a batch's lights never reach the same pixel), so the stencil is cleared only once
+/// every 255 batches.
 pub const STENCIL_REPLACE: StencilMethod = StencilMethod {
     mark: Some(DrawState {
         faces: Faces::Back,
@@ -151,7 +154,7 @@ pub struct LightPass {
     ambient_in_gbuffer: bool,
     /// By [`DRAWN`]'s order.
     methods: Vec<MethodPipelines>,
-    /// Zeroes the stencil (REPLACE, every 255 lights).
+    /// Zeroes the stencil (REPLACE, every 255 batches).
     stencil_clear: wgpu::RenderPipeline,
 }
 
@@ -202,13 +205,22 @@ impl LightPass {
     }
 
     /// Records the accumulation: one render pass per block of lights (an occlusion query set
-    /// holds 4096), the first starting with ambient + sun unless the G-buffer pass wrote them.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    /// holds 4096), the first starting with ambient + sun unless the G-buffer pass wrote them,
+    /// then the block's batches (`FramePlan::batches`): per batch one instanced marking draw
+    /// (stencil methods) and one instanced shading draw. When counting, the shading draw is
+    /// split into one draw per light (an instance range of one, same pipeline and stencil)
+    /// inside the light's occlusion query: the batch's marks are already in the stencil and its
+    /// lights' pixels are disjoint, so each light shades what it shades in the batched draw.
+    /// Returns the light draws issued (marks, shades and stencil clears; not the ambient + sun
+    /// draw).
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> u64 {
         let t = f.targets;
         let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
         let blocks = n.div_ceil(chunk).max(1);
+        let batches = &f.plan.batches;
         let mut replace_counter = 0u32;
+        let mut draws = 0u64;
         for b in 0..blocks {
             let (first, last) = (b == 0, b + 1 == blocks);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -230,23 +242,27 @@ impl LightPass {
                 pass.draw(0..3, 0..1);
                 pass.pop_debug_group();
             }
-            for i in b * chunk..((b + 1) * chunk).min(n) {
-                let plan = f.plan.lights[i];
-                let li = i as u32..i as u32 + 1;
-                let (range, base) = f.volumes.range(plan.volume);
-                let query = (i - b * chunk) as u32;
-                let Some(m) = self.pipelines(plan.method) else {
-                    // Skipped (outside the frustum): nothing to shade, the count is zero.
-                    if f.counts {
-                        pass.begin_occlusion_query(query);
+            let block_start = b * chunk;
+            if f.counts {
+                // Skipped lights (outside the frustum) shade nothing: their count is zero.
+                for i in block_start..((b + 1) * chunk).min(n) {
+                    if f.plan.lights[i].method == Method::Skipped {
+                        pass.begin_occlusion_query((i - block_start) as u32);
                         pass.end_occlusion_query();
                     }
-                    continue;
-                };
+                }
+            }
+            let range = batches.blocks.get(b).cloned().unwrap_or_default();
+            for batch in &batches.batches[range] {
+                let Some(m) = self.pipelines(batch.method) else { continue };
+                let (indices, base) = f.volumes.range(batch.volume);
+                let instances = batch.instances();
                 if m.method.reference == Reference::PerLight {
+                    // One value per batch: its lights never meet (see `batches.rs`).
                     if replace_counter == 255 {
                         pass.set_pipeline(&self.stencil_clear);
                         pass.draw(0..3, 0..1);
+                        draws += 1;
                         replace_counter = 0;
                     }
                     replace_counter += 1;
@@ -254,29 +270,37 @@ impl LightPass {
                 }
                 if let Some(mark) = &m.mark {
                     pass.set_pipeline(mark);
-                    pass.draw_indexed(range.clone(), base, li.clone());
+                    pass.draw_indexed(indices.clone(), base, instances.clone());
+                    draws += 1;
                     if m.method.reference == Reference::Zero {
                         pass.set_stencil_reference(0);
                     }
                 }
-                // The occlusion query counts the shading draw's samples only.
                 let shade = match &m.shade_crossing_near {
-                    Some(near) if plan.crosses_near => near,
+                    Some(near) if batch.crosses_near => near,
                     _ => &m.shade,
                 };
                 pass.set_pipeline(shade);
+                let mut draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
+                    if m.method.fullscreen {
+                        pass.draw(0..3, instances);
+                    } else {
+                        pass.draw_indexed(indices.clone(), base, instances);
+                    }
+                    draws += 1;
+                };
                 if f.counts {
-                    pass.begin_occlusion_query(query);
-                }
-                if m.method.fullscreen {
-                    pass.draw(0..3, li);
+                    // The occlusion query counts the shading draw's samples only.
+                    for (k, &light) in instances.clone().zip(batches.lights_of(batch)) {
+                        pass.begin_occlusion_query(light - block_start as u32);
+                        draw(&mut pass, k..k + 1);
+                        pass.end_occlusion_query();
+                    }
                 } else {
-                    pass.draw_indexed(range, base, li);
-                }
-                if f.counts {
-                    pass.end_occlusion_query();
+                    draw(&mut pass, instances);
                 }
             }
         }
+        draws
     }
 }

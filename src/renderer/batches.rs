@@ -1,0 +1,393 @@
+//! Light batches: which lights share one instanced draw (issue 13).
+//!
+//! Every draw costs about 25-35 µs on lavapipe whatever it rasterises, so drawing 1,028 lights
+//! one draw (or a mark and a shade draw) each spent about half of `demo`'s frame on draw
+//! overhead. A batch is a run of entries of the frame's draw list (`draw_lights` in the
+//! shaders): the light pass draws it as one instanced draw, and the vertex shader reads its
+//! light from `draw_lights[instance_index]` (WGSL's `instance_index` counts from the draw's first
+//! instance, the batch's first entry), so a batch's lights need not be consecutive.
+//!
+//! - **Full-screen and plain volumes** (no stencil): additive blending commutes, so all of a
+//!   method's lights go into one batch per volume kind (full-screen: one batch). Only the fp16
+//!   summation order changes.
+//! - **Stencil methods** (two-pass, invert, replace): lights whose conservative pixel
+//!   rectangles do not overlap share a batch: one instanced mark draw, then one instanced shade
+//!   draw. Why the picture and every light's shaded fragments stay those of the unbatched frame:
+//!   1. A light's draws rasterise only inside its rectangle (see [`Footprint`]), so at any pixel
+//!      at most one light of a batch does anything: the pixel sees that light's mark, then its
+//!      shade, as unbatched.
+//!   2. Across batches a pixel may see lights in another order than unbatched, so each light's
+//!      (mark, shade) must find the stencil as unbatched. It does, because each method leaves
+//!      the stencil in a state the next light ignores (checked against the `StencilMethod`
+//!      literals in `passes/lights.rs`):
+//!      - *two-pass* (seed 000): the mark increments on front faces' depth fail; the shade draws
+//!        the back faces, which cover every pixel the front faces cover (a closed convex mesh;
+//!        where the near plane clips front faces the back faces cover more), with Zero on
+//!        stencil fail, depth fail and pass: every pixel the light touched is zero again;
+//!      - *invert* (seed 001): the mark inverts on either face's depth fail; the shade (back
+//!        faces, depth test off, stencil NotEqual 0) has pass op Zero and fail op Keep on a
+//!        zero value: every pixel the light touched is zero again;
+//!      - *replace* (seed 002): the mark writes the batch's reference X, the shade tests
+//!        Equal X and writes nothing. X is new since the last clear (one value per batch,
+//!        1..=255, the stencil cleared every 255 batches as it was every 255 lights), so values
+//!        left by earlier batches never equal it: a light's test sees only its own marks (no
+//!        other light of its batch reaches its pixels).
+//!
+//!   So every light shades exactly the samples it shades unbatched; only the order of the
+//!   additive blends differs.
+//! - Batches never span two blocks of [`LIGHTS_PER_QUERY_SET`] lights: the light pass records
+//!   one render pass per block (one occlusion query set each), as before.
+//!
+//! Grouping is greedy first-fit: rectangles sorted by area (largest first), each placed in the
+//! first batch none of whose lights' rectangles share an [`CELL`]-pixel cell with it, found 64
+//! batches at a time through one bit per batch in a coarse occupancy grid. Cells are coarser than
+//! pixels, so two lights can be kept apart that would not have met (more batches, never wrong).
+
+use super::plan::{LightPlan, Method, PlanView};
+use super::records::LightRecord;
+use super::stats::LIGHTS_PER_QUERY_SET;
+use super::volumes::{self, VolumeKind, Volumes};
+use glam::{Vec2, Vec3};
+
+/// Side in pixels of the occupancy grid's cells.
+pub const CELL: u32 = 8;
+
+/// Lights drawn by one instanced draw (or one mark and one shade draw).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Batch {
+    pub method: Method,
+    pub volume: VolumeKind,
+    /// The batch's lights cross the near plane (REPLACE shades them with another pipeline).
+    pub crosses_near: bool,
+    /// The batch's entries in [`LightBatches::list`]: `first..first + count`.
+    pub first: u32,
+    pub count: u32,
+}
+
+impl Batch {
+    /// The instance range that draws the batch.
+    pub fn instances(&self) -> std::ops::Range<u32> {
+        self.first..self.first + self.count
+    }
+}
+
+/// The frame's batches and the draw list they index.
+#[derive(Clone, Debug, Default)]
+pub struct LightBatches {
+    /// In drawing order, block by block.
+    pub batches: Vec<Batch>,
+    /// Per block of [`LIGHTS_PER_QUERY_SET`] lights, the range of `batches` it draws.
+    pub blocks: Vec<std::ops::Range<usize>>,
+    /// The draw list (`draw_lights` in the shaders): first the identity (entry `i` is light `i`,
+    /// for draws of one light: unbatched frames, the debug and measurement passes), then each
+    /// batch's lights.
+    pub list: Vec<u32>,
+}
+
+/// Where a light's draws can rasterise: nothing, or inside a pixel rectangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Footprint {
+    Empty,
+    /// x0, y0, x1, y1 in pixels, inclusive, inside the screen (y down).
+    Rect([u32; 4]),
+}
+
+/// The pixels (inclusive, clipped to the screen) a rectangle in NDC can touch, widened by a
+/// pixel against rounding (as `plan_draws`' tile lists do); `None` when it misses the screen.
+/// A rectangle that is not finite is the whole screen.
+pub fn pixel_rect(lo: Vec2, hi: Vec2, (w, h): (u32, u32)) -> Option<[u32; 4]> {
+    if w == 0 || h == 0 {
+        return None;
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Some([0, 0, w - 1, h - 1]);
+    }
+    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
+    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+    let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+    let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+    if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 || x0 > x1 || y0 > y1 {
+        return None;
+    }
+    let clamp = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1);
+    Some([clamp(x0, w), clamp(y0, h), clamp(x1, w), clamp(y1, h)])
+}
+
+/// Where light `light`'s volume draws can rasterise this frame.
+///
+/// - On screen, not crossing the near plane: every vertex lies beyond the near plane, so the
+///   mesh projects inside the hull of its projected vertices, which `screen_rect` bounds.
+/// - Crossing the near plane: `screen_rect` is the whole screen.
+/// - Off screen (`screen_rect` is `None`): without depth clamp nothing is rasterised (outside a
+///   side plane, or wholly in front of the near or beyond the far plane: clipped). With depth
+///   clamp the near and far planes do not clip, so the volume is checked again here: nothing if
+///   all its vertices lie outside one side plane or behind the eye (w <= 0, clipped by the side
+///   planes), the rectangle of its projected vertices if all lie in front of the eye (beyond the
+///   far plane, drawn at clamped depth), else the whole screen.
+pub fn footprint(plan: &LightPlan, light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Footprint {
+    let whole = Footprint::Rect([0, 0, view.size.0.max(1) - 1, view.size.1.max(1) - 1]);
+    if let Some((lo, hi)) = plan.screen_rect {
+        if plan.crosses_near {
+            return whole;
+        }
+        return pixel_rect(lo, hi, view.size).map_or(Footprint::Empty, Footprint::Rect);
+    }
+    if !view.depth_clamp {
+        return Footprint::Empty;
+    }
+    let (pos, dir) = (Vec3::from(light.position), Vec3::from(light.direction));
+    let mut outside = [true; 4];
+    let (mut all_behind, mut all_ahead) = (true, true);
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for v in &volumes.mesh(plan.volume).vertices {
+        let c = view.proj * volumes::place(*v, pos, light.radius, dir, light.tan_outer).extend(1.0);
+        for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
+            outside[k] &= d < 0.0;
+        }
+        all_behind &= c.w <= 0.0;
+        all_ahead &= c.w > 0.0;
+        if c.w > 0.0 {
+            let n = Vec2::new(c.x, c.y) / c.w;
+            lo = lo.min(n);
+            hi = hi.max(n);
+        }
+    }
+    if outside.iter().any(|&o| o) || all_behind {
+        Footprint::Empty
+    } else if all_ahead {
+        pixel_rect(lo, hi, view.size).map_or(Footprint::Empty, Footprint::Rect)
+    } else {
+        whole
+    }
+}
+
+/// What lights must share to be drawn together: the pipelines and the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Key {
+    method: u8,
+    volume: u8,
+    crosses_near: bool,
+}
+
+fn method_order(m: Method) -> u8 {
+    match m {
+        Method::Fullscreen => 0,
+        Method::Volume => 1,
+        Method::StencilTwoPass => 2,
+        Method::StencilInvert => 3,
+        Method::StencilReplace => 4,
+        Method::Skipped => 5,
+    }
+}
+
+fn stencil(m: Method) -> bool {
+    matches!(m, Method::StencilTwoPass | Method::StencilInvert | Method::StencilReplace)
+}
+
+impl LightBatches {
+    /// The batches of a frame's planned lights; with `view.light_batching` off, one batch per
+    /// drawn light in light order (the draws the renderer made before batching).
+    pub fn new(plans: &[LightPlan], lights: &[LightRecord], volumes: &Volumes, view: &PlanView) -> Self {
+        let n = plans.len();
+        let mut out = LightBatches { list: (0..n as u32).collect(), ..Default::default() };
+        for start in (0..n).step_by(LIGHTS_PER_QUERY_SET) {
+            let end = (start + LIGHTS_PER_QUERY_SET).min(n);
+            let first_batch = out.batches.len();
+            if view.light_batching {
+                out.batch_block(start..end, plans, lights, volumes, view);
+            } else {
+                for (i, p) in plans.iter().enumerate().take(end).skip(start) {
+                    if p.method != Method::Skipped {
+                        out.batches.push(Batch {
+                            method: p.method,
+                            volume: p.volume,
+                            crosses_near: p.crosses_near,
+                            first: i as u32,
+                            count: 1,
+                        });
+                    }
+                }
+            }
+            out.blocks.push(first_batch..out.batches.len());
+        }
+        out
+    }
+
+    fn batch_block(
+        &mut self,
+        block: std::ops::Range<usize>,
+        plans: &[LightPlan],
+        lights: &[LightRecord],
+        volumes: &Volumes,
+        view: &PlanView,
+    ) {
+        // Group the block's drawn lights by what they must share.
+        let mut groups: Vec<(Key, Vec<u32>)> = Vec::new();
+        for i in block {
+            let p = &plans[i];
+            if p.method == Method::Skipped {
+                continue;
+            }
+            let key = Key {
+                method: method_order(p.method),
+                // Full-screen draws use no mesh: one batch whatever the light's kind.
+                volume: if p.method == Method::Fullscreen { 0 } else { p.volume as u8 },
+                // Only REPLACE shades near-crossing lights with another pipeline.
+                crosses_near: p.method == Method::StencilReplace && p.crosses_near,
+            };
+            match groups.iter_mut().find(|(k, _)| *k == key) {
+                Some((_, v)) => v.push(i as u32),
+                None => groups.push((key, vec![i as u32])),
+            }
+        }
+        groups.sort_by_key(|(k, _)| *k);
+        for (_, members) in groups {
+            let p = plans[members[0] as usize];
+            let (method, volume, crosses_near) = (p.method, p.volume, p.crosses_near);
+            let sets = if stencil(method) {
+                let feet: Vec<(u32, Footprint)> = members
+                    .iter()
+                    .map(|&i| (i, footprint(&plans[i as usize], &lights[i as usize], volumes, view)))
+                    .collect();
+                first_fit(&feet, view.size)
+            } else {
+                vec![members]
+            };
+            for set in sets {
+                let first = self.list.len() as u32;
+                self.list.extend_from_slice(&set);
+                self.batches.push(Batch { method, volume, crosses_near, first, count: set.len() as u32 });
+            }
+        }
+    }
+
+    /// The lights of `batch`, from the draw list.
+    pub fn lights_of(&self, batch: &Batch) -> &[u32] {
+        &self.list[batch.first as usize..(batch.first + batch.count) as usize]
+    }
+}
+
+/// Greedy first-fit of footprints into sets whose rectangles share no [`CELL`]: largest first,
+/// each into the first set it fits. Lights that rasterise nothing join the first set. Each set
+/// lists its lights in light order.
+pub fn first_fit(lights: &[(u32, Footprint)], (w, h): (u32, u32)) -> Vec<Vec<u32>> {
+    let (gw, gh) = (w.div_ceil(CELL).max(1) as usize, h.div_ceil(CELL).max(1) as usize);
+    let mut empty = Vec::new();
+    let mut pending: Vec<(u32, [usize; 4])> = Vec::new();
+    for &(i, f) in lights {
+        match f {
+            Footprint::Empty => empty.push(i),
+            Footprint::Rect([x0, y0, x1, y1]) => pending.push((
+                i,
+                [
+                    (x0 / CELL) as usize,
+                    (y0 / CELL) as usize,
+                    ((x1 / CELL) as usize).min(gw - 1),
+                    ((y1 / CELL) as usize).min(gh - 1),
+                ],
+            )),
+        }
+    }
+    let area = |c: &[usize; 4]| (c[2] - c[0] + 1) * (c[3] - c[1] + 1);
+    // Largest first, then top to bottom, left to right; ties by light (deterministic).
+    pending.sort_by(|a, b| {
+        area(&b.1).cmp(&area(&a.1)).then(a.1[1].cmp(&b.1[1])).then(a.1[0].cmp(&b.1[0])).then(a.0.cmp(&b.0))
+    });
+    let mut sets: Vec<Vec<u32>> = Vec::new();
+    let mut grid = vec![0u64; gw * gh];
+    // 64 sets at a time: a light that fits none of them waits for the next 64. That is
+    // first-fit exactly: the next round's grid holds the lights placed before it there.
+    while !pending.is_empty() {
+        grid.fill(0);
+        let mut round: Vec<Vec<u32>> = vec![Vec::new(); 64];
+        let mut next = Vec::new();
+        for (i, [cx0, cy0, cx1, cy1]) in pending {
+            let mut used = 0u64;
+            for y in cy0..=cy1 {
+                for cell in &grid[y * gw + cx0..=y * gw + cx1] {
+                    used |= *cell;
+                }
+            }
+            if used == u64::MAX {
+                next.push((i, [cx0, cy0, cx1, cy1]));
+                continue;
+            }
+            let b = (!used).trailing_zeros();
+            for y in cy0..=cy1 {
+                for cell in &mut grid[y * gw + cx0..=y * gw + cx1] {
+                    *cell |= 1 << b;
+                }
+            }
+            round[b as usize].push(i);
+        }
+        sets.extend(round.into_iter().filter(|s| !s.is_empty()));
+        pending = next;
+    }
+    if !empty.is_empty() {
+        match sets.first_mut() {
+            Some(s) => s.extend(empty),
+            None => sets.push(empty),
+        }
+    }
+    for s in &mut sets {
+        s.sort_unstable();
+    }
+    sets
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixel_rects_widen_by_a_pixel_and_clip_to_the_screen() {
+        let size = (100, 50);
+        // The whole screen and more.
+        assert_eq!(pixel_rect(Vec2::splat(-2.0), Vec2::splat(2.0), size), Some([0, 0, 99, 49]));
+        // Just right of and above the centre: pixel column 50 (x = 0 is the edge between 49
+        // and 50), row 24 (y = 0 is the edge between rows 24 and 25), widened by one.
+        assert_eq!(pixel_rect(Vec2::new(0.0, 0.0), Vec2::new(0.01, 0.01), size), Some([49, 23, 51, 26]));
+        assert_eq!(pixel_rect(Vec2::new(1.5, 0.0), Vec2::new(2.0, 0.5), size), None);
+        assert_eq!(pixel_rect(Vec2::NAN, Vec2::ONE, size), Some([0, 0, 99, 49]));
+    }
+
+    #[test]
+    fn first_fit_keeps_overlapping_rectangles_apart_and_places_every_light_once() {
+        let size = (640u32, 360u32);
+        let mut seed = 7u64;
+        let mut rnd = |m: u32| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) % m as u64) as u32
+        };
+        let mut lights = Vec::new();
+        for i in 0..3000u32 {
+            let f = if i % 97 == 0 {
+                Footprint::Empty
+            } else if i % 29 == 0 {
+                Footprint::Rect([0, 0, size.0 - 1, size.1 - 1])
+            } else {
+                let (x, y) = (rnd(size.0), rnd(size.1));
+                let (rw, rh) = (1 + rnd(60), 1 + rnd(60));
+                Footprint::Rect([x, y, (x + rw).min(size.0 - 1), (y + rh).min(size.1 - 1)])
+            };
+            lights.push((i, f));
+        }
+        let sets = first_fit(&lights, size);
+        let mut seen = vec![0; lights.len()];
+        for s in &sets {
+            for (k, &a) in s.iter().enumerate() {
+                seen[a as usize] += 1;
+                for &b in &s[k + 1..] {
+                    if let (Footprint::Rect(p), Footprint::Rect(q)) = (lights[a as usize].1, lights[b as usize].1) {
+                        let apart = p[2] < q[0] || q[2] < p[0] || p[3] < q[1] || q[3] < p[1];
+                        assert!(apart, "lights {a} {p:?} and {b} {q:?} share a set");
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&c| c == 1), "every light in exactly one set");
+        // More than 64 sets: the rounds beyond the first 64 were exercised.
+        assert!(sets.len() > 64, "{} sets", sets.len());
+        assert!(sets.len() < lights.len() / 4, "{} sets for {} lights", sets.len(), lights.len());
+    }
+}

@@ -29,6 +29,10 @@ pub enum Method {
     StencilInvert,
     #[serde(alias = "replace")]
     StencilReplace,
+    /// Shaded from its tiles' light lists in the tiled pass (`passes::tiled`).
+    Tiled,
+    /// Shaded from its clusters' light lists in the tiled pass.
+    Clustered,
     /// `auto` only: the volume lies outside the view frustum and is not drawn.
     Skipped,
 }
@@ -52,6 +56,8 @@ impl CullingMode {
             CullingMode::StencilTwoPass => Some(Method::StencilTwoPass),
             CullingMode::StencilInvert => Some(Method::StencilInvert),
             CullingMode::StencilReplace => Some(Method::StencilReplace),
+            CullingMode::Tiled => Some(Method::Tiled),
+            CullingMode::Clustered => Some(Method::Clustered),
             CullingMode::Auto => None,
         }
     }
@@ -302,6 +308,10 @@ pub struct FramePlan {
     pub light_lists: Vec<u32>,
     /// The sizes of those lists (`None` without blended objects).
     pub forward: Option<ForwardStats>,
+    /// `Method::Tiled` or `Method::Clustered` when the tiled pass shades this frame's lights
+    /// (`tiles::frame_rule`), with the clustered lists built on the CPU.
+    pub tiled: Option<Method>,
+    pub clusters: Option<super::tiles::ClusterLists>,
 }
 
 impl FramePlan {
@@ -314,10 +324,13 @@ impl FramePlan {
         volumes: &Volumes,
         view: &PlanView,
     ) -> Self {
-        let lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
+        let mut lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
         let (draws, light_lists, forward) =
             plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
-        Self { lights, draws, light_lists, forward }
+        let tiled = super::tiles::frame_rule(&mut lights, view);
+        let clusters =
+            (tiled == Some(Method::Clustered)).then(|| super::tiles::cluster_lists(&records.lights, &lights, view));
+        Self { lights, draws, light_lists, forward, tiled, clusters }
     }
 
     /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for

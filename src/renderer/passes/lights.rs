@@ -129,7 +129,8 @@ pub fn stencil_method(m: Method) -> Option<&'static StencilMethod> {
         Method::StencilTwoPass => Some(&STENCIL_TWO_PASS),
         Method::StencilInvert => Some(&STENCIL_INVERT),
         Method::StencilReplace => Some(&STENCIL_REPLACE),
-        Method::Skipped => None,
+        // Shaded from their lists by the tiled pass (`passes::tiled`), not drawn here.
+        Method::Tiled | Method::Clustered | Method::Skipped => None,
     }
 }
 
@@ -212,8 +213,10 @@ impl LightPass {
                 label: Some("lights"),
                 color_attachments: &t.accumulation(first),
                 depth_stencil_attachment: Some(t.depth_attachment(true)),
+                // The tiled pass ends the lighting's span when it shades the frame.
                 timestamp_writes: if first || last {
-                    f.timestamps(first.then_some(Stamp::LightsBegin), last.then_some(Stamp::LightsEnd))
+                    let end = last && f.plan.tiled.is_none();
+                    f.timestamps(first.then_some(Stamp::LightsBegin), end.then_some(Stamp::LightsEnd))
                 } else {
                     None
                 },

@@ -9,7 +9,7 @@ use common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::render_image;
 use lampshade::renderer::inspect::inside_light;
-use lampshade::renderer::{CullingMode, DebugView, Method, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::renderer::{AccumFormat, CullingMode, DebugView, Method, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::Scene;
 
 const W: u32 = 192;
@@ -71,8 +71,12 @@ fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal(
             assert_finite(&f, name);
             let step = max_channel_difference(&reference.image, &f.image);
             let (fl, _) = flip(&reference.image, &f.image).unwrap();
+            // The FLIP bound of tests/culling.rs on its cases; the hard cases are held to one
+            // step, as tests/hard_cases.rs holds every mode (see the next test for why many
+            // overlapping lights differ by a step in places).
+            let flip_bound = if CASES.contains(name) { 0.001 } else { 0.01 };
             assert!(
-                step <= 1 && fl.mean <= 0.001,
+                step <= 1 && fl.mean <= flip_bound,
                 "{name}/{}: {step} steps from fullscreen, FLIP mean {}",
                 mode.name(),
                 fl.mean
@@ -152,6 +156,41 @@ fn every_point_inside_a_light_lies_in_a_cell_whose_list_holds_it() {
                 );
             }
         }
+    }
+}
+
+#[test]
+fn the_lists_sum_closer_to_the_exact_light_than_per_light_blending() {
+    // `street` (64 overlapping lights): every per-light mode blends each light into the fp16
+    // target, rounding once per light, in light order (volume equals fullscreen bit for bit);
+    // the tiled pass sums a pixel's lights in f32 and rounds once. So its picture differs from
+    // fullscreen's by up to one 8-bit step on some pixels, and the reason is fullscreen's error:
+    // against an Rgba32Float full-screen frame, tiled and clustered are closer than fullscreen.
+    let scene = scene("street");
+    let s = |culling| Settings { culling, count_ideal: false, ..settings(culling) };
+    let exact =
+        render(&scene, &Settings { accumulation: AccumFormat::Rgba32Float, ..s(CullingMode::Fullscreen) }, 160, 90);
+    let error = |f: &Frame| {
+        let (mut worst, mut sum) = (0f32, 0f64);
+        for (a, b) in exact.diffuse.iter().zip(&f.diffuse).chain(exact.specular.iter().zip(&f.specular)) {
+            let e = (a - b).abs() / a.abs().max(1e-3);
+            worst = worst.max(e);
+            sum += e as f64;
+        }
+        (worst, sum / (2 * exact.diffuse.len()) as f64)
+    };
+    let full = error(&render(&scene, &s(CullingMode::Fullscreen), 160, 90));
+    for mode in MODES {
+        let e = error(&render(&scene, &s(mode), 160, 90));
+        println!(
+            "{}: worst {:.2e}, mean {:.2e}; fullscreen worst {:.2e}, mean {:.2e}",
+            mode.name(),
+            e.0,
+            e.1,
+            full.0,
+            full.1
+        );
+        assert!(e.0 <= full.0 && e.1 <= full.1, "{}: {e:?} from the f32 sum, fullscreen {full:?}", mode.name());
     }
 }
 

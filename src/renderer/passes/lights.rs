@@ -214,12 +214,10 @@ impl LightPass {
                 color_attachments: &t.accumulation(first),
                 depth_stencil_attachment: Some(t.depth_attachment(true)),
                 // The tiled pass ends the lighting's span when it shades the frame.
-                timestamp_writes: if first || last {
-                    let end = last && f.plan.tiled.is_none();
-                    f.timestamps(first.then_some(Stamp::LightsBegin), end.then_some(Stamp::LightsEnd))
-                } else {
-                    None
-                },
+                timestamp_writes: f.timestamps(
+                    first.then_some(Stamp::LightsBegin),
+                    (last && f.plan.tiled.is_none()).then_some(Stamp::LightsEnd),
+                ),
                 occlusion_query_set: if f.counts { f.queries.occlusion.get(b) } else { None },
                 multiview_mask: None,
             });

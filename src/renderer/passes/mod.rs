@@ -405,7 +405,7 @@ pub struct FrameInputs<'a> {
 impl FrameInputs<'_> {
     /// Timestamp writes at the beginning and/or end of a pass, when the frame is timed.
     pub fn timestamps(&self, begin: Option<Stamp>, end: Option<Stamp>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        if !self.times {
+        if !self.times || (begin.is_none() && end.is_none()) {
             return None;
         }
         self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {

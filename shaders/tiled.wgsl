@@ -62,7 +62,20 @@ fn light_meets_tile(l: GpuLight, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: 
     let right = normalize(vec3<f32>(-p00, 0.0, -(ndc_hi.x + p20)));
     let bottom = normalize(vec3<f32>(0.0, p11, ndc_lo.y + p21));
     let top = normalize(vec3<f32>(0.0, -p11, -(ndc_hi.y + p21)));
-    return dot(left, c) >= -r && dot(right, c) >= -r && dot(bottom, c) >= -r && dot(top, c) >= -r;
+    if dot(left, c) < -r || dot(right, c) < -r || dot(bottom, c) < -r || dot(top, c) < -r {
+        return false;
+    }
+    // And the box around the tile's frustum piece between the depth bounds (tighter than the
+    // planes where the depth range is narrow): the sphere meets it if its nearest point is
+    // within the radius.
+    let xs = vec4<f32>(ndc_lo.x + p20, ndc_hi.x + p20, ndc_lo.x + p20, ndc_hi.x + p20) / p00
+        * vec4<f32>(dmin, dmin, dmax, dmax);
+    let ys = vec4<f32>(ndc_lo.y + p21, ndc_hi.y + p21, ndc_lo.y + p21, ndc_hi.y + p21) / p11
+        * vec4<f32>(dmin, dmin, dmax, dmax);
+    let lo3 = vec3<f32>(min(min(xs.x, xs.y), min(xs.z, xs.w)), min(min(ys.x, ys.y), min(ys.z, ys.w)), -dmax);
+    let hi3 = vec3<f32>(max(max(xs.x, xs.y), max(xs.z, xs.w)), max(max(ys.x, ys.y), max(ys.z, ys.w)), -dmin);
+    let e = c - clamp(c, lo3, hi3);
+    return dot(e, e) <= r * r * 1.0001;
 }
 
 // One workgroup per 16x16 tile: the tile's depth bounds over its valid G-buffer pixels, a bit

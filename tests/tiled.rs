@@ -194,6 +194,49 @@ fn the_lists_sum_closer_to_the_exact_light_than_per_light_blending() {
     }
 }
 
+#[test]
+fn with_log_accumulation_the_one_write_stays_within_two_writes_of_the_exact_light() {
+    // Seed 004's Rgba8 log accumulation rounds once per write: a per-light mode writes once per
+    // light touching a pixel (its bound grows with them, tests/core.rs), the tiled pass once per
+    // pixel after the ambient + sun write, whatever the list. So its error is held to the bound
+    // of two writes against the Rgba32Float full-screen frame, far tighter than fullscreen's own
+    // (which is why tests/culling.rs does not hold tiled and clustered to fullscreen-log).
+    use lampshade::renderer::settings::{log_accum_error_bound, LOG_ACCUM_MAX};
+    for name in ["demo", "spot"] {
+        let (scene, w, h) = case(name);
+        let exact = render(
+            &scene,
+            &Settings { accumulation: AccumFormat::Rgba32Float, ..settings(CullingMode::Fullscreen) },
+            w,
+            h,
+        );
+        for mode in MODES {
+            let log = render(
+                &scene,
+                &Settings { accumulation: AccumFormat::Rgba8Log, count_ideal: false, ..settings(mode) },
+                w,
+                h,
+            );
+            let (mut checked, mut brightest) = (0, 0f32);
+            for (got, want) in log.diffuse.iter().zip(&exact.diffuse).chain(log.specular.iter().zip(&exact.specular)) {
+                let bound = log_accum_error_bound(*want, 2);
+                if want + bound > LOG_ACCUM_MAX - 0.5 {
+                    continue;
+                }
+                checked += 1;
+                brightest = brightest.max(*want);
+                assert!(
+                    (got - want).abs() <= bound + 1e-5,
+                    "{name}/{}: decoded {got}, exact {want}, bound {bound}",
+                    mode.name()
+                );
+            }
+            assert!(checked > exact.diffuse.len(), "{name}: only {checked} values checked");
+            assert!(brightest > 0.5, "{name}: the check never saw bright light ({brightest})");
+        }
+    }
+}
+
 fn srgb(c: f32) -> f32 {
     let c = c.clamp(0.0, 1.0);
     if c <= 0.003_130_8 {

@@ -337,7 +337,10 @@ impl FramePlan {
     /// the light types present (a scene without narrow spots draws no cone).
     pub fn volume_meshes_drawn(&self) -> Vec<String> {
         let drawn = |kind| {
-            self.lights.iter().any(|p| p.volume == kind && !matches!(p.method, Method::Fullscreen | Method::Skipped))
+            self.lights.iter().any(|p| {
+                p.volume == kind
+                    && !matches!(p.method, Method::Fullscreen | Method::Skipped | Method::Tiled | Method::Clustered)
+            })
         };
         [VolumeKind::Sphere, VolumeKind::Cone].into_iter().filter(|&k| drawn(k)).map(|k| k.name().to_string()).collect()
     }

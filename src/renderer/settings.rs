@@ -100,7 +100,7 @@ pub enum CullingMode {
     /// Olsson et al. 2012: screen tiles x exponential depth slices, lights assigned on the CPU;
     /// one full-screen pass shades each pixel with its cluster's list.
     Clustered,
-    /// Per light, the cheapest correct method (see `plan::plan_light`), or `tiled` for the
+    /// Per light, the cheapest correct method (see `plan::plan_light`), or `clustered` for the
     /// whole frame when that is estimated cheaper (see `tiles::frame_rule`).
     Auto,
 }

@@ -1,6 +1,6 @@
 //! The CPU's part of the `tiled` and `clustered` culling modes: the clustered mode's light
 //! lists (Olsson, Billeter, Assarsson 2012, assigned on the CPU as Bevy does), and `auto`'s
-//! frame-level choice between its per-light plan and `tiled`.
+//! frame-level choice between its per-light plan and `clustered`.
 //!
 //! The GPU's part (the tiled mode's compute pass, the shading pass both share, the debug view)
 //! is `passes::tiled`.
@@ -187,22 +187,25 @@ pub fn cluster_lists(lights: &[LightRecord], plans: &[LightPlan], view: &PlanVie
     ClusterLists { data, grid: Some(grid), entries: entries as u64, longest }
 }
 
-/// Measured cost constants of `auto`'s frame rule, lavapipe on this project's 2-core machine
-/// (`lampshade bench demo --only culling --frames 10` at 1280x720, one run, 1,024 and 4,096
-/// lights; see the README's measurements):
-/// - a light draw (per-light methods): about 30 µs each ([`DRAW_MS`]);
-/// - a shaded fragment of a volume: about 17 ns ([`FRAGMENT_NS`]);
-/// - the tiled pass's fixed part (depth bounds, list build, one full-screen shading pass with
-///   empty lists) per million pixels ([`TILED_FIXED_MS_PER_MPX`]);
-/// - a light-pixel pair walked by the tiled shading pass ([`PAIR_NS`]).
+/// Cost constants of `auto`'s frame rule, idle lavapipe on this project's 2-core machine.
+/// From the issue's full bench (idle): a light draw about 30 µs ([`DRAW_MS`]), a shaded
+/// fragment 17 ns ([`FRAGMENT_NS`]), a full-screen pass at 1280x720 about 15 ms
+/// ([`CLUSTERED_FIXED_MS_PER_MPX`]: the clustered shading pass with empty lists is one).
+/// From `lampshade bench demo --only culling --frames 10` (1280x720, 1,028 lights; one run on
+/// a loaded machine where fullscreen took 6.5x its idle time, so scaled by 1/6.5): clustered's
+/// lighting 564.6 ms = ambient + its full-screen pass (about 2 x 15 x 6.5 ms) + 4.59 M
+/// light-pixel pairs, so about 80 ns a pair there and 12 ns idle ([`PAIR_NS`]); its lists held
+/// 0.55 pairs per pixel of the lights' volumes' coverage (4.59 M against 8.37 M,
+/// [`PAIR_PER_FOOTPRINT`]). In that run `tiled` (1,160 ms) lost to two-pass (767 ms): its
+/// compute pass costs more than the CPU's cluster assignment, so the rule weighs `clustered`.
 pub const DRAW_MS: f64 = 0.030;
 pub const FRAGMENT_NS: f64 = 17.0;
-pub const TILED_FIXED_MS_PER_MPX: f64 = 16.0;
-pub const PAIR_NS: f64 = 17.0;
-/// Light-pixel pairs the tiled lists walk per pixel of a light's footprint: tiles round the
-/// footprint out to 16 px and the depth bounds keep lights in front of or behind a tile's
-/// surfaces out only partly.
-pub const TILE_PAIR_FACTOR: f64 = 1.5;
+pub const CLUSTERED_FIXED_MS_PER_MPX: f64 = 16.0;
+pub const PAIR_NS: f64 = 12.0;
+pub const PAIR_PER_FOOTPRINT: f64 = 0.55;
+/// Below this many lights `auto` keeps its per-light plan: the constants above were measured
+/// at 1,024 lights and more, and with few lights the per-light plan's draws cost little.
+pub const FRAME_RULE_MIN_LIGHTS: usize = 256;
 
 /// Draw calls a per-light method issues.
 fn draws(m: Method) -> f64 {
@@ -213,11 +216,13 @@ fn draws(m: Method) -> f64 {
     }
 }
 
-/// Estimated GPU ms of `auto`'s per-light plan and of `tiled` for the frame (per-light, tiled).
+/// Estimated GPU ms of `auto`'s per-light plan and of `clustered` for the frame (per-light,
+/// clustered): draws x [`DRAW_MS`] + each drawn light's footprint x [`FRAGMENT_NS`], against
+/// a full-screen pass + the footprints x [`PAIR_PER_FOOTPRINT`] x [`PAIR_NS`].
 pub fn frame_costs(plans: &[LightPlan], size: (u32, u32)) -> (f64, f64) {
     let pixels = (size.0 as f64) * (size.1 as f64);
     let mut per_light = 0.0;
-    let mut tiled = TILED_FIXED_MS_PER_MPX * pixels / 1e6;
+    let mut clustered = CLUSTERED_FIXED_MS_PER_MPX * pixels / 1e6;
     for p in plans {
         let footprint = match p.method {
             Method::Fullscreen => pixels,
@@ -226,27 +231,26 @@ pub fn frame_costs(plans: &[LightPlan], size: (u32, u32)) -> (f64, f64) {
         };
         per_light += draws(p.method) * DRAW_MS + footprint * FRAGMENT_NS * 1e-6;
         if p.method != Method::Skipped {
-            tiled += (p.screen_share as f64 * pixels).min(pixels) * TILE_PAIR_FACTOR * PAIR_NS * 1e-6;
+            clustered += (p.screen_share as f64 * pixels).min(pixels) * PAIR_PER_FOOTPRINT * PAIR_NS * 1e-6;
         }
     }
-    (per_light, tiled)
+    (per_light, clustered)
 }
 
 /// The frame-level rule, after the per-light plans: `tiled` and `clustered` shade every light
-/// from their lists; `auto` keeps its per-light plan unless [`frame_costs`] estimates `tiled`
-/// cheaper — fixed cost per pixel plus a cost per light-pixel pair against a cost per draw plus
-/// one per shaded fragment — and then shades the whole frame tiled. Returns the method of the
-/// tiled pass, if the frame uses it.
+/// from their lists; `auto` with at least [`FRAME_RULE_MIN_LIGHTS`] lights keeps its per-light
+/// plan unless [`frame_costs`] estimates `clustered` cheaper, and then shades the whole frame
+/// clustered. Returns the method of the tiled pass, if the frame uses it.
 pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
     let method = match view.mode {
         CullingMode::Tiled => Method::Tiled,
         CullingMode::Clustered => Method::Clustered,
-        CullingMode::Auto if !plans.is_empty() => {
-            let (per_light, tiled) = frame_costs(plans, view.size);
-            if tiled >= per_light {
+        CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
+            let (per_light, clustered) = frame_costs(plans, view.size);
+            if clustered >= per_light {
                 return None;
             }
-            Method::Tiled
+            Method::Clustered
         }
         _ => return None,
     };
@@ -281,7 +285,7 @@ mod tests {
     }
 
     #[test]
-    fn auto_keeps_its_per_light_plan_for_few_lights_and_shades_many_tiled() {
+    fn auto_keeps_its_per_light_plan_for_few_lights_and_shades_many_clustered() {
         let small = LightPlan {
             method: Method::Volume,
             volume: crate::renderer::VolumeKind::Sphere,
@@ -295,11 +299,16 @@ mod tests {
         let mut few = vec![small; 8];
         assert_eq!(frame_rule(&mut few, &v), None);
         assert!(few.iter().all(|p| p.method == Method::Volume));
+        // 300 tiny lights: the full-screen pass costs more than their draws.
+        let mut some = vec![small; 300];
+        let (per_light, clustered) = frame_costs(&some, v.size);
+        assert!(clustered > per_light, "{clustered} ms clustered, {per_light} ms per light");
+        assert_eq!(frame_rule(&mut some, &v), None);
         let mut many = vec![small; 4096];
-        let (per_light, tiled) = frame_costs(&many, v.size);
-        assert!(tiled < per_light, "{tiled} ms tiled, {per_light} ms per light");
-        assert_eq!(frame_rule(&mut many, &v), Some(Method::Tiled));
-        assert!(many.iter().all(|p| p.method == Method::Tiled));
+        let (per_light, clustered) = frame_costs(&many, v.size);
+        assert!(clustered < per_light, "{clustered} ms clustered, {per_light} ms per light");
+        assert_eq!(frame_rule(&mut many, &v), Some(Method::Clustered));
+        assert!(many.iter().all(|p| p.method == Method::Clustered));
         // Fixed modes are left alone; tiled and clustered take every light.
         v.mode = CullingMode::Volume;
         assert_eq!(frame_rule(&mut few, &v), None);

@@ -97,6 +97,10 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     } else if view == LS_VIEW_COMPLEXITY {
         let n = textureLoad(debug_tex, p, 0).r;
         c = select(vec3<f32>(0.02), heat(n / 8.0), n > 0.0);
+    } else if view == LS_VIEW_TILE_LIGHTS {
+        // Lights in the pixel's tile or cluster list; the viewer draws the legend.
+        let n = textureLoad(debug_tex, p, 0).r;
+        c = select(vec3<f32>(0.02), heat(n / LS_TILE_HEAT_MAX), n > 0.0);
     }
     return vec4<f32>(c, 1.0);
 }

@@ -380,7 +380,10 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     for round in 0..frames {
         progress(list.len() + round, steps, &format!("timed round {}/{frames}", round + 1));
         for (cfg, scene, renderer, times) in prepared.iter_mut() {
-            times.push(render_image(gpu, renderer, scene, &cfg.settings, cfg.size.0, cfg.size.1)?.1);
+            // Timed without counting (occlusion queries, the tiled pass's per-light atomics):
+            // the counts come from the counted render below.
+            let timed = Settings { count_fragments: false, ..cfg.settings.clone() };
+            times.push(render_image(gpu, renderer, scene, &timed, cfg.size.0, cfg.size.1)?.1);
         }
     }
     // By scene, light count, size and radius factor (bits).

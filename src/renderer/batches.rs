@@ -177,7 +177,15 @@ fn method_order(m: Method) -> u8 {
         Method::StencilInvert => 3,
         Method::StencilReplace => 4,
         Method::Skipped => 5,
+        Method::Tiled => 6,
+        Method::Clustered => 7,
     }
+}
+
+/// Whether the light pass draws a light of method `m`: not when it is skipped, nor when the
+/// tiled pass shades it.
+fn drawn(m: Method) -> bool {
+    !matches!(m, Method::Skipped | Method::Tiled | Method::Clustered)
 }
 
 fn stencil(m: Method) -> bool {
@@ -197,7 +205,7 @@ impl LightBatches {
                 out.batch_block(start..end, plans, lights, volumes, view);
             } else {
                 for (i, p) in plans.iter().enumerate().take(end).skip(start) {
-                    if p.method != Method::Skipped {
+                    if drawn(p.method) {
                         out.batches.push(Batch {
                             method: p.method,
                             volume: p.volume,
@@ -225,7 +233,7 @@ impl LightBatches {
         let mut groups: Vec<(Key, Vec<u32>)> = Vec::new();
         for i in block {
             let p = &plans[i];
-            if p.method == Method::Skipped {
+            if !drawn(p.method) {
                 continue;
             }
             let key = Key {

@@ -14,6 +14,9 @@ use std::fmt::Write;
 pub enum Kind {
     /// `var<storage, read>`; `dynamic` with a dynamic offset of `min_size` bytes' binding.
     Storage { dynamic: bool, min_size: u64 },
+    /// `var<storage, read_write>`: written by a compute pass or counted into with atomics
+    /// (compute and fragment stages only).
+    StorageReadWrite,
     /// A 2D float texture, filterable or not.
     Texture { filterable: bool },
     /// A filtering sampler.
@@ -97,8 +100,22 @@ pub const COMPOSE: Group = Group {
 /// through it).
 pub const HDR: Group = Group { label: "hdr colour", index: 3, bindings: &[texture(0, "hdr_color", false)] };
 
+/// Group 2 of the tiled and clustered passes (`passes::tiled`): their parameters, the light
+/// lists (a (first, count) pair per tile or cluster, then the entries) and the counters (the
+/// list allocator, then one light-pixel pair count per light). Slots from 20, apart from the
+/// compose group's.
+pub const TILES: Group = Group {
+    label: "tiles",
+    index: 2,
+    bindings: &[
+        storage(20, "tile_params", "TileParams"),
+        Binding { slot: 21, name: "tile_lists", wgsl_type: "array<u32>", kind: Kind::StorageReadWrite },
+        Binding { slot: 22, name: "tile_counts", wgsl_type: "array<atomic<u32>>", kind: Kind::StorageReadWrite },
+    ],
+};
+
 /// Every group above, in the order the shader source declares them.
-pub const GROUPS: [&Group; 4] = [&FRAME, &MATERIAL, &COMPOSE, &HDR];
+pub const GROUPS: [&Group; 5] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.
@@ -107,6 +124,7 @@ impl Group {
         for b in self.bindings {
             let var = match b.kind {
                 Kind::Storage { .. } => "var<storage, read>",
+                Kind::StorageReadWrite => "var<storage, read_write>",
                 Kind::Texture { .. } | Kind::Sampler => "var",
             };
             let _ = writeln!(s, "@group({}) @binding({}) {var} {}: {};", self.index, b.slot, b.name, b.wgsl_type);
@@ -121,14 +139,22 @@ impl Group {
             .map(|b| wgpu::BindGroupLayoutEntry {
                 binding: b.slot,
                 visibility: match b.kind {
-                    Kind::Storage { .. } => wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-                    _ => wgpu::ShaderStages::FRAGMENT,
+                    Kind::Storage { .. } => {
+                        wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
+                    }
+                    Kind::StorageReadWrite => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                    _ => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 },
                 ty: match b.kind {
                     Kind::Storage { dynamic, min_size } => wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: true },
                         has_dynamic_offset: dynamic,
                         min_binding_size: wgpu::BufferSize::new(min_size),
+                    },
+                    Kind::StorageReadWrite => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
                     },
                     Kind::Texture { filterable } => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable },

@@ -567,7 +567,8 @@ impl GBufferTargets {
         let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..layout.targets.len())
             .map(|i| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
-                visibility: wgpu::ShaderStages::FRAGMENT,
+                // Compute: the tiled pass reads each tile's depth bounds.
+                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Float { filterable: false },
                     view_dimension: wgpu::TextureViewDimension::D2,

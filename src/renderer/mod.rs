@@ -24,6 +24,7 @@ pub mod scene_gpu;
 pub mod settings;
 pub mod stats;
 pub mod targets;
+pub mod tiles;
 pub mod volumes;
 
 use crate::gpu::Gpu;
@@ -273,6 +274,8 @@ impl Renderer {
         p.gbuffer.encode(&mut encoder, &f);
         // 2. Lights: ambient + sun full-screen, then each light with its culling method.
         let draw_calls = p.lights.encode(&mut encoder, &f);
+        // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
+        p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
         // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
         p.debug.encode(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
@@ -315,6 +318,7 @@ impl Renderer {
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
+        self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
         self.last = LastFrame {
             inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),
@@ -349,6 +353,12 @@ impl Renderer {
     /// front), for the viewer and the tests.
     pub fn forward_order(&self) -> Vec<usize> {
         self.last.plan.draws.forward.iter().map(|d| d.0).collect()
+    }
+
+    /// The last frame's tile or cluster light lists as the GPU held them (`tiled`, `clustered`
+    /// or the `tile-lights` view), read back; `None` when the frame built none.
+    pub fn tile_lists(&self, gpu: &Gpu) -> Result<Option<passes::tiled::TileLists>> {
+        self.passes.tiled.lists(&gpu.device, &gpu.queue)
     }
 
     /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).

@@ -30,6 +30,10 @@ pub enum Method {
     StencilInvert,
     #[serde(alias = "replace")]
     StencilReplace,
+    /// Shaded from its tiles' light lists in the tiled pass (`passes::tiled`).
+    Tiled,
+    /// Shaded from its clusters' light lists in the tiled pass.
+    Clustered,
     /// `auto` only: the volume lies outside the view frustum and is not drawn.
     Skipped,
 }
@@ -53,6 +57,8 @@ impl CullingMode {
             CullingMode::StencilTwoPass => Some(Method::StencilTwoPass),
             CullingMode::StencilInvert => Some(Method::StencilInvert),
             CullingMode::StencilReplace => Some(Method::StencilReplace),
+            CullingMode::Tiled => Some(Method::Tiled),
+            CullingMode::Clustered => Some(Method::Clustered),
             CullingMode::Auto => None,
         }
     }
@@ -307,6 +313,10 @@ pub struct FramePlan {
     pub forward: Option<ForwardStats>,
     /// Which lights share an instanced draw, and the draw list they index.
     pub batches: LightBatches,
+    /// `Method::Tiled` or `Method::Clustered` when the tiled pass shades this frame's lights
+    /// (`tiles::frame_rule`), with the clustered lists built on the CPU.
+    pub tiled: Option<Method>,
+    pub clusters: Option<super::tiles::ClusterLists>,
 }
 
 impl FramePlan {
@@ -319,18 +329,26 @@ impl FramePlan {
         volumes: &Volumes,
         view: &PlanView,
     ) -> Self {
-        let lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
+        let mut lights: Vec<LightPlan> = records.lights.iter().map(|l| plan_light(l, volumes, view)).collect();
+        // The frame-level rule first: lights it hands to the tiled pass are left out of the
+        // batches.
+        let tiled = super::tiles::frame_rule(&mut lights, view);
+        let clusters =
+            (tiled == Some(Method::Clustered)).then(|| super::tiles::cluster_lists(&records.lights, &lights, view));
         let (draws, light_lists, forward) =
             plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
         let batches = LightBatches::new(&lights, &records.lights, volumes, view);
-        Self { lights, draws, light_lists, forward, batches }
+        Self { lights, draws, light_lists, forward, batches, tiled, clusters }
     }
 
     /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for
     /// the light types present (a scene without narrow spots draws no cone).
     pub fn volume_meshes_drawn(&self) -> Vec<String> {
         let drawn = |kind| {
-            self.lights.iter().any(|p| p.volume == kind && !matches!(p.method, Method::Fullscreen | Method::Skipped))
+            self.lights.iter().any(|p| {
+                p.volume == kind
+                    && !matches!(p.method, Method::Fullscreen | Method::Skipped | Method::Tiled | Method::Clustered)
+            })
         };
         [VolumeKind::Sphere, VolumeKind::Cone].into_iter().filter(|&k| drawn(k)).map(|k| k.name().to_string()).collect()
     }

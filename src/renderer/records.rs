@@ -133,9 +133,38 @@ gpu_record! {
     }
 }
 
+gpu_record! {
+    /// The tiled and clustered passes' parameters (`tile_params` in the shaders).
+    pub struct TileParams as "TileParams" {
+        /// 0: tiled (lists built on the GPU between each tile's depth bounds), 1: clustered.
+        pub mode: u32,
+        /// Tile size in pixels, tiles across and down, depth slices (1 when tiled).
+        pub tile_size: u32,
+        pub tiles_x: u32,
+        pub tiles_y: u32,
+        pub slices: u32,
+        /// Count light-pixel pairs into the per-light counters.
+        pub count: u32,
+        pub light_count: u32,
+        /// Entries the list region (after the headers) holds.
+        pub capacity: u32,
+        /// Clustered: a view depth d lies in slice floor(ln(d) x slice_scale + slice_bias).
+        pub slice_scale: f32,
+        pub slice_bias: f32,
+        pub pad0: f32,
+        pub pad1: f32,
+    }
+}
+
 /// Every record that has a WGSL twin.
 pub fn layouts() -> Vec<RecordLayout> {
-    vec![CameraRecord::layout(), LightRecord::layout(), ObjectRecord::layout(), ComposeParams::layout()]
+    vec![
+        CameraRecord::layout(),
+        LightRecord::layout(),
+        ObjectRecord::layout(),
+        ComposeParams::layout(),
+        TileParams::layout(),
+    ]
 }
 
 /// The most one light (and the ambient + sun pass) may add to a channel of the accumulation

@@ -94,17 +94,26 @@ pub enum CullingMode {
     StencilInvert,
     /// Seed 002: mark with depth-fail REPLACE of a per-light value, shade where stencil equals it.
     StencilReplace,
-    /// Per light, the cheapest correct method (see `Renderer::plan_light`).
+    /// Andersson 2011: a compute pass lists the lights reaching each 16x16-pixel tile between
+    /// its depth bounds; one full-screen pass shades each pixel with its tile's list.
+    Tiled,
+    /// Olsson et al. 2012: screen tiles x exponential depth slices, lights assigned on the CPU;
+    /// one full-screen pass shades each pixel with its cluster's list.
+    Clustered,
+    /// Per light, the cheapest correct method (see `plan::plan_light`), or `clustered` for the
+    /// whole frame when that is estimated cheaper (see `tiles::frame_rule`).
     Auto,
 }
 
 impl CullingMode {
-    pub const ALL: [CullingMode; 6] = [
+    pub const ALL: [CullingMode; 8] = [
         CullingMode::Fullscreen,
         CullingMode::Volume,
         CullingMode::StencilTwoPass,
         CullingMode::StencilInvert,
         CullingMode::StencilReplace,
+        CullingMode::Tiled,
+        CullingMode::Clustered,
         CullingMode::Auto,
     ];
 }
@@ -128,10 +137,13 @@ pub enum DebugView {
     Stencil = 8,
     /// Lights touching each pixel.
     Complexity = 9,
+    /// Lights in each pixel's tile list (`tiled`) or cluster list (`clustered`; `tiled` for
+    /// the other modes): a heatmap, the legend in the viewer.
+    TileLights = 10,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 10] = [
+    pub const ALL: [DebugView; 11] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -142,6 +154,7 @@ impl DebugView {
         DebugView::SpecularLight,
         DebugView::Stencil,
         DebugView::Complexity,
+        DebugView::TileLights,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.

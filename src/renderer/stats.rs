@@ -71,6 +71,22 @@ pub struct ForwardStats {
     pub fragments: Option<u64>,
 }
 
+/// The tiled pass's lists (`tiled`, `clustered`, or the `tile-lights` view's): cells (tiles, or
+/// tiles x slices), their entries summed and the longest (read back when counting).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct TileStats {
+    pub method: Method,
+    /// Tile size in pixels and depth slices (1 when tiled).
+    pub tile_size: u32,
+    pub slices: u32,
+    pub cells: u64,
+    pub entries: u64,
+    pub longest: u32,
+    /// Tiles the GPU list buffer had no room for (shaded with every light).
+    pub overflowed: u64,
+}
+
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct LightStats {
     pub index: usize,
@@ -104,6 +120,8 @@ pub struct FrameStats {
     pub efficiency: Option<f64>,
     /// The forward pass of blended surfaces, when the frame drew one.
     pub forward: Option<ForwardStats>,
+    /// The tiled pass's light lists, when the frame (or the `tile-lights` view) built them.
+    pub tiles: Option<TileStats>,
     pub gbuffer_layout: String,
     /// Colour targets of the G-buffer (the depth-stencil buffer is named apart).
     pub gbuffer_bytes_per_pixel: u32,

@@ -46,7 +46,7 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.separator();
         ui.horizontal(|ui| {
             ui.label("view");
-            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity] {
+            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity, DebugView::TileLights] {
                 ui.selectable_value(&mut st.settings.debug_view, v, v.name());
             }
         });
@@ -67,6 +67,9 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                     ui.label(RichText::new(t).small());
                 }
             });
+        }
+        if st.settings.debug_view == DebugView::TileLights {
+            tile_legend(ui);
         }
         ui.horizontal(|ui| {
             ui.label("wireframes");
@@ -143,8 +146,59 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                 if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
             row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
         }
+        if let Some(t) = &s.tiles {
+            // The tiled pass's lists: cells, summed and longest length (read back when counting).
+            let cells = if t.slices > 1 {
+                format!("{} clusters ({} px x {} slices)", fmt_count(t.cells), t.tile_size, t.slices)
+            } else {
+                format!("{} tiles ({} px)", fmt_count(t.cells), t.tile_size)
+            };
+            row(ui, "light lists", cells);
+            if t.entries > 0 || s.shaded_fragments.is_some() {
+                let over = if t.overflowed > 0 { format!(", {} full", t.overflowed) } else { String::new() };
+                row(ui, "list entries", format!("{} (longest {}){over}", fmt_count(t.entries), t.longest));
+            }
+        }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
     });
+}
+
+/// The legend of the `tile-lights` view: a colour bar from 0 to `tiles::HEAT_MAX` lights per
+/// list (longer lists saturate at the right end), with counts under it.
+fn tile_legend(ui: &mut egui::Ui) {
+    let max = crate::renderer::tiles::HEAT_MAX;
+    ui.label(RichText::new("lights per tile / cluster list").small());
+    let width = ui.available_width().clamp(120.0, 260.0);
+    let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 26.0), Sense::hover());
+    let p = ui.painter_at(rect);
+    let bar = egui::Rect::from_min_size(rect.min, Vec2::new(width, 12.0));
+    let steps = 64;
+    for k in 0..steps {
+        let [r, g, b] = crate::renderer::tiles::heat((k as f32 + 0.5) / steps as f32);
+        let x0 = bar.left() + bar.width() * k as f32 / steps as f32;
+        let cell = egui::Rect::from_min_max(
+            Pos2::new(x0, bar.top()),
+            Pos2::new(x0 + bar.width() / steps as f32 + 0.5, bar.bottom()),
+        );
+        p.rect_filled(cell, 0.0, Color32::from_rgb((r * 255.0) as u8, (g * 255.0) as u8, (b * 255.0) as u8));
+    }
+    for k in 0..=4 {
+        let v = max * k as f32 / 4.0;
+        let x = bar.left() + bar.width() * k as f32 / 4.0;
+        let align = match k {
+            0 => egui::Align2::LEFT_TOP,
+            4 => egui::Align2::RIGHT_TOP,
+            _ => egui::Align2::CENTER_TOP,
+        };
+        let label = if k == 4 { format!("{v:.0}+") } else { format!("{v:.0}") };
+        p.text(
+            Pos2::new(x, bar.bottom() + 1.0),
+            align,
+            label,
+            egui::FontId::proportional(10.0),
+            Color32::from_gray(200),
+        );
+    }
 }
 
 pub(super) fn plot(ui: &mut egui::Ui, title: &str, series: &[(&str, Color32, Vec<Option<f64>>)], unit: &str) {

@@ -301,6 +301,7 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
     ui.label("Click a G-buffer thumbnail to show it full size; click 'lit' to return.");
     ui.label("Stencil view (seed 000): blue passed Z when marking, red passed Z when shading, green was lit.");
     ui.label("Complexity: how many lights shaded each pixel.");
+    ui.label("Tile lights: how many lights each pixel's tile (tiled) or cluster (clustered) list holds.");
     ui.separator();
     ui.label(RichText::new("Scripts").strong());
     ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");

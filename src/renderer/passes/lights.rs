@@ -132,7 +132,8 @@ pub fn stencil_method(m: Method) -> Option<&'static StencilMethod> {
         Method::StencilTwoPass => Some(&STENCIL_TWO_PASS),
         Method::StencilInvert => Some(&STENCIL_INVERT),
         Method::StencilReplace => Some(&STENCIL_REPLACE),
-        Method::Skipped => None,
+        // Shaded from their lists by the tiled pass (`passes::tiled`), not drawn here.
+        Method::Tiled | Method::Clustered | Method::Skipped => None,
     }
 }
 
@@ -227,11 +228,11 @@ impl LightPass {
                 label: Some("lights"),
                 color_attachments: &t.accumulation(first && !self.ambient_in_gbuffer),
                 depth_stencil_attachment: Some(t.depth_attachment(true)),
-                timestamp_writes: if first || last {
-                    f.timestamps(first.then_some(Stamp::LightsBegin), last.then_some(Stamp::LightsEnd))
-                } else {
-                    None
-                },
+                // The tiled pass ends the lighting's span when it shades the frame.
+                timestamp_writes: f.timestamps(
+                    first.then_some(Stamp::LightsBegin),
+                    (last && f.plan.tiled.is_none()).then_some(Stamp::LightsEnd),
+                ),
                 occlusion_query_set: if f.counts { f.queries.occlusion.get(b) } else { None },
                 multiview_mask: None,
             });
@@ -244,9 +245,10 @@ impl LightPass {
             }
             let block_start = b * chunk;
             if f.counts {
-                // Skipped lights (outside the frustum) shade nothing: their count is zero.
+                // Skipped lights (outside the frustum) shade nothing here, nor do lights the
+                // tiled pass shades (its own counts replace these): their count is zero.
                 for i in block_start..((b + 1) * chunk).min(n) {
-                    if f.plan.lights[i].method == Method::Skipped {
+                    if matches!(f.plan.lights[i].method, Method::Skipped | Method::Tiled | Method::Clustered) {
                         pass.begin_occlusion_query((i - block_start) as u32);
                         pass.end_occlusion_query();
                     }

@@ -68,8 +68,12 @@ impl MeasurePass {
                 let li = i as u32..i as u32 + 1;
                 let plan = f.plan.lights[i];
                 pass.begin_occlusion_query((i - b * chunk) as u32);
+                // A tiled light crossing the far plane without depth clamp would lose its volume's
+                // far side: counted full-screen like a light drawn so.
+                let fullscreen = plan.method == Method::Fullscreen
+                    || matches!(plan.method, Method::Tiled | Method::Clustered) && plan.crosses_far && !f.depth_clamp;
                 match plan.method {
-                    Method::Fullscreen => {
+                    _ if fullscreen => {
                         pass.set_pipeline(&self.ideal);
                         pass.draw(0..3, li);
                     }

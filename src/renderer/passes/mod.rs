@@ -13,6 +13,7 @@ pub mod forward;
 pub mod gbuffer;
 pub mod lights;
 pub mod measure;
+pub mod tiled;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -51,6 +52,7 @@ pub fn wgsl_constants() -> String {
     let mut f = |name: &str, v: f32| s += &format!("const LS_{name}: f32 = {v:?};\n");
     f("LOG_ACCUM_MAX", settings::LOG_ACCUM_MAX);
     f("FP16_MAX", records::FP16_MAX);
+    f("TILE_HEAT_MAX", super::tiles::HEAT_MAX);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
     s
@@ -68,6 +70,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
             include_str!("../../../shaders/geometry.wgsl"),
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
+            include_str!("../../../shaders/tiled.wgsl"),
         ]
         .map(String::from),
     );
@@ -417,7 +420,7 @@ pub struct FrameInputs<'a> {
 impl FrameInputs<'_> {
     /// Timestamp writes at the beginning and/or end of a pass, when the frame is timed.
     pub fn timestamps(&self, begin: Option<Stamp>, end: Option<Stamp>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        if !self.times {
+        if !self.times || (begin.is_none() && end.is_none()) {
             return None;
         }
         self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
@@ -453,6 +456,7 @@ pub struct Passes {
     pub compose: compose::ComposePass,
     pub forward: forward::ForwardPass,
     pub measure: measure::MeasurePass,
+    pub tiled: tiled::TiledPass,
 }
 
 impl Passes {
@@ -465,6 +469,7 @@ impl Passes {
             compose: compose::ComposePass::new(device, &shared),
             forward: forward::ForwardPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
+            tiled: tiled::TiledPass::new(device, &shared),
             shared,
         }
     }

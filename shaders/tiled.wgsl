@@ -1,0 +1,265 @@
+// The tiled (Andersson 2011) and clustered (Olsson et al. 2012) culling modes: light lists per
+// screen tile (between the tile's depth bounds) or per view-space cluster, then ONE full-screen
+// pass shading each pixel with its list. Bindings (group 2, `tile_*`) are declared from Rust:
+// renderer::bindings::TILES. `tile_lists` holds a (first, count) pair per tile or cluster, then
+// the entries; `tile_counts[0]` is the list allocator, `tile_counts[1 + i]` light i's pairs.
+
+struct TileParams {
+    // 0: tiled, 1: clustered.
+    mode: u32,
+    tile_size: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    slices: u32,
+    // Count light-pixel pairs into tile_counts.
+    count: u32,
+    light_count: u32,
+    // Entries the list region (after the headers) holds.
+    capacity: u32,
+    // Clustered: slice = floor(ln(view depth) * slice_scale + slice_bias).
+    slice_scale: f32,
+    slice_bias: f32,
+    pad0: f32,
+    pad1: f32,
+};
+
+// A list count meaning "every light" (tiles::ALL_LIGHTS).
+const LS_TILE_ALL: u32 = 0xffffffffu;
+// Lights the compute pass keeps a bit for (2048 words of workgroup memory); a tile of a frame
+// with more lights is shaded with every light.
+const LS_TILE_MAX_LIGHTS: u32 = 65536u;
+
+var<workgroup> wg_min: atomic<u32>;
+var<workgroup> wg_max: atomic<u32>;
+var<workgroup> wg_valid: atomic<u32>;
+var<workgroup> wg_total: atomic<u32>;
+var<workgroup> wg_mask: array<atomic<u32>, 2048>;
+var<workgroup> wg_scan: array<u32, 256>;
+// Plain copies for workgroupUniformLoad (barriers need uniform control flow).
+var<workgroup> wg_base: u32;
+var<workgroup> wg_count: u32;
+var<workgroup> wg_sum: u32;
+
+// Whether light l's sphere can reach a point of the tile whose pixels span [lo, hi) (pixel
+// edges, y down) between view depths dmin and dmax: the sphere meets each of the tile
+// frustum's four side planes' inner half-spaces and the depth slab. Conservative: a light
+// reaching a point of the tile always passes (the sphere meets the intersection, so each part).
+fn light_meets_tile(l: GpuLight, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: f32) -> bool {
+    let c = l.position;
+    let r = l.radius;
+    let d = -c.z;
+    if d + r < dmin || d - r > dmax {
+        return false;
+    }
+    let p00 = camera.proj[0][0];
+    let p11 = camera.proj[1][1];
+    let p20 = camera.proj[2][0];
+    let p21 = camera.proj[2][1];
+    let ndc_lo = vec2<f32>(lo.x * camera.screen.z * 2.0 - 1.0, 1.0 - hi.y * camera.screen.w * 2.0);
+    let ndc_hi = vec2<f32>(hi.x * camera.screen.z * 2.0 - 1.0, 1.0 - lo.y * camera.screen.w * 2.0);
+    // Inside the left edge x = ndc_lo.x: P00 x + (ndc + P20) z >= 0 (z = -d), and so on.
+    let left = normalize(vec3<f32>(p00, 0.0, ndc_lo.x + p20));
+    let right = normalize(vec3<f32>(-p00, 0.0, -(ndc_hi.x + p20)));
+    let bottom = normalize(vec3<f32>(0.0, p11, ndc_lo.y + p21));
+    let top = normalize(vec3<f32>(0.0, -p11, -(ndc_hi.y + p21)));
+    if dot(left, c) < -r || dot(right, c) < -r || dot(bottom, c) < -r || dot(top, c) < -r {
+        return false;
+    }
+    // And the box around the tile's frustum piece between the depth bounds (tighter than the
+    // planes where the depth range is narrow): the sphere meets it if its nearest point is
+    // within the radius.
+    let xs = vec4<f32>(ndc_lo.x + p20, ndc_hi.x + p20, ndc_lo.x + p20, ndc_hi.x + p20) / p00
+        * vec4<f32>(dmin, dmin, dmax, dmax);
+    let ys = vec4<f32>(ndc_lo.y + p21, ndc_hi.y + p21, ndc_lo.y + p21, ndc_hi.y + p21) / p11
+        * vec4<f32>(dmin, dmin, dmax, dmax);
+    let lo3 = vec3<f32>(min(min(xs.x, xs.y), min(xs.z, xs.w)), min(min(ys.x, ys.y), min(ys.z, ys.w)), -dmax);
+    let hi3 = vec3<f32>(max(max(xs.x, xs.y), max(xs.z, xs.w)), max(max(ys.x, ys.y), max(ys.z, ys.w)), -dmin);
+    let e = c - clamp(c, lo3, hi3);
+    return dot(e, e) <= r * r * 1.0001;
+}
+
+// One workgroup per 16x16 tile: the tile's depth bounds over its valid G-buffer pixels, a bit
+// per light that meets the tile, then the set bits written out in light order.
+@compute @workgroup_size(16, 16, 1)
+fn cs_tile_lists(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+    @builtin(global_invocation_id) gid: vec3<u32>,
+) {
+    let n = tile_params.light_count;
+    let words = (min(n, LS_TILE_MAX_LIGHTS) + 31u) / 32u;
+    if li == 0u {
+        atomicStore(&wg_min, 0x7f7fffffu);
+        atomicStore(&wg_max, 0u);
+        atomicStore(&wg_valid, 0u);
+        atomicStore(&wg_total, 0u);
+    }
+    for (var w = li; w < words; w += 256u) {
+        atomicStore(&wg_mask[w], 0u);
+    }
+    workgroupBarrier();
+    let size = vec2<u32>(camera.screen.xy);
+    if all(gid.xy < size) {
+        let s = gbuffer_load(vec2<i32>(gid.xy));
+        let d = -s.position.z;
+        if s.valid && d > 0.0 && d < 3.0e38 {
+            // Positive floats order as their bit patterns.
+            atomicMin(&wg_min, bitcast<u32>(d));
+            atomicMax(&wg_max, bitcast<u32>(d));
+            atomicAdd(&wg_valid, 1u);
+        }
+    }
+    workgroupBarrier();
+    let tile = wg.y * tile_params.tiles_x + wg.x;
+    if li == 0u {
+        wg_count = atomicLoad(&wg_valid);
+    }
+    let valid = workgroupUniformLoad(&wg_count);
+    if valid == 0u {
+        if li == 0u {
+            tile_lists[2u * tile] = 0u;
+            tile_lists[2u * tile + 1u] = 0u;
+        }
+        return;
+    }
+    if n > LS_TILE_MAX_LIGHTS {
+        if li == 0u {
+            tile_lists[2u * tile] = 0u;
+            tile_lists[2u * tile + 1u] = LS_TILE_ALL;
+        }
+        return;
+    }
+    // Widened against rounding: the shading pass reconstructs the same depths, but another
+    // compilation may round differently; a pixel around the tile's edges.
+    let dmin = bitcast<f32>(atomicLoad(&wg_min)) * (1.0 - 1e-4);
+    let dmax = bitcast<f32>(atomicLoad(&wg_max)) * (1.0 + 1e-4);
+    let lo = vec2<f32>(wg.xy * tile_params.tile_size) - 1.0;
+    let hi = vec2<f32>((wg.xy + 1u) * tile_params.tile_size) + 1.0;
+    for (var i = li; i < n; i += 256u) {
+        if light_meets_tile(lights[i], lo, hi, dmin, dmax) {
+            atomicOr(&wg_mask[i / 32u], 1u << (i % 32u));
+        }
+    }
+    workgroupBarrier();
+    var mine = 0u;
+    for (var w = li; w < words; w += 256u) {
+        mine += countOneBits(atomicLoad(&wg_mask[w]));
+    }
+    atomicAdd(&wg_total, mine);
+    workgroupBarrier();
+    if li == 0u {
+        let t = atomicLoad(&wg_total);
+        wg_sum = t;
+        wg_base = atomicAdd(&tile_counts[0], t);
+    }
+    let base = workgroupUniformLoad(&wg_base);
+    let total = workgroupUniformLoad(&wg_sum);
+    let header = 2u * tile_params.tiles_x * tile_params.tiles_y;
+    if base + total > tile_params.capacity {
+        // Out of room: this tile walks every light (the right picture, at a higher cost).
+        if li == 0u {
+            tile_lists[2u * tile] = 0u;
+            tile_lists[2u * tile + 1u] = LS_TILE_ALL;
+        }
+        return;
+    }
+    if li == 0u {
+        tile_lists[2u * tile] = header + base;
+        tile_lists[2u * tile + 1u] = total;
+    }
+    // Written in light order: word by word, each round of 256 words placed by a prefix sum.
+    var done = 0u;
+    for (var round = 0u; round < words; round += 256u) {
+        let w = round + li;
+        var bits = 0u;
+        if w < words {
+            bits = atomicLoad(&wg_mask[w]);
+        }
+        let c = countOneBits(bits);
+        wg_scan[li] = c;
+        workgroupBarrier();
+        for (var off = 1u; off < 256u; off *= 2u) {
+            var v = 0u;
+            if li >= off {
+                v = wg_scan[li - off];
+            }
+            workgroupBarrier();
+            wg_scan[li] += v;
+            workgroupBarrier();
+        }
+        var at = header + base + done + wg_scan[li] - c;
+        let round_total = wg_scan[255];
+        workgroupBarrier();
+        while bits != 0u {
+            let b = firstTrailingBit(bits);
+            tile_lists[at] = w * 32u + b;
+            at += 1u;
+            bits &= bits - 1u;
+        }
+        done += round_total;
+    }
+}
+
+// The pixel's tile (tiled) or cluster (clustered).
+fn tile_cell(p: vec2<i32>, s: Surface) -> u32 {
+    let t = vec2<u32>(p) / tile_params.tile_size;
+    let tile = min(t.y, tile_params.tiles_y - 1u) * tile_params.tiles_x + min(t.x, tile_params.tiles_x - 1u);
+    if tile_params.mode == 0u {
+        return tile;
+    }
+    let k = floor(log(max(-s.position.z, 1e-30)) * tile_params.slice_scale + tile_params.slice_bias);
+    let slice = u32(clamp(k, 0.0, f32(tile_params.slices - 1u)));
+    return slice * tile_params.tiles_x * tile_params.tiles_y + tile;
+}
+
+// One full-screen pass: each valid pixel walks its list, every light through `shade_light`
+// and the per-light clamp, summed, and added once into the accumulation.
+@fragment
+fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
+    let p = vec2<i32>(frag.xy);
+    let s = gbuffer_load(p);
+    var d = vec3<f32>(0.0);
+    var sp = vec3<f32>(0.0);
+    if s.valid {
+        let cell = tile_cell(p, s);
+        let first = tile_lists[2u * cell];
+        var count = tile_lists[2u * cell + 1u];
+        let all = count == LS_TILE_ALL;
+        if all {
+            count = tile_params.light_count;
+        }
+        let clamp_to = vec3<f32>(camera.light_clamp);
+        for (var k = 0u; k < count; k++) {
+            var i = k;
+            if !all {
+                i = tile_lists[first + k];
+            }
+            let r = shade_light(s, lights[i]);
+            d += min(r.diffuse, clamp_to);
+            sp += min(r.specular, clamp_to);
+            if tile_params.count != 0u {
+                atomicAdd(&tile_counts[1u + i], 1u);
+            }
+        }
+    }
+    var out: LightTargets;
+    out.diffuse = encode_light(d);
+    out.specular = encode_light(sp);
+    return out;
+}
+
+// Debug: the length of the pixel's list (every pixel with a G-buffer point).
+@fragment
+fn fs_tile_count(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(frag.xy);
+    let s = gbuffer_load(p);
+    if !s.valid {
+        return vec4<f32>(0.0);
+    }
+    let cell = tile_cell(p, s);
+    var count = tile_lists[2u * cell + 1u];
+    if count == LS_TILE_ALL {
+        count = tile_params.light_count;
+    }
+    return vec4<f32>(f32(count), 0.0, 0.0, 1.0);
+}

@@ -1,0 +1,383 @@
+//! The `tiled` and `clustered` culling modes on the GPU, and their debug view.
+//!
+//! - `tiled` (Andersson 2011): a compute pass, one 16x16 workgroup per screen tile, takes the
+//!   tile's depth bounds from the G-buffer, tests every light's sphere against the tile's
+//!   frustum between them and writes the tile's list in light order (`cs_tile_lists`).
+//! - `clustered` (Olsson et al. 2012): the lists come from the CPU (`tiles::cluster_lists`).
+//! - Both: ONE full-screen pass (`fs_tiled`) shades each valid pixel with its list through
+//!   `shade_light` and the per-light clamp, adding into the same accumulation targets after the
+//!   ambient + sun pass. With `count_fragments` each evaluated light-pixel pair is counted per
+//!   light (`atomicAdd`), so `shaded` means what it means for the per-light methods.
+//! - `tile-lights` view: each pixel's list length into the debug target (`fs_tile_count`).
+//!
+//! Buffers live here (they depend on the frame's size and light count), behind a mutex since
+//! passes record through `&self`.
+
+use super::{log_accum, FrameInputs, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use crate::renderer::bindings;
+use crate::renderer::plan::Method;
+use crate::renderer::records::TileParams;
+use crate::renderer::settings::DebugView;
+use crate::renderer::stats::{FrameStats, Stamp, TileStats};
+use crate::renderer::targets::attachment;
+use crate::renderer::tiles::{ALL_LIGHTS, TILE};
+use anyhow::Result;
+use std::sync::Mutex;
+
+/// Average list entries per tile the GPU list buffer holds room for (tiles beyond it are
+/// shaded with every light, correct but slower; the stats count them as `overflowed`).
+pub const ENTRIES_PER_TILE: u32 = 1024;
+/// Most u32 entries the list buffer holds: 128 MiB, WebGPU's guaranteed binding size.
+pub const MAX_ENTRIES: u64 = (128 << 20) / 4;
+
+struct Buffers {
+    params: wgpu::Buffer,
+    lists: wgpu::Buffer,
+    counts: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    /// Readback of the headers and of the counters.
+    lists_read: wgpu::Buffer,
+    counts_read: wgpu::Buffer,
+}
+
+/// What the last frame left to read back.
+#[derive(Clone, Copy)]
+struct Pending {
+    method: Method,
+    cells: u64,
+    lights: usize,
+    counted: bool,
+    tile_size: u32,
+    slices: u32,
+    params: TileParams,
+    /// u32 words of the list buffer in use.
+    words: u64,
+}
+
+/// The last frame's lists as the GPU held them (for tests and inspection): the parameters,
+/// then a (first, count) pair per cell followed by the entries.
+pub struct TileLists {
+    pub params: TileParams,
+    pub data: Vec<u32>,
+}
+
+impl TileLists {
+    /// The cell of pixel (`x`, `y`) whose G-buffer point lies at view depth `depth`, as
+    /// `tile_cell` in `shaders/tiled.wgsl` finds it.
+    pub fn cell(&self, x: u32, y: u32, depth: f32) -> usize {
+        let p = &self.params;
+        let tile = (y / p.tile_size).min(p.tiles_y - 1) * p.tiles_x + (x / p.tile_size).min(p.tiles_x - 1);
+        if p.mode == 0 {
+            return tile as usize;
+        }
+        let k = (depth.max(1e-30).ln() * p.slice_scale + p.slice_bias).floor().clamp(0.0, (p.slices - 1) as f32);
+        (k as u32 * p.tiles_x * p.tiles_y + tile) as usize
+    }
+
+    /// Light indices of `cell` (every light when the GPU ran out of room for it).
+    pub fn list(&self, cell: usize) -> Vec<u32> {
+        let (first, count) = (self.data[2 * cell] as usize, self.data[2 * cell + 1]);
+        if count == ALL_LIGHTS {
+            return (0..self.params.light_count).collect();
+        }
+        self.data[first..first + count as usize].to_vec()
+    }
+}
+
+pub struct TiledPass {
+    bgl: wgpu::BindGroupLayout,
+    build: wgpu::ComputePipeline,
+    shade: wgpu::RenderPipeline,
+    count_view: wgpu::RenderPipeline,
+    state: Mutex<(Option<Buffers>, Option<Pending>)>,
+}
+
+fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+impl TiledPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let bgl = bindings::TILES.layout(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("tiled"),
+            bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
+            immediate_size: 0,
+        });
+        let build = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("tile lists"),
+            layout: Some(&layout),
+            module: &shared.module,
+            entry_point: Some("cs_tile_lists"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let blend = if log_accum(shared.key.accum_format) { MULTIPLY } else { ADDITIVE };
+        let accum = wgpu::ColorTargetState {
+            format: shared.key.accum_format,
+            blend: Some(blend),
+            write_mask: wgpu::ColorWrites::ALL,
+        };
+        let debug = wgpu::ColorTargetState { format: DEBUG_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL };
+        let pipe = |label, fs, targets: &[Option<wgpu::ColorTargetState>]| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &shared.module,
+                    entry_point: Some("vs_compose"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &shared.module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum.clone()), Some(accum)]);
+        let count_view = pipe("tile lights view", "fs_tile_count", &[Some(debug)]);
+        Self { bgl, build, shade, count_view, state: Mutex::new((None, None)) }
+    }
+
+    /// Records the tiled pass when the frame's plan shades with it (lists, then one
+    /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
+    /// when shown. `queue` uploads the parameters and the clustered lists.
+    pub fn encode(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+    ) {
+        let view = f.settings.debug_view == DebugView::TileLights;
+        let Ok(mut state) = self.state.lock() else { return };
+        state.1 = None;
+        if f.plan.tiled.is_none() && !view {
+            return;
+        }
+        let method = match (f.plan.tiled, &f.plan.clusters) {
+            (Some(Method::Clustered), Some(_)) => Method::Clustered,
+            _ => Method::Tiled,
+        };
+        let (w, h) = (f.targets.width, f.targets.height);
+        let n = f.plan.lights.len();
+        let counted = f.counts && f.plan.tiled.is_some();
+        let mut params = TileParams {
+            mode: 0,
+            tile_size: TILE,
+            tiles_x: w.div_ceil(TILE),
+            tiles_y: h.div_ceil(TILE),
+            slices: 1,
+            count: counted as u32,
+            light_count: n as u32,
+            capacity: 0,
+            slice_scale: 0.0,
+            slice_bias: 0.0,
+            pad0: 0.0,
+            pad1: 0.0,
+        };
+        let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
+        let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid.map(|g| (c, g))) {
+            params.mode = 1;
+            params.tile_size = crate::renderer::tiles::CLUSTER_TILE;
+            (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
+            (params.slice_scale, params.slice_bias) = (g.scale, g.bias);
+            params.capacity = (c.data.len() - 2 * g.cells()) as u32;
+            c.data.len() as u64
+        } else {
+            let cells = (params.tiles_x * params.tiles_y) as u64;
+            let capacity = (cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64)).min(MAX_ENTRIES - 2 * cells);
+            params.capacity = capacity as u32;
+            2 * cells + capacity
+        };
+        let cells = (params.tiles_x * params.tiles_y * params.slices) as u64;
+        let fits = |b: &Option<Buffers>| {
+            b.as_ref().is_some_and(|b| b.lists.size() >= entries * 4 && b.counts.size() >= (n as u64 + 1) * 4)
+        };
+        if !fits(&state.0) {
+            use wgpu::BufferUsages as U;
+            let lists =
+                buffer(device, "tile lists", (entries * 4).next_power_of_two(), U::STORAGE | U::COPY_DST | U::COPY_SRC);
+            let counts = buffer(
+                device,
+                "tile counts",
+                ((n as u64 + 1) * 4).next_power_of_two(),
+                U::STORAGE | U::COPY_DST | U::COPY_SRC,
+            );
+            let params =
+                buffer(device, "tile params", std::mem::size_of::<TileParams>() as u64, U::STORAGE | U::COPY_DST);
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("tiles"),
+                layout: &self.bgl,
+                entries: &bindings::TILES.entries(vec![
+                    params.as_entire_binding(),
+                    lists.as_entire_binding(),
+                    counts.as_entire_binding(),
+                ]),
+            });
+            let lists_read = buffer(device, "tile lists readback", lists.size(), U::COPY_DST | U::MAP_READ);
+            let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
+            state.0 = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
+        }
+        let Some(b) = &state.0 else { return };
+        queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
+        if let Some(c) = clusters {
+            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data));
+        }
+        encoder.clear_buffer(&b.counts, 0, Some((n as u64 + 1) * 4));
+        if method == Method::Tiled {
+            let mut pass = encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("tile lists"), timestamp_writes: None });
+            pass.set_pipeline(&self.build);
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+            pass.set_bind_group(2, &b.group, &[]);
+            pass.dispatch_workgroups(params.tiles_x, params.tiles_y, 1);
+        }
+        if f.plan.tiled.is_some() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("tiled shade"),
+                color_attachments: &f.targets.accumulation(false),
+                depth_stencil_attachment: None,
+                timestamp_writes: f.timestamps(None, Some(Stamp::LightsEnd)),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shade);
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+            pass.set_bind_group(2, &b.group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        if view {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("tile lights view"),
+                color_attachments: &[attachment(&f.targets.debug_view, Some(wgpu::Color::TRANSPARENT))],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.count_view);
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+            pass.set_bind_group(2, &b.group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        if f.counts {
+            encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
+            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, (n as u64 + 1) * 4);
+        }
+        state.1 = Some(Pending {
+            method,
+            cells,
+            lights: n,
+            counted: f.counts,
+            tile_size: params.tile_size,
+            slices: params.slices,
+            params,
+            words: entries,
+        });
+    }
+
+    /// The last frame's lists, read back from the GPU; `None` when it built none.
+    pub fn lists(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Option<TileLists>> {
+        let Ok(state) = self.state.lock() else { return Ok(None) };
+        let (Some(b), Some(p)) = (&state.0, state.1) else { return Ok(None) };
+        let bytes = p.words * 4;
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile lists readback") });
+        encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, bytes);
+        queue.submit([encoder.finish()]);
+        let slice = b.lists_read.slice(0..bytes);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        rx.recv()?.map_err(|e| anyhow::anyhow!("tile readback failed: {e}"))?;
+        let data = {
+            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
+            bytemuck::cast_slice::<u8, u32>(&data).to_vec()
+        };
+        b.lists_read.unmap();
+        Ok(Some(TileLists { params: p.params, data }))
+    }
+
+    /// After the frame's submission: the per-light pair counts as `shaded` (replacing the
+    /// empty occlusion counts of lights the light pass did not draw), and the list sizes.
+    pub fn read(&self, device: &wgpu::Device, stats: &mut FrameStats, tiled: Option<Method>) -> Result<()> {
+        let Ok(state) = self.state.lock() else { return Ok(()) };
+        let (Some(b), Some(p)) = (&state.0, state.1) else { return Ok(()) };
+        if !p.counted {
+            stats.tiles = Some(TileStats {
+                method: p.method,
+                tile_size: p.tile_size,
+                slices: p.slices,
+                cells: p.cells,
+                ..Default::default()
+            });
+            return Ok(());
+        }
+        let map = |buf: &wgpu::Buffer, bytes: u64| -> Result<Vec<u32>> {
+            let slice = buf.slice(0..bytes);
+            let (tx, rx) = std::sync::mpsc::channel();
+            slice.map_async(wgpu::MapMode::Read, move |r| {
+                let _ = tx.send(r);
+            });
+            device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+            rx.recv()?.map_err(|e| anyhow::anyhow!("tile readback failed: {e}"))?;
+            let words = {
+                let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
+                bytemuck::cast_slice::<u8, u32>(&data).to_vec()
+            };
+            buf.unmap();
+            Ok(words)
+        };
+        let headers = map(&b.lists_read, p.cells * 8)?;
+        let counts = map(&b.counts_read, (p.lights as u64 + 1) * 4)?;
+        let mut t = TileStats {
+            method: p.method,
+            tile_size: p.tile_size,
+            slices: p.slices,
+            cells: p.cells,
+            ..Default::default()
+        };
+        for c in headers.chunks_exact(2) {
+            let len = if c[1] == ALL_LIGHTS {
+                t.overflowed += 1;
+                p.lights as u32
+            } else {
+                c[1]
+            };
+            t.entries += len as u64;
+            t.longest = t.longest.max(len);
+        }
+        stats.tiles = Some(t);
+        if tiled.is_some() {
+            for l in &mut stats.per_light {
+                l.shaded = counts.get(1 + l.index).map(|&c| c as u64);
+                l.coverage = None;
+            }
+            stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
+            stats.coverage_fragments = None;
+            if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
+                stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
+            }
+        }
+        Ok(())
+    }
+}

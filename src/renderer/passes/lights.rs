@@ -7,7 +7,7 @@
 
 use super::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
-use crate::renderer::stats::{Stamp, LIGHTS_PER_QUERY_SET};
+use crate::renderer::stats::{light_pass_ranges, Stamp, LIGHTS_PER_QUERY_SET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
 /// A culling method's draws.
@@ -198,16 +198,18 @@ impl LightPass {
         DRAWN.iter().position(|&d| d == m).and_then(|i| self.methods.get(i))
     }
 
-    /// Records the accumulation: one render pass per block of lights (an occlusion query set
-    /// holds 4096), the first starting with ambient + sun.
+    /// Records the accumulation: one render pass per range of lights (within one occlusion
+    /// query set of 4096, and small enough for llvmpipe when counting: see
+    /// `stats::light_pass_ranges`), the first starting with ambient + sun.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let t = f.targets;
-        let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
-        let blocks = n.div_ceil(chunk).max(1);
+        let triangles = (f.volumes.sphere.indices.len() as u64 / 3, f.volumes.cone.indices.len() as u64 / 3);
+        let ranges = light_pass_ranges(&f.plan.lights, (t.width, t.height), f.counts, triangles);
         let mut replace_counter = 0u32;
-        for b in 0..blocks {
-            let (first, last) = (b == 0, b + 1 == blocks);
+        for (k, lights) in ranges.iter().enumerate() {
+            let (first, last) = (k == 0, k + 1 == ranges.len());
+            let b = lights.start / chunk;
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("lights"),
                 color_attachments: &t.accumulation(first),
@@ -227,7 +229,7 @@ impl LightPass {
                 pass.draw(0..3, 0..1);
                 pass.pop_debug_group();
             }
-            for i in b * chunk..((b + 1) * chunk).min(n) {
+            for i in lights.clone() {
                 let plan = f.plan.lights[i];
                 let li = i as u32..i as u32 + 1;
                 let (range, base) = f.volumes.range(plan.volume);

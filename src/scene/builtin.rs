@@ -589,7 +589,7 @@ pub fn sphere_wall(n: usize) -> Scene {
         let ring = (1.0 - y * y).max(0.0).sqrt();
         let a = golden * i as f64;
         let dir = DVec3::new(ring * a.cos(), y, ring * a.sin());
-        b.point(dir * at, hue(unit(71, i as u64) as f32), 1.0 + unit(72, i as u64) as f32, range);
+        b.point(dir * at, hue(unit(71, i as u64) as f32), 0.25 + 0.25 * unit(72, i as u64) as f32, range);
     }
     b.scene
 }

@@ -252,8 +252,8 @@ impl SphereRadii {
 pub const ANALYTIC_SHARE_SLACK: f64 = 0.01;
 
 /// The fast path of [`plan_light`] for the common case at thousands of lights: a sphere volume
-/// wholly between the near and far planes (no clipping) whose projection lies wholly on screen
-/// or wholly off it. A sphere in front of the eye projects to an ellipse, so no hull is built:
+/// wholly between the near and far planes (no clipping), or wholly outside the view. A sphere
+/// in front of the eye projects to an ellipse, so no hull is built:
 /// - the rectangle ([`LightPlan::screen_rect`]) is the tight projected bounding box of the
 ///   sphere through the mesh's vertices, which holds the mesh and so its footprint
 ///   (conservative, as the hull's box was) and what `auto` decides on (the hull's box, the
@@ -261,8 +261,9 @@ pub const ANALYTIC_SHARE_SLACK: f64 = 0.01;
 ///   smaller);
 /// - `screen_share` is the area of the ellipse of the sphere with the mesh's mean projected
 ///   area (`SphereRadii::mean`);
-/// - `None` (the hull is built) when the volume crosses the near or far plane, is partly on
-///   screen, or is so close that the inner and outer spheres' projections differ by more than
+/// - partly on screen, the share is that ellipse clipped to the screen ([`silhouette_area`]);
+/// - `None` (the hull is built) when the volume crosses the near or far plane, or is so close
+///   that the inner and outer spheres' projections differ by more than
 ///   [`ANALYTIC_SHARE_SLACK`] of the screen.
 ///
 /// The projected sphere (centre c in view space, depth z = -c.z > r): a view ray x = m z is
@@ -332,29 +333,17 @@ pub fn plan_sphere_ahead(
     if !(lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0) {
         return Some(off(choose(view, facts(true, 0.0))));
     }
-    if lo.x < -1.0 || lo.y < -1.0 || hi.x > 1.0 || hi.y > 1.0 {
-        // Partly on screen: the hull path clips it.
-        return None;
-    }
+    let partly = lo.x < -1.0 || lo.y < -1.0 || hi.x > 1.0 || hi.y > 1.0;
     let inner = (light.radius * radii.inner) as f64;
     let (area_outer, area_inner) = (area(outer), area(inner));
     if (area_outer - area_inner) / 4.0 > ANALYTIC_SHARE_SLACK {
         return None;
     }
-    // `auto`'s rectangle: the hull path's is the box of the projected vertices, which lies
-    // between the inner sphere's box (the mesh holds that sphere) and the outer's (its vertices
-    // lie on it). Where the two boxes fall on either side of the threshold the vertices are
-    // projected as the hull path does, so both paths decide alike.
-    let screen = (view.size.0 * view.size.1) as f32;
-    let pixels_of = |lo: DVec2, hi: DVec2| {
-        let m = (hi - lo).max(DVec2::ZERO);
-        (m.x * m.y / 4.0) as f32 * screen
-    };
-    let (ilo, ihi) = bounds(inner);
-    let (p_outer, p_inner) = (pixels_of(lo, hi), pixels_of(ilo, ihi));
-    let pixels = if (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS) {
-        p_outer
-    } else {
+    // The hull path decides on the box of the projected vertices, which lies between the inner
+    // sphere's box (the mesh holds that sphere) and the outer's (its vertices lie on it). Where
+    // the two boxes disagree (on being on screen, or on `auto`'s threshold) the vertices are
+    // projected as the hull path projects them, so both paths decide alike.
+    let vertex_box = || {
         let pos = Vec3::from(light.position);
         let (mut vlo, mut vhi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
         for v in &mesh.vertices {
@@ -364,15 +353,60 @@ pub fn plan_sphere_ahead(
             vlo = vlo.min(n);
             vhi = vhi.max(n);
         }
-        let a = (vhi.min(Vec2::ONE) - vlo.max(-Vec2::ONE)).max(Vec2::ZERO);
-        a.x * a.y / 4.0 * screen
+        (vlo.as_dvec2(), vhi.as_dvec2())
+    };
+    let on_screen = |(lo, hi): (DVec2, DVec2)| lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0;
+    let inner_box = bounds(inner);
+    let mut exact = None;
+    if !on_screen(inner_box) {
+        let b = *exact.get_or_insert_with(vertex_box);
+        if !on_screen(b) {
+            return Some(off(choose(view, facts(true, 0.0))));
+        }
+    }
+    let screen = (view.size.0 * view.size.1) as f32;
+    let pixels_of = |(lo, hi): (DVec2, DVec2)| {
+        let m = (hi.min(DVec2::ONE) - lo.max(-DVec2::ONE)).max(DVec2::ZERO);
+        (m.x * m.y / 4.0) as f32 * screen
+    };
+    let (p_outer, p_inner) = (pixels_of((lo, hi)), pixels_of(inner_box));
+    let pixels = if (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS) {
+        p_outer
+    } else {
+        pixels_of(*exact.get_or_insert_with(vertex_box))
     };
     let method = choose(view, facts(false, pixels));
     let mean = (light.radius * radii.mean) as f64;
-    let screen_share = (area(mean) / 4.0) as f32;
+    let screen_share = if partly { silhouette_area(c, mean, xs, ys) / 4.0 } else { (area(mean) / 4.0) as f32 };
     let screen_rect = Some((lo.as_vec2(), hi.as_vec2()));
     Some(LightPlan { method, volume, crosses_near: false, crosses_far: false, screen_share, screen_rect })
 }
+
+/// Area (NDC) on screen of the ellipse a sphere (view-space centre `c`, radius `r`, wholly in
+/// front of the eye) projects to: the circle where the eye's tangent cone touches the sphere
+/// (centre c (1 - r^2/|c|^2), radius r sqrt(1 - r^2/|c|^2), across the view ray to c), as a
+/// polygon of [`SILHOUETTE_CORNERS`] corners widened to the circle's area, projected (a convex
+/// polygon in order) and clipped to the screen.
+fn silhouette_area(c: DVec3, r: f64, xs: f64, ys: f64) -> f32 {
+    let l2 = c.length_squared();
+    let k = 1.0 - r * r / l2;
+    let (centre, radius) = (c * k, r * k.sqrt());
+    let (u, v) = (c / l2.sqrt()).any_orthonormal_pair();
+    let step = std::f64::consts::TAU / SILHOUETTE_CORNERS as f64;
+    // An inscribed polygon of n corners has sin(2 pi / n) n / (2 pi) of the circle's area.
+    let widen = (step / step.sin()).sqrt();
+    let poly = (0..SILHOUETTE_CORNERS)
+        .map(|i| {
+            let a = step * i as f64;
+            let p = centre + (u * a.cos() + v * a.sin()) * (radius * widen);
+            Vec2::new((xs * p.x / -p.z) as f32, (ys * p.y / -p.z) as f32)
+        })
+        .collect();
+    clipped_area(poly)
+}
+
+/// Corners of the polygon [`silhouette_area`] stands for an ellipse with.
+const SILHOUETTE_CORNERS: usize = 32;
 
 /// The projected corners (NDC) of a convex volume clipped at the near plane: its vertices at or
 /// beyond the plane, and where its edges cross it. `placed` are the mesh's view-space vertices.
@@ -403,7 +437,11 @@ fn clipped_footprint(placed: &[Vec3], indices: &[u32], proj: Mat4, near: f32) ->
 
 /// Area (NDC units, the screen is 4) of the convex hull of `points` inside the screen square.
 fn screen_area(points: &[Vec2]) -> f32 {
-    let mut poly = convex_hull(points);
+    clipped_area(convex_hull(points))
+}
+
+/// Area (NDC) of a convex polygon (corners in order, either way round) inside the screen.
+fn clipped_area(mut poly: Vec<Vec2>) -> f32 {
     // Sutherland-Hodgman against x <= 1, x >= -1, y <= 1, y >= -1.
     for (axis, sign) in [(0usize, 1.0f32), (0, -1.0), (1, 1.0), (1, -1.0)] {
         if poly.is_empty() {
@@ -763,6 +801,11 @@ mod tests {
                 (Vec3::new(-6.0, 3.0, -40.0), 5.0),
                 (Vec3::new(1.0, 1.0, -12.0), 1.0),
                 (Vec3::new(0.0, 0.0, -10.0), 3.0),
+                // Partly on screen: the silhouette clipped to the screen.
+                (Vec3::new(25.0, 0.0, -25.0), 3.0),
+                (Vec3::new(0.0, -14.0, -25.0), 2.0),
+                (Vec3::new(-24.0, 13.5, -25.0), 3.0),
+                (Vec3::new(9.0, 5.0, -10.0), 1.5),
             ] {
                 let light = point(pos, radius);
                 let Some(fast) = plan_sphere_ahead(&light, radii, &mesh, &view) else { continue };
@@ -782,7 +825,7 @@ mod tests {
                 assert!(a0.cmple(h0 + 1e-5).all() && a1.cmpge(h1 - 1e-5).all(), "{pos}: {a0} {a1} vs {h0} {h1}");
             }
         }
-        assert!(taken >= 10, "the analytic path took only {taken} cases");
+        assert!(taken >= 20, "the analytic path took only {taken} cases");
     }
 
     #[test]

@@ -246,10 +246,14 @@ impl SphereRadii {
     }
 }
 
-/// Largest error in `screen_share` the analytic path of [`plan_sphere_ahead`] may make: it is
-/// taken only when the projections of the spheres inside and outside the mesh differ by at
-/// most this share of the screen, and the mesh's footprint lies between them.
-pub const ANALYTIC_SHARE_SLACK: f64 = 0.01;
+/// The analytic path of [`plan_sphere_ahead`] is taken only when the projections of the
+/// spheres inside and outside the mesh differ by at most this share of the screen: the mesh's
+/// footprint lies between them, so this bounds the error of its `screen_share` (the sphere of
+/// the same mean projected area lies between them too). Measured, the error is far smaller:
+/// at most 0.0014 of the screen against the hull over the 16,384 lights of `demo` at 1280x720,
+/// and within the hull test's 0.002 of a per-pixel ray count at 0 to 2 subdivisions
+/// (`plan::tests`). Closer volumes go to the hull (87 of `demo`'s 16,384).
+pub const ANALYTIC_SHARE_SLACK: f64 = 0.05;
 
 /// The fast path of [`plan_light`] for the common case at thousands of lights: a sphere volume
 /// wholly between the near and far planes (no clipping), or wholly outside the view. A sphere
@@ -328,7 +332,10 @@ pub fn plan_sphere_ahead(
         let ((x0, x1), (y0, y1)) = (extent(c.x), extent(c.y));
         (DVec2::new(x0 * xs, y0 * ys), DVec2::new(x1 * xs, y1 * ys))
     };
-    let area = |r: f64| std::f64::consts::PI * r * r * (l2 - r * r).max(0.0).sqrt() / (z2 - r * r).powf(1.5) * xs * ys;
+    let area = |r: f64| {
+        let d = z2 - r * r;
+        std::f64::consts::PI * r * r * (l2 - r * r).max(0.0).sqrt() / (d * d.sqrt()) * xs * ys
+    };
     let (lo, hi) = bounds(outer);
     if !(lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0) {
         return Some(off(choose(view, facts(true, 0.0))));
@@ -856,7 +863,7 @@ mod tests {
             }
         }
         println!("{taken} lights planned analytically ({skipped} off screen), worst share difference {worst:.5}, {flipped} methods differ");
-        assert!(taken > 12_000, "the analytic path took only {taken} of 16,384 lights");
+        assert!(taken > 16_000, "the analytic path took only {taken} of 16,384 lights");
         assert!(worst <= 0.002, "share differs from the hull's by {worst}");
         assert_eq!(flipped, 0, "{flipped} of {taken} methods differ from the hull's");
     }

@@ -25,11 +25,14 @@ pub const LIGHTS_PER_QUERY_SET: usize = wgpu::QUERY_SET_MAX_QUERIES as usize;
 /// command is being binned, llvmpipe has already listed the query as active: the flushed
 /// scene's tiles that did not get the begin command "end" the query at their tile end
 /// (`lp_rast_tile_end`) with a start of 0, adding every sample the tile passed in the whole
-/// scene. That was the `sphere-wall` report: light 3132 (off screen, ideal 0) counted
-/// 3,315,608 fragments at 1280x720 with 4,096 lights, and never at 640x360 (60 tiles) or
-/// 1,024 lights, where the scene never fills. The workaround keeps every scene small: the
-/// lights are split into render passes whose estimated binned size stays under this budget
-/// (see [`light_pass_ranges`]), and the passes are separated so llvmpipe starts a new scene.
+/// scene. That was the `sphere-wall` report (light 3132, off screen, ideal 0, counted 3,315,608
+/// fragments at 1280x720 with 4,096 lights; never at 640x360, 60 tiles, or 1,024 lights, where
+/// the scene never fills); with this repository's `sphere-wall` it was light 2555, off screen,
+/// counting 1,020,508 in `stencil-two-pass` (its volume: 0). The workaround keeps every scene
+/// small: the lights are split into render passes whose estimated binned size stays under this
+/// budget ([`light_pass_ranges`]). Observed: after the split no light is miscounted (every
+/// off-screen light counts 0, two-pass never exceeds its volume, `tests/scale.rs`), so a render
+/// pass boundary starts a new llvmpipe scene here.
 pub const LLVMPIPE_SCENE_BUDGET: u64 = 18 << 20;
 
 /// Bytes llvmpipe bins per command (its command blocks hold 29 in about 512 bytes).

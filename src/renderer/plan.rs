@@ -342,8 +342,9 @@ pub fn plan_sphere_ahead(
     }
     let partly = lo.x < -1.0 || lo.y < -1.0 || hi.x > 1.0 || hi.y > 1.0;
     let inner = (light.radius * radii.inner) as f64;
-    let (area_outer, area_inner) = (area(outer), area(inner));
-    if (area_outer - area_inner) / 4.0 > ANALYTIC_SHARE_SLACK {
+    // The outer ellipse lies in its box: a box of at most the slack needs no areas.
+    let m = hi - lo;
+    if m.x * m.y / 4.0 > ANALYTIC_SHARE_SLACK && (area(outer) - area(inner)) / 4.0 > ANALYTIC_SHARE_SLACK {
         return None;
     }
     // The hull path decides on the box of the projected vertices, which lies between the inner
@@ -363,9 +364,10 @@ pub fn plan_sphere_ahead(
         (vlo.as_dvec2(), vhi.as_dvec2())
     };
     let on_screen = |(lo, hi): (DVec2, DVec2)| lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0;
+    // The inner box lies in the outer one: wholly on screen if the outer one is.
     let inner_box = bounds(inner);
     let mut exact = None;
-    if !on_screen(inner_box) {
+    if partly && !on_screen(inner_box) {
         let b = *exact.get_or_insert_with(vertex_box);
         if !on_screen(b) {
             return Some(off(choose(view, facts(true, 0.0))));

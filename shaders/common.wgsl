@@ -17,7 +17,7 @@ struct Camera {
     exposure: f32,
     // Depth value of the far plane: 1, or 0 with reversed Z.
     far_depth: f32,
-    // The most one light (or ambient + sun) may add to a channel, see `records::light_clamp`.
+    // The most ambient + sun may add to a channel (`overlap::clamps`); each light has its own.
     light_clamp: f32,
     pad0: f32,
     // The forward pass's screen tiles: tile size in pixels (0: no tile lists), tiles across,
@@ -38,7 +38,8 @@ struct GpuLight {
     // Where the attenuation reaches zero; `radius` is where the light is cut off (the same, or
     // less under a cut-off threshold) and what its volume bounds.
     falloff: f32,
-    pad0: f32,
+    // The most this light may add to a channel (`overlap::clamps`).
+    clamp: f32,
 };
 
 struct GpuObject {

@@ -157,9 +157,10 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     }
     for (var k = 0u; k < count; k++) {
         // shade_light returns zero before any BRDF work outside the light's radius and cone.
-        let r = shade_light(s, lights[light_lists[first + k]]);
-        diffuse += min(r.diffuse, clamp_max);
-        specular += min(r.specular, clamp_max);
+        let l = lights[light_lists[first + k]];
+        let r = shade_light(s, l);
+        diffuse += min(r.diffuse, vec3<f32>(l.clamp));
+        specular += min(r.specular, vec3<f32>(l.clamp));
     }
     let lit = diffuse * s.albedo + specular + s.emissive;
     return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), alpha);

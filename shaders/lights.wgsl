@@ -60,9 +60,10 @@ fn fs_light(in: LightVarying) -> LightTargets {
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
-        let r = shade_light(s, lights[in.light]);
-        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.light_clamp)));
-        out.specular = encode_light(min(r.specular, vec3<f32>(camera.light_clamp)));
+        let l = lights[in.light];
+        let r = shade_light(s, l);
+        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(l.clamp)));
+        out.specular = encode_light(min(r.specular, vec3<f32>(l.clamp)));
     }
     return out;
 }

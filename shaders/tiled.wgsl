@@ -228,15 +228,16 @@ fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
         if all {
             count = tile_params.light_count;
         }
-        let clamp_to = vec3<f32>(camera.light_clamp);
         for (var k = 0u; k < count; k++) {
             var i = k;
             if !all {
                 i = tile_lists[first + k];
             }
-            let r = shade_light(s, lights[i]);
-            d += min(r.diffuse, clamp_to);
-            sp += min(r.specular, clamp_to);
+            // Each light's own clamp (`overlap.rs`): what can overlap its pixels.
+            let l = lights[i];
+            let r = shade_light(s, l);
+            d += min(r.diffuse, vec3<f32>(l.clamp));
+            sp += min(r.specular, vec3<f32>(l.clamp));
             if tile_params.count != 0u {
                 atomicAdd(&tile_counts[1u + i], 1u);
             }

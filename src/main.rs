@@ -161,6 +161,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "culling": stats.culling,
             "lights": stats.lights,
             "gpu_ms": stats.gpu_ms,
+            "cpu_ms": stats.cpu_ms,
             "shaded_fragments": stats.shaded_fragments,
             "ideal_fragments": stats.ideal_fragments,
             "ideal_counted": settings.count_ideal,

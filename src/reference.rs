@@ -20,9 +20,32 @@ fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
     t * t * (3.0 - 2.0 * t)
 }
 
+/// What ambient + sun and each light may add to a channel at most: the renderer's fp16 clamp
+/// (`overlap::clamps`), or none.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clamps {
+    pub ambient: f64,
+    /// One per scene light, in scene order.
+    pub lights: Vec<f64>,
+}
+
+impl Clamps {
+    /// No clamp: the lighting model's own values.
+    pub fn none(lights: usize) -> Self {
+        Self { ambient: f64::INFINITY, lights: vec![f64::INFINITY; lights] }
+    }
+
+    /// The clamps the renderer's last frame applied (`Renderer::light_clamps`).
+    pub fn of(renderer: &crate::renderer::Renderer) -> Self {
+        let (ambient, lights) = renderer.light_clamps();
+        Self { ambient: ambient as f64, lights: lights.into_iter().map(f64::from).collect() }
+    }
+}
+
 /// Diffuse and specular light (before albedo) at a probed pixel: ambient + sun + every light,
-/// each light's contribution clamped to `clamp` as the shader does.
-pub fn shade(scene: &Scene, p: &PixelProbe, clamp: f64) -> (DVec3, DVec3) {
+/// each term clamped as the shader clamps it (`clamp.ambient`, `clamp.lights[i]`; a light
+/// without an entry is not clamped).
+pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
     if !p.valid {
         return (DVec3::ZERO, DVec3::ZERO);
     }
@@ -44,9 +67,10 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: f64) -> (DVec3, DVec3) {
         diffuse += c * ndl;
         specular += c * (ndl * n.dot(h).max(0.0).powf(spec_exp) * spec_level);
     }
-    diffuse = diffuse.min(DVec3::splat(clamp));
-    specular = specular.min(DVec3::splat(clamp));
-    for light in &scene.lights {
+    diffuse = diffuse.min(DVec3::splat(clamp.ambient));
+    specular = specular.min(DVec3::splat(clamp.ambient));
+    for (i, light) in scene.lights.iter().enumerate() {
+        let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
         let (lp, radius, color, spot) = match light {
             Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
             Light::Spot(s) => (
@@ -76,8 +100,8 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: f64) -> (DVec3, DVec3) {
         }
         let h = safe_normalize(l + v, n);
         let spec = n.dot(h).max(0.0).powf(spec_exp) * spec_level;
-        diffuse += (color * (att * ndl)).min(DVec3::splat(clamp));
-        specular += (color * (att * ndl * spec)).min(DVec3::splat(clamp));
+        diffuse += (color * (att * ndl)).min(limit);
+        specular += (color * (att * ndl * spec)).min(limit);
     }
     (diffuse, specular)
 }

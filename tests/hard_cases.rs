@@ -7,7 +7,7 @@ use common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::render_image;
 use lampshade::renderer::{
-    light_clamp, AccumFormat, CullingMode, DepthFormat, LayoutChoice, Method, Renderer, Settings, OUTPUT_FORMAT,
+    AccumFormat, CullingMode, DepthFormat, LayoutChoice, Method, Renderer, Settings, OUTPUT_FORMAT,
 };
 
 const CASES: &[&str] = &[
@@ -89,7 +89,7 @@ fn gpu_lighting_matches_f64_at_sampled_pixels() {
         };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
         render_image(gpu, &mut r, &scene, &settings, w, h).unwrap();
-        let clamp = light_clamp(wgpu::TextureFormat::Rgba32Float, scene.lights.len()) as f64;
+        let clamp = lampshade::reference::Clamps::of(&r);
         let mut checked = 0;
         for k in 0..48u32 {
             let (x, y) = ((k * 37 + 5) % w, (k * 23 + 3) % h);
@@ -98,7 +98,7 @@ fn gpu_lighting_matches_f64_at_sampled_pixels() {
                 continue;
             }
             checked += 1;
-            let (d, s) = lampshade::reference::shade(&scene, &p, clamp);
+            let (d, s) = lampshade::reference::shade(&scene, &p, &clamp);
             for (gpu_v, cpu_v, what) in [(p.diffuse_light, d, "diffuse"), (p.specular_light, s, "specular")] {
                 for c in 0..3 {
                     let (g, e) = (gpu_v[c] as f64, cpu_v[c]);

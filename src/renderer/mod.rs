@@ -17,6 +17,7 @@ pub mod gbuffer;
 pub mod inspect;
 pub mod knobs;
 pub mod materials;
+pub mod overlap;
 pub mod passes;
 pub mod plan;
 pub mod records;
@@ -41,7 +42,7 @@ use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings};
 use stats::Stamp;
-pub use stats::{FrameStats, LightStats};
+pub use stats::{CpuMs, FrameStats, LightStats};
 use targets::Targets;
 pub use volumes::VolumeKind;
 use volumes::Volumes;
@@ -57,6 +58,8 @@ const PIPELINE_CACHE: usize = 8;
 struct LastFrame {
     /// The lights (view space) as the shaders saw them.
     lights: Vec<LightRecord>,
+    /// The most ambient + sun could add to a channel (`overlap::clamps`).
+    ambient_clamp: f32,
     inv_proj: DMat4,
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
@@ -233,7 +236,9 @@ impl Renderer {
         };
 
         // The CPU's part: the records the shaders read, then the culling plan.
+        let clock = std::time::Instant::now();
         let mut records = FrameRecords::new(scene, settings, size, self.passes.key().accum_format);
+        let records_ms = clock.elapsed().as_secs_f64() * 1e3;
         let view = PlanView {
             proj: records.proj.as_mat4(),
             near: scene.camera.near as f32,
@@ -247,9 +252,19 @@ impl Renderer {
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
         };
+        let clock = std::time::Instant::now();
         let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        // The fp16 clamp by what can overlap a pixel (see `overlap`).
+        let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);
+        records.camera.light_clamp = clamps.ambient;
+        for (l, c) in records.lights.iter_mut().zip(&clamps.lights) {
+            l.clamp = *c;
+        }
+        let plan_ms = clock.elapsed().as_secs_f64() * 1e3;
+        let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
+        let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
         let f = FrameInputs {
@@ -314,6 +329,7 @@ impl Renderer {
             forward: plan.forward.clone().filter(|_| blended),
             draw_calls,
             light_batches: plan.batches.batches.len() as u64,
+            cpu_ms,
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
@@ -323,6 +339,7 @@ impl Renderer {
             inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),
             lights: records.lights,
+            ambient_clamp: records.camera.light_clamp,
             plan,
         };
         Ok(stats)
@@ -342,6 +359,12 @@ impl Renderer {
         self.passes.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, None);
         self.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// The last frame's fp16 clamps (`overlap::clamps`): what ambient + sun and what each light
+    /// could add to a channel at most. The f64 reference applies the same values.
+    pub fn light_clamps(&self) -> (f32, Vec<f32>) {
+        (self.last.ambient_clamp, self.last.lights.iter().map(|l| l.clamp).collect())
     }
 
     /// The last frame's per-light plans (method, volume, planes crossed, screen share).

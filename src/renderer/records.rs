@@ -73,7 +73,8 @@ gpu_record! {
         pub exposure: f32,
         /// Depth value of the far plane: 1, or 0 with reversed Z.
         pub far_depth: f32,
-        /// The most one light (or ambient + sun) may add to a channel, see [`light_clamp`].
+        /// The most ambient + sun may add to a channel (`overlap::clamps`: the most lights'
+        /// rectangles meeting at any tile decide it; filled after planning).
         pub light_clamp: f32,
         pub pad0: f32,
         /// The forward pass's screen tiles: tile size in pixels (0: no tile lists), tiles
@@ -97,7 +98,8 @@ gpu_record! {
         /// The radius the attenuation falls to zero at. `radius` is where the light is cut off
         /// and what its volume bounds: the same, or less under `Settings::light_cutoff`.
         pub falloff: f32,
-        pub pad0: f32,
+        /// The most this light may add to a channel (`overlap::clamps`, filled after planning).
+        pub clamp: f32,
     }
 }
 
@@ -167,20 +169,7 @@ pub fn layouts() -> Vec<RecordLayout> {
     ]
 }
 
-/// The most one light (and the ambient + sun pass) may add to a channel of the accumulation
-/// buffer: the format's largest finite value shared among all `lights + 1` contributions, so
-/// even 10,000 overlapping bright lights cannot overflow fp16 into infinity (and NaN after it).
-/// With 1024 lights and fp16 that is 63.9 per light, far above what the built-in scenes use.
-pub fn light_clamp(format: wgpu::TextureFormat, lights: usize) -> f32 {
-    let max = match format {
-        wgpu::TextureFormat::Rgba16Float => FP16_MAX,
-        wgpu::TextureFormat::Rg11b10Ufloat => RG11B10_MAX,
-        // Rgba8Log's product of factors saturates at zero, which decodes to a finite maximum;
-        // Rgba32Float's sums stay finite for any count Lampshade draws.
-        _ => return f32::MAX,
-    };
-    max / (lights as f32 + 1.0)
-}
+pub use super::overlap::light_clamp;
 
 pub(crate) fn mat(m: DMat4) -> [[f32; 4]; 4] {
     m.as_mat4().to_cols_array_2d()
@@ -190,10 +179,17 @@ impl LightRecord {
     /// The light in `camera`'s view space, cut off at `cutoff` of its peak
     /// (`Settings::light_cutoff`).
     pub fn in_view(camera: &Camera, light: &Light, cutoff: f32) -> Self {
-        let rot = camera.rotation();
+        Self::in_view_rotated(camera, camera.rotation(), light, cutoff)
+    }
+
+    /// [`Self::in_view`] with the camera's rotation computed once by the caller
+    /// (`Camera::rotation` takes four sines and cosines: per light it was most of the records'
+    /// CPU time at 16,384 lights).
+    pub fn in_view_rotated(camera: &Camera, rot: glam::DMat3, light: &Light, cutoff: f32) -> Self {
+        let to_view = |p: glam::DVec3| rot * (p - camera.position);
         match light {
             Light::Point(p) => Self {
-                position: camera.to_view(p.position).as_vec3().into(),
+                position: to_view(p.position).as_vec3().into(),
                 radius: settings::cutoff_radius(p.radius, cutoff),
                 falloff: p.radius,
                 color: (p.color * p.intensity).into(),
@@ -202,10 +198,10 @@ impl LightRecord {
                 cos_outer: -1.0,
                 cos_inner: -1.0,
                 tan_outer: 0.0,
-                pad0: 0.0,
+                clamp: f32::MAX,
             },
             Light::Spot(s) => Self {
-                position: camera.to_view(s.position).as_vec3().into(),
+                position: to_view(s.position).as_vec3().into(),
                 radius: settings::cutoff_radius(s.radius, cutoff),
                 falloff: s.radius,
                 color: (s.color * s.intensity).into(),
@@ -214,7 +210,7 @@ impl LightRecord {
                 cos_outer: s.outer_angle.cos(),
                 cos_inner: s.inner_angle.cos(),
                 tan_outer: s.outer_angle.tan(),
-                pad0: 0.0,
+                clamp: f32::MAX,
             },
         }
     }
@@ -306,7 +302,10 @@ impl FrameRecords {
         let view = DMat4::from_mat3(cam.rotation()) * DMat4::from_translation(-cam.position);
         Self {
             camera: CameraRecord::new(scene, settings, size, accum),
-            lights: scene.lights.iter().map(|l| LightRecord::in_view(cam, l, settings.light_cutoff)).collect(),
+            lights: {
+                let rot = cam.rotation();
+                scene.lights.iter().map(|l| LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff)).collect()
+            },
             objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view)).collect(),
             proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
         }

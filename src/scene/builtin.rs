@@ -25,6 +25,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("coincident", "hard case: a light volume touching a wall; a light inside a box"),
     ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case"),
     ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
+    ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -43,7 +44,7 @@ impl Default for BuiltinOptions {
 }
 
 /// The built-in scenes whose light count `--lights` sets.
-pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street"];
+pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street", "sphere-wall"];
 
 /// Builds a built-in scene by name, or says which names exist.
 pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
@@ -67,6 +68,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "coincident" => coincident(),
         "glass" => glass(opts.lights.unwrap_or(1024), opts.time),
         "street" => street(opts.lights.unwrap_or(64)),
+        "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -528,6 +530,66 @@ fn street(n: usize) -> Scene {
             let y = 0.4 + unit(59, i) * 5.0;
             b.point(DVec3::new(x, y, z), color, intensity, 2.5 + unit(60, i) as f32 * 4.5);
         }
+    }
+    b.scene
+}
+
+/// Radius of `sphere-wall`'s sphere, the radius its lights sit at and their range.
+pub const SPHERE_WALL: (f64, f64, f32) = (50.0, 49.0, 5.0);
+
+/// The camera at the centre of an inward-facing sphere of radius 50 (a UV sphere of 64 x 32
+/// quads, 3,968 triangles, normals pointing inward), lit by `n` point lights of range 5 spread
+/// evenly over the sphere of radius 49 (a Fibonacci sphere), each reaching a disc of the wall.
+/// Every light is the same distance from the eye, about a third of them in the view.
+pub fn sphere_wall(n: usize) -> Scene {
+    let (wall, at, range) = SPHERE_WALL;
+    let camera = Camera { far: 200.0, ..Camera::looking_at(DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0)) };
+    let mut b = Builder::new("sphere-wall", camera);
+    b.scene.ambient = Vec3::splat(0.02);
+    let (segments, rings) = (64u32, 32u32);
+    let mut mesh = Mesh { name: "sphere wall".into(), ..Default::default() };
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let p = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let uv = [s as f32 / segments as f32, r as f32 / rings as f32];
+            mesh.vertices.push(Vertex::new(p.into(), (-p).into(), uv));
+        }
+    }
+    let row = segments + 1;
+    for r in 0..rings {
+        for s in 0..segments {
+            let (a, b2, c, d) = (r * row + s, r * row + s + 1, (r + 1) * row + s, (r + 1) * row + s + 1);
+            // Counter-clockwise seen from the centre (inward-facing); the poles' degenerate
+            // triangles are left out.
+            if r != 0 {
+                mesh.indices.extend([a, c, b2]);
+            }
+            if r + 1 != rings {
+                mesh.indices.extend([b2, c, d]);
+            }
+        }
+    }
+    b.scene.meshes.push(mesh);
+    let m = b.material(Material {
+        diffuse: Vec3::splat(0.6),
+        specular_level: 0.3,
+        specular_exponent: 32.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    let mesh = b.scene.meshes.len() - 1;
+    b.scene.objects.push(Object { mesh, material: m, transform: DMat4::from_scale(DVec3::splat(wall)) });
+    // Fibonacci sphere: evenly spread directions, the same for every count's first lights only
+    // in distribution (the spiral depends on n).
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..n {
+        let y = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+        let ring = (1.0 - y * y).max(0.0).sqrt();
+        let a = golden * i as f64;
+        let dir = DVec3::new(ring * a.cos(), y, ring * a.sin());
+        b.point(dir * at, hue(unit(71, i as u64) as f32), 0.25 + 0.25 * unit(72, i as u64) as f32, range);
     }
     b.scene
 }

@@ -160,6 +160,8 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             }
         }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
+        let c = &s.cpu_ms;
+        row(ui, "CPU records / plan / upload", format!("{:.2} / {:.2} / {:.2} ms", c.records, c.plan, c.upload));
     });
 }
 

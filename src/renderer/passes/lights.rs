@@ -8,7 +8,7 @@
 
 use super::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
-use crate::renderer::stats::{Stamp, LIGHTS_PER_QUERY_SET};
+use crate::renderer::stats::{binned_bytes, Stamp, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
 /// A culling method's draws.
@@ -205,13 +205,51 @@ impl LightPass {
         DRAWN.iter().position(|&d| d == m).and_then(|i| self.methods.get(i))
     }
 
-    /// Records the accumulation: one render pass per block of lights (an occlusion query set
-    /// holds 4096), the first starting with ambient + sun unless the G-buffer pass wrote them,
-    /// then the block's batches (`FramePlan::batches`): per batch one instanced marking draw
-    /// (stencil methods) and one instanced shading draw. When counting, the shading draw is
-    /// split into one draw per light (an instance range of one, same pipeline and stencil)
-    /// inside the light's occlusion query: the batch's marks are already in the stencil and its
-    /// lights' pixels are disjoint, so each light shades what it shades in the batched draw.
+    /// Begins one render pass of the accumulation over query set `block` (when counting): the
+    /// frame's `first` (which starts the accumulation and its time), a block's first (which
+    /// clears the stencil: `clear_stencil`), or one that goes on where the last left off.
+    fn begin<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        f: &'e FrameInputs<'_>,
+        block: usize,
+        (first, clear_stencil, end): (bool, bool, bool),
+    ) -> wgpu::RenderPass<'e> {
+        let t = f.targets;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("lights"),
+            color_attachments: &t.accumulation(first && !self.ambient_in_gbuffer),
+            depth_stencil_attachment: Some(t.depth_attachment(clear_stencil)),
+            // The tiled pass ends the lighting's span when it shades the frame.
+            timestamp_writes: f.timestamps(
+                first.then_some(Stamp::LightsBegin),
+                (end && f.plan.tiled.is_none()).then_some(Stamp::LightsEnd),
+            ),
+            occlusion_query_set: if f.counts { f.queries.occlusion.get(block) } else { None },
+            multiview_mask: None,
+        });
+        f.bind_light_inputs(&mut pass);
+        if first && !self.ambient_in_gbuffer {
+            pass.push_debug_group("ambient + sun");
+            pass.set_pipeline(&self.ambient);
+            pass.draw(0..3, 0..1);
+            pass.pop_debug_group();
+        }
+        pass
+    }
+
+    /// Records the accumulation, the first render pass starting with ambient + sun unless the
+    /// G-buffer pass wrote them, then the lights batch by batch (`FramePlan::batches`): per batch
+    /// one instanced marking draw (stencil methods) and one instanced shading draw. A render
+    /// pass holds one block of lights (an occlusion query set holds 4096).
+    ///
+    /// When counting, the shading draw is split into one draw per light (an instance range of
+    /// one, same pipeline and stencil) inside the light's occlusion query: the batch's marks are
+    /// already in the stencil and its lights' pixels are disjoint, so each light shades what it
+    /// shades in the batched draw. Counting also starts a new render pass (stencil and
+    /// accumulation kept) before any draw or query that would take llvmpipe's binned scene past
+    /// `stats::LLVMPIPE_SCENE_BUDGET` (see there: a scene that fills while a query begins
+    /// miscounts it), and the light pass's end time is then written by an empty pass of its own.
     /// Returns the light draws issued (marks, shades and stencil clears; not the ambient + sun
     /// draw).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> u64 {
@@ -220,35 +258,49 @@ impl LightPass {
         let chunk = LIGHTS_PER_QUERY_SET;
         let blocks = n.div_ceil(chunk).max(1);
         let batches = &f.plan.batches;
+        let size = (t.width, t.height);
+        let triangles = (f.volumes.sphere.indices.len() as u64 / 3, f.volumes.cone.indices.len() as u64 / 3);
+        // Estimated bytes llvmpipe bins for light `i`'s `draws` draws (its query included).
+        let cost = |i: usize, draws: u64| -> u64 {
+            let p = &f.plan.lights[i];
+            let tris = match p.volume {
+                crate::renderer::VolumeKind::Sphere => triangles.0,
+                crate::renderer::VolumeKind::Cone => triangles.1,
+            };
+            match p.method {
+                Method::Fullscreen => binned_bytes(p, size, draws, 1),
+                Method::Skipped | Method::Tiled | Method::Clustered => binned_bytes(p, size, 0, 0),
+                _ => binned_bytes(p, size, draws, tris),
+            }
+        };
         let mut replace_counter = 0u32;
         let mut draws = 0u64;
         for b in 0..blocks {
             let (first, last) = (b == 0, b + 1 == blocks);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("lights"),
-                color_attachments: &t.accumulation(first && !self.ambient_in_gbuffer),
-                depth_stencil_attachment: Some(t.depth_attachment(true)),
-                // The tiled pass ends the lighting's span when it shades the frame.
-                timestamp_writes: f.timestamps(
-                    first.then_some(Stamp::LightsBegin),
-                    (last && f.plan.tiled.is_none()).then_some(Stamp::LightsEnd),
-                ),
-                occlusion_query_set: if f.counts { f.queries.occlusion.get(b) } else { None },
-                multiview_mask: None,
-            });
-            f.bind_light_inputs(&mut pass);
-            if first && !self.ambient_in_gbuffer {
-                pass.push_debug_group("ambient + sun");
-                pass.set_pipeline(&self.ambient);
-                pass.draw(0..3, 0..1);
-                pass.pop_debug_group();
-            }
             let block_start = b * chunk;
+            // Without counting, one pass per block: the last one ends the lighting's time.
+            let mut pass = self.begin(encoder, f, b, (first, true, last && !f.counts));
+            let mut bytes = 0u64;
+            // Starts a new pass of the same block when `more` bytes would overfill the scene.
+            macro_rules! room_for {
+                ($more:expr) => {
+                    if f.counts {
+                        let more = $more;
+                        if bytes > 0 && bytes + more > LLVMPIPE_SCENE_BUDGET {
+                            drop(pass);
+                            pass = self.begin(encoder, f, b, (false, false, false));
+                            bytes = 0;
+                        }
+                        bytes += more;
+                    }
+                };
+            }
             if f.counts {
                 // Skipped lights (outside the frustum) shade nothing here, nor do lights the
                 // tiled pass shades (its own counts replace these): their count is zero.
                 for i in block_start..((b + 1) * chunk).min(n) {
                     if matches!(f.plan.lights[i].method, Method::Skipped | Method::Tiled | Method::Clustered) {
+                        room_for!(cost(i, 0));
                         pass.begin_occlusion_query((i - block_start) as u32);
                         pass.end_occlusion_query();
                     }
@@ -259,18 +311,20 @@ impl LightPass {
                 let Some(m) = self.pipelines(batch.method) else { continue };
                 let (indices, base) = f.volumes.range(batch.volume);
                 let instances = batch.instances();
-                if m.method.reference == Reference::PerLight {
-                    // One value per batch: its lights never meet (see `batches.rs`).
-                    if replace_counter == 255 {
-                        pass.set_pipeline(&self.stencil_clear);
-                        pass.draw(0..3, 0..1);
-                        draws += 1;
-                        replace_counter = 0;
-                    }
-                    replace_counter += 1;
-                    pass.set_stencil_reference(replace_counter);
-                }
                 if let Some(mark) = &m.mark {
+                    // The marking draw's triangles, binned where each light's rectangle falls.
+                    room_for!(batches.lights_of(batch).iter().map(|&l| cost(l as usize, 1)).sum::<u64>());
+                    if m.method.reference == Reference::PerLight {
+                        // One value per batch: its lights never meet (see `batches.rs`).
+                        if replace_counter == 255 {
+                            pass.set_pipeline(&self.stencil_clear);
+                            pass.draw(0..3, 0..1);
+                            draws += 1;
+                            replace_counter = 0;
+                        }
+                        replace_counter += 1;
+                        pass.set_stencil_reference(replace_counter);
+                    }
                     pass.set_pipeline(mark);
                     pass.draw_indexed(indices.clone(), base, instances.clone());
                     draws += 1;
@@ -282,25 +336,35 @@ impl LightPass {
                     Some(near) if batch.crosses_near => near,
                     _ => &m.shade,
                 };
-                pass.set_pipeline(shade);
-                let mut draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
+                let draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
+                    pass.set_pipeline(shade);
+                    if m.method.reference == Reference::PerLight {
+                        pass.set_stencil_reference(replace_counter);
+                    }
                     if m.method.fullscreen {
                         pass.draw(0..3, instances);
                     } else {
                         pass.draw_indexed(indices.clone(), base, instances);
                     }
-                    draws += 1;
                 };
                 if f.counts {
                     // The occlusion query counts the shading draw's samples only.
                     for (k, &light) in instances.clone().zip(batches.lights_of(batch)) {
+                        room_for!(cost(light as usize, 1));
                         pass.begin_occlusion_query(light - block_start as u32);
                         draw(&mut pass, k..k + 1);
+                        draws += 1;
                         pass.end_occlusion_query();
                     }
                 } else {
                     draw(&mut pass, instances);
+                    draws += 1;
                 }
+            }
+            drop(pass);
+            if last && f.counts {
+                // The lighting's end time, after however many passes the budget asked for.
+                drop(self.begin(encoder, f, b, (false, false, true)));
             }
         }
         draws

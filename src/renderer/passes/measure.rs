@@ -12,7 +12,8 @@
 
 use super::{DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
-use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
+use crate::renderer::stats::{binned_bytes, pass_ranges, LIGHTS_PER_QUERY_SET};
+use crate::renderer::volumes::VolumeKind;
 use wgpu::CompareFunction as Cmp;
 
 pub struct MeasurePass {
@@ -53,8 +54,12 @@ impl MeasurePass {
         let t = f.targets;
         let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
-        for b in 0..n.div_ceil(chunk).max(1) {
-            let lights = b * chunk..((b + 1) * chunk).min(n);
+        // Render passes small enough for llvmpipe (`stats::LLVMPIPE_SCENE_BUDGET`): every
+        // light's full-screen draw and its query are binned into every tile.
+        let size = (t.width, t.height);
+        let ideal_ranges = pass_ranges(n, |_| full_screen(size));
+        for lights in ideal_ranges {
+            let b = lights.start / chunk;
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("ideal count"),
                 color_attachments: &t.accumulation(false),
@@ -87,10 +92,18 @@ impl MeasurePass {
                 }
                 pass.end_occlusion_query();
             }
-            drop(pass);
-            // Rasterised coverage of each volume's back faces (what the volume methods
-            // rasterise), from pipeline statistics, in a pass of its own: lavapipe returns wrong
-            // occlusion counts when pipeline-statistics queries share their pass.
+        }
+        // Rasterised coverage of each volume's back faces (what the volume methods rasterise),
+        // from pipeline statistics, in passes of their own: lavapipe returns wrong occlusion
+        // counts when pipeline-statistics queries share their pass.
+        let triangles = (f.volumes.sphere.indices.len() as u64 / 3, f.volumes.cone.indices.len() as u64 / 3);
+        let coverage_ranges = pass_ranges(n, |i| {
+            let p = &f.plan.lights[i];
+            let t = if p.volume == VolumeKind::Sphere { triangles.0 } else { triangles.1 };
+            binned_bytes(p, size, 1, t)
+        });
+        for lights in coverage_ranges {
+            let b = lights.start / chunk;
             let Some(set) = f.queries.coverage.get(b) else { continue };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("coverage count"),
@@ -117,4 +130,17 @@ impl MeasurePass {
             }
         }
     }
+}
+
+/// What a full-screen draw bins (one triangle in every tile, with its query).
+fn full_screen(size: (u32, u32)) -> u64 {
+    let plan = crate::renderer::plan::LightPlan {
+        method: Method::Fullscreen,
+        volume: VolumeKind::Sphere,
+        crosses_near: false,
+        crosses_far: false,
+        screen_share: 1.0,
+        screen_rect: None,
+    };
+    binned_bytes(&plan, size, 1, 1)
 }

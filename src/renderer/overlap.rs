@@ -1,0 +1,237 @@
+//! The fp16 clamp by what can overlap a pixel. Every light's contribution to a channel, and the
+//! ambient + sun term, is clamped so that no pixel's sum in the accumulation target can reach
+//! the format's largest finite value, however many lights the scene has: a light may add at
+//! most `max / (3 (c + 1))`, where `c` is the largest number of lights whose conservative screen
+//! rectangles ([`LightPlan::screen_rect`]) cover any [`OVERLAP_TILE`]-pixel tile the light's
+//! own rectangle covers; ambient + sun may add `max / (3 (c + 1))` with `c` the largest count
+//! over all tiles. An isolated light among 50,000 keeps its full value (one light: max / 6).
+//!
+//! **Why no pixel reaches `max`** (fp16: 65504; Rg11b10Ufloat: 64512, its smallest channel
+//! maximum). Take a visible pixel in tile T, and let n be the number of lights whose rectangles
+//! cover T. A light adds a non-zero value only inside its true shape, which its volume
+//! circumscribes and its rectangle bounds on screen (widened by a pixel here, see `pixel_rect`),
+//! so only those n lights add anything at the pixel. Each of them covers T, so its own `c` is at
+//! least n and it adds at most max / (3 (n + 1)); ambient + sun's `c` is the largest over all
+//! tiles, at least n, so it too writes at most max / (3 (n + 1)). With exact arithmetic the
+//! n + 1 terms sum to at most max / 3. The targets round: each term is rounded to the format
+//! (relative error u: 2^-11 for fp16, 2^-6 for the 5-bit mantissa of Rg11b10's blue), added to
+//! the stored sum s in at least f32 (relative 2^-24) and the result rounded to nearest. Round to
+//! nearest never lands farther above the exact sum y = s + x than s itself lies below it (s is
+//! representable), so the stored result is at most s + 2x, plus the f32 step's 2^-23 (s + x).
+//! Over n + 1 terms the stored sum is at most 2 (1 + u)(1 + 2^-24) max / 3 + (n + 1) 2^-23 max
+//! <= 0.678 max + 0.012 max (n <= 100,000, the most lights Lampshade takes) < max. So no pixel's
+//! accumulated diffuse or specular light reaches the format's maximum (fp16's infinity lies
+//! beyond it), whatever the light count. The f64 reference (`crate::reference::shade`) applies
+//! the same per-light values, read back with [`Renderer::light_clamps`](super::Renderer::light_clamps).
+
+use super::plan::LightPlan;
+use super::records::{FP16_MAX, RG11B10_MAX};
+
+/// Tile size in pixels of the overlap count.
+pub const OVERLAP_TILE: u32 = 16;
+
+/// The largest finite value of an accumulation format whose sums must stay finite, `None` for
+/// formats that cannot overflow in practice (Rgba32Float; Rgba8Log saturates at a finite value).
+pub fn format_max(format: wgpu::TextureFormat) -> Option<f32> {
+    match format {
+        wgpu::TextureFormat::Rgba16Float => Some(FP16_MAX),
+        wgpu::TextureFormat::Rg11b10Ufloat => Some(RG11B10_MAX),
+        _ => None,
+    }
+}
+
+/// The most one term may add to a channel when at most `overlap` lights meet at a tile it
+/// covers (see the module's proof); `f32::MAX` for formats without overflow.
+pub fn light_clamp(format: wgpu::TextureFormat, overlap: usize) -> f32 {
+    match format_max(format) {
+        Some(max) => max / (3.0 * (overlap as f32 + 1.0)),
+        None => f32::MAX,
+    }
+}
+
+/// Each light's clamp and the ambient + sun term's, for `plans` on a `size` screen.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Clamps {
+    pub ambient: f32,
+    pub lights: Vec<f32>,
+    /// The largest number of rectangles covering one tile.
+    pub most_overlapping: usize,
+}
+
+/// A rectangle in NDC to the tiles its pixels lie in (inclusive), widened by a pixel against
+/// rounding, as the forward pass's tile lists do; `None` when it misses the screen.
+fn tile_rect(rect: (glam::Vec2, glam::Vec2), (w, h): (u32, u32)) -> Option<[u32; 4]> {
+    let (lo, hi) = rect;
+    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
+    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+    let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+    let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+    // NaN compares false: a rectangle with NaN corners covers every tile.
+    if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
+        return None;
+    }
+    let tile = |v: f32, max: u32| {
+        let v = if v.is_nan() { 0.0 } else { v };
+        (v.max(0.0) as u32).min(max - 1) / OVERLAP_TILE
+    };
+    let (x1, y1) = (if x1.is_nan() { f32::INFINITY } else { x1 }, if y1.is_nan() { f32::INFINITY } else { y1 });
+    Some([tile(x0, w), tile(y0, h), tile(x1, w), tile(y1, h)])
+}
+
+/// Counts the rectangles over every tile (a 2D difference array: O(lights + tiles)), then gives
+/// each light the largest count over its tiles (a range-maximum table per tile row: O(rows) a
+/// light).
+pub fn clamps(plans: &[LightPlan], size: (u32, u32), format: wgpu::TextureFormat) -> Clamps {
+    let (w, h) = (size.0.max(1), size.1.max(1));
+    let (tx, ty) = (w.div_ceil(OVERLAP_TILE) as usize, h.div_ceil(OVERLAP_TILE) as usize);
+    let rects: Vec<Option<[u32; 4]>> = plans.iter().map(|p| p.screen_rect.and_then(|r| tile_rect(r, (w, h)))).collect();
+    let mut diff = vec![0i64; (tx + 1) * (ty + 1)];
+    for r in rects.iter().flatten() {
+        let [x0, y0, x1, y1] = r.map(|v| v as usize);
+        diff[y0 * (tx + 1) + x0] += 1;
+        diff[y0 * (tx + 1) + x1 + 1] -= 1;
+        diff[(y1 + 1) * (tx + 1) + x0] -= 1;
+        diff[(y1 + 1) * (tx + 1) + x1 + 1] += 1;
+    }
+    // Prefix sums: the count per tile.
+    let mut count = vec![0u32; tx * ty];
+    let mut above = vec![0i64; tx + 1];
+    for y in 0..ty {
+        let mut run = 0i64;
+        for x in 0..tx {
+            run += diff[y * (tx + 1) + x];
+            above[x] += run;
+            count[y * tx + x] = above[x].max(0) as u32;
+        }
+    }
+    let most = count.iter().copied().max().unwrap_or(0) as usize;
+    // Sparse table per row: level k holds the maximum of 2^k tiles from x.
+    let levels = (usize::BITS - tx.leading_zeros()) as usize;
+    let mut table = vec![0u32; levels * tx * ty];
+    let at = |k: usize, y: usize, x: usize| (k * ty + y) * tx + x;
+    table[..tx * ty].copy_from_slice(&count);
+    for k in 1..levels {
+        for y in 0..ty {
+            for x in 0..tx {
+                let half = 1 << (k - 1);
+                let b = if x + half < tx { table[at(k - 1, y, x + half)] } else { 0 };
+                table[at(k, y, x)] = table[at(k - 1, y, x)].max(b);
+            }
+        }
+    }
+    let row_max = |y: usize, x0: usize, x1: usize| {
+        let k = (usize::BITS - 1 - (x1 - x0 + 1).leading_zeros()) as usize;
+        table[at(k, y, x0)].max(table[at(k, y, x1 + 1 - (1 << k))])
+    };
+    let lights = rects
+        .iter()
+        .map(|r| {
+            let c = r.map_or(0, |[x0, y0, x1, y1]| {
+                (y0 as usize..=y1 as usize).map(|y| row_max(y, x0 as usize, x1 as usize)).max().unwrap_or(0)
+            });
+            light_clamp(format, c as usize)
+        })
+        .collect();
+    Clamps { ambient: light_clamp(format, most), lights, most_overlapping: most }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::renderer::plan::Method;
+    use crate::renderer::volumes::VolumeKind;
+    use glam::Vec2;
+
+    fn plan(rect: Option<(Vec2, Vec2)>) -> LightPlan {
+        LightPlan {
+            method: Method::Volume,
+            volume: VolumeKind::Sphere,
+            crosses_near: false,
+            crosses_far: false,
+            screen_share: 0.0,
+            screen_rect: rect,
+        }
+    }
+
+    #[test]
+    fn each_light_is_clamped_by_the_most_lights_meeting_at_its_tiles() {
+        let fmt = wgpu::TextureFormat::Rgba16Float;
+        let size = (320, 180);
+        // Three stacked in the top-left corner, one alone on the right, one off screen, one
+        // covering everything.
+        let corner = Some((Vec2::new(-1.0, 0.8), Vec2::new(-0.9, 1.0)));
+        let alone = Some((Vec2::new(0.5, -0.2), Vec2::new(0.6, -0.1)));
+        let plans = [plan(corner), plan(corner), plan(corner), plan(alone), plan(None)];
+        let c = clamps(&plans, size, fmt);
+        assert_eq!(c.most_overlapping, 3);
+        assert_eq!(c.lights[0], light_clamp(fmt, 3));
+        assert_eq!(c.lights[3], light_clamp(fmt, 1));
+        assert_eq!(c.lights[4], light_clamp(fmt, 0));
+        assert_eq!(c.ambient, light_clamp(fmt, 3));
+        let mut all = plans.to_vec();
+        all.push(plan(Some((Vec2::splat(-1.0), Vec2::splat(1.0)))));
+        let c = clamps(&all, size, fmt);
+        assert_eq!(c.most_overlapping, 4);
+        assert_eq!(c.lights[3], light_clamp(fmt, 2));
+        assert_eq!(c.lights[5], light_clamp(fmt, 4));
+        // Against a brute-force count over random rectangles.
+        let mut rng = 1u64;
+        let mut next = || {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (rng >> 40) as f32 / (1u64 << 24) as f32 * 2.6 - 1.3
+        };
+        let random: Vec<LightPlan> = (0..300)
+            .map(|_| {
+                let (a, b, s) = (next(), next(), next().abs() * 0.3);
+                plan(Some((Vec2::new(a, b), Vec2::new(a + s, b + s * 0.5))))
+            })
+            .collect();
+        let c = clamps(&random, size, fmt);
+        let tiles: Vec<Option<[u32; 4]>> = random.iter().map(|p| tile_rect(p.screen_rect.unwrap(), size)).collect();
+        let count = |x: u32, y: u32| {
+            tiles
+                .iter()
+                .flatten()
+                .filter(|[x0, y0, x1, y1]| (*x0..=*x1).contains(&x) && (*y0..=*y1).contains(&y))
+                .count()
+        };
+        for (i, t) in tiles.iter().enumerate() {
+            let want = t.map_or(0, |[x0, y0, x1, y1]| {
+                (y0..=y1).flat_map(|y| (x0..=x1).map(move |x| (x, y))).map(|(x, y)| count(x, y)).max().unwrap()
+            });
+            assert_eq!(c.lights[i], light_clamp(fmt, want), "light {i}");
+        }
+    }
+
+    /// Rounds to nearest (ties to even) with `bits` mantissa bits, as the targets store.
+    fn round_to(v: f32, bits: i32) -> f32 {
+        if v <= 0.0 {
+            return v;
+        }
+        let ulp = 2f64.powi(v.log2().floor() as i32 - bits);
+        ((v as f64 / ulp).round_ties_even() * ulp) as f32
+    }
+
+    #[test]
+    fn the_bound_holds_for_every_overlap() {
+        // n + 1 terms at the clamp of n overlapping lights, each rounded to the target, summed
+        // in f32 and rounded to nearest at every step, stay below the maximum: fp16 (10 bits),
+        // Rg11b10's red and green (6) and blue (5).
+        for (fmt, bits) in [
+            (wgpu::TextureFormat::Rgba16Float, 10),
+            (wgpu::TextureFormat::Rg11b10Ufloat, 6),
+            (wgpu::TextureFormat::Rg11b10Ufloat, 5),
+        ] {
+            let max = format_max(fmt).unwrap();
+            for n in [0usize, 1, 7, 100, 1000, 20_000] {
+                let x = round_to(light_clamp(fmt, n), bits);
+                let mut s = x;
+                for _ in 0..n {
+                    s = round_to(s + x, bits);
+                }
+                assert!(s < max, "{fmt:?} ({bits} bits), {n} lights: {s}");
+            }
+        }
+        assert_eq!(light_clamp(wgpu::TextureFormat::Rgba32Float, 5), f32::MAX);
+    }
+}

@@ -123,7 +123,11 @@ fn batched_frames_equal_unbatched_light_by_light() {
             // Fewer batches than lights wherever two lights share one; never more draws.
             let (u, b) = (&unbatched.stats, &batched.stats);
             assert!(b.light_batches <= u.light_batches && b.draw_calls <= u.draw_calls, "{what}: {u:?} {b:?}");
-            let drawn = u.per_light.iter().filter(|l| l.method != Method::Skipped).count() as u64;
+            let drawn = u
+                .per_light
+                .iter()
+                .filter(|l| !matches!(l.method, Method::Skipped | Method::Tiled | Method::Clustered))
+                .count() as u64;
             assert_eq!(u.light_batches, drawn, "{what}: unbatched, one batch per drawn light");
         }
     }
@@ -183,6 +187,14 @@ fn draw_calls_fall_on_the_full_demo() {
             })
             .sum();
         assert_eq!(u.draw_calls, per_light + clears(u.light_batches), "{}", mode.name());
+        let tiled =
+            |st: &FrameStats| st.per_light.iter().all(|l| matches!(l.method, Method::Tiled | Method::Clustered));
+        if tiled(&b) {
+            // The tiled pass shades the frame (`tiled`, `clustered`, or `auto`'s frame rule): the
+            // light pass draws nothing, batched or not.
+            assert_eq!((b.draw_calls, b.light_batches, u.draw_calls), (0, 0, 0), "{}", mode.name());
+            continue;
+        }
         match mode {
             // One instanced draw for all lights; volumes: one per mesh (sphere, cone).
             CullingMode::Fullscreen => assert_eq!((b.draw_calls, b.light_batches), (1, 1)),
@@ -195,6 +207,7 @@ fn draw_calls_fall_on_the_full_demo() {
                 assert_eq!(b.draw_calls, 2 * b.light_batches);
             }
             CullingMode::Auto => assert!(methods(&b).len() > 1, "auto draws demo with one method"),
+            CullingMode::Tiled | CullingMode::Clustered => unreachable!("{}: drawn by the light pass", mode.name()),
         }
         assert!(
             b.draw_calls * 4 < u.draw_calls,

@@ -798,6 +798,7 @@ mod tests {
             mode,
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
+            light_batching: true,
         }
     }
 

@@ -281,6 +281,7 @@ mod tests {
             mode: CullingMode::Clustered,
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
+            light_batching: true,
         }
     }
 
@@ -357,7 +358,7 @@ mod tests {
                 cos_inner: -1.0,
                 tan_outer: 0.0,
                 falloff: radius,
-                pad0: 0.0,
+                clamp: f32::MAX,
             };
             lights.push(l);
         }

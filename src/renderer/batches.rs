@@ -221,6 +221,12 @@ impl LightBatches {
         out
     }
 
+    /// Batches one block's drawn lights in light order, so that every pixel still receives its
+    /// lights in the order the unbatched frame draws them (bit-identical sums): each light joins
+    /// the last batch of its key (method, mesh, near-crossing) if that batch comes after every
+    /// batch that holds an earlier light whose footprint shares a [`CELL`] with it (for plain
+    /// volumes and full-screen lights, which need no stencil, it may also be that batch itself:
+    /// instances blend in instance order), else it opens a new batch at the end.
     fn batch_block(
         &mut self,
         block: std::ops::Range<usize>,
@@ -229,8 +235,15 @@ impl LightBatches {
         volumes: &Volumes,
         view: &PlanView,
     ) {
-        // Group the block's drawn lights by what they must share.
-        let mut groups: Vec<(Key, Vec<u32>)> = Vec::new();
+        let (w, h) = view.size;
+        let (gw, gh) = (w.div_ceil(CELL).max(1) as usize, h.div_ceil(CELL).max(1) as usize);
+        // Per cell, the last batch (index into `sets`) holding a light there, plus one (0: none);
+        // `whole`: the same for lights covering the whole grid, kept apart so that full-screen
+        // lights do not walk every cell.
+        let mut grid = vec![0usize; gw * gh];
+        let mut whole = 0usize;
+        let mut sets: Vec<(Key, Vec<u32>)> = Vec::new();
+        let mut last_of: Vec<(Key, usize)> = Vec::new();
         for i in block {
             let p = &plans[i];
             if !drawn(p.method) {
@@ -243,29 +256,72 @@ impl LightBatches {
                 // Only REPLACE shades near-crossing lights with another pipeline.
                 crosses_near: p.method == Method::StencilReplace && p.crosses_near,
             };
-            match groups.iter_mut().find(|(k, _)| *k == key) {
-                Some((_, v)) => v.push(i as u32),
-                None => groups.push((key, vec![i as u32])),
+            let foot = if p.method == Method::Fullscreen {
+                Footprint::Rect([0, 0, w.max(1) - 1, h.max(1) - 1])
+            } else {
+                footprint(p, &lights[i], volumes, view)
+            };
+            let cells = match foot {
+                Footprint::Empty => None,
+                Footprint::Rect([x0, y0, x1, y1]) => Some([
+                    (x0 / CELL) as usize,
+                    (y0 / CELL) as usize,
+                    ((x1 / CELL) as usize).min(gw - 1),
+                    ((y1 / CELL) as usize).min(gh - 1),
+                ]),
+            };
+            let covers_all = cells == Some([0, 0, gw - 1, gh - 1]);
+            // The last batch (plus one) that must be drawn before this light.
+            let mut after = whole;
+            if let Some([cx0, cy0, cx1, cy1]) = cells.filter(|_| !covers_all) {
+                for y in cy0..=cy1 {
+                    after = after.max(grid[y * gw + cx0..=y * gw + cx1].iter().copied().max().unwrap_or(0));
+                }
+            } else if covers_all {
+                after = after.max(grid.iter().copied().max().unwrap_or(0));
+            }
+            let last = last_of.iter().find(|(k, _)| *k == key).map(|&(_, b)| b);
+            // `last + 1 > after`: drawn after every earlier light here; `==` allowed without stencil.
+            let joins = match last {
+                Some(b) if cells.is_none() => Some(b),
+                Some(b) if b + 1 > after => Some(b),
+                Some(b) if b + 1 == after && !stencil(p.method) => Some(b),
+                _ => None,
+            };
+            let b = match joins {
+                Some(b) => b,
+                None => {
+                    sets.push((key, Vec::new()));
+                    let b = sets.len() - 1;
+                    match last_of.iter_mut().find(|(k, _)| *k == key) {
+                        Some(entry) => entry.1 = b,
+                        None => last_of.push((key, b)),
+                    }
+                    b
+                }
+            };
+            sets[b].1.push(i as u32);
+            if covers_all {
+                whole = whole.max(b + 1);
+            } else if let Some([cx0, cy0, cx1, cy1]) = cells {
+                for y in cy0..=cy1 {
+                    for cell in &mut grid[y * gw + cx0..=y * gw + cx1] {
+                        *cell = (*cell).max(b + 1);
+                    }
+                }
             }
         }
-        groups.sort_by_key(|(k, _)| *k);
-        for (_, members) in groups {
+        for (_, members) in sets {
             let p = plans[members[0] as usize];
-            let (method, volume, crosses_near) = (p.method, p.volume, p.crosses_near);
-            let sets = if stencil(method) {
-                let feet: Vec<(u32, Footprint)> = members
-                    .iter()
-                    .map(|&i| (i, footprint(&plans[i as usize], &lights[i as usize], volumes, view)))
-                    .collect();
-                first_fit(&feet, view.size)
-            } else {
-                vec![members]
-            };
-            for set in sets {
-                let first = self.list.len() as u32;
-                self.list.extend_from_slice(&set);
-                self.batches.push(Batch { method, volume, crosses_near, first, count: set.len() as u32 });
-            }
+            let first = self.list.len() as u32;
+            self.list.extend_from_slice(&members);
+            self.batches.push(Batch {
+                method: p.method,
+                volume: p.volume,
+                crosses_near: p.crosses_near,
+                first,
+                count: members.len() as u32,
+            });
         }
     }
 

@@ -3,7 +3,13 @@
 use super::*;
 
 pub(super) fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
-    let rect = ui.available_rect_before_wrap();
+    // Snapped to whole pixels: at resolution scale 1 the frame maps 1:1 onto the window only if
+    // the rectangle starts and ends on pixel edges (a panel of fractional width would otherwise
+    // make egui resample the whole image).
+    let ppp = ui.ctx().pixels_per_point();
+    let snap = |p: Pos2| Pos2::new((p.x * ppp).round() / ppp, (p.y * ppp).round() / ppp);
+    let avail = ui.available_rect_before_wrap();
+    let rect = Rect::from_min_max(snap(avail.min), snap(avail.max));
     out.viewport_rect = Some(rect);
     let resp = ui.allocate_rect(rect, Sense::click_and_drag());
     let painter = ui.painter_at(rect);

@@ -68,7 +68,8 @@ impl DebugPass {
         });
         f.bind_light_inputs(&mut pass);
         let n = f.plan.lights.len();
-        if view == DebugView::Complexity && f.settings.selected_light.is_none() {
+        // Frames the tiled pass shades have no batches: their lights are drawn one by one below.
+        if view == DebugView::Complexity && f.settings.selected_light.is_none() && f.plan.tiled.is_none() {
             // Additive and stencil-free: the frame's batches draw it (`batches.rs`), full-screen
             // batches full-screen, the others as plain volumes. Either way the shader keeps only
             // the points inside the light's true shape, which the volume holds; skipped lights

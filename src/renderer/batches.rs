@@ -33,15 +33,19 @@
 //!        left by earlier batches never equal it: a light's test sees only its own marks (no
 //!        other light of its batch reaches its pixels).
 //!
-//!   So every light shades exactly the samples it shades unbatched; only the order of the
-//!   additive blends differs.
+//!   So every light shades exactly the samples it shades unbatched.
+//! - **Light order kept**: batches are formed in light order, and a light joins its key's last
+//!   batch only if that batch comes after every batch holding an earlier light whose footprint
+//!   shares a [`CELL`] with it (for plain volumes and full-screen lights, whose draws blend in
+//!   instance order, it may also be that batch itself); else it opens a new batch. So every
+//!   pixel receives its lights in light order, as unbatched: the same blends in the same order,
+//!   bit-identical sums (`tests/batching.rs` compares the bits). Largest-first first-fit needed
+//!   2.25x fewer batches but reordered the blends: a step off on 2.7% of the room's pixels.
 //! - Batches never span two blocks of [`LIGHTS_PER_QUERY_SET`] lights: the light pass records
 //!   one render pass per block (one occlusion query set each), as before.
 //!
-//! Grouping is greedy first-fit: rectangles sorted by area (largest first), each placed in the
-//! first batch none of whose lights' rectangles share an [`CELL`]-pixel cell with it, found 64
-//! batches at a time through one bit per batch in a coarse occupancy grid. Cells are coarser than
-//! pixels, so two lights can be kept apart that would not have met (more batches, never wrong).
+//! Cells are coarser than pixels, so two lights can be kept apart that would not have met (more
+//! batches, never wrong).
 
 use super::plan::{LightPlan, Method, PlanView};
 use super::records::LightRecord;
@@ -331,74 +335,6 @@ impl LightBatches {
     }
 }
 
-/// Greedy first-fit of footprints into sets whose rectangles share no [`CELL`]: largest first,
-/// each into the first set it fits. Lights that rasterise nothing join the first set. Each set
-/// lists its lights in light order.
-pub fn first_fit(lights: &[(u32, Footprint)], (w, h): (u32, u32)) -> Vec<Vec<u32>> {
-    let (gw, gh) = (w.div_ceil(CELL).max(1) as usize, h.div_ceil(CELL).max(1) as usize);
-    let mut empty = Vec::new();
-    let mut pending: Vec<(u32, [usize; 4])> = Vec::new();
-    for &(i, f) in lights {
-        match f {
-            Footprint::Empty => empty.push(i),
-            Footprint::Rect([x0, y0, x1, y1]) => pending.push((
-                i,
-                [
-                    (x0 / CELL) as usize,
-                    (y0 / CELL) as usize,
-                    ((x1 / CELL) as usize).min(gw - 1),
-                    ((y1 / CELL) as usize).min(gh - 1),
-                ],
-            )),
-        }
-    }
-    let area = |c: &[usize; 4]| (c[2] - c[0] + 1) * (c[3] - c[1] + 1);
-    // Largest first, then top to bottom, left to right; ties by light (deterministic).
-    pending.sort_by(|a, b| {
-        area(&b.1).cmp(&area(&a.1)).then(a.1[1].cmp(&b.1[1])).then(a.1[0].cmp(&b.1[0])).then(a.0.cmp(&b.0))
-    });
-    let mut sets: Vec<Vec<u32>> = Vec::new();
-    let mut grid = vec![0u64; gw * gh];
-    // 64 sets at a time: a light that fits none of them waits for the next 64. That is
-    // first-fit exactly: the next round's grid holds the lights placed before it there.
-    while !pending.is_empty() {
-        grid.fill(0);
-        let mut round: Vec<Vec<u32>> = vec![Vec::new(); 64];
-        let mut next = Vec::new();
-        for (i, [cx0, cy0, cx1, cy1]) in pending {
-            let mut used = 0u64;
-            for y in cy0..=cy1 {
-                for cell in &grid[y * gw + cx0..=y * gw + cx1] {
-                    used |= *cell;
-                }
-            }
-            if used == u64::MAX {
-                next.push((i, [cx0, cy0, cx1, cy1]));
-                continue;
-            }
-            let b = (!used).trailing_zeros();
-            for y in cy0..=cy1 {
-                for cell in &mut grid[y * gw + cx0..=y * gw + cx1] {
-                    *cell |= 1 << b;
-                }
-            }
-            round[b as usize].push(i);
-        }
-        sets.extend(round.into_iter().filter(|s| !s.is_empty()));
-        pending = next;
-    }
-    if !empty.is_empty() {
-        match sets.first_mut() {
-            Some(s) => s.extend(empty),
-            None => sets.push(empty),
-        }
-    }
-    for s in &mut sets {
-        s.sort_unstable();
-    }
-    sets
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -413,45 +349,5 @@ mod tests {
         assert_eq!(pixel_rect(Vec2::new(0.0, 0.0), Vec2::new(0.01, 0.01), size), Some([49, 23, 51, 26]));
         assert_eq!(pixel_rect(Vec2::new(1.5, 0.0), Vec2::new(2.0, 0.5), size), None);
         assert_eq!(pixel_rect(Vec2::NAN, Vec2::ONE, size), Some([0, 0, 99, 49]));
-    }
-
-    #[test]
-    fn first_fit_keeps_overlapping_rectangles_apart_and_places_every_light_once() {
-        let size = (640u32, 360u32);
-        let mut seed = 7u64;
-        let mut rnd = |m: u32| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 33) % m as u64) as u32
-        };
-        let mut lights = Vec::new();
-        for i in 0..3000u32 {
-            let f = if i % 97 == 0 {
-                Footprint::Empty
-            } else if i % 29 == 0 {
-                Footprint::Rect([0, 0, size.0 - 1, size.1 - 1])
-            } else {
-                let (x, y) = (rnd(size.0), rnd(size.1));
-                let (rw, rh) = (1 + rnd(60), 1 + rnd(60));
-                Footprint::Rect([x, y, (x + rw).min(size.0 - 1), (y + rh).min(size.1 - 1)])
-            };
-            lights.push((i, f));
-        }
-        let sets = first_fit(&lights, size);
-        let mut seen = vec![0; lights.len()];
-        for s in &sets {
-            for (k, &a) in s.iter().enumerate() {
-                seen[a as usize] += 1;
-                for &b in &s[k + 1..] {
-                    if let (Footprint::Rect(p), Footprint::Rect(q)) = (lights[a as usize].1, lights[b as usize].1) {
-                        let apart = p[2] < q[0] || q[2] < p[0] || p[3] < q[1] || q[3] < p[1];
-                        assert!(apart, "lights {a} {p:?} and {b} {q:?} share a set");
-                    }
-                }
-            }
-        }
-        assert!(seen.iter().all(|&c| c == 1), "every light in exactly one set");
-        // More than 64 sets: the rounds beyond the first 64 were exercised.
-        assert!(sets.len() > 64, "{} sets", sets.len());
-        assert!(sets.len() < lights.len() / 4, "{} sets for {} lights", sets.len(), lights.len());
     }
 }

@@ -740,21 +740,7 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         let font: TextStyle = ("sans-serif", 13).into_font().into();
         let (xr, yr) = chart.plotting_area().get_pixel_range();
         let base = area.get_base_pixel();
-        let grid = RGBColor(225, 225, 225);
-        for &t in &x_ticks {
-            chart.draw_series(LineSeries::new([(t, 0.0), (t, e_hi)], grid))?;
-            let text = format!("{t:.x_dec$}");
-            let (w, _) = area.estimate_text_size(&text, &font)?;
-            let (px, _) = chart.backend_coord(&(t, 0.0));
-            area.draw(&Text::new(text, (px - w as i32 / 2 - base.0, yr.end + 4 - base.1), font.clone()))?;
-        }
-        for &e in &y_ticks {
-            chart.draw_series(LineSeries::new([(t_lo, e), (t_hi, e)], grid))?;
-            let text = format!("{e:.y_dec$}");
-            let (w, h) = area.estimate_text_size(&text, &font)?;
-            let (_, py) = chart.backend_coord(&(t_lo, e));
-            area.draw(&Text::new(text, (xr.start - 6 - w as i32 - base.0, py - h as i32 / 2 - base.1), font.clone()))?;
-        }
+        draw_ticks(&mut chart, area, (&x_ticks, x_dec), (&y_ticks, y_dec), (t_lo, t_hi), (0.0, e_hi))?;
         // The Pareto front of each scene/lights/size among this panel's points.
         let mut keys: Vec<_> = mine.iter().map(|r| key(r)).collect();
         keys.dedup();
@@ -813,6 +799,48 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
         }
     }
     root.present()?;
+    Ok(())
+}
+
+/// Grid lines and labels at our own ticks (`plot_layout`): plotters' log axes label only
+/// powers of ten, so both plots blank its labels and draw these. `x` and `y` are the ticks with
+/// their decimals; the ranges are the plotted ones.
+fn draw_ticks<DB, X, Y>(
+    chart: &mut plotters::chart::ChartContext<'_, DB, plotters::coord::cartesian::Cartesian2d<X, Y>>,
+    area: &plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+    (x_ticks, x_dec): (&[f64], usize),
+    (y_ticks, y_dec): (&[f64], usize),
+    (x_lo, x_hi): (f64, f64),
+    (y_lo, y_hi): (f64, f64),
+) -> Result<()>
+where
+    DB: plotters::prelude::DrawingBackend,
+    DB::ErrorType: 'static,
+    X: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+{
+    use plotters::prelude::*;
+    let font: TextStyle = ("sans-serif", 13).into_font().into();
+    let (xr, yr) = chart.plotting_area().get_pixel_range();
+    let base = area.get_base_pixel();
+    let grid = RGBColor(225, 225, 225);
+    let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("drawing the plot: {e}");
+    for &v in x_ticks {
+        chart.draw_series(LineSeries::new([(v, y_lo), (v, y_hi)], grid)).map_err(|e| err(&e))?;
+        let text = format!("{v:.x_dec$}");
+        let (w, _) = area.estimate_text_size(&text, &font).map_err(|e| err(&e))?;
+        let (px, _) = chart.backend_coord(&(v, y_lo));
+        area.draw(&Text::new(text, (px - w as i32 / 2 - base.0, yr.end + 4 - base.1), font.clone()))
+            .map_err(|e| err(&e))?;
+    }
+    for &v in y_ticks {
+        chart.draw_series(LineSeries::new([(x_lo, v), (x_hi, v)], grid)).map_err(|e| err(&e))?;
+        let text = format!("{v:.y_dec$}");
+        let (w, h) = area.estimate_text_size(&text, &font).map_err(|e| err(&e))?;
+        let (_, py) = chart.backend_coord(&(x_lo, v));
+        area.draw(&Text::new(text, (xr.start - 6 - w as i32 - base.0, py - h as i32 / 2 - base.1), font.clone()))
+            .map_err(|e| err(&e))?;
+    }
     Ok(())
 }
 
@@ -893,24 +921,7 @@ pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
             .x_label_formatter(&|_| String::new())
             .y_label_formatter(&|_| String::new())
             .draw()?;
-        let font: TextStyle = ("sans-serif", 13).into_font().into();
-        let (xr, yr) = chart.plotting_area().get_pixel_range();
-        let base = area.get_base_pixel();
-        let grid = RGBColor(225, 225, 225);
-        for &v in &x_ticks {
-            chart.draw_series(LineSeries::new([(v, t_lo), (v, t_hi)], grid))?;
-            let text = format!("{v:.x_dec$}");
-            let (w, _) = area.estimate_text_size(&text, &font)?;
-            let (px, _) = chart.backend_coord(&(v, t_lo));
-            area.draw(&Text::new(text, (px - w as i32 / 2 - base.0, yr.end + 4 - base.1), font.clone()))?;
-        }
-        for &t in &t_ticks {
-            chart.draw_series(LineSeries::new([(x_lo, t), (x_hi, t)], grid))?;
-            let text = format!("{t:.t_dec$}");
-            let (w, h) = area.estimate_text_size(&text, &font)?;
-            let (_, py) = chart.backend_coord(&(x_lo, t));
-            area.draw(&Text::new(text, (xr.start - 6 - w as i32 - base.0, py - h as i32 / 2 - base.1), font.clone()))?;
-        }
+        draw_ticks(&mut chart, area, (&x_ticks, x_dec), (&t_ticks, t_dec), (x_lo, x_hi), (t_lo, t_hi))?;
         let mut modes: Vec<String> = Vec::new();
         for r in &mine {
             if !modes.contains(&r.culling) {

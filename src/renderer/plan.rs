@@ -551,11 +551,19 @@ impl FramePlan {
         view: &PlanView,
     ) -> Self {
         let radii = SphereRadii::of(&volumes.sphere);
-        let mut lights: Vec<LightPlan> = records
-            .lights
-            .iter()
-            .map(|l| plan_sphere_ahead(l, radii, &volumes.sphere, view).unwrap_or_else(|| plan_light(l, volumes, view)))
-            .collect();
+        // Each light's plan is its own: two threads take half the lights each.
+        let plan = |lights: &[LightRecord]| -> Vec<LightPlan> {
+            lights
+                .iter()
+                .map(|l| {
+                    plan_sphere_ahead(l, radii, &volumes.sphere, view).unwrap_or_else(|| plan_light(l, volumes, view))
+                })
+                .collect()
+        };
+        let (first, second) = records.lights.split_at(records.lights.len() / 2);
+        let parallel = records.lights.len() >= super::tiles::PARALLEL_MIN_LIGHTS;
+        let (mut lights, rest) = super::tiles::both(parallel, || plan(first), || plan(second));
+        lights.extend(rest);
         // The frame-level rule first: lights it hands to the tiled pass are left out of the
         // batches.
         let tiled = super::tiles::frame_rule(&mut lights, view);

@@ -14,8 +14,12 @@ use glam::{Vec2, Vec3};
 pub const TILE: u32 = 16;
 /// Size in pixels of the `clustered` mode's screen tiles.
 pub const CLUSTER_TILE: u32 = 32;
-/// Exponential depth slices between the near and far planes (`clustered`).
-pub const SLICES: u32 = 32;
+/// Exponential depth slices between the nearest and the farthest depth the frame's lights
+/// reach (`clustered`).
+pub const SLICES: u32 = 64;
+/// From this many lights the CPU's per-light work (plans, cluster lists) is split over two
+/// threads; below it a thread costs more than it saves.
+pub const PARALLEL_MIN_LIGHTS: usize = 1024;
 /// A list count meaning "every light" (the GPU's list buffer ran out of room for this tile):
 /// the tile is shaded with all lights, the right picture at a higher cost.
 pub const ALL_LIGHTS: u32 = u32::MAX;
@@ -36,6 +40,7 @@ pub fn heat(t: f32) -> [f32; 3] {
 /// (a view depth d lies in slice `floor(ln d x scale + bias)`, clamped).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ClusterGrid {
+    pub tile: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
     pub slices: u32,
@@ -47,12 +52,14 @@ pub struct ClusterGrid {
 
 impl ClusterGrid {
     pub fn new(size: (u32, u32), near: f32, far: f32) -> Self {
+        let (tile, slices) = (CLUSTER_TILE, SLICES);
         let far = far.max(near * 1.0001);
-        let scale = SLICES as f32 / (far / near).ln();
+        let scale = slices as f32 / (far / near).ln();
         Self {
-            tiles_x: size.0.div_ceil(CLUSTER_TILE),
-            tiles_y: size.1.div_ceil(CLUSTER_TILE),
-            slices: SLICES,
+            tile,
+            tiles_x: size.0.div_ceil(tile),
+            tiles_y: size.1.div_ceil(tile),
+            slices,
             scale,
             bias: -near.ln() * scale,
             near,
@@ -100,28 +107,55 @@ impl ClusterLists {
     }
 }
 
-/// The view-space box of a cluster: tile (`tx`, `ty`) widened by a pixel, between view depths
-/// `d0` and `d1`; `proj` is the projection (symmetric or not).
-fn cluster_box(view: &PlanView, tile: u32, (tx, ty): (u32, u32), (d0, d1): (f32, f32)) -> (Vec3, Vec3) {
-    let (w, h) = (view.size.0 as f32, view.size.1 as f32);
-    let ndc_x = |px: f32| px / w * 2.0 - 1.0;
-    let ndc_y = |py: f32| 1.0 - py / h * 2.0;
-    let (x0, x1) = (ndc_x((tx * tile) as f32 - 1.0), ndc_x(((tx + 1) * tile) as f32 + 1.0));
-    let (y0, y1) = (ndc_y(((ty + 1) * tile) as f32 + 1.0), ndc_y((ty * tile) as f32 - 1.0));
-    let p = view.proj;
-    // Clip x = P00 x + P20 z with w = -z = d: x = d (ndc + P20) / P00 (likewise y).
-    let vx = |ndc: f32, d: f32| d * (ndc + p.z_axis.x) / p.x_axis.x;
-    let vy = |ndc: f32, d: f32| d * (ndc + p.z_axis.y) / p.y_axis.y;
-    let xs = [vx(x0, d0), vx(x0, d1), vx(x1, d0), vx(x1, d1)];
-    let ys = [vy(y0, d0), vy(y0, d1), vy(y1, d0), vy(y1, d1)];
-    let min =
-        Vec3::new(xs.into_iter().fold(f32::INFINITY, f32::min), ys.into_iter().fold(f32::INFINITY, f32::min), -d1);
-    let max = Vec3::new(
-        xs.into_iter().fold(f32::NEG_INFINITY, f32::max),
-        ys.into_iter().fold(f32::NEG_INFINITY, f32::max),
-        -d0,
-    );
-    (min, max)
+/// The view-space extent of the grid's cells, separable: a cluster's box is the tile's frustum
+/// piece between its slice's depths, and its x range depends only on the tile's column and the
+/// slice (likewise y on the row), its z range only on the slice.
+struct CellBounds {
+    /// Per column: view x over view depth at the column's left and right edges (widened by a
+    /// pixel), so the column spans `d x a0 .. d x a1` at depth d.
+    columns: Vec<(f32, f32)>,
+    rows: Vec<(f32, f32)>,
+    /// Per slice: its near and far depth, widened by 0.1%.
+    slices: Vec<(f32, f32)>,
+}
+
+impl CellBounds {
+    fn new(grid: &ClusterGrid, view: &PlanView) -> Self {
+        let (w, h) = (view.size.0 as f32, view.size.1 as f32);
+        let p = view.proj;
+        // Clip x = P00 x + P20 z with w = -z = d: x = d (ndc + P20) / P00 (likewise y).
+        let tile = grid.tile;
+        let columns = (0..grid.tiles_x)
+            .map(|tx| {
+                let ndc = |px: f32| px / w * 2.0 - 1.0;
+                let a = |n: f32| (n + p.z_axis.x) / p.x_axis.x;
+                (a(ndc((tx * tile) as f32 - 1.0)), a(ndc(((tx + 1) * tile) as f32 + 1.0)))
+            })
+            .collect();
+        let rows = (0..grid.tiles_y)
+            .map(|ty| {
+                let ndc = |py: f32| 1.0 - py / h * 2.0;
+                let a = |n: f32| (n + p.z_axis.y) / p.y_axis.y;
+                (a(ndc(((ty + 1) * tile) as f32 + 1.0)), a(ndc((ty * tile) as f32 - 1.0)))
+            })
+            .collect();
+        let slices = (0..grid.slices)
+            .map(|k| {
+                let (s0, s1) = grid.slice_depths(k);
+                (s0 * 0.999, s1 * 1.001)
+            })
+            .collect();
+        Self { columns, rows, slices }
+    }
+}
+
+/// Squared distance from `c` to the interval covered by `d x a` for `d` in `d0..d1` and `a` in
+/// `a0..a1` (a frustum piece's extent along one axis).
+fn gap2(c: f32, (a0, a1): (f32, f32), (d0, d1): (f32, f32)) -> f32 {
+    let lo = (d0 * a0).min(d1 * a0);
+    let hi = (d0 * a1).max(d1 * a1);
+    let g = (lo - c).max(c - hi).max(0.0);
+    g * g
 }
 
 /// Builds the clustered lists (conservative: a light enters every cluster its bounding sphere
@@ -129,62 +163,174 @@ fn cluster_box(view: &PlanView, tile: u32, (tx, ty): (u32, u32), (d0, d1): (f32,
 /// visible point it reaches) widened by a pixel gives the tiles, its depth range widened by a
 /// slice on each side the slices; then each candidate cluster's view-space box (the tile's
 /// frustum piece between the slice's depths, widened by a pixel and by 0.1% in depth) is tested
-/// against the light's sphere. A spot is bounded by its sphere.
+/// against the light's sphere, axis by axis ([`CellBounds`]: the squared distance to the box is
+/// the sum of the three axes' squared gaps, so a slice or row already out of reach ends early).
+/// A spot is bounded by its sphere. The lists are filled by a counting sort over (cell, light)
+/// pairs found in light order, so every list is in light order.
 pub fn cluster_lists(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterLists {
-    let grid = ClusterGrid::new(view.size, view.near, view.far);
-    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); grid.cells()];
-    let (w, h) = (view.size.0 as f32, view.size.1 as f32);
-    for (i, (l, p)) in lights.iter().zip(plans).enumerate() {
-        let Some((lo, hi)) = p.screen_rect else { continue };
-        let c = Vec3::from(l.position);
-        let r = l.radius;
-        if r.is_nan() || r <= 0.0 || !c.is_finite() {
+    cluster_lists_on(lights, plans, view, lights.len() >= PARALLEL_MIN_LIGHTS)
+}
+
+/// [`cluster_lists`], on two threads if `parallel` (the same lists either way).
+fn cluster_lists_on(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView, parallel: bool) -> ClusterLists {
+    // The slices span the depths the lights reach, not near to far: no light reaches a point
+    // nearer or farther, so the end slices' lists (which such points fall into) hold every light
+    // that reaches them.
+    let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
+    for (l, p) in lights.iter().zip(plans) {
+        if p.screen_rect.is_some() && l.radius > 0.0 {
+            zmin = zmin.min(-l.position[2] - l.radius);
+            zmax = zmax.max(-l.position[2] + l.radius);
+        }
+    }
+    let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
+    let grid = ClusterGrid::new(view.size, near, far.max(near));
+    let bounds = CellBounds::new(&grid, view);
+    // Two passes over the lights, the same tests in the same order: the first counts each
+    // cell's lights, the second writes them at their cell's cursor (so in light order). Two
+    // threads share each pass: the count by halves of the lights, the fill by two runs of
+    // slices holding about half the entries each (cells are numbered slice by slice, so a
+    // run of slices is a run of cells and of entries).
+    let cells = grid.cells();
+    let count = |range: std::ops::Range<usize>| {
+        let mut counts = vec![0u32; cells];
+        let mut gx = Vec::new();
+        for (l, p) in lights[range.clone()].iter().zip(&plans[range]) {
+            light_cells(l, p, &grid, &bounds, view.size, 0..grid.slices, &mut gx, |cell| counts[cell] += 1);
+        }
+        counts
+    };
+    let half = lights.len() / 2;
+    let (mut counts, rest) = both(parallel, || count(0..half), || count(half..lights.len()));
+    for (c, r) in counts.iter_mut().zip(&rest) {
+        *c += r;
+    }
+    let per_slice = (grid.tiles_x * grid.tiles_y) as usize;
+    let total: u64 = counts.iter().map(|&n| n as u64).sum();
+    let mut split = grid.slices;
+    let mut so_far = 0u64;
+    for k in 0..grid.slices {
+        if 2 * so_far >= total {
+            split = k;
+            break;
+        }
+        so_far += counts[k as usize * per_slice..(k as usize + 1) * per_slice].iter().map(|&n| n as u64).sum::<u64>();
+    }
+    let split_cell = if split < grid.slices { grid.cell(0, 0, split) } else { cells };
+    let halves = [0..split, split..grid.slices];
+    let header = 2 * cells;
+    let entries: usize = counts.iter().map(|&n| n as usize).sum();
+    let mut data = vec![0u32; header + entries];
+    let mut first = header as u32;
+    let mut longest = 0;
+    for (cell, n) in counts.iter_mut().enumerate() {
+        data[2 * cell] = first;
+        data[2 * cell + 1] = *n;
+        longest = longest.max(*n);
+        // From here on the count is the cell's cursor.
+        *n = first;
+        first += data[2 * cell + 1];
+    }
+    {
+        let near_end = if split_cell < cells { counts[split_cell] as usize } else { data.len() };
+        let (near_data, far_data) = data.split_at_mut(near_end);
+        let far_data = (far_data, near_end);
+        let near_data = (&mut near_data[header..], header);
+        let (near, far) = counts.split_at_mut(split_cell);
+        let fill =
+            |slices: std::ops::Range<u32>, cursors: &mut [u32], offset: usize, (out, base): (&mut [u32], usize)| {
+                let mut gx = Vec::new();
+                for (i, (l, p)) in lights.iter().zip(plans).enumerate() {
+                    light_cells(l, p, &grid, &bounds, view.size, slices.clone(), &mut gx, |cell| {
+                        let at = &mut cursors[cell - offset];
+                        out[*at as usize - base] = i as u32;
+                        *at += 1;
+                    });
+                }
+            };
+        both(
+            parallel,
+            || fill(halves[0].clone(), near, 0, near_data),
+            || fill(halves[1].clone(), far, split_cell, far_data),
+        );
+    }
+    ClusterLists { data, grid: Some(grid), entries: entries as u64, longest }
+}
+
+/// Runs `a` and `b`, on two threads if `parallel` and the machine has more than one core.
+pub fn both<A: Send, B: Send>(parallel: bool, a: impl FnOnce() -> A + Send, b: impl FnOnce() -> B + Send) -> (A, B) {
+    if !parallel || std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        return (a(), b());
+    }
+    std::thread::scope(|s| {
+        let b = s.spawn(b);
+        let a = a();
+        // A panic in `b` is a bug in this module: carry it over.
+        (a, b.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+    })
+}
+
+/// Calls `f` with every cell of `grid` in `slices` whose box meets light `l`'s sphere (see
+/// [`cluster_lists`]); `gx` is scratch space.
+fn light_cells(
+    l: &LightRecord,
+    p: &LightPlan,
+    grid: &ClusterGrid,
+    bounds: &CellBounds,
+    size: (u32, u32),
+    slices: std::ops::Range<u32>,
+    gx: &mut Vec<f32>,
+    mut f: impl FnMut(usize),
+) {
+    let Some((lo, hi)) = p.screen_rect else { return };
+    let c = Vec3::from(l.position);
+    let r = l.radius;
+    if r.is_nan() || r <= 0.0 || !c.is_finite() {
+        return;
+    }
+    let (d0, d1) = ((-c.z - r).max(grid.near), (-c.z + r).min(grid.far));
+    if d0 > d1 {
+        return;
+    }
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let px = |x: f32| ((x + 1.0) * 0.5 * w).floor();
+    let py = |y: f32| ((1.0 - y) * 0.5 * h).floor();
+    let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+    let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+    if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
+        return;
+    }
+    let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / grid.tile;
+    let (tx0, tx1, ty0, ty1) = (tile(x0, size.0), tile(x1, size.0), tile(y0, size.1), tile(y1, size.1));
+    let k0 = grid.slice(d0).saturating_sub(1).max(slices.start);
+    let k1 = (grid.slice(d1) + 2).min(slices.end);
+    let r2 = r * r * 1.0001;
+    for k in k0..k1 {
+        let depths = bounds.slices[k as usize];
+        let dz = (depths.0 + c.z).max(-c.z - depths.1).max(0.0);
+        let dz2 = dz * dz;
+        if dz2 > r2 {
             continue;
         }
-        let (d0, d1) = ((-c.z - r).max(grid.near), (-c.z + r).min(grid.far));
-        if d0 > d1 {
-            continue;
-        }
-        let px = |x: f32| ((x + 1.0) * 0.5 * w).floor();
-        let py = |y: f32| ((1.0 - y) * 0.5 * h).floor();
-        let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
-        let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
-        if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
-            continue;
-        }
-        let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / CLUSTER_TILE;
-        let (tx0, tx1, ty0, ty1) =
-            (tile(x0, view.size.0), tile(x1, view.size.0), tile(y0, view.size.1), tile(y1, view.size.1));
-        let k0 = grid.slice(d0).saturating_sub(1);
-        let k1 = (grid.slice(d1) + 1).min(grid.slices - 1);
-        for k in k0..=k1 {
-            let (s0, s1) = grid.slice_depths(k);
-            let depths = (s0 * 0.999, s1 * 1.001);
-            for ty in ty0..=ty1 {
-                for tx in tx0..=tx1 {
-                    let (bmin, bmax) = cluster_box(view, CLUSTER_TILE, (tx, ty), depths);
-                    let nearest = c.clamp(bmin, bmax);
-                    if nearest.distance_squared(c) <= r * r * 1.0001 {
-                        cells[grid.cell(tx, ty, k)].push(i as u32);
-                    }
+        // The columns within reach at this slice (the gap grows away from the light's column,
+        // so they are a run): only those are tested row by row.
+        gx.clear();
+        gx.extend((tx0..=tx1).map(|tx| gap2(c.x, bounds.columns[tx as usize], depths)));
+        let Some(a) = gx.iter().position(|g| dz2 + g <= r2) else { continue };
+        let b = gx.iter().rposition(|g| dz2 + g <= r2).unwrap_or(a);
+        for ty in ty0..=ty1 {
+            let dyz2 = dz2 + gap2(c.y, bounds.rows[ty as usize], depths);
+            if dyz2 > r2 {
+                continue;
+            }
+            let row = grid.cell(tx0, ty, k);
+            for (j, g) in gx.iter().enumerate().take(b + 1).skip(a) {
+                if dyz2 + g <= r2 {
+                    f(row + j);
                 }
             }
         }
     }
-    let header = 2 * cells.len();
-    let entries: usize = cells.iter().map(Vec::len).sum();
-    let mut data = Vec::with_capacity(header + entries);
-    let mut first = header as u32;
-    let mut longest = 0;
-    for c in &cells {
-        data.extend([first, c.len() as u32]);
-        first += c.len() as u32;
-        longest = longest.max(c.len() as u32);
-    }
-    for c in &cells {
-        data.extend_from_slice(c);
-    }
-    ClusterLists { data, grid: Some(grid), entries: entries as u64, longest }
 }
 
 /// Cost constants of `auto`'s frame rule, idle lavapipe on this project's 2-core machine.
@@ -318,6 +464,42 @@ mod tests {
     }
 
     #[test]
+    fn the_slices_span_the_depths_the_lights_reach() {
+        let v = view((320, 180));
+        let light = |depth: f32, radius: f32| LightRecord {
+            position: [0.0, 0.0, -depth],
+            radius,
+            color: [1.0; 3],
+            kind: crate::renderer::records::LIGHT_KIND_POINT,
+            direction: [0.0, 0.0, -1.0],
+            cos_outer: -1.0,
+            cos_inner: -1.0,
+            tan_outer: 0.0,
+            falloff: radius,
+            clamp: f32::MAX,
+        };
+        let plan = |on_screen: bool| LightPlan {
+            method: Method::Clustered,
+            volume: crate::renderer::VolumeKind::Sphere,
+            crosses_near: false,
+            crosses_far: false,
+            screen_share: 0.1,
+            screen_rect: on_screen.then_some((-Vec2::splat(0.1), Vec2::splat(0.1))),
+        };
+        // An off-screen light (no rectangle) does not widen the range.
+        let lights = [light(20.0, 2.0), light(40.0, 2.0), light(500.0, 2.0)];
+        let lists = cluster_lists(&lights, &[plan(true), plan(true), plan(false)], &v);
+        let g = lists.grid.unwrap();
+        assert_eq!((g.near, g.far), (18.0, 42.0));
+        let (first, _) = g.slice_depths(0);
+        let (_, last) = g.slice_depths(g.slices - 1);
+        assert!((first - 18.0).abs() < 1e-3 && (last - 42.0).abs() < 1e-3, "{first}..{last}");
+        // A light across the near plane starts the range at the near plane.
+        let lists = cluster_lists(&[light(1.0, 3.0)], &[plan(true)], &v);
+        assert_eq!(lists.grid.unwrap().near, v.near);
+    }
+
+    #[test]
     fn the_slices_cover_near_to_far_in_order() {
         let g = ClusterGrid::new((320, 180), 0.1, 1000.0);
         assert_eq!(g.slice(0.1001), 0);
@@ -342,7 +524,8 @@ mod tests {
             (seed >> 8) as f32 / (1 << 24) as f32
         };
         let mut lights = Vec::new();
-        for _ in 0..200 {
+        // Enough lights for the two-thread path.
+        for _ in 0..PARALLEL_MIN_LIGHTS + 300 {
             let d = 0.5 + rnd() * 60.0;
             let ndc = Vec2::new(rnd() * 2.4 - 1.2, rnd() * 2.4 - 1.2);
             let p = inv.project_point3(Vec3::new(ndc.x, ndc.y, 0.5));
@@ -373,6 +556,10 @@ mod tests {
         };
         let plans = vec![plan; lights.len()];
         let lists = cluster_lists(&lights, &plans, &v);
+        // One thread or two, the same lists.
+        let serial = cluster_lists_on(&lights, &plans, &v, false);
+        assert_eq!(lists.data, serial.data);
+        assert!(lists.entries > 0 && lists.entries == serial.entries);
         let grid = lists.grid.unwrap();
         let mut checked = 0;
         for _ in 0..4000 {

@@ -192,7 +192,7 @@ impl TiledPass {
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
         let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid.map(|g| (c, g))) {
             params.mode = 1;
-            params.tile_size = crate::renderer::tiles::CLUSTER_TILE;
+            params.tile_size = g.tile;
             (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
             (params.slice_scale, params.slice_bias) = (g.scale, g.bias);
             params.capacity = (c.data.len() - 2 * g.cells()) as u32;

@@ -111,6 +111,8 @@ impl ClusterLists {
 /// piece between its slice's depths, and its x range depends only on the tile's column and the
 /// slice (likewise y on the row), its z range only on the slice.
 struct CellBounds {
+    grid: ClusterGrid,
+    size: (u32, u32),
     /// Per column: view x over view depth at the column's left and right edges (widened by a
     /// pixel), so the column spans `d x a0 .. d x a1` at depth d.
     columns: Vec<(f32, f32)>,
@@ -145,7 +147,7 @@ impl CellBounds {
                 (s0 * 0.999, s1 * 1.001)
             })
             .collect();
-        Self { columns, rows, slices }
+        Self { grid: *grid, size: view.size, columns, rows, slices }
     }
 }
 
@@ -196,7 +198,7 @@ fn cluster_lists_on(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView
         let mut counts = vec![0u32; cells];
         let mut gx = Vec::new();
         for (l, p) in lights[range.clone()].iter().zip(&plans[range]) {
-            light_cells(l, p, &grid, &bounds, view.size, 0..grid.slices, &mut gx, |cell| counts[cell] += 1);
+            light_cells(l, p, &bounds, 0..grid.slices, &mut gx, |cell| counts[cell] += 1);
         }
         counts
     };
@@ -241,7 +243,7 @@ fn cluster_lists_on(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView
             |slices: std::ops::Range<u32>, cursors: &mut [u32], offset: usize, (out, base): (&mut [u32], usize)| {
                 let mut gx = Vec::new();
                 for (i, (l, p)) in lights.iter().zip(plans).enumerate() {
-                    light_cells(l, p, &grid, &bounds, view.size, slices.clone(), &mut gx, |cell| {
+                    light_cells(l, p, &bounds, slices.clone(), &mut gx, |cell| {
                         let at = &mut cursors[cell - offset];
                         out[*at as usize - base] = i as u32;
                         *at += 1;
@@ -275,14 +277,13 @@ pub fn both<A: Send, B: Send>(parallel: bool, a: impl FnOnce() -> A + Send, b: i
 fn light_cells(
     l: &LightRecord,
     p: &LightPlan,
-    grid: &ClusterGrid,
     bounds: &CellBounds,
-    size: (u32, u32),
     slices: std::ops::Range<u32>,
     gx: &mut Vec<f32>,
     mut f: impl FnMut(usize),
 ) {
     let Some((lo, hi)) = p.screen_rect else { return };
+    let (grid, size) = (&bounds.grid, bounds.size);
     let c = Vec3::from(l.position);
     let r = l.radius;
     if r.is_nan() || r <= 0.0 || !c.is_finite() {

@@ -264,7 +264,7 @@ impl Renderer {
         let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
-        let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
+        let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
         let f = FrameInputs {
@@ -290,7 +290,7 @@ impl Renderer {
         // 2. Lights: ambient + sun full-screen, then each light with its culling method.
         let draw_calls = p.lights.encode(&mut encoder, &f);
         // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
-        p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+        cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
         // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
         p.debug.encode(&mut encoder, &f);
         // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).

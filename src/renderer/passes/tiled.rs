@@ -154,19 +154,20 @@ impl TiledPass {
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
     /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
-    /// when shown. `queue` uploads the parameters and the clustered lists.
+    /// when shown. `queue` uploads the parameters and the clustered lists; returns the CPU
+    /// ms that upload took (part of the frame's `cpu_ms.upload`).
     pub fn encode(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
-    ) {
+    ) -> f64 {
         let view = f.settings.debug_view == DebugView::TileLights;
-        let Ok(mut state) = self.state.lock() else { return };
+        let Ok(mut state) = self.state.lock() else { return 0.0 };
         state.1 = None;
         if f.plan.tiled.is_none() && !view {
-            return;
+            return 0.0;
         }
         let method = match (f.plan.tiled, &f.plan.clusters) {
             (Some(Method::Clustered), Some(_)) => Method::Clustered,
@@ -232,11 +233,13 @@ impl TiledPass {
             let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
             state.0 = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
         }
-        let Some(b) = &state.0 else { return };
+        let Some(b) = &state.0 else { return 0.0 };
+        let clock = std::time::Instant::now();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
         if let Some(c) = clusters {
             queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data));
         }
+        let upload_ms = clock.elapsed().as_secs_f64() * 1e3;
         encoder.clear_buffer(&b.counts, 0, Some((n as u64 + 1) * 4));
         if method == Method::Tiled {
             let mut pass = encoder
@@ -291,6 +294,7 @@ impl TiledPass {
             params,
             words: entries,
         });
+        upload_ms
     }
 
     /// The last frame's lists, read back from the GPU; `None` when it built none.

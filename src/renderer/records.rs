@@ -116,7 +116,8 @@ gpu_record! {
         pub material: [f32; 4],
         /// Metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness map.
         pub pbr: [f32; 4],
-        /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects), 0.
+        /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects),
+        /// reflectance model (`Brdf::id`).
         pub info: [u32; 4],
         /// Per map (base colour, normal, emissive, metallic-roughness) the two rows of its
         /// `UvTransform`; the first row's w is the texture coordinate set.
@@ -248,7 +249,9 @@ impl CameraRecord {
 impl ObjectRecord {
     /// Object `o` of `scene` seen from `view` (world to view). The light-list fields are left
     /// at zero for `plan::plan_draws` to fill.
-    pub fn new(scene: &Scene, o: &crate::scene::Object, view: DMat4) -> Self {
+    /// `force`: the reflectance model every object is shaded with (`Settings::brdf`), else the
+    /// material's (`info.w`).
+    pub fn new(scene: &Scene, o: &crate::scene::Object, view: DMat4, force: Option<crate::scene::Brdf>) -> Self {
         let mv = view * o.transform;
         let nm = DMat4::from_mat3(glam::DMat3::from_mat4(mv).inverse().transpose());
         let m = &scene.materials[o.material];
@@ -277,7 +280,7 @@ impl ObjectRecord {
             material: [m.alpha, cutoff, m.normal_scale, 0.0],
             // With a metallic-roughness map the importer keeps f0 in specular_level.
             pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
-            info: [flags, 0, 0, 0],
+            info: [flags, 0, 0, force.unwrap_or(m.brdf).id()],
             uv_transform: {
                 let u = &m.uvs;
                 let [a, b, c, d] = [u.base_color, u.normal, u.emissive, u.metallic_roughness].map(|t| t.rows());
@@ -306,7 +309,7 @@ impl FrameRecords {
                 let rot = cam.rotation();
                 scene.lights.iter().map(|l| LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff)).collect()
             },
-            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view)).collect(),
+            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view, settings.brdf.brdf())).collect(),
             proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
         }
     }

@@ -40,6 +40,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",
     "EXT_meshopt_compression",
     "KHR_texture_transform",
     "KHR_draco_mesh_compression",

@@ -16,6 +16,9 @@ struct Surface {
     view: DVec3,
     spec_level: f64,
     spec_exp: f64,
+    /// How close the toon model's steps came to flipping: the least distance of 3 N.L to a
+    /// whole number and of the lobe to 0.5 over the terms evaluated (infinite for the others).
+    toon_margin: std::cell::Cell<f64>,
 }
 
 /// The twin of `brdf_light` (WGSL): one light of colour `color` and attenuation `att` from
@@ -32,6 +35,8 @@ fn brdf_light(s: &Surface, l: DVec3, ndl: f64, color: DVec3, att: f64) -> (DVec3
     match s.brdf {
         Brdf::Metal => (DVec3::ZERO, color * (att * ndl * lobe * s.spec_level) * s.albedo),
         Brdf::Toon => {
+            let band = ((ndl * 3.0) - (ndl * 3.0).round()).abs();
+            s.toon_margin.set(s.toon_margin.get().min(band).min((lobe - 0.5).abs()));
             (color * (att * (ndl * 3.0).ceil() / 3.0), color * (att * if lobe >= 0.5 { s.spec_level } else { 0.0 }))
         }
         _ => (color * (att * ndl), color * (att * ndl * lobe * s.spec_level)),
@@ -98,8 +103,16 @@ impl Clamps {
 /// each term clamped as the shader clamps it (`clamp.ambient`, `clamp.lights[i]`; a light
 /// without an entry is not clamped).
 pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
+    let (d, s, _) = shade_with_margin(scene, p, clamp);
+    (d, s)
+}
+
+/// [`shade`], and how close a `toon` pixel came to one of its steps (see `Surface::toon_margin`;
+/// infinite for the other models): within f32 rounding of a step the GPU may take the other
+/// side, so a comparison skips such pixels.
+pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3, f64) {
     if !p.valid {
-        return (DVec3::ZERO, DVec3::ZERO);
+        return (DVec3::ZERO, DVec3::ZERO, f64::INFINITY);
     }
     let cam = &scene.camera;
     let rot = cam.rotation();
@@ -112,6 +125,7 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
         view: safe_normalize(-pos, DVec3::Z),
         spec_level: p.specular_level as f64,
         spec_exp: p.specular_exponent as f64,
+        toon_margin: std::cell::Cell::new(f64::INFINITY),
     };
     let ambient = scene.ambient.as_dvec3();
     let mut diffuse = ambient_diffuse(&s, ambient);
@@ -160,5 +174,5 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
         diffuse += d.min(limit);
         specular += sp.min(limit);
     }
-    (diffuse, specular)
+    (diffuse, specular, s.toon_margin.get())
 }

@@ -733,6 +733,66 @@ mod tests {
     }
 
     #[test]
+    fn the_material_id_channel_is_there_only_for_scenes_of_several_models() {
+        use crate::scene::builtin::{build, BuiltinOptions};
+        let one = build("demo", BuiltinOptions::default()).unwrap();
+        let several = build("materials", BuiltinOptions::default()).unwrap();
+        assert_eq!(one.brdfs(None), vec![Brdf::BlinnPhong]);
+        assert_eq!(several.brdfs(None), Brdf::ALL.to_vec());
+        // Every model alone (as the only material of the scene, or forced) is a constant.
+        let mut metal = one.clone();
+        metal.materials.iter_mut().for_each(|m| m.brdf = Brdf::Metal);
+        for c in LayoutChoice::ALL {
+            let plain = if c == LayoutChoice::Fit { fit(&one, &[Brdf::BlinnPhong]) } else { c.layout() };
+            for (scene, force, model) in
+                [(&one, None, Brdf::BlinnPhong), (&metal, None, Brdf::Metal), (&several, Some(Brdf::Toon), Brdf::Toon)]
+            {
+                let l = c.layout_for(scene, force).unwrap();
+                l.validate().unwrap();
+                assert!(!l.has(Attr::Material), "{}: an ID channel for one model", l.name);
+                assert_eq!(l.uniform_brdf, Some(model), "{}", l.name);
+                if c != LayoutChoice::Fit {
+                    assert_eq!(l.bytes_per_pixel(), plain.bytes_per_pixel(), "{}", l.name);
+                }
+            }
+            let l = c.layout_for(&several, None);
+            match c {
+                LayoutChoice::Oct8 | LayoutChoice::Oct16 => {
+                    let e = l.unwrap_err();
+                    assert!(
+                        e.contains("no spare channel") && e.contains("blinn-phong, lambert, metal, toon, unlit"),
+                        "{e}"
+                    );
+                }
+                _ => {
+                    let l = l.unwrap();
+                    l.validate().unwrap();
+                    assert!(l.has(Attr::Material), "{}: five models and no ID channel", l.name);
+                    assert_eq!(l.uniform_brdf, None);
+                    // In a channel the formats already had: no byte more.
+                    let without = if c == LayoutChoice::Fit { fit(&several, &[Brdf::BlinnPhong]) } else { c.layout() };
+                    assert_eq!(l.bytes_per_pixel(), without.bytes_per_pixel(), "{}", l.name);
+                    // The WGSL reads the ID from its channel.
+                    let wgsl = l.wgsl(1, true);
+                    assert!(wgsl.contains("const GBUFFER_HAS_MATERIAL: bool = true;") && wgsl.contains("a.material ="));
+                }
+            }
+        }
+        // fit: the ID takes the normal target's spare fourth channel of a specular scene, the
+        // albedo target's alpha of one without specular (lambert and unlit only).
+        let l = LayoutChoice::Fit.layout_for(&several, None).unwrap();
+        assert_eq!(l.targets[1].channels[3], Some(Slot { attr: Attr::Material, comp: 0 }));
+        let mut matte = several.clone();
+        for (k, m) in matte.materials.iter_mut().enumerate() {
+            m.brdf = if k % 2 == 0 { Brdf::Lambert } else { Brdf::Unlit };
+        }
+        let l = LayoutChoice::Fit.layout_for(&matte, None).unwrap();
+        l.validate().unwrap();
+        assert!(!l.has(Attr::SpecLevel), "lambert and unlit need no specular channels");
+        assert_eq!(l.targets[0].channels[3], Some(Slot { attr: Attr::Material, comp: 0 }));
+    }
+
+    #[test]
     fn a_layout_without_normals_is_rejected() {
         let mut l = LayoutChoice::Compact.layout();
         l.targets.remove(1);

@@ -91,8 +91,12 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     if (flags & LS_MAT_METAL_ROUGH) != 0u {
         let mr = sample_map(metal_rough_tex, in, o, 3u);
         blinn_phong_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.y * mr.g, o.pbr.z, s);
-        if o.info.w == LS_BRDF_METAL {
-            metal_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.z, s);
+        let metallic = o.pbr.x * mr.b;
+        if (flags & LS_MAT_METAL_BY_PIXEL) != 0u && metallic < LS_METAL_THRESHOLD {
+            // The non-metal parts of a metal's map keep blinn-phong (and their diffuse).
+            (*s).brdf = LS_BRDF_BLINN_PHONG;
+        } else if o.info.w == LS_BRDF_METAL {
+            metal_from_pbr(o.albedo_spec.rgb * base.rgb, metallic, o.pbr.z, s);
         }
     }
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));

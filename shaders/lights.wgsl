@@ -96,6 +96,9 @@ fn as_stored(s: Surface) -> Surface {
     r.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
     r.spec_level = a.spec_level * (r.spec_exp + 8.0) / 8.0;
     r.normal = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    if !GBUFFER_HAS_MATERIAL {
+        r.brdf = GBUFFER_BRDF;
+    }
     return r;
 }
 

@@ -21,6 +21,10 @@ pub const MAT_METAL_ROUGH: u32 = 2;
 /// (some rasterisers, lavapipe among them, pick a mip level slightly differently for a computed
 /// coordinate than for an interpolated one).
 pub const MAT_UV_TRANSFORMED: u32 = 4;
+/// A `metal` object with a metallic-roughness map picks its model per pixel: `metal` where
+/// the map's metallic (times the factor) is at least `import::METAL_THRESHOLD`, `blinn-phong`
+/// below (bands of paint in a metal keep their diffuse term). Not set when a model is forced.
+pub const MAT_METAL_BY_PIXEL: u32 = 64;
 /// The largest finite fp16 value: what the fp16 targets saturate at.
 pub const FP16_MAX: f32 = 65504.0;
 /// The largest finite Rg11b10Ufloat value.
@@ -267,6 +271,9 @@ impl ObjectRecord {
             if !t.is_identity() || t.set != 0 {
                 flags |= MAT_UV_TRANSFORMED << k;
             }
+        }
+        if force.is_none() && m.brdf == crate::scene::Brdf::Metal && m.textures.metallic_roughness.is_some() {
+            flags |= MAT_METAL_BY_PIXEL;
         }
         let cutoff = match m.alpha_mode {
             AlphaMode::Mask { cutoff } => cutoff,

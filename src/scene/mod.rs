@@ -437,6 +437,17 @@ impl Material {
         (base * (1.0 - m), level, exponent)
     }
 
+    /// The models the material's pixels use: its own, and `blinn-phong` too for a metal with a
+    /// metallic-roughness map, whose less metallic pixels are shaded so
+    /// (`renderer::records::MAT_METAL_BY_PIXEL`).
+    pub fn brdfs(&self) -> Vec<Brdf> {
+        if self.brdf == Brdf::Metal && self.textures.metallic_roughness.is_some() {
+            vec![Brdf::BlinnPhong, Brdf::Metal]
+        } else {
+            vec![self.brdf]
+        }
+    }
+
     pub fn is_blended(&self) -> bool {
         self.alpha_mode == AlphaMode::Blend
     }
@@ -670,7 +681,7 @@ impl Scene {
             return vec![b];
         }
         let mut used: Vec<Brdf> =
-            self.objects.iter().filter_map(|o| self.materials.get(o.material)).map(|m| m.brdf).collect();
+            self.objects.iter().filter_map(|o| self.materials.get(o.material)).flat_map(|m| m.brdfs()).collect();
         used.sort();
         used.dedup();
         if used.is_empty() {

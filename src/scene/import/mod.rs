@@ -28,6 +28,7 @@ mod draco;
 mod geometry;
 pub mod lighting;
 mod materials;
+pub use materials::METAL_THRESHOLD;
 mod meshopt;
 
 use checks::{

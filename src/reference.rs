@@ -4,6 +4,9 @@
 //! Each reflectance model (`Brdf`, the pixel's material ID) has its twin here: `brdf_light`,
 //! `ambient_diffuse`, `ambient_specular`.
 
+// `!(a < b)` is the WGSL's NaN-safe test, mirrored as it is written there.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use crate::renderer::PixelProbe;
 use crate::scene::{Brdf, Light, Scene};
 use glam::DVec3;

@@ -1255,7 +1255,8 @@ fn unlit_and_metal_materials_import_as_their_models() {
     dark.lights.clear();
     dark.sun = None;
     let (a, b) = (render(&s, &Settings::default(), W, H).image, render(&dark, &Settings::default(), W, H).image);
-    let ids = render(&s, &Settings { debug_view: lampshade::renderer::DebugView::MaterialId, ..Settings::default() }, W, H);
+    let ids =
+        render(&s, &Settings { debug_view: lampshade::renderer::DebugView::MaterialId, ..Settings::default() }, W, H);
     // The view's colour as the sRGB8 output stores it.
     let unlit_color = Brdf::Unlit.debug_color().map(|c| ((1.055 * c.powf(1.0 / 2.4) - 0.055) * 255.0).round() as i32);
     let mut unlit_pixels = 0;

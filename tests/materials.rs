@@ -127,7 +127,8 @@ fn the_id_survives_every_layout_with_a_spare_channel() {
         let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
         let result = render_image(gpu(), &mut r, &scene, &settings, W, H);
         if layout.material_slot().is_none() && layout != LayoutChoice::Fit {
-            let e = format!("{:#}", result.err().expect("several models on a layout without room"));
+            let Err(e) = result else { panic!("{}: several models on a layout without room", layout.name()) };
+            let e = format!("{e:#}");
             assert!(e.contains("no spare channel") && e.contains("metal"), "{}: {e}", layout.name());
             continue;
         }

@@ -145,7 +145,7 @@ impl LayoutChoice {
     pub fn layout_for(self, scene: &crate::scene::Scene, force: Option<Brdf>) -> Result<GBufferLayout, String> {
         let brdfs = scene.brdfs(force);
         if self == LayoutChoice::Fit {
-            return Ok(fit(scene, &brdfs));
+            return Ok(fit_for(scene, &brdfs));
         }
         let mut layout = self.layout();
         if let [one] = brdfs[..] {
@@ -329,7 +329,12 @@ pub const FIT_SPECULAR_ERROR_BOUND: f64 = 0.01;
 /// with a specular level whose reflectance model uses it (`lambert` and `unlit` do not). The
 /// material ID channel is added by [`LayoutChoice::layout_for`] when `brdfs` holds more than
 /// one model ([`fit_material_slot`]).
-pub fn fit(scene: &crate::scene::Scene, brdfs: &[Brdf]) -> GBufferLayout {
+pub fn fit(scene: &crate::scene::Scene) -> GBufferLayout {
+    fit_for(scene, &scene.brdfs(None))
+}
+
+/// [`fit`] for a scene whose objects use the models `brdfs` (one: forced or its only one).
+pub fn fit_for(scene: &crate::scene::Scene, brdfs: &[Brdf]) -> GBufferLayout {
     use wgpu::TextureFormat as F;
     use Attr::*;
     let s = |attr, comp| Some(Slot { attr, comp });
@@ -743,7 +748,7 @@ mod tests {
         let mut metal = one.clone();
         metal.materials.iter_mut().for_each(|m| m.brdf = Brdf::Metal);
         for c in LayoutChoice::ALL {
-            let plain = if c == LayoutChoice::Fit { fit(&one, &[Brdf::BlinnPhong]) } else { c.layout() };
+            let plain = if c == LayoutChoice::Fit { fit(&one) } else { c.layout() };
             for (scene, force, model) in
                 [(&one, None, Brdf::BlinnPhong), (&metal, None, Brdf::Metal), (&several, Some(Brdf::Toon), Brdf::Toon)]
             {
@@ -770,7 +775,8 @@ mod tests {
                     assert!(l.has(Attr::Material), "{}: five models and no ID channel", l.name);
                     assert_eq!(l.uniform_brdf, None);
                     // In a channel the formats already had: no byte more.
-                    let without = if c == LayoutChoice::Fit { fit(&several, &[Brdf::BlinnPhong]) } else { c.layout() };
+                    let without =
+                        if c == LayoutChoice::Fit { fit_for(&several, &[Brdf::BlinnPhong]) } else { c.layout() };
                     assert_eq!(l.bytes_per_pixel(), without.bytes_per_pixel(), "{}", l.name);
                     // The WGSL reads the ID from its channel.
                     let wgsl = l.wgsl(1, true);

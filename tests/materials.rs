@@ -285,3 +285,50 @@ fn the_metal_highlight_carries_its_base_colour() {
     let s = plain.specular_light;
     assert!(s.x > 1.0 && (s - Vec3::splat(s.x)).abs().max_element() < 1e-4 * s.x, "blinn-phong highlight {s}");
 }
+
+#[test]
+fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
+    // The spheres drawn blended with alpha 1 (so forward-shaded, the picture's own colour)
+    // against the same spheres opaque (deferred): the same models in both. Full-precision
+    // G-buffer and accumulation, so both paths see the same surface; both end in the fp16 HDR
+    // target (the pane is blended in both), so one 8-bit step of rounding is allowed.
+    let opaque = scene("materials");
+    let mut blended = opaque.clone();
+    let spheres: Vec<usize> =
+        (0..blended.objects.len()).filter(|&i| blended.meshes[blended.objects[i].mesh].name == "sphere").collect();
+    for &i in &spheres {
+        let mut m = blended.materials[blended.objects[i].material];
+        m.alpha_mode = lampshade::scene::AlphaMode::Blend;
+        m.alpha = 1.0;
+        blended.materials.push(m);
+        blended.objects[i].material = blended.materials.len() - 1;
+    }
+    let settings = Settings {
+        layout: LayoutChoice::Reference,
+        accumulation: AccumFormat::Rgba32Float,
+        count_ideal: false,
+        ..Settings::default()
+    };
+    let a = render(&opaque, &settings, W, H);
+    let b = render(&blended, &settings, W, H);
+    let mut checked = 0;
+    for (brdf, pixels) in sphere_pixels(&opaque) {
+        for (x, y) in pixels {
+            let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
+            let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+            assert!(step <= 1, "{brdf:?} ({x},{y}): deferred {p:?}, forward {q:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 5 * 42);
+    // The forward pass did draw them: they are not in the G-buffer (its material-id view shows
+    // what is behind them, never the unlit sphere's colour).
+    let ids = render(&blended, &Settings { debug_view: lampshade::renderer::DebugView::MaterialId, ..settings }, W, H);
+    let unlit = Brdf::Unlit.debug_color().map(srgb8);
+    for (brdf, pixels) in sphere_pixels(&opaque) {
+        for (x, y) in pixels {
+            let p = ids.image.get_pixel(x, y);
+            assert!((0..3).any(|c| (p[c] as i32 - unlit[c]).abs() > 1), "{brdf:?} ({x},{y}) is in the G-buffer");
+        }
+    }
+}

@@ -68,50 +68,60 @@ fn probe_at(r: &Renderer, x: u32, y: u32) -> PixelProbe {
 #[test]
 fn each_brdf_matches_its_f64_twin_at_sampled_pixels() {
     let scene = scene("materials");
-    // Full precision everywhere, the exact radius (as `gpu_lighting_matches_f64_at_sampled_pixels`);
-    // the reference layout keeps the ID in its position target's fourth channel.
-    let settings = Settings {
-        culling: CullingMode::Volume,
-        layout: LayoutChoice::Reference,
-        accumulation: AccumFormat::Rgba32Float,
-        light_cutoff: 0.0,
-        ..Settings::default()
-    };
-    let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
-    render_image(gpu(), &mut r, &scene, &settings, W, H).unwrap();
-    assert!(r.layout().has(Attr::Material), "five models and no material ID channel");
-    let clamp = lampshade::reference::Clamps::of(&r);
     let mut worst = 0f64;
-    for (brdf, pixels) in sphere_pixels(&scene) {
-        let (mut checked, mut near_step) = (0, 0);
-        for (x, y) in pixels {
-            let p = probe_at(&r, x, y);
-            assert!(p.valid, "{brdf:?}: ({x},{y}) is background");
-            assert_eq!(p.brdf, brdf, "({x},{y}): the ID channel holds {:?}", p.material_id);
-            let (d, s, margin) = lampshade::reference::shade_with_margin(&scene, &p, &clamp);
-            // A toon step within f32 rounding (1e-5 here, far above it) may fall either way.
-            if margin < 1e-5 {
-                near_step += 1;
-                continue;
-            }
-            checked += 1;
-            for (gpu_v, cpu_v, what) in [(p.diffuse_light, d, "diffuse"), (p.specular_light, s, "specular")] {
-                for c in 0..3 {
-                    let (g, e) = (gpu_v[c] as f64, cpu_v[c]);
-                    let err = (g - e).abs();
-                    worst = worst.max(err / e.abs().max(1e-3));
-                    assert!(err <= REL * e.abs() + ABS, "{brdf:?} ({x},{y}) {what}[{c}]: GPU {g} vs f64 {e}");
+    // Lights as volumes with ambient + sun from the G-buffer pass, and the tiled pass with
+    // ambient + sun from their own full-screen pass: every path that evaluates the models.
+    for (culling, ambient_in_gbuffer) in [(CullingMode::Volume, true), (CullingMode::Tiled, false)] {
+        // Full precision everywhere, the exact radius (as `gpu_lighting_matches_f64_at_sampled_pixels`);
+        // the reference layout keeps the ID in its position target's fourth channel.
+        let settings = Settings {
+            culling,
+            ambient_in_gbuffer,
+            layout: LayoutChoice::Reference,
+            accumulation: AccumFormat::Rgba32Float,
+            light_cutoff: 0.0,
+            ..Settings::default()
+        };
+        let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
+        let (_, stats) = render_image(gpu(), &mut r, &scene, &settings, W, H).unwrap();
+        assert_eq!(stats.ambient_in_gbuffer, ambient_in_gbuffer);
+        assert!(r.layout().has(Attr::Material), "five models and no material ID channel");
+        let clamp = lampshade::reference::Clamps::of(&r);
+        for (brdf, pixels) in sphere_pixels(&scene) {
+            let (mut checked, mut near_step) = (0, 0);
+            for (x, y) in pixels {
+                let p = probe_at(&r, x, y);
+                assert!(p.valid, "{brdf:?}: ({x},{y}) is background");
+                assert_eq!(p.brdf, brdf, "({x},{y}): the ID channel holds {:?}", p.material_id);
+                let (d, s, margin) = lampshade::reference::shade_with_margin(&scene, &p, &clamp);
+                // A toon step within f32 rounding (1e-5 here, far above it) may fall either way.
+                if margin < 1e-5 {
+                    near_step += 1;
+                    continue;
+                }
+                checked += 1;
+                for (gpu_v, cpu_v, what) in [(p.diffuse_light, d, "diffuse"), (p.specular_light, s, "specular")] {
+                    for c in 0..3 {
+                        let (g, e) = (gpu_v[c] as f64, cpu_v[c]);
+                        let err = (g - e).abs();
+                        worst = worst.max(err / e.abs().max(1e-3));
+                        assert!(
+                            err <= REL * e.abs() + ABS,
+                            "{} {brdf:?} ({x},{y}) {what}[{c}]: GPU {g} vs f64 {e}",
+                            culling.name()
+                        );
+                    }
+                }
+                // Each model leaves its mark: no specular for lambert and unlit, no diffuse for
+                // a metal, exactly 1 diffuse for unlit.
+                match brdf {
+                    Brdf::Lambert | Brdf::Unlit => assert_eq!(p.specular_light, Vec3::ZERO, "{brdf:?}"),
+                    Brdf::Metal => assert_eq!(p.diffuse_light, Vec3::ZERO, "{brdf:?}"),
+                    _ => {}
                 }
             }
-            // Each model leaves its mark: no specular for lambert and unlit, no diffuse for a
-            // metal, exactly 1 diffuse for unlit.
-            match brdf {
-                Brdf::Lambert | Brdf::Unlit => assert_eq!(p.specular_light, Vec3::ZERO, "{brdf:?}"),
-                Brdf::Metal => assert_eq!(p.diffuse_light, Vec3::ZERO, "{brdf:?}"),
-                _ => {}
-            }
+            assert!(checked >= 30, "{brdf:?}: only {checked} pixels compared ({near_step} at a toon step)");
         }
-        assert!(checked >= 30, "{brdf:?}: only {checked} pixels compared ({near_step} at a toon step)");
     }
     println!("worst relative error against f64: {worst:.2e}");
 }

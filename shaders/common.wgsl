@@ -71,6 +71,9 @@ struct Surface {
     position: vec3<f32>,
     depth: f32,
     valid: bool,
+    // The reflectance model (LS_BRDF_*, seed 002's material ID): from the ID channel, or the
+    // scene's one model (GBUFFER_BRDF).
+    brdf: u32,
 };
 
 // The stored (encoded) form: what the layout table distributes over channels.
@@ -83,6 +86,8 @@ struct Attributes {
     emissive: vec3<f32>,
     depth: f32,
     position: vec3<f32>,
+    // The material ID / 255 (exact in 8-bit unorm and in fp16).
+    material: f32,
 };
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -141,6 +146,7 @@ fn attributes_of(s: Surface) -> Attributes {
     }
     a.emissive = max(s.emissive, vec3<f32>(0.0));
     a.depth = s.depth;
+    a.material = f32(s.brdf) / 255.0;
     return a;
 }
 
@@ -153,6 +159,7 @@ fn default_attributes() -> Attributes {
     a.emissive = vec3<f32>(0.0);
     a.depth = camera.far_depth;
     a.position = vec3<f32>(0.0);
+    a.material = f32(GBUFFER_BRDF) / 255.0;
     return a;
 }
 
@@ -183,6 +190,10 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
         valid = position.z < 0.0;
     }
     s.emissive = a.emissive;
+    s.brdf = GBUFFER_BRDF;
+    if GBUFFER_HAS_MATERIAL {
+        s.brdf = u32(round(clamp(a.material, 0.0, 1.0) * 255.0));
+    }
     if GBUFFER_HAS_DEPTH {
         s.depth = a.depth;
         s.valid = a.depth != camera.far_depth;
@@ -231,15 +242,83 @@ fn inside_light(s: Surface, l: GpuLight) -> bool {
     return true;
 }
 
+// The reflectance models (seed 002's material ID, `scene::Brdf`; mirrored by
+// `reference::shade`). Diffuse is light before the albedo (compose multiplies it in), specular
+// is light as it leaves the surface:
+// - blinn-phong: diffuse N.L, specular N.L x the normalised lobe (N.H)^n x level, in white;
+// - lambert: diffuse N.L only;
+// - metal: no diffuse; the blinn-phong specular tinted by the albedo channel, which holds the
+//   metal's specular colour F0 (`Material::metal_from_pbr`);
+// - toon: diffuse N.L in three bands (ceil(3 N.L) / 3), specular the flat level where the
+//   lobe exceeds half its peak;
+// - unlit: nothing from lights (ambient gives it its base colour, `ambient_diffuse`).
+// `color` is the light's colour x intensity, `att` its distance and spot attenuation.
+fn brdf_light(s: Surface, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
+    var r: Lighting;
+    r.diffuse = vec3<f32>(0.0);
+    r.specular = vec3<f32>(0.0);
+    if ndl <= 0.0 || s.brdf == LS_BRDF_UNLIT {
+        return r;
+    }
+    if s.brdf == LS_BRDF_LAMBERT {
+        r.diffuse = color * (att * ndl);
+        return r;
+    }
+    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+    let H = safe_normalize(L + V, s.normal);
+    let lobe = pow(max(dot(s.normal, H), 0.0), s.spec_exp);
+    if s.brdf == LS_BRDF_METAL {
+        r.specular = color * (att * ndl * (lobe * s.spec_level)) * s.albedo;
+    } else if s.brdf == LS_BRDF_TOON {
+        r.diffuse = color * (att * (ceil(ndl * 3.0) / 3.0));
+        r.specular = color * (att * select(0.0, s.spec_level, lobe >= 0.5));
+    } else {
+        let spec = lobe * s.spec_level;
+        r.diffuse = color * (att * ndl);
+        r.specular = color * (att * ndl * spec);
+    }
+    return r;
+}
+
+// The diffuse light a uniform ambient A gives: A, none for a metal, and exactly 1 for an unlit
+// surface (so compose's diffuse x albedo is its base colour; no light adds to it).
+fn ambient_diffuse(s: Surface) -> vec3<f32> {
+    if s.brdf == LS_BRDF_METAL {
+        return vec3<f32>(0.0);
+    }
+    if s.brdf == LS_BRDF_UNLIT {
+        return vec3<f32>(1.0);
+    }
+    return camera.ambient.rgb;
+}
+
 // The specular light a uniform ambient A reflects: the normalised Blinn-Phong lobe
 // (level = f0 (n + 8) / 8) integrates over the hemisphere to f0, so the result is A f0 (the
 // uniform-environment limit of image-based lighting; without it a metal, which has no diffuse
-// term, is black away from its highlights). Mirrored by `reference::shade`.
+// term, is black away from its highlights), tinted by the specular colour for a metal; none
+// for lambert and unlit. Mirrored by `reference::shade`.
 fn ambient_specular(s: Surface) -> vec3<f32> {
-    return camera.ambient.rgb * (s.spec_level * 8.0 / (s.spec_exp + 8.0));
+    if s.brdf == LS_BRDF_LAMBERT || s.brdf == LS_BRDF_UNLIT {
+        return vec3<f32>(0.0);
+    }
+    let a = camera.ambient.rgb * (s.spec_level * 8.0 / (s.spec_exp + 8.0));
+    if s.brdf == LS_BRDF_METAL {
+        return a * s.albedo;
+    }
+    return a;
 }
 
-// Blinn-Phong: diffuse and specular kept apart (seed 002), attenuated smoothly to zero.
+// The most ambient + sun may add to a channel: `camera.light_clamp`, or 1 for an unlit
+// surface, whose 1 is all the light it gets (no light adds to it, so it cannot overflow).
+fn ambient_limit(s: Surface) -> vec3<f32> {
+    if s.brdf == LS_BRDF_UNLIT {
+        return vec3<f32>(max(camera.light_clamp, 1.0));
+    }
+    return vec3<f32>(camera.light_clamp);
+}
+
+// One light at a surface point, in the pixel's reflectance model (`brdf_light`), attenuated
+// smoothly to zero; diffuse and specular kept apart (seed 002).
 fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     var r: Lighting;
     r.diffuse = vec3<f32>(0.0);
@@ -256,12 +335,7 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     if att <= 0.0 || ndl <= 0.0 {
         return r;
     }
-    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
-    let H = safe_normalize(L + V, s.normal);
-    let spec = pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level;
-    r.diffuse = l.color * (att * ndl);
-    r.specular = l.color * (att * ndl * spec);
-    return r;
+    return brdf_light(s, L, ndl, l.color, att);
 }
 
 // Seed 004's logarithmic Rgba8 accumulation (LS_ACCUM_LOG): a light is stored as exp2(-light)

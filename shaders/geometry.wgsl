@@ -51,6 +51,15 @@ fn blinn_phong_from_pbr(base: vec3<f32>, metallic: f32, roughness: f32, f0_diele
     (*s).spec_level = f0 * (e + 8.0) / 8.0;
 }
 
+// The metal model's terms (after `blinn_phong_from_pbr`, whose exponent it keeps): the
+// specular colour F0 = mix(f0_dielectric, base, metallic) in the albedo, reflectance 1 in the
+// level; the same mapping as `Material::metal_from_pbr` in Rust.
+fn metal_from_pbr(base: vec3<f32>, metallic: f32, f0_dielectric: f32, s: ptr<function, Surface>) {
+    let m = clamp(metallic, 0.0, 1.0);
+    (*s).albedo = mix(vec3<f32>(clamp(f0_dielectric, 0.0, 1.0)), clamp(base, vec3<f32>(0.0), vec3<f32>(1.0)), m);
+    (*s).spec_level = ((*s).spec_exp + 8.0) / 8.0;
+}
+
 // The texture coordinates map `slot` samples (0 base colour, 1 normal, 2 emissive,
 // 3 metal-rough): its set, transformed by its KHR_texture_transform (`UvTransform::rows`).
 fn map_uv(in: GeometryOut, o: GpuObject, slot: u32) -> vec2<f32> {
@@ -78,9 +87,17 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     (*s).albedo = o.albedo_spec.rgb * base.rgb;
     (*s).spec_level = o.albedo_spec.a;
     (*s).spec_exp = o.emissive_exp.a;
+    (*s).brdf = o.info.w;
     if (flags & LS_MAT_METAL_ROUGH) != 0u {
         let mr = sample_map(metal_rough_tex, in, o, 3u);
         blinn_phong_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.y * mr.g, o.pbr.z, s);
+        let metallic = o.pbr.x * mr.b;
+        if (flags & LS_MAT_METAL_BY_PIXEL) != 0u && metallic < LS_METAL_THRESHOLD {
+            // The non-metal parts of a metal's map keep blinn-phong (and their diffuse).
+            (*s).brdf = LS_BRDF_BLINN_PHONG;
+        } else if o.info.w == LS_BRDF_METAL {
+            metal_from_pbr(o.albedo_spec.rgb * base.rgb, metallic, o.pbr.z, s);
+        }
     }
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 0.0, 1.0));
     if (flags & LS_MAT_NORMAL_MAP) != 0u {
@@ -128,19 +145,10 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     var s: Surface;
     let alpha = clamp(material_surface(in, front, &s), 0.0, 1.0);
     let o = objects[in.object];
-    let clamp_max = vec3<f32>(camera.light_clamp);
-    var diffuse = camera.ambient.rgb;
-    var specular = ambient_specular(s);
-    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
-    if camera.sun_dir.w > 0.5 {
-        let L = camera.sun_dir.xyz;
-        let ndl = max(dot(s.normal, L), 0.0);
-        let H = safe_normalize(L + V, s.normal);
-        diffuse += camera.sun_color.rgb * ndl;
-        specular += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
-    }
-    diffuse = min(diffuse, clamp_max);
-    specular = min(specular, clamp_max);
+    // Ambient + sun as the deferred path adds them, in the object's reflectance model.
+    let ambient = ambient_sun(s);
+    var diffuse = min(ambient.diffuse, ambient_limit(s));
+    var specular = min(ambient.specular, ambient_limit(s));
     // Two lists hold every light that can reach this fragment: the object's and its screen
     // tile's (lights whose volume's screen rectangle covers the tile); the shorter is walked.
     // Both are in light order, so the same non-zero terms are summed in the same order.

@@ -71,17 +71,18 @@ fn fs_light(in: LightVarying) -> LightTargets {
 // Ambient + sun at a surface point: the accumulation's starting value (seed 000's RT1). Written
 // by the G-buffer pass itself (`gbuffer_store`, from the surface as stored: `as_stored`), or by
 // `fs_ambient` from the decoded G-buffer where the device cannot take the extra targets.
+// In the pixel's reflectance model (`ambient_diffuse`, `ambient_specular`, `brdf_light`); the
+// forward pass calls it too.
 fn ambient_sun(s: Surface) -> Lighting {
     var r: Lighting;
-    r.diffuse = camera.ambient.rgb;
+    r.diffuse = ambient_diffuse(s);
     r.specular = ambient_specular(s);
     if camera.sun_dir.w > 0.5 {
         let L = camera.sun_dir.xyz;
         let ndl = max(dot(s.normal, L), 0.0);
-        let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
-        let H = safe_normalize(L + V, s.normal);
-        r.diffuse += camera.sun_color.rgb * ndl;
-        r.specular += camera.sun_color.rgb * (ndl * pow(max(dot(s.normal, H), 0.0), s.spec_exp) * s.spec_level);
+        let sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
+        r.diffuse += sun.diffuse;
+        r.specular += sun.specular;
     }
     return r;
 }
@@ -95,6 +96,9 @@ fn as_stored(s: Surface) -> Surface {
     r.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
     r.spec_level = a.spec_level * (r.spec_exp + 8.0) / 8.0;
     r.normal = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    if !GBUFFER_HAS_MATERIAL {
+        r.brdf = GBUFFER_BRDF;
+    }
     return r;
 }
 
@@ -106,8 +110,8 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         let r = ambient_sun(s);
-        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(camera.light_clamp)));
-        out.specular = encode_light(min(r.specular, vec3<f32>(camera.light_clamp)));
+        out.diffuse = encode_light(min(r.diffuse, ambient_limit(s)));
+        out.specular = encode_light(min(r.specular, ambient_limit(s)));
     }
     return out;
 }

@@ -1,10 +1,70 @@
 //! The lighting model again, on the CPU in f64: checks the GPU shader's arithmetic at sampled
 //! pixels, from the same G-buffer inputs the shader read (see `Renderer::probe`). It mirrors
 //! `shade_light` and `fs_ambient` in the WGSL line for line; lights come from the scene in f64.
+//! Each reflectance model (`Brdf`, the pixel's material ID) has its twin here: `brdf_light`,
+//! `ambient_diffuse`, `ambient_specular`.
+
+// `!(a < b)` is the WGSL's NaN-safe test, mirrored as it is written there.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::renderer::PixelProbe;
-use crate::scene::{Light, Scene};
+use crate::scene::{Brdf, Light, Scene};
 use glam::DVec3;
+
+/// The surface a probe decoded, in f64: what the models read.
+struct Surface {
+    brdf: Brdf,
+    albedo: DVec3,
+    normal: DVec3,
+    view: DVec3,
+    spec_level: f64,
+    spec_exp: f64,
+    /// How close the toon model's steps came to flipping: the least distance of 3 N.L to a
+    /// whole number and of the lobe to 0.5 over the terms evaluated (infinite for the others).
+    toon_margin: std::cell::Cell<f64>,
+}
+
+/// The twin of `brdf_light` (WGSL): one light of colour `color` and attenuation `att` from
+/// direction `l` with N.L = `ndl`; (diffuse before albedo, specular).
+fn brdf_light(s: &Surface, l: DVec3, ndl: f64, color: DVec3, att: f64) -> (DVec3, DVec3) {
+    if ndl <= 0.0 || s.brdf == Brdf::Unlit {
+        return (DVec3::ZERO, DVec3::ZERO);
+    }
+    if s.brdf == Brdf::Lambert {
+        return (color * (att * ndl), DVec3::ZERO);
+    }
+    let h = safe_normalize(l + s.view, s.normal);
+    let lobe = s.normal.dot(h).max(0.0).powf(s.spec_exp);
+    match s.brdf {
+        Brdf::Metal => (DVec3::ZERO, color * (att * ndl * lobe * s.spec_level) * s.albedo),
+        Brdf::Toon => {
+            let band = ((ndl * 3.0) - (ndl * 3.0).round()).abs();
+            s.toon_margin.set(s.toon_margin.get().min(band).min((lobe - 0.5).abs()));
+            (color * (att * (ndl * 3.0).ceil() / 3.0), color * (att * if lobe >= 0.5 { s.spec_level } else { 0.0 }))
+        }
+        _ => (color * (att * ndl), color * (att * ndl * lobe * s.spec_level)),
+    }
+}
+
+/// The twin of `ambient_diffuse`: ambient, none for a metal, 1 for unlit.
+fn ambient_diffuse(s: &Surface, ambient: DVec3) -> DVec3 {
+    match s.brdf {
+        Brdf::Metal => DVec3::ZERO,
+        Brdf::Unlit => DVec3::ONE,
+        _ => ambient,
+    }
+}
+
+/// The twin of `ambient_specular`: the normalised lobe integrates to f0 = level x 8 / (n + 8);
+/// tinted for a metal, none for lambert and unlit.
+fn ambient_specular(s: &Surface, ambient: DVec3) -> DVec3 {
+    let a = ambient * (s.spec_level * 8.0 / (s.spec_exp + 8.0));
+    match s.brdf {
+        Brdf::Lambert | Brdf::Unlit => DVec3::ZERO,
+        Brdf::Metal => a * s.albedo,
+        _ => a,
+    }
+}
 
 fn safe_normalize(v: DVec3, fallback: DVec3) -> DVec3 {
     let l2 = v.length_squared();
@@ -46,29 +106,44 @@ impl Clamps {
 /// each term clamped as the shader clamps it (`clamp.ambient`, `clamp.lights[i]`; a light
 /// without an entry is not clamped).
 pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
+    let (d, s, _) = shade_with_margin(scene, p, clamp);
+    (d, s)
+}
+
+/// [`shade`], and how close a `toon` pixel came to one of its steps (see `Surface::toon_margin`;
+/// infinite for the other models): within f32 rounding of a step the GPU may take the other
+/// side, so a comparison skips such pixels.
+pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3, f64) {
     if !p.valid {
-        return (DVec3::ZERO, DVec3::ZERO);
+        return (DVec3::ZERO, DVec3::ZERO, f64::INFINITY);
     }
     let cam = &scene.camera;
     let rot = cam.rotation();
     let n = p.normal.as_dvec3();
     let pos = p.position.as_dvec3();
-    let spec_exp = p.specular_exponent as f64;
-    let spec_level = p.specular_level as f64;
-    let v = safe_normalize(-pos, DVec3::Z);
-    let mut diffuse = scene.ambient.as_dvec3();
-    // `ambient_specular`: the normalised lobe integrates to f0 = level x 8 / (n + 8).
-    let mut specular = scene.ambient.as_dvec3() * (spec_level * 8.0 / (spec_exp + 8.0));
+    let s = Surface {
+        brdf: p.brdf,
+        albedo: p.albedo.as_dvec3(),
+        normal: n,
+        view: safe_normalize(-pos, DVec3::Z),
+        spec_level: p.specular_level as f64,
+        spec_exp: p.specular_exponent as f64,
+        toon_margin: std::cell::Cell::new(f64::INFINITY),
+    };
+    let ambient = scene.ambient.as_dvec3();
+    let mut diffuse = ambient_diffuse(&s, ambient);
+    let mut specular = ambient_specular(&s, ambient);
     if let Some(sun) = scene.sun {
         let l = (rot * (-sun.direction.as_dvec3())).normalize();
         let c = (sun.color * sun.intensity).as_dvec3();
-        let ndl = n.dot(l).max(0.0);
-        let h = safe_normalize(l + v, n);
-        diffuse += c * ndl;
-        specular += c * (ndl * n.dot(h).max(0.0).powf(spec_exp) * spec_level);
+        let (d, sp) = brdf_light(&s, l, n.dot(l).max(0.0), c, 1.0);
+        diffuse += d;
+        specular += sp;
     }
-    diffuse = diffuse.min(DVec3::splat(clamp.ambient));
-    specular = specular.min(DVec3::splat(clamp.ambient));
+    // `ambient_limit`: an unlit surface's 1 is never clamped below 1.
+    let ambient_limit = if s.brdf == Brdf::Unlit { clamp.ambient.max(1.0) } else { clamp.ambient };
+    diffuse = diffuse.min(DVec3::splat(ambient_limit));
+    specular = specular.min(DVec3::splat(ambient_limit));
     for (i, light) in scene.lights.iter().enumerate() {
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
         let (lp, radius, color, spot) = match light {
@@ -98,10 +173,9 @@ pub fn shade(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec3, DVec3) {
         if att <= 0.0 || ndl <= 0.0 {
             continue;
         }
-        let h = safe_normalize(l + v, n);
-        let spec = n.dot(h).max(0.0).powf(spec_exp) * spec_level;
-        diffuse += (color * (att * ndl)).min(limit);
-        specular += (color * (att * ndl * spec)).min(limit);
+        let (d, sp) = brdf_light(&s, l, ndl, color, att);
+        diffuse += d.min(limit);
+        specular += sp.min(limit);
     }
-    (diffuse, specular)
+    (diffuse, specular, s.toon_margin.get())
 }

@@ -1220,3 +1220,51 @@ fn compressed_data_with_flipped_bytes_never_panics() {
     }
     flips(&draco, "2CylinderEngine.gltf", "2CylinderEngine.bin");
 }
+
+#[test]
+fn unlit_and_metal_materials_import_as_their_models() {
+    // KHR_materials_unlit on the blue paint (required, so it must be understood); the room's
+    // gold (metallic 1) is `metal` with its base colour as the specular colour; the banded
+    // metal (metallic 1 with a metallic-roughness map) uses `metal` and `blinn-phong` by pixel;
+    // plaster (metallic 0) stays `blinn-phong`.
+    use lampshade::scene::Brdf;
+    let dir = room_copy("unlit");
+    edit_json(&dir, |v| {
+        v["materials"][8]["extensions"]["KHR_materials_unlit"] = serde_json::json!({});
+        for key in ["extensionsUsed", "extensionsRequired"] {
+            let mut list = v[key].as_array().cloned().unwrap_or_default();
+            list.push("KHR_materials_unlit".into());
+            v[key] = serde_json::Value::Array(list);
+        }
+    });
+    let s = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}")).scene;
+    use glam::Vec3;
+    let find = |base: Vec3| s.materials.iter().find(|m| (m.diffuse - base).abs().max_element() < 1e-6);
+    let paint = find(Vec3::new(0.15, 0.3, 0.8)).expect("the blue paint");
+    assert_eq!((paint.brdf, paint.specular_level), (Brdf::Unlit, 0.0));
+    let gold = find(Vec3::new(1.0, 0.78, 0.34)).expect("the gold, its base colour kept as its specular colour");
+    assert_eq!(gold.brdf, Brdf::Metal);
+    assert_eq!(gold.specular_level, (gold.specular_exponent + 8.0) / 8.0, "reflectance 1 times the base colour");
+    let plaster = find(Vec3::new(0.75, 0.72, 0.68)).expect("the plaster");
+    assert_eq!(plaster.brdf, Brdf::BlinnPhong);
+    let banded = s.materials.iter().find(|m| m.textures.metallic_roughness.is_some()).unwrap();
+    assert_eq!(banded.brdfs(), vec![Brdf::BlinnPhong, Brdf::Metal]);
+    assert_eq!(s.brdfs(None), vec![Brdf::BlinnPhong, Brdf::Metal, Brdf::Unlit]);
+    // The unlit box shows its base colour whatever the lights do.
+    let mut dark = s.clone();
+    dark.lights.clear();
+    dark.sun = None;
+    let (a, b) = (render(&s, &Settings::default(), W, H).image, render(&dark, &Settings::default(), W, H).image);
+    let ids =
+        render(&s, &Settings { debug_view: lampshade::renderer::DebugView::MaterialId, ..Settings::default() }, W, H);
+    // The view's colour as the sRGB8 output stores it.
+    let unlit_color = Brdf::Unlit.debug_color().map(|c| ((1.055 * c.powf(1.0 / 2.4) - 0.055) * 255.0).round() as i32);
+    let mut unlit_pixels = 0;
+    for (x, y, p) in ids.image.enumerate_pixels() {
+        if (0..3).all(|c| (p[c] as i32 - unlit_color[c]).abs() <= 1) {
+            unlit_pixels += 1;
+            assert_eq!(a.get_pixel(x, y), b.get_pixel(x, y), "unlit ({x},{y}) changed with the lights");
+        }
+    }
+    assert!(unlit_pixels > 100, "only {unlit_pixels} unlit pixels found");
+}

@@ -3,6 +3,7 @@
 //! that writes and reads them (`gbuffer_store` / `gbuffer_load`) is generated from the table,
 //! so the encoding lives in exactly one place.
 
+use crate::scene::Brdf;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 
@@ -34,6 +35,9 @@ pub enum Attr {
     Depth,
     /// Stored view-space position, 3 components (seed 000 stores a view vector).
     Position,
+    /// The material ID (seed 002): which reflectance model ([`Brdf`]) shades the pixel, stored
+    /// as ID / 255 in 1 component. Present only when the scene uses more than one model.
+    Material,
 }
 
 impl Attr {
@@ -84,6 +88,9 @@ pub struct GBufferLayout {
     /// view space on reading; otherwise in view space.
     pub world: bool,
     pub targets: Vec<TargetDesc>,
+    /// The one reflectance model of a scene that uses one: a constant in the shaders and no
+    /// channel. `None`: the model is read per pixel from the [`Attr::Material`] channel.
+    pub uniform_brdf: Option<Brdf>,
 }
 
 /// The layouts Lampshade knows, by name.
@@ -130,15 +137,53 @@ impl LayoutChoice {
     pub const NORMAL_ENCODINGS: [LayoutChoice; 4] =
         [LayoutChoice::Oct8, LayoutChoice::Oct16, LayoutChoice::Xyz8, LayoutChoice::Xyz16f];
 
-    /// The layout for `scene`: the fixed tables ignore it, `Fit` derives one from it.
-    pub fn layout_for(self, scene: &crate::scene::Scene) -> GBufferLayout {
+    /// The layout for `scene` (every object shaded with `force` when given): `Fit` derives one
+    /// from it; the fixed tables take it as they are, plus the material ID channel when the
+    /// scene uses more than one reflectance model (in the channel the table leaves spare:
+    /// [`LayoutChoice::material_slot`]). A layout without a spare channel cannot show several
+    /// models: that is an error naming them, not a silent fallback.
+    pub fn layout_for(self, scene: &crate::scene::Scene, force: Option<Brdf>) -> Result<GBufferLayout, String> {
+        let brdfs = scene.brdfs(force);
+        if self == LayoutChoice::Fit {
+            return Ok(fit_for(scene, &brdfs));
+        }
+        let mut layout = self.layout();
+        if let [one] = brdfs[..] {
+            layout.uniform_brdf = Some(one);
+            return Ok(layout);
+        }
+        let Some((t, c)) = self.material_slot() else {
+            let names: Vec<String> = brdfs.iter().map(|b| b.name()).collect();
+            return Err(format!(
+                "layout {} has no spare channel for the material ID, and the scene uses {} reflectance models ({}); \
+                 use compact, fit, packed, seed000, reference, xyz8 or xyz16f, or force one model (--brdf)",
+                layout.name,
+                brdfs.len(),
+                names.join(", ")
+            ));
+        };
+        layout.targets[t].channels[c] = Some(Slot { attr: Attr::Material, comp: 0 });
+        layout.uniform_brdf = None;
+        Ok(layout)
+    }
+
+    /// Where the fixed table keeps the material ID when a scene needs one: (target, channel)
+    /// of a channel its formats already have and leave unused, so the ID costs no bytes.
+    /// `oct8` and `oct16` have none.
+    pub fn material_slot(self) -> Option<(usize, usize)> {
         match self {
-            LayoutChoice::Fit => fit(scene),
-            other => other.layout(),
+            // normal+exp .w (fp16; 8-bit unorm in packed; the normal target in xyz8/xyz16f).
+            LayoutChoice::Compact | LayoutChoice::Packed | LayoutChoice::Xyz8 | LayoutChoice::Xyz16f => Some((1, 3)),
+            // The position (seed 000: view vector) target's .w.
+            LayoutChoice::Seed000 | LayoutChoice::Reference => Some((2, 3)),
+            // `fit` places it itself (`fit_material_slot`).
+            LayoutChoice::Fit => None,
+            LayoutChoice::Oct8 | LayoutChoice::Oct16 => None,
         }
     }
 
-    /// The fixed layout (`Fit` without a scene falls back to `Compact`).
+    /// The fixed layout (`Fit` without a scene falls back to `Compact`), for scenes shaded with
+    /// the default model alone (no material ID channel).
     pub fn layout(self) -> GBufferLayout {
         use wgpu::TextureFormat as F;
         use Attr::*;
@@ -148,6 +193,7 @@ impl LayoutChoice {
                 name: "compact",
                 normal: NormalEncoding::Octahedral,
                 world: false,
+                uniform_brdf: Some(Brdf::BlinnPhong),
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -178,6 +224,7 @@ impl LayoutChoice {
                 name: "packed",
                 normal: NormalEncoding::Octahedral,
                 world: false,
+                uniform_brdf: Some(Brdf::BlinnPhong),
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -209,6 +256,7 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
         name,
         normal,
         world: false,
+        uniform_brdf: Some(Brdf::BlinnPhong),
         targets: vec![
             TargetDesc {
                 name: "albedo+spec",
@@ -240,6 +288,7 @@ fn seed000() -> GBufferLayout {
         name: "seed000",
         normal: NormalEncoding::Xyz,
         world: true,
+        uniform_brdf: Some(Brdf::BlinnPhong),
         targets: vec![
             target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("world normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -258,6 +307,7 @@ fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout
         name,
         normal: NormalEncoding::Xyz,
         world: false,
+        uniform_brdf: Some(Brdf::BlinnPhong),
         targets: vec![
             target("albedo+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -275,18 +325,24 @@ pub const FIT_SPECULAR_ERROR_BOUND: f64 = 0.01;
 /// Model only what the scene needs: albedo always; the specular level and exponent only when
 /// some material is specular; emissive only when something emits; octahedral normals in 8+8
 /// bits when the sharpest highlight tolerates it (cos(0.946 deg)^e >= 1 - 1%, i.e. exponents up
-/// to ~72), else 16+16 float; depth always (position from depth).
+/// to ~72), else 16+16 float; depth always (position from depth). Specular means a material
+/// with a specular level whose reflectance model uses it (`lambert` and `unlit` do not). The
+/// material ID channel is added by [`LayoutChoice::layout_for`] when `brdfs` holds more than
+/// one model ([`fit_material_slot`]).
 pub fn fit(scene: &crate::scene::Scene) -> GBufferLayout {
+    fit_for(scene, &scene.brdfs(None))
+}
+
+/// [`fit`] for a scene whose objects use the models `brdfs` (one: forced or its only one).
+pub fn fit_for(scene: &crate::scene::Scene, brdfs: &[Brdf]) -> GBufferLayout {
     use wgpu::TextureFormat as F;
     use Attr::*;
     let s = |attr, comp| Some(Slot { attr, comp });
-    let specular = scene.materials.iter().any(|m| m.specular_level > 0.0);
-    let max_exp = scene
-        .materials
-        .iter()
-        .filter(|m| m.specular_level > 0.0)
-        .map(|m| m.specular_exponent as f64)
-        .fold(1.0, f64::max);
+    // With one forced model every material is shaded with it.
+    let forced = if let [one] = brdfs { Some(*one) } else { None };
+    let uses_specular = |m: &&crate::scene::Material| m.specular_level > 0.0 && forced.unwrap_or(m.brdf).specular();
+    let specular = scene.materials.iter().any(|m| uses_specular(&m));
+    let max_exp = scene.materials.iter().filter(uses_specular).map(|m| m.specular_exponent as f64).fold(1.0, f64::max);
     let eight_bit = !specular || OCT8_MAX_ERROR_DEG.to_radians().cos().powf(max_exp) >= 1.0 - FIT_SPECULAR_ERROR_BOUND;
     let mut targets = vec![TargetDesc {
         name: "albedo+spec",
@@ -312,7 +368,29 @@ pub fn fit(scene: &crate::scene::Scene) -> GBufferLayout {
         });
     }
     targets.push(TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] });
-    GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, world: false, targets }
+    let mut layout =
+        GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, world: false, targets, uniform_brdf: forced };
+    if forced.is_none() {
+        // Several models: the ID goes to a channel the formats already have (always one).
+        if let Some((t, c)) = fit_material_slot(&layout) {
+            layout.targets[t].channels[c] = Some(Slot { attr: Material, comp: 0 });
+        }
+    }
+    layout
+}
+
+/// Where `fit` keeps the material ID: a channel its targets' formats already have and leave
+/// unused: the normal target's fourth (8-bit unorm or fp16) when the scene is specular (the
+/// exponent fills the third), else the albedo target's alpha (8-bit, linear in an sRGB
+/// format), which the specular level would hold. Either way the ID costs no bytes.
+fn fit_material_slot(layout: &GBufferLayout) -> Option<(usize, usize)> {
+    layout
+        .targets
+        .iter()
+        .take(2)
+        .enumerate()
+        .rev()
+        .find_map(|(i, t)| (t.channels.len() == 4 && t.channels[3].is_none()).then_some((i, 3)))
 }
 
 fn channel_count(format: wgpu::TextureFormat) -> usize {
@@ -405,7 +483,7 @@ impl GBufferLayout {
         match attr {
             Attr::Albedo | Attr::Emissive | Attr::Position => 3,
             Attr::Normal => self.normal.components(),
-            Attr::SpecLevel | Attr::SpecExp | Attr::Depth => 1,
+            Attr::SpecLevel | Attr::SpecExp | Attr::Depth | Attr::Material => 1,
         }
     }
 
@@ -446,6 +524,12 @@ impl GBufferLayout {
         if !self.has(Attr::Depth) && !self.has(Attr::Position) {
             return Err(format!("layout {} stores neither depth nor position", self.name));
         }
+        if self.uniform_brdf.is_none() != self.has(Attr::Material) {
+            return Err(format!(
+                "layout {}: a material ID channel goes with a scene of several reflectance models, and only then",
+                self.name
+            ));
+        }
         Ok(())
     }
 
@@ -460,6 +544,9 @@ impl GBufferLayout {
         let _ = writeln!(w, "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};", self.normal == NormalEncoding::Octahedral);
         let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
         let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
+        // The material ID: per pixel from its channel, or the scene's one model.
+        let _ = writeln!(w, "const GBUFFER_HAS_MATERIAL: bool = {};", self.uniform_brdf.is_none());
+        let _ = writeln!(w, "const GBUFFER_BRDF: u32 = {}u;", self.uniform_brdf.unwrap_or_default().id());
         for (i, _) in self.targets.iter().enumerate() {
             let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;");
         }
@@ -489,16 +576,16 @@ impl GBufferLayout {
             }
         }
         if ambient {
-            let _ = writeln!(w, "    let light = ambient_sun(as_stored(s));");
-            let _ =
-                writeln!(w, "    o.light_diffuse = encode_light(min(light.diffuse, vec3<f32>(camera.light_clamp)));");
+            let _ = writeln!(w, "    let stored = as_stored(s);");
+            let _ = writeln!(w, "    let light = ambient_sun(stored);");
+            let _ = writeln!(w, "    o.light_diffuse = encode_light(min(light.diffuse, ambient_limit(stored)));");
             // A layout without an emissive target (seed 000's) writes the surface's emission
             // into the accumulation here: it is light, and compose adds the specular target
             // as it is.
             let emitted = if self.has(Attr::Emissive) { "" } else { " + max(s.emissive, vec3<f32>(0.0))" };
             let _ = writeln!(
                 w,
-                "    o.light_specular = encode_light(min(light.specular{emitted}, vec3<f32>(camera.light_clamp)));"
+                "    o.light_specular = encode_light(min(light.specular{emitted}, ambient_limit(stored)));"
             );
         }
         let _ = writeln!(w, "    return o;\n}}");
@@ -528,6 +615,7 @@ fn attr_field(a: Attr) -> &'static str {
         Attr::Emissive => "emissive",
         Attr::Depth => "depth",
         Attr::Position => "position",
+        Attr::Material => "material",
     }
 }
 
@@ -647,6 +735,67 @@ mod tests {
         assert!(deg(LayoutChoice::Xyz16f) < deg(LayoutChoice::Xyz8) / 15.0);
         assert!(deg(LayoutChoice::Compact) < deg(LayoutChoice::Oct8) / 15.0);
         assert!(deg(LayoutChoice::Reference) < 1e-5);
+    }
+
+    #[test]
+    fn the_material_id_channel_is_there_only_for_scenes_of_several_models() {
+        use crate::scene::builtin::{build, BuiltinOptions};
+        let one = build("demo", BuiltinOptions::default()).unwrap();
+        let several = build("materials", BuiltinOptions::default()).unwrap();
+        assert_eq!(one.brdfs(None), vec![Brdf::BlinnPhong]);
+        assert_eq!(several.brdfs(None), Brdf::ALL.to_vec());
+        // Every model alone (as the only material of the scene, or forced) is a constant.
+        let mut metal = one.clone();
+        metal.materials.iter_mut().for_each(|m| m.brdf = Brdf::Metal);
+        for c in LayoutChoice::ALL {
+            let plain = if c == LayoutChoice::Fit { fit(&one) } else { c.layout() };
+            for (scene, force, model) in
+                [(&one, None, Brdf::BlinnPhong), (&metal, None, Brdf::Metal), (&several, Some(Brdf::Toon), Brdf::Toon)]
+            {
+                let l = c.layout_for(scene, force).unwrap();
+                l.validate().unwrap();
+                assert!(!l.has(Attr::Material), "{}: an ID channel for one model", l.name);
+                assert_eq!(l.uniform_brdf, Some(model), "{}", l.name);
+                if c != LayoutChoice::Fit {
+                    assert_eq!(l.bytes_per_pixel(), plain.bytes_per_pixel(), "{}", l.name);
+                }
+            }
+            let l = c.layout_for(&several, None);
+            match c {
+                LayoutChoice::Oct8 | LayoutChoice::Oct16 => {
+                    let e = l.unwrap_err();
+                    assert!(
+                        e.contains("no spare channel") && e.contains("blinn-phong, lambert, metal, toon, unlit"),
+                        "{e}"
+                    );
+                }
+                _ => {
+                    let l = l.unwrap();
+                    l.validate().unwrap();
+                    assert!(l.has(Attr::Material), "{}: five models and no ID channel", l.name);
+                    assert_eq!(l.uniform_brdf, None);
+                    // In a channel the formats already had: no byte more.
+                    let without =
+                        if c == LayoutChoice::Fit { fit_for(&several, &[Brdf::BlinnPhong]) } else { c.layout() };
+                    assert_eq!(l.bytes_per_pixel(), without.bytes_per_pixel(), "{}", l.name);
+                    // The WGSL reads the ID from its channel.
+                    let wgsl = l.wgsl(1, true);
+                    assert!(wgsl.contains("const GBUFFER_HAS_MATERIAL: bool = true;") && wgsl.contains("a.material ="));
+                }
+            }
+        }
+        // fit: the ID takes the normal target's spare fourth channel of a specular scene, the
+        // albedo target's alpha of one without specular (lambert and unlit only).
+        let l = LayoutChoice::Fit.layout_for(&several, None).unwrap();
+        assert_eq!(l.targets[1].channels[3], Some(Slot { attr: Attr::Material, comp: 0 }));
+        let mut matte = several.clone();
+        for (k, m) in matte.materials.iter_mut().enumerate() {
+            m.brdf = if k % 2 == 0 { Brdf::Lambert } else { Brdf::Unlit };
+        }
+        let l = LayoutChoice::Fit.layout_for(&matte, None).unwrap();
+        l.validate().unwrap();
+        assert!(!l.has(Attr::SpecLevel), "lambert and unlit need no specular channels");
+        assert_eq!(l.targets[0].channels[3], Some(Slot { attr: Attr::Material, comp: 0 }));
     }
 
     #[test]

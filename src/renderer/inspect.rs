@@ -6,7 +6,7 @@ use super::records::{LightRecord, LIGHT_KIND_SPOT};
 use super::volumes::{self, VolumeKind};
 use super::Renderer;
 use crate::gpu::Gpu;
-use crate::scene::Scene;
+use crate::scene::{Brdf, Scene};
 use anyhow::{bail, Result};
 use glam::{DVec4, Vec2, Vec3};
 
@@ -33,6 +33,11 @@ pub struct PixelProbe {
     pub lights: Vec<usize>,
     /// Raw channel values per G-buffer target: (target name, format, RGBA).
     pub raw: Vec<(String, String, [f32; 4])>,
+    /// The reflectance model: from the material ID channel, or the layout's one model.
+    pub brdf: Brdf,
+    /// The stored material ID when the layout has the channel (an unknown one is shaded as
+    /// `blinn-phong`, as the shaders do).
+    pub material_id: Option<u32>,
 }
 
 fn srgb_to_linear(c: f32) -> f32 {
@@ -266,6 +271,13 @@ impl Renderer {
         let albedo = v3(Attr::Albedo);
         let exponent = 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::gbuffer::SPEC_EXP_LOG_RANGE);
         let emissive = v3(Attr::Emissive);
+        // As `surface_of` decodes it.
+        let material_id =
+            layout.has(Attr::Material).then(|| (get(Attr::Material, 0, 0.0).clamp(0.0, 1.0) * 255.0).round() as u32);
+        let brdf = match material_id {
+            Some(id) => Brdf::ALL.into_iter().find(|b| b.id() == id).unwrap_or_default(),
+            None => layout.uniform_brdf.unwrap_or_default(),
+        };
         let lights = if valid {
             self.last.lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
         } else {
@@ -286,6 +298,8 @@ impl Renderer {
             lit: if valid { diffuse_light * albedo + specular_light + emissive } else { Vec3::ZERO },
             lights,
             raw,
+            brdf,
+            material_id,
         })
     }
 }

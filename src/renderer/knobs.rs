@@ -9,8 +9,8 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings, CONE_SIDES_RANGE,
-    MAX_SPHERE_SUBDIVISIONS,
+    name_of, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings,
+    CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -122,6 +122,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.debug_view),
         put: |s, v| {
             s.debug_view = choice("view", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "brdf",
+        what: "reflectance model",
+        help: "Shade every object with one reflectance model instead of its material's (scene: each its own)",
+        values: Values::Choice(names::<BrdfOverride>),
+        cli: true,
+        get: |s| name_of(&s.brdf),
+        put: |s, v| {
+            s.brdf = choice("reflectance model", v)?;
             Ok(())
         },
     },

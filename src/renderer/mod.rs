@@ -40,7 +40,9 @@ pub use plan::{LightPlan, Method, AUTO_STENCIL_MIN_PIXELS};
 pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
-pub use settings::{AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings};
+pub use settings::{
+    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings,
+};
 use stats::Stamp;
 pub use stats::{CpuMs, FrameStats, LightStats};
 use targets::Targets;
@@ -176,7 +178,7 @@ impl Renderer {
         }
         let key = Self::key(
             settings,
-            settings.layout.layout_for(scene),
+            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?,
             self.features,
             &self.limits,
             self.output_format,

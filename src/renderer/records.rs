@@ -21,6 +21,10 @@ pub const MAT_METAL_ROUGH: u32 = 2;
 /// (some rasterisers, lavapipe among them, pick a mip level slightly differently for a computed
 /// coordinate than for an interpolated one).
 pub const MAT_UV_TRANSFORMED: u32 = 4;
+/// A `metal` object with a metallic-roughness map picks its model per pixel: `metal` where
+/// the map's metallic (times the factor) is at least `import::METAL_THRESHOLD`, `blinn-phong`
+/// below (bands of paint in a metal keep their diffuse term). Not set when a model is forced.
+pub const MAT_METAL_BY_PIXEL: u32 = 64;
 /// The largest finite fp16 value: what the fp16 targets saturate at.
 pub const FP16_MAX: f32 = 65504.0;
 /// The largest finite Rg11b10Ufloat value.
@@ -116,7 +120,8 @@ gpu_record! {
         pub material: [f32; 4],
         /// Metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness map.
         pub pbr: [f32; 4],
-        /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects), 0.
+        /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects),
+        /// reflectance model (`Brdf::id`).
         pub info: [u32; 4],
         /// Per map (base colour, normal, emissive, metallic-roughness) the two rows of its
         /// `UvTransform`; the first row's w is the texture coordinate set.
@@ -248,7 +253,9 @@ impl CameraRecord {
 impl ObjectRecord {
     /// Object `o` of `scene` seen from `view` (world to view). The light-list fields are left
     /// at zero for `plan::plan_draws` to fill.
-    pub fn new(scene: &Scene, o: &crate::scene::Object, view: DMat4) -> Self {
+    /// `force`: the reflectance model every object is shaded with (`Settings::brdf`), else the
+    /// material's (`info.w`).
+    pub fn new(scene: &Scene, o: &crate::scene::Object, view: DMat4, force: Option<crate::scene::Brdf>) -> Self {
         let mv = view * o.transform;
         let nm = DMat4::from_mat3(glam::DMat3::from_mat4(mv).inverse().transpose());
         let m = &scene.materials[o.material];
@@ -265,6 +272,9 @@ impl ObjectRecord {
                 flags |= MAT_UV_TRANSFORMED << k;
             }
         }
+        if force.is_none() && m.brdf == crate::scene::Brdf::Metal && m.textures.metallic_roughness.is_some() {
+            flags |= MAT_METAL_BY_PIXEL;
+        }
         let cutoff = match m.alpha_mode {
             AlphaMode::Mask { cutoff } => cutoff,
             _ => 0.0,
@@ -277,7 +287,7 @@ impl ObjectRecord {
             material: [m.alpha, cutoff, m.normal_scale, 0.0],
             // With a metallic-roughness map the importer keeps f0 in specular_level.
             pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
-            info: [flags, 0, 0, 0],
+            info: [flags, 0, 0, force.unwrap_or(m.brdf).id()],
             uv_transform: {
                 let u = &m.uvs;
                 let [a, b, c, d] = [u.base_color, u.normal, u.emissive, u.metallic_roughness].map(|t| t.rows());
@@ -306,7 +316,7 @@ impl FrameRecords {
                 let rot = cam.rotation();
                 scene.lights.iter().map(|l| LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff)).collect()
             },
-            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view)).collect(),
+            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view, settings.brdf.brdf())).collect(),
             proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
         }
     }

@@ -58,7 +58,43 @@ knob_names!(
     DepthFormat => "depth format",
     LayoutChoice => "layout",
     ForwardLights => "forward light list",
+    BrdfOverride => "reflectance model",
 );
+
+/// Which reflectance model shades the objects: each material's own, or one for all (an
+/// experiment: the same scene as a metal, toon or unlit).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum BrdfOverride {
+    /// Each material's own model.
+    #[default]
+    Scene,
+    /// Lambert diffuse + normalised Blinn-Phong specular.
+    BlinnPhong,
+    /// Lambert diffuse only.
+    Lambert,
+    /// No diffuse; the Blinn-Phong lobe tinted by the base colour.
+    Metal,
+    /// Banded diffuse and highlight.
+    Toon,
+    /// The base colour as it is, no lighting.
+    Unlit,
+}
+
+impl BrdfOverride {
+    /// The forced model, or `None` for each material's own.
+    pub fn brdf(self) -> Option<crate::scene::Brdf> {
+        use crate::scene::Brdf;
+        match self {
+            BrdfOverride::Scene => None,
+            BrdfOverride::BlinnPhong => Some(Brdf::BlinnPhong),
+            BrdfOverride::Lambert => Some(Brdf::Lambert),
+            BrdfOverride::Metal => Some(Brdf::Metal),
+            BrdfOverride::Toon => Some(Brdf::Toon),
+            BrdfOverride::Unlit => Some(Brdf::Unlit),
+        }
+    }
+}
 
 /// Which lights the forward pass (blended surfaces) evaluates at each of its fragments. Every
 /// choice gives the same picture: a light left out reaches no fragment it is left out of.
@@ -140,10 +176,13 @@ pub enum DebugView {
     /// Lights in each pixel's tile list (`tiled`) or cluster list (`clustered`; `tiled` for
     /// the other modes): a heatmap, the legend in the viewer.
     TileLights = 10,
+    /// The reflectance model of each pixel (the material ID, or the scene's one model), one
+    /// colour per model (`Brdf::debug_color`), the legend in the viewer.
+    MaterialId = 11,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 11] = [
+    pub const ALL: [DebugView; 12] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -155,6 +194,7 @@ impl DebugView {
         DebugView::Stencil,
         DebugView::Complexity,
         DebugView::TileLights,
+        DebugView::MaterialId,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
@@ -314,6 +354,8 @@ pub struct Settings {
     /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled
     /// lights whose screen rectangles do not overlap. Off: a draw (or two) per light.
     pub light_batching: bool,
+    /// Shade every object with one reflectance model instead of its material's.
+    pub brdf: BrdfOverride,
 }
 
 impl Default for Settings {
@@ -337,6 +379,7 @@ impl Default for Settings {
             forward_lights: ForwardLights::default(),
             ambient_in_gbuffer: true,
             light_batching: true,
+            brdf: BrdfOverride::Scene,
         }
     }
 }
@@ -397,6 +440,8 @@ mod tests {
         one_name::<DepthFormat>();
         one_name::<LayoutChoice>();
         one_name::<ForwardLights>();
+        one_name::<BrdfOverride>();
+        one_name::<crate::scene::Brdf>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

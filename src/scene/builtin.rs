@@ -26,6 +26,10 @@ pub const NAMES: &[(&str, &str)] = &[
     ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case"),
     ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
     ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
+    (
+        "materials",
+        "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
+    ),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -69,6 +73,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "glass" => glass(opts.lights.unwrap_or(1024), opts.time),
         "street" => street(opts.lights.unwrap_or(64)),
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
+        "materials" => materials(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -591,5 +596,102 @@ pub fn sphere_wall(n: usize) -> Scene {
         let dir = DVec3::new(ring * a.cos(), y, ring * a.sin());
         b.point(dir * at, hue(unit(71, i as u64) as f32), 0.25 + 0.25 * unit(72, i as u64) as f32, range);
     }
+    b.scene
+}
+
+/// A unit sphere facing outward (`segments` around, `rings` from pole to pole).
+fn sphere_mesh(segments: u32, rings: u32) -> Mesh {
+    let mut mesh = Mesh { name: "sphere".into(), ..Default::default() };
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let p = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            mesh.vertices.push(Vertex::new(p.into(), p.into(), [s as f32 / segments as f32, r as f32 / rings as f32]));
+        }
+    }
+    let row = segments + 1;
+    for r in 0..rings {
+        for s in 0..segments {
+            let (a, b, c, d) = (r * row + s, r * row + s + 1, (r + 1) * row + s, (r + 1) * row + s + 1);
+            // Counter-clockwise seen from outside; the poles' degenerate triangles left out.
+            if r != 0 {
+                mesh.indices.extend([a, b, c]);
+            }
+            if r + 1 != rings {
+                mesh.indices.extend([b, d, c]);
+            }
+        }
+    }
+    mesh
+}
+
+/// Seed 002's material IDs side by side: five spheres, each on a box of the same model, in
+/// `Brdf::ALL` order from left to right (blinn-phong, lambert, metal, toon, unlit), on a
+/// blinn-phong floor, lit by a sun, ambient, eight coloured point lights and a spot; a
+/// translucent toon pane in front of the lambert and metal spheres (the forward pass).
+pub fn materials() -> Scene {
+    let camera = Camera { far: 120.0, ..Camera::looking_at(DVec3::new(0.0, 2.6, 9.5), DVec3::new(0.0, 0.9, 0.0)) };
+    let mut b = Builder::new("materials", camera);
+    b.scene.sun = Some(Sun { intensity: 0.6, ..Sun::fill_sun() });
+    b.scene.ambient = Vec3::new(0.05, 0.05, 0.06);
+    b.scene.meshes.push(sphere_mesh(48, 24));
+    let sphere = b.scene.meshes.len() - 1;
+    let floor = b.material(Material {
+        diffuse: Vec3::splat(0.45),
+        specular_level: 0.4,
+        specular_exponent: 24.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-20.0, -1.0, -15.0), DVec3::new(20.0, 0.0, 15.0), floor);
+    let (gold, _, _) = Material::metal_from_pbr(Vec3::new(1.0, 0.71, 0.29), 1.0, 0.35, DIELECTRIC_F0);
+    let models = [
+        (Brdf::BlinnPhong, Vec3::new(0.75, 0.18, 0.15), 1.2, 64.0),
+        (Brdf::Lambert, Vec3::new(0.2, 0.45, 0.8), 0.0, 1.0),
+        // Gold from glTF metallic-roughness (base (1, 0.71, 0.29), metallic 1, roughness 0.35).
+        (Brdf::Metal, gold, max_specular_level(96.0), 96.0),
+        (Brdf::Toon, Vec3::new(0.85, 0.5, 0.75), 1.0, 48.0),
+        (Brdf::Unlit, Vec3::new(0.3, 0.75, 0.35), 0.0, 1.0),
+    ];
+    for (k, (brdf, color, level, exponent)) in models.into_iter().enumerate() {
+        let m = b.material(Material {
+            diffuse: color,
+            specular_level: level,
+            specular_exponent: exponent,
+            emissive: Vec3::ZERO,
+            brdf,
+            ..Material::default()
+        });
+        let x = (k as f64 - 2.0) * 3.2;
+        b.boxed(DVec3::new(x - 1.1, 0.0, -2.6), DVec3::new(x + 1.1, 0.8, -1.4), m);
+        let t = DMat4::from_translation(DVec3::new(x, 1.3, 0.0)) * DMat4::from_scale(DVec3::splat(1.3));
+        b.scene.objects.push(Object { mesh: sphere, material: m, transform: t });
+    }
+    let pane = b.material(Material {
+        diffuse: Vec3::new(0.9, 0.85, 0.5),
+        specular_level: 1.0,
+        specular_exponent: 64.0,
+        emissive: Vec3::ZERO,
+        alpha: 0.35,
+        alpha_mode: AlphaMode::Blend,
+        brdf: Brdf::Toon,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-4.6, 0.0, 2.4), DVec3::new(1.4, 1.6, 2.5), pane);
+    for i in 0..8u64 {
+        let x = -9.0 + 18.0 * (i as f64 + 0.5) / 8.0;
+        let z = if i % 2 == 0 { 3.0 } else { -3.5 };
+        b.point(DVec3::new(x, 2.6 + unit(31, i) * 1.5, z), hue(i as f32 / 8.0) * 0.7 + Vec3::splat(0.3), 1.6, 6.0);
+    }
+    b.scene.lights.push(Light::Spot(SpotLight {
+        position: DVec3::new(0.0, 7.0, 3.0),
+        direction: Vec3::new(0.0, -1.0, -0.4).normalize(),
+        color: Vec3::new(1.0, 0.95, 0.85),
+        intensity: 1.5,
+        radius: 14.0,
+        inner_angle: 25f32.to_radians(),
+        outer_angle: 40f32.to_radians(),
+    }));
     b.scene
 }

@@ -203,6 +203,62 @@ impl Mesh {
     }
 }
 
+/// The reflectance model a material is shaded with (seed 002's material ID: the G-buffer keeps
+/// it per pixel when a scene uses more than one, see `renderer::gbuffer`). The discriminants
+/// are the stored IDs and the WGSL constants `LS_BRDF_*`.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum Brdf {
+    /// Lambert diffuse + normalised Blinn-Phong specular in white (the model before IDs).
+    #[default]
+    BlinnPhong = 0,
+    /// Lambert diffuse only: no specular term, from lights, sun or ambient.
+    Lambert = 1,
+    /// A conductor: no diffuse term; the Blinn-Phong lobe tinted by the base colour (the
+    /// albedo channel holds the specular colour F0, the specular channel a scalar on it).
+    Metal = 2,
+    /// Banded: diffuse N.L in three steps (1/3, 2/3, 1), the highlight one flat band where the
+    /// Blinn-Phong lobe exceeds half its peak. The distance and spot falloffs stay smooth.
+    Toon = 3,
+    /// glTF `KHR_materials_unlit`: the base colour as it is (times exposure); lights, sun and
+    /// ambient add nothing.
+    Unlit = 4,
+}
+
+impl Brdf {
+    pub const ALL: [Brdf; 5] = [Brdf::BlinnPhong, Brdf::Lambert, Brdf::Metal, Brdf::Toon, Brdf::Unlit];
+
+    /// The value's one name (`blinn-phong`, `lambert`, `metal`, `toon`, `unlit`).
+    pub fn name(self) -> String {
+        clap::ValueEnum::to_possible_value(&self).map_or_else(String::new, |p| p.get_name().to_string())
+    }
+
+    /// The ID stored in the G-buffer's material channel.
+    pub fn id(self) -> u32 {
+        self as u32
+    }
+
+    /// Whether the model uses the specular level and exponent.
+    pub fn specular(self) -> bool {
+        matches!(self, Brdf::BlinnPhong | Brdf::Metal | Brdf::Toon)
+    }
+
+    /// The colour the `material-id` debug view paints the model in (linear RGB; the viewer's
+    /// legend shows the same).
+    pub fn debug_color(self) -> [f32; 3] {
+        match self {
+            Brdf::BlinnPhong => [0.55, 0.55, 0.55],
+            Brdf::Lambert => [0.1, 0.35, 0.9],
+            Brdf::Metal => [0.95, 0.65, 0.1],
+            Brdf::Toon => [0.85, 0.15, 0.6],
+            Brdf::Unlit => [0.15, 0.8, 0.25],
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Material {
     /// Linear diffuse albedo.
@@ -237,6 +293,9 @@ pub struct Material {
     /// Each map's texture coordinate set and transform.
     #[serde(default)]
     pub uvs: MaterialUvs,
+    /// The reflectance model (seed 002's material ID).
+    #[serde(default)]
+    pub brdf: Brdf,
 }
 
 fn one() -> f32 {
@@ -335,7 +394,23 @@ impl Material {
             metallic: 0.0,
             roughness: 1.0,
             uvs: MaterialUvs::default(),
+            brdf: Brdf::BlinnPhong,
         }
+    }
+
+    /// The `metal` model's terms from glTF's metallic-roughness (mirrored in WGSL by
+    /// `metal_from_pbr`): the specular colour F0 = mix(dielectric_f0, base, metallic) (glTF's
+    /// own F0) goes to the albedo channel, the specular level is the normalised peak of
+    /// reflectance 1 ((exponent + 8) / 8), the exponent as [`Material::blinn_phong_from_pbr`].
+    /// The diffuse part a partly metallic pixel would have, base x (1 - metallic), is left out:
+    /// the metal model has no diffuse term (the importer picks it for metallic >= 0.5 only).
+    ///
+    /// Returns (specular colour, specular level, specular exponent).
+    pub fn metal_from_pbr(base: Vec3, metallic: f32, roughness: f32, dielectric_f0: f32) -> (Vec3, f32, f32) {
+        let m = metallic.clamp(0.0, 1.0);
+        let (_, _, exponent) = Self::blinn_phong_from_pbr(base, m, roughness, dielectric_f0);
+        let f0 = Vec3::splat(dielectric_f0.clamp(0.0, 1.0)).lerp(base.clamp(Vec3::ZERO, Vec3::ONE), m);
+        (f0, (exponent + 8.0) / 8.0, exponent)
     }
 
     /// Blinn-Phong terms from glTF's metallic-roughness model (mirrored in WGSL by
@@ -360,6 +435,17 @@ impl Material {
         let exponent = (2.0 / (a * a) - 2.0).clamp(1.0, 2048.0);
         let level = f0.clamp(0.0, 1.0) * (exponent + 8.0) / 8.0;
         (base * (1.0 - m), level, exponent)
+    }
+
+    /// The models the material's pixels use: its own, and `blinn-phong` too for a metal with a
+    /// metallic-roughness map, whose less metallic pixels are shaded so
+    /// (`renderer::records::MAT_METAL_BY_PIXEL`).
+    pub fn brdfs(&self) -> Vec<Brdf> {
+        if self.brdf == Brdf::Metal && self.textures.metallic_roughness.is_some() {
+            vec![Brdf::BlinnPhong, Brdf::Metal]
+        } else {
+            vec![self.brdf]
+        }
     }
 
     pub fn is_blended(&self) -> bool {
@@ -586,6 +672,22 @@ impl Scene {
             }
         }
         (lo.x <= hi.x).then_some((lo, hi))
+    }
+
+    /// The reflectance models the drawn objects use (`force`: every object with that one), in
+    /// ID order. An empty scene uses the default.
+    pub fn brdfs(&self, force: Option<Brdf>) -> Vec<Brdf> {
+        if let Some(b) = force {
+            return vec![b];
+        }
+        let mut used: Vec<Brdf> =
+            self.objects.iter().filter_map(|o| self.materials.get(o.material)).flat_map(|m| m.brdfs()).collect();
+        used.sort();
+        used.dedup();
+        if used.is_empty() {
+            used.push(Brdf::default());
+        }
+        used
     }
 
     pub fn any_emissive(&self) -> bool {

@@ -71,6 +71,9 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         if st.settings.debug_view == DebugView::TileLights {
             tile_legend(ui);
         }
+        if st.settings.debug_view == DebugView::MaterialId {
+            brdf_legend(ui);
+        }
         ui.horizontal(|ui| {
             ui.label("wireframes");
             ui.selectable_value(&mut st.wireframes, Wireframes::Off, "off");
@@ -162,6 +165,20 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
         let c = &s.cpu_ms;
         row(ui, "CPU records / plan / upload", format!("{:.2} / {:.2} / {:.2} ms", c.records, c.plan, c.upload));
+    });
+}
+
+/// The legend of the `material-id` view: each reflectance model's colour (`Brdf::debug_color`,
+/// linear, shown as the sRGB output shows it).
+fn brdf_legend(ui: &mut egui::Ui) {
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 3.0;
+        for b in crate::scene::Brdf::ALL {
+            let [r, g, bl] = b.debug_color();
+            let (rect, _) = ui.allocate_exact_size(Vec2::splat(10.0), Sense::hover());
+            ui.painter().rect_filled(rect, 1.0, egui::Rgba::from_rgb(r, g, bl));
+            ui.label(RichText::new(b.name()).small());
+        }
     });
 }
 

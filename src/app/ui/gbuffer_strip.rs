@@ -30,6 +30,7 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
                 Attr::Emissive => (DebugView::Emissive, "emissive"),
                 Attr::Depth => (DebugView::Depth, "depth"),
                 Attr::Position => (DebugView::Depth, "position z"),
+                Attr::Material => (DebugView::MaterialId, "material ID"),
             };
             add(view, label, t.name, format!("{:?}", t.format));
         }

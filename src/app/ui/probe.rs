@@ -23,6 +23,8 @@ pub(super) fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
         if !p.valid {
             row(ui, "surface", "background".into());
         } else {
+            let id = p.material_id.map_or("one for the scene".to_string(), |id| format!("ID {id}"));
+            row(ui, "model", format!("{} ({id})", p.brdf.name()));
             row(ui, "albedo", v3(p.albedo));
             row(ui, "spec level / exp", format!("{:.3} / {:.1}", p.specular_level, p.specular_exponent));
             row(ui, "normal (view)", v3(p.normal));

@@ -209,6 +209,15 @@ pub(super) fn materials_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, 
             changed = true;
         }
         ui.end_row();
+        // The reflectance model (seed 002's material ID); a scene of several gets the G-buffer's
+        // ID channel. For a metal, `diffuse` is the specular colour.
+        ui.label("model");
+        egui::ComboBox::from_id_salt("brdf").selected_text(m.brdf.name()).show_ui(ui, |ui| {
+            for b in crate::scene::Brdf::ALL {
+                changed |= ui.selectable_value(&mut m.brdf, b, b.name()).changed();
+            }
+        });
+        ui.end_row();
     });
     if changed {
         if m.diffuse.is_finite() && m.emissive.is_finite() && m.emissive.min_element() >= 0.0 {

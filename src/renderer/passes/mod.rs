@@ -46,6 +46,10 @@ pub fn wgsl_constants() -> String {
     u("MAT_NORMAL_MAP", records::MAT_NORMAL_MAP);
     u("MAT_METAL_ROUGH", records::MAT_METAL_ROUGH);
     u("MAT_UV_TRANSFORMED", records::MAT_UV_TRANSFORMED);
+    u("MAT_METAL_BY_PIXEL", records::MAT_METAL_BY_PIXEL);
+    for b in crate::scene::Brdf::ALL {
+        u(&format!("BRDF_{}", b.name().to_uppercase().replace('-', "_")), b.id());
+    }
     for v in DebugView::ALL {
         u(&format!("VIEW_{}", v.wgsl_name()), v as u32);
     }
@@ -53,8 +57,16 @@ pub fn wgsl_constants() -> String {
     f("LOG_ACCUM_MAX", settings::LOG_ACCUM_MAX);
     f("FP16_MAX", records::FP16_MAX);
     f("TILE_HEAT_MAX", super::tiles::HEAT_MAX);
+    f("METAL_THRESHOLD", crate::scene::import::METAL_THRESHOLD);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
+    // The `material-id` view's colours (`Brdf::debug_color`; unknown IDs show magenta).
+    s += "fn brdf_debug_color(id: u32) -> vec3<f32> {\n";
+    for b in crate::scene::Brdf::ALL {
+        let [r, g, bl] = b.debug_color();
+        s += &format!("    if id == {}u {{ return vec3<f32>({r:?}, {g:?}, {bl:?}); }}\n", b.id());
+    }
+    s += "    return vec3<f32>(1.0, 0.0, 1.0);\n}\n";
     s
 }
 

@@ -1,8 +1,15 @@
 //! Materials and their textures: images decoded once per role (colour or data) on all cores,
 //! with size limits and a visible fallback; glTF's metallic-roughness materials mapped to the
-//! renderer's Blinn-Phong (`Material::blinn_phong_from_pbr`).
+//! renderer's Blinn-Phong (`Material::blinn_phong_from_pbr`), or to its metal model
+//! (`Material::metal_from_pbr`) when mostly metallic; `KHR_materials_unlit` to `unlit`.
 
 use super::*;
+use crate::scene::Brdf;
+
+/// A glTF material whose metallic factor is at least this is imported as `metal` (specular
+/// colour F0 = mix(dielectric f0, base, metallic), no diffuse term); below, as `blinn-phong`
+/// (diffuse base x (1 - metallic), white specular of the base's luminance).
+pub const METAL_THRESHOLD: f32 = 0.5;
 
 impl Importer<'_> {
     /// Decodes every image a material uses, in the roles it is used in, on all cores.
@@ -170,9 +177,23 @@ impl Importer<'_> {
         }
         let metallic = pbr.metallic_factor();
         let roughness = pbr.roughness_factor();
-        let (diffuse, level, exponent) = if textures.metallic_roughness.is_some() {
+        // The reflectance model: KHR_materials_unlit is `unlit` (the base colour as it is); a
+        // mostly metallic material (metallic factor >= 0.5) is `metal`, whose highlight takes
+        // the base colour; the rest `blinn-phong`.
+        let brdf = if m.unlit() {
+            Brdf::Unlit
+        } else if metallic >= METAL_THRESHOLD {
+            Brdf::Metal
+        } else {
+            Brdf::BlinnPhong
+        };
+        let (diffuse, level, exponent) = if brdf == Brdf::Unlit {
+            (base, 0.0, 1.0)
+        } else if textures.metallic_roughness.is_some() {
             // Derived per pixel by the shader; keep the factors.
             (base, f0, 1.0)
+        } else if brdf == Brdf::Metal {
+            Material::metal_from_pbr(base, metallic, roughness, f0)
         } else {
             Material::blinn_phong_from_pbr(base, metallic, roughness, f0)
         };
@@ -195,6 +216,7 @@ impl Importer<'_> {
             metallic,
             roughness,
             uvs,
+            brdf,
         };
         // Values the file controls: keep them finite and in range.
         let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };

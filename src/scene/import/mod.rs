@@ -28,6 +28,7 @@ mod draco;
 mod geometry;
 pub mod lighting;
 mod materials;
+pub use materials::METAL_THRESHOLD;
 mod meshopt;
 
 use checks::{
@@ -40,6 +41,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",
     "EXT_meshopt_compression",
     "KHR_texture_transform",
     "KHR_draco_mesh_compression",

@@ -58,7 +58,10 @@ knob_names!(
     DepthFormat => "depth format",
     LayoutChoice => "layout",
     ForwardLights => "forward light list",
+    Tonemap => "tonemap",
 );
+
+pub use super::post::Tonemap;
 
 /// Which lights the forward pass (blended surfaces) evaluates at each of its fragments. Every
 /// choice gives the same picture: a light left out reaches no fragment it is left out of.
@@ -314,6 +317,26 @@ pub struct Settings {
     /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled
     /// lights whose screen rectangles do not overlap. Off: a draw (or two) per light.
     pub light_batching: bool,
+    /// The tone curve of the post chain (`post::Tonemap`); ACES is the one compose always used.
+    pub tonemap: Tonemap,
+    /// Auto-exposure: a luminance histogram each frame, the exposure adapting towards
+    /// `target_luminance` / (the frame's geometric mean luminance), time-stepped at a fixed
+    /// 1/60 s per frame. `exposure` stays a factor on top (exposure compensation).
+    pub auto_exposure: bool,
+    /// Adaptation speed of auto-exposure, per second: each frame moves the adapted log2
+    /// luminance by `1 - exp(-speed / 60)` of the way to the frame's.
+    pub adaptation_speed: f32,
+    /// The luminance auto-exposure maps the frame's geometric mean to (middle grey, 0.18).
+    pub target_luminance: f32,
+    /// Bloom: a bright pass above `bloom_threshold`, a 5-level downsample/upsample chain, added
+    /// back times `bloom_intensity`.
+    pub bloom: bool,
+    /// Luminance above which a pixel blooms (the part above it blooms, hue kept).
+    pub bloom_threshold: f32,
+    /// Factor on the bloom added back.
+    pub bloom_intensity: f32,
+    /// Colour grading: a `.cube` 3D LUT file, or `identity` (built in); `None`: no grading.
+    pub lut: Option<String>,
 }
 
 impl Default for Settings {
@@ -337,6 +360,14 @@ impl Default for Settings {
             forward_lights: ForwardLights::default(),
             ambient_in_gbuffer: true,
             light_batching: true,
+            tonemap: Tonemap::Aces,
+            auto_exposure: false,
+            adaptation_speed: 2.0,
+            target_luminance: 0.18,
+            bloom: false,
+            bloom_threshold: 1.0,
+            bloom_intensity: 0.1,
+            lut: None,
         }
     }
 }
@@ -397,6 +428,7 @@ mod tests {
         one_name::<DepthFormat>();
         one_name::<LayoutChoice>();
         one_name::<ForwardLights>();
+        one_name::<Tonemap>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

@@ -1,0 +1,269 @@
+// The HDR post chain (issue 16; seed 002's order): bloom -> auto-exposure -> tone mapping ->
+// colour grading. Bindings (group 2, slots 30..) are declared from Rust: renderer::bindings::POST;
+// the curves' CPU twins are in renderer::post (Tonemap::apply), formula for formula.
+
+struct PostParams {
+    tonemap: u32,
+    auto_exposure: u32,
+    lut_size: u32,
+    pad0: u32,
+    exposure: f32,
+    threshold: f32,
+    intensity: f32,
+    target_luminance: f32,
+    adapt_rate: f32,
+    log_min: f32,
+    log_max: f32,
+    pad1: f32,
+    lut_min: vec4<f32>,
+    lut_max: vec4<f32>,
+};
+
+fn post_luminance(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.2126, 0.7152, 0.0722));
+}
+
+fn post_inside(q: vec2<i32>, size: vec2<u32>) -> bool {
+    return all(q >= vec2<i32>(0)) && all(vec2<u32>(q) < size);
+}
+
+// Bloom's bright pass: the part of a pixel above the threshold luminance, its hue kept.
+fn bloom_bright(c: vec3<f32>) -> vec3<f32> {
+    let l = post_luminance(c);
+    if l <= post_params.threshold {
+        return vec3<f32>(0.0);
+    }
+    return c * ((l - post_params.threshold) / l);
+}
+
+// A 2x2 box of `post_src` (pixels outside count as zero, so the sum over the level times its
+// texel area is conserved).
+fn bloom_box(p: vec2<i32>, bright: bool) -> vec3<f32> {
+    let size = textureDimensions(post_src);
+    var sum = vec3<f32>(0.0);
+    for (var j = 0; j < 2; j++) {
+        for (var i = 0; i < 2; i++) {
+            let q = 2 * p + vec2<i32>(i, j);
+            if post_inside(q, size) {
+                var c = finite(textureLoad(post_src, q, 0).rgb);
+                if bright {
+                    c = bloom_bright(c);
+                }
+                sum += c;
+            }
+        }
+    }
+    return sum * 0.25;
+}
+
+// The 2x bilinear upsample of `t` at output pixel p, clamped to the edge: each source texel
+// gives 0.75 + 0.75 + 0.25 + 0.25 of weight per axis to the output, edges included.
+fn bloom_up(t: texture_2d<f32>, p: vec2<i32>) -> vec3<f32> {
+    let size = vec2<i32>(textureDimensions(t));
+    let x = vec2<f32>(p) * 0.5 - 0.25;
+    let f = x - floor(x);
+    let i0 = vec2<i32>(floor(x));
+    let a = clamp(i0, vec2<i32>(0), size - 1);
+    let b = clamp(i0 + 1, vec2<i32>(0), size - 1);
+    let c00 = textureLoad(t, vec2<i32>(a.x, a.y), 0).rgb;
+    let c10 = textureLoad(t, vec2<i32>(b.x, a.y), 0).rgb;
+    let c01 = textureLoad(t, vec2<i32>(a.x, b.y), 0).rgb;
+    let c11 = textureLoad(t, vec2<i32>(b.x, b.y), 0).rgb;
+    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+
+@fragment
+fn fs_bloom_bright(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(bloom_box(vec2<i32>(floor(frag.xy)), true), 1.0);
+}
+
+@fragment
+fn fs_bloom_down(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(bloom_box(vec2<i32>(floor(frag.xy)), false), 1.0);
+}
+
+// Level k of the upsample: half its own downsampled level, half the coarser result.
+@fragment
+fn fs_bloom_up(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    return vec4<f32>(0.5 * textureLoad(post_aux, p, 0).rgb + 0.5 * bloom_up(post_src, p), 1.0);
+}
+
+// The HDR colour plus intensity x the bloom (the finest upsampled level, upsampled once more).
+@fragment
+fn fs_bloom_combine(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let c = finite(textureLoad(post_src, p, 0).rgb);
+    return vec4<f32>(c + post_params.intensity * bloom_up(post_aux, p), 1.0);
+}
+
+// Auto-exposure, 1: the luminance histogram of the frame (before exposure), per workgroup in
+// shared memory, then added to the state's bins.
+var<workgroup> post_bins: array<atomic<u32>, LS_HIST_BINS>;
+
+fn hist_bin(l: f32) -> u32 {
+    if !(l >= exp2(post_params.log_min)) {
+        return 0u;
+    }
+    let t = (log2(l) - post_params.log_min) / (post_params.log_max - post_params.log_min);
+    return 1u + u32(clamp(floor(t * f32(LS_HIST_BINS - 1u)), 0.0, f32(LS_HIST_BINS - 2u)));
+}
+
+@compute @workgroup_size(16, 16)
+fn cs_histogram(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    if li < LS_HIST_BINS {
+        atomicStore(&post_bins[li], 0u);
+    }
+    workgroupBarrier();
+    let size = textureDimensions(post_src);
+    if all(gid.xy < size) {
+        let c = finite(textureLoad(post_src, vec2<i32>(gid.xy), 0).rgb);
+        atomicAdd(&post_bins[hist_bin(post_luminance(c))], 1u);
+    }
+    workgroupBarrier();
+    if li < LS_HIST_BINS {
+        let n = atomicLoad(&post_bins[li]);
+        if n > 0u {
+            atomicAdd(&post_state[li], n);
+        }
+    }
+}
+
+// Auto-exposure, 2: the frame's mean log2 luminance from the bins' centres (bin 0, black, left
+// out), and one time step of the adapted value towards it; the bins cleared for the next frame.
+@compute @workgroup_size(1)
+fn cs_adapt() {
+    let w = (post_params.log_max - post_params.log_min) / f32(LS_HIST_BINS - 1u);
+    var n = 0.0;
+    var sum = 0.0;
+    for (var b = 1u; b < LS_HIST_BINS; b++) {
+        let k = f32(atomicLoad(&post_state[b]));
+        n += k;
+        sum += k * (post_params.log_min + (f32(b) - 0.5) * w);
+        atomicStore(&post_state[b], 0u);
+    }
+    atomicStore(&post_state[0], 0u);
+    let adapted = bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS]));
+    var measured = adapted;
+    if n > 0.0 {
+        measured = sum / n;
+    }
+    let next = adapted + (measured - adapted) * post_params.adapt_rate;
+    atomicStore(&post_state[LS_HIST_BINS], bitcast<u32>(next));
+    atomicStore(&post_state[LS_HIST_BINS + 1u], bitcast<u32>(measured));
+}
+
+// The exposure the tonemap applies: the knob, times target / adapted luminance when adapting.
+fn post_exposure() -> f32 {
+    var e = post_params.exposure;
+    if post_params.auto_exposure != 0u {
+        let adapted = bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS]));
+        e *= post_params.target_luminance / exp2(adapted);
+    }
+    return e;
+}
+
+// Reinhard et al. 2002, "Photographic Tone Reproduction for Digital Images", eq. 3.
+fn tonemap_reinhard(x: vec3<f32>) -> vec3<f32> {
+    let v = max(x, vec3<f32>(0.0));
+    return v / (vec3<f32>(1.0) + v);
+}
+
+// AgX (Troy Sobotka), Benjamin Wrensch's minimal fit ("Minimal AgX implementation", iolite,
+// 2023): inset matrix, log2 encoding over [-12.47393, 4.026069] EV, 6th-order contrast
+// polynomial, outset matrix, 2.2 power back to linear.
+fn tonemap_agx(x: vec3<f32>) -> vec3<f32> {
+    let inset = mat3x3<f32>(
+        0.842479062253094, 0.0423282422610123, 0.0423756549057051,
+        0.0784335999999992, 0.878468636469772, 0.0784336,
+        0.0792237451477643, 0.0791661274605434, 0.879142973793104,
+    );
+    let outset = mat3x3<f32>(
+        1.19687900512017, -0.0528968517574562, -0.0529716355144438,
+        -0.0980208811401368, 1.15190312990417, -0.0980434501171241,
+        -0.0990297440797205, -0.0989611768448433, 1.15107367264116,
+    );
+    let min_ev = -12.47393;
+    let max_ev = 4.026069;
+    let v = inset * max(x, vec3<f32>(0.0));
+    let t = (clamp(log2(max(v, vec3<f32>(1e-10))), vec3<f32>(min_ev), vec3<f32>(max_ev)) - min_ev) / (max_ev - min_ev);
+    let t2 = t * t;
+    let t4 = t2 * t2;
+    let p = 15.5 * t4 * t2 - 40.14 * t4 * t + 31.96 * t4 - 6.868 * t2 * t + 0.4298 * t2 + 0.1191 * t - 0.00232;
+    return clamp(pow(max(outset * p, vec3<f32>(0.0)), vec3<f32>(2.2)), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral/README.md, 2024).
+fn tonemap_pbr_neutral(x: vec3<f32>) -> vec3<f32> {
+    let start = 0.8 - 0.04;
+    let desaturation = 0.15;
+    var c = max(x, vec3<f32>(0.0));
+    let m = min(c.r, min(c.g, c.b));
+    var offset = 0.04;
+    if m < 0.08 {
+        offset = m - 6.25 * m * m;
+    }
+    c -= offset;
+    let peak = max(c.r, max(c.g, c.b));
+    if peak < start {
+        return clamp(c, vec3<f32>(0.0), vec3<f32>(1.0));
+    }
+    let d = 1.0 - start;
+    let new_peak = 1.0 - d * d / (peak + d - start);
+    c *= new_peak / peak;
+    let g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    return clamp(mix(c, vec3<f32>(new_peak), g), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+fn tonemap(x: vec3<f32>, curve: u32) -> vec3<f32> {
+    if curve == LS_TONEMAP_REINHARD {
+        return tonemap_reinhard(x);
+    } else if curve == LS_TONEMAP_AGX {
+        return tonemap_agx(x);
+    } else if curve == LS_TONEMAP_PBR_NEUTRAL {
+        return tonemap_pbr_neutral(x);
+    } else if curve == LS_TONEMAP_NONE {
+        return clamp(x, vec3<f32>(0.0), vec3<f32>(1.0));
+    }
+    // ACES, Narkowicz 2015 (compose.wgsl's `aces`).
+    return aces(x);
+}
+
+@fragment
+fn fs_post_tonemap(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = finite(textureLoad(post_src, vec2<i32>(floor(frag.xy)), 0).rgb);
+    return vec4<f32>(tonemap(c * post_exposure(), post_params.tonemap), 1.0);
+}
+
+fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
+    return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, 12.92 * c, c <= vec3<f32>(0.0031308));
+}
+
+fn srgb_decode(c: vec3<f32>) -> vec3<f32> {
+    return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
+}
+
+fn lut_entry(i: vec3<u32>) -> vec3<f32> {
+    let n = post_params.lut_size;
+    return post_lut[i.x + n * (i.y + n * i.z)].rgb;
+}
+
+// Colour grading: the tonemapped colour, sRGB-encoded (the space .cube LUTs are made in), through
+// the LUT with trilinear interpolation, decoded back to linear for the sRGB target.
+@fragment
+fn fs_grade(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = clamp(textureLoad(post_src, vec2<i32>(floor(frag.xy)), 0).rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let n = post_params.lut_size;
+    let lo = post_params.lut_min.xyz;
+    let hi = post_params.lut_max.xyz;
+    let t = clamp((srgb_encode(c) - lo) / (hi - lo), vec3<f32>(0.0), vec3<f32>(1.0)) * f32(n - 1u);
+    let i0 = min(vec3<u32>(floor(t)), vec3<u32>(n - 1u));
+    let i1 = min(i0 + 1u, vec3<u32>(n - 1u));
+    let f = t - floor(t);
+    let c00 = mix(lut_entry(i0), lut_entry(vec3<u32>(i1.x, i0.y, i0.z)), f.x);
+    let c10 = mix(lut_entry(vec3<u32>(i0.x, i1.y, i0.z)), lut_entry(vec3<u32>(i1.x, i1.y, i0.z)), f.x);
+    let c01 = mix(lut_entry(vec3<u32>(i0.x, i0.y, i1.z)), lut_entry(vec3<u32>(i1.x, i0.y, i1.z)), f.x);
+    let c11 = mix(lut_entry(vec3<u32>(i0.x, i1.y, i1.z)), lut_entry(i1), f.x);
+    let graded = mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
+    return vec4<f32>(srgb_decode(clamp(graded, vec3<f32>(0.0), vec3<f32>(1.0))), 1.0);
+}

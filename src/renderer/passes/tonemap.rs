@@ -1,0 +1,43 @@
+//! Tone mapping (seed 002's chain, after auto-exposure): the exposure (the knob, times target /
+//! adapted luminance with auto-exposure) and the chosen curve (`post::Tonemap`; formulas and
+//! their sources in `shaders/post.wgsl`), into the output or, when grading follows, into
+//! `post.toned`.
+
+use super::{post_draw, FrameInputs, Shared};
+use crate::renderer::post::POST_FORMAT;
+use crate::renderer::stats::Stamp;
+
+pub struct TonemapPass {
+    to_output: wgpu::RenderPipeline,
+    to_post: wgpu::RenderPipeline,
+}
+
+impl TonemapPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let out = shared.key.output_format;
+        Self {
+            to_output: shared.fullscreen_pipeline(device, "post tonemap", &shared.post_layout, "fs_post_tonemap", out),
+            to_post: shared.fullscreen_pipeline(
+                device,
+                "post tonemap (graded)",
+                &shared.post_layout,
+                "fs_post_tonemap",
+                POST_FORMAT,
+            ),
+        }
+    }
+
+    /// Records the tonemap of `group`'s source into `view` (`last`: the frame's output).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        group: &wgpu::BindGroup,
+        view: &wgpu::TextureView,
+        last: bool,
+    ) {
+        let pipeline = if last { &self.to_output } else { &self.to_post };
+        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        post_draw(encoder, f, "post tonemap", pipeline, view, group, stamps);
+    }
+}

@@ -131,6 +131,8 @@ fn cs_histogram(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_in
 
 // Auto-exposure, 2: the frame's mean log2 luminance from the bins' centres (bin 0, black, left
 // out), and one time step of the adapted value towards it; the bins cleared for the next frame.
+// The first frame after the state is made (word HIST_BINS + 2 still 0) starts at the measured
+// value, so a single rendered frame is exposed for itself.
 @compute @workgroup_size(1)
 fn cs_adapt() {
     let w = (post_params.log_max - post_params.log_min) / f32(LS_HIST_BINS - 1u);
@@ -143,10 +145,14 @@ fn cs_adapt() {
         atomicStore(&post_state[b], 0u);
     }
     atomicStore(&post_state[0], 0u);
-    let adapted = bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS]));
+    var adapted = bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS]));
     var measured = adapted;
     if n > 0.0 {
         measured = sum / n;
+    }
+    if atomicLoad(&post_state[LS_HIST_BINS + 2u]) == 0u {
+        adapted = measured;
+        atomicStore(&post_state[LS_HIST_BINS + 2u], 1u);
     }
     let next = adapted + (measured - adapted) * post_params.adapt_rate;
     atomicStore(&post_state[LS_HIST_BINS], bitcast<u32>(next));

@@ -27,8 +27,9 @@ pub fn hist_bin_stops() -> f32 {
     (HIST_LOG_MAX - HIST_LOG_MIN) / (HIST_BINS - 1) as f32
 }
 /// Words of the exposure state buffer: the bins, then the adapted and the measured log2
-/// luminance (f32 bits).
-pub const STATE_WORDS: u32 = HIST_BINS + 2;
+/// luminance (f32 bits), then 1 once a frame has been measured (the first frame starts at its
+/// own luminance instead of adapting from an arbitrary one).
+pub const STATE_WORDS: u32 = HIST_BINS + 3;
 /// The time step of one frame: auto-exposure is stepped by frames, not by the wall clock, so
 /// scripted runs and tests are deterministic.
 pub const FRAME_DT: f32 = 1.0 / 60.0;

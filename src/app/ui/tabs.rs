@@ -154,7 +154,7 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
         });
         ui.end_row();
         ui.label("grading LUT");
-        let id = egui::Id::new("lut-path");
+        let id = ui.scope_id().with("lut-path");
         let mut text: String =
             ui.data_mut(|d| d.get_temp(id)).unwrap_or_else(|| s.lut.clone().unwrap_or_else(|| "none".into()));
         ui.horizontal(|ui| {

@@ -138,7 +138,11 @@ fn cs_adapt() {
     let w = (post_params.log_max - post_params.log_min) / f32(LS_HIST_BINS - 1u);
     var n = 0.0;
     var sum = 0.0;
+    // The bins are kept for the histogram view (after the adapted value, the measured one and
+    // the first-frame flag), then cleared for the next frame.
+    atomicStore(&post_state[LS_HIST_BINS + 3u], atomicLoad(&post_state[0]));
     for (var b = 1u; b < LS_HIST_BINS; b++) {
+        atomicStore(&post_state[LS_HIST_BINS + 3u + b], atomicLoad(&post_state[b]));
         let k = f32(atomicLoad(&post_state[b]));
         n += k;
         sum += k * (post_params.log_min + (f32(b) - 0.5) * w);
@@ -272,4 +276,44 @@ fn fs_grade(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let c11 = mix(lut_entry(vec3<u32>(i0.x, i1.y, i1.z)), lut_entry(i1), f.x);
     let graded = mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
     return vec4<f32>(srgb_decode(clamp(graded, vec3<f32>(0.0), vec3<f32>(1.0))), 1.0);
+}
+
+// The bloom view: the bloom the chain adds (before its intensity), exposed and tonemapped.
+@fragment
+fn fs_view_bloom(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let b = bloom_up(post_aux, vec2<i32>(floor(frag.xy)));
+    return vec4<f32>(tonemap(b * post_exposure(), post_params.tonemap), 1.0);
+}
+
+// The histogram view: the picture dimmed, the last frame's bins as bars over the bottom 40%
+// (bin 0, black pixels, in grey), the adapted luminance yellow and the frame's mean white.
+@fragment
+fn fs_view_histogram(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let size = vec2<f32>(textureDimensions(post_src));
+    let c = finite(textureLoad(post_src, p, 0).rgb);
+    var out = tonemap(c * post_exposure(), post_params.tonemap) * 0.35;
+    var most = 1u;
+    for (var b = 0u; b < LS_HIST_BINS; b++) {
+        most = max(most, atomicLoad(&post_state[LS_HIST_BINS + 3u + b]));
+    }
+    let x = frag.x / size.x;
+    let bin = min(u32(x * f32(LS_HIST_BINS)), LS_HIST_BINS - 1u);
+    let height = f32(atomicLoad(&post_state[LS_HIST_BINS + 3u + bin])) / f32(most);
+    let y = 1.0 - frag.y / size.y;
+    if y < 0.4 * height {
+        out = select(vec3<f32>(0.2, 0.6, 1.0), vec3<f32>(0.5), bin == 0u);
+    }
+    // A log2 luminance's x position: bin 1 starts at log_min, 63 bins to log_max.
+    let w = (post_params.log_max - post_params.log_min) / f32(LS_HIST_BINS - 1u);
+    let px = 1.0 / size.x;
+    let adapted = (1.0 + (bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS])) - post_params.log_min) / w) / f32(LS_HIST_BINS);
+    let mean = (1.0 + (bitcast<f32>(atomicLoad(&post_state[LS_HIST_BINS + 1u])) - post_params.log_min) / w) / f32(LS_HIST_BINS);
+    if abs(x - mean) < 1.5 * px && y < 0.45 {
+        out = vec3<f32>(1.0);
+    }
+    if abs(x - adapted) < 1.5 * px && y < 0.45 {
+        out = vec3<f32>(1.0, 0.9, 0.0);
+    }
+    return vec4<f32>(out, 1.0);
 }

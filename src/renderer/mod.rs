@@ -247,7 +247,7 @@ impl Renderer {
         let size = (width, height);
         // Transparency is shaded forward over the HDR picture, in the final view only (the
         // debug views show the G-buffer and its lighting, which hold no transparent surface).
-        let blended = settings.debug_view == DebugView::Lit && scene.any_blended();
+        let blended = (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
         let chain = post::chain_active(settings);
         self.configure(scene, settings, size, blended, chain)?;
         let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {

@@ -28,8 +28,9 @@ pub fn hist_bin_stops() -> f32 {
 }
 /// Words of the exposure state buffer: the bins, then the adapted and the measured log2
 /// luminance (f32 bits), then 1 once a frame has been measured (the first frame starts at its
-/// own luminance instead of adapting from an arbitrary one).
-pub const STATE_WORDS: u32 = HIST_BINS + 3;
+/// own luminance instead of adapting from an arbitrary one), then the last frame's bins (kept
+/// for the histogram view; the first bins are cleared for the next frame).
+pub const STATE_WORDS: u32 = 2 * HIST_BINS + 3;
 /// The time step of one frame: auto-exposure is stepped by frames, not by the wall clock, so
 /// scripted runs and tests are deterministic.
 pub const FRAME_DT: f32 = 1.0 / 60.0;
@@ -129,8 +130,15 @@ impl Tonemap {
 /// Whether the frame goes through the post chain: any effect on, or a curve other than the
 /// ACES that compose applies itself.
 pub fn chain_active(s: &Settings) -> bool {
-    s.debug_view == super::DebugView::Lit
-        && (s.bloom || s.auto_exposure || s.lut.is_some() || s.tonemap != Tonemap::Aces)
+    match s.debug_view {
+        super::DebugView::Lit => s.bloom || s.auto_exposure || s.lut.is_some() || s.tonemap != Tonemap::Aces,
+        v => post_view(v),
+    }
+}
+
+/// The debug views the post chain draws (bloom buffer, histogram).
+pub fn post_view(v: super::DebugView) -> bool {
+    matches!(v, super::DebugView::Bloom | super::DebugView::Histogram)
 }
 
 /// A 3D colour LUT (Adobe's `.cube` format): `size`³ RGB entries, red fastest, mapping the
@@ -372,9 +380,16 @@ pub fn encode_chain(
     p.bloom.encode(encoder, f, pt);
     let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
     p.exposure.encode(encoder, f, pt, hdr);
-    let graded = s.lut.is_some();
-    p.tonemap.encode(encoder, f, hdr, if graded { &pt.toned_view } else { target }, !graded);
-    p.grading.encode(encoder, f, pt, target);
+    if post_view(s.debug_view) {
+        // The bloom view reads the chain's finest level (the combine's group), the histogram
+        // view the picture.
+        let group = if s.debug_view == super::DebugView::Bloom { &pt.combine } else { hdr };
+        p.tonemap.encode_view(encoder, f, group, target);
+    } else {
+        let graded = s.lut.is_some();
+        p.tonemap.encode(encoder, f, hdr, if graded { &pt.toned_view } else { target }, !graded);
+        p.grading.encode(encoder, f, pt, target);
+    }
     // The compose span ends after the chain (an empty pass holding the stamp).
     if end.is_some() {
         drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

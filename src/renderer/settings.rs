@@ -143,10 +143,16 @@ pub enum DebugView {
     /// Lights in each pixel's tile list (`tiled`) or cluster list (`clustered`; `tiled` for
     /// the other modes): a heatmap, the legend in the viewer.
     TileLights = 10,
+    /// The post chain's bloom buffer (the upsampled chain before it is added), exposed and
+    /// tonemapped; runs bloom even when it is off.
+    Bloom = 11,
+    /// The auto-exposure histogram (bins of log2 luminance, 1/3 stop each) over the dimmed
+    /// picture; yellow: the adapted luminance, white: the frame's mean.
+    Histogram = 12,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 11] = [
+    pub const ALL: [DebugView; 13] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -158,6 +164,8 @@ impl DebugView {
         DebugView::Stencil,
         DebugView::Complexity,
         DebugView::TileLights,
+        DebugView::Bloom,
+        DebugView::Histogram,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.

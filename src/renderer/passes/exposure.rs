@@ -36,7 +36,7 @@ impl ExposurePass {
         post: &PostTargets,
         group: &wgpu::BindGroup,
     ) {
-        if !f.settings.auto_exposure {
+        if !f.settings.auto_exposure && f.settings.debug_view != crate::renderer::DebugView::Histogram {
             return;
         }
         let timestamp_writes =

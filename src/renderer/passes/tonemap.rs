@@ -10,6 +10,8 @@ use crate::renderer::stats::Stamp;
 pub struct TonemapPass {
     to_output: wgpu::RenderPipeline,
     to_post: wgpu::RenderPipeline,
+    view_bloom: wgpu::RenderPipeline,
+    view_histogram: wgpu::RenderPipeline,
 }
 
 impl TonemapPass {
@@ -24,7 +26,16 @@ impl TonemapPass {
                 "fs_post_tonemap",
                 POST_FORMAT,
             ),
+            view_bloom: shared.fullscreen_pipeline(device, "bloom view", &shared.post_layout, "fs_view_bloom", out),
+            view_histogram: shared.fullscreen_pipeline(device, "histogram view", &shared.post_layout, "fs_view_histogram", out),
         }
+    }
+
+    /// Records the bloom or histogram debug view into the output.
+    pub fn encode_view(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, group: &wgpu::BindGroup, target: &wgpu::TextureView) {
+        let pipeline = if f.settings.debug_view == crate::renderer::DebugView::Bloom { &self.view_bloom } else { &self.view_histogram };
+        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        post_draw(encoder, f, "post view", pipeline, target, group, stamps);
     }
 
     /// Records the tonemap of `group`'s source into `view` (`last`: the frame's output).

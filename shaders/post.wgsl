@@ -17,6 +17,14 @@ struct PostParams {
     pad1: f32,
     lut_min: vec4<f32>,
     lut_max: vec4<f32>,
+    fog_density: f32,
+    fog_falloff: f32,
+    focus_distance: f32,
+    aperture: f32,
+    vignette: f32,
+    aa: u32,
+    pad2: u32,
+    pad3: u32,
 };
 
 fn post_luminance(c: vec3<f32>) -> f32 {
@@ -316,4 +324,187 @@ fn fs_view_histogram(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
         out = vec3<f32>(1.0, 0.9, 0.0);
     }
     return vec4<f32>(out, 1.0);
+}
+
+// ---- After grading (seed 002's order): fog, depth of field, vignette, anti-aliasing. They read
+// the G-buffer (group 1) for depth and normals; background pixels have none.
+
+fn post_src_at(p: vec2<i32>) -> vec3<f32> {
+    let size = vec2<i32>(textureDimensions(post_src));
+    return textureLoad(post_src, clamp(p, vec2<i32>(0), size - 1), 0).rgb;
+}
+
+// Fog's share at view-space point `v` (renderer::post::fog_amount, formula for formula).
+fn fog_amount(v: vec3<f32>) -> f32 {
+    let up = (camera.view_rotation * vec4<f32>(0.0, 1.0, 0.0, 0.0)).xyz;
+    let distance = length(v);
+    let x = post_params.fog_falloff * dot(v, up);
+    var shape = 1.0 - 0.5 * x;
+    if abs(x) >= 1e-4 {
+        shape = (1.0 - exp(-x)) / x;
+    }
+    return 1.0 - exp(-post_params.fog_density * distance * shape);
+}
+
+@fragment
+fn fs_fog(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let c = textureLoad(post_src, p, 0).rgb;
+    let s = gbuffer_load(p);
+    if !s.valid {
+        return vec4<f32>(c, 1.0);
+    }
+    let fog = clamp(camera.background.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    return vec4<f32>(mix(c, fog, fog_amount(s.position)), 1.0);
+}
+
+// Circle of confusion (diameter, px) of a pixel: 0 for the background (not blurred).
+fn coc_at(p: vec2<i32>) -> f32 {
+    let size = vec2<i32>(textureDimensions(post_src));
+    let s = gbuffer_load(clamp(p, vec2<i32>(0), size - 1));
+    if !s.valid {
+        return 0.0;
+    }
+    let z = max(-s.position.z, 1e-6);
+    return min(post_params.aperture * abs(z - post_params.focus_distance) / z, LS_MAX_COC);
+}
+
+@fragment
+fn fs_dof(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let c = textureLoad(post_src, p, 0).rgb;
+    let coc = coc_at(p);
+    if coc < 0.5 {
+        return vec4<f32>(c, 1.0);
+    }
+    // 32 taps on a golden-angle spiral filling the disc of diameter `coc`; a tap counts if its
+    // own CoC reaches back to this pixel.
+    var sum = c;
+    var weight = 1.0;
+    for (var i = 0u; i < 32u; i++) {
+        let r = 0.5 * coc * sqrt((f32(i) + 0.5) / 32.0);
+        let a = f32(i) * 2.39996323;
+        let q = p + vec2<i32>(round(r * vec2<f32>(cos(a), sin(a))));
+        let reach = 0.5 * coc_at(q);
+        if reach >= r {
+            sum += post_src_at(q);
+            weight += 1.0;
+        }
+    }
+    return vec4<f32>(sum / weight, 1.0);
+}
+
+@fragment
+fn fs_view_coc(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let coc = coc_at(vec2<i32>(floor(frag.xy)));
+    let t = coc / LS_MAX_COC;
+    return vec4<f32>(select(vec3<f32>(t), vec3<f32>(0.0, 0.25, 0.0), coc < 0.5), 1.0);
+}
+
+@fragment
+fn fs_vignette(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let size = vec2<f32>(textureDimensions(post_src));
+    // 0 at the centre, 1 at the corners.
+    let r = length((frag.xy / size - 0.5) * 2.0) / sqrt(2.0);
+    let k = 1.0 - post_params.vignette * smoothstep(0.3, 1.0, r);
+    return vec4<f32>(textureLoad(post_src, p, 0).rgb * k, 1.0);
+}
+
+// Seed 002's edge strength at p: the second difference of 1/depth across the pixel (zero on any
+// plane, since 1/z is affine in screen space over a plane), relative to 1/depth, and the
+// largest turn of the normal to a neighbour; background next to geometry is an edge.
+fn edge_strength(p: vec2<i32>) -> f32 {
+    let size = vec2<i32>(textureDimensions(post_src));
+    let s = gbuffer_load(p);
+    let l = gbuffer_load(clamp(p - vec2<i32>(1, 0), vec2<i32>(0), size - 1));
+    let r = gbuffer_load(clamp(p + vec2<i32>(1, 0), vec2<i32>(0), size - 1));
+    let u = gbuffer_load(clamp(p - vec2<i32>(0, 1), vec2<i32>(0), size - 1));
+    let d = gbuffer_load(clamp(p + vec2<i32>(0, 1), vec2<i32>(0), size - 1));
+    let any_valid = s.valid || l.valid || r.valid || u.valid || d.valid;
+    let all_valid = s.valid && l.valid && r.valid && u.valid && d.valid;
+    if !all_valid {
+        return select(0.0, 1.0, any_valid);
+    }
+    let w = 1.0 / max(-s.position.z, 1e-6);
+    let wl = 1.0 / max(-l.position.z, 1e-6);
+    let wr = 1.0 / max(-r.position.z, 1e-6);
+    let wu = 1.0 / max(-u.position.z, 1e-6);
+    let wd = 1.0 / max(-d.position.z, 1e-6);
+    let depth_edge = max(abs(wl + wr - 2.0 * w), abs(wu + wd - 2.0 * w)) / w;
+    let turn = 1.0 - min(min(dot(s.normal, l.normal), dot(s.normal, r.normal)), min(dot(s.normal, u.normal), dot(s.normal, d.normal)));
+    return clamp(max((depth_edge - 0.02) * 20.0, (turn - 0.1) * 4.0), 0.0, 1.0);
+}
+
+fn luma(c: vec3<f32>) -> f32 {
+    return dot(c, vec3<f32>(0.299, 0.587, 0.114));
+}
+
+// FXAA's contrast test (Lottes): the local luma range against its thresholds.
+fn fxaa_edge(p: vec2<i32>) -> bool {
+    let m = luma(post_src_at(p));
+    let n = luma(post_src_at(p + vec2<i32>(0, -1)));
+    let s = luma(post_src_at(p + vec2<i32>(0, 1)));
+    let e = luma(post_src_at(p + vec2<i32>(1, 0)));
+    let w = luma(post_src_at(p + vec2<i32>(-1, 0)));
+    let hi = max(m, max(max(n, s), max(e, w)));
+    let lo = min(m, min(min(n, s), min(e, w)));
+    return hi - lo >= max(0.0312, hi * 0.125);
+}
+
+// Bilinear read of post_src at pixel-space position `x` (pixel centres at .5).
+fn post_bilinear(x: vec2<f32>) -> vec3<f32> {
+    let t = x - 0.5;
+    let i = vec2<i32>(floor(t));
+    let f = t - floor(t);
+    let a = mix(post_src_at(i), post_src_at(i + vec2<i32>(1, 0)), f.x);
+    let b = mix(post_src_at(i + vec2<i32>(0, 1)), post_src_at(i + vec2<i32>(1, 1)), f.x);
+    return mix(a, b, f.y);
+}
+
+@fragment
+fn fs_aa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let c = textureLoad(post_src, p, 0).rgb;
+    if post_params.aa == LS_AA_EDGE {
+        let k = edge_strength(p);
+        if k <= 0.0 {
+            return vec4<f32>(c, 1.0);
+        }
+        let blur = (post_src_at(p + vec2<i32>(1, 0)) + post_src_at(p - vec2<i32>(1, 0)) + post_src_at(p + vec2<i32>(0, 1)) + post_src_at(p - vec2<i32>(0, 1))) * 0.25;
+        return vec4<f32>(mix(c, 0.5 * (c + blur), k), 1.0);
+    }
+    // FXAA, the minimal console form (FXAA_REDUCE_MIN 1/128, REDUCE_MUL 1/8, SPAN_MAX 8).
+    if !fxaa_edge(p) {
+        return vec4<f32>(c, 1.0);
+    }
+    let nw = luma(post_src_at(p + vec2<i32>(-1, -1)));
+    let ne = luma(post_src_at(p + vec2<i32>(1, -1)));
+    let sw = luma(post_src_at(p + vec2<i32>(-1, 1)));
+    let se = luma(post_src_at(p + vec2<i32>(1, 1)));
+    let m = luma(c);
+    var dir = vec2<f32>(-((nw + ne) - (sw + se)), (nw + sw) - (ne + se));
+    let reduce = max((nw + ne + sw + se) * 0.25 * 0.125, 1.0 / 128.0);
+    let rcp_min = 1.0 / (min(abs(dir.x), abs(dir.y)) + reduce);
+    dir = clamp(dir * rcp_min, vec2<f32>(-8.0), vec2<f32>(8.0));
+    let x = frag.xy;
+    let a = 0.5 * (post_bilinear(x + dir * (1.0 / 3.0 - 0.5)) + post_bilinear(x + dir * (2.0 / 3.0 - 0.5)));
+    let b = a * 0.5 + 0.25 * (post_bilinear(x - dir * 0.5) + post_bilinear(x + dir * 0.5));
+    let lb = luma(b);
+    let lo = min(m, min(min(nw, ne), min(sw, se)));
+    let hi = max(m, max(max(nw, ne), max(sw, se)));
+    return vec4<f32>(select(b, a, lb < lo || lb > hi), 1.0);
+}
+
+@fragment
+fn fs_view_edges(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let base = textureLoad(post_src, p, 0).rgb * 0.3;
+    var k = 0.0;
+    if post_params.aa == LS_AA_FXAA {
+        k = select(0.0, 1.0, fxaa_edge(p));
+    } else {
+        k = edge_strength(p);
+    }
+    return vec4<f32>(select(base, vec3<f32>(k), k > 0.0), 1.0);
 }

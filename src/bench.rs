@@ -7,10 +7,10 @@
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
+use crate::renderer::post::Tonemap;
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
 };
-use crate::renderer::post::Tonemap;
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
 use serde::Serialize;
@@ -288,7 +288,13 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         p.push(("lut identity", Settings { lut: Some("identity".into()), tonemap: Tonemap::Agx, ..base.clone() }));
         p.push((
             "all on",
-            Settings { bloom: true, auto_exposure: true, lut: Some("identity".into()), tonemap: Tonemap::Agx, ..base.clone() },
+            Settings {
+                bloom: true,
+                auto_exposure: true,
+                lut: Some("identity".into()),
+                tonemap: Tonemap::Agx,
+                ..base.clone()
+            },
         ));
         p
     };

@@ -9,7 +9,7 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings, Tonemap,
+    name_of, Aa, AccumFormat, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings, Tonemap,
     CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
@@ -361,6 +361,102 @@ pub const KNOBS: &[Knob] = &[
                     Some(name.to_string())
                 }
             };
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog",
+        what: "fog",
+        help: "Fog: distance with an exponential height falloff, towards the background colour",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.fog),
+        put: |s, v| {
+            s.fog = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog-density",
+        what: "fog density",
+        help: "Fog density per unit of distance at the camera's height",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 0.2) },
+        cli: true,
+        get: |s| s.fog_density.to_string(),
+        put: |s, v| {
+            s.fog_density = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog-height-falloff",
+        what: "fog height falloff",
+        help: "Exponential falloff of the fog's density per unit of height above the camera (0: distance fog)",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 2.0) },
+        cli: true,
+        get: |s| s.fog_height_falloff.to_string(),
+        put: |s, v| {
+            s.fog_height_falloff = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "dof",
+        what: "depth of field",
+        help: "Depth of field: a gather blur by each pixel's circle of confusion",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.dof),
+        put: |s, v| {
+            s.dof = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "focus-distance",
+        what: "focus distance",
+        help: "View distance in focus",
+        values: Values::Float { min: 0.0, max: 1e7, open: (true, false), slider: (0.5, 100.0) },
+        cli: true,
+        get: |s| s.focus_distance.to_string(),
+        put: |s, v| {
+            s.focus_distance = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "aperture",
+        what: "aperture",
+        help: "Circle of confusion in pixels at infinity (CoC = aperture |z - focus| / z, at most 16 px)",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 32.0) },
+        cli: true,
+        get: |s| s.aperture.to_string(),
+        put: |s, v| {
+            s.aperture = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "vignette",
+        what: "vignette",
+        help: "Vignette strength: the fraction the corners are darkened by (0 = off)",
+        values: Values::Float { min: 0.0, max: 1.0, open: (false, false), slider: (0.0, 1.0) },
+        cli: true,
+        get: |s| s.vignette.to_string(),
+        put: |s, v| {
+            s.vignette = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "aa",
+        what: "anti-aliasing",
+        help: "Anti-aliasing: seed 002's edge blur (G-buffer depth and normal discontinuities) or FXAA",
+        values: Values::Choice(names::<Aa>),
+        cli: true,
+        get: |s| name_of(&s.aa),
+        put: |s, v| {
+            s.aa = choice("anti-aliasing", v)?;
             Ok(())
         },
     },

@@ -247,7 +247,8 @@ impl Renderer {
         let size = (width, height);
         // Transparency is shaded forward over the HDR picture, in the final view only (the
         // debug views show the G-buffer and its lighting, which hold no transparent surface).
-        let blended = (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
+        let blended =
+            (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
         let chain = post::chain_active(settings);
         self.configure(scene, settings, size, blended, chain)?;
         let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {
@@ -359,7 +360,11 @@ impl Renderer {
             post: chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
-                grading: settings.lut.is_some(),
+                grading: settings.lut.is_some() && settings.debug_view == DebugView::Lit,
+                fog: settings.fog && settings.debug_view == DebugView::Lit,
+                dof: settings.dof && settings.debug_view == DebugView::Lit,
+                vignette: settings.vignette > 0.0 && settings.debug_view == DebugView::Lit,
+                aa: settings.aa != post::Aa::Off && settings.debug_view == DebugView::Lit,
                 tonemap: settings.tonemap,
             }),
             cpu_ms,

@@ -127,18 +127,60 @@ impl Tonemap {
     }
 }
 
+/// Anti-aliasing, the chain's last pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum Aa {
+    #[default]
+    Off = 0,
+    /// Seed 002's "intelligent blur": pixels on G-buffer edges (second difference of 1/depth,
+    /// normals turning) blended with their four neighbours by the edge's strength.
+    Edge = 1,
+    /// FXAA (Lottes 2009–2011), its minimal console form: luma contrast test, then a blend
+    /// along the edge direction found from the diagonal lumas.
+    Fxaa = 2,
+}
+
+/// Largest circle of confusion, in pixels (diameter).
+pub const MAX_COC: f32 = 16.0;
+
+/// Fog's share of a pixel at view-space point `p` (camera at the origin) with the camera's up
+/// direction `up` (view space): 1 - exp(-optical depth), the optical depth of density
+/// `density × exp(-falloff × h)` (h: height above the camera) along the ray, which is
+/// `density × distance × (1 - exp(-falloff Δh)) / (falloff Δh)` (→ density × distance as
+/// falloff Δh → 0). It grows monotonically with distance along every ray. `fs_fog` computes
+/// the same in f32.
+pub fn fog_amount(p: [f64; 3], up: [f64; 3], density: f64, falloff: f64) -> f64 {
+    let distance = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    let dh = p[0] * up[0] + p[1] * up[1] + p[2] * up[2];
+    let x = falloff * dh;
+    let shape = if x.abs() < 1e-4 { 1.0 - 0.5 * x } else { -(-x).exp_m1() / x };
+    1.0 - (-density * distance * shape).exp()
+}
+
 /// Whether the frame goes through the post chain: any effect on, or a curve other than the
 /// ACES that compose applies itself.
 pub fn chain_active(s: &Settings) -> bool {
     match s.debug_view {
-        super::DebugView::Lit => s.bloom || s.auto_exposure || s.lut.is_some() || s.tonemap != Tonemap::Aces,
+        super::DebugView::Lit => {
+            s.bloom
+                || s.auto_exposure
+                || s.lut.is_some()
+                || s.tonemap != Tonemap::Aces
+                || s.fog
+                || s.dof
+                || s.vignette > 0.0
+                || s.aa != Aa::Off
+        }
         v => post_view(v),
     }
 }
 
 /// The debug views the post chain draws (bloom buffer, histogram).
 pub fn post_view(v: super::DebugView) -> bool {
-    matches!(v, super::DebugView::Bloom | super::DebugView::Histogram)
+    use super::DebugView as V;
+    matches!(v, V::Bloom | V::Histogram | V::Edges | V::Coc)
 }
 
 /// A 3D colour LUT (Adobe's `.cube` format): `size`³ RGB entries, red fastest, mapping the
@@ -267,8 +309,10 @@ pub struct PostTargets {
     /// The HDR colour with bloom added (full size).
     pub bloomed: wgpu::Texture,
     pub bloomed_view: wgpu::TextureView,
-    /// The tonemapped colour before grading (full size).
+    /// The tonemapped colour before grading (full size), and a second image the passes after
+    /// tone mapping alternate with.
     pub toned_view: wgpu::TextureView,
+    pub second_view: wgpu::TextureView,
     pub params: wgpu::Buffer,
     /// Histogram bins and the adapted / measured log2 luminance (`STATE_WORDS` words).
     pub state: wgpu::Buffer,
@@ -283,6 +327,7 @@ pub struct PostTargets {
     pub from_hdr: wgpu::BindGroup,
     pub from_bloomed: wgpu::BindGroup,
     pub from_toned: wgpu::BindGroup,
+    pub from_second: wgpu::BindGroup,
 }
 
 impl PostTargets {
@@ -302,6 +347,7 @@ impl PostTargets {
         let bloomed = texture(device, "bloomed", POST_FORMAT, size, usage);
         let bloomed_view = bloomed.create_view(&Default::default());
         let toned_view = view("tonemapped", size);
+        let second_view = view("post second", size);
         let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
         };
@@ -334,6 +380,7 @@ impl PostTargets {
         let from_hdr = group(hdr, &down[0]);
         let from_bloomed = group(&bloomed_view, &down[0]);
         let from_toned = group(&toned_view, &down[0]);
+        let from_second = group(&second_view, &down[0]);
         Self {
             size,
             down,
@@ -342,6 +389,7 @@ impl PostTargets {
             bloomed,
             bloomed_view,
             toned_view,
+            second_view,
             params,
             state,
             lut,
@@ -352,8 +400,19 @@ impl PostTargets {
             from_hdr,
             from_bloomed,
             from_toned,
+            from_second,
         }
     }
+}
+
+/// The passes after tone mapping, in seed 002's order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Grading,
+    Fog,
+    Dof,
+    Vignette,
+    Aa,
 }
 
 /// An image of the chain that `Renderer::read_post_image` reads back.
@@ -380,15 +439,49 @@ pub fn encode_chain(
     p.bloom.encode(encoder, f, pt);
     let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
     p.exposure.encode(encoder, f, pt, hdr);
-    if post_view(s.debug_view) {
+    use super::DebugView as V;
+    match s.debug_view {
         // The bloom view reads the chain's finest level (the combine's group), the histogram
         // view the picture.
-        let group = if s.debug_view == super::DebugView::Bloom { &pt.combine } else { hdr };
-        p.tonemap.encode_view(encoder, f, group, target);
-    } else {
-        let graded = s.lut.is_some();
-        p.tonemap.encode(encoder, f, hdr, if graded { &pt.toned_view } else { target }, !graded);
-        p.grading.encode(encoder, f, pt, target);
+        V::Bloom => p.tonemap.encode_view(encoder, f, &pt.combine, target),
+        V::Histogram => p.tonemap.encode_view(encoder, f, hdr, target),
+        V::Edges | V::Coc => {
+            p.tonemap.encode(encoder, f, hdr, &pt.toned_view, false);
+            if s.debug_view == V::Edges {
+                p.aa.encode_view(encoder, f, &pt.from_toned, target);
+            } else {
+                p.dof.encode_view(encoder, f, &pt.from_toned, target);
+            }
+        }
+        _ => {
+            // After tone mapping: grading, fog, DOF, vignette, AA, each when on, alternating
+            // between two images; the last writes the output.
+            let stages: Vec<Stage> = [
+                (Stage::Grading, s.lut.is_some()),
+                (Stage::Fog, s.fog),
+                (Stage::Dof, s.dof),
+                (Stage::Vignette, s.vignette > 0.0),
+                (Stage::Aa, s.aa != Aa::Off),
+            ]
+            .into_iter()
+            .filter_map(|(stage, on)| on.then_some(stage))
+            .collect();
+            let first = if stages.is_empty() { target } else { &pt.toned_view };
+            p.tonemap.encode(encoder, f, hdr, first, stages.is_empty());
+            for (i, stage) in stages.iter().enumerate() {
+                let last = i + 1 == stages.len();
+                let (src, dst) =
+                    if i % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
+                let dst = if last { target } else { dst };
+                match stage {
+                    Stage::Grading => p.grading.encode(encoder, f, src, dst, last),
+                    Stage::Fog => p.fog.encode(encoder, f, src, dst, last),
+                    Stage::Dof => p.dof.encode(encoder, f, src, dst, last),
+                    Stage::Vignette => p.vignette.encode(encoder, f, src, dst, last),
+                    Stage::Aa => p.aa.encode(encoder, f, src, dst, last),
+                }
+            }
+        }
     }
     // The compose span ends after the chain (an empty pass holding the stamp).
     if end.is_some() {
@@ -428,6 +521,14 @@ pub fn params(s: &Settings, lut: Option<&Lut>) -> PostParams {
         pad1: 0.0,
         lut_min,
         lut_max,
+        fog_density: s.fog_density,
+        fog_falloff: s.fog_height_falloff,
+        focus_distance: s.focus_distance,
+        aperture: s.aperture,
+        vignette: s.vignette,
+        aa: s.aa as u32,
+        pad2: 0,
+        pad3: 0,
     }
 }
 

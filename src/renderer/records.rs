@@ -182,6 +182,17 @@ gpu_record! {
         /// The LUT's input domain (xyz).
         pub lut_min: [f32; 4],
         pub lut_max: [f32; 4],
+        /// Fog: density and height falloff.
+        pub fog_density: f32,
+        pub fog_falloff: f32,
+        /// Depth of field: focus distance and the CoC in pixels at infinity.
+        pub focus_distance: f32,
+        pub aperture: f32,
+        /// Vignette strength (0: off), and the anti-aliasing (an `Aa`).
+        pub vignette: f32,
+        pub aa: u32,
+        pub pad2: u32,
+        pub pad3: u32,
     }
 }
 

@@ -59,9 +59,10 @@ knob_names!(
     LayoutChoice => "layout",
     ForwardLights => "forward light list",
     Tonemap => "tonemap",
+    Aa => "anti-aliasing",
 );
 
-pub use super::post::Tonemap;
+pub use super::post::{Aa, Tonemap};
 
 /// Which lights the forward pass (blended surfaces) evaluates at each of its fragments. Every
 /// choice gives the same picture: a light left out reaches no fragment it is left out of.
@@ -149,10 +150,15 @@ pub enum DebugView {
     /// The auto-exposure histogram (bins of log2 luminance, 1/3 stop each) over the dimmed
     /// picture; yellow: the adapted luminance, white: the frame's mean.
     Histogram = 12,
+    /// The anti-aliasing's edge mask (the edge blur's G-buffer discontinuities, or FXAA's luma
+    /// contrast test; `edge` when anti-aliasing is off): white where it may change a pixel.
+    Edges = 13,
+    /// Depth of field's circle of confusion: black in focus, white at `post::MAX_COC` px.
+    Coc = 14,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 13] = [
+    pub const ALL: [DebugView; 15] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -166,6 +172,8 @@ impl DebugView {
         DebugView::TileLights,
         DebugView::Bloom,
         DebugView::Histogram,
+        DebugView::Edges,
+        DebugView::Coc,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
@@ -345,6 +353,25 @@ pub struct Settings {
     pub bloom_intensity: f32,
     /// Colour grading: a `.cube` 3D LUT file, or `identity` (built in); `None`: no grading.
     pub lut: Option<String>,
+    /// Fog (after grading, seed 002's order): distance fog with an exponential height falloff,
+    /// towards the background colour.
+    pub fog: bool,
+    /// Fog density per unit of distance at the camera's height.
+    pub fog_density: f32,
+    /// Exponential falloff of the fog's density per unit of height above the camera (0: plain
+    /// distance fog).
+    pub fog_height_falloff: f32,
+    /// Depth of field: a gather blur by each pixel's circle of confusion.
+    pub dof: bool,
+    /// View distance that is in focus.
+    pub focus_distance: f32,
+    /// Circle of confusion diameter in pixels at infinite distance: CoC = aperture x |z - focus| / z,
+    /// at most `post::MAX_COC` px.
+    pub aperture: f32,
+    /// Vignette strength: the corners are darkened by this fraction (0: off).
+    pub vignette: f32,
+    /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
+    pub aa: Aa,
 }
 
 impl Default for Settings {
@@ -376,6 +403,14 @@ impl Default for Settings {
             bloom_threshold: 1.0,
             bloom_intensity: 0.1,
             lut: None,
+            fog: false,
+            fog_density: 0.02,
+            fog_height_falloff: 0.1,
+            dof: false,
+            focus_distance: 10.0,
+            aperture: 8.0,
+            vignette: 0.0,
+            aa: Aa::Off,
         }
     }
 }
@@ -437,6 +472,7 @@ mod tests {
         one_name::<LayoutChoice>();
         one_name::<ForwardLights>();
         one_name::<Tonemap>();
+        one_name::<Aa>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

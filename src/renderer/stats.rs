@@ -130,10 +130,18 @@ pub enum Stamp {
     TonemapEnd = 13,
     GradingBegin = 14,
     GradingEnd = 15,
+    FogBegin = 16,
+    FogEnd = 17,
+    DofBegin = 18,
+    DofEnd = 19,
+    VignetteBegin = 20,
+    VignetteEnd = 21,
+    AaBegin = 22,
+    AaEnd = 23,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 16;
+    pub const COUNT: u32 = 24;
 }
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
@@ -158,6 +166,14 @@ pub struct GpuMs {
     pub tonemap: Option<f64>,
     #[serde(default)]
     pub grading: Option<f64>,
+    #[serde(default)]
+    pub fog: Option<f64>,
+    #[serde(default)]
+    pub dof: Option<f64>,
+    #[serde(default)]
+    pub vignette: Option<f64>,
+    #[serde(default)]
+    pub aa: Option<f64>,
     pub total: Option<f64>,
 }
 
@@ -287,6 +303,10 @@ pub struct PostStats {
     pub bloom: bool,
     pub auto_exposure: bool,
     pub grading: bool,
+    pub fog: bool,
+    pub dof: bool,
+    pub vignette: bool,
+    pub aa: bool,
     pub tonemap: crate::renderer::post::Tonemap,
 }
 
@@ -500,7 +520,14 @@ impl Queries {
                     );
                     (stats.gpu_ms.bloom, stats.gpu_ms.exposure, stats.gpu_ms.tonemap, stats.gpu_ms.grading) =
                         (b, e, t, g);
-                    let chain: f64 = [b, e, t, g].iter().flatten().sum();
+                    let (fo, d, v, a) = (
+                        span(Stamp::FogBegin, Stamp::FogEnd).filter(|_| post.fog),
+                        span(Stamp::DofBegin, Stamp::DofEnd).filter(|_| post.dof),
+                        span(Stamp::VignetteBegin, Stamp::VignetteEnd).filter(|_| post.vignette),
+                        span(Stamp::AaBegin, Stamp::AaEnd).filter(|_| post.aa),
+                    );
+                    (stats.gpu_ms.fog, stats.gpu_ms.dof, stats.gpu_ms.vignette, stats.gpu_ms.aa) = (fo, d, v, a);
+                    let chain: f64 = [b, e, t, g, fo, d, v, a].iter().flatten().sum();
                     stats.gpu_ms.compose = stats.gpu_ms.compose.map(|c| (c - chain).max(0.0));
                 }
             }

@@ -7,10 +7,13 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
+pub mod aa;
 pub mod bloom;
 pub mod compose;
 pub mod debug;
+pub mod dof;
 pub mod exposure;
+pub mod fog;
 pub mod forward;
 pub mod gbuffer;
 pub mod grading;
@@ -18,6 +21,7 @@ pub mod lights;
 pub mod measure;
 pub mod tiled;
 pub mod tonemap;
+pub mod vignette;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -57,10 +61,14 @@ pub fn wgsl_constants() -> String {
         u(&format!("TONEMAP_{}", t.wgsl_name()), t as u32);
     }
     u("HIST_BINS", super::post::HIST_BINS);
+    for a in [super::post::Aa::Off, super::post::Aa::Edge, super::post::Aa::Fxaa] {
+        u(&format!("AA_{}", a.name().to_uppercase()), a as u32);
+    }
     let mut f = |name: &str, v: f32| s += &format!("const LS_{name}: f32 = {v:?};\n");
     f("LOG_ACCUM_MAX", settings::LOG_ACCUM_MAX);
     f("FP16_MAX", records::FP16_MAX);
     f("TILE_HEAT_MAX", super::tiles::HEAT_MAX);
+    f("MAX_COC", super::post::MAX_COC);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
     s
@@ -477,6 +485,10 @@ pub struct Passes {
     pub exposure: exposure::ExposurePass,
     pub tonemap: tonemap::TonemapPass,
     pub grading: grading::GradingPass,
+    pub fog: fog::FogPass,
+    pub dof: dof::DofPass,
+    pub vignette: vignette::VignettePass,
+    pub aa: aa::AaPass,
 }
 
 impl Passes {
@@ -494,6 +506,10 @@ impl Passes {
             exposure: exposure::ExposurePass::new(device, &shared),
             tonemap: tonemap::TonemapPass::new(device, &shared),
             grading: grading::GradingPass::new(device, &shared),
+            fog: fog::FogPass::new(device, &shared),
+            dof: dof::DofPass::new(device, &shared),
+            vignette: vignette::VignettePass::new(device, &shared),
+            aa: aa::AaPass::new(device, &shared),
             shared,
         }
     }
@@ -527,4 +543,28 @@ pub fn post_draw(
     pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
     pass.set_bind_group(2, group, &[]);
     pass.draw(0..3, 0..1);
+}
+
+/// A post pass after tone mapping as two pipelines: into the chain's next image, or into the
+/// output when it is the last pass that runs.
+pub struct LdrPipelines {
+    to_post: wgpu::RenderPipeline,
+    to_output: wgpu::RenderPipeline,
+}
+
+impl LdrPipelines {
+    pub fn new(device: &wgpu::Device, shared: &Shared, label: &str, fs: &str) -> Self {
+        Self {
+            to_post: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, super::post::POST_FORMAT),
+            to_output: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, shared.key.output_format),
+        }
+    }
+
+    pub fn get(&self, last: bool) -> &wgpu::RenderPipeline {
+        if last {
+            &self.to_output
+        } else {
+            &self.to_post
+        }
+    }
 }

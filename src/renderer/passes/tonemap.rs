@@ -27,13 +27,29 @@ impl TonemapPass {
                 POST_FORMAT,
             ),
             view_bloom: shared.fullscreen_pipeline(device, "bloom view", &shared.post_layout, "fs_view_bloom", out),
-            view_histogram: shared.fullscreen_pipeline(device, "histogram view", &shared.post_layout, "fs_view_histogram", out),
+            view_histogram: shared.fullscreen_pipeline(
+                device,
+                "histogram view",
+                &shared.post_layout,
+                "fs_view_histogram",
+                out,
+            ),
         }
     }
 
     /// Records the bloom or histogram debug view into the output.
-    pub fn encode_view(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, group: &wgpu::BindGroup, target: &wgpu::TextureView) {
-        let pipeline = if f.settings.debug_view == crate::renderer::DebugView::Bloom { &self.view_bloom } else { &self.view_histogram };
+    pub fn encode_view(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        group: &wgpu::BindGroup,
+        target: &wgpu::TextureView,
+    ) {
+        let pipeline = if f.settings.debug_view == crate::renderer::DebugView::Bloom {
+            &self.view_bloom
+        } else {
+            &self.view_histogram
+        };
         let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
         post_draw(encoder, f, "post view", pipeline, target, group, stamps);
     }

@@ -499,12 +499,14 @@ fn fs_aa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 @fragment
 fn fs_view_edges(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy));
-    let base = textureLoad(post_src, p, 0).rgb * 0.3;
+    let base = clamp(textureLoad(post_src, p, 0).rgb, vec3<f32>(0.0), vec3<f32>(1.0)) * 0.3;
     var k = 0.0;
     if post_params.aa == LS_AA_FXAA {
         k = select(0.0, 1.0, fxaa_edge(p));
     } else {
         k = edge_strength(p);
     }
-    return vec4<f32>(select(base, vec3<f32>(k), k > 0.0), 1.0);
+    // Mask pixels have full green (the dimmed picture never reaches it): white at full strength,
+    // green where the edge is faint.
+    return vec4<f32>(select(base, vec3<f32>(k, 1.0, k), k > 0.0), 1.0);
 }

@@ -270,3 +270,133 @@ fn a_malformed_cube_file_is_an_error_not_a_panic() {
     assert!(s.clone().set("lut", dir.join("missing.cube").to_str().unwrap()).unwrap_err().contains("cannot read"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+fn linear(v: u8) -> f64 {
+    let e = v as f64 / 255.0;
+    if e <= 0.04045 {
+        e / 12.92
+    } else {
+        ((e + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Two frames through the chain (tone curve `none`, so the chain runs without changing the
+/// picture's values) from one renderer: without and with `extra`, and the view-space points.
+fn before_after(
+    name: &str,
+    extra: impl Fn(&mut Settings),
+    w: u32,
+    h: u32,
+) -> (Scene, image::RgbaImage, image::RgbaImage, Vec<Option<glam::Vec3>>, Settings) {
+    let sc = scene(name);
+    let base = Settings { tonemap: Tonemap::None, exposure: 0.5, ..quiet() };
+    let mut with = base.clone();
+    extra(&mut with);
+    let mut r = renderer(&base);
+    let (a, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
+    let (b, stats) = render_image(gpu(), &mut r, &sc, &with, w, h).unwrap();
+    assert!(stats.post.is_some());
+    let points = r.view_positions(gpu()).unwrap();
+    (sc, a, b, points, with)
+}
+
+/// Fog is `post::fog_amount` of each pixel's view-space point (f64 twin) mixed towards the
+/// background colour, within one 8-bit step (the frame without fog is read back in 8 bits,
+/// half a step, and the fogged one rounds once more); background pixels are unchanged; and the
+/// amount grows monotonically with distance along every ray (the twin, sampled here along the
+/// rays of the frame's pixels).
+#[test]
+fn fog_follows_its_formula_and_grows_with_depth() {
+    let (sc, plain, fogged, points, s) = before_after(
+        "demo",
+        |s| {
+            s.fog = true;
+            s.fog_density = 0.03;
+            s.fog_height_falloff = 0.2;
+        },
+        160,
+        90,
+    );
+    let up = (sc.camera.rotation() * glam::DVec3::Y).to_array();
+    let fog = sc.background.to_array().map(|c| (c as f64).clamp(0.0, 1.0));
+    let (mut worst, mut fogged_pixels) = (0u8, 0);
+    for ((p, q), point) in plain.pixels().zip(fogged.pixels()).zip(&points) {
+        match point {
+            None => assert_eq!(p, q, "a background pixel changed"),
+            Some(v) => {
+                let v = v.as_dvec3().to_array();
+                let f = post::fog_amount(v, up, s.fog_density as f64, s.fog_height_falloff as f64);
+                fogged_pixels += (f > 0.1) as usize;
+                for c in 0..3 {
+                    let want = srgb8(linear(p[c]) * (1.0 - f) + fog[c] * f);
+                    worst = worst.max(want.abs_diff(q[c]));
+                }
+                // Along this pixel's ray the amount never falls.
+                let mut last = 0.0;
+                for k in 1..=64 {
+                    let t = k as f64 / 16.0;
+                    let a = post::fog_amount(v.map(|x| x * t), up, s.fog_density as f64, s.fog_height_falloff as f64);
+                    assert!(a >= last, "fog falls along a ray at {t} x {v:?}");
+                    last = a;
+                }
+            }
+        }
+    }
+    assert!(fogged_pixels > 1000, "only {fogged_pixels} pixels got over 10% fog");
+    assert!(worst <= 1, "fog is {worst} steps from its formula");
+}
+
+/// Depth of field copies every pixel whose circle of confusion (from its view depth, computed
+/// here on the CPU) is under half a pixel, bit for bit, and blurs the rest.
+#[test]
+fn depth_of_field_leaves_in_focus_pixels_unchanged() {
+    let (_, sharp, blurred, points, s) = before_after(
+        "demo",
+        |s| {
+            s.dof = true;
+            s.aperture = 12.0;
+            s.focus_distance = 20.0;
+        },
+        160,
+        90,
+    );
+    let (mut in_focus, mut changed_out_of_focus) = (0, 0);
+    for ((p, q), point) in sharp.pixels().zip(blurred.pixels()).zip(&points) {
+        let coc = point.map_or(0.0, |v| {
+            let z = -v.z as f64;
+            (s.aperture as f64 * (z - s.focus_distance as f64).abs() / z).min(post::MAX_COC as f64)
+        });
+        // Away from the boundary, by more than f32 rounding of the same formula.
+        if coc < 0.49 {
+            assert_eq!(p, q, "a pixel in focus (CoC {coc}) changed");
+            in_focus += point.is_some() as usize;
+        } else if coc > 2.0 && p != q {
+            changed_out_of_focus += 1;
+        }
+    }
+    assert!(in_focus > 100, "only {in_focus} surface pixels in focus");
+    assert!(changed_out_of_focus > 1000, "only {changed_out_of_focus} out-of-focus pixels blurred");
+}
+
+/// Edge AA (seed 002) and FXAA change only pixels on their edge mask (the `edges` view, which
+/// marks the mask with full green) and leave every other pixel bit for bit; both change some.
+#[test]
+fn edge_aa_and_fxaa_change_only_pixels_on_their_edge_mask() {
+    for aa in [post::Aa::Edge, post::Aa::Fxaa] {
+        let (sc, plain, smoothed, _, s) = before_after("demo", |s| s.aa = aa, 160, 90);
+        let view = Settings { debug_view: lampshade::renderer::DebugView::Edges, ..s.clone() };
+        let (mask, _) = render_image(gpu(), &mut renderer(&view), &sc, &view, 160, 90).unwrap();
+        let (mut changed, mut on_mask) = (0, 0);
+        for ((p, q), m) in plain.pixels().zip(smoothed.pixels()).zip(mask.pixels()) {
+            let edge = m[1] == 255;
+            on_mask += edge as usize;
+            if p != q {
+                changed += 1;
+                assert!(edge, "{aa:?} changed a pixel off its mask");
+            }
+        }
+        assert!(changed > 100, "{aa:?} changed only {changed} pixels");
+        assert!(on_mask < 160 * 90 / 2, "{aa:?}: the mask covers {on_mask} pixels");
+        eprintln!("{aa:?}: {changed} pixels changed, {on_mask} on the mask of {}", 160 * 90);
+    }
+}

@@ -69,7 +69,8 @@ fn every_effect_off_is_todays_frame_and_the_identity_lut_is_within_one_step() {
         let id = Settings { lut: Some("identity".into()), ..off.clone() };
         let (graded, stats) = render_image(gpu(), &mut renderer(&id), &sc, &id, 160, 90).unwrap();
         assert!(stats.post.is_some_and(|p| p.grading), "{name}: the chain ran");
-        let (worst, _) = max_step(&today, &graded);
+        let (worst, over) = max_step(&today, &graded);
+        eprintln!("{name}: identity LUT through the chain, worst {worst} step(s), {over} pixels over 1");
         assert!(worst <= 1, "{name}: identity LUT moved a pixel by {worst} steps");
         assert!(common::lit_share(&graded) > 0.3, "{name}: blank frame");
     }
@@ -96,6 +97,7 @@ fn every_tonemap_on_the_gpu_matches_its_cpu_twin() {
             }
         }
         assert!(worst <= 1, "{t:?}: the GPU curve is {worst} steps from its CPU twin");
+        eprintln!("{t:?}: worst {worst} steps from the twin");
     }
 }
 
@@ -144,6 +146,7 @@ fn bloom_spreads_only_from_pixels_above_its_threshold_and_conserves_their_light(
                 let bound = i * (post::bloom_energy_bound() * bright + 8.0 * 2f64.powi(-24) * near)
                     + 2f64.powi(-24) * magnitude;
                 let excess = added - i * bright;
+                eprintln!("bloom {w}x{h} threshold {threshold:.3} ch {ch}: added {added:.4}, I x bright {:.4}, excess {excess:.3e}, bound {bound:.3e}", i * bright);
                 assert!(excess <= bound, "{w}x{h} threshold {threshold} channel {ch}: added {added}, {excess} over intensity x bright {}, bound {bound}", i * bright);
                 if exact {
                     assert!(excess.abs() <= bound, "{w}x{h} threshold {threshold} channel {ch}: added {added}, intensity x bright {}, bound {bound}", i * bright);
@@ -228,6 +231,7 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
         previous = a;
     }
     assert!((target - previous).abs() <= 0.01, "after {frames} frames {previous} is not within 0.01 of {target}");
+    eprintln!("auto-exposure: gap {gap0:.3} stops, rate {rate:.4}, within 0.01 stop after {frames} frames ({previous:.4} of {target:.4})");
 }
 
 /// A malformed `.cube` file is an error naming the file and the line, from the knob (CLI,
@@ -344,6 +348,7 @@ fn fog_follows_its_formula_and_grows_with_depth() {
     }
     assert!(fogged_pixels > 1000, "only {fogged_pixels} pixels got over 10% fog");
     assert!(worst <= 1, "fog is {worst} steps from its formula");
+    eprintln!("fog: {fogged_pixels} pixels over 10% fog, worst {worst} step(s) from the twin");
 }
 
 /// Depth of field copies every pixel whose circle of confusion (from its view depth, computed
@@ -374,6 +379,7 @@ fn depth_of_field_leaves_in_focus_pixels_unchanged() {
             changed_out_of_focus += 1;
         }
     }
+    eprintln!("dof: {in_focus} surface pixels in focus unchanged, {changed_out_of_focus} out of focus blurred");
     assert!(in_focus > 100, "only {in_focus} surface pixels in focus");
     assert!(changed_out_of_focus > 1000, "only {changed_out_of_focus} out-of-focus pixels blurred");
 }

@@ -7,7 +7,7 @@
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
-use crate::renderer::post::Tonemap;
+use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
 };
@@ -106,6 +106,10 @@ pub struct Row {
     pub exposure_ms: f64,
     pub tonemap_ms: f64,
     pub grading_ms: f64,
+    pub fog_ms: f64,
+    pub dof_ms: f64,
+    pub vignette_ms: f64,
+    pub aa_ms: f64,
     pub total_ms: f64,
     /// Light draws of a timed (uncounted) frame, and the batches they draw.
     pub draw_calls: u64,
@@ -286,14 +290,24 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             (label, Settings { tonemap: t, lut, ..base.clone() })
         }));
         p.push(("lut identity", Settings { lut: Some("identity".into()), tonemap: Tonemap::Agx, ..base.clone() }));
+        // After tone mapping (AgX, so the chain runs for the curve alone in `tonemap agx`).
+        let ldr = Settings { tonemap: Tonemap::Agx, ..base.clone() };
+        p.push(("fog", Settings { fog: true, ..ldr.clone() }));
+        p.push(("dof", Settings { dof: true, ..ldr.clone() }));
+        p.push(("vignette", Settings { vignette: 0.5, ..ldr.clone() }));
+        p.push(("aa edge", Settings { aa: Aa::Edge, ..ldr.clone() }));
+        p.push(("aa fxaa", Settings { aa: Aa::Fxaa, ..ldr.clone() }));
         p.push((
             "all on",
             Settings {
                 bloom: true,
                 auto_exposure: true,
                 lut: Some("identity".into()),
-                tonemap: Tonemap::Agx,
-                ..base.clone()
+                fog: true,
+                dof: true,
+                vignette: 0.5,
+                aa: Aa::Edge,
+                ..ldr.clone()
             },
         ));
         p
@@ -485,6 +499,10 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
             tonemap_ms: pick(|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
             grading_ms: pick(|s| s.gpu_ms.grading.or(s.gpu_ms.total.map(|_| 0.0))),
+            fog_ms: pick(|s| s.gpu_ms.fog.or(s.gpu_ms.total.map(|_| 0.0))),
+            dof_ms: pick(|s| s.gpu_ms.dof.or(s.gpu_ms.total.map(|_| 0.0))),
+            vignette_ms: pick(|s| s.gpu_ms.vignette.or(s.gpu_ms.total.map(|_| 0.0))),
+            aa_ms: pick(|s| s.gpu_ms.aa.or(s.gpu_ms.total.map(|_| 0.0))),
             total_ms: pick(|s| s.gpu_ms.total),
             draw_calls: times.last().map_or(0, |s| s.draw_calls),
             light_batches: times.last().map_or(0, |s| s.light_batches),
@@ -602,13 +620,13 @@ pub fn mark_pareto(rows: &mut [Row]) {
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
-         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,total_ms,draw_calls,light_batches,\
+         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
             r.group,
             r.label,
             r.scene,
@@ -633,6 +651,10 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.exposure_ms,
             r.tonemap_ms,
             r.grading_ms,
+            r.fog_ms,
+            r.dof_ms,
+            r.vignette_ms,
+            r.aa_ms,
             r.total_ms,
             r.draw_calls,
             r.light_batches,
@@ -680,7 +702,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             volume_refs.join(", ")
         );
     }
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
     s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()
@@ -709,7 +731,17 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.lighting_ms,
             r.forward_ms,
             if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
-                format!("{:.2}/{:.2}/{:.2}/{:.2}", r.bloom_ms, r.exposure_ms, r.tonemap_ms, r.grading_ms)
+                format!(
+                    "{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}",
+                    r.bloom_ms,
+                    r.exposure_ms,
+                    r.tonemap_ms,
+                    r.grading_ms,
+                    r.fog_ms,
+                    r.dof_ms,
+                    r.vignette_ms,
+                    r.aa_ms
+                )
             } else {
                 "-".into()
             },

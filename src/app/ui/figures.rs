@@ -168,8 +168,16 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                 row(ui, "GPU auto-exposure", fmt_ms(s.gpu_ms.exposure));
             }
             row(ui, "GPU tonemap", format!("{} ({})", fmt_ms(s.gpu_ms.tonemap), post.tonemap.name()));
-            if post.grading {
-                row(ui, "GPU grading", fmt_ms(s.gpu_ms.grading));
+            for (on, name, ms) in [
+                (post.grading, "GPU grading", s.gpu_ms.grading),
+                (post.fog, "GPU fog", s.gpu_ms.fog),
+                (post.dof, "GPU depth of field", s.gpu_ms.dof),
+                (post.vignette, "GPU vignette", s.gpu_ms.vignette),
+                (post.aa, "GPU anti-aliasing", s.gpu_ms.aa),
+            ] {
+                if on {
+                    row(ui, name, fmt_ms(ms));
+                }
             }
         }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));

@@ -117,7 +117,7 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ambient_and_sun(ui, st, scene);
     }
     ui.separator();
-    ui.label(RichText::new("Post (bloom → exposure → tone map → grading)").strong());
+    ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
     post_panel(ui, st);
 }
 
@@ -150,6 +150,36 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
         egui::ComboBox::from_id_salt("tonemap").selected_text(s.tonemap.name()).show_ui(ui, |ui| {
             for t in crate::renderer::post::Tonemap::ALL {
                 ui.selectable_value(&mut s.tonemap, t, t.name()).on_hover_text(knob_help(&t));
+            }
+        });
+        ui.end_row();
+        ui.label("fog");
+        ui.checkbox(&mut s.fog, "on").on_hover_text("distance fog with a height falloff, towards the background");
+        ui.end_row();
+        ui.label("fog density");
+        ui.add(egui::Slider::new(&mut s.fog_density, slider("fog-density")).fixed_decimals(3));
+        ui.end_row();
+        ui.label("height falloff");
+        ui.add(egui::Slider::new(&mut s.fog_height_falloff, slider("fog-height-falloff")));
+        ui.end_row();
+        ui.label("depth of field");
+        ui.checkbox(&mut s.dof, "on");
+        ui.end_row();
+        ui.label("focus distance");
+        ui.add(egui::Slider::new(&mut s.focus_distance, slider("focus-distance")).logarithmic(true));
+        ui.end_row();
+        ui.label("aperture");
+        ui.add(egui::Slider::new(&mut s.aperture, slider("aperture")).suffix(" px"))
+            .on_hover_text("circle of confusion at infinity");
+        ui.end_row();
+        ui.label("vignette");
+        ui.add(egui::Slider::new(&mut s.vignette, slider("vignette")));
+        ui.end_row();
+        ui.label("anti-aliasing");
+        egui::ComboBox::from_id_salt("aa").selected_text(s.aa.name()).show_ui(ui, |ui| {
+            for a in [crate::renderer::post::Aa::Off, crate::renderer::post::Aa::Edge, crate::renderer::post::Aa::Fxaa]
+            {
+                ui.selectable_value(&mut s.aa, a, a.name()).on_hover_text(knob_help(&a));
             }
         });
         ui.end_row();
@@ -378,9 +408,19 @@ fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
 mod tests {
     #[test]
     fn every_slider_knob_has_a_span() {
-        for name in
-            ["exposure", "light-cutoff", "bloom-threshold", "bloom-intensity", "target-luminance", "adaptation-speed"]
-        {
+        for name in [
+            "exposure",
+            "light-cutoff",
+            "bloom-threshold",
+            "bloom-intensity",
+            "target-luminance",
+            "adaptation-speed",
+            "fog-density",
+            "fog-height-falloff",
+            "focus-distance",
+            "aperture",
+            "vignette",
+        ] {
             assert!(super::knobs::find(name).and_then(|k| k.slider()).is_some(), "{name}");
         }
     }

@@ -393,6 +393,8 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
     ui.label("Stencil view (seed 000): blue passed Z when marking, red passed Z when shading, green was lit.");
     ui.label("Complexity: how many lights shaded each pixel.");
     ui.label("Tile lights: how many lights each pixel's tile (tiled) or cluster (clustered) list holds.");
+    ui.label("Bloom: the bloom the post chain adds. Histogram: auto-exposure's bins of log2 luminance, the adapted (yellow) and the frame's mean (white).");
+    ui.label("Edges: where anti-aliasing may change pixels (edge blur or FXAA). CoC: depth of field's circle of confusion, green in focus.");
     ui.separator();
     ui.label(RichText::new("Scripts").strong());
     ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");

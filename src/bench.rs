@@ -7,6 +7,7 @@
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
+use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT,
 };
@@ -100,6 +101,15 @@ pub struct Row {
     pub compose_ms: f64,
     /// The forward pass of blended surfaces (0 without any).
     pub forward_ms: f64,
+    /// The post chain's passes (0 where a pass did not run).
+    pub bloom_ms: f64,
+    pub exposure_ms: f64,
+    pub tonemap_ms: f64,
+    pub grading_ms: f64,
+    pub fog_ms: f64,
+    pub dof_ms: f64,
+    pub vignette_ms: f64,
+    pub aa_ms: f64,
     pub total_ms: f64,
     /// Light draws of a timed (uncounted) frame, and the batches they draw.
     pub draw_calls: u64,
@@ -258,6 +268,53 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("forward {}", forward_lights.name());
         v.push(c("forward", label, Settings { forward_lights, ..base.clone() }, o.lights));
     }
+    // The post chain (issue 16), one effect at a time, then all of them; the light error is of
+    // the accumulation, before post, so it is the `volume` row's in every one of these.
+    let post: Vec<(&str, Settings)> = {
+        let mut p = vec![
+            ("post off", base.clone()),
+            ("bloom", Settings { bloom: true, ..base.clone() }),
+            ("auto-exposure", Settings { auto_exposure: true, ..base.clone() }),
+        ];
+        let curves: &[Tonemap] = if q { &[Tonemap::Agx] } else { &Tonemap::ALL };
+        p.extend(curves.iter().map(|&t| {
+            let label: &'static str = match t {
+                Tonemap::Aces => "tonemap aces (chain)",
+                Tonemap::Reinhard => "tonemap reinhard",
+                Tonemap::Agx => "tonemap agx",
+                Tonemap::PbrNeutral => "tonemap pbr-neutral",
+                Tonemap::None => "tonemap none",
+            };
+            // ACES alone is compose's own curve; the identity LUT takes it through the chain.
+            let lut = (t == Tonemap::Aces).then(|| "identity".to_string());
+            (label, Settings { tonemap: t, lut, ..base.clone() })
+        }));
+        p.push(("lut identity", Settings { lut: Some("identity".into()), tonemap: Tonemap::Agx, ..base.clone() }));
+        // After tone mapping (AgX, so the chain runs for the curve alone in `tonemap agx`).
+        let ldr = Settings { tonemap: Tonemap::Agx, ..base.clone() };
+        p.push(("fog", Settings { fog: true, ..ldr.clone() }));
+        p.push(("dof", Settings { dof: true, ..ldr.clone() }));
+        p.push(("vignette", Settings { vignette: 0.5, ..ldr.clone() }));
+        p.push(("aa edge", Settings { aa: Aa::Edge, ..ldr.clone() }));
+        p.push(("aa fxaa", Settings { aa: Aa::Fxaa, ..ldr.clone() }));
+        p.push((
+            "all on",
+            Settings {
+                bloom: true,
+                auto_exposure: true,
+                lut: Some("identity".into()),
+                fog: true,
+                dof: true,
+                vignette: 0.5,
+                aa: Aa::Edge,
+                ..ldr.clone()
+            },
+        ));
+        p
+    };
+    for (label, settings) in post {
+        v.push(c("post", label.into(), settings, o.lights));
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     v
 }
@@ -275,6 +332,7 @@ pub const GROUPS: &[&str] = &[
     "radius",
     "ambient",
     "forward",
+    "post",
 ];
 
 /// The light counts the full sweep's `lights` group runs every mode at (plus the scene's spots).
@@ -402,7 +460,11 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
         let (d, s) = renderer.read_accumulation(gpu)?;
-        let (fl, _) = flip(&reference.image, &image)?;
+        // FLIP compares output images; a frame through the post chain is not the reference's
+        // picture by design, so its row has none (NaN). The light error and PSNR are of the
+        // accumulation, before post, in every row.
+        let chain = crate::renderer::post::chain_active(&cfg.settings);
+        let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
         let mut max_err = 0f32;
         let mut sq = 0f64;
         for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
@@ -433,6 +495,14 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             lighting_ms: pick(|s| s.gpu_ms.lighting),
             compose_ms: pick(|s| s.gpu_ms.compose),
             forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
+            bloom_ms: pick(|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
+            exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
+            tonemap_ms: pick(|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
+            grading_ms: pick(|s| s.gpu_ms.grading.or(s.gpu_ms.total.map(|_| 0.0))),
+            fog_ms: pick(|s| s.gpu_ms.fog.or(s.gpu_ms.total.map(|_| 0.0))),
+            dof_ms: pick(|s| s.gpu_ms.dof.or(s.gpu_ms.total.map(|_| 0.0))),
+            vignette_ms: pick(|s| s.gpu_ms.vignette.or(s.gpu_ms.total.map(|_| 0.0))),
+            aa_ms: pick(|s| s.gpu_ms.aa.or(s.gpu_ms.total.map(|_| 0.0))),
             total_ms: pick(|s| s.gpu_ms.total),
             draw_calls: times.last().map_or(0, |s| s.draw_calls),
             light_batches: times.last().map_or(0, |s| s.light_batches),
@@ -441,7 +511,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             ideal_fragments: stats.ideal_fragments.unwrap_or(0),
             efficiency: stats.efficiency.unwrap_or(f64::NAN),
             gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
-            flip_mean: fl.mean,
+            flip_mean,
             max_abs_light_error: max_err,
             psnr_db: psnr,
             pareto: false,
@@ -550,13 +620,13 @@ pub fn mark_pareto(rows: &mut [Row]) {
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let mut out = String::from(
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
-         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,total_ms,draw_calls,light_batches,\
+         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
             r.group,
             r.label,
             r.scene,
@@ -577,6 +647,14 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.lighting_ms,
             r.compose_ms,
             r.forward_ms,
+            r.bloom_ms,
+            r.exposure_ms,
+            r.tonemap_ms,
+            r.grading_ms,
+            r.fog_ms,
+            r.dof_ms,
+            r.vignette_ms,
+            r.aa_ms,
             r.total_ms,
             r.draw_calls,
             r.light_batches,
@@ -599,7 +677,8 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
 pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     let mut s = format!(
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
-         (full-screen lights, Rgba32Float G-buffer and accumulation). Ratio: lighting time over `fullscreen`'s in the \
+         (full-screen lights, Rgba32Float G-buffer and accumulation), measured before post: the light error and PSNR \
+         on the light accumulation, FLIP on the output only for frames without the post chain (`-` in the `post` rows). Ratio: lighting time over `fullscreen`'s in the \
          same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
          Volumes: the bounding meshes the frame drew (only the kinds its lights need). \
          `limit` (groups culling, lights, radius): G-buffer ms + compose ms + ideal fragments x `fullscreen`'s \
@@ -623,8 +702,8 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             volume_refs.join(", ")
         );
     }
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()
         .filter(|r| r.label == "fullscreen")
@@ -639,7 +718,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         let x_limit = if r.limit_ratio.is_finite() { format!("{:.2}", r.limit_ratio) } else { "-".into() };
         let error = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -651,6 +730,21 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.gbuffer_ms,
             r.lighting_ms,
             r.forward_ms,
+            if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
+                format!(
+                    "{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}",
+                    r.bloom_ms,
+                    r.exposure_ms,
+                    r.tonemap_ms,
+                    r.grading_ms,
+                    r.fog_ms,
+                    r.dof_ms,
+                    r.vignette_ms,
+                    r.aa_ms
+                )
+            } else {
+                "-".into()
+            },
             r.total_ms,
             x_limit,
             ratio,
@@ -1024,6 +1118,14 @@ mod tests {
             lighting_ms: 0.0,
             compose_ms: 0.0,
             forward_ms: 0.0,
+            bloom_ms: 0.0,
+            exposure_ms: 0.0,
+            tonemap_ms: 0.0,
+            grading_ms: 0.0,
+            fog_ms: 0.0,
+            dof_ms: 0.0,
+            vignette_ms: 0.0,
+            aa_ms: 0.0,
             total_ms: ms,
             draw_calls: 0,
             light_batches: 0,
@@ -1074,6 +1176,14 @@ mod tests {
             lighting_ms: l,
             compose_ms: c,
             forward_ms: 0.0,
+            bloom_ms: 0.0,
+            exposure_ms: 0.0,
+            tonemap_ms: 0.0,
+            grading_ms: 0.0,
+            fog_ms: 0.0,
+            dof_ms: 0.0,
+            vignette_ms: 0.0,
+            aa_ms: 0.0,
             total_ms: g + l + c,
             draw_calls: 0,
             light_batches: 0,

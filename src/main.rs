@@ -170,6 +170,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
             "volume_meshes": stats.volume_meshes,
             "forward": stats.forward,
+            "post": stats.post,
             "per_light": stats.per_light,
         });
         std::fs::write(path, serde_json::to_string_pretty(&json)?)

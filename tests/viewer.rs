@@ -577,6 +577,24 @@ fn every_scene_layout_view_and_option_renders() {
         "timestamps off",
         "lights 0",
         "lights 3",
+        // The post chain (issue 16), every pass on, then off again.
+        "tonemap agx",
+        "bloom on",
+        "auto-exposure on",
+        "lut identity",
+        "fog on",
+        "dof on",
+        "vignette 0.5",
+        "aa fxaa",
+        "aa edge",
+        "tonemap aces",
+        "bloom off",
+        "auto-exposure off",
+        "lut none",
+        "fog off",
+        "dof off",
+        "vignette 0",
+        "aa off",
     ] {
         at(format!("set {opt}"));
     }

@@ -114,8 +114,24 @@ pub const TILES: Group = Group {
     ],
 };
 
+/// Group 2 of the post chain's passes (`passes::{bloom, exposure, tonemap, grading}`): its
+/// parameters, the image a pass reads and a second one (bloom's levels), the exposure state
+/// (histogram bins, adapted and measured log2 luminance, `post::STATE_WORDS`) and the grading
+/// LUT (`size`³ entries, red fastest). Slots from 30.
+pub const POST: Group = Group {
+    label: "post",
+    index: 2,
+    bindings: &[
+        storage(30, "post_params", "PostParams"),
+        texture(31, "post_src", false),
+        texture(32, "post_aux", false),
+        Binding { slot: 33, name: "post_state", wgsl_type: "array<atomic<u32>>", kind: Kind::StorageReadWrite },
+        storage(34, "post_lut", "array<vec4<f32>>"),
+    ],
+};
+
 /// Every group above, in the order the shader source declares them.
-pub const GROUPS: [&Group; 5] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES];
+pub const GROUPS: [&Group; 6] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.

@@ -9,8 +9,8 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings,
-    CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    name_of, Aa, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings,
+    Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -25,6 +25,8 @@ pub enum Values {
     Whole { min: u32, max: u32 },
     /// on / off (also true/false, 1/0, yes/no).
     Switch,
+    /// A file (or a built-in name the row documents); `none` for no file.
+    File,
 }
 
 impl Values {
@@ -35,7 +37,7 @@ impl Values {
                 format!("{min} {}..{} {max}", if open.0 { "<" } else { "" }, if open.1 { "<" } else { "=" })
             }
             Values::Whole { min, max } => format!("{min} ..= {max}"),
-            Values::Choice(_) | Values::Switch => String::new(),
+            Values::Choice(_) | Values::Switch | Values::File => String::new(),
         }
     }
 }
@@ -271,6 +273,206 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "tonemap",
+        what: "tonemap",
+        help: "Tone curve of the post chain",
+        values: Values::Choice(names::<Tonemap>),
+        cli: true,
+        get: |s| name_of(&s.tonemap),
+        put: |s, v| {
+            s.tonemap = choice("tonemap", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "auto-exposure",
+        what: "auto-exposure",
+        help: "Adapt the exposure to the frame's luminance histogram (1/60 s per frame)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.auto_exposure),
+        put: |s, v| {
+            s.auto_exposure = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "adaptation-speed",
+        what: "adaptation speed",
+        help: "Auto-exposure adaptation speed, per second (each frame moves 1 - exp(-speed/60) of the way)",
+        values: Values::Float { min: 0.0, max: 1e4, open: (true, false), slider: (0.1, 20.0) },
+        cli: true,
+        get: |s| s.adaptation_speed.to_string(),
+        put: |s, v| {
+            s.adaptation_speed = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "target-luminance",
+        what: "target luminance",
+        help: "Luminance auto-exposure maps the frame's geometric mean to",
+        values: Values::Float { min: 0.0, max: 1e3, open: (true, false), slider: (0.02, 1.0) },
+        cli: true,
+        get: |s| s.target_luminance.to_string(),
+        put: |s, v| {
+            s.target_luminance = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "bloom",
+        what: "bloom",
+        help: "Bloom: bright pass, 5-level downsample/upsample chain, added back",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.bloom),
+        put: |s, v| {
+            s.bloom = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "bloom-threshold",
+        what: "bloom threshold",
+        help: "Luminance above which pixels bloom (the part above it)",
+        values: Values::Float { min: 0.0, max: 1e6, open: (false, false), slider: (0.0, 8.0) },
+        cli: true,
+        get: |s| s.bloom_threshold.to_string(),
+        put: |s, v| {
+            s.bloom_threshold = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "bloom-intensity",
+        what: "bloom intensity",
+        help: "Factor on the bloom added back",
+        values: Values::Float { min: 0.0, max: 100.0, open: (false, false), slider: (0.0, 1.0) },
+        cli: true,
+        get: |s| s.bloom_intensity.to_string(),
+        put: |s, v| {
+            s.bloom_intensity = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "lut",
+        what: "colour grading LUT",
+        help: "Colour grading: a .cube 3D LUT file, identity (built in) or none",
+        values: Values::File,
+        cli: true,
+        get: |s| s.lut.clone().unwrap_or_else(|| "none".into()),
+        put: |s, v| {
+            s.lut = match v.trim() {
+                "none" | "" => None,
+                name => {
+                    // Read now, so a bad file is an error where it is named; the renderer
+                    // reads it again when it changes.
+                    super::post::Lut::load(name)?;
+                    Some(name.to_string())
+                }
+            };
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog",
+        what: "fog",
+        help: "Fog: distance with an exponential height falloff, towards the background colour",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.fog),
+        put: |s, v| {
+            s.fog = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog-density",
+        what: "fog density",
+        help: "Fog density per unit of distance at the camera's height",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 0.2) },
+        cli: true,
+        get: |s| s.fog_density.to_string(),
+        put: |s, v| {
+            s.fog_density = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "fog-height-falloff",
+        what: "fog height falloff",
+        help: "Exponential falloff of the fog's density per unit of height above the camera (0: distance fog)",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 2.0) },
+        cli: true,
+        get: |s| s.fog_height_falloff.to_string(),
+        put: |s, v| {
+            s.fog_height_falloff = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "dof",
+        what: "depth of field",
+        help: "Depth of field: a gather blur by each pixel's circle of confusion",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.dof),
+        put: |s, v| {
+            s.dof = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "focus-distance",
+        what: "focus distance",
+        help: "View distance in focus",
+        values: Values::Float { min: 0.0, max: 1e7, open: (true, false), slider: (0.5, 100.0) },
+        cli: true,
+        get: |s| s.focus_distance.to_string(),
+        put: |s, v| {
+            s.focus_distance = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "aperture",
+        what: "aperture",
+        help: "Circle of confusion in pixels at infinity (CoC = aperture |z - focus| / z, at most 16 px)",
+        values: Values::Float { min: 0.0, max: 1e3, open: (false, false), slider: (0.0, 32.0) },
+        cli: true,
+        get: |s| s.aperture.to_string(),
+        put: |s, v| {
+            s.aperture = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "vignette",
+        what: "vignette",
+        help: "Vignette strength: the fraction the corners are darkened by (0 = off)",
+        values: Values::Float { min: 0.0, max: 1.0, open: (false, false), slider: (0.0, 1.0) },
+        cli: true,
+        get: |s| s.vignette.to_string(),
+        put: |s, v| {
+            s.vignette = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "aa",
+        what: "anti-aliasing",
+        help: "Anti-aliasing: seed 002's edge blur (G-buffer depth and normal discontinuities) or FXAA",
+        values: Values::Choice(names::<Aa>),
+        cli: true,
+        get: |s| name_of(&s.aa),
+        put: |s, v| {
+            s.aa = choice("anti-aliasing", v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "counts",
         what: "fragment counting",
         help: "Count each light's shaded fragments (occlusion queries)",
@@ -341,7 +543,7 @@ impl Knob {
                     return bad(format!("must be between {min} and {max}"));
                 }
             }
-            Values::Choice(_) | Values::Switch => {}
+            Values::Choice(_) | Values::Switch | Values::File => {}
         }
         Ok(())
     }
@@ -367,6 +569,7 @@ impl Knob {
         match self.values {
             Values::Choice(f) => f(),
             Values::Switch => vec!["on".into(), "off".into()],
+            Values::File => vec!["identity".into(), "none".into()],
             _ => Vec::new(),
         }
     }
@@ -429,6 +632,7 @@ impl clap::Args for KnobArgs {
             // aliases (`d32s8`) parse too; the help lists the one names and the ranges.
             let values = match k.values {
                 Values::Choice(_) | Values::Switch => format!("one of {}", k.names().join(", ")),
+                Values::File => "a .cube file, identity or none".into(),
                 _ => k.values.describe(),
             };
             let arg = clap::Arg::new(k.name).long(k.name).value_name("VALUE").help(format!("{} [{values}]", k.help));

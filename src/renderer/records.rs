@@ -163,6 +163,44 @@ gpu_record! {
     }
 }
 
+gpu_record! {
+    /// The post chain's parameters (`post_params` in the shaders; `post::params`).
+    pub struct PostParams as "PostParams" {
+        /// A `Tonemap`.
+        pub tonemap: u32,
+        pub auto_exposure: u32,
+        /// Edge of the grading LUT (0: no grading).
+        pub lut_size: u32,
+        pub pad0: u32,
+        /// The exposure knob (with auto-exposure, a factor on top of the adapted exposure).
+        pub exposure: f32,
+        /// Bloom: luminance above which pixels bloom, and the factor on the bloom added back.
+        pub threshold: f32,
+        pub intensity: f32,
+        /// Auto-exposure: the target luminance and the fraction of the way moved per frame.
+        pub target_luminance: f32,
+        pub adapt_rate: f32,
+        /// The histogram's log2 luminance range.
+        pub log_min: f32,
+        pub log_max: f32,
+        pub pad1: f32,
+        /// The LUT's input domain (xyz).
+        pub lut_min: [f32; 4],
+        pub lut_max: [f32; 4],
+        /// Fog: density and height falloff.
+        pub fog_density: f32,
+        pub fog_falloff: f32,
+        /// Depth of field: focus distance and the CoC in pixels at infinity.
+        pub focus_distance: f32,
+        pub aperture: f32,
+        /// Vignette strength (0: off), and the anti-aliasing (an `Aa`).
+        pub vignette: f32,
+        pub aa: u32,
+        pub pad2: u32,
+        pub pad3: u32,
+    }
+}
+
 /// Every record that has a WGSL twin.
 pub fn layouts() -> Vec<RecordLayout> {
     vec![
@@ -171,6 +209,7 @@ pub fn layouts() -> Vec<RecordLayout> {
         ObjectRecord::layout(),
         ComposeParams::layout(),
         TileParams::layout(),
+        PostParams::layout(),
     ]
 }
 

@@ -59,7 +59,11 @@ knob_names!(
     LayoutChoice => "layout",
     ForwardLights => "forward light list",
     BrdfOverride => "reflectance model",
+    Tonemap => "tonemap",
+    Aa => "anti-aliasing",
 );
+
+pub use super::post::{Aa, Tonemap};
 
 /// Which reflectance model shades the objects: each material's own, or one for all (an
 /// experiment: the same scene as a metal, toon or unlit).
@@ -179,10 +183,21 @@ pub enum DebugView {
     /// The reflectance model of each pixel (the material ID, or the scene's one model), one
     /// colour per model (`Brdf::debug_color`), the legend in the viewer.
     MaterialId = 11,
+    /// The post chain's bloom buffer (the upsampled chain before it is added), exposed and
+    /// tonemapped; runs bloom even when it is off.
+    Bloom = 12,
+    /// The auto-exposure histogram (bins of log2 luminance, 1/3 stop each) over the dimmed
+    /// picture; yellow: the adapted luminance, white: the frame's mean.
+    Histogram = 13,
+    /// The anti-aliasing's edge mask (the edge blur's G-buffer discontinuities, or FXAA's luma
+    /// contrast test; `edge` when anti-aliasing is off): white where it may change a pixel.
+    Edges = 14,
+    /// Depth of field's circle of confusion: black in focus, white at `post::MAX_COC` px.
+    Coc = 15,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 12] = [
+    pub const ALL: [DebugView; 16] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -195,6 +210,10 @@ impl DebugView {
         DebugView::Complexity,
         DebugView::TileLights,
         DebugView::MaterialId,
+        DebugView::Bloom,
+        DebugView::Histogram,
+        DebugView::Edges,
+        DebugView::Coc,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
@@ -356,6 +375,45 @@ pub struct Settings {
     pub light_batching: bool,
     /// Shade every object with one reflectance model instead of its material's.
     pub brdf: BrdfOverride,
+    /// The tone curve of the post chain (`post::Tonemap`); ACES is the one compose always used.
+    pub tonemap: Tonemap,
+    /// Auto-exposure: a luminance histogram each frame, the exposure adapting towards
+    /// `target_luminance` / (the frame's geometric mean luminance), time-stepped at a fixed
+    /// 1/60 s per frame. `exposure` stays a factor on top (exposure compensation).
+    pub auto_exposure: bool,
+    /// Adaptation speed of auto-exposure, per second: each frame moves the adapted log2
+    /// luminance by `1 - exp(-speed / 60)` of the way to the frame's.
+    pub adaptation_speed: f32,
+    /// The luminance auto-exposure maps the frame's geometric mean to (middle grey, 0.18).
+    pub target_luminance: f32,
+    /// Bloom: a bright pass above `bloom_threshold`, a 5-level downsample/upsample chain, added
+    /// back times `bloom_intensity`.
+    pub bloom: bool,
+    /// Luminance above which a pixel blooms (the part above it blooms, hue kept).
+    pub bloom_threshold: f32,
+    /// Factor on the bloom added back.
+    pub bloom_intensity: f32,
+    /// Colour grading: a `.cube` 3D LUT file, or `identity` (built in); `None`: no grading.
+    pub lut: Option<String>,
+    /// Fog (after grading, seed 002's order): distance fog with an exponential height falloff,
+    /// towards the background colour.
+    pub fog: bool,
+    /// Fog density per unit of distance at the camera's height.
+    pub fog_density: f32,
+    /// Exponential falloff of the fog's density per unit of height above the camera (0: plain
+    /// distance fog).
+    pub fog_height_falloff: f32,
+    /// Depth of field: a gather blur by each pixel's circle of confusion.
+    pub dof: bool,
+    /// View distance that is in focus.
+    pub focus_distance: f32,
+    /// Circle of confusion diameter in pixels at infinite distance: CoC = aperture x |z - focus| / z,
+    /// at most `post::MAX_COC` px.
+    pub aperture: f32,
+    /// Vignette strength: the corners are darkened by this fraction (0: off).
+    pub vignette: f32,
+    /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
+    pub aa: Aa,
 }
 
 impl Default for Settings {
@@ -380,6 +438,22 @@ impl Default for Settings {
             ambient_in_gbuffer: true,
             light_batching: true,
             brdf: BrdfOverride::Scene,
+            tonemap: Tonemap::Aces,
+            auto_exposure: false,
+            adaptation_speed: 2.0,
+            target_luminance: 0.18,
+            bloom: false,
+            bloom_threshold: 1.0,
+            bloom_intensity: 0.1,
+            lut: None,
+            fog: false,
+            fog_density: 0.02,
+            fog_height_falloff: 0.1,
+            dof: false,
+            focus_distance: 10.0,
+            aperture: 8.0,
+            vignette: 0.0,
+            aa: Aa::Off,
         }
     }
 }
@@ -442,6 +516,8 @@ mod tests {
         one_name::<ForwardLights>();
         one_name::<BrdfOverride>();
         one_name::<crate::scene::Brdf>();
+        one_name::<Tonemap>();
+        one_name::<Aa>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

@@ -121,10 +121,27 @@ pub enum Stamp {
     /// The forward pass of blended surfaces.
     ForwardBegin = 6,
     ForwardEnd = 7,
+    /// The post chain's passes (issue 16), each when it runs.
+    BloomBegin = 8,
+    BloomEnd = 9,
+    ExposureBegin = 10,
+    ExposureEnd = 11,
+    TonemapBegin = 12,
+    TonemapEnd = 13,
+    GradingBegin = 14,
+    GradingEnd = 15,
+    FogBegin = 16,
+    FogEnd = 17,
+    DofBegin = 18,
+    DofEnd = 19,
+    VignetteBegin = 20,
+    VignetteEnd = 21,
+    AaBegin = 22,
+    AaEnd = 23,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 8;
+    pub const COUNT: u32 = 24;
 }
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
@@ -140,6 +157,23 @@ pub struct GpuMs {
     /// The forward pass of blended surfaces (`None` when the frame has none).
     #[serde(default)]
     pub forward: Option<f64>,
+    /// The post chain's passes (`None` when a pass did not run).
+    #[serde(default)]
+    pub bloom: Option<f64>,
+    #[serde(default)]
+    pub exposure: Option<f64>,
+    #[serde(default)]
+    pub tonemap: Option<f64>,
+    #[serde(default)]
+    pub grading: Option<f64>,
+    #[serde(default)]
+    pub fog: Option<f64>,
+    #[serde(default)]
+    pub dof: Option<f64>,
+    #[serde(default)]
+    pub vignette: Option<f64>,
+    #[serde(default)]
+    pub aa: Option<f64>,
     pub total: Option<f64>,
 }
 
@@ -258,7 +292,24 @@ pub struct FrameStats {
     /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
     /// light with `light_batching` off.
     pub light_batches: u64,
+    /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
+    pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
+}
+
+/// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
+/// with auto-exposure, the exposure state after the frame is read by `Renderer::exposure_state`.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PostStats {
+    pub bloom: bool,
+    pub auto_exposure: bool,
+    pub grading: bool,
+    pub fog: bool,
+    pub dof: bool,
+    pub vignette: bool,
+    pub aa: bool,
+    pub tonemap: crate::renderer::post::Tonemap,
 }
 
 pub struct Queries {
@@ -461,6 +512,26 @@ impl Queries {
                     }
                 }
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+                if let Some(post) = stats.post {
+                    // The chain runs inside the compose span (HDR compose … its last pass).
+                    let (b, e, t, g) = (
+                        span(Stamp::BloomBegin, Stamp::BloomEnd).filter(|_| post.bloom),
+                        span(Stamp::ExposureBegin, Stamp::ExposureEnd).filter(|_| post.auto_exposure),
+                        span(Stamp::TonemapBegin, Stamp::TonemapEnd),
+                        span(Stamp::GradingBegin, Stamp::GradingEnd).filter(|_| post.grading),
+                    );
+                    (stats.gpu_ms.bloom, stats.gpu_ms.exposure, stats.gpu_ms.tonemap, stats.gpu_ms.grading) =
+                        (b, e, t, g);
+                    let (fo, d, v, a) = (
+                        span(Stamp::FogBegin, Stamp::FogEnd).filter(|_| post.fog),
+                        span(Stamp::DofBegin, Stamp::DofEnd).filter(|_| post.dof),
+                        span(Stamp::VignetteBegin, Stamp::VignetteEnd).filter(|_| post.vignette),
+                        span(Stamp::AaBegin, Stamp::AaEnd).filter(|_| post.aa),
+                    );
+                    (stats.gpu_ms.fog, stats.gpu_ms.dof, stats.gpu_ms.vignette, stats.gpu_ms.aa) = (fo, d, v, a);
+                    let chain: f64 = [b, e, t, g, fo, d, v, a].iter().flatten().sum();
+                    stats.gpu_ms.compose = stats.gpu_ms.compose.map(|c| (c - chain).max(0.0));
+                }
             }
             if let Some(f) = stats.forward.as_mut().filter(|_| forward) {
                 f.fragments = Some(words[(FORWARD_QUERY_OFFSET / 8) as usize]);

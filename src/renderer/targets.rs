@@ -41,6 +41,9 @@ pub struct Targets {
     pub compose_group: wgpu::BindGroup,
     /// HDR scene colour and its bind group (group 3); only for scenes with blended surfaces.
     pub hdr: Option<(wgpu::TextureView, wgpu::BindGroup)>,
+    pub hdr_texture: Option<wgpu::Texture>,
+    /// The post chain's images and buffers (frames that run it only; `post::chain_active`).
+    pub post: Option<super::post::PostTargets>,
 }
 
 impl Targets {
@@ -49,6 +52,7 @@ impl Targets {
         shared: &Shared,
         size: (u32, u32),
         hdr: bool,
+        post: bool,
         compose_params: &wgpu::Buffer,
     ) -> Self {
         use wgpu::TextureUsages as U;
@@ -79,8 +83,9 @@ impl Targets {
             ]),
         });
         // Only scenes with blended surfaces need the HDR scene colour (model what the scene needs).
-        let hdr = hdr.then(|| {
-            let view = texture(device, "hdr colour", HDR_FORMAT, size, read).create_view(&Default::default());
+        let hdr_texture = (hdr || post).then(|| texture(device, "hdr colour", HDR_FORMAT, size, read));
+        let hdr = hdr_texture.as_ref().map(|t| {
+            let view = t.create_view(&Default::default());
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("hdr colour"),
                 layout: &shared.hdr_bgl,
@@ -88,6 +93,8 @@ impl Targets {
             });
             (view, group)
         });
+        let post =
+            hdr.as_ref().filter(|_| post).map(|(view, _)| super::post::PostTargets::new(device, shared, size, view));
         Self {
             width: size.0,
             height: size.1,
@@ -102,16 +109,19 @@ impl Targets {
             gbuffer_group,
             compose_group,
             hdr,
+            hdr_texture,
+            post,
         }
     }
 
     /// Whether these targets serve a frame of `size` drawn with `shared`'s configuration.
-    pub fn fit(&self, shared: &Shared, size: (u32, u32), hdr: bool) -> bool {
+    pub fn fit(&self, shared: &Shared, size: (u32, u32), hdr: bool, post: bool) -> bool {
         (self.width, self.height) == size
             && self.depth_format == shared.key.depth_format
             && self.gbuffer.layout == shared.key.layout
             && self.diffuse.format() == shared.key.accum_format
-            && self.hdr.is_some() == hdr
+            && self.hdr.is_some() == (hdr || post)
+            && self.post.is_some() == post
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero

@@ -162,6 +162,27 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                 row(ui, "list entries", format!("{} (longest {}){over}", fmt_count(t.entries), t.longest));
             }
         }
+        if let Some(post) = &s.post {
+            // The post chain's passes, each when it ran (issue 16).
+            if post.bloom {
+                row(ui, "GPU bloom", fmt_ms(s.gpu_ms.bloom));
+            }
+            if post.auto_exposure {
+                row(ui, "GPU auto-exposure", fmt_ms(s.gpu_ms.exposure));
+            }
+            row(ui, "GPU tonemap", format!("{} ({})", fmt_ms(s.gpu_ms.tonemap), post.tonemap.name()));
+            for (on, name, ms) in [
+                (post.grading, "GPU grading", s.gpu_ms.grading),
+                (post.fog, "GPU fog", s.gpu_ms.fog),
+                (post.dof, "GPU depth of field", s.gpu_ms.dof),
+                (post.vignette, "GPU vignette", s.gpu_ms.vignette),
+                (post.aa, "GPU anti-aliasing", s.gpu_ms.aa),
+            ] {
+                if on {
+                    row(ui, name, fmt_ms(ms));
+                }
+            }
+        }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
         let c = &s.cpu_ms;
         row(ui, "CPU records / plan / upload", format!("{:.2} / {:.2} / {:.2} ms", c.records, c.plan, c.upload));

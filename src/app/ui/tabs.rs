@@ -116,6 +116,97 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     if let Some(scene) = f.scene {
         ambient_and_sun(ui, st, scene);
     }
+    ui.separator();
+    ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
+    post_panel(ui, st);
+}
+
+/// The post chain's knobs (issue 16): bloom, auto-exposure, the tone curve and the grading LUT.
+fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
+    let s = &mut st.settings;
+    egui::Grid::new("post-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        ui.label("bloom");
+        ui.checkbox(&mut s.bloom, "on");
+        ui.end_row();
+        ui.label("threshold");
+        ui.add(egui::Slider::new(&mut s.bloom_threshold, slider("bloom-threshold")))
+            .on_hover_text("luminance above which pixels bloom");
+        ui.end_row();
+        ui.label("intensity");
+        ui.add(egui::Slider::new(&mut s.bloom_intensity, slider("bloom-intensity")));
+        ui.end_row();
+        ui.label("auto-exposure");
+        ui.checkbox(&mut s.auto_exposure, "on").on_hover_text("adapt to the frame's luminance histogram");
+        ui.end_row();
+        ui.label("target");
+        ui.add(egui::Slider::new(&mut s.target_luminance, slider("target-luminance")).logarithmic(true))
+            .on_hover_text("luminance the frame's geometric mean is exposed to");
+        ui.end_row();
+        ui.label("speed");
+        ui.add(egui::Slider::new(&mut s.adaptation_speed, slider("adaptation-speed")).logarithmic(true).suffix(" /s"))
+            .on_hover_text("adaptation speed (fixed 1/60 s per frame)");
+        ui.end_row();
+        ui.label("tonemap");
+        egui::ComboBox::from_id_salt("tonemap").selected_text(s.tonemap.name()).show_ui(ui, |ui| {
+            for t in crate::renderer::post::Tonemap::ALL {
+                ui.selectable_value(&mut s.tonemap, t, t.name()).on_hover_text(knob_help(&t));
+            }
+        });
+        ui.end_row();
+        ui.label("fog");
+        ui.checkbox(&mut s.fog, "on").on_hover_text("distance fog with a height falloff, towards the background");
+        ui.end_row();
+        ui.label("fog density");
+        ui.add(egui::Slider::new(&mut s.fog_density, slider("fog-density")).fixed_decimals(3));
+        ui.end_row();
+        ui.label("height falloff");
+        ui.add(egui::Slider::new(&mut s.fog_height_falloff, slider("fog-height-falloff")));
+        ui.end_row();
+        ui.label("depth of field");
+        ui.checkbox(&mut s.dof, "on");
+        ui.end_row();
+        ui.label("focus distance");
+        ui.add(egui::Slider::new(&mut s.focus_distance, slider("focus-distance")).logarithmic(true));
+        ui.end_row();
+        ui.label("aperture");
+        ui.add(egui::Slider::new(&mut s.aperture, slider("aperture")).suffix(" px"))
+            .on_hover_text("circle of confusion at infinity");
+        ui.end_row();
+        ui.label("vignette");
+        ui.add(egui::Slider::new(&mut s.vignette, slider("vignette")));
+        ui.end_row();
+        ui.label("anti-aliasing");
+        egui::ComboBox::from_id_salt("aa").selected_text(s.aa.name()).show_ui(ui, |ui| {
+            for a in [crate::renderer::post::Aa::Off, crate::renderer::post::Aa::Edge, crate::renderer::post::Aa::Fxaa]
+            {
+                ui.selectable_value(&mut s.aa, a, a.name()).on_hover_text(knob_help(&a));
+            }
+        });
+        ui.end_row();
+        ui.label("grading LUT");
+        let id = ui.scope_id().with("lut-path");
+        let mut text: String =
+            ui.data_mut(|d| d.get_temp(id)).unwrap_or_else(|| s.lut.clone().unwrap_or_else(|| "none".into()));
+        ui.horizontal(|ui| {
+            ui.add(egui::TextEdit::singleline(&mut text).desired_width(140.0))
+                .on_hover_text(".cube file, identity or none");
+            if ui.button("load").clicked() {
+                let result = s.set("lut", &text);
+                ui.data_mut(|d| d.insert_temp(id.with("error"), result.err()));
+            }
+        });
+        ui.data_mut(|d| d.insert_temp(id, text));
+        ui.end_row();
+        if let Some(e) = ui.data(|d| d.get_temp::<Option<String>>(id.with("error"))).flatten() {
+            ui.label("");
+            ui.colored_label(egui::Color32::LIGHT_RED, e);
+            ui.end_row();
+        }
+    });
+}
+
+fn knob_help<T: clap::ValueEnum>(v: &T) -> String {
+    crate::renderer::settings::help_of(v)
 }
 
 /// Ambient colour, the sun on or off, its colour, intensity and direction.
@@ -311,6 +402,8 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
     ui.label("Stencil view (seed 000): blue passed Z when marking, red passed Z when shading, green was lit.");
     ui.label("Complexity: how many lights shaded each pixel.");
     ui.label("Tile lights: how many lights each pixel's tile (tiled) or cluster (clustered) list holds.");
+    ui.label("Bloom: the bloom the post chain adds. Histogram: auto-exposure's bins of log2 luminance, the adapted (yellow) and the frame's mean (white).");
+    ui.label("Edges: where anti-aliasing may change pixels (edge blur or FXAA). CoC: depth of field's circle of confusion, green in focus.");
     ui.separator();
     ui.label(RichText::new("Scripts").strong());
     ui.label("lampshade view SCENE --script FILE replays one 'FRAME ACTION ARGS' per line (src/app/script.rs).");
@@ -326,7 +419,19 @@ fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
 mod tests {
     #[test]
     fn every_slider_knob_has_a_span() {
-        for name in ["exposure", "light-cutoff"] {
+        for name in [
+            "exposure",
+            "light-cutoff",
+            "bloom-threshold",
+            "bloom-intensity",
+            "target-luminance",
+            "adaptation-speed",
+            "fog-density",
+            "fog-height-falloff",
+            "focus-distance",
+            "aperture",
+            "vignette",
+        ] {
             assert!(super::knobs::find(name).and_then(|k| k.slider()).is_some(), "{name}");
         }
     }

@@ -7,13 +7,21 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
+pub mod aa;
+pub mod bloom;
 pub mod compose;
 pub mod debug;
+pub mod dof;
+pub mod exposure;
+pub mod fog;
 pub mod forward;
 pub mod gbuffer;
+pub mod grading;
 pub mod lights;
 pub mod measure;
 pub mod tiled;
+pub mod tonemap;
+pub mod vignette;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -53,11 +61,19 @@ pub fn wgsl_constants() -> String {
     for v in DebugView::ALL {
         u(&format!("VIEW_{}", v.wgsl_name()), v as u32);
     }
+    for t in super::post::Tonemap::ALL {
+        u(&format!("TONEMAP_{}", t.wgsl_name()), t as u32);
+    }
+    u("HIST_BINS", super::post::HIST_BINS);
+    for a in [super::post::Aa::Off, super::post::Aa::Edge, super::post::Aa::Fxaa] {
+        u(&format!("AA_{}", a.name().to_uppercase()), a as u32);
+    }
     let mut f = |name: &str, v: f32| s += &format!("const LS_{name}: f32 = {v:?};\n");
     f("LOG_ACCUM_MAX", settings::LOG_ACCUM_MAX);
     f("FP16_MAX", records::FP16_MAX);
     f("TILE_HEAT_MAX", super::tiles::HEAT_MAX);
     f("METAL_THRESHOLD", crate::scene::import::METAL_THRESHOLD);
+    f("MAX_COC", super::post::MAX_COC);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
     // The `material-id` view's colours (`Brdf::debug_color`; unknown IDs show magenta).
@@ -83,6 +99,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
+            include_str!("../../../shaders/post.wgsl"),
         ]
         .map(String::from),
     );
@@ -124,6 +141,9 @@ pub struct Shared {
     pub material_bgl: wgpu::BindGroupLayout,
     pub compose_bgl: wgpu::BindGroupLayout,
     pub hdr_bgl: wgpu::BindGroupLayout,
+    pub post_bgl: wgpu::BindGroupLayout,
+    /// Frame + G-buffer + post: the post chain's passes.
+    pub post_layout: wgpu::PipelineLayout,
     /// Frame + material: the surface passes (G-buffer, forward).
     pub surface_layout: wgpu::PipelineLayout,
     /// Frame + G-buffer: everything drawn per light.
@@ -147,6 +167,7 @@ impl Shared {
         let material_bgl = bindings::MATERIAL.layout(device);
         let compose_bgl = bindings::COMPOSE.layout(device);
         let hdr_bgl = bindings::HDR.layout(device);
+        let post_bgl = bindings::POST.layout(device);
         let layout = |label, groups: &[&wgpu::BindGroupLayout]| {
             let groups: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().map(|g| Some(*g)).collect();
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -159,6 +180,7 @@ impl Shared {
         let light_layout = layout("lights", &[&frame_bgl, &gbuffer_bgl]);
         let compose_layout = layout("compose", &[&frame_bgl, &gbuffer_bgl, &compose_bgl]);
         let tonemap_layout = layout("tonemap", &[&frame_bgl, &gbuffer_bgl, &compose_bgl, &hdr_bgl]);
+        let post_layout = layout("post", &[&frame_bgl, &gbuffer_bgl, &post_bgl]);
         Self {
             key,
             module,
@@ -167,6 +189,8 @@ impl Shared {
             material_bgl,
             compose_bgl,
             hdr_bgl,
+            post_bgl,
+            post_layout,
             surface_layout,
             light_layout,
             compose_layout,
@@ -469,6 +493,14 @@ pub struct Passes {
     pub forward: forward::ForwardPass,
     pub measure: measure::MeasurePass,
     pub tiled: tiled::TiledPass,
+    pub bloom: bloom::BloomPass,
+    pub exposure: exposure::ExposurePass,
+    pub tonemap: tonemap::TonemapPass,
+    pub grading: grading::GradingPass,
+    pub fog: fog::FogPass,
+    pub dof: dof::DofPass,
+    pub vignette: vignette::VignettePass,
+    pub aa: aa::AaPass,
 }
 
 impl Passes {
@@ -482,11 +514,69 @@ impl Passes {
             forward: forward::ForwardPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
             tiled: tiled::TiledPass::new(device, &shared),
+            bloom: bloom::BloomPass::new(device, &shared),
+            exposure: exposure::ExposurePass::new(device, &shared),
+            tonemap: tonemap::TonemapPass::new(device, &shared),
+            grading: grading::GradingPass::new(device, &shared),
+            fog: fog::FogPass::new(device, &shared),
+            dof: dof::DofPass::new(device, &shared),
+            vignette: vignette::VignettePass::new(device, &shared),
+            aa: aa::AaPass::new(device, &shared),
             shared,
         }
     }
 
     pub fn key(&self) -> &PipelineKey {
         &self.shared.key
+    }
+}
+
+/// One full-screen draw of a post-chain pass into `view`: the frame's and the G-buffer's groups
+/// with the post group `group`, timestamps as given.
+pub fn post_draw(
+    encoder: &mut wgpu::CommandEncoder,
+    f: &FrameInputs<'_>,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    view: &wgpu::TextureView,
+    group: &wgpu::BindGroup,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[super::targets::attachment(view, Some(wgpu::Color::BLACK))],
+        depth_stencil_attachment: None,
+        timestamp_writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &f.frame.group, &[]);
+    pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+    pass.set_bind_group(2, group, &[]);
+    pass.draw(0..3, 0..1);
+}
+
+/// A post pass after tone mapping as two pipelines: into the chain's next image, or into the
+/// output when it is the last pass that runs.
+pub struct LdrPipelines {
+    to_post: wgpu::RenderPipeline,
+    to_output: wgpu::RenderPipeline,
+}
+
+impl LdrPipelines {
+    pub fn new(device: &wgpu::Device, shared: &Shared, label: &str, fs: &str) -> Self {
+        Self {
+            to_post: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, super::post::POST_FORMAT),
+            to_output: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, shared.key.output_format),
+        }
+    }
+
+    pub fn get(&self, last: bool) -> &wgpu::RenderPipeline {
+        if last {
+            &self.to_output
+        } else {
+            &self.to_post
+        }
     }
 }

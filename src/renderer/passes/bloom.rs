@@ -1,0 +1,52 @@
+//! Bloom (seed 002's "glow", first in its post chain): a bright pass (the part of each pixel
+//! above `bloom_threshold`'s luminance) at half size, a 2×2-box downsample chain to 1/32, an
+//! upsample chain back (each level half its own downsample, half the coarser result, 2×
+//! bilinear), and the HDR colour plus `bloom_intensity` × the result. The chain conserves the
+//! bright pass's light (see `post::bloom_energy_bound`).
+
+use super::{post_draw, FrameInputs, Shared};
+use crate::renderer::post::{PostTargets, BLOOM_LEVELS, POST_FORMAT};
+use crate::renderer::stats::Stamp;
+
+pub struct BloomPass {
+    bright: wgpu::RenderPipeline,
+    down: wgpu::RenderPipeline,
+    up: wgpu::RenderPipeline,
+    combine: wgpu::RenderPipeline,
+}
+
+impl BloomPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let pipe = |label, fs| shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, POST_FORMAT);
+        Self {
+            bright: pipe("bloom bright pass", "fs_bloom_bright"),
+            down: pipe("bloom down", "fs_bloom_down"),
+            up: pipe("bloom up", "fs_bloom_up"),
+            combine: pipe("bloom combine", "fs_bloom_combine"),
+        }
+    }
+
+    /// Records the chain when bloom is on; the result is `post.bloomed`.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, post: &PostTargets) {
+        if !f.settings.bloom && f.settings.debug_view != crate::renderer::DebugView::Bloom {
+            return;
+        }
+        post_draw(
+            encoder,
+            f,
+            "bloom bright pass",
+            &self.bright,
+            &post.down[0],
+            &post.bright,
+            f.timestamps(Some(Stamp::BloomBegin), None),
+        );
+        for k in 1..BLOOM_LEVELS {
+            post_draw(encoder, f, "bloom down", &self.down, &post.down[k], &post.downs[k - 1], None);
+        }
+        for k in (0..BLOOM_LEVELS - 1).rev() {
+            post_draw(encoder, f, "bloom up", &self.up, &post.up[k], &post.ups[k], None);
+        }
+        let end = f.timestamps(None, Some(Stamp::BloomEnd));
+        post_draw(encoder, f, "bloom combine", &self.combine, &post.bloomed_view, &post.combine, end);
+    }
+}

@@ -1,0 +1,58 @@
+//! Auto-exposure (seed 002's chain, after bloom): a compute pass builds the frame's luminance
+//! histogram (`post::HIST_BINS` bins of log2 luminance), a second one takes its mean log2 and
+//! moves the adapted value one fixed time step (`post::FRAME_DT`) towards it; the tonemap pass
+//! multiplies the exposure by target / adapted. Stepped per frame, so runs are deterministic.
+
+use super::{FrameInputs, Shared};
+use crate::renderer::post::PostTargets;
+use crate::renderer::stats::Stamp;
+
+pub struct ExposurePass {
+    histogram: wgpu::ComputePipeline,
+    adapt: wgpu::ComputePipeline,
+}
+
+impl ExposurePass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let pipe = |label, entry| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&shared.post_layout),
+                module: &shared.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Self { histogram: pipe("luminance histogram", "cs_histogram"), adapt: pipe("adapt exposure", "cs_adapt") }
+    }
+
+    /// Records the histogram of `group`'s source image and the adaptation, when auto-exposure
+    /// is on.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        post: &PostTargets,
+        group: &wgpu::BindGroup,
+    ) {
+        if !f.settings.auto_exposure && f.settings.debug_view != crate::renderer::DebugView::Histogram {
+            return;
+        }
+        let timestamp_writes =
+            f.times.then_some(()).and(f.queries.timestamps.as_ref()).map(|q| wgpu::ComputePassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(Stamp::ExposureBegin as u32),
+                end_of_pass_write_index: Some(Stamp::ExposureEnd as u32),
+            });
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("auto-exposure"), timestamp_writes });
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+        pass.set_bind_group(2, group, &[]);
+        pass.set_pipeline(&self.histogram);
+        pass.dispatch_workgroups(post.size.0.div_ceil(16), post.size.1.div_ceil(16), 1);
+        pass.set_pipeline(&self.adapt);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+}

@@ -1,0 +1,70 @@
+//! Tone mapping (seed 002's chain, after auto-exposure): the exposure (the knob, times target /
+//! adapted luminance with auto-exposure) and the chosen curve (`post::Tonemap`; formulas and
+//! their sources in `shaders/post.wgsl`), into the output or, when grading follows, into
+//! `post.toned`.
+
+use super::{post_draw, FrameInputs, Shared};
+use crate::renderer::post::POST_FORMAT;
+use crate::renderer::stats::Stamp;
+
+pub struct TonemapPass {
+    to_output: wgpu::RenderPipeline,
+    to_post: wgpu::RenderPipeline,
+    view_bloom: wgpu::RenderPipeline,
+    view_histogram: wgpu::RenderPipeline,
+}
+
+impl TonemapPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let out = shared.key.output_format;
+        Self {
+            to_output: shared.fullscreen_pipeline(device, "post tonemap", &shared.post_layout, "fs_post_tonemap", out),
+            to_post: shared.fullscreen_pipeline(
+                device,
+                "post tonemap (graded)",
+                &shared.post_layout,
+                "fs_post_tonemap",
+                POST_FORMAT,
+            ),
+            view_bloom: shared.fullscreen_pipeline(device, "bloom view", &shared.post_layout, "fs_view_bloom", out),
+            view_histogram: shared.fullscreen_pipeline(
+                device,
+                "histogram view",
+                &shared.post_layout,
+                "fs_view_histogram",
+                out,
+            ),
+        }
+    }
+
+    /// Records the bloom or histogram debug view into the output.
+    pub fn encode_view(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        group: &wgpu::BindGroup,
+        target: &wgpu::TextureView,
+    ) {
+        let pipeline = if f.settings.debug_view == crate::renderer::DebugView::Bloom {
+            &self.view_bloom
+        } else {
+            &self.view_histogram
+        };
+        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        post_draw(encoder, f, "post view", pipeline, target, group, stamps);
+    }
+
+    /// Records the tonemap of `group`'s source into `view` (`last`: the frame's output).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        group: &wgpu::BindGroup,
+        view: &wgpu::TextureView,
+        last: bool,
+    ) {
+        let pipeline = if last { &self.to_output } else { &self.to_post };
+        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        post_draw(encoder, f, "post tonemap", pipeline, view, group, stamps);
+    }
+}

@@ -1,0 +1,612 @@
+//! The HDR post chain's data (issue 16, seed 002's order after transparency): bloom →
+//! auto-exposure → tone mapping → colour grading, each a pass of its own in `passes/`
+//! (`bloom`, `exposure`, `tonemap`, `grading`). This file holds what they share: the tone
+//! curves' CPU twins (the WGSL is in `shaders/post.wgsl`, formula for formula), the `.cube`
+//! parser, the histogram's constants and the chain's size-dependent targets.
+//!
+//! The chain runs only when an effect asks for it ([`chain_active`]): with every effect off and
+//! the ACES curve, the frame is composed and tonemapped by compose exactly as before (bit for
+//! bit). Error against the f64 reference is measured on the light accumulation, before any of
+//! this: the chain does not change what the accuracy figures measure.
+
+use super::bindings;
+use super::passes::Shared;
+use super::records::PostParams;
+use super::settings::Settings;
+use super::targets::texture;
+use serde::{Deserialize, Serialize};
+
+/// Bins of the luminance histogram: bin 0 holds pixels darker than `2^HIST_LOG_MIN` (black,
+/// background), bins 1 ..= 63 split `HIST_LOG_MIN ..= HIST_LOG_MAX` stops evenly (0.33 stop
+/// each); brighter pixels fall in the last.
+pub const HIST_BINS: u32 = 64;
+pub const HIST_LOG_MIN: f32 = -12.0;
+pub const HIST_LOG_MAX: f32 = 9.0;
+/// Width of a histogram bin in stops.
+pub fn hist_bin_stops() -> f32 {
+    (HIST_LOG_MAX - HIST_LOG_MIN) / (HIST_BINS - 1) as f32
+}
+/// Words of the exposure state buffer: the bins, then the adapted and the measured log2
+/// luminance (f32 bits), then 1 once a frame has been measured (the first frame starts at its
+/// own luminance instead of adapting from an arbitrary one), then the last frame's bins (kept
+/// for the histogram view; the first bins are cleared for the next frame).
+pub const STATE_WORDS: u32 = 2 * HIST_BINS + 3;
+/// The time step of one frame: auto-exposure is stepped by frames, not by the wall clock, so
+/// scripted runs and tests are deterministic.
+pub const FRAME_DT: f32 = 1.0 / 60.0;
+/// Levels of the bloom chain (half, quarter, … 1/32 resolution).
+pub const BLOOM_LEVELS: usize = 5;
+/// Largest `.cube` LUT edge accepted (65 is the largest in common use).
+pub const MAX_LUT_SIZE: u32 = 65;
+/// Format of the chain's intermediate images (f32: the bloom energy test sums them).
+pub const POST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// The tone curve. The values are shared with WGSL as generated constants (`LS_TONEMAP_*`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum Tonemap {
+    /// ACES filmic, Krzysztof Narkowicz's 2015 fit (the curve compose always used).
+    #[default]
+    Aces = 0,
+    /// Reinhard et al. 2002, "Photographic Tone Reproduction", eq. 3: x / (1 + x) per channel.
+    Reinhard = 1,
+    /// Troy Sobotka's AgX, in Benjamin Wrensch's minimal polynomial fit (iolite, 2023).
+    Agx = 2,
+    /// Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral, 2024).
+    PbrNeutral = 3,
+    /// No curve: clamped to 0 ..= 1.
+    None = 4,
+}
+
+impl Tonemap {
+    pub const ALL: [Tonemap; 5] = [Tonemap::Aces, Tonemap::Reinhard, Tonemap::Agx, Tonemap::PbrNeutral, Tonemap::None];
+
+    pub fn wgsl_name(self) -> String {
+        self.name().to_uppercase().replace('-', "_")
+    }
+
+    /// The curve on the CPU, formula for formula as `tonemap` in `shaders/post.wgsl` (f64).
+    pub fn apply(self, c: [f64; 3]) -> [f64; 3] {
+        let clamp01 = |v: [f64; 3]| v.map(|x| x.clamp(0.0, 1.0));
+        match self {
+            Tonemap::Aces => {
+                let (a, b, cc, d, e) = (2.51, 0.03, 2.43, 0.59, 0.14);
+                clamp01(c.map(|x| (x * (a * x + b)) / (x * (cc * x + d) + e)))
+            }
+            Tonemap::Reinhard => c.map(|x| x.max(0.0) / (1.0 + x.max(0.0))),
+            Tonemap::Agx => {
+                // Inset matrix (rows as WGSL's column-major mat3x3 multiplies them).
+                const INSET: [[f64; 3]; 3] = [
+                    [0.842479062253094, 0.0423282422610123, 0.0423756549057051],
+                    [0.0784335999999992, 0.878468636469772, 0.0784336],
+                    [0.0792237451477643, 0.0791661274605434, 0.879142973793104],
+                ];
+                const OUTSET: [[f64; 3]; 3] = [
+                    [1.19687900512017, -0.0528968517574562, -0.0529716355144438],
+                    [-0.0980208811401368, 1.15190312990417, -0.0980434501171241],
+                    [-0.0990297440797205, -0.0989611768448433, 1.15107367264116],
+                ];
+                let (min_ev, max_ev) = (-12.47393, 4.026069);
+                // Columns of the matrix: v = M x = sum_j x_j * column_j.
+                let mul = |m: &[[f64; 3]; 3], x: [f64; 3]| {
+                    let mut out = [0.0; 3];
+                    for (j, col) in m.iter().enumerate() {
+                        for i in 0..3 {
+                            out[i] += col[i] * x[j];
+                        }
+                    }
+                    out
+                };
+                let v = mul(&INSET, c.map(|x| x.max(0.0)));
+                let v = v.map(|x| {
+                    let t = (x.max(1e-10).log2().clamp(min_ev, max_ev) - min_ev) / (max_ev - min_ev);
+                    let (x2, x4) = (t * t, t * t * t * t);
+                    15.5 * x4 * x2 - 40.14 * x4 * t + 31.96 * x4 - 6.868 * x2 * t + 0.4298 * x2 + 0.1191 * t - 0.00232
+                });
+                clamp01(mul(&OUTSET, v).map(|x| x.max(0.0).powf(2.2)))
+            }
+            Tonemap::PbrNeutral => {
+                let start = 0.8 - 0.04;
+                let desaturation = 0.15;
+                let x = c[0].min(c[1]).min(c[2]).max(0.0);
+                let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+                let col = c.map(|v| v.max(0.0) - offset);
+                let peak = col[0].max(col[1]).max(col[2]);
+                if peak < start {
+                    return clamp01(col);
+                }
+                let d = 1.0 - start;
+                let new_peak = 1.0 - d * d / (peak + d - start);
+                let col = col.map(|v| v * new_peak / peak);
+                let g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+                clamp01(col.map(|v| v * (1.0 - g) + new_peak * g))
+            }
+            Tonemap::None => clamp01(c),
+        }
+    }
+}
+
+/// Anti-aliasing, the chain's last pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum Aa {
+    #[default]
+    Off = 0,
+    /// Seed 002's "intelligent blur": pixels on G-buffer edges (second difference of 1/depth,
+    /// normals turning) blended with their four neighbours by the edge's strength.
+    Edge = 1,
+    /// FXAA (Lottes 2009–2011), its minimal console form: luma contrast test, then a blend
+    /// along the edge direction found from the diagonal lumas.
+    Fxaa = 2,
+}
+
+/// Largest circle of confusion, in pixels (diameter).
+pub const MAX_COC: f32 = 16.0;
+
+/// Fog's share of a pixel at view-space point `p` (camera at the origin) with the camera's up
+/// direction `up` (view space): 1 - exp(-optical depth), the optical depth of density
+/// `density × exp(-falloff × h)` (h: height above the camera) along the ray, which is
+/// `density × distance × (1 - exp(-falloff Δh)) / (falloff Δh)` (→ density × distance as
+/// falloff Δh → 0). It grows monotonically with distance along every ray. `fs_fog` computes
+/// the same in f32.
+pub fn fog_amount(p: [f64; 3], up: [f64; 3], density: f64, falloff: f64) -> f64 {
+    let distance = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    let dh = p[0] * up[0] + p[1] * up[1] + p[2] * up[2];
+    let x = falloff * dh;
+    let shape = if x.abs() < 1e-4 { 1.0 - 0.5 * x } else { -(-x).exp_m1() / x };
+    1.0 - (-density * distance * shape).exp()
+}
+
+/// Whether the frame goes through the post chain: any effect on, or a curve other than the
+/// ACES that compose applies itself.
+pub fn chain_active(s: &Settings) -> bool {
+    match s.debug_view {
+        super::DebugView::Lit => {
+            s.bloom
+                || s.auto_exposure
+                || s.lut.is_some()
+                || s.tonemap != Tonemap::Aces
+                || s.fog
+                || s.dof
+                || s.vignette > 0.0
+                || s.aa != Aa::Off
+        }
+        v => post_view(v),
+    }
+}
+
+/// The debug views the post chain draws (bloom buffer, histogram).
+pub fn post_view(v: super::DebugView) -> bool {
+    use super::DebugView as V;
+    matches!(v, V::Bloom | V::Histogram | V::Edges | V::Coc)
+}
+
+/// A 3D colour LUT (Adobe's `.cube` format): `size`³ RGB entries, red fastest, mapping the
+/// display-encoded (sRGB) colour in `domain_min ..= domain_max` to a graded one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lut {
+    pub size: u32,
+    pub domain_min: [f32; 3],
+    pub domain_max: [f32; 3],
+    pub table: Vec<[f32; 3]>,
+}
+
+impl Lut {
+    /// The identity: every colour maps to itself (trilinear interpolation of it is exact).
+    pub fn identity(size: u32) -> Self {
+        let n = size as usize;
+        let k = |i: usize| i as f32 / (n - 1) as f32;
+        let mut table = Vec::with_capacity(n * n * n);
+        for b in 0..n {
+            for g in 0..n {
+                for r in 0..n {
+                    table.push([k(r), k(g), k(b)]);
+                }
+            }
+        }
+        Self { size, domain_min: [0.0; 3], domain_max: [1.0; 3], table }
+    }
+
+    /// `identity` (built in, 33³) or a `.cube` file.
+    pub fn load(name: &str) -> Result<Self, String> {
+        if name == "identity" {
+            return Ok(Self::identity(33));
+        }
+        let text = std::fs::read_to_string(name).map_err(|e| format!("cannot read LUT '{name}': {e}"))?;
+        Self::parse(&text).map_err(|e| format!("LUT '{name}': {e}"))
+    }
+
+    /// Parses a `.cube` file's text: `TITLE`, `LUT_3D_SIZE N` (2 ..= 65), optional
+    /// `DOMAIN_MIN`/`DOMAIN_MAX`, comments (`#`), then N³ lines of three finite numbers.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut size: Option<u32> = None;
+        let mut domain_min = [0.0f32; 3];
+        let mut domain_max = [1.0f32; 3];
+        let mut table = Vec::new();
+        let three = |words: &[&str], line: usize| -> Result<[f32; 3], String> {
+            if words.len() != 3 {
+                return Err(format!("line {line}: expected three numbers, found {}", words.len()));
+            }
+            let mut v = [0.0f32; 3];
+            for (o, w) in v.iter_mut().zip(words) {
+                *o = w.parse().map_err(|_| format!("line {line}: '{w}' is not a number"))?;
+                if !o.is_finite() {
+                    return Err(format!("line {line}: '{w}' is not finite"));
+                }
+            }
+            Ok(v)
+        };
+        for (i, raw) in text.lines().enumerate() {
+            let line = i + 1;
+            let l = raw.split('#').next().unwrap_or("").trim();
+            if l.is_empty() {
+                continue;
+            }
+            let words: Vec<&str> = l.split_whitespace().collect();
+            match words[0] {
+                "TITLE" => {}
+                "LUT_3D_SIZE" => {
+                    let n: u32 = words
+                        .get(1)
+                        .and_then(|w| w.parse().ok())
+                        .ok_or_else(|| format!("line {line}: LUT_3D_SIZE needs a whole number"))?;
+                    if !(2..=MAX_LUT_SIZE).contains(&n) {
+                        return Err(format!("line {line}: LUT_3D_SIZE {n} is not in 2 ..= {MAX_LUT_SIZE}"));
+                    }
+                    if size.is_some() {
+                        return Err(format!("line {line}: LUT_3D_SIZE given twice"));
+                    }
+                    size = Some(n);
+                }
+                "LUT_1D_SIZE" => return Err(format!("line {line}: 1D LUTs are not supported (LUT_3D_SIZE only)")),
+                "DOMAIN_MIN" => domain_min = three(&words[1..], line)?,
+                "DOMAIN_MAX" => domain_max = three(&words[1..], line)?,
+                w if w.starts_with(|c: char| c.is_ascii_alphabetic()) => {
+                    return Err(format!("line {line}: unknown keyword '{w}'"));
+                }
+                _ => {
+                    if size.is_none() {
+                        return Err(format!("line {line}: table data before LUT_3D_SIZE"));
+                    }
+                    table.push(three(&words, line)?);
+                }
+            }
+        }
+        let Some(size) = size else { return Err("no LUT_3D_SIZE".into()) };
+        let want = (size as usize).pow(3);
+        if table.len() != want {
+            return Err(format!("LUT_3D_SIZE {size} needs {want} entries, the file has {}", table.len()));
+        }
+        if (0..3).any(|c| domain_max[c] <= domain_min[c]) {
+            return Err(format!("DOMAIN_MAX {domain_max:?} must exceed DOMAIN_MIN {domain_min:?}"));
+        }
+        Ok(Self { size, domain_min, domain_max, table })
+    }
+}
+
+/// The largest relative amount by which the bloom chain's total (its light summed over the
+/// full-resolution pixels) can exceed the bright pass's: the downsample (a 2×2 box, outside
+/// pixels zero) and the 2× bilinear upsample (edge-clamped: every source texel lands on exactly
+/// four output pixels' worth of weight, 0.75 + 0.75 + 0.25 + 0.25 per axis, edges included)
+/// conserve it in exact arithmetic, and the level weights (1/2, 1/4, 1/8, 1/16, 1/16) sum to 1.
+/// Odd sizes only lose light (an upsample to 2n - 1 pixels drops a row). What is left is f32
+/// rounding: each stored value passes through at most 4 operations per level, 11 levels
+/// (bright + 5 down + 4 up + the final upsample), each within 2^-24 relative, so the bound is
+/// `(1 + 2^-24)^44 - 1`, under 3e-6; at sizes divisible by 32 the total is equal within it.
+pub fn bloom_energy_bound() -> f64 {
+    (1.0 + 2f64.powi(-24)).powi(44) - 1.0
+}
+
+/// The chain's size-dependent images, its buffers and bind groups (`bindings::POST`).
+pub struct PostTargets {
+    pub size: (u32, u32),
+    /// Bloom's downsampled levels (1/2 … 1/32) and the upsampled ones (1/2 … 1/16).
+    pub down: Vec<wgpu::TextureView>,
+    pub up: Vec<wgpu::TextureView>,
+    pub level_sizes: Vec<(u32, u32)>,
+    /// The HDR colour with bloom added (full size).
+    pub bloomed: wgpu::Texture,
+    pub bloomed_view: wgpu::TextureView,
+    /// The tonemapped colour before grading (full size), and a second image the passes after
+    /// tone mapping alternate with.
+    pub toned_view: wgpu::TextureView,
+    pub second_view: wgpu::TextureView,
+    pub params: wgpu::Buffer,
+    /// Histogram bins and the adapted / measured log2 luminance (`STATE_WORDS` words).
+    pub state: wgpu::Buffer,
+    pub lut: wgpu::Buffer,
+    /// Bind groups: bright pass (from HDR), each further downsample, each upsample (level k
+    /// from up k+1 or down 5, with down k), the combine (HDR with up 1), the histogram and the
+    /// tonemap reading HDR or the bloomed colour, the grading reading the tonemapped colour.
+    pub bright: wgpu::BindGroup,
+    pub downs: Vec<wgpu::BindGroup>,
+    pub ups: Vec<wgpu::BindGroup>,
+    pub combine: wgpu::BindGroup,
+    pub from_hdr: wgpu::BindGroup,
+    pub from_bloomed: wgpu::BindGroup,
+    pub from_toned: wgpu::BindGroup,
+    pub from_second: wgpu::BindGroup,
+}
+
+impl PostTargets {
+    pub fn new(device: &wgpu::Device, shared: &Shared, size: (u32, u32), hdr: &wgpu::TextureView) -> Self {
+        use wgpu::TextureUsages as U;
+        let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let mut level_sizes = Vec::new();
+        let mut s = size;
+        for _ in 0..BLOOM_LEVELS {
+            s = (s.0.div_ceil(2).max(1), s.1.div_ceil(2).max(1));
+            level_sizes.push(s);
+        }
+        let view =
+            |label: &str, s: (u32, u32)| texture(device, label, POST_FORMAT, s, usage).create_view(&Default::default());
+        let down: Vec<_> = level_sizes.iter().map(|s| view("bloom down", *s)).collect();
+        let up: Vec<_> = level_sizes[..BLOOM_LEVELS - 1].iter().map(|s| view("bloom up", *s)).collect();
+        let bloomed = texture(device, "bloomed", POST_FORMAT, size, usage);
+        let bloomed_view = bloomed.create_view(&Default::default());
+        let toned_view = view("tonemapped", size);
+        let second_view = view("post second", size);
+        let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
+        };
+        use wgpu::BufferUsages as B;
+        let params = buffer("post params", std::mem::size_of::<PostParams>() as u64, B::STORAGE | B::COPY_DST);
+        let state = buffer("exposure state", STATE_WORDS as u64 * 4, B::STORAGE | B::COPY_DST | B::COPY_SRC);
+        let lut = buffer("lut", (MAX_LUT_SIZE as u64).pow(3) * 16, B::STORAGE | B::COPY_DST);
+        let group = |src: &wgpu::TextureView, aux: &wgpu::TextureView| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("post"),
+                layout: &shared.post_bgl,
+                entries: &bindings::POST.entries(vec![
+                    params.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(src),
+                    wgpu::BindingResource::TextureView(aux),
+                    state.as_entire_binding(),
+                    lut.as_entire_binding(),
+                ]),
+            })
+        };
+        // A pass never reads the image it writes: the bright pass and the downsamples take the
+        // tonemapped image as their unused second texture.
+        let bright = group(hdr, &toned_view);
+        let downs = (1..BLOOM_LEVELS).map(|k| group(&down[k - 1], &toned_view)).collect();
+        // ups[k] writes up[k]: from up[k + 1] (or the last down level) with down[k].
+        let ups = (0..BLOOM_LEVELS - 1)
+            .map(|k| group(if k + 1 == BLOOM_LEVELS - 1 { &down[k + 1] } else { &up[k + 1] }, &down[k]))
+            .collect();
+        let combine = group(hdr, &up[0]);
+        let from_hdr = group(hdr, &down[0]);
+        let from_bloomed = group(&bloomed_view, &down[0]);
+        let from_toned = group(&toned_view, &down[0]);
+        let from_second = group(&second_view, &down[0]);
+        Self {
+            size,
+            down,
+            up,
+            level_sizes,
+            bloomed,
+            bloomed_view,
+            toned_view,
+            second_view,
+            params,
+            state,
+            lut,
+            bright,
+            downs,
+            ups,
+            combine,
+            from_hdr,
+            from_bloomed,
+            from_toned,
+            from_second,
+        }
+    }
+}
+
+/// The passes after tone mapping, in seed 002's order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Grading,
+    Fog,
+    Dof,
+    Vignette,
+    Aa,
+}
+
+/// An image of the chain that `Renderer::read_post_image` reads back.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PostImage {
+    /// The HDR scene colour the chain starts from (after the forward pass).
+    Hdr,
+    /// The HDR colour with bloom added.
+    Bloomed,
+}
+
+/// Records the chain after the HDR compose and the forward pass, in seed 002's order: bloom,
+/// auto-exposure, tone mapping, grading. Each pass skips itself when its effect is off; the
+/// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
+pub fn encode_chain(
+    encoder: &mut wgpu::CommandEncoder,
+    f: &super::passes::FrameInputs<'_>,
+    p: &super::passes::Passes,
+    pt: &PostTargets,
+    target: &wgpu::TextureView,
+    end: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
+    let s = f.settings;
+    p.bloom.encode(encoder, f, pt);
+    let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
+    p.exposure.encode(encoder, f, pt, hdr);
+    use super::DebugView as V;
+    match s.debug_view {
+        // The bloom view reads the chain's finest level (the combine's group), the histogram
+        // view the picture.
+        V::Bloom => p.tonemap.encode_view(encoder, f, &pt.combine, target),
+        V::Histogram => p.tonemap.encode_view(encoder, f, hdr, target),
+        V::Edges | V::Coc => {
+            p.tonemap.encode(encoder, f, hdr, &pt.toned_view, false);
+            if s.debug_view == V::Edges {
+                p.aa.encode_view(encoder, f, &pt.from_toned, target);
+            } else {
+                p.dof.encode_view(encoder, f, &pt.from_toned, target);
+            }
+        }
+        _ => {
+            // After tone mapping: grading, fog, DOF, vignette, AA, each when on, alternating
+            // between two images; the last writes the output.
+            let stages: Vec<Stage> = [
+                (Stage::Grading, s.lut.is_some()),
+                (Stage::Fog, s.fog),
+                (Stage::Dof, s.dof),
+                (Stage::Vignette, s.vignette > 0.0),
+                (Stage::Aa, s.aa != Aa::Off),
+            ]
+            .into_iter()
+            .filter_map(|(stage, on)| on.then_some(stage))
+            .collect();
+            let first = if stages.is_empty() { target } else { &pt.toned_view };
+            p.tonemap.encode(encoder, f, hdr, first, stages.is_empty());
+            for (i, stage) in stages.iter().enumerate() {
+                let last = i + 1 == stages.len();
+                let (src, dst) =
+                    if i % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
+                let dst = if last { target } else { dst };
+                match stage {
+                    Stage::Grading => p.grading.encode(encoder, f, src, dst, last),
+                    Stage::Fog => p.fog.encode(encoder, f, src, dst, last),
+                    Stage::Dof => p.dof.encode(encoder, f, src, dst, last),
+                    Stage::Vignette => p.vignette.encode(encoder, f, src, dst, last),
+                    Stage::Aa => p.aa.encode(encoder, f, src, dst, last),
+                }
+            }
+        }
+    }
+    // The compose span ends after the chain (an empty pass holding the stamp).
+    if end.is_some() {
+        drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("post end"),
+            color_attachments: &[super::targets::attachment(target, None)],
+            depth_stencil_attachment: None,
+            timestamp_writes: end,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        }));
+    }
+}
+
+/// The chain's parameters for this frame.
+pub fn params(s: &Settings, lut: Option<&Lut>) -> PostParams {
+    let (lut_size, lut_min, lut_max) = match lut {
+        Some(l) => (
+            l.size,
+            [l.domain_min[0], l.domain_min[1], l.domain_min[2], 0.0],
+            [l.domain_max[0], l.domain_max[1], l.domain_max[2], 0.0],
+        ),
+        None => (0, [0.0; 4], [1.0, 1.0, 1.0, 0.0]),
+    };
+    PostParams {
+        tonemap: s.tonemap as u32,
+        auto_exposure: s.auto_exposure as u32,
+        lut_size,
+        pad0: 0,
+        exposure: s.exposure,
+        threshold: s.bloom_threshold,
+        intensity: s.bloom_intensity,
+        target_luminance: s.target_luminance,
+        adapt_rate: adapt_rate(s.adaptation_speed),
+        log_min: HIST_LOG_MIN,
+        log_max: HIST_LOG_MAX,
+        pad1: 0.0,
+        lut_min,
+        lut_max,
+        fog_density: s.fog_density,
+        fog_falloff: s.fog_height_falloff,
+        focus_distance: s.focus_distance,
+        aperture: s.aperture,
+        vignette: s.vignette,
+        aa: s.aa as u32,
+        pad2: 0,
+        pad3: 0,
+    }
+}
+
+/// The fraction of the way auto-exposure moves per frame at `speed` (per second): the exact
+/// step of `dL/dt = speed (L_frame - L)` over [`FRAME_DT`], in (0, 1) for every speed the knob
+/// takes, so the adapted value approaches the frame's monotonically and never overshoots.
+pub fn adapt_rate(speed: f32) -> f32 {
+    // 1 - exp(-x) without the cancellation that rounds a slow speed's step to 0.
+    -(-speed * FRAME_DT).exp_m1()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_tonemap_maps_zero_to_zero_and_is_monotonic() {
+        for t in Tonemap::ALL {
+            assert_eq!(t.apply([0.0; 3]), [0.0; 3], "{t:?}");
+            // Along grey and along the exposure of coloured light (x times a colour), every
+            // channel is non-decreasing. AgX's only exception: at its white point (2^4.026,
+            // where the log encoding clamps one channel before the others) its outset matrix's
+            // negative terms let the clamped channel fall by 1.8e-6 (seen) while the other two
+            // still rise: 1/1000 of an 8-bit step, allowed as 1e-5.
+            let slack = if t == Tonemap::Agx { 1e-5 } else { 1e-12 };
+            for colour in [[1.0, 1.0, 1.0], [1.0, 0.2, 0.05], [0.1, 0.9, 0.3], [0.02, 0.05, 1.0]] {
+                let mut last = [0.0f64; 3];
+                for i in 1..=40000 {
+                    let x = (i as f64 / 2000.0 - 12.0).exp2();
+                    let v = t.apply(colour.map(|c| c * x));
+                    for c in 0..3 {
+                        assert!(v[c] >= last[c] - slack, "{t:?} {colour:?} at {x}: channel {c} {} < {}", v[c], last[c]);
+                    }
+                    last = v;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_identity_lut_parses_back_and_bad_files_are_errors() {
+        let id = Lut::identity(3);
+        let mut text = String::from("TITLE \"id\"\n# comment\nLUT_3D_SIZE 3\n");
+        for e in &id.table {
+            text += &format!("{} {} {}\n", e[0], e[1], e[2]);
+        }
+        assert_eq!(Lut::parse(&text).unwrap(), id);
+        let cut: String = text.lines().take(10).collect::<Vec<_>>().join("\n");
+        assert!(Lut::parse(&cut).unwrap_err().contains("needs 27 entries"));
+        assert!(Lut::parse("LUT_3D_SIZE 1\n").unwrap_err().contains("not in 2"));
+        assert!(Lut::parse("LUT_3D_SIZE 99999999999\n").unwrap_err().contains("whole number"));
+        assert!(Lut::parse("0 0 0\n").unwrap_err().contains("before LUT_3D_SIZE"));
+        assert!(Lut::parse("LUT_1D_SIZE 4\n").unwrap_err().contains("1D"));
+        assert!(Lut::parse("LUT_3D_SIZE 2\n0 0\n").unwrap_err().contains("three numbers"));
+        assert!(Lut::parse("LUT_3D_SIZE 2\n0 0 nan\n").unwrap_err().contains("not finite"));
+        assert!(Lut::parse("LUT_3D_SIZE 2\n0 0 x\n").unwrap_err().contains("not a number"));
+        assert!(Lut::parse("FOO 2\n").unwrap_err().contains("unknown keyword"));
+        assert!(Lut::parse("").unwrap_err().contains("no LUT_3D_SIZE"));
+        assert!(Lut::parse(
+            "DOMAIN_MIN 1 1 1\nLUT_3D_SIZE 2\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n"
+        )
+        .unwrap_err()
+        .contains("must exceed"));
+        assert!(Lut::load("/no/such/file.cube").unwrap_err().contains("cannot read"));
+        // Arbitrary bytes never panic.
+        for seed in 0..200u32 {
+            let junk: String = (0..64)
+                .map(|i| char::from(b" 0123456789.-eLUT_3DSIZE\n#"[((seed * 31 + i * 7) % 26) as usize]))
+                .collect();
+            let _ = Lut::parse(&junk);
+        }
+    }
+
+    #[test]
+    fn adaptation_moves_part_of_the_way_and_never_overshoots() {
+        for speed in [1e-6, 0.1, 2.0, 60.0, 1e4] {
+            let r = adapt_rate(speed);
+            assert!(r > 0.0 && r <= 1.0, "{speed}: {r}");
+        }
+    }
+}

@@ -1,0 +1,408 @@
+//! The HDR post chain (issue 16): bloom, auto-exposure, tone curves, grading.
+
+mod common;
+
+use common::{gpu, scene};
+use lampshade::headless::render_image;
+use lampshade::renderer::post::{self, PostImage, Tonemap};
+use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::Scene;
+
+fn renderer(settings: &Settings) -> Renderer {
+    Renderer::new(gpu(), OUTPUT_FORMAT, settings).expect("renderer")
+}
+
+/// Renders one frame and returns the output, the HDR scene colour the chain started from, and
+/// the bloomed colour when bloom ran.
+fn frame(
+    r: &mut Renderer,
+    scene: &Scene,
+    s: &Settings,
+    w: u32,
+    h: u32,
+) -> (image::RgbaImage, Vec<f32>, Option<Vec<f32>>) {
+    let (img, _) = render_image(gpu(), r, scene, s, w, h).expect("render");
+    let hdr = r.read_post_image(gpu(), PostImage::Hdr).expect("hdr readback").expect("the chain ran");
+    let bloomed = if s.bloom { r.read_post_image(gpu(), PostImage::Bloomed).expect("readback") } else { None };
+    (img, hdr, bloomed)
+}
+
+fn quiet() -> Settings {
+    Settings { count_fragments: false, timestamps: false, ..Settings::default() }
+}
+
+fn max_step(a: &image::RgbaImage, b: &image::RgbaImage) -> (u8, usize) {
+    let mut worst = 0u8;
+    let mut over = 0;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0);
+        worst = worst.max(d);
+        over += (d > 1) as usize;
+    }
+    (worst, over)
+}
+
+fn srgb8(v: f64) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    let e = if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
+    (e * 255.0).round() as u8
+}
+
+fn luminance(c: &[f32]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// With every effect off the frame never enters the chain (bit for bit today's); through the
+/// chain with the built-in identity LUT and ACES, it is within one 8-bit step of today's: the
+/// chain starts from the fp16 HDR scene colour (half an fp16 step, 2^-12 relative, before the
+/// curve) and the grading's sRGB encode/decode round trip and trilinear lookup are exact up to
+/// f32 rounding. Both on `demo` and on `glass` (blended surfaces: compose in HDR, forward,
+/// then compose's own tonemap against the chain's).
+#[test]
+fn every_effect_off_is_todays_frame_and_the_identity_lut_is_within_one_step() {
+    for name in ["demo", "glass"] {
+        let sc = scene(name);
+        let off = quiet();
+        assert!(!post::chain_active(&off));
+        let (today, stats) = render_image(gpu(), &mut renderer(&off), &sc, &off, 160, 90).unwrap();
+        assert!(stats.post.is_none(), "{name}: no chain with every effect off");
+        let id = Settings { lut: Some("identity".into()), ..off.clone() };
+        let (graded, stats) = render_image(gpu(), &mut renderer(&id), &sc, &id, 160, 90).unwrap();
+        assert!(stats.post.is_some_and(|p| p.grading), "{name}: the chain ran");
+        let (worst, over) = max_step(&today, &graded);
+        eprintln!("{name}: identity LUT through the chain, worst {worst} step(s), {over} pixels over 1");
+        assert!(worst <= 1, "{name}: identity LUT moved a pixel by {worst} steps");
+        assert!(common::lit_share(&graded) > 0.3, "{name}: blank frame");
+    }
+}
+
+/// Each curve, run by the chain on the GPU, gives its CPU twin (`Tonemap::apply`, f64) of the
+/// HDR colour the chain read, within one 8-bit step; and every curve maps 0 to 0 and is
+/// monotonic (the twins, `post::tests`).
+#[test]
+fn every_tonemap_on_the_gpu_matches_its_cpu_twin() {
+    let sc = scene("demo");
+    for t in Tonemap::ALL {
+        // ACES is also drawn through the chain here (with the identity LUT).
+        let lut = (t == Tonemap::Aces).then(|| "identity".to_string());
+        let s = Settings { tonemap: t, exposure: 1.7, lut, ..quiet() };
+        let mut r = renderer(&s);
+        let (img, hdr, _) = frame(&mut r, &sc, &s, 160, 90);
+        let mut worst = 0u8;
+        for (i, p) in img.pixels().enumerate() {
+            let c = &hdr[i * 4..i * 4 + 3];
+            let want = t.apply([c[0] as f64 * 1.7, c[1] as f64 * 1.7, c[2] as f64 * 1.7]);
+            for k in 0..3 {
+                worst = worst.max(p[k].abs_diff(srgb8(want[k])));
+            }
+        }
+        assert!(worst <= 1, "{t:?}: the GPU curve is {worst} steps from its CPU twin");
+        eprintln!("{t:?}: worst {worst} steps from the twin");
+    }
+}
+
+/// Bloom spreads only from pixels above its threshold: with the threshold above every pixel
+/// the bloomed colour is the HDR colour bit for bit. And it conserves the bright pass's light:
+/// summed over the full-size pixels, what bloom adds is `intensity` × the light above the
+/// threshold (computed here in f64 from the HDR colour the chain read), within the bound
+/// derived in `post::bloom_energy_bound` (the chain's f32 rounding, 2.6e-6 relative), plus the
+/// bright pass's own rounding (at most 8 f32 roundings of each bright pixel's colour, also
+/// covering pixels within rounding of the threshold) and the subtraction bloomed − HDR here
+/// (half an f32 step of each bloomed value). 256x128 is divisible by 32, so nothing is lost at
+/// the edges; at 250x130 (odd levels) light can only be lost.
+#[test]
+fn bloom_spreads_only_from_pixels_above_its_threshold_and_conserves_their_light() {
+    let sc = scene("demo");
+    let above_all = Settings { bloom: true, bloom_threshold: 1e6, ..quiet() };
+    let (_, hdr, bloomed) = frame(&mut renderer(&above_all), &sc, &above_all, 256, 128);
+    assert_eq!(hdr, bloomed.expect("bloomed"), "nothing is above the threshold, yet bloom added light");
+    let brightest = hdr.chunks_exact(4).map(luminance).fold(0.0f32, f32::max);
+    assert!(brightest > 0.1, "{brightest}");
+
+    for (w, h, exact) in [(256u32, 128u32, true), (250, 130, false)] {
+        for threshold in [0.3 * brightest, 0.8 * brightest] {
+            let intensity = 0.75f32;
+            let s = Settings { bloom: true, bloom_threshold: threshold, bloom_intensity: intensity, ..quiet() };
+            let (_, hdr, bloomed) = frame(&mut renderer(&s), &sc, &s, w, h);
+            let bloomed = bloomed.expect("bloomed");
+            for ch in 0..3 {
+                let (mut bright, mut near, mut added, mut magnitude) = (0f64, 0f64, 0f64, 0f64);
+                let mut bright_pixels = 0;
+                for (c, b) in hdr.chunks_exact(4).zip(bloomed.chunks_exact(4)) {
+                    let l = luminance(c) as f64;
+                    let t = threshold as f64;
+                    if l > t {
+                        bright += c[ch] as f64 * (l - t) / l;
+                        bright_pixels += 1;
+                    }
+                    if l > t * (1.0 - 1e-5) {
+                        near += c[ch].abs() as f64;
+                    }
+                    added += b[ch] as f64 - c[ch] as f64;
+                    magnitude += b[ch].abs() as f64;
+                }
+                assert!(bright_pixels > 0 && bright > 0.0, "threshold {threshold}: no pixel above it");
+                let i = intensity as f64;
+                let bound = i * (post::bloom_energy_bound() * bright + 8.0 * 2f64.powi(-24) * near)
+                    + 2f64.powi(-24) * magnitude;
+                let excess = added - i * bright;
+                eprintln!("bloom {w}x{h} threshold {threshold:.3} ch {ch}: added {added:.4}, I x bright {:.4}, excess {excess:.3e}, bound {bound:.3e}", i * bright);
+                assert!(excess <= bound, "{w}x{h} threshold {threshold} channel {ch}: added {added}, {excess} over intensity x bright {}, bound {bound}", i * bright);
+                if exact {
+                    assert!(excess.abs() <= bound, "{w}x{h} threshold {threshold} channel {ch}: added {added}, intensity x bright {}, bound {bound}", i * bright);
+                } else {
+                    assert!(added > 0.5 * i * bright, "{w}x{h}: the odd sizes lost more than half the bloom");
+                }
+            }
+        }
+    }
+}
+
+/// The mean log2 luminance of the histogram's bins as `cs_adapt` takes it (bin centres, black
+/// left out), from the HDR colour on the CPU.
+fn histogram_mean(hdr: &[f32]) -> f64 {
+    let (lo, hi) = (post::HIST_LOG_MIN, post::HIST_LOG_MAX);
+    let bins = post::HIST_BINS;
+    let w = ((hi - lo) / (bins - 1) as f32) as f64;
+    let (mut n, mut sum) = (0f64, 0f64);
+    for c in hdr.chunks_exact(4) {
+        let l = luminance(c);
+        if l.is_nan() || l < lo.exp2() {
+            continue;
+        }
+        let t = (l.log2() - lo) / (hi - lo);
+        let b = 1 + ((t * (bins - 1) as f32).floor().clamp(0.0, (bins - 2) as f32)) as u32;
+        n += 1.0;
+        sum += lo as f64 + (b as f64 - 0.5) * w;
+    }
+    sum / n
+}
+
+/// Auto-exposure: the first frame starts at its own histogram mean; after every light is made
+/// 8 times brighter the adapted log2 luminance approaches the new mean by exactly
+/// `adapt_rate(speed)` of the remaining way per frame (a fixed 1/60 s), never overshooting or
+/// turning back, and is within 0.01 stops of it by frame N = ceil(ln(0.01 / gap) / ln(1 − rate)):
+/// the exposed mean luminance is then the target within 0.01 stops (the mean itself is taken
+/// at bin centres, 1/3 stop bins).
+#[test]
+fn auto_exposure_converges_to_the_target_without_oscillating() {
+    let mut sc = scene("demo");
+    let speed = 20.0;
+    let s = Settings { auto_exposure: true, adaptation_speed: speed, target_luminance: 0.18, ..quiet() };
+    let mut r = renderer(&s);
+    let (_, hdr, _) = frame(&mut r, &sc, &s, 160, 90);
+    let (adapted, measured) = r.exposure_state(gpu()).unwrap().expect("state");
+    let cpu = histogram_mean(&hdr);
+    assert!((measured as f64 - cpu).abs() < 1e-3, "histogram mean {measured} on the GPU, {cpu} on the CPU");
+    assert_eq!(adapted, measured, "the first frame starts at its own luminance");
+
+    for l in &mut sc.lights {
+        match l {
+            lampshade::scene::Light::Point(p) => p.intensity *= 8.0,
+            lampshade::scene::Light::Spot(p) => p.intensity *= 8.0,
+        }
+    }
+    if let Some(sun) = &mut sc.sun {
+        sun.intensity *= 8.0;
+    }
+    sc.ambient *= 8.0;
+    let rate = post::adapt_rate(speed) as f64;
+    let (_, hdr, _) = frame(&mut r, &sc, &s, 160, 90);
+    let (mut a, m) = r.exposure_state(gpu()).unwrap().expect("state");
+    let target = histogram_mean(&hdr);
+    assert!((m as f64 - target).abs() < 1e-3, "{m} against {target}");
+    let gap0 = target - adapted as f64;
+    assert!(gap0 > 1.0, "the brighter lights raised the mean by only {gap0} stops");
+    let frames = ((0.01 / gap0).ln() / (1.0 - rate).ln()).ceil() as usize;
+    assert!(frames < 40, "{frames}");
+    let mut previous = adapted as f64;
+    for n in 1..=frames {
+        if n > 1 {
+            frame(&mut r, &sc, &s, 160, 90);
+            a = r.exposure_state(gpu()).unwrap().expect("state").0;
+        }
+        let a = a as f64;
+        let expected = target - gap0 * (1.0 - rate).powi(n as i32);
+        assert!((a - expected).abs() < 1e-3, "frame {n}: adapted {a}, the time step gives {expected}");
+        assert!(
+            a >= previous && a <= target + 1e-4,
+            "frame {n}: {a} after {previous} (target {target}): not monotonic"
+        );
+        previous = a;
+    }
+    assert!((target - previous).abs() <= 0.01, "after {frames} frames {previous} is not within 0.01 of {target}");
+    eprintln!("auto-exposure: gap {gap0:.3} stops, rate {rate:.4}, within 0.01 stop after {frames} frames ({previous:.4} of {target:.4})");
+}
+
+/// A malformed `.cube` file is an error naming the file and the line, from the knob (CLI,
+/// scripts) and from the renderer when the file turns bad after it was set; never a panic.
+#[test]
+fn a_malformed_cube_file_is_an_error_not_a_panic() {
+    let dir = std::env::temp_dir().join(format!("lampshade-lut-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("good.cube");
+    let mut text = String::from("LUT_3D_SIZE 2\n");
+    for b in 0..2 {
+        for g in 0..2 {
+            for r in 0..2 {
+                text += &format!("{r} {g} {b}\n");
+            }
+        }
+    }
+    std::fs::write(&good, &text).unwrap();
+    let mut s = quiet();
+    s.set("lut", good.to_str().unwrap()).expect("a good file");
+    let sc = scene("spot");
+    let mut r = renderer(&s);
+    render_image(gpu(), &mut r, &sc, &s, 64, 36).expect("render with the good LUT");
+    for (bad, why) in [
+        ("LUT_3D_SIZE 2\n0 0 0\n", "needs 8 entries"),
+        ("LUT_3D_SIZE 2\n0 0\n", "line 2"),
+        ("LUT_3D_SIZE x\n", "whole number"),
+        ("\u{0}\u{1}garbage", "before LUT_3D_SIZE"),
+        ("LUT_3D_SIZE 2\nDOMAIN_MAX 0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n", "must exceed"),
+    ] {
+        let path = dir.join("bad.cube");
+        std::fs::write(&path, bad).unwrap();
+        let e = s.clone().set("lut", path.to_str().unwrap()).unwrap_err();
+        assert!(e.contains(why) && e.contains("bad.cube"), "{e}");
+        // Set while good, broken before the renderer reads it.
+        let named = Settings { lut: Some(path.to_str().unwrap().into()), ..s.clone() };
+        let e = render_image(gpu(), &mut r, &sc, &named, 64, 36).unwrap_err().to_string();
+        assert!(e.contains(why), "{e}");
+    }
+    assert!(s.clone().set("lut", dir.join("missing.cube").to_str().unwrap()).unwrap_err().contains("cannot read"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn linear(v: u8) -> f64 {
+    let e = v as f64 / 255.0;
+    if e <= 0.04045 {
+        e / 12.92
+    } else {
+        ((e + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Two frames through the chain (tone curve `none`, so the chain runs without changing the
+/// picture's values) from one renderer: without and with `extra`, and the view-space points.
+fn before_after(
+    name: &str,
+    extra: impl Fn(&mut Settings),
+    w: u32,
+    h: u32,
+) -> (Scene, image::RgbaImage, image::RgbaImage, Vec<Option<glam::Vec3>>, Settings) {
+    let sc = scene(name);
+    let base = Settings { tonemap: Tonemap::None, exposure: 0.5, ..quiet() };
+    let mut with = base.clone();
+    extra(&mut with);
+    let mut r = renderer(&base);
+    let (a, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
+    let (b, stats) = render_image(gpu(), &mut r, &sc, &with, w, h).unwrap();
+    assert!(stats.post.is_some());
+    let points = r.view_positions(gpu()).unwrap();
+    (sc, a, b, points, with)
+}
+
+/// Fog is `post::fog_amount` of each pixel's view-space point (f64 twin) mixed towards the
+/// background colour, within one 8-bit step (the frame without fog is read back in 8 bits,
+/// half a step, and the fogged one rounds once more); background pixels are unchanged; and the
+/// amount grows monotonically with distance along every ray (the twin, sampled here along the
+/// rays of the frame's pixels).
+#[test]
+fn fog_follows_its_formula_and_grows_with_depth() {
+    let (sc, plain, fogged, points, s) = before_after(
+        "demo",
+        |s| {
+            s.fog = true;
+            s.fog_density = 0.03;
+            s.fog_height_falloff = 0.2;
+        },
+        160,
+        90,
+    );
+    let up = (sc.camera.rotation() * glam::DVec3::Y).to_array();
+    let fog = sc.background.to_array().map(|c| (c as f64).clamp(0.0, 1.0));
+    let (mut worst, mut fogged_pixels) = (0u8, 0);
+    for ((p, q), point) in plain.pixels().zip(fogged.pixels()).zip(&points) {
+        match point {
+            None => assert_eq!(p, q, "a background pixel changed"),
+            Some(v) => {
+                let v = v.as_dvec3().to_array();
+                let f = post::fog_amount(v, up, s.fog_density as f64, s.fog_height_falloff as f64);
+                fogged_pixels += (f > 0.1) as usize;
+                for c in 0..3 {
+                    let want = srgb8(linear(p[c]) * (1.0 - f) + fog[c] * f);
+                    worst = worst.max(want.abs_diff(q[c]));
+                }
+                // Along this pixel's ray the amount never falls.
+                let mut last = 0.0;
+                for k in 1..=64 {
+                    let t = k as f64 / 16.0;
+                    let a = post::fog_amount(v.map(|x| x * t), up, s.fog_density as f64, s.fog_height_falloff as f64);
+                    assert!(a >= last, "fog falls along a ray at {t} x {v:?}");
+                    last = a;
+                }
+            }
+        }
+    }
+    assert!(fogged_pixels > 1000, "only {fogged_pixels} pixels got over 10% fog");
+    assert!(worst <= 1, "fog is {worst} steps from its formula");
+    eprintln!("fog: {fogged_pixels} pixels over 10% fog, worst {worst} step(s) from the twin");
+}
+
+/// Depth of field copies every pixel whose circle of confusion (from its view depth, computed
+/// here on the CPU) is under half a pixel, bit for bit, and blurs the rest.
+#[test]
+fn depth_of_field_leaves_in_focus_pixels_unchanged() {
+    let (_, sharp, blurred, points, s) = before_after(
+        "demo",
+        |s| {
+            s.dof = true;
+            s.aperture = 12.0;
+            s.focus_distance = 20.0;
+        },
+        160,
+        90,
+    );
+    let (mut in_focus, mut changed_out_of_focus) = (0, 0);
+    for ((p, q), point) in sharp.pixels().zip(blurred.pixels()).zip(&points) {
+        let coc = point.map_or(0.0, |v| {
+            let z = -v.z as f64;
+            (s.aperture as f64 * (z - s.focus_distance as f64).abs() / z).min(post::MAX_COC as f64)
+        });
+        // Away from the boundary, by more than f32 rounding of the same formula.
+        if coc < 0.49 {
+            assert_eq!(p, q, "a pixel in focus (CoC {coc}) changed");
+            in_focus += point.is_some() as usize;
+        } else if coc > 2.0 && p != q {
+            changed_out_of_focus += 1;
+        }
+    }
+    eprintln!("dof: {in_focus} surface pixels in focus unchanged, {changed_out_of_focus} out of focus blurred");
+    assert!(in_focus > 100, "only {in_focus} surface pixels in focus");
+    assert!(changed_out_of_focus > 1000, "only {changed_out_of_focus} out-of-focus pixels blurred");
+}
+
+/// Edge AA (seed 002) and FXAA change only pixels on their edge mask (the `edges` view, which
+/// marks the mask with full green) and leave every other pixel bit for bit; both change some.
+#[test]
+fn edge_aa_and_fxaa_change_only_pixels_on_their_edge_mask() {
+    for aa in [post::Aa::Edge, post::Aa::Fxaa] {
+        let (sc, plain, smoothed, _, s) = before_after("demo", |s| s.aa = aa, 160, 90);
+        let view = Settings { debug_view: lampshade::renderer::DebugView::Edges, ..s.clone() };
+        let (mask, _) = render_image(gpu(), &mut renderer(&view), &sc, &view, 160, 90).unwrap();
+        let (mut changed, mut on_mask) = (0, 0);
+        for ((p, q), m) in plain.pixels().zip(smoothed.pixels()).zip(mask.pixels()) {
+            let edge = m[1] == 255;
+            on_mask += edge as usize;
+            if p != q {
+                changed += 1;
+                assert!(edge, "{aa:?} changed a pixel off its mask");
+            }
+        }
+        assert!(changed > 100, "{aa:?} changed only {changed} pixels");
+        assert!(on_mask < 160 * 90 / 2, "{aa:?}: the mask covers {on_mask} pixels");
+        eprintln!("{aa:?}: {changed} pixels changed, {on_mask} on the mask of {}", 160 * 90);
+    }
+}

@@ -88,7 +88,8 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     (*s).spec_level = o.albedo_spec.a;
     (*s).spec_exp = o.emissive_exp.a;
     (*s).brdf = o.info.w;
-    if (flags & LS_MAT_METAL_ROUGH) != 0u {
+    // Unlit shows the base colour as it is: no metal-roughness mapping darkens it.
+    if (flags & LS_MAT_METAL_ROUGH) != 0u && o.info.w != LS_BRDF_UNLIT {
         let mr = sample_map(metal_rough_tex, in, o, 3u);
         blinn_phong_from_pbr(o.albedo_spec.rgb * base.rgb, o.pbr.x * mr.b, o.pbr.y * mr.g, o.pbr.z, s);
         let metallic = o.pbr.x * mr.b;

@@ -268,9 +268,8 @@ fn lut_entry(i: vec3<u32>) -> vec3<f32> {
 
 // Colour grading: the tonemapped colour, sRGB-encoded (the space .cube LUTs are made in), through
 // the LUT with trilinear interpolation, decoded back to linear for the sRGB target.
-@fragment
-fn fs_grade(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let c = clamp(textureLoad(post_src, vec2<i32>(floor(frag.xy)), 0).rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+fn grade(colour: vec3<f32>) -> vec3<f32> {
+    let c = clamp(colour, vec3<f32>(0.0), vec3<f32>(1.0));
     let n = post_params.lut_size;
     let lo = post_params.lut_min.xyz;
     let hi = post_params.lut_max.xyz;
@@ -283,7 +282,12 @@ fn fs_grade(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let c01 = mix(lut_entry(vec3<u32>(i0.x, i0.y, i1.z)), lut_entry(vec3<u32>(i1.x, i0.y, i1.z)), f.x);
     let c11 = mix(lut_entry(vec3<u32>(i0.x, i1.y, i1.z)), lut_entry(i1), f.x);
     let graded = mix(mix(c00, c10, f.y), mix(c01, c11, f.y), f.z);
-    return vec4<f32>(srgb_decode(clamp(graded, vec3<f32>(0.0), vec3<f32>(1.0))), 1.0);
+    return srgb_decode(clamp(graded, vec3<f32>(0.0), vec3<f32>(1.0)));
+}
+
+@fragment
+fn fs_grade(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(grade(textureLoad(post_src, vec2<i32>(floor(frag.xy)), 0).rgb), 1.0);
 }
 
 // The bloom view: the bloom the chain adds (before its intensity), exposed and tonemapped.
@@ -354,7 +358,12 @@ fn fs_fog(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if !s.valid {
         return vec4<f32>(c, 1.0);
     }
-    let fog = clamp(camera.background.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    // Fog comes after tone mapping and grading (seed 002's order), so its colour is the
+    // background as those passes turned the sky's own pixels: exposed, tone mapped and graded.
+    var fog = tonemap(max(camera.background.rgb, vec3<f32>(0.0)) * post_exposure(), post_params.tonemap);
+    if post_params.lut_size != 0u {
+        fog = grade(fog);
+    }
     return vec4<f32>(mix(c, fog, fog_amount(s.position)), 1.0);
 }
 
@@ -436,8 +445,10 @@ fn edge_strength(p: vec2<i32>) -> f32 {
     return clamp(max((depth_edge - 0.02) * 20.0, (turn - 0.1) * 4.0), 0.0, 1.0);
 }
 
+// FXAA's thresholds (Lottes) are for gamma-encoded luma; the chain holds linear colour, so the
+// luma is taken from sqrt of each channel (gamma 2, FXAA 3.11's own approximation).
 fn luma(c: vec3<f32>) -> f32 {
-    return dot(c, vec3<f32>(0.299, 0.587, 0.114));
+    return dot(sqrt(max(c, vec3<f32>(0.0))), vec3<f32>(0.299, 0.587, 0.114));
 }
 
 // FXAA's contrast test (Lottes): the local luma range against its thresholds.

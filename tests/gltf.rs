@@ -1268,3 +1268,31 @@ fn unlit_and_metal_materials_import_as_their_models() {
     }
     assert!(unlit_pixels > 100, "only {unlit_pixels} unlit pixels found");
 }
+
+#[test]
+fn an_unlit_material_drops_its_metallic_roughness_map() {
+    // Unlit shows the base colour as it is: the banded metal made unlit keeps no
+    // metallic-roughness map (with it, the G-buffer pass would darken the colour by the map's
+    // metalness, glTF's metallic factor defaulting to 1).
+    use lampshade::scene::Brdf;
+    let dir = room_copy("unlit-mr");
+    let mut marked = None;
+    edit_json(&dir, |v| {
+        let materials = v["materials"].as_array_mut().expect("materials");
+        let (k, m) = materials
+            .iter_mut()
+            .enumerate()
+            .find(|(_, m)| !m["pbrMetallicRoughness"]["metallicRoughnessTexture"].is_null())
+            .expect("a material with a metallic-roughness map");
+        m["extensions"]["KHR_materials_unlit"] = serde_json::json!({});
+        marked = Some(k);
+        let mut list = v["extensionsUsed"].as_array().cloned().unwrap_or_default();
+        list.push("KHR_materials_unlit".into());
+        v["extensionsUsed"] = serde_json::Value::Array(list);
+    });
+    assert!(marked.is_some());
+    let s = load(&dir.join("room.gltf")).unwrap_or_else(|e| panic!("{e:#}")).scene;
+    assert!(s.materials.iter().all(|m| m.textures.metallic_roughness.is_none()), "a map survived");
+    let unlit: Vec<_> = s.materials.iter().filter(|m| m.brdf == Brdf::Unlit).collect();
+    assert_eq!(unlit.len(), 1, "one unlit material");
+}

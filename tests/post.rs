@@ -105,7 +105,7 @@ fn every_tonemap_on_the_gpu_matches_its_cpu_twin() {
 /// the bloomed colour is the HDR colour bit for bit. And it conserves the bright pass's light:
 /// summed over the full-size pixels, what bloom adds is `intensity` × the light above the
 /// threshold (computed here in f64 from the HDR colour the chain read), within the bound
-/// derived in `post::bloom_energy_bound` (the chain's f32 rounding, 2.6e-6 relative), plus the
+/// derived in `post::bloom_energy_bound` (the chain's f32 rounding, 3.0e-6 relative), plus the
 /// bright pass's own rounding (at most 8 f32 roundings of each bright pixel's colour, also
 /// covering pixels within rounding of the threshold) and the subtraction bloomed − HDR here
 /// (half an f32 step of each bloomed value). 256x128 is divisible by 32, so nothing is lost at
@@ -322,7 +322,8 @@ fn fog_follows_its_formula_and_grows_with_depth() {
         90,
     );
     let up = (sc.camera.rotation() * glam::DVec3::Y).to_array();
-    let fog = sc.background.to_array().map(|c| (c as f64).clamp(0.0, 1.0));
+    // The fog colour is the background as the chain turned the sky (here: exposure, no curve).
+    let fog = sc.background.to_array().map(|c| (c as f64 * s.exposure as f64).clamp(0.0, 1.0));
     let (mut worst, mut fogged_pixels) = (0u8, 0);
     for ((p, q), point) in plain.pixels().zip(fogged.pixels()).zip(&points) {
         match point {
@@ -405,4 +406,41 @@ fn edge_aa_and_fxaa_change_only_pixels_on_their_edge_mask() {
         assert!(on_mask < 160 * 90 / 2, "{aa:?}: the mask covers {on_mask} pixels");
         eprintln!("{aa:?}: {changed} pixels changed, {on_mask} on the mask of {}", 160 * 90);
     }
+}
+
+/// Fog runs after tone mapping and grading, so it must fade geometry towards the sky as those
+/// passes turned it, not towards the raw background colour: under thick fog, with ACES,
+/// auto-exposure and the identity LUT, every geometry pixel is within one step of the sky's own
+/// pixels (the fog amount is 1 - exp(-30 d) > 1 - 1e-6 at the nearest demo point, d > 0.5).
+#[test]
+fn thick_fog_turns_geometry_into_the_sky_beside_it() {
+    let sc = scene("demo");
+    let s = Settings {
+        fog: true,
+        fog_density: 30.0,
+        fog_height_falloff: 0.0,
+        auto_exposure: true,
+        lut: Some("identity".into()),
+        ..quiet()
+    };
+    let mut r = renderer(&s);
+    let (img, stats) = render_image(gpu(), &mut r, &sc, &s, 160, 90).unwrap();
+    assert!(stats.post.is_some());
+    let points = r.view_positions(gpu()).unwrap();
+    let sky: Vec<[u8; 3]> =
+        img.pixels().zip(&points).filter(|(_, p)| p.is_none()).map(|(q, _)| [q[0], q[1], q[2]]).collect();
+    assert!(sky.len() > 100, "too little sky ({} pixels)", sky.len());
+    let (mut worst, mut geometry) = (0u8, 0);
+    for (q, p) in img.pixels().zip(&points) {
+        if p.is_some() {
+            geometry += 1;
+            for c in 0..3 {
+                worst = worst.max(q[c].abs_diff(sky[0][c]));
+            }
+        }
+    }
+    // The sky itself is one colour (bloom is off).
+    assert!(sky.iter().all(|k| k == &sky[0]), "the sky is not one colour");
+    assert!(geometry > 1000, "too little geometry ({geometry} pixels)");
+    assert!(worst <= 1, "thick fog is {worst} steps from the sky's colour {:?}", sky[0]);
 }

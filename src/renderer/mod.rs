@@ -87,7 +87,8 @@ pub struct Renderer {
     queries: stats::Queries,
     last: LastFrame,
     /// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded).
-    lut: Option<(String, post::Lut)>,
+    /// Keyed by the file's modification time too, so an edited file is read again.
+    lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
 }
 
 /// Builds a configuration's passes, turning validation errors (a bad layout, a shader that
@@ -217,11 +218,12 @@ impl Renderer {
         // The post chain's parameters, and its LUT when the setting names another one.
         if let Some(pt) = self.targets.as_ref().and_then(|t| t.post.as_ref()) {
             if let Some(name) = &settings.lut {
-                if self.lut.as_ref().is_none_or(|(n, _)| n != name) {
+                let key = (name.clone(), std::fs::metadata(name).and_then(|m| m.modified()).ok());
+                if self.lut.as_ref().is_none_or(|(k, _)| *k != key) {
                     let lut = post::Lut::load(name).map_err(anyhow::Error::msg)?;
                     let data: Vec<[f32; 4]> = lut.table.iter().map(|e| [e[0], e[1], e[2], 0.0]).collect();
                     self.queue.write_buffer(&pt.lut, 0, bytemuck::cast_slice(&data));
-                    self.lut = Some((name.clone(), lut));
+                    self.lut = Some((key, lut));
                 }
             }
             let lut = settings.lut.as_ref().and(self.lut.as_ref().map(|(_, l)| l));

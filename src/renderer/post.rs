@@ -1,8 +1,9 @@
 //! The HDR post chain's data (issue 16, seed 002's order after transparency): bloom →
-//! auto-exposure → tone mapping → colour grading, each a pass of its own in `passes/`
-//! (`bloom`, `exposure`, `tonemap`, `grading`). This file holds what they share: the tone
-//! curves' CPU twins (the WGSL is in `shaders/post.wgsl`, formula for formula), the `.cube`
-//! parser, the histogram's constants and the chain's size-dependent targets.
+//! auto-exposure → tone mapping → colour grading → fog → depth of field → vignette →
+//! anti-aliasing, each a pass of its own in `passes/` (`bloom`, `exposure`, `tonemap`,
+//! `grading`, `fog`, `dof`, `vignette`, `aa`). This file holds what they share: the tone
+//! curves' and fog's CPU twins (the WGSL is in `shaders/post.wgsl`, formula for formula), the
+//! `.cube` parser, the histogram's constants and the chain's size-dependent targets.
 //!
 //! The chain runs only when an effect asks for it ([`chain_active`]): with every effect off and
 //! the ACES curve, the frame is composed and tonemapped by compose exactly as before (bit for
@@ -218,8 +219,9 @@ impl Lut {
         Self::parse(&text).map_err(|e| format!("LUT '{name}': {e}"))
     }
 
-    /// Parses a `.cube` file's text: `TITLE`, `LUT_3D_SIZE N` (2 ..= 65), optional
-    /// `DOMAIN_MIN`/`DOMAIN_MAX`, comments (`#`), then N³ lines of three finite numbers.
+    /// Parses a `.cube` file's text (a UTF-8 byte-order mark allowed): `TITLE`, `LUT_3D_SIZE N`
+    /// (2 ..= 65), optional `DOMAIN_MIN`/`DOMAIN_MAX` or `LUT_3D_INPUT_RANGE lo hi`, comments
+    /// (`#`), then N³ lines of three finite numbers. Any other keyword is an error naming it.
     pub fn parse(text: &str) -> Result<Self, String> {
         let mut size: Option<u32> = None;
         let mut domain_min = [0.0f32; 3];
@@ -238,6 +240,8 @@ impl Lut {
             }
             Ok(v)
         };
+        // A UTF-8 byte-order mark (some editors write one) is not part of the first keyword.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         for (i, raw) in text.lines().enumerate() {
             let line = i + 1;
             let l = raw.split('#').next().unwrap_or("").trim();
@@ -263,6 +267,17 @@ impl Lut {
                 "LUT_1D_SIZE" => return Err(format!("line {line}: 1D LUTs are not supported (LUT_3D_SIZE only)")),
                 "DOMAIN_MIN" => domain_min = three(&words[1..], line)?,
                 "DOMAIN_MAX" => domain_max = three(&words[1..], line)?,
+                // DaVinci Resolve's form of the domain: one range for all three channels.
+                "LUT_3D_INPUT_RANGE" => {
+                    let range: Vec<f32> = words[1..].iter().filter_map(|w| w.parse().ok()).collect();
+                    let [lo, hi] = range[..] else {
+                        return Err(format!("line {line}: LUT_3D_INPUT_RANGE needs two numbers"));
+                    };
+                    if !(lo.is_finite() && hi.is_finite()) || words.len() != 3 {
+                        return Err(format!("line {line}: LUT_3D_INPUT_RANGE needs two finite numbers"));
+                    }
+                    (domain_min, domain_max) = ([lo; 3], [hi; 3]);
+                }
                 w if w.starts_with(|c: char| c.is_ascii_alphabetic()) => {
                     return Err(format!("line {line}: unknown keyword '{w}'"));
                 }
@@ -292,11 +307,16 @@ impl Lut {
 /// four output pixels' worth of weight, 0.75 + 0.75 + 0.25 + 0.25 per axis, edges included)
 /// conserve it in exact arithmetic, and the level weights (1/2, 1/4, 1/8, 1/16, 1/16) sum to 1.
 /// Odd sizes only lose light (an upsample to 2n - 1 pixels drops a row). What is left is f32
-/// rounding: each stored value passes through at most 4 operations per level, 11 levels
-/// (bright + 5 down + 4 up + the final upsample), each within 2^-24 relative, so the bound is
-/// `(1 + 2^-24)^44 - 1`, under 3e-6; at sizes divisible by 32 the total is equal within it.
+/// rounding, counted along a value's path through `shaders/post.wgsl`, each operation within
+/// 2^-24 relative (all terms are non-negative, so relative bounds compound): a 2×2 box is 3
+/// additions (× 0.25 is exact), 5 levels down = 15; `bloom_up` is two nested `mix`es of 3
+/// roundings each (a × (1 − t) + b × t with t = 0.25 or 0.75, 1 − t exact) = 6, and an up level
+/// adds its halves (× 0.5 exact) = 7, 4 levels up = 28; the combine's final `bloom_up` and the
+/// multiply by the intensity = 7. The bright pass's own rounding is the caller's (the test adds
+/// it). 50 operations: `(1 + 2^-24)^50 - 1`, about 3.0e-6; at sizes divisible by 32 the total
+/// is equal within it.
 pub fn bloom_energy_bound() -> f64 {
-    (1.0 + 2f64.powi(-24)).powi(44) - 1.0
+    (1.0 + 2f64.powi(-24)).powi(50) - 1.0
 }
 
 /// The chain's size-dependent images, its buffers and bind groups (`bindings::POST`).
@@ -425,7 +445,7 @@ pub enum PostImage {
 }
 
 /// Records the chain after the HDR compose and the forward pass, in seed 002's order: bloom,
-/// auto-exposure, tone mapping, grading. Each pass skips itself when its effect is off; the
+/// auto-exposure, tone mapping, grading, fog, depth of field, vignette, anti-aliasing. Each pass skips itself when its effect is off; the
 /// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
 pub fn encode_chain(
     encoder: &mut wgpu::CommandEncoder,
@@ -586,6 +606,18 @@ mod tests {
         assert!(Lut::parse("LUT_3D_SIZE 2\n0 0 nan\n").unwrap_err().contains("not finite"));
         assert!(Lut::parse("LUT_3D_SIZE 2\n0 0 x\n").unwrap_err().contains("not a number"));
         assert!(Lut::parse("FOO 2\n").unwrap_err().contains("unknown keyword"));
+        // A byte-order mark, and Resolve's input range.
+        let cube = |head: &str| {
+            let mut t = format!("{head}LUT_3D_SIZE 2\n");
+            for i in 0..8 {
+                t += &format!("{} {} {}\n", i & 1, (i >> 1) & 1, i >> 2);
+            }
+            t
+        };
+        assert_eq!(Lut::parse(&cube("\u{feff}")).map(|l| l.size), Ok(2));
+        let l = Lut::parse(&cube("LUT_3D_INPUT_RANGE 0 2\n")).unwrap();
+        assert_eq!((l.domain_min, l.domain_max), ([0.0; 3], [2.0; 3]));
+        assert!(Lut::parse(&cube("LUT_3D_INPUT_RANGE 0\n")).unwrap_err().contains("two numbers"));
         assert!(Lut::parse("").unwrap_err().contains("no LUT_3D_SIZE"));
         assert!(Lut::parse(
             "DOMAIN_MIN 1 1 1\nLUT_3D_SIZE 2\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n"

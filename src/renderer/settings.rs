@@ -192,7 +192,8 @@ pub enum DebugView {
     /// The anti-aliasing's edge mask (the edge blur's G-buffer discontinuities, or FXAA's luma
     /// contrast test; `edge` when anti-aliasing is off): white where it may change a pixel.
     Edges = 14,
-    /// Depth of field's circle of confusion: black in focus, white at `post::MAX_COC` px.
+    /// Depth of field's circle of confusion: dark green where in focus (under half a pixel,
+    /// copied unchanged), grey growing to white at `post::MAX_COC` px.
     Coc = 15,
 }
 

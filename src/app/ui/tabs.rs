@@ -64,7 +64,11 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             .on_hover_text("share of the viewport's pixels the scene renders at");
         ui.end_row();
         ui.label("exposure");
-        ui.add(egui::Slider::new(&mut st.settings.exposure, slider("exposure")).logarithmic(true));
+        ui.add(
+            egui::Slider::new(&mut st.settings.exposure, slider("exposure"))
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true),
+        );
         ui.end_row();
         ui.label("radius x");
         ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true))
@@ -81,8 +85,12 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         });
         ui.end_row();
         ui.label("light cut-off");
-        ui.add(egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff")).fixed_decimals(4))
-            .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
+        ui.add(
+            egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff"))
+                .clamping(egui::SliderClamping::Edits)
+                .fixed_decimals(4),
+        )
+        .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
         ui.end_row();
         ui.label("sphere / cone");
         ui.horizontal(|ui| {
@@ -129,22 +137,35 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
         ui.checkbox(&mut s.bloom, "on");
         ui.end_row();
         ui.label("threshold");
-        ui.add(egui::Slider::new(&mut s.bloom_threshold, slider("bloom-threshold")))
-            .on_hover_text("luminance above which pixels bloom");
+        ui.add(
+            egui::Slider::new(&mut s.bloom_threshold, slider("bloom-threshold")).clamping(egui::SliderClamping::Edits),
+        )
+        .on_hover_text("luminance above which pixels bloom");
         ui.end_row();
         ui.label("intensity");
-        ui.add(egui::Slider::new(&mut s.bloom_intensity, slider("bloom-intensity")));
+        ui.add(
+            egui::Slider::new(&mut s.bloom_intensity, slider("bloom-intensity")).clamping(egui::SliderClamping::Edits),
+        );
         ui.end_row();
         ui.label("auto-exposure");
         ui.checkbox(&mut s.auto_exposure, "on").on_hover_text("adapt to the frame's luminance histogram");
         ui.end_row();
         ui.label("target");
-        ui.add(egui::Slider::new(&mut s.target_luminance, slider("target-luminance")).logarithmic(true))
-            .on_hover_text("luminance the frame's geometric mean is exposed to");
+        ui.add(
+            egui::Slider::new(&mut s.target_luminance, slider("target-luminance"))
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true),
+        )
+        .on_hover_text("luminance the frame's geometric mean is exposed to");
         ui.end_row();
         ui.label("speed");
-        ui.add(egui::Slider::new(&mut s.adaptation_speed, slider("adaptation-speed")).logarithmic(true).suffix(" /s"))
-            .on_hover_text("adaptation speed (fixed 1/60 s per frame)");
+        ui.add(
+            egui::Slider::new(&mut s.adaptation_speed, slider("adaptation-speed"))
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true)
+                .suffix(" /s"),
+        )
+        .on_hover_text("adaptation speed (fixed 1/60 s per frame)");
         ui.end_row();
         ui.label("tonemap");
         egui::ComboBox::from_id_salt("tonemap").selected_text(s.tonemap.name()).show_ui(ui, |ui| {
@@ -157,23 +178,36 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
         ui.checkbox(&mut s.fog, "on").on_hover_text("distance fog with a height falloff, towards the background");
         ui.end_row();
         ui.label("fog density");
-        ui.add(egui::Slider::new(&mut s.fog_density, slider("fog-density")).fixed_decimals(3));
+        ui.add(
+            egui::Slider::new(&mut s.fog_density, slider("fog-density"))
+                .clamping(egui::SliderClamping::Edits)
+                .fixed_decimals(3),
+        );
         ui.end_row();
         ui.label("height falloff");
-        ui.add(egui::Slider::new(&mut s.fog_height_falloff, slider("fog-height-falloff")));
+        ui.add(
+            egui::Slider::new(&mut s.fog_height_falloff, slider("fog-height-falloff"))
+                .clamping(egui::SliderClamping::Edits),
+        );
         ui.end_row();
         ui.label("depth of field");
         ui.checkbox(&mut s.dof, "on");
         ui.end_row();
         ui.label("focus distance");
-        ui.add(egui::Slider::new(&mut s.focus_distance, slider("focus-distance")).logarithmic(true));
+        ui.add(
+            egui::Slider::new(&mut s.focus_distance, slider("focus-distance"))
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true),
+        );
         ui.end_row();
         ui.label("aperture");
-        ui.add(egui::Slider::new(&mut s.aperture, slider("aperture")).suffix(" px"))
-            .on_hover_text("circle of confusion at infinity");
+        ui.add(
+            egui::Slider::new(&mut s.aperture, slider("aperture")).clamping(egui::SliderClamping::Edits).suffix(" px"),
+        )
+        .on_hover_text("circle of confusion at infinity");
         ui.end_row();
         ui.label("vignette");
-        ui.add(egui::Slider::new(&mut s.vignette, slider("vignette")));
+        ui.add(egui::Slider::new(&mut s.vignette, slider("vignette")).clamping(egui::SliderClamping::Edits));
         ui.end_row();
         ui.label("anti-aliasing");
         egui::ComboBox::from_id_salt("aa").selected_text(s.aa.name()).show_ui(ui, |ui| {
@@ -410,6 +444,9 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
 }
 
 /// The slider span of knob `name` from the knob table.
+/// A knob's slider span. Sliders using it clamp only what the user drags or types
+/// (`SliderClamping::Edits`): a value set beyond the span by the CLI, a script or a settings
+/// file (the knob's own range is wider) stays as it is, never silently clamped by drawing.
 fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
     // The names are this file's literals; `every_slider_knob_has_a_span` checks them.
     knobs::find(name).and_then(|k| k.slider()).unwrap_or(0.0..=1.0)

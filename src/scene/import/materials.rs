@@ -187,6 +187,10 @@ impl Importer<'_> {
         } else {
             Brdf::BlinnPhong
         };
+        if brdf == Brdf::Unlit {
+            // Unlit is the base colour as it is: a metallic-roughness map has nothing to say.
+            textures.metallic_roughness = None;
+        }
         let (diffuse, level, exponent) = if brdf == Brdf::Unlit {
             (base, 0.0, 1.0)
         } else if textures.metallic_roughness.is_some() {

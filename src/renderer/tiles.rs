@@ -342,14 +342,17 @@ fn light_cells(
 /// a loaded machine where fullscreen took 6.5x its idle time, so scaled by 1/6.5): clustered's
 /// lighting 564.6 ms = ambient + its full-screen pass (about 2 x 15 x 6.5 ms) + 4.59 M
 /// light-pixel pairs, so about 80 ns a pair there and 12 ns idle ([`PAIR_NS`]); its lists held
-/// 0.55 pairs per pixel of the lights' volumes' coverage (4.59 M against 8.37 M,
-/// [`PAIR_PER_FOOTPRINT`]). In that run `tiled` (1,160 ms) lost to two-pass (767 ms): its
-/// compute pass costs more than the CPU's cluster assignment, so the rule weighs `clustered`.
+/// 0.55 pairs per pixel of the lights' volumes' coverage (4.59 M against 8.37 M). In that run
+/// `tiled` (1,160 ms) lost to two-pass (767 ms): its compute pass costs more than the CPU's
+/// cluster assignment, so the rule weighs `clustered`. Since the slices were fitted to the
+/// lights' depths (64 of them) the lists hold 2.64 M pairs on that frame, 0.31 per pixel of
+/// coverage ([`PAIR_PER_FOOTPRINT`]); the idle bench after that change (clustered lighting
+/// 47.3 ms) agrees with these constants' estimate (14.7 + 8.37 M x 0.31 x 12 ns = 45.8 ms).
 pub const DRAW_MS: f64 = 0.030;
 pub const FRAGMENT_NS: f64 = 17.0;
 pub const CLUSTERED_FIXED_MS_PER_MPX: f64 = 16.0;
 pub const PAIR_NS: f64 = 12.0;
-pub const PAIR_PER_FOOTPRINT: f64 = 0.55;
+pub const PAIR_PER_FOOTPRINT: f64 = 0.31;
 /// Below this many lights `auto` keeps its per-light plan: the constants above were measured
 /// at 1,024 lights and more, and with few lights the per-light plan's draws cost little.
 pub const FRAME_RULE_MIN_LIGHTS: usize = 256;

@@ -49,12 +49,17 @@ pub fn linear_ticks(lo: f64, hi: f64) -> Vec<f64> {
     (first..=last).map(|i| i as f64 * step).filter(|v| *v >= lo && *v <= hi).collect()
 }
 
-/// The fewest decimals (0 ..= 8) that give every tick a different label.
+/// The fewest decimals (0 ..= 8) that give every tick a different label which reads back as
+/// its value (0.5 is "0.5", not "0"; float noise below 1e-9 relative is not a decimal).
 pub fn tick_decimals(ticks: &[f64]) -> usize {
     (0..=8)
         .find(|&d| {
             let labels: Vec<String> = ticks.iter().map(|v| format!("{v:.d$}")).collect();
-            labels.iter().enumerate().all(|(i, a)| labels[i + 1..].iter().all(|b| a != b))
+            let faithful = labels
+                .iter()
+                .zip(ticks)
+                .all(|(l, v)| l.parse::<f64>().is_ok_and(|p| (p - v).abs() <= 1e-9 * v.abs().max(f64::MIN_POSITIVE)));
+            faithful && labels.iter().enumerate().all(|(i, a)| labels[i + 1..].iter().all(|b| a != b))
         })
         .unwrap_or(8)
 }
@@ -122,6 +127,8 @@ mod tests {
             (0.0, 0.00012, false),
             (0.0, 0.04, false),
             (0.004_87, 0.004_93, false),
+            // The radius panel: factors 0.5 ..= 4, widened by 1.3 (0.5 was labelled "0").
+            (0.5 / 1.3, 4.0 * 1.3, true),
         ] {
             let ticks = if log { log_ticks(lo, hi) } else { linear_ticks(lo, hi) };
             assert!(ticks.len() >= 3 && ticks.len() <= 10, "{lo}..{hi}: {ticks:?}");
@@ -131,6 +138,10 @@ mod tests {
             let mut unique = labels.clone();
             unique.dedup();
             assert_eq!(unique.len(), labels.len(), "{lo}..{hi}: {labels:?}");
+            for (l, v) in labels.iter().zip(&ticks) {
+                let p: f64 = l.parse().unwrap_or(f64::NAN);
+                assert!((p - v).abs() <= 1e-9 * v.abs().max(1e-300), "{lo}..{hi}: {v} labelled {l}");
+            }
         }
         // The old formatting: three decimals on a narrow FLIP range repeats labels.
         let ticks = linear_ticks(0.004_87, 0.004_93);

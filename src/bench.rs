@@ -787,16 +787,7 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     let (title, body) = root.split_vertically(50);
     title.titled("Speed against error, one panel per knob (lower left is better)", ("sans-serif", 26))?;
     let panels = body.split_evenly((rows_n, cols));
-    let palette = [
-        RED,
-        BLUE,
-        RGBColor(0, 150, 0),
-        MAGENTA,
-        RGBColor(0, 150, 170),
-        RGBColor(230, 120, 0),
-        RGBColor(120, 70, 20),
-        RGBColor(90, 90, 90),
-    ];
+    let palette = PALETTE;
     let default = pts.iter().find(|r| r.group == "culling" && r.label == "volume").copied();
     let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
     for (gi, (g, area)) in groups.iter().zip(panels.iter()).enumerate() {
@@ -899,6 +890,21 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
 /// Grid lines and labels at our own ticks (`plot_layout`): plotters' log axes label only
 /// powers of ten, so both plots blank its labels and draw these. `x` and `y` are the ticks with
 /// their decimals; the ranges are the plotted ones.
+/// The plots' series colours, one per configuration or culling mode in order (both plots).
+const PALETTE: [plotters::style::RGBColor; 8] = {
+    use plotters::style::{RGBColor, BLUE, MAGENTA, RED};
+    [
+        RED,
+        BLUE,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        RGBColor(230, 120, 0),
+        RGBColor(120, 70, 20),
+        RGBColor(90, 90, 90),
+    ]
+};
+
 fn draw_ticks<DB, X, Y>(
     chart: &mut plotters::chart::ChartContext<'_, DB, plotters::coord::cartesian::Cartesian2d<X, Y>>,
     area: &plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
@@ -967,16 +973,7 @@ pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
     let (title, body) = root.split_vertically(50);
     title.titled("Where each culling mode wins (total GPU ms per frame, lower is better)", ("sans-serif", 24))?;
     let panels = body.split_evenly((1, 2));
-    let palette = [
-        RED,
-        BLUE,
-        RGBColor(0, 150, 0),
-        MAGENTA,
-        RGBColor(0, 150, 170),
-        RGBColor(230, 120, 0),
-        RGBColor(120, 70, 20),
-        RGBColor(90, 90, 90),
-    ];
+    let palette = PALETTE;
     for (group, area) in ["lights", "radius"].into_iter().zip(panels.iter()) {
         let x = |r: &Row| if group == "radius" { r.radius_scale } else { r.lights as f64 };
         let mine: Vec<&Row> =

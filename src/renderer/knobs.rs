@@ -9,8 +9,8 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, Aa, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Settings,
-    Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    name_of, Aa, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa,
+    RenderPath, Settings, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -91,6 +91,30 @@ fn whole(v: &str) -> Result<u32, String> {
 
 /// Every knob, in the order `--help` and the script documentation list them.
 pub const KNOBS: &[Knob] = &[
+    Knob {
+        name: "path",
+        what: "rendering path",
+        help: "Rendering path: deferred shading, light pre-pass (deferred lighting), forward single- or multi-pass",
+        values: Values::Choice(names::<RenderPath>),
+        cli: true,
+        get: |s| name_of(&s.path),
+        put: |s, v| {
+            s.path = choice("rendering path", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "msaa",
+        what: "MSAA sample count",
+        help: "Samples per pixel (1 or 4); the light pre-pass and forward paths can multisample, deferred cannot",
+        values: Values::Choice(names::<Msaa>),
+        cli: true,
+        get: |s| name_of(&s.msaa),
+        put: |s, v| {
+            s.msaa = choice("MSAA sample count", v)?;
+            Ok(())
+        },
+    },
     Knob {
         name: "culling",
         what: "culling mode",

@@ -61,6 +61,8 @@ knob_names!(
     BrdfOverride => "reflectance model",
     Tonemap => "tonemap",
     Aa => "anti-aliasing",
+    RenderPath => "rendering path",
+    Msaa => "MSAA sample count",
 );
 
 pub use super::post::{Aa, Tonemap};
@@ -96,6 +98,56 @@ impl BrdfOverride {
             BrdfOverride::Metal => Some(Brdf::Metal),
             BrdfOverride::Toon => Some(Brdf::Toon),
             BrdfOverride::Unlit => Some(Brdf::Unlit),
+        }
+    }
+}
+
+/// The rendering pipeline: the three the seeds describe, side by side (issue 14).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum RenderPath {
+    /// Deferred shading (seeds 000-002): a G-buffer, lights as volumes over it, compose.
+    #[default]
+    Deferred,
+    /// Deferred lighting (seeds 003-004): normals + exponent, lights into a light buffer, the
+    /// geometry drawn again with its maps.
+    LightPrepass,
+    /// Forward single-pass (seed 002): each object with its light list in one shader.
+    Forward,
+    /// Forward multi-pass (seed 002): one additive draw per (object, light) pair.
+    ForwardMultipass,
+}
+
+impl RenderPath {
+    pub const ALL: [RenderPath; 4] =
+        [RenderPath::Deferred, RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass];
+
+    /// Whether the path can multisample: deferred shading cannot (seed 002: a G-buffer of
+    /// samples costs samples x its bytes, and lighting per sample).
+    pub fn can_multisample(self) -> bool {
+        self != RenderPath::Deferred
+    }
+}
+
+/// Samples per pixel of the paths that can multisample (`RenderPath::can_multisample`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+pub enum Msaa {
+    /// One sample per pixel.
+    #[default]
+    #[value(name = "1")]
+    #[serde(rename = "1")]
+    X1,
+    /// Four samples per pixel.
+    #[value(name = "4")]
+    #[serde(rename = "4")]
+    X4,
+}
+
+impl Msaa {
+    pub fn samples(self) -> u32 {
+        match self {
+            Msaa::X1 => 1,
+            Msaa::X4 => 4,
         }
     }
 }
@@ -333,6 +385,10 @@ pub const CONE_SIDES_RANGE: std::ops::RangeInclusive<u32> = 3..=64;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Settings {
+    /// The rendering pipeline (deferred shading, light pre-pass, forward single-/multi-pass).
+    pub path: RenderPath,
+    /// Samples per pixel where the path can multisample; deferred refuses 4.
+    pub msaa: Msaa,
     pub culling: CullingMode,
     pub layout: LayoutChoice,
     pub debug_view: DebugView,
@@ -420,6 +476,8 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Self {
+            path: RenderPath::Deferred,
+            msaa: Msaa::X1,
             culling: CullingMode::default(),
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,
@@ -463,7 +521,15 @@ impl Settings {
     /// Checks every knob against its row of the table ([`super::knobs::KNOBS`]): one place for
     /// the ranges that the CLI, settings files, scripts and the viewer's sliders share.
     pub fn validate(&self) -> Result<(), String> {
-        super::knobs::KNOBS.iter().try_for_each(|k| k.check(self))
+        super::knobs::KNOBS.iter().try_for_each(|k| k.check(self))?;
+        if self.msaa != Msaa::X1 && !self.path.can_multisample() {
+            return Err(format!(
+                "the {} path cannot multisample (seed 002: a G-buffer of samples, lit per sample); \
+                 use --msaa 1, or the light-prepass or forward paths",
+                self.path.name()
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -482,6 +548,7 @@ mod tests {
         assert!(s.reversed_z);
         assert_eq!(s.depth_format, DepthFormat::Depth32FloatStencil8);
         assert_eq!((s.light_cutoff, s.sphere_subdivisions, s.cone_sides), (0.0, 1, 12));
+        assert_eq!((s.path, s.msaa), (RenderPath::Deferred, Msaa::X1));
         s.validate().unwrap();
         // And the new ones round-trip.
         let new = Settings {
@@ -519,6 +586,8 @@ mod tests {
         one_name::<crate::scene::Brdf>();
         one_name::<Tonemap>();
         one_name::<Aa>();
+        one_name::<RenderPath>();
+        one_name::<Msaa>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }
@@ -545,6 +614,9 @@ mod tests {
         assert!(bad(Settings { cone_sides: 65, ..Settings::default() }).contains("between 3 and 64"));
         assert!(serde_json::from_str::<Settings>(r#"{"depth_format":"depth16"}"#).is_err());
         assert!(serde_json::from_str::<Settings>(r#"{"accumulation":"rgba8"}"#).is_err());
+        let e = bad(Settings { msaa: Msaa::X4, ..Settings::default() });
+        assert!(e.contains("deferred path cannot multisample"), "{e}");
+        Settings { msaa: Msaa::X4, path: RenderPath::Forward, ..Settings::default() }.validate().unwrap();
     }
 
     #[test]

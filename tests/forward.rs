@@ -165,6 +165,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
+            cluster_build: lampshade::renderer::settings::ClusterBuilder::Cpu,
         };
         let bounds: Vec<(glam::DVec3, f64)> = scene
             .meshes

@@ -102,8 +102,10 @@ pub const HDR: Group = Group { label: "hdr colour", index: 3, bindings: &[textur
 
 /// Group 2 of the tiled and clustered passes (`passes::tiled`): their parameters, the light
 /// lists (a (first, count) pair per tile or cluster, then the entries) and the counters (the
-/// list allocator, then one light-pixel pair count per light). Slots from 20, apart from the
-/// compose group's.
+/// list allocator, then one light-pixel pair count per light). Clustered lists built on the
+/// GPU keep a counter per cluster after the lights' counts, and each light's span of clusters
+/// (`tiles::Span`, 4 words) after the list entries. Slots from 20, apart from the compose
+/// group's.
 pub const TILES: Group = Group {
     label: "tiles",
     index: 2,

@@ -281,6 +281,7 @@ impl Renderer {
             // order lights are blended in far more than fp16's: batching reorders them (up to 3
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
+            cluster_build: settings.cluster_build,
         };
         let clock = std::time::Instant::now();
         let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
@@ -367,6 +368,8 @@ impl Renderer {
             forward: plan.forward.clone().filter(|_| blended),
             draw_calls,
             light_batches: plan.batches.batches.len() as u64,
+            lists_on_gpu: plan.tiled == Some(Method::Tiled)
+                || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some(),
             post: chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,

@@ -158,8 +158,9 @@ gpu_record! {
         /// Clustered: a view depth d lies in slice floor(ln(d) x slice_scale + slice_bias).
         pub slice_scale: f32,
         pub slice_bias: f32,
-        pub pad0: f32,
-        pub pad1: f32,
+        /// Clustered: the view depths the slices span.
+        pub near: f32,
+        pub far: f32,
     }
 }
 

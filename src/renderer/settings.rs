@@ -62,6 +62,7 @@ knob_names!(
     Tonemap => "tonemap",
     Aa => "anti-aliasing",
     RenderPath => "rendering path",
+    ClusterBuilder => "cluster list builder",
     Msaa => "MSAA sample count",
 );
 
@@ -127,6 +128,19 @@ impl RenderPath {
     pub fn can_multisample(self) -> bool {
         self != RenderPath::Deferred
     }
+}
+
+/// Who builds the `clustered` mode's light lists each frame (`tiles::ClusterBuild`): the same
+/// lists either way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClusterBuilder {
+    /// The CPU, as Bevy does: the lists are uploaded (CPU time grows with their entries). The
+    /// default: on lavapipe the GPU's build costs more GPU time than it saves CPU time.
+    #[default]
+    Cpu,
+    /// The GPU, from each light's span of clusters: the CPU uploads a 16-byte span per light.
+    Gpu,
 }
 
 /// Samples per pixel of the paths that can multisample (`RenderPath::can_multisample`).
@@ -471,6 +485,8 @@ pub struct Settings {
     pub vignette: f32,
     /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
     pub aa: Aa,
+    /// Who builds the clustered mode's lists.
+    pub cluster_build: ClusterBuilder,
 }
 
 impl Default for Settings {
@@ -513,6 +529,7 @@ impl Default for Settings {
             aperture: 8.0,
             vignette: 0.0,
             aa: Aa::Off,
+            cluster_build: ClusterBuilder::Cpu,
         }
     }
 }
@@ -588,6 +605,7 @@ mod tests {
         one_name::<Aa>();
         one_name::<RenderPath>();
         one_name::<Msaa>();
+        one_name::<ClusterBuilder>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

@@ -138,10 +138,14 @@ pub enum Stamp {
     VignetteEnd = 21,
     AaBegin = 22,
     AaEnd = 23,
+    /// The GPU building light lists (tiled's compute pass, or clustered lists built on the
+    /// GPU), inside the lighting span.
+    ListsBegin = 24,
+    ListsEnd = 25,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 24;
+    pub const COUNT: u32 = 26;
 }
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
@@ -174,6 +178,10 @@ pub struct GpuMs {
     pub vignette: Option<f64>,
     #[serde(default)]
     pub aa: Option<f64>,
+    /// The GPU building the tiled or clustered light lists (part of `lighting`; `None` when
+    /// the frame built none on the GPU).
+    #[serde(default)]
+    pub lists: Option<f64>,
     pub total: Option<f64>,
 }
 
@@ -292,6 +300,9 @@ pub struct FrameStats {
     /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
     /// light with `light_batching` off.
     pub light_batches: u64,
+    /// The GPU built light lists this frame (tiled, or clustered with `--cluster-build gpu`).
+    #[serde(default)]
+    pub lists_on_gpu: bool,
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
@@ -504,6 +515,7 @@ impl Queries {
                 stats.gpu_ms.gbuffer = span(Stamp::GBufferBegin, Stamp::GBufferEnd);
                 stats.gpu_ms.lighting = span(Stamp::LightsBegin, Stamp::LightsEnd);
                 stats.gpu_ms.compose = span(Stamp::ComposeBegin, Stamp::ComposeEnd);
+                stats.gpu_ms.lists = span(Stamp::ListsBegin, Stamp::ListsEnd).filter(|_| stats.lists_on_gpu);
                 if stats.forward.is_some() {
                     stats.gpu_ms.forward = span(Stamp::ForwardBegin, Stamp::ForwardEnd);
                     // The forward pass runs between the HDR compose and the tonemap.

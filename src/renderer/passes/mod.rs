@@ -466,6 +466,18 @@ impl FrameInputs<'_> {
         })
     }
 
+    /// The same for a compute pass, both ends.
+    pub fn compute_timestamps(&self, begin: Stamp, end: Stamp) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        if !self.times {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: Some(begin as u32),
+            end_of_pass_write_index: Some(end as u32),
+        })
+    }
+
     /// Frame buffers, the G-buffer and the light-volume meshes: what every light draw reads.
     pub fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.frame.group, &[]);

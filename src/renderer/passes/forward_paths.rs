@@ -173,7 +173,7 @@ impl ForwardPathsPass {
         fs: Option<&str>,
         topology: Topology,
         double_sided: bool,
-        depth: (bool, Cmp),
+        depth: (bool, Cmp, wgpu::StencilState),
         targets: &[Option<wgpu::ColorTargetState>],
         samples: u32,
     ) -> wgpu::RenderPipeline {
@@ -204,7 +204,7 @@ impl ForwardPathsPass {
                 format: self.key.depth_format,
                 depth_write_enabled: Some(depth.0),
                 depth_compare: Some(super::z(self.key.reversed_z, depth.1)),
-                stencil: Default::default(),
+                stencil: depth.2,
                 bias: Default::default(),
             }),
             multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
@@ -229,7 +229,7 @@ impl ForwardPathsPass {
         vs: &str,
         fs: Option<(&str, &str)>,
         depth_fs_masked: bool,
-        depth: (bool, Cmp),
+        depth: (bool, Cmp, wgpu::StencilState),
         targets: &[Option<wgpu::ColorTargetState>],
         samples: u32,
     ) -> [wgpu::RenderPipeline; 6] {
@@ -238,7 +238,7 @@ impl ForwardPathsPass {
             None => (None, depth_fs_masked.then_some("fs_forward_depth_masked")),
         };
         let p = |fs, topology, two_sided| {
-            self.pipeline(device, label, vs, fs, topology, two_sided, depth, targets, samples)
+            self.pipeline(device, label, vs, fs, topology, two_sided, depth.clone(), targets, samples)
         };
         [
             p(opaque, Topology::Triangles, false),
@@ -264,12 +264,31 @@ impl ForwardPathsPass {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
             write_mask: wgpu::ColorWrites::ALL,
         })];
-        let tested = (false, Cmp::LessEqual);
-        let written = (true, Cmp::Less);
+        use wgpu::StencilOperation as Op;
+        let none = super::NO_STENCIL;
+        let tested = (false, Cmp::LessEqual, none.clone());
+        let written = (true, Cmp::Less, none.clone());
+        // Multi-pass: the ambient + sun draw marks its pixels with the object's stencil
+        // reference (its index mod 256; drawn in reverse, the surface the depth pass kept marks
+        // last), and a pair's draw lights only its object's pixels: of coincident surfaces
+        // (equal depth) only the kept one adds lights, as deferred shading lights one surface.
+        let owner = super::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
+        let marked = (false, Cmp::LessEqual, super::stencil(owner, owner));
+        let mine = super::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
+        let owned = (false, Cmp::LessEqual, super::stencil(mine, mine));
         let single = Some(("fs_forward_single", "fs_forward_single_masked"));
         let p = Pipelines {
-            depth: self.stage(device, "forward depth", "vs_forward", None, true, written, &[], samples),
-            single: self.stage(device, "forward single-pass", "vs_forward", single, false, tested, &replace, samples),
+            depth: self.stage(device, "forward depth", "vs_forward", None, true, written.clone(), &[], samples),
+            single: self.stage(
+                device,
+                "forward single-pass",
+                "vs_forward",
+                single,
+                false,
+                tested.clone(),
+                &replace,
+                samples,
+            ),
             single_no_prepass: self.stage(
                 device,
                 "forward single-pass (no pre-pass)",
@@ -286,7 +305,7 @@ impl ForwardPathsPass {
                 "vs_forward",
                 Some(("fs_forward_base", "fs_forward_base_masked")),
                 false,
-                tested,
+                marked,
                 &replace,
                 samples,
             ),
@@ -296,7 +315,7 @@ impl ForwardPathsPass {
                 "vs_forward_pair",
                 Some(("fs_forward_pair", "fs_forward_pair_masked")),
                 false,
-                tested,
+                owned,
                 &add,
                 samples,
             ),
@@ -308,7 +327,7 @@ impl ForwardPathsPass {
                     Some("fs_forward"),
                     Topology::Triangles,
                     two_sided,
-                    tested,
+                    tested.clone(),
                     &alpha,
                     samples,
                 )
@@ -425,7 +444,10 @@ impl ForwardPathsPass {
                 load: if clear { wgpu::LoadOp::Clear(f.far_depth() as f32) } else { wgpu::LoadOp::Load },
                 store: wgpu::StoreOp::Store,
             }),
-            stencil_ops: None,
+            stencil_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
         };
         // The last pass over the multisampled colour resolves it (the blended pass, when the
         // frame has one).
@@ -492,7 +514,29 @@ impl ForwardPathsPass {
                 (false, true) => &pipes.single,
                 (false, false) => &pipes.single_no_prepass,
             };
-            draw(&mut pass, opaque, pipelines);
+            // After a depth pass, every surface at the kept depth passes LessEqual: of
+            // coincident surfaces (equal depth) the last drawn would win, where the depth pass
+            // (Less) and the G-buffer pass keep the first. Drawn in reverse, the first is drawn
+            // last and wins, as in deferred shading.
+            if multipass {
+                // Each object's stencil reference marks its pixels for its pairs.
+                pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+                pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+                for &(i, p, m) in opaque.iter().rev() {
+                    let Some((range, base)) = f.scene.draws.get(i) else { continue };
+                    pass.set_pipeline(&pipelines[p]);
+                    if let Some(g) = f.scene.materials.get(m) {
+                        pass.set_bind_group(1, g, &[]);
+                    }
+                    pass.set_stencil_reference(i as u32 & 0xff);
+                    pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
+                }
+            } else if prepass {
+                let reversed: Vec<Draw> = opaque.iter().rev().copied().collect();
+                draw(&mut pass, &reversed, pipelines);
+            } else {
+                draw(&mut pass, opaque, pipelines);
+            }
             if count {
                 pass.end_occlusion_query();
             }
@@ -536,6 +580,7 @@ impl ForwardPathsPass {
                     }
                     mat = m;
                 }
+                pass.set_stencil_reference(i as u32 & 0xff);
                 let [x, y, w, h] = pair.scissor;
                 pass.set_scissor_rect(x, y, w, h);
                 let instance = lists.pair_base + j as u32;

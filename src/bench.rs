@@ -151,6 +151,12 @@ pub struct PathFigures {
     /// Lit pixels: the deferred path's shaded light fragments for the same scene and light
     /// count (filled in for every path).
     pub lit_fragments: u64,
+    /// Every draw of the frame up to the compose or tonemap: deferred's object draws into the
+    /// G-buffer, its light draws, the compose; the forward paths' draws of every pass and the
+    /// tonemap.
+    pub draw_calls: u64,
+    /// Opaque and masked objects drawn (from the forward rows; filled in for every path).
+    pub objects: u64,
     /// Why the path could not render (empty when it did); the row has no figures then.
     pub error: String,
 }
@@ -595,6 +601,8 @@ fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &Fra
     if let Some(fp) = &stats.forward_path {
         // Its passes, and the tonemap.
         f.passes = fp.passes.len() as u32 + 1;
+        f.draw_calls = fp.draw_calls() + 1;
+        f.objects = fp.objects as u64;
         f.target_bytes_per_pixel = fp.bytes_per_pixel();
         f.object_light_pairs = fp.list_entries;
     } else {
@@ -608,6 +616,9 @@ fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &Fra
         // G-buffer, lights, compose; the HDR colour when blended surfaces or post need it.
         let hdr = stats.forward.is_some() || stats.post.is_some();
         f.passes = 3;
+        // Its light draws, the ambient + sun draw when it is not the G-buffer pass's, the
+        // compose (the G-buffer's object draws are added from the forward rows).
+        f.draw_calls = stats.draw_calls + !stats.ambient_in_gbuffer as u64 + 1;
         f.target_bytes_per_pixel = stats.gbuffer_bytes_per_pixel
             + bytes(renderer.depth_format())
             + 2 * accum
@@ -691,7 +702,14 @@ fn fill_path_siblings(rows: &mut [Row]) {
         .filter(|r| r.group == "path" && r.path.path == RenderPath::Deferred.name())
         .map(|r| (key(r), r.shaded_fragments))
         .collect();
+    let objects: HashMap<_, u64> =
+        rows.iter().filter(|r| r.group == "path" && r.path.objects > 0).map(|r| (key(r), r.path.objects)).collect();
     for r in rows.iter_mut().filter(|r| r.group == "path") {
+        r.path.objects = objects.get(&key(r)).copied().unwrap_or(0);
+        if r.path.path == RenderPath::Deferred.name() && r.path.error.is_empty() {
+            // Its G-buffer's object draws on top of the light draws and the compose.
+            r.path.draw_calls += r.path.objects;
+        }
         r.path.object_light_pairs = pairs.get(&key(r)).copied().unwrap_or(0);
         r.path.lit_fragments = lit.get(&key(r)).copied().unwrap_or(0);
     }
@@ -951,7 +969,8 @@ pub fn paths_markdown(rows: &[Row]) -> String {
     let mut s = String::from(
         "\n### Rendering paths\n\n\
          Bytes/pixel: every intermediate target, samples included. Passes: up to the compose or tonemap. \
-         Draw calls: deferred's light draws (its G-buffer draws one per object on top), the forward paths' every draw. \
+         Draw calls: every draw up to the compose or tonemap (deferred: one per object into the G-buffer, its light draws, \
+         the compose; forward: every pass's draws and the tonemap). \
          Pairs: entries of the forward object light lists, the (object, light) draws of multi-pass. \
          Lit: the deferred light pass's shaded fragments for that scene and count. \
          Shaded: fragments the path's shading passes shaded (deferred: light fragments). Error: FLIP mean against the reference.\n\n\
@@ -970,7 +989,7 @@ pub fn paths_markdown(rows: &[Row]) -> String {
             r.path.path,
             r.path.target_bytes_per_pixel,
             r.path.passes,
-            r.draw_calls,
+            r.path.draw_calls,
             r.path.object_light_pairs,
             r.path.lit_fragments,
             r.shaded_fragments,
@@ -999,10 +1018,9 @@ pub fn plot_paths(rows: &[Row], path: &Path) -> Result<()> {
     root.fill(&WHITE)?;
     let panels = root.split_evenly((1, 2));
     let (t0, t1) = pts.iter().fold((f64::INFINITY, 0f64), |(a, b), r| (a.min(r.total_ms), b.max(r.total_ms)));
-    let range = |v: &[f64]| {
-        let (a, b) = v.iter().fold((f64::INFINITY, 0f64), |(a, b), x| (a.min(*x), b.max(*x)));
-        (a.max(1.0) / 1.5)..(b.max(2.0) * 1.5)
-    };
+    let (t_lo, t_hi) = (t0 / 1.3, t1 * 1.3);
+    let t_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
+    let t_dec = crate::plot_layout::tick_decimals(&t_ticks);
     let panels_spec: [(&str, &str, fn(&Row) -> f64); 2] = [
         ("GPU ms against (object, light) pairs", "(object, light) pairs", |r| r.path.object_light_pairs as f64),
         ("GPU ms against lit fragments (deferred)", "lit fragments", |r| r.path.lit_fragments as f64),
@@ -1012,13 +1030,28 @@ pub fn plot_paths(rows: &[Row], path: &Path) -> Result<()> {
         if xs.is_empty() {
             continue;
         }
+        let (x_lo, x_hi) = xs.iter().fold((f64::INFINITY, 0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+        let (x_lo, x_hi) = (x_lo / 1.3, x_hi * 1.3);
+        let x_ticks = crate::plot_layout::log_ticks(x_lo, x_hi);
+        let x_dec = crate::plot_layout::tick_decimals(&x_ticks);
         let mut chart = ChartBuilder::on(area)
-            .caption(caption, ("sans-serif", 22))
-            .margin(12)
+            .caption(caption, ("sans-serif", 20))
+            .margin(14)
             .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(range(&xs).log_scale(), ((t0 / 1.5)..(t1 * 1.5)).log_scale())?;
-        chart.configure_mesh().x_desc(x_desc).y_desc("GPU ms (total)").draw()?;
+            .y_label_area_size(64)
+            .build_cartesian_2d((x_lo..x_hi).log_scale(), (t_lo..t_hi).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc("GPU ms per frame (median; room ringed)")
+            .label_style(("sans-serif", 13))
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
+            .draw()?;
+        draw_ticks(&mut chart, area, (&x_ticks, x_dec), (&t_ticks, t_dec), (x_lo, x_hi), (t_lo, t_hi))?;
         for (i, p) in RenderPath::ALL.iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
             let mut mine: Vec<(f64, f64, bool)> = pts

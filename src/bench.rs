@@ -682,7 +682,7 @@ fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
         max_abs_light_error: f32::NAN,
         psnr_db: f64::NAN,
         pareto: false,
-        reference: "-".into(),
+        reference: reference_culling(lights, cfg.size).name(),
         limit_ratio: f64::NAN,
         path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
     }

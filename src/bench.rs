@@ -1021,7 +1021,8 @@ pub fn plot_paths(rows: &[Row], path: &Path) -> Result<()> {
     let (t_lo, t_hi) = (t0 / 1.3, t1 * 1.3);
     let t_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
     let t_dec = crate::plot_layout::tick_decimals(&t_ticks);
-    let panels_spec: [(&str, &str, fn(&Row) -> f64); 2] = [
+    type Axis = fn(&Row) -> f64;
+    let panels_spec: [(&str, &str, Axis); 2] = [
         ("GPU ms against (object, light) pairs", "(object, light) pairs", |r| r.path.object_light_pairs as f64),
         ("GPU ms against lit fragments (deferred)", "lit fragments", |r| r.path.lit_fragments as f64),
     ];

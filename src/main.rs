@@ -86,9 +86,10 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     println!(
-        "wrote {}/bench.csv, bench.md, bench.png{}",
+        "wrote {}/bench.csv, bench.md, bench.png{}{}",
         args.out.display(),
-        format!("{}{}", if scaling { ", scaling.png" } else { "" }, if paths { ", paths.png" } else { "" })
+        if scaling { ", scaling.png" } else { "" },
+        if paths { ", paths.png" } else { "" }
     );
     Ok(())
 }

@@ -864,7 +864,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.path.target_bytes_per_pixel,
             r.path.object_light_pairs,
             r.path.lit_fragments,
-            r.path.error.replace('"', "'")
+            r.path.error.replace('"', "'").replace(',', ";")
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))

@@ -11,7 +11,9 @@ use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::renderer::gbuffer::{component_rounding, Attr};
 use lampshade::renderer::post::PostImage;
-use lampshade::renderer::{CullingMode, LayoutChoice, Msaa, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::renderer::{
+    CullingMode, DepthFormat, LayoutChoice, Msaa, RenderPath, Renderer, Settings, OUTPUT_FORMAT,
+};
 use lampshade::scene::import::{self, ImportOptions};
 use lampshade::Scene;
 
@@ -209,27 +211,37 @@ fn worst(a: &[f32], b: &[f32], bound: impl Fn(usize, f64) -> f64) -> (f64, usize
 fn deferred_and_forward_agree_within_the_gbuffer_quantisation() {
     // The reference layout (f32 targets: the quantisation all but vanishes, so the bound is
     // tight) and the default one (8-bit albedo and normals: the same derivation, looser).
+    // Single-pass also without its depth pre-pass, and the reference layout also with reversed
+    // Z and the 24-bit depth format (the forward paths' depth tests and clears follow them).
     let cases = ["demo", "normals", "grazing", "street", "on-surface"];
-    for layout in [LayoutChoice::Reference, LayoutChoice::default()] {
+    let variants = [
+        (LayoutChoice::Reference, false, DepthFormat::default()),
+        (LayoutChoice::Reference, true, DepthFormat::Depth24PlusStencil8),
+        (LayoutChoice::default(), false, DepthFormat::default()),
+    ];
+    for (layout, reversed_z, depth_format) in variants {
         for name in cases {
             let scene = scene(name);
             let size = size(name);
-            let base = Settings { layout, count_ideal: false, ..Settings::default() };
+            let base = Settings { layout, reversed_z, depth_format, count_ideal: false, ..Settings::default() };
             let deferred = render_hdr(&scene, &base, size);
             let used = deferred.renderer.layout().clone();
             let reach = reaching_lights(&deferred.renderer, &scene);
-            for path in FORWARD {
-                let f = render_hdr(&scene, &Settings { path, ..base.clone() }, size);
+            let no_prepass = Settings { path: RenderPath::Forward, depth_prepass: false, ..base.clone() };
+            for s in FORWARD.map(|path| Settings { path, ..base.clone() }).into_iter().chain([no_prepass]) {
+                let path = s.path;
+                let f = render_hdr(&scene, &s, size);
+                let layout = format!("{layout:?} reversed-z {reversed_z} depth-prepass {}", s.depth_prepass);
                 let multipass = path == RenderPath::ForwardMultipass;
                 let (ratio, pixel, d, fw) =
                     worst(&deferred.hdr, &f.hdr, |p, v| deferred_bound(v, reach[p], multipass, &used, &scene));
                 assert!(
                     ratio <= 1.0,
-                    "{name} {layout:?} {path:?}: pixel {pixel} deferred {d} forward {fw}, {ratio:.3} of the bound \
+                    "{name} {layout} {path:?}: pixel {pixel} deferred {d} forward {fw}, {ratio:.3} of the bound \
                      ({} lights reach it)",
                     reach[pixel].0
                 );
-                eprintln!("{name} {layout:?} {path:?}: worst pixel at {ratio:.4} of the derived bound");
+                eprintln!("{name} {layout} {path:?}: worst pixel at {ratio:.4} of the derived bound");
             }
         }
     }

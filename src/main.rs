@@ -71,6 +71,10 @@ fn bench(args: BenchArgs) -> Result<()> {
     let md = bench::markdown(&rows, &gpu.info.name, &o);
     std::fs::write(args.out.join("bench.md"), &md)?;
     bench::plot(&rows, &args.out.join("bench.png"))?;
+    let paths = rows.iter().any(|r| r.group == "path");
+    if paths {
+        bench::plot_paths(&rows, &args.out.join("paths.png"))?;
+    }
     let scaling = rows.iter().any(|r| r.group == "lights" || r.group == "radius");
     if scaling {
         bench::plot_scaling(&rows, &args.out.join("scaling.png"))?;
@@ -82,9 +86,10 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     println!(
-        "wrote {}/bench.csv, bench.md, bench.png{}",
+        "wrote {}/bench.csv, bench.md, bench.png{}{}",
         args.out.display(),
-        if scaling { ", scaling.png" } else { "" }
+        if scaling { ", scaling.png" } else { "" },
+        if paths { ", paths.png" } else { "" }
     );
     Ok(())
 }

@@ -413,7 +413,7 @@ pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
 /// Largest rounding error of one stored normal component in [-1, 1]: half a step of a
 /// normalised format (whose step is 2 / (2^bits - 1) after the [-1, 1] -> [0, 1] remap), half an
 /// ulp below 1 of a float format.
-fn component_rounding(format: wgpu::TextureFormat) -> f64 {
+pub fn component_rounding(format: wgpu::TextureFormat) -> f64 {
     use wgpu::TextureFormat as F;
     match format {
         F::R8Unorm | F::Rg8Unorm | F::Rgba8Unorm | F::Rgba8UnormSrgb => 1.0 / 255.0,

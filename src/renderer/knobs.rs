@@ -116,6 +116,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "depth-prepass",
+        what: "depth pre-pass",
+        help: "Forward single-pass: draw depth first so each pixel is shaded once (off: overdraw shaded)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.depth_prepass),
+        put: |s, v| {
+            s.depth_prepass = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "culling",
         what: "culling mode",
         help: "How light volumes are culled",

@@ -249,10 +249,18 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        if settings.path != RenderPath::Deferred {
+        if settings.path == RenderPath::LightPrepass {
             // Issue 14 builds the other paths; until then asking for one is an error, not a
             // deferred picture under another name.
             bail!("the {} path is not built yet (issue 14); use --path deferred", settings.path.name());
+        }
+        let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+        if forward_path && !(settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) {
+            bail!(
+                "the {} path has no G-buffer or light buffers to show the {} view; use --path deferred",
+                settings.path.name(),
+                settings.debug_view.name()
+            );
         }
         let size = (width, height);
         // Transparency is shaded forward over the HDR picture, in the final view only (the
@@ -260,7 +268,8 @@ impl Renderer {
         let blended =
             (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
         let chain = post::chain_active(settings);
-        self.configure(scene, settings, size, blended, chain)?;
+        // The forward paths shade into the HDR scene colour.
+        self.configure(scene, settings, size, blended || forward_path, chain)?;
         let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {
             bail!("internal: targets or scene missing after configure");
         };
@@ -284,7 +293,23 @@ impl Renderer {
             cluster_build: settings.cluster_build,
         };
         let clock = std::time::Instant::now();
-        let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        let mut plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
+        let path_lists = if forward_path {
+            plan::forward_path_lists(
+                scene,
+                &mut records.objects,
+                &gpu_scene.bounds,
+                &plan.lights,
+                &plan.draws.gbuffer,
+                size,
+                &mut plan.light_lists,
+                settings.path == RenderPath::ForwardMultipass,
+            )
+            .map_err(anyhow::Error::msg)?
+        } else {
+            Default::default()
+        };
         // The fp16 clamp by what can overlap a pixel (see `overlap`).
         let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);
         records.camera.light_clamp = clamps.ambient;
@@ -306,8 +331,9 @@ impl Renderer {
             plan: &plan,
             queries: &self.queries,
             settings,
-            counts: settings.count_fragments && n > 0,
-            ideal: settings.count_ideal && n > 0,
+            // Per-light counts are the deferred light pass's (the forward paths count per pass).
+            counts: settings.count_fragments && n > 0 && !forward_path,
+            ideal: settings.count_ideal && n > 0 && !forward_path,
             times: settings.timestamps && self.queries.timestamps.is_some(),
             forward_counts: settings.count_fragments && blended,
             depth_clamp: self.passes.key().depth_clamp,
@@ -316,34 +342,63 @@ impl Renderer {
         // The frame as the seeds draw it.
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
-        p.gbuffer.encode(&mut encoder, &f);
-        // 2. Lights: ambient + sun full-screen, then each light with its culling method.
-        let draw_calls = p.lights.encode(&mut encoder, &f);
-        // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
-        cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
-        // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
-        p.debug.encode(&mut encoder, &f);
-        // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        //    With blended surfaces: compose in HDR, shade them forward over it back to front
-        //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
-        //    shading cannot do transparency).
-        if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
-            // 3'. The post chain (issue 16, seed 002's order) after the HDR compose and the
-            //     forward pass: bloom, auto-exposure, tone mapping, grading; each skips itself
-            //     when off, and the last one writes the output.
-            p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-            p.forward.encode(&mut encoder, &f);
-            let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
-            post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
-        } else if blended {
-            p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-            p.forward.encode(&mut encoder, &f);
-            p.compose.encode_tonemap(&mut encoder, &f, target);
-        } else {
-            let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
-            let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
-            p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+        let draw_calls;
+        let mut path_stats = None;
+        match settings.path {
+            RenderPath::Forward | RenderPath::ForwardMultipass => {
+                // Seed 002's forward paths: no G-buffer (unless the post chain reads one), the
+                // lit picture straight into the HDR colour, then blended surfaces, then
+                // tonemap or the post chain.
+                let gbuffer_for_post = passes::forward_paths::post_reads_gbuffer(settings, chain);
+                if gbuffer_for_post {
+                    p.gbuffer.encode(&mut encoder, &f);
+                }
+                let pf = passes::forward_paths::PathFrame {
+                    lists: &path_lists,
+                    background: records.camera.background,
+                    blended,
+                    gbuffer_for_post,
+                };
+                let s = p.forward_paths.encode(&self.device, &mut encoder, &f, &pf, &p.forward)?;
+                draw_calls = s.draw_calls();
+                path_stats = Some(s);
+                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                    post::encode_chain(&mut encoder, &f, p, pt, target, f.timestamps(None, Some(Stamp::ComposeEnd)));
+                } else {
+                    p.compose.encode_tonemap(&mut encoder, &f, target);
+                }
+            }
+            _ => {
+                // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
+                p.gbuffer.encode(&mut encoder, &f);
+                // 2. Lights: ambient + sun full-screen, then each light with its culling method.
+                draw_calls = p.lights.encode(&mut encoder, &f);
+                // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
+                cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
+                p.debug.encode(&mut encoder, &f);
+                // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
+                //    With blended surfaces: compose in HDR, shade them forward over it back to front
+                //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
+                //    shading cannot do transparency).
+                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                    // 3'. The post chain (issue 16, seed 002's order) after the HDR compose and the
+                    //     forward pass: bloom, auto-exposure, tone mapping, grading; each skips itself
+                    //     when off, and the last one writes the output.
+                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
+                    p.forward.encode(&mut encoder, &f);
+                    let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
+                    post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
+                } else if blended {
+                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
+                    p.forward.encode(&mut encoder, &f);
+                    p.compose.encode_tonemap(&mut encoder, &f, target);
+                } else {
+                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
+                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+                }
+            }
         }
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         p.measure.encode(&mut encoder, &f);
@@ -367,9 +422,11 @@ impl Renderer {
             volume_meshes: plan.volume_meshes_drawn(),
             forward: plan.forward.clone().filter(|_| blended),
             draw_calls,
-            light_batches: plan.batches.batches.len() as u64,
-            lists_on_gpu: plan.tiled == Some(Method::Tiled)
-                || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some(),
+            light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
+            forward_path: path_stats,
+            lists_on_gpu: !forward_path
+                && (plan.tiled == Some(Method::Tiled)
+                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()),
             post: chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
@@ -385,7 +442,11 @@ impl Renderer {
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
-        self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
+        if let Some(fp) = stats.forward_path.as_mut() {
+            self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
+        } else {
+            self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
+        }
         self.last = LastFrame {
             inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),

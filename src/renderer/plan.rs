@@ -963,3 +963,114 @@ mod tests {
         assert_eq!(screen_area(&[Vec2::NAN, Vec2::ZERO]), 0.0);
     }
 }
+
+/// One (object, light) draw of the forward multi-pass path: the object's draw, the light, and
+/// the scissor rectangle (x, y, width, height in pixels) of the light's screen rectangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForwardPair {
+    pub draw: Draw,
+    pub light: u32,
+    pub scissor: [u32; 4],
+}
+
+/// The forward paths' lists (issue 14, seed 002), appended to the frame's light lists.
+#[derive(Clone, Debug, Default)]
+pub struct ForwardPathLists {
+    /// Objects drawn (opaque and masked: the G-buffer list's), their list entries summed, and
+    /// the longest list.
+    pub objects: usize,
+    pub list_entries: u64,
+    pub longest_list: u32,
+    /// Multi-pass only: one draw per (object, light) pair whose scissor rectangle is not
+    /// empty, in object order.
+    pub pairs: Vec<ForwardPair>,
+    /// Instance index of the first pair: pair `j` is `light_lists[2 (pair_base + j)]` (object)
+    /// and `light_lists[2 (pair_base + j) + 1]` (light).
+    pub pair_base: u32,
+}
+
+/// A light's screen rectangle in pixels (x, y, width, height; y down), widened by a pixel
+/// against rounding as the forward tiles' (`plan_draws`) and clipped to the screen; `None` when
+/// it covers no pixel.
+pub fn scissor_rect(rect: Option<(Vec2, Vec2)>, (w, h): (u32, u32)) -> Option<[u32; 4]> {
+    let (lo, hi) = rect?;
+    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor() - 1.0;
+    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor() - 1.0;
+    let (x0, x1) = (px(lo.x).max(0.0), (px(hi.x) + 3.0).min(w as f32));
+    let (y0, y1) = (py(hi.y).max(0.0), (py(lo.y) + 3.0).min(h as f32));
+    if !(x1 > x0 && y1 > y0) {
+        return None;
+    }
+    Some([x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32])
+}
+
+/// The forward paths' per-object light lists (seed 002: "each object's light list"): for every
+/// object in `opaque` (the G-buffer draw list), the lights whose sphere reaches the object's
+/// bounding sphere and that reach the screen at all (`screen_rect`), in light order, appended to
+/// `lists`; the object's record gets their offset and count (`info.y`, `info.z`, as blended
+/// objects'). This list is the forward paths' light culling: a light is left out of an object
+/// only where it cannot reach it, so the culling mode, which picks how deferred draws light
+/// volumes, changes nothing here. With `pairs` (multi-pass) the (object, light) pairs follow,
+/// two entries each, for the additive draws. Errors when the lists outgrow one storage buffer.
+#[allow(clippy::too_many_arguments)]
+pub fn forward_path_lists(
+    scene: &Scene,
+    objects: &mut [super::records::ObjectRecord],
+    bounds: &[(DVec3, f64)],
+    plans: &[LightPlan],
+    opaque: &[Draw],
+    size: (u32, u32),
+    lists: &mut Vec<u32>,
+    pairs: bool,
+) -> Result<ForwardPathLists, String> {
+    let mut out = ForwardPathLists::default();
+    let scissors: Vec<Option<[u32; 4]>> = plans.iter().map(|p| scissor_rect(p.screen_rect, size)).collect();
+    let mut pair_list: Vec<ForwardPair> = Vec::new();
+    for &draw in opaque {
+        let i = draw.0;
+        let (Some(o), Some(record)) = (scene.objects.get(i), objects.get_mut(i)) else { continue };
+        let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
+        let centre = o.transform.transform_point3(c);
+        let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
+        let radius = r * scale;
+        let first = lists.len() as u32;
+        for (k, l) in scene.lights.iter().enumerate() {
+            let Some(scissor) = scissors.get(k).copied().flatten() else { continue };
+            if (l.position() - centre).length() < radius + l.radius() as f64 {
+                lists.push(k as u32);
+                if pairs {
+                    pair_list.push(ForwardPair { draw, light: k as u32, scissor });
+                }
+            }
+        }
+        let count = lists.len() as u32 - first;
+        record.info[1] = first;
+        record.info[2] = count;
+        out.objects += 1;
+        out.list_entries += count as u64;
+        out.longest_list = out.longest_list.max(count);
+        if lists.len() > MAX_FORWARD_LIST_ENTRIES {
+            return Err(format!(
+                "the forward light lists would hold more than {MAX_FORWARD_LIST_ENTRIES} entries; use fewer lights or --path deferred"
+            ));
+        }
+    }
+    if pairs {
+        if lists.len() % 2 == 1 {
+            lists.push(0);
+        }
+        out.pair_base = (lists.len() / 2) as u32;
+        if lists.len() + 2 * pair_list.len() > MAX_FORWARD_LIST_ENTRIES {
+            return Err(format!(
+                "the forward multi-pass path would draw {} (object, light) pairs, more than one storage buffer lists; \
+                 use fewer lights or --path forward",
+                pair_list.len()
+            ));
+        }
+        for p in &pair_list {
+            lists.extend([p.draw.0 as u32, p.light]);
+        }
+        out.pairs = pair_list;
+    }
+    Ok(out)
+}

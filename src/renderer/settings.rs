@@ -403,6 +403,9 @@ pub struct Settings {
     pub path: RenderPath,
     /// Samples per pixel where the path can multisample; deferred refuses 4.
     pub msaa: Msaa,
+    /// The forward single-pass path draws depth first, so each pixel is shaded once (seed
+    /// 002's "Z-cull"); off: shaded as drawn, overdraw included.
+    pub depth_prepass: bool,
     pub culling: CullingMode,
     pub layout: LayoutChoice,
     pub debug_view: DebugView,
@@ -494,6 +497,7 @@ impl Default for Settings {
         Self {
             path: RenderPath::Deferred,
             msaa: Msaa::X1,
+            depth_prepass: true,
             culling: CullingMode::default(),
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,

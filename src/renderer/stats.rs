@@ -142,10 +142,18 @@ pub enum Stamp {
     /// GPU), inside the lighting span.
     ListsBegin = 24,
     ListsEnd = 25,
+    /// The forward paths (issue 14): the depth pass (pre-pass or multi-pass's), the shading
+    /// pass (single-pass, or multi-pass's ambient + sun), the (object, light) pairs.
+    DepthPassBegin = 26,
+    DepthPassEnd = 27,
+    ForwardShadeBegin = 28,
+    ForwardShadeEnd = 29,
+    ForwardPairsBegin = 30,
+    ForwardPairsEnd = 31,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 26;
+    pub const COUNT: u32 = 32;
 }
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
@@ -306,6 +314,8 @@ pub struct FrameStats {
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
+    /// The forward paths' passes, targets and lists (`None` on the other paths).
+    pub forward_path: Option<super::passes::forward_paths::ForwardPathStats>,
 }
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
@@ -524,6 +534,17 @@ impl Queries {
                     }
                 }
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+                if let Some(fp) = stats.forward_path.as_mut() {
+                    // The forward paths: each pass's own span; no light pass, and the G-buffer
+                    // only when the post chain needed it (one of the passes then).
+                    for p in &mut fp.passes {
+                        p.gpu_ms = p.stamps.and_then(|(b, e)| span(b, e));
+                    }
+                    stats.gpu_ms.lighting = None;
+                    stats.gpu_ms.gbuffer = None;
+                    stats.gpu_ms.total =
+                        fp.passes.first().and_then(|p| p.stamps).and_then(|(b, _)| span(b, Stamp::ComposeEnd));
+                }
                 if let Some(post) = stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).
                     let (b, e, t, g) = (

@@ -149,6 +149,25 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                 if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
             row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
         }
+        if let Some(fp) = &s.forward_path {
+            // The forward paths (issue 14): each pass's draws, samples shaded and time, the
+            // intermediate targets' bytes per pixel and the object light lists.
+            row(ui, "path", format!("{} (x{} samples)", fp.path.name(), fp.samples));
+            for p in &fp.passes {
+                let frags = p.fragments.map_or("-".into(), fmt_count);
+                row(
+                    ui,
+                    &format!("GPU {}", p.name),
+                    format!("{} · {} draws · {frags} frag", fmt_ms(p.gpu_ms), p.draw_calls),
+                );
+            }
+            row(ui, "target bytes/pixel", format!("{}", fp.bytes_per_pixel()));
+            row(
+                ui,
+                "object light lists",
+                format!("{} entries (longest {})", fmt_count(fp.list_entries), fp.longest_list),
+            );
+        }
         if let Some(t) = &s.tiles {
             // The tiled pass's lists: cells, summed and longest length (read back when counting).
             let cells = if t.slices > 1 {

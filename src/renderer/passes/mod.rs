@@ -15,6 +15,7 @@ pub mod dof;
 pub mod exposure;
 pub mod fog;
 pub mod forward;
+pub mod forward_paths;
 pub mod gbuffer;
 pub mod grading;
 pub mod lights;
@@ -96,6 +97,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
         [
             include_str!("../../../shaders/common.wgsl"),
             include_str!("../../../shaders/geometry.wgsl"),
+            include_str!("../../../shaders/forward.wgsl"),
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
@@ -503,6 +505,7 @@ pub struct Passes {
     pub debug: debug::DebugPass,
     pub compose: compose::ComposePass,
     pub forward: forward::ForwardPass,
+    pub forward_paths: forward_paths::ForwardPathsPass,
     pub measure: measure::MeasurePass,
     pub tiled: tiled::TiledPass,
     pub bloom: bloom::BloomPass,
@@ -524,6 +527,7 @@ impl Passes {
             debug: debug::DebugPass::new(device, &shared),
             compose: compose::ComposePass::new(device, &shared),
             forward: forward::ForwardPass::new(device, &shared),
+            forward_paths: forward_paths::ForwardPathsPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
             tiled: tiled::TiledPass::new(device, &shared),
             bloom: bloom::BloomPass::new(device, &shared),

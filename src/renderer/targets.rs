@@ -44,6 +44,9 @@ pub struct Targets {
     pub hdr_texture: Option<wgpu::Texture>,
     /// The post chain's images and buffers (frames that run it only; `post::chain_active`).
     pub post: Option<super::post::PostTargets>,
+    /// The light pre-pass's configuration: `diffuse` is its one light buffer (RGB diffuse, mono
+    /// specular in A) and `specular` a 1x1 stand-in the compose group binds, never attached.
+    pub prepass: bool,
 }
 
 impl Targets {
@@ -62,7 +65,8 @@ impl Targets {
             .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
-        let specular = texture(device, "light specular", key.accum_format, size, read);
+        let specular_size = if key.prepass { (1, 1) } else { size };
+        let specular = texture(device, "light specular", key.accum_format, specular_size, read);
         let debug = texture(device, "debug", DEBUG_FORMAT, size, read);
         let diffuse_view = diffuse.create_view(&Default::default());
         let specular_view = specular.create_view(&Default::default());
@@ -111,6 +115,7 @@ impl Targets {
             hdr,
             hdr_texture,
             post,
+            prepass: key.prepass,
         }
     }
 
@@ -122,6 +127,7 @@ impl Targets {
             && self.diffuse.format() == shared.key.accum_format
             && self.hdr.is_some() == (hdr || post)
             && self.post.is_some() == post
+            && self.prepass == shared.key.prepass
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero
@@ -147,8 +153,11 @@ impl Targets {
             load: if clear { wgpu::LoadOp::Clear(none) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,
         };
-        [&self.diffuse_view, &self.specular_view]
-            .map(|view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops }))
+        let prepass = self.prepass;
+        // The light pre-pass accumulates into one light buffer; its pipelines have no second target.
+        [Some(&self.diffuse_view), Some(&self.specular_view).filter(|_| !prepass)].map(|v| {
+            v.map(|view| wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops })
+        })
     }
 }
 

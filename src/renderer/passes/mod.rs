@@ -19,6 +19,7 @@ pub mod gbuffer;
 pub mod grading;
 pub mod lights;
 pub mod measure;
+pub mod prepass;
 pub mod tiled;
 pub mod tonemap;
 pub mod vignette;
@@ -89,7 +90,22 @@ pub fn wgsl_constants() -> String {
 /// The whole shader source for a G-buffer layout and accumulation format: generated constants,
 /// binding declarations and G-buffer layout, then the WGSL files.
 pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, ambient_in_gbuffer: bool) -> String {
-    let mut parts = vec![wgsl_constants(), format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format))];
+    shader_source_for(layout, accum_format, ambient_in_gbuffer, false)
+}
+
+/// [`shader_source`] for the deferred path or (`prepass`) the light pre-pass, whose light pass
+/// writes one light buffer (RGB diffuse, mono specular in A) shaded with unit reflectance.
+pub fn shader_source_for(
+    layout: &GBufferLayout,
+    accum_format: wgpu::TextureFormat,
+    ambient_in_gbuffer: bool,
+    prepass: bool,
+) -> String {
+    let mut parts = vec![
+        wgsl_constants(),
+        format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format)),
+        format!("const LS_PREPASS: bool = {prepass};\n"),
+    ];
     parts.push(layout.wgsl(1, ambient_in_gbuffer));
     parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
     parts.extend(
@@ -100,6 +116,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
+            include_str!("../../../shaders/prepass.wgsl"),
         ]
         .map(String::from),
     );
@@ -120,6 +137,9 @@ pub struct PipelineKey {
     /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's
     /// RT1); otherwise the light pass starts with a full-screen ambient + sun draw.
     pub ambient_in_gbuffer: bool,
+    /// The light pre-pass (seeds 003/004): `layout` is `gbuffer::prepass_layout`, the light
+    /// passes write one light buffer (RGB diffuse + mono specular), ambient + sun go to pass 3.
+    pub prepass: bool,
 }
 
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with
@@ -159,7 +179,7 @@ impl Shared {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
             source: wgpu::ShaderSource::Wgsl(
-                shader_source(&key.layout, key.accum_format, key.ambient_in_gbuffer).into(),
+                shader_source_for(&key.layout, key.accum_format, key.ambient_in_gbuffer, key.prepass).into(),
             ),
         });
         let frame_bgl = bindings::FRAME.layout(device);
@@ -241,7 +261,9 @@ impl Shared {
     pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
         let key = &self.key;
         let accum = |blend: Option<wgpu::BlendState>, write_mask| {
-            vec![Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask }); 2]
+            let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
+            // The light pre-pass has one light buffer (`Targets::accumulation`).
+            vec![Some(t.clone()), Some(t).filter(|_| !key.prepass)]
         };
         let targets = match p.out {
             Out::Accumulate => {
@@ -492,6 +514,7 @@ pub struct Passes {
     pub compose: compose::ComposePass,
     pub forward: forward::ForwardPass,
     pub measure: measure::MeasurePass,
+    pub prepass: prepass::PrepassFinalPass,
     pub tiled: tiled::TiledPass,
     pub bloom: bloom::BloomPass,
     pub exposure: exposure::ExposurePass,
@@ -513,6 +536,7 @@ impl Passes {
             compose: compose::ComposePass::new(device, &shared),
             forward: forward::ForwardPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
+            prepass: prepass::PrepassFinalPass::new(device, &shared),
             tiled: tiled::TiledPass::new(device, &shared),
             bloom: bloom::BloomPass::new(device, &shared),
             exposure: exposure::ExposurePass::new(device, &shared),

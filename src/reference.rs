@@ -291,7 +291,10 @@ pub fn prepass_enclosure(
         m_lo += (color * (att * ndl_lo * lobe_lo * lev_lo)).min(limit).dot(LUM);
         m_hi += (color * (att * ndl_hi * lobe_hi * lev_hi)).min(limit).dot(LUM);
     }
-    // Pass 3: the specular colour from the diffuse light's chromaticity.
+    // Pass 3 reads the buffer through `finite` (fp16's largest value; deferred's compose does
+    // the same), then colours the specular with the diffuse light's chromaticity.
+    let top = crate::renderer::records::FP16_MAX as f64;
+    (d_lo, d_hi, m_lo, m_hi) = (d_lo.min(DVec3::splat(top)), d_hi.min(DVec3::splat(top)), m_lo.min(top), m_hi.min(top));
     let mut chroma_lo = DVec3::ZERO;
     let mut chroma_hi = DVec3::ZERO;
     for c in 0..3 {
@@ -318,6 +321,7 @@ pub fn prepass_enclosure(
         _ => {}
     }
     let emissive = p.emissive.as_dvec3();
-    let lit = |d: DVec3, sp: DVec3| (d + amb_d) * s.albedo + sp + amb_s + emissive;
+    // `prepass_shade` writes at most fp16's largest value.
+    let lit = |d: DVec3, sp: DVec3| ((d + amb_d) * s.albedo + sp + amb_s + emissive).min(DVec3::splat(top));
     (lit(d_lo, spec_lo), lit(d_hi, spec_hi))
 }

@@ -121,7 +121,7 @@ fn every_culling_mode_matches_fullscreen_with_the_log_light_buffer() {
 /// multiplicative), each channel of the decoded log buffer, the mono specular in A included,
 /// within `log_accum_error_bound` of the exact (Rgba32Float) buffer for the blends that wrote
 /// it (the start value and one per light whose shape holds the pixel's point), and the fp16
-/// buffer within fp16's half-ulp (2^-11 relative) per write of the exact one.
+/// buffer within two fp16 roundings per light of the exact one.
 #[test]
 fn both_light_buffer_encodings_hold_the_light() {
     let gpu = gpu();
@@ -161,7 +161,11 @@ fn both_light_buffer_encodings_hold_the_light() {
                         }
                         b
                     } else {
-                        want * (*blends as f32 + 1.0) * 2f32.powi(-11) + 1e-6
+                        // Each light's value is rounded to fp16 as it is written and the sum
+                        // again as it is blended: two roundings per light, each at most one ulp
+                        // (2^-10 relative; Vulkan leaves fp16's rounding mode to the device,
+                        // and lavapipe's truncation measured below on the HDR target).
+                        want * 2.0 * *blends as f32 * 2f32.powi(-10) + 1e-6
                     };
                     checked += 1;
                     worst = worst.max((g - want).abs() / bound.max(1e-9));
@@ -183,7 +187,7 @@ fn both_light_buffer_encodings_hold_the_light() {
 /// the pre-pass's own approximation: the 8-bit normal, the 8-bit exponent and the mono
 /// specular. `reference::prepass_enclosure` derives (from the deferred frame's exact surface)
 /// the range the pre-pass's value must fall in; on top, the f32 arithmetic allowance of
-/// `tests/hard_cases.rs` (1e-4 relative + 1e-4) and the HDR target's fp16 rounding (2^-11).
+/// `tests/hard_cases.rs` (1e-4 relative + 1e-4) and the HDR target's fp16 rounding (2^-10).
 #[test]
 fn difference_from_deferred_stays_within_the_derived_bound() {
     let gpu = gpu();
@@ -192,6 +196,7 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
     // log2(n) / 11 in 8 bits: half a step is 11 / 510 of log2(n).
     let exp_ratio = 2f64.powf(11.0 / 510.0);
     let (mut worst_diff, mut worst_width, mut worst_share) = (0f64, 0f64, 0f64);
+    let mut worst_at = String::new();
     let mut failures = Vec::new();
     for name in CASES {
         let scene = scene(name);
@@ -218,11 +223,20 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
             let i = ((y * w + x) * 4) as usize;
             for c in 0..3 {
                 let (got, def) = (hdr[i + c] as f64, p.lit[c] as f64);
-                let allow = 1e-4 * got.abs().max(def.abs()) + 1e-4 + got.abs() * 2f64.powi(-11);
-                worst_diff = worst_diff.max((got - def).abs());
+                // The HDR target's fp16 rounding: one ulp (2^-10 relative), not half: lavapipe
+                // truncates (`overflow` (34,52): 42941.5 stored as 42912, not 42944).
+                let allow = 1e-4 * got.abs().max(def.abs()) + 1e-4 + got.abs() * 2f64.powi(-10);
+                if def < 65504.0 {
+                    // (`overflow`'s deferred values above fp16's range are clamped by both
+                    // paths' composes, not by the probe's `lit`.)
+                    worst_diff = worst_diff.max((got - def).abs() / def.abs().max(1.0));
+                }
                 worst_width = worst_width.max(hi[c] - lo[c]);
                 let outside = (lo[c] - got).max(got - hi[c]).max(0.0);
-                worst_share = worst_share.max(outside / allow);
+                if outside / allow > worst_share {
+                    worst_share = outside / allow;
+                    worst_at = format!("{name} ({x},{y})[{c}]: {got} in [{}, {}], deferred {def}", lo[c], hi[c]);
+                }
                 if outside > allow {
                     failures.push(format!(
                         "{name} ({x},{y})[{c}]: pre-pass {got:.6} outside [{:.6}, {:.6}] (deferred {def:.6})",
@@ -234,8 +248,8 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
         assert!(checked >= 10, "{name}: only {checked} sampled pixels hit geometry");
     }
     println!(
-        "largest |pre-pass - deferred| {worst_diff:.4}, widest enclosure {worst_width:.4}, \
-         worst excess / allowance {worst_share:.3}"
+        "largest |pre-pass - deferred| / max(deferred, 1) {worst_diff:.4}, widest enclosure {worst_width:.4}, \
+         worst excess / allowance {worst_share:.3} at {worst_at}"
     );
     assert!(failures.is_empty(), "{} pixels outside:\n{}", failures.len(), failures.join("\n"));
 }

@@ -200,6 +200,7 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
 ///    D's channels in [Dlo, Dhi], D_c / lum(D) = D_c / (w_c D_c + sum_(k != c) w_k D_k) rises with
 ///    D_c and falls with the others: its range is [Dlo_c / (w_c Dlo_c + sum w_k Dhi_k),
 ///    Dhi_c / (w_c Dhi_c + sum w_k Dlo_k)]; the GPU takes white where lum(D) <= 1e-6.
+///
 /// Every factor is non-negative and each product and sum is monotone in its factors, so the
 /// products of the ends enclose the pre-pass's value (the per-light clamps are monotone too).
 /// Ambient, sun and emission are evaluated in pass 3 from the material itself, as deferred

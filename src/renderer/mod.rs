@@ -152,6 +152,7 @@ impl Renderer {
                 && settings.ambient_in_gbuffer
                 && passes::ambient_fits(&layout, accum_format, limits),
             prepass,
+            samples: if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 },
             layout,
             depth_format: settings.depth_format.format(features),
             output_format,

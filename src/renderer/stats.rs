@@ -258,6 +258,11 @@ pub struct PrepassStats {
     pub light_buffer_bytes_per_pixel: u32,
     /// Pass 3's HDR scene colour (Rgba16Float).
     pub hdr_bytes_per_pixel: u32,
+    /// Samples per pixel of pass 3 and the forward pass (`--msaa`).
+    pub samples: u32,
+    /// Their multisampled colour and depth (samples x (8 + depth's bytes), stencil not
+    /// counted); 0 single-sampled.
+    pub msaa_bytes_per_pixel: u32,
     /// Object draws of pass 1 and of pass 3.
     pub base_draw_calls: u64,
     pub final_draw_calls: u64,

@@ -140,6 +140,9 @@ pub struct PipelineKey {
     /// The light pre-pass (seeds 003/004): `layout` is `gbuffer::prepass_layout`, the light
     /// passes write one light buffer (RGB diffuse + mono specular), ambient + sun go to pass 3.
     pub prepass: bool,
+    /// Samples per pixel of the light pre-pass's pass 3 and the forward pass after it (1, or 4
+    /// with `--msaa 4`; passes 1 and 2 stay single-sample).
+    pub samples: u32,
 }
 
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with

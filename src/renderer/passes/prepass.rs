@@ -31,6 +31,11 @@ impl PrepassFinalPass {
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
         })];
         let targets = [Some(wgpu::ColorTargetState::from(HDR_FORMAT))];
+        // Single-sample: pass 1's depth, the same vertex shader, so only the visible surface
+        // passes (less-equal, not written). Multisampled (`--msaa 4`): pass 1's depth has one
+        // sample, so pass 3 resolves visibility itself in its own depth samples (less, written).
+        let samples = shared.key.samples;
+        let ms = samples > 1;
         let pipe = |label: &str, fs: &str, double_sided: bool, topology: Topology| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
@@ -54,15 +59,14 @@ impl PrepassFinalPass {
                     },
                     ..Default::default()
                 },
-                // Pass 1's depth, the same vertex shader: only the visible surface passes.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: shared.key.depth_format,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(shared.z(Cmp::LessEqual)),
+                    depth_write_enabled: Some(ms),
+                    depth_compare: Some(shared.z(if ms { Cmp::Less } else { Cmp::LessEqual })),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
                 fragment: Some(wgpu::FragmentState {
                     module: &shared.module,
                     entry_point: Some(fs),
@@ -90,13 +94,28 @@ impl PrepassFinalPass {
     /// Returns the draws issued.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, background: wgpu::Color) -> u64 {
         let Some((hdr_view, _)) = &f.targets.hdr else { return 0 };
+        // Multisampled: cleared colour and depth samples, resolved into the HDR colour (the
+        // forward pass draws over the samples and resolves again).
+        let (color, depth, depth_load) = match &f.targets.msaa {
+            Some(ms) => {
+                let far = wgpu::LoadOp::Clear(f.far_depth() as f32);
+                (ms.color_attachment(hdr_view, Some(background)), &ms.depth, far)
+            }
+            None => (attachment(hdr_view, Some(background)), &f.targets.depth, wgpu::LoadOp::Load),
+        };
+        let stencil_ops = f
+            .targets
+            .msaa
+            .as_ref()
+            .filter(|_| f.targets.depth_format.has_stencil_aspect())
+            .map(|_| wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("pre-pass final"),
-            color_attachments: &[attachment(hdr_view, Some(background))],
+            color_attachments: &[color],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &f.targets.depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
+                view: depth,
+                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+                stencil_ops,
             }),
             timestamp_writes: f.timestamps(Some(Stamp::PrepassBegin), Some(Stamp::PrepassEnd)),
             occlusion_query_set: f.counts.then_some(&f.queries.prepass),
@@ -118,20 +137,13 @@ impl PrepassFinalPass {
 
 /// What the light pre-pass cannot draw, refused before the frame with what to use instead
 /// (never a silent wrong picture):
-/// - `--msaa 4`: pass 3's multisampling is not built;
 /// - an accumulation format without alpha (`rg11b10-ufloat`): no channel for the mono specular;
 /// - toon (`Brdf::Toon`) on an opaque or masked surface: its bands quantise each light's N.L
 ///   and specular lobe apart, and the light buffer holds only their sum;
 /// - debug views of attributes the thin buffer does not hold (albedo, emissive, material ID).
 pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) -> anyhow::Result<()> {
-    use crate::renderer::{AccumFormat, DebugView, Msaa};
+    use crate::renderer::{AccumFormat, DebugView};
     use crate::scene::Brdf;
-    if settings.msaa != Msaa::X1 {
-        anyhow::bail!(
-            "--msaa {} on the light-prepass path is not built yet (issue 14: pass 3 multisampled); use --msaa 1",
-            if settings.msaa == Msaa::X4 { "4" } else { "?" }
-        );
-    }
     if settings.accumulation == AccumFormat::Rg11b10Ufloat {
         anyhow::bail!(
             "the light-prepass path keeps its mono specular in the light buffer's alpha, which rg11b10-ufloat \
@@ -169,6 +181,14 @@ pub fn stats(key: &super::PipelineKey, base: u64, finals: u64) -> crate::rendere
         light_buffer_format: format!("{:?}", key.accum_format),
         light_buffer_bytes_per_pixel: bytes(key.accum_format),
         hdr_bytes_per_pixel: if finals > 0 { bytes(HDR_FORMAT) } else { 0 },
+        samples: key.samples,
+        msaa_bytes_per_pixel: if finals > 0 && key.samples > 1 {
+            key.samples
+                * (bytes(HDR_FORMAT)
+                    + key.depth_format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4))
+        } else {
+            0
+        },
         base_draw_calls: base,
         final_draw_calls: finals,
         base_fragments: None,

@@ -170,6 +170,9 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                     p.hdr_bytes_per_pixel
                 ),
             );
+            if p.samples > 1 {
+                row(ui, "pass 3 MSAA", format!("{} samples, {} B/pixel", p.samples, p.msaa_bytes_per_pixel));
+            }
         }
         if let Some(fw) = &s.forward {
             // Blended surfaces: the forward pass, its fragments and the lights per fragment it

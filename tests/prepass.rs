@@ -390,3 +390,27 @@ fn msaa_changes_only_pixels_on_geometric_edges() {
         );
     }
 }
+
+/// The pixel probe (the viewer's pixel panel) on a pre-pass frame: the light buffer decoded
+/// (mono specular as grey) and pass 3's colour as `lit`; no read past the 1x1 stand-in target.
+#[test]
+fn the_probe_reads_the_pre_pass_buffers() {
+    let gpu = gpu();
+    let s = prepass(Settings::default());
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+    render_image(gpu, &mut r, &scene("demo"), &s, W, H).unwrap();
+    let buffer = r.read_light_buffer(gpu).unwrap();
+    let hdr = r.read_post_image(gpu, PostImage::Hdr).unwrap().unwrap();
+    let mut lit = 0;
+    for (x, y) in [(80, 60), (40, 70), (120, 80), (10, 85)] {
+        let p = r.probe(gpu, x, y).unwrap();
+        let i = ((y * W + x) * 4) as usize;
+        assert_eq!(p.diffuse_light.to_array(), [buffer[i], buffer[i + 1], buffer[i + 2]]);
+        assert_eq!(p.specular_light.to_array(), [buffer[i + 3]; 3]);
+        if p.valid {
+            assert_eq!(p.lit.to_array(), [hdr[i], hdr[i + 1], hdr[i + 2]]);
+            lit += usize::from(p.lit.max_element() > 0.0);
+        }
+    }
+    assert!(lit > 0, "no probed pixel lit");
+}

@@ -7,7 +7,9 @@
 
 use lampshade::compare::flip;
 use lampshade::headless::render_image;
-use lampshade::renderer::{AccumFormat, CullingMode, LayoutChoice, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::renderer::{
+    AccumFormat, CullingMode, LayoutChoice, Msaa, RenderPath, Renderer, Settings, OUTPUT_FORMAT,
+};
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
     v.sort_by(|a, b| a.total_cmp(b));
@@ -35,13 +37,15 @@ fn main() -> anyhow::Result<()> {
     let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &reference_settings)?;
     let (reference, _) = render_image(&gpu, &mut r, &scene, &reference_settings, w, h)?;
     let configs: Vec<(&str, Settings)> = [
-        ("deferred rgba16-float", RenderPath::Deferred, AccumFormat::Rgba16Float),
-        ("light-prepass rgba16-float", RenderPath::LightPrepass, AccumFormat::Rgba16Float),
-        ("light-prepass rgba8-log", RenderPath::LightPrepass, AccumFormat::Rgba8Log),
+        ("deferred rgba16-float", RenderPath::Deferred, AccumFormat::Rgba16Float, Msaa::X1),
+        ("light-prepass rgba16-float", RenderPath::LightPrepass, AccumFormat::Rgba16Float, Msaa::X1),
+        ("light-prepass rgba8-log", RenderPath::LightPrepass, AccumFormat::Rgba8Log, Msaa::X1),
+        ("light-prepass rgba16-float msaa 4", RenderPath::LightPrepass, AccumFormat::Rgba16Float, Msaa::X4),
     ]
     .into_iter()
-    .map(|(label, path, accumulation)| {
-        (label, Settings { path, accumulation, culling: CullingMode::Volume, timestamps: true, ..Settings::default() })
+    .map(|(label, path, accumulation, msaa)| {
+        let culling = CullingMode::Volume;
+        (label, Settings { path, accumulation, msaa, culling, timestamps: true, ..Settings::default() })
     })
     .collect();
     let mut renderers = Vec::new();
@@ -80,8 +84,8 @@ fn main() -> anyhow::Result<()> {
         );
         match &stats.prepass {
             Some(p) => println!(
-                "  pass 1 draws {} fragments {}, pass 3 draws {} fragments {}; B/pixel: normal+exp {}, depth copy {}, \
-                 light buffer {} ({}), HDR {}",
+                "  pass 1 draws {} fragments {}, pass 3 draws {} fragments {} (samples); B/pixel: normal+exp {}, \
+                 depth copy {}, light buffer {} ({}), HDR {}, MSAA colour+depth {}",
                 p.base_draw_calls,
                 p.base_fragments.unwrap_or(0),
                 p.final_draw_calls,
@@ -90,7 +94,8 @@ fn main() -> anyhow::Result<()> {
                 p.depth_copy_bytes_per_pixel,
                 p.light_buffer_bytes_per_pixel,
                 p.light_buffer_format,
-                p.hdr_bytes_per_pixel
+                p.hdr_bytes_per_pixel,
+                p.msaa_bytes_per_pixel
             ),
             None => println!(
                 "  G-buffer {} B/pixel ({}), accumulation 2 x {}",

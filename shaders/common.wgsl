@@ -190,6 +190,11 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
         valid = position.z < 0.0;
     }
     s.emissive = a.emissive;
+    if LS_PREPASS {
+        // The light pre-pass's buffer has no reflectance: its light pass shades Blinn-Phong with
+        // unit reflectance f0 = 1 (level (n + 8) / 8), and pass 3 multiplies in the material's.
+        s.spec_level = (s.spec_exp + 8.0) / 8.0;
+    }
     s.brdf = GBUFFER_BRDF;
     if GBUFFER_HAS_MATERIAL {
         s.brdf = u32(round(clamp(a.material, 0.0, 1.0) * 255.0));
@@ -346,6 +351,26 @@ fn encode_light(v: vec3<f32>) -> vec4<f32> {
         return vec4<f32>(exp2(-max(v, vec3<f32>(0.0))), 1.0);
     }
     return vec4<f32>(v, 0.0);
+}
+
+// The light pre-pass's one light buffer (seeds 003/004): RGB diffuse, and in A the mono
+// specular, the luminance of the specular light (seed 004: "monochrome specular lighting in A").
+// Encoded as the accumulation is (fp16 additive, or seed 004's log encoding, all four channels).
+const LS_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+
+fn encode_light_buffer(diffuse: vec3<f32>, specular: vec3<f32>) -> vec4<f32> {
+    let v = max(vec4<f32>(diffuse, dot(specular, LS_LUMINANCE)), vec4<f32>(0.0));
+    if LS_ACCUM_LOG {
+        return exp2(-v);
+    }
+    return v;
+}
+
+fn decode_light_buffer(v: vec4<f32>) -> vec4<f32> {
+    if LS_ACCUM_LOG {
+        return min(-log2(max(v, vec4<f32>(1.0 / 255.0))), vec4<f32>(LS_LOG_ACCUM_MAX));
+    }
+    return v;
 }
 
 fn decode_light(v: vec3<f32>) -> vec3<f32> {

@@ -256,6 +256,9 @@ fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
     var out: LightTargets;
     out.diffuse = encode_light(d);
     out.specular = encode_light(sp);
+    if LS_PREPASS {
+        out.diffuse = encode_light_buffer(d, sp);
+    }
     return out;
 }
 

@@ -538,7 +538,14 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             sq += (e as f64).powi(2);
         }
         let mse = sq / reference.light.len().max(1) as f64;
-        let psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        if cfg.settings.path != crate::renderer::RenderPath::Deferred {
+            // The light error compares deferred's accumulation (ambient + sun, specular times
+            // reflectance) with the reference's; the other paths hold no such buffer (the light
+            // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
+            // the final picture.
+            (max_err, psnr) = (f32::NAN, f64::NAN);
+        }
         rows.push(Row {
             group: cfg.group.into(),
             label: cfg.label.clone(),

@@ -508,7 +508,9 @@ impl GBufferLayout {
                 }
             }
         }
-        for attr in [Attr::Albedo, Attr::Normal] {
+        // The light pre-pass's thin buffer holds no albedo: its final pass reads the material.
+        let needed: &[Attr] = if self.name == PREPASS_LAYOUT { &[Attr::Normal] } else { &[Attr::Albedo, Attr::Normal] };
+        for &attr in needed {
             for c in 0..self.components(attr) {
                 if !self
                     .targets
@@ -683,6 +685,42 @@ impl GBufferTargets {
             layout: bgl,
             entries: &entries,
         })
+    }
+}
+
+/// Name of [`prepass_layout`].
+pub const PREPASS_LAYOUT: &str = "prepass";
+
+/// The light pre-pass's first pass (seeds 003/004): ONE Rgba8Unorm target, the view-space
+/// normal's x y z remapped to [0, 1] in RGB (8 bits each; seed 004's ARGB32, seed 003's 24-bit
+/// normal) and the specular exponent as log2(exponent) / 11 in A (seed 003's "scaled 8-bit
+/// specular exponent"). Rounding: each normal component is off by at most half a step,
+/// q = 1/255 in [-1, 1] units, so the direction by at most asin(sqrt(3) q) = 0.389 degrees
+/// ([`GBufferLayout::normal_error_bound`]); the exponent's log2 by at most 11 / 510, i.e. the
+/// exponent by a factor 2^(11/510) = 1.0151.
+///
+/// Plus the R32Float depth copy every layout here keeps: the stencil culling methods write the
+/// stencil while the lights read depth, and wgpu cannot sample a depth-stencil texture that is
+/// the pass's writable attachment (seed 004's own fallback: "if Z buffer can't be accessed as
+/// a texture, then depth is rendered" apart). One reflectance model in the buffer: the light
+/// pass shades Blinn-Phong with unit reflectance (`surface_of` under `LS_PREPASS`).
+pub fn prepass_layout() -> GBufferLayout {
+    use wgpu::TextureFormat as F;
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    GBufferLayout {
+        name: PREPASS_LAYOUT,
+        normal: NormalEncoding::Xyz,
+        world: false,
+        uniform_brdf: Some(Brdf::BlinnPhong),
+        targets: vec![
+            TargetDesc {
+                name: "normal+exp",
+                format: F::Rgba8Unorm,
+                channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
+            },
+            TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
+        ],
     }
 }
 

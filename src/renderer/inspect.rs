@@ -265,7 +265,9 @@ impl Renderer {
             }
         };
         let diffuse = decode(read_texel(gpu, &t.diffuse, x, y)?);
-        let specular = decode(read_texel(gpu, &t.specular, x, y)?);
+        // The light pre-pass has one light buffer (its `specular` target is a 1x1 stand-in):
+        // the mono specular (A) as grey.
+        let specular = if t.prepass { [diffuse[3]; 4] } else { decode(read_texel(gpu, &t.specular, x, y)?) };
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
@@ -295,7 +297,12 @@ impl Renderer {
             position,
             diffuse_light,
             specular_light,
-            lit: if valid { diffuse_light * albedo + specular_light + emissive } else { Vec3::ZERO },
+            // The light pre-pass's lit colour is pass 3's (its buffer holds no albedo).
+            lit: match (&t.hdr_texture, valid) {
+                (_, false) => Vec3::ZERO,
+                (Some(hdr), true) if t.prepass => Vec3::from_slice(&read_texel(gpu, hdr, x, y)?[..3]),
+                _ => diffuse_light * albedo + specular_light + emissive,
+            },
             lights,
             raw,
             brdf,

@@ -141,11 +141,18 @@ impl Renderer {
         output_format: wgpu::TextureFormat,
         clamp_available: bool,
     ) -> Result<PipelineKey> {
+        // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
+        let prepass = settings.path == RenderPath::LightPrepass;
+        let layout = if prepass { gbuffer::prepass_layout() } else { layout };
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_features(features).map_err(anyhow::Error::msg)?;
         let accum_format = settings.accumulation.format(features)?;
         Ok(PipelineKey {
-            ambient_in_gbuffer: settings.ambient_in_gbuffer && passes::ambient_fits(&layout, accum_format, limits),
+            ambient_in_gbuffer: !prepass
+                && settings.ambient_in_gbuffer
+                && passes::ambient_fits(&layout, accum_format, limits),
+            prepass,
+            samples: if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 },
             layout,
             depth_format: settings.depth_format.format(features),
             output_format,
@@ -182,14 +189,12 @@ impl Renderer {
         if tessellation != self.volumes.tessellation {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
-        let key = Self::key(
-            settings,
-            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?,
-            self.features,
-            &self.limits,
-            self.output_format,
-            self.clamp_available,
-        )?;
+        let layout = if settings.path == RenderPath::LightPrepass {
+            gbuffer::prepass_layout()
+        } else {
+            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
+        };
+        let key = Self::key(settings, layout, self.features, &self.limits, self.output_format, self.clamp_available)?;
         if key != *self.passes.key() {
             // Switching back to a configuration seen recently reuses its passes instead of
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
@@ -249,11 +254,6 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        if settings.path == RenderPath::LightPrepass {
-            // Issue 14 builds the other paths; until then asking for one is an error, not a
-            // deferred picture under another name.
-            bail!("the {} path is not built yet (issue 14); use --path deferred", settings.path.name());
-        }
         let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
         if forward_path && !(settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) {
             bail!(
@@ -262,14 +262,20 @@ impl Renderer {
                 settings.debug_view.name()
             );
         }
+        let prepass = settings.path == RenderPath::LightPrepass;
+        if prepass {
+            passes::prepass::check(scene, settings)?;
+        }
         let size = (width, height);
         // Transparency is shaded forward over the HDR picture, in the final view only (the
         // debug views show the G-buffer and its lighting, which hold no transparent surface).
         let blended =
             (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
         let chain = post::chain_active(settings);
-        // The forward paths shade into the HDR scene colour.
-        self.configure(scene, settings, size, blended || forward_path, chain)?;
+        // The forward paths and the light pre-pass's pass 3 shade into the HDR scene colour,
+        // which the tonemap finishes.
+        let prepass_lit = prepass && (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view));
+        self.configure(scene, settings, size, blended || forward_path || prepass_lit, chain)?;
         let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {
             bail!("internal: targets or scene missing after configure");
         };
@@ -344,6 +350,7 @@ impl Renderer {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let draw_calls;
         let mut path_stats = None;
+        let mut prepass_stats = None;
         match settings.path {
             RenderPath::Forward | RenderPath::ForwardMultipass => {
                 // Seed 002's forward paths: no G-buffer (unless the post chain reads one), the
@@ -368,6 +375,38 @@ impl Renderer {
                     p.compose.encode_tonemap(&mut encoder, &f, target);
                 }
             }
+            RenderPath::LightPrepass => {
+                // Seeds 003/004, deferred lighting. 1. Normals + exponent (and depth).
+                p.gbuffer.encode(&mut encoder, &f);
+                // 2. Every light into the light buffer, each with its culling method (stencil
+                //    methods use pass 1's depth; tiled/clustered shade their lists into it).
+                draw_calls = p.lights.encode(&mut encoder, &f);
+                cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                p.debug.encode(&mut encoder, &f);
+                // 3. The geometry again with its maps, the light buffer, ambient + sun, into
+                //    the HDR colour; then blended surfaces forward and the tonemap or post
+                //    chain as deferred does. A debug view composes the buffers instead.
+                let finals = if prepass_lit {
+                    let bg = scene.background.as_dvec3();
+                    let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };
+                    let finals = p.prepass.encode(&mut encoder, &f, background);
+                    p.forward.encode(&mut encoder, &f);
+                    if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                        let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
+                        post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
+                    } else {
+                        p.compose.encode_tonemap(&mut encoder, &f, target);
+                    }
+                    finals
+                } else {
+                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
+                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+                    0
+                };
+                prepass_stats = Some(passes::prepass::stats(p.key(), plan.draws.gbuffer.len() as u64, finals));
+            }
+            // Deferred shading (seeds 000-002).
             _ => {
                 // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
                 p.gbuffer.encode(&mut encoder, &f);
@@ -402,7 +441,8 @@ impl Renderer {
         }
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         p.measure.encode(&mut encoder, &f);
-        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts);
+        let counted_prepass = prepass_stats.is_some();
+        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts, counted_prepass);
         self.queue.submit([encoder.finish()]);
 
         let key = self.passes.key();
@@ -438,6 +478,8 @@ impl Renderer {
                 tonemap: settings.tonemap,
             }),
             cpu_ms,
+            path: settings.path,
+            prepass: prepass_stats,
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
@@ -471,6 +513,25 @@ impl Renderer {
         self.passes.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, None);
         self.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// The light pre-pass's light buffer of the last frame, decoded (`-log2` for seed 004's
+    /// log encoding) to f32 RGBA: RGB the diffuse light, A the mono specular.
+    pub fn read_light_buffer(&self, gpu: &Gpu) -> Result<Vec<f32>> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if !t.prepass {
+            bail!("the last frame was not drawn with the light pre-pass (--path light-prepass)");
+        }
+        let format = t.diffuse.format();
+        let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let log = passes::log_accum(format);
+        let bytes = gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?;
+        let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
+        for c in bytes.chunks_exact(bpp) {
+            let v = inspect::texel(format, c)?;
+            out.extend(if log { v.map(settings::log_accum_decode) } else { v });
+        }
+        Ok(out)
     }
 
     /// The last frame's fp16 clamps (`overlap::clamps`): what ambient + sun and what each light
@@ -550,9 +611,15 @@ impl Renderer {
     }
 
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks
-    /// (decoded, for the logarithmic Rgba8 format).
+    /// (decoded, for the logarithmic Rgba8 format). On the light pre-pass: its one light buffer
+    /// decoded, as (RGB diffuse, A mono specular) and the mono specular as grey RGB.
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if t.prepass {
+            let buffer = self.read_light_buffer(gpu)?;
+            let mono = buffer.chunks_exact(4).flat_map(|c| [c[3], c[3], c[3], 0.0]).collect();
+            return Ok((buffer, mono));
+        }
         let format = t.diffuse.format();
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
         let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {

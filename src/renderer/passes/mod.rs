@@ -20,6 +20,7 @@ pub mod gbuffer;
 pub mod grading;
 pub mod lights;
 pub mod measure;
+pub mod prepass;
 pub mod tiled;
 pub mod tonemap;
 pub mod vignette;
@@ -90,7 +91,22 @@ pub fn wgsl_constants() -> String {
 /// The whole shader source for a G-buffer layout and accumulation format: generated constants,
 /// binding declarations and G-buffer layout, then the WGSL files.
 pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, ambient_in_gbuffer: bool) -> String {
-    let mut parts = vec![wgsl_constants(), format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format))];
+    shader_source_for(layout, accum_format, ambient_in_gbuffer, false)
+}
+
+/// [`shader_source`] for the deferred path or (`prepass`) the light pre-pass, whose light pass
+/// writes one light buffer (RGB diffuse, mono specular in A) shaded with unit reflectance.
+pub fn shader_source_for(
+    layout: &GBufferLayout,
+    accum_format: wgpu::TextureFormat,
+    ambient_in_gbuffer: bool,
+    prepass: bool,
+) -> String {
+    let mut parts = vec![
+        wgsl_constants(),
+        format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format)),
+        format!("const LS_PREPASS: bool = {prepass};\n"),
+    ];
     parts.push(layout.wgsl(1, ambient_in_gbuffer));
     parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
     parts.extend(
@@ -102,6 +118,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
+            include_str!("../../../shaders/prepass.wgsl"),
         ]
         .map(String::from),
     );
@@ -122,6 +139,12 @@ pub struct PipelineKey {
     /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's
     /// RT1); otherwise the light pass starts with a full-screen ambient + sun draw.
     pub ambient_in_gbuffer: bool,
+    /// The light pre-pass (seeds 003/004): `layout` is `gbuffer::prepass_layout`, the light
+    /// passes write one light buffer (RGB diffuse + mono specular), ambient + sun go to pass 3.
+    pub prepass: bool,
+    /// Samples per pixel of the light pre-pass's pass 3 and the forward pass after it (1, or 4
+    /// with `--msaa 4`; passes 1 and 2 stay single-sample).
+    pub samples: u32,
 }
 
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with
@@ -161,7 +184,7 @@ impl Shared {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
             source: wgpu::ShaderSource::Wgsl(
-                shader_source(&key.layout, key.accum_format, key.ambient_in_gbuffer).into(),
+                shader_source_for(&key.layout, key.accum_format, key.ambient_in_gbuffer, key.prepass).into(),
             ),
         });
         let frame_bgl = bindings::FRAME.layout(device);
@@ -243,7 +266,9 @@ impl Shared {
     pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
         let key = &self.key;
         let accum = |blend: Option<wgpu::BlendState>, write_mask| {
-            vec![Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask }); 2]
+            let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
+            // The light pre-pass has one light buffer (`Targets::accumulation`).
+            vec![Some(t.clone()), Some(t).filter(|_| !key.prepass)]
         };
         let targets = match p.out {
             Out::Accumulate => {
@@ -507,6 +532,7 @@ pub struct Passes {
     pub forward: forward::ForwardPass,
     pub forward_paths: forward_paths::ForwardPathsPass,
     pub measure: measure::MeasurePass,
+    pub prepass: prepass::PrepassFinalPass,
     pub tiled: tiled::TiledPass,
     pub bloom: bloom::BloomPass,
     pub exposure: exposure::ExposurePass,
@@ -529,6 +555,7 @@ impl Passes {
             forward: forward::ForwardPass::new(device, &shared),
             forward_paths: forward_paths::ForwardPathsPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
+            prepass: prepass::PrepassFinalPass::new(device, &shared),
             tiled: tiled::TiledPass::new(device, &shared),
             bloom: bloom::BloomPass::new(device, &shared),
             exposure: exposure::ExposurePass::new(device, &shared),

@@ -161,7 +161,9 @@ impl TiledPass {
                 cache: None,
             })
         };
-        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum.clone()), Some(accum)]);
+        // The light pre-pass has one light buffer (`Targets::accumulation`).
+        let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
+        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum), second]);
         let count_view = pipe("tile lights view", "fs_tile_count", &[Some(debug)]);
         Self { bgl, build, cluster, shade, count_view, state: Mutex::new((None, None)) }
     }

@@ -357,7 +357,7 @@ impl Importer<'_> {
                 }
             };
             let material = self.material(&prim.material(), normal_ok);
-            self.scene.objects.push(Object { mesh: mesh_index, material, transform: world });
+            self.scene.objects.push(Object { mesh: mesh_index, material, transform: world, layer: 0 });
         }
         Ok(())
     }
@@ -389,7 +389,14 @@ impl Importer<'_> {
                 }
                 return;
             }
-            Kind::Point => Light::Point(PointLight { position, color, intensity: ours, radius }),
+            Kind::Point => Light::Point(PointLight {
+                position,
+                color,
+                intensity: ours,
+                radius,
+                cookie: None,
+                mask: crate::scene::ALL_LAYERS,
+            }),
             Kind::Spot { inner_cone_angle, outer_cone_angle } => {
                 let outer = outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2);
                 let inner = inner_cone_angle.clamp(0.0, outer);
@@ -401,6 +408,8 @@ impl Importer<'_> {
                     radius,
                     inner_angle: inner,
                     outer_angle: outer,
+                    cookie: None,
+                    mask: crate::scene::ALL_LAYERS,
                 })
             }
         };

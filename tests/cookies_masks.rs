@@ -399,3 +399,48 @@ fn bad_cookie_files_are_clear_errors() {
     wrong.lights[1].set_cookie(spot_cookie);
     assert!(wrong.validate().unwrap_err().contains("a point light takes a cube"));
 }
+
+#[test]
+fn gltf_extras_carry_cookies_masks_and_layers() {
+    use lampshade::scene::{import, room};
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/cookie-tests/room");
+    let _ = std::fs::remove_dir_all(&dir);
+    room::write(&dir).unwrap();
+    let path = dir.join("room.gltf");
+    let original: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([255, 128, 0, 255])).save(dir.join("cookie.png")).unwrap();
+    // Node 0 is a mesh node, nodes 11.. are the point lights and 21 the spot (room.rs).
+    let with = |edits: &[(usize, serde_json::Value)]| {
+        let mut doc = original.clone();
+        for (node, extras) in edits {
+            doc["nodes"][*node]["extras"] = extras.clone();
+        }
+        let p = dir.join("edited.gltf");
+        std::fs::write(&p, doc.to_string()).unwrap();
+        import::load(&p, &Default::default(), &mut |_| {})
+    };
+    let imported = with(&[
+        (0, serde_json::json!({"layer": 3, "other": "kept apart"})),
+        (11, serde_json::json!({"cookie": "flashlight", "mask": 8})),
+        (21, serde_json::json!({"cookie": "cookie.png"})),
+    ])
+    .unwrap();
+    let s = imported.scene;
+    s.validate().unwrap();
+    assert!(s.objects.iter().any(|o| o.layer == 3));
+    let point = s.lights.iter().find(|l| l.mask() == 8).expect("the masked light");
+    assert_eq!(s.cookies[point.cookie().unwrap() as usize].name, "flashlight");
+    let spot = s.lights.iter().find(|l| matches!(l, Light::Spot(_))).unwrap();
+    let c = &s.cookies[spot.cookie().unwrap() as usize];
+    assert!(c.name.ends_with("cookie.png") && c.size == 8 && !c.is_cube());
+    // Bad values are errors naming the node.
+    for (node, extras, says) in [
+        (0, serde_json::json!({"layer": 32}), "node 0 extras: \"layer\" must be a layer 0..=31"),
+        (11, serde_json::json!({"mask": -1}), "\"mask\" must be a 32-bit layer mask"),
+        (21, serde_json::json!({"cookie": "missing.png"}), "missing.png"),
+        (21, serde_json::json!({"cookie": 3}), "\"cookie\" must be"),
+    ] {
+        let e = format!("{:#}", with(&[(node, extras)]).err().expect("loaded a bad extras value"));
+        assert!(e.contains(says), "{e}");
+    }
+}

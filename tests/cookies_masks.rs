@@ -324,7 +324,7 @@ fn a_layout_without_a_spare_channel_for_the_layer_is_a_clear_error() {
         // And through the renderer: an error, not a panic, not a picture without masks.
         let settings = Settings { layout: c, count_ideal: false, ..Settings::default() };
         let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
-        let e = render_image(gpu(), &mut r, sc, &settings, 64, 36).err().expect("rendered without the layer");
+        let e = render_image(gpu(), &mut r, sc, &settings, 64, 36).expect_err("rendered without the layer");
         assert!(format!("{e:#}").contains("no spare channel for the object layer"), "{e:#}");
     }
     // Every other layout finds a channel at no byte more, but fit, which adds one byte.

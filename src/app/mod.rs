@@ -461,6 +461,7 @@ impl App {
         st.camera = None;
         st.lights = None;
         st.light_edits.clear();
+        st.light_cookies.clear();
         st.material_edits.clear();
         st.ambient = None;
         st.sun = None;

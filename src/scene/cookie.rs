@@ -223,6 +223,7 @@ pub fn spot_up(direction: DVec3) -> DVec3 {
 /// The spot cookie's uv of `v` (light to point) for a spot along `dir` with `up`
 /// ([`spot_up`], in the same space) and outer half-angle tangent `tan_outer`; `None` behind the
 /// light. The twin of the WGSL's.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(z > 0)` as the WGSL writes it: NaN is behind.
 pub fn spot_uv(v: DVec3, dir: DVec3, up: DVec3, tan_outer: f64) -> Option<DVec2> {
     let z = v.dot(dir);
     if !(z > 0.0) {

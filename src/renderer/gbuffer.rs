@@ -184,7 +184,9 @@ impl LayoutChoice {
                         .take(8)
                         .collect();
                     return Err(format!(
-                        "layout {} has no spare channel for the object layer that light culling masks need                          (objects on layers {}; lights {} light some of those layers but not all){};                          use compact, fit or reference, or masks that take every layer in use or none",
+                        "layout {} has no spare channel for the object layer that light culling masks need \
+                         (objects on layers {}; lights {} light some of those layers but not all){}; \
+                         use compact, fit or reference, or masks that take every layer in use or none",
                         layout.name,
                         layers.join(", "),
                         lights.join(", "),

@@ -102,7 +102,7 @@ fn render(args: RenderArgs) -> Result<()> {
         }
         None => (Settings::default(), Default::default()),
     };
-    let scene_name = args.scene.clone().or(keys.scene).unwrap_or_else(|| "demo".into());
+    let scene_name = args.scene.clone().or(keys.scene.clone()).unwrap_or_else(|| "demo".into());
     let time = args.time.or(keys.time).unwrap_or(0.0);
     let lights = lampshade::cli::requested_lights(args.lights, args.light_grid).or(keys.lights);
     let (w, h) = match (args.size, keys.size) {
@@ -132,6 +132,7 @@ fn render(args: RenderArgs) -> Result<()> {
         };
         scene.camera = *camera;
     }
+    keys.apply_to(&mut scene).with_context(|| format!("settings file: scene '{scene_name}'"))?;
     if let Some(camera) = keys.camera {
         camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
         scene.camera = camera;

@@ -46,6 +46,29 @@ fn brdf_light(s: &Surface, l: DVec3, ndl: f64, color: DVec3, att: f64) -> (DVec3
     }
 }
 
+/// The twin of `ls_cookie`: the factor on `light`'s colour at the point `v` from it (view
+/// space; `rot` turns world into view), bilinear and clamp-to-edge as the shader filters.
+/// 1 without a cookie.
+pub fn cookie(scene: &Scene, light: &Light, v: DVec3, rot: glam::DMat3) -> DVec3 {
+    let Some(image) = light.cookie().and_then(|c| scene.cookies.get(c as usize)) else {
+        return DVec3::ONE;
+    };
+    match light {
+        Light::Spot(s) => {
+            let dir = (rot * s.direction.as_dvec3()).normalize();
+            let up = rot * crate::scene::cookie::spot_up(s.direction.as_dvec3());
+            match crate::scene::cookie::spot_uv(v, dir, up, (s.outer_angle as f64).tan()) {
+                Some(uv) => image.sample(0, uv),
+                None => DVec3::ZERO,
+            }
+        }
+        Light::Point(_) => {
+            let (face, uv) = crate::scene::cookie::cube_face_uv(rot.transpose() * v);
+            image.sample(face, uv)
+        }
+    }
+}
+
 /// The twin of `ambient_diffuse`: ambient, none for a metal, 1 for unlit.
 fn ambient_diffuse(s: &Surface, ambient: DVec3) -> DVec3 {
     match s.brdf {
@@ -145,6 +168,10 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
     diffuse = diffuse.min(DVec3::splat(ambient_limit));
     specular = specular.min(DVec3::splat(ambient_limit));
     for (i, light) in scene.lights.iter().enumerate() {
+        // Seed 004's culling mask (`ls_light_reaches`).
+        if light.mask() & (1u32 << (p.layer & 31)) == 0 {
+            continue;
+        }
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
         let (lp, radius, color, spot) = match light {
             Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
@@ -173,6 +200,7 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
         if att <= 0.0 || ndl <= 0.0 {
             continue;
         }
+        let color = color * cookie(scene, light, pos - cam.to_view(lp), rot);
         let (d, sp) = brdf_light(&s, l, ndl, color, att);
         diffuse += d.min(limit);
         specular += sp.min(limit);

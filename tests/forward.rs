@@ -111,12 +111,19 @@ fn corner_lights(reaching: bool) -> Scene {
     let mut s = Scene { meshes: vec![Mesh::cube()], ..Scene::new("corner lights", camera) };
     s.ambient = Vec3::splat(0.02);
     s.materials.push(Material { alpha: 0.6, alpha_mode: AlphaMode::Blend, ..Material::diffuse(Vec3::splat(0.9)) });
-    s.objects.push(Object { mesh: 0, material: 0, transform: DMat4::from_scale(DVec3::splat(2.0)) });
+    s.objects.push(Object { mesh: 0, material: 0, transform: DMat4::from_scale(DVec3::splat(2.0)), layer: 0 });
     if reaching {
         for k in 0..8 {
             let corner = DVec3::new([-1.0, 1.0][k & 1], [-1.0, 1.0][(k >> 1) & 1], [-1.0, 1.0][k >> 2]);
             let position = corner.normalize() * (3f64.sqrt() + 0.92);
-            s.lights.push(Light::Point(PointLight { position, color: Vec3::ONE, intensity: 60.0, radius: 1.0 }));
+            s.lights.push(Light::Point(PointLight {
+                position,
+                color: Vec3::ONE,
+                intensity: 60.0,
+                radius: 1.0,
+                cookie: None,
+                mask: lampshade::scene::ALL_LAYERS,
+            }));
         }
     }
     s

@@ -59,6 +59,10 @@ pub const FRAME: Group = Group {
         storage(3, "light_lists", "array<u32>"),
         // The light of each instance of a light draw (`batches::LightBatches::list`).
         storage(4, "draw_lights", "array<u32>"),
+        // Every cookie's texels, one after the other in rows of `records::COOKIE_ROW` (an
+        // Rgba8Unorm texture read with textureLoad: a storage buffer would pass the 8 a stage
+        // may bind in the post passes; `records::cookie_words`, seed 004).
+        texture(5, "cookie_texels", false),
     ],
 };
 

@@ -38,6 +38,8 @@ pub struct PixelProbe {
     /// The stored material ID when the layout has the channel (an unknown one is shaded as
     /// `blinn-phong`, as the shaders do).
     pub material_id: Option<u32>,
+    /// The object's culling layer (seed 004): from the layer channel, or the layout's one layer.
+    pub layer: u32,
 }
 
 fn srgb_to_linear(c: f32) -> f32 {
@@ -280,6 +282,11 @@ impl Renderer {
             Some(id) => Brdf::ALL.into_iter().find(|b| b.id() == id).unwrap_or_default(),
             None => layout.uniform_brdf.unwrap_or_default(),
         };
+        // As `surface_of` decodes it.
+        let layer = match layout.uniform_layer {
+            Some(l) => l,
+            None => ((get(Attr::Layer, 0, 0.0).clamp(0.0, 1.0) * 255.0).round() as u32) & 31,
+        };
         let lights = if valid {
             self.last.lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
         } else {
@@ -307,6 +314,7 @@ impl Renderer {
             raw,
             brdf,
             material_id,
+            layer,
         })
     }
 }

@@ -325,7 +325,7 @@ impl Renderer {
         let plan_ms = clock.elapsed().as_secs_f64() * 1e3;
         let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
-        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
+        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists, scene);
         let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);

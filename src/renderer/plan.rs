@@ -864,6 +864,8 @@ mod tests {
                 color: Vec3::ONE,
                 intensity: 1.0,
                 radius,
+                cookie: None,
+                mask: crate::scene::ALL_LAYERS,
             }),
             0.0,
         );

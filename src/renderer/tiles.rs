@@ -571,6 +571,7 @@ mod tests {
             tan_outer: 0.0,
             falloff: radius,
             clamp: f32::MAX,
+            ..bytemuck::Zeroable::zeroed()
         };
         let plan = |on_screen: bool| LightPlan {
             method: Method::Clustered,
@@ -636,6 +637,7 @@ mod tests {
                 tan_outer: 0.0,
                 falloff: radius,
                 clamp: f32::MAX,
+                ..bytemuck::Zeroable::zeroed()
             };
             lights.push(l);
         }

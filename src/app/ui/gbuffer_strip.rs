@@ -35,6 +35,8 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
                 Attr::Depth => (DebugView::Depth, "depth"),
                 Attr::Position => (DebugView::Depth, "position z"),
                 Attr::Material => (DebugView::MaterialId, "material ID"),
+                // The culling layer has no view of its own; the probe shows it.
+                Attr::Layer => continue,
             };
             add(view, label, t.name, format!("{:?}", t.format));
         }

@@ -794,6 +794,7 @@ pub fn prepass_layout() -> GBufferLayout {
         normal: NormalEncoding::Xyz,
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
         targets: vec![
             TargetDesc {
                 name: "normal+exp",

@@ -143,7 +143,7 @@ impl Renderer {
     ) -> Result<PipelineKey> {
         // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
         let prepass = settings.path == RenderPath::LightPrepass;
-        let layout = if prepass { gbuffer::prepass_layout() } else { layout };
+        let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_features(features).map_err(anyhow::Error::msg)?;
         let accum_format = settings.accumulation.format(features)?;
@@ -190,7 +190,9 @@ impl Renderer {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
         let layout = if settings.path == RenderPath::LightPrepass {
-            gbuffer::prepass_layout()
+            // One layer for the whole scene (`passes::prepass::check` refuses masks that tell
+            // layers apart: the thin buffer has no channel for them).
+            gbuffer::GBufferLayout { uniform_layer: scene.uniform_layer(), ..gbuffer::prepass_layout() }
         } else {
             settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
         };

@@ -160,6 +160,13 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
              terms, and toon bands each light's N.L and lobe apart; use --path deferred, or --brdf blinn-phong"
         );
     }
+    if scene.uniform_layer().is_none() {
+        anyhow::bail!(
+            "the light-prepass path has no channel for the object layer that light culling masks need (its \
+             buffer is normal + exponent in 4 bytes, seed 004's): some light's mask takes some of the scene's \
+             layers but not all; use --path deferred or a forward path, or masks that take every layer in use or none"
+        );
+    }
     if matches!(settings.debug_view, DebugView::Albedo | DebugView::Emissive | DebugView::MaterialId) {
         anyhow::bail!(
             "the light-prepass path stores no {} (its buffer holds normal + exponent; the material is read in pass 3); \

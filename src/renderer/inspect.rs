@@ -216,6 +216,7 @@ impl Renderer {
     /// Decodes pixel (`x`, `y`) of the last frame on the CPU, following the layout table.
     pub fn probe(&self, gpu: &Gpu, x: u32, y: u32) -> Result<PixelProbe> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        self.last.gbuffer("pixel to probe")?;
         if x >= t.width || y >= t.height {
             bail!("pixel ({x}, {y}) is outside the {}x{} frame", t.width, t.height);
         }

@@ -68,6 +68,19 @@ struct LastFrame {
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
     plan: FramePlan,
+    /// The path it was drawn with: the forward paths leave no G-buffer to read (what the
+    /// targets hold is an older frame's).
+    path: RenderPath,
+}
+
+impl LastFrame {
+    /// An error when the last frame left no G-buffer (`what` is what was asked for).
+    fn gbuffer(&self, what: &str) -> Result<()> {
+        if matches!(self.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+            bail!("the {} path keeps no G-buffer: no {what} (use --path deferred or light-prepass)", self.path.name());
+        }
+        Ok(())
+    }
 }
 
 pub struct Renderer {
@@ -497,6 +510,7 @@ impl Renderer {
             lights: records.lights,
             ambient_clamp: records.camera.light_clamp,
             plan,
+            path: settings.path,
         };
         Ok(stats)
     }
@@ -509,6 +523,7 @@ impl Renderer {
         if width == 0 || height == 0 {
             bail!("cannot compose a {width}x{height} view");
         }
+        self.last.gbuffer(&format!("{} view", view.name()))?;
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
         let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };

@@ -451,10 +451,10 @@ pub struct FrameBuffers {
     /// The light of each instance of a light draw (`batches::LightBatches::list`).
     pub draw_lights: wgpu::Buffer,
     /// The scene's cookies' texels ([`cookie_words`] in rows of [`COOKIE_ROW`]), and which
-    /// cookies they are (the images' addresses: uploaded again only when they change).
+    /// cookies they are (`CookieImage::id`s: uploaded again only when they change).
     pub cookie_texels: wgpu::Texture,
     cookie_view: wgpu::TextureView,
-    cookie_key: Vec<usize>,
+    cookie_key: Vec<u64>,
     /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
     pub compose: wgpu::Buffer,
     pub group: wgpu::BindGroup,
@@ -556,7 +556,7 @@ impl FrameBuffers {
         fit(&mut self.objects, "objects", bytemuck::cast_slice(&records.objects));
         fit(&mut self.light_lists, "light lists", bytemuck::cast_slice(lists.forward));
         fit(&mut self.draw_lights, "draw lights", bytemuck::cast_slice(lists.draw));
-        let key: Vec<usize> = scene.cookies.iter().map(|c| std::sync::Arc::as_ptr(c) as usize).collect();
+        let key: Vec<u64> = scene.cookies.iter().map(|c| c.id()).collect();
         if key != self.cookie_key {
             let mut words = cookie_words(scene);
             let rows = (words.len() as u32).div_ceil(COOKIE_ROW);

@@ -34,9 +34,22 @@ pub struct CookieImage {
     pub size: u32,
     /// One or six faces, row-major from the top row, RGBA8 linear.
     pub faces: Vec<Vec<u8>>,
+    /// Unique per image made (built-in or read): what the renderer keys its upload on, so a
+    /// new image is uploaded even where the allocator reuses an old one's address.
+    id: u64,
+}
+
+fn next_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl CookieImage {
+    /// This image's identity (see the field).
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
     pub fn is_cube(&self) -> bool {
         self.faces.len() == 6
     }
@@ -124,7 +137,7 @@ impl CookieImage {
             }
         }
         let faces = if cube { vec![face; 6] } else { vec![face] };
-        Some(CookieImage { name: name.into(), size: n, faces })
+        Some(CookieImage { name: name.into(), size: n, faces, id: next_id() })
     }
 
     /// A cookie from a PNG file: square for a spot, a strip of six squares (6n x n) for a point
@@ -170,7 +183,7 @@ impl CookieImage {
         } else {
             vec![raw]
         };
-        Ok(CookieImage { name: path.display().to_string(), size: h, faces })
+        Ok(CookieImage { name: path.display().to_string(), size: h, faces, id: next_id() })
     }
 
     /// A built-in name or a PNG path.

@@ -612,6 +612,20 @@ fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &Fra
         f.objects = fp.objects as u64;
         f.target_bytes_per_pixel = fp.bytes_per_pixel();
         f.object_light_pairs = fp.list_entries;
+    } else if let Some(pp) = &stats.prepass {
+        // Seeds 003/004: pass 1, the lights, pass 3, then the tonemap; its draw calls are
+        // pass 1's and pass 3's object draws, the light draws, the full-screen draw that
+        // clears the light buffer (the ambient pass's, which adds ambient + sun in pass 3 on
+        // this path) and the tonemap.
+        f.passes = 4;
+        f.draw_calls =
+            pp.base_draw_calls + stats.draw_calls + !stats.ambient_in_gbuffer as u64 + pp.final_draw_calls + 1;
+        f.target_bytes_per_pixel = pp.normal_exp_bytes_per_pixel
+            + pp.depth_copy_bytes_per_pixel
+            + pp.light_buffer_bytes_per_pixel
+            + pp.hdr_bytes_per_pixel
+            + pp.msaa_bytes_per_pixel
+            + renderer_depth_bytes(renderer);
     } else {
         let bytes = |format: wgpu::TextureFormat| {
             format.block_copy_size(None).unwrap_or_else(|| {
@@ -632,6 +646,15 @@ fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &Fra
             + if hdr { bytes(crate::renderer::passes::HDR_FORMAT) } else { 0 };
     }
     Ok(f)
+}
+
+/// Bytes per pixel of the renderer's depth-stencil target.
+fn renderer_depth_bytes(renderer: &Renderer) -> u32 {
+    let format = renderer.depth_format();
+    format.block_copy_size(None).unwrap_or_else(|| {
+        format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+            + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
+    })
 }
 
 /// Samples the forward paths' shading passes passed (single-pass's shading, multi-pass's
@@ -977,7 +1000,8 @@ pub fn paths_markdown(rows: &[Row]) -> String {
         "\n### Rendering paths\n\n\
          Bytes/pixel: every intermediate target, samples included. Passes: up to the compose or tonemap. \
          Draw calls: every draw up to the compose or tonemap (deferred: one per object into the G-buffer, its light draws, \
-         the compose; forward: every pass's draws and the tonemap). \
+         the compose; light pre-pass: pass 1's and pass 3's object draws, its light draws and the tonemap; forward: every \
+         pass's draws and the tonemap). \
          Pairs: entries of the forward object light lists, the (object, light) draws of multi-pass. \
          Lit: the deferred light pass's shaded fragments for that scene and count. \
          Shaded: fragments the path's shading passes shaded (deferred: light fragments). Error: FLIP mean against the reference.\n\n\

@@ -61,16 +61,6 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                     }
                 },
             );
-            ui.label("path");
-            egui::ComboBox::from_id_salt("path").selected_text(st.settings.path.name()).width(120.0).show_ui(
-                ui,
-                |ui| {
-                    for p in RenderPath::ALL {
-                        ui.selectable_value(&mut st.settings.path, p, p.name())
-                            .on_hover_text(crate::renderer::settings::help_of(&p));
-                    }
-                },
-            );
             ui.label("view");
             egui::ComboBox::from_id_salt("view").selected_text(st.settings.debug_view.name()).width(110.0).show_ui(
                 ui,

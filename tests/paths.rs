@@ -423,3 +423,37 @@ fn forward_paths_refuse_the_gbuffer_views_with_an_error() {
         assert!(e.to_string().contains("no G-buffer"), "{e}");
     }
 }
+
+#[test]
+fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() {
+    // The light pre-pass multisamples pass 3 only: passes 1 and 2 stay single-sample, so at an
+    // edge the far surface's samples take the light the light buffer holds at the pixel's
+    // centre (README: a one-pixel halo of the wrong light). `tests/prepass.rs` shows MSAA
+    // changes only edge pixels; this holds it to the second promise, that the edges
+    // come closer to a 4 x 4-supersampled render of the same path than one sample does.
+    let (w, h) = (160, 90);
+    for name in ["demo", "street"] {
+        let scene = scene(name);
+        let deferred = render_hdr(&scene, &Settings { count_ideal: false, ..Settings::default() }, (4 * w, 4 * h));
+        let points = deferred.renderer.view_positions(gpu()).expect("view positions");
+        let edges = edge_mask(&points, w, h, 4);
+        let prepass = Settings { path: RenderPath::LightPrepass, count_ideal: false, ..Settings::default() };
+        let one = render_hdr(&scene, &prepass, (w, h));
+        let four = render_hdr(&scene, &Settings { msaa: Msaa::X4, ..prepass.clone() }, (w, h));
+        let big = render_hdr(&scene, &prepass, (4 * w, 4 * h));
+        let reference = box_filter(&big.hdr, 4 * w, 4 * h, 4);
+        let (mut err1, mut err4) = (0.0f64, 0.0f64);
+        for p in (0..(w * h) as usize).filter(|&p| edges[p]) {
+            for c in 0..3 {
+                let r = reference[p * 4 + c] as f64;
+                err1 += (one.hdr[p * 4 + c] as f64 - r).abs();
+                err4 += (four.hdr[p * 4 + c] as f64 - r).abs();
+            }
+        }
+        eprintln!("{name} light-prepass: edge error against 4x4 supersampling, 1x {err1:.2}, MSAA 4x {err4:.2}");
+        assert!(
+            err4 < err1,
+            "{name}: the pre-pass's MSAA error on the edges ({err4:.3}) is not below 1x's ({err1:.3})"
+        );
+    }
+}

@@ -10,31 +10,6 @@ use lampshade::renderer::{
     AccumFormat, CullingMode, DepthFormat, LayoutChoice, Method, Renderer, Settings, OUTPUT_FORMAT,
 };
 
-const CASES: &[&str] = &[
-    "inside",
-    "near",
-    "far",
-    "occluded",
-    "floating",
-    "on-surface",
-    "grazing",
-    "far-origin",
-    "tiny-radius",
-    "overflow",
-    "normals",
-    "spot-extremes",
-    "coincident",
-    "street",
-];
-
-fn size(name: &str) -> (u32, u32) {
-    if name == "overflow" {
-        (96, 54)
-    } else {
-        (160, 90)
-    }
-}
-
 /// Relative error allowed between the GPU (f32 arithmetic, f32 accumulation) and f64. The
 /// worst seen on lavapipe over all cases is 8.1e-6 (f32 rounding, amplified by specular
 /// exponents and sums over 10,000 lights); the bound leaves a factor of 12.
@@ -46,9 +21,9 @@ fn every_culling_mode_matches_the_reference_on_every_hard_case() {
     // With either depth-stencil format: the volumes' depth tests run against it.
     let mut failures = Vec::new();
     for depth_format in DepthFormat::ALL {
-        for name in CASES {
+        for name in HARD_CASES {
             let scene = scene(name);
-            let (w, h) = size(name);
+            let (w, h) = hard_case_size(name);
             let s = |culling| Settings { culling, count_ideal: false, depth_format, ..Settings::default() };
             let reference = render(&scene, &s(CullingMode::Fullscreen), w, h);
             assert_finite(&reference, name);
@@ -75,9 +50,9 @@ fn every_culling_mode_matches_the_reference_on_every_hard_case() {
 fn gpu_lighting_matches_f64_at_sampled_pixels() {
     let gpu = gpu();
     let mut worst = 0f64;
-    for name in CASES {
+    for name in HARD_CASES {
         let scene = scene(name);
-        let (w, h) = size(name);
+        let (w, h) = hard_case_size(name);
         // Full precision everywhere, so the comparison sees the shader's arithmetic.
         // No cut-off (the exact radius): the CPU evaluates the full falloff.
         let settings = Settings {
@@ -145,9 +120,9 @@ fn d24_and_d32_depth_agree_on_every_hard_case() {
     // format only decides the depth *tests*. Where they differ it shows as pixels whose
     // visibility flips between surfaces closer than a 24-bit step; stated bound below.
     let mut report = Vec::new();
-    for name in CASES {
+    for name in HARD_CASES {
         let scene = scene(name);
-        let (w, h) = size(name);
+        let (w, h) = hard_case_size(name);
         for reversed_z in [false, true] {
             let s = |depth_format| Settings { depth_format, reversed_z, ..Settings::default() };
             let d32 = render(&scene, &s(DepthFormat::Depth32FloatStencil8), w, h);

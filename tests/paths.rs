@@ -19,32 +19,6 @@ use lampshade::Scene;
 
 const FORWARD: [RenderPath; 2] = [RenderPath::Forward, RenderPath::ForwardMultipass];
 
-/// The hard cases of `tests/hard_cases.rs`, at its sizes.
-const CASES: &[&str] = &[
-    "inside",
-    "near",
-    "far",
-    "occluded",
-    "floating",
-    "on-surface",
-    "grazing",
-    "far-origin",
-    "tiny-radius",
-    "overflow",
-    "normals",
-    "spot-extremes",
-    "coincident",
-    "street",
-];
-
-fn size(name: &str) -> (u32, u32) {
-    if name == "overflow" {
-        (96, 54)
-    } else {
-        (160, 90)
-    }
-}
-
 fn room() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf");
     import::load(std::path::Path::new(path), &ImportOptions::default(), &mut |_| {}).expect("the room loads").scene
@@ -53,7 +27,7 @@ fn room() -> Scene {
 /// Every scene the paths must render: demo, the room, the hard cases.
 fn scenes() -> Vec<(String, Scene, (u32, u32))> {
     let mut v = vec![("demo".to_string(), scene("demo"), (160, 90)), ("room".to_string(), room(), (160, 90))];
-    v.extend(CASES.iter().map(|n| (n.to_string(), scene(n), size(n))));
+    v.extend(HARD_CASES.iter().map(|n| (n.to_string(), scene(n), hard_case_size(n))));
     v
 }
 
@@ -222,7 +196,7 @@ fn deferred_and_forward_agree_within_the_gbuffer_quantisation() {
     for (layout, reversed_z, depth_format) in variants {
         for name in cases {
             let scene = scene(name);
-            let size = size(name);
+            let size = hard_case_size(name);
             let base = Settings { layout, reversed_z, depth_format, count_ideal: false, ..Settings::default() };
             let deferred = render_hdr(&scene, &base, size);
             let used = deferred.renderer.layout().clone();

@@ -17,24 +17,6 @@ use lampshade::renderer::{
 const W: u32 = 160;
 const H: u32 = 90;
 
-/// The hard cases of `tests/hard_cases.rs`.
-const CASES: &[&str] = &[
-    "inside",
-    "near",
-    "far",
-    "occluded",
-    "floating",
-    "on-surface",
-    "grazing",
-    "far-origin",
-    "tiny-radius",
-    "overflow",
-    "normals",
-    "spot-extremes",
-    "coincident",
-    "street",
-];
-
 fn prepass(base: Settings) -> Settings {
     Settings { path: RenderPath::LightPrepass, ..base }
 }
@@ -48,7 +30,7 @@ fn room() -> lampshade::Scene {
 #[test]
 fn renders_demo_room_and_every_hard_case_finite_and_lit() {
     let mut scenes: Vec<(String, lampshade::Scene)> = vec![("demo".into(), scene("demo")), ("room".into(), room())];
-    scenes.extend(CASES.iter().map(|n| (n.to_string(), scene(n))));
+    scenes.extend(HARD_CASES.iter().map(|n| (n.to_string(), scene(n))));
     for (name, scene) in &scenes {
         let f = render(scene, &prepass(Settings { count_ideal: false, ..Settings::default() }), W, H);
         assert_finite(&f, name);
@@ -107,7 +89,7 @@ fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
 #[test]
 fn every_culling_mode_matches_fullscreen_within_the_path() {
     let mut cases = vec!["demo", "spot", "classify"];
-    cases.extend(CASES.iter().filter(|c| **c != "overflow"));
+    cases.extend(HARD_CASES.iter().filter(|c| **c != "overflow"));
     modes_match_fullscreen(&Settings::default(), &cases, "rgba16-float");
 }
 
@@ -198,7 +180,7 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
     let (mut worst_diff, mut worst_width, mut worst_share) = (0f64, 0f64, 0f64);
     let mut worst_at = String::new();
     let mut failures = Vec::new();
-    for name in CASES {
+    for name in HARD_CASES {
         let scene = scene(name);
         let (w, h) = if *name == "overflow" { (96, 54) } else { (W, H) };
         let base = Settings { culling: CullingMode::Volume, light_cutoff: 0.0, ..Settings::default() };

@@ -12,6 +12,35 @@ pub fn gpu() -> &'static Gpu {
     GPU.get_or_init(|| Gpu::headless().expect("these tests need a GPU adapter (mesa-vulkan-drivers provides one)"))
 }
 
+/// The hard cases (built-in scenes that stress precision, culling and counting), which every
+/// culling mode and path must survive: `tests/hard_cases.rs`, `tests/paths.rs`,
+/// `tests/prepass.rs`.
+pub const HARD_CASES: &[&str] = &[
+    "inside",
+    "near",
+    "far",
+    "occluded",
+    "floating",
+    "on-surface",
+    "grazing",
+    "far-origin",
+    "tiny-radius",
+    "overflow",
+    "normals",
+    "spot-extremes",
+    "coincident",
+    "street",
+];
+
+/// The size a hard case renders at (`overflow`'s many lights at a smaller one).
+pub fn hard_case_size(name: &str) -> (u32, u32) {
+    if name == "overflow" {
+        (96, 54)
+    } else {
+        (160, 90)
+    }
+}
+
 pub fn scene(name: &str) -> Scene {
     builtin::build(name, BuiltinOptions::default()).expect("built-in scene")
 }

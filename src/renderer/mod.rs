@@ -24,6 +24,7 @@ pub mod post;
 pub mod records;
 pub mod scene_gpu;
 pub mod settings;
+pub mod shadows;
 pub mod stats;
 pub mod targets;
 pub mod tiles;
@@ -43,7 +44,7 @@ use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
     AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, RenderPath,
-    Settings,
+    Settings, ShadowFilter, ShadowMode,
 };
 use stats::Stamp;
 pub use stats::{CpuMs, FrameStats, LightStats};
@@ -290,10 +291,28 @@ impl Renderer {
         for (l, c) in records.lights.iter_mut().zip(&clamps.lights) {
             l.clamp = *c;
         }
+        // Issue 15: who casts, each caster's tiles in the atlas (`shadows`).
+        let shadow_plan = shadows::plan(
+            scene,
+            &shadows::ShadowInputs {
+                settings,
+                bounds: &gpu_scene.bounds,
+                footprints: plan.lights.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
+                size,
+                proj: records.proj,
+                max_texture: self.limits.max_texture_dimension_2d,
+            },
+        );
+        for (l, &(first, count)) in records.lights.iter_mut().zip(&shadow_plan.lights) {
+            l.shadow = [first, count, 0, 0];
+        }
         let plan_ms = clock.elapsed().as_secs_f64() * 1e3;
         let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
+        let bgl = &self.passes.shared.frame_bgl;
+        let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
+        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);
         let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
@@ -315,6 +334,8 @@ impl Renderer {
         // The frame as the seeds draw it.
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        // 0. Shadows (issue 15): each casting light's depth into its tiles of the atlas.
+        p.shadows.encode(&self.device, &mut encoder, &f, &shadow_plan);
         // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
         p.gbuffer.encode(&mut encoder, &f);
         // 2. Lights: ambient + sun full-screen, then each light with its culling method.
@@ -378,6 +399,7 @@ impl Renderer {
                 tonemap: settings.tonemap,
             }),
             cpu_ms,
+            shadow: (settings.shadows != ShadowMode::None).then(|| shadow_plan.stats.clone()),
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);

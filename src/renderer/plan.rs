@@ -818,6 +818,7 @@ mod tests {
                 color: Vec3::ONE,
                 intensity: 1.0,
                 radius,
+                cast_shadows: true,
             }),
             0.0,
         );

@@ -138,10 +138,13 @@ pub enum Stamp {
     VignetteEnd = 21,
     AaBegin = 22,
     AaEnd = 23,
+    /// Issue 15: the shadow pass (before the G-buffer; not in `gpu_ms.total`).
+    ShadowsBegin = 24,
+    ShadowsEnd = 25,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 24;
+    pub const COUNT: u32 = 26;
 }
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
@@ -295,6 +298,9 @@ pub struct FrameStats {
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
+    /// Issue 15: the shadow atlas and who casts (`None` with `--shadows none`).
+    #[serde(default)]
+    pub shadow: Option<crate::renderer::shadows::ShadowStats>,
 }
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
@@ -512,6 +518,9 @@ impl Queries {
                     }
                 }
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+                if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
+                    sh.gpu_ms = span(Stamp::ShadowsBegin, Stamp::ShadowsEnd);
+                }
                 if let Some(post) = stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).
                     let (b, e, t, g) = (

@@ -481,6 +481,7 @@ mod tests {
             tan_outer: 0.0,
             falloff: radius,
             clamp: f32::MAX,
+            shadow: crate::renderer::records::UNSHADOWED,
         };
         let plan = |on_screen: bool| LightPlan {
             method: Method::Clustered,
@@ -546,6 +547,7 @@ mod tests {
                 tan_outer: 0.0,
                 falloff: radius,
                 clamp: f32::MAX,
+                shadow: crate::renderer::records::UNSHADOWED,
             };
             lights.push(l);
         }

@@ -30,6 +30,7 @@ pub const NAMES: &[(&str, &str)] = &[
         "materials",
         "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
     ),
+    ("shadows", "issue 15: boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -74,6 +75,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "street" => street(opts.lights.unwrap_or(64)),
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
         "materials" => materials(),
+        "shadows" => shadows(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -126,7 +128,7 @@ impl Builder {
     }
 
     fn point(&mut self, position: DVec3, color: Vec3, intensity: f32, radius: f32) {
-        self.scene.lights.push(Light::Point(PointLight { position, color, intensity, radius }));
+        self.scene.lights.push(Light::Point(PointLight { position, color, intensity, radius, cast_shadows: true }));
     }
 }
 
@@ -202,6 +204,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
             radius: 22.0,
             inner_angle: 14f32.to_radians(),
             outer_angle: 22f32.to_radians(),
+            cast_shadows: true,
         }));
     }
     b.scene
@@ -277,6 +280,7 @@ pub fn spot() -> Scene {
         radius: 13.0,
         inner_angle: 20f32.to_radians(),
         outer_angle: 32f32.to_radians(),
+        cast_shadows: true,
     }));
     b.scene
 }
@@ -450,6 +454,7 @@ fn spot_extremes() -> Scene {
             radius: 8.0,
             inner_angle: inner.to_radians(),
             outer_angle: outer.to_radians(),
+            cast_shadows: true,
         }));
     }
     b.scene
@@ -692,6 +697,44 @@ pub fn materials() -> Scene {
         radius: 14.0,
         inner_angle: 25f32.to_radians(),
         outer_angle: 40f32.to_radians(),
+        cast_shadows: true,
     }));
+    b.scene
+}
+
+/// Issue 15's scene: boxes, a pillar and a thin wall on a floor under the sun, a spot light and
+/// a point light, so each kind's shadow shows (`--shadows all`).
+pub fn shadows() -> Scene {
+    let camera = Camera::looking_at(DVec3::new(6.0, 6.5, 11.0), DVec3::new(0.0, 0.5, 0.0));
+    let mut b = Builder::new("shadows", camera);
+    b.scene.ambient = Vec3::splat(0.03);
+    b.scene.sun = Some(Sun { direction: Vec3::new(-0.5, -1.0, -0.35).normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 0.35 });
+    let floor = b.material(Material {
+        diffuse: Vec3::new(0.6, 0.58, 0.55),
+        specular_level: 0.3,
+        specular_exponent: 32.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-10.0, -1.0, -10.0), DVec3::new(10.0, 0.0, 10.0), floor);
+    for (i, (x, z, s, h)) in [(-2.0, 0.0, 0.6, 1.2), (1.5, -1.5, 0.5, 2.5), (2.5, 2.0, 0.4, 0.8)].iter().enumerate() {
+        let m = b.material(Material::diffuse(hue(i as f32 * 0.3) * 0.6 + Vec3::splat(0.2)));
+        b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
+    }
+    // A thin wall (5 cm) between the point light and the boxes on its far side.
+    let wall = b.material(Material::diffuse(Vec3::new(0.55, 0.6, 0.7)));
+    b.boxed(DVec3::new(-4.5, 0.0, -3.0), DVec3::new(-4.45, 2.0, 1.0), wall);
+    b.boxed(DVec3::new(-6.0, 0.0, -0.5), DVec3::new(-5.4, 0.9, 0.1), wall);
+    b.scene.lights.push(Light::Spot(SpotLight {
+        position: DVec3::new(0.5, 6.0, 2.0),
+        direction: Vec3::new(-0.1, -1.0, -0.3).normalize(),
+        color: Vec3::new(1.0, 0.9, 0.75),
+        intensity: 5.0,
+        radius: 12.0,
+        inner_angle: 25f32.to_radians(),
+        outer_angle: 35f32.to_radians(),
+        cast_shadows: true,
+    }));
+    b.point(DVec3::new(-3.5, 1.2, -1.0), Vec3::new(0.5, 0.7, 1.0), 3.0, 6.0);
     b.scene
 }

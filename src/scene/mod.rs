@@ -468,6 +468,14 @@ pub struct PointLight {
     pub intensity: f32,
     /// Distance at which the light's contribution reaches exactly zero.
     pub radius: f32,
+    /// Whether the light may cast a shadow (`Settings::shadows` decides which kinds do; this
+    /// flag only turns one light off). Settings and scene files, glTF `extras.cast_shadows`.
+    #[serde(default = "cast_shadows_default")]
+    pub cast_shadows: bool,
+}
+
+fn cast_shadows_default() -> bool {
+    true
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -481,6 +489,9 @@ pub struct SpotLight {
     pub inner_angle: f32,
     /// Half-angle (radians) at which it reaches zero.
     pub outer_angle: f32,
+    /// Whether the light may cast a shadow (see [`PointLight::cast_shadows`]).
+    #[serde(default = "cast_shadows_default")]
+    pub cast_shadows: bool,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -506,6 +517,19 @@ impl Light {
         match self {
             Light::Point(p) => p.color,
             Light::Spot(s) => s.color,
+        }
+    }
+    /// The light's own shadow flag.
+    pub fn cast_shadows(&self) -> bool {
+        match self {
+            Light::Point(p) => p.cast_shadows,
+            Light::Spot(s) => s.cast_shadows,
+        }
+    }
+    pub fn set_cast_shadows(&mut self, on: bool) {
+        match self {
+            Light::Point(p) => p.cast_shadows = on,
+            Light::Spot(s) => s.cast_shadows = on,
         }
     }
 

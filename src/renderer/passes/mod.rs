@@ -19,6 +19,7 @@ pub mod gbuffer;
 pub mod grading;
 pub mod lights;
 pub mod measure;
+pub mod shadows;
 pub mod tiled;
 pub mod tonemap;
 pub mod vignette;
@@ -65,6 +66,10 @@ pub fn wgsl_constants() -> String {
         u(&format!("TONEMAP_{}", t.wgsl_name()), t as u32);
     }
     u("HIST_BINS", super::post::HIST_BINS);
+    u("NO_SHADOW", records::NO_SHADOW);
+    for f in [super::shadows::ShadowFilter::Pcf2x2, super::shadows::ShadowFilter::Pcf3x3, super::shadows::ShadowFilter::Poisson16] {
+        u(&format!("SHADOW_FILTER_{}", f.name().to_uppercase()), f as u32);
+    }
     for a in [super::post::Aa::Off, super::post::Aa::Edge, super::post::Aa::Fxaa] {
         u(&format!("AA_{}", a.name().to_uppercase()), a as u32);
     }
@@ -100,6 +105,7 @@ pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, 
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
+            include_str!("../../../shaders/shadows.wgsl"),
         ]
         .map(String::from),
     );
@@ -501,6 +507,7 @@ pub struct Passes {
     pub dof: dof::DofPass,
     pub vignette: vignette::VignettePass,
     pub aa: aa::AaPass,
+    pub shadows: shadows::ShadowPass,
 }
 
 impl Passes {
@@ -522,6 +529,7 @@ impl Passes {
             dof: dof::DofPass::new(device, &shared),
             vignette: vignette::VignettePass::new(device, &shared),
             aa: aa::AaPass::new(device, &shared),
+            shadows: shadows::ShadowPass::new(device, &shared),
             shared,
         }
     }

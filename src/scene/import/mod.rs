@@ -378,6 +378,19 @@ impl Importer<'_> {
             _ => (intensity * color.max_element() / RANGE_CUTOFF).sqrt().max(1e-3),
         };
         let ours = 4.0 * intensity / (0.5625 * radius * radius);
+        // Issue 15: `"extras": {"cast_shadows": false}` on the light turns its shadow off; any
+        // other value of the key is a warning and the default (on).
+        let cast_shadows = match light.extras().as_ref().map(|raw| serde_json::from_str::<serde_json::Value>(raw.get())) {
+            Some(Ok(v)) => match v.get("cast_shadows") {
+                None => true,
+                Some(serde_json::Value::Bool(b)) => *b,
+                Some(other) => {
+                    self.warnings.push(format!("{label}: extras.cast_shadows {other} is not true or false; casting"));
+                    true
+                }
+            },
+            _ => true,
+        };
         let l = match light.kind() {
             Kind::Directional => {
                 if self.first_sun {
@@ -389,7 +402,7 @@ impl Importer<'_> {
                 }
                 return;
             }
-            Kind::Point => Light::Point(PointLight { position, color, intensity: ours, radius }),
+            Kind::Point => Light::Point(PointLight { position, color, intensity: ours, radius, cast_shadows }),
             Kind::Spot { inner_cone_angle, outer_cone_angle } => {
                 let outer = outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2);
                 let inner = inner_cone_angle.clamp(0.0, outer);
@@ -401,6 +414,7 @@ impl Importer<'_> {
                     radius,
                     inner_angle: inner,
                     outer_angle: outer,
+                    cast_shadows,
                 })
             }
         };

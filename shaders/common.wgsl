@@ -346,10 +346,16 @@ fn ambient_limit(s: Surface) -> vec3<f32> {
 
 // Issue 15: the shadow factor (1 lit .. 0 shadowed) of view-space point `p` with normal `n` in
 // tile `t`, towards the light along `L`. The biases are texels (`shadow_params.bias`) times a
-// texel's world size at the receiver, so they follow each tile's resolution: the lookup point
-// moves `normal offset` texels along the normal, and the compared depth is lowered by
-// (constant + slope x tan(angle to the light), tan at most 10) texels. Points outside the tile's
-// frustum are lit (a spot's cone and a light's radius already end there).
+// texel's world size at the receiver, so they follow each tile's resolution:
+// - normal offset: the lookup point moves h = (reach + knob) texels along the normal, where
+//   reach is how far from the point the kernel reads depths (LS_SHADOW_REACH: 1 texel for the
+//   hardware 2x2, 2 for 3x3 of them, 3 for the Poisson disc of radius 2). On a plane this alone
+//   removes acne at every angle: the light ray through the moved point meets the plane h / N.L
+//   beyond it, while the plane's stored depth varies by at most (reach + 1/2) texels x tan over
+//   the texels the kernel reads, which is less than h / N.L when h > (reach + 1/2) sin.
+// - depth bias: the compared depth is lowered by (constant + slope x tan(angle to the light),
+//   tan at most 10) texels.
+// Points outside the tile's frustum are lit (a spot's cone and a light's radius end there).
 fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -> f32 {
     let shadow_params = shadow_params_load();
     let ortho = t.info.x > 0.5;
@@ -360,7 +366,9 @@ fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -
     }
     let texel = t.info.y * w0;
     let ndl = clamp(dot(n, L), 0.0, 1.0);
-    let q = (t.to_light * vec4<f32>(p + n * (shadow_params.bias.z * texel), 1.0)).xyz;
+    let kernel = shadow_params.sun.z;
+    let reach = f32(kernel + 1u);
+    let q = (t.to_light * vec4<f32>(p + n * ((reach + shadow_params.bias.z) * texel), 1.0)).xyz;
     let w = select(-q.z, 1.0, ortho);
     if !(w > 0.0) {
         return 1.0;
@@ -380,7 +388,6 @@ fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -
     let px = shadow_params.bias.w;
     let lo = t.rect.xy + vec2<f32>(0.5 * px);
     let hi = t.rect.xy + t.rect.zw - vec2<f32>(0.5 * px);
-    let kernel = shadow_params.sun.z;
     if kernel == LS_SHADOW_FILTER_PCF2X2 {
         return textureSampleCompareLevel(shadow_atlas, shadow_sampler, clamp(uv, lo, hi), depth);
     }

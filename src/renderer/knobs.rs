@@ -547,7 +547,7 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "shadow-normal-offset",
         what: "shadow normal offset",
-        help: "Shadow lookups move this many texels along the surface normal",
+        help: "Shadow lookups move this many texels along the surface normal, beyond the filter's reach (1, 2 or 3 texels)",
         values: Values::Float { min: 0.0, max: 100.0, open: (false, false), slider: (0.0, 4.0) },
         cli: true,
         get: |s| s.shadow_normal_offset.to_string(),

@@ -69,6 +69,8 @@ struct LastFrame {
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
     plan: FramePlan,
+    /// Issue 15: the shadow tiles and who casts.
+    shadows: shadows::ShadowPlan,
 }
 
 pub struct Renderer {
@@ -411,6 +413,7 @@ impl Renderer {
             lights: records.lights,
             ambient_clamp: records.camera.light_clamp,
             plan,
+            shadows: shadow_plan,
         };
         Ok(stats)
     }
@@ -435,6 +438,12 @@ impl Renderer {
     /// could add to a channel at most. The f64 reference applies the same values.
     pub fn light_clamps(&self) -> (f32, Vec<f32>) {
         (self.last.ambient_clamp, self.last.lights.iter().map(|l| l.clamp).collect())
+    }
+
+    /// The last frame's shadow plan (issue 15): the atlas's tiles as the shaders read them,
+    /// each light's (first tile, count), the sun's cascades and the stats.
+    pub fn shadow_plan(&self) -> &shadows::ShadowPlan {
+        &self.last.shadows
     }
 
     /// The last frame's per-light plans (method, volume, planes crossed, screen share).

@@ -493,7 +493,8 @@ pub struct Settings {
     pub shadow_bias: f32,
     /// Slope-scaled depth bias: texels x tan(angle between the normal and the light).
     pub shadow_slope_bias: f32,
-    /// Normal offset: the lookup point moves this many texels along the surface normal.
+    /// Normal offset: the lookup point moves this many texels along the surface normal beyond
+    /// the filter's own reach (`ShadowFilter::reach`).
     pub shadow_normal_offset: f32,
     /// The filter kernel of the shadow lookup.
     pub shadow_filter: ShadowFilter,

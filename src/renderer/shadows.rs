@@ -45,7 +45,8 @@ pub enum ShadowMode {
     All,
 }
 
-/// The shadow lookup's filter.
+/// The shadow lookup's filter. Its value + 1 is its reach: how many texels from the lookup
+/// point it reads depths (the normal offset adds it, see `shadow_tile_factor` in common.wgsl).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 #[repr(u32)]
@@ -57,6 +58,14 @@ pub enum ShadowFilter {
     Pcf3x3 = 1,
     /// 16 hardware samples on a Poisson disc of radius 2 texels.
     Poisson16 = 2,
+}
+
+impl ShadowFilter {
+    /// Texels from the lookup point whose depths the kernel reads: the hardware's 2x2 reaches 1,
+    /// 3x3 of them 1 texel apart 2, the Poisson disc of radius 2 texels 3.
+    pub fn reach(self) -> u32 {
+        self as u32 + 1
+    }
 }
 
 /// Smallest tile side in texels.

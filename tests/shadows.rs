@@ -52,6 +52,12 @@ fn settings(shadows: ShadowMode) -> Settings {
     Settings { shadows, count_fragments: false, ..Settings::default() }
 }
 
+/// The CPU checks' settings: a 64 MiB atlas (4096 texels; 1024 a cascade) and 4 cascades, so
+/// the edge band leaves enough of the shadows' insides to compare.
+fn fine(shadows: ShadowMode) -> Settings {
+    Settings { shadow_budget_mb: 64.0, shadow_cascades: 4, ..settings(shadows) }
+}
+
 /// The `shadows` scene with only the lights `keep` accepts (index, light), the sun if `sun`,
 /// and no ambient light: each pixel's diffuse light is the kept lights' alone.
 fn only(keep: impl Fn(usize, &Light) -> bool, sun: bool) -> Scene {
@@ -140,7 +146,11 @@ impl Check<'_> {
             let view_p = rot * (p - self.scene.camera.position);
             let Some(texel) = texel(view_p) else { continue };
             let band = self.band_texels * texel / ndl;
-            let visible = |q: DVec3| !self.occluders.blocked(q + n * 1e-4, light_at(q));
+            // The ray starts off the surface by more than the point's reconstruction error (the
+            // f32 depth copy: about 1e-4 of the distance here), so the receiver's own face
+            // never blocks it.
+            let lift = 1e-3 * (1.0 + view_p.length());
+            let visible = |q: DVec3| !self.occluders.blocked(q + n * lift, light_at(q));
             let v = visible(p);
             // Two tangents of the receiver, and 8 points on a circle of the band's radius.
             let t1 = n.any_orthonormal_vector();
@@ -167,9 +177,9 @@ impl Check<'_> {
 
 fn check_light(name: &str, scene: &Scene, mode: ShadowMode, sun: bool) {
     let plain = lit(scene, &settings(ShadowMode::None));
-    let shadowed = lit(scene, &settings(mode));
+    let shadowed = lit(scene, &fine(mode));
     assert_finite_values(&shadowed.diffuse, name);
-    let band_texels = band_texels(&settings(mode));
+    let band_texels = band_texels(&fine(mode));
     let misses = std::cell::RefCell::new(Some(shadowed.image.clone()));
     let check = Check { scene, occluders: Occluders::of(scene), plain: &plain, shadowed: &shadowed, band_texels, misses };
     let rot = scene.camera.rotation();
@@ -223,7 +233,7 @@ fn check_light(name: &str, scene: &Scene, mode: ShadowMode, sun: bool) {
             let _ = img.save(dir.join(format!("shadows-{name}-misses.png")));
         }
     }
-    assert!(total > 2000, "{name}: only {total} pixels compared");
+    assert!(total > 1000, "{name}: only {total} pixels compared");
     assert!(blocked > 200, "{name}: only {blocked} compared pixels are in shadow: the scene shows no shadow");
     assert!(share >= 0.99, "{name}: the GPU's shadow agrees with the CPU's rays at {share:.4} of {total} pixels");
 }

@@ -708,7 +708,11 @@ pub fn shadows() -> Scene {
     let camera = Camera::looking_at(DVec3::new(6.0, 6.5, 11.0), DVec3::new(0.0, 0.5, 0.0));
     let mut b = Builder::new("shadows", camera);
     b.scene.ambient = Vec3::splat(0.03);
-    b.scene.sun = Some(Sun { direction: Vec3::new(-0.5, -1.0, -0.35).normalize(), color: Vec3::new(1.0, 0.95, 0.85), intensity: 0.35 });
+    b.scene.sun = Some(Sun {
+        direction: Vec3::new(0.45, -0.7, 0.55).normalize(),
+        color: Vec3::new(1.0, 0.95, 0.85),
+        intensity: 0.35,
+    });
     let floor = b.material(Material {
         diffuse: Vec3::new(0.6, 0.58, 0.55),
         specular_level: 0.3,
@@ -717,7 +721,7 @@ pub fn shadows() -> Scene {
         ..Material::default()
     });
     b.boxed(DVec3::new(-10.0, -1.0, -10.0), DVec3::new(10.0, 0.0, 10.0), floor);
-    for (i, (x, z, s, h)) in [(-2.0, 0.0, 0.6, 1.2), (1.5, -1.5, 0.5, 2.5), (2.5, 2.0, 0.4, 0.8)].iter().enumerate() {
+    for (i, (x, z, s, h)) in [(-2.0, 0.0, 0.8, 1.6), (1.0, -1.5, 0.5, 3.0), (2.0, 2.0, 0.6, 1.0)].iter().enumerate() {
         let m = b.material(Material::diffuse(hue(i as f32 * 0.3) * 0.6 + Vec3::splat(0.2)));
         b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
     }
@@ -725,14 +729,16 @@ pub fn shadows() -> Scene {
     let wall = b.material(Material::diffuse(Vec3::new(0.55, 0.6, 0.7)));
     b.boxed(DVec3::new(-4.5, 0.0, -3.0), DVec3::new(-4.45, 2.0, 1.0), wall);
     b.boxed(DVec3::new(-6.0, 0.0, -0.5), DVec3::new(-5.4, 0.9, 0.1), wall);
+    // Behind the objects as the camera sees them: their shadows fall towards it.
+    let spot = DVec3::new(-1.0, 5.5, -5.0);
     b.scene.lights.push(Light::Spot(SpotLight {
-        position: DVec3::new(0.5, 6.0, 2.0),
-        direction: Vec3::new(-0.1, -1.0, -0.3).normalize(),
+        position: spot,
+        direction: (DVec3::new(0.5, 0.0, 0.5) - spot).normalize().as_vec3(),
         color: Vec3::new(1.0, 0.9, 0.75),
         intensity: 5.0,
-        radius: 12.0,
-        inner_angle: 25f32.to_radians(),
-        outer_angle: 35f32.to_radians(),
+        radius: 14.0,
+        inner_angle: 30f32.to_radians(),
+        outer_angle: 40f32.to_radians(),
         cast_shadows: true,
     }));
     b.point(DVec3::new(-3.5, 1.2, -1.0), Vec3::new(0.5, 0.7, 1.0), 3.0, 6.0);

@@ -357,18 +357,30 @@ fn ambient_limit(s: Surface) -> vec3<f32> {
 //   tan at most 10) texels.
 // Points outside the tile's frustum are lit (a spot's cone and a light's radius end there).
 fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -> f32 {
-    let shadow_params = shadow_params_load();
-    let ortho = t.info.x > 0.5;
     let q0 = (t.to_light * vec4<f32>(p, 1.0)).xyz;
-    let w0 = select(-q0.z, 1.0, ortho);
+    let w0 = select(-q0.z, 1.0, t.info.x > 0.5);
     if !(w0 > 0.0) {
         return 1.0;
     }
     let texel = t.info.y * w0;
+    return shadow_lookup(t, shadow_offset_point(p, n, texel), n, L, texel);
+}
+
+// The normal offset's lookup point: `p` moved (reach + knob) texels along the normal.
+fn shadow_offset_point(p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec3<f32> {
+    let b = shadow_params_load();
+    let reach = f32(b.sun.z + 1u);
+    return p + n * ((reach + b.bias.z) * texel);
+}
+
+// The lookup at the (offset) point `p1` in tile `t`; `texel` is a texel's world size at the
+// receiver.
+fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
+    let shadow_params = shadow_params_load();
+    let ortho = t.info.x > 0.5;
     let ndl = clamp(dot(n, L), 0.0, 1.0);
     let kernel = shadow_params.sun.z;
-    let reach = f32(kernel + 1u);
-    let q = (t.to_light * vec4<f32>(p + n * ((reach + shadow_params.bias.z) * texel), 1.0)).xyz;
+    let q = (t.to_light * vec4<f32>(p1, 1.0)).xyz;
     let w = select(-q.z, 1.0, ortho);
     if !(w > 0.0) {
         return 1.0;
@@ -420,13 +432,9 @@ const SHADOW_POISSON = array<vec2<f32>, 16>(
     vec2<f32>(0.19984126, 0.78641367), vec2<f32>(0.14383161, -0.14100790),
 );
 
-// The light's tile for point `p`: its one tile, or the cube face of the major axis of the
-// light-to-point vector (view-space axes, `shadows::FACES`: +x, -x, +y, -y, +z, -z).
-fn shadow_tile_of(l: GpuLight, p: vec3<f32>) -> u32 {
-    if l.shadow.y < 6u {
-        return l.shadow.x;
-    }
-    let d = p - l.position;
+// The cube face of the major axis of the light-to-point vector `d` (view-space axes,
+// `shadows::FACES`: +x, -x, +y, -y, +z, -z).
+fn cube_face(d: vec3<f32>) -> u32 {
     let a = abs(d);
     var face = 0u;
     if a.x >= a.y && a.x >= a.z {
@@ -436,7 +444,7 @@ fn shadow_tile_of(l: GpuLight, p: vec3<f32>) -> u32 {
     } else {
         face = select(5u, 4u, d.z > 0.0);
     }
-    return l.shadow.x + face;
+    return face;
 }
 
 // THE shadow lookup of a light (issue 15): every place that shades a light calls it through
@@ -447,7 +455,19 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
         return 1.0;
     }
     let L = safe_normalize(l.position - p, n);
-    return shadow_tile_factor(shadow_tile_load(shadow_tile_of(l, p)), p, n, L);
+    if l.shadow.y < 6u {
+        return shadow_tile_factor(shadow_tile_load(l.shadow.x), p, n, L);
+    }
+    // A cube: every face has the texel size of the distance along the major axis; the face is
+    // picked for the offset lookup point, so the lookup always lies in its face's frustum and
+    // the taps within the border (a point near a face edge offset into the next face reads
+    // that face, not the first face's border, where the projection stretches).
+    let d = p - l.position;
+    let a = abs(d);
+    let first = shadow_tile_load(l.shadow.x);
+    let texel = first.info.y * max(a.x, max(a.y, a.z));
+    let p1 = shadow_offset_point(p, n, texel);
+    return shadow_lookup(shadow_tile_load(l.shadow.x + cube_face(p1 - l.position)), p1, n, L, texel);
 }
 
 // The sun's cascade for view-space point `p` (its count when beyond the last: unshadowed).

@@ -709,7 +709,7 @@ pub fn shadows() -> Scene {
     let mut b = Builder::new("shadows", camera);
     b.scene.ambient = Vec3::splat(0.03);
     b.scene.sun = Some(Sun {
-        direction: Vec3::new(0.45, -0.7, 0.55).normalize(),
+        direction: Vec3::new(0.6, -0.55, 0.6).normalize(),
         color: Vec3::new(1.0, 0.95, 0.85),
         intensity: 0.35,
     });

@@ -471,6 +471,9 @@ fn every_culling_mode_gives_the_same_shadowed_picture() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// Every hard case with every light casting: finite, and no pixel gets more light than without
+/// shadows (a shadow factor is in 0 ..= 1 and fp16 rounding is monotone, so with the same
+/// lights blended in the same order the sum cannot grow; one fp16 step allowed).
 #[test]
 fn the_hard_cases_stay_finite_with_shadows_on() {
     for name in [
@@ -491,9 +494,18 @@ fn the_hard_cases_stay_finite_with_shadows_on() {
     ] {
         let s = scene(name);
         let (w, h) = if name == "overflow" { (96, 54) } else { (160, 90) };
+        let plain = render(&s, &settings(ShadowMode::None), w, h);
         for filter in [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16] {
             let f = render(&s, &Settings { shadow_filter: filter, ..settings(ShadowMode::All) }, w, h);
             assert_finite(&f, name);
+            let grown = f
+                .diffuse
+                .iter()
+                .zip(&plain.diffuse)
+                .chain(f.specular.iter().zip(&plain.specular))
+                .filter(|(a, b)| **a > **b * (1.0 + 1.0 / 1024.0))
+                .count();
+            assert_eq!(grown, 0, "{name}/{}: {grown} values grew with shadows on", filter.name());
             let sh = f.stats.shadow.as_ref().expect("shadow stats");
             assert!(sh.casting > 0 || s.lights.is_empty() && s.sun.is_none(), "{name}: nothing cast");
         }

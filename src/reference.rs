@@ -198,7 +198,9 @@ impl Occluders {
                 continue;
             }
             let p = |i: u32| {
-                mesh.vertices.get(i as usize).map(|v| o.transform.transform_point3(glam::Vec3::from(v.position).as_dvec3()))
+                mesh.vertices
+                    .get(i as usize)
+                    .map(|v| o.transform.transform_point3(glam::Vec3::from(v.position).as_dvec3()))
             };
             for t in mesh.indices.chunks_exact(3) {
                 if let (Some(a), Some(b), Some(c)) = (p(t[0]), p(t[1]), p(t[2])) {

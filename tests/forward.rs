@@ -116,7 +116,13 @@ fn corner_lights(reaching: bool) -> Scene {
         for k in 0..8 {
             let corner = DVec3::new([-1.0, 1.0][k & 1], [-1.0, 1.0][(k >> 1) & 1], [-1.0, 1.0][k >> 2]);
             let position = corner.normalize() * (3f64.sqrt() + 0.92);
-            s.lights.push(Light::Point(PointLight { position, color: Vec3::ONE, intensity: 60.0, radius: 1.0, cast_shadows: true }));
+            s.lights.push(Light::Point(PointLight {
+                position,
+                color: Vec3::ONE,
+                intensity: 60.0,
+                radius: 1.0,
+                cast_shadows: true,
+            }));
         }
     }
     s

@@ -4,6 +4,9 @@
 //! acne on a plane lit at a grazing angle; a thin wall; the point light's cube faces; every
 //! culling mode; the hard cases with shadows on; the stats' fallbacks.
 
+// `!(a > b)` also skips NaN, as the shaders' tests are written.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 mod common;
 use common::*;
 use glam::{DMat3, DVec3, Vec3};
@@ -191,14 +194,28 @@ fn check_light(name: &str, scene: &Scene, mode: ShadowMode, sun: bool) {
 
 /// `check_light` at the pixels `pixels` selects, asking for at least `least.0` compared pixels
 /// of which `least.1` are in shadow.
-fn check_light_at(name: &str, scene: &Scene, mode: ShadowMode, sun: bool, pixels: Option<Vec<bool>>, least: (usize, usize)) {
+fn check_light_at(
+    name: &str,
+    scene: &Scene,
+    mode: ShadowMode,
+    sun: bool,
+    pixels: Option<Vec<bool>>,
+    least: (usize, usize),
+) {
     let plain = lit(scene, &settings(ShadowMode::None));
     let shadowed = lit(scene, &fine(mode));
     assert_finite_values(&shadowed.diffuse, name);
     let band_texels = band_texels(&fine(mode));
     let misses = std::cell::RefCell::new(Some(shadowed.image.clone()));
-    let check =
-        Check { scene, occluders: Occluders::of(scene), plain: &plain, shadowed: &shadowed, band_texels, misses, pixels };
+    let check = Check {
+        scene,
+        occluders: Occluders::of(scene),
+        plain: &plain,
+        shadowed: &shadowed,
+        band_texels,
+        misses,
+        pixels,
+    };
     let rot = scene.camera.rotation();
     let (agree, total, blocked) = if sun {
         let s = scene.sun.expect("a sun");
@@ -225,9 +242,17 @@ fn check_light_at(name: &str, scene: &Scene, mode: ShadowMode, sun: bool, pixels
                     let d = vp - lp_view;
                     let a = d.abs();
                     let face = if a.x >= a.y && a.x >= a.z {
-                        if d.x > 0.0 { 0 } else { 1 }
+                        if d.x > 0.0 {
+                            0
+                        } else {
+                            1
+                        }
                     } else if a.y >= a.z {
-                        if d.y > 0.0 { 2 } else { 3 }
+                        if d.y > 0.0 {
+                            2
+                        } else {
+                            3
+                        }
                     } else if d.z > 0.0 {
                         4
                     } else {
@@ -319,7 +344,12 @@ fn a_plane_lit_at_a_grazing_angle_shows_no_acne_with_the_default_bias() {
             let (acne, n) = count_acne(&Settings { shadow_filter: filter, ..settings(mode) });
             eprintln!("{name}/{}: {acne} of {n} lit pixels lose light with the default bias", filter.name());
             assert!(n > 4000, "{name}: only {n} lit pixels");
-            assert_eq!(acne, 0, "{name}/{}: {acne} of {n} pixels of an unoccluded floor are self-shadowed", filter.name());
+            assert_eq!(
+                acne,
+                0,
+                "{name}/{}: {acne} of {n} pixels of an unoccluded floor are self-shadowed",
+                filter.name()
+            );
         }
     }
 }
@@ -332,7 +362,8 @@ fn a_thin_wall_leaks_no_light() {
     s.objects.truncate(1);
     let wall = s.objects[0].material;
     // The wall: x = -4.52 .. -4.50, 20 units long, 3 high; the light 1 unit in front of it.
-    let t = glam::DMat4::from_translation(DVec3::new(-4.51, 1.5, 0.0)) * glam::DMat4::from_scale(DVec3::new(0.02, 3.0, 20.0));
+    let t = glam::DMat4::from_translation(DVec3::new(-4.51, 1.5, 0.0))
+        * glam::DMat4::from_scale(DVec3::new(0.02, 3.0, 20.0));
     s.objects.push(lampshade::scene::Object { mesh: 0, material: wall, transform: t });
     if let Light::Point(p) = &mut s.lights[0] {
         p.position = DVec3::new(-3.5, 1.2, 0.0);
@@ -543,7 +574,11 @@ fn fallbacks_are_counted_in_the_stats() {
     assert_eq!(sh.fallback_off_screen, 1);
     assert_eq!(sh.flag_off, 1);
     assert!(sh.fallback_budget > 0, "no light fell back for the budget");
-    assert_eq!(sh.casting + sh.fallback_budget, 1 + 1 + 39, "the sun, the spot and 39 points: each casts or is counted");
+    assert_eq!(
+        sh.casting + sh.fallback_budget,
+        1 + 1 + 39,
+        "the sun, the spot and 39 points: each casts or is counted"
+    );
     assert!(sh.atlas_used <= 1.0);
     let unshadowed = f.lights.iter().filter(|l| l.0 == lampshade::renderer::records::NO_SHADOW).count();
     assert_eq!(unshadowed as u32, sh.fallback_budget + sh.fallback_off_screen + sh.flag_off);

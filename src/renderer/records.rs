@@ -560,7 +560,11 @@ impl FrameBuffers {
             wgpu::BindGroupEntry { binding: 2, resource: self.objects.as_entire_binding() },
             wgpu::BindGroupEntry { binding: 52, resource: wgpu::BindingResource::TextureView(&self.shadow_table_view) },
         ];
-        device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("shadow casters"), layout: bgl, entries: &entries })
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow casters"),
+            layout: bgl,
+            entries: &entries,
+        })
     }
 
     /// Side of the shadow atlas as allocated.

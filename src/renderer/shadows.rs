@@ -376,7 +376,8 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             t.proj[1] = s as f32;
             t.info[1] = (2.0 / (rs * s)) as f32;
             t.info[2] = size as f32;
-            t.rect = [x as f32 / side as f32, y as f32 / side as f32, size as f32 / side as f32, size as f32 / side as f32];
+            t.rect =
+                [x as f32 / side as f32, y as f32 / side as f32, size as f32 / side as f32, size as f32 / side as f32];
             let index = out.tiles.len() as u32;
             let objects: Vec<u32> =
                 casters.iter().filter(|(_, c, rad)| sphere_meets(&t, *c, *rad)).map(|(o, _, _)| *o).collect();
@@ -428,13 +429,14 @@ fn sun_cascades(
     let tan_y = 1.0 / proj.y_axis.y.abs().max(1e-12);
     let mut splits = [0.0f32; 4];
     let mut tiles = Vec::new();
-    for i in 0..n {
+    for (i, end) in splits.iter_mut().enumerate().take(n) {
         let (d0, d1) = (split(i), split(i + 1));
-        splits[i] = d1 as f32;
+        *end = d1 as f32;
         let corners: Vec<DVec3> = [d0, d1]
             .iter()
             .flat_map(|&d| {
-                [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)].map(|(sx, sy)| DVec3::new(sx * d * tan_x, sy * d * tan_y, -d))
+                [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+                    .map(|(sx, sy)| DVec3::new(sx * d * tan_x, sy * d * tan_y, -d))
             })
             .collect();
         let centre = corners.iter().copied().sum::<DVec3>() / 8.0;

@@ -67,7 +67,11 @@ pub fn wgsl_constants() -> String {
     }
     u("HIST_BINS", super::post::HIST_BINS);
     u("NO_SHADOW", records::NO_SHADOW);
-    for f in [super::shadows::ShadowFilter::Pcf2x2, super::shadows::ShadowFilter::Pcf3x3, super::shadows::ShadowFilter::Poisson16] {
+    for f in [
+        super::shadows::ShadowFilter::Pcf2x2,
+        super::shadows::ShadowFilter::Pcf3x3,
+        super::shadows::ShadowFilter::Poisson16,
+    ] {
         u(&format!("SHADOW_FILTER_{}", f.name().to_uppercase()), f as u32);
     }
     for a in [super::post::Aa::Off, super::post::Aa::Edge, super::post::Aa::Fxaa] {

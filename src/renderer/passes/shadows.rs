@@ -57,7 +57,13 @@ impl ShadowPass {
     }
 
     /// Clears the atlas to the far depth and draws each tile's casters; nothing when no tile.
-    pub fn encode(&self, device: &wgpu::Device, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, plan: &ShadowPlan) {
+    pub fn encode(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        plan: &ShadowPlan,
+    ) {
         if plan.tiles.is_empty() {
             return;
         }

@@ -197,7 +197,13 @@ impl Importer<'_> {
             .collect();
         let intensity = normalising_intensity(&sample_vertices(&self.scene, IRRADIANCE_SAMPLES), &placed);
         for (position, radius, color) in placed {
-            self.scene.lights.push(Light::Point(PointLight { position, color, intensity, radius: radius as f32, cast_shadows: true }));
+            self.scene.lights.push(Light::Point(PointLight {
+                position,
+                color,
+                intensity,
+                radius: radius as f32,
+                cast_shadows: true,
+            }));
             self.stats.lights_added += 1;
         }
     }

@@ -380,7 +380,8 @@ impl Importer<'_> {
         let ours = 4.0 * intensity / (0.5625 * radius * radius);
         // Issue 15: `"extras": {"cast_shadows": false}` on the light turns its shadow off; any
         // other value of the key is a warning and the default (on).
-        let cast_shadows = match light.extras().as_ref().map(|raw| serde_json::from_str::<serde_json::Value>(raw.get())) {
+        let cast_shadows = match light.extras().as_ref().map(|raw| serde_json::from_str::<serde_json::Value>(raw.get()))
+        {
             Some(Ok(v)) => match v.get("cast_shadows") {
                 None => true,
                 Some(serde_json::Value::Bool(b)) => *b,

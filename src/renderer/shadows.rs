@@ -276,6 +276,8 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     out.params.sun = [NO_SHADOW, 0, st.shadow_filter as u32, scene.objects.len() as u32];
     out.params.counts = [scene.lights.len() as u32, 0, 0, 0];
     if st.shadows == ShadowMode::None {
+        // No atlas is kept (a 1-texel stand-in is bound).
+        out.side = 1;
         return out;
     }
     let cam = &scene.camera;
@@ -357,6 +359,8 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     }
     let sizes: Vec<u32> = granted.iter().flat_map(|r| std::iter::repeat_n(r.size, r.tiles.len())).collect();
     let Some(corners) = pack(&sizes, side) else {
+        // Nothing to pack (no caster this frame): no atlas is kept.
+        out.side = 1;
         return out;
     };
     let mut k = 0usize;

@@ -70,17 +70,31 @@ pub struct LightEdit {
     pub radius: f32,
     /// Spot half-angles (inner, outer) in radians; `None` for point lights.
     pub angles: Option<(f32, f32)>,
+    /// Issue 15: the light's own shadow flag (`Light::cast_shadows`).
+    #[serde(default = "cast_default")]
+    pub cast_shadows: bool,
+}
+
+fn cast_default() -> bool {
+    true
 }
 
 impl LightEdit {
     pub fn of(light: &Light) -> Self {
         match light {
-            Light::Point(p) => Self { color: p.color, intensity: p.intensity, radius: p.radius, angles: None },
+            Light::Point(p) => Self {
+                color: p.color,
+                intensity: p.intensity,
+                radius: p.radius,
+                angles: None,
+                cast_shadows: p.cast_shadows,
+            },
             Light::Spot(s) => Self {
                 color: s.color,
                 intensity: s.intensity,
                 radius: s.radius,
                 angles: Some((s.inner_angle, s.outer_angle)),
+                cast_shadows: s.cast_shadows,
             },
         }
     }
@@ -91,11 +105,13 @@ impl LightEdit {
                 p.color = self.color;
                 p.intensity = self.intensity;
                 p.radius = self.radius;
+                p.cast_shadows = self.cast_shadows;
             }
             Light::Spot(s) => {
                 s.color = self.color;
                 s.intensity = self.intensity;
                 s.radius = self.radius;
+                s.cast_shadows = self.cast_shadows;
                 if let Some((inner, outer)) = self.angles {
                     s.inner_angle = inner;
                     s.outer_angle = outer;
@@ -286,7 +302,7 @@ impl UiState {
                 // The same sun as the panel's checkbox.
                 self.sun = Some(parse_bool(value)?.then(Sun::default_sun));
             }
-            "radius" | "intensity" | "colour" | "color" | "inner" | "outer" => {
+            "radius" | "intensity" | "colour" | "color" | "inner" | "outer" | "cast" => {
                 let Some(k) = self.selected_light else {
                     return Err(format!("'{name}' edits the selected light: select one first"));
                 };
@@ -296,6 +312,8 @@ impl UiState {
                     "radius" => e.radius = in_range("radius", parse_f64(value)?, 0.01, 10_000.0)? as f32,
                     "intensity" => e.intensity = in_range("intensity", parse_f64(value)?, 0.0, 10_000.0)? as f32,
                     "colour" | "color" => e.color = parse_colour(value)?,
+                    // Issue 15: the selected light's shadow flag.
+                    "cast" => e.cast_shadows = parse_bool(value)?,
                     _ => {
                         let Some((inner, outer)) = e.angles else {
                             return Err(format!("light {k} is a point light: it has no cone angles"));

@@ -584,3 +584,36 @@ fn fallbacks_are_counted_in_the_stats() {
     assert_eq!(unshadowed as u32, sh.fallback_budget + sh.fallback_off_screen + sh.flag_off);
     let _ = (&f.image, DMat3::IDENTITY);
 }
+
+/// glTF: `"extras": {"cast_shadows": false}` on a KHR_lights_punctual light turns its shadow
+/// off; another type is a warning naming the light, and the light casts.
+#[test]
+fn gltf_extras_set_a_lights_shadow_flag() {
+    use lampshade::scene::import::{self, ImportOptions};
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/gltf-tests/shadow-extras");
+    let _ = std::fs::remove_dir_all(&dir);
+    lampshade::scene::room::write(&dir).expect("write the room");
+    let path = dir.join("room.gltf");
+    let original: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).expect("room.gltf")).expect("json");
+    let load = |extras: [serde_json::Value; 2]| {
+        let mut v = original.clone();
+        let lights = v["extensions"]["KHR_lights_punctual"]["lights"].as_array_mut().expect("the room's lights");
+        assert!(lights.len() >= 2, "the room has {} lights", lights.len());
+        for (l, e) in lights.iter_mut().zip(extras) {
+            l["extras"] = e;
+        }
+        std::fs::write(&path, serde_json::to_vec(&v).expect("json")).expect("write");
+        import::load(&path, &ImportOptions::default(), &mut |_| {}).expect("the room loads")
+    };
+    let plain = load([serde_json::json!({}), serde_json::json!({})]);
+    let flags = |i: &import::Imported| i.scene.lights.iter().map(|l| l.cast_shadows()).collect::<Vec<_>>();
+    assert!(flags(&plain).iter().all(|&c| c), "without extras every light casts");
+    let off = load([serde_json::json!({"cast_shadows": false}), serde_json::json!({"cast_shadows": "no"})]);
+    let f = flags(&off);
+    assert_eq!(f.iter().filter(|&&c| !c).count(), 1, "exactly one light's flag is off: {f:?}");
+    assert!(
+        off.warnings.iter().any(|w| w.contains("cast_shadows")),
+        "a non-boolean cast_shadows is a warning: {:?}",
+        off.warnings
+    );
+}

@@ -112,6 +112,7 @@ fn cpu(gpu: &lampshade::Gpu) {
                     depth_clamp: true,
                     forward_lights: settings.forward_lights,
                     light_batching,
+                    cluster_build: settings.cluster_build,
                 };
                 let t = std::time::Instant::now();
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);

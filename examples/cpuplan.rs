@@ -2,10 +2,13 @@
 //! (with the clamps) and upload, medians over interleaved rounds of real frames;
 //! `cargo run --release --example cpuplan [LIGHTS [ROUNDS]]` (default 16,384 lights, 9 rounds).
 //! `cpuplan loop [LIGHTS]` repeats only the records and the plan (no GPU work), for a profiler.
+//! `CPUPLAN_MODE=clustered` and `CPUPLAN_BUILD=cpu|gpu` (who builds the clustered lists) pick
+//! rows.
 
 use lampshade::headless::render_image;
 use lampshade::renderer::plan::{FramePlan, PlanView};
 use lampshade::renderer::records::FrameRecords;
+use lampshade::renderer::settings::ClusterBuilder;
 use lampshade::renderer::volumes::Volumes;
 use lampshade::renderer::{overlap, CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
@@ -13,6 +16,16 @@ use lampshade::scene::builtin::{self, BuiltinOptions};
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
+}
+
+/// User + system CPU time of this process so far (Linux: /proc/self/stat, clock ticks of 10 ms).
+fn process_cpu_ms() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The fields after the command name (which may hold spaces) in parentheses.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split(' ').collect();
+    let (utime, stime): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
+    Some((utime + stime) * 10.0)
 }
 
 fn main() {
@@ -43,14 +56,34 @@ fn main() {
         }
     };
     let (w, h) = (1280, 720);
-    let all = [CullingMode::Volume, CullingMode::StencilReplace, CullingMode::Clustered, CullingMode::Auto];
+    // The clustered lists built by the GPU (the default) and by the CPU.
+    let (gpu_built, cpu_built) = (ClusterBuilder::Gpu, ClusterBuilder::Cpu);
+    let all = [
+        (CullingMode::Volume, gpu_built),
+        (CullingMode::StencilReplace, gpu_built),
+        (CullingMode::Clustered, gpu_built),
+        (CullingMode::Clustered, cpu_built),
+        (CullingMode::Auto, gpu_built),
+        (CullingMode::Auto, cpu_built),
+    ];
     let only = std::env::var("CPUPLAN_MODE").ok();
-    let modes: Vec<CullingMode> = all.into_iter().filter(|m| only.as_deref().is_none_or(|o| o == m.name())).collect();
+    let only_build = std::env::var("CPUPLAN_BUILD").ok();
+    let modes: Vec<(CullingMode, ClusterBuilder)> = all
+        .into_iter()
+        .filter(|(m, b)| {
+            only.as_deref().is_none_or(|o| o == m.name()) && only_build.as_deref().is_none_or(|o| o == b.name())
+        })
+        .collect();
+    let label = |m: CullingMode, b: ClusterBuilder| match m {
+        CullingMode::Clustered | CullingMode::Auto => format!("{} (lists: {})", m.name(), b.name()),
+        _ => m.name(),
+    };
     if looped {
         let volumes = Volumes::new(&gpu.device, (1, 12));
-        for mode in modes {
-            let settings = Settings { culling: mode, ..Settings::default() };
+        for (mode, cluster_build) in modes {
+            let settings = Settings { culling: mode, cluster_build, ..Settings::default() };
             let mut times = Vec::new();
+            let cpu0 = process_cpu_ms();
             for _ in 0..200 {
                 let t = std::time::Instant::now();
                 let mut records = FrameRecords::new(&scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
@@ -63,19 +96,28 @@ fn main() {
                     depth_clamp: true,
                     forward_lights: settings.forward_lights,
                     light_batching: true,
+                    cluster_build: settings.cluster_build,
                 };
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);
                 let clamps = overlap::clamps(&plan.lights, (w, h), wgpu::TextureFormat::Rgba16Float);
                 std::hint::black_box((&plan, &clamps));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
             }
-            println!("{}: records + plan {:.2} ms", mode.name(), median(times));
+            // CPU time of the whole process (all threads) per frame: what the work costs, apart
+            // from how a loaded machine schedules it (10 ms clock ticks over 200 frames).
+            let cpu = process_cpu_ms().zip(cpu0).map(|(b, a)| (b - a) / 200.0);
+            println!(
+                "{}: records + plan {:.2} ms (median wall clock), {} CPU ms per frame (all threads)",
+                label(mode, cluster_build),
+                median(times),
+                cpu.map_or("unknown".into(), |c| format!("{c:.2}"))
+            );
         }
         return;
     }
     let mut prepared = Vec::new();
-    for m in modes {
-        let s = Settings { culling: m, count_fragments: false, timestamps: true, ..Settings::default() };
+    for (m, cluster_build) in modes {
+        let s = Settings { culling: m, cluster_build, count_fragments: false, timestamps: true, ..Settings::default() };
         let mut r = match Renderer::new(&gpu, OUTPUT_FORMAT, &s) {
             Ok(r) => r,
             Err(e) => {
@@ -87,14 +129,17 @@ fn main() {
             eprintln!("{e:#}");
             std::process::exit(1);
         }
-        prepared.push((m, s, r, Vec::new()));
+        prepared.push((label(m, cluster_build), s, r, Vec::new()));
     }
     for _ in 0..rounds {
         for (_, s, r, t) in prepared.iter_mut() {
             match render_image(&gpu, r, &scene, s, w, h) {
-                Ok((_, st)) => {
-                    t.push((st.cpu_ms, st.gpu_ms.lighting.unwrap_or(f64::NAN), st.gpu_ms.total.unwrap_or(f64::NAN)))
-                }
+                Ok((_, st)) => t.push((
+                    st.cpu_ms,
+                    st.gpu_ms.lighting.unwrap_or(f64::NAN),
+                    st.gpu_ms.total.unwrap_or(f64::NAN),
+                    st.gpu_ms.lists.unwrap_or(0.0),
+                )),
                 Err(e) => {
                     eprintln!("{e:#}");
                     std::process::exit(1);
@@ -103,17 +148,18 @@ fn main() {
         }
     }
     println!("demo, {} lights, {w}x{h}, {rounds} interleaved rounds, medians (ms)", scene.lights.len());
-    println!("| mode | records | plan | upload | CPU total | GPU lighting | GPU total |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| mode | records | plan | upload | CPU total | GPU lists | GPU lighting | GPU total |");
+    println!("|---|---|---|---|---|---|---|---|");
     for (m, _, _, t) in &prepared {
         let f = |g: fn(&lampshade::renderer::CpuMs) -> f64| median(t.iter().map(|x| g(&x.0)).collect());
         println!(
-            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} |",
-            m.name(),
+            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
+            m,
             f(|c| c.records),
             f(|c| c.plan),
             f(|c| c.upload),
             f(|c| c.records + c.plan + c.upload),
+            median(t.iter().map(|x| x.3).collect()),
             median(t.iter().map(|x| x.1).collect()),
             median(t.iter().map(|x| x.2).collect())
         );

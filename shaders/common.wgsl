@@ -40,6 +40,16 @@ struct GpuLight {
     falloff: f32,
     // The most this light may add to a channel (`overlap::clamps`).
     clamp: f32,
+    // A spot cookie's up in view space (right = direction x up).
+    cookie_up: vec3<f32>,
+    // Where the cookie's first face starts in `cookie_texels`, or LS_NO_COOKIE.
+    cookie: u32,
+    // Culling mask (seed 004): bit k set = lights objects on layer k.
+    mask: u32,
+    // The cookie's face side in texels.
+    cookie_size: u32,
+    cookie_pad0: u32,
+    cookie_pad1: u32,
     // Issue 15: x, the first shadow tile (LS_NO_SHADOW: unshadowed); y, the tile count (1, or
     // 6 cube faces).
     shadow: vec4<u32>,
@@ -74,7 +84,7 @@ struct GpuObject {
     normal_view: mat4x4<f32>,
     albedo_spec: vec4<f32>,
     emissive_exp: vec4<f32>,
-    // alpha factor, alpha cutoff (mask), normal scale, 0
+    // alpha factor, alpha cutoff (mask), normal scale, culling layer (0..31, seed 004)
     material: vec4<f32>,
     // metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness texture
     pbr: vec4<f32>,
@@ -101,6 +111,9 @@ struct Surface {
     // The reflectance model (LS_BRDF_*, seed 002's material ID): from the ID channel, or the
     // scene's one model (GBUFFER_BRDF).
     brdf: u32,
+    // The object's culling layer (seed 004): from the layer channel, or the scene's one
+    // layer (GBUFFER_LAYER).
+    layer: u32,
 };
 
 // The stored (encoded) form: what the layout table distributes over channels.
@@ -115,6 +128,8 @@ struct Attributes {
     position: vec3<f32>,
     // The material ID / 255 (exact in 8-bit unorm and in fp16).
     material: f32,
+    // The culling layer / 255 (the same).
+    layer: f32,
 };
 
 fn safe_normalize(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
@@ -174,6 +189,7 @@ fn attributes_of(s: Surface) -> Attributes {
     a.emissive = max(s.emissive, vec3<f32>(0.0));
     a.depth = s.depth;
     a.material = f32(s.brdf) / 255.0;
+    a.layer = f32(s.layer) / 255.0;
     return a;
 }
 
@@ -187,6 +203,7 @@ fn default_attributes() -> Attributes {
     a.depth = camera.far_depth;
     a.position = vec3<f32>(0.0);
     a.material = f32(GBUFFER_BRDF) / 255.0;
+    a.layer = f32(GBUFFER_LAYER) / 255.0;
     return a;
 }
 
@@ -217,9 +234,18 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
         valid = position.z < 0.0;
     }
     s.emissive = a.emissive;
+    if LS_PREPASS {
+        // The light pre-pass's buffer has no reflectance: its light pass shades Blinn-Phong with
+        // unit reflectance f0 = 1 (level (n + 8) / 8), and pass 3 multiplies in the material's.
+        s.spec_level = (s.spec_exp + 8.0) / 8.0;
+    }
     s.brdf = GBUFFER_BRDF;
     if GBUFFER_HAS_MATERIAL {
         s.brdf = u32(round(clamp(a.material, 0.0, 1.0) * 255.0));
+    }
+    s.layer = GBUFFER_LAYER;
+    if GBUFFER_HAS_LAYER {
+        s.layer = u32(round(clamp(a.layer, 0.0, 1.0) * 255.0)) & 31u;
     }
     if GBUFFER_HAS_DEPTH {
         s.depth = a.depth;
@@ -520,12 +546,98 @@ fn shadow_tile_load(i: u32) -> ShadowTile {
     return t;
 }
 
+// Seed 004's light culling mask: whether light `l` lights a surface on `layer` (0..31).
+fn ls_light_reaches(l: GpuLight, layer: u32) -> bool {
+    return (l.mask & (1u << (layer & 31u))) != 0u;
+}
+
+// Texel (x, y) of a cookie face starting at word `base`, clamped to the edge.
+fn ls_cookie_texel(base: u32, size: u32, x: i32, y: i32) -> vec3<f32> {
+    let n = i32(size) - 1;
+    let i = base + u32(clamp(y, 0, n)) * size + u32(clamp(x, 0, n));
+    return textureLoad(cookie_texels, vec2<u32>(i % LS_COOKIE_ROW, i / LS_COOKIE_ROW), 0).rgb;
+}
+
+// Bilinear sample of a cookie face at `uv` (texel centres at (k + 0.5) / size, clamp to
+// edge): `CookieImage::sample` is its f64 twin.
+fn ls_cookie_sample(base: u32, size: u32, uv: vec2<f32>) -> vec3<f32> {
+    let s = f32(size);
+    let t = clamp(uv * s - 0.5, vec2<f32>(-1.0), vec2<f32>(s));
+    let i = floor(t);
+    let f = t - i;
+    let x = i32(i.x);
+    let y = i32(i.y);
+    let a = mix(ls_cookie_texel(base, size, x, y), ls_cookie_texel(base, size, x + 1, y), f.x);
+    let b = mix(ls_cookie_texel(base, size, x, y + 1), ls_cookie_texel(base, size, x + 1, y + 1), f.x);
+    return mix(a, b, f.y);
+}
+
+// Seed 004's cookie: the factor light `l` is filtered by at view-space point `p` (1 without
+// a cookie). A spot projects its 2D cookie through its cone (`scene::cookie::spot_uv`); a
+// point light its cube, addressed by the world-space direction from the light
+// (`scene::cookie::cube_face_uv`, faces +X -X +Y -Y +Z -Z).
+fn ls_cookie(l: GpuLight, p: vec3<f32>) -> vec3<f32> {
+    if l.cookie == LS_NO_COOKIE {
+        return vec3<f32>(1.0);
+    }
+    let v = p - l.position;
+    if l.kind == LS_LIGHT_SPOT {
+        let z = dot(v, l.direction);
+        if !(z > 0.0) {
+            return vec3<f32>(0.0);
+        }
+        let right = cross(l.direction, l.cookie_up);
+        let k = 0.5 / (z * max(abs(l.tan_outer), 1e-6));
+        let uv = vec2<f32>(dot(v, right) * k + 0.5, 0.5 - dot(v, l.cookie_up) * k);
+        return ls_cookie_sample(l.cookie, l.cookie_size, uv);
+    }
+    let d = (transpose(camera.view_rotation) * vec4<f32>(v, 0.0)).xyz;
+    let a = abs(d);
+    var face = 0u;
+    var ma = a.x;
+    var sc = -d.z;
+    var tc = -d.y;
+    if a.x >= a.y && a.x >= a.z {
+        if d.x < 0.0 {
+            face = 1u;
+            sc = d.z;
+        }
+    } else if a.y >= a.z {
+        ma = a.y;
+        sc = d.x;
+        if d.y >= 0.0 {
+            face = 2u;
+            tc = d.z;
+        } else {
+            face = 3u;
+            tc = -d.z;
+        }
+    } else {
+        ma = a.z;
+        if d.z >= 0.0 {
+            face = 4u;
+            sc = d.x;
+        } else {
+            face = 5u;
+            sc = -d.x;
+        }
+    }
+    ma = max(ma, 1e-30);
+    let uv = vec2<f32>(0.5 * (sc / ma + 1.0), 0.5 * (tc / ma + 1.0));
+    return ls_cookie_sample(l.cookie + face * l.cookie_size * l.cookie_size, l.cookie_size, uv);
+}
+
 // One light at a surface point, in the pixel's reflectance model (`brdf_light`), attenuated
-// smoothly to zero and by its shadow; diffuse and specular kept apart (seed 002).
+// smoothly to zero and by its shadow; diffuse and specular kept apart (seed 002). Every path
+// that shades a light calls it, so each gets seed 004's culling mask (`ls_light_reaches`) and
+// cookie (`ls_cookie`), and issue 15's shadow (`ls_shadow`).
 fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     var r: Lighting;
     r.diffuse = vec3<f32>(0.0);
     r.specular = vec3<f32>(0.0);
+    if !ls_light_reaches(l, s.layer) {
+        return r;
+    }
     let to_light = l.position - s.position;
     let d = length(to_light);
     if !(d < l.radius) {
@@ -542,6 +654,9 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     if shadow <= 0.0 {
         return r;
     }
+    if l.cookie != LS_NO_COOKIE {
+        return brdf_light(s, L, ndl, l.color * ls_cookie(l, s.position), att * shadow);
+    }
     return brdf_light(s, L, ndl, l.color, att * shadow);
 }
 
@@ -553,6 +668,26 @@ fn encode_light(v: vec3<f32>) -> vec4<f32> {
         return vec4<f32>(exp2(-max(v, vec3<f32>(0.0))), 1.0);
     }
     return vec4<f32>(v, 0.0);
+}
+
+// The light pre-pass's one light buffer (seeds 003/004): RGB diffuse, and in A the mono
+// specular, the luminance of the specular light (seed 004: "monochrome specular lighting in A").
+// Encoded as the accumulation is (fp16 additive, or seed 004's log encoding, all four channels).
+const LS_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+
+fn encode_light_buffer(diffuse: vec3<f32>, specular: vec3<f32>) -> vec4<f32> {
+    let v = max(vec4<f32>(diffuse, dot(specular, LS_LUMINANCE)), vec4<f32>(0.0));
+    if LS_ACCUM_LOG {
+        return exp2(-v);
+    }
+    return v;
+}
+
+fn decode_light_buffer(v: vec4<f32>) -> vec4<f32> {
+    if LS_ACCUM_LOG {
+        return min(-log2(max(v, vec4<f32>(1.0 / 255.0))), vec4<f32>(LS_LOG_ACCUM_MAX));
+    }
+    return v;
 }
 
 fn decode_light(v: vec3<f32>) -> vec3<f32> {

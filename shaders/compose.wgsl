@@ -76,7 +76,11 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let s = gbuffer_load(p);
     let view = compose.view;
     let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
-    let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
+    var specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
+    if LS_PREPASS {
+        // The light pre-pass's buffer: its mono specular (A) as grey.
+        specular = finite(vec3<f32>(decode_light_buffer(textureLoad(light_diffuse, p, 0)).a));
+    }
     let exposure = camera.exposure;
     let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
     var c = aces(lit * exposure);

@@ -88,6 +88,9 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     (*s).spec_level = o.albedo_spec.a;
     (*s).spec_exp = o.emissive_exp.a;
     (*s).brdf = o.info.w;
+    // Seed 004's culling layer: the G-buffer stores it (when the scene's masks need it) and the
+    // forward pass reads it here.
+    (*s).layer = u32(o.material.w) & 31u;
     // Unlit shows the base colour as it is: no metal-roughness mapping darkens it.
     if (flags & LS_MAT_METAL_ROUGH) != 0u && o.info.w != LS_BRDF_UNLIT {
         let mr = sample_map(metal_rough_tex, in, o, 3u);

@@ -64,6 +64,9 @@ fn fs_light(in: LightVarying) -> LightTargets {
         let r = shade_light(s, l);
         out.diffuse = encode_light(min(r.diffuse, vec3<f32>(l.clamp)));
         out.specular = encode_light(min(r.specular, vec3<f32>(l.clamp)));
+        if LS_PREPASS {
+            out.diffuse = encode_light_buffer(min(r.diffuse, vec3<f32>(l.clamp)), min(r.specular, vec3<f32>(l.clamp)));
+        }
     }
     return out;
 }
@@ -113,6 +116,12 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     var out: LightTargets;
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
+    if LS_PREPASS {
+        // The light pre-pass adds ambient + sun in its final pass (seed 004), from the full
+        // material: its light buffer starts with no light (all four channels).
+        out.diffuse = encode_light_buffer(vec3<f32>(0.0), vec3<f32>(0.0));
+        return out;
+    }
     if s.valid {
         let r = ambient_sun(s);
         out.diffuse = encode_light(min(r.diffuse, ambient_limit(s)));

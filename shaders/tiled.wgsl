@@ -19,8 +19,9 @@ struct TileParams {
     // Clustered: slice = floor(ln(view depth) * slice_scale + slice_bias).
     slice_scale: f32,
     slice_bias: f32,
-    pad0: f32,
-    pad1: f32,
+    // Clustered: the view depths the slices span.
+    near: f32,
+    far: f32,
 };
 
 // A list count meaning "every light" (tiles::ALL_LIGHTS).
@@ -255,6 +256,9 @@ fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
     var out: LightTargets;
     out.diffuse = encode_light(d);
     out.specular = encode_light(sp);
+    if LS_PREPASS {
+        out.diffuse = encode_light_buffer(d, sp);
+    }
     return out;
 }
 
@@ -272,4 +276,200 @@ fn fs_tile_count(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         count = tile_params.light_count;
     }
     return vec4<f32>(f32(count), 0.0, 0.0, 1.0);
+}
+
+// ---- Clustered lists built on the GPU (tiles::ClusterBuild::Gpu). The CPU's twin is
+// tiles::cluster_lists: the same tests in f32, axis by axis, over the same span of cells per
+// light (tiles::Span, 4 words per light after the list region of `tile_lists`). Four passes:
+// count each cell's lights (the counters after the lights' in `tile_counts`),
+// a prefix sum into the headers, fill each cell's list at its cursor, then sort each list into
+// light order (the fill's atomics leave it in arrival order; sorted, a pixel sums its lights
+// in the same order as the CPU's lists and every run gives the same picture).
+
+// View x (or y) over view depth at pixel edge `px` (x) or `py` (y, down).
+fn cluster_ax(px: f32) -> f32 {
+    let ndc = px * camera.screen.z * 2.0 - 1.0;
+    return (ndc + camera.proj[2][0]) / camera.proj[0][0];
+}
+
+fn cluster_ay(py: f32) -> f32 {
+    let ndc = 1.0 - py * camera.screen.w * 2.0;
+    return (ndc + camera.proj[2][1]) / camera.proj[1][1];
+}
+
+// Squared distance from c to the extent d * a, d in depths, a in span (tiles::gap2).
+fn cluster_gap2(c: f32, span: vec2<f32>, depths: vec2<f32>) -> f32 {
+    let lo = min(depths.x * span.x, depths.y * span.x);
+    let hi = max(depths.x * span.y, depths.y * span.y);
+    let g = max(max(lo - c, c - hi), 0.0);
+    return g * g;
+}
+
+// Column tx's extent (tiles::CellBounds::columns), widened by a pixel.
+fn cluster_column(tx: u32) -> vec2<f32> {
+    let t = f32(tile_params.tile_size);
+    return vec2<f32>(cluster_ax(f32(tx) * t - 1.0), cluster_ax(f32(tx + 1u) * t + 1.0));
+}
+
+fn cluster_row(ty: u32) -> vec2<f32> {
+    let t = f32(tile_params.tile_size);
+    return vec2<f32>(cluster_ay(f32(ty + 1u) * t + 1.0), cluster_ay(f32(ty) * t - 1.0));
+}
+
+// Slice k's depths (tiles::ClusterGrid::slice_depths), widened by 0.1%.
+fn cluster_slice(k: u32) -> vec2<f32> {
+    let d0 = exp((f32(k) - tile_params.slice_bias) / tile_params.slice_scale);
+    let d1 = exp((f32(k + 1u) - tile_params.slice_bias) / tile_params.slice_scale);
+    return vec2<f32>(d0 * 0.999, d1 * 1.001);
+}
+
+// Cell c's counter (after the allocator and the lights' pair counts).
+fn cluster_counter(c: u32) -> u32 {
+    return 1u + tile_params.light_count + c;
+}
+
+// Light i's cells (tiles::light_cells): counted (`fill` false) or written at their cell's
+// cursor.
+fn cluster_assign(i: u32, fill: bool) {
+    let at_span = 2u * tile_params.tiles_x * tile_params.tiles_y * tile_params.slices + tile_params.capacity + 4u * i;
+    let span = vec3<u32>(tile_lists[at_span], tile_lists[at_span + 1u], tile_lists[at_span + 2u]);
+    for (var k = span.z & 0xffffu; k < (span.z >> 16u); k++) {
+        cluster_assign_slice(i, k, span, fill);
+    }
+}
+
+fn cluster_assign_slice(i: u32, k: u32, span: vec3<u32>, fill: bool) {
+    let tx0 = span.x & 0xffffu;
+    let tx1 = span.x >> 16u;
+    let ty0 = span.y & 0xffffu;
+    let ty1 = span.y >> 16u;
+    let c = lights[i].position;
+    let r = lights[i].radius;
+    let r2 = r * r * 1.0001;
+    let depths = cluster_slice(k);
+    let dz = max(max(depths.x + c.z, -c.z - depths.y), 0.0);
+    let dz2 = dz * dz;
+    if dz2 > r2 {
+        return;
+    }
+    // The run of columns within reach at this slice.
+    var a = tx1 + 1u;
+    for (var tx = tx0; tx <= tx1; tx++) {
+        if dz2 + cluster_gap2(c.x, cluster_column(tx), depths) <= r2 {
+            a = tx;
+            break;
+        }
+    }
+    if a > tx1 {
+        return;
+    }
+    var b = a;
+    for (var tx = tx1; tx > a; tx--) {
+        if dz2 + cluster_gap2(c.x, cluster_column(tx), depths) <= r2 {
+            b = tx;
+            break;
+        }
+    }
+    let per_slice = tile_params.tiles_x * tile_params.tiles_y;
+    for (var ty = ty0; ty <= ty1; ty++) {
+        let dyz2 = dz2 + cluster_gap2(c.y, cluster_row(ty), depths);
+        if dyz2 > r2 {
+            continue;
+        }
+        for (var tx = a; tx <= b; tx++) {
+            if dyz2 + cluster_gap2(c.x, cluster_column(tx), depths) <= r2 {
+                let cell = k * per_slice + ty * tile_params.tiles_x + tx;
+                if fill {
+                    let count = tile_lists[2u * cell + 1u];
+                    let at = atomicAdd(&tile_counts[cluster_counter(cell)], 1u);
+                    if count != LS_TILE_ALL {
+                        tile_lists[tile_lists[2u * cell] + at] = i;
+                    }
+                } else {
+                    atomicAdd(&tile_counts[cluster_counter(cell)], 1u);
+                }
+            }
+        }
+    }
+}
+
+// One invocation per light (lavapipe pays per workgroup: a light's slices are a loop, not a
+// dispatch dimension).
+@compute @workgroup_size(64, 1, 1)
+fn cs_cluster_count(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x < tile_params.light_count {
+        cluster_assign(gid.x, false);
+    }
+}
+
+@compute @workgroup_size(64, 1, 1)
+fn cs_cluster_fill(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x < tile_params.light_count {
+        cluster_assign(gid.x, true);
+    }
+}
+
+// One workgroup: each invocation sums a run of cells' counts, a prefix sum over the runs,
+// then each writes its cells' headers (a cell past the list region's room walks every light,
+// as in the tiled mode) and resets their counters to serve as the fill's cursors.
+@compute @workgroup_size(256, 1, 1)
+fn cs_cluster_scan(@builtin(local_invocation_index) li: u32) {
+    let cells = tile_params.tiles_x * tile_params.tiles_y * tile_params.slices;
+    let run = (cells + 255u) / 256u;
+    let start = min(li * run, cells);
+    let end = min(start + run, cells);
+    var mine = 0u;
+    for (var c = start; c < end; c++) {
+        mine += atomicLoad(&tile_counts[cluster_counter(c)]);
+    }
+    wg_scan[li] = mine;
+    workgroupBarrier();
+    for (var off = 1u; off < 256u; off *= 2u) {
+        var v = 0u;
+        if li >= off {
+            v = wg_scan[li - off];
+        }
+        workgroupBarrier();
+        wg_scan[li] += v;
+        workgroupBarrier();
+    }
+    let header = 2u * cells;
+    var at = wg_scan[li] - mine;
+    for (var c = start; c < end; c++) {
+        let n = atomicLoad(&tile_counts[cluster_counter(c)]);
+        if at + n > tile_params.capacity {
+            tile_lists[2u * c] = 0u;
+            tile_lists[2u * c + 1u] = LS_TILE_ALL;
+        } else {
+            tile_lists[2u * c] = header + at;
+            tile_lists[2u * c + 1u] = n;
+        }
+        at += n;
+        atomicStore(&tile_counts[cluster_counter(c)], 0u);
+    }
+}
+
+// One invocation per cell: its list into light order (insertion sort; the fill leaves lists
+// nearly ordered, and they are short).
+@compute @workgroup_size(64, 1, 1)
+fn cs_cluster_sort(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let cells = tile_params.tiles_x * tile_params.tiles_y * tile_params.slices;
+    let cell = gid.y * 65535u * 64u + gid.x;
+    if cell >= cells {
+        return;
+    }
+    let count = tile_lists[2u * cell + 1u];
+    if count == LS_TILE_ALL || count < 2u {
+        return;
+    }
+    let first = tile_lists[2u * cell];
+    for (var j = first + 1u; j < first + count; j++) {
+        let v = tile_lists[j];
+        var m = j;
+        while m > first && tile_lists[m - 1u] > v {
+            tile_lists[m] = tile_lists[m - 1u];
+            m -= 1u;
+        }
+        tile_lists[m] = v;
+    }
 }

@@ -9,8 +9,8 @@ use crate::gpu::Gpu;
 use crate::headless::render_image;
 use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::{
-    AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, Renderer, Settings, ShadowFilter,
-    ShadowMode, OUTPUT_FORMAT,
+    AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
+    ShadowFilter, ShadowMode, OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
@@ -130,6 +130,35 @@ pub struct Row {
     /// `total_ms` over the same run's `limit` row for this scene, light count, size and radius
     /// (NaN where the group has none; 1 on the `limit` row itself).
     pub limit_ratio: f64,
+    /// The rendering path's figures (the `path` group; defaults elsewhere).
+    pub path: PathFigures,
+}
+
+/// What the `path` group compares between rendering paths (issue 14).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PathFigures {
+    /// `RenderPath::name`.
+    pub path: String,
+    /// Render passes up to the compose or tonemap (included): deferred's G-buffer, lights,
+    /// compose; forward's depth pass, shading (or ambient + sun and the pairs), tonemap.
+    pub passes: u32,
+    /// Bytes per pixel of every intermediate target, samples included (G-buffer, depth-stencil,
+    /// light accumulation or HDR colour, MSAA targets and their resolve).
+    pub target_bytes_per_pixel: u32,
+    /// Entries of the forward paths' object light lists: the (object, light) pairs the
+    /// multi-pass path draws (filled in for every path of the same scene and light count).
+    pub object_light_pairs: u64,
+    /// Lit pixels: the deferred path's shaded light fragments for the same scene and light
+    /// count (filled in for every path).
+    pub lit_fragments: u64,
+    /// Every draw of the frame up to the compose or tonemap: deferred's object draws into the
+    /// G-buffer, its light draws, the compose; the forward paths' draws of every pass and the
+    /// tonemap.
+    pub draw_calls: u64,
+    /// Opaque and masked objects drawn (from the forward rows; filled in for every path).
+    pub objects: u64,
+    /// Why the path could not render (empty when it did); the row has no figures then.
+    pub error: String,
 }
 
 /// The cut-off thresholds the `cutoff` group sweeps (fractions of each light's peak).
@@ -269,6 +298,24 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("forward {}", forward_lights.name());
         v.push(c("forward", label, Settings { forward_lights, ..base.clone() }, o.lights));
     }
+    // The rendering paths side by side (issue 14, seed 002): every path over the light count,
+    // and on the room. A path that cannot render on this build is a row saying why.
+    let counts: &[usize] = if o.fixed_lights {
+        &[]
+    } else if q {
+        &[64, 256]
+    } else {
+        &PATH_LIGHT_COUNTS
+    };
+    for &n in counts {
+        for path in RenderPath::ALL {
+            v.push(c("path", format!("{} x{n}", path.name()), Settings { path, ..base.clone() }, n));
+        }
+    }
+    for path in RenderPath::ALL {
+        let label = format!("{} room", path.name());
+        v.push(Config { scene: Some(ROOM), ..c("path", label, Settings { path, ..base.clone() }, o.lights) });
+    }
     // The post chain (issue 16), one effect at a time, then all of them; the light error is of
     // the accumulation, before post, so it is the `volume` row's in every one of these.
     let post: Vec<(&str, Settings)> = {
@@ -337,6 +384,11 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     v
 }
 
+/// The light counts of the `path` group (plus the room, with its own lights).
+pub const PATH_LIGHT_COUNTS: [usize; 3] = [64, 256, 1024];
+/// The project's glTF room, the `path` group's second scene.
+pub const ROOM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf");
+
 /// The configuration groups, for `--only`.
 pub const GROUPS: &[&str] = &[
     "culling",
@@ -352,6 +404,7 @@ pub const GROUPS: &[&str] = &[
     "forward",
     "post",
     "shadows",
+    "path",
 ];
 
 /// The light counts the full sweep's `lights` group runs every mode at (plus the scene's spots).
@@ -439,6 +492,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT). A file is
     // read once per light count.
     let mut prepared = Vec::new();
+    let mut failed: Vec<(&Config, usize, String)> = Vec::new();
     let mut scenes: HashMap<(&str, usize, u64), crate::Scene> = HashMap::new();
     for (k, cfg) in list.iter().enumerate() {
         progress(k, steps, &format!("prepare {}", cfg.label));
@@ -461,7 +515,14 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
                 continue;
             }
         };
-        render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1)?;
+        if let Err(e) = render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1) {
+            if cfg.group != "path" {
+                return Err(e);
+            }
+            // A path this build cannot render is reported, not skipped.
+            failed.push((cfg, scene.lights.len(), format!("{e:#}")));
+            continue;
+        }
         prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
     }
     // Timed rounds, interleaved: each round renders every configuration once, so background
@@ -493,6 +554,9 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
         let (d, s) = renderer.read_accumulation(gpu)?;
+        let figures = path_figures(gpu, &cfg.settings, &renderer, &stats)?;
+        // The forward paths have no light accumulation: their error is FLIP's alone.
+        let accumulated = stats.forward_path.is_none();
         // FLIP compares output images; a frame through the post chain is not the reference's
         // picture by design, so its row has none (NaN). The light error and PSNR are of the
         // accumulation, before post, in every row.
@@ -506,7 +570,14 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             sq += (e as f64).powi(2);
         }
         let mse = sq / reference.light.len().max(1) as f64;
-        let psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        if cfg.settings.path != crate::renderer::RenderPath::Deferred {
+            // The light error compares deferred's accumulation (ambient + sun, specular times
+            // reflectance) with the reference's; the other paths hold no such buffer (the light
+            // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
+            // the final picture.
+            (max_err, psnr) = (f32::NAN, f64::NAN);
+        }
         rows.push(Row {
             group: cfg.group.into(),
             label: cfg.label.clone(),
@@ -540,22 +611,170 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             draw_calls: times.last().map_or(0, |s| s.draw_calls),
             light_batches: times.last().map_or(0, |s| s.light_batches),
             coverage_fragments: stats.coverage_fragments.unwrap_or(0),
-            shaded_fragments: stats.shaded_fragments.unwrap_or(0),
+            shaded_fragments: stats.shaded_fragments.unwrap_or_else(|| forward_shaded(&stats)),
             ideal_fragments: stats.ideal_fragments.unwrap_or(0),
             efficiency: stats.efficiency.unwrap_or(f64::NAN),
             gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
             flip_mean,
-            max_abs_light_error: max_err,
-            psnr_db: psnr,
+            max_abs_light_error: if accumulated { max_err } else { f32::NAN },
+            psnr_db: if accumulated { psnr } else { f64::NAN },
             pareto: false,
             reference: reference_culling(scene.lights.len(), cfg.size).name(),
             limit_ratio: f64::NAN,
+            path: figures,
         });
     }
+    for (cfg, lights, error) in failed {
+        rows.push(failed_row(cfg, &o.scene, lights, error));
+    }
+    fill_path_siblings(&mut rows);
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
     Ok(rows)
+}
+
+/// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.
+fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &FrameStats) -> Result<PathFigures> {
+    let mut f = PathFigures { path: settings.path.name(), ..Default::default() };
+    if let Some(fp) = &stats.forward_path {
+        // Its passes, and the tonemap.
+        f.passes = fp.passes.len() as u32 + 1;
+        f.draw_calls = fp.draw_calls() + 1;
+        f.objects = fp.objects as u64;
+        f.target_bytes_per_pixel = fp.bytes_per_pixel();
+        f.object_light_pairs = fp.list_entries;
+    } else if let Some(pp) = &stats.prepass {
+        // Seeds 003/004: pass 1, the lights, pass 3, then the tonemap; its draw calls are
+        // pass 1's and pass 3's object draws, the light draws, the full-screen draw that
+        // clears the light buffer (the ambient pass's, which adds ambient + sun in pass 3 on
+        // this path) and the tonemap.
+        f.passes = 4;
+        f.draw_calls =
+            pp.base_draw_calls + stats.draw_calls + !stats.ambient_in_gbuffer as u64 + pp.final_draw_calls + 1;
+        f.target_bytes_per_pixel = pp.normal_exp_bytes_per_pixel
+            + pp.depth_copy_bytes_per_pixel
+            + pp.light_buffer_bytes_per_pixel
+            + pp.hdr_bytes_per_pixel
+            + pp.msaa_bytes_per_pixel
+            + renderer_depth_bytes(renderer);
+    } else {
+        let bytes = |format: wgpu::TextureFormat| {
+            format.block_copy_size(None).unwrap_or_else(|| {
+                format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+                    + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
+            })
+        };
+        let accum = bytes(settings.accumulation.format(gpu.features)?);
+        // G-buffer, lights, compose; the HDR colour when blended surfaces or post need it.
+        let hdr = stats.forward.is_some() || stats.post.is_some();
+        f.passes = 3;
+        // Its light draws, the ambient + sun draw when it is not the G-buffer pass's, the
+        // compose (the G-buffer's object draws are added from the forward rows).
+        f.draw_calls = stats.draw_calls + !stats.ambient_in_gbuffer as u64 + 1;
+        f.target_bytes_per_pixel = stats.gbuffer_bytes_per_pixel
+            + bytes(renderer.depth_format())
+            + 2 * accum
+            + if hdr { bytes(crate::renderer::passes::HDR_FORMAT) } else { 0 };
+    }
+    Ok(f)
+}
+
+/// Bytes per pixel of the renderer's depth-stencil target.
+fn renderer_depth_bytes(renderer: &Renderer) -> u32 {
+    let format = renderer.depth_format();
+    format.block_copy_size(None).unwrap_or_else(|| {
+        format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+            + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
+    })
+}
+
+/// Samples the forward paths' shading passes passed (single-pass's shading, multi-pass's
+/// ambient + sun and pairs; not the depth pass) when counted.
+fn forward_shaded(stats: &FrameStats) -> u64 {
+    stats.forward_path.as_ref().map_or(0, |fp| {
+        fp.passes
+            .iter()
+            .filter(|p| p.name != "depth" && !p.name.starts_with("g-buffer"))
+            .filter_map(|p| p.fragments)
+            .sum()
+    })
+}
+
+/// The row of a path configuration that failed to render: its error, no figures.
+fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
+    Row {
+        group: cfg.group.into(),
+        label: cfg.label.clone(),
+        scene: cfg.scene.unwrap_or(scene).to_string(),
+        culling: cfg.settings.culling.name(),
+        layout: "-".into(),
+        accumulation: cfg.settings.accumulation.name(),
+        reversed_z: cfg.settings.reversed_z,
+        depth_format: "-".into(),
+        light_cutoff: cfg.settings.light_cutoff,
+        sphere_subdivisions: cfg.settings.sphere_subdivisions,
+        cone_sides: cfg.settings.cone_sides,
+        volumes: "-".into(),
+        lights,
+        radius_scale: cfg.radius_scale,
+        width: cfg.size.0,
+        height: cfg.size.1,
+        gbuffer_ms: f64::NAN,
+        lighting_ms: f64::NAN,
+        compose_ms: f64::NAN,
+        forward_ms: f64::NAN,
+        bloom_ms: f64::NAN,
+        exposure_ms: f64::NAN,
+        tonemap_ms: f64::NAN,
+        grading_ms: f64::NAN,
+        fog_ms: f64::NAN,
+        dof_ms: f64::NAN,
+        vignette_ms: f64::NAN,
+        aa_ms: f64::NAN,
+        total_ms: f64::NAN,
+        draw_calls: 0,
+        light_batches: 0,
+        coverage_fragments: 0,
+        shaded_fragments: 0,
+        ideal_fragments: 0,
+        efficiency: f64::NAN,
+        gbuffer_bytes_per_pixel: 0,
+        flip_mean: f32::NAN,
+        max_abs_light_error: f32::NAN,
+        psnr_db: f64::NAN,
+        pareto: false,
+        reference: reference_culling(lights, cfg.size).name(),
+        limit_ratio: f64::NAN,
+        path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
+    }
+}
+
+/// Gives every `path` row of a scene and light count the forward rows' pair count and the
+/// deferred row's lit fragments, so each path can be plotted against both.
+fn fill_path_siblings(rows: &mut [Row]) {
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    let pairs: HashMap<_, u64> = rows
+        .iter()
+        .filter(|r| r.group == "path" && r.path.object_light_pairs > 0)
+        .map(|r| (key(r), r.path.object_light_pairs))
+        .collect();
+    let lit: HashMap<_, u64> = rows
+        .iter()
+        .filter(|r| r.group == "path" && r.path.path == RenderPath::Deferred.name())
+        .map(|r| (key(r), r.shaded_fragments))
+        .collect();
+    let objects: HashMap<_, u64> =
+        rows.iter().filter(|r| r.group == "path" && r.path.objects > 0).map(|r| (key(r), r.path.objects)).collect();
+    for r in rows.iter_mut().filter(|r| r.group == "path") {
+        r.path.objects = objects.get(&key(r)).copied().unwrap_or(0);
+        if r.path.path == RenderPath::Deferred.name() && r.path.error.is_empty() {
+            // Its G-buffer's object draws on top of the light draws and the compose.
+            r.path.draw_calls += r.path.objects;
+        }
+        r.path.object_light_pairs = pairs.get(&key(r)).copied().unwrap_or(0);
+        r.path.lit_fragments = lit.get(&key(r)).copied().unwrap_or(0);
+    }
 }
 
 /// The groups whose rows are culling modes, and so get a `limit` row.
@@ -655,11 +874,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
          lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
-         reference,limit_ratio\n",
+         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\"\n",
             r.group,
             r.label,
             r.scene,
@@ -701,7 +920,13 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.psnr_db,
             r.pareto,
             r.reference,
-            r.limit_ratio
+            r.limit_ratio,
+            r.path.path,
+            r.path.passes,
+            r.path.target_bytes_per_pixel,
+            r.path.object_light_pairs,
+            r.path.lit_fragments,
+            r.path.error.replace('"', "'").replace(',', ";")
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -792,7 +1017,139 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             error(r.psnr_db, 1)
         );
     }
+    s += &paths_markdown(rows);
     s
+}
+
+/// The `path` group's table (issue 14): per scene and light count, each path's intermediate
+/// bytes per pixel, passes, draw calls, GPU ms and error; a path that failed says why.
+pub fn paths_markdown(rows: &[Row]) -> String {
+    let paths: Vec<&Row> = rows.iter().filter(|r| r.group == "path").collect();
+    if paths.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n### Rendering paths\n\n\
+         Bytes/pixel: every intermediate target, samples included. Passes: up to the compose or tonemap. \
+         Draw calls: every draw up to the compose or tonemap (deferred: one per object into the G-buffer, its light draws, \
+         the compose; light pre-pass: pass 1's and pass 3's object draws, its light draws and the tonemap; forward: every \
+         pass's draws and the tonemap). \
+         Pairs: entries of the forward object light lists, the (object, light) draws of multi-pass. \
+         Lit: the deferred light pass's shaded fragments for that scene and count. \
+         Shaded: fragments the path's shading passes shaded (deferred: light fragments). Error: FLIP mean against the reference.\n\n\
+         | scene | lights | path | bytes/pixel | passes | draw calls | pairs | lit | shaded | GPU ms | FLIP mean |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in paths {
+        let scene = std::path::Path::new(&r.scene).file_stem().map_or(r.scene.clone(), |f| f.to_string_lossy().into());
+        if !r.path.error.is_empty() {
+            s += &format!("| {scene} | {} | {} | error: {} | | | | | | | |\n", r.lights, r.path.path, r.path.error);
+            continue;
+        }
+        s += &format!(
+            "| {scene} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.5} |\n",
+            r.lights,
+            r.path.path,
+            r.path.target_bytes_per_pixel,
+            r.path.passes,
+            r.path.draw_calls,
+            r.path.object_light_pairs,
+            r.path.lit_fragments,
+            r.shaded_fragments,
+            r.total_ms,
+            r.flip_mean
+        );
+    }
+    s
+}
+
+/// Seed 002's claim, plotted from the `path` group: GPU ms of each path against the (object,
+/// light) pairs (left; forward multi-pass draws one per pair) and against the lit fragments
+/// (right; deferred shades those), log-log, one series per path, the room ringed.
+pub fn plot_paths(rows: &[Row], path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+        .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
+    let pts: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.group == "path" && r.path.error.is_empty() && r.total_ms.is_finite() && r.total_ms > 0.0)
+        .collect();
+    if pts.is_empty() {
+        anyhow::bail!("no path row rendered");
+    }
+    let root = BitMapBackend::new(path, (1400, 620)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let panels = root.split_evenly((1, 2));
+    let (t0, t1) = pts.iter().fold((f64::INFINITY, 0f64), |(a, b), r| (a.min(r.total_ms), b.max(r.total_ms)));
+    let (t_lo, t_hi) = (t0 / 1.3, t1 * 1.3);
+    let t_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
+    let t_dec = crate::plot_layout::tick_decimals(&t_ticks);
+    type Axis = fn(&Row) -> f64;
+    let panels_spec: [(&str, &str, Axis); 2] = [
+        ("GPU ms against (object, light) pairs", "(object, light) pairs", |r| r.path.object_light_pairs as f64),
+        ("GPU ms against lit fragments (deferred)", "lit fragments", |r| r.path.lit_fragments as f64),
+    ];
+    for ((caption, x_desc, x), area) in panels_spec.into_iter().zip(panels.iter()) {
+        let xs: Vec<f64> = pts.iter().map(|r| x(r)).filter(|v| *v > 0.0).collect();
+        if xs.is_empty() {
+            continue;
+        }
+        let (x_lo, x_hi) = xs.iter().fold((f64::INFINITY, 0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+        let (x_lo, x_hi) = (x_lo / 1.3, x_hi * 1.3);
+        let x_ticks = crate::plot_layout::log_ticks(x_lo, x_hi);
+        let x_dec = crate::plot_layout::tick_decimals(&x_ticks);
+        let mut chart = ChartBuilder::on(area)
+            .caption(caption, ("sans-serif", 20))
+            .margin(14)
+            .x_label_area_size(40)
+            .y_label_area_size(64)
+            .build_cartesian_2d((x_lo..x_hi).log_scale(), (t_lo..t_hi).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc("GPU ms per frame (median; room ringed)")
+            .label_style(("sans-serif", 13))
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
+            .draw()?;
+        draw_ticks(&mut chart, area, (&x_ticks, x_dec), (&t_ticks, t_dec), (x_lo, x_hi), (t_lo, t_hi))?;
+        for (i, p) in RenderPath::ALL.iter().enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let mut mine: Vec<(f64, f64, bool)> = pts
+                .iter()
+                .filter(|r| r.path.path == p.name() && x(r) > 0.0)
+                .map(|r| (x(r), r.total_ms, r.scene == ROOM))
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            mine.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let line: Vec<(f64, f64)> = mine.iter().filter(|m| !m.2).map(|m| (m.0, m.1)).collect();
+            chart
+                .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+                .label(p.name())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+            chart.draw_series(mine.iter().map(|&(x, y, room)| {
+                if room {
+                    Circle::new((x, y), 7, colour.stroke_width(2))
+                } else {
+                    Circle::new((x, y), 4, colour.filled())
+                }
+            }))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 16))
+            .draw()?;
+    }
+    root.present()?;
+    Ok(())
 }
 
 /// Time (x) against FLIP error (y): one panel per group, one labelled point per configuration,
@@ -1170,6 +1527,7 @@ mod tests {
             pareto: false,
             reference: "fullscreen".into(),
             limit_ratio: f64::NAN,
+            path: Default::default(),
         };
         let mut rows = vec![
             row("fast", "a", 1.0, 0.02),
@@ -1228,6 +1586,7 @@ mod tests {
             pareto: false,
             reference: "fullscreen".into(),
             limit_ratio: f64::NAN,
+            path: Default::default(),
         };
         let mut rows = vec![
             // 100 ms for 100,000 fragments: 0.001 ms a fragment.

@@ -71,6 +71,10 @@ fn bench(args: BenchArgs) -> Result<()> {
     let md = bench::markdown(&rows, &gpu.info.name, &o);
     std::fs::write(args.out.join("bench.md"), &md)?;
     bench::plot(&rows, &args.out.join("bench.png"))?;
+    let paths = rows.iter().any(|r| r.group == "path");
+    if paths {
+        bench::plot_paths(&rows, &args.out.join("paths.png"))?;
+    }
     let scaling = rows.iter().any(|r| r.group == "lights" || r.group == "radius");
     if scaling {
         bench::plot_scaling(&rows, &args.out.join("scaling.png"))?;
@@ -82,9 +86,10 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     println!(
-        "wrote {}/bench.csv, bench.md, bench.png{}",
+        "wrote {}/bench.csv, bench.md, bench.png{}{}",
         args.out.display(),
-        if scaling { ", scaling.png" } else { "" }
+        if scaling { ", scaling.png" } else { "" },
+        if paths { ", paths.png" } else { "" }
     );
     Ok(())
 }
@@ -97,7 +102,7 @@ fn render(args: RenderArgs) -> Result<()> {
         }
         None => (Settings::default(), Default::default()),
     };
-    let scene_name = args.scene.clone().or(keys.scene).unwrap_or_else(|| "demo".into());
+    let scene_name = args.scene.clone().or(keys.scene.clone()).unwrap_or_else(|| "demo".into());
     let time = args.time.or(keys.time).unwrap_or(0.0);
     let lights = lampshade::cli::requested_lights(args.lights, args.light_grid).or(keys.lights);
     let (w, h) = match (args.size, keys.size) {
@@ -127,6 +132,7 @@ fn render(args: RenderArgs) -> Result<()> {
         };
         scene.camera = *camera;
     }
+    keys.apply_to(&mut scene).with_context(|| format!("settings file: scene '{scene_name}'"))?;
     if let Some(camera) = keys.camera {
         camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
         scene.camera = camera;

@@ -46,6 +46,29 @@ fn brdf_light(s: &Surface, l: DVec3, ndl: f64, color: DVec3, att: f64) -> (DVec3
     }
 }
 
+/// The twin of `ls_cookie`: the factor on `light`'s colour at the point `v` from it (view
+/// space; `rot` turns world into view), bilinear and clamp-to-edge as the shader filters.
+/// 1 without a cookie.
+pub fn cookie(scene: &Scene, light: &Light, v: DVec3, rot: glam::DMat3) -> DVec3 {
+    let Some(image) = light.cookie().and_then(|c| scene.cookies.get(c as usize)) else {
+        return DVec3::ONE;
+    };
+    match light {
+        Light::Spot(s) => {
+            let dir = (rot * s.direction.as_dvec3()).normalize();
+            let up = rot * crate::scene::cookie::spot_up(s.direction.as_dvec3());
+            match crate::scene::cookie::spot_uv(v, dir, up, (s.outer_angle as f64).tan()) {
+                Some(uv) => image.sample(0, uv),
+                None => DVec3::ZERO,
+            }
+        }
+        Light::Point(_) => {
+            let (face, uv) = crate::scene::cookie::cube_face_uv(rot.transpose() * v);
+            image.sample(face, uv)
+        }
+    }
+}
+
 /// The twin of `ambient_diffuse`: ambient, none for a metal, 1 for unlit.
 fn ambient_diffuse(s: &Surface, ambient: DVec3) -> DVec3 {
     match s.brdf {
@@ -145,6 +168,10 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
     diffuse = diffuse.min(DVec3::splat(ambient_limit));
     specular = specular.min(DVec3::splat(ambient_limit));
     for (i, light) in scene.lights.iter().enumerate() {
+        // Seed 004's culling mask (`ls_light_reaches`).
+        if light.mask() & (1u32 << (p.layer & 31)) == 0 {
+            continue;
+        }
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
         let (lp, radius, color, spot) = match light {
             Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
@@ -173,6 +200,7 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
         if att <= 0.0 || ndl <= 0.0 {
             continue;
         }
+        let color = color * cookie(scene, light, pos - cam.to_view(lp), rot);
         let (d, sp) = brdf_light(&s, l, ndl, color, att);
         diffuse += d.min(limit);
         specular += sp.min(limit);
@@ -237,4 +265,151 @@ impl Occluders {
             t > 1e-9 && t < 1.0 - 1e-9
         })
     }
+}
+
+/// The light pre-pass's (`--path light-prepass`) lit colour at a probed pixel, enclosed: the
+/// f64 twin of its three passes (`fs_light` under `LS_PREPASS`, `prepass_light`,
+/// `prepass_shade`) evaluated on the probe's exact surface, with every term widened to what
+/// the pre-pass's stored inputs can make of it. Returns (lo, hi), linear, before exposure.
+///
+/// Derivation. The pre-pass differs from deferred shading of the same surface in three ways:
+/// 1. Its normal is stored in 8 bits per component: the normal it shades with is within
+///    `normal_error` (radians; `asin(sqrt(3) / 255)` = 0.389 degrees,
+///    `gbuffer::prepass_layout`) of the true one. By the triangle inequality on the sphere the
+///    angle to L (and to H, which does not depend on N) moves by at most that much: N.L lies
+///    in [cos(min(t_l + e, 90 deg)), cos(max(t_l - e, 0))], N.H likewise.
+/// 2. Its exponent is stored as log2(n) / 11 in 8 bits: the one it shades with lies in
+///    [n / `exp_ratio`, n x `exp_ratio`] (ratio 2^(11/510)), clamped to [1, 2048]. The lobe
+///    cos^n falls as n grows, the unit level (n + 8) / 8 rises: each factor's range is taken at
+///    the matching end.
+/// 3. Its specular is one number, the luminance M of the sum of every light's specular with
+///    unit reflectance, coloured in pass 3 by the diffuse light's chromaticity D / lum(D). With
+///    D's channels in [Dlo, Dhi], D_c / lum(D) = D_c / (w_c D_c + sum_(k != c) w_k D_k) rises with
+///    D_c and falls with the others: its range is [Dlo_c / (w_c Dlo_c + sum w_k Dhi_k),
+///    Dhi_c / (w_c Dhi_c + sum w_k Dlo_k)]; the GPU takes white where lum(D) <= 1e-6.
+///
+/// Every factor is non-negative and each product and sum is monotone in its factors, so the
+/// products of the ends enclose the pre-pass's value (the per-light clamps are monotone too).
+/// Ambient, sun and emission are evaluated in pass 3 from the material itself, as deferred
+/// evaluates them from its G-buffer (exactly, with the `reference` layout), so they add no
+/// width. What remains is f32 arithmetic and the HDR target's fp16 rounding, which the caller
+/// allows for.
+pub fn prepass_enclosure(
+    scene: &Scene,
+    p: &PixelProbe,
+    clamp: &Clamps,
+    normal_error: f64,
+    exp_ratio: f64,
+) -> (DVec3, DVec3) {
+    const LUM: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
+    if !p.valid {
+        return (DVec3::ZERO, DVec3::ZERO);
+    }
+    let cam = &scene.camera;
+    let rot = cam.rotation();
+    let n = p.normal.as_dvec3();
+    let pos = p.position.as_dvec3();
+    let view = safe_normalize(-pos, DVec3::Z);
+    let s = Surface {
+        brdf: p.brdf,
+        albedo: p.albedo.as_dvec3(),
+        normal: n,
+        view,
+        spec_level: p.specular_level as f64,
+        spec_exp: p.specular_exponent as f64,
+        toon_margin: std::cell::Cell::new(f64::INFINITY),
+    };
+    // Ambient + sun: pass 3, from the material (the same values deferred computes).
+    let ambient = scene.ambient.as_dvec3();
+    let (mut amb_d, mut amb_s) = (ambient_diffuse(&s, ambient), ambient_specular(&s, ambient));
+    if let Some(sun) = scene.sun {
+        let l = (rot * (-sun.direction.as_dvec3())).normalize();
+        let c = (sun.color * sun.intensity).as_dvec3();
+        let (d, sp) = brdf_light(&s, l, n.dot(l).max(0.0), c, 1.0);
+        amb_d += d;
+        amb_s += sp;
+    }
+    let ambient_limit = if s.brdf == Brdf::Unlit { clamp.ambient.max(1.0) } else { clamp.ambient };
+    amb_d = amb_d.min(DVec3::splat(ambient_limit));
+    amb_s = amb_s.min(DVec3::splat(ambient_limit));
+    // Pass 2: every light, Blinn-Phong with unit reflectance, on the stored normal/exponent.
+    let e = normal_error;
+    let exp_lo = (s.spec_exp / exp_ratio).clamp(1.0, 2048.0);
+    let exp_hi = (s.spec_exp * exp_ratio).clamp(1.0, 2048.0);
+    let angle = |v: DVec3| n.dot(v).clamp(-1.0, 1.0).acos();
+    let cos_range = |t: f64| {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        ((t + e).min(half_pi).cos().max(0.0), (t - e).max(0.0).min(half_pi).cos().max(0.0))
+    };
+    let (mut d_lo, mut d_hi, mut m_lo, mut m_hi) = (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0);
+    for (i, light) in scene.lights.iter().enumerate() {
+        let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
+        let (lp, radius, color, spot) = match light {
+            Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
+            Light::Spot(s) => (
+                s.position,
+                s.radius as f64,
+                (s.color * s.intensity).as_dvec3(),
+                Some(((rot * s.direction.as_dvec3()).normalize(), s.outer_angle as f64, s.inner_angle as f64)),
+            ),
+        };
+        let to_light = cam.to_view(lp) - pos;
+        let d = to_light.length();
+        if !(d < radius) {
+            continue;
+        }
+        let l = if d > 1e-6 * radius { to_light / d } else { n };
+        let x = d / radius;
+        let w = (1.0 - x * x).clamp(0.0, 1.0);
+        let mut att = w * w;
+        if let Some((dir, outer, inner)) = spot {
+            let (co, ci) = (outer.cos(), inner.cos());
+            let c = (-l).dot(dir);
+            att *= if ci - co < 1e-6 { f64::from(u8::from(c >= co)) } else { smoothstep(co, ci, c) };
+        }
+        if att <= 0.0 {
+            continue;
+        }
+        let (ndl_lo, ndl_hi) = cos_range(angle(l));
+        let (nh_lo, nh_hi) = cos_range(angle(safe_normalize(l + view, n)));
+        let (lobe_lo, lobe_hi) = (nh_lo.powf(exp_hi), nh_hi.powf(exp_lo));
+        let (lev_lo, lev_hi) = ((exp_lo + 8.0) / 8.0, (exp_hi + 8.0) / 8.0);
+        d_lo += (color * (att * ndl_lo)).min(limit);
+        d_hi += (color * (att * ndl_hi)).min(limit);
+        m_lo += (color * (att * ndl_lo * lobe_lo * lev_lo)).min(limit).dot(LUM);
+        m_hi += (color * (att * ndl_hi * lobe_hi * lev_hi)).min(limit).dot(LUM);
+    }
+    // Pass 3 reads the buffer through `finite` (fp16's largest value; deferred's compose does
+    // the same), then colours the specular with the diffuse light's chromaticity.
+    let top = crate::renderer::records::FP16_MAX as f64;
+    (d_lo, d_hi, m_lo, m_hi) = (d_lo.min(DVec3::splat(top)), d_hi.min(DVec3::splat(top)), m_lo.min(top), m_hi.min(top));
+    let mut chroma_lo = DVec3::ZERO;
+    let mut chroma_hi = DVec3::ZERO;
+    for c in 0..3 {
+        let others = |v: DVec3| (0..3).filter(|&k| k != c).map(|k| LUM[k] * v[k]).sum::<f64>();
+        let den_lo = LUM[c] * d_lo[c] + others(d_hi);
+        let den_hi = LUM[c] * d_hi[c] + others(d_lo);
+        chroma_lo[c] = if den_lo > 0.0 { d_lo[c] / den_lo } else { 0.0 };
+        chroma_hi[c] = if den_hi > 0.0 { d_hi[c] / den_hi } else { 1.0 / LUM[c] };
+    }
+    if d_lo.dot(LUM) <= 1e-6 {
+        // The GPU's white where lum(D) is (near) zero.
+        chroma_lo = chroma_lo.min(DVec3::ONE);
+        chroma_hi = chroma_hi.max(DVec3::ONE);
+    }
+    let f0 = s.spec_level * 8.0 / (s.spec_exp + 8.0);
+    let (mut spec_lo, mut spec_hi) = (chroma_lo * (m_lo * f0), chroma_hi * (m_hi * f0));
+    match s.brdf {
+        Brdf::Lambert => (spec_lo, spec_hi) = (DVec3::ZERO, DVec3::ZERO),
+        Brdf::Unlit => (d_lo, d_hi, spec_lo, spec_hi) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO),
+        Brdf::Metal => {
+            (d_lo, d_hi) = (DVec3::ZERO, DVec3::ZERO);
+            (spec_lo, spec_hi) = (spec_lo * s.albedo, spec_hi * s.albedo);
+        }
+        _ => {}
+    }
+    let emissive = p.emissive.as_dvec3();
+    // `prepass_shade` writes at most fp16's largest value.
+    let lit = |d: DVec3, sp: DVec3| ((d + amb_d) * s.albedo + sp + amb_s + emissive).min(DVec3::splat(top));
+    (lit(d_lo, spec_lo), lit(d_hi, spec_hi))
 }

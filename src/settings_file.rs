@@ -28,6 +28,44 @@ pub struct SceneKeys {
     pub camera: Option<Camera>,
     /// Image size, `[width, height]`.
     pub size: Option<[u32; 2]>,
+    /// Seed 004's cookies by light index: a built-in name (`window`, `flashlight`), a PNG path
+    /// (relative to the working directory), or null for none: `{"0": "window"}`.
+    #[serde(default)]
+    pub light_cookies: Option<std::collections::BTreeMap<usize, Option<String>>>,
+    /// Seed 004's culling masks by light index (bit k = lights layer k): `{"1": 3}`.
+    #[serde(default)]
+    pub light_masks: Option<std::collections::BTreeMap<usize, u32>>,
+    /// Culling layers (0..=31) by object index: `{"4": 1}`.
+    #[serde(default)]
+    pub object_layers: Option<std::collections::BTreeMap<usize, u8>>,
+}
+
+impl SceneKeys {
+    /// Applies the per-light cookies and masks and the per-object layers to `scene`. Errors
+    /// name the key, the index and the problem (a missing or bad cookie file among them).
+    pub fn apply_to(&self, scene: &mut crate::scene::Scene) -> Result<()> {
+        for (&i, cookie) in self.light_cookies.iter().flatten() {
+            scene.set_light_cookie(i, cookie.as_deref()).map_err(anyhow::Error::msg).context("light_cookies")?;
+        }
+        for (&i, &mask) in self.light_masks.iter().flatten() {
+            let n = scene.lights.len();
+            let Some(l) = scene.lights.get_mut(i) else {
+                bail!("light_masks: no light {i} (the scene has {n})");
+            };
+            l.set_mask(mask);
+        }
+        for (&i, &layer) in self.object_layers.iter().flatten() {
+            let n = scene.objects.len();
+            let Some(o) = scene.objects.get_mut(i) else {
+                bail!("object_layers: no object {i} (the scene has {n})");
+            };
+            if layer > 31 {
+                bail!("object_layers: object {i} on layer {layer}; layers are 0..=31");
+            }
+            o.layer = layer;
+        }
+        Ok(())
+    }
 }
 
 /// The key under which the viewer's F12 stores its own state.
@@ -139,6 +177,7 @@ mod tests {
                 far: 400.0,
             }),
             size: Some([640, 360]),
+            ..Default::default()
         };
         let settings = Settings { exposure: 1.5, ..Settings::default() };
         let mut doc = serde_json::to_value(&settings).unwrap();
@@ -166,7 +205,39 @@ mod tests {
         for k in ["culling", "exposure", "light_cutoff", "cone_sides", "selected_light"] {
             assert!(s.contains(&k.to_string()), "{k} missing from {s:?}");
         }
-        assert_eq!(scene_keys(), ["camera", "lights", "scene", "size", "time"]);
+        assert_eq!(
+            scene_keys(),
+            ["camera", "light_cookies", "light_masks", "lights", "object_layers", "scene", "size", "time"]
+        );
+        // Seed 004's keys.
+        let (_, k) = parse(
+            r#"{"light_cookies": {"0": "window", "1": null}, "light_masks": {"2": 5}, "object_layers": {"3": 1}}"#,
+        )
+        .unwrap();
+        assert_eq!(k.light_masks.unwrap()[&2], 5);
+        assert_eq!(k.light_cookies.unwrap()[&1], None);
+    }
+
+    #[test]
+    fn cookies_masks_and_layers_apply_to_the_scene() {
+        let mut scene = crate::scene::builtin::build("spot", Default::default()).unwrap();
+        let (_, k) =
+            parse(r#"{"light_cookies": {"0": "window"}, "light_masks": {"0": 2}, "object_layers": {"1": 1}}"#).unwrap();
+        k.apply_to(&mut scene).unwrap();
+        assert_eq!(scene.lights[0].mask(), 2);
+        assert_eq!(scene.cookies[scene.lights[0].cookie().unwrap() as usize].name, "window");
+        assert_eq!(scene.objects[1].layer, 1);
+        for (text, needle) in [
+            (r#"{"light_cookies": {"0": "nowhere/c.png"}}"#, "nowhere/c.png"),
+            (r#"{"light_cookies": {"9": "window"}}"#, "no light 9"),
+            (r#"{"light_masks": {"9": 1}}"#, "no light 9"),
+            (r#"{"object_layers": {"1": 40}}"#, "layers are 0..=31"),
+            (r#"{"object_layers": {"99": 1}}"#, "no object 99"),
+        ] {
+            let (_, k) = parse(text).unwrap();
+            let e = format!("{:#}", k.apply_to(&mut scene.clone()).unwrap_err());
+            assert!(e.contains(needle), "{text}: {e}");
+        }
     }
 
     #[test]

@@ -211,6 +211,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         depth_clamp: gpu().has(wgpu::Features::DEPTH_CLIP_CONTROL),
         forward_lights: settings.forward_lights,
         light_batching: true,
+        cluster_build: settings.cluster_build,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

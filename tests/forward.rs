@@ -111,7 +111,7 @@ fn corner_lights(reaching: bool) -> Scene {
     let mut s = Scene { meshes: vec![Mesh::cube()], ..Scene::new("corner lights", camera) };
     s.ambient = Vec3::splat(0.02);
     s.materials.push(Material { alpha: 0.6, alpha_mode: AlphaMode::Blend, ..Material::diffuse(Vec3::splat(0.9)) });
-    s.objects.push(Object { mesh: 0, material: 0, transform: DMat4::from_scale(DVec3::splat(2.0)) });
+    s.objects.push(Object { mesh: 0, material: 0, transform: DMat4::from_scale(DVec3::splat(2.0)), layer: 0 });
     if reaching {
         for k in 0..8 {
             let corner = DVec3::new([-1.0, 1.0][k & 1], [-1.0, 1.0][(k >> 1) & 1], [-1.0, 1.0][k >> 2]);
@@ -122,6 +122,8 @@ fn corner_lights(reaching: bool) -> Scene {
                 intensity: 60.0,
                 radius: 1.0,
                 cast_shadows: true,
+                cookie: None,
+                mask: lampshade::scene::ALL_LAYERS,
             }));
         }
     }
@@ -171,6 +173,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
+            cluster_build: lampshade::renderer::settings::ClusterBuilder::Cpu,
         };
         let bounds: Vec<(glam::DVec3, f64)> = scene
             .meshes

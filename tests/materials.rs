@@ -237,6 +237,8 @@ fn one_sphere(m: Material) -> Scene {
         intensity: 2.0,
         radius: 12.0,
         cast_shadows: true,
+        cookie: None,
+        mask: lampshade::scene::ALL_LAYERS,
     })];
     s
 }

@@ -112,6 +112,8 @@ fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
         intensity: 50.0,
         radius: 2.5,
         cast_shadows: true,
+        cookie: None,
+        mask: lampshade::scene::ALL_LAYERS,
     }));
     for i in 0..crowd {
         let a = i as f64 * 0.618;
@@ -121,6 +123,8 @@ fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
             intensity: crowd_intensity,
             radius: 1.5,
             cast_shadows: true,
+            cookie: None,
+            mask: lampshade::scene::ALL_LAYERS,
         }));
     }
     scene

@@ -8,7 +8,7 @@ use super::script::{Action, SCRIPT_DT};
 use super::state::{self, Wireframes};
 use super::ui::{self, Command, Sample, Status, Thumb, UiOut};
 use super::{camera, App};
-use crate::renderer::{volume_wireframe_with, DebugView, Settings};
+use crate::renderer::{volume_wireframe_with, DebugView, RenderPath, Settings};
 use anyhow::{anyhow, Result};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -181,6 +181,10 @@ impl App {
     /// from it at thumbnail size.
     fn render_thumbnails(&mut self, settings: &Settings, rendered: bool) -> Vec<Thumb> {
         let Some(g) = self.gfx.as_mut() else { return Vec::new() };
+        if matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+            // No G-buffer to show (the strip says so).
+            return Vec::new();
+        }
         let accum = settings.accumulation.format(g.gpu.features).ok();
         let tiles = ui::thumbs(g.renderer.layout(), accum, g.renderer.depth_format());
         if rendered {

@@ -160,6 +160,18 @@ impl SceneCache {
                 }
             }
         }
+        // Cookies picked in the lights tab: each image is read once and kept in the base scene
+        // (the clone finds it there by name next frame).
+        for (i, spec) in &state.light_cookies {
+            if *i < scene.lights.len() {
+                scene.set_light_cookie(*i, spec.as_deref())?;
+            }
+        }
+        if let Some(base) = self.base.as_mut() {
+            if scene.cookies.len() > base.cookies.len() {
+                base.cookies.extend(scene.cookies[base.cookies.len()..].iter().cloned());
+            }
+        }
         for (i, m) in &state.material_edits {
             if let Some(slot) = scene.materials.get_mut(*i) {
                 *slot = *m;

@@ -461,6 +461,7 @@ impl App {
         st.camera = None;
         st.lights = None;
         st.light_edits.clear();
+        st.light_cookies.clear();
         st.material_edits.clear();
         st.ambient = None;
         st.sun = None;
@@ -486,6 +487,8 @@ impl App {
             time: self.state.time,
             camera: scene_camera,
             size: [g.viewport.width, g.viewport.height],
+            light_cookies: &self.state.light_cookies,
+            light_masks: self.state.light_edits.iter().map(|(k, e)| (*k, e.mask)).collect(),
             viewer: &self.state,
         };
         let text = serde_json::to_string_pretty(&doc)?;
@@ -506,6 +509,10 @@ struct ScreenshotSettings<'a> {
     time: f64,
     camera: Option<crate::scene::Camera>,
     size: [u32; 2],
+    /// Seed 004: the cookies picked and the masks of the lights edited in the viewer, as
+    /// `settings_file::SceneKeys` reads them.
+    light_cookies: &'a std::collections::BTreeMap<usize, Option<String>>,
+    light_masks: std::collections::BTreeMap<usize, u32>,
     viewer: &'a UiState,
 }
 

@@ -73,10 +73,17 @@ pub struct LightEdit {
     /// Issue 15: the light's own shadow flag (`Light::cast_shadows`).
     #[serde(default = "cast_default")]
     pub cast_shadows: bool,
+    /// Culling mask (seed 004): bit k = lights layer k.
+    #[serde(default = "all_layers")]
+    pub mask: u32,
 }
 
 fn cast_default() -> bool {
     true
+}
+
+fn all_layers() -> u32 {
+    crate::scene::ALL_LAYERS
 }
 
 impl LightEdit {
@@ -88,6 +95,7 @@ impl LightEdit {
                 radius: p.radius,
                 angles: None,
                 cast_shadows: p.cast_shadows,
+                mask: p.mask,
             },
             Light::Spot(s) => Self {
                 color: s.color,
@@ -95,6 +103,7 @@ impl LightEdit {
                 radius: s.radius,
                 angles: Some((s.inner_angle, s.outer_angle)),
                 cast_shadows: s.cast_shadows,
+                mask: s.mask,
             },
         }
     }
@@ -106,8 +115,10 @@ impl LightEdit {
                 p.intensity = self.intensity;
                 p.radius = self.radius;
                 p.cast_shadows = self.cast_shadows;
+                p.mask = self.mask;
             }
             Light::Spot(s) => {
+                s.mask = self.mask;
                 s.color = self.color;
                 s.intensity = self.intensity;
                 s.radius = self.radius;
@@ -145,6 +156,10 @@ pub struct UiState {
     /// Camera speed in units per second (Shift: x4).
     pub move_speed: f64,
     pub light_edits: BTreeMap<usize, LightEdit>,
+    /// Cookies the user picked per light (seed 004): a built-in name or a PNG path; `None`
+    /// takes the light's cookie away.
+    #[serde(default)]
+    pub light_cookies: BTreeMap<usize, Option<String>>,
     /// Multipliers on every light's radius and intensity.
     pub radius_scale: f32,
     pub intensity_scale: f32,
@@ -194,6 +209,7 @@ impl Default for UiState {
             camera: None,
             move_speed: 8.0,
             light_edits: BTreeMap::new(),
+            light_cookies: BTreeMap::new(),
             radius_scale: 1.0,
             intensity_scale: 1.0,
             panels: Panels::default(),
@@ -333,6 +349,29 @@ impl UiState {
                 e.apply(&mut l);
                 l.validate().map_err(|err| format!("light {k}: {err}"))?;
                 *edit = e;
+            }
+            // Seed 004: the selected light's culling mask (decimal or 0x hex) and cookie.
+            "mask" | "cookie" => {
+                let Some(k) = self.selected_light.filter(|k| *k < scene.lights.len()) else {
+                    return Err(format!("'{name}' edits the selected light: select one first"));
+                };
+                if name == "cookie" {
+                    let spec = (value != "none").then(|| value.to_string());
+                    if let Some(spec) = &spec {
+                        let cube = matches!(scene.lights[k], Light::Point(_));
+                        crate::scene::cookie::CookieImage::resolve(spec, cube)
+                            .map_err(|e| format!("light {k}: {e}"))?;
+                    }
+                    self.light_cookies.insert(k, spec);
+                } else {
+                    let mask = match value.strip_prefix("0x") {
+                        Some(hex) => u32::from_str_radix(hex, 16),
+                        None => value.parse(),
+                    }
+                    .map_err(|_| format!("mask '{value}' is not a 32-bit number (decimal or 0x hex)"))?;
+                    let edit = self.light_edit(scene, k).ok_or_else(|| format!("light {k} does not exist"))?;
+                    edit.mask = mask;
+                }
             }
             _ => return Err(format!("unknown setting '{name}'")),
         }

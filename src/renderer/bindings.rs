@@ -67,6 +67,10 @@ pub const FRAME: Group = Group {
         storage(3, "light_lists", "array<u32>"),
         // The light of each instance of a light draw (`batches::LightBatches::list`).
         storage(4, "draw_lights", "array<u32>"),
+        // Every cookie's texels, one after the other in rows of `records::COOKIE_ROW` (an
+        // Rgba8Unorm texture read with textureLoad: a storage buffer would pass the 8 a stage
+        // may bind in the post passes; `records::cookie_words`, seed 004).
+        texture(5, "cookie_texels", false),
         // Issue 15: the shadow atlas, its comparison sampler, and the shadow table: row 0 the
         // frame's `ShadowParams`, row 1 + i tile i's `ShadowTile`, as their bytes
         // (`records::SHADOW_TABLE_WIDTH` Rgba32Uint texels a row; `shadow_params_load` and
@@ -121,8 +125,10 @@ pub const HDR: Group = Group { label: "hdr colour", index: 3, bindings: &[textur
 
 /// Group 2 of the tiled and clustered passes (`passes::tiled`): their parameters, the light
 /// lists (a (first, count) pair per tile or cluster, then the entries) and the counters (the
-/// list allocator, then one light-pixel pair count per light). Slots from 20, apart from the
-/// compose group's.
+/// list allocator, then one light-pixel pair count per light). Clustered lists built on the
+/// GPU keep a counter per cluster after the lights' counts, and each light's span of clusters
+/// (`tiles::Span`, 4 words) after the list entries. Slots from 20, apart from the compose
+/// group's.
 pub const TILES: Group = Group {
     label: "tiles",
     index: 2,

@@ -38,6 +38,10 @@ pub enum Attr {
     /// The material ID (seed 002): which reflectance model ([`Brdf`]) shades the pixel, stored
     /// as ID / 255 in 1 component. Present only when the scene uses more than one model.
     Material,
+    /// The object's culling layer (seed 004's light culling masks), 0..=31, stored as
+    /// layer / 255 in 1 component. Present only when some light's mask tells the scene's
+    /// layers apart (`Scene::uniform_layer`).
+    Layer,
 }
 
 impl Attr {
@@ -91,6 +95,10 @@ pub struct GBufferLayout {
     /// The one reflectance model of a scene that uses one: a constant in the shaders and no
     /// channel. `None`: the model is read per pixel from the [`Attr::Material`] channel.
     pub uniform_brdf: Option<Brdf>,
+    /// The one culling layer every pixel is shaded as when no light's mask tells the scene's
+    /// layers apart: a constant in the shaders and no channel. `None`: read per pixel from the
+    /// [`Attr::Layer`] channel.
+    pub uniform_layer: Option<u32>,
 }
 
 /// The layouts Lampshade knows, by name.
@@ -142,7 +150,59 @@ impl LayoutChoice {
     /// scene uses more than one reflectance model (in the channel the table leaves spare:
     /// [`LayoutChoice::material_slot`]). A layout without a spare channel cannot show several
     /// models: that is an error naming them, not a silent fallback.
+    ///
+    /// Then the object layer (seed 004's light culling masks), the same way: a shader constant
+    /// unless some light's mask tells the scene's layers apart; then in the first channel the
+    /// layout (after the material ID) leaves unused, at no byte more; `fit` adds an R8Unorm
+    /// target (1 B/px) when it has none; another layout without one is an error that says so.
     pub fn layout_for(self, scene: &crate::scene::Scene, force: Option<Brdf>) -> Result<GBufferLayout, String> {
+        let mut layout = self.layout_for_models(scene, force)?;
+        let Some(layer) = scene.uniform_layer() else {
+            let spare = layout.targets.iter().enumerate().find_map(|(i, t)| {
+                t.channels
+                    .iter()
+                    .enumerate()
+                    .position(|(c, s)| s.is_none() && !(t.format.is_srgb() && c < 3))
+                    .map(|c| (i, c))
+            });
+            match spare {
+                Some((t, c)) => layout.targets[t].channels[c] = Some(Slot { attr: Attr::Layer, comp: 0 }),
+                None if self == LayoutChoice::Fit => layout.targets.push(TargetDesc {
+                    name: "layer",
+                    format: wgpu::TextureFormat::R8Unorm,
+                    channels: vec![Some(Slot { attr: Attr::Layer, comp: 0 })],
+                }),
+                None => {
+                    let used = scene.used_layers();
+                    let layers: Vec<String> = (0..32).filter(|k| used & (1 << k) != 0).map(|k| k.to_string()).collect();
+                    let lights: Vec<String> = scene
+                        .lights
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, l)| l.mask() & used != 0 && l.mask() & used != used)
+                        .map(|(i, _)| i.to_string())
+                        .take(8)
+                        .collect();
+                    return Err(format!(
+                        "layout {} has no spare channel for the object layer that light culling masks need \
+                         (objects on layers {}; lights {} light some of those layers but not all){}; \
+                         use compact, fit or reference, or masks that take every layer in use or none",
+                        layout.name,
+                        layers.join(", "),
+                        lights.join(", "),
+                        if layout.uniform_brdf.is_none() { " — the material ID took its spare channel" } else { "" }
+                    ));
+                }
+            }
+            layout.uniform_layer = None;
+            return Ok(layout);
+        };
+        layout.uniform_layer = Some(layer);
+        Ok(layout)
+    }
+
+    /// [`Self::layout_for`] without the layer: the table and the material ID channel.
+    fn layout_for_models(self, scene: &crate::scene::Scene, force: Option<Brdf>) -> Result<GBufferLayout, String> {
         let brdfs = scene.brdfs(force);
         if self == LayoutChoice::Fit {
             return Ok(fit_for(scene, &brdfs));
@@ -194,6 +254,7 @@ impl LayoutChoice {
                 normal: NormalEncoding::Octahedral,
                 world: false,
                 uniform_brdf: Some(Brdf::BlinnPhong),
+                uniform_layer: Some(0),
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -225,6 +286,7 @@ impl LayoutChoice {
                 normal: NormalEncoding::Octahedral,
                 world: false,
                 uniform_brdf: Some(Brdf::BlinnPhong),
+                uniform_layer: Some(0),
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -257,6 +319,7 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
         normal,
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
         targets: vec![
             TargetDesc {
                 name: "albedo+spec",
@@ -289,6 +352,7 @@ fn seed000() -> GBufferLayout {
         normal: NormalEncoding::Xyz,
         world: true,
         uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
         targets: vec![
             target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("world normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -308,6 +372,7 @@ fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout
         normal: NormalEncoding::Xyz,
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
         targets: vec![
             target("albedo+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -368,8 +433,14 @@ pub fn fit_for(scene: &crate::scene::Scene, brdfs: &[Brdf]) -> GBufferLayout {
         });
     }
     targets.push(TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] });
-    let mut layout =
-        GBufferLayout { name: "fit", normal: NormalEncoding::Octahedral, world: false, targets, uniform_brdf: forced };
+    let mut layout = GBufferLayout {
+        name: "fit",
+        normal: NormalEncoding::Octahedral,
+        world: false,
+        targets,
+        uniform_brdf: forced,
+        uniform_layer: Some(0),
+    };
     if forced.is_none() {
         // Several models: the ID goes to a channel the formats already have (always one).
         if let Some((t, c)) = fit_material_slot(&layout) {
@@ -413,7 +484,7 @@ pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
 /// Largest rounding error of one stored normal component in [-1, 1]: half a step of a
 /// normalised format (whose step is 2 / (2^bits - 1) after the [-1, 1] -> [0, 1] remap), half an
 /// ulp below 1 of a float format.
-fn component_rounding(format: wgpu::TextureFormat) -> f64 {
+pub fn component_rounding(format: wgpu::TextureFormat) -> f64 {
     use wgpu::TextureFormat as F;
     match format {
         F::R8Unorm | F::Rg8Unorm | F::Rgba8Unorm | F::Rgba8UnormSrgb => 1.0 / 255.0,
@@ -483,7 +554,7 @@ impl GBufferLayout {
         match attr {
             Attr::Albedo | Attr::Emissive | Attr::Position => 3,
             Attr::Normal => self.normal.components(),
-            Attr::SpecLevel | Attr::SpecExp | Attr::Depth | Attr::Material => 1,
+            Attr::SpecLevel | Attr::SpecExp | Attr::Depth | Attr::Material | Attr::Layer => 1,
         }
     }
 
@@ -508,7 +579,9 @@ impl GBufferLayout {
                 }
             }
         }
-        for attr in [Attr::Albedo, Attr::Normal] {
+        // The light pre-pass's thin buffer holds no albedo: its final pass reads the material.
+        let needed: &[Attr] = if self.name == PREPASS_LAYOUT { &[Attr::Normal] } else { &[Attr::Albedo, Attr::Normal] };
+        for &attr in needed {
             for c in 0..self.components(attr) {
                 if !self
                     .targets
@@ -530,6 +603,12 @@ impl GBufferLayout {
                 self.name
             ));
         }
+        if self.uniform_layer.is_none() != self.has(Attr::Layer) {
+            return Err(format!(
+                "layout {}: a layer channel goes with a scene whose light masks tell its layers apart, and only then",
+                self.name
+            ));
+        }
         Ok(())
     }
 
@@ -547,6 +626,9 @@ impl GBufferLayout {
         // The material ID: per pixel from its channel, or the scene's one model.
         let _ = writeln!(w, "const GBUFFER_HAS_MATERIAL: bool = {};", self.uniform_brdf.is_none());
         let _ = writeln!(w, "const GBUFFER_BRDF: u32 = {}u;", self.uniform_brdf.unwrap_or_default().id());
+        // The culling layer (seed 004): per pixel from its channel, or the scene's one layer.
+        let _ = writeln!(w, "const GBUFFER_HAS_LAYER: bool = {};", self.uniform_layer.is_none());
+        let _ = writeln!(w, "const GBUFFER_LAYER: u32 = {}u;", self.uniform_layer.unwrap_or(0));
         for (i, _) in self.targets.iter().enumerate() {
             let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;");
         }
@@ -616,6 +698,7 @@ fn attr_field(a: Attr) -> &'static str {
         Attr::Depth => "depth",
         Attr::Position => "position",
         Attr::Material => "material",
+        Attr::Layer => "layer",
     }
 }
 
@@ -683,6 +766,43 @@ impl GBufferTargets {
             layout: bgl,
             entries: &entries,
         })
+    }
+}
+
+/// Name of [`prepass_layout`].
+pub const PREPASS_LAYOUT: &str = "prepass";
+
+/// The light pre-pass's first pass (seeds 003/004): ONE Rgba8Unorm target, the view-space
+/// normal's x y z remapped to [0, 1] in RGB (8 bits each; seed 004's ARGB32, seed 003's 24-bit
+/// normal) and the specular exponent as log2(exponent) / 11 in A (seed 003's "scaled 8-bit
+/// specular exponent"). Rounding: each normal component is off by at most half a step,
+/// q = 1/255 in [-1, 1] units, so the direction by at most asin(sqrt(3) q) = 0.389 degrees
+/// ([`GBufferLayout::normal_error_bound`]); the exponent's log2 by at most 11 / 510, i.e. the
+/// exponent by a factor 2^(11/510) = 1.0151.
+///
+/// Plus the R32Float depth copy every layout here keeps: the stencil culling methods write the
+/// stencil while the lights read depth, and wgpu cannot sample a depth-stencil texture that is
+/// the pass's writable attachment (seed 004's own fallback: "if Z buffer can't be accessed as
+/// a texture, then depth is rendered" apart). One reflectance model in the buffer: the light
+/// pass shades Blinn-Phong with unit reflectance (`surface_of` under `LS_PREPASS`).
+pub fn prepass_layout() -> GBufferLayout {
+    use wgpu::TextureFormat as F;
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    GBufferLayout {
+        name: PREPASS_LAYOUT,
+        normal: NormalEncoding::Xyz,
+        world: false,
+        uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
+        targets: vec![
+            TargetDesc {
+                name: "normal+exp",
+                format: F::Rgba8Unorm,
+                channels: vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)],
+            },
+            TargetDesc { name: "depth", format: F::R32Float, channels: vec![s(Depth, 0)] },
+        ],
     }
 }
 

@@ -38,6 +38,8 @@ pub struct PixelProbe {
     /// The stored material ID when the layout has the channel (an unknown one is shaded as
     /// `blinn-phong`, as the shaders do).
     pub material_id: Option<u32>,
+    /// The object's culling layer (seed 004): from the layer channel, or the layout's one layer.
+    pub layer: u32,
 }
 
 fn srgb_to_linear(c: f32) -> f32 {
@@ -214,6 +216,7 @@ impl Renderer {
     /// Decodes pixel (`x`, `y`) of the last frame on the CPU, following the layout table.
     pub fn probe(&self, gpu: &Gpu, x: u32, y: u32) -> Result<PixelProbe> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        self.last.gbuffer("pixel to probe")?;
         if x >= t.width || y >= t.height {
             bail!("pixel ({x}, {y}) is outside the {}x{} frame", t.width, t.height);
         }
@@ -265,7 +268,9 @@ impl Renderer {
             }
         };
         let diffuse = decode(read_texel(gpu, &t.diffuse, x, y)?);
-        let specular = decode(read_texel(gpu, &t.specular, x, y)?);
+        // The light pre-pass has one light buffer (its `specular` target is a 1x1 stand-in):
+        // the mono specular (A) as grey.
+        let specular = if t.prepass { [diffuse[3]; 4] } else { decode(read_texel(gpu, &t.specular, x, y)?) };
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
@@ -277,6 +282,11 @@ impl Renderer {
         let brdf = match material_id {
             Some(id) => Brdf::ALL.into_iter().find(|b| b.id() == id).unwrap_or_default(),
             None => layout.uniform_brdf.unwrap_or_default(),
+        };
+        // As `surface_of` decodes it.
+        let layer = match layout.uniform_layer {
+            Some(l) => l,
+            None => ((get(Attr::Layer, 0, 0.0).clamp(0.0, 1.0) * 255.0).round() as u32) & 31,
         };
         let lights = if valid {
             self.last.lights.iter().enumerate().filter(|(_, l)| inside_light(l, position)).map(|(i, _)| i).collect()
@@ -295,11 +305,17 @@ impl Renderer {
             position,
             diffuse_light,
             specular_light,
-            lit: if valid { diffuse_light * albedo + specular_light + emissive } else { Vec3::ZERO },
+            // The light pre-pass's lit colour is pass 3's (its buffer holds no albedo).
+            lit: match (&t.hdr_texture, valid) {
+                (_, false) => Vec3::ZERO,
+                (Some(hdr), true) if t.prepass => Vec3::from_slice(&read_texel(gpu, hdr, x, y)?[..3]),
+                _ => diffuse_light * albedo + specular_light + emissive,
+            },
             lights,
             raw,
             brdf,
             material_id,
+            layer,
         })
     }
 }

@@ -9,8 +9,8 @@
 //! files (see [`super::settings::name_of`]).
 
 use super::settings::{
-    name_of, Aa, AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa,
-    RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
+    LayoutChoice, Msaa, RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -116,6 +116,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "depth-prepass",
+        what: "depth pre-pass",
+        help: "Forward single-pass: draw depth first so each pixel is shaded once (off: overdraw shaded)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.depth_prepass),
+        put: |s, v| {
+            s.depth_prepass = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "culling",
         what: "culling mode",
         help: "How light volumes are culled",
@@ -124,6 +136,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.culling),
         put: |s, v| {
             s.culling = choice("culling mode", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "cluster-build",
+        what: "cluster list builder",
+        help: "Who builds the clustered mode's light lists: the CPU (uploaded) or the GPU (from each light's span)",
+        values: Values::Choice(names::<ClusterBuilder>),
+        cli: true,
+        get: |s| name_of(&s.cluster_build),
+        put: |s, v| {
+            s.cluster_build = choice("cluster list builder", v)?;
             Ok(())
         },
     },

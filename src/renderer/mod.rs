@@ -71,6 +71,19 @@ struct LastFrame {
     plan: FramePlan,
     /// Issue 15: the shadow tiles and who casts.
     shadows: shadows::ShadowPlan,
+    /// The path it was drawn with: the forward paths leave no G-buffer to read (what the
+    /// targets hold is an older frame's).
+    path: RenderPath,
+}
+
+impl LastFrame {
+    /// An error when the last frame left no G-buffer (`what` is what was asked for).
+    fn gbuffer(&self, what: &str) -> Result<()> {
+        if matches!(self.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+            bail!("the {} path keeps no G-buffer: no {what} (use --path deferred or light-prepass)", self.path.name());
+        }
+        Ok(())
+    }
 }
 
 pub struct Renderer {
@@ -144,11 +157,18 @@ impl Renderer {
         output_format: wgpu::TextureFormat,
         clamp_available: bool,
     ) -> Result<PipelineKey> {
+        // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
+        let prepass = settings.path == RenderPath::LightPrepass;
+        let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_features(features).map_err(anyhow::Error::msg)?;
         let accum_format = settings.accumulation.format(features)?;
         Ok(PipelineKey {
-            ambient_in_gbuffer: settings.ambient_in_gbuffer && passes::ambient_fits(&layout, accum_format, limits),
+            ambient_in_gbuffer: !prepass
+                && settings.ambient_in_gbuffer
+                && passes::ambient_fits(&layout, accum_format, limits),
+            prepass,
+            samples: if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 },
             layout,
             depth_format: settings.depth_format.format(features),
             output_format,
@@ -185,14 +205,14 @@ impl Renderer {
         if tessellation != self.volumes.tessellation {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
-        let key = Self::key(
-            settings,
-            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?,
-            self.features,
-            &self.limits,
-            self.output_format,
-            self.clamp_available,
-        )?;
+        let layout = if settings.path == RenderPath::LightPrepass {
+            // One layer for the whole scene (`passes::prepass::check` refuses masks that tell
+            // layers apart: the thin buffer has no channel for them).
+            gbuffer::GBufferLayout { uniform_layer: scene.uniform_layer(), ..gbuffer::prepass_layout() }
+        } else {
+            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
+        };
+        let key = Self::key(settings, layout, self.features, &self.limits, self.output_format, self.clamp_available)?;
         if key != *self.passes.key() {
             // Switching back to a configuration seen recently reuses its passes instead of
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
@@ -252,10 +272,17 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        if settings.path != RenderPath::Deferred {
-            // Issue 14 builds the other paths; until then asking for one is an error, not a
-            // deferred picture under another name.
-            bail!("the {} path is not built yet (issue 14); use --path deferred", settings.path.name());
+        let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+        if forward_path && !(settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) {
+            bail!(
+                "the {} path has no G-buffer or light buffers to show the {} view; use --path deferred",
+                settings.path.name(),
+                settings.debug_view.name()
+            );
+        }
+        let prepass = settings.path == RenderPath::LightPrepass;
+        if prepass {
+            passes::prepass::check(scene, settings)?;
         }
         let size = (width, height);
         // Transparency is shaded forward over the HDR picture, in the final view only (the
@@ -263,7 +290,10 @@ impl Renderer {
         let blended =
             (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
         let chain = post::chain_active(settings);
-        self.configure(scene, settings, size, blended, chain)?;
+        // The forward paths and the light pre-pass's pass 3 shade into the HDR scene colour,
+        // which the tonemap finishes.
+        let prepass_lit = prepass && (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view));
+        self.configure(scene, settings, size, blended || forward_path || prepass_lit, chain)?;
         let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {
             bail!("internal: targets or scene missing after configure");
         };
@@ -284,9 +314,26 @@ impl Renderer {
             // order lights are blended in far more than fp16's: batching reorders them (up to 3
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
+            cluster_build: settings.cluster_build,
         };
         let clock = std::time::Instant::now();
-        let plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        let mut plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
+        let path_lists = if forward_path {
+            plan::forward_path_lists(
+                scene,
+                &mut records.objects,
+                &gpu_scene.bounds,
+                &plan.lights,
+                &plan.draws.gbuffer,
+                size,
+                &mut plan.light_lists,
+                settings.path == RenderPath::ForwardMultipass,
+            )
+            .map_err(anyhow::Error::msg)?
+        } else {
+            Default::default()
+        };
         // The fp16 clamp by what can overlap a pixel (see `overlap`).
         let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);
         records.camera.light_clamp = clamps.ambient;
@@ -311,7 +358,7 @@ impl Renderer {
         let plan_ms = clock.elapsed().as_secs_f64() * 1e3;
         let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
-        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists);
+        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists, scene);
         let bgl = &self.passes.shared.frame_bgl;
         let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
         self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);
@@ -326,8 +373,9 @@ impl Renderer {
             plan: &plan,
             queries: &self.queries,
             settings,
-            counts: settings.count_fragments && n > 0,
-            ideal: settings.count_ideal && n > 0,
+            // Per-light counts are the deferred light pass's (the forward paths count per pass).
+            counts: settings.count_fragments && n > 0 && !forward_path,
+            ideal: settings.count_ideal && n > 0 && !forward_path,
             times: settings.timestamps && self.queries.timestamps.is_some(),
             forward_counts: settings.count_fragments && blended,
             depth_clamp: self.passes.key().depth_clamp,
@@ -336,40 +384,105 @@ impl Renderer {
         // The frame as the seeds draw it.
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        // 0. Shadows (issue 15): each casting light's depth into its tiles of the atlas.
+        // 0. Shadows (issue 15): each casting light's depth into its tiles of the atlas, on every
+        //    path (all of them shade lights through `shade_light` and the sun through
+        //    `ambient_sun`, which read the atlas).
         p.shadows.encode(&self.device, &mut encoder, &f, &shadow_plan);
-        // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
-        p.gbuffer.encode(&mut encoder, &f);
-        // 2. Lights: ambient + sun full-screen, then each light with its culling method.
-        let draw_calls = p.lights.encode(&mut encoder, &f);
-        // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
-        cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
-        // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
-        p.debug.encode(&mut encoder, &f);
-        // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-        //    With blended surfaces: compose in HDR, shade them forward over it back to front
-        //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
-        //    shading cannot do transparency).
-        if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
-            // 3'. The post chain (issue 16, seed 002's order) after the HDR compose and the
-            //     forward pass: bloom, auto-exposure, tone mapping, grading; each skips itself
-            //     when off, and the last one writes the output.
-            p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-            p.forward.encode(&mut encoder, &f);
-            let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
-            post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
-        } else if blended {
-            p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-            p.forward.encode(&mut encoder, &f);
-            p.compose.encode_tonemap(&mut encoder, &f, target);
-        } else {
-            let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
-            let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
-            p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+        let draw_calls;
+        let mut path_stats = None;
+        let mut prepass_stats = None;
+        match settings.path {
+            RenderPath::Forward | RenderPath::ForwardMultipass => {
+                // Seed 002's forward paths: no G-buffer (unless the post chain reads one), the
+                // lit picture straight into the HDR colour, then blended surfaces, then
+                // tonemap or the post chain.
+                let gbuffer_for_post = passes::forward_paths::post_reads_gbuffer(settings, chain);
+                if gbuffer_for_post {
+                    p.gbuffer.encode(&mut encoder, &f);
+                }
+                let pf = passes::forward_paths::PathFrame {
+                    lists: &path_lists,
+                    background: records.camera.background,
+                    blended,
+                    gbuffer_for_post,
+                };
+                let s = p.forward_paths.encode(&self.device, &mut encoder, &f, &pf, &p.forward)?;
+                draw_calls = s.draw_calls();
+                path_stats = Some(s);
+                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                    post::encode_chain(&mut encoder, &f, p, pt, target, f.timestamps(None, Some(Stamp::ComposeEnd)));
+                } else {
+                    p.compose.encode_tonemap(&mut encoder, &f, target);
+                }
+            }
+            RenderPath::LightPrepass => {
+                // Seeds 003/004, deferred lighting. 1. Normals + exponent (and depth).
+                p.gbuffer.encode(&mut encoder, &f);
+                // 2. Every light into the light buffer, each with its culling method (stencil
+                //    methods use pass 1's depth; tiled/clustered shade their lists into it).
+                draw_calls = p.lights.encode(&mut encoder, &f);
+                cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                p.debug.encode(&mut encoder, &f);
+                // 3. The geometry again with its maps, the light buffer, ambient + sun, into
+                //    the HDR colour; then blended surfaces forward and the tonemap or post
+                //    chain as deferred does. A debug view composes the buffers instead.
+                let finals = if prepass_lit {
+                    let bg = scene.background.as_dvec3();
+                    let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };
+                    let finals = p.prepass.encode(&mut encoder, &f, background);
+                    p.forward.encode(&mut encoder, &f);
+                    if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                        let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
+                        post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
+                    } else {
+                        p.compose.encode_tonemap(&mut encoder, &f, target);
+                    }
+                    finals
+                } else {
+                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
+                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+                    0
+                };
+                prepass_stats = Some(passes::prepass::stats(p.key(), plan.draws.gbuffer.len() as u64, finals));
+            }
+            // Deferred shading (seeds 000-002).
+            _ => {
+                // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
+                p.gbuffer.encode(&mut encoder, &f);
+                // 2. Lights: ambient + sun full-screen, then each light with its culling method.
+                draw_calls = p.lights.encode(&mut encoder, &f);
+                // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
+                cpu_ms.upload += p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
+                p.debug.encode(&mut encoder, &f);
+                // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
+                //    With blended surfaces: compose in HDR, shade them forward over it back to front
+                //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
+                //    shading cannot do transparency).
+                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
+                    // 3'. The post chain (issue 16, seed 002's order) after the HDR compose and the
+                    //     forward pass: bloom, auto-exposure, tone mapping, grading; each skips itself
+                    //     when off, and the last one writes the output.
+                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
+                    p.forward.encode(&mut encoder, &f);
+                    let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
+                    post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
+                } else if blended {
+                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
+                    p.forward.encode(&mut encoder, &f);
+                    p.compose.encode_tonemap(&mut encoder, &f, target);
+                } else {
+                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
+                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
+                }
+            }
         }
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         p.measure.encode(&mut encoder, &f);
-        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts);
+        let counted_prepass = prepass_stats.is_some();
+        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts, counted_prepass);
         self.queue.submit([encoder.finish()]);
 
         let key = self.passes.key();
@@ -389,7 +502,11 @@ impl Renderer {
             volume_meshes: plan.volume_meshes_drawn(),
             forward: plan.forward.clone().filter(|_| blended),
             draw_calls,
-            light_batches: plan.batches.batches.len() as u64,
+            light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
+            forward_path: path_stats,
+            lists_on_gpu: !forward_path
+                && (plan.tiled == Some(Method::Tiled)
+                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()),
             post: chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
@@ -402,11 +519,17 @@ impl Renderer {
             }),
             cpu_ms,
             shadow: (settings.shadows != ShadowMode::None).then(|| shadow_plan.stats.clone()),
+            path: settings.path,
+            prepass: prepass_stats,
             ..Default::default()
         };
         let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
-        self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
+        if let Some(fp) = stats.forward_path.as_mut() {
+            self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
+        } else {
+            self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
+        }
         self.last = LastFrame {
             inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),
@@ -414,6 +537,7 @@ impl Renderer {
             ambient_clamp: records.camera.light_clamp,
             plan,
             shadows: shadow_plan,
+            path: settings.path,
         };
         Ok(stats)
     }
@@ -426,12 +550,32 @@ impl Renderer {
         if width == 0 || height == 0 {
             bail!("cannot compose a {width}x{height} view");
         }
+        self.last.gbuffer(&format!("{} view", view.name()))?;
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
         let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };
         self.passes.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, None);
         self.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// The light pre-pass's light buffer of the last frame, decoded (`-log2` for seed 004's
+    /// log encoding) to f32 RGBA: RGB the diffuse light, A the mono specular.
+    pub fn read_light_buffer(&self, gpu: &Gpu) -> Result<Vec<f32>> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if !t.prepass {
+            bail!("the last frame was not drawn with the light pre-pass (--path light-prepass)");
+        }
+        let format = t.diffuse.format();
+        let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let log = passes::log_accum(format);
+        let bytes = gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?;
+        let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
+        for c in bytes.chunks_exact(bpp) {
+            let v = inspect::texel(format, c)?;
+            out.extend(if log { v.map(settings::log_accum_decode) } else { v });
+        }
+        Ok(out)
     }
 
     /// The last frame's fp16 clamps (`overlap::clamps`): what ambient + sun and what each light
@@ -517,9 +661,15 @@ impl Renderer {
     }
 
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks
-    /// (decoded, for the logarithmic Rgba8 format).
+    /// (decoded, for the logarithmic Rgba8 format). On the light pre-pass: its one light buffer
+    /// decoded, as (RGB diffuse, A mono specular) and the mono specular as grey RGB.
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if t.prepass {
+            let buffer = self.read_light_buffer(gpu)?;
+            let mono = buffer.chunks_exact(4).flat_map(|c| [c[3], c[3], c[3], 0.0]).collect();
+            return Ok((buffer, mono));
+        }
         let format = t.diffuse.format();
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
         let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {

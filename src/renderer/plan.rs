@@ -95,6 +95,8 @@ pub struct PlanView {
     pub forward_lights: ForwardLights,
     /// Draw lights in batches (`Settings::light_batching`; see `batches.rs`).
     pub light_batching: bool,
+    /// Who builds the clustered lists.
+    pub cluster_build: super::settings::ClusterBuilder,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -410,17 +412,27 @@ fn silhouette_area(c: DVec3, r: f64, xs: f64, ys: f64) -> f32 {
     let k = 1.0 - r * r / l2;
     let (centre, radius) = (c * k, r * k.sqrt());
     let (u, v) = (c / l2.sqrt()).any_orthonormal_pair();
-    let step = std::f64::consts::TAU / SILHOUETTE_CORNERS as f64;
     // An inscribed polygon of n corners has sin(2 pi / n) n / (2 pi) of the circle's area.
+    let step = std::f64::consts::TAU / SILHOUETTE_CORNERS as f64;
     let widen = (step / step.sin()).sqrt();
-    let poly = (0..SILHOUETTE_CORNERS)
-        .map(|i| {
+    let mut poly = [Vec2::ZERO; SILHOUETTE_CORNERS];
+    for (p, (cos, sin)) in poly.iter_mut().zip(unit_circle()) {
+        let q = centre + (u * cos + v * sin) * (radius * widen);
+        *p = Vec2::new((xs * q.x / -q.z) as f32, (ys * q.y / -q.z) as f32);
+    }
+    clipped_area_of(&poly)
+}
+
+/// The corners of [`silhouette_area`]'s polygon on the unit circle, (cos, sin), computed once.
+fn unit_circle() -> &'static [(f64, f64); SILHOUETTE_CORNERS] {
+    static CORNERS: std::sync::OnceLock<[(f64, f64); SILHOUETTE_CORNERS]> = std::sync::OnceLock::new();
+    CORNERS.get_or_init(|| {
+        let step = std::f64::consts::TAU / SILHOUETTE_CORNERS as f64;
+        std::array::from_fn(|i| {
             let a = step * i as f64;
-            let p = centre + (u * a.cos() + v * a.sin()) * (radius * widen);
-            Vec2::new((xs * p.x / -p.z) as f32, (ys * p.y / -p.z) as f32)
+            (a.cos(), a.sin())
         })
-        .collect();
-    clipped_area(poly)
+    })
 }
 
 /// Corners of the polygon [`silhouette_area`] stands for an ellipse with.
@@ -459,27 +471,53 @@ fn screen_area(points: &[Vec2]) -> f32 {
 }
 
 /// Area (NDC) of a convex polygon (corners in order, either way round) inside the screen.
-fn clipped_area(mut poly: Vec<Vec2>) -> f32 {
-    // Sutherland-Hodgman against x <= 1, x >= -1, y <= 1, y >= -1.
+fn clipped_area(poly: Vec<Vec2>) -> f32 {
+    clipped_area_of(&poly)
+}
+
+/// [`clipped_area`], on the stack for polygons of up to [`CLIP_CORNERS`] - 4 corners (each
+/// clipping plane adds at most one corner to a convex polygon).
+fn clipped_area_of(poly: &[Vec2]) -> f32 {
+    let n = poly.len();
+    if n + 4 > CLIP_CORNERS {
+        let (mut a, mut b) = (poly.to_vec(), vec![Vec2::ZERO; n + 4]);
+        a.resize(n + 4, Vec2::ZERO);
+        return clip_to_screen(&mut a, &mut b, n);
+    }
+    let (mut a, mut b) = ([Vec2::ZERO; CLIP_CORNERS], [Vec2::ZERO; CLIP_CORNERS]);
+    a[..n].copy_from_slice(poly);
+    clip_to_screen(&mut a, &mut b, n)
+}
+
+/// Corners [`clipped_area_of`] clips on the stack.
+const CLIP_CORNERS: usize = SILHOUETTE_CORNERS + 4;
+
+/// Sutherland-Hodgman against x <= 1, x >= -1, y <= 1, y >= -1 of the polygon `a[..n]`
+/// (`a` and `b` hold n + 4 corners), then its area.
+fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
+    let (mut src, mut dst) = (a, b);
     for (axis, sign) in [(0usize, 1.0f32), (0, -1.0), (1, 1.0), (1, -1.0)] {
-        if poly.is_empty() {
+        if n == 0 {
             break;
         }
         let inside = |p: Vec2| sign * p[axis] <= 1.0;
-        let mut next = Vec::with_capacity(poly.len() + 1);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            if inside(a) {
-                next.push(a);
+        let mut m = 0;
+        for k in 0..n {
+            let (p, q) = (src[k], src[(k + 1) % n]);
+            if inside(p) {
+                dst[m] = p;
+                m += 1;
             }
-            if inside(a) != inside(b) {
-                let t = (sign - a[axis]) / (b[axis] - a[axis]);
-                next.push(a + (b - a) * t);
+            if inside(p) != inside(q) {
+                let t = (sign - p[axis]) / (q[axis] - p[axis]);
+                dst[m] = p + (q - p) * t;
+                m += 1;
             }
         }
-        poly = next;
+        std::mem::swap(&mut src, &mut dst);
+        n = m;
     }
-    let twice: f32 = (0..poly.len()).map(|k| poly[k].perp_dot(poly[(k + 1) % poly.len()])).sum();
+    let twice: f32 = (0..n).map(|k| src[k].perp_dot(src[(k + 1) % n])).sum();
     (twice * 0.5).abs()
 }
 
@@ -535,9 +573,9 @@ pub struct FramePlan {
     /// Which lights share an instanced draw, and the draw list they index.
     pub batches: LightBatches,
     /// `Method::Tiled` or `Method::Clustered` when the tiled pass shades this frame's lights
-    /// (`tiles::frame_rule`), with the clustered lists built on the CPU.
+    /// (`tiles::frame_rule`), with the clustered lists built on the CPU or the GPU's job.
     pub tiled: Option<Method>,
-    pub clusters: Option<super::tiles::ClusterLists>,
+    pub clusters: Option<super::tiles::ClusterBuild>,
 }
 
 impl FramePlan {
@@ -567,8 +605,15 @@ impl FramePlan {
         // The frame-level rule first: lights it hands to the tiled pass are left out of the
         // batches.
         let tiled = super::tiles::frame_rule(&mut lights, view);
-        let clusters =
-            (tiled == Some(Method::Clustered)).then(|| super::tiles::cluster_lists(&records.lights, &lights, view));
+        let clusters = (tiled == Some(Method::Clustered)).then(|| {
+            use super::tiles::{cluster_job, cluster_lists, ClusterBuild};
+            match view.cluster_build {
+                super::settings::ClusterBuilder::Cpu => {
+                    ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
+                }
+                super::settings::ClusterBuilder::Gpu => ClusterBuild::Gpu(cluster_job(&records.lights, &lights, view)),
+            }
+        });
         let (draws, light_lists, forward) =
             plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
         let batches = LightBatches::new(&lights, &records.lights, volumes, view);
@@ -807,6 +852,7 @@ mod tests {
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
+            cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
         }
     }
 
@@ -819,6 +865,8 @@ mod tests {
                 intensity: 1.0,
                 radius,
                 cast_shadows: true,
+                cookie: None,
+                mask: crate::scene::ALL_LAYERS,
             }),
             0.0,
         );
@@ -917,4 +965,115 @@ mod tests {
         assert_eq!(screen_area(&[Vec2::ZERO, Vec2::ONE]), 0.0);
         assert_eq!(screen_area(&[Vec2::NAN, Vec2::ZERO]), 0.0);
     }
+}
+
+/// One (object, light) draw of the forward multi-pass path: the object's draw, the light, and
+/// the scissor rectangle (x, y, width, height in pixels) of the light's screen rectangle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForwardPair {
+    pub draw: Draw,
+    pub light: u32,
+    pub scissor: [u32; 4],
+}
+
+/// The forward paths' lists (issue 14, seed 002), appended to the frame's light lists.
+#[derive(Clone, Debug, Default)]
+pub struct ForwardPathLists {
+    /// Objects drawn (opaque and masked: the G-buffer list's), their list entries summed, and
+    /// the longest list.
+    pub objects: usize,
+    pub list_entries: u64,
+    pub longest_list: u32,
+    /// Multi-pass only: one draw per (object, light) pair whose scissor rectangle is not
+    /// empty, in object order.
+    pub pairs: Vec<ForwardPair>,
+    /// Instance index of the first pair: pair `j` is `light_lists[2 (pair_base + j)]` (object)
+    /// and `light_lists[2 (pair_base + j) + 1]` (light).
+    pub pair_base: u32,
+}
+
+/// A light's screen rectangle in pixels (x, y, width, height; y down), widened by a pixel
+/// against rounding as the forward tiles' (`plan_draws`) and clipped to the screen; `None` when
+/// it covers no pixel.
+pub fn scissor_rect(rect: Option<(Vec2, Vec2)>, (w, h): (u32, u32)) -> Option<[u32; 4]> {
+    let (lo, hi) = rect?;
+    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor() - 1.0;
+    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor() - 1.0;
+    let (x0, x1) = (px(lo.x).max(0.0), (px(hi.x) + 3.0).min(w as f32));
+    let (y0, y1) = (py(hi.y).max(0.0), (py(lo.y) + 3.0).min(h as f32));
+    if !(x1 > x0 && y1 > y0) {
+        return None;
+    }
+    Some([x0 as u32, y0 as u32, (x1 - x0) as u32, (y1 - y0) as u32])
+}
+
+/// The forward paths' per-object light lists (seed 002: "each object's light list"): for every
+/// object in `opaque` (the G-buffer draw list), the lights whose sphere reaches the object's
+/// bounding sphere and that reach the screen at all (`screen_rect`), in light order, appended to
+/// `lists`; the object's record gets their offset and count (`info.y`, `info.z`, as blended
+/// objects'). This list is the forward paths' light culling: a light is left out of an object
+/// only where it cannot reach it, so the culling mode, which picks how deferred draws light
+/// volumes, changes nothing here. With `pairs` (multi-pass) the (object, light) pairs follow,
+/// two entries each, for the additive draws. Errors when the lists outgrow one storage buffer.
+#[allow(clippy::too_many_arguments)]
+pub fn forward_path_lists(
+    scene: &Scene,
+    objects: &mut [super::records::ObjectRecord],
+    bounds: &[(DVec3, f64)],
+    plans: &[LightPlan],
+    opaque: &[Draw],
+    size: (u32, u32),
+    lists: &mut Vec<u32>,
+    pairs: bool,
+) -> Result<ForwardPathLists, String> {
+    let mut out = ForwardPathLists::default();
+    let scissors: Vec<Option<[u32; 4]>> = plans.iter().map(|p| scissor_rect(p.screen_rect, size)).collect();
+    let mut pair_list: Vec<ForwardPair> = Vec::new();
+    for &draw in opaque {
+        let i = draw.0;
+        let (Some(o), Some(record)) = (scene.objects.get(i), objects.get_mut(i)) else { continue };
+        let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
+        let centre = o.transform.transform_point3(c);
+        let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
+        let radius = r * scale;
+        let first = lists.len() as u32;
+        for (k, l) in scene.lights.iter().enumerate() {
+            let Some(scissor) = scissors.get(k).copied().flatten() else { continue };
+            if (l.position() - centre).length() < radius + l.radius() as f64 {
+                lists.push(k as u32);
+                if pairs {
+                    pair_list.push(ForwardPair { draw, light: k as u32, scissor });
+                }
+            }
+        }
+        let count = lists.len() as u32 - first;
+        record.info[1] = first;
+        record.info[2] = count;
+        out.objects += 1;
+        out.list_entries += count as u64;
+        out.longest_list = out.longest_list.max(count);
+        if lists.len() > MAX_FORWARD_LIST_ENTRIES {
+            return Err(format!(
+                "the forward light lists would hold more than {MAX_FORWARD_LIST_ENTRIES} entries; use fewer lights or --path deferred"
+            ));
+        }
+    }
+    if pairs {
+        if lists.len() % 2 == 1 {
+            lists.push(0);
+        }
+        out.pair_base = (lists.len() / 2) as u32;
+        if lists.len() + 2 * pair_list.len() > MAX_FORWARD_LIST_ENTRIES {
+            return Err(format!(
+                "the forward multi-pass path would draw {} (object, light) pairs, more than one storage buffer lists; \
+                 use fewer lights or --path forward",
+                pair_list.len()
+            ));
+        }
+        for p in &pair_list {
+            lists.extend([p.draw.0 as u32, p.light]);
+        }
+        out.pairs = pair_list;
+    }
+    Ok(out)
 }

@@ -25,6 +25,8 @@ pub const MAT_UV_TRANSFORMED: u32 = 4;
 /// the map's metallic (times the factor) is at least `import::METAL_THRESHOLD`, `blinn-phong`
 /// below (bands of paint in a metal keep their diffuse term). Not set when a model is forced.
 pub const MAT_METAL_BY_PIXEL: u32 = 64;
+/// `GpuLight.cookie` of a light without a cookie.
+pub const NO_COOKIE: u32 = u32::MAX;
 /// The largest finite fp16 value: what the fp16 targets saturate at.
 pub const FP16_MAX: f32 = 65504.0;
 /// The largest finite Rg11b10Ufloat value.
@@ -104,6 +106,18 @@ gpu_record! {
         pub falloff: f32,
         /// The most this light may add to a channel (`overlap::clamps`, filled after planning).
         pub clamp: f32,
+        /// A spot cookie's "up" in view space (`scene::cookie::spot_up`); its right is
+        /// direction x up.
+        pub cookie_up: [f32; 3],
+        /// Where the cookie's first face starts in `cookie_texels` (a `u32` per texel), or
+        /// [`NO_COOKIE`]. A point light's six faces follow each other.
+        pub cookie: u32,
+        /// Culling mask (seed 004): bit k set = the light lights objects on layer k.
+        pub mask: u32,
+        /// The cookie's face side in texels.
+        pub cookie_size: u32,
+        pub cookie_pad0: u32,
+        pub cookie_pad1: u32,
         /// Issue 15: x, the light's first shadow tile in `shadow_tiles` (a spot's one, a point
         /// light's six faces in a row), or `NO_SHADOW` (unshadowed; filled by `shadows::plan`);
         /// y, its tile count (1 or 6); z, w unused.
@@ -157,7 +171,7 @@ gpu_record! {
         pub albedo_spec: [f32; 4],
         /// Emissive, specular exponent.
         pub emissive_exp: [f32; 4],
-        /// Alpha factor, alpha cut-off (mask), normal scale, 0.
+        /// Alpha factor, alpha cut-off (mask), normal scale, culling layer (0..=31, seed 004).
         pub material: [f32; 4],
         /// Metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness map.
         pub pbr: [f32; 4],
@@ -199,8 +213,9 @@ gpu_record! {
         /// Clustered: a view depth d lies in slice floor(ln(d) x slice_scale + slice_bias).
         pub slice_scale: f32,
         pub slice_bias: f32,
-        pub pad0: f32,
-        pub pad1: f32,
+        /// Clustered: the view depths the slices span.
+        pub near: f32,
+        pub far: f32,
     }
 }
 
@@ -287,6 +302,12 @@ impl LightRecord {
                 tan_outer: 0.0,
                 clamp: f32::MAX,
                 shadow: UNSHADOWED,
+                cookie_up: [0.0, 1.0, 0.0],
+                cookie: NO_COOKIE,
+                mask: p.mask,
+                cookie_size: 0,
+                cookie_pad0: 0,
+                cookie_pad1: 0,
             },
             Light::Spot(s) => Self {
                 position: to_view(s.position).as_vec3().into(),
@@ -300,6 +321,12 @@ impl LightRecord {
                 tan_outer: s.outer_angle.tan(),
                 clamp: f32::MAX,
                 shadow: UNSHADOWED,
+                cookie_up: (rot * crate::scene::cookie::spot_up(s.direction.as_dvec3())).as_vec3().into(),
+                cookie: NO_COOKIE,
+                mask: s.mask,
+                cookie_size: 0,
+                cookie_pad0: 0,
+                cookie_pad1: 0,
             },
         }
     }
@@ -368,7 +395,7 @@ impl ObjectRecord {
             normal_view: mat(nm),
             albedo_spec: m.diffuse.extend(m.specular_level).into(),
             emissive_exp: m.emissive.extend(m.specular_exponent).into(),
-            material: [m.alpha, cutoff, m.normal_scale, 0.0],
+            material: [m.alpha, cutoff, m.normal_scale, f32::from(o.layer & 31)],
             // With a metallic-roughness map the importer keeps f0 in specular_level.
             pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
             info: [flags, 0, 0, force.unwrap_or(m.brdf).id()],
@@ -398,12 +425,53 @@ impl FrameRecords {
             camera: CameraRecord::new(scene, settings, size, accum),
             lights: {
                 let rot = cam.rotation();
-                scene.lights.iter().map(|l| LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff)).collect()
+                let starts = cookie_starts(scene);
+                scene
+                    .lights
+                    .iter()
+                    .map(|l| {
+                        let mut r = LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff);
+                        if let Some((start, image)) =
+                            l.cookie().and_then(|c| Some((*starts.get(c as usize)?, scene.cookies.get(c as usize)?)))
+                        {
+                            r.cookie = start;
+                            r.cookie_size = image.size;
+                        }
+                        r
+                    })
+                    .collect()
             },
             objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view, settings.brdf.brdf())).collect(),
             proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
         }
     }
+}
+
+/// Where each of `scene.cookies` starts in the cookie texel buffer (`cookie_texels`, one
+/// `u32` per texel, the cookies one after the other).
+pub fn cookie_starts(scene: &Scene) -> Vec<u32> {
+    let mut at = 0u64;
+    scene
+        .cookies
+        .iter()
+        .map(|c| {
+            let start = at;
+            at += c.faces.len() as u64 * c.size as u64 * c.size as u64;
+            start.min(u32::MAX as u64 - 1) as u32
+        })
+        .collect()
+}
+
+/// Texels per row of the cookie texture (`cookie_texels`): texel i is at (i % row, i / row).
+pub const COOKIE_ROW: u32 = 4096;
+
+/// The cookie texel buffer's contents for `scene` (at least one word).
+pub fn cookie_words(scene: &Scene) -> Vec<u32> {
+    let mut words: Vec<u32> = scene.cookies.iter().flat_map(|c| c.words().collect::<Vec<_>>()).collect();
+    if words.is_empty() {
+        words.push(0);
+    }
+    words
 }
 
 /// The frame's u32 lists, from the plan.
@@ -427,6 +495,11 @@ pub struct FrameBuffers {
     pub light_lists: wgpu::Buffer,
     /// The light of each instance of a light draw (`batches::LightBatches::list`).
     pub draw_lights: wgpu::Buffer,
+    /// The scene's cookies' texels ([`cookie_words`] in rows of [`COOKIE_ROW`]), and which
+    /// cookies they are (`CookieImage::id`s: uploaded again only when they change).
+    pub cookie_texels: wgpu::Texture,
+    cookie_view: wgpu::TextureView,
+    cookie_key: Vec<u64>,
     /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
     pub compose: wgpu::Buffer,
     pub group: wgpu::BindGroup,
@@ -482,6 +555,20 @@ fn shadow_atlas(device: &wgpu::Device, side: u32) -> (wgpu::Texture, wgpu::Textu
     (t, v)
 }
 
+/// The cookie texels' texture: `width` x `rows` Rgba8Unorm (read with textureLoad, exact).
+fn cookie_texture(device: &wgpu::Device, width: u32, rows: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("cookie texels"),
+        size: wgpu::Extent3d { width: width.max(1), height: rows.max(1), depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -500,6 +587,8 @@ impl FrameBuffers {
         let draw_lights = storage(device, "draw lights", 4 * 64);
         let views = super::DebugView::ALL.len() as u64;
         let compose = storage(device, "compose params", COMPOSE_SLOT * (views + 1));
+        let cookie_texels = cookie_texture(device, 1, 1);
+        let cookie_view = cookie_texels.create_view(&Default::default());
         let (shadow_atlas, shadow_view) = shadow_atlas(device, 1);
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow comparison"),
@@ -513,6 +602,7 @@ impl FrameBuffers {
             device,
             frame_bgl,
             [&camera, &lights, &objects, &light_lists, &draw_lights],
+            &cookie_view,
             (&shadow_view, &shadow_sampler, &shadow_table_view),
         );
         Self {
@@ -522,6 +612,9 @@ impl FrameBuffers {
             objects,
             light_lists,
             draw_lights,
+            cookie_texels,
+            cookie_view,
+            cookie_key: Vec::new(),
             compose,
             shadow_atlas,
             shadow_view,
@@ -535,10 +628,12 @@ impl FrameBuffers {
         device: &wgpu::Device,
         bgl: &wgpu::BindGroupLayout,
         buffers: [&wgpu::Buffer; 5],
+        cookies: &wgpu::TextureView,
         shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView),
     ) -> wgpu::BindGroup {
         let mut resources: Vec<wgpu::BindingResource<'_>> = buffers.iter().map(|b| b.as_entire_binding()).collect();
         resources.extend([
+            wgpu::BindingResource::TextureView(cookies),
             wgpu::BindingResource::TextureView(shadow.0),
             wgpu::BindingResource::Sampler(shadow.1),
             wgpu::BindingResource::TextureView(shadow.2),
@@ -551,7 +646,7 @@ impl FrameBuffers {
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
         let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
         let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view);
-        self.group = Self::bind(device, frame_bgl, buffers, shadow);
+        self.group = Self::bind(device, frame_bgl, buffers, &self.cookie_view, shadow);
     }
 
     /// The shadow pass's group 0 (`bindings::SHADOW_CASTER_SLOTS`) for `bgl`.
@@ -621,6 +716,7 @@ impl FrameBuffers {
         frame_bgl: &wgpu::BindGroupLayout,
         records: &FrameRecords,
         lists: FrameLists<'_>,
+        scene: &Scene,
     ) {
         let mut grown = false;
         let mut fit = |buffer: &mut wgpu::Buffer, label: &str, bytes: &[u8]| {
@@ -637,6 +733,26 @@ impl FrameBuffers {
         fit(&mut self.objects, "objects", bytemuck::cast_slice(&records.objects));
         fit(&mut self.light_lists, "light lists", bytemuck::cast_slice(lists.forward));
         fit(&mut self.draw_lights, "draw lights", bytemuck::cast_slice(lists.draw));
+        let key: Vec<u64> = scene.cookies.iter().map(|c| c.id()).collect();
+        if key != self.cookie_key {
+            let mut words = cookie_words(scene);
+            let rows = (words.len() as u32).div_ceil(COOKIE_ROW);
+            let width = if rows > 1 { COOKIE_ROW } else { words.len() as u32 };
+            words.resize((width * rows) as usize, 0);
+            let size = self.cookie_texels.size();
+            if size.width != width || size.height != rows {
+                self.cookie_texels = cookie_texture(device, width, rows);
+                self.cookie_view = self.cookie_texels.create_view(&Default::default());
+                grown = true;
+            }
+            queue.write_texture(
+                self.cookie_texels.as_image_copy(),
+                bytemuck::cast_slice(&words),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(width * 4), rows_per_image: Some(rows) },
+                wgpu::Extent3d { width, height: rows, depth_or_array_layers: 1 },
+            );
+            self.cookie_key = key;
+        }
         if grown {
             self.rebind(device, frame_bgl);
         }

@@ -62,6 +62,7 @@ knob_names!(
     Tonemap => "tonemap",
     Aa => "anti-aliasing",
     RenderPath => "rendering path",
+    ClusterBuilder => "cluster list builder",
     Msaa => "MSAA sample count",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
@@ -131,6 +132,19 @@ impl RenderPath {
     pub fn can_multisample(self) -> bool {
         self != RenderPath::Deferred
     }
+}
+
+/// Who builds the `clustered` mode's light lists each frame (`tiles::ClusterBuild`): the same
+/// lists either way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClusterBuilder {
+    /// The CPU, as Bevy does: the lists are uploaded (CPU time grows with their entries). The
+    /// default: on lavapipe the GPU's build costs more GPU time than it saves CPU time.
+    #[default]
+    Cpu,
+    /// The GPU, from each light's span of clusters: the CPU uploads a 16-byte span per light.
+    Gpu,
 }
 
 /// Samples per pixel of the paths that can multisample (`RenderPath::can_multisample`).
@@ -401,6 +415,9 @@ pub struct Settings {
     pub path: RenderPath,
     /// Samples per pixel where the path can multisample; deferred refuses 4.
     pub msaa: Msaa,
+    /// The forward single-pass path draws depth first, so each pixel is shaded once (seed
+    /// 002's "Z-cull"); off: shaded as drawn, overdraw included.
+    pub depth_prepass: bool,
     pub culling: CullingMode,
     pub layout: LayoutChoice,
     pub debug_view: DebugView,
@@ -502,6 +519,8 @@ pub struct Settings {
     pub shadow_cascades: u32,
     /// Cascade splits: lambda x logarithmic + (1 - lambda) x uniform.
     pub shadow_split_lambda: f32,
+    /// Who builds the clustered mode's lists.
+    pub cluster_build: ClusterBuilder,
 }
 
 impl Default for Settings {
@@ -509,6 +528,7 @@ impl Default for Settings {
         Self {
             path: RenderPath::Deferred,
             msaa: Msaa::X1,
+            depth_prepass: true,
             culling: CullingMode::default(),
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,
@@ -552,6 +572,7 @@ impl Default for Settings {
             shadow_filter: ShadowFilter::Pcf3x3,
             shadow_cascades: 3,
             shadow_split_lambda: 0.7,
+            cluster_build: ClusterBuilder::Cpu,
         }
     }
 }
@@ -627,6 +648,7 @@ mod tests {
         one_name::<Aa>();
         one_name::<RenderPath>();
         one_name::<Msaa>();
+        one_name::<ClusterBuilder>();
         for l in LayoutChoice::ALL.into_iter().filter(|l| *l != LayoutChoice::Fit) {
             assert_eq!(l.layout().name, l.name(), "the layout table's name");
         }

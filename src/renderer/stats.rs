@@ -138,18 +138,38 @@ pub enum Stamp {
     VignetteEnd = 21,
     AaBegin = 22,
     AaEnd = 23,
+    /// The GPU building light lists (tiled's compute pass, or clustered lists built on the
+    /// GPU), inside the lighting span.
+    ListsBegin = 24,
+    ListsEnd = 25,
+    /// The forward paths (issue 14): the depth pass (pre-pass or multi-pass's), the shading
+    /// pass (single-pass, or multi-pass's ambient + sun), the (object, light) pairs.
+    DepthPassBegin = 26,
+    DepthPassEnd = 27,
+    ForwardShadeBegin = 28,
+    ForwardShadeEnd = 29,
+    ForwardPairsBegin = 30,
+    ForwardPairsEnd = 31,
+    /// The light pre-pass's final pass (pass 3; passes 1 and 2 write the G-buffer and lights
+    /// stamps).
+    PrepassBegin = 32,
+    PrepassEnd = 33,
     /// Issue 15: the shadow pass (before the G-buffer; not in `gpu_ms.total`).
-    ShadowsBegin = 24,
-    ShadowsEnd = 25,
+    ShadowsBegin = 34,
+    ShadowsEnd = 35,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 26;
+    pub const COUNT: u32 = 36;
 }
 
-/// Byte offset of the forward pass's occlusion count in the resolve buffer: the 256-byte block
-/// after the timestamps' (resolve offsets are multiples of 256).
-const FORWARD_QUERY_OFFSET: u64 = 256;
+/// Byte offset of the light pre-pass's two occlusion counts (pass 1, pass 3) in the resolve
+/// buffer: the 256-byte block after the forward pass's.
+const PREPASS_QUERY_OFFSET: u64 = FORWARD_QUERY_OFFSET + 256;
+
+/// Byte offset of the forward pass's occlusion count in the resolve buffer: the first 256-byte
+/// boundary after the timestamps (resolve offsets are multiples of 256).
+const FORWARD_QUERY_OFFSET: u64 = (Stamp::COUNT as u64 * 8).div_ceil(256) * 256;
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct GpuMs {
@@ -177,6 +197,14 @@ pub struct GpuMs {
     pub vignette: Option<f64>,
     #[serde(default)]
     pub aa: Option<f64>,
+    /// The GPU building the tiled or clustered light lists (part of `lighting`; `None` when
+    /// the frame built none on the GPU).
+    #[serde(default)]
+    pub lists: Option<f64>,
+    /// The light pre-pass's final pass (pass 3; its passes 1 and 2 are `gbuffer` and
+    /// `lighting`).
+    #[serde(default)]
+    pub prepass_final: Option<f64>,
     pub total: Option<f64>,
 }
 
@@ -232,6 +260,34 @@ pub struct TileStats {
     pub longest: u32,
     /// Tiles the GPU list buffer had no room for (shaded with every light).
     pub overflowed: u64,
+}
+
+/// The light pre-pass's figures (`--path light-prepass`): its intermediate targets' bytes per
+/// pixel and the draws and fragments of its geometry passes (1: normals + exponent, 3: final;
+/// pass 2's are the frame's `draw_calls` and `shaded_fragments`).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PrepassStats {
+    /// Pass 1's normal + exponent target (Rgba8Unorm).
+    pub normal_exp_bytes_per_pixel: u32,
+    /// The R32Float depth copy pass 1 writes beside it (`gbuffer::prepass_layout`).
+    pub depth_copy_bytes_per_pixel: u32,
+    /// The light buffer: format and bytes (Rgba16Float 8, seed 004's log Rgba8 4).
+    pub light_buffer_format: String,
+    pub light_buffer_bytes_per_pixel: u32,
+    /// Pass 3's HDR scene colour (Rgba16Float).
+    pub hdr_bytes_per_pixel: u32,
+    /// Samples per pixel of pass 3 and the forward pass (`--msaa`).
+    pub samples: u32,
+    /// Their multisampled colour and depth (samples x (8 + depth's bytes), stencil not
+    /// counted); 0 single-sampled.
+    pub msaa_bytes_per_pixel: u32,
+    /// Object draws of pass 1 and of pass 3.
+    pub base_draw_calls: u64,
+    pub final_draw_calls: u64,
+    /// Samples that passed pass 1's and pass 3's depth tests (occlusion queries), when counting.
+    pub base_fragments: Option<u64>,
+    pub final_fragments: Option<u64>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -295,12 +351,21 @@ pub struct FrameStats {
     /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
     /// light with `light_batching` off.
     pub light_batches: u64,
+    /// The GPU built light lists this frame (tiled, or clustered with `--cluster-build gpu`).
+    #[serde(default)]
+    pub lists_on_gpu: bool,
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
     /// Issue 15: the shadow atlas and who casts (`None` with `--shadows none`).
     #[serde(default)]
     pub shadow: Option<crate::renderer::shadows::ShadowStats>,
+    /// The forward paths' passes, targets and lists (`None` on the other paths).
+    pub forward_path: Option<super::passes::forward_paths::ForwardPathStats>,
+    /// The render path the frame was drawn with.
+    pub path: crate::renderer::RenderPath,
+    /// The light pre-pass's own figures (`None` on the other paths).
+    pub prepass: Option<PrepassStats>,
 }
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
@@ -322,6 +387,8 @@ pub struct Queries {
     pub timestamps: Option<wgpu::QuerySet>,
     /// One occlusion query over the whole forward pass.
     pub forward: wgpu::QuerySet,
+    /// The light pre-pass's pass 1 (query 0) and pass 3 (query 1), one occlusion query each.
+    pub prepass: wgpu::QuerySet,
     period_ns: f32,
     pub occlusion: Vec<wgpu::QuerySet>,
     pub ideal: Vec<wgpu::QuerySet>,
@@ -349,9 +416,15 @@ impl Queries {
             ty: wgpu::QueryType::Occlusion,
             count: 1,
         });
+        let prepass = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pre-pass fragments"),
+            ty: wgpu::QueryType::Occlusion,
+            count: 2,
+        });
         Self {
             timestamps,
             forward,
+            prepass,
             period_ns: gpu.queue.get_timestamp_period(),
             occlusion: Vec::new(),
             ideal: Vec::new(),
@@ -368,7 +441,7 @@ impl Queries {
     fn offsets(capacity: usize) -> (u64, u64, u64, u64) {
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         let blocks = capacity.div_ceil(LIGHTS_PER_QUERY_SET) as u64;
-        let occ = FORWARD_QUERY_OFFSET + 256;
+        let occ = PREPASS_QUERY_OFFSET + 256;
         let ideal = occ + blocks * block;
         let coverage = ideal + blocks * block;
         (occ, ideal, coverage, coverage + blocks * block)
@@ -423,6 +496,7 @@ impl Queries {
         ideal: bool,
         times: bool,
         forward: bool,
+        prepass: bool,
     ) {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
             return;
@@ -435,6 +509,9 @@ impl Queries {
         }
         if forward {
             encoder.resolve_query_set(&self.forward, 0..1, resolve, FORWARD_QUERY_OFFSET);
+        }
+        if prepass && counts {
+            encoder.resolve_query_set(&self.prepass, 0..2, resolve, PREPASS_QUERY_OFFSET);
         }
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         for b in 0..n.div_ceil(LIGHTS_PER_QUERY_SET) {
@@ -510,6 +587,13 @@ impl Queries {
                 stats.gpu_ms.gbuffer = span(Stamp::GBufferBegin, Stamp::GBufferEnd);
                 stats.gpu_ms.lighting = span(Stamp::LightsBegin, Stamp::LightsEnd);
                 stats.gpu_ms.compose = span(Stamp::ComposeBegin, Stamp::ComposeEnd);
+                stats.gpu_ms.lists = span(Stamp::ListsBegin, Stamp::ListsEnd).filter(|_| stats.lists_on_gpu);
+                if stats.prepass.is_some() {
+                    // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
+                    // what follows it (forward pass, tonemap or post chain) is the compose span.
+                    stats.gpu_ms.prepass_final = span(Stamp::PrepassBegin, Stamp::PrepassEnd);
+                    stats.gpu_ms.compose = span(Stamp::PrepassEnd, Stamp::ComposeEnd);
+                }
                 if stats.forward.is_some() {
                     stats.gpu_ms.forward = span(Stamp::ForwardBegin, Stamp::ForwardEnd);
                     // The forward pass runs between the HDR compose and the tonemap.
@@ -520,6 +604,17 @@ impl Queries {
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
                 if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
                     sh.gpu_ms = span(Stamp::ShadowsBegin, Stamp::ShadowsEnd);
+                }
+                if let Some(fp) = stats.forward_path.as_mut() {
+                    // The forward paths: each pass's own span; no light pass, and the G-buffer
+                    // only when the post chain needed it (one of the passes then).
+                    for p in &mut fp.passes {
+                        p.gpu_ms = p.stamps.and_then(|(b, e)| span(b, e));
+                    }
+                    stats.gpu_ms.lighting = None;
+                    stats.gpu_ms.gbuffer = None;
+                    stats.gpu_ms.total =
+                        fp.passes.first().and_then(|p| p.stamps).and_then(|(b, _)| span(b, Stamp::ComposeEnd));
                 }
                 if let Some(post) = stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).
@@ -544,6 +639,10 @@ impl Queries {
             }
             if let Some(f) = stats.forward.as_mut().filter(|_| forward) {
                 f.fragments = Some(words[(FORWARD_QUERY_OFFSET / 8) as usize]);
+            }
+            if let Some(p) = stats.prepass.as_mut().filter(|_| counts) {
+                p.base_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);
+                p.final_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize + 1]);
             }
             let block = LIGHTS_PER_QUERY_SET;
             let at = |base: u64, i: usize| {

@@ -44,6 +44,62 @@ pub struct Targets {
     pub hdr_texture: Option<wgpu::Texture>,
     /// The post chain's images and buffers (frames that run it only; `post::chain_active`).
     pub post: Option<super::post::PostTargets>,
+    /// The light pre-pass's configuration: `diffuse` is its one light buffer (RGB diffuse, mono
+    /// specular in A) and `specular` a 1x1 stand-in the compose group binds, never attached.
+    pub prepass: bool,
+    /// The light pre-pass's multisampled pass 3 (`--msaa 4`): its colour and depth samples.
+    pub msaa: Option<MsaaTargets>,
+}
+
+/// Multisampled HDR colour and depth-stencil (the light pre-pass's pass 3 and forward pass),
+/// resolved into the single-sample HDR colour.
+pub struct MsaaTargets {
+    pub color: wgpu::TextureView,
+    pub depth: wgpu::TextureView,
+    pub samples: u32,
+}
+
+impl MsaaTargets {
+    fn new(
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        depth: wgpu::TextureFormat,
+        size: (u32, u32),
+        samples: u32,
+    ) -> Self {
+        let make = |label, format| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        Self { color: make("hdr colour (multisampled)", format), depth: make("depth (multisampled)", depth), samples }
+    }
+
+    /// The multisampled colour, cleared or loaded, resolved into `resolve`.
+    pub fn color_attachment<'a>(
+        &'a self,
+        resolve: &'a wgpu::TextureView,
+        clear: Option<wgpu::Color>,
+    ) -> Option<wgpu::RenderPassColorAttachment<'a>> {
+        Some(wgpu::RenderPassColorAttachment {
+            view: &self.color,
+            depth_slice: None,
+            resolve_target: Some(resolve),
+            ops: wgpu::Operations {
+                load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    }
 }
 
 impl Targets {
@@ -62,7 +118,8 @@ impl Targets {
             .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
-        let specular = texture(device, "light specular", key.accum_format, size, read);
+        let specular_size = if key.prepass { (1, 1) } else { size };
+        let specular = texture(device, "light specular", key.accum_format, specular_size, read);
         let debug = texture(device, "debug", DEBUG_FORMAT, size, read);
         let diffuse_view = diffuse.create_view(&Default::default());
         let specular_view = specular.create_view(&Default::default());
@@ -95,6 +152,8 @@ impl Targets {
         });
         let post =
             hdr.as_ref().filter(|_| post).map(|(view, _)| super::post::PostTargets::new(device, shared, size, view));
+        let msaa = (hdr.is_some() && key.samples > 1)
+            .then(|| MsaaTargets::new(device, HDR_FORMAT, key.depth_format, size, key.samples));
         Self {
             width: size.0,
             height: size.1,
@@ -111,6 +170,8 @@ impl Targets {
             hdr,
             hdr_texture,
             post,
+            prepass: key.prepass,
+            msaa,
         }
     }
 
@@ -122,6 +183,7 @@ impl Targets {
             && self.diffuse.format() == shared.key.accum_format
             && self.hdr.is_some() == (hdr || post)
             && self.post.is_some() == post
+            && self.prepass == shared.key.prepass
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero
@@ -147,8 +209,11 @@ impl Targets {
             load: if clear { wgpu::LoadOp::Clear(none) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,
         };
-        [&self.diffuse_view, &self.specular_view]
-            .map(|view| Some(wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops }))
+        let prepass = self.prepass;
+        // The light pre-pass accumulates into one light buffer; its pipelines have no second target.
+        [Some(&self.diffuse_view), Some(&self.specular_view).filter(|_| !prepass)].map(|v| {
+            v.map(|view| wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops })
+        })
     }
 }
 

@@ -175,18 +175,7 @@ pub fn cluster_lists(lights: &[LightRecord], plans: &[LightPlan], view: &PlanVie
 
 /// [`cluster_lists`], on two threads if `parallel` (the same lists either way).
 fn cluster_lists_on(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView, parallel: bool) -> ClusterLists {
-    // The slices span the depths the lights reach, not near to far: no light reaches a point
-    // nearer or farther, so the end slices' lists (which such points fall into) hold every light
-    // that reaches them.
-    let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
-    for (l, p) in lights.iter().zip(plans) {
-        if p.screen_rect.is_some() && l.radius > 0.0 {
-            zmin = zmin.min(-l.position[2] - l.radius);
-            zmax = zmax.max(-l.position[2] + l.radius);
-        }
-    }
-    let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
-    let grid = ClusterGrid::new(view.size, near, far.max(near));
+    let grid = fitted_grid(lights, plans, view);
     let bounds = CellBounds::new(&grid, view);
     // Two passes over the lights, the same tests in the same order: the first counts each
     // cell's lights, the second writes them at their cell's cursor (so in light order). Two
@@ -272,6 +261,57 @@ pub fn both<A: Send, B: Send>(parallel: bool, a: impl FnOnce() -> A + Send, b: i
     })
 }
 
+/// The cells light `l` may reach: tiles `x.0 ..= x.1` across, `y.0 ..= y.1` down, slices
+/// `k.0 .. k.1` (its screen rectangle widened by a pixel, its depth range widened by a slice
+/// on each side); `None` when it reaches no cell. What [`light_cells`] tests, and what the GPU's
+/// assignment (`cs_cluster_count` in `shaders/tiled.wgsl`) is given per light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Span {
+    pub x: (u32, u32),
+    pub y: (u32, u32),
+    pub k: (u32, u32),
+}
+
+impl Span {
+    fn of(l: &LightRecord, p: &LightPlan, grid: &ClusterGrid, size: (u32, u32)) -> Option<Span> {
+        let (lo, hi) = p.screen_rect?;
+        let c = Vec3::from(l.position);
+        let r = l.radius;
+        if r.is_nan() || r <= 0.0 || !c.is_finite() {
+            return None;
+        }
+        let (d0, d1) = ((-c.z - r).max(grid.near), (-c.z + r).min(grid.far));
+        if d0 > d1 {
+            return None;
+        }
+        let (w, h) = (size.0 as f32, size.1 as f32);
+        let px = |x: f32| ((x + 1.0) * 0.5 * w).floor();
+        let py = |y: f32| ((1.0 - y) * 0.5 * h).floor();
+        let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+        let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+        if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
+            return None;
+        }
+        let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / grid.tile;
+        Some(Span {
+            x: (tile(x0, size.0), tile(x1, size.0)),
+            y: (tile(y0, size.1), tile(y1, size.1)),
+            k: (grid.slice(d0).saturating_sub(1), (grid.slice(d1) + 2).min(grid.slices)),
+        })
+    }
+
+    /// Cells in the span: a bound on the cells the light enters.
+    pub fn cells(&self) -> u64 {
+        (self.x.1 - self.x.0 + 1) as u64 * (self.y.1 - self.y.0 + 1) as u64 * self.k.1.saturating_sub(self.k.0) as u64
+    }
+
+    /// As the GPU reads it: (x0 | x1 << 16, y0 | y1 << 16, k0 | k1 << 16, 0); no cell is
+    /// (0, 0, 0, 0) (an empty slice range).
+    pub fn packed(span: Option<Span>) -> [u32; 4] {
+        span.map_or([0; 4], |s| [s.x.0 | s.x.1 << 16, s.y.0 | s.y.1 << 16, s.k.0 | s.k.1 << 16, 0])
+    }
+}
+
 /// Calls `f` with every cell of `grid` in `slices` whose box meets light `l`'s sphere (see
 /// [`cluster_lists`]); `gx` is scratch space.
 fn light_cells(
@@ -282,29 +322,13 @@ fn light_cells(
     gx: &mut Vec<f32>,
     mut f: impl FnMut(usize),
 ) {
-    let Some((lo, hi)) = p.screen_rect else { return };
-    let (grid, size) = (&bounds.grid, bounds.size);
+    let grid = &bounds.grid;
+    let Some(span) = Span::of(l, p, grid, bounds.size) else { return };
     let c = Vec3::from(l.position);
     let r = l.radius;
-    if r.is_nan() || r <= 0.0 || !c.is_finite() {
-        return;
-    }
-    let (d0, d1) = ((-c.z - r).max(grid.near), (-c.z + r).min(grid.far));
-    if d0 > d1 {
-        return;
-    }
-    let (w, h) = (size.0 as f32, size.1 as f32);
-    let px = |x: f32| ((x + 1.0) * 0.5 * w).floor();
-    let py = |y: f32| ((1.0 - y) * 0.5 * h).floor();
-    let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
-    let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
-    if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
-        return;
-    }
-    let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / grid.tile;
-    let (tx0, tx1, ty0, ty1) = (tile(x0, size.0), tile(x1, size.0), tile(y0, size.1), tile(y1, size.1));
-    let k0 = grid.slice(d0).saturating_sub(1).max(slices.start);
-    let k1 = (grid.slice(d1) + 2).min(slices.end);
+    let ((tx0, tx1), (ty0, ty1)) = (span.x, span.y);
+    let k0 = span.k.0.max(slices.start);
+    let k1 = span.k.1.min(slices.end);
     let r2 = r * r * 1.0001;
     for k in k0..k1 {
         let depths = bounds.slices[k as usize];
@@ -330,6 +354,71 @@ fn light_cells(
                     f(row + j);
                 }
             }
+        }
+    }
+}
+
+/// The clustered grid the frame's lights span: its slices cover the depths they reach, not
+/// near to far (no light reaches a point nearer or farther, so the end slices' lists, which
+/// such points fall into, hold every light that reaches them).
+pub fn fitted_grid(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterGrid {
+    let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
+    for (l, p) in lights.iter().zip(plans) {
+        if p.screen_rect.is_some() && l.radius > 0.0 {
+            zmin = zmin.min(-l.position[2] - l.radius);
+            zmax = zmax.max(-l.position[2] + l.radius);
+        }
+    }
+    let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
+    ClusterGrid::new(view.size, near, far.max(near))
+}
+
+/// What the GPU needs to build the clustered lists itself ([`ClusterBuild::Gpu`]): the grid,
+/// each light's [`Span`] packed, and the entries the spans can hold at most (the list
+/// buffer's room: the GPU's lists never overflow it).
+#[derive(Clone, Debug, Default)]
+pub struct ClusterJob {
+    pub grid: Option<ClusterGrid>,
+    pub spans: Vec<[u32; 4]>,
+    pub bound: u64,
+}
+
+/// The spans of every light (two threads from [`PARALLEL_MIN_LIGHTS`]).
+pub fn cluster_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterJob {
+    let grid = fitted_grid(lights, plans, view);
+    let spans = |range: std::ops::Range<usize>| {
+        let mut bound = 0u64;
+        let spans: Vec<[u32; 4]> = lights[range.clone()]
+            .iter()
+            .zip(&plans[range])
+            .map(|(l, p)| {
+                let s = Span::of(l, p, &grid, view.size);
+                bound += s.map_or(0, |s| s.cells());
+                Span::packed(s)
+            })
+            .collect();
+        (spans, bound)
+    };
+    let half = lights.len() / 2;
+    let ((mut spans_a, bound_a), (spans_b, bound_b)) =
+        both(lights.len() >= PARALLEL_MIN_LIGHTS, || spans(0..half), || spans(half..lights.len()));
+    spans_a.extend(spans_b);
+    ClusterJob { grid: Some(grid), spans: spans_a, bound: bound_a + bound_b }
+}
+
+/// Who builds the clustered lists: the CPU ([`cluster_lists`]) or the GPU from each light's
+/// [`Span`] ([`cluster_job`]); the same lists (the tests hold them together).
+#[derive(Clone, Debug)]
+pub enum ClusterBuild {
+    Cpu(ClusterLists),
+    Gpu(ClusterJob),
+}
+
+impl ClusterBuild {
+    pub fn grid(&self) -> Option<ClusterGrid> {
+        match self {
+            ClusterBuild::Cpu(c) => c.grid,
+            ClusterBuild::Gpu(j) => j.grid,
         }
     }
 }
@@ -432,6 +521,7 @@ mod tests {
             depth_clamp: true,
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
+            cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
         }
     }
 
@@ -482,6 +572,7 @@ mod tests {
             falloff: radius,
             clamp: f32::MAX,
             shadow: crate::renderer::records::UNSHADOWED,
+            ..bytemuck::Zeroable::zeroed()
         };
         let plan = |on_screen: bool| LightPlan {
             method: Method::Clustered,
@@ -548,6 +639,7 @@ mod tests {
                 falloff: radius,
                 clamp: f32::MAX,
                 shadow: crate::renderer::records::UNSHADOWED,
+                ..bytemuck::Zeroable::zeroed()
             };
             lights.push(l);
         }

@@ -31,6 +31,10 @@ pub const NAMES: &[(&str, &str)] = &[
         "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
     ),
     ("shadows", "issue 15: boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
+    (
+        "cookies",
+        "seed 004: a spot throwing the window cookie on a wall, a point light's cube cookie, two objects on layers 1 and 2 under lights whose masks leave one of them out",
+    ),
 ];
 
 /// Options the CLI and the viewer pass to a built-in scene.
@@ -76,6 +80,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
         "materials" => materials(),
         "shadows" => shadows(),
+        "cookies" => cookies(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -124,11 +129,19 @@ impl Builder {
     /// An axis-aligned box from its minimum corner to its maximum corner.
     fn boxed(&mut self, min: DVec3, max: DVec3, material: usize) {
         let t = DMat4::from_translation((min + max) * 0.5) * DMat4::from_scale(max - min);
-        self.scene.objects.push(Object { mesh: 0, material, transform: t });
+        self.scene.objects.push(Object { mesh: 0, material, transform: t, layer: 0 });
     }
 
     fn point(&mut self, position: DVec3, color: Vec3, intensity: f32, radius: f32) {
-        self.scene.lights.push(Light::Point(PointLight { position, color, intensity, radius, cast_shadows: true }));
+        self.scene.lights.push(Light::Point(PointLight {
+            position,
+            color,
+            intensity,
+            radius,
+            cast_shadows: true,
+            cookie: None,
+            mask: crate::scene::ALL_LAYERS,
+        }));
     }
 }
 
@@ -205,6 +218,8 @@ pub fn demo(n: usize, t: f64) -> Scene {
             inner_angle: 14f32.to_radians(),
             outer_angle: 22f32.to_radians(),
             cast_shadows: true,
+            cookie: None,
+            mask: crate::scene::ALL_LAYERS,
         }));
     }
     b.scene
@@ -281,6 +296,8 @@ pub fn spot() -> Scene {
         inner_angle: 20f32.to_radians(),
         outer_angle: 32f32.to_radians(),
         cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
     }));
     b.scene
 }
@@ -435,7 +452,7 @@ fn normals() -> Scene {
     let m = b.material(Material::diffuse(Vec3::new(0.8, 0.7, 0.3)));
     for (mesh, x) in [(1usize, -2.0), (2, 2.0)] {
         let t = DMat4::from_translation(DVec3::new(x, 0.5, 0.0)) * DMat4::from_scale(DVec3::splat(3.0));
-        b.scene.objects.push(Object { mesh, material: m, transform: t });
+        b.scene.objects.push(Object { mesh, material: m, transform: t, layer: 0 });
     }
     b.point(DVec3::new(-2.0, 1.5, 0.0), Vec3::ONE, 3.0, 4.0);
     b.point(DVec3::new(2.0, 1.5, 0.0), Vec3::new(1.0, 0.5, 0.2), 3.0, 4.0);
@@ -455,6 +472,8 @@ fn spot_extremes() -> Scene {
             inner_angle: inner.to_radians(),
             outer_angle: outer.to_radians(),
             cast_shadows: true,
+            cookie: None,
+            mask: crate::scene::ALL_LAYERS,
         }));
     }
     b.scene
@@ -590,7 +609,7 @@ pub fn sphere_wall(n: usize) -> Scene {
         ..Material::default()
     });
     let mesh = b.scene.meshes.len() - 1;
-    b.scene.objects.push(Object { mesh, material: m, transform: DMat4::from_scale(DVec3::splat(wall)) });
+    b.scene.objects.push(Object { mesh, material: m, transform: DMat4::from_scale(DVec3::splat(wall)), layer: 0 });
     // Fibonacci sphere: evenly spread directions, the same for every count's first lights only
     // in distribution (the spiral depends on n).
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
@@ -671,7 +690,7 @@ pub fn materials() -> Scene {
         let x = (k as f64 - 2.0) * 3.2;
         b.boxed(DVec3::new(x - 1.1, 0.0, -2.6), DVec3::new(x + 1.1, 0.8, -1.4), m);
         let t = DMat4::from_translation(DVec3::new(x, 1.3, 0.0)) * DMat4::from_scale(DVec3::splat(1.3));
-        b.scene.objects.push(Object { mesh: sphere, material: m, transform: t });
+        b.scene.objects.push(Object { mesh: sphere, material: m, transform: t, layer: 0 });
     }
     let pane = b.material(Material {
         diffuse: Vec3::new(0.9, 0.85, 0.5),
@@ -698,7 +717,81 @@ pub fn materials() -> Scene {
         inner_angle: 25f32.to_radians(),
         outer_angle: 40f32.to_radians(),
         cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
     }));
+    b.scene
+}
+
+/// Seed 004's cookies and light culling masks. A floor and a wall (layer 0); a red box on
+/// layer 1 and a blue sphere on layer 2 with a blended pane on layer 2 in front of it (so the
+/// forward pass reads layers from the object record); a spot throwing the `window` cookie on
+/// the wall (every layer); a warm point light with the `flashlight` cube cookie lighting layers
+/// 0 and 1 only (not the sphere) and a cool one lighting layers 0 and 2 only (not the box).
+pub fn cookies() -> Scene {
+    let camera = Camera { far: 80.0, ..Camera::looking_at(DVec3::new(0.5, 3.2, 9.0), DVec3::new(0.0, 1.4, -1.0)) };
+    let mut b = Builder::new("cookies", camera);
+    b.scene.ambient = Vec3::splat(0.04);
+    b.scene.meshes.push(sphere_mesh(32, 16));
+    let sphere = b.scene.meshes.len() - 1;
+    let floor = b.material(Material {
+        diffuse: Vec3::splat(0.55),
+        specular_level: 0.3,
+        specular_exponent: 24.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-10.0, -1.0, -6.0), DVec3::new(10.0, 0.0, 8.0), floor);
+    let wall = b.material(Material::diffuse(Vec3::new(0.7, 0.68, 0.62)));
+    b.boxed(DVec3::new(-10.0, 0.0, -6.0), DVec3::new(10.0, 7.0, -5.0), wall);
+    let red = b.material(Material {
+        diffuse: Vec3::new(0.8, 0.25, 0.2),
+        specular_level: 0.5,
+        specular_exponent: 48.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-3.2, 0.0, -0.8), DVec3::new(-1.4, 1.8, 1.0), red);
+    b.scene.objects.last_mut().expect("the box").layer = 1;
+    let blue = b.material(Material {
+        diffuse: Vec3::new(0.2, 0.35, 0.85),
+        specular_level: 0.6,
+        specular_exponent: 64.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    let t = DMat4::from_translation(DVec3::new(2.3, 1.1, 0.0)) * DMat4::from_scale(DVec3::splat(1.1));
+    b.scene.objects.push(Object { mesh: sphere, material: blue, transform: t, layer: 2 });
+    let pane = b.material(Material {
+        diffuse: Vec3::new(0.85, 0.9, 0.95),
+        specular_level: 0.8,
+        specular_exponent: 64.0,
+        emissive: Vec3::ZERO,
+        alpha: 0.3,
+        alpha_mode: AlphaMode::Blend,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(1.0, 0.0, 2.2), DVec3::new(3.6, 1.4, 2.3), pane);
+    b.scene.objects.last_mut().expect("the pane").layer = 2;
+    b.scene.lights.push(Light::Spot(SpotLight {
+        position: DVec3::new(0.0, 4.0, 3.0),
+        direction: (DVec3::new(0.0, 3.5, -5.0) - DVec3::new(0.0, 4.0, 3.0)).normalize().as_vec3(),
+        color: Vec3::new(1.0, 0.95, 0.85),
+        intensity: 5.0,
+        radius: 14.0,
+        inner_angle: 20f32.to_radians(),
+        outer_angle: 24f32.to_radians(),
+        cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
+    }));
+    b.point(DVec3::new(-1.0, 3.0, 1.5), Vec3::new(1.0, 0.75, 0.45), 4.0, 7.0);
+    b.scene.lights.last_mut().expect("the warm light").set_mask(0b011);
+    b.point(DVec3::new(1.5, 2.5, 2.5), Vec3::new(0.45, 0.7, 1.0), 3.0, 6.0);
+    b.scene.lights.last_mut().expect("the cool light").set_mask(0b101);
+    // Built-in names always resolve.
+    let _ = b.scene.set_light_cookie(0, Some("window"));
+    let _ = b.scene.set_light_cookie(1, Some("flashlight"));
     b.scene
 }
 
@@ -740,6 +833,8 @@ pub fn shadows() -> Scene {
         inner_angle: 30f32.to_radians(),
         outer_angle: 40f32.to_radians(),
         cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
     }));
     b.point(DVec3::new(-3.5, 1.2, -1.0), Vec3::new(0.5, 0.7, 1.0), 3.0, 6.0);
     b.scene

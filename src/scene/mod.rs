@@ -1,6 +1,7 @@
 //! What is drawn: camera, meshes, materials and lights. Plain data, no GPU objects.
 
 pub mod builtin;
+pub mod cookie;
 pub mod import;
 pub mod room;
 
@@ -459,6 +460,15 @@ pub struct Object {
     pub mesh: usize,
     pub material: usize,
     pub transform: DMat4,
+    /// Culling layer (seed 004), 0..=31: lit only by lights whose `mask` has bit `layer`.
+    pub layer: u8,
+}
+
+/// Every layer: the mask of a light that lights everything (the default).
+pub const ALL_LAYERS: u32 = u32::MAX;
+
+fn all_layers() -> u32 {
+    ALL_LAYERS
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -468,6 +478,12 @@ pub struct PointLight {
     pub intensity: f32,
     /// Distance at which the light's contribution reaches exactly zero.
     pub radius: f32,
+    /// Cookie (seed 004): index into `Scene::cookies` of a cube cookie.
+    #[serde(default)]
+    pub cookie: Option<u32>,
+    /// Culling mask (seed 004): bit k set = lights objects on layer k.
+    #[serde(default = "all_layers")]
+    pub mask: u32,
     /// Whether the light may cast a shadow (`Settings::shadows` decides which kinds do; this
     /// flag only turns one light off). Settings and scene files, glTF `extras.cast_shadows`.
     #[serde(default = "cast_shadows_default")]
@@ -492,6 +508,12 @@ pub struct SpotLight {
     /// Whether the light may cast a shadow (see [`PointLight::cast_shadows`]).
     #[serde(default = "cast_shadows_default")]
     pub cast_shadows: bool,
+    /// Cookie (seed 004): index into `Scene::cookies` of a 2D cookie.
+    #[serde(default)]
+    pub cookie: Option<u32>,
+    /// Culling mask (seed 004): bit k set = lights objects on layer k.
+    #[serde(default = "all_layers")]
+    pub mask: u32,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -530,6 +552,32 @@ impl Light {
         match self {
             Light::Point(p) => p.cast_shadows = on,
             Light::Spot(s) => s.cast_shadows = on,
+        }
+    }
+    /// The cookie's index in `Scene::cookies`.
+    pub fn cookie(&self) -> Option<u32> {
+        match self {
+            Light::Point(p) => p.cookie,
+            Light::Spot(s) => s.cookie,
+        }
+    }
+    /// The culling mask: bit k set = lights layer k.
+    pub fn mask(&self) -> u32 {
+        match self {
+            Light::Point(p) => p.mask,
+            Light::Spot(s) => s.mask,
+        }
+    }
+    pub fn set_mask(&mut self, mask: u32) {
+        match self {
+            Light::Point(p) => p.mask = mask,
+            Light::Spot(s) => s.mask = mask,
+        }
+    }
+    pub fn set_cookie(&mut self, cookie: Option<u32>) {
+        match self {
+            Light::Point(p) => p.cookie = cookie,
+            Light::Spot(s) => s.cookie = cookie,
         }
     }
 
@@ -603,6 +651,8 @@ pub struct Scene {
     pub textures: Vec<std::sync::Arc<Texture>>,
     /// Named cameras a file offers (a glTF scene's cameras); `camera` starts at the first.
     pub viewpoints: Vec<(String, Camera)>,
+    /// The lights' cookies (seed 004), shared so cloning a scene does not copy texels.
+    pub cookies: Vec<std::sync::Arc<cookie::CookieImage>>,
 }
 
 impl Scene {
@@ -620,6 +670,7 @@ impl Scene {
             background: Vec3::new(0.01, 0.012, 0.02),
             textures: Vec::new(),
             viewpoints: Vec::new(),
+            cookies: Vec::new(),
         }
     }
 
@@ -636,6 +687,26 @@ impl Scene {
         }
         for (i, l) in self.lights.iter().enumerate() {
             l.validate().map_err(|e| format!("light {i}: {e}"))?;
+            if let Some(c) = l.cookie() {
+                let Some(image) = self.cookies.get(c as usize) else {
+                    return Err(format!("light {i} refers to missing cookie {c}"));
+                };
+                let point = matches!(l, Light::Point(_));
+                if image.is_cube() != point {
+                    return Err(format!(
+                        "light {i}: cookie {} is {}, a {} light takes {}",
+                        image.name,
+                        if image.is_cube() { "a cube" } else { "2D" },
+                        if point { "point" } else { "spot" },
+                        if point { "a cube" } else { "a 2D image" }
+                    ));
+                }
+            }
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            if o.layer > 31 {
+                return Err(format!("object {i} is on layer {}; layers are 0..=31", o.layer));
+            }
         }
         for (i, m) in self.materials.iter().enumerate() {
             let finite = m.diffuse.is_finite()
@@ -712,6 +783,51 @@ impl Scene {
             used.push(Brdf::default());
         }
         used
+    }
+
+    /// Sets light `light`'s cookie from a built-in name or a PNG path (`None`: no cookie);
+    /// a cube for a point light, 2D for a spot. Errors name the light and the file.
+    pub fn set_light_cookie(&mut self, light: usize, spec: Option<&str>) -> Result<(), String> {
+        let Some(l) = self.lights.get(light) else {
+            return Err(format!("no light {light} (the scene has {})", self.lights.len()));
+        };
+        let Some(spec) = spec else {
+            self.lights[light].set_cookie(None);
+            return Ok(());
+        };
+        let cube = matches!(l, Light::Point(_));
+        let found = self.cookies.iter().position(|c| c.name == spec && c.is_cube() == cube);
+        let index = match found {
+            Some(k) => k,
+            None => {
+                let image = cookie::CookieImage::resolve(spec, cube).map_err(|e| format!("light {light}: {e}"))?;
+                self.cookies.push(std::sync::Arc::new(image));
+                self.cookies.len() - 1
+            }
+        };
+        self.lights[light].set_cookie(Some(index as u32));
+        Ok(())
+    }
+
+    /// The object layers in use (bit k: some object is on layer k).
+    pub fn used_layers(&self) -> u32 {
+        self.objects.iter().fold(0, |m, o| m | (1u32 << (o.layer & 31)))
+    }
+
+    /// Whether the lighting depends on each pixel's layer: some light's mask holds some of
+    /// the layers in use but not all (a light that lights every used layer, or none, gives the
+    /// same at every pixel). `None` then; else the one layer every pixel may be shaded as.
+    pub fn uniform_layer(&self) -> Option<u32> {
+        let used = self.used_layers();
+        let split = self.lights.iter().any(|l| {
+            let m = l.mask() & used;
+            m != 0 && m != used
+        });
+        if split {
+            None
+        } else {
+            Some(self.objects.first().map_or(0, |o| (o.layer & 31) as u32))
+        }
     }
 
     pub fn any_emissive(&self) -> bool {

@@ -39,6 +39,18 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                 }
             }
         });
+        // The render path (issue 14), next to the culling modes: every path is listed; one the
+        // renderer cannot draw is rejected with its error in the status line.
+        ui.label(RichText::new("Render path").strong());
+        egui::Grid::new("paths").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
+            for (i, p) in RenderPath::ALL.into_iter().enumerate() {
+                ui.radio_value(&mut st.settings.path, p, p.name())
+                    .on_hover_text(crate::renderer::settings::help_of(&p));
+                if i % 2 == 1 {
+                    ui.end_row();
+                }
+            }
+        });
         ui.separator();
         figures(ui, st, f);
         ui.separator();
@@ -140,6 +152,28 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
+        if let Some(p) = &s.prepass {
+            // The light pre-pass: pass 1 is the g-buffer row, pass 2 the lighting row.
+            row(ui, "GPU pass 3 (final)", fmt_ms(s.gpu_ms.prepass_final));
+            row(ui, "pass 1 / 3 draws", format!("{} / {}", p.base_draw_calls, p.final_draw_calls));
+            let frags = |v: Option<u64>| v.map_or("-".into(), fmt_count);
+            row(ui, "pass 1 / 3 fragments", format!("{} / {}", frags(p.base_fragments), frags(p.final_fragments)));
+            row(
+                ui,
+                "B/pixel",
+                format!(
+                    "normal+exp {}, depth copy {}, light buffer {} ({}), HDR {}",
+                    p.normal_exp_bytes_per_pixel,
+                    p.depth_copy_bytes_per_pixel,
+                    p.light_buffer_bytes_per_pixel,
+                    p.light_buffer_format,
+                    p.hdr_bytes_per_pixel
+                ),
+            );
+            if p.samples > 1 {
+                row(ui, "pass 3 MSAA", format!("{} samples, {} B/pixel", p.samples, p.msaa_bytes_per_pixel));
+            }
+        }
         if let Some(fw) = &s.forward {
             // Blended surfaces: the forward pass, its fragments and the lights per fragment it
             // may walk (the longest list).
@@ -148,6 +182,25 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             let longest =
                 if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
             row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
+        }
+        if let Some(fp) = &s.forward_path {
+            // The forward paths (issue 14): each pass's draws, samples shaded and time, the
+            // intermediate targets' bytes per pixel and the object light lists.
+            row(ui, "path", format!("{} (x{} samples)", fp.path.name(), fp.samples));
+            for p in &fp.passes {
+                let frags = p.fragments.map_or("-".into(), fmt_count);
+                row(
+                    ui,
+                    &format!("GPU {}", p.name),
+                    format!("{} · {} draws · {frags} frag", fmt_ms(p.gpu_ms), p.draw_calls),
+                );
+            }
+            row(ui, "target bytes/pixel", format!("{}", fp.bytes_per_pixel()));
+            row(
+                ui,
+                "object light lists",
+                format!("{} entries (longest {})", fmt_count(fp.list_entries), fp.longest_list),
+            );
         }
         if let Some(t) = &s.tiles {
             // The tiled pass's lists: cells, summed and longest length (read back when counting).

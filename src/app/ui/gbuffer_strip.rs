@@ -25,17 +25,28 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
         for slot in t.channels.iter().flatten() {
             let (view, label) = match slot.attr {
                 Attr::Albedo => (DebugView::Albedo, "albedo"),
+                // The light pre-pass stores the exponent alone (green; red is its unit f0).
+                Attr::SpecExp if layout.name == crate::renderer::gbuffer::PREPASS_LAYOUT => {
+                    (DebugView::Specular, "exponent")
+                }
                 Attr::SpecLevel | Attr::SpecExp => (DebugView::Specular, "specular"),
                 Attr::Normal => (DebugView::Normal, "normal"),
                 Attr::Emissive => (DebugView::Emissive, "emissive"),
                 Attr::Depth => (DebugView::Depth, "depth"),
                 Attr::Position => (DebugView::Depth, "position z"),
                 Attr::Material => (DebugView::MaterialId, "material ID"),
+                // The culling layer has no view of its own; the probe shows it.
+                Attr::Layer => continue,
             };
             add(view, label, t.name, format!("{:?}", t.format));
         }
     }
     let accum = accum.map_or("-".into(), |a| format!("{a:?}"));
+    if layout.name == crate::renderer::gbuffer::PREPASS_LAYOUT {
+        // The light pre-pass's one light buffer, decoded: RGB diffuse, A mono specular (grey).
+        add(DebugView::DiffuseLight, "diffuse light", "light buffer RGB", accum.clone());
+        add(DebugView::SpecularLight, "mono specular", "light buffer A", accum.clone());
+    }
     add(DebugView::DiffuseLight, "diffuse light", "accumulation", accum.clone());
     add(DebugView::SpecularLight, "specular light", "accumulation", accum);
     add(DebugView::Depth, "depth", "depth-stencil", format!("{depth:?}"));
@@ -49,11 +60,22 @@ pub(super) fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) 
     ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
     ui.horizontal(|ui| {
         ui.label(RichText::new("G-buffer").strong());
-        egui::ComboBox::from_id_salt("layout").selected_text(st.settings.layout.name()).width(90.0).show_ui(ui, |ui| {
-            for l in LayoutChoice::ALL {
-                ui.selectable_value(&mut st.settings.layout, l, l.name());
-            }
-        });
+        if st.settings.path == RenderPath::LightPrepass {
+            // The light pre-pass writes its own thin buffer whatever the layout setting says.
+            ui.label("light pre-pass: normal + exponent");
+        } else if matches!(st.settings.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+            ui.label(format!("{}: no G-buffer (depth and the HDR colour only)", st.settings.path.name()));
+            return;
+        } else {
+            egui::ComboBox::from_id_salt("layout").selected_text(st.settings.layout.name()).width(90.0).show_ui(
+                ui,
+                |ui| {
+                    for l in LayoutChoice::ALL {
+                        ui.selectable_value(&mut st.settings.layout, l, l.name());
+                    }
+                },
+            );
+        }
         ui.label(format!("{} B/pixel in colour targets + {}", f.gbuffer_bytes, f.depth_format));
         ui.label(RichText::new("click a view to show it full size").weak());
     });

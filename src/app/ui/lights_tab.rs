@@ -111,7 +111,26 @@ fn light_editor(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize, 
                 changed = true;
             }
         }
+        // Seed 004's culling mask: layers 0..3 as toggles (the others keep their bits; a
+        // script's `set mask 0x...` sets all 32), and the whole mask in hex.
+        ui.label("mask");
+        ui.horizontal(|ui| {
+            for bit in 0..4 {
+                let mut on = e.mask & (1 << bit) != 0;
+                if ui.checkbox(&mut on, bit.to_string()).on_hover_text(format!("lights layer {bit}")).changed() {
+                    e.mask ^= 1 << bit;
+                    changed = true;
+                }
+            }
+            if ui.button("all").clicked() {
+                e.mask = crate::scene::ALL_LAYERS;
+                changed = true;
+            }
+            ui.monospace(format!("{:#010x}", e.mask));
+        });
+        ui.end_row();
     });
+    cookie_picker(ui, st, out, k, &light);
     if changed {
         let mut l = light;
         e.apply(&mut l);
@@ -121,6 +140,52 @@ fn light_editor(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize, 
             }
             Err(err) => reject(out, format!("light {k}: {err}")),
         }
+    }
+}
+
+/// The light's cookie (seed 004): none, a built-in (`window`, `flashlight`) or a PNG file
+/// (square for a spot, a strip of six faces for a point light). A file is read once here to
+/// check it; a bad one is refused with the reason on the status line.
+fn cookie_picker(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize, light: &Light) {
+    let cube = matches!(light, Light::Point(_));
+    let current = st.light_cookies.get(&k).cloned();
+    let shown = match &current {
+        Some(Some(name)) => name.clone(),
+        Some(None) => "none".into(),
+        None if light.cookie().is_some() => "the scene's".into(),
+        None => "none".into(),
+    };
+    let mut pick: Option<Option<String>> = None;
+    ui.horizontal(|ui| {
+        ui.label("cookie");
+        egui::ComboBox::from_id_salt(("cookie", k)).selected_text(shown).show_ui(ui, |ui| {
+            if ui.selectable_label(false, "none").clicked() {
+                pick = Some(None);
+            }
+            for name in crate::scene::cookie::BUILTIN {
+                if ui.selectable_label(false, name).clicked() {
+                    pick = Some(Some(name.to_string()));
+                }
+            }
+        });
+        let id = ui.scope_id().with(("cookie-file", k));
+        let mut path: String = ui.data_mut(|d| d.get_temp(id).unwrap_or_default());
+        let r = ui.add(egui::TextEdit::singleline(&mut path).hint_text("file.png").desired_width(120.0));
+        if r.changed() {
+            ui.data_mut(|d| d.insert_temp(id, path.clone()));
+        }
+        if ui.button("load").clicked() || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter))) {
+            pick = Some(Some(path));
+        }
+    });
+    if let Some(choice) = pick {
+        if let Some(spec) = &choice {
+            if let Err(e) = crate::scene::cookie::CookieImage::resolve(spec, cube) {
+                reject(out, format!("light {k}: {e}"));
+                return;
+            }
+        }
+        st.light_cookies.insert(k, choice);
     }
 }
 

@@ -25,6 +25,7 @@ pub(super) fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
         } else {
             let id = p.material_id.map_or("one for the scene".to_string(), |id| format!("ID {id}"));
             row(ui, "model", format!("{} ({id})", p.brdf.name()));
+            row(ui, "layer", p.layer.to_string());
             row(ui, "albedo", v3(p.albedo));
             row(ui, "spec level / exp", format!("{:.3} / {:.1}", p.specular_level, p.specular_exponent));
             row(ui, "normal (view)", v3(p.normal));

@@ -21,19 +21,27 @@ impl ForwardPass {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        // The light pre-pass's `--msaa 4` draws blended surfaces into its multisampled colour.
+        let samples = shared.key.samples;
         let p = |label, two_sided| {
-            surface_pipeline(device, shared, SurfacePipe::triangles(label, "fs_forward", two_sided, false), &blended)
+            let pipe = SurfacePipe { samples, ..SurfacePipe::triangles(label, "fs_forward", two_sided, false) };
+            surface_pipeline(device, shared, pipe, &blended)
         };
         Self { pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)] }
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
+        // Multisampled (the light pre-pass's `--msaa 4`): over its samples, resolved again.
+        let (color, depth) = match &f.targets.msaa {
+            Some(ms) => (ms.color_attachment(hdr_view, None), &ms.depth),
+            None => (attachment(hdr_view, None), &f.targets.depth),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("forward (blended)"),
-            color_attachments: &[attachment(hdr_view, None)],
+            color_attachments: &[color],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &f.targets.depth,
+                view: depth,
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),

@@ -32,12 +32,14 @@ pub(crate) struct SurfacePipe<'a> {
     pub double_sided: bool,
     pub depth_write: bool,
     pub topology: Topology,
+    /// Samples per pixel (the light pre-pass's `--msaa 4` forward pass; 1 otherwise).
+    pub samples: u32,
 }
 
 impl<'a> SurfacePipe<'a> {
     /// Triangles, one- or two-sided.
     pub fn triangles(label: &'a str, fs: &'a str, double_sided: bool, depth_write: bool) -> Self {
-        Self { label, fs, double_sided, depth_write, topology: Topology::Triangles }
+        Self { label, fs, double_sided, depth_write, topology: Topology::Triangles, samples: 1 }
     }
 }
 
@@ -48,7 +50,7 @@ pub(crate) fn surface_pipeline(
     pipe: SurfacePipe<'_>,
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
-    let SurfacePipe { label, fs, double_sided, depth_write, topology } = pipe;
+    let SurfacePipe { label, fs, double_sided, depth_write, topology, samples } = pipe;
     let vertex_buffers = [Some(wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
@@ -79,7 +81,7 @@ pub(crate) fn surface_pipeline(
             stencil: Default::default(),
             bias: Default::default(),
         }),
-        multisample: Default::default(),
+        multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
         fragment: Some(wgpu::FragmentState {
             module: &shared.module,
             entry_point: Some(fs),
@@ -110,7 +112,14 @@ impl GBufferPass {
             surface_pipeline(device, shared, SurfacePipe::triangles(label, fs, two_sided, true), &targets)
         };
         let of = |label, topology| {
-            let pipe = SurfacePipe { label, fs: "fs_geometry_masked", double_sided: true, depth_write: true, topology };
+            let pipe = SurfacePipe {
+                label,
+                fs: "fs_geometry_masked",
+                double_sided: true,
+                depth_write: true,
+                topology,
+                samples: 1,
+            };
             surface_pipeline(device, shared, pipe, &targets)
         };
         Self {
@@ -158,10 +167,17 @@ impl GBufferPass {
                 stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
             }),
             timestamp_writes: f.timestamps(Some(Stamp::GBufferBegin), Some(Stamp::GBufferEnd)),
-            occlusion_query_set: None,
+            // The light pre-pass counts its pass 1's fragments (query 0 of `Queries::prepass`).
+            occlusion_query_set: (f.counts && t.prepass).then_some(&f.queries.prepass),
             multiview_mask: None,
         });
         pass.set_bind_group(0, &f.frame.group, &[]);
+        if f.counts && t.prepass {
+            pass.begin_occlusion_query(0);
+        }
         f.scene.draw(&mut pass, &f.plan.draws.gbuffer, &self.pipelines);
+        if f.counts && t.prepass {
+            pass.end_occlusion_query();
+        }
     }
 }

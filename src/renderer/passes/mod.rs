@@ -15,11 +15,13 @@ pub mod dof;
 pub mod exposure;
 pub mod fog;
 pub mod forward;
+pub mod forward_paths;
 pub mod gbuffer;
 pub mod grading;
 pub mod lights;
 pub mod measure;
 pub mod shadows;
+pub mod prepass;
 pub mod tiled;
 pub mod tonemap;
 pub mod vignette;
@@ -56,6 +58,8 @@ pub fn wgsl_constants() -> String {
     u("MAT_METAL_ROUGH", records::MAT_METAL_ROUGH);
     u("MAT_UV_TRANSFORMED", records::MAT_UV_TRANSFORMED);
     u("MAT_METAL_BY_PIXEL", records::MAT_METAL_BY_PIXEL);
+    u("NO_COOKIE", records::NO_COOKIE);
+    u("COOKIE_ROW", records::COOKIE_ROW);
     for b in crate::scene::Brdf::ALL {
         u(&format!("BRDF_{}", b.name().to_uppercase().replace('-', "_")), b.id());
     }
@@ -98,18 +102,35 @@ pub fn wgsl_constants() -> String {
 /// The whole shader source for a G-buffer layout and accumulation format: generated constants,
 /// binding declarations and G-buffer layout, then the WGSL files.
 pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, ambient_in_gbuffer: bool) -> String {
-    let mut parts = vec![wgsl_constants(), format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format))];
+    shader_source_for(layout, accum_format, ambient_in_gbuffer, false)
+}
+
+/// [`shader_source`] for the deferred path or (`prepass`) the light pre-pass, whose light pass
+/// writes one light buffer (RGB diffuse, mono specular in A) shaded with unit reflectance.
+pub fn shader_source_for(
+    layout: &GBufferLayout,
+    accum_format: wgpu::TextureFormat,
+    ambient_in_gbuffer: bool,
+    prepass: bool,
+) -> String {
+    let mut parts = vec![
+        wgsl_constants(),
+        format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format)),
+        format!("const LS_PREPASS: bool = {prepass};\n"),
+    ];
     parts.push(layout.wgsl(1, ambient_in_gbuffer));
     parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
     parts.extend(
         [
             include_str!("../../../shaders/common.wgsl"),
             include_str!("../../../shaders/geometry.wgsl"),
+            include_str!("../../../shaders/forward.wgsl"),
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
             include_str!("../../../shaders/shadows.wgsl"),
+            include_str!("../../../shaders/prepass.wgsl"),
         ]
         .map(String::from),
     );
@@ -130,6 +151,12 @@ pub struct PipelineKey {
     /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's
     /// RT1); otherwise the light pass starts with a full-screen ambient + sun draw.
     pub ambient_in_gbuffer: bool,
+    /// The light pre-pass (seeds 003/004): `layout` is `gbuffer::prepass_layout`, the light
+    /// passes write one light buffer (RGB diffuse + mono specular), ambient + sun go to pass 3.
+    pub prepass: bool,
+    /// Samples per pixel of the light pre-pass's pass 3 and the forward pass after it (1, or 4
+    /// with `--msaa 4`; passes 1 and 2 stay single-sample).
+    pub samples: u32,
 }
 
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with
@@ -169,7 +196,7 @@ impl Shared {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
             source: wgpu::ShaderSource::Wgsl(
-                shader_source(&key.layout, key.accum_format, key.ambient_in_gbuffer).into(),
+                shader_source_for(&key.layout, key.accum_format, key.ambient_in_gbuffer, key.prepass).into(),
             ),
         });
         let frame_bgl = bindings::FRAME.layout(device);
@@ -251,7 +278,9 @@ impl Shared {
     pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
         let key = &self.key;
         let accum = |blend: Option<wgpu::BlendState>, write_mask| {
-            vec![Some(wgpu::ColorTargetState { format: key.accum_format, blend, write_mask }); 2]
+            let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
+            // The light pre-pass has one light buffer (`Targets::accumulation`).
+            vec![Some(t.clone()), Some(t).filter(|_| !key.prepass)]
         };
         let targets = match p.out {
             Out::Accumulate => {
@@ -476,6 +505,18 @@ impl FrameInputs<'_> {
         })
     }
 
+    /// The same for a compute pass, both ends.
+    pub fn compute_timestamps(&self, begin: Stamp, end: Stamp) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        if !self.times {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: Some(begin as u32),
+            end_of_pass_write_index: Some(end as u32),
+        })
+    }
+
     /// Frame buffers, the G-buffer and the light-volume meshes: what every light draw reads.
     pub fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.frame.group, &[]);
@@ -501,7 +542,9 @@ pub struct Passes {
     pub debug: debug::DebugPass,
     pub compose: compose::ComposePass,
     pub forward: forward::ForwardPass,
+    pub forward_paths: forward_paths::ForwardPathsPass,
     pub measure: measure::MeasurePass,
+    pub prepass: prepass::PrepassFinalPass,
     pub tiled: tiled::TiledPass,
     pub bloom: bloom::BloomPass,
     pub exposure: exposure::ExposurePass,
@@ -523,7 +566,9 @@ impl Passes {
             debug: debug::DebugPass::new(device, &shared),
             compose: compose::ComposePass::new(device, &shared),
             forward: forward::ForwardPass::new(device, &shared),
+            forward_paths: forward_paths::ForwardPathsPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
+            prepass: prepass::PrepassFinalPass::new(device, &shared),
             tiled: tiled::TiledPass::new(device, &shared),
             bloom: bloom::BloomPass::new(device, &shared),
             exposure: exposure::ExposurePass::new(device, &shared),

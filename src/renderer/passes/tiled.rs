@@ -3,7 +3,10 @@
 //! - `tiled` (Andersson 2011): a compute pass, one 16x16 workgroup per screen tile, takes the
 //!   tile's depth bounds from the G-buffer, tests every light's sphere against the tile's
 //!   frustum between them and writes the tile's list in light order (`cs_tile_lists`).
-//! - `clustered` (Olsson et al. 2012): the lists come from the CPU (`tiles::cluster_lists`).
+//! - `clustered` (Olsson et al. 2012): the lists come from the CPU (`tiles::cluster_lists`), or
+//!   the GPU builds them from each light's span of clusters (`--cluster-build gpu`): a count
+//!   pass, a prefix sum, a fill pass and a per-cluster sort into light order
+//!   (`cs_cluster_{count,scan,fill,sort}`), the same tests as the CPU's.
 //! - Both: ONE full-screen pass (`fs_tiled`) shades each valid pixel with its list through
 //!   `shade_light` and the per-light clamp, adding into the same accumulation targets after the
 //!   ambient + sun pass. With `count_fragments` each evaluated light-pixel pair is counted per
@@ -20,7 +23,7 @@ use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
 use crate::renderer::stats::{FrameStats, Stamp, TileStats};
 use crate::renderer::targets::attachment;
-use crate::renderer::tiles::{ALL_LIGHTS, TILE};
+use crate::renderer::tiles::{ClusterBuild, ALL_LIGHTS, TILE};
 use anyhow::Result;
 use std::sync::Mutex;
 
@@ -87,6 +90,8 @@ impl TileLists {
 pub struct TiledPass {
     bgl: wgpu::BindGroupLayout,
     build: wgpu::ComputePipeline,
+    /// The GPU's clustered lists: count, scan, fill, sort.
+    cluster: [wgpu::ComputePipeline; 4],
     shade: wgpu::RenderPipeline,
     count_view: wgpu::RenderPipeline,
     state: Mutex<(Option<Buffers>, Option<Pending>)>,
@@ -109,14 +114,23 @@ impl TiledPass {
             bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
             immediate_size: 0,
         });
-        let build = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("tile lists"),
-            layout: Some(&layout),
-            module: &shared.module,
-            entry_point: Some("cs_tile_lists"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let compute = |label, entry| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: Some(&layout),
+                module: &shared.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let build = compute("tile lists", "cs_tile_lists");
+        let cluster = [
+            compute("cluster count", "cs_cluster_count"),
+            compute("cluster scan", "cs_cluster_scan"),
+            compute("cluster fill", "cs_cluster_fill"),
+            compute("cluster sort", "cs_cluster_sort"),
+        ];
         let blend = if log_accum(shared.key.accum_format) { MULTIPLY } else { ADDITIVE };
         let accum = wgpu::ColorTargetState {
             format: shared.key.accum_format,
@@ -147,15 +161,18 @@ impl TiledPass {
                 cache: None,
             })
         };
-        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum.clone()), Some(accum)]);
+        // The light pre-pass has one light buffer (`Targets::accumulation`).
+        let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
+        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum), second]);
         let count_view = pipe("tile lights view", "fs_tile_count", &[Some(debug)]);
-        Self { bgl, build, shade, count_view, state: Mutex::new((None, None)) }
+        Self { bgl, build, cluster, shade, count_view, state: Mutex::new((None, None)) }
     }
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
     /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
-    /// when shown. `queue` uploads the parameters and the clustered lists; returns the CPU
-    /// ms that upload took (part of the frame's `cpu_ms.upload`).
+    /// when shown. `queue` uploads the parameters and the clustered lists (or the lights' spans
+    /// the GPU builds them from); returns the CPU ms that upload took (part of the frame's
+    /// `cpu_ms.upload`).
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -187,17 +204,24 @@ impl TiledPass {
             capacity: 0,
             slice_scale: 0.0,
             slice_bias: 0.0,
-            pad0: 0.0,
-            pad1: 0.0,
+            near: 0.0,
+            far: 0.0,
         };
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
-        let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid.map(|g| (c, g))) {
+        let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
             params.mode = 1;
             params.tile_size = g.tile;
             (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
-            (params.slice_scale, params.slice_bias) = (g.scale, g.bias);
-            params.capacity = (c.data.len() - 2 * g.cells()) as u32;
-            c.data.len() as u64
+            (params.slice_scale, params.slice_bias, params.near, params.far) = (g.scale, g.bias, g.near, g.far);
+            let header = 2 * g.cells() as u64;
+            let capacity = match c {
+                ClusterBuild::Cpu(c) => c.data.len() as u64 - header,
+                // The spans bound what the GPU can list; past the binding limit, cells walk
+                // every light (counted as overflowed).
+                ClusterBuild::Gpu(j) => j.bound.min(MAX_ENTRIES - header),
+            };
+            params.capacity = capacity as u32;
+            header + capacity
         } else {
             let cells = (params.tiles_x * params.tiles_y) as u64;
             let capacity = (cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64)).min(MAX_ENTRIES - 2 * cells);
@@ -205,17 +229,31 @@ impl TiledPass {
             2 * cells + capacity
         };
         let cells = (params.tiles_x * params.tiles_y * params.slices) as u64;
+        let gpu_job = match clusters {
+            Some(ClusterBuild::Gpu(j)) => Some(j),
+            _ => None,
+        };
+        // GPU-built clusters: the lights' spans after the lists, a counter per cluster after
+        // the lights' counts.
+        let (list_words, count_words) = match gpu_job {
+            Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
+            None => (entries, n as u64 + 1),
+        };
         let fits = |b: &Option<Buffers>| {
-            b.as_ref().is_some_and(|b| b.lists.size() >= entries * 4 && b.counts.size() >= (n as u64 + 1) * 4)
+            b.as_ref().is_some_and(|b| b.lists.size() >= list_words * 4 && b.counts.size() >= count_words * 4)
         };
         if !fits(&state.0) {
             use wgpu::BufferUsages as U;
-            let lists =
-                buffer(device, "tile lists", (entries * 4).next_power_of_two(), U::STORAGE | U::COPY_DST | U::COPY_SRC);
+            let lists = buffer(
+                device,
+                "tile lists",
+                (list_words * 4).next_power_of_two(),
+                U::STORAGE | U::COPY_DST | U::COPY_SRC,
+            );
             let counts = buffer(
                 device,
                 "tile counts",
-                ((n as u64 + 1) * 4).next_power_of_two(),
+                (count_words * 4).next_power_of_two(),
                 U::STORAGE | U::COPY_DST | U::COPY_SRC,
             );
             let params =
@@ -236,14 +274,38 @@ impl TiledPass {
         let Some(b) = &state.0 else { return 0.0 };
         let clock = std::time::Instant::now();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
-        if let Some(c) = clusters {
-            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data));
+        match clusters {
+            Some(ClusterBuild::Cpu(c)) => queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data)),
+            Some(ClusterBuild::Gpu(j)) => queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans)),
+            None => {}
         }
         let upload_ms = clock.elapsed().as_secs_f64() * 1e3;
-        encoder.clear_buffer(&b.counts, 0, Some((n as u64 + 1) * 4));
+        encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
+        if gpu_job.is_some() && n > 0 {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("cluster lists"),
+                timestamp_writes: f.compute_timestamps(Stamp::ListsBegin, Stamp::ListsEnd),
+            });
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+            pass.set_bind_group(2, &b.group, &[]);
+            let [count, scan, fill, sort] = &self.cluster;
+            let lights = (n as u32).div_ceil(64);
+            pass.set_pipeline(count);
+            pass.dispatch_workgroups(lights, 1, 1);
+            pass.set_pipeline(scan);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(fill);
+            pass.dispatch_workgroups(lights, 1, 1);
+            pass.set_pipeline(sort);
+            let groups = (cells as u32).div_ceil(64);
+            pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
+        }
         if method == Method::Tiled {
-            let mut pass = encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("tile lists"), timestamp_writes: None });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("tile lists"),
+                timestamp_writes: f.compute_timestamps(Stamp::ListsBegin, Stamp::ListsEnd),
+            });
             pass.set_pipeline(&self.build);
             pass.set_bind_group(0, &f.frame.group, &[]);
             pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);

@@ -203,6 +203,8 @@ impl Importer<'_> {
                 intensity,
                 radius: radius as f32,
                 cast_shadows: true,
+                cookie: None,
+                mask: crate::scene::ALL_LAYERS,
             }));
             self.stats.lights_added += 1;
         }

@@ -308,14 +308,37 @@ impl Importer<'_> {
             if !world.is_finite() {
                 bail!("node {} has a non-finite transform", node.index());
             }
+            let extras = NodeExtras::of(&node)?;
             if let Some(mesh) = node.mesh() {
+                let first = self.scene.objects.len();
                 self.mesh(&mesh, world).with_context(|| match mesh.name() {
                     Some(n) => format!("mesh {} ('{n}')", mesh.index()),
                     None => format!("mesh {}", mesh.index()),
                 })?;
+                if let Some(layer) = extras.layer {
+                    self.scene.objects[first..].iter_mut().for_each(|o| o.layer = layer);
+                }
             }
             if let Some(light) = node.light() {
+                let before = self.scene.lights.len();
                 self.light(&light, world);
+                if self.scene.lights.len() > before {
+                    if let Some(mask) = extras.mask {
+                        self.scene.lights[before].set_mask(mask);
+                    }
+                    if let Some(cookie) = &extras.cookie {
+                        // Relative paths from the file's directory; built-in names as they are.
+                        let spec = match self.base {
+                            Some(base) if cookie.to_ascii_lowercase().ends_with(".png") => {
+                                base.join(cookie).to_string_lossy().into_owned()
+                            }
+                            _ => cookie.clone(),
+                        };
+                        self.scene
+                            .set_light_cookie(before, Some(&spec))
+                            .map_err(|e| anyhow::anyhow!("node {} extras: {e}", node.index()))?;
+                    }
+                }
             }
             if let Some(camera) = node.camera() {
                 self.camera(&camera, world, node.name());
@@ -357,7 +380,7 @@ impl Importer<'_> {
                 }
             };
             let material = self.material(&prim.material(), normal_ok);
-            self.scene.objects.push(Object { mesh: mesh_index, material, transform: world });
+            self.scene.objects.push(Object { mesh: mesh_index, material, transform: world, layer: 0 });
         }
         Ok(())
     }
@@ -403,7 +426,15 @@ impl Importer<'_> {
                 }
                 return;
             }
-            Kind::Point => Light::Point(PointLight { position, color, intensity: ours, radius, cast_shadows }),
+            Kind::Point => Light::Point(PointLight {
+                position,
+                color,
+                intensity: ours,
+                radius,
+                cast_shadows,
+                cookie: None,
+                mask: crate::scene::ALL_LAYERS,
+            }),
             Kind::Spot { inner_cone_angle, outer_cone_angle } => {
                 let outer = outer_cone_angle.clamp(0.0, std::f32::consts::FRAC_PI_2);
                 let inner = inner_cone_angle.clamp(0.0, outer);
@@ -416,6 +447,8 @@ impl Importer<'_> {
                     inner_angle: inner,
                     outer_angle: outer,
                     cast_shadows,
+                    cookie: None,
+                    mask: crate::scene::ALL_LAYERS,
                 })
             }
         };
@@ -531,5 +564,39 @@ mod tests {
             let r = load_bytes(bytes, None, "x", &ImportOptions::default(), &mut quiet);
             assert!(r.is_err(), "{bytes:?} loaded");
         }
+    }
+}
+
+/// Seed 004's keys in a node's `extras`: `{"layer": 0..=31}` on a mesh node (its objects'
+/// culling layer); `{"cookie": "window" | "flashlight" | "file.png", "mask": u32}` on a
+/// light node (a PNG path is relative to the glTF file). Other keys are left alone; a key of
+/// the wrong type or range is an error naming the node.
+#[derive(Default)]
+struct NodeExtras {
+    layer: Option<u8>,
+    cookie: Option<String>,
+    mask: Option<u32>,
+}
+
+impl NodeExtras {
+    fn of(node: &gltf::Node<'_>) -> Result<Self> {
+        let Some(raw) = node.extras() else { return Ok(Self::default()) };
+        let Ok(serde_json::Value::Object(map)) = serde_json::from_str::<serde_json::Value>(raw.get()) else {
+            return Ok(Self::default());
+        };
+        let bad = |key: &str, want: &str| anyhow::anyhow!("node {} extras: \"{key}\" must be {want}", node.index());
+        let mut out = Self::default();
+        if let Some(v) = map.get("layer") {
+            out.layer = Some(v.as_u64().filter(|&l| l <= 31).ok_or_else(|| bad("layer", "a layer 0..=31"))? as u8);
+        }
+        if let Some(v) = map.get("mask") {
+            out.mask =
+                Some(v.as_u64().and_then(|m| u32::try_from(m).ok()).ok_or_else(|| bad("mask", "a 32-bit layer mask"))?);
+        }
+        if let Some(v) = map.get("cookie") {
+            out.cookie =
+                Some(v.as_str().ok_or_else(|| bad("cookie", "a built-in cookie's name or a .png path"))?.into());
+        }
+        Ok(out)
     }
 }

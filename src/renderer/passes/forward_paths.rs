@@ -1,0 +1,666 @@
+//! The forward paths of seed 002 (issue 14), no G-buffer:
+//!
+//! - **single-pass** (`--path forward`): an optional depth pre-pass (seed 002's "Z-cull", so
+//!   each pixel is shaded once; `--depth-prepass`), then every opaque and masked object shaded
+//!   with its light list (`plan::forward_path_lists`) in one shader (`fs_forward_single`);
+//! - **multi-pass** (`--path forward-multipass`): a depth pass, ambient + sun per object
+//!   (`fs_forward_base`), then one additive draw per (object, light) pair, scissored to the
+//!   light's screen rectangle (`fs_forward_pair`).
+//!
+//! Both write the HDR scene colour, which the blended surfaces' forward pass, then the tonemap
+//! or the post chain, take as deferred shading's compose leaves it. With `--msaa 4` colour and
+//! depth are multisampled and resolved into the HDR colour before post (the blended surfaces
+//! are drawn multisampled too, with pipelines of their own here).
+//!
+//! The pipelines are built on a path's first frame (not with every configuration's passes: the
+//! deferred path never needs them).
+
+use super::{FrameInputs, Shared, ADDITIVE, HDR_FORMAT};
+use crate::renderer::plan::{Draw, ForwardPathLists};
+use crate::renderer::settings::{RenderPath, Settings};
+use crate::renderer::stats::Stamp;
+use crate::scene::Topology;
+use anyhow::{bail, Result};
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+use wgpu::CompareFunction as Cmp;
+
+/// Occlusion queries of the forward paths: depth pass, shading (single-pass, or multi-pass's
+/// ambient + sun), the pairs.
+const QUERIES: u32 = 3;
+
+/// One pass of a forward path as the frame's stats report it.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PathPass {
+    pub name: String,
+    pub draw_calls: u64,
+    /// Samples that passed the depth test (occlusion query; with MSAA, samples, not pixels),
+    /// when counting.
+    pub fragments: Option<u64>,
+    pub gpu_ms: Option<f64>,
+    /// The pass's timestamp slots.
+    #[serde(skip)]
+    pub stamps: Option<(Stamp, Stamp)>,
+    #[serde(skip)]
+    query: Option<u32>,
+}
+
+/// An intermediate target of a forward path and its bytes per pixel (all samples).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PathTarget {
+    pub name: String,
+    pub bytes_per_pixel: u32,
+}
+
+/// What a forward path's frame did: its passes, its targets, its lists.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct ForwardPathStats {
+    pub path: RenderPath,
+    pub samples: u32,
+    pub depth_prepass: bool,
+    pub passes: Vec<PathPass>,
+    pub targets: Vec<PathTarget>,
+    /// Opaque and masked objects drawn, their light lists' entries summed, the longest.
+    pub objects: usize,
+    pub list_entries: u64,
+    pub longest_list: u32,
+    /// Multi-pass: (object, light) pairs drawn.
+    pub pairs: u64,
+    /// The post chain reads depth and normals (fog, depth of field, edge AA): the G-buffer pass
+    /// ran for it alone (`gbuffer` in `passes`).
+    pub gbuffer_for_post: bool,
+}
+
+impl ForwardPathStats {
+    /// Bytes per pixel of every intermediate target, summed.
+    pub fn bytes_per_pixel(&self) -> u32 {
+        self.targets.iter().map(|t| t.bytes_per_pixel).sum()
+    }
+
+    /// Draw calls of every pass, summed.
+    pub fn draw_calls(&self) -> u64 {
+        self.passes.iter().map(|p| p.draw_calls).sum()
+    }
+}
+
+/// Whether the post chain as `s` sets it reads the G-buffer (depth, normals): fog, depth of
+/// field, edge AA and their views. The forward paths then run the G-buffer pass for it alone.
+pub fn post_reads_gbuffer(s: &Settings, chain: bool) -> bool {
+    use crate::renderer::post::Aa;
+    use crate::renderer::settings::DebugView as V;
+    chain && (s.fog || s.dof || s.aa == Aa::Edge || matches!(s.debug_view, V::Edges | V::Coc))
+}
+
+/// The pipelines of one sample count, by [`super::gbuffer::topology_pipeline_index`] each.
+struct Pipelines {
+    depth: [wgpu::RenderPipeline; 6],
+    /// Single-pass shading after the depth pre-pass (LessEqual, no depth write).
+    single: [wgpu::RenderPipeline; 6],
+    /// Single-pass shading without it (Less, depth written).
+    single_no_prepass: [wgpu::RenderPipeline; 6],
+    base: [wgpu::RenderPipeline; 6],
+    pair: [wgpu::RenderPipeline; 6],
+    /// Blended surfaces (`fs_forward`), one- and two-sided: multisampled frames only.
+    blended: [wgpu::RenderPipeline; 2],
+}
+
+struct Msaa {
+    size: (u32, u32),
+    color: wgpu::TextureView,
+    depth: wgpu::TextureView,
+}
+
+pub struct ForwardPathsPass {
+    key: super::PipelineKey,
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipelines: Mutex<HashMap<u32, Arc<Pipelines>>>,
+    msaa: Mutex<Option<Arc<Msaa>>>,
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+/// What the frame hands the forward paths besides [`FrameInputs`].
+pub struct PathFrame<'a> {
+    pub lists: &'a ForwardPathLists,
+    /// The scene's background (the HDR colour is cleared to it).
+    pub background: [f32; 4],
+    /// The frame has blended surfaces (drawn after, forward).
+    pub blended: bool,
+    /// The G-buffer pass ran before, for the post chain.
+    pub gbuffer_for_post: bool,
+}
+
+impl ForwardPathsPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: QUERIES as u64 * 8,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as B;
+        Self {
+            key: shared.key.clone(),
+            module: shared.module.clone(),
+            layout: shared.surface_layout.clone(),
+            pipelines: Mutex::new(HashMap::new()),
+            msaa: Mutex::new(None),
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("forward path fragments"),
+                ty: wgpu::QueryType::Occlusion,
+                count: QUERIES,
+            }),
+            resolve: buffer("forward path query resolve", B::QUERY_RESOLVE | B::COPY_SRC),
+            readback: buffer("forward path query readback", B::COPY_DST | B::MAP_READ),
+        }
+    }
+
+    /// One pipeline: the scene's vertices through `vs`, `fs` (none: depth only) into `targets`.
+    #[allow(clippy::too_many_arguments)]
+    fn pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        vs: &str,
+        fs: Option<&str>,
+        topology: Topology,
+        double_sided: bool,
+        depth: (bool, Cmp, wgpu::StencilState),
+        targets: &[Option<wgpu::ColorTargetState>],
+        samples: u32,
+    ) -> wgpu::RenderPipeline {
+        let vertex_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
+        })];
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &vertex_buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: match topology {
+                    Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
+                    Topology::Lines => wgpu::PrimitiveTopology::LineList,
+                    Topology::Points => wgpu::PrimitiveTopology::PointList,
+                },
+                cull_mode: if double_sided || topology != Topology::Triangles { None } else { Some(wgpu::Face::Back) },
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: self.key.depth_format,
+                depth_write_enabled: Some(depth.0),
+                depth_compare: Some(super::z(self.key.reversed_z, depth.1)),
+                stencil: depth.2,
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+            fragment: fs.map(|fs| wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// The six pipelines of one stage (by [`super::gbuffer::topology_pipeline_index`]): opaque and masked
+    /// triangles, one- and two-sided, then lines and points (masked shader, two-sided).
+    #[allow(clippy::too_many_arguments)]
+    fn stage(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        vs: &str,
+        fs: Option<(&str, &str)>,
+        depth_fs_masked: bool,
+        depth: (bool, Cmp, wgpu::StencilState),
+        targets: &[Option<wgpu::ColorTargetState>],
+        samples: u32,
+    ) -> [wgpu::RenderPipeline; 6] {
+        let (opaque, masked) = match fs {
+            Some((o, m)) => (Some(o), Some(m)),
+            None => (None, depth_fs_masked.then_some("fs_forward_depth_masked")),
+        };
+        let p = |fs, topology, two_sided| {
+            self.pipeline(device, label, vs, fs, topology, two_sided, depth.clone(), targets, samples)
+        };
+        [
+            p(opaque, Topology::Triangles, false),
+            p(opaque, Topology::Triangles, true),
+            p(masked, Topology::Triangles, false),
+            p(masked, Topology::Triangles, true),
+            p(masked, Topology::Lines, true),
+            p(masked, Topology::Points, true),
+        ]
+    }
+
+    fn build(&self, device: &wgpu::Device, samples: u32) -> Result<Pipelines> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let replace =
+            [Some(wgpu::ColorTargetState { format: HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+        let add = [Some(wgpu::ColorTargetState {
+            format: HDR_FORMAT,
+            blend: Some(ADDITIVE),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let alpha = [Some(wgpu::ColorTargetState {
+            format: HDR_FORMAT,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        use wgpu::StencilOperation as Op;
+        let none = super::NO_STENCIL;
+        let tested = (false, Cmp::LessEqual, none.clone());
+        let written = (true, Cmp::Less, none.clone());
+        // Multi-pass: the ambient + sun draw marks its pixels with the object's stencil
+        // reference (its index mod 256; drawn in reverse, the surface the depth pass kept marks
+        // last), and a pair's draw lights only its object's pixels: of coincident surfaces
+        // (equal depth) only the kept one adds lights, as deferred shading lights one surface.
+        let owner = super::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
+        let marked = (false, Cmp::LessEqual, super::stencil(owner, owner));
+        let mine = super::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
+        let owned = (false, Cmp::LessEqual, super::stencil(mine, mine));
+        let single = Some(("fs_forward_single", "fs_forward_single_masked"));
+        let p = Pipelines {
+            depth: self.stage(device, "forward depth", "vs_forward", None, true, written.clone(), &[], samples),
+            single: self.stage(
+                device,
+                "forward single-pass",
+                "vs_forward",
+                single,
+                false,
+                tested.clone(),
+                &replace,
+                samples,
+            ),
+            single_no_prepass: self.stage(
+                device,
+                "forward single-pass (no pre-pass)",
+                "vs_forward",
+                single,
+                false,
+                written,
+                &replace,
+                samples,
+            ),
+            base: self.stage(
+                device,
+                "forward multi-pass ambient + sun",
+                "vs_forward",
+                Some(("fs_forward_base", "fs_forward_base_masked")),
+                false,
+                marked,
+                &replace,
+                samples,
+            ),
+            pair: self.stage(
+                device,
+                "forward multi-pass light",
+                "vs_forward_pair",
+                Some(("fs_forward_pair", "fs_forward_pair_masked")),
+                false,
+                owned,
+                &add,
+                samples,
+            ),
+            blended: [false, true].map(|two_sided| {
+                self.pipeline(
+                    device,
+                    "forward (blended, multisampled)",
+                    "vs_geometry",
+                    Some("fs_forward"),
+                    Topology::Triangles,
+                    two_sided,
+                    tested.clone(),
+                    &alpha,
+                    samples,
+                )
+            }),
+        };
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            bail!("building the forward paths' pipelines failed: {e}");
+        }
+        Ok(p)
+    }
+
+    fn pipelines(&self, device: &wgpu::Device, samples: u32) -> Result<Arc<Pipelines>> {
+        let mut map = self.pipelines.lock().map_err(|_| anyhow::anyhow!("forward pipelines lock poisoned"))?;
+        if let Some(p) = map.get(&samples) {
+            return Ok(p.clone());
+        }
+        let p = Arc::new(self.build(device, samples)?);
+        map.insert(samples, p.clone());
+        Ok(p)
+    }
+
+    fn msaa_targets(&self, device: &wgpu::Device, size: (u32, u32)) -> Result<Arc<Msaa>> {
+        let mut slot = self.msaa.lock().map_err(|_| anyhow::anyhow!("MSAA targets lock poisoned"))?;
+        if let Some(m) = slot.as_ref().filter(|m| m.size == size) {
+            return Ok(m.clone());
+        }
+        let make = |label, format| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 4,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let m = Arc::new(Msaa {
+            size,
+            color: make("hdr colour (4x MSAA)", HDR_FORMAT),
+            depth: make("depth (4x MSAA)", self.key.depth_format),
+        });
+        *slot = Some(m.clone());
+        Ok(m)
+    }
+
+    /// Records the path's passes into the HDR scene colour (resolved there with MSAA), the
+    /// blended surfaces after them, and the compose span's first stamp; returns what the
+    /// frame's stats report (fragments and times are filled in by [`Self::read`] and
+    /// `Queries::read`).
+    pub fn encode(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        pf: &PathFrame<'_>,
+        blended_pass: &super::forward::ForwardPass,
+    ) -> Result<ForwardPathStats> {
+        let s = f.settings;
+        let samples = s.msaa.samples();
+        let Some((hdr_view, _)) = &f.targets.hdr else { bail!("internal: the forward paths need the HDR colour") };
+        let pipes = self.pipelines(device, samples)?;
+        let msaa =
+            if samples > 1 { Some(self.msaa_targets(device, (f.targets.width, f.targets.height))?) } else { None };
+        let (color, depth) = match &msaa {
+            Some(m) => (&m.color, &m.depth),
+            None => (hdr_view, &f.targets.depth),
+        };
+        let multipass = s.path == RenderPath::ForwardMultipass;
+        let prepass = multipass || s.depth_prepass;
+        let count = s.count_fragments;
+        let [r, g, b, a] = pf.background.map(f64::from);
+        let opaque = &f.plan.draws.gbuffer;
+        let lists = pf.lists;
+        let depth_bytes = self.key.depth_format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+            + self.key.depth_format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0);
+        let hdr_bytes = HDR_FORMAT.block_copy_size(None).unwrap_or(8);
+        let mut stats = ForwardPathStats {
+            path: s.path,
+            samples,
+            depth_prepass: prepass,
+            objects: lists.objects,
+            list_entries: lists.list_entries,
+            longest_list: lists.longest_list,
+            pairs: lists.pairs.len() as u64,
+            gbuffer_for_post: pf.gbuffer_for_post,
+            ..Default::default()
+        };
+        if pf.gbuffer_for_post {
+            stats.passes.push(PathPass {
+                name: "g-buffer (post inputs)".into(),
+                draw_calls: opaque.len() as u64,
+                stamps: Some((Stamp::GBufferBegin, Stamp::GBufferEnd)),
+                ..Default::default()
+            });
+            stats.targets.push(PathTarget {
+                name: "g-buffer (post inputs)".into(),
+                bytes_per_pixel: self.key.layout.bytes_per_pixel(),
+            });
+        }
+        stats
+            .targets
+            .push(PathTarget { name: format!("depth-stencil x{samples}"), bytes_per_pixel: depth_bytes * samples });
+        stats.targets.push(PathTarget { name: format!("hdr colour x{samples}"), bytes_per_pixel: hdr_bytes * samples });
+        if samples > 1 {
+            stats.targets.push(PathTarget { name: "hdr colour (resolved)".into(), bytes_per_pixel: hdr_bytes });
+        }
+        let ops_depth = |clear: bool| wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(f.far_depth() as f32) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
+        };
+        // The last pass over the multisampled colour resolves it (the blended pass, when the
+        // frame has one).
+        let resolve_in_blended = msaa.is_some() && pf.blended;
+        let color_att = |clear: bool, last: bool| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: if last && msaa.is_some() { Some(hdr_view) } else { None },
+                ops: wgpu::Operations {
+                    load: if clear { wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }) } else { wgpu::LoadOp::Load },
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let query = |i: u32| (count).then_some(i);
+        let draw = |pass: &mut wgpu::RenderPass<'_>, list: &[Draw], pipelines: &[wgpu::RenderPipeline]| {
+            f.scene.draw(pass, list, pipelines);
+        };
+        // 1. Depth (the pre-pass, or multi-pass's depth pass).
+        if prepass {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(ops_depth(true)),
+                timestamp_writes: f.timestamps(Some(Stamp::DepthPassBegin), Some(Stamp::DepthPassEnd)),
+                occlusion_query_set: count.then_some(&self.queries),
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            if count {
+                pass.begin_occlusion_query(0);
+            }
+            draw(&mut pass, opaque, &pipes.depth);
+            if count {
+                pass.end_occlusion_query();
+            }
+            stats.passes.push(PathPass {
+                name: "depth".into(),
+                draw_calls: opaque.len() as u64,
+                stamps: Some((Stamp::DepthPassBegin, Stamp::DepthPassEnd)),
+                query: query(0),
+                ..Default::default()
+            });
+        }
+        // 2. Shading: single-pass (each object with its light list), or multi-pass's ambient +
+        //    sun per object.
+        {
+            let last = msaa.is_some() && !resolve_in_blended && !multipass;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(if multipass { "forward ambient + sun" } else { "forward single-pass" }),
+                color_attachments: &[color_att(true, last)],
+                depth_stencil_attachment: Some(ops_depth(!prepass)),
+                timestamp_writes: f.timestamps(Some(Stamp::ForwardShadeBegin), Some(Stamp::ForwardShadeEnd)),
+                occlusion_query_set: count.then_some(&self.queries),
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            if count {
+                pass.begin_occlusion_query(1);
+            }
+            let pipelines = match (multipass, prepass) {
+                (true, _) => &pipes.base,
+                (false, true) => &pipes.single,
+                (false, false) => &pipes.single_no_prepass,
+            };
+            // After a depth pass, every surface at the kept depth passes LessEqual: of
+            // coincident surfaces (equal depth) the last drawn would win, where the depth pass
+            // (Less) and the G-buffer pass keep the first. Drawn in reverse, the first is drawn
+            // last and wins, as in deferred shading.
+            if multipass {
+                // Each object's stencil reference marks its pixels for its pairs.
+                pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+                pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+                for &(i, p, m) in opaque.iter().rev() {
+                    let Some((range, base)) = f.scene.draws.get(i) else { continue };
+                    pass.set_pipeline(&pipelines[p]);
+                    if let Some(g) = f.scene.materials.get(m) {
+                        pass.set_bind_group(1, g, &[]);
+                    }
+                    pass.set_stencil_reference(i as u32 & 0xff);
+                    pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
+                }
+            } else if prepass {
+                let reversed: Vec<Draw> = opaque.iter().rev().copied().collect();
+                draw(&mut pass, &reversed, pipelines);
+            } else {
+                draw(&mut pass, opaque, pipelines);
+            }
+            if count {
+                pass.end_occlusion_query();
+            }
+            stats.passes.push(PathPass {
+                name: if multipass { "ambient + sun" } else { "shading" }.into(),
+                draw_calls: opaque.len() as u64,
+                stamps: Some((Stamp::ForwardShadeBegin, Stamp::ForwardShadeEnd)),
+                query: query(1),
+                ..Default::default()
+            });
+        }
+        // 3. Multi-pass: one additive draw per (object, light) pair, scissored to the light's
+        //    screen rectangle.
+        if multipass {
+            let last = msaa.is_some() && !resolve_in_blended;
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward lights (object, light) pairs"),
+                color_attachments: &[color_att(false, last)],
+                depth_stencil_attachment: Some(ops_depth(false)),
+                timestamp_writes: f.timestamps(Some(Stamp::ForwardPairsBegin), Some(Stamp::ForwardPairsEnd)),
+                occlusion_query_set: count.then_some(&self.queries),
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+            pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            if count {
+                pass.begin_occlusion_query(2);
+            }
+            let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
+            for (j, pair) in lists.pairs.iter().enumerate() {
+                let (i, p, m) = pair.draw;
+                let Some((range, base)) = f.scene.draws.get(i) else { continue };
+                if p != pipe {
+                    pass.set_pipeline(&pipes.pair[p]);
+                    pipe = p;
+                }
+                if m != mat {
+                    if let Some(g) = f.scene.materials.get(m) {
+                        pass.set_bind_group(1, g, &[]);
+                    }
+                    mat = m;
+                }
+                pass.set_stencil_reference(i as u32 & 0xff);
+                let [x, y, w, h] = pair.scissor;
+                pass.set_scissor_rect(x, y, w, h);
+                let instance = lists.pair_base + j as u32;
+                pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+            }
+            if count {
+                pass.end_occlusion_query();
+            }
+            stats.passes.push(PathPass {
+                name: "lights (object, light) pairs".into(),
+                draw_calls: lists.pairs.len() as u64,
+                stamps: Some((Stamp::ForwardPairsBegin, Stamp::ForwardPairsEnd)),
+                query: query(2),
+                ..Default::default()
+            });
+        }
+        // The compose span starts here, as deferred's HDR compose starts it: blended surfaces,
+        // then tonemap or the post chain.
+        if f.times {
+            drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward compose begin"),
+                color_attachments: &[super::super::targets::attachment(hdr_view, None)],
+                depth_stencil_attachment: None,
+                timestamp_writes: f.timestamps(Some(Stamp::ComposeBegin), None),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            }));
+        }
+        // 4. Blended surfaces, back to front, as today; multisampled with MSAA (and resolved).
+        if pf.blended {
+            if msaa.is_some() {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("forward (blended, multisampled)"),
+                    color_attachments: &[color_att(false, true)],
+                    depth_stencil_attachment: Some(ops_depth(false)),
+                    timestamp_writes: f.timestamps(Some(Stamp::ForwardBegin), Some(Stamp::ForwardEnd)),
+                    occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &f.frame.group, &[]);
+                if f.forward_counts {
+                    pass.begin_occlusion_query(0);
+                }
+                f.scene.draw(&mut pass, &f.plan.draws.forward, &pipes.blended);
+                if f.forward_counts {
+                    pass.end_occlusion_query();
+                }
+            } else {
+                blended_pass.encode(encoder, f);
+            }
+        }
+        if count {
+            encoder.resolve_query_set(&self.queries, 0..QUERIES, &self.resolve, 0);
+            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, QUERIES as u64 * 8);
+        }
+        Ok(stats)
+    }
+
+    /// Reads the frame's occlusion counts into `stats` (after the frame was submitted).
+    pub fn read(&self, device: &wgpu::Device, stats: &mut ForwardPathStats, count: bool) -> Result<()> {
+        if !count {
+            return Ok(());
+        }
+        let slice = self.readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
+        {
+            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
+            let words: &[u64] = bytemuck::cast_slice(&data);
+            for p in &mut stats.passes {
+                if let Some(q) = p.query {
+                    p.fragments = words.get(q as usize).copied();
+                }
+            }
+        }
+        self.readback.unmap();
+        Ok(())
+    }
+}

@@ -364,7 +364,7 @@ fn a_thin_wall_leaks_no_light() {
     // The wall: x = -4.52 .. -4.50, 20 units long, 3 high; the light 1 unit in front of it.
     let t = glam::DMat4::from_translation(DVec3::new(-4.51, 1.5, 0.0))
         * glam::DMat4::from_scale(DVec3::new(0.02, 3.0, 20.0));
-    s.objects.push(lampshade::scene::Object { mesh: 0, material: wall, transform: t });
+    s.objects.push(lampshade::scene::Object { mesh: 0, material: wall, transform: t, layer: 0 });
     if let Light::Point(p) = &mut s.lights[0] {
         p.position = DVec3::new(-3.5, 1.2, 0.0);
         p.radius = 5.0;
@@ -564,6 +564,8 @@ fn fallbacks_are_counted_in_the_stats() {
             intensity: 0.1,
             radius: 2.0,
             cast_shadows: k != 0,
+            cookie: None,
+            mask: lampshade::scene::ALL_LAYERS,
         }));
     }
     let st = Settings { shadow_budget_mb: 0.25, ..settings(ShadowMode::All) };

@@ -10,7 +10,8 @@
 
 use super::settings::{
     name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
-    LayoutChoice, Msaa, RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    LayoutChoice, Msaa, RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE,
+    MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.

@@ -619,3 +619,60 @@ fn gltf_extras_set_a_lights_shadow_flag() {
         off.warnings
     );
 }
+
+/// Per pixel, how many 8-bit steps the shadows take off (largest channel of the frame without
+/// shadows minus the frame with every light casting) on `path`.
+fn darkening(s: &Scene, path: lampshade::renderer::RenderPath) -> Vec<i32> {
+    let gpu = gpu();
+    let image = |shadows| {
+        let st = Settings { path, ..settings(shadows) };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &st).expect("renderer");
+        render_image(gpu, &mut r, s, &st, W, H).expect("render").0
+    };
+    let (shadowed, bare) = (image(ShadowMode::All), image(ShadowMode::None));
+    shadowed
+        .pixels()
+        .zip(bare.pixels())
+        .map(|(a, b)| (0..3).map(|c| b[c] as i32 - a[c] as i32).max().unwrap_or(0))
+        .collect()
+}
+
+/// Issue 14's other paths (light pre-pass, forward single- and multi-pass) shade each light
+/// through `shade_light` and the sun through `ambient_sun`, as deferred does, and the shadow
+/// pass runs before every path: each must darken the pixels deferred shadows, and only those.
+/// Compared away from shadow edges (a pixel whose 3x3 neighbourhood is all in deferred's
+/// shadow by >= 24 steps, or all untouched by it, <= 1 step): the paths' normals and positions
+/// differ in their last bits (G-buffer quantisation), which can move a penumbra by a pixel.
+#[test]
+fn every_render_path_shadows_the_same_pixels() {
+    use lampshade::renderer::RenderPath;
+    let s = scene("shadows");
+    let reference = darkening(&s, RenderPath::Deferred);
+    let (w, h) = (W as usize, H as usize);
+    let neighbourhood = |i: usize| {
+        let (x, y) = (i % w, i / w);
+        (y - 1..=y + 1).flat_map(move |y| (x - 1..=x + 1).map(move |x| y * w + x))
+    };
+    let interior: Vec<usize> = (0..w * h).filter(|i| i % w > 0 && i % w + 1 < w && i / w > 0 && i / w + 1 < h).collect();
+    let inside: Vec<usize> =
+        interior.iter().copied().filter(|&i| neighbourhood(i).all(|j| reference[j] >= 24)).collect();
+    let outside: Vec<usize> =
+        interior.iter().copied().filter(|&i| neighbourhood(i).all(|j| reference[j] <= 1)).collect();
+    assert!(inside.len() > 1000, "only {} pixels deep in deferred's shadows", inside.len());
+    assert!(outside.len() > 1000, "only {} pixels untouched by deferred's shadows", outside.len());
+    let mut failures = Vec::new();
+    for path in [RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass] {
+        let d = darkening(&s, path);
+        let missed = inside.iter().filter(|&&i| d[i] < 12).count();
+        let extra = outside.iter().filter(|&&i| d[i] > 1).count();
+        eprintln!(
+            "{path:?}: {missed} of {} shadowed pixels not darkened by >= 12 steps, {extra} of {} unshadowed ones darkened",
+            inside.len(),
+            outside.len()
+        );
+        if missed > 0 || extra > 0 {
+            failures.push(format!("{path:?}: {missed} shadowed pixels missed, {extra} unshadowed darkened"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -53,6 +53,23 @@ fn fs_tonemap(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(aces(c * camera.exposure), 1.0);
 }
 
+// The `shadow` view's factor: the least of the sun's (where it faces the sun) and of every
+// casting light's that reaches the point and faces it; 1 where none casts.
+fn shadow_view_factor(s: Surface) -> f32 {
+    let shadow_params = shadow_params_load();
+    var f = 1.0;
+    if camera.sun_dir.w > 0.5 && dot(s.normal, camera.sun_dir.xyz) > 0.0 {
+        f = ls_sun_shadow(s.position, s.normal);
+    }
+    for (var i = 0u; i < shadow_params.counts.x; i++) {
+        let l = lights[i];
+        if l.shadow.x != LS_NO_SHADOW && inside_light(s, l) && dot(s.normal, l.position - s.position) > 0.0 {
+            f = min(f, ls_shadow(l, s.position, s.normal));
+        }
+    }
+    return f;
+}
+
 @fragment
 fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy * compose.scale));
@@ -108,6 +125,27 @@ fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     } else if view == LS_VIEW_MATERIAL_ID {
         // The pixel's reflectance model, one colour each; the viewer draws the legend.
         c = select(vec3<f32>(0.0), brdf_debug_color(s.brdf), s.valid);
+    } else if view == LS_VIEW_SHADOW {
+        c = vec3<f32>(0.0, 0.0, 0.15);
+        if s.valid {
+            c = vec3<f32>(shadow_view_factor(s));
+        }
+    } else if view == LS_VIEW_CASCADES {
+        c = vec3<f32>(0.0, 0.0, 0.15);
+        if s.valid {
+            let shadow_params = shadow_params_load();
+            let i = sun_cascade(s.position);
+            var tint = vec3<f32>(0.5);
+            if shadow_params.sun.x != LS_NO_SHADOW && i < shadow_params.sun.y {
+                tint = array<vec3<f32>, 4>(
+                    vec3<f32>(1.0, 0.25, 0.25),
+                    vec3<f32>(0.25, 1.0, 0.25),
+                    vec3<f32>(0.3, 0.45, 1.0),
+                    vec3<f32>(1.0, 1.0, 0.25),
+                )[min(i, 3u)];
+            }
+            c = tint * (0.3 + 0.7 * ls_sun_shadow(s.position, s.normal));
+        }
     }
     return vec4<f32>(c, 1.0);
 }

@@ -83,7 +83,12 @@ fn ambient_sun(s: Surface) -> Lighting {
     if camera.sun_dir.w > 0.5 {
         let L = camera.sun_dir.xyz;
         let ndl = max(dot(s.normal, L), 0.0);
-        let sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
+        var sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
+        if ndl > 0.0 {
+            let shadow = ls_sun_shadow(s.position, s.normal);
+            sun.diffuse *= shadow;
+            sun.specular *= shadow;
+        }
         r.diffuse += sun.diffuse;
         r.specular += sun.specular;
     }

@@ -10,7 +10,7 @@ use crate::headless::render_image;
 use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
-    OUTPUT_FORMAT,
+    ShadowFilter, ShadowMode, OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
@@ -363,6 +363,23 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for (label, settings) in post {
         v.push(c("post", label.into(), settings, o.lights));
     }
+    // Issue 15: shadows of the sun and the spots, against the finest shadows (`shadow_reference`):
+    // atlas size, kernel, cascades. (Point lights' cube array is not built; the unrolled cube is
+    // the only layout.)
+    let shadowed = Settings { shadows: ShadowMode::Spots, ..base.clone() };
+    let mut sh = vec![("none".to_string(), Settings { shadows: ShadowMode::None, ..base.clone() })];
+    for mb in if q { vec![4.0, 64.0] } else { vec![1.0, 4.0, 16.0, 64.0] } {
+        sh.push((format!("atlas {mb} MiB"), Settings { shadow_budget_mb: mb, ..shadowed.clone() }));
+    }
+    for f in [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16] {
+        sh.push((f.name(), Settings { shadow_filter: f, ..shadowed.clone() }));
+    }
+    for n in if q { vec![1, 4] } else { vec![1, 2, 4] } {
+        sh.push((format!("{n} cascades"), Settings { shadow_cascades: n, ..shadowed.clone() }));
+    }
+    for (label, settings) in sh {
+        v.push(c("shadows", label, settings, o.lights));
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     v
 }
@@ -386,6 +403,7 @@ pub const GROUPS: &[&str] = &[
     "ambient",
     "forward",
     "post",
+    "shadows",
     "path",
 ];
 
@@ -436,14 +454,26 @@ struct Reference {
     peak: f32,
 }
 
-fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32)) -> Result<Reference> {
+/// The finest shadows of a mode, the `shadows` group's reference: a 64 MiB atlas (4096
+/// texels), 16 Poisson taps, 4 cascades.
+pub fn shadow_reference(mode: ShadowMode) -> Settings {
+    Settings {
+        shadows: mode,
+        shadow_budget_mb: 64.0,
+        shadow_filter: ShadowFilter::Poisson16,
+        shadow_cascades: 4,
+        ..Settings::default()
+    }
+}
+
+fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shadows: ShadowMode) -> Result<Reference> {
     let settings = Settings {
         culling: reference_culling(scene.lights.len(), size),
         layout: LayoutChoice::Reference,
         accumulation: AccumFormat::Rgba32Float,
         count_fragments: false,
         timestamps: false,
-        ..Settings::default()
+        ..shadow_reference(shadows)
     };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings)?;
     let (image, _) = render_image(gpu, &mut r, scene, &settings, size.0, size.1)?;
@@ -507,17 +537,19 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         }
     }
     // By scene, light count, size and radius factor (bits).
-    type RefKey<'a> = (&'a str, usize, (u32, u32), u64);
+    type RefKey<'a> = (&'a str, usize, (u32, u32), u64, ShadowMode);
     let mut refs: HashMap<RefKey, Reference> = HashMap::new();
     let mut rows = Vec::new();
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
         let (w, h) = cfg.size;
-        let reference =
-            match refs.entry((cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits())) {
-                std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-                std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size)?),
-            };
+        // The `shadows` group (its `none` row too) is held against the finest shadows.
+        let shadows = if cfg.group == "shadows" { ShadowMode::Spots } else { ShadowMode::None };
+        let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);
+        let reference = match refs.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size, shadows)?),
+        };
         let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
         let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;

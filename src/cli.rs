@@ -126,7 +126,7 @@ pub struct BenchArgs {
     #[arg(long, conflicts_with = "lights")]
     pub light_grid: Option<u32>,
     /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
-    /// tessellation, resolution, lights, radius, ambient, forward, post, path.
+    /// tessellation, resolution, lights, radius, ambient, forward, post, shadows, path.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }

@@ -121,6 +121,7 @@ fn corner_lights(reaching: bool) -> Scene {
                 color: Vec3::ONE,
                 intensity: 60.0,
                 radius: 1.0,
+                cast_shadows: true,
                 cookie: None,
                 mask: lampshade::scene::ALL_LAYERS,
             }));

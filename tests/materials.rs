@@ -236,6 +236,7 @@ fn one_sphere(m: Material) -> Scene {
         color: Vec3::ONE,
         intensity: 2.0,
         radius: 12.0,
+        cast_shadows: true,
         cookie: None,
         mask: lampshade::scene::ALL_LAYERS,
     })];

@@ -111,6 +111,7 @@ fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
         color: Vec3::ONE,
         intensity: 50.0,
         radius: 2.5,
+        cast_shadows: true,
         cookie: None,
         mask: lampshade::scene::ALL_LAYERS,
     }));
@@ -121,6 +122,7 @@ fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
             color: Vec3::new(1.0, 0.8, 0.6),
             intensity: crowd_intensity,
             radius: 1.5,
+            cast_shadows: true,
             cookie: None,
             mask: lampshade::scene::ALL_LAYERS,
         }));

@@ -22,7 +22,7 @@
 //!                        lights scale exposure time speed move-speed animate counts ideal
 //!                        panel-left panel-right panel-gbuffer
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
-//!                        ambient sun radius intensity colour inner outer mask cookie
+//!                        ambient sun radius intensity colour inner outer cast mask cookie
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)
 //! click U V              click the viewport at (U, V) (selects the light there)

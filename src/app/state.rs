@@ -70,9 +70,16 @@ pub struct LightEdit {
     pub radius: f32,
     /// Spot half-angles (inner, outer) in radians; `None` for point lights.
     pub angles: Option<(f32, f32)>,
+    /// Issue 15: the light's own shadow flag (`Light::cast_shadows`).
+    #[serde(default = "cast_default")]
+    pub cast_shadows: bool,
     /// Culling mask (seed 004): bit k = lights layer k.
     #[serde(default = "all_layers")]
     pub mask: u32,
+}
+
+fn cast_default() -> bool {
+    true
 }
 
 fn all_layers() -> u32 {
@@ -82,14 +89,20 @@ fn all_layers() -> u32 {
 impl LightEdit {
     pub fn of(light: &Light) -> Self {
         match light {
-            Light::Point(p) => {
-                Self { color: p.color, intensity: p.intensity, radius: p.radius, angles: None, mask: p.mask }
-            }
+            Light::Point(p) => Self {
+                color: p.color,
+                intensity: p.intensity,
+                radius: p.radius,
+                angles: None,
+                cast_shadows: p.cast_shadows,
+                mask: p.mask,
+            },
             Light::Spot(s) => Self {
                 color: s.color,
                 intensity: s.intensity,
                 radius: s.radius,
                 angles: Some((s.inner_angle, s.outer_angle)),
+                cast_shadows: s.cast_shadows,
                 mask: s.mask,
             },
         }
@@ -101,6 +114,7 @@ impl LightEdit {
                 p.color = self.color;
                 p.intensity = self.intensity;
                 p.radius = self.radius;
+                p.cast_shadows = self.cast_shadows;
                 p.mask = self.mask;
             }
             Light::Spot(s) => {
@@ -108,6 +122,7 @@ impl LightEdit {
                 s.color = self.color;
                 s.intensity = self.intensity;
                 s.radius = self.radius;
+                s.cast_shadows = self.cast_shadows;
                 if let Some((inner, outer)) = self.angles {
                     s.inner_angle = inner;
                     s.outer_angle = outer;
@@ -303,7 +318,7 @@ impl UiState {
                 // The same sun as the panel's checkbox.
                 self.sun = Some(parse_bool(value)?.then(Sun::default_sun));
             }
-            "radius" | "intensity" | "colour" | "color" | "inner" | "outer" => {
+            "radius" | "intensity" | "colour" | "color" | "inner" | "outer" | "cast" => {
                 let Some(k) = self.selected_light else {
                     return Err(format!("'{name}' edits the selected light: select one first"));
                 };
@@ -313,6 +328,8 @@ impl UiState {
                     "radius" => e.radius = in_range("radius", parse_f64(value)?, 0.01, 10_000.0)? as f32,
                     "intensity" => e.intensity = in_range("intensity", parse_f64(value)?, 0.0, 10_000.0)? as f32,
                     "colour" | "color" => e.color = parse_colour(value)?,
+                    // Issue 15: the selected light's shadow flag.
+                    "cast" => e.cast_shadows = parse_bool(value)?,
                     _ => {
                         let Some((inner, outer)) = e.angles else {
                             return Err(format!("light {k} is a point light: it has no cone angles"));

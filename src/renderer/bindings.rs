@@ -21,6 +21,14 @@ pub enum Kind {
     Texture { filterable: bool },
     /// A filtering sampler.
     Sampler,
+    /// A 2D depth texture (`texture_depth_2d`), read through a comparison sampler.
+    DepthTexture,
+    /// A comparison sampler (`sampler_comparison`): hardware 2x2 PCF.
+    ComparisonSampler,
+    /// A 2D unsigned-integer texture (`texture_2d<u32>`) of records, read with `textureLoad` in
+    /// every stage: a table that does not take a storage-buffer slot (WebGPU's default limit of
+    /// 8 per stage is already met by the frame and post groups).
+    UintTexture,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -63,8 +71,19 @@ pub const FRAME: Group = Group {
         // Rgba8Unorm texture read with textureLoad: a storage buffer would pass the 8 a stage
         // may bind in the post passes; `records::cookie_words`, seed 004).
         texture(5, "cookie_texels", false),
+        // Issue 15: the shadow atlas, its comparison sampler, and the shadow table: row 0 the
+        // frame's `ShadowParams`, row 1 + i tile i's `ShadowTile`, as their bytes
+        // (`records::SHADOW_TABLE_WIDTH` Rgba32Uint texels a row; `shadow_params_load` and
+        // `shadow_tile_load` in common.wgsl). Slots from 50.
+        Binding { slot: 50, name: "shadow_atlas", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
+        Binding { slot: 51, name: "shadow_sampler", wgsl_type: "sampler_comparison", kind: Kind::ComparisonSampler },
+        Binding { slot: 52, name: "shadow_table", wgsl_type: "texture_2d<u32>", kind: Kind::UintTexture },
     ],
 };
+
+/// The frame bindings the shadow pass's casters read (objects and the shadow table): its
+/// group 0 is this subset of [`FRAME`], without the atlas it renders into.
+pub const SHADOW_CASTER_SLOTS: [u32; 2] = [2, 52];
 
 /// Group 1 of the surface passes: a material's maps and sampler. The G-buffer takes group 1 in
 /// the lighting passes; the material's slots start at 10 so the two never share a number.
@@ -147,7 +166,11 @@ impl Group {
             let var = match b.kind {
                 Kind::Storage { .. } => "var<storage, read>",
                 Kind::StorageReadWrite => "var<storage, read_write>",
-                Kind::Texture { .. } | Kind::Sampler => "var",
+                Kind::Texture { .. }
+                | Kind::Sampler
+                | Kind::DepthTexture
+                | Kind::ComparisonSampler
+                | Kind::UintTexture => "var",
             };
             let _ = writeln!(s, "@group({}) @binding({}) {var} {}: {};", self.index, b.slot, b.name, b.wgsl_type);
         }
@@ -155,9 +178,15 @@ impl Group {
     }
 
     pub fn layout(&self, device: &wgpu::Device) -> wgpu::BindGroupLayout {
+        self.layout_of(device, |_| true)
+    }
+
+    /// The layout of the bindings whose slots `keep` accepts.
+    pub fn layout_of(&self, device: &wgpu::Device, keep: impl Fn(u32) -> bool) -> wgpu::BindGroupLayout {
         let entries: Vec<wgpu::BindGroupLayoutEntry> = self
             .bindings
             .iter()
+            .filter(|b| keep(b.slot))
             .map(|b| wgpu::BindGroupLayoutEntry {
                 binding: b.slot,
                 visibility: match b.kind {
@@ -165,6 +194,9 @@ impl Group {
                         wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
                     }
                     Kind::StorageReadWrite => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                    Kind::UintTexture => {
+                        wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
+                    }
                     _ => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 },
                 ty: match b.kind {
@@ -184,6 +216,17 @@ impl Group {
                         multisampled: false,
                     },
                     Kind::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    Kind::DepthTexture => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    Kind::ComparisonSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    Kind::UintTexture => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
                 },
                 count: None,
             })

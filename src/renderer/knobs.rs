@@ -10,7 +10,8 @@
 
 use super::settings::{
     name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
-    LayoutChoice, Msaa, RenderPath, Settings, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    LayoutChoice, Msaa, RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE,
+    MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -517,6 +518,102 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.aa),
         put: |s, v| {
             s.aa = choice("anti-aliasing", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadows",
+        what: "shadow casters",
+        help: "Which lights cast shadows: none, sun, spots (the sun and spots) or all (points too)",
+        values: Values::Choice(names::<ShadowMode>),
+        cli: true,
+        get: |s| name_of(&s.shadows),
+        put: |s, v| {
+            s.shadows = choice("shadow casters", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-budget",
+        what: "shadow atlas budget",
+        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits)",
+        values: Values::Float { min: 0.25, max: 1024.0, open: (false, false), slider: (1.0, 64.0) },
+        cli: true,
+        get: |s| s.shadow_budget_mb.to_string(),
+        put: |s, v| {
+            s.shadow_budget_mb = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-bias",
+        what: "shadow depth bias",
+        help: "Constant shadow depth bias, in shadow-map texels at the receiver",
+        values: Values::Float { min: 0.0, max: 100.0, open: (false, false), slider: (0.0, 4.0) },
+        cli: true,
+        get: |s| s.shadow_bias.to_string(),
+        put: |s, v| {
+            s.shadow_bias = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-slope-bias",
+        what: "shadow slope bias",
+        help: "Slope-scaled shadow depth bias: texels x tan(angle to the light), tan at most 10",
+        values: Values::Float { min: 0.0, max: 100.0, open: (false, false), slider: (0.0, 4.0) },
+        cli: true,
+        get: |s| s.shadow_slope_bias.to_string(),
+        put: |s, v| {
+            s.shadow_slope_bias = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-normal-offset",
+        what: "shadow normal offset",
+        help: "Shadow lookups move this many texels along the surface normal, beyond the filter's reach (1, 2 or 3 texels)",
+        values: Values::Float { min: 0.0, max: 100.0, open: (false, false), slider: (0.0, 4.0) },
+        cli: true,
+        get: |s| s.shadow_normal_offset.to_string(),
+        put: |s, v| {
+            s.shadow_normal_offset = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-filter",
+        what: "shadow filter",
+        help: "Shadow filter kernel: hardware 2x2 PCF, 3x3 of them, or 16 Poisson taps",
+        values: Values::Choice(names::<ShadowFilter>),
+        cli: true,
+        get: |s| name_of(&s.shadow_filter),
+        put: |s, v| {
+            s.shadow_filter = choice("shadow filter", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-cascades",
+        what: "sun shadow cascades",
+        help: "Cascades of the sun's shadow map over the view frustum",
+        values: Values::Whole { min: 1, max: 4 },
+        cli: true,
+        get: |s| s.shadow_cascades.to_string(),
+        put: |s, v| {
+            s.shadow_cascades = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-split-lambda",
+        what: "cascade split lambda",
+        help: "Cascade splits: lambda x logarithmic + (1 - lambda) x uniform",
+        values: Values::Float { min: 0.0, max: 1.0, open: (false, false), slider: (0.0, 1.0) },
+        cli: true,
+        get: |s| s.shadow_split_lambda.to_string(),
+        put: |s, v| {
+            s.shadow_split_lambda = number(v)? as f32;
             Ok(())
         },
     },

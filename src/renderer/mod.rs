@@ -24,6 +24,7 @@ pub mod post;
 pub mod records;
 pub mod scene_gpu;
 pub mod settings;
+pub mod shadows;
 pub mod stats;
 pub mod targets;
 pub mod tiles;
@@ -43,7 +44,7 @@ use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
     AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, RenderPath,
-    Settings,
+    Settings, ShadowFilter, ShadowMode,
 };
 use stats::Stamp;
 pub use stats::{CpuMs, FrameStats, LightStats};
@@ -68,6 +69,8 @@ struct LastFrame {
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
     plan: FramePlan,
+    /// Issue 15: the shadow tiles and who casts.
+    shadows: shadows::ShadowPlan,
     /// The path it was drawn with: the forward paths leave no G-buffer to read (what the
     /// targets hold is an older frame's).
     path: RenderPath,
@@ -337,10 +340,28 @@ impl Renderer {
         for (l, c) in records.lights.iter_mut().zip(&clamps.lights) {
             l.clamp = *c;
         }
+        // Issue 15: who casts, each caster's tiles in the atlas (`shadows`).
+        let shadow_plan = shadows::plan(
+            scene,
+            &shadows::ShadowInputs {
+                settings,
+                bounds: &gpu_scene.bounds,
+                footprints: plan.lights.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
+                size,
+                proj: records.proj,
+                max_texture: self.limits.max_texture_dimension_2d,
+            },
+        );
+        for (l, &(first, count)) in records.lights.iter_mut().zip(&shadow_plan.lights) {
+            l.shadow = [first, count, 0, 0];
+        }
         let plan_ms = clock.elapsed().as_secs_f64() * 1e3;
         let clock = std::time::Instant::now();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists, scene);
+        let bgl = &self.passes.shared.frame_bgl;
+        let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
+        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);
         let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
@@ -363,6 +384,10 @@ impl Renderer {
         // The frame as the seeds draw it.
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        // 0. Shadows (issue 15): each casting light's depth into its tiles of the atlas, on every
+        //    path (all of them shade lights through `shade_light` and the sun through
+        //    `ambient_sun`, which read the atlas).
+        p.shadows.encode(&self.device, &mut encoder, &f, &shadow_plan);
         let draw_calls;
         let mut path_stats = None;
         let mut prepass_stats = None;
@@ -493,6 +518,7 @@ impl Renderer {
                 tonemap: settings.tonemap,
             }),
             cpu_ms,
+            shadow: (settings.shadows != ShadowMode::None).then(|| shadow_plan.stats.clone()),
             path: settings.path,
             prepass: prepass_stats,
             ..Default::default()
@@ -510,6 +536,7 @@ impl Renderer {
             lights: records.lights,
             ambient_clamp: records.camera.light_clamp,
             plan,
+            shadows: shadow_plan,
             path: settings.path,
         };
         Ok(stats)
@@ -555,6 +582,12 @@ impl Renderer {
     /// could add to a channel at most. The f64 reference applies the same values.
     pub fn light_clamps(&self) -> (f32, Vec<f32>) {
         (self.last.ambient_clamp, self.last.lights.iter().map(|l| l.clamp).collect())
+    }
+
+    /// The last frame's shadow plan (issue 15): the atlas's tiles as the shaders read them,
+    /// each light's (first tile, count), the sun's cascades and the stats.
+    pub fn shadow_plan(&self) -> &shadows::ShadowPlan {
+        &self.last.shadows
     }
 
     /// The last frame's per-light plans (method, volume, planes crossed, screen share).

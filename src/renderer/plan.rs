@@ -864,6 +864,7 @@ mod tests {
                 color: Vec3::ONE,
                 intensity: 1.0,
                 radius,
+                cast_shadows: true,
                 cookie: None,
                 mask: crate::scene::ALL_LAYERS,
             }),

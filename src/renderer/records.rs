@@ -118,6 +118,47 @@ gpu_record! {
         pub cookie_size: u32,
         pub cookie_pad0: u32,
         pub cookie_pad1: u32,
+        /// Issue 15: x, the light's first shadow tile in `shadow_tiles` (a spot's one, a point
+        /// light's six faces in a row), or `NO_SHADOW` (unshadowed; filled by `shadows::plan`);
+        /// y, its tile count (1 or 6); z, w unused.
+        pub shadow: [u32; 4],
+    }
+}
+
+/// `LightRecord::shadow.x` of a light that casts no shadow this frame.
+pub const NO_SHADOW: u32 = u32::MAX;
+/// `LightRecord::shadow` of a light that casts no shadow this frame.
+pub const UNSHADOWED: [u32; 4] = [NO_SHADOW, 0, 0, 0];
+
+gpu_record! {
+    /// One shadow-map tile of the atlas (issue 15): how a view-space point maps into it.
+    /// `to_light` turns view space into the tile's light space (the light looks down -z);
+    /// then ndc.xy = q.xy x `proj.xy` / w with w = -q.z (perspective) or 1 (orthographic),
+    /// and the stored depth is -q.z x `proj.z` + `proj.w` (linear in distance, 0 ..= 1).
+    pub struct ShadowTile as "ShadowTile" {
+        pub to_light: [[f32; 4]; 4],
+        pub proj: [f32; 4],
+        /// The tile in the atlas: u, v of its corner and its size, in atlas uv.
+        pub rect: [f32; 4],
+        /// Orthographic (1) or perspective (0); the world size of a texel at w = 1; the tile's
+        /// resolution in texels; 0.
+        pub info: [f32; 4],
+    }
+}
+
+gpu_record! {
+    /// The frame's shadow parameters (`shadow_params` in the shaders; `shadows::plan`).
+    pub struct ShadowParams as "ShadowParams" {
+        /// The sun's first cascade tile (`NO_SHADOW`: the sun casts none), its cascades, the
+        /// filter (`ShadowFilter`), the number of objects (the shadow pass's instance index is
+        /// tile x objects + object).
+        pub sun: [u32; 4],
+        /// View depth (-z) where each cascade ends.
+        pub splits: [f32; 4],
+        /// Constant bias, slope bias, normal offset (texels), 1 / atlas side.
+        pub bias: [f32; 4],
+        /// The frame's light count (the `shadow` debug view walks them), 0, 0, 0.
+        pub counts: [u32; 4],
     }
 }
 
@@ -225,6 +266,8 @@ pub fn layouts() -> Vec<RecordLayout> {
         ComposeParams::layout(),
         TileParams::layout(),
         PostParams::layout(),
+        ShadowTile::layout(),
+        ShadowParams::layout(),
     ]
 }
 
@@ -258,6 +301,7 @@ impl LightRecord {
                 cos_inner: -1.0,
                 tan_outer: 0.0,
                 clamp: f32::MAX,
+                shadow: UNSHADOWED,
                 cookie_up: [0.0, 1.0, 0.0],
                 cookie: NO_COOKIE,
                 mask: p.mask,
@@ -276,6 +320,7 @@ impl LightRecord {
                 cos_inner: s.inner_angle.cos(),
                 tan_outer: s.outer_angle.tan(),
                 clamp: f32::MAX,
+                shadow: UNSHADOWED,
                 cookie_up: (rot * crate::scene::cookie::spot_up(s.direction.as_dvec3())).as_vec3().into(),
                 cookie: NO_COOKIE,
                 mask: s.mask,
@@ -458,6 +503,56 @@ pub struct FrameBuffers {
     /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
     pub compose: wgpu::Buffer,
     pub group: wgpu::BindGroup,
+    /// Issue 15: the shadow atlas (Depth32Float, `shadow_side` square), its view and comparison
+    /// sampler, the tiles (`ShadowTile`) and the frame's `ShadowParams`.
+    pub shadow_atlas: wgpu::Texture,
+    pub shadow_view: wgpu::TextureView,
+    pub shadow_sampler: wgpu::Sampler,
+    /// The shadow table (`bindings::FRAME`'s `shadow_table`): row 0 the `ShadowParams`, row
+    /// 1 + i tile i, each as its bytes.
+    pub shadow_table: wgpu::Texture,
+    pub shadow_table_view: wgpu::TextureView,
+}
+
+/// Rgba32Uint texels a shadow-table row holds: a `ShadowTile` (112 bytes) or the
+/// `ShadowParams` (64).
+pub const SHADOW_TABLE_WIDTH: u32 = 7;
+const _: () = assert!(std::mem::size_of::<ShadowTile>() == 16 * SHADOW_TABLE_WIDTH as usize);
+const _: () = assert!(std::mem::size_of::<ShadowParams>() <= 16 * SHADOW_TABLE_WIDTH as usize);
+
+fn shadow_table(device: &wgpu::Device, rows: u32) -> (wgpu::Texture, wgpu::TextureView) {
+    let t = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow table"),
+        size: wgpu::Extent3d { width: SHADOW_TABLE_WIDTH, height: rows, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba32Uint,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let v = t.create_view(&Default::default());
+    (t, v)
+}
+
+/// Format of the shadow atlas.
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+fn shadow_atlas(device: &wgpu::Device, side: u32) -> (wgpu::Texture, wgpu::TextureView) {
+    let t = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow atlas"),
+        size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let v = t.create_view(&Default::default());
+    (t, v)
 }
 
 /// The cookie texels' texture: `width` x `rows` Rgba8Unorm (read with textureLoad, exact).
@@ -494,9 +589,24 @@ impl FrameBuffers {
         let compose = storage(device, "compose params", COMPOSE_SLOT * (views + 1));
         let cookie_texels = cookie_texture(device, 1, 1);
         let cookie_view = cookie_texels.create_view(&Default::default());
-        let group =
-            Self::bind(device, frame_bgl, [&camera, &lights, &objects, &light_lists, &draw_lights], &cookie_view);
+        let (shadow_atlas, shadow_view) = shadow_atlas(device, 1);
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow comparison"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+        let (shadow_table, shadow_table_view) = shadow_table(device, 16);
+        let group = Self::bind(
+            device,
+            frame_bgl,
+            [&camera, &lights, &objects, &light_lists, &draw_lights],
+            &cookie_view,
+            (&shadow_view, &shadow_sampler, &shadow_table_view),
+        );
         Self {
+            group,
             camera,
             lights,
             objects,
@@ -506,7 +616,11 @@ impl FrameBuffers {
             cookie_view,
             cookie_key: Vec::new(),
             compose,
-            group,
+            shadow_atlas,
+            shadow_view,
+            shadow_sampler,
+            shadow_table,
+            shadow_table_view,
         }
     }
 
@@ -515,20 +629,83 @@ impl FrameBuffers {
         bgl: &wgpu::BindGroupLayout,
         buffers: [&wgpu::Buffer; 5],
         cookies: &wgpu::TextureView,
+        shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView),
     ) -> wgpu::BindGroup {
-        let mut entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-            .collect();
-        entries.push(wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(cookies) });
+        let mut resources: Vec<wgpu::BindingResource<'_>> = buffers.iter().map(|b| b.as_entire_binding()).collect();
+        resources.extend([
+            wgpu::BindingResource::TextureView(cookies),
+            wgpu::BindingResource::TextureView(shadow.0),
+            wgpu::BindingResource::Sampler(shadow.1),
+            wgpu::BindingResource::TextureView(shadow.2),
+        ]);
+        let entries = super::bindings::FRAME.entries(resources);
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: bgl, entries: &entries })
     }
 
     /// Binds the buffers again for another pipeline configuration's layout.
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
         let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
-        self.group = Self::bind(device, frame_bgl, buffers, &self.cookie_view);
+        let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view);
+        self.group = Self::bind(device, frame_bgl, buffers, &self.cookie_view, shadow);
+    }
+
+    /// The shadow pass's group 0 (`bindings::SHADOW_CASTER_SLOTS`) for `bgl`.
+    pub fn caster_group(&self, device: &wgpu::Device, bgl: &wgpu::BindGroupLayout) -> wgpu::BindGroup {
+        let entries = [
+            wgpu::BindGroupEntry { binding: 2, resource: self.objects.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 52, resource: wgpu::BindingResource::TextureView(&self.shadow_table_view) },
+        ];
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow casters"),
+            layout: bgl,
+            entries: &entries,
+        })
+    }
+
+    /// Side of the shadow atlas as allocated.
+    pub fn shadow_side(&self) -> u32 {
+        self.shadow_atlas.width()
+    }
+
+    /// Reallocates the shadow atlas at `side` texels square when it has another size, and
+    /// writes the frame's shadow tiles and parameters.
+    pub fn upload_shadows(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        frame_bgl: &wgpu::BindGroupLayout,
+        side: u32,
+        tiles: &[ShadowTile],
+        params: &ShadowParams,
+    ) {
+        let mut rebind = false;
+        if self.shadow_atlas.width() != side {
+            (self.shadow_atlas, self.shadow_view) = shadow_atlas(device, side.max(1));
+            rebind = true;
+        }
+        let rows = tiles.len() as u32 + 1;
+        if self.shadow_table.height() < rows {
+            (self.shadow_table, self.shadow_table_view) = shadow_table(device, rows.next_power_of_two());
+            rebind = true;
+        }
+        let row = 16 * SHADOW_TABLE_WIDTH as usize;
+        let mut bytes = vec![0u8; row * rows as usize];
+        bytes[..std::mem::size_of::<ShadowParams>()].copy_from_slice(bytemuck::bytes_of(params));
+        bytes[row..].copy_from_slice(bytemuck::cast_slice(tiles));
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.shadow_table,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &bytes,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row as u32), rows_per_image: Some(rows) },
+            wgpu::Extent3d { width: SHADOW_TABLE_WIDTH, height: rows, depth_or_array_layers: 1 },
+        );
+        if rebind {
+            self.rebind(device, frame_bgl);
+        }
     }
 
     /// Writes the frame's records, growing the buffers (to the next power of two) as needed.

@@ -64,7 +64,11 @@ knob_names!(
     RenderPath => "rendering path",
     ClusterBuilder => "cluster list builder",
     Msaa => "MSAA sample count",
+    ShadowMode => "shadow casters",
+    ShadowFilter => "shadow filter",
 );
+
+pub use super::shadows::{ShadowFilter, ShadowMode};
 
 pub use super::post::{Aa, Tonemap};
 
@@ -261,10 +265,16 @@ pub enum DebugView {
     /// Depth of field's circle of confusion: dark green where in focus (under half a pixel,
     /// copied unchanged), grey growing to white at `post::MAX_COC` px.
     Coc = 15,
+    /// Issue 15: the shadow factor, the least of the sun's and of every casting light's that
+    /// reaches the pixel: white lit, black shadowed; dark blue where no surface is drawn.
+    Shadow = 16,
+    /// The sun's cascades, one colour each (red, green, blue, yellow), darkened by its shadow;
+    /// grey beyond the last cascade.
+    Cascades = 17,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 16] = [
+    pub const ALL: [DebugView; 18] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -281,6 +291,8 @@ impl DebugView {
         DebugView::Histogram,
         DebugView::Edges,
         DebugView::Coc,
+        DebugView::Shadow,
+        DebugView::Cascades,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
@@ -488,6 +500,25 @@ pub struct Settings {
     pub vignette: f32,
     /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
     pub aa: Aa,
+    /// Which lights cast shadows (issue 15; `renderer::shadows`): none, the sun, the sun and
+    /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
+    pub shadows: ShadowMode,
+    /// The shadow atlas's byte budget in MiB (one Depth32Float texture; its side is the largest
+    /// power of two that fits, up to the device's limit).
+    pub shadow_budget_mb: f32,
+    /// Constant depth bias, in shadow-map texels (projected to world units at the receiver).
+    pub shadow_bias: f32,
+    /// Slope-scaled depth bias: texels x tan(angle between the normal and the light).
+    pub shadow_slope_bias: f32,
+    /// Normal offset: the lookup point moves this many texels along the surface normal beyond
+    /// the filter's own reach (`ShadowFilter::reach`).
+    pub shadow_normal_offset: f32,
+    /// The filter kernel of the shadow lookup.
+    pub shadow_filter: ShadowFilter,
+    /// Sun cascades (1 ..= 4) over the view frustum.
+    pub shadow_cascades: u32,
+    /// Cascade splits: lambda x logarithmic + (1 - lambda) x uniform.
+    pub shadow_split_lambda: f32,
     /// Who builds the clustered mode's lists.
     pub cluster_build: ClusterBuilder,
 }
@@ -533,6 +564,14 @@ impl Default for Settings {
             aperture: 8.0,
             vignette: 0.0,
             aa: Aa::Off,
+            shadows: ShadowMode::None,
+            shadow_budget_mb: 16.0,
+            shadow_bias: 1.0,
+            shadow_slope_bias: 1.0,
+            shadow_normal_offset: 1.0,
+            shadow_filter: ShadowFilter::Pcf3x3,
+            shadow_cascades: 3,
+            shadow_split_lambda: 0.7,
             cluster_build: ClusterBuilder::Cpu,
         }
     }

@@ -154,10 +154,13 @@ pub enum Stamp {
     /// stamps).
     PrepassBegin = 32,
     PrepassEnd = 33,
+    /// Issue 15: the shadow pass (before the G-buffer; not in `gpu_ms.total`).
+    ShadowsBegin = 34,
+    ShadowsEnd = 35,
 }
 
 impl Stamp {
-    pub const COUNT: u32 = 34;
+    pub const COUNT: u32 = 36;
 }
 
 /// Byte offset of the light pre-pass's two occlusion counts (pass 1, pass 3) in the resolve
@@ -354,6 +357,9 @@ pub struct FrameStats {
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
+    /// Issue 15: the shadow atlas and who casts (`None` with `--shadows none`).
+    #[serde(default)]
+    pub shadow: Option<crate::renderer::shadows::ShadowStats>,
     /// The forward paths' passes, targets and lists (`None` on the other paths).
     pub forward_path: Option<super::passes::forward_paths::ForwardPathStats>,
     /// The render path the frame was drawn with.
@@ -596,6 +602,9 @@ impl Queries {
                     }
                 }
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+                if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
+                    sh.gpu_ms = span(Stamp::ShadowsBegin, Stamp::ShadowsEnd);
+                }
                 if let Some(fp) = stats.forward_path.as_mut() {
                     // The forward paths: each pass's own span; no light pass, and the G-buffer
                     // only when the post chain needed it (one of the passes then).

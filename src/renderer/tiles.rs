@@ -571,6 +571,7 @@ mod tests {
             tan_outer: 0.0,
             falloff: radius,
             clamp: f32::MAX,
+            shadow: crate::renderer::records::UNSHADOWED,
             ..bytemuck::Zeroable::zeroed()
         };
         let plan = |on_screen: bool| LightPlan {
@@ -637,6 +638,7 @@ mod tests {
                 tan_outer: 0.0,
                 falloff: radius,
                 clamp: f32::MAX,
+                shadow: crate::renderer::records::UNSHADOWED,
                 ..bytemuck::Zeroable::zeroed()
             };
             lights.push(l);

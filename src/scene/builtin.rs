@@ -30,6 +30,7 @@ pub const NAMES: &[(&str, &str)] = &[
         "materials",
         "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
     ),
+    ("shadows", "issue 15: boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
     (
         "cookies",
         "seed 004: a spot throwing the window cookie on a wall, a point light's cube cookie, two objects on layers 1 and 2 under lights whose masks leave one of them out",
@@ -78,6 +79,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "street" => street(opts.lights.unwrap_or(64)),
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
         "materials" => materials(),
+        "shadows" => shadows(),
         "cookies" => cookies(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
@@ -136,6 +138,7 @@ impl Builder {
             color,
             intensity,
             radius,
+            cast_shadows: true,
             cookie: None,
             mask: crate::scene::ALL_LAYERS,
         }));
@@ -214,6 +217,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
             radius: 22.0,
             inner_angle: 14f32.to_radians(),
             outer_angle: 22f32.to_radians(),
+            cast_shadows: true,
             cookie: None,
             mask: crate::scene::ALL_LAYERS,
         }));
@@ -291,6 +295,7 @@ pub fn spot() -> Scene {
         radius: 13.0,
         inner_angle: 20f32.to_radians(),
         outer_angle: 32f32.to_radians(),
+        cast_shadows: true,
         cookie: None,
         mask: crate::scene::ALL_LAYERS,
     }));
@@ -466,6 +471,7 @@ fn spot_extremes() -> Scene {
             radius: 8.0,
             inner_angle: inner.to_radians(),
             outer_angle: outer.to_radians(),
+            cast_shadows: true,
             cookie: None,
             mask: crate::scene::ALL_LAYERS,
         }));
@@ -710,6 +716,7 @@ pub fn materials() -> Scene {
         radius: 14.0,
         inner_angle: 25f32.to_radians(),
         outer_angle: 40f32.to_radians(),
+        cast_shadows: true,
         cookie: None,
         mask: crate::scene::ALL_LAYERS,
     }));
@@ -774,6 +781,7 @@ pub fn cookies() -> Scene {
         radius: 14.0,
         inner_angle: 20f32.to_radians(),
         outer_angle: 24f32.to_radians(),
+        cast_shadows: true,
         cookie: None,
         mask: crate::scene::ALL_LAYERS,
     }));
@@ -784,5 +792,50 @@ pub fn cookies() -> Scene {
     // Built-in names always resolve.
     let _ = b.scene.set_light_cookie(0, Some("window"));
     let _ = b.scene.set_light_cookie(1, Some("flashlight"));
+    b.scene
+}
+
+/// Issue 15's scene: boxes, a pillar and a thin wall on a floor under the sun, a spot light and
+/// a point light, so each kind's shadow shows (`--shadows all`).
+pub fn shadows() -> Scene {
+    let camera = Camera::looking_at(DVec3::new(6.0, 6.5, 11.0), DVec3::new(0.0, 0.5, 0.0));
+    let mut b = Builder::new("shadows", camera);
+    b.scene.ambient = Vec3::splat(0.03);
+    b.scene.sun = Some(Sun {
+        direction: Vec3::new(0.6, -0.55, 0.6).normalize(),
+        color: Vec3::new(1.0, 0.95, 0.85),
+        intensity: 0.35,
+    });
+    let floor = b.material(Material {
+        diffuse: Vec3::new(0.6, 0.58, 0.55),
+        specular_level: 0.3,
+        specular_exponent: 32.0,
+        emissive: Vec3::ZERO,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-10.0, -1.0, -10.0), DVec3::new(10.0, 0.0, 10.0), floor);
+    for (i, (x, z, s, h)) in [(-2.0, 0.0, 0.8, 1.6), (1.0, -1.5, 0.5, 3.0), (2.0, 2.0, 0.6, 1.0)].iter().enumerate() {
+        let m = b.material(Material::diffuse(hue(i as f32 * 0.3) * 0.6 + Vec3::splat(0.2)));
+        b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
+    }
+    // A thin wall (5 cm) between the point light and the boxes on its far side.
+    let wall = b.material(Material::diffuse(Vec3::new(0.55, 0.6, 0.7)));
+    b.boxed(DVec3::new(-4.5, 0.0, -3.0), DVec3::new(-4.45, 2.0, 1.0), wall);
+    b.boxed(DVec3::new(-6.0, 0.0, -0.5), DVec3::new(-5.4, 0.9, 0.1), wall);
+    // Behind the objects as the camera sees them: their shadows fall towards it.
+    let spot = DVec3::new(-1.0, 5.5, -5.0);
+    b.scene.lights.push(Light::Spot(SpotLight {
+        position: spot,
+        direction: (DVec3::new(0.5, 0.0, 0.5) - spot).normalize().as_vec3(),
+        color: Vec3::new(1.0, 0.9, 0.75),
+        intensity: 5.0,
+        radius: 14.0,
+        inner_angle: 30f32.to_radians(),
+        outer_angle: 40f32.to_radians(),
+        cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
+    }));
+    b.point(DVec3::new(-3.5, 1.2, -1.0), Vec3::new(0.5, 0.7, 1.0), 3.0, 6.0);
     b.scene
 }

@@ -484,6 +484,14 @@ pub struct PointLight {
     /// Culling mask (seed 004): bit k set = lights objects on layer k.
     #[serde(default = "all_layers")]
     pub mask: u32,
+    /// Whether the light may cast a shadow (`Settings::shadows` decides which kinds do; this
+    /// flag only turns one light off). Settings and scene files, glTF `extras.cast_shadows`.
+    #[serde(default = "cast_shadows_default")]
+    pub cast_shadows: bool,
+}
+
+fn cast_shadows_default() -> bool {
+    true
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -497,6 +505,9 @@ pub struct SpotLight {
     pub inner_angle: f32,
     /// Half-angle (radians) at which it reaches zero.
     pub outer_angle: f32,
+    /// Whether the light may cast a shadow (see [`PointLight::cast_shadows`]).
+    #[serde(default = "cast_shadows_default")]
+    pub cast_shadows: bool,
     /// Cookie (seed 004): index into `Scene::cookies` of a 2D cookie.
     #[serde(default)]
     pub cookie: Option<u32>,
@@ -528,6 +539,19 @@ impl Light {
         match self {
             Light::Point(p) => p.color,
             Light::Spot(s) => s.color,
+        }
+    }
+    /// The light's own shadow flag.
+    pub fn cast_shadows(&self) -> bool {
+        match self {
+            Light::Point(p) => p.cast_shadows,
+            Light::Spot(s) => s.cast_shadows,
+        }
+    }
+    pub fn set_cast_shadows(&mut self, on: bool) {
+        match self {
+            Light::Point(p) => p.cast_shadows = on,
+            Light::Spot(s) => s.cast_shadows = on,
         }
     }
     /// The cookie's index in `Scene::cookies`.

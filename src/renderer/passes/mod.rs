@@ -21,6 +21,7 @@ pub mod grading;
 pub mod lights;
 pub mod measure;
 pub mod prepass;
+pub mod shadows;
 pub mod tiled;
 pub mod tonemap;
 pub mod vignette;
@@ -69,6 +70,14 @@ pub fn wgsl_constants() -> String {
         u(&format!("TONEMAP_{}", t.wgsl_name()), t as u32);
     }
     u("HIST_BINS", super::post::HIST_BINS);
+    u("NO_SHADOW", records::NO_SHADOW);
+    for f in [
+        super::shadows::ShadowFilter::Pcf2x2,
+        super::shadows::ShadowFilter::Pcf3x3,
+        super::shadows::ShadowFilter::Poisson16,
+    ] {
+        u(&format!("SHADOW_FILTER_{}", f.name().to_uppercase()), f as u32);
+    }
     for a in [super::post::Aa::Off, super::post::Aa::Edge, super::post::Aa::Fxaa] {
         u(&format!("AA_{}", a.name().to_uppercase()), a as u32);
     }
@@ -120,6 +129,7 @@ pub fn shader_source_for(
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
+            include_str!("../../../shaders/shadows.wgsl"),
             include_str!("../../../shaders/prepass.wgsl"),
         ]
         .map(String::from),
@@ -544,6 +554,7 @@ pub struct Passes {
     pub dof: dof::DofPass,
     pub vignette: vignette::VignettePass,
     pub aa: aa::AaPass,
+    pub shadows: shadows::ShadowPass,
 }
 
 impl Passes {
@@ -567,6 +578,7 @@ impl Passes {
             dof: dof::DofPass::new(device, &shared),
             vignette: vignette::VignettePass::new(device, &shared),
             aa: aa::AaPass::new(device, &shared),
+            shadows: shadows::ShadowPass::new(device, &shared),
             shared,
         }
     }

@@ -202,6 +202,7 @@ impl Importer<'_> {
                 color,
                 intensity,
                 radius: radius as f32,
+                cast_shadows: true,
                 cookie: None,
                 mask: crate::scene::ALL_LAYERS,
             }));

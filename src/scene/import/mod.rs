@@ -401,6 +401,20 @@ impl Importer<'_> {
             _ => (intensity * color.max_element() / RANGE_CUTOFF).sqrt().max(1e-3),
         };
         let ours = 4.0 * intensity / (0.5625 * radius * radius);
+        // Issue 15: `"extras": {"cast_shadows": false}` on the light turns its shadow off; any
+        // other value of the key is a warning and the default (on).
+        let cast_shadows = match light.extras().as_ref().map(|raw| serde_json::from_str::<serde_json::Value>(raw.get()))
+        {
+            Some(Ok(v)) => match v.get("cast_shadows") {
+                None => true,
+                Some(serde_json::Value::Bool(b)) => *b,
+                Some(other) => {
+                    self.warnings.push(format!("{label}: extras.cast_shadows {other} is not true or false; casting"));
+                    true
+                }
+            },
+            _ => true,
+        };
         let l = match light.kind() {
             Kind::Directional => {
                 if self.first_sun {
@@ -417,6 +431,7 @@ impl Importer<'_> {
                 color,
                 intensity: ours,
                 radius,
+                cast_shadows,
                 cookie: None,
                 mask: crate::scene::ALL_LAYERS,
             }),
@@ -431,6 +446,7 @@ impl Importer<'_> {
                     radius,
                     inner_angle: inner,
                     outer_angle: outer,
+                    cast_shadows,
                     cookie: None,
                     mask: crate::scene::ALL_LAYERS,
                 })

@@ -1,0 +1,35 @@
+// Issue 15: the shadow pass (`passes::shadows`). Each instance is one caster in one tile
+// (instance = tile * objects + object); the depth written is linear in the distance along the
+// tile's axis (`ShadowTile`), clipped at the tile's near plane.
+
+struct ShadowOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) depth: f32,
+};
+
+@vertex
+fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance: u32) -> ShadowOut {
+    let objects_n = max(shadow_params_load().sun.w, 1u);
+    let t = shadow_tile_load(instance / objects_n);
+    let o = objects[instance % objects_n];
+    let q = (t.to_light * (o.model_view * vec4<f32>(position, 1.0))).xyz;
+    let depth = -q.z * t.proj.z + t.proj.w;
+    var out: ShadowOut;
+    out.depth = depth;
+    if t.info.x > 0.5 {
+        out.clip = vec4<f32>(q.xy * t.proj.xy, depth, 1.0);
+    } else {
+        // z / w runs 0 .. 1 from the near plane to the far one (w = -q.z), so clipping is
+        // right; the fragment writes the linear depth itself.
+        let w = -q.z;
+        let far = 1.0 / t.proj.z;
+        let near = t.info.w;
+        out.clip = vec4<f32>(q.xy * t.proj.xy, (w - near) * far / (far - near), w);
+    }
+    return out;
+}
+
+@fragment
+fn fs_shadow(in: ShadowOut) -> @builtin(frag_depth) f32 {
+    return clamp(in.depth, 0.0, 1.0);
+}

@@ -1,0 +1,496 @@
+//! Shadows (issue 15; seed 002: "shadow maps work very well with deferred shading"): which
+//! lights cast this frame, where each one's tiles lie in the one shadow atlas, and how a
+//! view-space point maps into a tile (`ShadowTile`). The shadow pass (`passes::shadows`) draws
+//! the casters into the tiles; every place that shades a light reads them through one WGSL
+//! function, `ls_shadow` (`shaders/common.wgsl`), and the sun through `ls_sun_shadow`.
+//!
+//! - **The atlas:** one Depth32Float texture whose side is the largest power of two within the
+//!   byte budget (`Settings::shadow_budget_mb`) and the device's limit. Tiles are power-of-two
+//!   squares, packed largest first along the atlas's Morton (Z) order, which leaves no gap.
+//! - **Resolution:** the sun's cascades take a quarter of the side each; a spot's tile (and each
+//!   of a point light's six faces) follows the light's screen footprint,
+//!   `next_pow2(sqrt(screen_share x pixels))` between [`MIN_TILE`] and a quarter of the side.
+//!   Lights are served sun first, then by footprint; when the atlas is full a light's tiles
+//!   are halved down to [`MIN_TILE`], and past that it falls back to unshadowed (counted).
+//!   Lights off screen (no footprint) are not given a tile (counted too).
+//! - **Depth:** linear in distance (the fragment shader writes -z / far), so the biases are in
+//!   world units: each is a number of texels, times a texel's world size at the receiver.
+//! - **Border:** each tile's projection leaves [`BORDER`] texels on every side beyond the
+//!   frustum the light needs, so filter taps near a tile's (or a cube face's) edge read depths
+//!   rendered for them, never a neighbour's: no seams between a point light's faces.
+//! - **Point lights** (and spots wider than [`CUBE_SPOT_ANGLE`]): seed 002's "virtual shadow
+//!   depth cube" — six 90° faces (plus the border) unrolled into 2D tiles of the atlas; the
+//!   face is picked from the major axis of the light-to-surface vector (view-space axes).
+//! - **The sun:** 1-4 cascades over the view frustum up to the farthest scene point; split
+//!   distances lambda x logarithmic + (1 - lambda) x uniform; each cascade an orthographic tile
+//!   around the bounding sphere of its slice, deep enough to hold every object.
+
+use super::records::{ShadowParams, ShadowTile, NO_SHADOW};
+use crate::scene::{Light, Scene};
+use glam::{DMat3, DMat4, DVec3};
+use serde::{Deserialize, Serialize};
+
+/// Which lights cast shadows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowMode {
+    /// No shadows.
+    #[default]
+    None,
+    /// The sun only.
+    Sun,
+    /// The sun and spot lights.
+    Spots,
+    /// The sun, spots and point lights.
+    All,
+}
+
+/// The shadow lookup's filter. Its value + 1 is its reach: how many texels from the lookup
+/// point it reads depths (the normal offset adds it, see `shadow_tile_factor` in common.wgsl).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum ShadowFilter {
+    /// One hardware comparison sample: 2x2 texels, bilinearly weighted.
+    Pcf2x2 = 0,
+    /// 3x3 hardware samples one texel apart (a 4x4-texel footprint).
+    #[default]
+    Pcf3x3 = 1,
+    /// 16 hardware samples on a Poisson disc of radius 2 texels.
+    Poisson16 = 2,
+}
+
+impl ShadowFilter {
+    /// Texels from the lookup point whose depths the kernel reads: the hardware's 2x2 reaches 1,
+    /// 3x3 of them 1 texel apart 2, the Poisson disc of radius 2 texels 3.
+    pub fn reach(self) -> u32 {
+        self as u32 + 1
+    }
+}
+
+/// Smallest tile side in texels.
+pub const MIN_TILE: u32 = 32;
+/// Texels on each side of a tile beyond the frustum its light needs: the widest kernel reaches
+/// 2 texels (`poisson16`) plus the hardware's 2x2 footprint, 1 more.
+pub const BORDER: u32 = 4;
+/// Spots wider than this (half-angle, degrees) are shadowed as a cube (six faces).
+pub const CUBE_SPOT_ANGLE: f32 = 60.0;
+
+/// Why a light that should cast has no shadow this frame.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct ShadowStats {
+    pub mode: ShadowMode,
+    pub filter: ShadowFilter,
+    pub atlas_side: u32,
+    pub atlas_bytes: u64,
+    pub tiles: u32,
+    /// Share of the atlas's texels the tiles take.
+    pub atlas_used: f64,
+    /// Lights (the sun counted) with shadows this frame.
+    pub casting: u32,
+    pub sun_cascades: u32,
+    /// Fallbacks to unshadowed: the light's volume is off screen, or the atlas was full.
+    pub fallback_off_screen: u32,
+    pub fallback_budget: u32,
+    /// Lights whose own `cast_shadows` flag is off (not a fallback: asked for).
+    pub flag_off: u32,
+    /// Caster draws (objects x tiles after culling each object against each tile).
+    pub caster_draws: u64,
+    pub gpu_ms: Option<f64>,
+}
+
+/// One tile to draw: its record index, its texel rectangle in the atlas, the objects cast into it.
+#[derive(Clone, Debug)]
+pub struct TileDraw {
+    pub tile: u32,
+    pub x: u32,
+    pub y: u32,
+    pub size: u32,
+    pub objects: Vec<u32>,
+}
+
+/// The frame's shadow plan.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowPlan {
+    pub side: u32,
+    pub tiles: Vec<ShadowTile>,
+    pub params: ShadowParams,
+    pub draws: Vec<TileDraw>,
+    /// Per light: (first tile, tile count), `NO_SHADOW` when unshadowed.
+    pub lights: Vec<(u32, u32)>,
+    pub stats: ShadowStats,
+}
+
+impl Default for ShadowParams {
+    fn default() -> Self {
+        Self { sun: [NO_SHADOW, 0, 0, 0], splits: [0.0; 4], bias: [0.0; 4], counts: [0; 4] }
+    }
+}
+
+/// Side of the atlas for a budget of `mb` MiB (4 bytes a texel), capped at `limit`.
+pub fn atlas_side(mb: f32, limit: u32) -> u32 {
+    let texels = (mb as f64 * 1024.0 * 1024.0 / 4.0).max(1.0);
+    let mut side = 1u32;
+    while (side as f64 * 2.0).powi(2) <= texels && side * 2 <= limit {
+        side *= 2;
+    }
+    side.max(MIN_TILE.min(limit))
+}
+
+/// (x, y) of Morton index `i`.
+fn morton(i: u64) -> (u32, u32) {
+    let (mut x, mut y) = (0u32, 0u32);
+    for b in 0..32 {
+        x |= (((i >> (2 * b)) & 1) as u32) << b;
+        y |= (((i >> (2 * b + 1)) & 1) as u32) << b;
+    }
+    (x, y)
+}
+
+/// Packs power-of-two squares of `sizes` (each at most `side`, their area at most `side`²)
+/// into a `side` square: largest first along the Morton order in units of the smallest, each
+/// square starts at a multiple of its own area (every earlier one is a multiple of it), so it
+/// is an aligned block. Returns each square's corner, in `sizes`' order.
+pub fn pack(sizes: &[u32], side: u32) -> Option<Vec<(u32, u32)>> {
+    let unit = *sizes.iter().min()?;
+    let mut order: Vec<usize> = (0..sizes.len()).collect();
+    order.sort_by(|&a, &b| sizes[b].cmp(&sizes[a]).then(a.cmp(&b)));
+    let mut out = vec![(0, 0); sizes.len()];
+    let mut at = 0u64;
+    let cap = (side as u64 / unit as u64).pow(2);
+    for i in order {
+        let s = sizes[i];
+        if !s.is_power_of_two() || s > side {
+            return None;
+        }
+        let area = (s as u64 / unit as u64).pow(2);
+        if at + area > cap {
+            return None;
+        }
+        let (x, y) = morton(at);
+        out[i] = (x * unit, y * unit);
+        at += area;
+    }
+    Some(out)
+}
+
+/// A rigid transform from view space into a light space whose z axis is `z` (the light looks
+/// down -z) and whose origin is `origin`.
+fn light_space(origin: DVec3, z: DVec3) -> DMat4 {
+    let z = z.normalize();
+    let up = if z.y.abs() < 0.99 { DVec3::Y } else { DVec3::X };
+    let x = up.cross(z).normalize();
+    let y = z.cross(x);
+    let rows = DMat3::from_cols(x, y, z).transpose();
+    DMat4::from_mat3(rows) * DMat4::from_translation(-origin)
+}
+
+/// The six cube faces' directions (view-space axes), in the order `ls_shadow` picks them:
+/// +x, -x, +y, -y, +z, -z.
+pub const FACES: [DVec3; 6] = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z];
+
+/// A perspective tile: the light at `origin` looking along `dir`, half-angle `half` (radians)
+/// reaching `far`, `size` texels.
+fn perspective_tile(origin: DVec3, dir: DVec3, half: f64, far: f64, size: u32) -> ShadowTile {
+    let r = size as f64;
+    // ndc = q.xy * s / w: the frustum's edge (tan half) lands BORDER texels inside the tile.
+    let s = (r - 2.0 * BORDER as f64) / (r * half.tan());
+    let near = (far * 1e-3).min(0.05);
+    ShadowTile {
+        to_light: light_space(origin, -dir).as_mat4().to_cols_array_2d(),
+        proj: [s as f32, s as f32, (1.0 / far) as f32, 0.0],
+        rect: [0.0; 4],
+        info: [0.0, (2.0 / (r * s)) as f32, size as f32, near as f32],
+    }
+}
+
+/// Bounding spheres (view space) of the objects that cast: triangle meshes, not blended.
+fn casters(scene: &Scene, bounds: &[(DVec3, f64)], view: DMat4) -> Vec<(u32, DVec3, f64)> {
+    let mut out = Vec::new();
+    for (i, o) in scene.objects.iter().enumerate() {
+        let Some(mesh) = scene.meshes.get(o.mesh) else { continue };
+        if mesh.topology != crate::scene::Topology::Triangles {
+            continue;
+        }
+        if scene.materials.get(o.material).is_some_and(|m| m.is_blended()) {
+            continue;
+        }
+        let Some(&(c, r)) = bounds.get(o.mesh) else { continue };
+        let m = view * o.transform;
+        let scale = m.x_axis.truncate().length().max(m.y_axis.truncate().length()).max(m.z_axis.truncate().length());
+        out.push((i as u32, m.transform_point3(c), r * scale));
+    }
+    out
+}
+
+/// Whether a sphere (view space) may touch `tile`'s frustum.
+fn sphere_meets(tile: &ShadowTile, c: DVec3, r: f64) -> bool {
+    let m = glam::Mat4::from_cols_array_2d(&tile.to_light).as_dmat4();
+    let q = m.transform_point3(c);
+    let s = tile.proj[0] as f64;
+    if tile.info[0] > 0.5 {
+        // Orthographic: |q.xy| <= 1/s; the depth range holds every caster by construction.
+        return q.x.abs() - r <= 1.0 / s && q.y.abs() - r <= 1.0 / s;
+    }
+    let far = 1.0 / tile.proj[2] as f64;
+    let w = -q.z;
+    if w + r < 0.0 || w - r > far {
+        return false;
+    }
+    // Side planes |q.x| <= t w, t = 1/s: signed distance (|q.x| - t w) / sqrt(1 + t^2).
+    let t = 1.0 / s;
+    let k = (1.0 + t * t).sqrt();
+    (q.x.abs() - t * w) / k <= r && (q.y.abs() - t * w) / k <= r
+}
+
+/// What the planner reads besides the scene.
+pub struct ShadowInputs<'a> {
+    pub settings: &'a super::Settings,
+    /// Each mesh's bounding sphere (model space).
+    pub bounds: &'a [(DVec3, f64)],
+    /// Each light's screen share and whether its volume is on screen (`plan::LightPlan`).
+    pub footprints: Vec<(f32, bool)>,
+    pub size: (u32, u32),
+    /// The camera's projection (standard or reversed, only the x and y scales are read).
+    pub proj: DMat4,
+    pub max_texture: u32,
+}
+
+/// Plans the frame's shadows.
+pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
+    let st = inp.settings;
+    let side = atlas_side(st.shadow_budget_mb, inp.max_texture.max(1));
+    let mut out = ShadowPlan {
+        side,
+        lights: vec![(NO_SHADOW, 0); scene.lights.len()],
+        stats: ShadowStats {
+            mode: st.shadows,
+            filter: st.shadow_filter,
+            atlas_side: side,
+            atlas_bytes: side as u64 * side as u64 * 4,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    out.params.bias = [st.shadow_bias, st.shadow_slope_bias, st.shadow_normal_offset, 1.0 / side as f32];
+    out.params.sun = [NO_SHADOW, 0, st.shadow_filter as u32, scene.objects.len() as u32];
+    out.params.counts = [scene.lights.len() as u32, 0, 0, 0];
+    if st.shadows == ShadowMode::None {
+        // No atlas is kept (a 1-texel stand-in is bound).
+        out.side = 1;
+        return out;
+    }
+    let cam = &scene.camera;
+    let rot = cam.rotation();
+    let view = DMat4::from_mat3(rot) * DMat4::from_translation(-cam.position);
+    let casters = casters(scene, inp.bounds, view);
+
+    // Requests: (light index or None for the sun, tiles' records, wanted size), in priority order.
+    struct Request {
+        light: Option<usize>,
+        tiles: Vec<ShadowTile>,
+        size: u32,
+    }
+    let mut requests: Vec<Request> = Vec::new();
+    let quarter = (side / 4).max(MIN_TILE.min(side));
+    if let Some(sun) = scene.sun.filter(|s| s.intensity > 0.0) {
+        let to_sun = (rot * (-sun.direction.as_dvec3())).normalize_or(DVec3::Y);
+        let tiles = sun_cascades(scene, st, &casters, to_sun, inp.proj, quarter);
+        if !tiles.1.is_empty() {
+            out.params.splits = tiles.0;
+            requests.push(Request { light: None, size: quarter, tiles: tiles.1 });
+        }
+    }
+    let pixels = inp.size.0 as f64 * inp.size.1 as f64;
+    let mut lit: Vec<(usize, f32)> = Vec::new();
+    for (i, l) in scene.lights.iter().enumerate() {
+        let wanted = match l {
+            Light::Spot(_) => matches!(st.shadows, ShadowMode::Spots | ShadowMode::All),
+            Light::Point(_) => st.shadows == ShadowMode::All,
+        };
+        if !wanted {
+            continue;
+        }
+        if !l.cast_shadows() {
+            out.stats.flag_off += 1;
+            continue;
+        }
+        let (share, on) = inp.footprints.get(i).copied().unwrap_or((0.0, false));
+        if !on || share <= 0.0 {
+            out.stats.fallback_off_screen += 1;
+            continue;
+        }
+        lit.push((i, share));
+    }
+    // Largest footprint first; ties by index, so the order is the same in every culling mode.
+    lit.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    for (i, share) in lit {
+        let want = ((share as f64 * pixels).sqrt().ceil() as u32).next_power_of_two().clamp(MIN_TILE, quarter);
+        let origin = rot * (scene.lights[i].position() - cam.position);
+        let far = scene.lights[i].radius() as f64;
+        let tiles = match &scene.lights[i] {
+            Light::Spot(s) if s.outer_angle.to_degrees() <= CUBE_SPOT_ANGLE => {
+                let dir = (rot * s.direction.as_dvec3()).normalize();
+                let half = (s.outer_angle as f64).max(0.5f64.to_radians()) * 1.02;
+                vec![perspective_tile(origin, dir, half, far, want)]
+            }
+            _ => FACES.iter().map(|&d| perspective_tile(origin, d, std::f64::consts::FRAC_PI_4, far, want)).collect(),
+        };
+        requests.push(Request { light: Some(i), tiles, size: want });
+    }
+
+    // Fit the budget: in priority order, halve a request's tiles until they fit what is left.
+    let total = side as u64 * side as u64;
+    let mut used = 0u64;
+    let mut granted: Vec<Request> = Vec::new();
+    for mut r in requests {
+        let n = r.tiles.len() as u64;
+        while r.size > MIN_TILE && used + n * (r.size as u64).pow(2) > total {
+            r.size /= 2;
+        }
+        if used + n * (r.size as u64).pow(2) > total || r.size > side {
+            if r.light.is_some() {
+                out.stats.fallback_budget += 1;
+            }
+            continue;
+        }
+        used += n * (r.size as u64).pow(2);
+        granted.push(r);
+    }
+    let sizes: Vec<u32> = granted.iter().flat_map(|r| std::iter::repeat_n(r.size, r.tiles.len())).collect();
+    let Some(corners) = pack(&sizes, side) else {
+        // Nothing to pack (no caster this frame): no atlas is kept.
+        out.side = 1;
+        return out;
+    };
+    let mut k = 0usize;
+    for r in granted {
+        let first = out.tiles.len() as u32;
+        for mut t in r.tiles {
+            let (x, y) = corners[k];
+            let size = sizes[k];
+            k += 1;
+            // Re-fit the tile's projection to its granted size (the border is in texels).
+            let s_old = t.proj[0] as f64;
+            let r_old = t.info[2] as f64;
+            let tan_half = (r_old - 2.0 * BORDER as f64) / (r_old * s_old);
+            let rs = size as f64;
+            let s = (rs - 2.0 * BORDER as f64) / (rs * tan_half);
+            t.proj[0] = s as f32;
+            t.proj[1] = s as f32;
+            t.info[1] = (2.0 / (rs * s)) as f32;
+            t.info[2] = size as f32;
+            t.rect =
+                [x as f32 / side as f32, y as f32 / side as f32, size as f32 / side as f32, size as f32 / side as f32];
+            let index = out.tiles.len() as u32;
+            let objects: Vec<u32> =
+                casters.iter().filter(|(_, c, rad)| sphere_meets(&t, *c, *rad)).map(|(o, _, _)| *o).collect();
+            out.stats.caster_draws += objects.len() as u64;
+            out.draws.push(TileDraw { tile: index, x, y, size, objects });
+            out.tiles.push(t);
+        }
+        let count = out.tiles.len() as u32 - first;
+        out.stats.casting += 1;
+        match r.light {
+            Some(i) => out.lights[i] = (first, count),
+            None => {
+                out.params.sun[0] = first;
+                out.params.sun[1] = count;
+                out.stats.sun_cascades = count;
+            }
+        }
+    }
+    out.stats.tiles = out.tiles.len() as u32;
+    out.stats.atlas_used = used as f64 / total as f64;
+    out
+}
+
+/// The sun's cascades: split distances (view depth where each ends) and one orthographic tile
+/// per cascade (its size set later), or none when nothing casts.
+fn sun_cascades(
+    scene: &Scene,
+    st: &super::Settings,
+    casters: &[(u32, DVec3, f64)],
+    to_sun: DVec3,
+    proj: DMat4,
+    size: u32,
+) -> ([f32; 4], Vec<ShadowTile>) {
+    if casters.is_empty() {
+        return ([0.0; 4], Vec::new());
+    }
+    let cam = &scene.camera;
+    let near = cam.near.max(1e-6);
+    // The cascades end at the farthest scene point (or the far plane).
+    let deepest = casters.iter().map(|(_, c, r)| -c.z + r).fold(0.0, f64::max);
+    let far = cam.far.min(deepest).max(near * 2.0);
+    let n = st.shadow_cascades.clamp(1, 4) as usize;
+    let lambda = st.shadow_split_lambda.clamp(0.0, 1.0) as f64;
+    let split = |i: usize| {
+        let f = i as f64 / n as f64;
+        lambda * near * (far / near).powf(f) + (1.0 - lambda) * (near + (far - near) * f)
+    };
+    let tan_x = 1.0 / proj.x_axis.x.abs().max(1e-12);
+    let tan_y = 1.0 / proj.y_axis.y.abs().max(1e-12);
+    let mut splits = [0.0f32; 4];
+    let mut tiles = Vec::new();
+    for (i, end) in splits.iter_mut().enumerate().take(n) {
+        let (d0, d1) = (split(i), split(i + 1));
+        *end = d1 as f32;
+        let corners: Vec<DVec3> = [d0, d1]
+            .iter()
+            .flat_map(|&d| {
+                [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+                    .map(|(sx, sy)| DVec3::new(sx * d * tan_x, sy * d * tan_y, -d))
+            })
+            .collect();
+        let centre = corners.iter().copied().sum::<DVec3>() / 8.0;
+        let radius = corners.iter().map(|c| (*c - centre).length()).fold(0.0, f64::max).max(1e-6);
+        // Depth: every caster between the tile's origin plane and its far end.
+        let top = casters.iter().map(|(_, c, r)| (*c - centre).dot(to_sun) + r).fold(radius, f64::max);
+        let bottom = casters.iter().map(|(_, c, r)| (*c - centre).dot(to_sun) - r).fold(-radius, f64::min);
+        let range = (top - bottom).max(1e-6);
+        let r = size as f64;
+        let s = (r - 2.0 * BORDER as f64) / (r * radius);
+        tiles.push(ShadowTile {
+            to_light: light_space(centre + to_sun * top, to_sun).as_mat4().to_cols_array_2d(),
+            proj: [s as f32, s as f32, (1.0 / range) as f32, 0.0],
+            rect: [0.0; 4],
+            info: [1.0, (2.0 / (r * s)) as f32, size as f32, 0.0],
+        });
+    }
+    (splits, tiles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packing_fills_the_atlas_without_overlap() {
+        let sizes = [256, 64, 64, 128, 32, 256, 512, 64, 64, 32, 32, 32];
+        let side = 1024;
+        let corners = pack(&sizes, side).expect("fits");
+        let mut seen = vec![false; (side * side / 32 / 32) as usize];
+        for (&(x, y), &s) in corners.iter().zip(&sizes) {
+            assert_eq!((x % s, y % s), (0, 0), "aligned");
+            assert!(x + s <= side && y + s <= side);
+            for yy in (y..y + s).step_by(32) {
+                for xx in (x..x + s).step_by(32) {
+                    let i = (yy / 32 * side / 32 + xx / 32) as usize;
+                    assert!(!seen[i], "overlap at {xx},{yy}");
+                    seen[i] = true;
+                }
+            }
+        }
+        // Too much area is refused.
+        assert!(pack(&[1024, 32], 1024).is_none());
+    }
+
+    #[test]
+    fn the_atlas_side_follows_the_budget() {
+        assert_eq!(atlas_side(16.0, 8192), 2048);
+        assert_eq!(atlas_side(64.0, 8192), 4096);
+        assert_eq!(atlas_side(64.0, 2048), 2048);
+        assert_eq!(atlas_side(1.0, 8192), 512);
+    }
+}

@@ -100,6 +100,8 @@ pub struct Row {
     pub gbuffer_ms: f64,
     pub lighting_ms: f64,
     pub compose_ms: f64,
+    /// The shadow pass (issue 15; 0 when no light cast), part of `total_ms`.
+    pub shadows_ms: f64,
     /// The forward pass of blended surfaces (0 without any).
     pub forward_ms: f64,
     /// The post chain's passes (0 where a pass did not run).
@@ -598,6 +600,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
             lighting_ms: pick(|s| s.gpu_ms.lighting),
             compose_ms: pick(|s| s.gpu_ms.compose),
+            shadows_ms: pick(|s| s.gpu_ms.shadows.or(s.gpu_ms.total.map(|_| 0.0))),
             forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
             bloom_ms: pick(|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
             exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
@@ -723,6 +726,7 @@ fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
         gbuffer_ms: f64::NAN,
         lighting_ms: f64::NAN,
         compose_ms: f64::NAN,
+        shadows_ms: f64::NAN,
         forward_ms: f64::NAN,
         bloom_ms: f64::NAN,
         exposure_ms: f64::NAN,
@@ -781,7 +785,8 @@ fn fill_path_siblings(rows: &mut [Row]) {
 pub const LIMIT_GROUPS: [&str; 3] = ["culling", "lights", "radius"];
 
 /// What a frame could cost if lighting did only the ideal work: G-buffer ms + compose ms + ideal
-/// fragments x `fullscreen`'s lighting ms per shaded fragment, all from the same run.
+/// fragments x `fullscreen`'s lighting ms per shaded fragment, all from the same run. The
+/// shadow pass, when lights cast, is a fixed pass like the G-buffer: `gbuffer_ms` holds both.
 /// `fullscreen` shades every pixel for every light, so its ms per fragment is the price of one
 /// light-fragment evaluation with no per-draw or culling overhead worth counting (1,028 lights x
 /// 0.9 M fragments); the ideal is the fragments inside the lights' true shapes. G-buffer and
@@ -819,12 +824,14 @@ pub fn add_limits(rows: &mut Vec<Row>) {
         let mine: Vec<&Row> = rows.iter().filter(|r| key(r) == k).collect();
         let Some(first) = mine.first() else { continue };
         let gbuffer = median(mine.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
+        let shadows = median(mine.iter().map(|r| r.shadows_ms).filter(|v| v.is_finite()).collect());
         let compose = median(mine.iter().map(|r| r.compose_ms).filter(|v| v.is_finite()).collect());
         // Every mode counts the same ideal (tested); the largest guards against a row that did
         // not count it.
         let ideal = mine.iter().map(|r| r.ideal_fragments).max().unwrap_or(0);
         let lighting = ideal as f64 * ms_per_fragment;
-        let limit = limit_ms(gbuffer, compose, ideal, ms_per_fragment);
+        let limit =
+            limit_ms(gbuffer + if shadows.is_finite() { shadows } else { 0.0 }, compose, ideal, ms_per_fragment);
         let row = Row {
             label: "limit".into(),
             culling: "limit".into(),
@@ -832,6 +839,7 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             gbuffer_ms: gbuffer,
             lighting_ms: lighting,
             compose_ms: compose,
+            shadows_ms: shadows,
             forward_ms: 0.0,
             total_ms: limit,
             coverage_fragments: 0,
@@ -874,11 +882,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
          lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
-         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error\n",
+         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,shadows_ms\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\"\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3}\n",
             r.group,
             r.label,
             r.scene,
@@ -926,7 +934,8 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.path.target_bytes_per_pixel,
             r.path.object_light_pairs,
             r.path.lit_fragments,
-            r.path.error.replace('"', "'").replace(',', ";")
+            r.path.error.replace('"', "'").replace(',', ";"),
+            r.shadows_ms
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -960,8 +969,8 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             volume_refs.join(", ")
         );
     }
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
-    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | shadows ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()
         .filter(|r| r.label == "fullscreen")
@@ -976,7 +985,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         let x_limit = if r.limit_ratio.is_finite() { format!("{:.2}", r.limit_ratio) } else { "-".into() };
         let error = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -986,6 +995,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.gbuffer_bytes_per_pixel,
             r.volumes,
             r.gbuffer_ms,
+            r.shadows_ms,
             r.lighting_ms,
             r.forward_ms,
             if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
@@ -1504,6 +1514,7 @@ mod tests {
             gbuffer_ms: 0.0,
             lighting_ms: 0.0,
             compose_ms: 0.0,
+            shadows_ms: 0.0,
             forward_ms: 0.0,
             bloom_ms: 0.0,
             exposure_ms: 0.0,
@@ -1563,6 +1574,7 @@ mod tests {
             gbuffer_ms: g,
             lighting_ms: l,
             compose_ms: c,
+            shadows_ms: 0.0,
             forward_ms: 0.0,
             bloom_ms: 0.0,
             exposure_ms: 0.0,
@@ -1612,5 +1624,16 @@ mod tests {
         add_limits(&mut alone);
         assert_eq!(alone.len(), 1);
         assert!(alone[0].limit_ratio.is_nan());
+        // A shadow pass is a fixed pass like the G-buffer: its median joins the limit.
+        let mut shadowed = vec![
+            row("fullscreen", "fullscreen", 10, 10.0, 100.0, 4.0, 100_000),
+            row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000),
+            row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
+        ];
+        for (r, s) in shadowed.iter_mut().zip([3.0, 2.0, 4.0]) {
+            r.shadows_ms = s;
+        }
+        add_limits(&mut shadowed);
+        assert!((shadowed[3].total_ms - (11.0 + 3.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", shadowed[3].total_ms);
     }
 }

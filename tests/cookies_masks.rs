@@ -24,7 +24,7 @@ fn exact() -> Settings {
         accumulation: AccumFormat::Rgba32Float,
         light_cutoff: 0.0,
         count_ideal: false,
-        ..Settings::default()
+        ..unshadowed()
     }
 }
 

@@ -60,7 +60,7 @@ fn gpu_lighting_matches_f64_at_sampled_pixels() {
             layout: LayoutChoice::Reference,
             accumulation: AccumFormat::Rgba32Float,
             light_cutoff: 0.0,
-            ..Settings::default()
+            ..unshadowed()
         };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
         render_image(gpu, &mut r, &scene, &settings, w, h).unwrap();

@@ -80,7 +80,7 @@ fn each_brdf_matches_its_f64_twin_at_sampled_pixels() {
             layout: LayoutChoice::Reference,
             accumulation: AccumFormat::Rgba32Float,
             light_cutoff: 0.0,
-            ..Settings::default()
+            ..unshadowed()
         };
         let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
         let (_, stats) = render_image(gpu(), &mut r, &scene, &settings, W, H).unwrap();
@@ -320,7 +320,7 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
         layout: LayoutChoice::Reference,
         accumulation: AccumFormat::Rgba32Float,
         count_ideal: false,
-        ..Settings::default()
+        ..unshadowed()
     };
     let a = render(&opaque, &settings, W, H);
     let b = render(&blended, &settings, W, H);

@@ -197,7 +197,7 @@ fn deferred_and_forward_agree_within_the_gbuffer_quantisation() {
         for name in cases {
             let scene = scene(name);
             let size = hard_case_size(name);
-            let base = Settings { layout, reversed_z, depth_format, count_ideal: false, ..Settings::default() };
+            let base = Settings { layout, reversed_z, depth_format, count_ideal: false, ..unshadowed() };
             let deferred = render_hdr(&scene, &base, size);
             let used = deferred.renderer.layout().clone();
             let reach = reaching_lights(&deferred.renderer, &scene);

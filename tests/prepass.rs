@@ -183,7 +183,7 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
     for name in HARD_CASES {
         let scene = scene(name);
         let (w, h) = if *name == "overflow" { (96, 54) } else { (W, H) };
-        let base = Settings { culling: CullingMode::Volume, light_cutoff: 0.0, ..Settings::default() };
+        let base = Settings { culling: CullingMode::Volume, light_cutoff: 0.0, ..unshadowed() };
         let deferred_s =
             Settings { layout: LayoutChoice::Reference, accumulation: AccumFormat::Rgba32Float, ..base.clone() };
         let mut deferred = Renderer::new(gpu, OUTPUT_FORMAT, &deferred_s).unwrap();

@@ -144,7 +144,7 @@ fn an_isolated_light_among_fifty_thousand_keeps_its_unclamped_value() {
         accumulation: AccumFormat::Rgba16Float,
         light_cutoff: 0.0,
         count_fragments: false,
-        ..Settings::default()
+        ..unshadowed()
     };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
     render_image(gpu, &mut r, &scene, &settings, w, h).unwrap();

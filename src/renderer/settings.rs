@@ -564,7 +564,7 @@ impl Default for Settings {
             aperture: 8.0,
             vignette: 0.0,
             aa: Aa::Off,
-            shadows: ShadowMode::None,
+            shadows: ShadowMode::Spots,
             shadow_budget_mb: 16.0,
             shadow_bias: 1.0,
             shadow_slope_bias: 1.0,

@@ -154,7 +154,7 @@ pub enum Stamp {
     /// stamps).
     PrepassBegin = 32,
     PrepassEnd = 33,
-    /// Issue 15: the shadow pass (before the G-buffer; not in `gpu_ms.total`).
+    /// Issue 15: the shadow pass (before the G-buffer; `gpu_ms.shadows`, part of `total`).
     ShadowsBegin = 34,
     ShadowsEnd = 35,
 }
@@ -205,6 +205,11 @@ pub struct GpuMs {
     /// `lighting`).
     #[serde(default)]
     pub prepass_final: Option<f64>,
+    /// The shadow pass (issue 15): the atlas's depth, before every path's first pass (`None`
+    /// when no light cast). Part of `total`.
+    #[serde(default)]
+    pub shadows: Option<f64>,
+    /// The frame: from the first pass to the last, plus the shadow pass before it.
     pub total: Option<f64>,
 }
 
@@ -604,6 +609,7 @@ impl Queries {
                 stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
                 if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
                     sh.gpu_ms = span(Stamp::ShadowsBegin, Stamp::ShadowsEnd);
+                    stats.gpu_ms.shadows = sh.gpu_ms;
                 }
                 if let Some(fp) = stats.forward_path.as_mut() {
                     // The forward paths: each pass's own span; no light pass, and the G-buffer
@@ -615,6 +621,9 @@ impl Queries {
                     stats.gpu_ms.gbuffer = None;
                     stats.gpu_ms.total =
                         fp.passes.first().and_then(|p| p.stamps).and_then(|(b, _)| span(b, Stamp::ComposeEnd));
+                }
+                if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
+                    stats.gpu_ms.total = Some(t + s);
                 }
                 if let Some(post) = stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).

@@ -41,6 +41,16 @@ pub fn hard_case_size(name: &str) -> (u32, u32) {
     }
 }
 
+/// The default settings without shadows (the default casts the sun's and the spots'). The f64
+/// reference (`src/reference.rs`) and every bound derived from it model unshadowed light, so
+/// the tests that compare with it, or across paths whose normals differ (a shadow edge moves
+/// with the lookup's normal offset), render unshadowed. Shadows are checked on their own:
+/// against rays through the scene's triangles, every culling mode and every path, in
+/// `tests/shadows.rs`.
+pub fn unshadowed() -> Settings {
+    Settings { shadows: lampshade::renderer::ShadowMode::None, ..Settings::default() }
+}
+
 pub fn scene(name: &str) -> Scene {
     builtin::build(name, BuiltinOptions::default()).expect("built-in scene")
 }

@@ -150,6 +150,7 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         // the lights were grouped into; counting splits each batch's shading draw per light.
         row(ui, "light draws", format!("{} in {} batches", s.draw_calls, s.light_batches));
         row(ui, "GPU g-buffer", fmt_ms(s.gpu_ms.gbuffer));
+        row(ui, "GPU shadows", fmt_ms(s.gpu_ms.shadows));
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
         if let Some(p) = &s.prepass {

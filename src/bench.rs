@@ -171,8 +171,17 @@ pub const CUTOFFS: [(f32, &str); 4] = [(0.0, "0"), (1.0 / 256.0, "1/256"), (1.0 
 /// and a 12-sided cone) in one knob; `--quick` keeps a subset of each group.
 pub fn configs(o: &BenchOptions) -> Vec<Config> {
     // Timed frames do not count: counting splits every batch's shading draw into a draw per
-    // light (its occlusion query). The counts come from a separate counted render.
-    let base = Settings { count_fragments: false, count_ideal: false, timestamps: true, ..Settings::default() };
+    // light (its occlusion query). The counts come from a separate counted render. Unshadowed:
+    // shadows are the `shadows` group's knob, so every other row differs from its (unshadowed)
+    // reference in its own knob only, and the tables from before shadows were on by default
+    // are reproduced by the same commands.
+    let base = Settings {
+        count_fragments: false,
+        count_ideal: false,
+        timestamps: true,
+        shadows: ShadowMode::None,
+        ..Settings::default()
+    };
     let c = |group, label: String, settings: Settings, lights| Config {
         group,
         label,

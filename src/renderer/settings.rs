@@ -66,9 +66,10 @@ knob_names!(
     Msaa => "MSAA sample count",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
+    ShadowCube => "shadow cube layout",
 );
 
-pub use super::shadows::{ShadowFilter, ShadowMode};
+pub use super::shadows::{ShadowCube, ShadowFilter, ShadowMode};
 
 pub use super::post::{Aa, Tonemap};
 
@@ -521,6 +522,9 @@ pub struct Settings {
     pub shadow_split_lambda: f32,
     /// Who builds the clustered mode's lists.
     pub cluster_build: ClusterBuilder,
+    /// Where point lights' (and wide spots') six shadow faces live: tiles of the atlas
+    /// (`unrolled`) or layers of a cube-array texture (`array`; issue 15).
+    pub shadow_cube: ShadowCube,
 }
 
 impl Default for Settings {
@@ -573,6 +577,7 @@ impl Default for Settings {
             shadow_cascades: 3,
             shadow_split_lambda: 0.7,
             cluster_build: ClusterBuilder::Cpu,
+            shadow_cube: ShadowCube::Unrolled,
         }
     }
 }

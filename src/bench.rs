@@ -148,6 +148,8 @@ pub struct ShadowFigures {
     /// Lights (the sun counted) with shadows, and those that fell back for the budget.
     pub casting: u32,
     pub fallback_budget: u32,
+    /// Lights that should cast but are off screen (unshadowed, counted).
+    pub fallback_off_screen: u32,
     /// `--shadow-cube`, and the cube array's face side (0 with `unrolled`).
     pub cube: String,
     pub cube_side: u32,
@@ -155,7 +157,15 @@ pub struct ShadowFigures {
 
 impl Default for ShadowFigures {
     fn default() -> Self {
-        Self { gpu_ms: f64::NAN, bytes: 0, casting: 0, fallback_budget: 0, cube: "-".into(), cube_side: 0 }
+        Self {
+            gpu_ms: f64::NAN,
+            bytes: 0,
+            casting: 0,
+            fallback_budget: 0,
+            fallback_off_screen: 0,
+            cube: "-".into(),
+            cube_side: 0,
+        }
     }
 }
 
@@ -167,6 +177,7 @@ impl ShadowFigures {
             bytes: sh.bytes(),
             casting: sh.casting,
             fallback_budget: sh.fallback_budget,
+            fallback_off_screen: sh.fallback_off_screen,
             cube: sh.cube.name(),
             cube_side: sh.cube_side,
         }
@@ -931,11 +942,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
-         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_cube,shadow_cube_side\n",
+         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -988,6 +999,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.shadow.bytes,
             r.shadow.casting,
             r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
             r.shadow.cube,
             r.shadow.cube_side
         );
@@ -1095,15 +1107,15 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
     let mut s = String::from(
         "\n### Shadows\n\n\
          Shadow ms: the shadow pass (atlas and cube array), which `total ms` (G-buffer to compose) leaves out. \
-         Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget: \
-         lights that fell back to unshadowed for the budget. FLIP mean against the finest shadows (64 MiB, poisson16, \
+         Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget, \
+         off screen: lights that fell back to unshadowed for the budget or for being off screen. FLIP mean against the finest shadows (64 MiB, poisson16, \
          4 cascades) of the same casters (`cube` rows: every light, cubes unrolled).\n\n\
-         | configuration | lights | shadow ms | total ms | bytes | casting | budget | cube side | FLIP mean |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         | configuration | lights | shadow ms | total ms | bytes | casting | budget | off screen | cube side | FLIP mean |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in shadows {
         s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {:.5} |\n",
+            "| {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {:.5} |\n",
             r.label,
             r.lights,
             r.shadow.gpu_ms,
@@ -1111,6 +1123,7 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
             r.shadow.bytes,
             r.shadow.casting,
             r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
             if r.shadow.cube == "array" { r.shadow.cube_side.to_string() } else { "-".into() },
             r.flip_mean
         );

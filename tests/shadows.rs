@@ -389,26 +389,29 @@ fn a_thin_wall_leaks_no_light() {
         p.radius = 5.0;
     }
     s.camera = lampshade::scene::Camera::looking_at(DVec3::new(-9.0, 6.0, 6.0), DVec3::new(-5.0, 0.0, 0.0));
-    let f = lit(&s, &settings(ShadowMode::All));
     let plain = lit(&s, &settings(ShadowMode::None));
-    let (mut behind, mut leaks, mut worst) = (0, 0, 0.0f32);
-    let to_world = s.camera.rotation().transpose();
-    for i in 0..(W * H) as usize {
-        let Some(p) = f.points[i] else { continue };
-        let w = s.camera.position + to_world * p.as_dvec3();
-        // The floor behind the wall, past 0.1 (the band: 4 texels of the face, ~0.02 each at
-        // that distance, and the wall's own thickness) from its back face.
-        if w.y < 0.01 && w.x < -4.62 && plain.diffuse[i] > 1e-3 {
-            behind += 1;
-            if f.diffuse[i] > 0.0 {
-                leaks += 1;
-                worst = worst.max(f.diffuse[i] / plain.diffuse[i]);
+    for cube in CUBES {
+        let f = lit(&s, &Settings { shadow_cube: cube, ..settings(ShadowMode::All) });
+        let (mut behind, mut leaks, mut worst) = (0, 0, 0.0f32);
+        let to_world = s.camera.rotation().transpose();
+        for i in 0..(W * H) as usize {
+            let Some(p) = f.points[i] else { continue };
+            let w = s.camera.position + to_world * p.as_dvec3();
+            // The floor behind the wall, past 0.1 (the band: 4 texels of the face, ~0.02 each
+            // at that distance, and the wall's own thickness) from its back face.
+            if w.y < 0.01 && w.x < -4.62 && plain.diffuse[i] > 1e-3 {
+                behind += 1;
+                if f.diffuse[i] > 0.0 {
+                    leaks += 1;
+                    worst = worst.max(f.diffuse[i] / plain.diffuse[i]);
+                }
             }
         }
+        let name = cube_name(cube);
+        eprintln!("thin wall/{name}: {behind} pixels behind it lit without shadows; {leaks} leak (worst {worst})");
+        assert!(behind > 500, "only {behind} pixels behind the wall");
+        assert_eq!(leaks, 0, "{name}: {leaks} of {behind} pixels behind the wall get light (worst {worst})");
     }
-    eprintln!("thin wall: {behind} pixels behind it lit without shadows; {leaks} leak (worst {worst})");
-    assert!(behind > 500, "only {behind} pixels behind the wall");
-    assert_eq!(leaks, 0, "{leaks} of {behind} pixels behind the wall get light (worst {worst} of the unshadowed)");
 }
 
 /// A point light over a bare floor: every face boundary of its cube crosses the floor. Nothing

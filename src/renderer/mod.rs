@@ -707,3 +707,19 @@ impl Renderer {
         ))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--shadow-cube array` without cube-array textures is refused with a message naming the
+    /// knob and the way out; `unrolled` never is.
+    #[test]
+    fn the_cube_array_is_refused_where_the_adapter_lacks_it() {
+        let array = Settings { shadow_cube: ShadowCube::Array, ..Settings::default() };
+        let e = check_shadow_cube(&array, false).expect_err("refused").to_string();
+        assert!(e.contains("--shadow-cube array") && e.contains("--shadow-cube unrolled"), "{e}");
+        assert!(check_shadow_cube(&array, true).is_ok());
+        assert!(check_shadow_cube(&Settings::default(), false).is_ok());
+    }
+}

@@ -619,8 +619,11 @@ fn the_hard_cases_stay_finite_with_shadows_on() {
         let s = scene(name);
         let (w, h) = if name == "overflow" { (96, 54) } else { (160, 90) };
         let plain = render(&s, &settings(ShadowMode::None), w, h);
-        for filter in [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16] {
-            let f = render(&s, &Settings { shadow_filter: filter, ..settings(ShadowMode::All) }, w, h);
+        for (filter, cube) in
+            [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16].into_iter().flat_map(|f| CUBES.map(|c| (f, c)))
+        {
+            let st = Settings { shadow_filter: filter, shadow_cube: cube, ..settings(ShadowMode::All) };
+            let f = render(&s, &st, w, h);
             assert_finite(&f, name);
             let grown = f
                 .diffuse
@@ -629,7 +632,7 @@ fn the_hard_cases_stay_finite_with_shadows_on() {
                 .chain(f.specular.iter().zip(&plain.specular))
                 .filter(|(a, b)| **a > **b * (1.0 + 1.0 / 1024.0))
                 .count();
-            assert_eq!(grown, 0, "{name}/{}: {grown} values grew with shadows on", filter.name());
+            assert_eq!(grown, 0, "{name}/{}/{}: {grown} values grew with shadows on", filter.name(), cube_name(cube));
             let sh = f.stats.shadow.as_ref().expect("shadow stats");
             assert!(sh.casting > 0 || s.lights.is_empty() && s.sun.is_none(), "{name}: nothing cast");
         }

@@ -536,7 +536,7 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "shadow-budget",
         what: "shadow atlas budget",
-        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits)",
+        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits; with --shadow-cube array, the atlas and the cube array share it)",
         values: Values::Float { min: 0.25, max: 1024.0, open: (false, false), slider: (1.0, 64.0) },
         cli: true,
         get: |s| s.shadow_budget_mb.to_string(),

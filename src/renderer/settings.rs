@@ -505,7 +505,8 @@ pub struct Settings {
     /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
     pub shadows: ShadowMode,
     /// The shadow atlas's byte budget in MiB (one Depth32Float texture; its side is the largest
-    /// power of two that fits, up to the device's limit).
+    /// power of two that fits, up to the device's limit). With `shadow_cube` = `array` the atlas
+    /// and the cube array share it (`shadows::cube_array_fit`).
     pub shadow_budget_mb: f32,
     /// Constant depth bias, in shadow-map texels (projected to world units at the receiver).
     pub shadow_bias: f32,

@@ -63,7 +63,8 @@ struct ShadowTile {
     proj: vec4<f32>,
     // The tile in atlas uv: corner, size.
     rect: vec4<f32>,
-    // orthographic (1) or not, a texel's world size at w = 1, resolution, near plane.
+    // LS_TILE_PERSPECTIVE / LS_TILE_ORTHOGRAPHIC (atlas tiles) or LS_TILE_CUBE_FACE (a face of
+    // the cube array, rect.x its layer), a texel's world size at w = 1, resolution, near plane.
     info: vec4<f32>,
 };
 
@@ -384,7 +385,7 @@ fn ambient_limit(s: Surface) -> vec3<f32> {
 // Points outside the tile's frustum are lit (a spot's cone and a light's radius end there).
 fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -> f32 {
     let q0 = (t.to_light * vec4<f32>(p, 1.0)).xyz;
-    let w0 = select(-q0.z, 1.0, t.info.x > 0.5);
+    let w0 = select(-q0.z, 1.0, t.info.x == LS_TILE_ORTHOGRAPHIC);
     if !(w0 > 0.0) {
         return 1.0;
     }
@@ -403,7 +404,7 @@ fn shadow_offset_point(p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec3<f32> {
 // receiver.
 fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
     let shadow_params = shadow_params_load();
-    let ortho = t.info.x > 0.5;
+    let ortho = t.info.x == LS_TILE_ORTHOGRAPHIC;
     let ndl = clamp(dot(n, L), 0.0, 1.0);
     let kernel = shadow_params.sun.z;
     let q = (t.to_light * vec4<f32>(p1, 1.0)).xyz;
@@ -493,7 +494,70 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let first = shadow_tile_load(l.shadow.x);
     let texel = first.info.y * max(a.x, max(a.y, a.z));
     let p1 = shadow_offset_point(p, n, texel);
+    if first.info.x == LS_TILE_CUBE_FACE {
+        return shadow_cube_lookup(first, p1 - l.position, n, L, texel);
+    }
     return shadow_lookup(shadow_tile_load(l.shadow.x + cube_face(p1 - l.position)), p1, n, L, texel);
+}
+
+// `--shadow-cube array`: the lookup of a cube in the cube array, for the (offset) light-to-point
+// vector `d`; `first` is the cube's first face (rect.x its layer, proj.z 1 / far, info.z the
+// face side); `texel` a texel's world size at the receiver. The same test as `shadow_lookup`
+// on an unrolled face, stored differently: the faces hold |q| / far (`fs_shadow`), so the
+// reference is the axial one (ma / far - bias, ma = d's major component, the unrolled face's
+// depth) times |d'| / ma for a tap along d' (d' - d lies in the face's plane, so d' has the
+// same axial distance ma, and along one ray radial = axial x |d'| / ma: the comparison is the
+// axial one, exactly). The hardware picks the face and filters 2x2 across face edges
+// (seamless), so no border; the wider kernels move d in the plane of its major face by whole
+// texels (2 ma / side a texel at that face's distance), as the atlas kernels move uv.
+fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
+    let shadow_params = shadow_params_load();
+    let kernel = shadow_params.sun.z;
+    let a = abs(d);
+    let ma = max(a.x, max(a.y, a.z));
+    if !(ma > 0.0) {
+        return 1.0;
+    }
+    let ndl = clamp(dot(n, L), 0.0, 1.0);
+    let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
+    let bias = (shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel * first.proj.z;
+    let axial = ma * first.proj.z - bias;
+    if axial >= 1.0 {
+        return 1.0;
+    }
+    let cube = i32(first.rect.x) / 6;
+    // The face's plane: the two axes other than the major one, a texel long at distance ma.
+    var tu = vec3<f32>(0.0, 1.0, 0.0);
+    var tv = vec3<f32>(0.0, 0.0, 1.0);
+    if a.y >= a.x && a.y >= a.z {
+        tu = vec3<f32>(1.0, 0.0, 0.0);
+    } else if a.z > a.x && a.z > a.y {
+        tu = vec3<f32>(1.0, 0.0, 0.0);
+        tv = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    let step = 2.0 * ma / first.info.z;
+    tu *= step;
+    tv *= step;
+    let k = axial / ma;
+    if kernel == LS_SHADOW_FILTER_PCF2X2 {
+        return textureSampleCompareLevel(shadow_cubes, shadow_sampler, d, cube, k * length(d));
+    }
+    var sum = 0.0;
+    if kernel == LS_SHADOW_FILTER_PCF3X3 {
+        for (var y = -1; y <= 1; y++) {
+            for (var x = -1; x <= 1; x++) {
+                let dt = d + f32(x) * tu + f32(y) * tv;
+                sum += textureSampleCompareLevel(shadow_cubes, shadow_sampler, dt, cube, k * length(dt));
+            }
+        }
+        return sum / 9.0;
+    }
+    for (var i = 0; i < 16; i++) {
+        let o = SHADOW_POISSON[i] * 2.0;
+        let dt = d + o.x * tu + o.y * tv;
+        sum += textureSampleCompareLevel(shadow_cubes, shadow_sampler, dt, cube, k * length(dt));
+    }
+    return sum / 16.0;
 }
 
 // The sun's cascade for view-space point `p` (its count when beyond the last: unshadowed).

@@ -1,10 +1,17 @@
 // Issue 15: the shadow pass (`passes::shadows`). Each instance is one caster in one tile
 // (instance = tile * objects + object); the depth written is linear in the distance along the
-// tile's axis (`ShadowTile`), clipped at the tile's near plane.
+// tile's axis (`ShadowTile`), clipped at the tile's near plane. A face of the cube array
+// (`--shadow-cube array`, info.x = LS_TILE_CUBE_FACE) writes the distance from the light
+// instead (|q| / far): the hardware filters across faces with one reference depth, which only
+// a face-independent depth makes right (`shadow_cube_lookup` scales its reference to match).
 
 struct ShadowOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) depth: f32,
+    // Light-space position (affine in the object's position, so interpolated exactly) and,
+    // for a cube-array face, 1 / far (0 otherwise).
+    @location(1) q: vec3<f32>,
+    @location(2) @interpolate(flat) radial: f32,
 };
 
 @vertex
@@ -16,7 +23,9 @@ fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance
     let depth = -q.z * t.proj.z + t.proj.w;
     var out: ShadowOut;
     out.depth = depth;
-    if t.info.x > 0.5 {
+    out.q = q;
+    out.radial = select(0.0, t.proj.z, t.info.x == LS_TILE_CUBE_FACE);
+    if t.info.x == LS_TILE_ORTHOGRAPHIC {
         out.clip = vec4<f32>(q.xy * t.proj.xy, depth, 1.0);
     } else {
         // z / w runs 0 .. 1 from the near plane to the far one (w = -q.z), so clipping is
@@ -31,5 +40,8 @@ fn vs_shadow(@location(0) position: vec3<f32>, @builtin(instance_index) instance
 
 @fragment
 fn fs_shadow(in: ShadowOut) -> @builtin(frag_depth) f32 {
+    if in.radial > 0.0 {
+        return clamp(length(in.q) * in.radial, 0.0, 1.0);
+    }
     return clamp(in.depth, 0.0, 1.0);
 }

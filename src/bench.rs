@@ -10,7 +10,7 @@ use crate::headless::render_image;
 use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
-    ShadowFilter, ShadowMode, OUTPUT_FORMAT,
+    ShadowCube, ShadowFilter, ShadowMode, OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
@@ -100,8 +100,6 @@ pub struct Row {
     pub gbuffer_ms: f64,
     pub lighting_ms: f64,
     pub compose_ms: f64,
-    /// The shadow pass (issue 15; 0 when no light cast), part of `total_ms`.
-    pub shadows_ms: f64,
     /// The forward pass of blended surfaces (0 without any).
     pub forward_ms: f64,
     /// The post chain's passes (0 where a pass did not run).
@@ -134,6 +132,56 @@ pub struct Row {
     pub limit_ratio: f64,
     /// The rendering path's figures (the `path` group; defaults elsewhere).
     pub path: PathFigures,
+    /// The shadow maps' figures (issue 15; every row, NaN/0 without shadows).
+    pub shadow: ShadowFigures,
+}
+
+/// What the `shadows` group compares (issue 15): the shadow pass's cost and memory. Its time
+/// is part of `total_ms` (the G-buffer to the compose, plus the shadow pass before them).
+#[derive(Clone, Debug, Serialize)]
+pub struct ShadowFigures {
+    /// Median GPU ms of the shadow pass (the atlas's render pass and the cube array's layers;
+    /// NaN when nothing cast).
+    pub gpu_ms: f64,
+    /// Bytes of the atlas and the cube array as allocated.
+    pub bytes: u64,
+    /// Lights (the sun counted) with shadows, and those that fell back for the budget.
+    pub casting: u32,
+    pub fallback_budget: u32,
+    /// Lights that should cast but are off screen (unshadowed, counted).
+    pub fallback_off_screen: u32,
+    /// `--shadow-cube`, and the cube array's face side (0 with `unrolled`).
+    pub cube: String,
+    pub cube_side: u32,
+}
+
+impl Default for ShadowFigures {
+    fn default() -> Self {
+        Self {
+            gpu_ms: f64::NAN,
+            bytes: 0,
+            casting: 0,
+            fallback_budget: 0,
+            fallback_off_screen: 0,
+            cube: "-".into(),
+            cube_side: 0,
+        }
+    }
+}
+
+impl ShadowFigures {
+    fn of(stats: &FrameStats, times: &[FrameStats]) -> Self {
+        let Some(sh) = &stats.shadow else { return Self::default() };
+        Self {
+            gpu_ms: median(times.iter().filter_map(|t| t.shadow.as_ref().and_then(|s| s.gpu_ms)).collect()),
+            bytes: sh.bytes(),
+            casting: sh.casting,
+            fallback_budget: sh.fallback_budget,
+            fallback_off_screen: sh.fallback_off_screen,
+            cube: sh.cube.name(),
+            cube_side: sh.cube_side,
+        }
+    }
 }
 
 /// What the `path` group compares between rendering paths (issue 14).
@@ -391,9 +439,19 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for (label, settings) in sh {
         v.push(c("shadows", label, settings, o.lights));
     }
+    // Point lights' six faces (every light casting; `CUBE_LIGHTS` point lights, plus the
+    // scene's spots): unrolled into the atlas (seed 002's virtual cube) or a cube array, at the
+    // default budget, against the finest shadows of `all` (`shadow_reference`).
+    for cube in [ShadowCube::Unrolled, ShadowCube::Array] {
+        let settings = Settings { shadows: ShadowMode::All, shadow_cube: cube, ..base.clone() };
+        v.push(c("shadows", format!("cube {}", cube.name()), settings, CUBE_LIGHTS));
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     v
 }
+
+/// Point lights of the `shadows` group's cube rows (each casts six faces).
+pub const CUBE_LIGHTS: usize = 16;
 
 /// The light counts of the `path` group (plus the room, with its own lights).
 pub const PATH_LIGHT_COUNTS: [usize; 3] = [64, 256, 1024];
@@ -554,8 +612,13 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
         let (w, h) = cfg.size;
-        // The `shadows` group (its `none` row too) is held against the finest shadows.
-        let shadows = if cfg.group == "shadows" { ShadowMode::Spots } else { ShadowMode::None };
+        // The `shadows` group (its `none` row too) is held against the finest shadows (of every
+        // light for the cube rows).
+        let shadows = match cfg.group {
+            "shadows" if cfg.settings.shadows == ShadowMode::All => ShadowMode::All,
+            "shadows" => ShadowMode::Spots,
+            _ => ShadowMode::None,
+        };
         let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);
         let reference = match refs.entry(key) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
@@ -609,7 +672,6 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
             lighting_ms: pick(|s| s.gpu_ms.lighting),
             compose_ms: pick(|s| s.gpu_ms.compose),
-            shadows_ms: pick(|s| s.gpu_ms.shadows.or(s.gpu_ms.total.map(|_| 0.0))),
             forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
             bloom_ms: pick(|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
             exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
@@ -634,6 +696,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             reference: reference_culling(scene.lights.len(), cfg.size).name(),
             limit_ratio: f64::NAN,
             path: figures,
+            shadow: ShadowFigures::of(&stats, &times),
         });
     }
     for (cfg, lights, error) in failed {
@@ -735,7 +798,6 @@ fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
         gbuffer_ms: f64::NAN,
         lighting_ms: f64::NAN,
         compose_ms: f64::NAN,
-        shadows_ms: f64::NAN,
         forward_ms: f64::NAN,
         bloom_ms: f64::NAN,
         exposure_ms: f64::NAN,
@@ -760,6 +822,7 @@ fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
         reference: reference_culling(lights, cfg.size).name(),
         limit_ratio: f64::NAN,
         path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
+        shadow: ShadowFigures::default(),
     }
 }
 
@@ -833,7 +896,8 @@ pub fn add_limits(rows: &mut Vec<Row>) {
         let mine: Vec<&Row> = rows.iter().filter(|r| key(r) == k).collect();
         let Some(first) = mine.first() else { continue };
         let gbuffer = median(mine.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
-        let shadows = median(mine.iter().map(|r| r.shadows_ms).filter(|v| v.is_finite()).collect());
+        // NaN where nothing cast: no shadow pass ran.
+        let shadows = median(mine.iter().map(|r| r.shadow.gpu_ms).filter(|v| v.is_finite()).collect());
         let compose = median(mine.iter().map(|r| r.compose_ms).filter(|v| v.is_finite()).collect());
         // Every mode counts the same ideal (tested); the largest guards against a row that did
         // not count it.
@@ -848,7 +912,6 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             gbuffer_ms: gbuffer,
             lighting_ms: lighting,
             compose_ms: compose,
-            shadows_ms: shadows,
             forward_ms: 0.0,
             total_ms: limit,
             coverage_fragments: 0,
@@ -891,11 +954,12 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
          lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
-         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,shadows_ms\n",
+         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
+         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -944,7 +1008,13 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.path.object_light_pairs,
             r.path.lit_fragments,
             r.path.error.replace('"', "'").replace(',', ";"),
-            r.shadows_ms
+            r.shadow.gpu_ms,
+            r.shadow.bytes,
+            r.shadow.casting,
+            r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
+            r.shadow.cube,
+            r.shadow.cube_side
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -994,7 +1064,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         let x_limit = if r.limit_ratio.is_finite() { format!("{:.2}", r.limit_ratio) } else { "-".into() };
         let error = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
         s += &format!(
-            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
             r.group,
             r.label,
             if r.pareto { " *" } else { "" },
@@ -1004,7 +1074,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
             r.gbuffer_bytes_per_pixel,
             r.volumes,
             r.gbuffer_ms,
-            r.shadows_ms,
+            if r.shadow.gpu_ms.is_finite() { format!("{:.2}", r.shadow.gpu_ms) } else { "-".into() },
             r.lighting_ms,
             r.forward_ms,
             if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
@@ -1037,6 +1107,41 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
         );
     }
     s += &paths_markdown(rows);
+    s += &shadows_markdown(rows);
+    s
+}
+
+/// The `shadows` group's table (issue 15): the shadow pass's GPU ms (outside `total ms`), the
+/// bytes of the atlas and the cube array, who casts, and the error against the finest shadows.
+pub fn shadows_markdown(rows: &[Row]) -> String {
+    let shadows: Vec<&Row> = rows.iter().filter(|r| r.group == "shadows").collect();
+    if shadows.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n### Shadows\n\n\
+         Shadow ms: the shadow pass (atlas and cube array), which `total ms` (G-buffer to compose) leaves out. \
+         Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget, \
+         off screen: lights that fell back to unshadowed for the budget or for being off screen. FLIP mean against the finest shadows (64 MiB, poisson16, \
+         4 cascades) of the same casters (`cube` rows: every light, cubes unrolled).\n\n\
+         | configuration | lights | shadow ms | total ms | bytes | casting | budget | off screen | cube side | FLIP mean |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in shadows {
+        s += &format!(
+            "| {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {:.5} |\n",
+            r.label,
+            r.lights,
+            r.shadow.gpu_ms,
+            r.total_ms,
+            r.shadow.bytes,
+            r.shadow.casting,
+            r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
+            if r.shadow.cube == "array" { r.shadow.cube_side.to_string() } else { "-".into() },
+            r.flip_mean
+        );
+    }
     s
 }
 
@@ -1523,7 +1628,6 @@ mod tests {
             gbuffer_ms: 0.0,
             lighting_ms: 0.0,
             compose_ms: 0.0,
-            shadows_ms: 0.0,
             forward_ms: 0.0,
             bloom_ms: 0.0,
             exposure_ms: 0.0,
@@ -1548,6 +1652,7 @@ mod tests {
             reference: "fullscreen".into(),
             limit_ratio: f64::NAN,
             path: Default::default(),
+            shadow: Default::default(),
         };
         let mut rows = vec![
             row("fast", "a", 1.0, 0.02),
@@ -1583,7 +1688,6 @@ mod tests {
             gbuffer_ms: g,
             lighting_ms: l,
             compose_ms: c,
-            shadows_ms: 0.0,
             forward_ms: 0.0,
             bloom_ms: 0.0,
             exposure_ms: 0.0,
@@ -1608,6 +1712,7 @@ mod tests {
             reference: "fullscreen".into(),
             limit_ratio: f64::NAN,
             path: Default::default(),
+            shadow: Default::default(),
         };
         let mut rows = vec![
             // 100 ms for 100,000 fragments: 0.001 ms a fragment.
@@ -1640,7 +1745,7 @@ mod tests {
             row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
         ];
         for (r, s) in shadowed.iter_mut().zip([3.0, 2.0, 4.0]) {
-            r.shadows_ms = s;
+            r.shadow.gpu_ms = s;
         }
         add_limits(&mut shadowed);
         assert!((shadowed[3].total_ms - (11.0 + 3.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", shadowed[3].total_ms);

@@ -14,7 +14,7 @@ use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::reference::Occluders;
 use lampshade::renderer::records::ShadowTile;
-use lampshade::renderer::{CullingMode, Renderer, Settings, ShadowFilter, ShadowMode, OUTPUT_FORMAT};
+use lampshade::renderer::{CullingMode, Renderer, Settings, ShadowCube, ShadowFilter, ShadowMode, OUTPUT_FORMAT};
 use lampshade::scene::{Light, Scene};
 
 const W: u32 = 320;
@@ -53,6 +53,17 @@ fn lit(scene: &Scene, settings: &Settings) -> Lit {
 
 fn settings(shadows: ShadowMode) -> Settings {
     Settings { shadows, count_fragments: false, ..Settings::default() }
+}
+
+/// Both layouts of a point light's six faces (`--shadow-cube`): the tests about cubes run
+/// with each.
+const CUBES: [ShadowCube; 2] = [ShadowCube::Unrolled, ShadowCube::Array];
+
+fn cube_name(c: ShadowCube) -> &'static str {
+    match c {
+        ShadowCube::Unrolled => "unrolled",
+        ShadowCube::Array => "array",
+    }
 }
 
 /// The CPU checks' settings: a 64 MiB atlas (4096 texels; 1024 a cascade) and 4 cascades, so
@@ -104,7 +115,7 @@ fn surface(scene: &Scene, points: &[Option<Vec3>], i: usize) -> Option<(DVec3, D
 fn texel_at(t: &ShadowTile, p: DVec3) -> f64 {
     let m = glam::Mat4::from_cols_array_2d(&t.to_light).as_dmat4();
     let q = m.transform_point3(p);
-    let w = if t.info[0] > 0.5 { 1.0 } else { -q.z };
+    let w = if t.info[0] == lampshade::renderer::shadows::TILE_ORTHOGRAPHIC { 1.0 } else { -q.z };
     t.info[1] as f64 * w
 }
 
@@ -122,6 +133,9 @@ struct Check<'a> {
     misses: std::cell::RefCell<Option<image::RgbaImage>>,
     /// Compare only these pixels (`None`: all).
     pixels: Option<Vec<bool>>,
+    /// Compare with this frame's shadow (its factor over `plain`'s, > 0.5 lit) instead of the
+    /// CPU's visibility (the pixels near the CPU's shadow edges are left out all the same).
+    against: Option<&'a Lit>,
 }
 
 /// The edge band: pixels whose CPU visibility changes within this many shadow-map texels
@@ -176,6 +190,7 @@ impl Check<'_> {
                 continue;
             }
             let factor = self.shadowed.diffuse[i] / base;
+            let v = self.against.map_or(v, |a| a.diffuse[i] / base > 0.5);
             total += 1;
             shadowed += !v as usize;
             if v == (factor > 0.5) {
@@ -189,7 +204,7 @@ impl Check<'_> {
 }
 
 fn check_light(name: &str, scene: &Scene, mode: ShadowMode, sun: bool) {
-    check_light_at(name, scene, mode, sun, None, (1000, 200));
+    check_light_at(name, scene, &fine(mode), sun, None, (1000, 200));
 }
 
 /// `check_light` at the pixels `pixels` selects, asking for at least `least.0` compared pixels
@@ -197,15 +212,15 @@ fn check_light(name: &str, scene: &Scene, mode: ShadowMode, sun: bool) {
 fn check_light_at(
     name: &str,
     scene: &Scene,
-    mode: ShadowMode,
+    st: &Settings,
     sun: bool,
     pixels: Option<Vec<bool>>,
     least: (usize, usize),
 ) {
     let plain = lit(scene, &settings(ShadowMode::None));
-    let shadowed = lit(scene, &fine(mode));
+    let shadowed = lit(scene, st);
     assert_finite_values(&shadowed.diffuse, name);
-    let band_texels = band_texels(&fine(mode));
+    let band_texels = band_texels(st);
     let misses = std::cell::RefCell::new(Some(shadowed.image.clone()));
     let check = Check {
         scene,
@@ -215,6 +230,7 @@ fn check_light_at(
         band_texels,
         misses,
         pixels,
+        against: None,
     };
     let rot = scene.camera.rotation();
     let (agree, total, blocked) = if sun {
@@ -294,7 +310,10 @@ fn cpu_rays_agree_with_the_spot_lights_shadow() {
 #[test]
 fn cpu_rays_agree_with_the_point_lights_cube_shadow() {
     let s = only(|_, l| matches!(l, Light::Point(_)), false);
-    check_light("point", &s, ShadowMode::All, false);
+    for cube in CUBES {
+        let st = Settings { shadow_cube: cube, ..fine(ShadowMode::All) };
+        check_light_at(&format!("point-{}", cube_name(cube)), &s, &st, false, None, (1000, 200));
+    }
 }
 
 #[test]
@@ -370,26 +389,29 @@ fn a_thin_wall_leaks_no_light() {
         p.radius = 5.0;
     }
     s.camera = lampshade::scene::Camera::looking_at(DVec3::new(-9.0, 6.0, 6.0), DVec3::new(-5.0, 0.0, 0.0));
-    let f = lit(&s, &settings(ShadowMode::All));
     let plain = lit(&s, &settings(ShadowMode::None));
-    let (mut behind, mut leaks, mut worst) = (0, 0, 0.0f32);
-    let to_world = s.camera.rotation().transpose();
-    for i in 0..(W * H) as usize {
-        let Some(p) = f.points[i] else { continue };
-        let w = s.camera.position + to_world * p.as_dvec3();
-        // The floor behind the wall, past 0.1 (the band: 4 texels of the face, ~0.02 each at
-        // that distance, and the wall's own thickness) from its back face.
-        if w.y < 0.01 && w.x < -4.62 && plain.diffuse[i] > 1e-3 {
-            behind += 1;
-            if f.diffuse[i] > 0.0 {
-                leaks += 1;
-                worst = worst.max(f.diffuse[i] / plain.diffuse[i]);
+    for cube in CUBES {
+        let f = lit(&s, &Settings { shadow_cube: cube, ..settings(ShadowMode::All) });
+        let (mut behind, mut leaks, mut worst) = (0, 0, 0.0f32);
+        let to_world = s.camera.rotation().transpose();
+        for i in 0..(W * H) as usize {
+            let Some(p) = f.points[i] else { continue };
+            let w = s.camera.position + to_world * p.as_dvec3();
+            // The floor behind the wall, past 0.1 (the band: 4 texels of the face, ~0.02 each
+            // at that distance, and the wall's own thickness) from its back face.
+            if w.y < 0.01 && w.x < -4.62 && plain.diffuse[i] > 1e-3 {
+                behind += 1;
+                if f.diffuse[i] > 0.0 {
+                    leaks += 1;
+                    worst = worst.max(f.diffuse[i] / plain.diffuse[i]);
+                }
             }
         }
+        let name = cube_name(cube);
+        eprintln!("thin wall/{name}: {behind} pixels behind it lit without shadows; {leaks} leak (worst {worst})");
+        assert!(behind > 500, "only {behind} pixels behind the wall");
+        assert_eq!(leaks, 0, "{name}: {leaks} of {behind} pixels behind the wall get light (worst {worst})");
     }
-    eprintln!("thin wall: {behind} pixels behind it lit without shadows; {leaks} leak (worst {worst})");
-    assert!(behind > 500, "only {behind} pixels behind the wall");
-    assert_eq!(leaks, 0, "{leaks} of {behind} pixels behind the wall get light (worst {worst} of the unshadowed)");
 }
 
 /// A point light over a bare floor: every face boundary of its cube crosses the floor. Nothing
@@ -433,8 +455,15 @@ fn a_point_lights_cube_shows_no_seams_at_face_edges() {
             }
         }
     }
-    check_light_at("point at face edges", &s, ShadowMode::All, false, Some(near), (300, 30));
-    for filter in [ShadowFilter::Pcf2x2, ShadowFilter::Pcf3x3, ShadowFilter::Poisson16] {
+    for cube in CUBES {
+        let st = Settings { shadow_cube: cube, ..fine(ShadowMode::All) };
+        let name = format!("point at face edges-{}", cube_name(cube));
+        check_light_at(&name, &s, &st, false, Some(near.clone()), (300, 30));
+    }
+    for (filter, cube) in [ShadowFilter::Pcf2x2, ShadowFilter::Pcf3x3, ShadowFilter::Poisson16]
+        .into_iter()
+        .flat_map(|f| CUBES.map(|c| (f, c)))
+    {
         let mut s = only(|_, l| matches!(l, Light::Point(_)), false);
         s.objects.truncate(1);
         if let Light::Point(p) = &mut s.lights[0] {
@@ -442,8 +471,9 @@ fn a_point_lights_cube_shows_no_seams_at_face_edges() {
             p.radius = 9.0;
         }
         s.camera = lampshade::scene::Camera::looking_at(DVec3::new(0.0, 9.0, 7.0), DVec3::new(0.0, 0.0, 0.0));
-        let st = Settings { shadow_filter: filter, ..settings(ShadowMode::All) };
+        let st = Settings { shadow_filter: filter, shadow_cube: cube, ..settings(ShadowMode::All) };
         let f = lit(&s, &st);
+        assert_eq!(f.tiles[f.lights[0].0 as usize].info[0] == 2.0, cube == ShadowCube::Array, "the cube's layout");
         let plain = lit(&s, &settings(ShadowMode::None));
         let rot = s.camera.rotation();
         let lp = rot * (s.lights[0].position() - s.camera.position);
@@ -475,31 +505,94 @@ fn a_point_lights_cube_shows_no_seams_at_face_edges() {
             }
             let _ = y;
         }
-        eprintln!("{}: {lit_px} lit pixels, {boundary} on a face boundary, {seams} lose light", filter.name());
+        let name = format!("{}/{}", filter.name(), cube_name(cube));
+        eprintln!("{name}: {lit_px} lit pixels, {boundary} on a face boundary, {seams} lose light");
         assert!(boundary > 100, "the cube's face boundaries are not on screen ({boundary} pixels)");
-        assert_eq!(seams, 0, "{}: {seams} of {lit_px} pixels of a bare floor lose light", filter.name());
+        assert_eq!(seams, 0, "{name}: {seams} of {lit_px} pixels of a bare floor lose light");
     }
 }
 
 #[test]
 fn every_culling_mode_gives_the_same_shadowed_picture() {
     let s = scene("shadows");
-    let st = |culling| Settings { culling, ..settings(ShadowMode::All) };
-    let reference = render(&s, &st(CullingMode::Fullscreen), W, H);
-    assert_finite(&reference, "shadows");
     let unshadowed = render(&s, &Settings { culling: CullingMode::Fullscreen, ..settings(ShadowMode::None) }, W, H);
-    let shadow_steps = max_channel_difference(&reference.image, &unshadowed.image);
-    assert!(shadow_steps > 20, "the shadows change the picture by only {shadow_steps} steps");
     let mut failures = Vec::new();
-    for mode in CullingMode::ALL.into_iter().skip(1) {
-        let f = render(&s, &st(mode), W, H);
-        assert_finite(&f, mode.name().as_str());
-        let step = max_channel_difference(&reference.image, &f.image);
-        if step > 1 {
-            failures.push(format!("{}: {step} steps from fullscreen", mode.name()));
+    for cube in CUBES {
+        let st = |culling| Settings { culling, shadow_cube: cube, ..settings(ShadowMode::All) };
+        let reference = render(&s, &st(CullingMode::Fullscreen), W, H);
+        assert_finite(&reference, "shadows");
+        let shadow_steps = max_channel_difference(&reference.image, &unshadowed.image);
+        assert!(shadow_steps > 20, "{}: the shadows change the picture by only {shadow_steps} steps", cube_name(cube));
+        for mode in CullingMode::ALL.into_iter().skip(1) {
+            let f = render(&s, &st(mode), W, H);
+            assert_finite(&f, mode.name().as_str());
+            let step = max_channel_difference(&reference.image, &f.image);
+            if step > 1 {
+                failures.push(format!("{} {}: {step} steps from fullscreen", cube_name(cube), mode.name()));
+            }
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// `--shadow-cube array` and `unrolled` shadow the same pixels: the point light alone over the
+/// `shadows` scene, each pixel's factor (light with shadows over light without) taken as lit
+/// (> 0.5) or not in both layouts, at the CPU check's pixels (away from the CPU's shadow edges
+/// by the edge band of `band_texels`, with the coarser of the two layouts' texels; off
+/// geometric edges; N.L >= 0.2). Each layout is within that band of the true edge (the CPU
+/// check), so outside it the two must agree: the same 99% as the CPU check, and the compared
+/// pixels must include shadowed ones. The layouts differ in storage (the array's faces have
+/// no border, so a different texel size) and filtering (seamless across face edges).
+#[test]
+fn the_cube_array_and_the_unrolled_cube_shadow_the_same_pixels() {
+    let s = only(|_, l| matches!(l, Light::Point(_)), false);
+    let plain = lit(&s, &settings(ShadowMode::None));
+    let unrolled = lit(&s, &Settings { shadow_cube: ShadowCube::Unrolled, ..fine(ShadowMode::All) });
+    let array = lit(&s, &Settings { shadow_cube: ShadowCube::Array, ..fine(ShadowMode::All) });
+    for (f, c) in [(&unrolled, ShadowCube::Unrolled), (&array, ShadowCube::Array)] {
+        assert_eq!(f.lights[0].1, 6, "{}: the point light cast no cube", cube_name(c));
+        assert_eq!(f.tiles[f.lights[0].0 as usize].info[0] == 2.0, c == ShadowCube::Array);
+    }
+    let sh = array.stats.shadow.as_ref().expect("shadow stats");
+    assert_eq!(sh.cube_layers, 6);
+    assert!(sh.cube_side >= 32 && sh.bytes() <= 64 << 20, "{sh:?}");
+    let check = Check {
+        scene: &s,
+        occluders: Occluders::of(&s),
+        plain: &plain,
+        shadowed: &array,
+        band_texels: band_texels(&fine(ShadowMode::All)),
+        misses: std::cell::RefCell::new(Some(array.image.clone())),
+        pixels: None,
+        against: Some(&unrolled),
+    };
+    let rot = s.camera.rotation();
+    let lp = rot * (s.lights[0].position() - s.camera.position);
+    let texel = |f: &Lit, vp: DVec3| {
+        let d = vp - lp;
+        let a = d.abs();
+        let face = if a.x >= a.y && a.x >= a.z {
+            (d.x < 0.0) as u32
+        } else if a.y >= a.z {
+            2 + (d.y < 0.0) as u32
+        } else {
+            4 + (d.z < 0.0) as u32
+        };
+        texel_at(&f.tiles[(f.lights[0].0 + face) as usize], vp)
+    };
+    let light = s.lights[0].position();
+    let (agree, total, blocked) = check.run(|_| light, |vp| Some(texel(&unrolled, vp).max(texel(&array, vp))));
+    let share = agree as f64 / total.max(1) as f64;
+    eprintln!("array vs unrolled: {agree} of {total} pixels agree ({share:.4}); {blocked} shadowed in unrolled");
+    if share < 0.99 {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/image-tests");
+        let _ = std::fs::create_dir_all(&dir);
+        if let Some(img) = check.misses.borrow().as_ref() {
+            let _ = img.save(dir.join("shadows-array-vs-unrolled-misses.png"));
+        }
+    }
+    assert!(total > 1000 && blocked > 200, "only {total} pixels compared, {blocked} shadowed");
+    assert!(share >= 0.99, "the cube array and the unrolled cube agree at {share:.4} of {total} pixels");
 }
 
 /// Every hard case with every light casting: finite, and no pixel gets more light than without
@@ -526,8 +619,11 @@ fn the_hard_cases_stay_finite_with_shadows_on() {
         let s = scene(name);
         let (w, h) = if name == "overflow" { (96, 54) } else { (160, 90) };
         let plain = render(&s, &settings(ShadowMode::None), w, h);
-        for filter in [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16] {
-            let f = render(&s, &Settings { shadow_filter: filter, ..settings(ShadowMode::All) }, w, h);
+        for (filter, cube) in
+            [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16].into_iter().flat_map(|f| CUBES.map(|c| (f, c)))
+        {
+            let st = Settings { shadow_filter: filter, shadow_cube: cube, ..settings(ShadowMode::All) };
+            let f = render(&s, &st, w, h);
             assert_finite(&f, name);
             let grown = f
                 .diffuse
@@ -536,7 +632,7 @@ fn the_hard_cases_stay_finite_with_shadows_on() {
                 .chain(f.specular.iter().zip(&plain.specular))
                 .filter(|(a, b)| **a > **b * (1.0 + 1.0 / 1024.0))
                 .count();
-            assert_eq!(grown, 0, "{name}/{}: {grown} values grew with shadows on", filter.name());
+            assert_eq!(grown, 0, "{name}/{}/{}: {grown} values grew with shadows on", filter.name(), cube_name(cube));
             let sh = f.stats.shadow.as_ref().expect("shadow stats");
             assert!(sh.casting > 0 || s.lights.is_empty() && s.sun.is_none(), "{name}: nothing cast");
         }
@@ -568,23 +664,37 @@ fn fallbacks_are_counted_in_the_stats() {
             mask: lampshade::scene::ALL_LAYERS,
         }));
     }
-    let st = Settings { shadow_budget_mb: 0.25, ..settings(ShadowMode::All) };
-    let f = lit(&s, &st);
-    let sh = f.stats.shadow.expect("shadow stats");
-    eprintln!("{sh:?}");
-    assert_eq!(sh.atlas_side, 256);
-    assert_eq!(sh.fallback_off_screen, 1);
-    assert_eq!(sh.flag_off, 1);
-    assert!(sh.fallback_budget > 0, "no light fell back for the budget");
-    assert_eq!(
-        sh.casting + sh.fallback_budget,
-        1 + 1 + 39,
-        "the sun, the spot and 39 points: each casts or is counted"
-    );
-    assert!(sh.atlas_used <= 1.0);
-    let unshadowed = f.lights.iter().filter(|l| l.0 == lampshade::renderer::records::NO_SHADOW).count();
-    assert_eq!(unshadowed as u32, sh.fallback_budget + sh.fallback_off_screen + sh.flag_off);
-    let _ = (&f.image, DMat3::IDENTITY);
+    for cube in CUBES {
+        let st = Settings { shadow_budget_mb: 0.25, shadow_cube: cube, ..settings(ShadowMode::All) };
+        let f = lit(&s, &st);
+        let sh = f.stats.shadow.expect("shadow stats");
+        eprintln!("{}: {sh:?}", cube_name(cube));
+        match cube {
+            ShadowCube::Unrolled => {
+                assert_eq!(sh.atlas_side, 256);
+                assert_eq!(sh.cube_bytes, 0);
+            }
+            // The atlas shrinks to what the sun and the spot take (128²); the cubes get the
+            // rest of the 0.25 MiB: (262144 - 65536) / (6 x 4 x 32²) = 8 cubes of 32 texels.
+            ShadowCube::Array => {
+                assert_eq!(sh.atlas_side, 128);
+                assert_eq!((sh.cube_side, sh.cube_layers), (32, 48), "{sh:?}");
+                assert!(sh.bytes() <= 256 << 10, "{} bytes over the budget", sh.bytes());
+            }
+        }
+        assert_eq!(sh.fallback_off_screen, 1);
+        assert_eq!(sh.flag_off, 1);
+        assert!(sh.fallback_budget > 0, "no light fell back for the budget");
+        assert_eq!(
+            sh.casting + sh.fallback_budget,
+            1 + 1 + 39,
+            "the sun, the spot and 39 points: each casts or is counted"
+        );
+        assert!(sh.atlas_used <= 1.0);
+        let unshadowed = f.lights.iter().filter(|l| l.0 == lampshade::renderer::records::NO_SHADOW).count();
+        assert_eq!(unshadowed as u32, sh.fallback_budget + sh.fallback_off_screen + sh.flag_off);
+        let _ = (&f.image, DMat3::IDENTITY);
+    }
 }
 
 /// glTF: `"extras": {"cast_shadows": false}` on a KHR_lights_punctual light turns its shadow

@@ -23,6 +23,9 @@ pub enum Kind {
     Sampler,
     /// A 2D depth texture (`texture_depth_2d`), read through a comparison sampler.
     DepthTexture,
+    /// A cube-array depth texture (`texture_depth_cube_array`), read through a comparison
+    /// sampler (issue 15's `--shadow-cube array`).
+    DepthCubeArray,
     /// A comparison sampler (`sampler_comparison`): hardware 2x2 PCF.
     ComparisonSampler,
     /// A 2D unsigned-integer texture (`texture_2d<u32>`) of records, read with `textureLoad` in
@@ -78,6 +81,10 @@ pub const FRAME: Group = Group {
         Binding { slot: 50, name: "shadow_atlas", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
         Binding { slot: 51, name: "shadow_sampler", wgsl_type: "sampler_comparison", kind: Kind::ComparisonSampler },
         Binding { slot: 52, name: "shadow_table", wgsl_type: "texture_2d<u32>", kind: Kind::UintTexture },
+        // `--shadow-cube array`: the cubes' faces, six layers a light (a 1x1, 6-layer stand-in
+        // otherwise; `ls_shadow`'s `shadow_cube_lookup`). A sampled texture, not a storage
+        // buffer; the fragment stage's sampled textures stay within WebGPU's default 16.
+        Binding { slot: 53, name: "shadow_cubes", wgsl_type: "texture_depth_cube_array", kind: Kind::DepthCubeArray },
     ],
 };
 
@@ -169,6 +176,7 @@ impl Group {
                 Kind::Texture { .. }
                 | Kind::Sampler
                 | Kind::DepthTexture
+                | Kind::DepthCubeArray
                 | Kind::ComparisonSampler
                 | Kind::UintTexture => "var",
             };
@@ -219,6 +227,11 @@ impl Group {
                     Kind::DepthTexture => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    Kind::DepthCubeArray => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::CubeArray,
                         multisampled: false,
                     },
                     Kind::ComparisonSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),

@@ -10,7 +10,7 @@
 
 use super::settings::{
     name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
-    LayoutChoice, Msaa, RenderPath, Settings, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE,
+    LayoutChoice, Msaa, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE,
     MAX_SPHERE_SUBDIVISIONS,
 };
 
@@ -536,7 +536,7 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "shadow-budget",
         what: "shadow atlas budget",
-        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits)",
+        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits; with --shadow-cube array, the atlas and the cube array share it)",
         values: Values::Float { min: 0.25, max: 1024.0, open: (false, false), slider: (1.0, 64.0) },
         cli: true,
         get: |s| s.shadow_budget_mb.to_string(),
@@ -614,6 +614,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| s.shadow_split_lambda.to_string(),
         put: |s, v| {
             s.shadow_split_lambda = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-cube",
+        what: "shadow cube layout",
+        help: "Point lights' six shadow faces: tiles of the atlas (unrolled) or a cube-array texture (array)",
+        values: Values::Choice(names::<ShadowCube>),
+        cli: true,
+        get: |s| name_of(&s.shadow_cube),
+        put: |s, v| {
+            s.shadow_cube = choice("shadow cube layout", v)?;
             Ok(())
         },
     },

@@ -44,7 +44,7 @@ use records::{FrameBuffers, FrameRecords, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
     AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, RenderPath,
-    Settings, ShadowFilter, ShadowMode,
+    Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 use stats::Stamp;
 pub use stats::{CpuMs, FrameStats, LightStats};
@@ -93,6 +93,8 @@ pub struct Renderer {
     clamp_available: bool,
     features: wgpu::Features,
     limits: wgpu::Limits,
+    /// The adapter has `DownlevelFlags::CUBE_ARRAY_TEXTURES` (`--shadow-cube array`).
+    cube_arrays: bool,
     passes: Passes,
     /// Passes of recent other configurations, least recently used first.
     pass_cache: Vec<Passes>,
@@ -106,6 +108,17 @@ pub struct Renderer {
     /// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded).
     /// Keyed by the file's modification time too, so an edited file is read again.
     lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
+}
+
+/// `--shadow-cube array` on an adapter without cube-array textures is an error, not a panic.
+fn check_shadow_cube(settings: &Settings, cube_arrays: bool) -> Result<()> {
+    if settings.shadow_cube == ShadowCube::Array && !cube_arrays {
+        bail!(
+            "--shadow-cube array needs cube-array textures, which this adapter does not support \
+             (wgpu DownlevelFlags::CUBE_ARRAY_TEXTURES); use --shadow-cube unrolled"
+        );
+    }
+    Ok(())
 }
 
 /// Builds a configuration's passes, turning validation errors (a bad layout, a shader that
@@ -125,6 +138,9 @@ impl Renderer {
         settings.validate().map_err(anyhow::Error::msg)?;
         let clamp_available = gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL);
         let limits = device.limits();
+        let cube_arrays =
+            gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES);
+        check_shadow_cube(settings, cube_arrays)?;
         let key = Self::key(settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
         let passes = build_passes(&device, key)?;
         Ok(Self {
@@ -137,6 +153,7 @@ impl Renderer {
             clamp_available,
             features: gpu.features,
             limits,
+            cube_arrays,
             passes,
             pass_cache: Vec::new(),
             scene: None,
@@ -272,6 +289,7 @@ impl Renderer {
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
+        check_shadow_cube(settings, self.cube_arrays)?;
         let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
         if forward_path && !(settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) {
             bail!(
@@ -350,6 +368,7 @@ impl Renderer {
                 size,
                 proj: records.proj,
                 max_texture: self.limits.max_texture_dimension_2d,
+                max_layers: self.limits.max_texture_array_layers,
             },
         );
         for (l, &(first, count)) in records.lights.iter_mut().zip(&shadow_plan.lights) {
@@ -362,6 +381,7 @@ impl Renderer {
         let bgl = &self.passes.shared.frame_bgl;
         let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
         self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);
+        self.frame.ensure_shadow_cubes(&self.device, bgl, shadow_plan.cube_side, shadow_plan.cube_layers);
         let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.elapsed().as_secs_f64() * 1e3 };
         let n = plan.lights.len();
         self.queries.ensure_lights(&self.device, n);
@@ -685,5 +705,21 @@ impl Renderer {
             to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?)?,
             to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?,
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--shadow-cube array` without cube-array textures is refused with a message naming the
+    /// knob and the way out; `unrolled` never is.
+    #[test]
+    fn the_cube_array_is_refused_where_the_adapter_lacks_it() {
+        let array = Settings { shadow_cube: ShadowCube::Array, ..Settings::default() };
+        let e = check_shadow_cube(&array, false).expect_err("refused").to_string();
+        assert!(e.contains("--shadow-cube array") && e.contains("--shadow-cube unrolled"), "{e}");
+        assert!(check_shadow_cube(&array, true).is_ok());
+        assert!(check_shadow_cube(&Settings::default(), false).is_ok());
     }
 }

@@ -512,6 +512,12 @@ pub struct FrameBuffers {
     /// 1 + i tile i, each as its bytes.
     pub shadow_table: wgpu::Texture,
     pub shadow_table_view: wgpu::TextureView,
+    /// Issue 15, `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side`
+    /// square, 6 layers a cube; a 1x1 6-layer stand-in when no cube casts), its CubeArray view
+    /// (bound) and one 2D view per layer (the shadow pass renders into them).
+    pub shadow_cubes: wgpu::Texture,
+    pub shadow_cubes_view: wgpu::TextureView,
+    pub shadow_cube_layers: Vec<wgpu::TextureView>,
 }
 
 /// Rgba32Uint texels a shadow-table row holds: a `ShadowTile` (112 bytes) or the
@@ -553,6 +559,45 @@ fn shadow_atlas(device: &wgpu::Device, side: u32) -> (wgpu::Texture, wgpu::Textu
     });
     let v = t.create_view(&Default::default());
     (t, v)
+}
+
+/// The cube array for `layers` (a multiple of 6, at least 6) faces of `side` texels: the
+/// texture, its CubeArray view and a 2D view per layer.
+fn shadow_cubes(
+    device: &wgpu::Device,
+    side: u32,
+    layers: u32,
+) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
+    let layers = layers.max(6).div_ceil(6) * 6;
+    let t = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow cube array"),
+        size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: layers },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let cubes = t.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("shadow cube array"),
+        dimension: Some(wgpu::TextureViewDimension::CubeArray),
+        ..Default::default()
+    });
+    let faces = (0..layers)
+        .map(|layer| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("shadow cube face"),
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    (t, cubes, faces)
 }
 
 /// The cookie texels' texture: `width` x `rows` Rgba8Unorm (read with textureLoad, exact).
@@ -598,12 +643,13 @@ impl FrameBuffers {
             ..Default::default()
         });
         let (shadow_table, shadow_table_view) = shadow_table(device, 16);
+        let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) = shadow_cubes(device, 1, 6);
         let group = Self::bind(
             device,
             frame_bgl,
             [&camera, &lights, &objects, &light_lists, &draw_lights],
             &cookie_view,
-            (&shadow_view, &shadow_sampler, &shadow_table_view),
+            (&shadow_view, &shadow_sampler, &shadow_table_view, &shadow_cubes_view),
         );
         Self {
             group,
@@ -621,6 +667,9 @@ impl FrameBuffers {
             shadow_sampler,
             shadow_table,
             shadow_table_view,
+            shadow_cubes,
+            shadow_cubes_view,
+            shadow_cube_layers,
         }
     }
 
@@ -629,7 +678,7 @@ impl FrameBuffers {
         bgl: &wgpu::BindGroupLayout,
         buffers: [&wgpu::Buffer; 5],
         cookies: &wgpu::TextureView,
-        shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView),
+        shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView, &wgpu::TextureView),
     ) -> wgpu::BindGroup {
         let mut resources: Vec<wgpu::BindingResource<'_>> = buffers.iter().map(|b| b.as_entire_binding()).collect();
         resources.extend([
@@ -637,6 +686,7 @@ impl FrameBuffers {
             wgpu::BindingResource::TextureView(shadow.0),
             wgpu::BindingResource::Sampler(shadow.1),
             wgpu::BindingResource::TextureView(shadow.2),
+            wgpu::BindingResource::TextureView(shadow.3),
         ]);
         let entries = super::bindings::FRAME.entries(resources);
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: bgl, entries: &entries })
@@ -645,7 +695,7 @@ impl FrameBuffers {
     /// Binds the buffers again for another pipeline configuration's layout.
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
         let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
-        let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view);
+        let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view, &self.shadow_cubes_view);
         self.group = Self::bind(device, frame_bgl, buffers, &self.cookie_view, shadow);
     }
 
@@ -665,6 +715,22 @@ impl FrameBuffers {
     /// Side of the shadow atlas as allocated.
     pub fn shadow_side(&self) -> u32 {
         self.shadow_atlas.width()
+    }
+
+    /// Reallocates the cube array (`--shadow-cube array`) when its face side or layer count
+    /// differs from `side` x `layers` (0 layers: the 1x1 stand-in), rebinding the frame group.
+    pub fn ensure_shadow_cubes(
+        &mut self,
+        device: &wgpu::Device,
+        frame_bgl: &wgpu::BindGroupLayout,
+        side: u32,
+        layers: u32,
+    ) {
+        let (side, layers) = if layers == 0 { (1, 6) } else { (side.max(1), layers.div_ceil(6) * 6) };
+        if self.shadow_cubes.width() != side || self.shadow_cubes.depth_or_array_layers() != layers {
+            (self.shadow_cubes, self.shadow_cubes_view, self.shadow_cube_layers) = shadow_cubes(device, side, layers);
+            self.rebind(device, frame_bgl);
+        }
     }
 
     /// Reallocates the shadow atlas at `side` texels square when it has another size, and

@@ -66,9 +66,10 @@ knob_names!(
     Msaa => "MSAA sample count",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
+    ShadowCube => "shadow cube layout",
 );
 
-pub use super::shadows::{ShadowFilter, ShadowMode};
+pub use super::shadows::{ShadowCube, ShadowFilter, ShadowMode};
 
 pub use super::post::{Aa, Tonemap};
 
@@ -504,7 +505,8 @@ pub struct Settings {
     /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
     pub shadows: ShadowMode,
     /// The shadow atlas's byte budget in MiB (one Depth32Float texture; its side is the largest
-    /// power of two that fits, up to the device's limit).
+    /// power of two that fits, up to the device's limit). With `shadow_cube` = `array` the atlas
+    /// and the cube array share it (`shadows::cube_array_fit`).
     pub shadow_budget_mb: f32,
     /// Constant depth bias, in shadow-map texels (projected to world units at the receiver).
     pub shadow_bias: f32,
@@ -521,6 +523,9 @@ pub struct Settings {
     pub shadow_split_lambda: f32,
     /// Who builds the clustered mode's lists.
     pub cluster_build: ClusterBuilder,
+    /// Where point lights' (and wide spots') six shadow faces live: tiles of the atlas
+    /// (`unrolled`) or layers of a cube-array texture (`array`; issue 15).
+    pub shadow_cube: ShadowCube,
 }
 
 impl Default for Settings {
@@ -573,6 +578,7 @@ impl Default for Settings {
             shadow_cascades: 3,
             shadow_split_lambda: 0.7,
             cluster_build: ClusterBuilder::Cpu,
+            shadow_cube: ShadowCube::Unrolled,
         }
     }
 }

@@ -21,6 +21,10 @@
 //! - **Point lights** (and spots wider than [`CUBE_SPOT_ANGLE`]): seed 002's "virtual shadow
 //!   depth cube" — six 90° faces (plus the border) unrolled into 2D tiles of the atlas; the
 //!   face is picked from the major axis of the light-to-surface vector (view-space axes).
+//! - **Cube array** (`--shadow-cube array`, issue 15): the same six faces as layers of one
+//!   Depth32Float cube-array texture instead of atlas tiles, sampled by direction with the
+//!   hardware's (seamless) cube filtering, so no border. See [`ShadowCube`] and
+//!   [`cube_array_fit`] for the size rule.
 //! - **The sun:** 1-4 cascades over the view frustum up to the farthest scene point; split
 //!   distances lambda x logarithmic + (1 - lambda) x uniform; each cascade an orthographic tile
 //!   around the bounding sphere of its slice, deep enough to hold every object.
@@ -69,6 +73,26 @@ impl ShadowFilter {
     }
 }
 
+/// Where point lights' (and wide spots') six faces live.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowCube {
+    /// Seed 002's "virtual shadow depth cube": six tiles of the 2D atlas, each with a
+    /// [`BORDER`], the face picked in the shader.
+    #[default]
+    Unrolled,
+    /// One Depth32Float cube-array texture, six layers a light, all cubes one size, sampled by
+    /// direction (`texture_depth_cube_array`; seamless hardware filtering, no border). Needs
+    /// the adapter's `DownlevelFlags::CUBE_ARRAY_TEXTURES`.
+    Array,
+}
+
+/// `ShadowTile::info[0]` of a tile: perspective in the atlas, orthographic in the atlas (the
+/// sun's cascades), or one face of a cube in the cube array (`rect[0]` its layer).
+pub const TILE_PERSPECTIVE: f32 = 0.0;
+pub const TILE_ORTHOGRAPHIC: f32 = 1.0;
+pub const TILE_CUBE_FACE: f32 = 2.0;
+
 /// Smallest tile side in texels.
 pub const MIN_TILE: u32 = 32;
 /// Texels on each side of a tile beyond the frustum its light needs: the widest kernel reaches
@@ -97,7 +121,20 @@ pub struct ShadowStats {
     pub flag_off: u32,
     /// Caster draws (objects x tiles after culling each object against each tile).
     pub caster_draws: u64,
+    /// Where the cubes live (`--shadow-cube`); with `array`, the cube array's face side,
+    /// layers (6 a casting cube) and bytes as allocated (0 when no cube casts).
+    pub cube: ShadowCube,
+    pub cube_side: u32,
+    pub cube_layers: u32,
+    pub cube_bytes: u64,
     pub gpu_ms: Option<f64>,
+}
+
+impl ShadowStats {
+    /// Bytes of shadow maps this frame: the atlas and the cube array as allocated.
+    pub fn bytes(&self) -> u64 {
+        self.atlas_bytes + self.cube_bytes
+    }
 }
 
 /// One tile to draw: its record index, its texel rectangle in the atlas, the objects cast into it.
@@ -108,6 +145,9 @@ pub struct TileDraw {
     pub y: u32,
     pub size: u32,
     pub objects: Vec<u32>,
+    /// `Some(layer)`: a face of the cube array (`x`, `y` 0, `size` the array's side), not a tile
+    /// of the atlas.
+    pub layer: Option<u32>,
 }
 
 /// The frame's shadow plan.
@@ -120,6 +160,9 @@ pub struct ShadowPlan {
     /// Per light: (first tile, tile count), `NO_SHADOW` when unshadowed.
     pub lights: Vec<(u32, u32)>,
     pub stats: ShadowStats,
+    /// The cube array's face side and layers (`--shadow-cube array`; 0 when no cube casts).
+    pub cube_side: u32,
+    pub cube_layers: u32,
 }
 
 impl Default for ShadowParams {
@@ -136,6 +179,59 @@ pub fn atlas_side(mb: f32, limit: u32) -> u32 {
         side *= 2;
     }
     side.max(MIN_TILE.min(limit))
+}
+
+/// The cube array's size rule (`--shadow-cube array`): every cube in the array has one face
+/// side. `wants` holds each cube light's wanted face side (its footprint rule, as for atlas
+/// tiles), in priority order; `bytes` is what the budget leaves after the atlas (the budget
+/// less the atlas as allocated). The side starts at the largest want (at most `max_side`) and
+/// is halved while 6 faces x 4 bytes x side² x (cube lights) exceeds `bytes`, down to
+/// [`MIN_TILE`]; at `MIN_TILE` the first cubes in priority order that fit are kept, the rest
+/// fall back to unshadowed (budget). At most `max_layers` / 6 cubes (the device's array-layer
+/// limit; the rest are budget fallbacks too). Returns (face side, cubes kept).
+pub fn cube_array_fit(wants: &[u32], bytes: u64, max_side: u32, max_layers: u32) -> (u32, usize) {
+    let Some(&most) = wants.iter().max() else { return (0, 0) };
+    let n = wants.len().min((max_layers / 6) as usize);
+    let cube = |side: u32| 6 * 4 * side as u64 * side as u64;
+    let mut side = most.min(max_side.max(1));
+    while side > MIN_TILE && n as u64 * cube(side) > bytes {
+        side /= 2;
+    }
+    let kept = n.min((bytes / cube(side)) as usize);
+    (if kept == 0 { 0 } else { side }, kept)
+}
+
+/// The light-space transform of cube face `face` (+x, -x, +y, -y, +z, -z of view space, the
+/// array's layer order) for a light at `origin`: q = R (p - origin) with q.x = sc, q.y = -tc,
+/// -q.z = |rc| of the cube-map face selection table (Vulkan spec, "Cube Map Face
+/// Selection"; the same in D3D and Metal), so that ndc (q.xy / -q.z) lands where the hardware
+/// looks up the direction p - origin: u = (sc / |rc| + 1) / 2, v = (tc / |rc| + 1) / 2, v = 0 the
+/// top row, which the viewport maps ndc.y = +1 to. Not all six are rotations (some mirror):
+/// casters draw both faces, so the handedness does not matter.
+pub fn cube_face_space(origin: DVec3, face: usize) -> DMat4 {
+    // Rows of R: q.x, q.y, q.z in terms of (rx, ry, rz).
+    let rows: [[f64; 3]; 3] = match face {
+        0 => [[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+        1 => [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+        2 => [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, -1.0, 0.0]],
+        3 => [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+        4 => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
+        _ => [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    };
+    let r = DMat3::from_cols(rows[0].into(), rows[1].into(), rows[2].into()).transpose();
+    DMat4::from_mat3(r) * DMat4::from_translation(-origin)
+}
+
+/// A cube-array face: the light at `origin`, face `face`, exactly 90° (no border: the hardware
+/// filters across faces), `size` texels, layer `layer`.
+fn cube_face_tile(origin: DVec3, face: usize, far: f64, size: u32, layer: u32) -> ShadowTile {
+    let near = (far * 1e-3).min(0.05);
+    ShadowTile {
+        to_light: cube_face_space(origin, face).as_mat4().to_cols_array_2d(),
+        proj: [1.0, 1.0, (1.0 / far) as f32, 0.0],
+        rect: [layer as f32, 0.0, 0.0, 0.0],
+        info: [TILE_CUBE_FACE, (2.0 / size as f64) as f32, size as f32, near as f32],
+    }
 }
 
 /// (x, y) of Morton index `i`.
@@ -229,7 +325,7 @@ fn sphere_meets(tile: &ShadowTile, c: DVec3, r: f64) -> bool {
     let m = glam::Mat4::from_cols_array_2d(&tile.to_light).as_dmat4();
     let q = m.transform_point3(c);
     let s = tile.proj[0] as f64;
-    if tile.info[0] > 0.5 {
+    if tile.info[0] == TILE_ORTHOGRAPHIC {
         // Orthographic: |q.xy| <= 1/s; the depth range holds every caster by construction.
         return q.x.abs() - r <= 1.0 / s && q.y.abs() - r <= 1.0 / s;
     }
@@ -255,6 +351,8 @@ pub struct ShadowInputs<'a> {
     /// The camera's projection (standard or reversed, only the x and y scales are read).
     pub proj: DMat4,
     pub max_texture: u32,
+    /// The device's `max_texture_array_layers` (the cube array holds 6 a light).
+    pub max_layers: u32,
 }
 
 /// Plans the frame's shadows.
@@ -269,6 +367,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             filter: st.shadow_filter,
             atlas_side: side,
             atlas_bytes: side as u64 * side as u64 * 4,
+            cube: st.shadow_cube,
             ..Default::default()
         },
         ..Default::default()
@@ -325,6 +424,9 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     }
     // Largest footprint first; ties by index, so the order is the same in every culling mode.
     lit.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    // With `--shadow-cube array`, cube lights (points, wide spots) go to the cube array.
+    let array = st.shadow_cube == ShadowCube::Array;
+    let mut cubes: Vec<(usize, u32)> = Vec::new();
     for (i, share) in lit {
         let want = ((share as f64 * pixels).sqrt().ceil() as u32).next_power_of_two().clamp(MIN_TILE, quarter);
         let origin = rot * (scene.lights[i].position() - cam.position);
@@ -334,6 +436,10 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
                 let dir = (rot * s.direction.as_dvec3()).normalize();
                 let half = (s.outer_angle as f64).max(0.5f64.to_radians()) * 1.02;
                 vec![perspective_tile(origin, dir, half, far, want)]
+            }
+            _ if array => {
+                cubes.push((i, want));
+                continue;
             }
             _ => FACES.iter().map(|&d| perspective_tile(origin, d, std::f64::consts::FRAC_PI_4, far, want)).collect(),
         };
@@ -359,11 +465,32 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
         granted.push(r);
     }
     let sizes: Vec<u32> = granted.iter().flat_map(|r| std::iter::repeat_n(r.size, r.tiles.len())).collect();
-    let Some(corners) = pack(&sizes, side) else {
+    // With the cube array, the atlas shrinks to the smallest power of two holding its tiles
+    // (Morton packing puts the first k² units in a k x k square), and the cube array gets the
+    // budget's rest; the tiles keep the sizes they were granted against the full side.
+    let side = if array {
+        let largest = sizes.iter().copied().max().unwrap_or(1);
+        let mut s = largest.max(1);
+        while (s as u64).pow(2) < used {
+            s *= 2;
+        }
+        s.min(side)
+    } else {
+        side
+    };
+    if array {
+        out.side = side;
+        out.stats.atlas_side = side;
+        out.stats.atlas_bytes = side as u64 * side as u64 * 4;
+        out.params.bias[3] = 1.0 / side as f32;
+    }
+    let corners = pack(&sizes, side);
+    if corners.is_none() && cubes.is_empty() {
         // Nothing to pack (no caster this frame): no atlas is kept.
         out.side = 1;
         return out;
-    };
+    }
+    let corners = corners.unwrap_or_default();
     let mut k = 0usize;
     for r in granted {
         let first = out.tiles.len() as u32;
@@ -387,7 +514,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             let objects: Vec<u32> =
                 casters.iter().filter(|(_, c, rad)| sphere_meets(&t, *c, *rad)).map(|(o, _, _)| *o).collect();
             out.stats.caster_draws += objects.len() as u64;
-            out.draws.push(TileDraw { tile: index, x, y, size, objects });
+            out.draws.push(TileDraw { tile: index, x, y, size, objects, layer: None });
             out.tiles.push(t);
         }
         let count = out.tiles.len() as u32 - first;
@@ -401,8 +528,48 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             }
         }
     }
+    if sizes.is_empty() {
+        // Cubes only (the array): a 1-texel atlas stands in.
+        out.side = 1;
+        out.stats.atlas_side = 1;
+        out.stats.atlas_bytes = 4;
+    }
     out.stats.tiles = out.tiles.len() as u32;
-    out.stats.atlas_used = used as f64 / total as f64;
+    out.stats.atlas_used = used as f64 / (side as u64 * side as u64) as f64;
+
+    // The cube array: one face side for every cube (`cube_array_fit`), six layers a light.
+    if !cubes.is_empty() {
+        let budget = (st.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
+        let left = budget.saturating_sub(out.stats.atlas_bytes);
+        let wants: Vec<u32> = cubes.iter().map(|c| c.1).collect();
+        let (cube_side, kept) = cube_array_fit(&wants, left, inp.max_texture.max(1), inp.max_layers);
+        out.stats.fallback_budget += (cubes.len() - kept) as u32;
+        for (c, &(i, _)) in cubes.iter().take(kept).enumerate() {
+            let origin = rot * (scene.lights[i].position() - cam.position);
+            let far = scene.lights[i].radius() as f64;
+            let first = out.tiles.len() as u32;
+            for face in 0..6 {
+                let layer = (6 * c + face) as u32;
+                let t = cube_face_tile(origin, face, far, cube_side, layer);
+                let index = out.tiles.len() as u32;
+                let objects: Vec<u32> =
+                    casters.iter().filter(|(_, cc, rad)| sphere_meets(&t, *cc, *rad)).map(|(o, _, _)| *o).collect();
+                out.stats.caster_draws += objects.len() as u64;
+                out.draws.push(TileDraw { tile: index, x: 0, y: 0, size: cube_side, objects, layer: Some(layer) });
+                out.tiles.push(t);
+            }
+            out.lights[i] = (first, 6);
+            out.stats.casting += 1;
+        }
+        if kept > 0 {
+            out.cube_side = cube_side;
+            out.cube_layers = 6 * kept as u32;
+            out.stats.cube_side = cube_side;
+            out.stats.cube_layers = out.cube_layers;
+            out.stats.cube_bytes = 4 * out.cube_layers as u64 * cube_side as u64 * cube_side as u64;
+        }
+        out.stats.tiles = out.tiles.len() as u32;
+    }
     out
 }
 
@@ -485,6 +652,55 @@ mod tests {
         }
         // Too much area is refused.
         assert!(pack(&[1024, 32], 1024).is_none());
+    }
+
+    #[test]
+    fn the_cube_array_fits_the_budget_with_one_side() {
+        let cube = |side: u64| 6 * 4 * side * side;
+        // Room for all at the largest want.
+        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256), 8192, 256), (256, 3));
+        // One byte short: halved once.
+        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256) - 1, 8192, 256), (128, 3));
+        // At MIN_TILE only the first in priority order that fit.
+        assert_eq!(cube_array_fit(&[64; 10], 4 * cube(32) + 5, 8192, 256), (32, 4));
+        // Nothing fits: no array.
+        assert_eq!(cube_array_fit(&[64], cube(32) - 1, 8192, 256), (0, 0));
+        // The layer limit: 256 / 6 = 42 cubes.
+        assert_eq!(cube_array_fit(&[32; 50], u64::MAX / 2, 8192, 256), (32, 42));
+        // The device's side limit.
+        assert_eq!(cube_array_fit(&[1024], u64::MAX / 2, 512, 256), (512, 1));
+        assert_eq!(cube_array_fit(&[], 1 << 30, 8192, 256), (0, 0));
+    }
+
+    /// Each face looks down its own axis (the axis maps to the face's centre at distance 1),
+    /// and every direction lands inside the face of its major axis (|ndc| <= 1, w = |major|).
+    #[test]
+    fn cube_faces_cover_their_axes() {
+        for (f, axis) in FACES.iter().enumerate() {
+            let m = cube_face_space(DVec3::new(1.0, 2.0, 3.0), f);
+            let q = m.transform_point3(DVec3::new(1.0, 2.0, 3.0) + *axis);
+            assert!((q - DVec3::new(0.0, 0.0, -1.0)).length() < 1e-12, "face {f}: {q}");
+        }
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..1000 {
+            let d = DVec3::new(rnd(), rnd(), rnd());
+            let a = d.abs();
+            let f = if a.x >= a.y && a.x >= a.z {
+                (d.x < 0.0) as usize
+            } else if a.y >= a.z {
+                2 + (d.y < 0.0) as usize
+            } else {
+                4 + (d.z < 0.0) as usize
+            };
+            let q = cube_face_space(DVec3::ZERO, f).transform_point3(d);
+            let w = -q.z;
+            assert!((w - a.max_element()).abs() < 1e-12);
+            assert!(q.x.abs() <= w + 1e-12 && q.y.abs() <= w + 1e-12);
+        }
     }
 
     #[test]

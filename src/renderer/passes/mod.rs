@@ -87,6 +87,9 @@ pub fn wgsl_constants() -> String {
     f("TILE_HEAT_MAX", super::tiles::HEAT_MAX);
     f("METAL_THRESHOLD", crate::scene::import::METAL_THRESHOLD);
     f("MAX_COC", super::post::MAX_COC);
+    f("TILE_PERSPECTIVE", super::shadows::TILE_PERSPECTIVE);
+    f("TILE_ORTHOGRAPHIC", super::shadows::TILE_ORTHOGRAPHIC);
+    f("TILE_CUBE_FACE", super::shadows::TILE_CUBE_FACE);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
     // The `material-id` view's colours (`Brdf::debug_color`; unknown IDs show magenta).

@@ -1,11 +1,12 @@
 //! Issue 15: the shadow pass. Draws every caster into each shadow tile of the atlas
 //! (`shadows::plan` decides the tiles and which objects touch each), one viewport per tile,
-//! before the G-buffer pass (which already adds the sun's light through the atlas).
+//! before the G-buffer pass (which already adds the sun's light through the atlas). With
+//! `--shadow-cube array`, cube faces go to the layers of the cube array instead.
 
 use super::{FrameInputs, Shared, Stamp};
 use crate::renderer::bindings;
 use crate::renderer::records::SHADOW_FORMAT;
-use crate::renderer::shadows::ShadowPlan;
+use crate::renderer::shadows::{ShadowPlan, TileDraw};
 
 pub struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
@@ -56,7 +57,9 @@ impl ShadowPass {
         Self { pipeline, caster_bgl }
     }
 
-    /// Clears the atlas to the far depth and draws each tile's casters; nothing when no tile.
+    /// Clears the atlas to the far depth and draws each tile's casters, then (with
+    /// `--shadow-cube array`) each cube face into its layer of the cube array, one render pass a
+    /// layer; nothing when no tile. The pass's timestamps span all of them.
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -68,34 +71,50 @@ impl ShadowPass {
             return;
         }
         let group = f.frame.caster_group(device, &self.caster_bgl);
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadows"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &f.frame.shadow_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: f.timestamps(Some(Stamp::ShadowsBegin), Some(Stamp::ShadowsEnd)),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
-        pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-        let objects = plan.params.sun[3].max(1);
-        for d in &plan.draws {
-            if d.objects.is_empty() {
-                continue;
-            }
-            let (x, y, s) = (d.x as f32, d.y as f32, d.size as f32);
-            pass.set_viewport(x, y, s, s, 0.0, 1.0);
-            pass.set_scissor_rect(d.x, d.y, d.size, d.size);
-            for &o in &d.objects {
-                let Some((range, base)) = f.scene.draws.get(o as usize) else { continue };
-                let instance = d.tile * objects + o;
-                pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+        let atlas: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_none()).collect();
+        let faces: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_some()).collect();
+        // (target, its draws): the atlas when it has tiles, then each cube face.
+        let mut targets: Vec<(&wgpu::TextureView, Vec<&TileDraw>)> = Vec::new();
+        if !atlas.is_empty() {
+            targets.push((&f.frame.shadow_view, atlas));
+        }
+        for d in faces {
+            let Some(view) = d.layer.and_then(|l| f.frame.shadow_cube_layers.get(l as usize)) else { continue };
+            targets.push((view, vec![d]));
+        }
+        let last = targets.len().saturating_sub(1);
+        for (k, (view, draws)) in targets.into_iter().enumerate() {
+            let begin = (k == 0).then_some(Stamp::ShadowsBegin);
+            let end = (k == last).then_some(Stamp::ShadowsEnd);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadows"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: f.timestamps(begin, end),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+            pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+            let objects = plan.params.sun[3].max(1);
+            for d in draws {
+                if d.objects.is_empty() {
+                    continue;
+                }
+                let (x, y, s) = (d.x as f32, d.y as f32, d.size as f32);
+                pass.set_viewport(x, y, s, s, 0.0, 1.0);
+                pass.set_scissor_rect(d.x, d.y, d.size, d.size);
+                for &o in &d.objects {
+                    let Some((range, base)) = f.scene.draws.get(o as usize) else { continue };
+                    let instance = d.tile * objects + o;
+                    pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+                }
             }
         }
     }

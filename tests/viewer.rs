@@ -796,3 +796,110 @@ fn the_viewer_state_survives_a_restart_and_a_bad_state_file_is_reported() {
     // ...and the run wrote a good state file over it.
     assert_eq!(json(&dir, "viewer.json")["scene"], "demo");
 }
+
+/// Issue 15: the shadow-atlas panel on the `shadows` scene with every light casting. The
+/// screenshot's settings file records where the panel drew the atlas and the tiles the
+/// renderer planned; every tile's four edges must show its outline colour in the window (the
+/// sun's cascades in the `cascades` view's colours, the spot violet, cube faces cyan) and the
+/// selected light's (the point light, six faces) the highlight colour.
+///
+/// Each edge is sampled at 12 points along its middle 80%; a sample is a hit when some window
+/// pixel within 1 px outside to 4 px inside the edge (the outline is drawn inside the tile,
+/// 1 point wide, 3 for the highlight, and may fall between two pixels) is within
+/// `OUTLINE_TOLERANCE` of the colour in every channel. A tile passes with 90% hits: the atlas's
+/// greys and dark blue are far from every outline colour (at least 100 in some channel), so a
+/// missing or misplaced outline finds none.
+#[test]
+fn the_shadow_atlas_panel_outlines_the_plans_tiles_and_highlights_the_selected_light() {
+    need_display!();
+    use lampshade::app::ui::{cascade_colour, CUBE, SELECTED, SPOT};
+    const OUTLINE_TOLERANCE: i32 = 40;
+    const SELECTED_LIGHT: u64 = 1;
+    let dir = out_dir("atlas");
+    let script = dir.join("atlas.script");
+    std::fs::write(
+        &script,
+        format!(
+            "1 set shadows all\n1 set shadow-budget 1\n1 set panel-shadows on\n1 select {SELECTED_LIGHT}\n\
+             8 screenshot atlas.png\n8 quit\n"
+        ),
+    )
+    .unwrap();
+    view("shadows", &script, &[], &dir);
+    let window = load(&dir, "atlas.png");
+    let doc = json(&dir, "atlas-viewport.json");
+    let a = &doc["shadow_atlas"];
+    assert!(a.is_object(), "the screenshot's settings record no shadow-atlas panel: {doc}");
+    let num = |v: &serde_json::Value| v.as_f64().unwrap_or_else(|| panic!("not a number: {v}")) as f32;
+    let image: Vec<f32> = a["image"].as_array().expect("image rectangle").iter().map(num).collect();
+    let vis: Vec<f32> = a["visible"].as_array().expect("visible part").iter().map(num).collect();
+    let side = num(&a["side"]);
+    let tiles = a["tiles"].as_array().expect("tiles");
+    eprintln!("atlas {side} texels drawn at {image:?}, showing {vis:?}, depth range {}", a["range"]);
+    // The plan: the sun's cascades, the spot's tile and the point light's six faces.
+    let owners: Vec<String> = tiles.iter().map(|t| t["owner"].to_string()).collect();
+    assert!(owners.iter().any(|o| o == "\"sun\""), "no sun cascade in {owners:?}");
+    assert!(owners.iter().any(|o| o == "{\"spot\":0}"), "no spot tile in {owners:?}");
+    assert_eq!(owners.iter().filter(|o| *o == &format!("{{\"cube\":{SELECTED_LIGHT}}}")).count(), 6, "{owners:?}");
+    let px = |x: f32, y: f32| -> Option<[i32; 3]> {
+        let (x, y) = (x.round() as i64, y.round() as i64);
+        if x < 0 || y < 0 || x >= window.width() as i64 || y >= window.height() as i64 {
+            return None;
+        }
+        let p = window.get_pixel(x as u32, y as u32);
+        Some([p[0] as i32, p[1] as i32, p[2] as i32])
+    };
+    let mut checked = 0;
+    let mut highlighted = 0;
+    for t in tiles {
+        let (tx, ty, ts) = (num(&t["x"]), num(&t["y"]), num(&t["size"]));
+        let map = |ax: f32, ay: f32| {
+            (
+                image[0] + (ax / side - vis[0]) / (vis[2] - vis[0]) * image[2],
+                image[1] + (ay / side - vis[1]) / (vis[3] - vis[1]) * image[3],
+            )
+        };
+        let (x0, y0) = map(tx, ty);
+        let (x1, y1) = map(tx + ts, ty + ts);
+        let selected = t["owner"]["cube"].as_u64() == Some(SELECTED_LIGHT);
+        let colour = if selected {
+            SELECTED
+        } else if t["owner"] == "sun" {
+            cascade_colour(t["face"].as_u64().unwrap() as u32)
+        } else if t["owner"]["spot"].is_u64() {
+            SPOT
+        } else {
+            CUBE
+        };
+        let want = [colour.r() as i32, colour.g() as i32, colour.b() as i32];
+        let near = |p: [i32; 3]| (0..3).all(|c| (p[c] - want[c]).abs() <= OUTLINE_TOLERANCE);
+        let mut hits = 0;
+        let mut samples = 0;
+        // (start, along, inward normal) of each edge.
+        let edges = [
+            ((x0, y0), (x1 - x0, 0.0), (0.0, 1.0)),
+            ((x0, y1), (x1 - x0, 0.0), (0.0, -1.0)),
+            ((x0, y0), (0.0, y1 - y0), (1.0, 0.0)),
+            ((x1, y0), (0.0, y1 - y0), (-1.0, 0.0)),
+        ];
+        for ((sx, sy), (dx, dy), (nx, ny)) in edges {
+            for k in 0..12 {
+                let f = 0.1 + 0.8 * k as f32 / 11.0;
+                let (ex, ey) = (sx + dx * f, sy + dy * f);
+                samples += 1;
+                if (-1..=4).filter_map(|d| px(ex + nx * d as f32, ey + ny * d as f32)).any(near) {
+                    hits += 1;
+                }
+            }
+        }
+        let share = hits as f64 / samples as f64;
+        assert!(
+            share >= 0.9,
+            "tile {t}: its outline ({want:?}) shows at {hits} of {samples} edge samples, at window \
+             ({x0:.1}, {y0:.1})-({x1:.1}, {y1:.1})"
+        );
+        checked += 1;
+        highlighted += selected as u32;
+    }
+    assert!(checked >= 8 && highlighted == 6, "{checked} tiles checked, {highlighted} highlighted");
+}

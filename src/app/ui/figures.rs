@@ -58,7 +58,14 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.separator();
         ui.horizontal(|ui| {
             ui.label("view");
-            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity, DebugView::TileLights] {
+            for v in [
+                DebugView::Lit,
+                DebugView::Stencil,
+                DebugView::Complexity,
+                DebugView::TileLights,
+                DebugView::Shadow,
+                DebugView::Cascades,
+            ] {
                 ui.selectable_value(&mut st.settings.debug_view, v, v.name());
             }
         });

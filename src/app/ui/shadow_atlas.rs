@@ -203,7 +203,7 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
     match a.range {
         Some((lo, hi)) => ui.label(
             RichText::new(format!(
-                "grey: stored linear depth, near white → far black, stretched over {lo:.4} … {hi:.4} of each \
+                "grey: stored linear depth, near white to far black, stretched over {lo:.4} … {hi:.4} of each \
                  tile's far distance; dark blue: nothing cast"
             ))
             .small(),

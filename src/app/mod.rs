@@ -357,13 +357,20 @@ impl App {
                     Err(e) => self.say(format!("rejected: {e}"), true),
                 }
             }
-            Action::Hover(u, v) | Action::Click(u, v) => {
-                let Some(r) = self.viewport_rect else {
-                    return self.say("hover/click before the viewport was laid out", true);
+            Action::Hover(u, v) | Action::Click(u, v) | Action::AtlasHover(u, v) | Action::AtlasClick(u, v) => {
+                let atlas = matches!(action, Action::AtlasHover(..) | Action::AtlasClick(..));
+                let rect = if atlas { self.atlas_rect } else { self.viewport_rect };
+                let Some(r) = rect else {
+                    let what = if atlas {
+                        "atlas-hover/atlas-click before the shadow-atlas panel was laid out (set panel-shadows on)"
+                    } else {
+                        "hover/click before the viewport was laid out"
+                    };
+                    return self.say(what, true);
                 };
                 let pos = r.min + egui::vec2(u * r.width(), v * r.height());
                 self.injected.push(egui::Event::PointerMoved(pos));
-                if matches!(action, Action::Click(..)) {
+                if matches!(action, Action::Click(..) | Action::AtlasClick(..)) {
                     let button = |pressed| egui::Event::PointerButton {
                         pos,
                         button: egui::PointerButton::Primary,

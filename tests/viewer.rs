@@ -920,3 +920,58 @@ fn check_atlas_outlines(window: &RgbaImage, doc: &serde_json::Value, selected: u
     assert!(tiles.len() >= 8 && highlighted >= 1, "{} tiles checked, {highlighted} highlighted", tiles.len());
     tiles
 }
+
+/// Issue 15: the shadow-atlas panel left open on the animated `shadows` scene, every light
+/// casting, the atlas budget cycling through 1, 4 and 16 MiB every 40 frames (so the atlas and
+/// the panel's image change size: the image is registered with egui once and resized in place),
+/// the viewport's view through lit / shadow / cascades, the pointer hovering tiles (tooltips) and
+/// clicking one now and then. Resident memory every 100 frames, judged by `memory::judge_soak`
+/// after the warm-up (frame 400: every budget, view and hover seen at least twice). Re-registering
+/// the image each frame instead leaks its 16 MiB every frame at the largest budget.
+#[test]
+fn the_shadow_atlas_panel_runs_in_constant_memory() {
+    need_display!();
+    const FRAMES: u64 = 900;
+    const WARMUP: u64 = 400;
+    let dir = out_dir("atlas-soak");
+    let script = dir.join("soak.script");
+    let mut plan = String::from("1 set shadows all\n1 set panel-shadows on\n1 select 1\n2 key Space\n");
+    let budgets = [1, 4, 16];
+    let views = ["lit", "shadow", "cascades"];
+    for (k, f) in (40..FRAMES).step_by(40).enumerate() {
+        plan += &format!("{f} set shadow-budget {}\n", budgets[k % budgets.len()]);
+        plan += &format!("{f} view {}\n", views[(k / 3) % views.len()]);
+        plan +=
+            &format!("{} atlas-hover {:.2} {:.2}\n", f + 10, 0.1 + 0.2 * (k % 4) as f32, 0.1 + 0.15 * (k % 3) as f32);
+        if k % 5 == 0 {
+            plan += &format!("{} atlas-click 0.3 0.1\n", f + 20);
+        }
+    }
+    for f in (100..=FRAMES).step_by(100) {
+        plan += &format!("{f} memory\n");
+    }
+    plan += &format!("{FRAMES} screenshot last.png\n{FRAMES} quit\n");
+    std::fs::write(&script, plan).unwrap();
+    let out = view("shadows", &script, &["--size", "900x600"], &dir);
+    let stdout = text(&out).0;
+    let samples: Vec<(u64, u64)> = stdout
+        .lines()
+        .filter_map(|l| {
+            let (frame, rest) = l.strip_prefix("frame ")?.split_once(": resident ")?;
+            Some((frame.parse().ok()?, rest.strip_suffix(" bytes")?.parse().ok()?))
+        })
+        .collect();
+    if stdout.contains("resident memory unavailable") {
+        eprintln!("SKIPPED the memory check: resident memory cannot be read on this system");
+        return;
+    }
+    assert_eq!(samples.len() as u64, FRAMES / 100, "memory lines missing from the viewer's output:\n{stdout}");
+    let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
+    eprintln!("viewer resident MiB by frame, shadow-atlas panel open: {mib:?}");
+    if let Err(e) = lampshade::memory::judge_soak(&samples, WARMUP) {
+        panic!("the viewer's memory with the shadow-atlas panel open: {e}");
+    }
+    // Judged on frames the panel drew: the last screenshot records the panel and its tiles.
+    let doc = json(&dir, "last-viewport.json");
+    assert!(doc["shadow_atlas"]["tiles"].as_array().is_some_and(|t| !t.is_empty()), "no atlas tiles: {doc}");
+}

@@ -21,6 +21,9 @@ type Wires = Vec<(usize, Vec<[glam::Vec2; 2]>)>;
 
 /// Side of a G-buffer thumbnail, in pixels.
 const THUMB_WIDTH: u32 = 224;
+/// Least and greatest side of the shadow-atlas image in pixels: the atlas's own side within
+/// these (one pixel a texel up to 2048).
+const ATLAS_IMAGE: (u32, u32) = (64, 2048);
 
 impl App {
     pub(super) fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
@@ -37,6 +40,8 @@ impl App {
         let rendered = self.render_viewport(&settings);
         // 4. Thumbnails: the compose pass of this frame again, once per view.
         let tiles = self.render_thumbnails(&settings, rendered);
+        // 4b. The shadow atlas as an image, while its panel is open.
+        self.render_atlas(rendered);
         // 5. The pixel under the pointer, 6. the light-volume wireframes, memory now and then.
         self.update_probe(rendered);
         let wires = self.wireframes();
@@ -204,6 +209,29 @@ impl App {
         tiles
     }
 
+    /// Issue 15: redraws the shadow-atlas image from the frame just rendered, while the panel
+    /// is open. The image is made (and registered with egui) once; a new atlas size resizes it
+    /// in place under the same egui id.
+    fn render_atlas(&mut self, rendered: bool) {
+        let Some(g) = self.gfx.as_mut() else { return };
+        if !self.state.panels.shadows || !rendered {
+            return;
+        }
+        let (atlas_side, _) = g.renderer.shadow_atlas_tiles();
+        let side = atlas_side.clamp(ATLAS_IMAGE.0, ATLAS_IMAGE.1);
+        let img = g.atlas.get_or_insert_with(|| {
+            Image::new(&g.gpu.device, &mut g.egui_renderer, "shadow atlas", side, side, wgpu::FilterMode::Nearest)
+        });
+        img.resize(&g.gpu.device, &mut g.egui_renderer, side, side, wgpu::FilterMode::Nearest);
+        g.atlas_range = match g.renderer.draw_shadow_atlas(&g.gpu, &img.target, side) {
+            Ok(r) => r,
+            Err(e) => {
+                log::warn!("shadow atlas image: {e:#}");
+                None
+            }
+        };
+    }
+
     /// Reads the G-buffer and lights of the pixel under the pointer (kept while not rendering).
     fn update_probe(&mut self, rendered: bool) {
         let Some(g) = self.gfx.as_ref() else { return };
@@ -257,6 +285,14 @@ impl App {
         self.injected = std::mem::take(&mut self.injected_next);
         let thumb_ids: HashMap<DebugView, egui::TextureId> = g.thumbs.iter().map(|(v, i)| (*v, i.id)).collect();
         let layout = g.renderer.layout();
+        let (atlas_side, atlas_tiles) = g.renderer.shadow_atlas_tiles();
+        let atlas = self.state.panels.shadows.then(|| ui::AtlasInfo {
+            image: g.atlas.as_ref().map(|i| i.id),
+            side: atlas_side,
+            tiles: &atlas_tiles,
+            range: g.atlas_range,
+        });
+        let atlas_default_pos = self.viewport_rect.map_or(egui::pos2(300.0, 60.0), |r| r.min + egui::vec2(8.0, 24.0));
         let info = ui::FrameInfo {
             stats: self.stats.as_ref(),
             history: &self.history,
@@ -276,6 +312,8 @@ impl App {
             scroll_to_light: self.scroll_to_light.take(),
             loading: self.cache.progress(),
             memory: self.memory,
+            atlas,
+            atlas_default_pos,
         };
         let mut out = UiOut::default();
         let state = &mut self.state;
@@ -285,6 +323,7 @@ impl App {
             self.viewport_rect = out.viewport_rect;
         }
         self.hover_pixel = out.hover_pixel;
+        self.atlas_rect = out.atlas_rect;
         (full, out)
     }
 

@@ -152,6 +152,10 @@ struct Gfx {
     egui_renderer: egui_wgpu::Renderer,
     viewport: Image,
     thumbs: HashMap<DebugView, Image>,
+    /// Issue 15: the shadow-atlas panel's image (registered with egui once, redrawn in place
+    /// while the panel is open) and the depth range it was stretched over.
+    atlas: Option<Image>,
+    atlas_range: Option<(f32, f32)>,
     adapter: String,
 }
 
@@ -199,6 +203,8 @@ struct App {
     size: (u32, u32),
     /// Resident memory and wgpu's buffer + texture bytes, sampled every 30 frames.
     memory: Option<(u64, i64)>,
+    /// The shadow-atlas image's rectangle in points, from the last frame's layout (panel open).
+    atlas_rect: Option<egui::Rect>,
 }
 
 impl App {
@@ -229,6 +235,7 @@ impl App {
             screenshots: 0,
             size: (1280, 720),
             memory: None,
+            atlas_rect: None,
         }
     }
 
@@ -292,6 +299,8 @@ impl App {
             egui_renderer,
             viewport,
             thumbs: HashMap::new(),
+            atlas: None,
+            atlas_range: None,
             adapter,
         });
         Ok(())
@@ -348,13 +357,20 @@ impl App {
                     Err(e) => self.say(format!("rejected: {e}"), true),
                 }
             }
-            Action::Hover(u, v) | Action::Click(u, v) => {
-                let Some(r) = self.viewport_rect else {
-                    return self.say("hover/click before the viewport was laid out", true);
+            Action::Hover(u, v) | Action::Click(u, v) | Action::AtlasHover(u, v) | Action::AtlasClick(u, v) => {
+                let atlas = matches!(action, Action::AtlasHover(..) | Action::AtlasClick(..));
+                let rect = if atlas { self.atlas_rect } else { self.viewport_rect };
+                let Some(r) = rect else {
+                    let what = if atlas {
+                        "atlas-hover/atlas-click before the shadow-atlas panel was laid out (set panel-shadows on)"
+                    } else {
+                        "hover/click before the viewport was laid out"
+                    };
+                    return self.say(what, true);
                 };
                 let pos = r.min + egui::vec2(u * r.width(), v * r.height());
                 self.injected.push(egui::Event::PointerMoved(pos));
-                if matches!(action, Action::Click(..)) {
+                if matches!(action, Action::Click(..) | Action::AtlasClick(..)) {
                     let button = |pressed| egui::Event::PointerButton {
                         pos,
                         button: egui::PointerButton::Primary,
@@ -490,6 +506,7 @@ impl App {
             light_cookies: &self.state.light_cookies,
             light_masks: self.state.light_edits.iter().map(|(k, e)| (*k, e.mask)).collect(),
             viewer: &self.state,
+            shadow_atlas: self.atlas_shot(),
         };
         let text = serde_json::to_string_pretty(&doc)?;
         std::fs::write(&json, text).with_context(|| format!("writing {}", json.display()))?;
@@ -514,6 +531,36 @@ struct ScreenshotSettings<'a> {
     light_cookies: &'a std::collections::BTreeMap<usize, Option<String>>,
     light_masks: std::collections::BTreeMap<usize, u32>,
     viewer: &'a UiState,
+    /// Issue 15: where the shadow-atlas panel drew the atlas and the plan's tiles (panel open).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shadow_atlas: Option<AtlasShot>,
+}
+
+/// The shadow-atlas panel in a screenshot's settings file: the image's rectangle in window
+/// pixels ([x, y, width, height]), the part of the atlas it shows ([u0, v0, u1, v1]), the
+/// atlas's side and the last frame's tiles, as the renderer planned them.
+#[derive(serde::Serialize)]
+struct AtlasShot {
+    image: [f32; 4],
+    visible: [f32; 4],
+    side: u32,
+    range: Option<(f32, f32)>,
+    tiles: Vec<crate::renderer::inspect::AtlasTile>,
+}
+
+impl App {
+    fn atlas_shot(&self) -> Option<AtlasShot> {
+        let (g, r) = (self.gfx.as_ref()?, self.atlas_rect?);
+        let ppp = g.egui_ctx.pixels_per_point();
+        let (side, tiles) = g.renderer.shadow_atlas_tiles();
+        Some(AtlasShot {
+            image: [r.min.x * ppp, r.min.y * ppp, r.width() * ppp, r.height() * ppp],
+            visible: ui::atlas_visible(self.state.atlas_view),
+            side,
+            range: g.atlas_range,
+            tiles,
+        })
+    }
 }
 
 impl ApplicationHandler for App {

@@ -20,12 +20,15 @@
 //! tab NAME               left panel tab: scene | lights | materials | camera | help
 //! set NAME VALUE         a panel value, validated as the panel does (see `UiState::set`):
 //!                        lights scale exposure time speed move-speed animate counts ideal
-//!                        panel-left panel-right panel-gbuffer
+//!                        panel-left panel-right panel-gbuffer panel-shadows
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer cast mask cookie
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)
 //! click U V              click the viewport at (U, V) (selects the light there)
+//! atlas-hover U V        put the pointer over the shadow-atlas panel's image at (U, V) in
+//!                        [0, 1] (the panel must be open: `set panel-shadows on`)
+//! atlas-click U V        click the atlas image there (selects the light whose tile it is)
 //! leave                  take the pointer out of the window
 //! resize W H             ask for a window of W x H logical pixels
 //! minimize | restore     minimise / restore the window
@@ -71,6 +74,9 @@ pub enum Action {
     Set(String, String),
     Hover(f32, f32),
     Click(f32, f32),
+    /// Issue 15: hover / click on the shadow-atlas panel's image.
+    AtlasHover(f32, f32),
+    AtlasClick(f32, f32),
     Leave,
     Resize(u32, u32),
     Minimize,
@@ -205,6 +211,15 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
                 Action::Hover(u, v)
             } else {
                 Action::Click(u, v)
+            }
+        }
+        "atlas-hover" | "atlas-click" => {
+            want(2)?;
+            let (u, v) = (unit(args[0])?, unit(args[1])?);
+            if *name == "atlas-hover" {
+                Action::AtlasHover(u, v)
+            } else {
+                Action::AtlasClick(u, v)
             }
         }
         "leave" => {

@@ -175,6 +175,23 @@ pub struct UiState {
     pub open_path: String,
     /// Which panels the user wants; a window too small for them hides some anyway (`ui::draw`).
     pub panels: Panels,
+    /// Issue 15: the shadow-atlas panel's zoom and pan.
+    pub atlas_view: AtlasView,
+}
+
+/// The part of the shadow atlas its panel shows: `zoom` (1 = the whole atlas) around `centre`
+/// (atlas fractions, 0..1 across and down).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AtlasView {
+    pub zoom: f32,
+    pub centre: [f32; 2],
+}
+
+impl Default for AtlasView {
+    fn default() -> Self {
+        Self { zoom: 1.0, centre: [0.5, 0.5] }
+    }
 }
 
 /// The panels around the viewport, each shown or hidden from the top bar.
@@ -184,11 +201,13 @@ pub struct Panels {
     pub left: bool,
     pub right: bool,
     pub gbuffer: bool,
+    /// Issue 15: the shadow-atlas window (floats over the viewport; off until asked for).
+    pub shadows: bool,
 }
 
 impl Default for Panels {
     fn default() -> Self {
-        Self { left: true, right: true, gbuffer: true }
+        Self { left: true, right: true, gbuffer: true, shadows: false }
     }
 }
 
@@ -219,6 +238,7 @@ impl Default for UiState {
             tab: Tab::Scene,
             material_index: 0,
             open_path: String::new(),
+            atlas_view: AtlasView::default(),
         }
     }
 }
@@ -309,6 +329,7 @@ impl UiState {
             "panel-left" => self.panels.left = parse_bool(value)?,
             "panel-right" => self.panels.right = parse_bool(value)?,
             "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,
+            "panel-shadows" => self.panels.shadows = parse_bool(value)?,
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32

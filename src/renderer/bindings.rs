@@ -162,8 +162,23 @@ pub const POST: Group = Group {
     ],
 };
 
+/// Group 1 of the viewer's shadow-atlas view (issue 15, `passes::atlas_view`): the depth range
+/// present in the atlas (`atlas_range[0]` least, `[1]` greatest stored depth below the clear
+/// value, as f32 bits: positive floats order as their bits) and, in `[2]`, the side of the
+/// image drawn. The atlas itself is `FRAME`'s `shadow_atlas`. Slots from 60.
+pub const ATLAS_VIEW: Group = Group {
+    label: "atlas view",
+    index: 1,
+    bindings: &[Binding {
+        slot: 60,
+        name: "atlas_range",
+        wgsl_type: "array<atomic<u32>>",
+        kind: Kind::StorageReadWrite,
+    }],
+};
+
 /// Every group above, in the order the shader source declares them.
-pub const GROUPS: [&Group; 6] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST];
+pub const GROUPS: [&Group; 7] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.

@@ -362,3 +362,103 @@ pub fn volume_wireframe_with(
     }
     edges.into_iter().filter_map(|(a, b)| Some([pts[a as usize]?, pts[b as usize]?])).collect()
 }
+
+/// Who a shadow-atlas tile belongs to (issue 15, the viewer's atlas panel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TileOwner {
+    /// The sun; `AtlasTile::face` is the cascade.
+    Sun,
+    /// A spot shadowed by one perspective tile.
+    Spot(usize),
+    /// A point light (or a spot wider than `shadows::CUBE_SPOT_ANGLE`) shadowed by six cube
+    /// faces; `AtlasTile::face` indexes `shadows::FACES` (+x, -x, +y, -y, +z, -z, view space).
+    Cube(usize),
+}
+
+impl TileOwner {
+    /// The light's index, `None` for the sun.
+    pub fn light(self) -> Option<usize> {
+        match self {
+            TileOwner::Sun => None,
+            TileOwner::Spot(i) | TileOwner::Cube(i) => Some(i),
+        }
+    }
+}
+
+/// One tile of the last frame's shadow atlas, as the viewer's panel shows it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct AtlasTile {
+    pub owner: TileOwner,
+    /// The sun's cascade or the cube face (0 for a spot).
+    pub face: u32,
+    /// The tile's texel rectangle in the atlas: corner and side.
+    pub x: u32,
+    pub y: u32,
+    pub size: u32,
+    /// World size of one texel: at the receiver for the sun's orthographic cascades, per unit
+    /// of distance from the light for perspective tiles (spot, cube face).
+    pub texel: f32,
+    /// The tile is orthographic (the sun): `texel` does not grow with distance.
+    pub orthographic: bool,
+}
+
+impl Renderer {
+    /// The last frame's shadow-atlas tiles (issue 15) with their owners, in the plan's tile
+    /// order, and the atlas's side in texels. Lights that cast elsewhere (not in the atlas)
+    /// have no tile here.
+    pub fn shadow_atlas_tiles(&self) -> (u32, Vec<AtlasTile>) {
+        let plan = &self.last.shadows;
+        let mut owner: Vec<Option<(TileOwner, u32)>> = vec![None; plan.tiles.len()];
+        let mut claim = |first: u32, count: u32, o: TileOwner| {
+            for k in 0..count {
+                if let Some(slot) = owner.get_mut(first.saturating_add(k) as usize) {
+                    *slot = Some((o, k));
+                }
+            }
+        };
+        if plan.params.sun[0] != super::records::NO_SHADOW {
+            claim(plan.params.sun[0], plan.params.sun[1], TileOwner::Sun);
+        }
+        for (i, &(first, count)) in plan.lights.iter().enumerate() {
+            if first != super::records::NO_SHADOW && count > 0 {
+                claim(first, count, if count == 1 { TileOwner::Spot(i) } else { TileOwner::Cube(i) });
+            }
+        }
+        let tiles = plan
+            .draws
+            .iter()
+            .filter_map(|d| {
+                let (o, face) = owner.get(d.tile as usize).copied().flatten()?;
+                let t = plan.tiles.get(d.tile as usize)?;
+                Some(AtlasTile {
+                    owner: o,
+                    face,
+                    x: d.x,
+                    y: d.y,
+                    size: d.size,
+                    texel: t.info[1],
+                    orthographic: t.info[0] > 0.5,
+                })
+            })
+            .collect();
+        (plan.side, tiles)
+    }
+
+    /// Draws the last frame's shadow atlas into `target` (the output format, `side` pixels
+    /// square; `passes::atlas_view`): each pixel the atlas texel under it, the stored linear
+    /// depth stretched over the range present, near white, far black; texels nothing was cast
+    /// into dark blue. Returns that range (least, greatest stored depth, as fractions of each
+    /// tile's far distance), `None` when no texel was drawn.
+    pub fn draw_shadow_atlas(&self, gpu: &Gpu, target: &wgpu::TextureView, side: u32) -> Result<Option<(f32, f32)>> {
+        if side == 0 {
+            bail!("cannot draw the shadow atlas into a 0-pixel image");
+        }
+        let mut encoder =
+            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas view") });
+        let empty = self.last.shadows.draws.is_empty();
+        self.passes.atlas_view.encode(&self.device, &self.queue, &mut encoder, &self.frame, target, side, empty);
+        self.queue.submit([encoder.finish()]);
+        self.passes.atlas_view.read(gpu)
+    }
+}

@@ -56,9 +56,17 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.separator();
         plots(ui, f.history);
         ui.separator();
-        ui.horizontal(|ui| {
+        // Wrapped: six views do not fit the panel's width on one row.
+        ui.horizontal_wrapped(|ui| {
             ui.label("view");
-            for v in [DebugView::Lit, DebugView::Stencil, DebugView::Complexity, DebugView::TileLights] {
+            for v in [
+                DebugView::Lit,
+                DebugView::Stencil,
+                DebugView::Complexity,
+                DebugView::TileLights,
+                DebugView::Shadow,
+                DebugView::Cascades,
+            ] {
                 ui.selectable_value(&mut st.settings.debug_view, v, v.name());
             }
         });

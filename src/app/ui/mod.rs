@@ -17,6 +17,7 @@ mod figures;
 mod gbuffer_strip;
 mod lights_tab;
 mod probe;
+mod shadow_atlas;
 mod tabs;
 mod top_bar;
 mod viewport;
@@ -27,6 +28,8 @@ use gbuffer_strip::gbuffer_strip;
 pub use gbuffer_strip::{thumbs, Thumb};
 use lights_tab::lights_tab;
 use probe::pixel_panel;
+use shadow_atlas::shadow_window;
+pub use shadow_atlas::{cascade_colour, visible as atlas_visible, AtlasInfo, CUBE, SELECTED, SPOT};
 use tabs::left_panel;
 use top_bar::{status_bar, top_bar};
 use viewport::viewport;
@@ -78,6 +81,11 @@ pub struct FrameInfo<'a> {
     pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
     /// A glTF file loading in the background.
     pub loading: Option<super::loading::LoadProgress>,
+    /// Issue 15: the shadow-atlas panel's image, tiles and depth range (`None`: panel closed or
+    /// nothing rendered yet).
+    pub atlas: Option<AtlasInfo<'a>>,
+    /// Where the shadow-atlas window opens first (points).
+    pub atlas_default_pos: Pos2,
 }
 
 #[derive(Clone, Debug)]
@@ -100,6 +108,8 @@ pub struct UiOut {
     /// Drag on the viewport in points (look around).
     pub drag: Vec2,
     pub commands: Vec<Command>,
+    /// The shadow-atlas image's rectangle in points (the panel is open).
+    pub atlas_rect: Option<Rect>,
 }
 
 fn colour32(c: Vec3) -> Color32 {
@@ -188,6 +198,9 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
             .show(ui, |ui| gbuffer_strip(ui, st, f));
     }
     egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
+    if st.panels.shadows {
+        shadow_window(ui.ctx(), st, f, out);
+    }
 }
 
 /// The smallest viewport (points) the panels leave: a window too small for the panels the user

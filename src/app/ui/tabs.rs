@@ -125,6 +125,10 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ambient_and_sun(ui, st, scene);
     }
     ui.separator();
+    // Issue 15: the shadow knobs (also in the shadow-atlas window, top bar "shadows").
+    ui.label(RichText::new("Shadows").strong());
+    super::shadow_atlas::shadow_knobs(ui, st, "scene");
+    ui.separator();
     ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
     post_panel(ui, st);
 }
@@ -437,6 +441,7 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
     ui.label("Complexity: how many lights shaded each pixel.");
     ui.label("Tile lights: how many lights each pixel's tile (tiled) or cluster (clustered) list holds.");
     ui.label("Bloom: the bloom the post chain adds. Histogram: auto-exposure's bins of log2 luminance, the adapted (yellow) and the frame's mean (white).");
+    ui.label("Shadow: the shadow factor (white lit, black shadowed). Cascades: the sun's cascades, red, green, blue, yellow. The shadow atlas itself: top bar, panels, 'shadows'.");
     ui.label("Edges: where anti-aliasing may change pixels (edge blur or FXAA). CoC: depth of field's circle of confusion, green in focus.");
     ui.separator();
     ui.label(RichText::new("Scripts").strong());

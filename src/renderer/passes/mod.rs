@@ -8,6 +8,7 @@
 //! [`z`] flips the compare functions when reversed Z is on.
 
 pub mod aa;
+pub mod atlas_view;
 pub mod bloom;
 pub mod compose;
 pub mod debug;
@@ -134,6 +135,7 @@ pub fn shader_source_for(
             include_str!("../../../shaders/post.wgsl"),
             include_str!("../../../shaders/shadows.wgsl"),
             include_str!("../../../shaders/prepass.wgsl"),
+            include_str!("../../../shaders/atlas_view.wgsl"),
         ]
         .map(String::from),
     );
@@ -558,6 +560,8 @@ pub struct Passes {
     pub vignette: vignette::VignettePass,
     pub aa: aa::AaPass,
     pub shadows: shadows::ShadowPass,
+    /// Issue 15: the viewer's shadow-atlas image (not part of the frame).
+    pub atlas_view: atlas_view::AtlasViewPass,
 }
 
 impl Passes {
@@ -582,6 +586,7 @@ impl Passes {
             vignette: vignette::VignettePass::new(device, &shared),
             aa: aa::AaPass::new(device, &shared),
             shadows: shadows::ShadowPass::new(device, &shared),
+            atlas_view: atlas_view::AtlasViewPass::new(device, &shared),
             shared,
         }
     }

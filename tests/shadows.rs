@@ -795,3 +795,33 @@ fn every_render_path_shadows_the_same_pixels() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The viewer's atlas panel lists what is in the atlas: with `--shadow-cube unrolled` the
+/// point light's six faces are atlas tiles, with `array` they are layers of the cube array and
+/// not in the atlas (so the panel lists the light as shadowed outside it), while the sun's
+/// cascades and the spot's tile stay; every listed tile lies inside the atlas.
+#[test]
+fn the_atlas_panel_lists_only_tiles_that_are_in_the_atlas() {
+    use lampshade::renderer::inspect::TileOwner;
+    let gpu = gpu();
+    let s = scene("shadows");
+    let point = s.lights.iter().position(|l| matches!(l, Light::Point(_))).expect("a point light");
+    for cube in CUBES {
+        let st = Settings { shadow_cube: cube, ..settings(ShadowMode::All) };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &st).expect("renderer");
+        render_image(gpu, &mut r, &s, &st, W, H).expect("render");
+        let (side, tiles) = r.shadow_atlas_tiles();
+        let faces = tiles.iter().filter(|t| t.owner == TileOwner::Cube(point)).count();
+        let expected = if cube == ShadowCube::Unrolled { 6 } else { 0 };
+        assert_eq!(faces, expected, "{}: the point light's faces listed in the atlas", cube_name(cube));
+        assert!(tiles.iter().any(|t| t.owner == TileOwner::Sun), "{}: no cascade listed", cube_name(cube));
+        assert!(tiles.iter().any(|t| matches!(t.owner, TileOwner::Spot(_))), "{}: no spot tile", cube_name(cube));
+        for t in &tiles {
+            assert!(
+                t.size > 0 && t.x + t.size <= side && t.y + t.size <= side,
+                "{}: {t:?} outside the atlas",
+                cube_name(cube)
+            );
+        }
+    }
+}

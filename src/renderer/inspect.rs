@@ -425,9 +425,12 @@ impl Renderer {
                 claim(first, count, if count == 1 { TileOwner::Spot(i) } else { TileOwner::Cube(i) });
             }
         }
+        // Faces in the cube array (`--shadow-cube array`) are not in the atlas: left out, so
+        // their lights show as shadowed outside it.
         let tiles = plan
             .draws
             .iter()
+            .filter(|d| d.layer.is_none())
             .filter_map(|d| {
                 let (o, face) = owner.get(d.tile as usize).copied().flatten()?;
                 let t = plan.tiles.get(d.tile as usize)?;
@@ -438,7 +441,7 @@ impl Renderer {
                     y: d.y,
                     size: d.size,
                     texel: t.info[1],
-                    orthographic: t.info[0] > 0.5,
+                    orthographic: t.info[0] == super::shadows::TILE_ORTHOGRAPHIC,
                 })
             })
             .collect();

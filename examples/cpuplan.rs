@@ -3,7 +3,8 @@
 //! `cargo run --release --example cpuplan [LIGHTS [ROUNDS]]` (default 16,384 lights, 9 rounds).
 //! `cpuplan loop [LIGHTS]` repeats only the records and the plan (no GPU work), for a profiler.
 //! `CPUPLAN_MODE=clustered` and `CPUPLAN_BUILD=cpu|gpu` (who builds the clustered lists) pick
-//! rows.
+//! rows. The lights move (`demo` at a later time every frame, as the viewer's Space animates
+//! them), so nothing cached from a frame before can stand in for this frame's work.
 
 use lampshade::headless::render_image;
 use lampshade::renderer::plan::{FramePlan, PlanView};
@@ -48,13 +49,16 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let scene = match builtin::build("demo", BuiltinOptions { lights: Some(lights), time: 0.0 }) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("{e:#}");
-            std::process::exit(1);
-        }
-    };
+    // The animated lights: frame k shows `demo` at k x 0.25 s (built before the timing starts).
+    let scene_at =
+        |k: usize| match builtin::build("demo", BuiltinOptions { lights: Some(lights), time: k as f64 * 0.25 }) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("{e:#}");
+                std::process::exit(1);
+            }
+        };
+    let scene = scene_at(0);
     let (w, h) = (1280, 720);
     // The clustered lists built by the GPU (the default) and by the CPU.
     let (gpu_built, cpu_built) = (ClusterBuilder::Gpu, ClusterBuilder::Cpu);
@@ -80,13 +84,15 @@ fn main() {
     };
     if looped {
         let volumes = Volumes::new(&gpu.device, (1, 12));
+        let scenes: Vec<_> = (0..8).map(scene_at).collect();
         for (mode, cluster_build) in modes {
             let settings = Settings { culling: mode, cluster_build, ..Settings::default() };
             let mut times = Vec::new();
             let cpu0 = process_cpu_ms();
-            for _ in 0..200 {
+            for frame in 0..200 {
+                let scene = &scenes[frame % scenes.len()];
                 let t = std::time::Instant::now();
-                let mut records = FrameRecords::new(&scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
                 let view = PlanView {
                     proj: records.proj.as_mat4(),
                     near: scene.camera.near as f32,
@@ -98,7 +104,7 @@ fn main() {
                     light_batching: true,
                     cluster_build: settings.cluster_build,
                 };
-                let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);
+                let plan = FramePlan::new(scene, &mut records, &[], &volumes, &view);
                 let clamps = overlap::clamps(&plan.lights, (w, h), wgpu::TextureFormat::Rgba16Float);
                 std::hint::black_box((&plan, &clamps));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
@@ -131,7 +137,8 @@ fn main() {
         }
         prepared.push((label(m, cluster_build), s, r, Vec::new()));
     }
-    for _ in 0..rounds {
+    for round in 0..rounds {
+        let scene = scene_at(round + 1);
         for (_, s, r, t) in prepared.iter_mut() {
             match render_image(&gpu, r, &scene, s, w, h) {
                 Ok((_, st)) => t.push((

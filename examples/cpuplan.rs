@@ -7,10 +7,11 @@
 //! them), so nothing cached from a frame before can stand in for this frame's work.
 
 use lampshade::headless::render_image;
-use lampshade::renderer::plan::{FramePlan, PlanView};
+use lampshade::renderer::plan::{self, FramePlan, PlanView};
 use lampshade::renderer::records::FrameRecords;
 use lampshade::renderer::settings::ClusterBuilder;
 use lampshade::renderer::volumes::Volumes;
+use lampshade::renderer::{batches, tiles};
 use lampshade::renderer::{overlap, CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 
@@ -118,6 +119,69 @@ fn main() {
                 median(times),
                 cpu.map_or("unknown".into(), |c| format!("{c:.2}"))
             );
+            // Where it goes: the steps of `FramePlan::new` one by one (CPU time over all
+            // threads, `cputime`), medians over 50 frames.
+            use lampshade::renderer::cputime::Clock;
+            let mut steps: Vec<(&str, Vec<f64>)> = Vec::new();
+            let mut add = |name: &'static str, ms: f64| match steps.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, v)) => v.push(ms),
+                None => steps.push((name, vec![ms])),
+            };
+            for frame in 0..50 {
+                let scene = &scenes[frame % scenes.len()];
+                let c = Clock::start();
+                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                add("records", c.ms());
+                let view = PlanView {
+                    proj: records.proj.as_mat4(),
+                    near: scene.camera.near as f32,
+                    far: scene.camera.far as f32,
+                    size: (w, h),
+                    mode,
+                    depth_clamp: true,
+                    forward_lights: settings.forward_lights,
+                    light_batching: true,
+                    cluster_build: settings.cluster_build,
+                };
+                let c = Clock::start();
+                let radii = plan::SphereRadii::of(&volumes.sphere);
+                let mut plans: Vec<_> = records
+                    .lights
+                    .iter()
+                    .map(|l| {
+                        plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view)
+                            .unwrap_or_else(|| plan::plan_light(l, &volumes, &view))
+                    })
+                    .collect();
+                add("per-light plans (one thread)", c.ms());
+                let c = Clock::start();
+                let tiled = tiles::frame_rule(&mut plans, &view);
+                add("frame rule", c.ms());
+                if tiled == Some(plan::Method::Clustered) {
+                    let c = Clock::start();
+                    match cluster_build {
+                        ClusterBuilder::Cpu => {
+                            drop(std::hint::black_box(tiles::cluster_lists(&records.lights, &plans, &view)))
+                        }
+                        ClusterBuilder::Gpu => {
+                            drop(std::hint::black_box(tiles::cluster_job(&records.lights, &plans, &view)))
+                        }
+                    }
+                    add("cluster lists or spans", c.ms());
+                }
+                let c = Clock::start();
+                std::hint::black_box(batches::LightBatches::new(&plans, &records.lights, &volumes, &view));
+                add("batches", c.ms());
+                let c = Clock::start();
+                std::hint::black_box(overlap::clamps(&plans, (w, h), wgpu::TextureFormat::Rgba16Float));
+                add("clamps", c.ms());
+                let c = Clock::start();
+                std::hint::black_box(FramePlan::new(scene, &mut records, &[], &volumes, &view));
+                add("FramePlan::new (all of it, two threads)", c.ms());
+            }
+            for (name, v) in steps {
+                println!("  {name}: {:.3} ms", median(v));
+            }
         }
         return;
     }
@@ -154,18 +218,21 @@ fn main() {
             }
         }
     }
-    println!("demo, {} lights, {w}x{h}, {rounds} interleaved rounds, medians (ms)", scene.lights.len());
-    println!("| mode | records | plan | upload | CPU total | GPU lists | GPU lighting | GPU total |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("demo, {} lights (moving), {w}x{h}, {rounds} interleaved rounds, medians (ms)", scene.lights.len());
+    let clock = if lampshade::renderer::cputime::measures_cpu() { "CPU time over all threads" } else { "wall clock" };
+    println!("records, plan, upload: {clock}; wall clock: the three on the rendering thread");
+    println!("| mode | records | plan | upload | CPU total | wall clock | GPU lists | GPU lighting | GPU total |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for (m, _, _, t) in &prepared {
         let f = |g: fn(&lampshade::renderer::CpuMs) -> f64| median(t.iter().map(|x| g(&x.0)).collect());
         println!(
-            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
+            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
             m,
             f(|c| c.records),
             f(|c| c.plan),
             f(|c| c.upload),
             f(|c| c.records + c.plan + c.upload),
+            f(|c| c.wall),
             median(t.iter().map(|x| x.3).collect()),
             median(t.iter().map(|x| x.1).collect()),
             median(t.iter().map(|x| x.2).collect())

@@ -29,6 +29,11 @@ use super::records::{FP16_MAX, RG11B10_MAX};
 
 /// Tile size in pixels of the overlap count.
 pub const OVERLAP_TILE: u32 = 16;
+/// `clamps`' tile rectangle of a light that covers no tile (no rectangle has x0 > x1).
+const NO_TILES: [u32; 4] = [1, 0, 0, 0];
+/// Rectangles narrower than this many tiles read the counts directly, wider ones the rows'
+/// range-maximum tables (the same maximum either way).
+const NARROW: usize = 8;
 
 /// The largest finite value of an accumulation format whose sums must stay finite, `None` for
 /// formats that cannot overflow in practice (Rgba32Float; Rgba8Log saturates at a finite value).
@@ -62,8 +67,8 @@ pub struct Clamps {
 /// rounding, as the forward pass's tile lists do; `None` when it misses the screen.
 fn tile_rect(rect: (glam::Vec2, glam::Vec2), (w, h): (u32, u32)) -> Option<[u32; 4]> {
     let (lo, hi) = rect;
-    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
-    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+    let px = |x: f32| super::tiles::floor((x + 1.0) * 0.5 * w as f32);
+    let py = |y: f32| super::tiles::floor((1.0 - y) * 0.5 * h as f32);
     let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
     let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
     // NaN compares false: a rectangle with NaN corners covers every tile.
@@ -84,15 +89,23 @@ fn tile_rect(rect: (glam::Vec2, glam::Vec2), (w, h): (u32, u32)) -> Option<[u32;
 pub fn clamps(plans: &[LightPlan], size: (u32, u32), format: wgpu::TextureFormat) -> Clamps {
     let (w, h) = (size.0.max(1), size.1.max(1));
     let (tx, ty) = (w.div_ceil(OVERLAP_TILE) as usize, h.div_ceil(OVERLAP_TILE) as usize);
-    let rects: Vec<Option<[u32; 4]>> = plans.iter().map(|p| p.screen_rect.and_then(|r| tile_rect(r, (w, h)))).collect();
+    // One walk over the plans: each light's tiles (`NO_TILES`: none), counted into the
+    // difference array as they are found.
     let mut diff = vec![0i64; (tx + 1) * (ty + 1)];
-    for r in rects.iter().flatten() {
-        let [x0, y0, x1, y1] = r.map(|v| v as usize);
-        diff[y0 * (tx + 1) + x0] += 1;
-        diff[y0 * (tx + 1) + x1 + 1] -= 1;
-        diff[(y1 + 1) * (tx + 1) + x0] -= 1;
-        diff[(y1 + 1) * (tx + 1) + x1 + 1] += 1;
-    }
+    let rects: Vec<[u32; 4]> = plans
+        .iter()
+        .map(|p| match p.screen_rect.and_then(|r| tile_rect(r, (w, h))) {
+            Some(r) => {
+                let [x0, y0, x1, y1] = r.map(|v| v as usize);
+                diff[y0 * (tx + 1) + x0] += 1;
+                diff[y0 * (tx + 1) + x1 + 1] -= 1;
+                diff[(y1 + 1) * (tx + 1) + x0] -= 1;
+                diff[(y1 + 1) * (tx + 1) + x1 + 1] += 1;
+                r
+            }
+            None => NO_TILES,
+        })
+        .collect();
     // Prefix sums: the count per tile.
     let mut count = vec![0u32; tx * ty];
     let mut above = vec![0i64; tx + 1];
@@ -123,13 +136,27 @@ pub fn clamps(plans: &[LightPlan], size: (u32, u32), format: wgpu::TextureFormat
         let k = (usize::BITS - 1 - (x1 - x0 + 1).leading_zeros()) as usize;
         table[at(k, y, x0)].max(table[at(k, y, x1 + 1 - (1 << k))])
     };
+    // Each count's clamp once (the same division per light as before, looked up).
+    let clamp_of: Vec<f32> = (0..=most).map(|c| light_clamp(format, c)).collect();
     let lights = rects
         .iter()
-        .map(|r| {
-            let c = r.map_or(0, |[x0, y0, x1, y1]| {
-                (y0 as usize..=y1 as usize).map(|y| row_max(y, x0 as usize, x1 as usize)).max().unwrap_or(0)
+        .map(|&r| {
+            let c = (r != NO_TILES).then_some(r).map_or(0, |[x0, y0, x1, y1]| {
+                let (x0, y0, x1, y1) = (x0 as usize, y0 as usize, x1 as usize, y1 as usize);
+                let mut c = 0;
+                if x1 - x0 < NARROW {
+                    // Most lights span a few tiles: their counts are read directly.
+                    for y in y0..=y1 {
+                        c = count[y * tx + x0..=y * tx + x1].iter().fold(c, |m, &v| m.max(v));
+                    }
+                } else {
+                    for y in y0..=y1 {
+                        c = c.max(row_max(y, x0, x1));
+                    }
+                }
+                c
             });
-            light_clamp(format, c as usize)
+            clamp_of.get(c as usize).copied().unwrap_or_else(|| light_clamp(format, c as usize))
         })
         .collect();
     Clamps { ambient: light_clamp(format, most), lights, most_overlapping: most }

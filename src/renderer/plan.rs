@@ -390,7 +390,11 @@ pub fn plan_sphere_ahead(
         (m.x * m.y / 4.0) as f32 * screen
     };
     let (p_outer, p_inner) = (pixels_of((lo, hi)), pixels_of(inner_box));
-    let pixels = if (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS) {
+    // Only `auto` decides on the pixels (a fixed mode's method is its own): the vertices are
+    // projected only for it.
+    let pixels = if view.mode != CullingMode::Auto
+        || (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS)
+    {
         p_outer
     } else {
         pixels_of(*exact.get_or_insert_with(vertex_box))
@@ -501,6 +505,11 @@ fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
             break;
         }
         let inside = |p: Vec2| sign * p[axis] <= 1.0;
+        // Wholly inside this plane (most partly visible lights cross one screen edge): clipping
+        // would copy the corners unchanged, so it is skipped.
+        if src[..n].iter().all(|&p| inside(p)) {
+            continue;
+        }
         let mut m = 0;
         for k in 0..n {
             let (p, q) = (src[k], src[(k + 1) % n]);

@@ -154,6 +154,37 @@ fn main() {
                     })
                     .collect();
                 add("per-light plans (one thread)", c.ms());
+                // The plans by kind: off screen, wholly on screen, partly (the silhouette
+                // clipped to the screen), and the hull path.
+                let mut kinds: [Vec<usize>; 4] = Default::default();
+                for (i, l) in records.lights.iter().enumerate() {
+                    let k = match plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view) {
+                        None => 3,
+                        Some(p) => match p.screen_rect {
+                            None => 0,
+                            Some((lo, hi)) if lo.cmpge(-glam::Vec2::ONE).all() && hi.cmple(glam::Vec2::ONE).all() => 1,
+                            Some(_) => 2,
+                        },
+                    };
+                    kinds[k].push(i);
+                }
+                for (k, name) in
+                    ["  off screen", "  wholly on screen", "  partly on screen", "  hull path"].into_iter().enumerate()
+                {
+                    let c = Clock::start();
+                    for &i in &kinds[k] {
+                        let l = &records.lights[i];
+                        std::hint::black_box(
+                            plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view)
+                                .unwrap_or_else(|| plan::plan_light(l, &volumes, &view)),
+                        );
+                    }
+                    let ms = c.ms();
+                    if frame == 0 {
+                        println!("{name}: {} lights", kinds[k].len());
+                    }
+                    add(name, ms);
+                }
                 let c = Clock::start();
                 let tiled = tiles::frame_rule(&mut plans, &view);
                 add("frame rule", c.ms());

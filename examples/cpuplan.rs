@@ -3,13 +3,15 @@
 //! `cargo run --release --example cpuplan [LIGHTS [ROUNDS]]` (default 16,384 lights, 9 rounds).
 //! `cpuplan loop [LIGHTS]` repeats only the records and the plan (no GPU work), for a profiler.
 //! `CPUPLAN_MODE=clustered` and `CPUPLAN_BUILD=cpu|gpu` (who builds the clustered lists) pick
-//! rows.
+//! rows. The lights move (`demo` at a later time every frame, as the viewer's Space animates
+//! them), so nothing cached from a frame before can stand in for this frame's work.
 
 use lampshade::headless::render_image;
-use lampshade::renderer::plan::{FramePlan, PlanView};
+use lampshade::renderer::plan::{self, FramePlan, PlanView};
 use lampshade::renderer::records::FrameRecords;
 use lampshade::renderer::settings::ClusterBuilder;
 use lampshade::renderer::volumes::Volumes;
+use lampshade::renderer::{batches, tiles};
 use lampshade::renderer::{overlap, CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 
@@ -48,13 +50,16 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let scene = match builtin::build("demo", BuiltinOptions { lights: Some(lights), time: 0.0 }) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("{e:#}");
-            std::process::exit(1);
-        }
-    };
+    // The animated lights: frame k shows `demo` at k x 0.25 s (built before the timing starts).
+    let scene_at =
+        |k: usize| match builtin::build("demo", BuiltinOptions { lights: Some(lights), time: k as f64 * 0.25 }) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("{e:#}");
+                std::process::exit(1);
+            }
+        };
+    let scene = scene_at(0);
     let (w, h) = (1280, 720);
     // The clustered lists built by the GPU (the default) and by the CPU.
     let (gpu_built, cpu_built) = (ClusterBuilder::Gpu, ClusterBuilder::Cpu);
@@ -80,13 +85,15 @@ fn main() {
     };
     if looped {
         let volumes = Volumes::new(&gpu.device, (1, 12));
+        let scenes: Vec<_> = (0..8).map(scene_at).collect();
         for (mode, cluster_build) in modes {
             let settings = Settings { culling: mode, cluster_build, ..Settings::default() };
             let mut times = Vec::new();
             let cpu0 = process_cpu_ms();
-            for _ in 0..200 {
+            for frame in 0..200 {
+                let scene = &scenes[frame % scenes.len()];
                 let t = std::time::Instant::now();
-                let mut records = FrameRecords::new(&scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
                 let view = PlanView {
                     proj: records.proj.as_mat4(),
                     near: scene.camera.near as f32,
@@ -98,7 +105,7 @@ fn main() {
                     light_batching: true,
                     cluster_build: settings.cluster_build,
                 };
-                let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);
+                let plan = FramePlan::new(scene, &mut records, &[], &volumes, &view);
                 let clamps = overlap::clamps(&plan.lights, (w, h), wgpu::TextureFormat::Rgba16Float);
                 std::hint::black_box((&plan, &clamps));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
@@ -112,6 +119,100 @@ fn main() {
                 median(times),
                 cpu.map_or("unknown".into(), |c| format!("{c:.2}"))
             );
+            // Where it goes: the steps of `FramePlan::new` one by one (CPU time over all
+            // threads, `cputime`), medians over 50 frames.
+            use lampshade::renderer::cputime::Clock;
+            let mut steps: Vec<(&str, Vec<f64>)> = Vec::new();
+            let mut add = |name: &'static str, ms: f64| match steps.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, v)) => v.push(ms),
+                None => steps.push((name, vec![ms])),
+            };
+            for frame in 0..50 {
+                let scene = &scenes[frame % scenes.len()];
+                let c = Clock::start();
+                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                add("records", c.ms());
+                let view = PlanView {
+                    proj: records.proj.as_mat4(),
+                    near: scene.camera.near as f32,
+                    far: scene.camera.far as f32,
+                    size: (w, h),
+                    mode,
+                    depth_clamp: true,
+                    forward_lights: settings.forward_lights,
+                    light_batching: true,
+                    cluster_build: settings.cluster_build,
+                };
+                let c = Clock::start();
+                let radii = plan::SphereRadii::of(&volumes.sphere);
+                let mut plans: Vec<_> = records
+                    .lights
+                    .iter()
+                    .map(|l| {
+                        plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view)
+                            .unwrap_or_else(|| plan::plan_light(l, &volumes, &view))
+                    })
+                    .collect();
+                add("per-light plans (one thread)", c.ms());
+                // The plans by kind: off screen, wholly on screen, partly (the silhouette
+                // clipped to the screen), and the hull path.
+                let mut kinds: [Vec<usize>; 4] = Default::default();
+                for (i, l) in records.lights.iter().enumerate() {
+                    let k = match plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view) {
+                        None => 3,
+                        Some(p) => match p.screen_rect {
+                            None => 0,
+                            Some((lo, hi)) if lo.cmpge(-glam::Vec2::ONE).all() && hi.cmple(glam::Vec2::ONE).all() => 1,
+                            Some(_) => 2,
+                        },
+                    };
+                    kinds[k].push(i);
+                }
+                for (k, name) in
+                    ["  off screen", "  wholly on screen", "  partly on screen", "  hull path"].into_iter().enumerate()
+                {
+                    let c = Clock::start();
+                    for &i in &kinds[k] {
+                        let l = &records.lights[i];
+                        std::hint::black_box(
+                            plan::plan_sphere_ahead(l, radii, &volumes.sphere, &view)
+                                .unwrap_or_else(|| plan::plan_light(l, &volumes, &view)),
+                        );
+                    }
+                    let ms = c.ms();
+                    if frame == 0 {
+                        println!("{name}: {} lights", kinds[k].len());
+                    }
+                    add(name, ms);
+                }
+                let c = Clock::start();
+                let tiled = tiles::frame_rule(&mut plans, &view);
+                add("frame rule", c.ms());
+                if tiled == Some(plan::Method::Clustered) {
+                    let c = Clock::start();
+                    match cluster_build {
+                        ClusterBuilder::Cpu => {
+                            drop(std::hint::black_box(tiles::cluster_lists(&records.lights, &plans, &view)))
+                        }
+                        ClusterBuilder::Gpu => {
+                            drop(std::hint::black_box(tiles::cluster_job(&records.lights, &plans, &view)))
+                        }
+                    }
+                    add("cluster lists or spans", c.ms());
+                }
+                let c = Clock::start();
+                std::hint::black_box(batches::LightBatches::new(&plans, &records.lights, &volumes, &view));
+                add("batches", c.ms());
+                let c = Clock::start();
+                std::hint::black_box(overlap::clamps(&plans, (w, h), wgpu::TextureFormat::Rgba16Float));
+                add("clamps", c.ms());
+                let c = Clock::start();
+                std::hint::black_box(FramePlan::new(scene, &mut records, &[], &volumes, &view));
+                add("FramePlan::new (all of it, two threads)", c.ms());
+            }
+            for (name, v) in steps {
+                println!("  {name}: {:.3} ms", median(v));
+            }
         }
         return;
     }
@@ -131,7 +232,8 @@ fn main() {
         }
         prepared.push((label(m, cluster_build), s, r, Vec::new()));
     }
-    for _ in 0..rounds {
+    for round in 0..rounds {
+        let scene = scene_at(round + 1);
         for (_, s, r, t) in prepared.iter_mut() {
             match render_image(&gpu, r, &scene, s, w, h) {
                 Ok((_, st)) => t.push((
@@ -147,18 +249,21 @@ fn main() {
             }
         }
     }
-    println!("demo, {} lights, {w}x{h}, {rounds} interleaved rounds, medians (ms)", scene.lights.len());
-    println!("| mode | records | plan | upload | CPU total | GPU lists | GPU lighting | GPU total |");
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("demo, {} lights (moving), {w}x{h}, {rounds} interleaved rounds, medians (ms)", scene.lights.len());
+    let clock = if lampshade::renderer::cputime::measures_cpu() { "CPU time over all threads" } else { "wall clock" };
+    println!("records, plan, upload: {clock}; wall clock: the three on the rendering thread");
+    println!("| mode | records | plan | upload | CPU total | wall clock | GPU lists | GPU lighting | GPU total |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for (m, _, _, t) in &prepared {
         let f = |g: fn(&lampshade::renderer::CpuMs) -> f64| median(t.iter().map(|x| g(&x.0)).collect());
         println!(
-            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
+            "| {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} | {:.1} |",
             m,
             f(|c| c.records),
             f(|c| c.plan),
             f(|c| c.upload),
             f(|c| c.records + c.plan + c.upload),
+            f(|c| c.wall),
             median(t.iter().map(|x| x.3).collect()),
             median(t.iter().map(|x| x.1).collect()),
             median(t.iter().map(|x| x.2).collect())

@@ -106,8 +106,8 @@ pub fn pixel_rect(lo: Vec2, hi: Vec2, (w, h): (u32, u32)) -> Option<[u32; 4]> {
     if !(lo.is_finite() && hi.is_finite()) {
         return Some([0, 0, w - 1, h - 1]);
     }
-    let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
-    let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+    let px = |x: f32| super::tiles::floor((x + 1.0) * 0.5 * w as f32);
+    let py = |y: f32| super::tiles::floor((1.0 - y) * 0.5 * h as f32);
     let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
     let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
     if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 || x0 > x1 || y0 > y1 {
@@ -239,6 +239,11 @@ impl LightBatches {
         volumes: &Volumes,
         view: &PlanView,
     ) {
+        // A block the light pass draws nothing of (every light tiled, clustered or skipped)
+        // needs no occupancy grid.
+        if !plans[block.clone()].iter().any(|p| drawn(p.method)) {
+            return;
+        }
         let (w, h) = view.size;
         let (gw, gh) = (w.div_ceil(CELL).max(1) as usize, h.div_ceil(CELL).max(1) as usize);
         // Per cell, the last batch (index into `sets`) holding a light there, plus one (0: none);

@@ -390,7 +390,11 @@ pub fn plan_sphere_ahead(
         (m.x * m.y / 4.0) as f32 * screen
     };
     let (p_outer, p_inner) = (pixels_of((lo, hi)), pixels_of(inner_box));
-    let pixels = if (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS) {
+    // Only `auto` decides on the pixels (a fixed mode's method is its own): the vertices are
+    // projected only for it.
+    let pixels = if view.mode != CullingMode::Auto
+        || (p_outer >= AUTO_STENCIL_MIN_PIXELS) == (p_inner >= AUTO_STENCIL_MIN_PIXELS)
+    {
         p_outer
     } else {
         pixels_of(*exact.get_or_insert_with(vertex_box))
@@ -500,16 +504,25 @@ fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
         if n == 0 {
             break;
         }
-        let inside = |p: Vec2| sign * p[axis] <= 1.0;
+        // The coordinate clipped, without indexing by a run-time axis.
+        let along = |p: Vec2| if axis == 0 { p.x } else { p.y };
+        let inside = |p: Vec2| sign * along(p) <= 1.0;
+        // Wholly inside this plane (most partly visible lights cross one screen edge): clipping
+        // would copy the corners unchanged, so it is skipped.
+        if src[..n].iter().all(|&p| inside(p)) {
+            continue;
+        }
         let mut m = 0;
+        // The next corner without a division (`% n`) per edge: the same edges in the same order.
+        let next = |k: usize| if k + 1 == n { 0 } else { k + 1 };
         for k in 0..n {
-            let (p, q) = (src[k], src[(k + 1) % n]);
+            let (p, q) = (src[k], src[next(k)]);
             if inside(p) {
                 dst[m] = p;
                 m += 1;
             }
             if inside(p) != inside(q) {
-                let t = (sign - p[axis]) / (q[axis] - p[axis]);
+                let t = (sign - along(p)) / (along(q) - along(p));
                 dst[m] = p + (q - p) * t;
                 m += 1;
             }
@@ -517,7 +530,7 @@ fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
         std::mem::swap(&mut src, &mut dst);
         n = m;
     }
-    let twice: f32 = (0..n).map(|k| src[k].perp_dot(src[(k + 1) % n])).sum();
+    let twice: f32 = (0..n).map(|k| src[k].perp_dot(src[if k + 1 == n { 0 } else { k + 1 }])).sum();
     (twice * 0.5).abs()
 }
 

@@ -213,17 +213,20 @@ pub struct GpuMs {
     pub total: Option<f64>,
 }
 
-/// CPU time of the frame's preparation, in milliseconds (wall clock on the calling thread):
-/// building the records (`FrameRecords::new`), planning the lights and draws (`FramePlan::new`)
-/// and writing the frame's buffers (`FrameBuffers::upload` and the clustered lists, the
-/// `write_buffer` calls only). `plan` includes the fp16 clamps and, for `clustered`, the
-/// cluster lists; from 1,024 lights its per-light parts run on two threads (wall clock).
+/// CPU time of the frame's preparation, in milliseconds, over all the threads that did it
+/// (`cputime`: the calling thread's CPU clock plus its helper threads'; wall clock where no
+/// thread clock exists): building the records (`FrameRecords::new`), planning the lights and
+/// draws (`FramePlan::new`) and writing the frame's buffers (`FrameBuffers::upload` and the
+/// clustered lists, the `write_buffer` calls only). `plan` includes the fp16 clamps and, for
+/// `clustered`, the cluster lists; from 1,024 lights its per-light parts run on two threads.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct CpuMs {
     pub records: f64,
     pub plan: f64,
     pub upload: f64,
+    /// Wall clock of the three on the calling thread (what the frame waited for them).
+    pub wall: f64,
 }
 
 impl CpuMs {

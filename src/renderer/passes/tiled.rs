@@ -171,20 +171,20 @@ impl TiledPass {
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
     /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
     /// when shown. `queue` uploads the parameters and the clustered lists (or the lights' spans
-    /// the GPU builds them from); returns the CPU ms that upload took (part of the frame's
-    /// `cpu_ms.upload`).
+    /// the GPU builds them from); returns the ms that upload took, CPU over all threads and wall
+    /// clock (`cputime`; part of the frame's `cpu_ms.upload` and `cpu_ms.wall`).
     pub fn encode(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let view = f.settings.debug_view == DebugView::TileLights;
-        let Ok(mut state) = self.state.lock() else { return 0.0 };
+        let Ok(mut state) = self.state.lock() else { return (0.0, 0.0) };
         state.1 = None;
         if f.plan.tiled.is_none() && !view {
-            return 0.0;
+            return (0.0, 0.0);
         }
         let method = match (f.plan.tiled, &f.plan.clusters) {
             (Some(Method::Clustered), Some(_)) => Method::Clustered,
@@ -271,15 +271,15 @@ impl TiledPass {
             let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
             state.0 = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
         }
-        let Some(b) = &state.0 else { return 0.0 };
-        let clock = std::time::Instant::now();
+        let Some(b) = &state.0 else { return (0.0, 0.0) };
+        let clock = crate::renderer::cputime::Clock::start();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
         match clusters {
             Some(ClusterBuild::Cpu(c)) => queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data)),
             Some(ClusterBuild::Gpu(j)) => queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans)),
             None => {}
         }
-        let upload_ms = clock.elapsed().as_secs_f64() * 1e3;
+        let upload_ms = (clock.ms(), clock.wall_ms());
         encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
         if gpu_job.is_some() && n > 0 {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {

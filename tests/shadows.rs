@@ -600,24 +600,9 @@ fn the_cube_array_and_the_unrolled_cube_shadow_the_same_pixels() {
 /// lights blended in the same order the sum cannot grow; one fp16 step allowed).
 #[test]
 fn the_hard_cases_stay_finite_with_shadows_on() {
-    for name in [
-        "inside",
-        "near",
-        "far",
-        "occluded",
-        "floating",
-        "on-surface",
-        "grazing",
-        "far-origin",
-        "tiny-radius",
-        "overflow",
-        "normals",
-        "spot-extremes",
-        "coincident",
-        "street",
-    ] {
+    for &name in HARD_CASES {
         let s = scene(name);
-        let (w, h) = if name == "overflow" { (96, 54) } else { (160, 90) };
+        let (w, h) = hard_case_size(name);
         let plain = render(&s, &settings(ShadowMode::None), w, h);
         for (filter, cube) in
             [ShadowFilter::Pcf2x2, ShadowFilter::Poisson16].into_iter().flat_map(|f| CUBES.map(|c| (f, c)))

@@ -724,22 +724,8 @@ fn the_viewer_runs_thousands_of_frames_in_constant_memory() {
     std::fs::write(&script, plan).unwrap();
     let out = view("demo", &script, &["--size", "640x400"], &dir);
     let stdout = text(&out).0;
-    let samples: Vec<(u64, u64)> = stdout
-        .lines()
-        .filter_map(|l| {
-            let (frame, rest) = l.strip_prefix("frame ")?.split_once(": resident ")?;
-            Some((frame.parse().ok()?, rest.strip_suffix(" bytes")?.parse().ok()?))
-        })
-        .collect();
-    if stdout.contains("resident memory unavailable") {
-        eprintln!("SKIPPED the memory check: resident memory cannot be read on this system");
+    if !judge_memory_lines(&stdout, FRAMES / 250, WARMUP, "") {
         return;
-    }
-    assert_eq!(samples.len() as u64, FRAMES / 250, "memory lines missing from the viewer's output:\n{stdout}");
-    let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
-    eprintln!("viewer resident MiB by frame: {mib:?}");
-    if let Err(e) = lampshade::memory::judge_soak(&samples, WARMUP) {
-        panic!("the viewer's memory: {e}");
     }
     // The run is judged on frames that were drawn: the last viewport shows the lit scene or one
     // of its views, not black.
@@ -954,6 +940,18 @@ fn the_shadow_atlas_panel_runs_in_constant_memory() {
     std::fs::write(&script, plan).unwrap();
     let out = view("shadows", &script, &["--size", "900x600"], &dir);
     let stdout = text(&out).0;
+    if !judge_memory_lines(&stdout, FRAMES / 100, WARMUP, " with the shadow-atlas panel open") {
+        return;
+    }
+    // Judged on frames the panel drew: the last screenshot records the panel and its tiles.
+    let doc = json(&dir, "last-viewport.json");
+    assert!(doc["shadow_atlas"]["tiles"].as_array().is_some_and(|t| !t.is_empty()), "no atlas tiles: {doc}");
+}
+
+/// Judges a soak run's `memory` lines (`frame F: resident B bytes`, the script action): there
+/// must be `expected` of them and `lampshade::memory::judge_soak` must find no growth after
+/// `warmup` frames. False (said on stderr) when this system cannot read resident memory.
+fn judge_memory_lines(stdout: &str, expected: u64, warmup: u64, what: &str) -> bool {
     let samples: Vec<(u64, u64)> = stdout
         .lines()
         .filter_map(|l| {
@@ -963,15 +961,13 @@ fn the_shadow_atlas_panel_runs_in_constant_memory() {
         .collect();
     if stdout.contains("resident memory unavailable") {
         eprintln!("SKIPPED the memory check: resident memory cannot be read on this system");
-        return;
+        return false;
     }
-    assert_eq!(samples.len() as u64, FRAMES / 100, "memory lines missing from the viewer's output:\n{stdout}");
+    assert_eq!(samples.len() as u64, expected, "memory lines missing from the viewer's output:\n{stdout}");
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
-    eprintln!("viewer resident MiB by frame, shadow-atlas panel open: {mib:?}");
-    if let Err(e) = lampshade::memory::judge_soak(&samples, WARMUP) {
-        panic!("the viewer's memory with the shadow-atlas panel open: {e}");
+    eprintln!("viewer resident MiB by frame{what}: {mib:?}");
+    if let Err(e) = lampshade::memory::judge_soak(&samples, warmup) {
+        panic!("the viewer's memory{what}: {e}");
     }
-    // Judged on frames the panel drew: the last screenshot records the panel and its tiles.
-    let doc = json(&dir, "last-viewport.json");
-    assert!(doc["shadow_atlas"]["tiles"].as_array().is_some_and(|t| !t.is_empty()), "no atlas tiles: {doc}");
+    true
 }

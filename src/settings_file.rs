@@ -38,11 +38,16 @@ pub struct SceneKeys {
     /// Culling layers (0..=31) by object index: `{"4": 1}`.
     #[serde(default)]
     pub object_layers: Option<std::collections::BTreeMap<usize, u8>>,
+    /// Issue 15: each light's own shadow flag by light index (`--shadows` decides which kinds
+    /// cast; false keeps a light from casting): `{"0": false}`.
+    #[serde(default)]
+    pub light_shadows: Option<std::collections::BTreeMap<usize, bool>>,
 }
 
 impl SceneKeys {
-    /// Applies the per-light cookies and masks and the per-object layers to `scene`. Errors
-    /// name the key, the index and the problem (a missing or bad cookie file among them).
+    /// Applies the per-light cookies, masks and shadow flags and the per-object layers to
+    /// `scene`. Errors name the key, the index and the problem (a missing or bad cookie file
+    /// among them).
     pub fn apply_to(&self, scene: &mut crate::scene::Scene) -> Result<()> {
         for (&i, cookie) in self.light_cookies.iter().flatten() {
             scene.set_light_cookie(i, cookie.as_deref()).map_err(anyhow::Error::msg).context("light_cookies")?;
@@ -53,6 +58,13 @@ impl SceneKeys {
                 bail!("light_masks: no light {i} (the scene has {n})");
             };
             l.set_mask(mask);
+        }
+        for (&i, &on) in self.light_shadows.iter().flatten() {
+            let n = scene.lights.len();
+            let Some(l) = scene.lights.get_mut(i) else {
+                bail!("light_shadows: no light {i} (the scene has {n})");
+            };
+            l.set_cast_shadows(on);
         }
         for (&i, &layer) in self.object_layers.iter().flatten() {
             let n = scene.objects.len();
@@ -207,7 +219,17 @@ mod tests {
         }
         assert_eq!(
             scene_keys(),
-            ["camera", "light_cookies", "light_masks", "lights", "object_layers", "scene", "size", "time"]
+            [
+                "camera",
+                "light_cookies",
+                "light_masks",
+                "light_shadows",
+                "lights",
+                "object_layers",
+                "scene",
+                "size",
+                "time"
+            ]
         );
         // Seed 004's keys.
         let (_, k) = parse(
@@ -227,10 +249,19 @@ mod tests {
         assert_eq!(scene.lights[0].mask(), 2);
         assert_eq!(scene.cookies[scene.lights[0].cookie().unwrap() as usize].name, "window");
         assert_eq!(scene.objects[1].layer, 1);
+        // Issue 15: a light's shadow flag, off and back on.
+        assert!(scene.lights[0].cast_shadows());
+        let (_, k) = parse(r#"{"light_shadows": {"0": false}}"#).unwrap();
+        k.apply_to(&mut scene).unwrap();
+        assert!(!scene.lights[0].cast_shadows());
+        let (_, k) = parse(r#"{"light_shadows": {"0": true}}"#).unwrap();
+        k.apply_to(&mut scene).unwrap();
+        assert!(scene.lights[0].cast_shadows());
         for (text, needle) in [
             (r#"{"light_cookies": {"0": "nowhere/c.png"}}"#, "nowhere/c.png"),
             (r#"{"light_cookies": {"9": "window"}}"#, "no light 9"),
             (r#"{"light_masks": {"9": 1}}"#, "no light 9"),
+            (r#"{"light_shadows": {"9": false}}"#, "no light 9"),
             (r#"{"object_layers": {"1": 40}}"#, "layers are 0..=31"),
             (r#"{"object_layers": {"99": 1}}"#, "no object 99"),
         ] {

@@ -505,6 +505,7 @@ impl App {
             size: [g.viewport.width, g.viewport.height],
             light_cookies: &self.state.light_cookies,
             light_masks: self.state.light_edits.iter().map(|(k, e)| (*k, e.mask)).collect(),
+            light_shadows: self.state.light_edits.iter().map(|(k, e)| (*k, e.cast_shadows)).collect(),
             viewer: &self.state,
             shadow_atlas: self.atlas_shot(),
         };
@@ -530,6 +531,8 @@ struct ScreenshotSettings<'a> {
     /// `settings_file::SceneKeys` reads them.
     light_cookies: &'a std::collections::BTreeMap<usize, Option<String>>,
     light_masks: std::collections::BTreeMap<usize, u32>,
+    /// Issue 15: the shadow flags of the lights edited in the viewer.
+    light_shadows: std::collections::BTreeMap<usize, bool>,
     viewer: &'a UiState,
     /// Issue 15: where the shadow-atlas panel drew the atlas and the plan's tiles (panel open).
     #[serde(skip_serializing_if = "Option::is_none")]

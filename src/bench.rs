@@ -1120,7 +1120,7 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
     }
     let mut s = String::from(
         "\n### Shadows\n\n\
-         Shadow ms: the shadow pass (atlas and cube array), which `total ms` (G-buffer to compose) leaves out. \
+         Shadow ms: the shadow pass (atlas and cube array; `-` where nothing cast), part of `total ms`. \
          Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget, \
          off screen: lights that fell back to unshadowed for the budget or for being off screen. FLIP mean against the finest shadows (64 MiB, poisson16, \
          4 cascades) of the same casters (`cube` rows: every light, cubes unrolled).\n\n\
@@ -1129,10 +1129,10 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
     );
     for r in shadows {
         s += &format!(
-            "| {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {:.5} |\n",
+            "| {} | {} | {} | {:.2} | {} | {} | {} | {} | {} | {:.5} |\n",
             r.label,
             r.lights,
-            r.shadow.gpu_ms,
+            if r.shadow.gpu_ms.is_finite() { format!("{:.2}", r.shadow.gpu_ms) } else { "-".into() },
             r.total_ms,
             r.shadow.bytes,
             r.shadow.casting,

@@ -11,7 +11,7 @@ use lampshade::renderer::plan::{self, FramePlan, PlanView};
 use lampshade::renderer::records::FrameRecords;
 use lampshade::renderer::settings::ClusterBuilder;
 use lampshade::renderer::volumes::Volumes;
-use lampshade::renderer::{batches, tiles};
+use lampshade::renderer::{batches, shadows, tiles};
 use lampshade::renderer::{overlap, CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 
@@ -204,8 +204,30 @@ fn main() {
                 std::hint::black_box(batches::LightBatches::new(&plans, &records.lights, &volumes, &view));
                 add("batches", c.ms());
                 let c = Clock::start();
-                std::hint::black_box(overlap::clamps(&plans, (w, h), wgpu::TextureFormat::Rgba16Float));
+                let clamps = overlap::clamps(&plans, (w, h), wgpu::TextureFormat::Rgba16Float);
                 add("clamps", c.ms());
+                // What `Renderer::render` does after the plan: the shadow plan, then the clamps
+                // and shadow tiles into the records.
+                let c = Clock::start();
+                let inputs = shadows::ShadowInputs {
+                    settings: &settings,
+                    bounds: &[],
+                    footprints: plans.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
+                    size: (w, h),
+                    proj: records.proj,
+                    max_texture: 8192,
+                    max_layers: 2048,
+                };
+                let shadow_plan = std::hint::black_box(shadows::plan(scene, &inputs));
+                add("shadow plan", c.ms());
+                let c = Clock::start();
+                for ((l, c), &(first, count)) in records.lights.iter_mut().zip(&clamps.lights).zip(&shadow_plan.lights)
+                {
+                    l.clamp = *c;
+                    l.shadow = [first, count, 0, 0];
+                }
+                std::hint::black_box(&records);
+                add("clamps and shadow tiles into the records", c.ms());
                 let c = Clock::start();
                 std::hint::black_box(FramePlan::new(scene, &mut records, &[], &volumes, &view));
                 add("FramePlan::new (all of it, two threads)", c.ms());

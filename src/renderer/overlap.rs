@@ -69,20 +69,19 @@ pub struct Clamps {
 /// rounding, as the forward pass's tile lists do; `None` when it misses the screen.
 fn tile_rect(rect: (glam::Vec2, glam::Vec2), (w, h): (u32, u32)) -> Option<[u32; 4]> {
     let (lo, hi) = rect;
-    let px = |x: f32| super::tiles::floor((x + 1.0) * 0.5 * w as f32);
-    let py = |y: f32| super::tiles::floor((1.0 - y) * 0.5 * h as f32);
-    let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
-    let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+    let (wf, hf) = (w as f32, h as f32);
+    // In pixels, y down: the tiles of floor(a) - 1 ..= floor(a) + 1, without the floors (as
+    // `tiles::Span` does): for an integer n, floor(a) >= n exactly when a >= n, and `as u32`
+    // truncates, saturating negative and NaN values to 0.
+    let (ax0, ax1) = ((lo.x + 1.0) * 0.5 * wf, (hi.x + 1.0) * 0.5 * wf);
+    let (ay0, ay1) = ((1.0 - hi.y) * 0.5 * hf, (1.0 - lo.y) * 0.5 * hf);
     // NaN compares false: a rectangle with NaN corners covers every tile.
-    if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
+    if ax1 < -1.0 || ay1 < -1.0 || ax0 >= wf + 1.0 || ay0 >= hf + 1.0 {
         return None;
     }
-    let tile = |v: f32, max: u32| {
-        let v = if v.is_nan() { 0.0 } else { v };
-        (v.max(0.0) as u32).min(max - 1) / OVERLAP_TILE
-    };
-    let (x1, y1) = (if x1.is_nan() { f32::INFINITY } else { x1 }, if y1.is_nan() { f32::INFINITY } else { y1 });
-    Some([tile(x0, w), tile(y0, h), tile(x1, w), tile(y1, h)])
+    let far = |a: f32| if a.is_nan() { u32::MAX } else { (a as u32).saturating_add(1) };
+    let tile = |v: u32, max: u32| v.min(max - 1) / OVERLAP_TILE;
+    Some([tile((ax0 - 1.0) as u32, w), tile((ay0 - 1.0) as u32, h), tile(far(ax1), w), tile(far(ay1), h)])
 }
 
 /// Counts the rectangles over every tile (a 2D difference array: O(lights + tiles)), then gives
@@ -132,8 +131,18 @@ pub fn clamps(plans: &[LightPlan], size: (u32, u32), format: wgpu::TextureFormat
     let mut table = TABLE.with(|t| t.take());
     table.resize(lx * ly * plane, 0);
     let level = |ky: usize, kx: usize| (ky * lx + kx) * plane;
+    // Only the levels some light asks for are built, with what they are built from: level
+    // (ky, kx) from (ky - 1, kx), down to (0, kx), which comes from (0, kx - 1). At 16,384
+    // lights on `demo` most lights span a few tiles, so most of the 42 levels at 1280x720 go
+    // unread. `wanted[kx]` is the largest ky asked for at width level kx (+1; 0: none).
+    let mut wanted = vec![0usize; lx];
+    for &[x0, y0, x1, y1] in rects.iter().filter(|&&r| r != NO_TILES) {
+        let (kx, ky) = (log2((x1 - x0 + 1) as usize), log2((y1 - y0 + 1) as usize));
+        wanted[kx] = wanted[kx].max(ky + 1);
+    }
+    let widest = wanted.iter().rposition(|&k| k > 0).unwrap_or(0);
     table[..plane].copy_from_slice(&count);
-    for kx in 1..lx {
+    for kx in 1..=widest {
         let half = 1 << (kx - 1);
         let (done, rest) = table.split_at_mut(level(0, kx));
         let (src, dst) = (&done[level(0, kx - 1)..], &mut rest[..plane]);
@@ -146,7 +155,7 @@ pub fn clamps(plans: &[LightPlan], size: (u32, u32), format: wgpu::TextureFormat
     }
     for ky in 1..ly {
         let half = 1 << (ky - 1);
-        for kx in 0..lx {
+        for kx in (0..lx).filter(|&kx| wanted[kx] > ky) {
             let (done, rest) = table.split_at_mut(level(ky, kx));
             let (src, dst) = (&done[level(ky - 1, kx)..level(ky - 1, kx) + plane], &mut rest[..plane]);
             for y in 0..ty {
@@ -197,6 +206,7 @@ mod tests {
             crosses_far: false,
             screen_share: 0.0,
             screen_rect: rect,
+            depths: (f32::INFINITY, f32::NEG_INFINITY),
         }
     }
 
@@ -253,6 +263,41 @@ mod tests {
                 (y0..=y1).flat_map(|y| (x0..=x1).map(move |x| (x, y))).map(|(x, y)| count(x, y)).max().unwrap()
             });
             assert_eq!(c.lights[i], light_clamp(fmt, want), "light {i}");
+        }
+    }
+
+    /// `tile_rect` without floors gives the tiles of the floored pixel rectangle widened by a
+    /// pixel (what it computed before), NaN corners covering every tile.
+    #[test]
+    fn the_tiles_of_a_rectangle_are_those_of_its_floored_pixels() {
+        let size = (320u32, 180u32);
+        let old = |(lo, hi): (Vec2, Vec2)| -> Option<[u32; 4]> {
+            let (w, h) = size;
+            let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
+            let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+            let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+            let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+            if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
+                return None;
+            }
+            let tile = |v: f32, max: u32| {
+                let v = if v.is_nan() { 0.0 } else { v };
+                (v.max(0.0) as u32).min(max - 1) / OVERLAP_TILE
+            };
+            let (x1, y1) = (if x1.is_nan() { f32::INFINITY } else { x1 }, if y1.is_nan() { f32::INFINITY } else { y1 });
+            Some([tile(x0, w), tile(y0, h), tile(x1, w), tile(y1, h)])
+        };
+        let mut rng = 7u64;
+        let mut next = || {
+            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (rng >> 40) as f32 / (1u64 << 24) as f32 * 5.0 - 2.5
+        };
+        let mut v: Vec<f32> = (0..3000).map(|_| next()).collect();
+        v.extend((0..=40).map(|k| -1.0 + k as f32 / 20.0));
+        v.extend([1.0 + 2.0 / 320.0, -1.0 - 2.0 / 320.0, 1e30, -1e30, f32::INFINITY, f32::NAN]);
+        for q in v.windows(4) {
+            let r = (Vec2::new(q[0], q[1]), Vec2::new(q[2], q[3]));
+            assert_eq!(tile_rect(r, size), old(r), "{r:?}");
         }
     }
 

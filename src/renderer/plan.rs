@@ -80,6 +80,20 @@ pub struct LightPlan {
     /// the whole screen when the volume crosses the near plane, `None` when it is off screen.
     /// It bounds every visible point the light can reach (the volume circumscribes the light).
     pub screen_rect: Option<(Vec2, Vec2)>,
+    /// The view depths the light's sphere spans, (nearest, farthest): (centre depth - radius,
+    /// centre depth + radius), from the record; (inf, -inf) when the radius is not positive or
+    /// the centre not finite. The clustered grid and spans read it here rather than from the
+    /// records (one walk over 112-byte records fewer at 16,384 lights).
+    pub depths: (f32, f32),
+}
+
+/// [`LightPlan::depths`] of a record.
+pub fn light_depths(light: &LightRecord) -> (f32, f32) {
+    let (c, r) = (Vec3::from(light.position), light.radius);
+    if r.is_nan() || r <= 0.0 || !c.is_finite() {
+        return (f32::INFINITY, f32::NEG_INFINITY);
+    }
+    (-c.z - r, -c.z + r)
 }
 
 /// The view a frame's lights are planned against.
@@ -196,7 +210,7 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
     } else {
         Some((lo, hi))
     };
-    LightPlan { method, volume, crosses_near, crosses_far, screen_share, screen_rect }
+    LightPlan { method, volume, crosses_near, crosses_far, screen_share, screen_rect, depths: light_depths(light) }
 }
 
 /// What decides a light's method (see [`plan_light`]).
@@ -314,6 +328,7 @@ pub fn plan_sphere_ahead(
         crosses_far: false,
         screen_share: 0.0,
         screen_rect: None,
+        depths: light_depths(light),
     };
     let facts = |off_screen, pixels| Facts {
         crosses_near: false,
@@ -401,9 +416,45 @@ pub fn plan_sphere_ahead(
     };
     let method = choose(view, facts(false, pixels));
     let mean = (light.radius * radii.mean) as f64;
-    let screen_share = if partly { silhouette_area(c, mean, xs, ys) / 4.0 } else { (area(mean) / 4.0) as f32 };
+    let screen_share = if partly {
+        ellipse_on_screen(bounds(mean), area(mean)).unwrap_or_else(|| silhouette_area(c, mean, xs, ys)) / 4.0
+    } else {
+        (area(mean) / 4.0) as f32
+    };
     let screen_rect = Some((lo.as_vec2(), hi.as_vec2()));
-    Some(LightPlan { method, volume, crosses_near: false, crosses_far: false, screen_share, screen_rect })
+    let depths = light_depths(light);
+    Some(LightPlan { method, volume, crosses_near: false, crosses_far: false, screen_share, screen_rect, depths })
+}
+
+/// Area (NDC) on screen of an ellipse given by its bounding box (`lo`, `hi`: an ellipse's box is
+/// centred on it) and its `area`, exact, when the screen cuts it along one side or two opposite
+/// sides; `None` when it crosses a horizontal and a vertical side (near a corner, where the two
+/// cut-off parts may overlap; [`silhouette_area`] clips a polygon instead).
+///
+/// An affine map takes the ellipse to the unit circle and keeps ratios of areas. It takes the
+/// line x = 1 to a line at distance h = (1 - centre.x) / half-width from the circle's centre
+/// (the half-width of an ellipse's box is its support along x, which the map takes to the unit
+/// circle's support 1), and the circle's part beyond a line at distance h is the share
+/// (acos h - h sqrt(1 - h^2)) / pi of it. Parts beyond opposite sides never overlap. The
+/// 32-corner polygon this replaces cost 270 ns a light (1,246 partly visible lights of `demo`'s
+/// 16,384: 0.33 ms a frame).
+fn ellipse_on_screen((lo, hi): (DVec2, DVec2), area: f64) -> Option<f32> {
+    let (centre, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+    if !(half.x > 0.0 && half.y > 0.0 && area.is_finite()) {
+        return None;
+    }
+    // The share of the ellipse beyond the line at distance `h` (in half-widths) from its centre.
+    let beyond = |h: f64| {
+        let h = h.clamp(-1.0, 1.0);
+        (h.acos() - h * (1.0 - h * h).sqrt()) / std::f64::consts::PI
+    };
+    let cut = |d: f64| if d < 1.0 { beyond(d) } else { 0.0 };
+    let (right, left) = (cut((1.0 - centre.x) / half.x), cut((1.0 + centre.x) / half.x));
+    let (top, bottom) = (cut((1.0 - centre.y) / half.y), cut((1.0 + centre.y) / half.y));
+    if (right > 0.0 || left > 0.0) && (top > 0.0 || bottom > 0.0) {
+        return None;
+    }
+    Some((area * (1.0 - right - left - top - bottom).max(0.0)) as f32)
 }
 
 /// Area (NDC) on screen of the ellipse a sphere (view-space centre `c`, radius `r`, wholly in
@@ -963,6 +1014,62 @@ mod tests {
         assert!(taken > 16_000, "the analytic path took only {taken} of 16,384 lights");
         assert!(worst <= 0.002, "share differs from the hull's by {worst}");
         assert_eq!(flipped, 0, "{flipped} of {taken} methods differ from the hull's");
+    }
+
+    /// The closed form against a fine polygon clipped to the screen: random rotated ellipses
+    /// cut by one side or two opposite sides agree to 1e-4 of their area (the 4,096-corner
+    /// polygon, widened to the ellipse's area, is within 1e-6 of it; the clip runs in f32), and
+    /// ellipses cut near a corner are left to the polygon.
+    #[test]
+    fn the_closed_form_share_of_a_partly_visible_ellipse_is_its_clipped_area() {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        const N: usize = 4096;
+        let widen = {
+            let step = std::f64::consts::TAU / N as f64;
+            (step / step.sin()).sqrt()
+        };
+        let (mut checked, mut corners) = (0, 0);
+        for _ in 0..2000 {
+            let (a, b) = (0.02 + rnd(), 0.02 + rnd());
+            let t = std::f64::consts::PI * rnd();
+            let c = DVec2::new(3.0 * rnd() - 1.5, 3.0 * rnd() - 1.5);
+            let (ct, st) = (t.cos(), t.sin());
+            let half =
+                DVec2::new((a * a * ct * ct + b * b * st * st).sqrt(), (a * a * st * st + b * b * ct * ct).sqrt());
+            let area = std::f64::consts::PI * a * b;
+            let mut poly: Vec<Vec2> = (0..N)
+                .map(|k| {
+                    let s = std::f64::consts::TAU * k as f64 / N as f64;
+                    let (x, y) = (a * widen * s.cos(), b * widen * s.sin());
+                    Vec2::new((c.x + x * ct - y * st) as f32, (c.y + x * st + y * ct) as f32)
+                })
+                .collect();
+            poly.resize(N + 4, Vec2::ZERO);
+            let mut scratch = vec![Vec2::ZERO; N + 4];
+            let clipped = clip_to_screen(&mut poly, &mut scratch, N) as f64;
+            match ellipse_on_screen((c - half, c + half), area) {
+                Some(closed) => {
+                    checked += 1;
+                    assert!(
+                        (closed as f64 - clipped).abs() <= 1e-4 * area + 1e-6,
+                        "ellipse at {c} axes {a} {b} angle {t}: closed form {closed}, clipped polygon {clipped}"
+                    );
+                }
+                None => {
+                    // Only where a vertical and a horizontal side both cut it.
+                    let cuts = |c: f64, h: f64| c + h > 1.0 || c - h < -1.0;
+                    assert!(cuts(c.x, half.x) && cuts(c.y, half.y), "refused an ellipse at {c} half {half}");
+                    corners += 1;
+                }
+            }
+        }
+        assert!(checked > 500 && corners > 100, "{checked} checked, {corners} near corners");
     }
 
     #[test]

@@ -305,24 +305,31 @@ pub struct Span {
 impl Span {
     fn of(l: &LightRecord, p: &LightPlan, grid: &ClusterGrid, size: (u32, u32)) -> Option<Span> {
         let (lo, hi) = p.screen_rect?;
-        let c = Vec3::from(l.position);
-        let r = l.radius;
-        if r.is_nan() || r <= 0.0 || !c.is_finite() {
+        // The sphere's depths from the plan (`plan::light_depths` of this record), not the
+        // record: one walk over the records fewer.
+        debug_assert_eq!(p.depths, super::plan::light_depths(l));
+        let (d0, d1) = (p.depths.0.max(grid.near), p.depths.1.min(grid.far));
+        if !(d0 <= d1) {
             return None;
         }
-        let (d0, d1) = ((-c.z - r).max(grid.near), (-c.z + r).min(grid.far));
-        if d0 > d1 {
-            return None;
-        }
+        // The rectangle in pixels (y down), widened by a pixel: floor(a) - 1 and floor(a) + 1
+        // tiled. No floor is needed: for an integer n, floor(a) >= n exactly when a >= n, and
+        // `as u32` truncates (and saturates: negative and NaN give 0), which is the floor for the
+        // non-negative values the tiles clamp to. The same tiles as the floors gave, with fewer
+        // branches (this function was the largest part of the spans' time).
         let (w, h) = (size.0 as f32, size.1 as f32);
-        let px = |x: f32| floor((x + 1.0) * 0.5 * w);
-        let py = |y: f32| floor((1.0 - y) * 0.5 * h);
-        let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
-        let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
-        if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
+        let (ax0, ax1) = ((lo.x + 1.0) * 0.5 * w, (hi.x + 1.0) * 0.5 * w);
+        let (ay0, ay1) = ((1.0 - hi.y) * 0.5 * h, (1.0 - lo.y) * 0.5 * h);
+        if ax1 < -1.0 || ay1 < -1.0 || ax0 >= w + 1.0 || ay0 >= h + 1.0 {
             return None;
         }
-        let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / grid.tile;
+        // Every grid's tile is `CLUSTER_TILE` (`ClusterGrid::new`): a shift, not the integer
+        // division by a run-time field.
+        debug_assert_eq!(grid.tile, CLUSTER_TILE);
+        // (a - 1 is exact for a >= 1; the far side adds its pixel in integers, as a + 1 may round.)
+        let tile = |v: u32, max: u32| v.min(max - 1) / CLUSTER_TILE;
+        let (x0, y0) = ((ax0 - 1.0) as u32, (ay0 - 1.0) as u32);
+        let (x1, y1) = ((ax1 as u32).saturating_add(1), (ay1 as u32).saturating_add(1));
         Some(Span {
             x: (tile(x0, size.0), tile(x1, size.0)),
             y: (tile(y0, size.1), tile(y1, size.1)),
@@ -393,10 +400,12 @@ fn light_cells(
 /// such points fall into, hold every light that reaches them).
 pub fn fitted_grid(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterGrid {
     let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
-    for (l, p) in lights.iter().zip(plans) {
-        if p.screen_rect.is_some() && l.radius > 0.0 {
-            zmin = zmin.min(-l.position[2] - l.radius);
-            zmax = zmax.max(-l.position[2] + l.radius);
+    debug_assert_eq!(lights.len(), plans.len());
+    for p in plans {
+        // `depths` is empty (inf, -inf) for a radius that is not positive.
+        if p.screen_rect.is_some() && p.depths.0 < p.depths.1 {
+            zmin = zmin.min(p.depths.0);
+            zmax = zmax.max(p.depths.1);
         }
     }
     let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
@@ -564,6 +573,7 @@ mod tests {
             crosses_far: false,
             screen_share: 0.001,
             screen_rect: Some((Vec2::ZERO, Vec2::splat(0.05))),
+            depths: (9.0, 11.0),
         };
         let mut v = view((1280, 720));
         v.mode = CullingMode::Auto;
@@ -587,6 +597,58 @@ mod tests {
         assert_eq!(frame_rule(&mut few, &v), Some(Method::Clustered));
     }
 
+    /// The spans' tiles without floors are the tiles of the floored pixel rectangle (widened by
+    /// a pixel), as they were computed before: random rectangles, on and off screen, at pixel
+    /// boundaries, huge and NaN.
+    #[test]
+    fn the_spans_tiles_are_the_floored_rectangles_tiles() {
+        let size = (1280u32, 720u32);
+        let grid = ClusterGrid::new(size, 0.1, 100.0);
+        let old = |lo: Vec2, hi: Vec2| -> Option<((u32, u32), (u32, u32))> {
+            let (w, h) = (size.0 as f32, size.1 as f32);
+            let px = |x: f32| ((x + 1.0) * 0.5 * w).floor();
+            let py = |y: f32| ((1.0 - y) * 0.5 * h).floor();
+            let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+            let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+            if x1 < 0.0 || y1 < 0.0 || x0 >= w || y0 >= h {
+                return None;
+            }
+            let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / CLUSTER_TILE;
+            Some(((tile(x0, size.0), tile(x1, size.0)), (tile(y0, size.1), tile(y1, size.1))))
+        };
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut corners: Vec<f32> = (0..4000).map(|_| 5.0 * rnd() - 2.5).collect();
+        // Exactly on pixel edges and the screen's edges, beyond it, huge, NaN.
+        corners.extend((0..=64).map(|k| -1.0 + k as f32 / 32.0));
+        corners.extend([1.0 + 2.0 / 1280.0, -1.0 - 2.0 / 1280.0, 1e30, -1e30, f32::INFINITY, f32::NAN]);
+        let plan = |lo: Vec2, hi: Vec2| LightPlan {
+            method: Method::Clustered,
+            volume: crate::renderer::VolumeKind::Sphere,
+            crosses_near: false,
+            crosses_far: false,
+            screen_share: 0.1,
+            screen_rect: Some((lo, hi)),
+            depths: (1.0, 2.0),
+        };
+        let light = LightRecord { position: [0.0, 0.0, -1.5], radius: 0.5, ..bytemuck::Zeroable::zeroed() };
+        let mut on = 0;
+        for (i, pair) in corners.windows(4).enumerate() {
+            let (lo, hi) = (Vec2::new(pair[0], pair[1 + i % 2]), Vec2::new(pair[2], pair[3 - i % 2]));
+            for (lo, hi) in [(lo, hi), (lo.min(hi), lo.max(hi))] {
+                let new = Span::of(&light, &plan(lo, hi), &grid, size).map(|s| (s.x, s.y));
+                assert_eq!(new, old(lo, hi), "rectangle {lo} {hi}");
+                on += new.is_some() as u32;
+            }
+        }
+        assert!(on > 1000, "{on} on screen");
+    }
+
     #[test]
     fn the_slices_span_the_depths_the_lights_reach() {
         let v = view((320, 180));
@@ -604,24 +666,26 @@ mod tests {
             shadow: crate::renderer::records::UNSHADOWED,
             ..bytemuck::Zeroable::zeroed()
         };
-        let plan = |on_screen: bool| LightPlan {
+        let plan = |l: &LightRecord, on_screen: bool| LightPlan {
             method: Method::Clustered,
             volume: crate::renderer::VolumeKind::Sphere,
             crosses_near: false,
             crosses_far: false,
             screen_share: 0.1,
             screen_rect: on_screen.then_some((-Vec2::splat(0.1), Vec2::splat(0.1))),
+            depths: crate::renderer::plan::light_depths(l),
         };
         // An off-screen light (no rectangle) does not widen the range.
         let lights = [light(20.0, 2.0), light(40.0, 2.0), light(500.0, 2.0)];
-        let lists = cluster_lists(&lights, &[plan(true), plan(true), plan(false)], &v);
+        let plans = [plan(&lights[0], true), plan(&lights[1], true), plan(&lights[2], false)];
+        let lists = cluster_lists(&lights, &plans, &v);
         let g = lists.grid.unwrap();
         assert_eq!((g.near, g.far), (18.0, 42.0));
         let (first, _) = g.slice_depths(0);
         let (_, last) = g.slice_depths(g.slices - 1);
         assert!((first - 18.0).abs() < 1e-3 && (last - 42.0).abs() < 1e-3, "{first}..{last}");
         // A light across the near plane starts the range at the near plane.
-        let lists = cluster_lists(&[light(1.0, 3.0)], &[plan(true)], &v);
+        let lists = cluster_lists(&[light(1.0, 3.0)], &[plan(&light(1.0, 3.0), true)], &v);
         assert_eq!(lists.grid.unwrap().near, v.near);
     }
 
@@ -721,8 +785,10 @@ mod tests {
             crosses_far: false,
             screen_share: 1.0,
             screen_rect: Some((-Vec2::ONE, Vec2::ONE)),
+            depths: (0.0, 0.0),
         };
-        let plans = vec![plan; lights.len()];
+        let plans: Vec<LightPlan> =
+            lights.iter().map(|l| LightPlan { depths: crate::renderer::plan::light_depths(l), ..plan }).collect();
         let lists = cluster_lists(&lights, &plans, &v);
         // One thread or two, the same lists.
         let serial = cluster_lists_on(&lights, &plans, &v, false);

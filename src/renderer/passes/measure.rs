@@ -141,6 +141,7 @@ fn full_screen(size: (u32, u32)) -> u64 {
         crosses_far: false,
         screen_share: 1.0,
         screen_rect: None,
+        depths: (f32::INFINITY, f32::NEG_INFINITY),
     };
     binned_bytes(&plan, size, 1, 1)
 }

@@ -589,25 +589,27 @@ fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
 /// are dropped).
 fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
     let mut p: Vec<Vec2> = points.iter().copied().filter(|p| p.is_finite()).collect();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    // Unstable: equal points are equal in both coordinates, so the order (and the hull) is the
+    // same as a stable sort's, without its scratch allocation (the hull path's largest cost).
+    p.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     p.dedup();
     if p.len() < 3 {
         return p;
     }
     let cross = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
     let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
+    let chain = |hull: &mut Vec<Vec2>, points: &mut dyn Iterator<Item = Vec2>| {
         let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Vec2>> =
-            if pass == 0 { Box::new(p.iter()) } else { Box::new(p.iter().rev()) };
-        for &q in iter {
+        for q in points {
             while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0 {
                 hull.pop();
             }
             hull.push(q);
         }
         hull.pop();
-    }
+    };
+    chain(&mut hull, &mut p.iter().copied());
+    chain(&mut hull, &mut p.iter().rev().copied());
     hull
 }
 

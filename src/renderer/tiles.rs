@@ -309,7 +309,7 @@ impl Span {
         // record: one walk over the records fewer.
         debug_assert_eq!(p.depths, super::plan::light_depths(l));
         let (d0, d1) = (p.depths.0.max(grid.near), p.depths.1.min(grid.far));
-        if !(d0 <= d1) {
+        if d0.is_nan() || d1.is_nan() || d0 > d1 {
             return None;
         }
         // The rectangle in pixels (y down), widened by a pixel: floor(a) - 1 and floor(a) + 1

@@ -417,3 +417,41 @@ fn seed000_stores_world_space_normals_and_view_vectors() {
     }
     assert!(checked >= 20 && floor >= 3, "checked {checked} pixels, {floor} on the floor");
 }
+
+/// On lavapipe every pipeline is compiled to machine code when it is created (2 to 9 MiB of heap
+/// each for the shading passes), and the renderer keeps the passes of recent configurations, so
+/// a configuration builds only the passes its frames draw: a deferred frame with no blended
+/// surface, no tile lists and no post chain builds none of the forward, tiled or post-chain
+/// pipelines; the first frame that draws one builds it, and only once.
+#[test]
+fn passes_are_built_by_the_first_frame_that_draws_them() {
+    // Its own device: wgpu counts live pipelines per device, and other tests share `gpu()`.
+    let gpu = lampshade::Gpu::headless().expect("these tests need a GPU adapter");
+    let live = || {
+        let h = gpu.device.get_internal_counters().hal;
+        (h.render_pipelines.read(), h.compute_pipelines.read())
+    };
+    let mut scene = scene("demo");
+    scene.lights.truncate(64);
+    assert!(!scene.any_blended(), "the plain frame must have no blended surface to shade forward");
+    let out = Offscreen::new(&gpu, W, H);
+    let plain = Settings { culling: CullingMode::Volume, ..Settings::default() };
+    let tiled = Settings { culling: CullingMode::Tiled, ..plain.clone() };
+    let bloom = Settings { bloom: true, ..plain.clone() };
+    let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &plain).unwrap();
+    let mut draw = |s: &Settings| r.render(&scene, s, &out.view, W, H).unwrap();
+    draw(&plain);
+    let first = live();
+    draw(&plain);
+    assert_eq!(live(), first, "a second plain frame built pipelines");
+    draw(&tiled);
+    let after_tiled = live();
+    assert!(after_tiled.1 > first.1, "the tiled frame built no compute pipeline: it was built before it was drawn");
+    draw(&bloom);
+    let after_bloom = live();
+    assert!(after_bloom.0 > after_tiled.0, "the bloom frame built no render pipeline: the chain was built before");
+    for s in [&tiled, &bloom, &plain] {
+        draw(s);
+    }
+    assert_eq!(live(), after_bloom, "passes already built were built again");
+}

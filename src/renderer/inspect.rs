@@ -457,6 +457,7 @@ impl Renderer {
         if side == 0 {
             bail!("cannot draw the shadow atlas into a 0-pixel image");
         }
+        self.passes.atlas_view.prepare()?;
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas view") });
         let empty = self.last.shadows.draws.is_empty();

@@ -403,6 +403,14 @@ impl Renderer {
             depth_clamp: self.passes.key().depth_clamp,
         };
 
+        // The passes this frame draws with that the configuration has not built yet.
+        let tile_view = settings.debug_view == DebugView::TileLights;
+        self.passes.prepare(passes::Needs {
+            forward: forward_path || blended || prepass_lit || chain,
+            prepass: prepass_lit,
+            tiled: !forward_path && (plan.tiled.is_some() || tile_view),
+            post: chain,
+        })?;
         // The frame as the seeds draw it.
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
@@ -443,7 +451,10 @@ impl Renderer {
                 // 2. Every light into the light buffer, each with its culling method (stencil
                 //    methods use pass 1's depth; tiled/clustered shade their lists into it).
                 draw_calls = p.lights.encode(&mut encoder, &f);
-                let (upload, wall) = p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                let (upload, wall) = match p.tiled.get() {
+                    Some(t) => t.encode(&self.device, &self.queue, &mut encoder, &f),
+                    None => (0.0, 0.0),
+                };
                 (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + upload, cpu_ms.wall + wall);
                 p.debug.encode(&mut encoder, &f);
                 // 3. The geometry again with its maps, the light buffer, ambient + sun, into
@@ -476,7 +487,10 @@ impl Renderer {
                 // 2. Lights: ambient + sun full-screen, then each light with its culling method.
                 draw_calls = p.lights.encode(&mut encoder, &f);
                 // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
-                let (upload, wall) = p.tiled.encode(&self.device, &self.queue, &mut encoder, &f);
+                let (upload, wall) = match p.tiled.get() {
+                    Some(t) => t.encode(&self.device, &self.queue, &mut encoder, &f),
+                    None => (0.0, 0.0),
+                };
                 (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + upload, cpu_ms.wall + wall);
                 // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
                 p.debug.encode(&mut encoder, &f);
@@ -552,7 +566,9 @@ impl Renderer {
         if let Some(fp) = stats.forward_path.as_mut() {
             self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
         } else {
-            self.passes.tiled.read(&self.device, &mut stats, plan.tiled)?;
+            if let Some(t) = self.passes.tiled.get() {
+                t.read(&self.device, &mut stats, plan.tiled)?;
+            }
         }
         self.last = LastFrame {
             inv_proj: records.proj.inverse(),
@@ -628,7 +644,10 @@ impl Renderer {
     /// The last frame's tile or cluster light lists as the GPU held them (`tiled`, `clustered`
     /// or the `tile-lights` view), read back; `None` when the frame built none.
     pub fn tile_lists(&self, gpu: &Gpu) -> Result<Option<passes::tiled::TileLists>> {
-        self.passes.tiled.lists(&gpu.device, &gpu.queue)
+        match self.passes.tiled.get() {
+            Some(t) => t.lists(&gpu.device, &gpu.queue),
+            None => Ok(None),
+        }
     }
 
     /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).

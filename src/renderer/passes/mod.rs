@@ -36,6 +36,7 @@ use super::settings::{self, DebugView, Settings};
 use super::stats::{Queries, Stamp};
 use super::targets::Targets;
 use super::volumes::Volumes;
+use std::sync::{Arc, OnceLock};
 use wgpu::CompareFunction as Cmp;
 
 /// Format of the debug target (stencil diagram, light complexity).
@@ -540,59 +541,147 @@ impl FrameInputs<'_> {
 }
 
 /// Every pass of the frame, built for one [`PipelineKey`].
+/// A pass built the first time a frame uses it. On lavapipe every pipeline is compiled to
+/// machine code by LLVM when it is created, 2 to 9 MiB of heap each for the shading passes
+/// (measured: a full set of passes took about 160 MiB), and the renderer keeps the passes of
+/// recent configurations: a frame that never draws the light pre-pass, the tiled/clustered
+/// shading, blended surfaces or the post chain should not pay for them.
+pub struct Lazy<T> {
+    cell: OnceLock<T>,
+    device: wgpu::Device,
+    shared: Arc<Shared>,
+    build: fn(&wgpu::Device, &Shared) -> T,
+}
+
+impl<T> Lazy<T> {
+    fn new(device: &wgpu::Device, shared: &Arc<Shared>, build: fn(&wgpu::Device, &Shared) -> T) -> Self {
+        Self { cell: OnceLock::new(), device: device.clone(), shared: shared.clone(), build }
+    }
+
+    /// The pass if a frame has built it.
+    pub fn get(&self) -> Option<&T> {
+        self.cell.get()
+    }
+
+    /// Builds the pass now if it is not built, turning a validation error (a shader that fails
+    /// to compile for this configuration) into an error instead of a panic.
+    pub fn prepare(&self) -> anyhow::Result<()> {
+        if self.cell.get().is_some() {
+            return Ok(());
+        }
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pass = (self.build)(&self.device, &self.shared);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            anyhow::bail!("building the pipelines failed: {e}");
+        }
+        let _ = self.cell.set(pass);
+        Ok(())
+    }
+}
+
+impl<T> std::ops::Deref for Lazy<T> {
+    type Target = T;
+
+    /// The pass, built here if no frame has built it ([`Passes::prepare`] builds what a frame
+    /// needs first, inside an error scope).
+    fn deref(&self) -> &T {
+        self.cell.get_or_init(|| (self.build)(&self.device, &self.shared))
+    }
+}
+
+/// What a frame draws with, beyond the passes every frame uses.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Needs {
+    /// Blended surfaces, a forward path, or the post chain (which runs after the forward pass).
+    pub forward: bool,
+    /// The light pre-pass's lit pass 3.
+    pub prepass: bool,
+    /// Tiled or clustered shading, or the tile-lights view.
+    pub tiled: bool,
+    /// The post chain or one of its views.
+    pub post: bool,
+}
+
 pub struct Passes {
-    pub shared: Shared,
+    pub shared: Arc<Shared>,
     pub gbuffer: gbuffer::GBufferPass,
     pub lights: lights::LightPass,
     pub debug: debug::DebugPass,
     pub compose: compose::ComposePass,
-    pub forward: forward::ForwardPass,
+    pub forward: Lazy<forward::ForwardPass>,
     pub forward_paths: forward_paths::ForwardPathsPass,
     pub measure: measure::MeasurePass,
-    pub prepass: prepass::PrepassFinalPass,
-    pub tiled: tiled::TiledPass,
-    pub bloom: bloom::BloomPass,
-    pub exposure: exposure::ExposurePass,
-    pub tonemap: tonemap::TonemapPass,
-    pub grading: grading::GradingPass,
-    pub fog: fog::FogPass,
-    pub dof: dof::DofPass,
-    pub vignette: vignette::VignettePass,
-    pub aa: aa::AaPass,
+    pub prepass: Lazy<prepass::PrepassFinalPass>,
+    pub tiled: Lazy<tiled::TiledPass>,
+    pub bloom: Lazy<bloom::BloomPass>,
+    pub exposure: Lazy<exposure::ExposurePass>,
+    pub tonemap: Lazy<tonemap::TonemapPass>,
+    pub grading: Lazy<grading::GradingPass>,
+    pub fog: Lazy<fog::FogPass>,
+    pub dof: Lazy<dof::DofPass>,
+    pub vignette: Lazy<vignette::VignettePass>,
+    pub aa: Lazy<aa::AaPass>,
     pub shadows: shadows::ShadowPass,
     /// Issue 15: the viewer's shadow-atlas image (not part of the frame).
-    pub atlas_view: atlas_view::AtlasViewPass,
+    pub atlas_view: Lazy<atlas_view::AtlasViewPass>,
 }
 
 impl Passes {
+    /// Builds the passes every frame uses; the others ([`Lazy`]) are built by the first frame
+    /// that needs them.
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
-        let shared = Shared::new(device, key);
+        let shared = Arc::new(Shared::new(device, key));
         Self {
             gbuffer: gbuffer::GBufferPass::new(device, &shared),
             lights: lights::LightPass::new(device, &shared),
             debug: debug::DebugPass::new(device, &shared),
             compose: compose::ComposePass::new(device, &shared),
-            forward: forward::ForwardPass::new(device, &shared),
+            forward: Lazy::new(device, &shared, forward::ForwardPass::new),
             forward_paths: forward_paths::ForwardPathsPass::new(device, &shared),
             measure: measure::MeasurePass::new(device, &shared),
-            prepass: prepass::PrepassFinalPass::new(device, &shared),
-            tiled: tiled::TiledPass::new(device, &shared),
-            bloom: bloom::BloomPass::new(device, &shared),
-            exposure: exposure::ExposurePass::new(device, &shared),
-            tonemap: tonemap::TonemapPass::new(device, &shared),
-            grading: grading::GradingPass::new(device, &shared),
-            fog: fog::FogPass::new(device, &shared),
-            dof: dof::DofPass::new(device, &shared),
-            vignette: vignette::VignettePass::new(device, &shared),
-            aa: aa::AaPass::new(device, &shared),
+            prepass: Lazy::new(device, &shared, prepass::PrepassFinalPass::new),
+            tiled: Lazy::new(device, &shared, tiled::TiledPass::new),
+            bloom: Lazy::new(device, &shared, bloom::BloomPass::new),
+            exposure: Lazy::new(device, &shared, exposure::ExposurePass::new),
+            tonemap: Lazy::new(device, &shared, tonemap::TonemapPass::new),
+            grading: Lazy::new(device, &shared, grading::GradingPass::new),
+            fog: Lazy::new(device, &shared, fog::FogPass::new),
+            dof: Lazy::new(device, &shared, dof::DofPass::new),
+            vignette: Lazy::new(device, &shared, vignette::VignettePass::new),
+            aa: Lazy::new(device, &shared, aa::AaPass::new),
             shadows: shadows::ShadowPass::new(device, &shared),
-            atlas_view: atlas_view::AtlasViewPass::new(device, &shared),
+            atlas_view: Lazy::new(device, &shared, atlas_view::AtlasViewPass::new),
             shared,
         }
     }
 
     pub fn key(&self) -> &PipelineKey {
         &self.shared.key
+    }
+
+    /// Builds the lazily built passes `needs` names that are not built yet, inside an error
+    /// scope (see [`Lazy::prepare`]).
+    pub fn prepare(&self, needs: Needs) -> anyhow::Result<()> {
+        if needs.forward {
+            self.forward.prepare()?;
+        }
+        if needs.prepass {
+            self.prepass.prepare()?;
+        }
+        if needs.tiled {
+            self.tiled.prepare()?;
+        }
+        if needs.post {
+            self.bloom.prepare()?;
+            self.exposure.prepare()?;
+            self.tonemap.prepare()?;
+            self.grading.prepare()?;
+            self.fog.prepare()?;
+            self.dof.prepare()?;
+            self.vignette.prepare()?;
+            self.aa.prepare()?;
+        }
+        Ok(())
     }
 }
 

@@ -540,7 +540,6 @@ impl FrameInputs<'_> {
     }
 }
 
-/// Every pass of the frame, built for one [`PipelineKey`].
 /// A pass built the first time a frame uses it. On lavapipe every pipeline is compiled to
 /// machine code by LLVM when it is created, 2 to 9 MiB of heap each for the shading passes
 /// (measured: a full set of passes took about 160 MiB), and the renderer keeps the passes of
@@ -602,6 +601,7 @@ pub struct Needs {
     pub post: bool,
 }
 
+/// Every pass of the frame, built for one [`PipelineKey`].
 pub struct Passes {
     pub shared: Arc<Shared>,
     pub gbuffer: gbuffer::GBufferPass,

@@ -590,7 +590,8 @@ fn clip_to_screen(a: &mut [Vec2], b: &mut [Vec2], mut n: usize) -> f32 {
 fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
     let mut p: Vec<Vec2> = points.iter().copied().filter(|p| p.is_finite()).collect();
     // Unstable: equal points are equal in both coordinates, so the order (and the hull) is the
-    // same as a stable sort's, without its scratch allocation (the hull path's largest cost).
+    // same as a stable sort's, without its scratch allocation (measured: no change in the hull
+    // path's 2.2 µs a light at 16,384 lights; its cost is spread over the mesh's edges).
     p.sort_unstable_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     p.dedup();
     if p.len() < 3 {

@@ -69,8 +69,8 @@ struct ShadowTile {
 };
 
 struct ShadowParams {
-    // The sun's first cascade tile (LS_NO_SHADOW: none), cascades, filter (LS_SHADOW_FILTER_*),
-    // objects (the shadow pass's instance is tile * objects + object).
+    // The sun's first cascade tile (LS_NO_SHADOW: none), cascades, filter (LS_SHADOW_FILTER_*;
+    // the lookups use the compiled-in LS_SHADOW_KERNEL, the same value), objects (the shadow pass's instance is tile * objects + object).
     sun: vec4<u32>,
     // View depth (-z) where each cascade ends.
     splits: vec4<f32>,
@@ -396,7 +396,7 @@ fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -
 // The normal offset's lookup point: `p` moved (reach + knob) texels along the normal.
 fn shadow_offset_point(p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec3<f32> {
     let b = shadow_params_load();
-    let reach = f32(b.sun.z + 1u);
+    let reach = f32(LS_SHADOW_KERNEL + 1u);
     return p + n * ((reach + b.bias.z) * texel);
 }
 
@@ -406,7 +406,7 @@ fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel
     let shadow_params = shadow_params_load();
     let ortho = t.info.x == LS_TILE_ORTHOGRAPHIC;
     let ndl = clamp(dot(n, L), 0.0, 1.0);
-    let kernel = shadow_params.sun.z;
+    let kernel = LS_SHADOW_KERNEL;
     let q = (t.to_light * vec4<f32>(p1, 1.0)).xyz;
     let w = select(-q.z, 1.0, ortho);
     if !(w > 0.0) {
@@ -477,13 +477,18 @@ fn cube_face(d: vec3<f32>) -> u32 {
 // THE shadow lookup of a light (issue 15): every place that shades a light calls it through
 // `shade_light` (light volumes, the tiled/clustered loop, the forward pass). 1 when the light
 // casts no shadow this frame.
+// Only the lookups the configuration compiles in (`passes::ShaderFeatures`): a light of a kind
+// the scene has no caster of never has a shadow.
 fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
-    if l.shadow.x == LS_NO_SHADOW {
+    if !(LS_TILE_SHADOWS || LS_CUBE_SHADOWS) || l.shadow.x == LS_NO_SHADOW {
         return 1.0;
     }
     let L = safe_normalize(l.position - p, n);
-    if l.shadow.y < 6u {
+    if LS_TILE_SHADOWS && (!LS_CUBE_SHADOWS || l.shadow.y < 6u) {
         return shadow_tile_factor(shadow_tile_load(l.shadow.x), p, n, L);
+    }
+    if !LS_CUBE_SHADOWS {
+        return 1.0;
     }
     // A cube: every face has the texel size of the distance along the major axis; the face is
     // picked for the offset lookup point, so the lookup always lies in its face's frustum and
@@ -494,7 +499,7 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let first = shadow_tile_load(l.shadow.x);
     let texel = first.info.y * max(a.x, max(a.y, a.z));
     let p1 = shadow_offset_point(p, n, texel);
-    if first.info.x == LS_TILE_CUBE_FACE {
+    if LS_CUBE_ARRAY {
         return shadow_cube_lookup(first, p1 - l.position, n, L, texel);
     }
     return shadow_lookup(shadow_tile_load(l.shadow.x + cube_face(p1 - l.position)), p1, n, L, texel);
@@ -512,7 +517,7 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
 // texels (2 ma / side a texel at that face's distance), as the atlas kernels move uv.
 fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
     let shadow_params = shadow_params_load();
-    let kernel = shadow_params.sun.z;
+    let kernel = LS_SHADOW_KERNEL;
     let a = abs(d);
     let ma = max(a.x, max(a.y, a.z));
     if !(ma > 0.0) {
@@ -575,7 +580,7 @@ fn sun_cascade(p: vec3<f32>) -> u32 {
 // pass).
 fn ls_sun_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
     let shadow_params = shadow_params_load();
-    if shadow_params.sun.x == LS_NO_SHADOW {
+    if !LS_SUN_SHADOW || shadow_params.sun.x == LS_NO_SHADOW {
         return 1.0;
     }
     let i = sun_cascade(p);
@@ -641,7 +646,7 @@ fn ls_cookie_sample(base: u32, size: u32, uv: vec2<f32>) -> vec3<f32> {
 // point light its cube, addressed by the world-space direction from the light
 // (`scene::cookie::cube_face_uv`, faces +X -X +Y -Y +Z -Z).
 fn ls_cookie(l: GpuLight, p: vec3<f32>) -> vec3<f32> {
-    if l.cookie == LS_NO_COOKIE {
+    if !LS_COOKIES || l.cookie == LS_NO_COOKIE {
         return vec3<f32>(1.0);
     }
     let v = p - l.position;
@@ -718,7 +723,7 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     if shadow <= 0.0 {
         return r;
     }
-    if l.cookie != LS_NO_COOKIE {
+    if LS_COOKIES && l.cookie != LS_NO_COOKIE {
         return brdf_light(s, L, ndl, l.color * ls_cookie(l, s.position), att * shadow);
     }
     return brdf_light(s, L, ndl, l.color, att * shadow);

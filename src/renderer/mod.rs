@@ -99,6 +99,10 @@ pub struct Renderer {
     passes: Passes,
     /// Passes of recent other configurations, least recently used first.
     pass_cache: Vec<Passes>,
+    /// A frame has been configured with `passes`. The set `new` builds before it sees a scene
+    /// (so with the shader features the settings allow) is dropped, not cached, when the first
+    /// scene needs other ones.
+    passes_used: bool,
     frame: FrameBuffers,
     defaults: MaterialDefaults,
     volumes: Volumes,
@@ -142,7 +146,8 @@ impl Renderer {
         let cube_arrays =
             gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES);
         check_shadow_cube(settings, cube_arrays)?;
-        let key = Self::key(settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
+        let key =
+            Self::key(None, settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
         let passes = build_passes(&device, key)?;
         Ok(Self {
             frame: FrameBuffers::new(&device, &passes.shared.frame_bgl),
@@ -157,6 +162,7 @@ impl Renderer {
             cube_arrays,
             passes,
             pass_cache: Vec::new(),
+            passes_used: false,
             scene: None,
             targets: None,
             last: LastFrame::default(),
@@ -165,9 +171,11 @@ impl Renderer {
         })
     }
 
-    /// The pipeline configuration `settings` ask for with G-buffer `layout`, or why the
-    /// adapter cannot give it.
+    /// The pipeline configuration `settings` ask for with G-buffer `layout` for `scene` (its
+    /// shader features; `None` before the renderer is handed one), or why the adapter cannot
+    /// give it.
     fn key(
+        scene: Option<&Scene>,
         settings: &Settings,
         layout: gbuffer::GBufferLayout,
         features: wgpu::Features,
@@ -193,6 +201,7 @@ impl Renderer {
             reversed_z: settings.reversed_z,
             accum_format,
             depth_clamp: settings.depth_clamp && clamp_available,
+            features: passes::ShaderFeatures::of(scene, settings),
         })
     }
 
@@ -230,7 +239,15 @@ impl Renderer {
         } else {
             settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
         };
-        let key = Self::key(settings, layout, self.features, &self.limits, self.output_format, self.clamp_available)?;
+        let key = Self::key(
+            Some(scene),
+            settings,
+            layout,
+            self.features,
+            &self.limits,
+            self.output_format,
+            self.clamp_available,
+        )?;
         if key != *self.passes.key() {
             // Switching back to a configuration seen recently reuses its passes instead of
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
@@ -239,7 +256,9 @@ impl Renderer {
                 None => build_passes(&self.device, key)?,
             };
             let previous = std::mem::replace(&mut self.passes, next);
-            self.pass_cache.push(previous);
+            if self.passes_used {
+                self.pass_cache.push(previous);
+            }
             if self.pass_cache.len() > PIPELINE_CACHE {
                 self.pass_cache.remove(0);
             }
@@ -271,6 +290,7 @@ impl Renderer {
             let lut = settings.lut.as_ref().and(self.lut.as_ref().map(|(_, l)| l));
             self.queue.write_buffer(&pt.params, 0, bytemuck::bytes_of(&post::params(settings, lut)));
         }
+        self.passes_used = true;
         Ok(())
     }
 

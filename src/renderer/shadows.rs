@@ -101,6 +101,68 @@ pub const BORDER: u32 = 4;
 /// Spots wider than this (half-angle, degrees) are shadowed as a cube (six faces).
 pub const CUBE_SPOT_ANGLE: f32 = 60.0;
 
+/// Whether `mode` lets light `l`'s kind cast (its own flag aside): spots from `spots`, points
+/// from `all`.
+pub fn kind_casts(l: &Light, mode: ShadowMode) -> bool {
+    match l {
+        Light::Spot(_) => matches!(mode, ShadowMode::Spots | ShadowMode::All),
+        Light::Point(_) => mode == ShadowMode::All,
+    }
+}
+
+/// Whether light `l` is shadowed by a cube (six faces) rather than one perspective tile: point
+/// lights and spots wider than [`CUBE_SPOT_ANGLE`].
+pub fn casts_cube(l: &Light) -> bool {
+    match l {
+        Light::Spot(s) => s.outer_angle.to_degrees() > CUBE_SPOT_ANGLE,
+        Light::Point(_) => true,
+    }
+}
+
+/// The shadow lookups a configuration's shaders compile in (`passes::ShaderFeatures`): the
+/// lookups some light (or the sun) of `scene` can need under `st`, whatever the frame's budget
+/// and view then grant. With no scene (a renderer not yet handed one), the lookups the settings
+/// allow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShadowCode {
+    /// The sun's cascades (`ls_sun_shadow`).
+    pub sun: bool,
+    /// One perspective tile a light (narrow spots).
+    pub tiles: bool,
+    /// Cubes (point lights, wide spots), where `st.shadow_cube` puts them.
+    pub cubes: Option<ShadowCube>,
+    /// The one kernel compiled in (`st.shadow_filter`).
+    pub filter: ShadowFilter,
+}
+
+impl ShadowCode {
+    pub fn of(scene: Option<&Scene>, st: &super::Settings) -> ShadowCode {
+        let mode = st.shadows;
+        let mut code = ShadowCode { sun: false, tiles: false, cubes: None, filter: st.shadow_filter };
+        if mode == ShadowMode::None {
+            return code;
+        }
+        let Some(scene) = scene else {
+            code.sun = true;
+            code.tiles = matches!(mode, ShadowMode::Spots | ShadowMode::All);
+            code.cubes = code.tiles.then_some(st.shadow_cube);
+            return code;
+        };
+        code.sun = scene.sun.is_some_and(|s| s.intensity > 0.0);
+        for l in scene.lights.iter().filter(|l| kind_casts(l, mode) && l.cast_shadows()) {
+            if casts_cube(l) {
+                code.cubes = Some(st.shadow_cube);
+            } else {
+                code.tiles = true;
+            }
+            if code.tiles && code.cubes.is_some() {
+                break;
+            }
+        }
+        code
+    }
+}
+
 /// Why a light that should cast has no shadow this frame.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct ShadowStats {
@@ -404,11 +466,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     let pixels = inp.size.0 as f64 * inp.size.1 as f64;
     let mut lit: Vec<(usize, f32)> = Vec::new();
     for (i, l) in scene.lights.iter().enumerate() {
-        let wanted = match l {
-            Light::Spot(_) => matches!(st.shadows, ShadowMode::Spots | ShadowMode::All),
-            Light::Point(_) => st.shadows == ShadowMode::All,
-        };
-        if !wanted {
+        if !kind_casts(l, st.shadows) {
             continue;
         }
         if !l.cast_shadows() {
@@ -432,7 +490,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
         let origin = rot * (scene.lights[i].position() - cam.position);
         let far = scene.lights[i].radius() as f64;
         let tiles = match &scene.lights[i] {
-            Light::Spot(s) if s.outer_angle.to_degrees() <= CUBE_SPOT_ANGLE => {
+            Light::Spot(s) if !casts_cube(&scene.lights[i]) => {
                 let dir = (rot * s.direction.as_dvec3()).normalize();
                 let half = (s.outer_angle as f64).max(0.5f64.to_radians()) * 1.02;
                 vec![perspective_tile(origin, dir, half, far, want)]
@@ -632,6 +690,50 @@ fn sun_cascades(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shaders_compile_in_the_shadow_lookups_some_light_can_need() {
+        use crate::scene::builtin::{build, BuiltinOptions};
+        use ShadowMode as M;
+        let scene = |name: &str| build(name, BuiltinOptions::default()).expect("built-in scene");
+        let code = |scene: Option<&Scene>, shadows, cube| {
+            let st = super::super::Settings { shadows, shadow_cube: cube, ..Default::default() };
+            let c = ShadowCode::of(scene, &st);
+            (c.sun, c.tiles, c.cubes)
+        };
+        let (un, ar) = (ShadowCube::Unrolled, ShadowCube::Array);
+        let shadows = scene("shadows"); // the sun, a narrow spot, a point light
+        assert_eq!(code(Some(&shadows), M::None, un), (false, false, None));
+        assert_eq!(code(Some(&shadows), M::Sun, un), (true, false, None));
+        assert_eq!(code(Some(&shadows), M::Spots, un), (true, true, None));
+        assert_eq!(code(Some(&shadows), M::All, un), (true, true, Some(un)));
+        assert_eq!(code(Some(&shadows), M::All, ar), (true, true, Some(ar)));
+        // A light's own flag off takes its lookup out; no sun, no cascades.
+        let mut flagged = shadows.clone();
+        for l in flagged.lights.iter_mut().filter(|l| matches!(l, Light::Point(_))) {
+            l.set_cast_shadows(false);
+        }
+        flagged.sun = None;
+        assert_eq!(code(Some(&flagged), M::All, un), (false, true, None));
+        // Point lights only: no single tiles. A spot wider than CUBE_SPOT_ANGLE is a cube.
+        let wall = scene("sphere-wall");
+        let c = code(Some(&wall), M::All, un);
+        assert!(!c.1 && c.2 == Some(un), "{c:?}");
+        let c = code(Some(&wall), M::Spots, un);
+        assert!(!c.1 && c.2.is_none(), "{c:?}");
+        let mut wide = scene("spot");
+        assert!(code(Some(&wide), M::Spots, un).1);
+        for l in wide.lights.iter_mut() {
+            if let Light::Spot(s) = l {
+                s.outer_angle = (CUBE_SPOT_ANGLE + 1.0).to_radians();
+            }
+        }
+        let c = code(Some(&wide), M::Spots, un);
+        assert!(!c.1 && c.2 == Some(un), "{c:?}");
+        // Before a scene: what the settings allow.
+        assert_eq!(code(None, M::Spots, ar), (true, true, Some(ar)));
+        assert_eq!(code(None, M::None, ar), (false, false, None));
+    }
 
     #[test]
     fn packing_fills_the_atlas_without_overlap() {

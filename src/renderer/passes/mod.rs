@@ -104,24 +104,81 @@ pub fn wgsl_constants() -> String {
     s
 }
 
-/// The whole shader source for a G-buffer layout and accumulation format: generated constants,
-/// binding declarations and G-buffer layout, then the WGSL files.
+/// The lookups a configuration's shaders compile in, from what the scene can need (issue 13).
+/// On lavapipe a fragment shader runs both sides of every branch under a lane mask, so a
+/// lookup no light takes still costs every light at every pixel: with the shadow kernels and
+/// the cookie compiled into `shade_light`, the clustered pass at 16,384 lights took 4.8× as
+/// long as without them (`--shadows none` included, before this). A GPU that branches skips
+/// them at run time; here they are left out when compiling. Each is a WGSL constant that the
+/// shader's branches test (`LS_SUN_SHADOW`, `LS_TILE_SHADOWS`, `LS_CUBE_SHADOWS`,
+/// `LS_CUBE_ARRAY`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderFeatures {
+    pub shadows: super::shadows::ShadowCode,
+    /// Some light projects a cookie.
+    pub cookies: bool,
+}
+
+impl ShaderFeatures {
+    /// The lookups on (the unrolled cubes, the 3x3 kernel), for checking the source: naga
+    /// validates every branch, taken or not.
+    pub const ALL: ShaderFeatures = ShaderFeatures {
+        shadows: super::shadows::ShadowCode {
+            sun: true,
+            tiles: true,
+            cubes: Some(super::shadows::ShadowCube::Unrolled),
+            filter: super::shadows::ShadowFilter::Pcf3x3,
+        },
+        cookies: true,
+    };
+
+    /// What `scene` can need under `settings`; with no scene, what the settings allow (no
+    /// cookies: they come with a scene).
+    pub fn of(scene: Option<&crate::scene::Scene>, settings: &Settings) -> ShaderFeatures {
+        ShaderFeatures {
+            shadows: super::shadows::ShadowCode::of(scene, settings),
+            cookies: scene.is_some_and(|s| s.lights.iter().any(|l| l.cookie().is_some())),
+        }
+    }
+
+    fn wgsl(&self) -> String {
+        let sh = &self.shadows;
+        let cube_array = sh.cubes == Some(super::shadows::ShadowCube::Array);
+        format!(
+            "const LS_SUN_SHADOW: bool = {};\nconst LS_TILE_SHADOWS: bool = {};\n\
+             const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
+             const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n",
+            sh.sun,
+            sh.tiles,
+            sh.cubes.is_some(),
+            sh.filter as u32,
+            self.cookies
+        )
+    }
+}
+
+/// The whole shader source for a G-buffer layout and accumulation format, every lookup
+/// compiled in: generated constants, binding declarations and G-buffer layout, then the WGSL
+/// files.
 pub fn shader_source(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, ambient_in_gbuffer: bool) -> String {
-    shader_source_for(layout, accum_format, ambient_in_gbuffer, false)
+    shader_source_for(layout, accum_format, ambient_in_gbuffer, false, ShaderFeatures::ALL)
 }
 
 /// [`shader_source`] for the deferred path or (`prepass`) the light pre-pass, whose light pass
-/// writes one light buffer (RGB diffuse, mono specular in A) shaded with unit reflectance.
+/// writes one light buffer (RGB diffuse, mono specular in A) shaded with unit reflectance, with
+/// the lookups `features` name.
 pub fn shader_source_for(
     layout: &GBufferLayout,
     accum_format: wgpu::TextureFormat,
     ambient_in_gbuffer: bool,
     prepass: bool,
+    features: ShaderFeatures,
 ) -> String {
     let mut parts = vec![
         wgsl_constants(),
         format!("const LS_ACCUM_LOG: bool = {};\n", log_accum(accum_format)),
         format!("const LS_PREPASS: bool = {prepass};\n"),
+        features.wgsl(),
     ];
     parts.push(layout.wgsl(1, ambient_in_gbuffer));
     parts.extend(bindings::GROUPS.iter().map(|g| g.wgsl()));
@@ -163,6 +220,8 @@ pub struct PipelineKey {
     /// Samples per pixel of the light pre-pass's pass 3 and the forward pass after it (1, or 4
     /// with `--msaa 4`; passes 1 and 2 stay single-sample).
     pub samples: u32,
+    /// The shadow and cookie lookups compiled in.
+    pub features: ShaderFeatures,
 }
 
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with
@@ -202,7 +261,8 @@ impl Shared {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(key.layout.name),
             source: wgpu::ShaderSource::Wgsl(
-                shader_source_for(&key.layout, key.accum_format, key.ambient_in_gbuffer, key.prepass).into(),
+                shader_source_for(&key.layout, key.accum_format, key.ambient_in_gbuffer, key.prepass, key.features)
+                    .into(),
             ),
         });
         let frame_bgl = bindings::FRAME.layout(device);
@@ -732,5 +792,27 @@ impl LdrPipelines {
         } else {
             &self.to_post
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cookie_lookup_is_compiled_in_only_for_scenes_with_cookies() {
+        use crate::scene::builtin::{build, BuiltinOptions};
+        let st = Settings::default();
+        let features = |name: &str| {
+            let scene = build(name, BuiltinOptions::default()).expect("built-in scene");
+            ShaderFeatures::of(Some(&scene), &st)
+        };
+        assert!(features("cookies").cookies);
+        assert!(!features("demo").cookies && !features("shadows").cookies);
+        assert!(!ShaderFeatures::of(None, &st).cookies);
+        // The constant the shader's branches test follows the feature.
+        let on = ShaderFeatures { cookies: true, ..ShaderFeatures::ALL };
+        assert!(on.wgsl().contains("const LS_COOKIES: bool = true;"));
+        assert!(ShaderFeatures { cookies: false, ..on }.wgsl().contains("const LS_COOKIES: bool = false;"));
     }
 }

@@ -1,7 +1,9 @@
 //! The CPU's part of a frame at many lights, as `Renderer::render` runs it: records, plan
 //! (with the clamps) and upload, medians over interleaved rounds of real frames;
 //! `cargo run --release --example cpuplan [LIGHTS [ROUNDS]]` (default 16,384 lights, 9 rounds).
-//! `cpuplan loop [LIGHTS]` repeats only the records and the plan (no GPU work), for a profiler.
+//! `cpuplan loop [LIGHTS]` repeats only the records and the plan (clamps and shadow plan
+//! included, with the meshes' real bounds; no GPU work), for a profiler; `CPUPLAN_EVICT=MB`
+//! writes that many MB before each looped frame, outside the timing, to time it on cold caches.
 //! `CPUPLAN_MODE=clustered` and `CPUPLAN_BUILD=cpu|gpu` (who builds the clustered lists) pick
 //! rows. The lights move (`demo` at a later time every frame, as the viewer's Space animates
 //! them), so nothing cached from a frame before can stand in for this frame's work.
@@ -18,16 +20,6 @@ use lampshade::scene::builtin::{self, BuiltinOptions};
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
-}
-
-/// User + system CPU time of this process so far (Linux: /proc/self/stat, clock ticks of 10 ms).
-fn process_cpu_ms() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // The fields after the command name (which may hold spaces) in parentheses.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let f: Vec<&str> = rest.split(' ').collect();
-    let (utime, stime): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
-    Some((utime + stime) * 10.0)
 }
 
 fn main() {
@@ -83,41 +75,75 @@ fn main() {
         CullingMode::Clustered | CullingMode::Auto => format!("{} (lists: {})", m.name(), b.name()),
         _ => m.name(),
     };
+    // `CPUPLAN_EVICT=MB`: before each looped frame, write that many MB (outside the timing), as a
+    // real frame's rendering does to the caches (lavapipe runs on the same cores), so the loop
+    // times cold data as real frames do.
+    let evict_mb: usize = std::env::var("CPUPLAN_EVICT").ok().and_then(|v| v.parse().ok()).unwrap_or(0);
+    let mut scratch = vec![0u8; evict_mb << 20];
+    let mut evict = |frame: usize| {
+        if !scratch.is_empty() {
+            scratch.fill(frame as u8);
+            std::hint::black_box(&scratch);
+        }
+    };
     if looped {
         let volumes = Volumes::new(&gpu.device, (1, 12));
         let scenes: Vec<_> = (0..8).map(scene_at).collect();
+        // The meshes' bounds, as `Renderer` keeps them (the plans' object lists and the shadow
+        // plan's casters read them).
+        let bounds = lampshade::renderer::scene_gpu::mesh_bounds(&scene);
         for (mode, cluster_build) in modes {
             let settings = Settings { culling: mode, cluster_build, ..Settings::default() };
+            // What `Renderer::render` hands the plan and the shadow plan.
+            let plan_view = |scene: &lampshade::scene::Scene, records: &FrameRecords| PlanView {
+                proj: records.proj.as_mat4(),
+                near: scene.camera.near as f32,
+                far: scene.camera.far as f32,
+                size: (w, h),
+                mode,
+                depth_clamp: true,
+                forward_lights: settings.forward_lights,
+                light_batching: true,
+                cluster_build: settings.cluster_build,
+            };
+            let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
+                settings: &settings,
+                bounds: &bounds,
+                footprints: plans.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
+                size: (w, h),
+                proj: records.proj,
+                max_texture: 8192,
+                max_layers: 2048,
+            };
             let mut times = Vec::new();
-            let cpu0 = process_cpu_ms();
+            let mut cpu = 0.0;
             for frame in 0..200 {
                 let scene = &scenes[frame % scenes.len()];
+                evict(frame);
+                let c = lampshade::renderer::cputime::Clock::start();
                 let t = std::time::Instant::now();
                 let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
-                let view = PlanView {
-                    proj: records.proj.as_mat4(),
-                    near: scene.camera.near as f32,
-                    far: scene.camera.far as f32,
-                    size: (w, h),
-                    mode,
-                    depth_clamp: true,
-                    forward_lights: settings.forward_lights,
-                    light_batching: true,
-                    cluster_build: settings.cluster_build,
-                };
-                let plan = FramePlan::new(scene, &mut records, &[], &volumes, &view);
+                let view = plan_view(scene, &records);
+                let plan = FramePlan::new(scene, &mut records, &bounds, &volumes, &view);
                 let clamps = overlap::clamps(&plan.lights, (w, h), wgpu::TextureFormat::Rgba16Float);
-                std::hint::black_box((&plan, &clamps));
+                let shadow_plan = shadows::plan(scene, &shadow_inputs(&plan.lights, &records));
+                for ((l, c), &(first, count)) in records.lights.iter_mut().zip(&clamps.lights).zip(&shadow_plan.lights)
+                {
+                    l.clamp = *c;
+                    l.shadow = [first, count, 0, 0];
+                }
+                std::hint::black_box((&plan, &records));
                 times.push(t.elapsed().as_secs_f64() * 1e3);
+                cpu += c.ms();
             }
-            // CPU time of the whole process (all threads) per frame: what the work costs, apart
-            // from how a loaded machine schedules it (10 ms clock ticks over 200 frames).
-            let cpu = process_cpu_ms().zip(cpu0).map(|(b, a)| (b - a) / 200.0);
+            // CPU time over the threads that did the work (`cputime`), per frame: what the work
+            // costs, apart from how a loaded machine schedules it.
             println!(
-                "{}: records + plan {:.2} ms (median wall clock), {} CPU ms per frame (all threads)",
+                "{}: records + plan (clamps and shadow plan included) {:.2} ms (median wall clock), {:.2} CPU ms per frame (all threads){}",
                 label(mode, cluster_build),
                 median(times),
-                cpu.map_or("unknown".into(), |c| format!("{c:.2}"))
+                cpu / 200.0,
+                if evict_mb > 0 { format!(", {evict_mb} MB written before each frame") } else { String::new() }
             );
             // Where it goes: the steps of `FramePlan::new` one by one (CPU time over all
             // threads, `cputime`), medians over 50 frames.
@@ -129,20 +155,11 @@ fn main() {
             };
             for frame in 0..50 {
                 let scene = &scenes[frame % scenes.len()];
+                evict(frame);
                 let c = Clock::start();
                 let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
                 add("records", c.ms());
-                let view = PlanView {
-                    proj: records.proj.as_mat4(),
-                    near: scene.camera.near as f32,
-                    far: scene.camera.far as f32,
-                    size: (w, h),
-                    mode,
-                    depth_clamp: true,
-                    forward_lights: settings.forward_lights,
-                    light_batching: true,
-                    cluster_build: settings.cluster_build,
-                };
+                let view = plan_view(scene, &records);
                 let c = Clock::start();
                 let radii = plan::SphereRadii::of(&volumes.sphere);
                 let mut plans: Vec<_> = records
@@ -209,16 +226,7 @@ fn main() {
                 // What `Renderer::render` does after the plan: the shadow plan, then the clamps
                 // and shadow tiles into the records.
                 let c = Clock::start();
-                let inputs = shadows::ShadowInputs {
-                    settings: &settings,
-                    bounds: &[],
-                    footprints: plans.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
-                    size: (w, h),
-                    proj: records.proj,
-                    max_texture: 8192,
-                    max_layers: 2048,
-                };
-                let shadow_plan = std::hint::black_box(shadows::plan(scene, &inputs));
+                let shadow_plan = std::hint::black_box(shadows::plan(scene, &shadow_inputs(&plans, &records)));
                 add("shadow plan", c.ms());
                 let c = Clock::start();
                 for ((l, c), &(first, count)) in records.lights.iter_mut().zip(&clamps.lights).zip(&shadow_plan.lights)
@@ -229,7 +237,7 @@ fn main() {
                 std::hint::black_box(&records);
                 add("clamps and shadow tiles into the records", c.ms());
                 let c = Clock::start();
-                std::hint::black_box(FramePlan::new(scene, &mut records, &[], &volumes, &view));
+                std::hint::black_box(FramePlan::new(scene, &mut records, &bounds, &volumes, &view));
                 add("FramePlan::new (all of it, two threads)", c.ms());
             }
             for (name, v) in steps {

@@ -70,6 +70,11 @@ impl MaterialDefaults {
     }
 }
 
+/// Each mesh's bounding sphere (model space), as the plans and the shadow plan read them.
+pub fn mesh_bounds(scene: &crate::scene::Scene) -> Vec<(DVec3, f64)> {
+    scene.meshes.iter().map(|m| bounding_sphere(&m.vertices)).collect()
+}
+
 /// Bounding sphere of a mesh's vertices: the box centre and the farthest vertex from it.
 fn bounding_sphere(vertices: &[crate::scene::Vertex]) -> (DVec3, f64) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
@@ -129,7 +134,7 @@ impl SceneGpu {
             vertices: vb,
             indices: ib,
             draws: scene.objects.iter().map(|o| ranges[o.mesh].clone()).collect(),
-            bounds: scene.meshes.iter().map(|m| bounding_sphere(&m.vertices)).collect(),
+            bounds: mesh_bounds(scene),
             materials: material_groups,
             fingerprint: SceneFingerprint::of(scene),
             views,

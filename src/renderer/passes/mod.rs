@@ -648,7 +648,8 @@ impl<T> std::ops::Deref for Lazy<T> {
     }
 }
 
-/// What a frame draws with, beyond the passes every frame uses.
+/// What a frame draws with, beyond the passes every frame uses (G-buffer, lights, debug,
+/// compose, the forward paths' passes, measure, shadows).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Needs {
     /// Blended surfaces, a forward path, or the post chain (which runs after the forward pass).
@@ -664,13 +665,13 @@ pub struct Needs {
 /// Every pass of the frame, built for one [`PipelineKey`].
 pub struct Passes {
     pub shared: Arc<Shared>,
-    pub gbuffer: gbuffer::GBufferPass,
-    pub lights: lights::LightPass,
-    pub debug: debug::DebugPass,
-    pub compose: compose::ComposePass,
+    pub gbuffer: Lazy<gbuffer::GBufferPass>,
+    pub lights: Lazy<lights::LightPass>,
+    pub debug: Lazy<debug::DebugPass>,
+    pub compose: Lazy<compose::ComposePass>,
     pub forward: Lazy<forward::ForwardPass>,
-    pub forward_paths: forward_paths::ForwardPathsPass,
-    pub measure: measure::MeasurePass,
+    pub forward_paths: Lazy<forward_paths::ForwardPathsPass>,
+    pub measure: Lazy<measure::MeasurePass>,
     pub prepass: Lazy<prepass::PrepassFinalPass>,
     pub tiled: Lazy<tiled::TiledPass>,
     pub bloom: Lazy<bloom::BloomPass>,
@@ -681,24 +682,26 @@ pub struct Passes {
     pub dof: Lazy<dof::DofPass>,
     pub vignette: Lazy<vignette::VignettePass>,
     pub aa: Lazy<aa::AaPass>,
-    pub shadows: shadows::ShadowPass,
+    pub shadows: Lazy<shadows::ShadowPass>,
     /// Issue 15: the viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<atlas_view::AtlasViewPass>,
 }
 
 impl Passes {
-    /// Builds the passes every frame uses; the others ([`Lazy`]) are built by the first frame
-    /// that needs them.
+    /// The shader module and layouts; every pass ([`Lazy`]) is built by the first frame that
+    /// needs it ([`Passes::prepare`]), so a set whose configuration is replaced before it draws
+    /// (`Renderer::new` builds one before it has seen a scene, whose shader features it guesses)
+    /// costs no pipeline compilation.
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
         let shared = Arc::new(Shared::new(device, key));
         Self {
-            gbuffer: gbuffer::GBufferPass::new(device, &shared),
-            lights: lights::LightPass::new(device, &shared),
-            debug: debug::DebugPass::new(device, &shared),
-            compose: compose::ComposePass::new(device, &shared),
+            gbuffer: Lazy::new(device, &shared, gbuffer::GBufferPass::new),
+            lights: Lazy::new(device, &shared, lights::LightPass::new),
+            debug: Lazy::new(device, &shared, debug::DebugPass::new),
+            compose: Lazy::new(device, &shared, compose::ComposePass::new),
             forward: Lazy::new(device, &shared, forward::ForwardPass::new),
-            forward_paths: forward_paths::ForwardPathsPass::new(device, &shared),
-            measure: measure::MeasurePass::new(device, &shared),
+            forward_paths: Lazy::new(device, &shared, forward_paths::ForwardPathsPass::new),
+            measure: Lazy::new(device, &shared, measure::MeasurePass::new),
             prepass: Lazy::new(device, &shared, prepass::PrepassFinalPass::new),
             tiled: Lazy::new(device, &shared, tiled::TiledPass::new),
             bloom: Lazy::new(device, &shared, bloom::BloomPass::new),
@@ -709,7 +712,7 @@ impl Passes {
             dof: Lazy::new(device, &shared, dof::DofPass::new),
             vignette: Lazy::new(device, &shared, vignette::VignettePass::new),
             aa: Lazy::new(device, &shared, aa::AaPass::new),
-            shadows: shadows::ShadowPass::new(device, &shared),
+            shadows: Lazy::new(device, &shared, shadows::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, atlas_view::AtlasViewPass::new),
             shared,
         }
@@ -719,9 +722,16 @@ impl Passes {
         &self.shared.key
     }
 
-    /// Builds the lazily built passes `needs` names that are not built yet, inside an error
-    /// scope (see [`Lazy::prepare`]).
+    /// Builds the passes every frame uses and those `needs` names, where not built yet, inside
+    /// an error scope (see [`Lazy::prepare`]).
     pub fn prepare(&self, needs: Needs) -> anyhow::Result<()> {
+        self.gbuffer.prepare()?;
+        self.lights.prepare()?;
+        self.debug.prepare()?;
+        self.compose.prepare()?;
+        self.forward_paths.prepare()?;
+        self.measure.prepare()?;
+        self.shadows.prepare()?;
         if needs.forward {
             self.forward.prepare()?;
         }

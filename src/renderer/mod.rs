@@ -577,6 +577,7 @@ impl Renderer {
             }),
             cpu_ms,
             shadow: (settings.shadows != ShadowMode::None).then(|| shadow_plan.stats.clone()),
+            shader_lookups: key.features.names(),
             path: settings.path,
             prepass: prepass_stats,
             ..Default::default()

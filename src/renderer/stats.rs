@@ -365,6 +365,10 @@ pub struct FrameStats {
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
+    /// The shadow and cookie lookups compiled into this frame's shaders, by name
+    /// (`passes::ShaderFeatures::names`): only those some light of the scene can need.
+    #[serde(default)]
+    pub shader_lookups: Vec<String>,
     /// Issue 15: the shadow atlas and who casts (`None` with `--shadows none`).
     #[serde(default)]
     pub shadow: Option<crate::renderer::shadows::ShadowStats>,

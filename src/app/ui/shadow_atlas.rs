@@ -330,6 +330,10 @@ fn atlas_figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, a: &AtlasInfo, 
         row("atlas use", format!("{:.1}% of {}x{}", s.atlas_used * 100.0, s.atlas_side, s.atlas_side));
         row("caster draws", fmt_count(s.caster_draws));
         row("shadow pass", s.gpu_ms.map_or("- (timestamps off)".into(), |ms| format!("{ms:.2} ms")));
+        // What the shaders compile in: only the lookups some light can need (a mode or scene
+        // edit that needs another compiles a new pipeline set).
+        let lookups = f.stats.map(|fs| fs.shader_lookups.join(", ")).filter(|l| !l.is_empty());
+        row("compiled lookups", lookups.unwrap_or_else(|| "none".into()));
     });
     // Lights asked to cast that have no tile in the atlas: off screen, over the budget, or
     // shadowed outside it (a cube array): listed, never silently dropped.

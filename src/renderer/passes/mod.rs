@@ -141,6 +141,29 @@ impl ShaderFeatures {
         }
     }
 
+    /// The lookups compiled in, by name (the stats and the viewer's shadow figures): `sun
+    /// cascades`, `spot tiles`, `cubes unrolled` or `cubes array`, the kernel, `cookies`.
+    pub fn names(&self) -> Vec<String> {
+        let sh = &self.shadows;
+        let mut v = Vec::new();
+        if sh.sun {
+            v.push("sun cascades".to_string());
+        }
+        if sh.tiles {
+            v.push("spot tiles".to_string());
+        }
+        if let Some(c) = sh.cubes {
+            v.push(format!("cubes {}", c.name()));
+        }
+        if sh.sun || sh.tiles || sh.cubes.is_some() {
+            v.push(format!("kernel {}", sh.filter.name()));
+        }
+        if self.cookies {
+            v.push("cookies".to_string());
+        }
+        v
+    }
+
     fn wgsl(&self) -> String {
         let sh = &self.shadows;
         let cube_array = sh.cubes == Some(super::shadows::ShadowCube::Array);

@@ -843,6 +843,10 @@ mod tests {
         assert!(features("cookies").cookies);
         assert!(!features("demo").cookies && !features("shadows").cookies);
         assert!(!ShaderFeatures::of(None, &st).cookies);
+        // The stats name what is compiled in: `demo` under the default `spots` has the sun and
+        // narrow spots casting, no cube and no cookie.
+        assert_eq!(features("demo").names(), ["sun cascades", "spot tiles", "kernel pcf3x3"]);
+        assert!(features("cookies").names().iter().any(|n| n == "cookies"));
         // The constant the shader's branches test follows the feature.
         let on = ShaderFeatures { cookies: true, ..ShaderFeatures::ALL };
         assert!(on.wgsl().contains("const LS_COOKIES: bool = true;"));

@@ -455,3 +455,63 @@ fn passes_are_built_by_the_first_frame_that_draws_them() {
     }
     assert_eq!(live(), after_bloom, "passes already built were built again");
 }
+
+#[test]
+fn a_change_of_shader_features_alone_keeps_the_targets_and_the_exposure() {
+    // Frames 0-3 show `classify`; frames 4-7 a dimmer `classify`, to which one renderer also
+    // adds a narrow spot that casts but sits far below the floor, off screen and out of reach:
+    // that scene needs the spots' shadow lookup (another pipeline set) while its picture is the
+    // dim one's. Auto-exposure adapts slowly to the dimming, so a frame after the switch equals
+    // the frame of the renderer that never switched only if the targets (which hold the
+    // adaptation) were kept across the change of pipeline set.
+    let gpu = gpu();
+    let bright = scene("classify");
+    let mut dim = bright.clone();
+    dim.ambient *= 0.3;
+    for l in dim.lights.iter_mut() {
+        match l {
+            lampshade::scene::Light::Point(p) => p.intensity *= 0.3,
+            lampshade::scene::Light::Spot(p) => p.intensity *= 0.3,
+        }
+    }
+    if let Some(sun) = dim.sun.as_mut() {
+        sun.intensity *= 0.3;
+    }
+    let mut dim_with_spot = dim.clone();
+    dim_with_spot.lights.push(lampshade::scene::Light::Spot(lampshade::scene::SpotLight {
+        position: glam::DVec3::new(0.0, -10_000.0, 0.0),
+        direction: glam::Vec3::NEG_Y,
+        color: glam::Vec3::ONE,
+        intensity: 1.0,
+        radius: 1.0,
+        inner_angle: 0.3,
+        outer_angle: 0.4,
+        cast_shadows: true,
+        cookie: None,
+        mask: u32::MAX,
+    }));
+    let s = Settings {
+        auto_exposure: true,
+        adaptation_speed: 1.0,
+        count_fragments: false,
+        timestamps: false,
+        ..Settings::default()
+    };
+    let frames = |scenes: &[&lampshade::Scene]| {
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
+        let mut last = None;
+        for sc in scenes {
+            last = Some(render_image(gpu, &mut r, sc, &s, W, H).expect("render"));
+        }
+        last.expect("frames")
+    };
+    let (switched, switched_stats) = frames(&[&bright, &bright, &bright, &bright, &dim_with_spot, &dim_with_spot]);
+    let (never, never_stats) = frames(&[&bright, &bright, &bright, &bright, &dim, &dim]);
+    assert!(switched_stats.shader_lookups.iter().any(|l| l == "spot tiles"), "{:?}", switched_stats.shader_lookups);
+    assert!(!never_stats.shader_lookups.iter().any(|l| l == "spot tiles"), "{:?}", never_stats.shader_lookups);
+    assert_eq!(max_channel_difference(&switched, &never), 0, "the switch reset the exposure or changed the picture");
+    // The exposure is still adapting: a renderer that starts at the dim scene differs, so the
+    // comparison above can fail.
+    let (restarted, _) = frames(&[&dim_with_spot, &dim_with_spot]);
+    assert!(max_channel_difference(&restarted, &never) > 0, "the exposure did not need the frames before");
+}

@@ -17,17 +17,10 @@ const W: u32 = 192;
 const H: u32 = 108;
 const MODES: [CullingMode; 2] = [CullingMode::Tiled, CullingMode::Clustered];
 const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
-const HARD: &[&str] = &[
-    "on-surface",
-    "grazing",
-    "far-origin",
-    "tiny-radius",
-    "overflow",
-    "normals",
-    "spot-extremes",
-    "coincident",
-    "street",
-];
+/// The hard cases (tests/common's list, so a new one is tested here too) not among `CASES`.
+fn hard() -> impl Iterator<Item = &'static str> {
+    HARD_CASES.iter().copied().filter(|n| !CASES.contains(n))
+}
 
 fn settings(culling: CullingMode) -> Settings {
     Settings { culling, count_fragments: true, count_ideal: true, ..Settings::default() }
@@ -39,10 +32,7 @@ fn case(name: &str) -> (Scene, u32, u32) {
         // Fewer lights keep the full-screen reference (and the ideal) quick at test size.
         s.lights.truncate(200);
     }
-    let (w, h) = if HARD.contains(&name) { (160, 90) } else { (W, H) };
-    if name == "overflow" {
-        return (s, 96, 54);
-    }
+    let (w, h) = if CASES.contains(&name) { (W, H) } else { hard_case_size(name) };
     (s, w, h)
 }
 
@@ -61,10 +51,10 @@ fn render_with(
 
 #[test]
 fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal() {
-    for name in CASES.iter().chain(HARD) {
+    for name in CASES.iter().copied().chain(hard()) {
         let (scene, w, h) = case(name);
         // 10,000 lights: no per-light ideal pass, the picture only.
-        let ideal = *name != "overflow";
+        let ideal = name != "overflow";
         let s = |m| Settings { count_ideal: ideal, ..settings(m) };
         let reference = render(&scene, &s(CullingMode::Fullscreen), w, h);
         for mode in MODES {
@@ -75,7 +65,7 @@ fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal(
             // The FLIP bound of tests/culling.rs on its cases; the hard cases are held to one
             // step, as tests/hard_cases.rs holds every mode (see the next test for why many
             // overlapping lights differ by a step in places).
-            let flip_bound = if CASES.contains(name) { 0.001 } else { 0.01 };
+            let flip_bound = if CASES.contains(&name) { 0.001 } else { 0.01 };
             assert!(
                 step <= 1 && fl.mean <= flip_bound,
                 "{name}/{}: {step} steps from fullscreen, FLIP mean {}",

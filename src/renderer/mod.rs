@@ -249,6 +249,9 @@ impl Renderer {
             self.clamp_available,
         )?;
         if key != *self.passes.key() {
+            // Whether only the shader features differ from the set this renderer drew with.
+            let only_features = self.passes_used
+                && PipelineKey { features: self.passes.key().features, ..key.clone() } == *self.passes.key();
             // Switching back to a configuration seen recently reuses its passes instead of
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
             let next = match self.pass_cache.iter().position(|p| *p.key() == key) {
@@ -264,7 +267,13 @@ impl Renderer {
             }
             let shared = &self.passes.shared;
             self.frame.rebind(&self.device, &shared.frame_bgl);
-            self.targets = None;
+            // The targets depend on the layout, formats and samples, not on which lookups the
+            // shaders compile in (and wgpu gives identical bind-group layouts one identity), so
+            // a change of shader features alone (a light's shadow flag, the sun, the first
+            // cookie) keeps them, and with them the auto-exposure's adaptation and the LUT.
+            if !only_features {
+                self.targets = None;
+            }
             if let Some(gpu_scene) = &mut self.scene {
                 gpu_scene.rebind_materials(&self.device, scene, &shared.material_bgl, &self.defaults);
             }
@@ -612,6 +621,8 @@ impl Renderer {
             bail!("cannot compose a {width}x{height} view");
         }
         self.last.gbuffer(&format!("{} view", view.name()))?;
+        // Built in an error scope here if no frame has (a frame that failed after configure).
+        self.passes.compose.prepare()?;
         let mut encoder =
             self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
         let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };

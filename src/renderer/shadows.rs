@@ -114,9 +114,16 @@ pub fn kind_casts(l: &Light, mode: ShadowMode) -> bool {
 /// lights and spots wider than [`CUBE_SPOT_ANGLE`].
 pub fn casts_cube(l: &Light) -> bool {
     match l {
-        Light::Spot(s) => s.outer_angle.to_degrees() > CUBE_SPOT_ANGLE,
+        // In radians: a spot authored at exactly 60° (whose f32 radians turn back into
+        // 60.000004°) is a single tile, as "wider than" says.
+        Light::Spot(s) => s.outer_angle > CUBE_SPOT_ANGLE.to_radians(),
         Light::Point(_) => true,
     }
+}
+
+/// The sun, when it casts under a mode other than `none` (it shines: intensity above 0).
+pub fn sun_casts(scene: &Scene) -> Option<crate::scene::Sun> {
+    scene.sun.filter(|s| s.intensity > 0.0)
 }
 
 /// The shadow lookups a configuration's shaders compile in (`passes::ShaderFeatures`): the
@@ -138,17 +145,20 @@ pub struct ShadowCode {
 impl ShadowCode {
     pub fn of(scene: Option<&Scene>, st: &super::Settings) -> ShadowCode {
         let mode = st.shadows;
-        let mut code = ShadowCode { sun: false, tiles: false, cubes: None, filter: st.shadow_filter };
+        // The kernel only matters to a lookup: with none compiled in, the default, so that
+        // changing `--shadow-filter` then compiles nothing new.
+        let none = ShadowCode { sun: false, tiles: false, cubes: None, filter: ShadowFilter::default() };
         if mode == ShadowMode::None {
-            return code;
+            return none;
         }
+        let mut code = ShadowCode { filter: st.shadow_filter, ..none };
         let Some(scene) = scene else {
             code.sun = true;
             code.tiles = matches!(mode, ShadowMode::Spots | ShadowMode::All);
             code.cubes = code.tiles.then_some(st.shadow_cube);
             return code;
         };
-        code.sun = scene.sun.is_some_and(|s| s.intensity > 0.0);
+        code.sun = sun_casts(scene).is_some();
         for l in scene.lights.iter().filter(|l| kind_casts(l, mode) && l.cast_shadows()) {
             if casts_cube(l) {
                 code.cubes = Some(st.shadow_cube);
@@ -158,6 +168,9 @@ impl ShadowCode {
             if code.tiles && code.cubes.is_some() {
                 break;
             }
+        }
+        if !(code.sun || code.tiles || code.cubes.is_some()) {
+            return none;
         }
         code
     }
@@ -455,7 +468,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     }
     let mut requests: Vec<Request> = Vec::new();
     let quarter = (side / 4).max(MIN_TILE.min(side));
-    if let Some(sun) = scene.sun.filter(|s| s.intensity > 0.0) {
+    if let Some(sun) = sun_casts(scene) {
         let to_sun = (rot * (-sun.direction.as_dvec3())).normalize_or(DVec3::Y);
         let tiles = sun_cascades(scene, st, &casters, to_sun, inp.proj, quarter);
         if !tiles.1.is_empty() {
@@ -690,6 +703,85 @@ fn sun_cascades(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_shadow_the_plan_grants_has_its_lookup_compiled_in() {
+        // The plan, not a table: for built-in scenes with their lights' flags, angles and the
+        // sun varied, under every mode and cube layout, every light the plan gives tiles (all
+        // on screen, a large budget) is of a kind `ShadowCode::of` compiles a lookup for, and
+        // every kind compiled in is granted to some light (no lookup compiled for nothing).
+        use crate::scene::builtin::{build, BuiltinOptions};
+        let mut scenes: Vec<Scene> = ["shadows", "spot", "spot-extremes", "cookies", "demo"]
+            .iter()
+            .map(|n| build(n, BuiltinOptions { lights: Some(40), time: 0.0 }).expect("built-in scene"))
+            .collect();
+        let mut varied = scenes[0].clone();
+        for (i, l) in varied.lights.iter_mut().enumerate() {
+            if let Light::Spot(s) = l {
+                // Exactly at the rule's angle: a single tile.
+                s.outer_angle = CUBE_SPOT_ANGLE.to_radians();
+            }
+            l.set_cast_shadows(i % 2 == 0);
+        }
+        if let Some(sun) = varied.sun.as_mut() {
+            sun.intensity = 0.0;
+        }
+        scenes.push(varied);
+        let mut wide = scenes[1].clone();
+        for l in wide.lights.iter_mut() {
+            if let Light::Spot(s) = l {
+                s.outer_angle = CUBE_SPOT_ANGLE.to_radians() * 1.001;
+            }
+        }
+        scenes.push(wide);
+        for scene in &scenes {
+            let bounds = crate::renderer::scene_gpu::mesh_bounds(scene);
+            for mode in [ShadowMode::Sun, ShadowMode::Spots, ShadowMode::All] {
+                for cube in [ShadowCube::Unrolled, ShadowCube::Array] {
+                    let st = super::super::Settings {
+                        shadows: mode,
+                        shadow_cube: cube,
+                        shadow_budget_mb: 256.0,
+                        ..Default::default()
+                    };
+                    let code = ShadowCode::of(Some(scene), &st);
+                    let plan = plan(
+                        scene,
+                        &ShadowInputs {
+                            settings: &st,
+                            bounds: &bounds,
+                            footprints: vec![(0.01, true); scene.lights.len()],
+                            size: (640, 360),
+                            proj: scene.camera.projection(16.0 / 9.0, false),
+                            max_texture: 8192,
+                            max_layers: 2048,
+                        },
+                    );
+                    let what = format!("{} {mode:?} {cube:?}: {code:?}", scene.name);
+                    let mut granted = (plan.params.sun[0] != NO_SHADOW, false, None);
+                    for &(first, count) in plan.lights.iter().filter(|l| l.0 != NO_SHADOW) {
+                        let kind = plan.tiles[first as usize].info[0];
+                        match count {
+                            1 => granted.1 = true,
+                            6 if kind == TILE_CUBE_FACE => granted.2 = Some(ShadowCube::Array),
+                            6 => granted.2 = Some(ShadowCube::Unrolled),
+                            n => panic!("{what}: a light with {n} tiles"),
+                        }
+                    }
+                    assert_eq!(granted, (code.sun, code.tiles, code.cubes), "{what}");
+                }
+            }
+        }
+        // The angle rule at its boundary: exactly 60° is a tile, a hair wider a cube.
+        let spot = |deg: f32| {
+            let mut l = scenes[1].lights.iter().find(|l| matches!(l, Light::Spot(_))).copied().expect("a spot");
+            if let Light::Spot(s) = &mut l {
+                s.outer_angle = deg.to_radians();
+            }
+            l
+        };
+        assert!(!casts_cube(&spot(CUBE_SPOT_ANGLE)) && casts_cube(&spot(CUBE_SPOT_ANGLE + 0.01)));
+    }
 
     #[test]
     fn the_shaders_compile_in_the_shadow_lookups_some_light_can_need() {

@@ -9,7 +9,7 @@
 use super::*;
 use crate::renderer::inspect::{AtlasTile, TileOwner};
 use crate::renderer::knobs;
-use crate::renderer::shadows::ShadowStats;
+use crate::renderer::shadows::{kind_casts, ShadowStats};
 use crate::renderer::{ShadowFilter, ShadowMode};
 use state::AtlasView;
 
@@ -162,14 +162,6 @@ pub fn describe(t: &AtlasTile, scene: Option<&Scene>, cascades: u32) -> String {
     };
     let click = if t.owner.light().is_some() { "\nclick: select the light" } else { "" };
     format!("{who}\n{0}x{0} texels at ({1}, {2})\n{texel}{click}", t.size, t.x, t.y)
-}
-
-/// Whether light `l` is asked to cast under `mode` (its own flag aside).
-fn wanted(mode: ShadowMode, l: &Light) -> bool {
-    match l {
-        Light::Spot(_) => matches!(mode, ShadowMode::Spots | ShadowMode::All),
-        Light::Point(_) => mode == ShadowMode::All,
-    }
 }
 
 pub(super) fn shadow_window(ctx: &egui::Context, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
@@ -342,7 +334,7 @@ fn atlas_figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, a: &AtlasInfo, 
     let mut missing: Vec<String> = Vec::new();
     let mut flag_off: Vec<usize> = Vec::new();
     for (i, l) in scene.lights.iter().enumerate() {
-        if !wanted(s.mode, l) || in_atlas.contains(&i) {
+        if !kind_casts(l, s.mode) || in_atlas.contains(&i) {
             continue;
         }
         if !l.cast_shadows() {
@@ -357,7 +349,7 @@ fn atlas_figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, a: &AtlasInfo, 
     }
     if let Some(k) = st.selected_light.filter(|k| !in_atlas.contains(k)) {
         let why = match scene.lights.get(k) {
-            Some(l) if !wanted(s.mode, l) => format!("its kind does not cast under --shadows {}", s.mode.name()),
+            Some(l) if !kind_casts(l, s.mode) => format!("its kind does not cast under --shadows {}", s.mode.name()),
             Some(l) if !l.cast_shadows() => "its 'casts' flag is off".into(),
             Some(_) => "not in the atlas".into(),
             None => "no such light".into(),

@@ -711,10 +711,11 @@ pub struct Passes {
 }
 
 impl Passes {
-    /// The shader module and layouts; every pass ([`Lazy`]) is built by the first frame that
-    /// needs it ([`Passes::prepare`]), so a set whose configuration is replaced before it draws
-    /// (`Renderer::new` builds one before it has seen a scene, whose shader features it guesses)
-    /// costs no pipeline compilation.
+    /// The shader module and layouts only; no pipeline is compiled here. The passes every frame
+    /// may use (G-buffer, lights, debug, compose, the forward paths', measure, shadows) are built
+    /// by the first frame ([`Passes::prepare`]), the others by the first frame that needs them,
+    /// so a set whose configuration is replaced before it draws (`Renderer::new` builds one
+    /// before it has seen a scene, whose shader features it guesses) compiles nothing.
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
         let shared = Arc::new(Shared::new(device, key));
         Self {
@@ -833,7 +834,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_cookie_lookup_is_compiled_in_only_for_scenes_with_cookies() {
+    fn the_cookie_feature_is_set_only_for_scenes_with_cookies() {
         use crate::scene::builtin::{build, BuiltinOptions};
         let st = Settings::default();
         let features = |name: &str| {

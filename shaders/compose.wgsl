@@ -70,20 +70,54 @@ fn shadow_view_factor(s: Surface) -> f32 {
     return f;
 }
 
-@fragment
-fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(floor(frag.xy * compose.scale));
-    let s = gbuffer_load(p);
-    let view = compose.view;
-    let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
-    var specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
+// What every compose reads at its G-buffer pixel: the surface and the two light sums.
+struct ComposeInputs {
+    p: vec2<i32>,
+    s: Surface,
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+};
+
+fn compose_inputs(frag: vec4<f32>) -> ComposeInputs {
+    var i: ComposeInputs;
+    i.p = vec2<i32>(floor(frag.xy * compose.scale));
+    i.s = gbuffer_load(i.p);
+    i.diffuse = finite(decode_light(textureLoad(light_diffuse, i.p, 0).rgb));
+    i.specular = finite(decode_light(textureLoad(light_specular, i.p, 0).rgb));
     if LS_PREPASS {
         // The light pre-pass's buffer: its mono specular (A) as grey.
-        specular = finite(vec3<f32>(decode_light_buffer(textureLoad(light_diffuse, p, 0)).a));
+        i.specular = finite(vec3<f32>(decode_light_buffer(textureLoad(light_diffuse, i.p, 0)).a));
     }
+    return i;
+}
+
+// The lit picture, exposed and tonemapped.
+fn compose_lit(i: ComposeInputs) -> vec3<f32> {
+    let s = i.s;
+    let lit = select(camera.background.rgb, i.diffuse * s.albedo + i.specular + s.emissive, s.valid);
+    return aces(lit * camera.exposure);
+}
+
+// The frame's own compose: the lit picture only. A pipeline of its own, because lavapipe runs
+// every branch of a shader at every pixel: with the debug views beside it (the `shadow` and
+// `cascades` views' lookups among them) the lit compose cost every view's work.
+@fragment
+fn fs_compose(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(compose_lit(compose_inputs(frag)), 1.0);
+}
+
+// The lit picture or one of the debug views (`compose.view`): the viewer's views and
+// thumbnails, and frames drawn with `--debug-view`.
+@fragment
+fn fs_compose_view(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let i = compose_inputs(frag);
+    let p = i.p;
+    let s = i.s;
+    let diffuse = i.diffuse;
+    let specular = i.specular;
+    let view = compose.view;
     let exposure = camera.exposure;
-    let lit = select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid);
-    var c = aces(lit * exposure);
+    var c = compose_lit(i);
     if view == LS_VIEW_ALBEDO {
         c = s.albedo;
     } else if view == LS_VIEW_NORMAL {

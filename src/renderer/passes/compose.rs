@@ -9,7 +9,10 @@ use crate::renderer::stats::Stamp;
 use crate::renderer::targets::{attachment, Targets};
 
 pub struct ComposePass {
+    /// The lit picture only (`fs_compose`): the frame's own compose.
     compose: wgpu::RenderPipeline,
+    /// The lit picture or any debug view (`fs_compose_view`).
+    compose_view: wgpu::RenderPipeline,
     compose_hdr: wgpu::RenderPipeline,
     tonemap: wgpu::RenderPipeline,
 }
@@ -28,6 +31,13 @@ impl ComposePass {
         let out = shared.key.output_format;
         Self {
             compose: shared.fullscreen_pipeline(device, "compose", &shared.compose_layout, "fs_compose", out),
+            compose_view: shared.fullscreen_pipeline(
+                device,
+                "compose (views)",
+                &shared.compose_layout,
+                "fs_compose_view",
+                out,
+            ),
             compose_hdr: shared.fullscreen_pipeline(
                 device,
                 "compose (HDR)",
@@ -59,7 +69,7 @@ impl ComposePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.compose);
+        pass.set_pipeline(if to.debug_view == DebugView::Lit { &self.compose } else { &self.compose_view });
         pass.set_bind_group(0, &frame.group, &[]);
         pass.set_bind_group(1, &targets.gbuffer_group, &[]);
         pass.set_bind_group(2, &targets.compose_group, &[offset]);

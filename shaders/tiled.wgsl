@@ -11,8 +11,6 @@ struct TileParams {
     tiles_x: u32,
     tiles_y: u32,
     slices: u32,
-    // Count light-pixel pairs into tile_counts.
-    count: u32,
     light_count: u32,
     // Entries the list region (after the headers) holds.
     capacity: u32,
@@ -214,9 +212,22 @@ fn tile_cell(p: vec2<i32>, s: Surface) -> u32 {
 }
 
 // One full-screen pass: each valid pixel walks its list, every light through `shade_light`
-// and the per-light clamp, summed, and added once into the accumulation.
+// and the per-light clamp, summed, and added once into the accumulation. Two entry points:
+// `fs_tiled_counted` also counts each light's pairs (`tile_counts`). `counted` is a literal at
+// each call, so the driver's inlining folds the branch away: lavapipe runs a branch's body
+// under a lane mask whether or not a lane takes it, and the uncounted frame would pay for the
+// atomic at every pair (2 of 47 ms on `demo`, clustered).
 @fragment
 fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
+    return tiled_shade(frag, false);
+}
+
+@fragment
+fn fs_tiled_counted(@builtin(position) frag: vec4<f32>) -> LightTargets {
+    return tiled_shade(frag, true);
+}
+
+fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
     let p = vec2<i32>(frag.xy);
     let s = gbuffer_load(p);
     var d = vec3<f32>(0.0);
@@ -235,7 +246,7 @@ fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
                 i = tile_lists[first + k];
             }
             // Every listed pair counts as shaded (visited), whether or not the light reaches.
-            if tile_params.count != 0u {
+            if counted {
                 atomicAdd(&tile_counts[1u + i], 1u);
             }
             // Position and radius first: most listed lights miss most of a cluster's pixels,

@@ -60,6 +60,11 @@ fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal(
         for mode in MODES {
             let f = render(&scene, &s(mode), w, h);
             assert_finite(&f, name);
+            // A frame that does not count shades through its own entry point (`fs_tiled`, no
+            // counting atomic): the same picture, byte for byte.
+            let quiet = render(&scene, &Settings { count_fragments: false, count_ideal: false, ..s(mode) }, w, h);
+            let moved = max_channel_difference(&quiet.image, &f.image);
+            assert_eq!(moved, 0, "{name}/{}: the uncounted frame is {moved} steps off the counted", mode.name());
             let step = max_channel_difference(&reference.image, &f.image);
             let (fl, _) = flip(&reference.image, &f.image).unwrap();
             // The FLIP bound of tests/culling.rs on its cases; the hard cases are held to one

@@ -205,8 +205,6 @@ gpu_record! {
         pub tiles_x: u32,
         pub tiles_y: u32,
         pub slices: u32,
-        /// Count light-pixel pairs into the per-light counters.
-        pub count: u32,
         pub light_count: u32,
         /// Entries the list region (after the headers) holds.
         pub capacity: u32,

@@ -92,7 +92,8 @@ pub struct TiledPass {
     build: wgpu::ComputePipeline,
     /// The GPU's clustered lists: count, scan, fill, sort.
     cluster: [wgpu::ComputePipeline; 4],
-    shade: wgpu::RenderPipeline,
+    /// `fs_tiled`, and `fs_tiled_counted` for frames that count each light's pairs.
+    shade: [wgpu::RenderPipeline; 2],
     count_view: wgpu::RenderPipeline,
     state: Mutex<(Option<Buffers>, Option<Pending>)>,
 }
@@ -163,7 +164,9 @@ impl TiledPass {
         };
         // The light pre-pass has one light buffer (`Targets::accumulation`).
         let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
-        let shade = pipe("tiled shade", "fs_tiled", &[Some(accum), second]);
+        let targets = [Some(accum), second];
+        let shade =
+            [pipe("tiled shade", "fs_tiled", &targets), pipe("tiled shade, counted", "fs_tiled_counted", &targets)];
         let count_view = pipe("tile lights view", "fs_tile_count", &[Some(debug)]);
         Self { bgl, build, cluster, shade, count_view, state: Mutex::new((None, None)) }
     }
@@ -199,7 +202,6 @@ impl TiledPass {
             tiles_x: w.div_ceil(TILE),
             tiles_y: h.div_ceil(TILE),
             slices: 1,
-            count: counted as u32,
             light_count: n as u32,
             capacity: 0,
             slice_scale: 0.0,
@@ -321,7 +323,7 @@ impl TiledPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.shade);
+            pass.set_pipeline(&self.shade[counted as usize]);
             pass.set_bind_group(0, &f.frame.group, &[]);
             pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
             pass.set_bind_group(2, &b.group, &[]);

@@ -701,6 +701,13 @@ fn ls_cookie(l: GpuLight, p: vec3<f32>) -> vec3<f32> {
 // that shades a light calls it, so each gets seed 004's culling mask (`ls_light_reaches`) and
 // cookie (`ls_cookie`), and issue 15's shadow (`ls_shadow`).
 fn shade_light(s: Surface, l: GpuLight) -> Lighting {
+    return shade_light_as(s, l, true);
+}
+
+// `shade_light` with (`lookups`) or without the light's shadow lookup. Called with a literal,
+// so the driver's inlining drops the lookup from the `false` call: the tiled and clustered
+// passes shade the lights that cast no shadow this way (`LS_CASTERS_APART`).
+fn shade_light_as(s: Surface, l: GpuLight, lookups: bool) -> Lighting {
     var r: Lighting;
     r.diffuse = vec3<f32>(0.0);
     r.specular = vec3<f32>(0.0);
@@ -719,9 +726,12 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     if att <= 0.0 || ndl <= 0.0 {
         return r;
     }
-    let shadow = ls_shadow(l, s.position, s.normal);
-    if shadow <= 0.0 {
-        return r;
+    var shadow = 1.0;
+    if lookups {
+        shadow = ls_shadow(l, s.position, s.normal);
+        if shadow <= 0.0 {
+            return r;
+        }
     }
     if LS_COOKIES && l.cookie != LS_NO_COOKIE {
         return brdf_light(s, L, ndl, l.color * ls_cookie(l, s.position), att * shadow);

@@ -240,6 +240,10 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
         if all {
             count = tile_params.light_count;
         }
+        // With LS_CASTERS_APART, the casting lights the pixel's light reaches are left to a
+        // second loop over the part of the list between the first and the last of them, the
+        // only one that runs the shadow lookups.
+        var casters = vec2<u32>(count, 0u);
         for (var k = 0u; k < count; k++) {
             var i = k;
             if !all {
@@ -259,7 +263,24 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
             }
             // Each light's own clamp (`overlap.rs`): what can overlap its pixels.
             let l = lights[i];
-            let r = shade_light(s, l);
+            if LS_CASTERS_APART && l.shadow.x != LS_NO_SHADOW {
+                casters = vec2<u32>(min(casters.x, k), k + 1u);
+                continue;
+            }
+            let r = shade_light_as(s, l, !LS_CASTERS_APART);
+            d += min(r.diffuse, vec3<f32>(l.clamp));
+            sp += min(r.specular, vec3<f32>(l.clamp));
+        }
+        for (var k = casters.x; LS_CASTERS_APART && k < casters.y; k++) {
+            var i = k;
+            if !all {
+                i = tile_lists[first + k];
+            }
+            let l = lights[i];
+            if l.shadow.x == LS_NO_SHADOW {
+                continue;
+            }
+            let r = shade_light_as(s, l, true);
             d += min(r.diffuse, vec3<f32>(l.clamp));
             sp += min(r.specular, vec3<f32>(l.clamp));
         }

@@ -535,6 +535,30 @@ fn every_culling_mode_gives_the_same_shadowed_picture() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// With few casting lights (`demo`'s spots, 4 of 1,028 lights) the tiled and clustered passes
+/// shade them in a loop of their own after the others (`ShadowCode::casters_apart`, on
+/// lavapipe only that loop pays for the lookups): the same shadowed picture as `fullscreen`,
+/// which shades every light with its lookup, within a step. Without the spots' shadows the
+/// picture differs by more, so the casters' loop must have drawn them.
+#[test]
+fn casting_lights_shaded_apart_give_the_fullscreen_picture() {
+    use lampshade::renderer::shadows::ShadowCode;
+    let s = scene("demo");
+    let st = |culling, shadows| Settings { culling, ..settings(shadows) };
+    assert!(ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots)).casters_apart);
+    assert!(!ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::All)).casters_apart);
+    let reference = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Spots), W, H);
+    let sun_only = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Sun), W, H);
+    let spot_shadows = max_channel_difference(&reference.image, &sun_only.image);
+    assert!(spot_shadows > 20, "the spots' shadows change the picture by only {spot_shadows} steps");
+    for mode in [CullingMode::Tiled, CullingMode::Clustered] {
+        let f = render(&s, &st(mode, ShadowMode::Spots), W, H);
+        assert_finite(&f, mode.name().as_str());
+        let step = max_channel_difference(&reference.image, &f.image);
+        assert!(step <= 1, "{}: {step} steps from fullscreen", mode.name());
+    }
+}
+
 /// `--shadow-cube array` and `unrolled` shadow the same pixels: the point light alone over the
 /// `shadows` scene, each pixel's factor (light with shadows over light without) taken as lit
 /// (> 0.5) or not in both layouts, at the CPU check's pixels (away from the CPU's shadow edges

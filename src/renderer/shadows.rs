@@ -140,6 +140,13 @@ pub struct ShadowCode {
     pub cubes: Option<ShadowCube>,
     /// The one kernel compiled in (`st.shadow_filter`).
     pub filter: ShadowFilter,
+    /// The tiled and clustered passes shade a list's casting lights in a loop of their own
+    /// after the others (`LS_CASTERS_APART`), so that only they run the light lookups: set
+    /// when lights can cast and at most half of the scene's lights may (`demo`'s 4 spots of
+    /// 1,028 lights). lavapipe runs a branch's body whether or not a lane takes it, so in one
+    /// loop every pair pays for the lookup; with most lights casting, the second loop would
+    /// cost more than it saves.
+    pub casters_apart: bool,
 }
 
 impl ShadowCode {
@@ -147,7 +154,8 @@ impl ShadowCode {
         let mode = st.shadows;
         // The kernel only matters to a lookup: with none compiled in, the default, so that
         // changing `--shadow-filter` then compiles nothing new.
-        let none = ShadowCode { sun: false, tiles: false, cubes: None, filter: ShadowFilter::default() };
+        let none =
+            ShadowCode { sun: false, tiles: false, cubes: None, filter: ShadowFilter::default(), casters_apart: false };
         if mode == ShadowMode::None {
             return none;
         }
@@ -159,16 +167,16 @@ impl ShadowCode {
             return code;
         };
         code.sun = sun_casts(scene).is_some();
+        let mut casters = 0;
         for l in scene.lights.iter().filter(|l| kind_casts(l, mode) && l.cast_shadows()) {
             if casts_cube(l) {
                 code.cubes = Some(st.shadow_cube);
             } else {
                 code.tiles = true;
             }
-            if code.tiles && code.cubes.is_some() {
-                break;
-            }
+            casters += 1;
         }
+        code.casters_apart = casters > 0 && 2 * casters <= scene.lights.len();
         if !(code.sun || code.tiles || code.cubes.is_some()) {
             return none;
         }

@@ -111,7 +111,9 @@ pub fn wgsl_constants() -> String {
 /// long as without them (`--shadows none` included, before this). A GPU that branches skips
 /// them at run time; here they are left out when compiling. Each is a WGSL constant that the
 /// shader's branches test (`LS_SUN_SHADOW`, `LS_TILE_SHADOWS`, `LS_CUBE_SHADOWS`,
-/// `LS_CUBE_ARRAY`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off.
+/// `LS_CUBE_ARRAY`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off;
+/// `LS_CASTERS_APART` (`ShadowCode::casters_apart`) moves the few casting lights of a tile or
+/// cluster list into a loop of their own. Named in the stats' `shader_lookups`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShaderFeatures {
     pub shadows: super::shadows::ShadowCode,
@@ -128,6 +130,7 @@ impl ShaderFeatures {
             tiles: true,
             cubes: Some(super::shadows::ShadowCube::Unrolled),
             filter: super::shadows::ShadowFilter::Pcf3x3,
+            casters_apart: true,
         },
         cookies: true,
     };
@@ -142,7 +145,8 @@ impl ShaderFeatures {
     }
 
     /// The lookups compiled in, by name (the stats and the viewer's shadow figures): `sun
-    /// cascades`, `spot tiles`, `cubes unrolled` or `cubes array`, the kernel, `cookies`.
+    /// cascades`, `spot tiles`, `cubes unrolled` or `cubes array`, the kernel, `casters apart`,
+    /// `cookies`.
     pub fn names(&self) -> Vec<String> {
         let sh = &self.shadows;
         let mut v = Vec::new();
@@ -158,6 +162,9 @@ impl ShaderFeatures {
         if sh.sun || sh.tiles || sh.cubes.is_some() {
             v.push(format!("kernel {}", sh.filter.name()));
         }
+        if sh.casters_apart {
+            v.push("casters apart".to_string());
+        }
         if self.cookies {
             v.push("cookies".to_string());
         }
@@ -170,12 +177,14 @@ impl ShaderFeatures {
         format!(
             "const LS_SUN_SHADOW: bool = {};\nconst LS_TILE_SHADOWS: bool = {};\n\
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
-             const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n",
+             const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
+             const LS_CASTERS_APART: bool = {};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
             sh.filter as u32,
-            self.cookies
+            self.cookies,
+            sh.casters_apart
         )
     }
 }
@@ -846,7 +855,7 @@ mod tests {
         assert!(!ShaderFeatures::of(None, &st).cookies);
         // The stats name what is compiled in: `demo` under the default `spots` has the sun and
         // narrow spots casting, no cube and no cookie.
-        assert_eq!(features("demo").names(), ["sun cascades", "spot tiles", "kernel pcf3x3"]);
+        assert_eq!(features("demo").names(), ["sun cascades", "spot tiles", "kernel pcf3x3", "casters apart"]);
         assert!(features("cookies").names().iter().any(|n| n == "cookies"));
         // The constant the shader's branches test follows the feature.
         let on = ShaderFeatures { cookies: true, ..ShaderFeatures::ALL };

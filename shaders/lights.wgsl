@@ -53,15 +53,28 @@ fn vs_fullscreen(@builtin(vertex_index) vi: u32, @builtin(instance_index) instan
 }
 
 
+// Two entry points: `fs_light` runs the light's shadow lookup, `fs_light_plain` (with
+// LS_CASTERS_APART, for the draws of lights that cast no shadow this frame) does not. `lookups`
+// is a literal at each call, so the driver's inlining drops the lookup from the plain one:
+// lavapipe runs a branch's body whether or not a lane takes it.
 @fragment
 fn fs_light(in: LightVarying) -> LightTargets {
+    return light_fragment(in, true);
+}
+
+@fragment
+fn fs_light_plain(in: LightVarying) -> LightTargets {
+    return light_fragment(in, false);
+}
+
+fn light_fragment(in: LightVarying, lookups: bool) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(in.clip.xy));
     var out: LightTargets;
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
         let l = lights[in.light];
-        let r = shade_light(s, l);
+        let r = shade_light_as(s, l, lookups);
         out.diffuse = encode_light(min(r.diffuse, vec3<f32>(l.clamp)));
         out.specular = encode_light(min(r.specular, vec3<f32>(l.clamp)));
         if LS_PREPASS {

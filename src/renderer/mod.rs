@@ -430,6 +430,7 @@ impl Renderer {
             times: settings.timestamps && self.queries.timestamps.is_some(),
             forward_counts: settings.count_fragments && blended,
             depth_clamp: self.passes.key().depth_clamp,
+            shadowed: &shadow_plan.lights,
         };
 
         // The passes this frame draws with that the configuration has not built yet.

@@ -140,12 +140,13 @@ pub struct ShadowCode {
     pub cubes: Option<ShadowCube>,
     /// The one kernel compiled in (`st.shadow_filter`).
     pub filter: ShadowFilter,
-    /// The tiled and clustered passes shade a list's casting lights in a loop of their own
-    /// after the others (`LS_CASTERS_APART`), so that only they run the light lookups: set
-    /// when lights can cast and at most half of the scene's lights may (`demo`'s 4 spots of
-    /// 1,028 lights). lavapipe runs a branch's body whether or not a lane takes it, so in one
-    /// loop every pair pays for the lookup; with most lights casting, the second loop would
-    /// cost more than it saves.
+    /// Only the lights that cast this frame run the light lookups: the light pass draws the
+    /// others with a pipeline compiled without them (`fs_light_plain`), and the tiled and
+    /// clustered passes shade a list's casting lights in a loop of their own after the others
+    /// (`LS_CASTERS_APART`). Set when lights can cast and at most half of the scene's lights
+    /// may (`demo`'s 4 spots of 1,028 lights). lavapipe runs a branch's body whether or not a
+    /// lane takes it, so in one shader every light pays for the lookup; with most lights
+    /// casting, the second loop and pipelines would cost more than they save.
     pub casters_apart: bool,
 }
 

@@ -145,8 +145,11 @@ pub const DRAWN: [Method; 5] =
 struct MethodPipelines {
     method: &'static StencilMethod,
     mark: Option<wgpu::RenderPipeline>,
-    shade: wgpu::RenderPipeline,
-    shade_crossing_near: Option<wgpu::RenderPipeline>,
+    /// Shading with the lights' shadow lookups (`fs_light`), and, with
+    /// `ShadowCode::casters_apart`, without them (`fs_light_plain`) for lights that cast none
+    /// this frame: `[plain, with lookups]`, the same pipeline twice otherwise.
+    shade: [wgpu::RenderPipeline; 2],
+    shade_crossing_near: Option<[wgpu::RenderPipeline; 2]>,
 }
 
 pub struct LightPass {
@@ -157,12 +160,39 @@ pub struct LightPass {
     methods: Vec<MethodPipelines>,
     /// Zeroes the stencil (REPLACE, every 255 batches).
     stencil_clear: wgpu::RenderPipeline,
+    /// `ShadowCode::casters_apart`: lights that cast no shadow this frame draw with
+    /// `fs_light_plain`.
+    casters_apart: bool,
+}
+
+/// A batch's instances in runs of lights that cast a shadow this frame or not, in their order
+/// (so every pixel still sums its lights in the same order), each run drawn with its own
+/// pipeline. Without `apart`, one run, drawn with the lookups.
+fn casting_runs(
+    instances: std::ops::Range<u32>,
+    lights: &[u32],
+    f: &FrameInputs<'_>,
+    apart: bool,
+) -> Vec<(std::ops::Range<u32>, bool)> {
+    if !apart {
+        return vec![(instances, true)];
+    }
+    let mut runs: Vec<(std::ops::Range<u32>, bool)> = Vec::new();
+    for (k, &light) in instances.zip(lights) {
+        let casts = f.casts(light);
+        match runs.last_mut() {
+            Some((run, c)) if *c == casts => run.end = k + 1,
+            _ => runs.push((k..k + 1, casts)),
+        }
+    }
+    runs
 }
 
 impl LightPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let pipe = |label, vs, fs, state, out| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out });
         let fullscreen = DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL };
+        let apart = shared.key.features.shadows.casters_apart;
         let methods = DRAWN
             .iter()
             .filter_map(|&m| stencil_method(m).map(|s| (m, s)))
@@ -175,14 +205,19 @@ impl LightPass {
                     _ => ("replace shade (front faces)", "replace mark", "replace shade (back faces)"),
                 };
                 let vs = if s.fullscreen { Vs::Fullscreen } else { Vs::Volume };
+                let shades = |label, vs, state: &DrawState| {
+                    let lookups = pipe(label, vs, "fs_light", state.clone(), Out::Accumulate);
+                    let plain = match apart {
+                        true => pipe(label, vs, "fs_light_plain", state.clone(), Out::Accumulate),
+                        false => lookups.clone(),
+                    };
+                    [plain, lookups]
+                };
                 MethodPipelines {
                     method: s,
                     mark: s.mark.clone().map(|d| pipe(mark_label, Vs::Volume, "fs_no_color", d, Out::NoColor)),
-                    shade: pipe(label, vs, "fs_light", s.shade.clone(), Out::Accumulate),
-                    shade_crossing_near: s
-                        .shade_crossing_near
-                        .clone()
-                        .map(|d| pipe(near_label, Vs::Volume, "fs_light", d, Out::Accumulate)),
+                    shade: shades(label, vs, &s.shade),
+                    shade_crossing_near: s.shade_crossing_near.as_ref().map(|d| shades(near_label, Vs::Volume, d)),
                 }
             })
             .collect();
@@ -191,6 +226,7 @@ impl LightPass {
             ambient: pipe("ambient+sun", Vs::FullscreenPlain, "fs_ambient", fullscreen.clone(), Out::Replace),
             ambient_in_gbuffer: shared.key.ambient_in_gbuffer,
             methods,
+            casters_apart: apart,
             stencil_clear: pipe(
                 "stencil clear",
                 Vs::FullscreenPlain,
@@ -336,8 +372,10 @@ impl LightPass {
                     Some(near) if batch.crosses_near => near,
                     _ => &m.shade,
                 };
-                let draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
-                    pass.set_pipeline(shade);
+                // Runs of the batch's lights that cast or not, in order, each with its pipeline
+                // (without `casters_apart` both are the same: one run).
+                let draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>, casts: bool| {
+                    pass.set_pipeline(&shade[casts as usize]);
                     if m.method.reference == Reference::PerLight {
                         pass.set_stencil_reference(replace_counter);
                     }
@@ -352,13 +390,15 @@ impl LightPass {
                     for (k, &light) in instances.clone().zip(batches.lights_of(batch)) {
                         room_for!(cost(light as usize, 1));
                         pass.begin_occlusion_query(light - block_start as u32);
-                        draw(&mut pass, k..k + 1);
+                        draw(&mut pass, k..k + 1, f.casts(light));
                         draws += 1;
                         pass.end_occlusion_query();
                     }
                 } else {
-                    draw(&mut pass, instances);
-                    draws += 1;
+                    for (run, casts) in casting_runs(instances, batches.lights_of(batch), f, self.casters_apart) {
+                        draw(&mut pass, run, casts);
+                        draws += 1;
+                    }
                 }
             }
             drop(pass);

@@ -588,9 +588,17 @@ pub struct FrameInputs<'a> {
     /// Count the forward pass's fragments (an occlusion query over the pass).
     pub forward_counts: bool,
     pub depth_clamp: bool,
+    /// Per light, its first shadow tile and tile count this frame (`shadows::ShadowPlan::lights`;
+    /// `records::NO_SHADOW` first: unshadowed).
+    pub shadowed: &'a [(u32, u32)],
 }
 
 impl FrameInputs<'_> {
+    /// Whether light `i` casts a shadow this frame.
+    pub fn casts(&self, i: u32) -> bool {
+        self.shadowed.get(i as usize).is_some_and(|&(first, _)| first != records::NO_SHADOW)
+    }
+
     /// Timestamp writes at the beginning and/or end of a pass, when the frame is timed.
     pub fn timestamps(&self, begin: Option<Stamp>, end: Option<Stamp>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         if !self.times || (begin.is_none() && end.is_none()) {

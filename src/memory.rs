@@ -22,9 +22,13 @@ pub const MAX_TOTAL_GROWTH: f64 = 0.10;
 
 /// Judges a soak run's resident-memory samples `(frame, bytes)` taken at regular intervals, from
 /// the first sample at or after `warmup` on: a leak adds memory in every interval, so the run
-/// fails if more than [`MAX_STEPS`] intervals grow by more than [`STEP_BYTES`] (a leak of
-/// `STEP_BYTES` per interval or more: with 250-frame intervals, 4 KiB a frame), or if the total
-/// growth reaches [`MAX_TOTAL_GROWTH`]. Returns the failure in words.
+/// fails if more than [`MAX_STEPS`] intervals end more than [`STEP_BYTES`] above every sample
+/// before them (a leak of `STEP_BYTES` per interval or more: with 250-frame intervals, 4 KiB a
+/// frame), or if the total growth reaches [`MAX_TOTAL_GROWTH`]. Memory that returns to a level
+/// the run already held is not growth: the viewer soak, under the full suite's load, went
+/// 308, 308, 309, 307, 303, 306, 306, 309 MiB from frame 1,250 (llvmpipe's binned scenes and
+/// shader variants come and go), which the interval-to-interval rule counted as three steps.
+/// Returns the failure in words.
 pub fn judge_soak(samples: &[(u64, u64)], warmup: u64) -> Result<(), String> {
     let after: Vec<(u64, u64)> = samples.iter().copied().filter(|(f, _)| *f >= warmup).collect();
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
@@ -34,11 +38,18 @@ pub fn judge_soak(samples: &[(u64, u64)], warmup: u64) -> Result<(), String> {
     if after.len() < 4 {
         return Err(format!("{} samples after frame {warmup} are too few to tell a leak: {mib:?} MiB", after.len()));
     }
-    let grew: Vec<u64> = after.windows(2).filter(|w| w[1].1 > w[0].1 + STEP_BYTES).map(|w| w[1].0).collect();
+    let mut high = first.1;
+    let mut grew: Vec<u64> = Vec::new();
+    for &(frame, bytes) in &after[1..] {
+        if bytes > high + STEP_BYTES {
+            grew.push(frame);
+        }
+        high = high.max(bytes);
+    }
     if grew.len() > MAX_STEPS {
         return Err(format!(
-            "resident memory grew by more than 1 MiB in {} of {} intervals after frame {warmup} (at frames \
-             {grew:?}): a leak ({mib:?} MiB)",
+            "resident memory rose more than 1 MiB above its earlier peak in {} of {} intervals after frame \
+             {warmup} (at frames {grew:?}): a leak ({mib:?} MiB)",
             grew.len(),
             after.len() - 1
         ));
@@ -82,5 +93,14 @@ mod tests {
             .unwrap_err()
             .contains("grew by 20.0%"));
         assert!(judge_soak(&series(&[200, 200]), 1250).is_err(), "too few samples");
+        // Shaped like session 27's suite run (printed in whole MiB, where a rise of 308.x to
+        // 309.x counted as one): up and down by a few MiB around a level, no net growth. It
+        // passes; the interval-to-interval rule failed it, on the rises at frames 1,750, 2,500
+        // and 3,000.
+        let swing = series(&[241, 303, 303, 307, 308, 308, 310, 307, 303, 306, 306, 309]);
+        assert_eq!(judge_soak(&swing, 1250), Ok(()));
+        // A sawtooth whose every peak is higher fails: the peaks are the leak.
+        let saw = series(&[200, 200, 200, 200, 200, 203, 201, 205, 203, 207, 205, 209]);
+        assert!(judge_soak(&saw, 1250).unwrap_err().contains("a leak"), "sawtooth");
     }
 }

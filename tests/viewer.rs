@@ -678,7 +678,7 @@ fn every_script_in_tests_parses() {
 /// frames (every mode, view and layout the script language has), hovering the probe and moving
 /// the camera. The viewer prints its resident memory every 250 frames (`memory`); after the
 /// warm-up (frame 1,250: one period of the schedule) it is judged by `memory::judge_soak`: a leak grows it in every 250-frame
-/// interval, so at most two intervals may grow by more than 1 MiB (one-off steps: llvmpipe
+/// interval, so at most two intervals may end more than 1 MiB above the run's earlier peak (one-off steps: llvmpipe
 /// compiles a shader variant the first time a pipeline state is drawn, and the moving camera
 /// reaches new states late in the run) and the total growth stays under 10%. Before the fix this grew by about 35 MB a second (issue: the viewer
 /// went from 0.7 GB to 3.4 GB in 70 s).

@@ -2,8 +2,9 @@
 //! rounds as the bench times them (uncounted frames; the pairs come from one counted frame
 //! first): `cargo run --release --example modebench [LIGHTS [ROUNDS [MODE ...]]]`, default
 //! 1,024 lights, 7 rounds, `clustered stencil-replace volume`. Unshadowed like the bench;
-//! `MODEBENCH_SHADOWS=on` renders with the default shadows (the sun and the spots), as the
-//! viewer does; `MODEBENCH_SCENE=NAME` picks another built-in scene (default `demo`).
+//! `MODEBENCH_SHADOWS=MODE` renders with `--shadows MODE` (`spots`, the default's sun and
+//! spots, as the viewer draws `demo`); `MODEBENCH_SCENE=NAME` picks another built-in scene
+//! (default `demo`).
 
 use lampshade::headless::render_image;
 use lampshade::renderer::{CullingMode, Renderer, Settings, ShadowMode, OUTPUT_FORMAT};
@@ -33,10 +34,9 @@ fn main() {
         ["clustered", "stencil-replace", "volume"].map(String::from).to_vec()
     };
     let modes: Vec<CullingMode> = names.iter().map(|m| CullingMode::parse(m).unwrap_or_else(|e| fail(&e))).collect();
-    let shadows = match std::env::var("MODEBENCH_SHADOWS").as_deref() {
-        Ok("on") => Settings::default().shadows,
-        Ok("off") | Err(_) => ShadowMode::None,
-        Ok(other) => fail(&format!("MODEBENCH_SHADOWS is on or off, not '{other}'")),
+    let shadows = match std::env::var("MODEBENCH_SHADOWS") {
+        Ok(v) => ShadowMode::parse(&v).unwrap_or_else(|e| fail(&format!("MODEBENCH_SHADOWS: {e}"))),
+        Err(_) => ShadowMode::None,
     };
     let name = std::env::var("MODEBENCH_SCENE").unwrap_or_else(|_| "demo".into());
     let scene = builtin::build(&name, BuiltinOptions { lights: Some(lights), time: 0.0 }).unwrap_or_else(|e| fail(&e));

@@ -544,19 +544,26 @@ fn every_culling_mode_gives_the_same_shadowed_picture() {
 #[test]
 fn casting_lights_shaded_apart_give_the_fullscreen_picture() {
     use lampshade::renderer::shadows::ShadowCode;
-    let s = scene("demo");
     let st = |culling, shadows| Settings { culling, ..settings(shadows) };
-    assert!(ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots)).casters_apart);
-    assert!(!ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::All)).casters_apart);
-    let reference = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Spots), W, H);
-    let sun_only = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Sun), W, H);
-    let spot_shadows = max_channel_difference(&reference.image, &sun_only.image);
-    assert!(spot_shadows > 20, "the spots' shadows change the picture by only {spot_shadows} steps");
-    for mode in CullingMode::ALL.into_iter().skip(1) {
-        let f = render(&s, &st(mode, ShadowMode::Spots), W, H);
-        assert_finite(&f, mode.name().as_str());
-        let step = max_channel_difference(&reference.image, &f.image);
-        assert!(step <= 1, "{}: {step} steps from fullscreen", mode.name());
+    // `demo` as built (its spots are its last lights), and with two spots moved to the front:
+    // then a list can hold casters at both ends and other lights between them, which the
+    // casters' loop walks past and the light pass draws in three runs.
+    let mut spread = scene("demo");
+    spread.lights.rotate_right(2);
+    assert!(matches!(spread.lights[0], Light::Spot(_)) && matches!(spread.lights[1027], Light::Spot(_)));
+    for (name, s) in [("demo", scene("demo")), ("demo, spots at both ends", spread)] {
+        assert!(ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots)).casters_apart);
+        assert!(!ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::All)).casters_apart);
+        let reference = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Spots), W, H);
+        let sun_only = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Sun), W, H);
+        let spot_shadows = max_channel_difference(&reference.image, &sun_only.image);
+        assert!(spot_shadows > 20, "{name}: the spots' shadows change the picture by only {spot_shadows} steps");
+        for mode in CullingMode::ALL.into_iter().skip(1) {
+            let f = render(&s, &st(mode, ShadowMode::Spots), W, H);
+            assert_finite(&f, mode.name().as_str());
+            let step = max_channel_difference(&reference.image, &f.image);
+            assert!(step <= 1, "{name}, {}: {step} steps from fullscreen", mode.name());
+        }
     }
 }
 

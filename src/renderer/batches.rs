@@ -12,7 +12,8 @@
 //!   summation order changes.
 //! - **Stencil methods** (two-pass, invert, replace): lights whose conservative pixel
 //!   rectangles do not overlap share a batch: one instanced mark draw, then one instanced shade
-//!   draw. Why the picture and every light's shaded fragments stay those of the unbatched frame:
+//!   draw (split into runs of casting and other lights when only casters run the shadow
+//!   lookups: `passes::lights::casting_runs`). Why the picture and every light's shaded fragments stay those of the unbatched frame:
 //!   1. A light's draws rasterise only inside its rectangle (see [`Footprint`]), so at any pixel
 //!      at most one light of a batch does anything: the pixel sees that light's mark, then its
 //!      shade, as unbatched.

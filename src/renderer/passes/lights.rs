@@ -177,6 +177,7 @@ fn casting_runs(
     if !apart {
         return vec![(instances, true)];
     }
+    debug_assert_eq!(instances.len(), lights.len(), "a batch's instances are its lights");
     let mut runs: Vec<(std::ops::Range<u32>, bool)> = Vec::new();
     for (k, &light) in instances.zip(lights) {
         let casts = f.casts(light);
@@ -276,7 +277,8 @@ impl LightPass {
 
     /// Records the accumulation, the first render pass starting with ambient + sun unless the
     /// G-buffer pass wrote them, then the lights batch by batch (`FramePlan::batches`): per batch
-    /// one instanced marking draw (stencil methods) and one instanced shading draw. A render
+    /// one instanced marking draw (stencil methods) and one instanced shading draw (with
+    /// `casters_apart`, one per run of casting or other lights: [`casting_runs`]). A render
     /// pass holds one block of lights (an occlusion query set holds 4096).
     ///
     /// When counting, the shading draw is split into one draw per light (an instance range of

@@ -8,9 +8,11 @@
 //!   pass, a prefix sum, a fill pass and a per-cluster sort into light order
 //!   (`cs_cluster_{count,scan,fill,sort}`), the same tests as the CPU's.
 //! - Both: ONE full-screen pass (`fs_tiled`) shades each valid pixel with its list through
-//!   `shade_light` and the per-light clamp, adding into the same accumulation targets after the
-//!   ambient + sun pass. With `count_fragments` each evaluated light-pixel pair is counted per
-//!   light (`atomicAdd`), so `shaded` means what it means for the per-light methods.
+//!   `shade_light_as` and the per-light clamp, adding into the same accumulation targets after
+//!   the ambient + sun pass (with `ShadowCode::casters_apart`, a list's casting lights in a
+//!   second loop, the only one with the shadow lookups). With `count_fragments` the frame uses
+//!   `fs_tiled_counted`, which counts each evaluated light-pixel pair per light (`atomicAdd`),
+//!   so `shaded` means what it means for the per-light methods.
 //! - `tile-lights` view: each pixel's list length into the debug target (`fs_tile_count`).
 //!
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since

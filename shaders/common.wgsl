@@ -308,29 +308,39 @@ fn inside_light(s: Surface, l: GpuLight) -> bool {
 // - unlit: nothing from lights (ambient gives it its base colour, `ambient_diffuse`).
 // `color` is the light's colour x intensity, `att` its distance and spot attenuation.
 fn brdf_light(s: Surface, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
-    var r: Lighting;
-    r.diffuse = vec3<f32>(0.0);
-    r.specular = vec3<f32>(0.0);
-    if ndl <= 0.0 || s.brdf == LS_BRDF_UNLIT {
-        return r;
-    }
-    if s.brdf == LS_BRDF_LAMBERT {
-        r.diffuse = color * (att * ndl);
-        return r;
-    }
-    let V = safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+    var r = brdf_light_view(s, view_dir(s), L, ndl, color, att);
+    r.diffuse = select(r.diffuse, vec3<f32>(0.0), ndl <= 0.0);
+    r.specular = select(r.specular, vec3<f32>(0.0), ndl <= 0.0);
+    return r;
+}
+
+// The unit vector from view-space surface point `s` to the eye.
+fn view_dir(s: Surface) -> vec3<f32> {
+    return safe_normalize(-s.position, vec3<f32>(0.0, 0.0, 1.0));
+}
+
+// `brdf_light` for ndl > 0 with the view vector `V` given, so a loop over lights computes it
+// once. Straight-line code: each model's terms are chosen with `select`, not branches, because
+// lavapipe runs every branch of a fragment shader under a lane mask (the branchy form cost
+// every pixel all five models' arithmetic). Each model's expression is the same, operation for
+// operation, as the branchy form's, so the picture is unchanged.
+fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
     let H = safe_normalize(L + V, s.normal);
     let lobe = pow(max(dot(s.normal, H), 0.0), s.spec_exp);
-    if s.brdf == LS_BRDF_METAL {
-        r.specular = color * (att * ndl * (lobe * s.spec_level)) * s.albedo;
-    } else if s.brdf == LS_BRDF_TOON {
-        r.diffuse = color * (att * (ceil(ndl * 3.0) / 3.0));
-        r.specular = color * (att * select(0.0, s.spec_level, lobe >= 0.5));
-    } else {
-        let spec = lobe * s.spec_level;
-        r.diffuse = color * (att * ndl);
-        r.specular = color * (att * ndl * spec);
-    }
+    let toon = s.brdf == LS_BRDF_TOON;
+    let metal = s.brdf == LS_BRDF_METAL;
+    let lambert = s.brdf == LS_BRDF_LAMBERT;
+    let unlit = s.brdf == LS_BRDF_UNLIT;
+    // Diffuse: att x ndl (Blinn-Phong, Lambert), in three bands (toon), none (metal, unlit).
+    var dw = select(att * ndl, att * (ceil(ndl * 3.0) / 3.0), toon);
+    dw = select(dw, 0.0, metal || unlit);
+    // Specular: att x ndl x lobe x level (Blinn-Phong, metal, tinted by the albedo below), the
+    // level where the lobe passes 1/2 (toon), none (Lambert, unlit).
+    var sw = select(att * ndl * (lobe * s.spec_level), att * select(0.0, s.spec_level, lobe >= 0.5), toon);
+    sw = select(sw, 0.0, lambert || unlit);
+    var r: Lighting;
+    r.diffuse = color * dw;
+    r.specular = select(color * sw, color * sw * s.albedo, metal);
     return r;
 }
 
@@ -615,6 +625,36 @@ fn shadow_tile_load(i: u32) -> ShadowTile {
     return t;
 }
 
+// Light `i` as the per-pixel light loops read it: from the light planes
+// (`records::light_planes`) when LS_LIGHT_PLANES, else from `lights`. On lavapipe a storage
+// load at an index that varies by pixel is a loop over the lanes, one per scalar (about 17 a
+// light); a uniform load is a gather. The planes leave out `tan_outer` and the cookie's fields:
+// LS_LIGHT_PLANES is off when a light has a cookie, and the volumes' shapes read `lights`.
+fn light_at(i: u32) -> GpuLight {
+    if !LS_LIGHT_PLANES {
+        return lights[i];
+    }
+    let a = light_plane0[i];
+    let b = light_plane1[i];
+    let c = light_plane2[i];
+    let e = light_plane3[i];
+    var l: GpuLight;
+    l.position = bitcast<vec3<f32>>(a.xyz);
+    l.radius = bitcast<f32>(a.w);
+    l.color = bitcast<vec3<f32>>(b.xyz);
+    l.clamp = bitcast<f32>(b.w);
+    l.direction = bitcast<vec3<f32>>(c.xyz);
+    l.cos_outer = bitcast<f32>(c.w);
+    l.cos_inner = bitcast<f32>(e.x);
+    l.falloff = bitcast<f32>(e.y);
+    l.mask = e.z;
+    l.kind = e.w & 15u;
+    let first = e.w >> 8u;
+    l.shadow = vec4<u32>(select(first, LS_NO_SHADOW, first == 0xffffffu), (e.w >> 4u) & 15u, 0u, 0u);
+    l.cookie = LS_NO_COOKIE;
+    return l;
+}
+
 // Seed 004's light culling mask: whether light `l` lights a surface on `layer` (0..31).
 fn ls_light_reaches(l: GpuLight, layer: u32) -> bool {
     return (l.mask & (1u << (layer & 31u))) != 0u;
@@ -708,35 +748,36 @@ fn shade_light(s: Surface, l: GpuLight) -> Lighting {
 // so the driver's inlining drops the lookup from the `false` call: the tiled and clustered
 // passes shade the lights that cast no shadow this way (`LS_CASTERS_APART`).
 fn shade_light_as(s: Surface, l: GpuLight, lookups: bool) -> Lighting {
-    var r: Lighting;
-    r.diffuse = vec3<f32>(0.0);
-    r.specular = vec3<f32>(0.0);
-    if !ls_light_reaches(l, s.layer) {
-        return r;
-    }
+    return shade_light_view(s, view_dir(s), l, lookups);
+}
+
+// `shade_light_as` with the view vector `V` given (`view_dir`), for loops over lights. Like
+// `brdf_light_view`, straight-line: everything is computed and a light that does not reach
+// the point (layer, radius, cone, back face, shadow) is zeroed at the end; on lavapipe the
+// early returns cost as much and added mask work.
+fn shade_light_view(s: Surface, V: vec3<f32>, l: GpuLight, lookups: bool) -> Lighting {
     let to_light = l.position - s.position;
     let d = length(to_light);
-    if !(d < l.radius) {
-        return r;
-    }
     // A light exactly on the surface lights it head-on.
     let L = select(s.normal, to_light / d, d > 1e-6 * l.falloff);
     let att = distance_attenuation(d, l.falloff) * spot_attenuation(l, -L);
     let ndl = max(dot(s.normal, L), 0.0);
-    if att <= 0.0 || ndl <= 0.0 {
-        return r;
-    }
+    var lit = ls_light_reaches(l, s.layer) && d < l.radius && att > 0.0 && ndl > 0.0;
     var shadow = 1.0;
     if lookups {
-        shadow = ls_shadow(l, s.position, s.normal);
-        if shadow <= 0.0 {
-            return r;
+        if lit {
+            shadow = ls_shadow(l, s.position, s.normal);
         }
+        lit = lit && shadow > 0.0;
     }
+    var color = l.color;
     if LS_COOKIES && l.cookie != LS_NO_COOKIE {
-        return brdf_light(s, L, ndl, l.color * ls_cookie(l, s.position), att * shadow);
+        color = l.color * ls_cookie(l, s.position);
     }
-    return brdf_light(s, L, ndl, l.color, att * shadow);
+    var r = brdf_light_view(s, V, L, ndl, color, att * shadow);
+    r.diffuse = select(vec3<f32>(0.0), r.diffuse, lit);
+    r.specular = select(vec3<f32>(0.0), r.specular, lit);
+    return r;
 }
 
 // Seed 004's logarithmic Rgba8 accumulation (LS_ACCUM_LOG): a light is stored as exp2(-light)

@@ -62,7 +62,7 @@ fn shadow_view_factor(s: Surface) -> f32 {
         f = ls_sun_shadow(s.position, s.normal);
     }
     for (var i = 0u; i < shadow_params.counts.x; i++) {
-        let l = lights[i];
+        let l = light_at(i);
         if l.shadow.x != LS_NO_SHADOW && inside_light(s, l) && dot(s.normal, l.position - s.position) > 0.0 {
             f = min(f, ls_shadow(l, s.position, s.normal));
         }

@@ -111,7 +111,7 @@ fn forward_single(in: ForwardOut, s: Surface) -> vec4<f32> {
     var diffuse = a.diffuse;
     var specular = a.specular;
     for (var k = 0u; k < o.info.z; k++) {
-        let r = forward_light(s, lights[light_lists[o.info.y + k]]);
+        let r = forward_light(s, light_at(light_lists[o.info.y + k]));
         diffuse += r.diffuse;
         specular += r.specular;
     }
@@ -159,7 +159,7 @@ fn fs_forward_base_masked(in: ForwardOut, @builtin(front_facing) front: bool) ->
 
 // Multi-pass, one (object, light) pair: the light's term, added (ADDITIVE blend).
 fn forward_pair(in: ForwardOut, s: Surface) -> vec4<f32> {
-    let r = forward_light(s, lights[in.light]);
+    let r = forward_light(s, light_at(in.light));
     return vec4<f32>(r.diffuse * s.albedo + r.specular, 0.0);
 }
 

@@ -169,7 +169,7 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     }
     for (var k = 0u; k < count; k++) {
         // shade_light returns zero before any BRDF work outside the light's radius and cone.
-        let l = lights[light_lists[first + k]];
+        let l = light_at(light_lists[first + k]);
         let r = shade_light(s, l);
         diffuse += min(r.diffuse, vec3<f32>(l.clamp));
         specular += min(r.specular, vec3<f32>(l.clamp));

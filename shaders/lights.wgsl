@@ -73,7 +73,7 @@ fn light_fragment(in: LightVarying, lookups: bool) -> LightTargets {
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
     if s.valid {
-        let l = lights[in.light];
+        let l = light_at(in.light);
         let r = shade_light_as(s, l, lookups);
         out.diffuse = encode_light(min(r.diffuse, vec3<f32>(l.clamp)));
         out.specular = encode_light(min(r.specular, vec3<f32>(l.clamp)));
@@ -157,7 +157,7 @@ fn fs_no_color() {
 @fragment
 fn fs_ideal(in: LightVarying) {
     let s = gbuffer_load(vec2<i32>(in.clip.xy));
-    if !s.valid || !inside_light(s, lights[in.light]) {
+    if !s.valid || !inside_light(s, light_at(in.light)) {
         discard;
     }
 }
@@ -182,7 +182,7 @@ fn fs_green() -> @location(0) vec4<f32> {
 @fragment
 fn fs_complexity(in: LightVarying) -> @location(0) vec4<f32> {
     let s = gbuffer_load(vec2<i32>(in.clip.xy));
-    if !s.valid || !inside_light(s, lights[in.light]) {
+    if !s.valid || !inside_light(s, light_at(in.light)) {
         discard;
     }
     return vec4<f32>(1.0, 0.0, 0.0, 0.0);

@@ -135,7 +135,7 @@ fn cs_tile_lists(
     let lo = vec2<f32>(wg.xy * tile_params.tile_size) - 1.0;
     let hi = vec2<f32>((wg.xy + 1u) * tile_params.tile_size) + 1.0;
     for (var i = li; i < n; i += 256u) {
-        if light_meets_tile(lights[i], lo, hi, dmin, dmax) {
+        if light_meets_tile(light_at(i), lo, hi, dmin, dmax) {
             atomicOr(&wg_mask[i / 32u], 1u << (i % 32u));
         }
     }
@@ -234,6 +234,7 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
     var sp = vec3<f32>(0.0);
     if s.valid {
         let cell = tile_cell(p, s);
+        let view = view_dir(s);
         let first = tile_lists[2u * cell];
         var count = tile_lists[2u * cell + 1u];
         let all = count == LS_TILE_ALL;
@@ -256,18 +257,17 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
             // Position and radius first: most listed lights miss most of a cluster's pixels,
             // and those need not load the whole record. The test keeps a 1e-4 margin over
             // `shade_light`'s own (d < radius), so it skips only lights that add exactly zero.
-            let to_light = lights[i].position - s.position;
-            let reach = lights[i].radius;
-            if dot(to_light, to_light) > reach * reach * 1.0001 {
+            let l = light_at(i);
+            let to_light = l.position - s.position;
+            if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
                 continue;
             }
             // Each light's own clamp (`overlap.rs`): what can overlap its pixels.
-            let l = lights[i];
             if LS_CASTERS_APART && l.shadow.x != LS_NO_SHADOW {
                 casters = vec2<u32>(min(casters.x, k), k + 1u);
                 continue;
             }
-            let r = shade_light_as(s, l, !LS_CASTERS_APART);
+            let r = shade_light_view(s, view, l, !LS_CASTERS_APART);
             d += min(r.diffuse, vec3<f32>(l.clamp));
             sp += min(r.specular, vec3<f32>(l.clamp));
         }
@@ -276,11 +276,11 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
             if !all {
                 i = tile_lists[first + k];
             }
-            let l = lights[i];
+            let l = light_at(i);
             if l.shadow.x == LS_NO_SHADOW {
                 continue;
             }
-            let r = shade_light_as(s, l, true);
+            let r = shade_light_view(s, view, l, true);
             d += min(r.diffuse, vec3<f32>(l.clamp));
             sp += min(r.specular, vec3<f32>(l.clamp));
         }
@@ -375,8 +375,9 @@ fn cluster_assign_slice(i: u32, k: u32, span: vec3<u32>, fill: bool) {
     let tx1 = span.x >> 16u;
     let ty0 = span.y & 0xffffu;
     let ty1 = span.y >> 16u;
-    let c = lights[i].position;
-    let r = lights[i].radius;
+    let l = light_at(i);
+    let c = l.position;
+    let r = l.radius;
     let r2 = r * r * 1.0001;
     let depths = cluster_slice(k);
     let dz = max(max(depths.x + c.z, -c.z - depths.y), 0.0);

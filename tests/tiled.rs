@@ -336,3 +336,48 @@ fn the_gpu_builds_the_cpus_clustered_lists_and_the_same_picture() {
         assert!(cpu_image == gpu_image, "{name}: the pictures differ");
     }
 }
+
+/// The light planes (`records::light_planes`: the light records again, in four uniform arrays)
+/// are what every per-pixel light loop reads when a scene has at most 4,096 lights and no
+/// cookies; with more, the loops read the storage buffer. `demo` with 4,096 lights (planes),
+/// then with a 4,097th light behind the camera that reaches nothing (storage): the same picture
+/// and light sums, bit for bit, with shadows (the spots' tiles and counts come from the planes)
+/// and without, in the per-pixel loops (tiled, clustered, the forward path) and the light pass
+/// (volume and stencil, deferred and the light pre-pass). Fails if a plane holds a field in the
+/// wrong place (a wrong radius, clamp or shadow tile changes the picture).
+#[test]
+fn the_light_planes_give_the_storage_buffers_picture() {
+    use lampshade::renderer::RenderPath;
+    use lampshade::scene::builtin::{self, BuiltinOptions};
+    use lampshade::scene::{Light, PointLight};
+    let planes = builtin::build("demo", BuiltinOptions { lights: Some(4092), time: 0.0 }).expect("demo");
+    assert_eq!(planes.lights.len(), 4096, "demo's spots and 4,092 point lights");
+    let mut storage = planes.clone();
+    storage.lights.push(Light::Point(PointLight {
+        position: planes.camera.position - planes.camera.forward() * 5.0,
+        color: glam::Vec3::ONE,
+        intensity: 1.0,
+        radius: 0.01,
+        cast_shadows: false,
+        cookie: None,
+        mask: lampshade::scene::ALL_LAYERS,
+    }));
+    let (w, h) = (160, 90);
+    let base = [Settings::default(), unshadowed()];
+    let configs = base.iter().flat_map(|s| {
+        [CullingMode::Clustered, CullingMode::Tiled, CullingMode::Volume, CullingMode::StencilReplace]
+            .map(|culling| Settings { culling, ..s.clone() })
+            .into_iter()
+            .chain([RenderPath::Forward, RenderPath::LightPrepass].map(|path| Settings { path, ..s.clone() }))
+    });
+    for s in configs {
+        let a = render(&planes, &s, w, h);
+        let b = render(&storage, &s, w, h);
+        let what = format!("{} {} shadows {}", s.culling.name(), s.path.name(), s.shadows.name());
+        assert!(a.stats.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,096 lights read the planes");
+        assert!(!b.stats.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,097 read storage");
+        assert!(lit_share(&a.image) > 0.2, "{what}: the frame is lit");
+        assert!(a.diffuse == b.diffuse && a.specular == b.specular, "{what}: the light sums differ");
+        assert_eq!(max_channel_difference(&a.image, &b.image), 0, "{what}");
+    }
+}

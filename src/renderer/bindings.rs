@@ -3,10 +3,12 @@
 //! number or a type is written once. The G-buffer's group is generated the same way by
 //! `GBufferLayout::wgsl`.
 //!
-//! There is no uniform-buffer kind on purpose: Mesa 22.3's lavapipe recompiles a shader whose
-//! branches read a uniform buffer every time that buffer is written, and keeps the old
-//! compilation (about 0.4 MB per draw; `tests/soak.rs`). Everything the shaders read per frame
-//! is read-only storage; `tests/shader_contract.rs` checks that no `var<uniform>` appears.
+//! Uniform buffers are kept to one use: Mesa 22.3's lavapipe recompiles a shader whose
+//! branches read a uniform buffer *at a constant offset* every time that buffer is written, and
+//! keeps the old compilation (about 0.4 MB per draw; `tests/soak.rs`). Everything the shaders
+//! read per frame is read-only storage, except the light planes ([`Kind::LightPlane`]), which
+//! are only ever read at a light's index, an offset no compiler can inline;
+//! `tests/shader_contract.rs` checks that no other `var<uniform>` appears.
 
 use std::fmt::Write;
 
@@ -14,6 +16,11 @@ use std::fmt::Write;
 pub enum Kind {
     /// `var<storage, read>`; `dynamic` with a dynamic offset of `min_size` bytes' binding.
     Storage { dynamic: bool, min_size: u64 },
+    /// `var<uniform>`: one of the [`LIGHT_PLANES`] arrays of `UNIFORM_LIGHTS` vec4s, the
+    /// per-light loops' copy of the light records (`light_at` in common.wgsl). On lavapipe a
+    /// storage-buffer load at a per-pixel index is a loop over the 8 lanes with a branch in each,
+    /// once per scalar; a uniform load is one gather (`records::LightPlanes`).
+    LightPlane,
     /// `var<storage, read_write>`: written by a compute pass or counted into with atomics
     /// (compute and fragment stages only).
     StorageReadWrite,
@@ -54,6 +61,16 @@ const fn storage(slot: u32, name: &'static str, wgsl_type: &'static str) -> Bind
     Binding { slot, name, wgsl_type, kind: Kind::Storage { dynamic: false, min_size: 0 } }
 }
 
+const fn light_plane(slot: u32, name: &'static str) -> Binding {
+    Binding { slot, name, wgsl_type: "array<vec4<u32>, 4096>", kind: Kind::LightPlane }
+}
+
+// `light_plane`'s WGSL array length is [`super::records::UNIFORM_LIGHTS`].
+const _: () = assert!(super::records::UNIFORM_LIGHTS == 4096);
+
+/// The light planes' slots in [`FRAME`], plane by plane.
+pub const LIGHT_PLANES: [u32; 4] = [6, 7, 8, 9];
+
 const fn texture(slot: u32, name: &'static str, filterable: bool) -> Binding {
     Binding { slot, name, wgsl_type: "texture_2d<f32>", kind: Kind::Texture { filterable } }
 }
@@ -70,6 +87,13 @@ pub const FRAME: Group = Group {
         storage(3, "light_lists", "array<u32>"),
         // The light of each instance of a light draw (`batches::LightBatches::list`).
         storage(4, "draw_lights", "array<u32>"),
+        // The light records again, for scenes of up to `UNIFORM_LIGHTS` lights without cookies:
+        // plane k holds vec4 k of every light (`records::LightPlanes`, `light_at` in
+        // common.wgsl). Slots 6-9.
+        light_plane(6, "light_plane0"),
+        light_plane(7, "light_plane1"),
+        light_plane(8, "light_plane2"),
+        light_plane(9, "light_plane3"),
         // Every cookie's texels, one after the other in rows of `records::COOKIE_ROW` (an
         // Rgba8Unorm texture read with textureLoad: a storage buffer would pass the 8 a stage
         // may bind in the post passes; `records::cookie_words`, seed 004).
@@ -188,6 +212,7 @@ impl Group {
             let var = match b.kind {
                 Kind::Storage { .. } => "var<storage, read>",
                 Kind::StorageReadWrite => "var<storage, read_write>",
+                Kind::LightPlane => "var<uniform>",
                 Kind::Texture { .. }
                 | Kind::Sampler
                 | Kind::DepthTexture
@@ -217,7 +242,7 @@ impl Group {
                         wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
                     }
                     Kind::StorageReadWrite => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
-                    Kind::UintTexture => {
+                    Kind::UintTexture | Kind::LightPlane => {
                         wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE
                     }
                     _ => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
@@ -232,6 +257,11 @@ impl Group {
                         ty: wgpu::BufferBindingType::Storage { read_only: false },
                         has_dynamic_offset: false,
                         min_binding_size: None,
+                    },
+                    Kind::LightPlane => wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(super::records::LIGHT_PLANE_BYTES),
                     },
                     Kind::Texture { filterable } => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable },

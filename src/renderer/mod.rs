@@ -409,6 +409,9 @@ impl Renderer {
         let clock = cputime::Clock::start();
         let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
         self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists, scene);
+        if self.passes.key().features.light_planes {
+            self.frame.upload_light_planes(&self.queue, &records.lights)?;
+        }
         let bgl = &self.passes.shared.frame_bgl;
         let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
         self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);

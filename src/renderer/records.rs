@@ -25,6 +25,51 @@ pub const MAT_UV_TRANSFORMED: u32 = 4;
 /// the map's metallic (times the factor) is at least `import::METAL_THRESHOLD`, `blinn-phong`
 /// below (bands of paint in a metal keep their diffuse term). Not set when a model is forced.
 pub const MAT_METAL_BY_PIXEL: u32 = 64;
+/// The most lights the light planes hold (`bindings::Kind::LightPlane`): 4,096 vec4s a plane,
+/// WebGPU's 64 KiB uniform binding.
+pub const UNIFORM_LIGHTS: usize = 4096;
+/// Bytes of one light plane.
+pub const LIGHT_PLANE_BYTES: u64 = (UNIFORM_LIGHTS * 16) as u64;
+/// The planes a light record is split into.
+pub const LIGHT_PLANE_COUNT: usize = 4;
+/// The first shadow tile as stored in plane 3 (24 bits): `NO_SHADOW` is stored as this.
+const PLANE_NO_SHADOW: u32 = 0xff_ffff;
+
+/// Whether `lights` can be read from the light planes: at most [`UNIFORM_LIGHTS`], none with a
+/// cookie (the planes leave the cookie's fields out). Shadow tiles and kinds are checked when
+/// packed ([`light_planes`]).
+pub fn planes_hold(lights: &[Light]) -> bool {
+    lights.len() <= UNIFORM_LIGHTS && lights.iter().all(|l| l.cookie().is_none())
+}
+
+/// The light records split into the four planes `light_at` (common.wgsl) reads, plane after
+/// plane, `lights.len()` vec4s each (as u32 bits):
+/// 0: position, radius; 1: colour, clamp; 2: direction, cos_outer;
+/// 3: cos_inner, falloff, mask, kind | shadow count << 4 | first shadow tile << 8.
+/// Left out: `tan_outer` and the cookie's fields (no pass that reads a light at a pixel's index
+/// uses them without a cookie). `None` when a light's kind, shadow count or first tile does not
+/// fit its bits.
+pub fn light_planes(lights: &[LightRecord]) -> Option<Vec<[u32; 4]>> {
+    let n = lights.len();
+    let mut out = vec![[0u32; 4]; LIGHT_PLANE_COUNT * n];
+    let bits = |v: [f32; 3], w: f32| [v[0].to_bits(), v[1].to_bits(), v[2].to_bits(), w.to_bits()];
+    for (i, l) in lights.iter().enumerate() {
+        let first = if l.shadow[0] == NO_SHADOW { PLANE_NO_SHADOW } else { l.shadow[0] };
+        if l.kind > 15
+            || l.shadow[1] > 15
+            || first > PLANE_NO_SHADOW
+            || (first == PLANE_NO_SHADOW) != (l.shadow[0] == NO_SHADOW)
+        {
+            return None;
+        }
+        out[i] = bits(l.position, l.radius);
+        out[n + i] = bits(l.color, l.clamp);
+        out[2 * n + i] = bits(l.direction, l.cos_outer);
+        out[3 * n + i] = [l.cos_inner.to_bits(), l.falloff.to_bits(), l.mask, l.kind | l.shadow[1] << 4 | first << 8];
+    }
+    Some(out)
+}
+
 /// `GpuLight.cookie` of a light without a cookie.
 pub const NO_COOKIE: u32 = u32::MAX;
 /// The largest finite fp16 value: what the fp16 targets saturate at.
@@ -500,6 +545,9 @@ pub struct FrameBuffers {
     cookie_key: Vec<u64>,
     /// One [`COMPOSE_SLOT`] per debug view and one for the frame's own compose.
     pub compose: wgpu::Buffer,
+    /// The light planes ([`light_planes`]; `bindings::LIGHT_PLANES`), each [`LIGHT_PLANE_BYTES`]
+    /// of one buffer; written only in frames whose shaders read them.
+    pub light_planes: wgpu::Buffer,
     pub group: wgpu::BindGroup,
     /// Issue 15: the shadow atlas (Depth32Float, `shadow_side` square), its view and comparison
     /// sampler, the tiles (`ShadowTile`) and the frame's `ShadowParams`.
@@ -630,6 +678,12 @@ impl FrameBuffers {
         let draw_lights = storage(device, "draw lights", 4 * 64);
         let views = super::DebugView::ALL.len() as u64;
         let compose = storage(device, "compose params", COMPOSE_SLOT * (views + 1));
+        let light_planes = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("light planes"),
+            size: LIGHT_PLANE_COUNT as u64 * LIGHT_PLANE_BYTES,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let cookie_texels = cookie_texture(device, 1, 1);
         let cookie_view = cookie_texels.create_view(&Default::default());
         let (shadow_atlas, shadow_view) = shadow_atlas(device, 1);
@@ -646,6 +700,7 @@ impl FrameBuffers {
             device,
             frame_bgl,
             [&camera, &lights, &objects, &light_lists, &draw_lights],
+            &light_planes,
             &cookie_view,
             (&shadow_view, &shadow_sampler, &shadow_table_view, &shadow_cubes_view),
         );
@@ -660,6 +715,7 @@ impl FrameBuffers {
             cookie_view,
             cookie_key: Vec::new(),
             compose,
+            light_planes,
             shadow_atlas,
             shadow_view,
             shadow_sampler,
@@ -675,10 +731,18 @@ impl FrameBuffers {
         device: &wgpu::Device,
         bgl: &wgpu::BindGroupLayout,
         buffers: [&wgpu::Buffer; 5],
+        planes: &wgpu::Buffer,
         cookies: &wgpu::TextureView,
         shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView, &wgpu::TextureView),
     ) -> wgpu::BindGroup {
         let mut resources: Vec<wgpu::BindingResource<'_>> = buffers.iter().map(|b| b.as_entire_binding()).collect();
+        resources.extend((0..LIGHT_PLANE_COUNT as u64).map(|k| {
+            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: planes,
+                offset: k * LIGHT_PLANE_BYTES,
+                size: wgpu::BufferSize::new(LIGHT_PLANE_BYTES),
+            })
+        }));
         resources.extend([
             wgpu::BindingResource::TextureView(cookies),
             wgpu::BindingResource::TextureView(shadow.0),
@@ -694,7 +758,7 @@ impl FrameBuffers {
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
         let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
         let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view, &self.shadow_cubes_view);
-        self.group = Self::bind(device, frame_bgl, buffers, &self.cookie_view, shadow);
+        self.group = Self::bind(device, frame_bgl, buffers, &self.light_planes, &self.cookie_view, shadow);
     }
 
     /// The shadow pass's group 0 (`bindings::SHADOW_CASTER_SLOTS`) for `bgl`.
@@ -823,9 +887,102 @@ impl FrameBuffers {
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&records.camera));
     }
 
+    /// Writes the light planes ([`light_planes`]) for a frame whose shaders read them
+    /// (`ShaderFeatures::light_planes`); an error if the frame's lights do not fit them.
+    pub fn upload_light_planes(&self, queue: &wgpu::Queue, lights: &[LightRecord]) -> anyhow::Result<()> {
+        if lights.is_empty() {
+            return Ok(());
+        }
+        let packed = light_planes(lights)
+            .filter(|_| lights.len() <= UNIFORM_LIGHTS)
+            .ok_or_else(|| anyhow::anyhow!("the light planes cannot hold this frame's {} lights", lights.len()))?;
+        for (k, plane) in packed.chunks_exact(lights.len()).enumerate() {
+            queue.write_buffer(&self.light_planes, k as u64 * LIGHT_PLANE_BYTES, bytemuck::cast_slice(plane));
+        }
+        Ok(())
+    }
+
     /// Writes compose slot `slot` and returns its dynamic offset.
     pub fn compose_slot(&self, queue: &wgpu::Queue, slot: u64, params: ComposeParams) -> u32 {
         queue.write_buffer(&self.compose, slot * COMPOSE_SLOT, bytemuck::bytes_of(&params));
         (slot * COMPOSE_SLOT) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn light(k: u32) -> LightRecord {
+        let f = |x: u32| x as f32 + 0.25 * k as f32;
+        LightRecord {
+            position: [f(1), f(2), f(3)],
+            radius: f(4),
+            color: [f(5), f(6), f(7)],
+            kind: k % 2,
+            direction: [f(8), f(9), f(10)],
+            cos_outer: f(11),
+            cos_inner: f(12),
+            tan_outer: f(13),
+            falloff: f(14),
+            clamp: f(15),
+            cookie_up: [0.0; 3],
+            cookie: NO_COOKIE,
+            mask: 0xdead_0000 | k,
+            cookie_size: 0,
+            cookie_pad0: 0,
+            cookie_pad1: 0,
+            shadow: if k == 1 { UNSHADOWED } else { [7 * k, 6, 0, 0] },
+        }
+    }
+
+    /// What `light_at` (common.wgsl) reads back from the planes, field by field.
+    fn unpack(planes: &[[u32; 4]], n: usize, i: usize) -> LightRecord {
+        let [a, b, c, e] = [planes[i], planes[n + i], planes[2 * n + i], planes[3 * n + i]];
+        let v = |w: [u32; 4]| [f32::from_bits(w[0]), f32::from_bits(w[1]), f32::from_bits(w[2])];
+        let first = e[3] >> 8;
+        LightRecord {
+            position: v(a),
+            radius: f32::from_bits(a[3]),
+            color: v(b),
+            clamp: f32::from_bits(b[3]),
+            direction: v(c),
+            cos_outer: f32::from_bits(c[3]),
+            cos_inner: f32::from_bits(e[0]),
+            falloff: f32::from_bits(e[1]),
+            mask: e[2],
+            kind: e[3] & 15,
+            shadow: [if first == 0xff_ffff { NO_SHADOW } else { first }, (e[3] >> 4) & 15, 0, 0],
+            cookie: NO_COOKIE,
+            ..bytemuck::Zeroable::zeroed()
+        }
+    }
+
+    #[test]
+    fn the_light_planes_hold_every_field_the_loops_read() {
+        let lights: Vec<LightRecord> = (0..5).map(light).collect();
+        let planes = light_planes(&lights).expect("these lights fit the planes");
+        assert_eq!(planes.len(), LIGHT_PLANE_COUNT * lights.len());
+        for (i, l) in lights.iter().enumerate() {
+            let back = unpack(&planes, lights.len(), i);
+            // Left out: tan_outer (the volumes' shapes read it from `lights`) and the cookie's
+            // fields (planes are not used with cookies).
+            let want = LightRecord { tan_outer: 0.0, ..*l };
+            assert_eq!(bytemuck::bytes_of(&back), bytemuck::bytes_of(&want), "light {i}");
+        }
+    }
+
+    #[test]
+    fn lights_whose_fields_overflow_the_planes_bits_are_refused() {
+        let mut l = light(2);
+        l.shadow = [0xff_ffff, 1, 0, 0];
+        assert!(light_planes(&[l]).is_none(), "a first tile that reads back as no shadow");
+        l.shadow = [3, 16, 0, 0];
+        assert!(light_planes(&[l]).is_none(), "a tile count over 15");
+        l.shadow = [3, 6, 0, 0];
+        l.kind = 16;
+        assert!(light_planes(&[l]).is_none(), "a kind over 15");
+        l.kind = 1;
+        assert!(light_planes(&[l]).is_some());
     }
 }

@@ -119,6 +119,9 @@ pub struct ShaderFeatures {
     pub shadows: super::shadows::ShadowCode,
     /// Some light projects a cookie.
     pub cookies: bool,
+    /// The per-pixel light loops read the lights from the light planes (`records::planes_hold`:
+    /// at most `records::UNIFORM_LIGHTS` lights, no cookies), not the storage buffer.
+    pub light_planes: bool,
 }
 
 impl ShaderFeatures {
@@ -133,6 +136,7 @@ impl ShaderFeatures {
             casters_apart: true,
         },
         cookies: true,
+        light_planes: true,
     };
 
     /// What `scene` can need under `settings`; with no scene, what the settings allow (no
@@ -141,6 +145,7 @@ impl ShaderFeatures {
         ShaderFeatures {
             shadows: super::shadows::ShadowCode::of(scene, settings),
             cookies: scene.is_some_and(|s| s.lights.iter().any(|l| l.cookie().is_some())),
+            light_planes: scene.is_some_and(|s| super::records::planes_hold(&s.lights)),
         }
     }
 
@@ -168,6 +173,9 @@ impl ShaderFeatures {
         if self.cookies {
             v.push("cookies".to_string());
         }
+        if self.light_planes {
+            v.push("light planes".to_string());
+        }
         v
     }
 
@@ -178,13 +186,14 @@ impl ShaderFeatures {
             "const LS_SUN_SHADOW: bool = {};\nconst LS_TILE_SHADOWS: bool = {};\n\
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
-             const LS_CASTERS_APART: bool = {};\n",
+             const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
             sh.filter as u32,
             self.cookies,
-            sh.casters_apart
+            sh.casters_apart,
+            self.light_planes
         )
     }
 }

@@ -119,6 +119,33 @@ pub struct ClusterLists {
 }
 
 impl ClusterLists {
+    /// The lists as uploaded into one binding of at most `max` words: as they are if they fit;
+    /// otherwise each cell whose list ends past `max` walks every light instead
+    /// (`ALL_LIGHTS`, counted as overflowed; the same picture, at a higher cost). Lists are
+    /// laid out in cell order, so the cells kept are the ones before the first that does not
+    /// fit (and empty lists).
+    pub fn fitted(&self, max: usize) -> std::borrow::Cow<'_, [u32]> {
+        let data = &self.data;
+        if data.len() <= max {
+            return std::borrow::Cow::Borrowed(data);
+        }
+        let cells = self.grid.map_or(0, |g| g.cells());
+        let header = 2 * cells;
+        let mut out = data[..header].to_vec();
+        let mut end = header;
+        for cell in 0..cells {
+            let (first, n) = (data[2 * cell] as usize, data[2 * cell + 1]);
+            if n != ALL_LIGHTS && first + n as usize <= max {
+                end = end.max(first + n as usize);
+            } else {
+                out[2 * cell] = 0;
+                out[2 * cell + 1] = ALL_LIGHTS;
+            }
+        }
+        out.extend_from_slice(&data[header..end]);
+        std::borrow::Cow::Owned(out)
+    }
+
     /// Light indices of cell `cell`.
     pub fn list(&self, cell: usize) -> &[u32] {
         let (first, count) = (self.data[2 * cell] as usize, self.data[2 * cell + 1] as usize);
@@ -548,6 +575,29 @@ mod tests {
     use super::*;
     use crate::renderer::settings::ForwardLights;
     use crate::scene::Camera;
+
+    #[test]
+    fn lists_past_one_binding_keep_the_cells_that_fit_and_walk_every_light_in_the_rest() {
+        // 4 cells (2 x 2 tiles, 1 slice) holding 3, 0, 4 and 2 lights.
+        let grid =
+            ClusterGrid { tile: 32, tiles_x: 2, tiles_y: 2, slices: 1, scale: 1.0, bias: 0.0, near: 0.1, far: 10.0 };
+        let lists: [&[u32]; 4] = [&[0, 2, 5], &[], &[1, 2, 3, 4], &[6, 7]];
+        let mut data = vec![0u32; 8];
+        for (c, l) in lists.iter().enumerate() {
+            data[2 * c] = data.len() as u32;
+            data[2 * c + 1] = l.len() as u32;
+            data.extend_from_slice(l);
+        }
+        let c = ClusterLists { data: data.clone(), grid: Some(grid), entries: 9, longest: 4 };
+        assert_eq!(&*c.fitted(data.len()), &data[..], "lists that fit are uploaded as they are");
+        // Room for the header and 5 entries: cell 0 (3) and the empty cell 1 fit, cell 2 (4 more)
+        // does not, nor cell 3 after it.
+        let f = c.fitted(8 + 5);
+        assert!(f.len() <= 8 + 5);
+        assert_eq!(&f[..4], &[8, 3, data[2], 0]);
+        assert_eq!(&f[4..8], &[0, ALL_LIGHTS, 0, ALL_LIGHTS]);
+        assert_eq!(&f[8..11], lists[0]);
+    }
 
     fn view(size: (u32, u32)) -> PlanView {
         let cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);

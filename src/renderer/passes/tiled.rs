@@ -212,6 +212,11 @@ impl TiledPass {
             far: 0.0,
         };
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
+        // CPU-built lists as they fit one binding (`ClusterLists::fitted`).
+        let cpu_lists = match clusters {
+            Some(ClusterBuild::Cpu(c)) => Some(c.fitted(MAX_ENTRIES as usize)),
+            _ => None,
+        };
         let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
             params.mode = 1;
             params.tile_size = g.tile;
@@ -219,10 +224,11 @@ impl TiledPass {
             (params.slice_scale, params.slice_bias, params.near, params.far) = (g.scale, g.bias, g.near, g.far);
             let header = 2 * g.cells() as u64;
             let capacity = match c {
-                ClusterBuild::Cpu(c) => c.data.len() as u64 - header,
-                // The spans bound what the GPU can list; past the binding limit, cells walk
-                // every light (counted as overflowed).
-                ClusterBuild::Gpu(j) => j.bound.min(MAX_ENTRIES - header),
+                ClusterBuild::Cpu(_) => cpu_lists.as_ref().map_or(0, |d| d.len() as u64 - header),
+                // The spans bound what the GPU can list; past the binding limit (the spans'
+                // 4 words a light follow the entries in the same binding), cells walk every
+                // light (counted as overflowed).
+                ClusterBuild::Gpu(j) => j.bound.min(MAX_ENTRIES.saturating_sub(header + 4 * n as u64)),
             };
             params.capacity = capacity as u32;
             header + capacity
@@ -248,10 +254,12 @@ impl TiledPass {
         };
         if !fits(&state.0) {
             use wgpu::BufferUsages as U;
+            // Rounded up to a power of two to grow less often, but never past what one
+            // binding may hold (the lists and spans were sized to fit it).
             let lists = buffer(
                 device,
                 "tile lists",
-                (list_words * 4).next_power_of_two(),
+                (list_words * 4).next_power_of_two().min(MAX_ENTRIES * 4).max(list_words * 4),
                 U::STORAGE | U::COPY_DST | U::COPY_SRC,
             );
             let counts = buffer(
@@ -279,7 +287,11 @@ impl TiledPass {
         let clock = crate::renderer::cputime::Clock::start();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
         match clusters {
-            Some(ClusterBuild::Cpu(c)) => queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&c.data)),
+            Some(ClusterBuild::Cpu(_)) => {
+                if let Some(d) = &cpu_lists {
+                    queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
+                }
+            }
             Some(ClusterBuild::Gpu(j)) => queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans)),
             None => {}
         }

@@ -120,10 +120,9 @@ pub struct ClusterLists {
 
 impl ClusterLists {
     /// The lists as uploaded into one binding of at most `max` words: as they are if they fit;
-    /// otherwise each cell whose list ends past `max` walks every light instead
-    /// (`ALL_LIGHTS`, counted as overflowed; the same picture, at a higher cost). Lists are
-    /// laid out in cell order, so the cells kept are the ones before the first that does not
-    /// fit (and empty lists).
+    /// otherwise the longest lists give way first: their cells walk every light instead
+    /// (`ALL_LIGHTS`, counted as overflowed; the same picture at a higher cost, which is least
+    /// where a list already holds many lights), and the rest are laid out again in cell order.
     pub fn fitted(&self, max: usize) -> std::borrow::Cow<'_, [u32]> {
         let data = &self.data;
         if data.len() <= max {
@@ -131,18 +130,31 @@ impl ClusterLists {
         }
         let cells = self.grid.map_or(0, |g| g.cells());
         let header = 2 * cells;
-        let mut out = data[..header].to_vec();
-        let mut end = header;
-        for cell in 0..cells {
-            let (first, n) = (data[2 * cell] as usize, data[2 * cell + 1]);
-            if n != ALL_LIGHTS && first + n as usize <= max {
-                end = end.max(first + n as usize);
+        let len = |c: usize| if data[2 * c + 1] == ALL_LIGHTS { usize::MAX } else { data[2 * c + 1] as usize };
+        let mut order: Vec<usize> = (0..cells).collect();
+        order.sort_by_key(|&c| len(c));
+        let mut keep = vec![false; cells];
+        let mut used = 0;
+        for c in order {
+            let n = len(c);
+            if n == usize::MAX || header + used + n > max {
+                break;
+            }
+            used += n;
+            keep[c] = true;
+        }
+        let mut out = vec![0u32; header];
+        out.reserve(used);
+        for (c, &kept) in keep.iter().enumerate() {
+            if kept {
+                let first = data[2 * c] as usize;
+                out[2 * c] = out.len() as u32;
+                out[2 * c + 1] = data[2 * c + 1];
+                out.extend_from_slice(&data[first..first + len(c)]);
             } else {
-                out[2 * cell] = 0;
-                out[2 * cell + 1] = ALL_LIGHTS;
+                out[2 * c + 1] = ALL_LIGHTS;
             }
         }
-        out.extend_from_slice(&data[header..end]);
         std::borrow::Cow::Owned(out)
     }
 
@@ -577,7 +589,7 @@ mod tests {
     use crate::scene::Camera;
 
     #[test]
-    fn lists_past_one_binding_keep_the_cells_that_fit_and_walk_every_light_in_the_rest() {
+    fn lists_past_one_binding_give_way_longest_first_to_walking_every_light() {
         // 4 cells (2 x 2 tiles, 1 slice) holding 3, 0, 4 and 2 lights.
         let grid =
             ClusterGrid { tile: 32, tiles_x: 2, tiles_y: 2, slices: 1, scale: 1.0, bias: 0.0, near: 0.1, far: 10.0 };
@@ -590,13 +602,16 @@ mod tests {
         }
         let c = ClusterLists { data: data.clone(), grid: Some(grid), entries: 9, longest: 4 };
         assert_eq!(&*c.fitted(data.len()), &data[..], "lists that fit are uploaded as they are");
-        // Room for the header and 5 entries: cell 0 (3) and the empty cell 1 fit, cell 2 (4 more)
-        // does not, nor cell 3 after it.
+        // Room for the header and 5 entries: the shortest lists fit (cells 1, 3 and 0: 0, 2
+        // and 3 entries); the longest (cell 2's 4) walks every light.
         let f = c.fitted(8 + 5);
-        assert!(f.len() <= 8 + 5);
-        assert_eq!(&f[..4], &[8, 3, data[2], 0]);
-        assert_eq!(&f[4..8], &[0, ALL_LIGHTS, 0, ALL_LIGHTS]);
+        assert_eq!(f.len(), 8 + 5);
+        assert_eq!(&f[..8], &[8, 3, 11, 0, 0, ALL_LIGHTS, 11, 2]);
         assert_eq!(&f[8..11], lists[0]);
+        assert_eq!(&f[11..13], lists[3]);
+        // Room for 1 entry: only the empty list stays.
+        let f = c.fitted(8 + 1);
+        assert_eq!(&f[..], &[0, ALL_LIGHTS, 8, 0, 0, ALL_LIGHTS, 0, ALL_LIGHTS]);
     }
 
     fn view(size: (u32, u32)) -> PlanView {

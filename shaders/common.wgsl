@@ -323,7 +323,8 @@ fn view_dir(s: Surface) -> vec3<f32> {
 // once. Straight-line code: each model's terms are chosen with `select`, not branches, because
 // lavapipe runs every branch of a fragment shader under a lane mask (the branchy form cost
 // every pixel all five models' arithmetic). Each model's expression is the same, operation for
-// operation, as the branchy form's, so the picture is unchanged.
+// operation, as the branchy form's, so for finite inputs the picture is unchanged (a term a
+// model leaves out is colour x 0, so an infinite colour now gives NaN there, not 0).
 fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
     let H = safe_normalize(L + V, s.normal);
     let lobe = pow(max(dot(s.normal, H), 0.0), s.spec_exp);
@@ -754,7 +755,9 @@ fn shade_light_as(s: Surface, l: GpuLight, lookups: bool) -> Lighting {
 // `shade_light_as` with the view vector `V` given (`view_dir`), for loops over lights. Like
 // `brdf_light_view`, straight-line: everything is computed and a light that does not reach
 // the point (layer, radius, cone, back face, shadow) is zeroed at the end; on lavapipe the
-// early returns cost as much and added mask work.
+// early returns cost as much and added mask work. A NaN attenuation, N.L or shadow factor
+// now gives no light (the early returns let it through as NaN). The cookie lookup runs for
+// every light the loop reaches, lit or not (scenes with cookies only).
 fn shade_light_view(s: Surface, V: vec3<f32>, l: GpuLight, lookups: bool) -> Lighting {
     let to_light = l.position - s.position;
     let d = length(to_light);

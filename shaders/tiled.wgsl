@@ -217,17 +217,32 @@ fn tile_cell(p: vec2<i32>, s: Surface) -> u32 {
 // each call, so the driver's inlining folds the branch away: lavapipe runs a branch's body
 // under a lane mask whether or not a lane takes it, and the uncounted frame would pay for the
 // atomic at every pair (2 of 47 ms on `demo`, clustered).
-@fragment
-fn fs_tiled(@builtin(position) frag: vec4<f32>) -> LightTargets {
-    return tiled_shade(frag, false);
+// Instance k walks entries k x LS_TILE_CHUNK onwards of each list (`tiles::SHADE_CHUNK`:
+// lavapipe ends a shader's loops after 65,535 iterations between them).
+struct TiledVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) chunk: u32,
+};
+
+@vertex
+fn vs_tiled(@builtin(vertex_index) vi: u32, @builtin(instance_index) chunk: u32) -> TiledVarying {
+    var out: TiledVarying;
+    out.clip = fullscreen_position(vi);
+    out.chunk = chunk;
+    return out;
 }
 
 @fragment
-fn fs_tiled_counted(@builtin(position) frag: vec4<f32>) -> LightTargets {
-    return tiled_shade(frag, true);
+fn fs_tiled(in: TiledVarying) -> LightTargets {
+    return tiled_shade(in.clip, in.chunk, false);
 }
 
-fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
+@fragment
+fn fs_tiled_counted(in: TiledVarying) -> LightTargets {
+    return tiled_shade(in.clip, in.chunk, true);
+}
+
+fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
     let p = vec2<i32>(frag.xy);
     let s = gbuffer_load(p);
     var d = vec3<f32>(0.0);
@@ -244,8 +259,11 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
         // With LS_CASTERS_APART, the casting lights the pixel's light reaches are left to a
         // second loop over the part of the list between the first and the last of them, the
         // only one that runs the shadow lookups.
-        var casters = vec2<u32>(count, 0u);
-        for (var k = 0u; k < count; k++) {
+        // This instance's stretch of the list.
+        let lo = chunk * LS_TILE_CHUNK;
+        let hi = min(count, lo + LS_TILE_CHUNK);
+        var casters = vec2<u32>(hi, 0u);
+        for (var k = lo; k < hi; k++) {
             var i = k;
             if !all {
                 i = tile_lists[first + k];
@@ -254,8 +272,9 @@ fn tiled_shade(frag: vec4<f32>, counted: bool) -> LightTargets {
             if counted {
                 atomicAdd(&tile_counts[1u + i], 1u);
             }
-            // Position and radius first: most listed lights miss most of a cluster's pixels,
-            // and those need not load the whole record. The test keeps a 1e-4 margin over
+            // The reach test first: most listed lights miss most of a cluster's pixels, and
+            // the lanes they miss are masked off for the rest of the iteration (on lavapipe
+            // the loop body runs for the 8 lanes together). The test keeps a 1e-4 margin over
             // `shade_light`'s own (d < radius), so it skips only lights that add exactly zero.
             let l = light_at(i);
             let to_light = l.position - s.position;

@@ -195,3 +195,48 @@ fn fifty_thousand_bright_overlapping_lights_stay_finite() {
         println!("{accumulation:?}: largest accumulated value {max}");
     }
 }
+
+/// lavapipe stops a shader invocation's loops once they have run 65,535 iterations between
+/// them (gallivm's loop limiter, shared by every loop of the shader), silently. `n` identical
+/// lights at one spot: the tiled and clustered passes walk lists of `n` at every pixel they
+/// reach, in draws of `tiles::SHADE_CHUNK` entries. 70,000 lights must give twice the light of
+/// 35,000 there. Bound, derived: with an Rgba32Float accumulation each frame's value is a
+/// sequential f32 sum of equal terms, relative error at most (terms - 1) x 2^-24, plus one
+/// rounding per chunk added into the target; (35,000 + 70,000 + 3) x 2^-24 = 0.63%. Lost
+/// lights are 6.4% at this count (the ratio was 1.872 = 65,535 / 35,000 before the chunks).
+#[test]
+fn lists_longer_than_lavapipes_loop_limit_lose_no_light() {
+    let crowd_of = |n: usize| {
+        let mut scene = isolated_among(0, 1.0);
+        scene.lights.clear();
+        for _ in 0..n {
+            scene.lights.push(Light::Point(PointLight {
+                position: DVec3::new(-3.0, 1.0, 5.5),
+                color: Vec3::ONE,
+                intensity: 0.00002,
+                radius: 1.5,
+                cast_shadows: false,
+                cookie: None,
+                mask: lampshade::scene::ALL_LAYERS,
+            }));
+        }
+        scene
+    };
+    let (half, full) = (crowd_of(35_000), crowd_of(70_000));
+    let bound = (35_000.0 + 70_000.0 + 3.0) * 2f32.powi(-24);
+    for culling in [CullingMode::Clustered, CullingMode::Tiled] {
+        let s = Settings {
+            culling,
+            accumulation: AccumFormat::Rgba32Float,
+            count_fragments: false,
+            count_ideal: false,
+            ..unshadowed()
+        };
+        let (a, b) = (render(&half, &s, 160, 90), render(&full, &s, 160, 90));
+        let lit: Vec<(f32, f32)> =
+            a.diffuse.iter().zip(&b.diffuse).filter(|(p, _)| **p > 1e-4).map(|(p, q)| (*p, *q)).collect();
+        assert!(lit.len() > 500, "{}: only {} lit channels", culling.name(), lit.len());
+        let worst = lit.iter().map(|(p, q)| (q / (2.0 * p) - 1.0).abs()).fold(0f32, f32::max);
+        assert!(worst <= bound, "{}: 70,000 lights give {worst} off twice 35,000's (bound {bound})", culling.name());
+    }
+}

@@ -98,3 +98,53 @@ fn every_binding_is_declared_as_the_rust_tables_say_and_only_the_light_planes_ar
         }
     }
 }
+
+/// Where a light plane is read at an index fixed in the source: lavapipe inlines uniform values
+/// read at constant offsets into the shader and recompiles it whenever the buffer changes
+/// (the soak's old leak), so the planes may only be read at an index computed at run time.
+fn constant_plane_reads(module: &naga::Module) -> Vec<String> {
+    let planes: Vec<naga::Handle<naga::GlobalVariable>> = module
+        .global_variables
+        .iter()
+        .filter(|(_, g)| g.name.as_deref().is_some_and(|n| n.starts_with("light_plane")))
+        .map(|(h, _)| h)
+        .collect();
+    assert_eq!(planes.len(), records::LIGHT_PLANE_COUNT);
+    let functions = module.functions.iter().map(|(_, f)| f).chain(module.entry_points.iter().map(|e| &e.function));
+    let mut found = Vec::new();
+    for f in functions {
+        let is_plane = |e: naga::Handle<naga::Expression>| matches!(f.expressions[e], naga::Expression::GlobalVariable(g) if planes.contains(&g));
+        for (_, e) in f.expressions.iter() {
+            let constant = match *e {
+                naga::Expression::AccessIndex { base, .. } => is_plane(base),
+                naga::Expression::Access { base, index } => {
+                    is_plane(base)
+                        && matches!(
+                            f.expressions[index],
+                            naga::Expression::Literal(_)
+                                | naga::Expression::Constant(_)
+                                | naga::Expression::ZeroValue(_)
+                        )
+                }
+                _ => false,
+            };
+            if constant {
+                found.push(f.name.clone().unwrap_or_default());
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn the_light_planes_are_only_read_at_an_index_computed_at_run_time() {
+    let source = shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float, true);
+    assert_eq!(constant_plane_reads(&parse(&source)), Vec::<String>::new());
+    // A read at a fixed index is caught.
+    let bad = format!("{source}\nfn first_light_radius() -> u32 {{\n    return light_plane0[0u].w;\n}}\n");
+    assert_eq!(constant_plane_reads(&parse(&bad)), ["first_light_radius"]);
+    let bad = format!(
+        "{source}\nconst FIRST: u32 = 2u;\nfn third_light() -> u32 {{\n    return light_plane3[FIRST].w;\n}}\n"
+    );
+    assert_eq!(constant_plane_reads(&parse(&bad)), ["third_light"]);
+}

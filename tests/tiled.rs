@@ -340,14 +340,17 @@ fn the_gpu_builds_the_cpus_clustered_lists_and_the_same_picture() {
 /// The light planes (`records::light_planes`: the light records again, in four uniform arrays)
 /// are what every per-pixel light loop reads when a scene has at most 4,096 lights and no
 /// cookies; with more, the loops read the storage buffer. `demo` with 4,096 lights (planes),
-/// then with a 4,097th light behind the camera that reaches nothing (storage): the same picture
-/// and light sums, bit for bit, with shadows (the spots' tiles and counts come from the planes)
-/// and without, in the per-pixel loops (tiled, clustered, the forward path) and the light pass
-/// (volume and stencil, deferred and the light pre-pass). Fails if a plane holds a field in the
-/// wrong place (a wrong radius, clamp or shadow tile changes the picture).
+/// then with a 4,097th light behind the camera that reaches nothing (storage): the same result,
+/// bit for bit — the light sums on the deferred paths, the HDR colour on the forward ones —
+/// in the per-pixel loops (tiled, clustered with the CPU's and the GPU's lists, the forward
+/// paths), the light pass (volume and stencil, deferred and the light pre-pass), the ideal
+/// count's pass, and with the spots' shadows, every light's (cubes: the tile count 6 comes from
+/// the planes) and none. Fails if a plane holds a field in the wrong place (with the planes'
+/// falloff scaled by 1.001, or their first shadow tile off by one).
 #[test]
 fn the_light_planes_give_the_storage_buffers_picture() {
-    use lampshade::renderer::RenderPath;
+    use lampshade::renderer::post::PostImage;
+    use lampshade::renderer::{RenderPath, ShadowMode};
     use lampshade::scene::builtin::{self, BuiltinOptions};
     use lampshade::scene::{Light, PointLight};
     let planes = builtin::build("demo", BuiltinOptions { lights: Some(4092), time: 0.0 }).expect("demo");
@@ -363,22 +366,47 @@ fn the_light_planes_give_the_storage_buffers_picture() {
         mask: lampshade::scene::ALL_LAYERS,
     }));
     let (w, h) = (160, 90);
-    let base = [Settings::default(), unshadowed()];
+    let base = [Settings::default(), Settings { shadows: ShadowMode::All, ..Settings::default() }, unshadowed()];
     let configs = base.iter().flat_map(|s| {
         [CullingMode::Clustered, CullingMode::Tiled, CullingMode::Volume, CullingMode::StencilReplace]
             .map(|culling| Settings { culling, ..s.clone() })
             .into_iter()
-            .chain([RenderPath::Forward, RenderPath::LightPrepass].map(|path| Settings { path, ..s.clone() }))
+            .chain([
+                Settings { culling: CullingMode::Clustered, cluster_build: ClusterBuilder::Gpu, ..s.clone() },
+                Settings { culling: CullingMode::Volume, count_ideal: true, ..s.clone() },
+            ])
+            .chain(
+                [RenderPath::Forward, RenderPath::ForwardMultipass, RenderPath::LightPrepass]
+                    .map(|path| Settings { path, ..s.clone() }),
+            )
     });
+    let gpu = gpu();
+    // The light sums (deferred, light pre-pass) or the HDR colour (forward paths), and the image.
+    let run = |scene: &Scene, s: &Settings| {
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).expect("renderer");
+        let (image, stats) = render_image(gpu, &mut r, scene, s, w, h).expect("render");
+        let values = match s.path {
+            RenderPath::Forward | RenderPath::ForwardMultipass => {
+                r.read_post_image(gpu, PostImage::Hdr).expect("readback").expect("the forward paths' HDR colour")
+            }
+            _ => {
+                let (d, sp) = r.read_accumulation(gpu).expect("accumulation readback");
+                d.into_iter().chain(sp).collect()
+            }
+        };
+        (image, stats, values)
+    };
     for s in configs {
-        let a = render(&planes, &s, w, h);
-        let b = render(&storage, &s, w, h);
+        let (ia, sa, a) = run(&planes, &s);
+        let (ib, sb, b) = run(&storage, &s);
         let what = format!("{} {} shadows {}", s.culling.name(), s.path.name(), s.shadows.name());
-        assert!(a.stats.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,096 lights read the planes");
-        assert!(!b.stats.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,097 read storage");
-        assert!(lit_share(&a.image) > 0.2, "{what}: the frame is lit");
-        assert!(a.diffuse == b.diffuse && a.specular == b.specular, "{what}: the light sums differ");
-        assert_eq!(max_channel_difference(&a.image, &b.image), 0, "{what}");
+        assert!(sa.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,096 lights read the planes");
+        assert!(!sb.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,097 read storage");
+        assert!(lit_share(&ia) > 0.2, "{what}: the frame is lit");
+        assert!(a.iter().any(|v| *v > 0.0), "{what}: nothing read back");
+        assert!(a == b, "{what}: the light sums or HDR colour differ");
+        assert_eq!(max_channel_difference(&ia, &ib), 0, "{what}");
+        assert_eq!(sa.ideal_fragments, sb.ideal_fragments, "{what}: the ideal count");
     }
 }
 

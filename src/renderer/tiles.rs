@@ -23,6 +23,19 @@ pub const PARALLEL_MIN_LIGHTS: usize = 1024;
 /// A list count meaning "every light" (the GPU's list buffer ran out of room for this tile):
 /// the tile is shaded with all lights, the right picture at a higher cost.
 pub const ALL_LIGHTS: u32 = u32::MAX;
+/// List entries one draw of the tiled or clustered shading pass walks per pixel: lists longer
+/// than this are walked in draws of this many entries each, added together (one instance per
+/// chunk, `SHADE_CHUNK` x the chunk onwards). lavapipe (gallivm) stops every loop of a shader
+/// invocation once they have run 65,535 iterations between them (`LP_MAX_TGSI_LOOP_ITERATIONS`,
+/// shared by all its loops), silently: a list of 70,000 lights lost the last 4,465. A chunk's
+/// two loops (every light, then the casters) run at most 2 x 32,000 iterations.
+pub const SHADE_CHUNK: u32 = 32_000;
+
+/// The draws (instances) of the shading pass for `lights` lights: lists hold at most every
+/// light, so `lights` / [`SHADE_CHUNK`] rounded up (at least one).
+pub fn shade_chunks(lights: usize) -> u32 {
+    (lights as u64).div_ceil(SHADE_CHUNK as u64).max(1) as u32
+}
 
 /// The list length the `tile-lights` view shows at the top of its colour map (longer lists
 /// saturate): generated into WGSL as `LS_TILE_HEAT_MAX`, and the viewer's legend reads it.

@@ -73,6 +73,7 @@ pub fn wgsl_constants() -> String {
     }
     u("HIST_BINS", super::post::HIST_BINS);
     u("NO_SHADOW", records::NO_SHADOW);
+    u("TILE_CHUNK", super::tiles::SHADE_CHUNK);
     for f in [
         super::shadows::ShadowFilter::Pcf2x2,
         super::shadows::ShadowFilter::Pcf3x3,
@@ -871,9 +872,14 @@ mod tests {
         assert!(!features("demo").cookies && !features("shadows").cookies);
         assert!(!ShaderFeatures::of(None, &st).cookies);
         // The stats name what is compiled in: `demo` under the default `spots` has the sun and
-        // narrow spots casting, no cube and no cookie.
-        assert_eq!(features("demo").names(), ["sun cascades", "spot tiles", "kernel pcf3x3", "casters apart"]);
+        // narrow spots casting, no cube and no cookie, and its 1,028 lights read from the light
+        // planes; a scene with cookies reads the storage buffer.
+        assert_eq!(
+            features("demo").names(),
+            ["sun cascades", "spot tiles", "kernel pcf3x3", "casters apart", "light planes"]
+        );
         assert!(features("cookies").names().iter().any(|n| n == "cookies"));
+        assert!(features("demo").light_planes && !features("cookies").light_planes);
         // The constant the shader's branches test follows the feature.
         let on = ShaderFeatures { cookies: true, ..ShaderFeatures::ALL };
         assert!(on.wgsl().contains("const LS_COOKIES: bool = true;"));

@@ -141,13 +141,13 @@ impl TiledPass {
             write_mask: wgpu::ColorWrites::ALL,
         };
         let debug = wgpu::ColorTargetState { format: DEBUG_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL };
-        let pipe = |label, fs, targets: &[Option<wgpu::ColorTargetState>]| {
+        let pipe = |label, vs, fs, targets: &[Option<wgpu::ColorTargetState>]| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {
                     module: &shared.module,
-                    entry_point: Some("vs_compose"),
+                    entry_point: Some(vs),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
@@ -167,9 +167,11 @@ impl TiledPass {
         // The light pre-pass has one light buffer (`Targets::accumulation`).
         let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
         let targets = [Some(accum), second];
-        let shade =
-            [pipe("tiled shade", "fs_tiled", &targets), pipe("tiled shade, counted", "fs_tiled_counted", &targets)];
-        let count_view = pipe("tile lights view", "fs_tile_count", &[Some(debug)]);
+        let shade = [
+            pipe("tiled shade", "vs_tiled", "fs_tiled", &targets),
+            pipe("tiled shade, counted", "vs_tiled", "fs_tiled_counted", &targets),
+        ];
+        let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug)]);
         Self { bgl, build, cluster, shade, count_view, state: Mutex::new((None, None)) }
     }
 
@@ -341,7 +343,8 @@ impl TiledPass {
             pass.set_bind_group(0, &f.frame.group, &[]);
             pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
             pass.set_bind_group(2, &b.group, &[]);
-            pass.draw(0..3, 0..1);
+            // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
+            pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));
         }
         if view {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -441,3 +441,31 @@ fn clustered_lists_past_one_binding_overflow_into_walking_every_light() {
     assert_eq!(off, 0, "{off} light sums differ by more than an fp16 step");
     assert!(lit_share(&cpu.image) > 0.5, "the frame is lit");
 }
+
+/// lavapipe ends a shader invocation's loops after 65,535 iterations between them, silently.
+/// The GPU's list build walks a light's span of clusters in one invocation: `inside` (the
+/// camera within a light) at 2560x1440 has a span of 80 x 45 tiles x 64 slices, and with the
+/// GPU's lists the frame shaded nothing. Such frames build their lists on the CPU
+/// (`tiles::GPU_LOOP_BUDGET`): the same picture as the CPU's lists, and the light there.
+#[test]
+fn a_light_too_wide_for_the_gpus_list_build_gets_the_cpus_lists() {
+    let scene = scene("inside");
+    let (w, h) = (2560, 1440);
+    let built = |b: ClusterBuilder| {
+        let s = Settings { cluster_build: b, count_ideal: false, ..settings(CullingMode::Clustered) };
+        render(&scene, &s, w, h)
+    };
+    let (cpu, asked_gpu) = (built(ClusterBuilder::Cpu), built(ClusterBuilder::Gpu));
+    assert!(asked_gpu.stats.shaded_fragments.unwrap_or(0) > 1_000_000, "{:?} pairs", asked_gpu.stats.shaded_fragments);
+    assert!(lit_share(&asked_gpu.image) > 0.5, "the frame is lit");
+    assert_eq!(max_channel_difference(&cpu.image, &asked_gpu.image), 0);
+    assert!(!asked_gpu.stats.lists_on_gpu, "the GPU built the lists");
+    // At the tests' usual size the GPU still builds them.
+    let small = render(
+        &scene,
+        &Settings { cluster_build: ClusterBuilder::Gpu, count_ideal: false, ..settings(CullingMode::Clustered) },
+        W,
+        H,
+    );
+    assert!(small.stats.lists_on_gpu);
+}

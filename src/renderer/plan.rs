@@ -678,7 +678,16 @@ impl FramePlan {
                 super::settings::ClusterBuilder::Cpu => {
                     ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
                 }
-                super::settings::ClusterBuilder::Gpu => ClusterBuild::Gpu(cluster_job(&records.lights, &lights, view)),
+                super::settings::ClusterBuilder::Gpu => {
+                    // A light the GPU could not assign within lavapipe's loop limit: the CPU
+                    // builds this frame's lists (the stats' `lists_on_gpu` says so).
+                    let job = cluster_job(&records.lights, &lights, view);
+                    if job.longest <= super::tiles::GPU_LOOP_BUDGET {
+                        ClusterBuild::Gpu(job)
+                    } else {
+                        ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
+                    }
+                }
             }
         });
         let (draws, light_lists, forward) =

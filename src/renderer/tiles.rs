@@ -394,6 +394,14 @@ impl Span {
         (self.x.1 - self.x.0 + 1) as u64 * (self.y.1 - self.y.0 + 1) as u64 * self.k.1.saturating_sub(self.k.0) as u64
     }
 
+    /// The most loop iterations the GPU's assignment (`cluster_assign` in `shaders/tiled.wgsl`)
+    /// can run for this span: per slice, one of the slice loop, two column scans, and the rows
+    /// with their columns.
+    pub fn gpu_loop_iterations(&self) -> u64 {
+        let (xs, ys) = ((self.x.1 - self.x.0 + 1) as u64, (self.y.1 - self.y.0 + 1) as u64);
+        self.k.1.saturating_sub(self.k.0) as u64 * (1 + 2 * xs + ys + ys * xs)
+    }
+
     /// As the GPU reads it: (x0 | x1 << 16, y0 | y1 << 16, k0 | k1 << 16, 0); no cell is
     /// (0, 0, 0, 0) (an empty slice range).
     pub fn packed(span: Option<Span>) -> [u32; 4] {
@@ -472,29 +480,42 @@ pub struct ClusterJob {
     pub grid: Option<ClusterGrid>,
     pub spans: Vec<[u32; 4]>,
     pub bound: u64,
+    /// The most loop iterations one light's assignment can take on the GPU
+    /// ([`Span::gpu_loop_iterations`]).
+    pub longest: u64,
 }
+
+/// The loop iterations a GPU list build may ask of one invocation: lavapipe ends a shader
+/// invocation's loops once they have run 65,535 iterations between them (gallivm's shared
+/// loop limiter, silently), so a light whose span takes more would be left out of the cells past
+/// it (`inside` at 2560x1440 shaded nothing). Frames with such a light build their lists on the
+/// CPU (`plan::FramePlan::new`).
+pub const GPU_LOOP_BUDGET: u64 = 65_000;
 
 /// The spans of every light (two threads from [`PARALLEL_MIN_LIGHTS`]).
 pub fn cluster_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterJob {
     let grid = fitted_grid(lights, plans, view);
     let spans = |range: std::ops::Range<usize>| {
-        let mut bound = 0u64;
+        let (mut bound, mut longest) = (0u64, 0u64);
         let spans: Vec<[u32; 4]> = lights[range.clone()]
             .iter()
             .zip(&plans[range])
             .map(|(l, p)| {
                 let s = Span::of(l, p, &grid, view.size);
-                bound += s.map_or(0, |s| s.cells());
+                if let Some(s) = s {
+                    bound += s.cells();
+                    longest = longest.max(s.gpu_loop_iterations());
+                }
                 Span::packed(s)
             })
             .collect();
-        (spans, bound)
+        (spans, bound, longest)
     };
     let half = lights.len() / 2;
-    let ((mut spans_a, bound_a), (spans_b, bound_b)) =
+    let ((mut spans_a, bound_a, longest_a), (spans_b, bound_b, longest_b)) =
         both(lights.len() >= PARALLEL_MIN_LIGHTS, || spans(0..half), || spans(half..lights.len()));
     spans_a.extend(spans_b);
-    ClusterJob { grid: Some(grid), spans: spans_a, bound: bound_a + bound_b }
+    ClusterJob { grid: Some(grid), spans: spans_a, bound: bound_a + bound_b, longest: longest_a.max(longest_b) }
 }
 
 /// Who builds the clustered lists: the CPU ([`cluster_lists`]) or the GPU from each light's

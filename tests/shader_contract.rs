@@ -1,7 +1,7 @@
 //! One contract between Rust and WGSL: the final shader source (generated constants, bindings
 //! and G-buffer layout, then the WGSL files), parsed with naga, must declare every record with
 //! the members, offsets and size of its Rust twin, every binding the Rust tables list, and no
-//! uniform buffer.
+//! uniform buffer but the light planes, which are read only at an index computed at run time.
 
 use lampshade::renderer::bindings::{Kind, GROUPS};
 use lampshade::renderer::passes::shader_source;

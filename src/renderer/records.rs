@@ -529,8 +529,10 @@ pub struct FrameLists<'a> {
 /// Stride of the compose-parameter slots (the dynamic-offset alignment).
 pub const COMPOSE_SLOT: u64 = 256;
 
-/// The frame's storage buffers (group 0) and the compose parameters. No uniform buffers: see
-/// `shaders/common.wgsl` (Mesa 22.3's lavapipe recompiles shaders whose branches read one).
+/// The frame's storage buffers (group 0), the light planes and the compose parameters. The
+/// light planes are the only uniform buffers: Mesa 22.3's lavapipe recompiles shaders whose
+/// branches read a uniform at a constant offset, and the planes are only read at a light's
+/// index (`bindings.rs`, `tests/shader_contract.rs`).
 pub struct FrameBuffers {
     pub camera: wgpu::Buffer,
     pub lights: wgpu::Buffer,

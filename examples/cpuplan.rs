@@ -238,7 +238,7 @@ fn main() {
                 add("clamps and shadow tiles into the records", c.ms());
                 let c = Clock::start();
                 std::hint::black_box(FramePlan::new(scene, &mut records, &bounds, &volumes, &view));
-                add("FramePlan::new (all of it, two threads)", c.ms());
+                add("FramePlan::new (all of it)", c.ms());
             }
             for (name, v) in steps {
                 println!("  {name}: {:.3} ms", median(v));

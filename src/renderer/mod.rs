@@ -110,6 +110,9 @@ pub struct Renderer {
     targets: Option<Targets>,
     queries: stats::Queries,
     last: LastFrame,
+    /// The allocations of the frame before last's light records and plans, for this frame's
+    /// (`FrameRecords::reusing`, `FramePlan::reusing`).
+    spare: (Vec<LightRecord>, Vec<plan::LightPlan>),
     /// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded).
     /// Keyed by the file's modification time too, so an edited file is read again.
     lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
@@ -166,6 +169,7 @@ impl Renderer {
             scene: None,
             targets: None,
             last: LastFrame::default(),
+            spare: Default::default(),
             lut: None,
             device,
         })
@@ -349,7 +353,8 @@ impl Renderer {
         // The CPU's part: the records the shaders read, then the culling plan.
         let whole = cputime::Clock::start();
         let clock = cputime::Clock::start();
-        let mut records = FrameRecords::new(scene, settings, size, self.passes.key().accum_format);
+        let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
+        let mut records = FrameRecords::reusing(scene, settings, size, self.passes.key().accum_format, spare_lights);
         let records_ms = clock.ms();
         let view = PlanView {
             proj: records.proj.as_mat4(),
@@ -366,7 +371,7 @@ impl Renderer {
             cluster_build: settings.cluster_build,
         };
         let clock = cputime::Clock::start();
-        let mut plan = FramePlan::new(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view);
+        let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
         // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
         let path_lists = if forward_path {
             plan::forward_path_lists(
@@ -604,15 +609,20 @@ impl Renderer {
                 t.read(&self.device, &mut stats, plan.tiled)?;
             }
         }
-        self.last = LastFrame {
-            inv_proj: records.proj.inverse(),
-            view_rotation: scene.camera.rotation(),
-            lights: records.lights,
-            ambient_clamp: records.camera.light_clamp,
-            plan,
-            shadows: shadow_plan,
-            path: settings.path,
-        };
+        let before = std::mem::replace(
+            &mut self.last,
+            LastFrame {
+                inv_proj: records.proj.inverse(),
+                view_rotation: scene.camera.rotation(),
+                lights: records.lights,
+                ambient_clamp: records.camera.light_clamp,
+                plan,
+                shadows: shadow_plan,
+                path: settings.path,
+            },
+        );
+        // Kept for the next frame's records and plans (see `FrameRecords::reusing`).
+        self.spare = (before.lights, before.plan.lights);
         Ok(stats)
     }
 

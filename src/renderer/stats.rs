@@ -218,7 +218,8 @@ pub struct GpuMs {
 /// thread clock exists): building the records (`FrameRecords::new`), planning the lights and
 /// draws (`FramePlan::new`) and writing the frame's buffers (`FrameBuffers::upload` and the
 /// clustered lists, the `write_buffer` calls only). `plan` includes the fp16 clamps and, for
-/// `clustered`, the cluster lists; from 1,024 lights its per-light parts run on two threads.
+/// `clustered`, the cluster lists (built on the CPU, they run on two threads from 1,024 lights;
+/// the rest runs on the rendering thread).
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct CpuMs {

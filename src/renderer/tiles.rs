@@ -17,8 +17,8 @@ pub const CLUSTER_TILE: u32 = 32;
 /// Exponential depth slices between the nearest and the farthest depth the frame's lights
 /// reach (`clustered`).
 pub const SLICES: u32 = 64;
-/// From this many lights the CPU's per-light work (plans, cluster lists) is split over two
-/// threads; below it a thread costs more than it saves.
+/// From this many lights the CPU's cluster lists (`cluster_lists`, the CPU builder) are split
+/// over two threads; below it a thread costs more than it saves.
 pub const PARALLEL_MIN_LIGHTS: usize = 1024;
 /// A list count meaning "every light" (the GPU's list buffer ran out of room for this tile):
 /// the tile is shaded with all lights, the right picture at a higher cost.
@@ -492,30 +492,23 @@ pub struct ClusterJob {
 /// CPU (`plan::FramePlan::new`).
 pub const GPU_LOOP_BUDGET: u64 = 65_000;
 
-/// The spans of every light (two threads from [`PARALLEL_MIN_LIGHTS`]).
+/// The spans of every light (on one thread, as `plan::FramePlan::reusing` plans the lights).
 pub fn cluster_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterJob {
     let grid = fitted_grid(lights, plans, view);
-    let spans = |range: std::ops::Range<usize>| {
-        let (mut bound, mut longest) = (0u64, 0u64);
-        let spans: Vec<[u32; 4]> = lights[range.clone()]
-            .iter()
-            .zip(&plans[range])
-            .map(|(l, p)| {
-                let s = Span::of(l, p, &grid, view.size);
-                if let Some(s) = s {
-                    bound += s.cells();
-                    longest = longest.max(s.gpu_loop_iterations());
-                }
-                Span::packed(s)
-            })
-            .collect();
-        (spans, bound, longest)
-    };
-    let half = lights.len() / 2;
-    let ((mut spans_a, bound_a, longest_a), (spans_b, bound_b, longest_b)) =
-        both(lights.len() >= PARALLEL_MIN_LIGHTS, || spans(0..half), || spans(half..lights.len()));
-    spans_a.extend(spans_b);
-    ClusterJob { grid: Some(grid), spans: spans_a, bound: bound_a + bound_b, longest: longest_a.max(longest_b) }
+    let (mut bound, mut longest) = (0u64, 0u64);
+    let spans: Vec<[u32; 4]> = lights
+        .iter()
+        .zip(plans)
+        .map(|(l, p)| {
+            let s = Span::of(l, p, &grid, view.size);
+            if let Some(s) = s {
+                bound += s.cells();
+                longest = longest.max(s.gpu_loop_iterations());
+            }
+            Span::packed(s)
+        })
+        .collect();
+    ClusterJob { grid: Some(grid), spans, bound, longest }
 }
 
 /// Who builds the clustered lists: the CPU ([`cluster_lists`]) or the GPU from each light's

@@ -10,25 +10,30 @@ pub fn resident_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
-/// The leak rate a soak run fails at, in bytes a frame: half of 4 KiB a frame, the slowest
-/// leak the viewer's soak is meant to catch (1 MiB per 250 frames; the leak this judge was
-/// written for added about 0.6 MB a frame).
+/// The slope a soak run fails at, in bytes a frame, once its largest rises are taken out
+/// ([`judge_soak`]). What leak that catches depends on how much the run wanders: from about
+/// 2.3 KiB a frame on a quiet run (this session's, alone) to 5 KiB a frame under the largest
+/// recorded wander (session 27's suite run: down 7 MiB and up again in 1,000 frames); the leak
+/// this judge was written for added about 0.6 MB a frame.
 pub const LEAK_BYTES_PER_FRAME: f64 = 2048.0;
+/// One-off rises the judge forgives: llvmpipe compiles a shader variant the first time a
+/// pipeline state is drawn (measured: a +7 MiB and a +3 MiB step in one CI run of the viewer's
+/// soak, at frames 2,500 and 3,000), and the camera reaches new states late in a run.
+pub const MAX_STEPS: usize = 2;
 /// Most the resident set may grow in all after the warm-up, steps included.
 pub const MAX_TOTAL_GROWTH: f64 = 0.10;
-/// Fewest samples each half of a run's judged part needs (the robust slope of fewer says
-/// little).
-pub const MIN_HALF_SAMPLES: usize = 4;
+/// Fewest samples after the warm-up that can tell a leak.
+pub const MIN_SAMPLES: usize = 8;
 
 /// The Theil-Sen slope of `samples` `(frame, bytes)`: the median of the slopes between every
-/// pair of samples, in bytes a frame. Unlike a least-squares line, one high or low sample, or a
-/// step near either end, moves it little (it ignores up to 29% of the pairs' slopes).
-pub fn robust_slope(samples: &[(u64, u64)]) -> f64 {
+/// pair of samples, in bytes a frame. Unlike a least-squares line, a few high or low samples
+/// move it little (it stands up to about 29% of the samples being off).
+pub fn robust_slope(samples: &[(u64, f64)]) -> f64 {
     let mut slopes: Vec<f64> = Vec::new();
     for (i, a) in samples.iter().enumerate() {
         for b in &samples[i + 1..] {
             if b.0 != a.0 {
-                slopes.push((b.1 as f64 - a.1 as f64) / (b.0 as f64 - a.0 as f64));
+                slopes.push((b.1 - a.1) / (b.0 as f64 - a.0 as f64));
             }
         }
     }
@@ -40,42 +45,56 @@ pub fn robust_slope(samples: &[(u64, u64)]) -> f64 {
     }
 }
 
+/// `samples` with their [`MAX_STEPS`] largest rises from one sample to the next taken out:
+/// every later sample is lowered by them (a one-off step leaves a flat run flat).
+pub fn without_steps(samples: &[(u64, u64)]) -> Vec<(u64, f64)> {
+    let rises: Vec<f64> = samples.windows(2).map(|w| w[1].1 as f64 - w[0].1 as f64).collect();
+    let mut order: Vec<usize> = (0..rises.len()).filter(|&i| rises[i] > 0.0).collect();
+    order.sort_by(|&a, &b| rises[b].total_cmp(&rises[a]));
+    let mut steps = vec![0.0; rises.len()];
+    for &i in order.iter().take(MAX_STEPS) {
+        steps[i] = rises[i];
+    }
+    let mut lowered = 0.0;
+    let mut out = Vec::with_capacity(samples.len());
+    for (k, &(frame, bytes)) in samples.iter().enumerate() {
+        if k > 0 {
+            lowered += steps[k - 1];
+        }
+        out.push((frame, bytes as f64 - lowered));
+    }
+    out
+}
+
 /// Judges a soak run's resident-memory samples `(frame, bytes)`, taken at regular intervals,
-/// from the first sample at or after `warmup` on. The scripts repeat their actions with a period
-/// no longer than half of what follows the warm-up, and the warm-up runs one period first, so
-/// a leak tied to any action adds memory in both halves of the judged part. Memory that comes
-/// and goes does not: resident memory under the full suite's load wanders by a few MiB around a
-/// level (the viewer's soak went 308, 308, 309, 307, 303, 306, 306, 309 MiB from frame 1,250 in
-/// one run, and rose from 297 to 301 in the last 750 frames of another, while a run of 9,000
-/// frames alone held 298-300 MiB from frame 500 on), and llvmpipe compiling a shader variant the
-/// first time a pipeline state is drawn adds a one-off step (+7 MiB once, measured at frame 2,500
-/// or 3,500). So the run fails when the robust slope ([`robust_slope`]) of *each* half exceeds
-/// [`LEAK_BYTES_PER_FRAME`] (a wander or a step lifts one half at most), or when the total
-/// growth reaches [`MAX_TOTAL_GROWTH`] (a big one-off step). A leak that started only in the
-/// second half, or one slower than the bound, can pass. Returns the failure in words.
+/// from the first sample at or after `warmup` on. A leak adds memory in every stretch of the
+/// run; what is not a leak comes in a few rises or wanders around a level: under the full
+/// suite's load the viewer's soak went 308, 308, 309, 307, 303, 306, 306, 309 MiB from frame
+/// 1,250 in one run (every 250 frames) and rose from 297 to 301 in the last 750 frames of
+/// another, while a run of 9,000 frames alone held 298-300 MiB from frame 500 on. So the
+/// [`MAX_STEPS`] largest rises between samples are taken out ([`without_steps`]) and the run
+/// fails when the robust slope ([`robust_slope`]) of what is left exceeds
+/// [`LEAK_BYTES_PER_FRAME`], or when the total growth, steps included, reaches
+/// [`MAX_TOTAL_GROWTH`]. With samples 50 frames apart, a leak of 5 KiB a frame fails on every
+/// recorded background, steady or in a step at every layout switch (every 200 frames); on a
+/// quiet run one of 2.3 KiB a frame does (`tests`). Returns the failure in words.
 pub fn judge_soak(samples: &[(u64, u64)], warmup: u64) -> Result<(), String> {
     let after: Vec<(u64, u64)> = samples.iter().copied().filter(|(f, _)| *f >= warmup).collect();
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
     let (Some(first), Some(last)) = (after.first(), after.last()) else {
         return Err(format!("no samples after frame {warmup}: {mib:?} MiB"));
     };
-    // The halves share their middle sample.
-    let mid = after.len() / 2;
-    let (a, b) = (&after[..=mid.min(after.len() - 1)], &after[mid..]);
-    if a.len() < MIN_HALF_SAMPLES || b.len() < MIN_HALF_SAMPLES {
+    if after.len() < MIN_SAMPLES {
         return Err(format!("{} samples after frame {warmup} are too few to tell a leak: {mib:?} MiB", after.len()));
     }
-    let (sa, sb) = (robust_slope(a), robust_slope(b));
-    if sa > LEAK_BYTES_PER_FRAME && sb > LEAK_BYTES_PER_FRAME {
+    let slope = robust_slope(&without_steps(&after));
+    if slope > LEAK_BYTES_PER_FRAME {
         return Err(format!(
-            "resident memory grew in both halves of the run after frame {warmup}: {:.1} KiB a frame from frame {} \
-             to {}, {:.1} KiB a frame from {} to {} (a leak: more than {:.1} KiB a frame in each; {mib:?} MiB)",
-            sa / 1024.0,
-            a[0].0,
-            a[a.len() - 1].0,
-            sb / 1024.0,
-            b[0].0,
-            b[b.len() - 1].0,
+            "resident memory grew by {:.1} KiB a frame from frame {} to {} with its {MAX_STEPS} largest rises \
+             taken out (a leak: more than {:.1} KiB a frame; {mib:?} MiB)",
+            slope / 1024.0,
+            first.0,
+            last.0,
             LEAK_BYTES_PER_FRAME / 1024.0
         ));
     }
@@ -104,48 +123,101 @@ mod tests {
         every(250, &mib.iter().map(|&m| m as f64).collect::<Vec<_>>())
     }
 
-    /// A wander of a few MiB that repeats (period 7 samples), as under the suite's load.
-    fn wander(i: usize) -> f64 {
-        [0.0, 1.6, -0.8, 2.4, -2.2, 0.9, -1.5][i % 7]
+    /// A 250-frame series at 50 frames a sample, straight between the samples.
+    fn fifty(mib: &[u64]) -> Vec<f64> {
+        let mut out = Vec::new();
+        for (i, w) in mib.windows(2).enumerate() {
+            for k in 0..5 {
+                out.push(w[0] as f64 + (w[1] as f64 - w[0] as f64) * k as f64 / 5.0);
+            }
+            if i + 2 == mib.len() {
+                out.push(w[1] as f64);
+            }
+        }
+        out
+    }
+
+    /// The viewer's soak in debug, every 50 frames (this session, alone: 308-310 MiB from frame
+    /// 450 on).
+    const MEASURED: [u64; 60] = [
+        194, 194, 194, 194, 251, 251, 251, 251, 309, 309, 308, 308, 308, 308, 308, 308, 309, 309, 309, 309, 308, 308,
+        308, 310, 308, 309, 308, 308, 309, 309, 309, 309, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310,
+        310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310,
+    ];
+
+    /// Session 27's suite run, every 250 frames: down and up by a few MiB around a level.
+    const SWING: [u64; 12] = [241, 303, 303, 307, 308, 308, 310, 307, 303, 306, 306, 309];
+
+    /// The swing every 50 frames with the measured run's sample-to-sample jitter (its
+    /// departures from 309 MiB) on top.
+    fn jittered() -> Vec<f64> {
+        fifty(&SWING).iter().zip(MEASURED.iter().skip(4)).map(|(s, &m)| s + m as f64 - 309.0).collect()
+    }
+
+    fn leaky(base: &[f64], kib_a_frame: f64) -> Vec<(u64, u64)> {
+        every(50, &base.iter().enumerate().map(|(i, m)| m + i as f64 * 50.0 * kib_a_frame / 1024.0).collect::<Vec<_>>())
     }
 
     #[test]
     fn the_robust_slope_ignores_one_outlier_and_follows_a_line() {
-        let line = every(50, &(0..20).map(|i| 300.0 + i as f64 * 0.25).collect::<Vec<_>>());
-        assert!((robust_slope(&line) - 0.25 * 1048576.0 / 50.0).abs() < 1.0);
+        let line: Vec<(u64, f64)> = (0..20).map(|i| (50 * i, 300.0 + i as f64 * 0.25)).collect();
+        assert!((robust_slope(&line) - 0.25 / 50.0).abs() < 1e-9);
         let mut spiked = line.clone();
-        spiked[0].1 += 20 << 20;
+        spiked[0].1 += 20.0;
         assert!((robust_slope(&spiked) - robust_slope(&line)).abs() < 0.05 * robust_slope(&line));
-        assert_eq!(robust_slope(&every(50, &[300.0; 10])), 0.0);
+        assert_eq!(robust_slope(&[(0, 3.0), (50, 3.0), (100, 3.0)]), 0.0);
+    }
+
+    #[test]
+    fn the_largest_rises_are_taken_out_and_the_rest_kept() {
+        let s = every(50, &[10.0, 17.0, 17.0, 18.0, 21.0, 21.0]);
+        let flat: Vec<f64> = without_steps(&s).iter().map(|&(_, b)| b / 1048576.0).collect();
+        // +7 and +3 taken out, +1 kept.
+        assert_eq!(flat, [10.0, 10.0, 10.0, 11.0, 11.0, 11.0]);
     }
 
     #[test]
     fn one_off_steps_and_wandering_pass_and_leaks_fail() {
-        // The viewer soak as CI measured it (a +7 MiB and a +3 MiB step, flat otherwise): passes.
-        let ci = series(&[175, 201, 201, 203, 204, 204, 204, 203, 203, 210, 210, 213]);
-        assert_eq!(judge_soak(&ci, 1250), Ok(()));
-        // Session 27's suite run (down and up by a few MiB around a level): passes.
-        let swing = series(&[241, 303, 303, 307, 308, 308, 310, 307, 303, 306, 306, 309]);
-        assert_eq!(judge_soak(&swing, 1250), Ok(()));
-        // Session 28's suite run, which the rule before this one failed (a rise of 4 MiB in the
-        // last 750 frames, flat before it): passes.
-        let late = series(&[241, 298, 298, 303, 297, 297, 298, 298, 297, 299, 301, 301]);
-        assert_eq!(judge_soak(&late, 1250), Ok(()));
-        // Every 50 frames, the wander alone, and with a +7 MiB step at frame 2,500: pass.
-        let flat: Vec<f64> = (0..60).map(|i| 300.0 + wander(i)).collect();
-        assert_eq!(judge_soak(&every(50, &flat), 1250), Ok(()));
-        let step: Vec<f64> = (0..60).map(|i| 300.0 + wander(i) + if i >= 49 { 7.0 } else { 0.0 }).collect();
-        assert_eq!(judge_soak(&every(50, &step), 1250), Ok(()));
+        // Recorded runs pass: the viewer soak as CI measured it (a +7 MiB and a +3 MiB step),
+        // session 27's swing, session 28's late rise (the rule before this one failed it), and
+        // this session's run every 50 frames.
+        assert_eq!(judge_soak(&series(&[175, 201, 201, 203, 204, 204, 204, 203, 203, 210, 210, 213]), 1250), Ok(()));
+        assert_eq!(judge_soak(&series(&SWING), 1250), Ok(()));
+        assert_eq!(judge_soak(&series(&[241, 298, 298, 303, 297, 297, 298, 298, 297, 299, 301, 301]), 1250), Ok(()));
+        let measured: Vec<f64> = MEASURED.iter().map(|&m| m as f64).collect();
+        assert_eq!(judge_soak(&every(50, &measured), 1250), Ok(()));
+        // Every 50 frames: the swing, the swing with the measured jitter, and that with two
+        // steps in different halves of the run (+7 MiB at frame 2,000, +3 MiB at 2,600) pass.
+        let swing = fifty(&SWING);
+        assert_eq!(judge_soak(&every(50, &swing), 1250), Ok(()));
+        let jitter = jittered();
+        assert_eq!(judge_soak(&every(50, &jitter), 1250), Ok(()));
+        let steps: Vec<f64> = jitter
+            .iter()
+            .enumerate()
+            .map(|(i, m)| m + if i >= 39 { 7.0 } else { 0.0 } + if i >= 51 { 3.0 } else { 0.0 })
+            .collect();
+        assert_eq!(judge_soak(&every(50, &steps), 1250), Ok(()));
 
+        // A leak of 5 KiB a frame fails on each of those backgrounds, under the total bound
+        // (+8.5 MiB), steady or as 1,000 KiB at every layout switch (every 200 frames); on the
+        // quiet measured run, 2.5 KiB a frame does. (Measured floors of this rule: 2.25 KiB a
+        // frame on the measured run, 4.5 on the jittered swing, 5 on the swing.)
+        let backgrounds = [("measured", &measured), ("swing", &swing), ("jitter", &jitter), ("steps", &steps)];
+        for (name, base) in backgrounds {
+            let e = judge_soak(&leaky(base, 5.0), 1250);
+            assert!(e.as_ref().is_err_and(|e| e.contains("a leak")), "{name}: {e:?}");
+            let stairs: Vec<f64> =
+                base.iter().enumerate().map(|(i, m)| m + ((i + 1) * 50 / 200) as f64 * 1000.0 / 1024.0).collect();
+            let e = judge_soak(&every(50, &stairs), 1250);
+            assert!(e.as_ref().is_err_and(|e| e.contains("a leak")), "{name} in steps: {e:?}");
+        }
+        let e = judge_soak(&leaky(&measured, 2.5), 1250);
+        assert!(e.as_ref().is_err_and(|e| e.contains("a leak")), "{e:?}");
         // The uniform-buffer leak as measured before its fix (1,241 MiB to 12,099 MiB by frame
-        // 3,000): fails.
+        // 3,000) fails.
         let leak: Vec<u64> = (0..12).map(|i| 1241 + i * (12099 - 1241) / 11).collect();
         assert!(judge_soak(&series(&leak), 1250).unwrap_err().contains("a leak"));
-        // A leak of 4 KiB a frame (the slowest the soak is meant to catch, 0.2 MiB per 50 frames)
-        // under the same wander, sampled every 50 frames: fails, though it stays under the total
-        // bound (+7 MiB).
-        let slow: Vec<f64> = (0..60).map(|i| 300.0 + wander(i) + i as f64 * 0.2).collect();
-        assert!(judge_soak(&every(50, &slow), 1250).unwrap_err().contains("a leak"), "{slow:?}");
         // A leak of 1.5 MiB per 250 frames that starts after an early high (in KiB-exact bytes).
         let kib = |k: &[u64]| k.iter().enumerate().map(|(i, k)| (250 * (i as u64 + 1), k << 10)).collect::<Vec<_>>();
         let hidden = kib(&[
@@ -163,15 +235,19 @@ mod tests {
             319488,
         ]);
         assert!(judge_soak(&hidden, 1250).unwrap_err().contains("a leak"), "leak after a high");
-        // A sawtooth whose every peak is higher: fails.
-        let saw = series(&[200, 200, 200, 200, 200, 203, 201, 205, 203, 207, 205, 209]);
-        assert!(judge_soak(&saw, 1250).unwrap_err().contains("a leak"), "sawtooth");
-        // Steps of 5 MiB in both halves: a leak of 2 MiB per 250 frames by another name.
+        // A sawtooth whose every peak is higher fails: every 250 frames up 4 MiB, then down 2
+        // (8 KiB a frame over the run), every 50 frames.
+        let saw: Vec<f64> = (0..60).map(|i| 200.0 + (i / 5) as f64 * 2.0 + [0.0, 4.0, 4.0, 2.0, 2.0][i % 5]).collect();
+        assert!(judge_soak(&every(50, &saw), 1250).unwrap_err().contains("a leak"), "sawtooth");
+        // Three steps of 5 MiB in 1,750 frames are one more than forgiven.
         assert!(judge_soak(&series(&[200, 200, 200, 200, 200, 205, 205, 210, 210, 215, 215, 215]), 1250).is_err());
         // One big step fails on the total.
         assert!(judge_soak(&series(&[200, 200, 200, 200, 200, 240, 240, 240, 240, 240, 240, 240]), 1250)
             .unwrap_err()
             .contains("grew by 20.0%"));
-        assert!(judge_soak(&series(&[200, 200, 200, 200, 200, 200]), 1250).is_err(), "too few samples");
+        // Seven samples after the warm-up are too few; eight will do.
+        let seven = every(50, &[300.0; 31]);
+        assert!(judge_soak(&seven, 1250).unwrap_err().contains("too few"));
+        assert_eq!(judge_soak(&every(50, &[300.0; 32]), 1250), Ok(()));
     }
 }

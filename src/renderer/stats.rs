@@ -215,8 +215,8 @@ pub struct GpuMs {
 
 /// CPU time of the frame's preparation, in milliseconds, over all the threads that did it
 /// (`cputime`: the calling thread's CPU clock plus its helper threads'; wall clock where no
-/// thread clock exists): building the records (`FrameRecords::new`), planning the lights and
-/// draws (`FramePlan::new`) and writing the frame's buffers (`FrameBuffers::upload` and the
+/// thread clock exists): building the records (`FrameRecords::reusing`), planning the lights and
+/// draws (`FramePlan::reusing`) and writing the frame's buffers (`FrameBuffers::upload` and the
 /// clustered lists, the `write_buffer` calls only). `plan` includes the fp16 clamps and, for
 /// `clustered`, the cluster lists (built on the CPU, they run on two threads from 1,024 lights;
 /// the rest runs on the rendering thread).

@@ -54,15 +54,20 @@ fn fs_tonemap(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 // The `shadow` view's factor: the least of the sun's (where it faces the sun) and of every
-// casting light's that reaches the point and faces it; 1 where none casts.
+// casting light's that reaches the point and faces it; 1 where none casts. It walks the casters
+// (shadows::ShadowPlan::casters, four light indices a texel from row counts.z of the table), not
+// every light: lavapipe ends an invocation's loops after 65,535 iterations, which a walk over
+// every light of a larger scene would pass.
 fn shadow_view_factor(s: Surface) -> f32 {
     let shadow_params = shadow_params_load();
     var f = 1.0;
     if camera.sun_dir.w > 0.5 && dot(s.normal, camera.sun_dir.xyz) > 0.0 {
         f = ls_sun_shadow(s.position, s.normal);
     }
-    for (var i = 0u; i < shadow_params.counts.x; i++) {
-        let l = light_at(i);
+    let per_row = 4u * LS_SHADOW_TABLE_WIDTH;
+    for (var k = 0u; k < shadow_params.counts.y; k++) {
+        let at = vec2<i32>(i32((k % per_row) / 4u), i32(shadow_params.counts.z + k / per_row));
+        let l = light_at(textureLoad(shadow_table, at, 0)[k % 4u]);
         if l.shadow.x != LS_NO_SHADOW && inside_light(s, l) && dot(s.normal, l.position - s.position) > 0.0 {
             f = min(f, ls_shadow(l, s.position, s.normal));
         }

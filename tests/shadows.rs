@@ -842,3 +842,48 @@ fn the_atlas_panel_lists_only_tiles_that_are_in_the_atlas() {
         }
     }
 }
+
+/// The `shadow` view walks the casting lights, not every light: with 66,000 lights that reach
+/// nothing and cast nothing put before the `shadows` scene's own (so its casters' indices pass
+/// 65,535, after which lavapipe ends an invocation's loops), the view is the scene's own pixel
+/// for pixel, with both cube layouts. Walking every light, it left the casters past the limit
+/// out.
+#[test]
+fn the_shadow_view_shows_casters_past_the_loop_limit() {
+    use lampshade::renderer::DebugView;
+    use lampshade::scene::PointLight;
+    let gpu = gpu();
+    let (w, h) = (160, 90);
+    let base = scene("shadows");
+    let mut crowded = base.clone();
+    let idle = Light::Point(PointLight {
+        position: DVec3::new(0.0, -1.0e4, 0.0),
+        color: Vec3::ONE,
+        intensity: 0.0,
+        radius: 0.01,
+        cookie: None,
+        mask: lampshade::scene::ALL_LAYERS,
+        cast_shadows: false,
+    });
+    crowded.lights = std::iter::repeat_n(idle, 66_000).chain(base.lights.iter().cloned()).collect();
+    for cube in CUBES {
+        let s = Settings {
+            shadows: ShadowMode::All,
+            shadow_cube: cube,
+            debug_view: DebugView::Shadow,
+            count_fragments: false,
+            ..Settings::default()
+        };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
+        let (own, _) = render_image(gpu, &mut r, &base, &s, w, h).expect("render");
+        let casters = r.shadow_plan().casters.clone();
+        assert!(casters.len() >= 2, "{cube:?}: {} casters", casters.len());
+        // The view shows shadow somewhere (not all lit).
+        let dark = own.pixels().filter(|p| p[0] < 128).count();
+        assert!(dark > 50, "{cube:?}: {dark} shadowed pixels in the shadow view");
+        let (many, _) = render_image(gpu, &mut r, &crowded, &s, w, h).expect("render");
+        assert_eq!(r.shadow_plan().casters, casters.iter().map(|c| c + 66_000).collect::<Vec<_>>(), "{cube:?}");
+        let diff = max_channel_difference(&own, &many);
+        assert_eq!(diff, 0, "{cube:?}: the shadow view changed by {diff} with the casters past index 65,535");
+    }
+}

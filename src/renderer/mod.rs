@@ -419,7 +419,7 @@ impl Renderer {
         }
         let bgl = &self.passes.shared.frame_bgl;
         let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
-        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params);
+        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params, &shadow_plan.casters);
         self.frame.ensure_shadow_cubes(&self.device, bgl, shadow_plan.cube_side, shadow_plan.cube_layers);
         let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
         let n = plan.lights.len();

@@ -202,7 +202,9 @@ gpu_record! {
         pub splits: [f32; 4],
         /// Constant bias, slope bias, normal offset (texels), 1 / atlas side.
         pub bias: [f32; 4],
-        /// The frame's light count (the `shadow` debug view walks them), 0, 0, 0.
+        /// The frame's light count; the casting lights' count and the table row their indices
+        /// start at (after the tiles, [`SHADOW_TABLE_WIDTH`] x 4 a row: the `shadow` debug view
+        /// walks them); 0.
         pub counts: [u32; 4],
     }
 }
@@ -808,7 +810,9 @@ impl FrameBuffers {
     }
 
     /// Reallocates the shadow atlas at `side` texels square when it has another size, and
-    /// writes the frame's shadow tiles and parameters.
+    /// writes the frame's shadow parameters, tiles and casters (their light indices, four a
+    /// texel, after the tiles: `ShadowParams::counts`).
+    #[allow(clippy::too_many_arguments)]
     pub fn upload_shadows(
         &mut self,
         device: &wgpu::Device,
@@ -817,13 +821,16 @@ impl FrameBuffers {
         side: u32,
         tiles: &[ShadowTile],
         params: &ShadowParams,
+        casters: &[u32],
     ) {
         let mut rebind = false;
         if self.shadow_atlas.width() != side {
             (self.shadow_atlas, self.shadow_view) = shadow_atlas(device, side.max(1));
             rebind = true;
         }
-        let rows = tiles.len() as u32 + 1;
+        let per_row = 4 * SHADOW_TABLE_WIDTH as usize;
+        debug_assert_eq!(params.counts[2] as usize, tiles.len() + 1);
+        let rows = (tiles.len() + 1 + casters.len().div_ceil(per_row)) as u32;
         if self.shadow_table.height() < rows {
             (self.shadow_table, self.shadow_table_view) = shadow_table(device, rows.next_power_of_two());
             rebind = true;
@@ -831,7 +838,9 @@ impl FrameBuffers {
         let row = 16 * SHADOW_TABLE_WIDTH as usize;
         let mut bytes = vec![0u8; row * rows as usize];
         bytes[..std::mem::size_of::<ShadowParams>()].copy_from_slice(bytemuck::bytes_of(params));
-        bytes[row..].copy_from_slice(bytemuck::cast_slice(tiles));
+        let tiles_end = row * (tiles.len() + 1);
+        bytes[row..tiles_end].copy_from_slice(bytemuck::cast_slice(tiles));
+        bytes[tiles_end..tiles_end + 4 * casters.len()].copy_from_slice(bytemuck::cast_slice(casters));
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.shadow_table,

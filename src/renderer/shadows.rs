@@ -247,6 +247,9 @@ pub struct ShadowPlan {
     /// The cube array's face side and layers (`--shadow-cube array`; 0 when no cube casts).
     pub cube_side: u32,
     pub cube_layers: u32,
+    /// The casting lights' indices in light order: what the `shadow` view walks (uploaded after
+    /// the tiles, `ShadowParams::counts`).
+    pub casters: Vec<u32>,
 }
 
 impl Default for ShadowParams {
@@ -458,11 +461,10 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     };
     out.params.bias = [st.shadow_bias, st.shadow_slope_bias, st.shadow_normal_offset, 1.0 / side as f32];
     out.params.sun = [NO_SHADOW, 0, st.shadow_filter as u32, scene.objects.len() as u32];
-    out.params.counts = [scene.lights.len() as u32, 0, 0, 0];
     if st.shadows == ShadowMode::None {
         // No atlas is kept (a 1-texel stand-in is bound).
         out.side = 1;
-        return out;
+        return with_casters(out);
     }
     let cam = &scene.camera;
     let rot = cam.rotation();
@@ -650,6 +652,14 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
         }
         out.stats.tiles = out.tiles.len() as u32;
     }
+    with_casters(out)
+}
+
+/// `plan`'s caster list and the counts the `shadow` view reads: (lights, casters, the table row
+/// the casters start at: after the parameters' row and the tiles', 0).
+fn with_casters(mut out: ShadowPlan) -> ShadowPlan {
+    out.casters = (0..out.lights.len() as u32).filter(|&i| out.lights[i as usize].0 != NO_SHADOW).collect();
+    out.params.counts = [out.lights.len() as u32, out.casters.len() as u32, 1 + out.tiles.len() as u32, 0];
     out
 }
 

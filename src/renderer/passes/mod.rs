@@ -73,6 +73,7 @@ pub fn wgsl_constants() -> String {
     }
     u("HIST_BINS", super::post::HIST_BINS);
     u("NO_SHADOW", records::NO_SHADOW);
+    u("SHADOW_TABLE_WIDTH", records::SHADOW_TABLE_WIDTH);
     u("TILE_CHUNK", super::tiles::SHADE_CHUNK);
     for f in [
         super::shadows::ShadowFilter::Pcf2x2,

@@ -570,7 +570,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     if corners.is_none() && cubes.is_empty() {
         // Nothing to pack (no caster this frame): no atlas is kept.
         out.side = 1;
-        return out;
+        return with_casters(out);
     }
     let corners = corners.unwrap_or_default();
     let mut k = 0usize;

@@ -56,6 +56,9 @@ fn render_writes_an_image_and_complete_stats() {
     assert_eq!(v["lights"], 68);
     assert_eq!(v["culling"], "stencil-two-pass");
     assert_eq!(v["per_light"].as_array().unwrap().len(), 68);
+    // Each light's kind by name: demo's 64 point lights and its 4 spots.
+    let kinds = |k: &str| v["per_light"].as_array().unwrap().iter().filter(|l| l["kind"] == k).count();
+    assert_eq!((kinds("point"), kinds("spot")), (64, 4), "per-light kinds in the stats JSON");
     assert!(v["adapter"]["name"].as_str().is_some_and(|s| !s.is_empty()));
     for pass in ["gbuffer", "lighting", "compose", "total"] {
         // Null only where the adapter lacks timestamps; lavapipe has them.

@@ -110,7 +110,18 @@ fn forward_single(in: ForwardOut, s: Surface) -> vec4<f32> {
     let a = forward_ambient(s);
     var diffuse = a.diffuse;
     var specular = a.specular;
-    for (var k = 0u; k < o.info.z; k++) {
+    // Two lights an iteration in scenes past lavapipe's loop limit, as `fs_forward`
+    // (geometry.wgsl) walks its list (`plan::FORWARD_LOOP_LIGHTS`).
+    var k = 0u;
+    for (; LS_PAIRED_LOOPS && k + 1u < o.info.z; k += 2u) {
+        let r0 = forward_light(s, light_at(light_lists[o.info.y + k]));
+        let r1 = forward_light(s, light_at(light_lists[o.info.y + k + 1u]));
+        diffuse += r0.diffuse;
+        specular += r0.specular;
+        diffuse += r1.diffuse;
+        specular += r1.specular;
+    }
+    for (; k < o.info.z; k++) {
         let r = forward_light(s, light_at(light_lists[o.info.y + k]));
         diffuse += r.diffuse;
         specular += r.specular;

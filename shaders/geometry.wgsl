@@ -167,8 +167,23 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
             count = light_lists[h + 1u];
         }
     }
-    for (var k = 0u; k < count; k++) {
-        // shade_light returns zero before any BRDF work outside the light's radius and cone.
+    // lavapipe ends a shader invocation's loops once they have run 65,535 iterations between
+    // them (gallivm's shared loop limiter, silently), so a list walked a light an iteration
+    // loses every light past the 65,535th: scenes with more lights than that
+    // (`plan::FORWARD_LOOP_LIGHTS`) walk two an iteration, lists of up to
+    // `plan::FORWARD_LIST_MAX` entries. The same terms are added in the same order.
+    var k = 0u;
+    for (; LS_PAIRED_LOOPS && k + 1u < count; k += 2u) {
+        let l0 = light_at(light_lists[first + k]);
+        let l1 = light_at(light_lists[first + k + 1u]);
+        let r0 = shade_light(s, l0);
+        let r1 = shade_light(s, l1);
+        diffuse += min(r0.diffuse, vec3<f32>(l0.clamp));
+        specular += min(r0.specular, vec3<f32>(l0.clamp));
+        diffuse += min(r1.diffuse, vec3<f32>(l1.clamp));
+        specular += min(r1.specular, vec3<f32>(l1.clamp));
+    }
+    for (; k < count; k++) {
         let l = light_at(light_lists[first + k]);
         let r = shade_light(s, l);
         diffuse += min(r.diffuse, vec3<f32>(l.clamp));

@@ -388,6 +388,13 @@ impl Renderer {
         } else {
             Default::default()
         };
+        // Lists longer than the forward loops walk on lavapipe (multi-pass draws a pair a light).
+        for w in plan::long_forward_list_warnings(
+            (settings.path == RenderPath::Forward).then_some(path_lists.longest_list),
+            plan.forward.as_ref().filter(|_| blended),
+        ) {
+            log::warn!("{w}");
+        }
         // The fp16 clamp by what can overlap a pixel (see `overlap`).
         let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);
         records.camera.light_clamp = clamps.ambient;

@@ -725,6 +725,42 @@ impl FramePlan {
 /// 128 MiB, the storage-buffer binding size WebGPU guarantees.
 pub const MAX_FORWARD_LIST_ENTRIES: usize = (128 << 20) / 4;
 
+/// The longest light list the forward loops (`fs_forward` for blended surfaces,
+/// `forward_single` for the forward path) walk a light an iteration: gallivm (lavapipe) ends a
+/// shader invocation's loops once they have run 65,535 iterations between them, silently, and
+/// 65,000 leave room for the invocation's other loops (the tiled and clustered passes split
+/// their lists instead, `tiles::SHADE_CHUNK`). Scenes with more lights compile loops that take
+/// two lights an iteration (`ShaderFeatures::paired_loops`; they cost the blended pass about 6%
+/// on `glass`, so other scenes keep the plain loops).
+pub const FORWARD_LOOP_LIGHTS: u32 = 65_000;
+
+/// The longest list the paired loops walk whole. Longer lists (a scene of more than 130,000
+/// lights reaching one object; `--lights` stops at 100,000) are warned of
+/// ([`long_forward_list_warnings`]), not split.
+pub const FORWARD_LIST_MAX: u32 = 2 * FORWARD_LOOP_LIGHTS;
+
+/// The warnings for a frame whose forward loops may walk a list longer than
+/// [`FORWARD_LIST_MAX`]: the longest list of the forward path's objects (`path`), or of the
+/// blended surfaces (`blended`: a fragment walks the shorter of its object's list and its
+/// tile's, so the shorter of the longest of each bounds it).
+pub fn long_forward_list_warnings(path: Option<u32>, blended: Option<&ForwardStats>) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(n) = path.filter(|&n| n > FORWARD_LIST_MAX) {
+        out.push(format!(
+            "an object's light list holds {n} lights; the forward path shades at most {FORWARD_LIST_MAX} a pixel on lavapipe (its loop limit), the rest are lost there"
+        ));
+    }
+    if let Some(f) = blended {
+        let walked = if f.tiles > 0 { f.longest_object_list.min(f.longest_tile_list) } else { f.longest_object_list };
+        if walked > FORWARD_LIST_MAX {
+            out.push(format!(
+                "a blended surface's light list may hold {walked} lights; the forward pass shades at most {FORWARD_LIST_MAX} a pixel on lavapipe (its loop limit), the rest are lost there"
+            ));
+        }
+    }
+    out
+}
+
 /// Size in pixels of the forward pass's screen tiles.
 pub const FORWARD_TILE: u32 = 16;
 
@@ -1094,6 +1130,25 @@ mod tests {
             }
         }
         assert!(checked > 500 && corners > 100, "{checked} checked, {corners} near corners");
+    }
+
+    #[test]
+    fn lists_past_the_paired_loops_reach_are_warned_of() {
+        let max = FORWARD_LIST_MAX;
+        assert!(long_forward_list_warnings(Some(max), None).is_empty());
+        assert_eq!(long_forward_list_warnings(Some(max + 1), None).len(), 1);
+        let blended = |object: u32, tile: u32, tiles: u64| ForwardStats {
+            longest_object_list: object,
+            longest_tile_list: tile,
+            tiles,
+            ..Default::default()
+        };
+        // A fragment walks the shorter of its object's and its tile's list.
+        assert!(long_forward_list_warnings(None, Some(&blended(max + 1, max, 4))).is_empty());
+        assert_eq!(long_forward_list_warnings(None, Some(&blended(max + 1, max + 1, 4))).len(), 1);
+        // Without tiles, the object lists alone.
+        assert_eq!(long_forward_list_warnings(None, Some(&blended(max + 1, 0, 0))).len(), 1);
+        assert_eq!(long_forward_list_warnings(Some(max + 1), Some(&blended(max + 1, 0, 0))).len(), 2);
     }
 
     #[test]

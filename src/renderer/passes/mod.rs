@@ -124,6 +124,11 @@ pub struct ShaderFeatures {
     /// The per-pixel light loops read the lights from the light planes (`records::planes_hold`:
     /// at most `records::UNIFORM_LIGHTS` lights, no cookies), not the storage buffer.
     pub light_planes: bool,
+    /// The forward loops (`fs_forward`, `forward_single`) take two lights an iteration: the
+    /// scene has more lights than lavapipe's loop limit lets a loop walk one at a time
+    /// (`plan::FORWARD_LOOP_LIGHTS`), so some list may be longer. Other scenes compile the
+    /// plain loops.
+    pub paired_loops: bool,
 }
 
 impl ShaderFeatures {
@@ -139,6 +144,7 @@ impl ShaderFeatures {
         },
         cookies: true,
         light_planes: true,
+        paired_loops: true,
     };
 
     /// What `scene` can need under `settings`; with no scene, what the settings allow (no
@@ -148,6 +154,7 @@ impl ShaderFeatures {
             shadows: super::shadows::ShadowCode::of(scene, settings),
             cookies: scene.is_some_and(|s| s.lights.iter().any(|l| l.cookie().is_some())),
             light_planes: scene.is_some_and(|s| super::records::planes_hold(&s.lights)),
+            paired_loops: scene.is_some_and(|s| s.lights.len() > super::plan::FORWARD_LOOP_LIGHTS as usize),
         }
     }
 
@@ -178,6 +185,9 @@ impl ShaderFeatures {
         if self.light_planes {
             v.push("light planes".to_string());
         }
+        if self.paired_loops {
+            v.push("paired light loops".to_string());
+        }
         v
     }
 
@@ -188,14 +198,16 @@ impl ShaderFeatures {
             "const LS_SUN_SHADOW: bool = {};\nconst LS_TILE_SHADOWS: bool = {};\n\
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
-             const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n",
+             const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
+             const LS_PAIRED_LOOPS: bool = {};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
             sh.filter as u32,
             self.cookies,
             sh.casters_apart,
-            self.light_planes
+            self.light_planes,
+            self.paired_loops
         )
     }
 }

@@ -169,8 +169,8 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     }
     // lavapipe ends a shader invocation's loops once they have run 65,535 iterations between
     // them (gallivm's shared loop limiter, silently), so a list walked a light an iteration
-    // loses every light past the 65,535th: scenes with more lights than that
-    // (`plan::FORWARD_LOOP_LIGHTS`) walk two an iteration, lists of up to
+    // loses every light past the 65,535th: scenes of more than `plan::FORWARD_LOOP_LIGHTS`
+    // (65,000) lights walk two an iteration, lists of up to
     // `plan::FORWARD_LIST_MAX` entries. The same terms are added in the same order.
     var k = 0u;
     for (; LS_PAIRED_LOOPS && k + 1u < count; k += 2u) {

@@ -113,6 +113,9 @@ pub struct Renderer {
     /// The allocations of the frame before last's light records and plans, for this frame's
     /// (`FrameRecords::reusing`, `FramePlan::reusing`).
     spare: (Vec<LightRecord>, Vec<plan::LightPlan>),
+    /// The last frame's warnings of forward lists too long for lavapipe's loops: logged when
+    /// they change, not at every frame of the viewer.
+    long_list_warnings: Vec<String>,
     /// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded).
     /// Keyed by the file's modification time too, so an edited file is read again.
     lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
@@ -170,6 +173,7 @@ impl Renderer {
             targets: None,
             last: LastFrame::default(),
             spare: Default::default(),
+            long_list_warnings: Vec::new(),
             lut: None,
             device,
         })
@@ -389,11 +393,15 @@ impl Renderer {
             Default::default()
         };
         // Lists longer than the forward loops walk on lavapipe (multi-pass draws a pair a light).
-        for w in plan::long_forward_list_warnings(
+        let warnings = plan::long_forward_list_warnings(
             (settings.path == RenderPath::Forward).then_some(path_lists.longest_list),
             plan.forward.as_ref().filter(|_| blended),
-        ) {
-            log::warn!("{w}");
+        );
+        if warnings != self.long_list_warnings {
+            for w in &warnings {
+                log::warn!("{w}");
+            }
+            self.long_list_warnings = warnings;
         }
         // The fp16 clamp by what can overlap a pixel (see `overlap`).
         let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);

@@ -62,6 +62,24 @@ impl BenchOptions {
     }
 }
 
+/// A configuration the bench did not run, and why: the scene cannot take it (a G-buffer layout
+/// with no channel for the material ID a multi-material scene needs, say) or the adapter cannot
+/// give it. It is listed in the report and on the console; the sweep goes on without it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Skipped {
+    pub group: String,
+    pub label: String,
+    pub scene: String,
+    pub reason: String,
+}
+
+/// What a sweep gives: a row per configuration that ran, and the configurations it skipped.
+#[derive(Clone, Debug, Default)]
+pub struct BenchRun {
+    pub rows: Vec<Row>,
+    pub skipped: Vec<Skipped>,
+}
+
 /// One configuration: what it varies, and the settings, light count, size and scene it runs with.
 #[derive(Clone, Debug)]
 pub struct Config {
@@ -486,7 +504,7 @@ pub const FULLSCREEN_MAX_LIGHTS: usize = 256;
 pub const RADIUS_SCALES: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
 /// A reference frame is rendered with every light full-screen while lights x pixels stays under
 /// this (about 40 s on lavapipe); above it the reference draws plain volumes, which every
-/// culling test holds equal to full-screen within one 8-bit step (`tests/culling.rs`), so the
+/// culling test holds equal to full-screen within one 8-bit step (`tests/it/culling.rs`), so the
 /// error figures stay those of the layout and accumulation, not of a culling approximation.
 pub const REFERENCE_FULLSCREEN_BUDGET: f64 = 2.5e9;
 
@@ -553,7 +571,10 @@ fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shadows: ShadowM
 }
 
 /// Runs the sweep; `progress(done, total, label)` is called before each configuration.
-pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Vec<Row>> {
+/// Runs the sweep. A configuration that cannot be built or rendered for this scene on this
+/// adapter is skipped with its reason (a `path` row is kept instead, saying why); only a failure
+/// to open the scene, or one after a configuration's first frame rendered, ends the run.
+pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<BenchRun> {
     let list = configs(o);
     let frames = o.frames.max(1);
     // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.
@@ -562,6 +583,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     // read once per light count.
     let mut prepared = Vec::new();
     let mut failed: Vec<(&Config, usize, String)> = Vec::new();
+    let mut skipped: Vec<Skipped> = Vec::new();
     let mut scenes: HashMap<(&str, usize, u64), crate::Scene> = HashMap::new();
     for (k, cfg) in list.iter().enumerate() {
         progress(k, steps, &format!("prepare {}", cfg.label));
@@ -577,19 +599,27 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
                 e.insert(scene).clone()
             }
         };
+        let skip = |e: anyhow::Error| Skipped {
+            group: cfg.group.into(),
+            label: cfg.label.clone(),
+            scene: name.to_string(),
+            reason: format!("{e:#}"),
+        };
         let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
             Ok(r) => r,
             Err(e) => {
-                log::warn!("skipping {}: {e:#}", cfg.label);
+                skipped.push(skip(e));
                 continue;
             }
         };
         if let Err(e) = render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1) {
-            if cfg.group != "path" {
-                return Err(e);
+            if cfg.group == "path" {
+                // A path this build cannot render is a row saying why: the path comparison
+                // shows every path.
+                failed.push((cfg, scene.lights.len(), format!("{e:#}")));
+            } else {
+                skipped.push(skip(e));
             }
-            // A path this build cannot render is reported, not skipped.
-            failed.push((cfg, scene.lights.len(), format!("{e:#}")));
             continue;
         }
         prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
@@ -706,7 +736,23 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
-    Ok(rows)
+    Ok(BenchRun { rows, skipped })
+}
+
+/// The report's list of skipped configurations (empty when none was).
+pub fn skipped_markdown(skipped: &[Skipped]) -> String {
+    if skipped.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\n### Skipped ({})\n\nConfigurations this scene or adapter cannot take; the rest of the sweep ran without them.\n\n\
+         | group | configuration | scene | reason |\n|---|---|---|---|\n",
+        skipped.len()
+    );
+    for k in skipped {
+        s += &format!("| {} | {} | {} | {} |\n", k.group, k.label, k.scene, k.reason.replace('|', "/").replace('\n', " "));
+    }
+    s
 }
 
 /// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.
@@ -1020,7 +1066,8 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
 }
 
-pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
+pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
+    let rows = &run.rows[..];
     let mut s = format!(
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
          (full-screen lights, Rgba32Float G-buffer and accumulation), measured before post: the light error and PSNR \
@@ -1108,6 +1155,7 @@ pub fn markdown(rows: &[Row], gpu_name: &str, o: &BenchOptions) -> String {
     }
     s += &paths_markdown(rows);
     s += &shadows_markdown(rows);
+    s += &skipped_markdown(&run.skipped);
     s
 }
 

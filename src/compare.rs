@@ -42,7 +42,7 @@ pub fn max_channel_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
 /// How far a rendering may be from a stored reference made on another machine. Lavapipe
 /// compiles every shader for the CPU it runs on, so the same frame differs between CPUs in the
 /// last bits of float arithmetic; the pictures do not differ otherwise (rasterisation is fixed
-/// point). Measured (`tests/images.rs`, `cross_cpu_variation`, on every stored reference):
+/// point). Measured (`tests/it/images.rs`, `cross_cpu_variation`, on every stored reference):
 ///
 /// | code lavapipe generated for | largest step | pixels > 2 steps | FLIP mean (room, 160x90) |
 /// |---|---|---|---|

@@ -46,6 +46,8 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
     pub features: wgpu::Features,
     pub info: wgpu::AdapterInfo,
+    /// Pass sets of dropped renderers, for the next renderer on this device.
+    pub passes: std::sync::Arc<crate::renderer::PassPool>,
 }
 
 impl Gpu {
@@ -108,7 +110,7 @@ impl Gpu {
             trace: wgpu::Trace::Off,
         }))
         .context("the adapter refused to create a device")?;
-        Ok(Self { instance, adapter, device, queue, features, info })
+        Ok(Self { instance, adapter, device, queue, features, info, passes: Default::default() })
     }
 
     pub fn has(&self, feature: wgpu::Features) -> bool {

@@ -61,27 +61,31 @@ fn bench(args: BenchArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
             .map_err(|e| anyhow::anyhow!("{e}"))?,
     );
-    let rows = bench::run(&gpu, &o, |done, total, label| {
+    let run = bench::run(&gpu, &o, |done, total, label| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
         bar.set_message(label.to_string());
     })?;
     bar.finish_with_message("done");
-    bench::write_csv(&rows, &args.out.join("bench.csv"))?;
-    let md = bench::markdown(&rows, &gpu.info.name, &o);
+    for k in &run.skipped {
+        eprintln!("skipped {} `{}` on {}: {}", k.group, k.label, k.scene, k.reason);
+    }
+    let rows = &run.rows;
+    bench::write_csv(rows, &args.out.join("bench.csv"))?;
+    let md = bench::markdown(&run, &gpu.info.name, &o);
     std::fs::write(args.out.join("bench.md"), &md)?;
-    bench::plot(&rows, &args.out.join("bench.png"))?;
+    bench::plot(rows, &args.out.join("bench.png"))?;
     let paths = rows.iter().any(|r| r.group == "path");
     if paths {
-        bench::plot_paths(&rows, &args.out.join("paths.png"))?;
+        bench::plot_paths(rows, &args.out.join("paths.png"))?;
     }
     let scaling = rows.iter().any(|r| r.group == "lights" || r.group == "radius");
     if scaling {
-        bench::plot_scaling(&rows, &args.out.join("scaling.png"))?;
+        bench::plot_scaling(rows, &args.out.join("scaling.png"))?;
     }
     println!("{md}");
     for group in ["lights", "radius"] {
-        for (x, mode, ms) in bench::winners(&rows, group) {
+        for (x, mode, ms) in bench::winners(rows, group) {
             println!("{group} {x}: fastest {mode} ({ms:.1} ms)");
         }
     }

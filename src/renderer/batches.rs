@@ -40,7 +40,7 @@
 //!   shares a [`CELL`] with it (for plain volumes and full-screen lights, whose draws blend in
 //!   instance order, it may also be that batch itself); else it opens a new batch. So every
 //!   pixel receives its lights in light order, as unbatched: the same blends in the same order,
-//!   bit-identical sums (`tests/batching.rs` compares the bits). Largest-first first-fit needed
+//!   bit-identical sums (`tests/it/batching.rs` compares the bits). Largest-first first-fit needed
 //!   2.25x fewer batches but reordered the blends: a step off on 2.7% of the room's pixels.
 //! - Batches never span two blocks of [`LIGHTS_PER_QUERY_SET`] lights: the light pass records
 //!   one render pass per block (one occlusion query set each), as before.

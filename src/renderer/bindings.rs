@@ -5,10 +5,10 @@
 //!
 //! Uniform buffers are kept to one use: Mesa 22.3's lavapipe recompiles a shader whose
 //! branches read a uniform buffer *at a constant offset* every time that buffer is written, and
-//! keeps the old compilation (about 0.4 MB per draw; `tests/soak.rs`). Everything the shaders
+//! keeps the old compilation (about 0.4 MB per draw; `tests/it/soak.rs`). Everything the shaders
 //! read per frame is read-only storage, except the light planes ([`Kind::LightPlane`]), which
 //! are only ever read at a light's index, an offset no compiler can inline;
-//! `tests/shader_contract.rs` checks that no other `var<uniform>` appears.
+//! `tests/it/shader_contract.rs` checks that no other `var<uniform>` appears.
 
 use std::fmt::Write;
 

@@ -59,6 +59,49 @@ pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSr
 /// format and convention, depth clamp).
 const PIPELINE_CACHE: usize = 8;
 
+/// Idle pass sets a device keeps for renderers created later ([`PassPool`]).
+const POOL_SETS: usize = 32;
+
+/// The pass sets of renderers that were dropped, by configuration, for the next renderer on the
+/// same device that needs one. On lavapipe a pass set's first frame costs 0.7-1.8 s of pipeline
+/// compilation at 192x108, a frame on built pipelines 10-150 ms, so a process that creates many
+/// renderers (the bench, one per configuration; the test suite) compiles each configuration
+/// once. A set is held by one renderer at a time, so the scratch buffers some passes own (the
+/// tile lists, the query read-backs) are never shared: taking a set from the pool is what a
+/// renderer does when it switches back to a configuration it keeps (`PIPELINE_CACHE`), and a
+/// set's buffers are written before each frame reads them. Least recently returned sets are
+/// dropped past [`POOL_SETS`].
+#[derive(Default)]
+pub struct PassPool {
+    idle: std::sync::Mutex<Vec<Passes>>,
+}
+
+impl PassPool {
+    /// Takes an idle set built for `key`.
+    fn take(&self, key: &PipelineKey) -> Option<Passes> {
+        let mut idle = self.idle.lock().unwrap_or_else(|e| e.into_inner());
+        let i = idle.iter().rposition(|p| p.key() == key)?;
+        Some(idle.remove(i))
+    }
+
+    /// Keeps `sets` for later renderers, dropping the oldest past [`POOL_SETS`].
+    fn give(&self, sets: impl IntoIterator<Item = Passes>) {
+        let mut idle = self.idle.lock().unwrap_or_else(|e| e.into_inner());
+        idle.extend(sets);
+        let excess = idle.len().saturating_sub(POOL_SETS);
+        idle.drain(..excess);
+    }
+
+    /// Idle sets held now.
+    pub fn len(&self) -> usize {
+        self.idle.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// What the last frame left for the probe, the wireframes and the viewer's panels.
 #[derive(Default)]
 struct LastFrame {
@@ -96,12 +139,15 @@ pub struct Renderer {
     limits: wgpu::Limits,
     /// The adapter has `DownlevelFlags::CUBE_ARRAY_TEXTURES` (`--shadow-cube array`).
     cube_arrays: bool,
-    passes: Passes,
+    /// Taken out only by `drop`, which hands it to the pool.
+    passes: std::mem::ManuallyDrop<Passes>,
     /// Passes of recent other configurations, least recently used first.
     pass_cache: Vec<Passes>,
+    /// The device's idle pass sets: this renderer takes from it and returns its sets when dropped.
+    pool: std::sync::Arc<PassPool>,
     /// A frame has been configured with `passes`. The set `new` builds before it sees a scene
-    /// (so with the shader features the settings allow) is dropped, not cached, when the first
-    /// scene needs other ones.
+    /// (so with the shader features the settings allow) goes back to the device's pool, not to
+    /// this renderer's cache, when the first scene needs other ones.
     passes_used: bool,
     frame: FrameBuffers,
     defaults: MaterialDefaults,
@@ -143,6 +189,17 @@ fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
     Ok(p)
 }
 
+impl Drop for Renderer {
+    /// Returns the pass sets this renderer drew with to the device's pool. A set `new` built
+    /// before the first scene and never drew with is dropped (its pipelines were never built).
+    fn drop(&mut self) {
+        let cache = std::mem::take(&mut self.pass_cache);
+        // SAFETY: `passes` is not used again: this is the renderer's last act.
+        let current = unsafe { std::mem::ManuallyDrop::take(&mut self.passes) };
+        self.pool.give(cache.into_iter().chain(self.passes_used.then_some(current)));
+    }
+}
+
 impl Renderer {
     pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
         let device = gpu.device.clone();
@@ -154,8 +211,12 @@ impl Renderer {
         check_shadow_cube(settings, cube_arrays)?;
         let key =
             Self::key(None, settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
-        let passes = build_passes(&device, key)?;
+        let passes = match gpu.passes.take(&key) {
+            Some(p) => p,
+            None => build_passes(&device, key)?,
+        };
         Ok(Self {
+            pool: gpu.passes.clone(),
             frame: FrameBuffers::new(&device, &passes.shared.frame_bgl),
             defaults: MaterialDefaults::new(&device, &gpu.queue),
             volumes: Volumes::new(&device, (settings.sphere_subdivisions, settings.cone_sides)),
@@ -166,7 +227,7 @@ impl Renderer {
             features: gpu.features,
             limits,
             cube_arrays,
-            passes,
+            passes: std::mem::ManuallyDrop::new(passes),
             pass_cache: Vec::new(),
             passes_used: false,
             scene: None,
@@ -264,11 +325,21 @@ impl Renderer {
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
             let next = match self.pass_cache.iter().position(|p| *p.key() == key) {
                 Some(i) => self.pass_cache.remove(i),
-                None => build_passes(&self.device, key)?,
+                None => match self.pool.take(&key) {
+                    Some(p) => p,
+                    None => build_passes(&self.device, key)?,
+                },
             };
-            let previous = std::mem::replace(&mut self.passes, next);
+            let previous = std::mem::ManuallyDrop::into_inner(std::mem::replace(
+                &mut self.passes,
+                std::mem::ManuallyDrop::new(next),
+            ));
             if self.passes_used {
                 self.pass_cache.push(previous);
+            } else {
+                // The set `new` chose before it saw a scene: another renderer may want it (it
+                // may have come from the pool with its pipelines built).
+                self.pool.give([previous]);
             }
             if self.pass_cache.len() > PIPELINE_CACHE {
                 self.pass_cache.remove(0);

@@ -124,7 +124,7 @@ pub struct PlanView {
 /// - a volume crossing the near plane: the plain volume (back faces, GreaterEqual). Its front
 ///   faces are clipped where the two-pass marking draw would mark, so marking saves it nothing:
 ///   on `street` the volume shades exactly the fragments two-pass does, light by light
-///   (`tests/hard_cases.rs`), and skipping the marking draw took auto from 4-6% behind the
+///   (`tests/it/hard_cases.rs`), and skipping the marking draw took auto from 4-6% behind the
 ///   best fixed mode to level with it at 1280x720;
 /// - a screen rectangle of at least [`AUTO_STENCIL_MIN_PIXELS`]: seed 000's two-pass stencil
 ///   (the marking draw saves thousands of shaded fragments);

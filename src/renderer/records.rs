@@ -1,6 +1,6 @@
 //! The records the shaders read, with named fields, and the frame's storage buffers that hold
 //! them. Each record is declared once, through [`gpu_record!`], which also lists its fields so
-//! that `tests/shader_contract.rs` can hold every record against its WGSL twin (member names,
+//! that `tests/it/shader_contract.rs` can hold every record against its WGSL twin (member names,
 //! offsets and size, parsed from the final shader source with naga).
 
 use super::settings::{self, Settings};
@@ -544,7 +544,7 @@ pub const COMPOSE_SLOT: u64 = 256;
 /// The frame's storage buffers (group 0), the light planes and the compose parameters. The
 /// light planes are the only uniform buffers: Mesa 22.3's lavapipe recompiles shaders whose
 /// branches read a uniform at a constant offset, and the planes are only read at a light's
-/// index (`bindings.rs`, `tests/shader_contract.rs`).
+/// index (`bindings.rs`, `tests/it/shader_contract.rs`).
 pub struct FrameBuffers {
     pub camera: wgpu::Buffer,
     pub lights: wgpu::Buffer,

@@ -32,7 +32,7 @@ pub const LIGHTS_PER_QUERY_SET: usize = wgpu::QUERY_SET_MAX_QUERIES as usize;
 /// counting 1,020,508 in `stencil-two-pass` (its volume: 0). The workaround keeps every scene
 /// small: the lights are split into render passes whose estimated binned size stays under this
 /// budget ([`light_pass_ranges`]). Observed: after the split no light is miscounted (every
-/// off-screen light counts 0, two-pass never exceeds its volume, `tests/scale.rs`), so a render
+/// off-screen light counts 0, two-pass never exceeds its volume, `tests/it/scale.rs`), so a render
 /// pass boundary starts a new llvmpipe scene here.
 pub const LLVMPIPE_SCENE_BUDGET: u64 = 18 << 20;
 

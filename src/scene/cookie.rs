@@ -7,7 +7,7 @@
 //! one after the other, one `u32` per texel) and filter them themselves, bilinearly with
 //! clamp-to-edge addressing at texel centres (`ls_cookie` in `shaders/common.wgsl`). The f64
 //! reference ([`CookieImage::sample`], [`cube_face_uv`], [`spot_uv`]) does the same arithmetic,
-//! so its error against the GPU is f32 rounding only (see `tests/cookies_masks.rs`).
+//! so its error against the GPU is f32 rounding only (see `tests/it/cookies_masks.rs`).
 //!
 //! Built-in cookies: `window` (a window frame: 2x2 panes, bright glass inside dark bars and a
 //! dark outer frame) and `flashlight` (a soft disc with a brighter ring, as a torch's

@@ -36,7 +36,7 @@ macro_rules! need_display {
             let _ = writeln!(
                 std::io::stderr(),
                 "SKIPPED {}: no DISPLAY. Run the window tests under an X server: \
-                 xvfb-run -a -s \"-screen 0 1280x720x24\" cargo test --test viewer",
+                 xvfb-run -a -s \"-screen 0 1280x720x24\" cargo test --test it viewer::",
                 test
             );
             return;

@@ -3,8 +3,7 @@
 //! broken files made here from the room. Every file renders a non-blank image or is rejected
 //! with an error that names it; none may panic or hang.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{check_snapshot, flip, max_channel_difference, CROSS_CPU};
 use lampshade::renderer::{CullingMode, ForwardLights, Settings};
 use lampshade::scene::import::{self, ImportOptions, Imported, Progress};
@@ -116,7 +115,7 @@ fn the_room_renders_as_its_reference_in_every_culling_mode() {
         let (fl, _) = flip(&reference.image, &f.image).unwrap();
         // `tiled` and `clustered` sum a pixel's lights in f32 and round once, where the others
         // round to fp16 after every light: a step apart wherever lights overlap, on many pixels
-        // (tests/tiled.rs shows theirs is the closer to an f32 reference). One step for them.
+        // (tests/it/tiled.rs shows theirs is the closer to an f32 reference). One step for them.
         let flip_bound = if matches!(mode, CullingMode::Tiled | CullingMode::Clustered) { 1.0 } else { 0.001 };
         assert!(step <= 1 && fl.mean <= flip_bound, "room/{}: {step} steps, FLIP {}", mode.name(), fl.mean);
         assert!(f.stats.shaded_fragments < reference.stats.shaded_fragments, "{} culled nothing", mode.name());

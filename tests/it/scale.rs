@@ -1,8 +1,7 @@
 //! Any number of lights (issue 13): counts that stay true at scale, the fp16 clamp by what can
 //! overlap a pixel, and `demo` with 16,384 lights equal to the full-screen reference.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;

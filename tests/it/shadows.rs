@@ -7,8 +7,7 @@
 // `!(a > b)` also skips NaN, as the shaders' tests are written.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DMat3, DVec3, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;

@@ -3,8 +3,7 @@
 //! cookie's projection matches its f64 twin within a derived bound, lights without either are
 //! untouched, a layout without room for the layer is a clear error, and so are bad cookie files.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
@@ -241,7 +240,7 @@ fn the_cookie_projection_matches_its_f64_twin() {
         let (d, s) = lampshade::reference::shade(&scene, &p, &clamp);
         for (g, e, what) in [(p.diffuse_light, d, "diffuse"), (p.specular_light, s, "specular")] {
             for c in 0..3 {
-                // tests/hard_cases.rs' f32-against-f64 bound for the lighting, plus the cookie's.
+                // tests/it/hard_cases.rs' f32-against-f64 bound for the lighting, plus the cookie's.
                 let bound = 1e-4 * e[c].abs() + 1e-4 + extra[c];
                 let err = (g[c] as f64 - e[c]).abs();
                 worst = worst.max(err / bound);

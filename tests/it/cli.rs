@@ -254,3 +254,69 @@ fn bad_input_is_a_clear_error() {
         assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
     }
 }
+
+/// A file of three spheres in three reflectance models (`blinn-phong`, `metal`, and `unlit`
+/// through KHR_materials_unlit), generated from `room::stress`, with no lights of its own.
+fn three_model_spheres(tag: &str) -> std::path::PathBuf {
+    let dir = tmp(tag);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, bytes) in lampshade::scene::room::stress(3).unwrap() {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    let path = dir.join("stress.gltf");
+    let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    let materials = v["materials"].as_array_mut().unwrap();
+    materials[1]["pbrMetallicRoughness"]["metallicFactor"] = 1.0.into();
+    materials[2]["extensions"] = serde_json::json!({ "KHR_materials_unlit": {} });
+    let used = v.as_object_mut().unwrap().entry("extensionsUsed").or_insert(serde_json::json!([]));
+    used.as_array_mut().unwrap().push("KHR_materials_unlit".into());
+    std::fs::write(&path, serde_json::to_vec(&v).unwrap()).unwrap();
+    path
+}
+
+/// Every bench group runs on a file whose materials need a material-ID channel: the layouts
+/// without a spare channel are skipped, named with their reason on the console and in the
+/// report, and every other configuration still gives its row. At 64x36 and one timed frame:
+/// the size only has to hold a frame of each configuration (the `resolution` group brings its
+/// own sizes). `fixed`: the file brings its own lights, so the `lights` group has no rows.
+fn bench_runs_every_group(file: &str, extra: &[&str], fixed: bool) {
+    let dir = tmp(&format!("bench-all-{}", if fixed { "room" } else { "spheres" }));
+    let out = lampshade(
+        &[&["bench", file, "--quick", "--frames", "1", "--size", "64x36", "--out", dir.to_str().unwrap()][..], extra]
+            .concat(),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{file}: {err}");
+    // The quick sweep's layouts: oct8 has no channel to spare, seed000 and xyz8 have one.
+    let line = err.lines().find(|l| l.starts_with("skipped layout `oct8`"));
+    assert!(
+        line.is_some_and(|l| l.contains("no spare channel for the material ID")),
+        "{file}: oct8 not reported as skipped with its reason:\n{err}"
+    );
+    let md = std::fs::read_to_string(dir.join("bench.md")).unwrap();
+    let skipped = md.split("### Skipped").nth(1).unwrap_or_else(|| panic!("{file}: no Skipped section:\n{md}"));
+    assert!(skipped.contains("| layout | oct8 |") && skipped.contains("material ID"), "{file}: {skipped}");
+    let rows = bench_rows(&dir.join("bench.csv"));
+    for group in lampshade::bench::GROUPS {
+        let expected = !(fixed && *group == "lights");
+        let n = rows.iter().filter(|r| r[0] == *group).count();
+        assert_eq!(n > 0, expected, "{file}: {n} rows in group {group}");
+    }
+    for layout in ["seed000", "xyz8"] {
+        assert!(rows.iter().any(|r| r[0] == "layout" && r[1] == layout), "{file}: no {layout} row");
+    }
+    assert!(!rows.iter().any(|r| r[0] == "layout" && r[1] == "oct8"), "{file}: a row for the skipped oct8");
+}
+
+/// The room: blinn-phong and metal, its own 11 lights.
+#[test]
+fn bench_runs_every_group_on_the_room_and_skips_what_it_cannot_take() {
+    bench_runs_every_group(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf"), &[], true);
+}
+
+/// Generated spheres in three models, lit by the 8 lights the bench adds.
+#[test]
+fn bench_runs_every_group_on_a_three_model_file_and_skips_what_it_cannot_take() {
+    let spheres = three_model_spheres("bench-three-models");
+    bench_runs_every_group(spheres.to_str().unwrap(), &["--lights", "8"], false);
+}

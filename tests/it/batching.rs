@@ -3,8 +3,7 @@
 //! exactly the samples it shades unbatched, and the batches are what `renderer::batches` says
 //! (no two lights of a batch meet, every drawn light in exactly one batch).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{Vec2, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;

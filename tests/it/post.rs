@@ -1,8 +1,8 @@
 //! The HDR post chain (issue 16): bloom, auto-exposure, tone curves, grading.
 
-mod common;
+use crate::common;
 
-use common::{gpu, scene};
+use crate::common::{gpu, scene};
 use lampshade::headless::render_image;
 use lampshade::renderer::post::{self, PostImage, Tonemap};
 use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};

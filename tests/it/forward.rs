@@ -2,8 +2,7 @@
 //! picture is the same whichever lists it walks), the tile lists are tighter than the objects'
 //! where they must be, and the pass is timed and counted on its own.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::renderer::{ForwardLights, Settings};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Scene;

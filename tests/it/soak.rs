@@ -3,16 +3,15 @@
 //! a thumbnail (`compose_view`) and a pixel probe every frame, as the viewer does. Resident
 //! memory after the warm-up (200 frames: every mode, view and layout of the schedule seen, so
 //! every pipeline exists) may grow by less than 5% over the remaining 800 frames. The viewer's
-//! own soak run is `the_viewer_runs_thousands_of_frames_in_constant_memory` in `tests/viewer.rs`.
+//! own soak run is `the_viewer_runs_thousands_of_frames_in_constant_memory` in `tests/it/viewer.rs`.
 //!
 //! What it caught: Mesa 22.3's lavapipe recompiles a shader whose branches read a uniform
 //! buffer every time that buffer is written, and keeps the old compilation (0.4-1 MB a draw:
 //! +1,140 MiB over 800 frames here, 213%); and every layout switch compiled all pipelines again
-//! (+26 MiB over 800 frames, 12%). Memory, not speed: nothing here is timed. It has its own test
-//! binary so that no other test shares the process whose memory it reads.
+//! (+26 MiB over 800 frames, 12%). Memory, not speed: nothing here is timed. It runs in a process
+//! of its own so that no other test shares the process whose memory it reads.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::headless::Offscreen;
 use lampshade::memory::resident_bytes;
 use lampshade::renderer::{CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
@@ -43,8 +42,38 @@ fn settings_for(i: usize) -> Settings {
     }
 }
 
+/// Set in the process [`a_renderer_renders_a_thousand_frames_in_constant_memory`] starts.
+const CHILD: &str = "LAMPSHADE_SOAK_CHILD";
+
+/// Runs the soak in a process of its own (this test binary again, running only
+/// [`soak_in_this_process`]), so that no other test's allocations share the memory it reads.
 #[test]
 fn a_renderer_renders_a_thousand_frames_in_constant_memory() {
+    in_own_process();
+}
+
+fn in_own_process() {
+    let exe = std::env::current_exe().expect("the test binary's path");
+    let out = std::process::Command::new(exe)
+        .args(["--exact", "soak::soak_in_this_process", "--ignored", "--nocapture", "--test-threads", "1"])
+        .env(CHILD, "1")
+        .output()
+        .expect("starting the soak's own process");
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    eprintln!("{stderr}");
+    assert!(out.status.success(), "the soak's process failed:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("1 passed"), "the soak did not run in its process:\n{stdout}");
+}
+
+/// The soak's body. Ignored in a plain run: it judges this process's memory, so it runs only in
+/// the process of its own that the test above starts.
+#[test]
+#[ignore = "run by a_renderer_renders_a_thousand_frames_in_constant_memory in a process of its own"]
+fn soak_in_this_process() {
+    if std::env::var_os(CHILD).is_none() {
+        // Asked for by name (`--ignored`): it still gets a process of its own.
+        return in_own_process();
+    }
     if resident_bytes().is_none() {
         eprintln!("SKIPPED: no /proc/self/status on this system, resident memory cannot be read");
         return;

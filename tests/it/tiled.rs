@@ -4,8 +4,7 @@
 //! Culling may only skip work, never light: the picture is `fullscreen`'s, every light-pixel
 //! pair inside a light's true shape is evaluated, and the counts are the pairs walked.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::render_image;
 use lampshade::renderer::inspect::inside_light;
@@ -67,8 +66,8 @@ fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal(
             assert_eq!(moved, 0, "{name}/{}: the uncounted frame is {moved} steps off the counted", mode.name());
             let step = max_channel_difference(&reference.image, &f.image);
             let (fl, _) = flip(&reference.image, &f.image).unwrap();
-            // The FLIP bound of tests/culling.rs on its cases; the hard cases are held to one
-            // step, as tests/hard_cases.rs holds every mode (see the next test for why many
+            // The FLIP bound of tests/it/culling.rs on its cases; the hard cases are held to one
+            // step, as tests/it/hard_cases.rs holds every mode (see the next test for why many
             // overlapping lights differ by a step in places).
             let flip_bound = if CASES.contains(&name) { 0.001 } else { 0.01 };
             assert!(
@@ -196,7 +195,7 @@ fn with_log_accumulation_the_one_write_stays_within_two_writes_of_the_exact_ligh
     // light touching a pixel (its bound grows with them, tests/core.rs), the tiled pass once per
     // pixel after the ambient + sun write, whatever the list. So its error is held to the bound
     // of two writes against the Rgba32Float full-screen frame, far tighter than fullscreen's own
-    // (which is why tests/culling.rs does not hold tiled and clustered to fullscreen-log).
+    // (which is why tests/it/culling.rs does not hold tiled and clustered to fullscreen-log).
     use lampshade::renderer::settings::{log_accum_error_bound, LOG_ACCUM_MAX};
     for name in ["demo", "spot"] {
         let (scene, w, h) = case(name);

@@ -2,8 +2,7 @@
 //! channel allocated only for scenes of several models, culling modes against full-screen on
 //! the `materials` scene, unlit surfaces that ignore lights, and a metal's coloured highlight.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
@@ -17,7 +16,7 @@ const W: u32 = 320;
 const H: u32 = 180;
 
 /// Relative and absolute error allowed between the GPU (f32 arithmetic, f32 accumulation) and
-/// f64, as `tests/hard_cases.rs` states them: the probe decodes the very values the shaders
+/// f64, as `tests/it/hard_cases.rs` states them: the probe decodes the very values the shaders
 /// read, so the G-buffer's quantisation does not enter; f32 rounding does.
 const REL: f64 = 1e-4;
 const ABS: f64 = 1e-4;

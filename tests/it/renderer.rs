@@ -1,8 +1,7 @@
 //! The core's other promises: live switching of settings on one renderer, every G-buffer
 //! layout and depth convention drawing the same scene, the pixel probe, thumbnails, bad input.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::{render_image, Offscreen};
 use lampshade::renderer::{CullingMode, DebugView, LayoutChoice, Renderer, Settings, OUTPUT_FORMAT};
@@ -514,4 +513,46 @@ fn a_change_of_shader_features_alone_keeps_the_targets_and_the_exposure() {
     // comparison above can fail.
     let (restarted, _) = frames(&[&dim_with_spot, &dim_with_spot]);
     assert!(max_channel_difference(&restarted, &never) > 0, "the exposure did not need the frames before");
+}
+
+/// A renderer dropped hands its pass sets to the device's pool and the next renderer that
+/// needs one of them takes it, building no pipeline: and it draws what a renderer on a device
+/// that never drew anything draws, bit for bit, after the set drew other scenes, sizes and
+/// settings for its first owner (the scratch buffers it keeps are written before they are read).
+#[test]
+fn a_pass_set_from_the_pool_draws_what_a_fresh_one_draws() {
+    // Its own device: wgpu counts live pipelines per device, and other tests share `gpu()`.
+    let gpu = lampshade::Gpu::headless().expect("these tests need a GPU adapter");
+    let pipelines = || {
+        let h = gpu.device.get_internal_counters().hal;
+        h.render_pipelines.read() + h.compute_pipelines.read()
+    };
+    let spot = scene("spot");
+    let mut demo = scene("demo");
+    demo.lights.truncate(200);
+    let s = |culling| Settings { culling, ..Settings::default() };
+    let frame = |r: &mut Renderer, scene: &lampshade::Scene, s: &Settings, (w, h): (u32, u32)| {
+        let (image, stats) = render_image(&gpu, r, scene, s, w, h).expect("render");
+        let (d, sp) = r.read_accumulation(&gpu).expect("accumulation");
+        (image, stats, d, sp)
+    };
+    for mode in [CullingMode::StencilReplace, CullingMode::Tiled, CullingMode::Clustered] {
+        let mut first = Renderer::new(&gpu, OUTPUT_FORMAT, &s(mode)).expect("renderer");
+        let fresh = frame(&mut first, &spot, &s(mode), (W, H));
+        // Its first owner draws a larger, busier frame with it (other lists, other counts).
+        frame(&mut first, &demo, &s(mode), (2 * W, 2 * H));
+        frame(&mut first, &demo, &s(mode), (W, H));
+        let sets = gpu.passes.len();
+        drop(first);
+        assert!(gpu.passes.len() > sets, "{mode:?}: the dropped renderer gave nothing to the pool");
+        let built = pipelines();
+        let mut second = Renderer::new(&gpu, OUTPUT_FORMAT, &s(mode)).expect("renderer");
+        let pooled = frame(&mut second, &spot, &s(mode), (W, H));
+        assert_eq!(pipelines(), built, "{mode:?}: the second renderer built pipelines: it did not take the pooled set");
+        assert_eq!(max_channel_difference(&fresh.0, &pooled.0), 0, "{mode:?}: the pooled set drew another picture");
+        assert!(fresh.2 == pooled.2 && fresh.3 == pooled.3, "{mode:?}: the accumulation differs");
+        assert_eq!(fresh.1.shaded_fragments, pooled.1.shaded_fragments, "{mode:?}: other counts");
+        let shaded = |st: &lampshade::renderer::FrameStats| st.per_light.iter().map(|l| l.shaded).collect::<Vec<_>>();
+        assert_eq!(shaded(&fresh.1), shaded(&pooled.1), "{mode:?}: other per-light counts");
+    }
 }

@@ -1,8 +1,7 @@
 //! Culling may only skip work, never light: every mode renders the same picture as
 //! `fullscreen` on every built-in case, and the stencil modes shade no more than `volume`.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::renderer::{CullingMode, Method, Settings};
 
@@ -213,7 +212,7 @@ fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
             let step = max_channel_difference(&reference.image, &f.image);
             // Tiled and clustered write the log accumulation once per pixel, not once per
             // light: they differ from fullscreen-log by fullscreen's own rounding (up to 4 steps
-            // on demo), and tests/tiled.rs holds them to two writes' bound of the exact light.
+            // on demo), and tests/it/tiled.rs holds them to two writes' bound of the exact light.
             let one_write = matches!(mode, CullingMode::Tiled | CullingMode::Clustered)
                 || f.stats.per_light.iter().any(|l| matches!(l.method, Method::Tiled | Method::Clustered));
             let log = base.accumulation == lampshade::renderer::AccumFormat::Rgba8Log;

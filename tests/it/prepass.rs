@@ -3,8 +3,7 @@
 //! buffer holds what either encoding promises, its difference from deferred shading stays
 //! inside the bound `reference::prepass_enclosure` derives, and it refuses what it cannot draw.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::renderer::post::PostImage;
@@ -50,7 +49,7 @@ fn renders_demo_room_and_every_hard_case_finite_and_lit() {
 }
 
 /// Every culling mode against `fullscreen` within the path, under `base`: within one 8-bit step
-/// (the deferred tests' tolerance, `tests/culling.rs`); with seed 004's log encoding tiled and
+/// (the deferred tests' tolerance, `tests/it/culling.rs`); with seed 004's log encoding tiled and
 /// clustered write once per pixel instead of once per light and are exempt, as there.
 fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
     let mut failures = Vec::new();
@@ -169,7 +168,7 @@ fn both_light_buffer_encodings_hold_the_light() {
 /// the pre-pass's own approximation: the 8-bit normal, the 8-bit exponent and the mono
 /// specular. `reference::prepass_enclosure` derives (from the deferred frame's exact surface)
 /// the range the pre-pass's value must fall in; on top, the f32 arithmetic allowance of
-/// `tests/hard_cases.rs` (1e-4 relative + 1e-4) and the HDR target's fp16 rounding (2^-10).
+/// `tests/it/hard_cases.rs` (1e-4 relative + 1e-4) and the HDR target's fp16 rounding (2^-10).
 #[test]
 fn difference_from_deferred_stays_within_the_derived_bound() {
     let gpu = gpu();

@@ -2,8 +2,7 @@
 //! frame, every culling mode must match the full-screen reference, and the GPU's lighting at
 //! sampled pixels must match the f64 CPU evaluation of the same G-buffer inputs.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::headless::render_image;
 use lampshade::renderer::{

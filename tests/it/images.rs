@@ -1,10 +1,9 @@
 //! Image tests: each built-in scene at a fixed camera and time against a reference in
-//! `screenshots/`, compared with FLIP. `LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test images`
+//! `screenshots/`, compared with FLIP. `LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test it images::`
 //! rewrites the references; failures write `-actual.png` and `-difference.png` to
 //! `target/image-tests/`.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::{check_snapshot, flip, with_noise, CROSS_CPU};
 use lampshade::renderer::{DebugView, Settings};
 use std::path::{Path, PathBuf};
@@ -59,7 +58,7 @@ fn the_comparison_rejects_broken_frames_and_accepts_another_cpus() {
     let out = out.join("expected-failures");
     for (name, scene_name, _) in CASES {
         let Ok(reference) = image::open(refs.join(format!("{name}.png"))) else {
-            panic!("reference {name}.png is missing: run LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test images");
+            panic!("reference {name}.png is missing: run LAMPSHADE_UPDATE_REFERENCES=1 cargo test --test it images::");
         };
         let reference = reference.to_rgba8();
         let black = image::RgbaImage::from_pixel(W, H, image::Rgba([0, 0, 0, 255]));
@@ -118,7 +117,7 @@ fn the_stencil_diagram_has_its_colours_where_they_belong() {
     assert_eq!(green as u64, two_pass.stats.shaded_fragments.unwrap());
 }
 
-/// Every stored-reference case: (name, scene, view, width, height). The room is `tests/gltf.rs`'s.
+/// Every stored-reference case: (name, scene, view, width, height). The room is `tests/it/gltf.rs`'s.
 fn reference_cases() -> Vec<(&'static str, lampshade::Scene, DebugView, u32, u32)> {
     let mut cases: Vec<_> = CASES.iter().map(|(n, s, v)| (*n, scene(s), *v, W, H)).collect();
     let room = lampshade::scene::import::load(
@@ -140,8 +139,8 @@ fn reference_cases() -> Vec<(&'static str, lampshade::Scene, DebugView, u32, u32
 /// compile for lesser CPUs on this one:
 ///
 /// ```sh
-/// cargo test --release --test images -- --ignored --nocapture cross_cpu
-/// LAMPSHADE_VARIANT=sse4.1 GALLIUM_OVERRIDE_CPU_CAPS=sse4.1 cargo test --release --test images -- --ignored --nocapture cross_cpu
+/// cargo test --release --test it -- --ignored --nocapture images::cross_cpu
+/// LAMPSHADE_VARIANT=sse4.1 GALLIUM_OVERRIDE_CPU_CAPS=sse4.1 cargo test --release --test it -- --ignored --nocapture images::cross_cpu
 /// ```
 #[test]
 #[ignore = "a measurement, run by hand (see the doc comment)"]

@@ -1,7 +1,7 @@
 //! Inputs for the fuzz targets `settings_file` and `viewer_script` (fuzz/README.md): every
 //! regression input they found, kept in `tests/data/fuzz-regressions/` (`settings-*`,
 //! `script-*`), must be a clear error, and the seeds' edge cases must parse or fail as stated.
-//! A panic anywhere fails the test. (`import_gltf`'s findings are `tests/gltf.rs`'s
+//! A panic anywhere fails the test. (`import_gltf`'s findings are `tests/it/gltf.rs`'s
 //! `fuzzer_findings_stay_fixed`.)
 
 use lampshade::settings_file;

@@ -1,11 +1,14 @@
 #![allow(dead_code)]
-//! Shared by the integration tests: one GPU per test binary, small renders, readbacks.
+//! Shared by the integration tests: one GPU for the whole suite, small renders, readbacks, and
+//! a memo of rendered frames so that tests checking different properties of the same frame
+//! (a built-in scene, settings and size) render it once.
 
 use lampshade::headless::render_image;
 use lampshade::renderer::{FrameStats, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::{Gpu, Scene};
-use std::sync::OnceLock;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
 
 pub fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
@@ -13,8 +16,8 @@ pub fn gpu() -> &'static Gpu {
 }
 
 /// The hard cases (built-in scenes that stress precision, culling and counting), which every
-/// culling mode and path must survive: `tests/hard_cases.rs`, `tests/paths.rs`,
-/// `tests/prepass.rs`.
+/// culling mode and path must survive: `tests/it/hard_cases.rs`, `tests/it/paths.rs`,
+/// `tests/it/prepass.rs`.
 pub const HARD_CASES: &[&str] = &[
     "inside",
     "near",
@@ -46,7 +49,7 @@ pub fn hard_case_size(name: &str) -> (u32, u32) {
 /// the tests that compare with it, or across paths whose normals differ (a shadow edge moves
 /// with the lookup's normal offset), render unshadowed. Shadows are checked on their own:
 /// against rays through the scene's triangles, every culling mode and every path, in
-/// `tests/shadows.rs`.
+/// `tests/it/shadows.rs`.
 pub fn unshadowed() -> Settings {
     Settings { shadows: lampshade::renderer::ShadowMode::None, ..Settings::default() }
 }
@@ -80,4 +83,20 @@ pub fn assert_finite(frame: &Frame, what: &str) {
 pub fn lit_share(img: &image::RgbaImage) -> f64 {
     let lit = img.pixels().filter(|p| p[0] as u32 + p[1] as u32 + p[2] as u32 > 24).count();
     lit as f64 / (img.width() * img.height()) as f64
+}
+
+/// The frame of built-in scene `name` (default options) under `settings` at `w`x`h`, rendered by
+/// a fresh renderer the first time any test asks for it and shared after that: the same pixels,
+/// counts and accumulation as [`render`] gives (a frame is a pure function of scene, settings and
+/// size; `renderer::one_renderer_switches_modes_layouts_and_depth_live` holds a reused renderer
+/// to the fresh one's image). Two tests asking at once render it once; the other waits.
+pub fn frame(name: &str, settings: &Settings, w: u32, h: u32) -> Arc<Frame> {
+    type Key = (String, String, u32, u32);
+    static FRAMES: OnceLock<Mutex<HashMap<Key, Arc<OnceLock<Arc<Frame>>>>>> = OnceLock::new();
+    let key = (name.to_string(), serde_json::to_string(settings).expect("settings serialise"), w, h);
+    let cell = {
+        let mut map = FRAMES.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
+        map.entry(key).or_default().clone()
+    };
+    cell.get_or_init(|| Arc::new(render(&scene(name), settings, w, h))).clone()
 }

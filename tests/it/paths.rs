@@ -5,8 +5,7 @@
 //! within the accumulation's rounding; and MSAA must change only geometric edges, towards a
 //! supersampled reference.
 
-mod common;
-use common::*;
+use crate::common::*;
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::renderer::gbuffer::{component_rounding, Attr};
@@ -95,7 +94,7 @@ fn every_culling_mode_gives_the_same_pixels_within_each_forward_path() {
 
 /// Half an ulp of fp16 below 1: the relative rounding of one fp16 store or blend.
 const FP16: f64 = 1.0 / 2048.0;
-/// `tests/hard_cases.rs`: the GPU's f32 lighting against f64, relative and absolute (measured
+/// `tests/it/hard_cases.rs`: the GPU's f32 lighting against f64, relative and absolute (measured
 /// at most 8.1e-6 relative over all hard cases). Two GPU evaluations differ by twice that.
 const F32_REL: f64 = 1e-4;
 const F32_ABS: f64 = 1e-4;
@@ -402,7 +401,7 @@ fn forward_paths_refuse_the_gbuffer_views_with_an_error() {
 fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() {
     // The light pre-pass multisamples pass 3 only: passes 1 and 2 stay single-sample, so at an
     // edge the far surface's samples take the light the light buffer holds at the pixel's
-    // centre (README: a one-pixel halo of the wrong light). `tests/prepass.rs` shows MSAA
+    // centre (README: a one-pixel halo of the wrong light). `tests/it/prepass.rs` shows MSAA
     // changes only edge pixels; this holds it to the second promise, that the edges
     // come closer to a 4 x 4-supersampled render of the same path than one sample does.
     let (w, h) = (160, 90);

@@ -1,0 +1,31 @@
+//! The integration suite, one binary: one process, one GPU device and one set of compiled
+//! pipelines for every subject. A module per subject; `docs/testing.md` lists the properties
+//! each proves and the test that proves it.
+//!
+//! - Fast tier while working: `.ci/fast` (the unit tests and a named smoke set).
+//! - One subject: `cargo test --test it shadows::`.
+//! - Window tests (`viewer`) need an X server: `xvfb-run -a cargo test --test it viewer::`.
+
+mod common;
+
+mod batching;
+mod cli;
+mod cookies_masks;
+mod renderer;
+mod culling;
+mod forward;
+mod fuzz_regressions;
+mod gltf;
+mod hard_cases;
+mod images;
+mod materials;
+mod paths;
+mod post;
+mod prepass;
+mod scale;
+mod shader_contract;
+mod shadows;
+mod soak;
+mod suite;
+mod tiled;
+mod viewer;

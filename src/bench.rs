@@ -750,7 +750,13 @@ pub fn skipped_markdown(skipped: &[Skipped]) -> String {
         skipped.len()
     );
     for k in skipped {
-        s += &format!("| {} | {} | {} | {} |\n", k.group, k.label, k.scene, k.reason.replace('|', "/").replace('\n', " "));
+        s += &format!(
+            "| {} | {} | {} | {} |\n",
+            k.group,
+            k.label,
+            k.scene,
+            k.reason.replace('|', "/").replace('\n', " ")
+        );
     }
     s
 }

@@ -85,18 +85,24 @@ pub fn lit_share(img: &image::RgbaImage) -> f64 {
     lit as f64 / (img.width() * img.height()) as f64
 }
 
-/// The frame of built-in scene `name` (default options) under `settings` at `w`x`h`, rendered by
-/// a fresh renderer the first time any test asks for it and shared after that: the same pixels,
-/// counts and accumulation as [`render`] gives (a frame is a pure function of scene, settings and
-/// size; `renderer::one_renderer_switches_modes_layouts_and_depth_live` holds a reused renderer
-/// to the fresh one's image). Two tests asking at once render it once; the other waits.
+/// The frame of built-in scene `name` (default options) under `settings` at `w`x`h`: see
+/// [`frame_of`].
 pub fn frame(name: &str, settings: &Settings, w: u32, h: u32) -> Arc<Frame> {
+    frame_of(name, || scene(name), settings, w, h)
+}
+
+/// The frame of the scene `make` builds, known by `key` (the built-in scene's name, or a name
+/// for how a test changed it: "demo, 200 lights"), under `settings` at `w`x`h`, rendered by a
+/// fresh renderer the first time any test asks for it and shared after that: the same pixels,
+/// counts and accumulation as [`render`] gives, since a frame of a fresh renderer is a function
+/// of scene, settings and size alone. Two tests asking at once render it once; the other waits.
+pub fn frame_of(key: &str, make: impl FnOnce() -> Scene, settings: &Settings, w: u32, h: u32) -> Arc<Frame> {
     type Key = (String, String, u32, u32);
     static FRAMES: OnceLock<Mutex<HashMap<Key, Arc<OnceLock<Arc<Frame>>>>>> = OnceLock::new();
-    let key = (name.to_string(), serde_json::to_string(settings).expect("settings serialise"), w, h);
+    let key = (key.to_string(), serde_json::to_string(settings).expect("settings serialise"), w, h);
     let cell = {
         let mut map = FRAMES.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());
         map.entry(key).or_default().clone()
     };
-    cell.get_or_init(|| Arc::new(render(&scene(name), settings, w, h))).clone()
+    cell.get_or_init(|| Arc::new(render(&make(), settings, w, h))).clone()
 }

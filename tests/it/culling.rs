@@ -5,14 +5,14 @@ use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::renderer::{CullingMode, Method, Settings};
 
-const W: u32 = 192;
-const H: u32 = 108;
+pub const W: u32 = 192;
+pub const H: u32 = 108;
 /// Culling changes which fragments run, not their arithmetic: the images must agree to one
 /// 8-bit step per channel and a FLIP mean well under what an eye could see.
 const MAX_CHANNEL_STEP: u8 = 1;
 const FLIP_MEAN: f32 = 0.001;
 
-const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
+pub const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
 const STENCIL: [CullingMode; 3] =
     [CullingMode::StencilTwoPass, CullingMode::StencilInvert, CullingMode::StencilReplace];
 
@@ -20,21 +20,31 @@ fn settings(culling: CullingMode) -> Settings {
     Settings { culling, count_fragments: true, count_ideal: true, ..Settings::default() }
 }
 
+/// A case's frame at the test size, `demo` with 200 of its lights (fewer keep the full-screen
+/// reference quick at test size). Shared with `tiled::tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal`,
+/// which renders the same frames.
+pub fn case_frame(name: &str, s: &Settings) -> std::sync::Arc<Frame> {
+    let key = if name == "demo" { "demo, 200 lights".to_string() } else { name.to_string() };
+    let make = || {
+        let mut scene = scene(name);
+        if name == "demo" {
+            scene.lights.truncate(200);
+        }
+        scene
+    };
+    frame_of(&key, make, s, W, H)
+}
+
 #[test]
 fn every_mode_matches_fullscreen_on_every_case() {
     for name in CASES {
-        let mut scene = scene(name);
-        if *name == "demo" {
-            // Fewer lights keep the full-screen reference quick at test size.
-            scene.lights.truncate(200);
-        }
-        let reference = render(&scene, &settings(CullingMode::Fullscreen), W, H);
+        let reference = case_frame(name, &settings(CullingMode::Fullscreen));
         assert_finite(&reference, name);
         assert!(lit_share(&reference.image) > 0.2, "{name}: the reference frame is mostly black");
         let full = reference.stats.shaded_fragments.unwrap();
         let mut volume_shaded = 0;
         for mode in CullingMode::ALL.into_iter().skip(1) {
-            let f = render(&scene, &settings(mode), W, H);
+            let f = case_frame(name, &settings(mode));
             assert_finite(&f, name);
             let step = max_channel_difference(&reference.image, &f.image);
             let (fl, _) = flip(&reference.image, &f.image).unwrap();

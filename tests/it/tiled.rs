@@ -12,10 +12,9 @@ use lampshade::renderer::settings::ClusterBuilder;
 use lampshade::renderer::{AccumFormat, CullingMode, DebugView, Method, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::Scene;
 
-const W: u32 = 192;
-const H: u32 = 108;
 const MODES: [CullingMode; 2] = [CullingMode::Tiled, CullingMode::Clustered];
-const CASES: &[&str] = &["demo", "spot", "inside", "near", "far", "occluded", "floating"];
+// `culling`'s cases and size: the two tests share those frames.
+use crate::culling::{CASES, H, W};
 /// The hard cases (tests/common's list, so a new one is tested here too) not among `CASES`.
 fn hard() -> impl Iterator<Item = &'static str> {
     HARD_CASES.iter().copied().filter(|n| !CASES.contains(n))
@@ -55,9 +54,17 @@ fn tiled_and_clustered_give_the_fullscreen_picture_and_shade_at_least_the_ideal(
         // 10,000 lights: no per-light ideal pass, the picture only.
         let ideal = name != "overflow";
         let s = |m| Settings { count_ideal: ideal, ..settings(m) };
-        let reference = render(&scene, &s(CullingMode::Fullscreen), w, h);
+        // The cases' frames are `culling`'s (the same scenes, settings and size): rendered once.
+        let frame = |s: &Settings| {
+            if CASES.contains(&name) {
+                crate::culling::case_frame(name, s)
+            } else {
+                std::sync::Arc::new(render(&scene, s, w, h))
+            }
+        };
+        let reference = frame(&s(CullingMode::Fullscreen));
         for mode in MODES {
-            let f = render(&scene, &s(mode), w, h);
+            let f = frame(&s(mode));
             assert_finite(&f, name);
             // A frame that does not count shades through its own entry point (`fs_tiled`, no
             // counting atomic): the same picture, byte for byte.

@@ -14,15 +14,18 @@
 pub mod batches;
 pub mod bindings;
 pub mod cputime;
+mod frame;
 pub mod gbuffer;
 pub mod inspect;
 pub mod knobs;
 pub mod materials;
 pub mod overlap;
 pub mod passes;
+mod paths;
 pub mod plan;
 pub mod post;
 pub mod records;
+mod report;
 pub mod scene_gpu;
 pub mod settings;
 pub mod shadows;
@@ -37,17 +40,16 @@ use anyhow::{bail, Result};
 use glam::DMat4;
 pub use inspect::{volume_wireframe_with, PixelProbe};
 use passes::compose::ComposeTarget;
-use passes::{FrameInputs, Passes, PipelineKey};
-use plan::{FramePlan, PlanView};
+use passes::{Passes, PipelineKey};
+use plan::FramePlan;
 pub use plan::{LightPlan, Method, AUTO_STENCIL_MIN_PIXELS};
 pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
-use records::{FrameBuffers, FrameRecords, LightRecord};
+use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
     AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, RenderPath,
     Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
-use stats::Stamp;
 pub use stats::{CpuMs, FrameStats, LightStats};
 use targets::Targets;
 pub use volumes::VolumeKind;
@@ -393,323 +395,53 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<FrameStats> {
-        if width == 0 || height == 0 {
-            bail!("cannot render a {width}x{height} frame");
-        }
-        settings.validate().map_err(anyhow::Error::msg)?;
-        scene.validate().map_err(anyhow::Error::msg)?;
-        check_shadow_cube(settings, self.cube_arrays)?;
-        let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
-        if forward_path && !(settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) {
-            bail!(
-                "the {} path has no G-buffer or light buffers to show the {} view; use --path deferred",
-                settings.path.name(),
-                settings.debug_view.name()
-            );
-        }
-        let prepass = settings.path == RenderPath::LightPrepass;
-        if prepass {
-            passes::prepass::check(scene, settings)?;
-        }
-        let size = (width, height);
-        // Transparency is shaded forward over the HDR picture, in the final view only (the
-        // debug views show the G-buffer and its lighting, which hold no transparent surface).
-        let blended =
-            (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view)) && scene.any_blended();
-        let chain = post::chain_active(settings);
-        // The forward paths and the light pre-pass's pass 3 shade into the HDR scene colour,
-        // which the tonemap finishes.
-        let prepass_lit = prepass && (settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view));
-        self.configure(scene, settings, size, blended || forward_path || prepass_lit, chain)?;
-        let (Some(targets), Some(gpu_scene)) = (&self.targets, &self.scene) else {
-            bail!("internal: targets or scene missing after configure");
-        };
-
-        // The CPU's part: the records the shaders read, then the culling plan.
-        let whole = cputime::Clock::start();
-        let clock = cputime::Clock::start();
-        let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
-        let mut records = FrameRecords::reusing(scene, settings, size, self.passes.key().accum_format, spare_lights);
-        let records_ms = clock.ms();
-        let view = PlanView {
-            proj: records.proj.as_mat4(),
-            near: scene.camera.near as f32,
-            far: scene.camera.far as f32,
-            size,
-            mode: settings.culling,
-            depth_clamp: self.passes.key().depth_clamp,
-            forward_lights: settings.forward_lights,
-            // Seed 004's log encoding rounds every blend to 8 bits, so its sum depends on the
-            // order lights are blended in far more than fp16's: batching reorders them (up to 3
-            // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
-            light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
-            cluster_build: settings.cluster_build,
-        };
-        let clock = cputime::Clock::start();
-        let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
-        // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
-        let path_lists = if forward_path {
-            plan::forward_path_lists(
-                scene,
-                &mut records.objects,
-                &gpu_scene.bounds,
-                &plan.lights,
-                &plan.draws.gbuffer,
-                size,
-                &mut plan.light_lists,
-                settings.path == RenderPath::ForwardMultipass,
-            )
-            .map_err(anyhow::Error::msg)?
-        } else {
-            Default::default()
-        };
-        // Lists longer than the forward loops walk on lavapipe (multi-pass draws a pair a light).
-        let warnings = plan::long_forward_list_warnings(
-            (settings.path == RenderPath::Forward).then_some(path_lists.longest_list),
-            plan.forward.as_ref().filter(|_| blended),
-        );
-        if warnings != self.long_list_warnings {
-            for w in &warnings {
-                log::warn!("{w}");
-            }
-            self.long_list_warnings = warnings;
-        }
-        // The fp16 clamp by what can overlap a pixel (see `overlap`).
-        let clamps = overlap::clamps(&plan.lights, size, self.passes.key().accum_format);
-        records.camera.light_clamp = clamps.ambient;
-        // Issue 15: who casts, each caster's tiles in the atlas (`shadows`).
-        let shadow_plan = shadows::plan(
-            scene,
-            &shadows::ShadowInputs {
-                settings,
-                bounds: &gpu_scene.bounds,
-                footprints: plan.lights.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
-                size,
-                proj: records.proj,
-                max_texture: self.limits.max_texture_dimension_2d,
-                max_layers: self.limits.max_texture_array_layers,
-            },
-        );
-        // The clamps and shadow tiles into the records in one walk over them (1.8 MB at 16,384
-        // lights: a walk costs more in memory traffic than the stores).
-        for ((l, c), &(first, count)) in records.lights.iter_mut().zip(&clamps.lights).zip(&shadow_plan.lights) {
-            l.clamp = *c;
-            l.shadow = [first, count, 0, 0];
-        }
-        let plan_ms = clock.ms();
-        let clock = cputime::Clock::start();
-        let lists = records::FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
-        self.frame.upload(&self.device, &self.queue, &self.passes.shared.frame_bgl, &records, lists, scene);
-        if self.passes.key().features.light_planes {
-            self.frame.upload_light_planes(&self.queue, &records.lights)?;
-        }
-        let bgl = &self.passes.shared.frame_bgl;
-        let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
-        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params, &shadow_plan.casters);
-        self.frame.ensure_shadow_cubes(&self.device, bgl, shadow_plan.cube_side, shadow_plan.cube_layers);
-        let mut cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
-        let n = plan.lights.len();
-        self.queries.ensure_lights(&self.device, n);
-        let f = FrameInputs {
-            targets,
-            scene: gpu_scene,
-            frame: &self.frame,
-            volumes: &self.volumes,
-            plan: &plan,
-            queries: &self.queries,
-            settings,
-            // Per-light counts are the deferred light pass's (the forward paths count per pass).
-            counts: settings.count_fragments && n > 0 && !forward_path,
-            ideal: settings.count_ideal && n > 0 && !forward_path,
-            times: settings.timestamps && self.queries.timestamps.is_some(),
-            forward_counts: settings.count_fragments && blended,
-            depth_clamp: self.passes.key().depth_clamp,
-            shadowed: &shadow_plan.lights,
-        };
-
-        // The passes this frame draws with that the configuration has not built yet.
-        let tile_view = settings.debug_view == DebugView::TileLights;
-        self.passes.prepare(passes::Needs {
-            forward: forward_path || blended || prepass_lit || chain,
-            prepass: prepass_lit,
-            tiled: !forward_path && (plan.tiled.is_some() || tile_view),
-            post: chain,
-        })?;
-        // The frame as the seeds draw it.
+        let shape = frame::Shape::of(scene, settings, (width, height), self.cube_arrays)?;
+        self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
+        // The CPU's part: records, the culling plan, clamps, the shadow plan, their upload.
+        let prepared = self.prepare(scene, settings, &shape)?;
+        self.passes.prepare(shape.needs(&prepared.plan, settings))?;
+        let f = self.inputs(settings, &shape, &prepared)?;
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        // 0. Shadows (issue 15): each casting light's depth into its tiles of the atlas, on every
-        //    path (all of them shade lights through `shade_light` and the sun through
-        //    `ambient_sun`, which read the atlas).
-        p.shadows.encode(&self.device, &mut encoder, &f, &shadow_plan);
-        let draw_calls;
-        let mut path_stats = None;
-        let mut prepass_stats = None;
-        match settings.path {
-            RenderPath::Forward | RenderPath::ForwardMultipass => {
-                // Seed 002's forward paths: no G-buffer (unless the post chain reads one), the
-                // lit picture straight into the HDR colour, then blended surfaces, then
-                // tonemap or the post chain.
-                let gbuffer_for_post = passes::forward_paths::post_reads_gbuffer(settings, chain);
-                if gbuffer_for_post {
-                    p.gbuffer.encode(&mut encoder, &f);
-                }
-                let pf = passes::forward_paths::PathFrame {
-                    lists: &path_lists,
-                    background: records.camera.background,
-                    blended,
-                    gbuffer_for_post,
-                };
-                let s = p.forward_paths.encode(&self.device, &mut encoder, &f, &pf, &p.forward)?;
-                draw_calls = s.draw_calls();
-                path_stats = Some(s);
-                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
-                    post::encode_chain(&mut encoder, &f, p, pt, target, f.timestamps(None, Some(Stamp::ComposeEnd)));
-                } else {
-                    p.compose.encode_tonemap(&mut encoder, &f, target);
-                }
-            }
-            RenderPath::LightPrepass => {
-                // Seeds 003/004, deferred lighting. 1. Normals + exponent (and depth).
-                p.gbuffer.encode(&mut encoder, &f);
-                // 2. Every light into the light buffer, each with its culling method (stencil
-                //    methods use pass 1's depth; tiled/clustered shade their lists into it).
-                draw_calls = p.lights.encode(&mut encoder, &f);
-                let (upload, wall) = match p.tiled.get() {
-                    Some(t) => t.encode(&self.device, &self.queue, &mut encoder, &f),
-                    None => (0.0, 0.0),
-                };
-                (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + upload, cpu_ms.wall + wall);
-                p.debug.encode(&mut encoder, &f);
-                // 3. The geometry again with its maps, the light buffer, ambient + sun, into
-                //    the HDR colour; then blended surfaces forward and the tonemap or post
-                //    chain as deferred does. A debug view composes the buffers instead.
-                let finals = if prepass_lit {
-                    let bg = scene.background.as_dvec3();
-                    let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };
-                    let finals = p.prepass.encode(&mut encoder, &f, background);
-                    p.forward.encode(&mut encoder, &f);
-                    if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
-                        let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
-                        post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
-                    } else {
-                        p.compose.encode_tonemap(&mut encoder, &f, target);
-                    }
-                    finals
-                } else {
-                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
-                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
-                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
-                    0
-                };
-                prepass_stats = Some(passes::prepass::stats(p.key(), plan.draws.gbuffer.len() as u64, finals));
-            }
-            // Deferred shading (seeds 000-002).
-            _ => {
-                // 1. G-buffer: every attribute the lights need, in one pass with multiple targets.
-                p.gbuffer.encode(&mut encoder, &f);
-                // 2. Lights: ambient + sun full-screen, then each light with its culling method.
-                draw_calls = p.lights.encode(&mut encoder, &f);
-                // 2''. Tiled / clustered: per-tile or per-cluster light lists, one full-screen shading.
-                let (upload, wall) = match p.tiled.get() {
-                    Some(t) => t.encode(&self.device, &self.queue, &mut encoder, &f),
-                    None => (0.0, 0.0),
-                };
-                (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + upload, cpu_ms.wall + wall);
-                // 2'. The stencil diagram or the complexity heatmap, when that view is shown.
-                p.debug.encode(&mut encoder, &f);
-                // 3. Compose: diffuse x albedo + specular + emissive, tonemapped (or a debug view).
-                //    With blended surfaces: compose in HDR, shade them forward over it back to front
-                //    (timed and counted as its own pass), then tonemap (seeds 002-004: deferred
-                //    shading cannot do transparency).
-                if let Some(pt) = targets.post.as_ref().filter(|_| chain) {
-                    // 3'. The post chain (issue 16, seed 002's order) after the HDR compose and the
-                    //     forward pass: bloom, auto-exposure, tone mapping, grading; each skips itself
-                    //     when off, and the last one writes the output.
-                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-                    p.forward.encode(&mut encoder, &f);
-                    let stamps = f.timestamps(None, Some(Stamp::ComposeEnd));
-                    post::encode_chain(&mut encoder, &f, p, pt, target, stamps);
-                } else if blended {
-                    p.compose.encode_hdr(&mut encoder, &self.queue, &f);
-                    p.forward.encode(&mut encoder, &f);
-                    p.compose.encode_tonemap(&mut encoder, &f, target);
-                } else {
-                    let to = ComposeTarget { view: target, size, debug_view: settings.debug_view, slot: 0 };
-                    let stamps = f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
-                    p.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, stamps);
-                }
-            }
-        }
+        // 0. Shadows: each casting light's depth into its tiles of the atlas, on every path.
+        p.shadows.encode(&self.device, &mut encoder, &f, &prepared.shadows);
+        // 1-3. The path's own passes, into `target`.
+        let c = paths::PathInputs {
+            device: &self.device,
+            queue: &self.queue,
+            passes: p,
+            f: &f,
+            shape: &shape,
+            prepared: &prepared,
+            scene,
+            target,
+        };
+        let drawn = paths::record(settings.path, &c, &mut encoder)?;
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         p.measure.encode(&mut encoder, &f);
-        let counted_prepass = prepass_stats.is_some();
-        self.queries.resolve(&mut encoder, n, f.counts, f.ideal, f.times, f.forward_counts, counted_prepass);
+        let (n, m) = (prepared.plan.lights.len(), self.measured(settings, &shape, &prepared));
+        let prepass = drawn.prepass.is_some();
+        self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, prepass);
         self.queue.submit([encoder.finish()]);
-
-        let key = self.passes.key();
-        let mut stats = FrameStats {
-            size: [width, height],
-            culling: settings.culling,
-            lights: n,
-            gbuffer_layout: key.layout.name.to_string(),
-            gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
-            depth_stencil_format: format!("{:?}", key.depth_format),
-            depth_clamp: key.depth_clamp,
-            ambient_in_gbuffer: key.ambient_in_gbuffer,
-            accumulation_format: format!("{:?}", key.accum_format),
-            light_cutoff: settings.light_cutoff,
-            sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
-            cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
-            volume_meshes: plan.volume_meshes_drawn(),
-            forward: plan.forward.clone().filter(|_| blended),
-            draw_calls,
-            light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
-            forward_path: path_stats,
-            lists_on_gpu: !forward_path
-                && (plan.tiled == Some(Method::Tiled)
-                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()),
-            post: chain.then_some(stats::PostStats {
-                bloom: settings.bloom,
-                auto_exposure: settings.auto_exposure,
-                grading: settings.lut.is_some() && settings.debug_view == DebugView::Lit,
-                fog: settings.fog && settings.debug_view == DebugView::Lit,
-                dof: settings.dof && settings.debug_view == DebugView::Lit,
-                vignette: settings.vignette > 0.0 && settings.debug_view == DebugView::Lit,
-                aa: settings.aa != post::Aa::Off && settings.debug_view == DebugView::Lit,
-                tonemap: settings.tonemap,
-            }),
-            cpu_ms,
-            shadow: (settings.shadows != ShadowMode::None).then(|| shadow_plan.stats.clone()),
-            shader_lookups: key.features.names(),
-            path: settings.path,
-            prepass: prepass_stats,
-            ..Default::default()
-        };
-        let (counts, ideal, times, forward) = (f.counts, f.ideal, f.times, f.forward_counts);
-        self.queries.read(&self.device, &mut stats, &plan.lights, scene, counts, ideal, times, forward)?;
-        if let Some(fp) = stats.forward_path.as_mut() {
-            self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
-        } else {
-            if let Some(t) = self.passes.tiled.get() {
-                t.read(&self.device, &mut stats, plan.tiled)?;
-            }
-        }
-        let before = std::mem::replace(
-            &mut self.last,
-            LastFrame {
-                inv_proj: records.proj.inverse(),
-                view_rotation: scene.camera.rotation(),
-                lights: records.lights,
-                ambient_clamp: records.camera.light_clamp,
-                plan,
-                shadows: shadow_plan,
-                path: settings.path,
-            },
-        );
-        // Kept for the next frame's records and plans (see `FrameRecords::reusing`).
-        self.spare = (before.lights, before.plan.lights);
+        let stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        self.keep(scene, settings, prepared);
         Ok(stats)
+    }
+
+    /// Keeps what the probe, the wireframes and the panels read of the frame just drawn, and
+    /// the allocations of the one before for the next frame's records and plans.
+    fn keep(&mut self, scene: &Scene, settings: &Settings, prepared: frame::Prepared) {
+        let last = LastFrame {
+            inv_proj: prepared.records.proj.inverse(),
+            view_rotation: scene.camera.rotation(),
+            lights: prepared.records.lights,
+            ambient_clamp: prepared.records.camera.light_clamp,
+            plan: prepared.plan,
+            shadows: prepared.shadows,
+            path: settings.path,
+        };
+        let before = std::mem::replace(&mut self.last, last);
+        self.spare = (before.lights, before.plan.lights);
     }
 
     /// Re-runs only the compose pass of the last frame with another view, into `target` of the

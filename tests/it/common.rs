@@ -98,7 +98,8 @@ pub fn frame(name: &str, settings: &Settings, w: u32, h: u32) -> Arc<Frame> {
 /// of scene, settings and size alone. Two tests asking at once render it once; the other waits.
 pub fn frame_of(key: &str, make: impl FnOnce() -> Scene, settings: &Settings, w: u32, h: u32) -> Arc<Frame> {
     type Key = (String, String, u32, u32);
-    static FRAMES: OnceLock<Mutex<HashMap<Key, Arc<OnceLock<Arc<Frame>>>>>> = OnceLock::new();
+    type Memo = Mutex<HashMap<Key, Arc<OnceLock<Arc<Frame>>>>>;
+    static FRAMES: OnceLock<Memo> = OnceLock::new();
     let key = (key.to_string(), serde_json::to_string(settings).expect("settings serialise"), w, h);
     let cell = {
         let mut map = FRAMES.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner());

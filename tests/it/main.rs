@@ -15,6 +15,7 @@ mod culling;
 mod forward;
 mod fuzz_regressions;
 mod gltf;
+mod golden;
 mod hard_cases;
 mod images;
 mod materials;

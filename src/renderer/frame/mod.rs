@@ -1,0 +1,245 @@
+//! One frame, before any pass is recorded: what the frame is ([`Shape`], from its settings and
+//! scene), then the CPU's part ([`Renderer::prepare`]): the records the shaders read, the
+//! culling plan, the fp16 clamps, the shadow plan, and their upload.
+
+use super::passes::{FrameInputs, Needs};
+use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
+use super::records::{FrameLists, FrameRecords};
+use super::shadows::{self, ShadowPlan};
+use super::stats::CpuMs;
+use super::{
+    check_shadow_cube, cputime, overlap, passes, post, AccumFormat, DebugView, RenderPath, Renderer, Settings,
+};
+use crate::scene::Scene;
+use anyhow::{bail, Result};
+
+/// What a frame draws, decided from its settings and scene before anything is built.
+pub struct Shape {
+    pub size: (u32, u32),
+    /// A forward path (single- or multi-pass): no G-buffer unless the post chain reads one.
+    pub forward_path: bool,
+    /// The light pre-pass's lit pass 3 runs (the lit picture or a post view, not a buffer view).
+    pub prepass_lit: bool,
+    /// Blended surfaces are shaded forward over the HDR picture, in the final view only (the
+    /// debug views show the G-buffer and its lighting, which hold no transparent surface).
+    pub blended: bool,
+    /// The post chain runs.
+    pub chain: bool,
+}
+
+impl Shape {
+    /// The frame's shape, or why `settings` cannot draw `scene` at `size`.
+    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32), cube_arrays: bool) -> Result<Shape> {
+        let (width, height) = size;
+        if width == 0 || height == 0 {
+            bail!("cannot render a {width}x{height} frame");
+        }
+        settings.validate().map_err(anyhow::Error::msg)?;
+        scene.validate().map_err(anyhow::Error::msg)?;
+        check_shadow_cube(settings, cube_arrays)?;
+        let final_view = settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view);
+        let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+        if forward_path && !final_view {
+            bail!(
+                "the {} path has no G-buffer or light buffers to show the {} view; use --path deferred",
+                settings.path.name(),
+                settings.debug_view.name()
+            );
+        }
+        let prepass = settings.path == RenderPath::LightPrepass;
+        if prepass {
+            passes::prepass::check(scene, settings)?;
+        }
+        Ok(Shape {
+            size,
+            forward_path,
+            prepass_lit: prepass && final_view,
+            blended: final_view && scene.any_blended(),
+            chain: post::chain_active(settings),
+        })
+    }
+
+    /// The frame draws into the HDR scene colour: the forward paths and the light pre-pass's
+    /// pass 3 shade into it, blended surfaces are shaded over it, and the tonemap finishes it.
+    pub fn hdr(&self) -> bool {
+        self.blended || self.forward_path || self.prepass_lit
+    }
+
+    /// The passes beyond those every frame uses.
+    pub fn needs(&self, plan: &FramePlan, settings: &Settings) -> Needs {
+        Needs {
+            forward: self.forward_path || self.blended || self.prepass_lit || self.chain,
+            prepass: self.prepass_lit,
+            tiled: !self.forward_path && (plan.tiled.is_some() || settings.debug_view == DebugView::TileLights),
+            post: self.chain,
+        }
+    }
+}
+
+/// The CPU's part of a frame: what the passes read, uploaded.
+pub struct Prepared {
+    pub records: FrameRecords,
+    pub plan: FramePlan,
+    /// The forward paths' object lists (and multi-pass's pairs); empty on the other paths.
+    pub path_lists: ForwardPathLists,
+    pub shadows: ShadowPlan,
+    pub cpu_ms: CpuMs,
+}
+
+impl Renderer {
+    /// Builds the frame's records and plans and uploads them. The renderer is configured for
+    /// the frame (`configure`).
+    pub(super) fn prepare(&mut self, scene: &Scene, settings: &Settings, shape: &Shape) -> Result<Prepared> {
+        let Some(gpu_scene) = &self.scene else { bail!("internal: scene missing after configure") };
+        let size = shape.size;
+        let key = self.passes.key().clone();
+        let whole = cputime::Clock::start();
+        let clock = cputime::Clock::start();
+        let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
+        let mut records = FrameRecords::reusing(scene, settings, size, key.accum_format, spare_lights);
+        let records_ms = clock.ms();
+        let view = PlanView {
+            proj: records.proj.as_mat4(),
+            near: scene.camera.near as f32,
+            far: scene.camera.far as f32,
+            size,
+            mode: settings.culling,
+            depth_clamp: key.depth_clamp,
+            forward_lights: settings.forward_lights,
+            // Seed 004's log encoding rounds every blend to 8 bits, so its sum depends on the
+            // order lights are blended in far more than fp16's: batching reorders them (up to 3
+            // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
+            light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
+            cluster_build: settings.cluster_build,
+        };
+        let clock = cputime::Clock::start();
+        let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
+        // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
+        let path_lists = if shape.forward_path {
+            plan::forward_path_lists(
+                scene,
+                &mut records.objects,
+                &gpu_scene.bounds,
+                &plan.lights,
+                &plan.draws.gbuffer,
+                size,
+                &mut plan.light_lists,
+                settings.path == RenderPath::ForwardMultipass,
+            )
+            .map_err(anyhow::Error::msg)?
+        } else {
+            Default::default()
+        };
+        warn_long_lists(&mut self.long_list_warnings, settings, shape, &plan, &path_lists);
+        // The fp16 clamp by what can overlap a pixel (see `overlap`).
+        let clamps = overlap::clamps(&plan.lights, size, key.accum_format);
+        records.camera.light_clamp = clamps.ambient;
+        // Who casts, and each caster's tiles in the atlas (`shadows`).
+        let shadow_plan = shadows::plan(
+            scene,
+            &shadows::ShadowInputs {
+                settings,
+                bounds: &gpu_scene.bounds,
+                footprints: plan.lights.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
+                size,
+                proj: records.proj,
+                max_texture: self.limits.max_texture_dimension_2d,
+                max_layers: self.limits.max_texture_array_layers,
+            },
+        );
+        // The clamps and shadow tiles into the records in one walk over them (1.8 MB at 16,384
+        // lights: a walk costs more in memory traffic than the stores).
+        for ((l, c), &(first, count)) in records.lights.iter_mut().zip(&clamps.lights).zip(&shadow_plan.lights) {
+            l.clamp = *c;
+            l.shadow = [first, count, 0, 0];
+        }
+        let plan_ms = clock.ms();
+        let clock = cputime::Clock::start();
+        let lists = FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
+        let bgl = &self.passes.shared.frame_bgl;
+        self.frame.upload(&self.device, &self.queue, bgl, &records, lists, scene);
+        if key.features.light_planes {
+            self.frame.upload_light_planes(&self.queue, &records.lights)?;
+        }
+        let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
+        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params, &shadow_plan.casters);
+        self.frame.ensure_shadow_cubes(&self.device, bgl, shadow_plan.cube_side, shadow_plan.cube_layers);
+        let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
+        self.queries.ensure_lights(&self.device, plan.lights.len());
+        Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms })
+    }
+
+    /// What the frame measures, by what `settings` ask for and the frame draws.
+    pub(super) fn measured(&self, settings: &Settings, shape: &Shape, prepared: &Prepared) -> Measured {
+        let lit = !prepared.plan.lights.is_empty();
+        Measured {
+            // Per-light counts are the deferred light pass's (the forward paths count per pass).
+            counts: settings.count_fragments && lit && !shape.forward_path,
+            ideal: settings.count_ideal && lit && !shape.forward_path,
+            times: settings.timestamps && self.queries.timestamps.is_some(),
+            forward: settings.count_fragments && shape.blended,
+        }
+    }
+
+    /// What the frame's passes read: the renderer's targets and buffers with `prepared`.
+    pub(super) fn inputs<'a>(
+        &'a self,
+        settings: &'a Settings,
+        shape: &Shape,
+        prepared: &'a Prepared,
+    ) -> Result<FrameInputs<'a>> {
+        let (Some(targets), Some(scene)) = (&self.targets, &self.scene) else {
+            bail!("internal: targets or scene missing after configure");
+        };
+        let m = self.measured(settings, shape, prepared);
+        Ok(FrameInputs {
+            targets,
+            scene,
+            frame: &self.frame,
+            volumes: &self.volumes,
+            plan: &prepared.plan,
+            queries: &self.queries,
+            settings,
+            counts: m.counts,
+            ideal: m.ideal,
+            times: m.times,
+            forward_counts: m.forward,
+            depth_clamp: self.passes.key().depth_clamp,
+            shadowed: &prepared.shadows.lights,
+        })
+    }
+}
+
+/// Logs lists longer than the forward loops walk on lavapipe (multi-pass draws a pair a light)
+/// when they change (`last`: the warnings logged before), not at every frame of the viewer.
+fn warn_long_lists(
+    last: &mut Vec<String>,
+    settings: &Settings,
+    shape: &Shape,
+    plan: &FramePlan,
+    lists: &ForwardPathLists,
+) {
+    let warnings = plan::long_forward_list_warnings(
+        (settings.path == RenderPath::Forward).then_some(lists.longest_list),
+        plan.forward.as_ref().filter(|_| shape.blended),
+    );
+    if warnings != *last {
+        for w in &warnings {
+            log::warn!("{w}");
+        }
+        *last = warnings;
+    }
+}
+
+/// What a frame counts and times on the GPU.
+#[derive(Clone, Copy, Debug)]
+pub struct Measured {
+    /// Each light's shaded fragments (occlusion queries).
+    pub counts: bool,
+    /// The ideal fragments and the coverage (measurement passes).
+    pub ideal: bool,
+    /// Timestamps.
+    pub times: bool,
+    /// The forward pass's fragments.
+    pub forward: bool,
+}

@@ -1,0 +1,26 @@
+//! Deferred shading (Hargreaves & Harris, *Deferred Shading*, GDC 2004; seeds 000-002):
+//! 1. the G-buffer: every attribute the lights need, in one pass with multiple targets;
+//! 2. the lights: ambient + sun full-screen, then each light with its culling method
+//!    (`culling`), then the tiled/clustered lights' lists and one full-screen shading;
+//! 3. the stencil diagram or complexity heatmap, when that view is shown;
+//! 4. compose: diffuse x albedo + specular + emissive, tonemapped, or a debug view. With
+//!    blended surfaces or the post chain, compose in HDR, shade the blended surfaces forward
+//!    over it back to front (deferred shading cannot do transparency), then finish.
+
+use super::{compose, finish, tiled, Drawn, PathInputs};
+
+pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
+    let (p, f) = (c.passes, c.f);
+    p.gbuffer.encode(encoder, f);
+    let draw_calls = p.lights.encode(encoder, f);
+    let cpu_ms = tiled(c, encoder);
+    p.debug.encode(encoder, f);
+    if (c.shape.chain && f.targets.post.is_some()) || c.shape.blended {
+        p.compose.encode_hdr(encoder, c.queue, f);
+        p.forward.encode(encoder, f);
+        finish(c, encoder);
+    } else {
+        compose(c, encoder);
+    }
+    Drawn { draw_calls, cpu_ms, ..Default::default() }
+}

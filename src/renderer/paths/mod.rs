@@ -1,0 +1,87 @@
+//! The rendering paths, a function each. A path records its own passes between the shadows
+//! (which every path draws first) and the measurement passes (which every path ends with):
+//! - [`deferred`]: deferred shading (Hargreaves & Harris, *Deferred Shading*, GDC 2004; seeds
+//!   000-002): a G-buffer, lights as volumes over it, compose;
+//! - [`light_prepass`]: deferred lighting (seeds 003, 004): normals + exponent, lights into a
+//!   light buffer, the geometry again with its maps;
+//! - [`forward`]: forward single- and multi-pass (seed 002): each object with its lights.
+//!
+//! The tail they share: the tiled/clustered shading after the drawn lights ([`tiled`]),
+//! compose to the output ([`compose`]), and tone mapping or the post chain ([`finish`]).
+
+pub mod deferred;
+pub mod forward;
+pub mod light_prepass;
+
+use super::frame::{Prepared, Shape};
+use super::passes::compose::ComposeTarget;
+use super::passes::forward_paths::ForwardPathStats;
+use super::passes::{FrameInputs, Passes};
+use super::stats::{PrepassStats, Stamp};
+use super::{post, RenderPath};
+use crate::scene::Scene;
+use anyhow::Result;
+
+/// What a path records from: the device, the passes, the frame's inputs and where it ends.
+pub struct PathInputs<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub passes: &'a Passes,
+    pub f: &'a FrameInputs<'a>,
+    pub shape: &'a Shape,
+    pub prepared: &'a Prepared,
+    pub scene: &'a Scene,
+    /// The output view, of the renderer's output format and the frame's size.
+    pub target: &'a wgpu::TextureView,
+}
+
+/// What a path's passes report for the frame's statistics.
+#[derive(Default)]
+pub struct Drawn {
+    /// Light draw calls (the forward paths': their draws).
+    pub draw_calls: u64,
+    pub forward_path: Option<ForwardPathStats>,
+    pub prepass: Option<PrepassStats>,
+    /// CPU time the tiled/clustered lists cost while recording: (upload, wall) in ms.
+    pub cpu_ms: (f64, f64),
+}
+
+/// Records `path`'s passes.
+pub fn record(path: RenderPath, c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<Drawn> {
+    match path {
+        RenderPath::Deferred => Ok(deferred::record(c, encoder)),
+        RenderPath::LightPrepass => Ok(light_prepass::record(c, encoder)),
+        // The same steps; the pass draws a list per object or a pair per (object, light).
+        RenderPath::Forward | RenderPath::ForwardMultipass => forward::record(c, encoder),
+    }
+}
+
+/// Tiled / clustered shading: per-tile or per-cluster light lists, one full-screen shading
+/// (when the plan has such lights). Returns the CPU ms it took (upload, wall).
+pub fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
+    match c.passes.tiled.get() {
+        Some(t) => t.encode(c.device, c.queue, encoder, c.f),
+        None => (0.0, 0.0),
+    }
+}
+
+/// Compose straight into the output: the lit picture from the G-buffer and light buffers, or
+/// the debug view the settings name.
+pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
+    let settings = c.f.settings;
+    let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: settings.debug_view, slot: 0 };
+    let stamps = c.f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+    c.passes.compose.encode(encoder, c.queue, c.f.targets, c.f.frame, &to, stamps);
+}
+
+/// From the HDR scene colour to the output: the post chain (seed 002's order: bloom,
+/// auto-exposure, tone mapping, grading, fog, depth of field, vignette, anti-aliasing; each
+/// skips itself when off, the last one writes the output) or the tonemap alone.
+pub fn finish(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
+    if let Some(pt) = c.f.targets.post.as_ref().filter(|_| c.shape.chain) {
+        let stamps = c.f.timestamps(None, Some(Stamp::ComposeEnd));
+        post::encode_chain(encoder, c.f, c.passes, pt, c.target, stamps);
+    } else {
+        c.passes.compose.encode_tonemap(encoder, c.f, c.target);
+    }
+}

@@ -1,0 +1,75 @@
+//! The frame's statistics, assembled from what each part reports: the configuration, the
+//! plan (CPU), the path's passes, then the GPU's counts and times read back.
+
+use super::frame::{Prepared, Shape};
+use super::paths::Drawn;
+use super::plan::Method;
+use super::stats::{self, FrameStats};
+use super::{post, tiles, DebugView, Renderer, Settings, ShadowMode};
+use crate::scene::Scene;
+use anyhow::Result;
+
+impl Renderer {
+    /// The statistics of the frame just submitted, its counts and times read back when
+    /// `settings` asks for them.
+    pub(super) fn report(
+        &self,
+        scene: &Scene,
+        settings: &Settings,
+        shape: &Shape,
+        prepared: &Prepared,
+        drawn: Drawn,
+    ) -> Result<FrameStats> {
+        let key = self.passes.key();
+        let plan = &prepared.plan;
+        let (forward_path, lit) = (shape.forward_path, settings.debug_view == DebugView::Lit);
+        let mut cpu_ms = prepared.cpu_ms;
+        (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + drawn.cpu_ms.0, cpu_ms.wall + drawn.cpu_ms.1);
+        let mut stats = FrameStats {
+            size: [shape.size.0, shape.size.1],
+            culling: settings.culling,
+            lights: plan.lights.len(),
+            gbuffer_layout: key.layout.name.to_string(),
+            gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
+            depth_stencil_format: format!("{:?}", key.depth_format),
+            depth_clamp: key.depth_clamp,
+            ambient_in_gbuffer: key.ambient_in_gbuffer,
+            accumulation_format: format!("{:?}", key.accum_format),
+            light_cutoff: settings.light_cutoff,
+            sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
+            cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
+            volume_meshes: plan.volume_meshes_drawn(),
+            forward: plan.forward.clone().filter(|_| shape.blended),
+            draw_calls: drawn.draw_calls,
+            light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
+            forward_path: drawn.forward_path,
+            lists_on_gpu: !forward_path
+                && (plan.tiled == Some(Method::Tiled)
+                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()),
+            post: shape.chain.then_some(stats::PostStats {
+                bloom: settings.bloom,
+                auto_exposure: settings.auto_exposure,
+                grading: settings.lut.is_some() && lit,
+                fog: settings.fog && lit,
+                dof: settings.dof && lit,
+                vignette: settings.vignette > 0.0 && lit,
+                aa: settings.aa != post::Aa::Off && lit,
+                tonemap: settings.tonemap,
+            }),
+            cpu_ms,
+            shadow: (settings.shadows != ShadowMode::None).then(|| prepared.shadows.stats.clone()),
+            shader_lookups: key.features.names(),
+            path: settings.path,
+            prepass: drawn.prepass,
+            ..Default::default()
+        };
+        let m = self.measured(settings, shape, prepared);
+        self.queries.read(&self.device, &mut stats, &plan.lights, scene, m.counts, m.ideal, m.times, m.forward)?;
+        if let Some(fp) = stats.forward_path.as_mut() {
+            self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
+        } else if let Some(t) = self.passes.tiled.get() {
+            t.read(&self.device, &mut stats, plan.tiled)?;
+        }
+        Ok(stats)
+    }
+}

@@ -1,4 +1,4 @@
-//! The light pre-pass's figures against deferred shading (issue 14): per configuration the
+//! The light pre-pass's figures against deferred shading: per configuration the
 //! median GPU ms per pass over interleaved rounds, draws, fragments per pass (a counted frame),
 //! bytes per pixel of the intermediate targets, and FLIP against the bench's reference (every
 //! light full-screen or as plain volumes, `reference` layout, f32 accumulation).

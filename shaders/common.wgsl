@@ -50,7 +50,7 @@ struct GpuLight {
     cookie_size: u32,
     cookie_pad0: u32,
     cookie_pad1: u32,
-    // Issue 15: x, the first shadow tile (LS_NO_SHADOW: unshadowed); y, the tile count (1, or
+    // X, the first shadow tile (LS_NO_SHADOW: unshadowed); y, the tile count (1, or
     // 6 cube faces).
     shadow: vec4<u32>,
 };
@@ -382,7 +382,7 @@ fn ambient_limit(s: Surface) -> vec3<f32> {
     return vec3<f32>(camera.light_clamp);
 }
 
-// Issue 15: the shadow factor (1 lit .. 0 shadowed) of view-space point `p` with normal `n` in
+// The shadow factor (1 lit .. 0 shadowed) of view-space point `p` with normal `n` in
 // tile `t`, towards the light along `L`. The biases are texels (`shadow_params.bias`) times a
 // texel's world size at the receiver, so they follow each tile's resolution:
 // - normal offset: the lookup point moves h = (reach + knob) texels along the normal, where
@@ -485,7 +485,7 @@ fn cube_face(d: vec3<f32>) -> u32 {
     return face;
 }
 
-// THE shadow lookup of a light (issue 15): every place that shades a light calls it through
+// THE shadow lookup of a light: every place that shades a light calls it through
 // `shade_light` (light volumes, the tiled/clustered loop, the forward pass). 1 when the light
 // casts no shadow this frame.
 // Only the lookups the configuration compiles in (`passes::ShaderFeatures`): a light of a kind
@@ -740,7 +740,7 @@ fn ls_cookie(l: GpuLight, p: vec3<f32>) -> vec3<f32> {
 // One light at a surface point, in the pixel's reflectance model (`brdf_light`), attenuated
 // smoothly to zero and by its shadow; diffuse and specular kept apart (seed 002). Every path
 // that shades a light calls it, so each gets seed 004's culling mask (`ls_light_reaches`) and
-// cookie (`ls_cookie`), and issue 15's shadow (`ls_shadow`).
+// cookie (`ls_cookie`), and the shadow (`ls_shadow`).
 fn shade_light(s: Surface, l: GpuLight) -> Lighting {
     return shade_light_as(s, l, true);
 }

@@ -1,4 +1,4 @@
-// The forward paths (issue 14, seed 002): opaque and masked surfaces shaded as they are drawn,
+// The forward paths (seed 002): opaque and masked surfaces shaded as they are drawn,
 // no G-buffer. Single-pass: each object walks its light list (`plan::forward_path_lists`) in
 // one shader. Multi-pass: ambient + sun in one draw per object, then one additive draw per
 // (object, light) pair. Both light a surface exactly as deferred shading does

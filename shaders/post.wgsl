@@ -1,4 +1,4 @@
-// The HDR post chain (issue 16; seed 002's order): bloom -> auto-exposure -> tone mapping ->
+// The HDR post chain (seed 002's order): bloom -> auto-exposure -> tone mapping ->
 // colour grading. Bindings (group 2, slots 30..) are declared from Rust: renderer::bindings::POST;
 // the curves' CPU twins are in renderer::post (Tonemap::apply), formula for formula.
 

@@ -150,11 +150,11 @@ pub struct Row {
     pub limit_ratio: f64,
     /// The rendering path's figures (the `path` group; defaults elsewhere).
     pub path: PathFigures,
-    /// The shadow maps' figures (issue 15; every row, NaN/0 without shadows).
+    /// The shadow maps' figures (every row, NaN/0 without shadows).
     pub shadow: ShadowFigures,
 }
 
-/// What the `shadows` group compares (issue 15): the shadow pass's cost and memory. Its time
+/// What the `shadows` group compares: the shadow pass's cost and memory. Its time
 /// is part of `total_ms` (the G-buffer to the compose, plus the shadow pass before them).
 #[derive(Clone, Debug, Serialize)]
 pub struct ShadowFigures {
@@ -202,7 +202,7 @@ impl ShadowFigures {
     }
 }
 
-/// What the `path` group compares between rendering paths (issue 14).
+/// What the `path` group compares between rendering paths.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct PathFigures {
     /// `RenderPath::name`.
@@ -375,7 +375,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("forward {}", forward_lights.name());
         v.push(c("forward", label, Settings { forward_lights, ..base.clone() }, o.lights));
     }
-    // The rendering paths side by side (issue 14, seed 002): every path over the light count,
+    // The rendering paths side by side (seed 002): every path over the light count,
     // and on the room. A path that cannot render on this build is a row saying why.
     let counts: &[usize] = if o.fixed_lights {
         &[]
@@ -393,7 +393,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("{} room", path.name());
         v.push(Config { scene: Some(ROOM), ..c("path", label, Settings { path, ..base.clone() }, o.lights) });
     }
-    // The post chain (issue 16), one effect at a time, then all of them; the light error is of
+    // The post chain, one effect at a time, then all of them; the light error is of
     // the accumulation, before post, so it is the `volume` row's in every one of these.
     let post: Vec<(&str, Settings)> = {
         let mut p = vec![
@@ -440,7 +440,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for (label, settings) in post {
         v.push(c("post", label.into(), settings, o.lights));
     }
-    // Issue 15: shadows of the sun and the spots, against the finest shadows (`shadow_reference`):
+    // Shadows of the sun and the spots, against the finest shadows (`shadow_reference`):
     // atlas size, kernel, cascades. (Point lights' cube array is not built; the unrolled cube is
     // the only layout.)
     let shadowed = Settings { shadows: ShadowMode::Spots, ..base.clone() };
@@ -1165,7 +1165,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
     s
 }
 
-/// The `shadows` group's table (issue 15): the shadow pass's GPU ms (outside `total ms`), the
+/// The `shadows` group's table: the shadow pass's GPU ms (outside `total ms`), the
 /// bytes of the atlas and the cube array, who casts, and the error against the finest shadows.
 pub fn shadows_markdown(rows: &[Row]) -> String {
     let shadows: Vec<&Row> = rows.iter().filter(|r| r.group == "shadows").collect();
@@ -1199,7 +1199,7 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
     s
 }
 
-/// The `path` group's table (issue 14): per scene and light count, each path's intermediate
+/// The `path` group's table: per scene and light count, each path's intermediate
 /// bytes per pixel, passes, draw calls, GPU ms and error; a path that failed says why.
 pub fn paths_markdown(rows: &[Row]) -> String {
     let paths: Vec<&Row> = rows.iter().filter(|r| r.group == "path").collect();

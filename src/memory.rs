@@ -12,8 +12,8 @@ pub fn resident_bytes() -> Option<u64> {
 
 /// The slope a soak run fails at, in bytes a frame, once its largest rises are taken out
 /// ([`judge_soak`]). What leak that catches depends on how much the run wanders: from about
-/// 2.3 KiB a frame on a quiet run (this session's, alone) to 5 KiB a frame under the largest
-/// recorded wander (session 27's suite run: down 7 MiB and up again in 1,000 frames); the leak
+/// 2.3 KiB a frame on a quiet run (the machine otherwise idle) to 5 KiB a frame under the largest
+/// recorded wander (a suite run: down 7 MiB and up again in 1,000 frames); the leak
 /// this judge was written for added about 0.6 MB a frame.
 pub const LEAK_BYTES_PER_FRAME: f64 = 2048.0;
 /// One-off rises the judge forgives: llvmpipe compiles a shader variant the first time a
@@ -156,7 +156,7 @@ mod tests {
         out
     }
 
-    /// The viewer's soak in debug, every 50 frames (this session, alone: 308-310 MiB from frame
+    /// The viewer's soak in debug, every 50 frames (the machine otherwise idle: 308-310 MiB from frame
     /// 450 on).
     const MEASURED: [u64; 60] = [
         194, 194, 194, 194, 251, 251, 251, 251, 309, 309, 308, 308, 308, 308, 308, 308, 309, 309, 309, 309, 308, 308,
@@ -164,7 +164,7 @@ mod tests {
         310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310, 310,
     ];
 
-    /// Session 27's suite run, every 250 frames: down and up by a few MiB around a level.
+    /// A suite run of the viewer soak, every 250 frames: down and up by a few MiB around a level.
     const SWING: [u64; 12] = [241, 303, 303, 307, 308, 308, 310, 307, 303, 306, 306, 309];
 
     /// The swing every 50 frames with the measured run's sample-to-sample jitter (its
@@ -198,8 +198,8 @@ mod tests {
     #[test]
     fn one_off_steps_and_wandering_pass_and_leaks_fail() {
         // Recorded runs pass: the viewer soak as CI measured it (a +7 MiB and a +3 MiB step),
-        // session 27's swing, session 28's late rise (the rule before this one failed it), and
-        // this session's run every 50 frames.
+        // a suite run's swing, another's late rise (a stricter rule failed it), and a run every
+        // 50 frames on an idle machine.
         assert_eq!(judge_soak(&series(&[175, 201, 201, 203, 204, 204, 204, 203, 203, 210, 210, 213]), 1250), Ok(()));
         assert_eq!(judge_soak(&series(&SWING), 1250), Ok(()));
         assert_eq!(judge_soak(&series(&[241, 298, 298, 303, 297, 297, 298, 298, 297, 299, 301, 301]), 1250), Ok(()));

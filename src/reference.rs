@@ -208,7 +208,7 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
     (diffuse, specular, s.toon_margin.get())
 }
 
-/// Issue 15's CPU visibility check: the scene's opaque triangles in world space (blended
+/// The shadows' CPU visibility check: the scene's opaque triangles in world space (blended
 /// surfaces, lines and points cast no shadow, as in the shadow pass), and whether a segment
 /// between two points crosses one.
 pub struct Occluders {

@@ -38,7 +38,7 @@ pub struct SceneKeys {
     /// Culling layers (0..=31) by object index: `{"4": 1}`.
     #[serde(default)]
     pub object_layers: Option<std::collections::BTreeMap<usize, u8>>,
-    /// Issue 15: each light's own shadow flag by light index (`--shadows` decides which kinds
+    /// Each light's own shadow flag by light index (`--shadows` decides which kinds
     /// cast; false keeps a light from casting): `{"0": false}`.
     #[serde(default)]
     pub light_shadows: Option<std::collections::BTreeMap<usize, bool>>,
@@ -249,7 +249,7 @@ mod tests {
         assert_eq!(scene.lights[0].mask(), 2);
         assert_eq!(scene.cookies[scene.lights[0].cookie().unwrap() as usize].name, "window");
         assert_eq!(scene.objects[1].layer, 1);
-        // Issue 15: a light's shadow flag, off and back on.
+        // A light's shadow flag, off and back on.
         assert!(scene.lights[0].cast_shadows());
         let (_, k) = parse(r#"{"light_shadows": {"0": false}}"#).unwrap();
         k.apply_to(&mut scene).unwrap();

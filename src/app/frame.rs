@@ -209,7 +209,7 @@ impl App {
         tiles
     }
 
-    /// Issue 15: redraws the shadow-atlas image from the frame just rendered, while the panel
+    /// Redraws the shadow-atlas image from the frame just rendered, while the panel
     /// is open. The image is made (and registered with egui) once; a new atlas size resizes it
     /// in place under the same egui id.
     fn render_atlas(&mut self, rendered: bool) {

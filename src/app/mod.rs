@@ -152,7 +152,7 @@ struct Gfx {
     egui_renderer: egui_wgpu::Renderer,
     viewport: Image,
     thumbs: HashMap<DebugView, Image>,
-    /// Issue 15: the shadow-atlas panel's image (registered with egui once, redrawn in place
+    /// The shadow-atlas panel's image (registered with egui once, redrawn in place
     /// while the panel is open) and the depth range it was stretched over.
     atlas: Option<Image>,
     atlas_range: Option<(f32, f32)>,
@@ -531,10 +531,10 @@ struct ScreenshotSettings<'a> {
     /// `settings_file::SceneKeys` reads them.
     light_cookies: &'a std::collections::BTreeMap<usize, Option<String>>,
     light_masks: std::collections::BTreeMap<usize, u32>,
-    /// Issue 15: the shadow flags of the lights edited in the viewer.
+    /// The shadow flags of the lights edited in the viewer.
     light_shadows: std::collections::BTreeMap<usize, bool>,
     viewer: &'a UiState,
-    /// Issue 15: where the shadow-atlas panel drew the atlas and the plan's tiles (panel open).
+    /// Where the shadow-atlas panel drew the atlas and the plan's tiles (panel open).
     #[serde(skip_serializing_if = "Option::is_none")]
     shadow_atlas: Option<AtlasShot>,
 }

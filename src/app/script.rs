@@ -74,7 +74,7 @@ pub enum Action {
     Set(String, String),
     Hover(f32, f32),
     Click(f32, f32),
-    /// Issue 15: hover / click on the shadow-atlas panel's image.
+    /// Hover / click on the shadow-atlas panel's image.
     AtlasHover(f32, f32),
     AtlasClick(f32, f32),
     Leave,

@@ -70,7 +70,7 @@ pub struct LightEdit {
     pub radius: f32,
     /// Spot half-angles (inner, outer) in radians; `None` for point lights.
     pub angles: Option<(f32, f32)>,
-    /// Issue 15: the light's own shadow flag (`Light::cast_shadows`).
+    /// The light's own shadow flag (`Light::cast_shadows`).
     #[serde(default = "cast_default")]
     pub cast_shadows: bool,
     /// Culling mask (seed 004): bit k = lights layer k.
@@ -175,7 +175,7 @@ pub struct UiState {
     pub open_path: String,
     /// Which panels the user wants; a window too small for them hides some anyway (`ui::draw`).
     pub panels: Panels,
-    /// Issue 15: the shadow-atlas panel's zoom and pan.
+    /// The shadow-atlas panel's zoom and pan.
     pub atlas_view: AtlasView,
 }
 
@@ -201,7 +201,7 @@ pub struct Panels {
     pub left: bool,
     pub right: bool,
     pub gbuffer: bool,
-    /// Issue 15: the shadow-atlas window (floats over the viewport; off until asked for).
+    /// The shadow-atlas window (floats over the viewport; off until asked for).
     pub shadows: bool,
 }
 
@@ -349,7 +349,7 @@ impl UiState {
                     "radius" => e.radius = in_range("radius", parse_f64(value)?, 0.01, 10_000.0)? as f32,
                     "intensity" => e.intensity = in_range("intensity", parse_f64(value)?, 0.0, 10_000.0)? as f32,
                     "colour" | "color" => e.color = parse_colour(value)?,
-                    // Issue 15: the selected light's shadow flag.
+                    // The selected light's shadow flag.
                     "cast" => e.cast_shadows = parse_bool(value)?,
                     _ => {
                         let Some((inner, outer)) = e.angles else {

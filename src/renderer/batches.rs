@@ -1,4 +1,4 @@
-//! Light batches: which lights share one instanced draw (issue 13).
+//! Light batches: which lights share one instanced draw.
 //!
 //! Every draw costs about 25-35 µs on lavapipe whatever it rasterises, so drawing 1,028 lights
 //! one draw (or a mark and a shade draw) each spent about half of `demo`'s frame on draw

@@ -31,7 +31,7 @@ pub enum Kind {
     /// A 2D depth texture (`texture_depth_2d`), read through a comparison sampler.
     DepthTexture,
     /// A cube-array depth texture (`texture_depth_cube_array`), read through a comparison
-    /// sampler (issue 15's `--shadow-cube array`).
+    /// sampler (`--shadow-cube array`).
     DepthCubeArray,
     /// A comparison sampler (`sampler_comparison`): hardware 2x2 PCF.
     ComparisonSampler,
@@ -98,7 +98,7 @@ pub const FRAME: Group = Group {
         // Rgba8Unorm texture read with textureLoad: a storage buffer would pass the 8 a stage
         // may bind in the post passes; `records::cookie_words`, seed 004).
         texture(5, "cookie_texels", false),
-        // Issue 15: the shadow atlas, its comparison sampler, and the shadow table: row 0 the
+        // The shadow atlas, its comparison sampler, and the shadow table: row 0 the
         // frame's `ShadowParams`, row 1 + i tile i's `ShadowTile`, as their bytes
         // (`records::SHADOW_TABLE_WIDTH` Rgba32Uint texels a row; `shadow_params_load` and
         // `shadow_tile_load` in common.wgsl). Slots from 50.
@@ -186,7 +186,7 @@ pub const POST: Group = Group {
     ],
 };
 
-/// Group 1 of the viewer's shadow-atlas view (issue 15, `passes::atlas_view`): the depth range
+/// Group 1 of the viewer's shadow-atlas view (`passes::atlas_view`): the depth range
 /// present in the atlas (`atlas_range[0]` least, `[1]` greatest stored depth below the clear
 /// value, as f32 bits: positive floats order as their bits) and, in `[2]`, the side of the
 /// image drawn. The atlas itself is `FRAME`'s `shadow_atlas`. Slots from 60.

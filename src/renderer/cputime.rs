@@ -1,5 +1,6 @@
-//! CPU time of the frame's preparation over all the threads that did it (issue 13: "CPU
-//! planning and upload under 2 ms a frame", so splitting work over threads must not hide it).
+//! CPU time of the frame's preparation over all the threads that did it: the
+//! budget is CPU time for planning and upload (2 ms a frame), so splitting work over threads must
+//! not hide it.
 //!
 //! A [`Clock`] reads the calling thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`) plus the CPU
 //! time of every helper thread [`crate::renderer::tiles::both`] ran for this thread since (each

@@ -363,7 +363,7 @@ pub fn volume_wireframe_with(
     edges.into_iter().filter_map(|(a, b)| Some([pts[a as usize]?, pts[b as usize]?])).collect()
 }
 
-/// Who a shadow-atlas tile belongs to (issue 15, the viewer's atlas panel).
+/// Who a shadow-atlas tile belongs to (the viewer's atlas panel).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TileOwner {
@@ -404,7 +404,7 @@ pub struct AtlasTile {
 }
 
 impl Renderer {
-    /// The last frame's shadow-atlas tiles (issue 15) with their owners, in the plan's tile
+    /// The last frame's shadow-atlas tiles with their owners, in the plan's tile
     /// order, and the atlas's side in texels. Lights that cast elsewhere (not in the atlas)
     /// have no tile here.
     pub fn shadow_atlas_tiles(&self) -> (u32, Vec<AtlasTile>) {

@@ -115,7 +115,7 @@ struct LastFrame {
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
     plan: FramePlan,
-    /// Issue 15: the shadow tiles and who casts.
+    /// The shadow tiles and who casts.
     shadows: shadows::ShadowPlan,
     /// The path it was drawn with: the forward paths leave no G-buffer to read (what the
     /// targets hold is an older frame's).
@@ -488,7 +488,7 @@ impl Renderer {
         (self.last.ambient_clamp, self.last.lights.iter().map(|l| l.clamp).collect())
     }
 
-    /// The last frame's shadow plan (issue 15): the atlas's tiles as the shaders read them,
+    /// The last frame's shadow plan: the atlas's tiles as the shaders read them,
     /// each light's (first tile, count), the sun's cascades and the stats.
     pub fn shadow_plan(&self) -> &shadows::ShadowPlan {
         &self.last.shadows

@@ -138,8 +138,7 @@ pub struct PlanView {
 /// two-pass mark simply finds no front face where they are clipped) still shades only the points
 /// in front of its far side, while a full-screen draw shades every pixel. The old rule (more
 /// than half the screen, near-crossing counted as all of it: full-screen) shaded 4.5x the
-/// fragments of two-pass on the `street` hard case and lost to it in time (README,
-/// "Measurements"). Thresholds from `lampshade bench --only culling` on lavapipe at 320x180,
+/// fragments of two-pass on the `street` hard case and lost to it in time (docs/measurements.md). Thresholds from `lampshade bench --only culling` on lavapipe at 320x180,
 /// 640x360 and 1280x720.
 pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> LightPlan {
     plan_hull(light, volumes.mesh(VolumeKind::of(light)), view)
@@ -676,7 +675,7 @@ impl FramePlan {
         let radii = SphereRadii::of(&volumes.sphere);
         // On one thread: split over two, the plans cost more CPU time in all (0.2-0.4 ms more
         // at 16,384 lights: the helper's spawn, and the half it plans read from the other
-        // core's cache), which is what issue 13's budget counts.
+        // core's cache), which is what the CPU budget counts (`cputime`).
         lights.clear();
         lights.extend(records.lights.iter().map(|l| {
             plan_sphere_ahead(l, radii, &volumes.sphere, view).unwrap_or_else(|| plan_light(l, volumes, view))
@@ -1175,7 +1174,7 @@ pub struct ForwardPair {
     pub scissor: [u32; 4],
 }
 
-/// The forward paths' lists (issue 14, seed 002), appended to the frame's light lists.
+/// The forward paths' lists (seed 002), appended to the frame's light lists.
 #[derive(Clone, Debug, Default)]
 pub struct ForwardPathLists {
     /// Objects drawn (opaque and masked: the G-buffer list's), their list entries summed, and

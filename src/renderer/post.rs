@@ -1,4 +1,4 @@
-//! The HDR post chain's data (issue 16, seed 002's order after transparency): bloom →
+//! The HDR post chain's data (seed 002's order after transparency): bloom →
 //! auto-exposure → tone mapping → colour grading → fog → depth of field → vignette →
 //! anti-aliasing, each a pass of its own in `passes/` (`bloom`, `exposure`, `tonemap`,
 //! `grading`, `fog`, `dof`, `vignette`, `aa`). This file holds what they share: the tone

@@ -163,7 +163,7 @@ gpu_record! {
         pub cookie_size: u32,
         pub cookie_pad0: u32,
         pub cookie_pad1: u32,
-        /// Issue 15: x, the light's first shadow tile in `shadow_tiles` (a spot's one, a point
+        /// X, the light's first shadow tile in `shadow_tiles` (a spot's one, a point
         /// light's six faces in a row), or `NO_SHADOW` (unshadowed; filled by `shadows::plan`);
         /// y, its tile count (1 or 6); z, w unused.
         pub shadow: [u32; 4],
@@ -176,7 +176,7 @@ pub const NO_SHADOW: u32 = u32::MAX;
 pub const UNSHADOWED: [u32; 4] = [NO_SHADOW, 0, 0, 0];
 
 gpu_record! {
-    /// One shadow-map tile of the atlas (issue 15): how a view-space point maps into it.
+    /// One shadow-map tile of the atlas: how a view-space point maps into it.
     /// `to_light` turns view space into the tile's light space (the light looks down -z);
     /// then ndc.xy = q.xy x `proj.xy` / w with w = -q.z (perspective) or 1 (orthographic),
     /// and the stored depth is -q.z x `proj.z` + `proj.w` (linear in distance, 0 ..= 1).
@@ -563,7 +563,7 @@ pub struct FrameBuffers {
     /// of one buffer; written only in frames whose shaders read them.
     pub light_planes: wgpu::Buffer,
     pub group: wgpu::BindGroup,
-    /// Issue 15: the shadow atlas (Depth32Float, `shadow_side` square), its view and comparison
+    /// The shadow atlas (Depth32Float, `shadow_side` square), its view and comparison
     /// sampler, the tiles (`ShadowTile`) and the frame's `ShadowParams`.
     pub shadow_atlas: wgpu::Texture,
     pub shadow_view: wgpu::TextureView,
@@ -572,7 +572,7 @@ pub struct FrameBuffers {
     /// 1 + i tile i, each as its bytes.
     pub shadow_table: wgpu::Texture,
     pub shadow_table_view: wgpu::TextureView,
-    /// Issue 15, `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side`
+    /// `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side`
     /// square, 6 layers a cube; a 1x1 6-layer stand-in when no cube casts), its CubeArray view
     /// (bound) and one 2D view per layer (the shadow pass renders into them).
     pub shadow_cubes: wgpu::Texture,

@@ -108,7 +108,7 @@ impl BrdfOverride {
     }
 }
 
-/// The rendering pipeline: the three the seeds describe, side by side (issue 14).
+/// The rendering pipeline: the three the seeds describe, side by side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum RenderPath {
@@ -266,7 +266,7 @@ pub enum DebugView {
     /// Depth of field's circle of confusion: dark green where in focus (under half a pixel,
     /// copied unchanged), grey growing to white at `post::MAX_COC` px.
     Coc = 15,
-    /// Issue 15: the shadow factor, the least of the sun's and of every casting light's that
+    /// The shadow factor, the least of the sun's and of every casting light's that
     /// reaches the pixel: white lit, black shadowed; dark blue where no surface is drawn.
     Shadow = 16,
     /// The sun's cascades, one colour each (red, green, blue, yellow), darkened by its shadow;
@@ -501,7 +501,7 @@ pub struct Settings {
     pub vignette: f32,
     /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
     pub aa: Aa,
-    /// Which lights cast shadows (issue 15; `renderer::shadows`): none, the sun, the sun and
+    /// Which lights cast shadows (`renderer::shadows`): none, the sun, the sun and
     /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
     pub shadows: ShadowMode,
     /// The shadow atlas's byte budget in MiB (one Depth32Float texture; its side is the largest
@@ -524,7 +524,7 @@ pub struct Settings {
     /// Who builds the clustered mode's lists.
     pub cluster_build: ClusterBuilder,
     /// Where point lights' (and wide spots') six shadow faces live: tiles of the atlas
-    /// (`unrolled`) or layers of a cube-array texture (`array`; issue 15).
+    /// (`unrolled`) or layers of a cube-array texture (`array`).
     pub shadow_cube: ShadowCube,
 }
 

@@ -1,4 +1,4 @@
-//! Shadows (issue 15; seed 002: "shadow maps work very well with deferred shading"): which
+//! Shadows (seed 002: "shadow maps work very well with deferred shading"): which
 //! lights cast this frame, where each one's tiles lie in the one shadow atlas, and how a
 //! view-space point maps into a tile (`ShadowTile`). The shadow pass (`passes::shadows`) draws
 //! the casters into the tiles; every place that shades a light reads them through one WGSL
@@ -21,7 +21,7 @@
 //! - **Point lights** (and spots wider than [`CUBE_SPOT_ANGLE`]): seed 002's "virtual shadow
 //!   depth cube" — six 90° faces (plus the border) unrolled into 2D tiles of the atlas; the
 //!   face is picked from the major axis of the light-to-surface vector (view-space axes).
-//! - **Cube array** (`--shadow-cube array`, issue 15): the same six faces as layers of one
+//! - **Cube array** (`--shadow-cube array`): the same six faces as layers of one
 //!   Depth32Float cube-array texture instead of atlas tiles, sampled by direction with the
 //!   hardware's (seamless) cube filtering, so no border. See [`ShadowCube`] and
 //!   [`cube_array_fit`] for the size rule.
@@ -42,7 +42,7 @@ pub enum ShadowMode {
     None,
     /// The sun only.
     Sun,
-    /// The sun and spot lights (the default, as issue 15 asks: the lights a scene has few of
+    /// The sun and spot lights (the default: the lights a scene has few of
     /// and that throw the shadows a viewer looks for; point lights cost six faces each).
     #[default]
     Spots,

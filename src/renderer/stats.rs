@@ -122,7 +122,7 @@ pub enum Stamp {
     /// The forward pass of blended surfaces.
     ForwardBegin = 6,
     ForwardEnd = 7,
-    /// The post chain's passes (issue 16), each when it runs.
+    /// The post chain's passes, each when it runs.
     BloomBegin = 8,
     BloomEnd = 9,
     ExposureBegin = 10,
@@ -143,7 +143,7 @@ pub enum Stamp {
     /// GPU), inside the lighting span.
     ListsBegin = 24,
     ListsEnd = 25,
-    /// The forward paths (issue 14): the depth pass (pre-pass or multi-pass's), the shading
+    /// The forward paths: the depth pass (pre-pass or multi-pass's), the shading
     /// pass (single-pass, or multi-pass's ambient + sun), the (object, light) pairs.
     DepthPassBegin = 26,
     DepthPassEnd = 27,
@@ -155,7 +155,7 @@ pub enum Stamp {
     /// stamps).
     PrepassBegin = 32,
     PrepassEnd = 33,
-    /// Issue 15: the shadow pass (before the G-buffer; `gpu_ms.shadows`, part of `total`).
+    /// The shadow pass (before the G-buffer; `gpu_ms.shadows`, part of `total`).
     ShadowsBegin = 34,
     ShadowsEnd = 35,
 }
@@ -206,7 +206,7 @@ pub struct GpuMs {
     /// `lighting`).
     #[serde(default)]
     pub prepass_final: Option<f64>,
-    /// The shadow pass (issue 15): the atlas's depth, before every path's first pass (`None`
+    /// The shadow pass: the atlas's depth, before every path's first pass (`None`
     /// when no light cast). Part of `total`.
     #[serde(default)]
     pub shadows: Option<f64>,
@@ -304,7 +304,7 @@ pub struct PrepassStats {
 pub struct LightStats {
     pub index: usize,
     /// "point" or "spot", borrowed: an allocated name per light made the per-light stats cost
-    /// 1.1-1.3 ms of CPU a frame at 16,384 lights (0.16-0.62 ms borrowed; README, issue 13).
+    /// 1.1-1.3 ms of CPU a frame at 16,384 lights (0.16-0.62 ms borrowed; docs/measurements.md).
     pub kind: Cow<'static, str>,
     pub method: Method,
     pub crosses_near: bool,
@@ -373,7 +373,7 @@ pub struct FrameStats {
     /// (`passes::ShaderFeatures::names`): only those some light of the scene can need.
     #[serde(default)]
     pub shader_lookups: Vec<String>,
-    /// Issue 15: the shadow atlas and who casts (`None` with `--shadows none`).
+    /// The shadow atlas and who casts (`None` with `--shadows none`).
     #[serde(default)]
     pub shadow: Option<crate::renderer::shadows::ShadowStats>,
     /// The forward paths' passes, targets and lists (`None` on the other paths).

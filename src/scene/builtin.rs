@@ -30,7 +30,7 @@ pub const NAMES: &[(&str, &str)] = &[
         "materials",
         "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
     ),
-    ("shadows", "issue 15: boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
+    ("shadows", "boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
     (
         "cookies",
         "seed 004: a spot throwing the window cookie on a wall, a point light's cube cookie, two objects on layers 1 and 2 under lights whose masks leave one of them out",
@@ -795,7 +795,7 @@ pub fn cookies() -> Scene {
     b.scene
 }
 
-/// Issue 15's scene: boxes, a pillar and a thin wall on a floor under the sun, a spot light and
+/// The shadows' scene: boxes, a pillar and a thin wall on a floor under the sun, a spot light and
 /// a point light, so each kind's shadow shows (`--shadows all`).
 pub fn shadows() -> Scene {
     let camera = Camera::looking_at(DVec3::new(6.0, 6.5, 11.0), DVec3::new(0.0, 0.5, 0.0));

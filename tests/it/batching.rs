@@ -1,4 +1,4 @@
-//! Batched light draws (issue 13) change the draw calls, not the picture: every culling mode
+//! Batched light draws change the draw calls, not the picture: every culling mode
 //! gives the unbatched frame bit for bit (every pixel's lights blend in light order), every light shades
 //! exactly the samples it shades unbatched, and the batches are what `renderer::batches` says
 //! (no two lights of a batch meet, every drawn light in exactly one batch).

@@ -1,4 +1,4 @@
-//! Seed 004's cookies and light culling masks (issue 15, part 2) on the `cookies` scene: masks
+//! Seed 004's cookies and light culling masks  on the `cookies` scene: masks
 //! exclude exactly the objects they name, every culling mode gives the full-screen picture, the
 //! cookie's projection matches its f64 twin within a derived bound, lights without either are
 //! untouched, a layout without room for the layer is a clear error, and so are bad cookie files.

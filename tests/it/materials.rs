@@ -1,4 +1,4 @@
-//! Seed 002's material IDs (issue 16): each reflectance model against its f64 twin, the ID
+//! Seed 002's material IDs: each reflectance model against its f64 twin, the ID
 //! channel allocated only for scenes of several models, culling modes against full-screen on
 //! the `materials` scene, unlit surfaces that ignore lights, and a metal's coloured highlight.
 

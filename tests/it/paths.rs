@@ -1,4 +1,4 @@
-//! The forward paths of seed 002 (issue 14): single-pass (each object with its light list, depth
+//! The forward paths of seed 002: single-pass (each object with its light list, depth
 //! pre-pass), multi-pass (one additive draw per (object, light) pair), MSAA. Each must light
 //! what deferred shading lights: finite and lit on every hard case, the same pixels under every
 //! culling mode, deferred's picture within the G-buffer's quantisation, single- and multi-pass
@@ -401,7 +401,7 @@ fn forward_paths_refuse_the_gbuffer_views_with_an_error() {
 fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() {
     // The light pre-pass multisamples pass 3 only: passes 1 and 2 stay single-sample, so at an
     // edge the far surface's samples take the light the light buffer holds at the pixel's
-    // centre (README: a one-pixel halo of the wrong light). `tests/it/prepass.rs` shows MSAA
+    // centre (docs/frame.md: a one-pixel halo of the wrong light). `tests/it/prepass.rs` shows MSAA
     // changes only edge pixels; this holds it to the issue's second promise, that the edges
     // come closer to a 4 x 4-supersampled render of the same path than one sample does.
     let (w, h) = (160, 90);

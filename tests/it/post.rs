@@ -1,4 +1,4 @@
-//! The HDR post chain (issue 16): bloom, auto-exposure, tone curves, grading.
+//! The HDR post chain: bloom, auto-exposure, tone curves, grading.
 
 use crate::common;
 

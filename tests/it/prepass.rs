@@ -1,4 +1,4 @@
-//! The light pre-pass (`--path light-prepass`, seeds 003/004, issue 14): it renders every scene
+//! The light pre-pass (`--path light-prepass`, seeds 003/004): it renders every scene
 //! finite and lit, every culling mode gives the full-screen picture within the path, its light
 //! buffer holds what either encoding promises, its difference from deferred shading stays
 //! inside the bound `reference::prepass_enclosure` derives, and it refuses what it cannot draw.

@@ -1,4 +1,4 @@
-//! Any number of lights (issue 13): counts that stay true at scale, the fp16 clamp by what can
+//! Any number of lights: counts that stay true at scale, the fp16 clamp by what can
 //! overlap a pixel, and `demo` with 16,384 lights equal to the full-screen reference.
 
 use crate::common::*;

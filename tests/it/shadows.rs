@@ -1,4 +1,4 @@
-//! Issue 15: shadows. The GPU's shadow factor (the light a pixel gets with shadows over the
+//! Shadows. The GPU's shadow factor (the light a pixel gets with shadows over the
 //! light it gets without, one light at a time) against a CPU visibility check (a segment from
 //! the surface point to the light against every opaque triangle, `reference::Occluders`);
 //! acne on a plane lit at a grazing angle; a thin wall; the point light's cube faces; every
@@ -763,7 +763,7 @@ fn darkening(s: &Scene, path: lampshade::renderer::RenderPath) -> Vec<i32> {
         .collect()
 }
 
-/// Issue 14's other paths (light pre-pass, forward single- and multi-pass) shade each light
+/// The other paths (light pre-pass, forward single- and multi-pass) shade each light
 /// through `shade_light` and the sun through `ambient_sun`, as deferred does, and the shadow
 /// pass runs before every path: each must darken the pixels deferred shadows, and only those.
 /// Compared away from shadow edges (a pixel whose 3x3 neighbourhood is all in deferred's

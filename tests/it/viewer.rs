@@ -577,7 +577,7 @@ fn every_scene_layout_view_and_option_renders() {
         "timestamps off",
         "lights 0",
         "lights 3",
-        // The post chain (issue 16), every pass on, then off again.
+        // The post chain, every pass on, then off again.
         "tonemap agx",
         "bloom on",
         "auto-exposure on",
@@ -861,7 +861,7 @@ fn the_viewer_state_survives_a_restart_and_a_bad_state_file_is_reported() {
     assert_eq!(json(&dir, "viewer.json")["scene"], "demo");
 }
 
-/// Issue 15: the shadow-atlas panel on the `shadows` scene with every light casting. The
+/// The shadow-atlas panel on the `shadows` scene with every light casting. The
 /// screenshot's settings file records where the panel drew the atlas and the tiles the
 /// renderer planned; every tile's four edges must show its outline colour in the window (the
 /// sun's cascades in the `cascades` view's colours, the spot violet, cube faces cyan) and the

@@ -39,7 +39,7 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                 }
             }
         });
-        // The render path (issue 14), next to the culling modes: every path is listed; one the
+        // The render path, next to the culling modes: every path is listed; one the
         // renderer cannot draw is rejected with its error in the status line.
         ui.label(RichText::new("Render path").strong());
         egui::Grid::new("paths").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
@@ -193,7 +193,7 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
         }
         if let Some(fp) = &s.forward_path {
-            // The forward paths (issue 14): each pass's draws, samples shaded and time, the
+            // The forward paths: each pass's draws, samples shaded and time, the
             // intermediate targets' bytes per pixel and the object light lists.
             row(ui, "path", format!("{} (x{} samples)", fp.path.name(), fp.samples));
             for p in &fp.passes {
@@ -225,7 +225,7 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             }
         }
         if let Some(post) = &s.post {
-            // The post chain's passes, each when it ran (issue 16).
+            // The post chain's passes, each when it ran.
             if post.bloom {
                 row(ui, "GPU bloom", fmt_ms(s.gpu_ms.bloom));
             }

@@ -86,7 +86,7 @@ fn light_editor(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize, 
         let w = egui::DragValue::new(&mut e.radius).range(0.01..=10_000.0).speed(0.05).max_decimals(2);
         changed |= ui.add(w).changed();
         ui.end_row();
-        // Issue 15: whether this light casts (the `shadows` knob decides which kinds do).
+        // Whether this light casts (the `shadows` knob decides which kinds do).
         ui.label("shadow");
         changed |= ui.checkbox(&mut e.cast_shadows, "casts").changed();
         ui.end_row();

@@ -81,7 +81,7 @@ pub struct FrameInfo<'a> {
     pub wireframes: &'a [(usize, Vec<[glam::Vec2; 2]>)],
     /// A glTF file loading in the background.
     pub loading: Option<super::loading::LoadProgress>,
-    /// Issue 15: the shadow-atlas panel's image, tiles and depth range (`None`: panel closed or
+    /// The shadow-atlas panel's image, tiles and depth range (`None`: panel closed or
     /// nothing rendered yet).
     pub atlas: Option<AtlasInfo<'a>>,
     /// Where the shadow-atlas window opens first (points).

@@ -125,7 +125,7 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ambient_and_sun(ui, st, scene);
     }
     ui.separator();
-    // Issue 15: the shadow knobs (also in the shadow-atlas window, top bar "shadows").
+    // The shadow knobs (also in the shadow-atlas window, top bar "shadows").
     ui.label(RichText::new("Shadows").strong());
     super::shadow_atlas::shadow_knobs(ui, st, "scene");
     ui.separator();
@@ -133,7 +133,7 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     post_panel(ui, st);
 }
 
-/// The post chain's knobs (issue 16): bloom, auto-exposure, the tone curve and the grading LUT.
+/// The post chain's knobs: bloom, auto-exposure, the tone curve and the grading LUT.
 fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
     let s = &mut st.settings;
     egui::Grid::new("post-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {

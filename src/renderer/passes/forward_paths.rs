@@ -1,4 +1,4 @@
-//! The forward paths of seed 002 (issue 14), no G-buffer:
+//! The forward paths of seed 002, no G-buffer:
 //!
 //! - **single-pass** (`--path forward`): an optional depth pre-pass (seed 002's "Z-cull", so
 //!   each pixel is shaded once; `--depth-prepass`), then every opaque and masked object shaded

@@ -106,7 +106,7 @@ pub fn wgsl_constants() -> String {
     s
 }
 
-/// The lookups a configuration's shaders compile in, from what the scene can need (issue 13).
+/// The lookups a configuration's shaders compile in, from what the scene can need.
 /// On lavapipe a fragment shader runs both sides of every branch under a lane mask, so a
 /// lookup no light takes still costs every light at every pixel: with the shadow kernels and
 /// the cookie compiled into `shade_light`, the clustered pass at 16,384 lights took 4.8× as
@@ -746,7 +746,7 @@ pub struct Passes {
     pub vignette: Lazy<vignette::VignettePass>,
     pub aa: Lazy<aa::AaPass>,
     pub shadows: Lazy<shadows::ShadowPass>,
-    /// Issue 15: the viewer's shadow-atlas image (not part of the frame).
+    /// The viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<atlas_view::AtlasViewPass>,
 }
 

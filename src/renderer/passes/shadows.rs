@@ -1,4 +1,4 @@
-//! Issue 15: the shadow pass. Draws every caster into each shadow tile of the atlas
+//! The shadow pass. Draws every caster into each shadow tile of the atlas
 //! (`shadows::plan` decides the tiles and which objects touch each), one viewport per tile,
 //! before the G-buffer pass (which already adds the sun's light through the atlas). With
 //! `--shadow-cube array`, cube faces go to the layers of the cube array instead.

@@ -401,7 +401,7 @@ impl Importer<'_> {
             _ => (intensity * color.max_element() / RANGE_CUTOFF).sqrt().max(1e-3),
         };
         let ours = 4.0 * intensity / (0.5625 * radius * radius);
-        // Issue 15: `"extras": {"cast_shadows": false}` on the light turns its shadow off; any
+        // `"extras": {"cast_shadows": false}` on the light turns its shadow off; any
         // other value of the key is a warning and the default (on).
         let cast_shadows = match light.extras().as_ref().map(|raw| serde_json::from_str::<serde_json::Value>(raw.get()))
         {

@@ -796,7 +796,7 @@ fn encode_light(v: vec3<f32>) -> vec4<f32> {
 // The light pre-pass's one light buffer (seeds 003/004): RGB diffuse, and in A the mono
 // specular, the luminance of the specular light (seed 004: "monochrome specular lighting in A").
 // Encoded as the accumulation is (fp16 additive, or seed 004's log encoding, all four channels).
-const LS_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);
+// LS_LUMINANCE: Rec. 709 luma weights, generated from `scene::LUMINANCE`.
 
 fn encode_light_buffer(diffuse: vec3<f32>, specular: vec3<f32>) -> vec4<f32> {
     let v = max(vec4<f32>(diffuse, dot(specular, LS_LUMINANCE)), vec4<f32>(0.0));

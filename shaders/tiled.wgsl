@@ -22,11 +22,8 @@ struct TileParams {
     far: f32,
 };
 
-// A list count meaning "every light" (tiles::ALL_LIGHTS).
-const LS_TILE_ALL: u32 = 0xffffffffu;
-// Lights the compute pass keeps a bit for (2048 words of workgroup memory); a tile of a frame
-// with more lights is shaded with every light.
-const LS_TILE_MAX_LIGHTS: u32 = 65536u;
+// Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);
+// LS_TILE_MAX_LIGHTS, the lights the compute pass keeps a bit for (`tiles::GPU_LIST_MAX_LIGHTS`).
 
 var<workgroup> wg_min: atomic<u32>;
 var<workgroup> wg_max: atomic<u32>;

@@ -38,6 +38,11 @@ pub fn quiet_headless_device_select() {
     }
 }
 
+/// See [`Gpu::encoder_debug_groups`].
+pub fn encoder_debug_groups(info: &wgpu::AdapterInfo) -> bool {
+    !(info.backend == wgpu::Backend::Vulkan && info.driver == "llvmpipe")
+}
+
 /// A device and what it can do.
 pub struct Gpu {
     pub instance: wgpu::Instance,
@@ -82,7 +87,14 @@ impl Gpu {
             )
         })?;
         let info = adapter.get_info();
-        log::info!("adapter: {} ({:?}, {:?})", info.name, info.backend, info.device_type);
+        log::info!(
+            "adapter: {} ({:?}, {:?}; driver {} {})",
+            info.name,
+            info.backend,
+            info.device_type,
+            info.driver,
+            info.driver_info
+        );
         let available = adapter.features();
         let mut features = wgpu::Features::empty();
         for (feature, consequence) in OPTIONAL_FEATURES {
@@ -111,6 +123,14 @@ impl Gpu {
         }))
         .context("the adapter refused to create a device")?;
         Ok(Self { instance, adapter, device, queue, features, info, passes: Default::default() })
+    }
+
+    /// Whether debug groups may be pushed on a command encoder (outside a pass): Mesa's
+    /// lavapipe crashes in `vkCmdBeginDebugUtilsLabelEXT` there (seen with Mesa 22.3.6; its
+    /// render-pass labels work, and every pass is labelled), so on lavapipe the frame's steps
+    /// are not grouped.
+    pub fn encoder_debug_groups(&self) -> bool {
+        encoder_debug_groups(&self.info)
     }
 
     pub fn has(&self, feature: wgpu::Features) -> bool {

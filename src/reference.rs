@@ -301,7 +301,7 @@ pub fn prepass_enclosure(
     normal_error: f64,
     exp_ratio: f64,
 ) -> (DVec3, DVec3) {
-    const LUM: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
+    const LUM: DVec3 = DVec3::from_array(crate::scene::LUMINANCE);
     if !p.valid {
         return (DVec3::ZERO, DVec3::ZERO);
     }

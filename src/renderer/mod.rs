@@ -141,6 +141,8 @@ pub struct Renderer {
     limits: wgpu::Limits,
     /// The adapter has `DownlevelFlags::CUBE_ARRAY_TEXTURES` (`--shadow-cube array`).
     cube_arrays: bool,
+    /// The frame's steps are pushed as debug groups (`Gpu::encoder_debug_groups`).
+    debug_groups: bool,
     /// Taken out only by `drop`, which hands it to the pool.
     passes: std::mem::ManuallyDrop<Passes>,
     /// Passes of recent other configurations, least recently used first.
@@ -229,6 +231,7 @@ impl Renderer {
             features: gpu.features,
             limits,
             cube_arrays,
+            debug_groups: gpu.encoder_debug_groups(),
             passes: std::mem::ManuallyDrop::new(passes),
             pass_cache: Vec::new(),
             passes_used: false,
@@ -403,9 +406,6 @@ impl Renderer {
         let f = self.inputs(settings, &shape, &prepared)?;
         let p = &self.passes;
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        // 0. Shadows: each casting light's depth into its tiles of the atlas, on every path.
-        p.shadows.encode(&self.device, &mut encoder, &f, &prepared.shadows);
-        // 1-3. The path's own passes, into `target`.
         let c = paths::PathInputs {
             device: &self.device,
             queue: &self.queue,
@@ -415,10 +415,14 @@ impl Renderer {
             prepared: &prepared,
             scene,
             target,
+            debug_groups: self.debug_groups,
         };
+        // 0. Shadows: each casting light's depth into its tiles of the atlas, on every path.
+        c.group(&mut encoder, "shadows", |e| p.shadows.encode(&self.device, e, &f, &prepared.shadows));
+        // 1-3. The path's own passes, into `target`.
         let drawn = paths::record(settings.path, &c, &mut encoder)?;
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
-        p.measure.encode(&mut encoder, &f);
+        c.group(&mut encoder, "measure", |e| p.measure.encode(e, &f));
         let (n, m) = (prepared.plan.lights.len(), self.measured(settings, &shape, &prepared));
         let prepass = drawn.prepass.is_some();
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, prepass);

@@ -1,7 +1,7 @@
 //! The HDR post chain's data (seed 002's order after transparency): bloom →
 //! auto-exposure → tone mapping → colour grading → fog → depth of field → vignette →
-//! anti-aliasing, each a pass of its own in `passes/` (`bloom`, `exposure`, `tonemap`,
-//! `grading`, `fog`, `dof`, `vignette`, `aa`). This file holds what they share: the tone
+//! anti-aliasing: `passes/bloom`, `passes/exposure`, `passes/tonemap`, then the effects after
+//! tone mapping as one table (`passes/effects`). This file holds what they share: the tone
 //! curves' and fog's CPU twins (the WGSL is in `shaders/post.wgsl`, formula for formula), the
 //! `.cube` parser, the histogram's constants and the chain's size-dependent targets.
 //!
@@ -11,6 +11,7 @@
 //! this: the chain does not change what the accuracy figures measure.
 
 use super::bindings;
+use super::passes::effects::EFFECTS;
 use super::passes::Shared;
 use super::records::PostParams;
 use super::settings::Settings;
@@ -425,16 +426,6 @@ impl PostTargets {
     }
 }
 
-/// The passes after tone mapping, in seed 002's order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Stage {
-    Grading,
-    Fog,
-    Dof,
-    Vignette,
-    Aa,
-}
-
 /// An image of the chain that `Renderer::read_post_image` reads back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PostImage {
@@ -467,39 +458,19 @@ pub fn encode_chain(
         V::Histogram => p.tonemap.encode_view(encoder, f, hdr, target),
         V::Edges | V::Coc => {
             p.tonemap.encode(encoder, f, hdr, &pt.toned_view, false);
-            if s.debug_view == V::Edges {
-                p.aa.encode_view(encoder, f, &pt.from_toned, target);
-            } else {
-                p.dof.encode_view(encoder, f, &pt.from_toned, target);
-            }
+            p.effects.encode_view(encoder, f, s.debug_view, &pt.from_toned, target);
         }
         _ => {
-            // After tone mapping: grading, fog, DOF, vignette, AA, each when on, alternating
-            // between two images; the last writes the output.
-            let stages: Vec<Stage> = [
-                (Stage::Grading, s.lut.is_some()),
-                (Stage::Fog, s.fog),
-                (Stage::Dof, s.dof),
-                (Stage::Vignette, s.vignette > 0.0),
-                (Stage::Aa, s.aa != Aa::Off),
-            ]
-            .into_iter()
-            .filter_map(|(stage, on)| on.then_some(stage))
-            .collect();
-            let first = if stages.is_empty() { target } else { &pt.toned_view };
-            p.tonemap.encode(encoder, f, hdr, first, stages.is_empty());
-            for (i, stage) in stages.iter().enumerate() {
-                let last = i + 1 == stages.len();
+            // After tone mapping: the effects that are on, alternating between two images;
+            // the last writes the output.
+            let on: Vec<usize> = (0..EFFECTS.len()).filter(|&i| (EFFECTS[i].on)(s)).collect();
+            let first = if on.is_empty() { target } else { &pt.toned_view };
+            p.tonemap.encode(encoder, f, hdr, first, on.is_empty());
+            for (k, &i) in on.iter().enumerate() {
+                let last = k + 1 == on.len();
                 let (src, dst) =
-                    if i % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
-                let dst = if last { target } else { dst };
-                match stage {
-                    Stage::Grading => p.grading.encode(encoder, f, src, dst, last),
-                    Stage::Fog => p.fog.encode(encoder, f, src, dst, last),
-                    Stage::Dof => p.dof.encode(encoder, f, src, dst, last),
-                    Stage::Vignette => p.vignette.encode(encoder, f, src, dst, last),
-                    Stage::Aa => p.aa.encode(encoder, f, src, dst, last),
-                }
+                    if k % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
+                p.effects.encode(encoder, f, i, src, if last { target } else { dst }, last);
             }
         }
     }

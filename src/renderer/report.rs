@@ -2,10 +2,11 @@
 //! plan (CPU), the path's passes, then the GPU's counts and times read back.
 
 use super::frame::{Prepared, Shape};
+use super::passes::effects::runs;
 use super::paths::Drawn;
 use super::plan::Method;
 use super::stats::{self, FrameStats};
-use super::{post, tiles, DebugView, Renderer, Settings, ShadowMode};
+use super::{tiles, DebugView, Renderer, Settings, ShadowMode};
 use crate::scene::Scene;
 use anyhow::Result;
 
@@ -49,11 +50,11 @@ impl Renderer {
             post: shape.chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
-                grading: settings.lut.is_some() && lit,
-                fog: settings.fog && lit,
-                dof: settings.dof && lit,
-                vignette: settings.vignette > 0.0 && lit,
-                aa: settings.aa != post::Aa::Off && lit,
+                grading: runs("grading", settings) && lit,
+                fog: runs("fog", settings) && lit,
+                dof: runs("dof", settings) && lit,
+                vignette: runs("vignette", settings) && lit,
+                aa: runs("aa", settings) && lit,
                 tonemap: settings.tonemap,
             }),
             cpu_ms,

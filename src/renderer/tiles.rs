@@ -23,6 +23,10 @@ pub const PARALLEL_MIN_LIGHTS: usize = 1024;
 /// A list count meaning "every light" (the GPU's list buffer ran out of room for this tile):
 /// the tile is shaded with all lights, the right picture at a higher cost.
 pub const ALL_LIGHTS: u32 = u32::MAX;
+
+/// Lights the tiled compute pass keeps a bit for (2048 words of workgroup memory); a tile of a
+/// frame with more lights is shaded with every light (`ALL_LIGHTS`).
+pub const GPU_LIST_MAX_LIGHTS: u32 = 65536;
 /// List entries one draw of the tiled or clustered shading pass walks per pixel: lists longer
 /// than this are walked in draws of this many entries each, added together (one instance per
 /// chunk, `SHADE_CHUNK` x the chunk onwards). lavapipe (gallivm) stops every loop of a shader

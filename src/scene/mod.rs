@@ -380,6 +380,16 @@ pub fn max_specular_level(exponent: f32) -> f32 {
 /// Dielectric reflectance at normal incidence (glTF's default, ior 1.5).
 pub const DIELECTRIC_F0: f32 = 0.04;
 
+/// Luminance of linear RGB: the Rec. 709 (sRGB) weights. The shaders get it as the generated
+/// `LS_LUMINANCE`.
+pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// [`LUMINANCE`] as an f32 vector.
+pub fn luminance_weights() -> Vec3 {
+    let [r, g, b] = LUMINANCE.map(|w| w as f32);
+    Vec3::new(r, g, b)
+}
+
 impl Material {
     pub fn diffuse(c: Vec3) -> Self {
         Self {
@@ -430,7 +440,7 @@ impl Material {
     pub fn blinn_phong_from_pbr(base: Vec3, metallic: f32, roughness: f32, dielectric_f0: f32) -> (Vec3, f32, f32) {
         let m = metallic.clamp(0.0, 1.0);
         let r = roughness.clamp(0.0, 1.0);
-        let lum = base.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let lum = base.dot(luminance_weights());
         let f0 = dielectric_f0 + (lum - dielectric_f0) * m;
         let a = (r * r).max(1e-3);
         let exponent = (2.0 / (a * a) - 2.0).clamp(1.0, 2048.0);

@@ -148,3 +148,27 @@ fn the_light_planes_are_only_read_at_an_index_computed_at_run_time() {
     );
     assert_eq!(constant_plane_reads(&parse(&bad)), ["third_light"]);
 }
+
+#[test]
+fn every_shared_constant_is_generated_from_rust_not_copied_into_a_shader_file() {
+    // A constant both sides use is written by `wgsl_constants` from its Rust twin; a `const LS_`
+    // declared in a WGSL file is a copy that only a comment keeps in step.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut copied = Vec::new();
+    for entry in std::fs::read_dir(&dir).expect("the shaders folder").flatten() {
+        let text = std::fs::read_to_string(entry.path()).expect("a shader file");
+        for line in text.lines().filter(|l| l.trim_start().starts_with("const LS_")) {
+            copied.push(format!("{}: {}", entry.file_name().to_string_lossy(), line.trim()));
+        }
+    }
+    assert!(copied.is_empty(), "hand-copied constants:\n{}", copied.join("\n"));
+    // And the generated ones are there, with their Rust values.
+    let source = shader_source(&LayoutChoice::Compact.layout(), wgpu::TextureFormat::Rgba16Float, true);
+    for want in [
+        format!("const LS_TILE_ALL: u32 = {}u;", lampshade::renderer::tiles::ALL_LIGHTS),
+        format!("const LS_TILE_MAX_LIGHTS: u32 = {}u;", lampshade::renderer::tiles::GPU_LIST_MAX_LIGHTS),
+        "const LS_LUMINANCE: vec3<f32> = vec3<f32>(0.2126, 0.7152, 0.0722);".to_string(),
+    ] {
+        assert!(source.contains(&want), "{want} is not in the shader source");
+    }
+}

@@ -7,25 +7,21 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
-pub mod aa;
 pub mod atlas_view;
 pub mod bloom;
 pub mod compose;
 pub mod debug;
-pub mod dof;
+pub mod effects;
 pub mod exposure;
-pub mod fog;
 pub mod forward;
 pub mod forward_paths;
 pub mod gbuffer;
-pub mod grading;
 pub mod lights;
 pub mod measure;
 pub mod prepass;
 pub mod shadows;
 pub mod tiled;
 pub mod tonemap;
-pub mod vignette;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -75,6 +71,8 @@ pub fn wgsl_constants() -> String {
     u("NO_SHADOW", records::NO_SHADOW);
     u("SHADOW_TABLE_WIDTH", records::SHADOW_TABLE_WIDTH);
     u("TILE_CHUNK", super::tiles::SHADE_CHUNK);
+    u("TILE_ALL", super::tiles::ALL_LIGHTS);
+    u("TILE_MAX_LIGHTS", super::tiles::GPU_LIST_MAX_LIGHTS);
     for f in [
         super::shadows::ShadowFilter::Pcf2x2,
         super::shadows::ShadowFilter::Pcf3x3,
@@ -96,6 +94,8 @@ pub fn wgsl_constants() -> String {
     f("TILE_CUBE_FACE", super::shadows::TILE_CUBE_FACE);
     // Specular exponents are stored as log2(exponent) / range: exponents 1 ..= 2^range.
     f("SPEC_EXP_LOG_RANGE", super::gbuffer::SPEC_EXP_LOG_RANGE);
+    let [r, g, b] = crate::scene::LUMINANCE.map(|w| w as f32);
+    s += &format!("const LS_LUMINANCE: vec3<f32> = vec3<f32>({r:?}, {g:?}, {b:?});\n");
     // The `material-id` view's colours (`Brdf::debug_color`; unknown IDs show magenta).
     s += "fn brdf_debug_color(id: u32) -> vec3<f32> {\n";
     for b in crate::scene::Brdf::ALL {
@@ -740,11 +740,8 @@ pub struct Passes {
     pub bloom: Lazy<bloom::BloomPass>,
     pub exposure: Lazy<exposure::ExposurePass>,
     pub tonemap: Lazy<tonemap::TonemapPass>,
-    pub grading: Lazy<grading::GradingPass>,
-    pub fog: Lazy<fog::FogPass>,
-    pub dof: Lazy<dof::DofPass>,
-    pub vignette: Lazy<vignette::VignettePass>,
-    pub aa: Lazy<aa::AaPass>,
+    /// The effects after tone mapping (`effects::EFFECTS`).
+    pub effects: Lazy<effects::EffectsPass>,
     pub shadows: Lazy<shadows::ShadowPass>,
     /// The viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<atlas_view::AtlasViewPass>,
@@ -771,11 +768,7 @@ impl Passes {
             bloom: Lazy::new(device, &shared, bloom::BloomPass::new),
             exposure: Lazy::new(device, &shared, exposure::ExposurePass::new),
             tonemap: Lazy::new(device, &shared, tonemap::TonemapPass::new),
-            grading: Lazy::new(device, &shared, grading::GradingPass::new),
-            fog: Lazy::new(device, &shared, fog::FogPass::new),
-            dof: Lazy::new(device, &shared, dof::DofPass::new),
-            vignette: Lazy::new(device, &shared, vignette::VignettePass::new),
-            aa: Lazy::new(device, &shared, aa::AaPass::new),
+            effects: Lazy::new(device, &shared, effects::EffectsPass::new),
             shadows: Lazy::new(device, &shared, shadows::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, atlas_view::AtlasViewPass::new),
             shared,
@@ -809,11 +802,7 @@ impl Passes {
             self.bloom.prepare()?;
             self.exposure.prepare()?;
             self.tonemap.prepare()?;
-            self.grading.prepare()?;
-            self.fog.prepare()?;
-            self.dof.prepare()?;
-            self.vignette.prepare()?;
-            self.aa.prepare()?;
+            self.effects.prepare()?;
         }
         Ok(())
     }
@@ -843,30 +832,6 @@ pub fn post_draw(
     pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
     pass.set_bind_group(2, group, &[]);
     pass.draw(0..3, 0..1);
-}
-
-/// A post pass after tone mapping as two pipelines: into the chain's next image, or into the
-/// output when it is the last pass that runs.
-pub struct LdrPipelines {
-    to_post: wgpu::RenderPipeline,
-    to_output: wgpu::RenderPipeline,
-}
-
-impl LdrPipelines {
-    pub fn new(device: &wgpu::Device, shared: &Shared, label: &str, fs: &str) -> Self {
-        Self {
-            to_post: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, super::post::POST_FORMAT),
-            to_output: shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, shared.key.output_format),
-        }
-    }
-
-    pub fn get(&self, last: bool) -> &wgpu::RenderPipeline {
-        if last {
-            &self.to_output
-        } else {
-            &self.to_post
-        }
-    }
 }
 
 #[cfg(test)]

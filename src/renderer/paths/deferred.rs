@@ -11,13 +11,13 @@ use super::{compose, finish, tiled, Drawn, PathInputs};
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
     let (p, f) = (c.passes, c.f);
-    p.gbuffer.encode(encoder, f);
-    let draw_calls = p.lights.encode(encoder, f);
+    c.group(encoder, "gbuffer", |e| p.gbuffer.encode(e, f));
+    let draw_calls = c.group(encoder, "lights", |e| p.lights.encode(e, f));
     let cpu_ms = tiled(c, encoder);
-    p.debug.encode(encoder, f);
+    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
     if (c.shape.chain && f.targets.post.is_some()) || c.shape.blended {
-        p.compose.encode_hdr(encoder, c.queue, f);
-        p.forward.encode(encoder, f);
+        c.group(encoder, "compose (HDR)", |e| p.compose.encode_hdr(e, c.queue, f));
+        c.group(encoder, "blended surfaces", |e| p.forward.encode(e, f));
         finish(c, encoder);
     } else {
         compose(c, encoder);

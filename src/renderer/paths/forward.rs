@@ -5,13 +5,14 @@
 
 use super::{finish, Drawn, PathInputs};
 use crate::renderer::passes::forward_paths::{post_reads_gbuffer, PathFrame};
+use crate::renderer::RenderPath;
 use anyhow::Result;
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<Drawn> {
     let (p, f) = (c.passes, c.f);
     let gbuffer_for_post = post_reads_gbuffer(f.settings, c.shape.chain);
     if gbuffer_for_post {
-        p.gbuffer.encode(encoder, f);
+        c.group(encoder, "gbuffer (for the post chain)", |e| p.gbuffer.encode(e, f));
     }
     let frame = PathFrame {
         lists: &c.prepared.path_lists,
@@ -19,7 +20,8 @@ pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<
         blended: c.shape.blended,
         gbuffer_for_post,
     };
-    let stats = p.forward_paths.encode(c.device, encoder, f, &frame, &p.forward)?;
+    let name = if f.settings.path == RenderPath::Forward { "forward" } else { "forward multi-pass" };
+    let stats = c.group(encoder, name, |e| p.forward_paths.encode(c.device, e, f, &frame, &p.forward))?;
     finish(c, encoder);
     Ok(Drawn { draw_calls: stats.draw_calls(), forward_path: Some(stats), ..Default::default() })
 }

@@ -11,15 +11,15 @@ use crate::renderer::passes::prepass;
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
     let (p, f) = (c.passes, c.f);
-    p.gbuffer.encode(encoder, f);
-    let draw_calls = p.lights.encode(encoder, f);
+    c.group(encoder, "normals and exponent", |e| p.gbuffer.encode(e, f));
+    let draw_calls = c.group(encoder, "lights into the light buffer", |e| p.lights.encode(e, f));
     let cpu_ms = tiled(c, encoder);
-    p.debug.encode(encoder, f);
+    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
     let finals = if c.shape.prepass_lit {
         let bg = c.scene.background.as_dvec3();
         let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };
-        let finals = p.prepass.encode(encoder, f, background);
-        p.forward.encode(encoder, f);
+        let finals = c.group(encoder, "geometry with the light buffer", |e| p.prepass.encode(e, f, background));
+        c.group(encoder, "blended surfaces", |e| p.forward.encode(e, f));
         finish(c, encoder);
         finals
     } else {

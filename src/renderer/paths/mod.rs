@@ -33,6 +33,8 @@ pub struct PathInputs<'a> {
     pub scene: &'a Scene,
     /// The output view, of the renderer's output format and the frame's size.
     pub target: &'a wgpu::TextureView,
+    /// Group the frame's steps for captures ([`PathInputs::group`]).
+    pub debug_groups: bool,
 }
 
 /// What a path's passes report for the frame's statistics.
@@ -56,11 +58,31 @@ pub fn record(path: RenderPath, c: &PathInputs<'_>, encoder: &mut wgpu::CommandE
     }
 }
 
+impl PathInputs<'_> {
+    /// Records `steps` inside a debug group `name`: a capture (RenderDoc, PIX, Xcode) shows the
+    /// frame as these named steps, each holding its labelled passes (where the adapter takes
+    /// encoder debug groups: `Gpu::encoder_debug_groups`).
+    pub fn group<R>(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        name: &str,
+        steps: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
+    ) -> R {
+        if !self.debug_groups {
+            return steps(encoder);
+        }
+        encoder.push_debug_group(name);
+        let out = steps(encoder);
+        encoder.pop_debug_group();
+        out
+    }
+}
+
 /// Tiled / clustered shading: per-tile or per-cluster light lists, one full-screen shading
 /// (when the plan has such lights). Returns the CPU ms it took (upload, wall).
 pub fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
     match c.passes.tiled.get() {
-        Some(t) => t.encode(c.device, c.queue, encoder, c.f),
+        Some(t) => c.group(encoder, "tiled and clustered lights", |e| t.encode(c.device, c.queue, e, c.f)),
         None => (0.0, 0.0),
     }
 }
@@ -71,7 +93,7 @@ pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
     let settings = c.f.settings;
     let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: settings.debug_view, slot: 0 };
     let stamps = c.f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
-    c.passes.compose.encode(encoder, c.queue, c.f.targets, c.f.frame, &to, stamps);
+    c.group(encoder, "compose", |e| c.passes.compose.encode(e, c.queue, c.f.targets, c.f.frame, &to, stamps));
 }
 
 /// From the HDR scene colour to the output: the post chain (seed 002's order: bloom,
@@ -80,8 +102,8 @@ pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
 pub fn finish(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
     if let Some(pt) = c.f.targets.post.as_ref().filter(|_| c.shape.chain) {
         let stamps = c.f.timestamps(None, Some(Stamp::ComposeEnd));
-        post::encode_chain(encoder, c.f, c.passes, pt, c.target, stamps);
+        c.group(encoder, "post chain", |e| post::encode_chain(e, c.f, c.passes, pt, c.target, stamps));
     } else {
-        c.passes.compose.encode_tonemap(encoder, c.f, c.target);
+        c.group(encoder, "tonemap", |e| c.passes.compose.encode_tonemap(e, c.f, c.target));
     }
 }

@@ -161,7 +161,7 @@ pub fn irradiance(p: DVec3, n: DVec3, lights: &[(DVec3, f64, Vec3)]) -> f64 {
             }
             let x = d / r;
             let w = (1.0 - x * x).powi(2);
-            let lum = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)) as f64;
+            let lum = c.dot(crate::scene::luminance_weights()) as f64;
             lum * w * n.dot(to / d).max(0.0)
         })
         .sum()

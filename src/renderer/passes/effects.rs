@@ -1,0 +1,141 @@
+//! The effects after tone mapping, as one table. Each is one full-screen pass from the chain's
+//! last image into the next (or into the output when it is the last that runs), in the
+//! table's order (seed 002's), and each is one fragment function in `shaders/post.wgsl`.
+//! Adding one is a row here, its function there, its option in `Settings` and its knob row.
+//!
+//! - **grading** (seed 003's fifth pass): the tonemapped colour through a 3D LUT
+//!   (`--lut FILE.cube`, or `identity`), trilinear, in the sRGB encoding LUTs are made for.
+//! - **fog** (seed 002's chain): distance fog with an exponential height falloff towards the
+//!   background colour, by `post::fog_amount`'s formula from the G-buffer's view-space point.
+//!   Background pixels are left as they are.
+//! - **dof**, depth of field (seed 003): each pixel's circle of confusion from its view depth,
+//!   CoC = aperture × |z − focus| / z px (at most `post::MAX_COC`), and a gather over a 32-tap
+//!   disc of that diameter, taking only neighbours whose own CoC reaches the pixel (a sharp
+//!   foreground does not smear over what is behind it). A CoC under half a pixel copies the
+//!   pixel. Its view: the CoC.
+//! - **vignette** (seed 003): darkened towards the corners by `vignette` (a smoothstep in the
+//!   distance from the centre, 1 - strength at the corners).
+//! - **aa**, last: seed 002's edge-detect "intelligent blur" (edges where the second difference
+//!   of 1/depth — zero across any plane — or the turn of the normal to a neighbour is large;
+//!   the pixel blended with its four neighbours by the edge's strength) or FXAA (Lottes; the
+//!   minimal console form: a luma contrast test, then a blend along the edge). Pixels off the
+//!   mask are copied unchanged. Its view: the edges.
+
+use super::{post_draw, FrameInputs, Shared};
+use crate::renderer::post::{Aa, POST_FORMAT};
+use crate::renderer::settings::{DebugView, Settings};
+use crate::renderer::stats::Stamp;
+
+/// One effect after tone mapping.
+pub struct Effect {
+    /// The pass's label (and its debug view's, with " view").
+    pub name: &'static str,
+    /// Its fragment function in `shaders/post.wgsl`.
+    pub fs: &'static str,
+    /// Whether it runs (in the lit view; the other views stop before it).
+    pub on: fn(&Settings) -> bool,
+    /// Its timestamps (`gpu_ms`).
+    pub stamps: (Stamp, Stamp),
+    /// Its own debug view and the fragment function that draws it.
+    pub view: Option<(DebugView, &'static str)>,
+}
+
+/// The effects after tone mapping, in the chain's order.
+pub const EFFECTS: &[Effect] = &[
+    Effect {
+        name: "grading",
+        fs: "fs_grade",
+        on: |s| s.lut.is_some(),
+        stamps: (Stamp::GradingBegin, Stamp::GradingEnd),
+        view: None,
+    },
+    Effect { name: "fog", fs: "fs_fog", on: |s| s.fog, stamps: (Stamp::FogBegin, Stamp::FogEnd), view: None },
+    Effect {
+        name: "dof",
+        fs: "fs_dof",
+        on: |s| s.dof,
+        stamps: (Stamp::DofBegin, Stamp::DofEnd),
+        view: Some((DebugView::Coc, "fs_view_coc")),
+    },
+    Effect {
+        name: "vignette",
+        fs: "fs_vignette",
+        on: |s| s.vignette > 0.0,
+        stamps: (Stamp::VignetteBegin, Stamp::VignetteEnd),
+        view: None,
+    },
+    Effect {
+        name: "aa",
+        fs: "fs_aa",
+        on: |s| s.aa != Aa::Off,
+        stamps: (Stamp::AaBegin, Stamp::AaEnd),
+        view: Some((DebugView::Edges, "fs_view_edges")),
+    },
+];
+
+/// Whether effect `name` runs under `s`.
+pub fn runs(name: &str, s: &Settings) -> bool {
+    EFFECTS.iter().any(|e| e.name == name && (e.on)(s))
+}
+
+/// Each effect's pipelines: into the chain's next image, into the output, and its view's.
+pub struct EffectsPass {
+    pipelines: Vec<(wgpu::RenderPipeline, wgpu::RenderPipeline, Option<wgpu::RenderPipeline>)>,
+}
+
+impl EffectsPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let (layout, out) = (&shared.post_layout, shared.key.output_format);
+        let pipelines = EFFECTS
+            .iter()
+            .map(|e| {
+                let view = e
+                    .view
+                    .map(|(_, fs)| shared.fullscreen_pipeline(device, &format!("{} view", e.name), layout, fs, out));
+                (
+                    shared.fullscreen_pipeline(device, e.name, layout, e.fs, POST_FORMAT),
+                    shared.fullscreen_pipeline(device, e.name, layout, e.fs, out),
+                    view,
+                )
+            })
+            .collect();
+        Self { pipelines }
+    }
+
+    /// Records effect `i` of [`EFFECTS`] from `group`'s source into `view` (`last`: the output).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        i: usize,
+        group: &wgpu::BindGroup,
+        view: &wgpu::TextureView,
+        last: bool,
+    ) {
+        let (e, (to_post, to_output, _)) = (&EFFECTS[i], &self.pipelines[i]);
+        let stamps = f.timestamps(Some(e.stamps.0), Some(e.stamps.1));
+        post_draw(encoder, f, e.name, if last { to_output } else { to_post }, view, group, stamps);
+    }
+
+    /// Records the effect whose view `debug_view` is from `group`'s source into `target`;
+    /// false when no effect has that view.
+    pub fn encode_view(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        debug_view: DebugView,
+        group: &wgpu::BindGroup,
+        target: &wgpu::TextureView,
+    ) -> bool {
+        for (e, (_, _, pipeline)) in EFFECTS.iter().zip(&self.pipelines) {
+            if let (Some((v, _)), Some(pipeline)) = (e.view, pipeline) {
+                if v == debug_view {
+                    let stamps = f.timestamps(Some(e.stamps.0), Some(e.stamps.1));
+                    post_draw(encoder, f, &format!("{} view", e.name), pipeline, target, group, stamps);
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}

@@ -9,7 +9,7 @@ use super::state::{self, Wireframes};
 use super::ui::{self, Command, Sample, Status, Thumb, UiOut};
 use super::{camera, App};
 use crate::renderer::{volume_wireframe_with, DebugView, RenderPath, Settings};
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -324,6 +324,7 @@ impl App {
         }
         self.hover_pixel = out.hover_pixel;
         self.atlas_rect = out.atlas_rect;
+        self.regions = std::mem::take(&mut out.regions);
         (full, out)
     }
 
@@ -443,6 +444,21 @@ impl App {
                     Some(b) => println!("frame {}: resident {b} bytes", self.frame),
                     None => println!("frame {}: resident memory unavailable on this system", self.frame),
                 },
+                Action::Overlaps => {
+                    let found = ui::overlaps(&self.regions);
+                    if !found.is_empty() {
+                        let all: Vec<String> =
+                            self.regions.iter().map(|r| format!("{} {:?}", r.name, r.rect)).collect();
+                        bail!(
+                            "frame {}: the window's regions overlap:\n{}\n(regions: {})",
+                            self.frame,
+                            found.join("\n"),
+                            all.join(", ")
+                        );
+                    }
+                    let names: Vec<String> = self.regions.iter().map(|r| format!("{} {:?}", r.name, r.rect)).collect();
+                    println!("frame {}: no overlapping regions ({})", self.frame, names.join(", "));
+                }
                 Action::Quit => event_loop.exit(),
                 _ => {}
             }

@@ -205,6 +205,8 @@ struct App {
     memory: Option<(u64, i64)>,
     /// The shadow-atlas image's rectangle in points, from the last frame's layout (panel open).
     atlas_rect: Option<egui::Rect>,
+    /// Where each part of the window drew in the last frame (`ui::overlaps`).
+    regions: Vec<ui::Region>,
 }
 
 impl App {
@@ -236,6 +238,7 @@ impl App {
             size: (1280, 720),
             memory: None,
             atlas_rect: None,
+            regions: Vec::new(),
         }
     }
 
@@ -398,7 +401,7 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
-            Action::Screenshot(_) | Action::Memory | Action::Quit => {}
+            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Quit => {}
         }
     }
 

@@ -36,6 +36,8 @@
 //!                        PATH-stem + "-viewport.png" and its settings to PATH-stem + "-viewport.json"
 //! memory                 after drawing: print the frame number and the resident memory
 //!                        (`frame N: resident BYTES bytes`) to stdout, for soak runs
+//! overlaps               after drawing: end the run with an error naming them when two
+//!                        widgets of the drawn UI overlap (`ui::overlaps`)
 //! quit                   after drawing: exit with status 0
 //! ```
 //!
@@ -83,13 +85,14 @@ pub enum Action {
     Restore,
     Screenshot(PathBuf),
     Memory,
+    Overlaps,
     Quit,
 }
 
 impl Action {
     /// Runs after the frame is drawn.
     pub fn is_post(&self) -> bool {
-        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Quit)
+        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Quit)
     }
 }
 
@@ -250,6 +253,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "memory" => {
             want(0)?;
             Action::Memory
+        }
+        "overlaps" => {
+            want(0)?;
+            Action::Overlaps
         }
         "quit" => {
             want(0)?;

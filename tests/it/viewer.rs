@@ -478,6 +478,38 @@ fn clicking_a_light_selects_it_for_editing_and_the_keys_act() {
 }
 
 #[test]
+fn no_panel_is_drawn_over_another_at_any_window_size() {
+    // Every tab with the pixel probe filled, at the default window, 1280x720 and two smaller
+    // windows: `overlaps` ends the run with an error when a region of the window (a bar, a
+    // panel, the left tab's scroll area, the probe, the viewport) is laid over another or
+    // reaches out of its panel. The probe pinned under the scene tab once overlapped the
+    // ambient and sun controls at 1280x720.
+    need_display!();
+    let dir = out_dir("overlaps");
+    let script = dir.join("overlaps.script");
+    let mut lines = vec!["2 hover 0.5 0.6".to_string(), "3 overlaps".to_string()];
+    let mut frame = 4;
+    for size in ["1280 720", "1000 600", "640 400"] {
+        lines.push(format!("{frame} resize {size}"));
+        frame += 3;
+        for tab in ["scene", "lights", "materials", "camera"] {
+            lines.push(format!("{frame} tab {tab}"));
+            lines.push(format!("{} hover 0.5 0.6", frame + 1));
+            lines.push(format!("{} overlaps", frame + 2));
+            frame += 3;
+        }
+    }
+    lines.push(format!("{frame} screenshot last.png"));
+    lines.push(format!("{} quit", frame + 1));
+    std::fs::write(&script, lines.join("\n") + "\n").unwrap();
+    let out = view("demo", &script, &[], &dir);
+    let (stdout, _) = text(&out);
+    let checks = stdout.matches("no overlapping regions").count();
+    assert_eq!(checks, 13, "expected 13 checks:\n{stdout}");
+    assert!(stdout.contains("pixel probe") && stdout.contains("left tab"), "the probe was not checked:\n{stdout}");
+}
+
+#[test]
 fn the_window_survives_resizing_and_minimising() {
     need_display!();
     let dir = out_dir("resize");

@@ -16,6 +16,7 @@ use std::collections::{BTreeMap, HashMap, VecDeque};
 mod figures;
 mod gbuffer_strip;
 mod lights_tab;
+mod overlaps;
 mod probe;
 mod shadow_atlas;
 mod tabs;
@@ -27,6 +28,7 @@ pub use figures::{History, Sample};
 use gbuffer_strip::gbuffer_strip;
 pub use gbuffer_strip::{thumbs, Thumb};
 use lights_tab::lights_tab;
+pub use overlaps::{overlaps, Region};
 use probe::pixel_panel;
 use shadow_atlas::shadow_window;
 pub use shadow_atlas::{cascade_colour, visible as atlas_visible, AtlasInfo, CUBE, SELECTED, SPOT};
@@ -110,6 +112,8 @@ pub struct UiOut {
     pub commands: Vec<Command>,
     /// The shadow-atlas image's rectangle in points (the panel is open).
     pub atlas_rect: Option<Rect>,
+    /// Where each part of the window drew (`overlaps`).
+    pub regions: Vec<Region>,
 }
 
 fn colour32(c: Vec3) -> Color32 {
@@ -174,30 +178,43 @@ pub fn style(ctx: &egui::Context) {
 
 /// Draws every panel and the viewport.
 pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    // egui may run a frame's UI twice (a discarded first pass): the regions are this pass's.
+    out.regions.clear();
     top_bar(ui, st, f, out);
-    status_bar(ui, st, f);
+    status_bar(ui, st, f, out);
     let shown = fit_panels(st.panels, ui.available_width(), ui.available_height());
     let k = (ui.available_width() / 1280.0).min(1.0);
     let side = |w: f32| (w * k).max(MIN_SIDE_WIDTH).round();
+    // A panel's response reaches past what it was given when its content is wider than it
+    // (that part is clipped, not drawn): its region is the part within.
+    let region = |name, rect: Rect, given: Rect| Region { name, parent: None, rect: rect.intersect(given) };
     if shown.left {
-        egui::Panel::left("left")
+        let given = ui.available_rect_before_wrap();
+        let r = egui::Panel::left("left")
             .resizable(false)
             .exact_size(side(LEFT_WIDTH))
             .show(ui, |ui| left_panel(ui, st, f, out));
+        out.regions.push(region("left panel", r.response.rect, given));
     }
     if shown.right {
-        egui::Panel::right("right")
+        let given = ui.available_rect_before_wrap();
+        let r = egui::Panel::right("right")
             .resizable(false)
             .exact_size(side(RIGHT_WIDTH))
             .show(ui, |ui| right_panel(ui, st, f));
+        out.regions.push(region("right panel", r.response.rect, given));
     }
     if shown.gbuffer {
-        egui::Panel::bottom("gbuffer")
+        let given = ui.available_rect_before_wrap();
+        let r = egui::Panel::bottom("gbuffer")
             .resizable(false)
             .exact_size(GBUFFER_STRIP)
             .show(ui, |ui| gbuffer_strip(ui, st, f));
+        out.regions.push(region("G-buffer strip", r.response.rect, given));
     }
-    egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
+    let given = ui.available_rect_before_wrap();
+    let r = egui::CentralPanel::no_frame().show(ui, |ui| viewport(ui, st, f, out));
+    out.regions.push(region("viewport", r.response.rect, given));
     if st.panels.shadows {
         shadow_window(ui.ctx(), st, f, out);
     }

@@ -7,11 +7,10 @@ use crate::renderer::settings::{CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS};
 pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     // The pixel inspector stays in view at the bottom while the tabs scroll above it, when the
     // panel is tall enough for both; in a short window it scrolls with the tab instead of
-    // being drawn over it.
+    // being drawn over it. Laid out top to bottom: the tab row, the tab's scroll area sized to
+    // what the probe leaves, then the probe.
     let pinned = ui.available_height() >= PIXEL_PANEL + MIN_TAB_HEIGHT;
-    if pinned {
-        egui::Panel::bottom("pixel").resizable(false).exact_size(PIXEL_PANEL).show(ui, |ui| pixel_panel(ui, f));
-    }
+    let inner = ui.max_rect();
     ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 2.0;
         // Help has its own button in the top bar (F1).
@@ -20,19 +19,39 @@ pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
         }
     });
     ui.separator();
-    egui::ScrollArea::vertical().id_salt("left-scroll").auto_shrink([false, false]).show(ui, |ui| {
-        match st.tab {
-            Tab::Scene => scene_tab(ui, st, f),
-            Tab::Lights => lights_tab(ui, st, f, out),
-            Tab::Materials => materials_tab(ui, st, f, out),
-            Tab::Camera => camera_tab(ui, st, f, out),
-            Tab::Help => help_tab(ui),
-        }
-        if !pinned {
+    let spacing = ui.spacing().item_spacing.y;
+    let tab_height = if pinned { ui.available_height() - PIXEL_PANEL - spacing } else { ui.available_height() };
+    let tab = egui::ScrollArea::vertical()
+        .id_salt("left-scroll")
+        .auto_shrink([false, false])
+        .max_height(tab_height.max(0.0))
+        .show(ui, |ui| {
+            match st.tab {
+                Tab::Scene => scene_tab(ui, st, f),
+                Tab::Lights => lights_tab(ui, st, f, out),
+                Tab::Materials => materials_tab(ui, st, f, out),
+                Tab::Camera => camera_tab(ui, st, f, out),
+                Tab::Help => help_tab(ui),
+            }
+            if !pinned {
+                ui.separator();
+                pixel_panel(ui, f);
+            }
+        });
+    out.regions.push(Region { name: "left tab", parent: Some("left panel"), rect: tab.inner_rect });
+    if pinned {
+        // The panel's last PIXEL_PANEL points: a probe taller than that scrolls inside them,
+        // never drawn over the tab above or out of the panel.
+        let rect = Rect::from_min_max(egui::pos2(inner.left(), inner.bottom() - PIXEL_PANEL), inner.max);
+        ui.scope_builder(egui::UiBuilder::new().max_rect(rect), |ui| {
             ui.separator();
-            pixel_panel(ui, f);
-        }
-    });
+            egui::ScrollArea::vertical()
+                .id_salt("probe-scroll")
+                .auto_shrink([false, false])
+                .show(ui, |ui| pixel_panel(ui, f));
+        });
+        out.regions.push(Region { name: "pixel probe", parent: Some("left panel"), rect });
+    }
 }
 
 pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {

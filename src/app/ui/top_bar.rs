@@ -3,7 +3,7 @@
 use super::*;
 
 pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
-    egui::Panel::top("top").show(ui, |ui| {
+    let r = egui::Panel::top("top").show(ui, |ui| {
         // Wraps onto more rows in a narrow window instead of running off its edge.
         ui.horizontal_wrapped(|ui| {
             ui.label(RichText::new("Lampshade").strong().size(15.0));
@@ -98,10 +98,11 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
             ui.label(RichText::new(f.adapter).weak());
         });
     });
+    out.regions.push(Region { name: "top bar", parent: None, rect: r.response.rect });
 }
 
-pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
-    egui::Panel::bottom("status").show(ui, |ui| {
+pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, out: &mut UiOut) {
+    let r = egui::Panel::bottom("status").show(ui, |ui| {
         ui.horizontal(|ui| {
             if let Some((_, [w, h])) = f.viewport {
                 ui.label(format!("{w}x{h} px ({:.0}%)", st.resolution_scale * 100.0));
@@ -124,4 +125,5 @@ pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             }
         });
     });
+    out.regions.push(Region { name: "status bar", parent: None, rect: r.response.rect });
 }

@@ -186,7 +186,7 @@ pub const POST: Group = Group {
     ],
 };
 
-/// Group 1 of the viewer's shadow-atlas view (`passes::atlas_view`): the depth range
+/// Group 1 of the viewer's shadow-atlas view (`shadows::atlas_view`): the depth range
 /// present in the atlas (`atlas_range[0]` least, `[1]` greatest stored depth below the clear
 /// value, as f32 bits: positive floats order as their bits) and, in `[2]`, the side of the
 /// image drawn. The atlas itself is `FRAME`'s `shadow_atlas`. Slots from 60.

@@ -449,7 +449,7 @@ impl Renderer {
     }
 
     /// Draws the last frame's shadow atlas into `target` (the output format, `side` pixels
-    /// square; `passes::atlas_view`): each pixel the atlas texel under it, the stored linear
+    /// square; `shadows::atlas_view`): each pixel the atlas texel under it, the stored linear
     /// depth stretched over the range present, near white, far black; texels nothing was cast
     /// into dark blue. Returns that range (least, greatest stored depth, as fractions of each
     /// tile's far distance), `None` when no texel was drawn.

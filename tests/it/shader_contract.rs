@@ -153,12 +153,26 @@ fn the_light_planes_are_only_read_at_an_index_computed_at_run_time() {
 fn every_shared_constant_is_generated_from_rust_not_copied_into_a_shader_file() {
     // A constant both sides use is written by `wgsl_constants` from its Rust twin; a `const LS_`
     // declared in a WGSL file is a copy that only a comment keeps in step.
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    fn wgsl_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(dir).expect("a source folder").flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                wgsl_files(&path, out);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                out.push(path);
+            }
+        }
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    wgsl_files(&root.join("shaders"), &mut files);
+    wgsl_files(&root.join("src"), &mut files);
+    assert!(files.len() >= 10, "{} shader files found", files.len());
     let mut copied = Vec::new();
-    for entry in std::fs::read_dir(&dir).expect("the shaders folder").flatten() {
-        let text = std::fs::read_to_string(entry.path()).expect("a shader file");
+    for path in &files {
+        let text = std::fs::read_to_string(path).expect("a shader file");
         for line in text.lines().filter(|l| l.trim_start().starts_with("const LS_")) {
-            copied.push(format!("{}: {}", entry.file_name().to_string_lossy(), line.trim()));
+            copied.push(format!("{}: {}", path.display(), line.trim()));
         }
     }
     assert!(copied.is_empty(), "hand-copied constants:\n{}", copied.join("\n"));

@@ -7,7 +7,6 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
-pub mod atlas_view;
 pub mod bloom;
 pub mod compose;
 pub mod debug;
@@ -19,7 +18,6 @@ pub mod gbuffer;
 pub mod lights;
 pub mod measure;
 pub mod prepass;
-pub mod shadows;
 pub mod tiled;
 pub mod tonemap;
 
@@ -240,15 +238,16 @@ pub fn shader_source_for(
     parts.extend(
         [
             include_str!("../../../shaders/common.wgsl"),
+            include_str!("../shadows/lookup.wgsl"),
             include_str!("../../../shaders/geometry.wgsl"),
             include_str!("../../../shaders/forward.wgsl"),
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
             include_str!("../../../shaders/post.wgsl"),
-            include_str!("../../../shaders/shadows.wgsl"),
+            include_str!("../shadows/casters.wgsl"),
             include_str!("../../../shaders/prepass.wgsl"),
-            include_str!("../../../shaders/atlas_view.wgsl"),
+            include_str!("../shadows/atlas_view.wgsl"),
         ]
         .map(String::from),
     );
@@ -742,9 +741,9 @@ pub struct Passes {
     pub tonemap: Lazy<tonemap::TonemapPass>,
     /// The effects after tone mapping (`effects::EFFECTS`).
     pub effects: Lazy<effects::EffectsPass>,
-    pub shadows: Lazy<shadows::ShadowPass>,
+    pub shadows: Lazy<crate::renderer::shadows::pass::ShadowPass>,
     /// The viewer's shadow-atlas image (not part of the frame).
-    pub atlas_view: Lazy<atlas_view::AtlasViewPass>,
+    pub atlas_view: Lazy<crate::renderer::shadows::atlas_view::AtlasViewPass>,
 }
 
 impl Passes {
@@ -769,8 +768,8 @@ impl Passes {
             exposure: Lazy::new(device, &shared, exposure::ExposurePass::new),
             tonemap: Lazy::new(device, &shared, tonemap::TonemapPass::new),
             effects: Lazy::new(device, &shared, effects::EffectsPass::new),
-            shadows: Lazy::new(device, &shared, shadows::ShadowPass::new),
-            atlas_view: Lazy::new(device, &shared, atlas_view::AtlasViewPass::new),
+            shadows: Lazy::new(device, &shared, crate::renderer::shadows::pass::ShadowPass::new),
+            atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
             shared,
         }
     }

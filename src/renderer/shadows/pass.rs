@@ -3,10 +3,11 @@
 //! before the G-buffer pass (which already adds the sun's light through the atlas). With
 //! `--shadow-cube array`, cube faces go to the layers of the cube array instead.
 
-use super::{FrameInputs, Shared, Stamp};
+use super::{ShadowPlan, TileDraw};
 use crate::renderer::bindings;
+use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::records::SHADOW_FORMAT;
-use crate::renderer::shadows::{ShadowPlan, TileDraw};
+use crate::renderer::stats::Stamp;
 
 pub struct ShadowPass {
     pipeline: wgpu::RenderPipeline,

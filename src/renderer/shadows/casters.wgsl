@@ -1,4 +1,4 @@
-// The shadow pass (`passes::shadows`). Each instance is one caster in one tile
+// The shadow pass (`shadows::pass`). Each instance is one caster in one tile
 // (instance = tile * objects + object); the depth written is linear in the distance along the
 // tile's axis (`ShadowTile`), clipped at the tile's near plane. A face of the cube array
 // (`--shadow-cube array`, info.x = LS_TILE_CUBE_FACE) writes the distance from the light

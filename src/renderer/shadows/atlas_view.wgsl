@@ -1,4 +1,4 @@
-// The viewer's shadow-atlas panel (`passes::atlas_view`): the last frame's shadow
+// The viewer's shadow-atlas panel (`shadows::atlas_view`): the last frame's shadow
 // atlas (Depth32Float, linear depth -z / far per tile, cleared to 1.0) as a grey image, its
 // depth stretched over the range actually present.
 //

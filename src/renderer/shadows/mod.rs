@@ -1,8 +1,11 @@
 //! Shadows (seed 002: "shadow maps work very well with deferred shading"): which
 //! lights cast this frame, where each one's tiles lie in the one shadow atlas, and how a
-//! view-space point maps into a tile (`ShadowTile`). The shadow pass (`passes::shadows`) draws
-//! the casters into the tiles; every place that shades a light reads them through one WGSL
-//! function, `ls_shadow` (`shaders/common.wgsl`), and the sun through `ls_sun_shadow`.
+//! view-space point maps into a tile (`ShadowTile`). The technique is this folder:
+//! - `mod.rs`: the options ([`ShadowMode`], [`ShadowFilter`], [`ShadowCube`]) and the plan;
+//! - [`pass`] with `casters.wgsl`: the shadow pass, drawing the casters into the tiles;
+//! - `lookup.wgsl`: the lookups; every place that shades a light reads the tiles through one
+//!   WGSL function, `ls_shadow`, and the sun through `ls_sun_shadow`;
+//! - [`atlas_view`] with `atlas_view.wgsl`: the viewer's image of the atlas.
 //!
 //! - **The atlas:** one Depth32Float texture whose side is the largest power of two within the
 //!   byte budget (`Settings::shadow_budget_mb`) and the device's limit. Tiles are power-of-two
@@ -28,6 +31,9 @@
 //! - **The sun:** 1-4 cascades over the view frustum up to the farthest scene point; split
 //!   distances lambda x logarithmic + (1 - lambda) x uniform; each cascade an orthographic tile
 //!   around the bounding sphere of its slice, deep enough to hold every object.
+
+pub mod atlas_view;
+pub mod pass;
 
 use super::records::{ShadowParams, ShadowTile, NO_SHADOW};
 use crate::scene::{Light, Scene};

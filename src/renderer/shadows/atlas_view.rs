@@ -1,11 +1,11 @@
 //! The viewer's shadow-atlas panel: the last frame's shadow atlas (Depth32Float) as an
 //! image of the output format, its linear depth stretched over the range actually present
-//! (`shaders/atlas_view.wgsl`). Not part of the frame: `Renderer::draw_shadow_atlas` runs it
+//! (`atlas_view.wgsl` beside it). Not part of the frame: `Renderer::draw_shadow_atlas` runs it
 //! on demand, after a frame, into a texture the caller keeps (the viewer registers it with
 //! egui once and has it redrawn in place).
 
-use super::Shared;
 use crate::renderer::bindings;
+use crate::renderer::passes::Shared;
 use crate::renderer::records::FrameBuffers;
 
 /// Invocations per workgroup side of `cs_atlas_range`, and texels per invocation side

@@ -2,9 +2,9 @@
 //! plan (CPU), the path's passes, then the GPU's counts and times read back.
 
 use super::frame::{Prepared, Shape};
-use super::passes::effects::runs;
 use super::paths::Drawn;
 use super::plan::Method;
+use super::post::effects::runs;
 use super::stats::{self, FrameStats};
 use super::{tiles, DebugView, Renderer, Settings, ShadowMode};
 use crate::scene::Scene;

@@ -19,7 +19,13 @@ fn tests_in(dir: &Path, out: &mut Vec<(String, String)>) {
             continue;
         }
         let text = std::fs::read_to_string(&path).expect("a source file");
-        let module = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+        // A folder's `mod.rs` is known by the folder's name.
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
+        let module = if stem == "mod" {
+            path.parent().and_then(|p| p.file_name()).and_then(|s| s.to_str()).unwrap_or_default().to_string()
+        } else {
+            stem.to_string()
+        };
         let mut lines = text.lines();
         while let Some(line) = lines.next() {
             if line.trim() != "#[test]" {

@@ -7,11 +7,8 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
-pub mod bloom;
 pub mod compose;
 pub mod debug;
-pub mod effects;
-pub mod exposure;
 pub mod forward;
 pub mod forward_paths;
 pub mod gbuffer;
@@ -19,7 +16,6 @@ pub mod lights;
 pub mod measure;
 pub mod prepass;
 pub mod tiled;
-pub mod tonemap;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -244,7 +240,7 @@ pub fn shader_source_for(
             include_str!("../../../shaders/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
             include_str!("../../../shaders/tiled.wgsl"),
-            include_str!("../../../shaders/post.wgsl"),
+            include_str!("../post/post.wgsl"),
             include_str!("../shadows/casters.wgsl"),
             include_str!("../../../shaders/prepass.wgsl"),
             include_str!("../shadows/atlas_view.wgsl"),
@@ -736,11 +732,11 @@ pub struct Passes {
     pub measure: Lazy<measure::MeasurePass>,
     pub prepass: Lazy<prepass::PrepassFinalPass>,
     pub tiled: Lazy<tiled::TiledPass>,
-    pub bloom: Lazy<bloom::BloomPass>,
-    pub exposure: Lazy<exposure::ExposurePass>,
-    pub tonemap: Lazy<tonemap::TonemapPass>,
+    pub bloom: Lazy<crate::renderer::post::bloom::BloomPass>,
+    pub exposure: Lazy<crate::renderer::post::exposure::ExposurePass>,
+    pub tonemap: Lazy<crate::renderer::post::tonemap::TonemapPass>,
     /// The effects after tone mapping (`effects::EFFECTS`).
-    pub effects: Lazy<effects::EffectsPass>,
+    pub effects: Lazy<crate::renderer::post::effects::EffectsPass>,
     pub shadows: Lazy<crate::renderer::shadows::pass::ShadowPass>,
     /// The viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<crate::renderer::shadows::atlas_view::AtlasViewPass>,
@@ -764,10 +760,10 @@ impl Passes {
             measure: Lazy::new(device, &shared, measure::MeasurePass::new),
             prepass: Lazy::new(device, &shared, prepass::PrepassFinalPass::new),
             tiled: Lazy::new(device, &shared, tiled::TiledPass::new),
-            bloom: Lazy::new(device, &shared, bloom::BloomPass::new),
-            exposure: Lazy::new(device, &shared, exposure::ExposurePass::new),
-            tonemap: Lazy::new(device, &shared, tonemap::TonemapPass::new),
-            effects: Lazy::new(device, &shared, effects::EffectsPass::new),
+            bloom: Lazy::new(device, &shared, crate::renderer::post::bloom::BloomPass::new),
+            exposure: Lazy::new(device, &shared, crate::renderer::post::exposure::ExposurePass::new),
+            tonemap: Lazy::new(device, &shared, crate::renderer::post::tonemap::TonemapPass::new),
+            effects: Lazy::new(device, &shared, crate::renderer::post::effects::EffectsPass::new),
             shadows: Lazy::new(device, &shared, crate::renderer::shadows::pass::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
             shared,
@@ -805,32 +801,6 @@ impl Passes {
         }
         Ok(())
     }
-}
-
-/// One full-screen draw of a post-chain pass into `view`: the frame's and the G-buffer's groups
-/// with the post group `group`, timestamps as given.
-pub fn post_draw(
-    encoder: &mut wgpu::CommandEncoder,
-    f: &FrameInputs<'_>,
-    label: &str,
-    pipeline: &wgpu::RenderPipeline,
-    view: &wgpu::TextureView,
-    group: &wgpu::BindGroup,
-    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[super::targets::attachment(view, Some(wgpu::Color::BLACK))],
-        depth_stencil_attachment: None,
-        timestamp_writes,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, &f.frame.group, &[]);
-    pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
-    pass.set_bind_group(2, group, &[]);
-    pass.draw(0..3, 0..1);
 }
 
 #[cfg(test)]

@@ -1,21 +1,27 @@
-//! The HDR post chain's data (seed 002's order after transparency): bloom →
-//! auto-exposure → tone mapping → colour grading → fog → depth of field → vignette →
-//! anti-aliasing: `passes/bloom`, `passes/exposure`, `passes/tonemap`, then the effects after
-//! tone mapping as one table (`passes/effects`). This file holds what they share: the tone
-//! curves' and fog's CPU twins (the WGSL is in `shaders/post.wgsl`, formula for formula), the
-//! `.cube` parser, the histogram's constants and the chain's size-dependent targets.
+//! The HDR post chain (seed 002's order after transparency): bloom → auto-exposure → tone
+//! mapping → colour grading → fog → depth of field → vignette → anti-aliasing. The technique
+//! is this folder: [`bloom`], [`exposure`], [`tonemap`], then the effects after tone mapping as
+//! one table ([`effects::EFFECTS`]); their WGSL is `post.wgsl`. This file holds what they
+//! share and the chain itself ([`encode_chain`]): the tone curves' and fog's CPU twins
+//! (formula for formula as the WGSL), the `.cube` parser, the histogram's constants and the
+//! chain's size-dependent targets.
 //!
 //! The chain runs only when an effect asks for it ([`chain_active`]): with every effect off and
 //! the ACES curve, the frame is composed and tonemapped by compose exactly as before (bit for
 //! bit). Error against the f64 reference is measured on the light accumulation, before any of
 //! this: the chain does not change what the accuracy figures measure.
 
+pub mod bloom;
+pub mod effects;
+pub mod exposure;
+pub mod tonemap;
+
 use super::bindings;
-use super::passes::effects::EFFECTS;
-use super::passes::Shared;
+use super::passes::{FrameInputs, Shared};
 use super::records::PostParams;
 use super::settings::Settings;
 use super::targets::texture;
+use effects::EFFECTS;
 use serde::{Deserialize, Serialize};
 
 /// Bins of the luminance histogram: bin 0 holds pixels darker than `2^HIST_LOG_MIN` (black,
@@ -68,7 +74,7 @@ impl Tonemap {
         self.name().to_uppercase().replace('-', "_")
     }
 
-    /// The curve on the CPU, formula for formula as `tonemap` in `shaders/post.wgsl` (f64).
+    /// The curve on the CPU, formula for formula as `tonemap` in `post.wgsl` (f64).
     pub fn apply(self, c: [f64; 3]) -> [f64; 3] {
         let clamp01 = |v: [f64; 3]| v.map(|x| x.clamp(0.0, 1.0));
         match self {
@@ -308,7 +314,7 @@ impl Lut {
 /// four output pixels' worth of weight, 0.75 + 0.75 + 0.25 + 0.25 per axis, edges included)
 /// conserve it in exact arithmetic, and the level weights (1/2, 1/4, 1/8, 1/16, 1/16) sum to 1.
 /// Odd sizes only lose light (an upsample to 2n - 1 pixels drops a row). What is left is f32
-/// rounding, counted along a value's path through `shaders/post.wgsl`, each operation within
+/// rounding, counted along a value's path through `post.wgsl`, each operation within
 /// 2^-24 relative (all terms are non-negative, so relative bounds compound): a 2×2 box is 3
 /// additions (× 0.25 is exact), 5 levels down = 15; `bloom_up` is two nested `mix`es of 3
 /// roundings each (a × (1 − t) + b × t with t = 0.25 or 0.75, 1 − t exact) = 6, and an up level
@@ -529,6 +535,32 @@ pub fn params(s: &Settings, lut: Option<&Lut>) -> PostParams {
 pub fn adapt_rate(speed: f32) -> f32 {
     // 1 - exp(-x) without the cancellation that rounds a slow speed's step to 0.
     -(-speed * FRAME_DT).exp_m1()
+}
+
+/// One full-screen draw of a post-chain pass into `view`: the frame's and the G-buffer's groups
+/// with the post group `group`, timestamps as given.
+pub fn post_draw(
+    encoder: &mut wgpu::CommandEncoder,
+    f: &FrameInputs<'_>,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    view: &wgpu::TextureView,
+    group: &wgpu::BindGroup,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[crate::renderer::targets::attachment(view, Some(wgpu::Color::BLACK))],
+        depth_stencil_attachment: None,
+        timestamp_writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &f.frame.group, &[]);
+    pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
+    pass.set_bind_group(2, group, &[]);
+    pass.draw(0..3, 0..1);
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The effects after tone mapping, as one table. Each is one full-screen pass from the chain's
 //! last image into the next (or into the output when it is the last that runs), in the
-//! table's order (seed 002's), and each is one fragment function in `shaders/post.wgsl`.
+//! table's order (seed 002's), and each is one fragment function in `post.wgsl`.
 //! Adding one is a row here, its function there, its option in `Settings` and its knob row.
 //!
 //! - **grading** (seed 003's fifth pass): the tonemapped colour through a 3D LUT
@@ -21,7 +21,8 @@
 //!   minimal console form: a luma contrast test, then a blend along the edge). Pixels off the
 //!   mask are copied unchanged. Its view: the edges.
 
-use super::{post_draw, FrameInputs, Shared};
+use super::post_draw;
+use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::{Aa, POST_FORMAT};
 use crate::renderer::settings::{DebugView, Settings};
 use crate::renderer::stats::Stamp;
@@ -30,7 +31,7 @@ use crate::renderer::stats::Stamp;
 pub struct Effect {
     /// The pass's label (and its debug view's, with " view").
     pub name: &'static str,
-    /// Its fragment function in `shaders/post.wgsl`.
+    /// Its fragment function in `post.wgsl`.
     pub fs: &'static str,
     /// Whether it runs (in the lit view; the other views stop before it).
     pub on: fn(&Settings) -> bool,

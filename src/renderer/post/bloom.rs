@@ -4,7 +4,8 @@
 //! bilinear), and the HDR colour plus `bloom_intensity` × the result. The chain conserves the
 //! bright pass's light (see `post::bloom_energy_bound`).
 
-use super::{post_draw, FrameInputs, Shared};
+use super::post_draw;
+use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::{PostTargets, BLOOM_LEVELS, POST_FORMAT};
 use crate::renderer::stats::Stamp;
 

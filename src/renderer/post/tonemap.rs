@@ -1,9 +1,10 @@
 //! Tone mapping (seed 002's chain, after auto-exposure): the exposure (the knob, times target /
 //! adapted luminance with auto-exposure) and the chosen curve (`post::Tonemap`; formulas and
-//! their sources in `shaders/post.wgsl`), into the output or, when grading follows, into
+//! their sources in `post.wgsl`), into the output or, when grading follows, into
 //! `post.toned`.
 
-use super::{post_draw, FrameInputs, Shared};
+use super::post_draw;
+use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::POST_FORMAT;
 use crate::renderer::stats::Stamp;
 

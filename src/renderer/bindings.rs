@@ -154,7 +154,7 @@ pub const COMPOSE: Group = Group {
 /// through it).
 pub const HDR: Group = Group { label: "hdr colour", index: 3, bindings: &[texture(0, "hdr_color", false)] };
 
-/// Group 2 of the tiled and clustered passes (`passes::tiled`): their parameters, the light
+/// Group 2 of the tiled and clustered passes (`culling::tiled::pass`): their parameters, the light
 /// lists (a (first, count) pair per tile or cluster, then the entries) and the counters (the
 /// list allocator, then one light-pixel pair count per light). Clustered lists built on the
 /// GPU keep a counter per cluster after the lights' counts, and each light's span of clusters

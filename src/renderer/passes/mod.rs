@@ -12,10 +12,8 @@ pub mod debug;
 pub mod forward;
 pub mod forward_paths;
 pub mod gbuffer;
-pub mod lights;
 pub mod measure;
 pub mod prepass;
-pub mod tiled;
 
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
@@ -237,9 +235,9 @@ pub fn shader_source_for(
             include_str!("../shadows/lookup.wgsl"),
             include_str!("../../../shaders/geometry.wgsl"),
             include_str!("../../../shaders/forward.wgsl"),
-            include_str!("../../../shaders/lights.wgsl"),
+            include_str!("../culling/lights.wgsl"),
             include_str!("../../../shaders/compose.wgsl"),
-            include_str!("../../../shaders/tiled.wgsl"),
+            include_str!("../culling/tiled/tiled.wgsl"),
             include_str!("../post/post.wgsl"),
             include_str!("../shadows/casters.wgsl"),
             include_str!("../../../shaders/prepass.wgsl"),
@@ -724,14 +722,14 @@ pub struct Needs {
 pub struct Passes {
     pub shared: Arc<Shared>,
     pub gbuffer: Lazy<gbuffer::GBufferPass>,
-    pub lights: Lazy<lights::LightPass>,
+    pub lights: Lazy<crate::renderer::culling::light_pass::LightPass>,
     pub debug: Lazy<debug::DebugPass>,
     pub compose: Lazy<compose::ComposePass>,
     pub forward: Lazy<forward::ForwardPass>,
     pub forward_paths: Lazy<forward_paths::ForwardPathsPass>,
     pub measure: Lazy<measure::MeasurePass>,
     pub prepass: Lazy<prepass::PrepassFinalPass>,
-    pub tiled: Lazy<tiled::TiledPass>,
+    pub tiled: Lazy<crate::renderer::culling::tiled::pass::TiledPass>,
     pub bloom: Lazy<crate::renderer::post::bloom::BloomPass>,
     pub exposure: Lazy<crate::renderer::post::exposure::ExposurePass>,
     pub tonemap: Lazy<crate::renderer::post::tonemap::TonemapPass>,
@@ -752,14 +750,14 @@ impl Passes {
         let shared = Arc::new(Shared::new(device, key));
         Self {
             gbuffer: Lazy::new(device, &shared, gbuffer::GBufferPass::new),
-            lights: Lazy::new(device, &shared, lights::LightPass::new),
+            lights: Lazy::new(device, &shared, crate::renderer::culling::light_pass::LightPass::new),
             debug: Lazy::new(device, &shared, debug::DebugPass::new),
             compose: Lazy::new(device, &shared, compose::ComposePass::new),
             forward: Lazy::new(device, &shared, forward::ForwardPass::new),
             forward_paths: Lazy::new(device, &shared, forward_paths::ForwardPathsPass::new),
             measure: Lazy::new(device, &shared, measure::MeasurePass::new),
             prepass: Lazy::new(device, &shared, prepass::PrepassFinalPass::new),
-            tiled: Lazy::new(device, &shared, tiled::TiledPass::new),
+            tiled: Lazy::new(device, &shared, crate::renderer::culling::tiled::pass::TiledPass::new),
             bloom: Lazy::new(device, &shared, crate::renderer::post::bloom::BloomPass::new),
             exposure: Lazy::new(device, &shared, crate::renderer::post::exposure::ExposurePass::new),
             tonemap: Lazy::new(device, &shared, crate::renderer::post::tonemap::TonemapPass::new),

@@ -3,11 +3,13 @@
 //! frame-level choice between its per-light plan and `clustered`.
 //!
 //! The GPU's part (the tiled mode's compute pass, the shading pass both share, the debug view)
-//! is `passes::tiled`.
+//! is `culling::tiled::pass`.
 
-use super::plan::{LightPlan, Method, PlanView};
-use super::records::LightRecord;
-use super::settings::CullingMode;
+pub mod pass;
+
+use crate::renderer::culling::plan::{LightPlan, Method, PlanView};
+use crate::renderer::records::LightRecord;
+use crate::renderer::settings::CullingMode;
 use glam::{Vec2, Vec3};
 
 /// Size in pixels of the `tiled` mode's tiles (Andersson 2011: 16x16, one compute workgroup).
@@ -331,12 +333,12 @@ pub fn both<A: Send, B: Send>(parallel: bool, a: impl FnOnce() -> A + Send, b: i
         return (a(), b());
     }
     let (a, (b, spent)) = std::thread::scope(|s| {
-        let b = s.spawn(|| super::cputime::measured(b));
+        let b = s.spawn(|| crate::renderer::cputime::measured(b));
         let a = a();
         // A panic in `b` is a bug in this module: carry it over.
         (a, b.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
     });
-    super::cputime::add_helper(spent);
+    crate::renderer::cputime::add_helper(spent);
     (a, b)
 }
 
@@ -350,7 +352,7 @@ fn cores() -> usize {
 /// The cells light `l` may reach: tiles `x.0 ..= x.1` across, `y.0 ..= y.1` down, slices
 /// `k.0 .. k.1` (its screen rectangle widened by a pixel, its depth range widened by a slice
 /// on each side); `None` when it reaches no cell. What [`light_cells`] tests, and what the GPU's
-/// assignment (`cs_cluster_count` in `shaders/tiled.wgsl`) is given per light.
+/// assignment (`cs_cluster_count` in `tiled.wgsl`) is given per light.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Span {
     pub x: (u32, u32),
@@ -398,7 +400,7 @@ impl Span {
         (self.x.1 - self.x.0 + 1) as u64 * (self.y.1 - self.y.0 + 1) as u64 * self.k.1.saturating_sub(self.k.0) as u64
     }
 
-    /// The most loop iterations the GPU's assignment (`cluster_assign` in `shaders/tiled.wgsl`)
+    /// The most loop iterations the GPU's assignment (`cluster_assign` in `tiled.wgsl`)
     /// can run for this span: per slice, one of the slice loop, two column scans, and the rows
     /// with their columns.
     pub fn gpu_loop_iterations(&self) -> u64 {

@@ -25,7 +25,7 @@
 //! the same per-light values, read back with [`Renderer::light_clamps`](super::Renderer::light_clamps).
 
 use super::plan::LightPlan;
-use super::records::{FP16_MAX, RG11B10_MAX};
+use crate::renderer::records::{FP16_MAX, RG11B10_MAX};
 
 /// Tile size in pixels of the overlap count.
 pub const OVERLAP_TILE: u32 = 16;

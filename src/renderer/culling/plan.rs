@@ -4,10 +4,10 @@
 //! lights reach it.
 
 use super::batches::LightBatches;
-use super::records::{CameraRecord, FrameRecords, LightRecord};
-use super::settings::{CullingMode, ForwardLights};
-use super::stats::ForwardStats;
 use super::volumes::{self, VolumeKind, Volumes};
+use crate::renderer::records::{CameraRecord, FrameRecords, LightRecord};
+use crate::renderer::settings::{CullingMode, ForwardLights};
+use crate::renderer::stats::ForwardStats;
 use crate::scene::{AlphaMode, Scene};
 use glam::{DVec2, DVec3, Mat4, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -30,7 +30,7 @@ pub enum Method {
     StencilInvert,
     #[serde(alias = "replace")]
     StencilReplace,
-    /// Shaded from its tiles' light lists in the tiled pass (`passes::tiled`).
+    /// Shaded from its tiles' light lists in the tiled pass (`culling::tiled::pass`).
     Tiled,
     /// Shaded from its clusters' light lists in the tiled pass.
     Clustered,
@@ -110,7 +110,7 @@ pub struct PlanView {
     /// Draw lights in batches (`Settings::light_batching`; see `batches.rs`).
     pub light_batching: bool,
     /// Who builds the clustered lists.
-    pub cluster_build: super::settings::ClusterBuilder,
+    pub cluster_build: crate::renderer::settings::ClusterBuilder,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -646,7 +646,7 @@ pub struct FramePlan {
     /// `Method::Tiled` or `Method::Clustered` when the tiled pass shades this frame's lights
     /// (`tiles::frame_rule`), with the clustered lists built on the CPU or the GPU's job.
     pub tiled: Option<Method>,
-    pub clusters: Option<super::tiles::ClusterBuild>,
+    pub clusters: Option<super::tiled::ClusterBuild>,
 }
 
 impl FramePlan {
@@ -682,18 +682,18 @@ impl FramePlan {
         }));
         // The frame-level rule first: lights it hands to the tiled pass are left out of the
         // batches.
-        let tiled = super::tiles::frame_rule(&mut lights, view);
+        let tiled = super::tiled::frame_rule(&mut lights, view);
         let clusters = (tiled == Some(Method::Clustered)).then(|| {
-            use super::tiles::{cluster_job, cluster_lists, ClusterBuild};
+            use super::tiled::{cluster_job, cluster_lists, ClusterBuild};
             match view.cluster_build {
-                super::settings::ClusterBuilder::Cpu => {
+                crate::renderer::settings::ClusterBuilder::Cpu => {
                     ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
                 }
-                super::settings::ClusterBuilder::Gpu => {
+                crate::renderer::settings::ClusterBuilder::Gpu => {
                     // A light the GPU could not assign within lavapipe's loop limit: the CPU
                     // builds this frame's lists (the stats' `lists_on_gpu` says so).
                     let job = cluster_job(&records.lights, &lights, view);
-                    if job.longest <= super::tiles::GPU_LOOP_BUDGET {
+                    if job.longest <= super::tiled::GPU_LOOP_BUDGET {
                         ClusterBuild::Gpu(job)
                     } else {
                         ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
@@ -776,7 +776,7 @@ pub const FORWARD_TILE: u32 = 16;
 /// a fragment sums the same non-zero terms in the same order whichever list it walks.
 fn plan_draws(
     scene: &Scene,
-    objects: &mut [super::records::ObjectRecord],
+    objects: &mut [crate::renderer::records::ObjectRecord],
     camera: &mut CameraRecord,
     bounds: &[(DVec3, f64)],
     plans: &[LightPlan],
@@ -796,7 +796,7 @@ fn plan_draws(
             // Lines and points go into the G-buffer whatever their alpha mode (the importer
             // warns about blended ones).
             let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
-            let p = super::passes::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
+            let p = crate::renderer::passes::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
@@ -832,7 +832,11 @@ fn plan_draws(
             }
             mode => {
                 let masked = matches!(mode, AlphaMode::Mask { .. });
-                draws.gbuffer.push((i, super::passes::gbuffer::pipeline_index(masked, m.double_sided), o.material));
+                draws.gbuffer.push((
+                    i,
+                    crate::renderer::passes::gbuffer::pipeline_index(masked, m.double_sided),
+                    o.material,
+                ));
             }
         }
     }
@@ -1216,7 +1220,7 @@ pub fn scissor_rect(rect: Option<(Vec2, Vec2)>, (w, h): (u32, u32)) -> Option<[u
 #[allow(clippy::too_many_arguments)]
 pub fn forward_path_lists(
     scene: &Scene,
-    objects: &mut [super::records::ObjectRecord],
+    objects: &mut [crate::renderer::records::ObjectRecord],
     bounds: &[(DVec3, f64)],
     plans: &[LightPlan],
     opaque: &[Draw],

@@ -2,7 +2,7 @@
 //! the light off between its vertices (a failure users of other deferred renderers report), so both meshes are scaled until
 //! they **circumscribe** the true shape: every face plane lies at or beyond the radius.
 
-use super::records::{LightRecord, LIGHT_KIND_SPOT};
+use crate::renderer::records::{LightRecord, LIGHT_KIND_SPOT};
 use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
@@ -16,7 +16,7 @@ pub const VOLUME_MARGIN: f32 = 1.002;
 pub const CONE_MAX_ANGLE_DEG: f32 = 60.0;
 
 /// Orthonormal basis around a unit vector (Duff et al. 2017), the same as `basis` in
-/// `shaders/lights.wgsl`, so CPU-side placement matches what the GPU draws.
+/// `culling/lights.wgsl`, so CPU-side placement matches what the GPU draws.
 pub fn basis(n: Vec3) -> (Vec3, Vec3) {
     let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (sign + n.z);

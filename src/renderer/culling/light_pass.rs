@@ -6,7 +6,7 @@
 //! tables: the marking draw (if any) and the shading draw, each as faces, depth test and
 //! stencil. Depth is written for standard depth (near = 0) and flipped under reversed Z.
 
-use super::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::passes::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, Stamp, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
@@ -59,7 +59,7 @@ pub const STENCIL_TWO_PASS: StencilMethod = StencilMethod {
     mark: Some(DrawState {
         faces: Faces::Front,
         depth: Cmp::LessEqual,
-        stencil: stencil(face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), super::KEEP),
+        stencil: stencil(face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), crate::renderer::passes::KEEP),
     }),
     shade: DrawState {
         faces: Faces::Back,
@@ -132,7 +132,7 @@ pub fn stencil_method(m: Method) -> Option<&'static StencilMethod> {
         Method::StencilTwoPass => Some(&STENCIL_TWO_PASS),
         Method::StencilInvert => Some(&STENCIL_INVERT),
         Method::StencilReplace => Some(&STENCIL_REPLACE),
-        // Shaded from their lists by the tiled pass (`passes::tiled`), not drawn here.
+        // Shaded from their lists by the tiled pass (`culling::tiled::pass`), not drawn here.
         Method::Tiled | Method::Clustered | Method::Skipped => None,
     }
 }

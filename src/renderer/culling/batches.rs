@@ -13,14 +13,14 @@
 //! - **Stencil methods** (two-pass, invert, replace): lights whose conservative pixel
 //!   rectangles do not overlap share a batch: one instanced mark draw, then one instanced shade
 //!   draw (split into runs of casting and other lights when only casters run the shadow
-//!   lookups: `passes::lights::casting_runs`). Why the picture and every light's shaded fragments stay those of the unbatched frame:
+//!   lookups: `culling::light_pass::casting_runs`). Why the picture and every light's shaded fragments stay those of the unbatched frame:
 //!   1. A light's draws rasterise only inside its rectangle (see [`Footprint`]), so at any pixel
 //!      at most one light of a batch does anything: the pixel sees that light's mark, then its
 //!      shade, as unbatched.
 //!   2. Across batches a pixel may see lights in another order than unbatched, so each light's
 //!      (mark, shade) must find the stencil as unbatched. It does, because each method leaves
 //!      the stencil in a state the next light ignores (checked against the `StencilMethod`
-//!      literals in `passes/lights.rs`):
+//!      literals in `culling/light_pass.rs`):
 //!      - *two-pass* (seed 000): the mark increments on front faces' depth fail; the shade draws
 //!        the back faces, which cover every pixel the front faces cover (a closed convex mesh;
 //!        where the near plane clips front faces the back faces cover more), with Zero on
@@ -49,9 +49,9 @@
 //! batches, never wrong).
 
 use super::plan::{LightPlan, Method, PlanView};
-use super::records::LightRecord;
-use super::stats::LIGHTS_PER_QUERY_SET;
 use super::volumes::{self, VolumeKind, Volumes};
+use crate::renderer::records::LightRecord;
+use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
 use glam::{Vec2, Vec3};
 
 /// Side in pixels of the occupancy grid's cells.
@@ -107,8 +107,8 @@ pub fn pixel_rect(lo: Vec2, hi: Vec2, (w, h): (u32, u32)) -> Option<[u32; 4]> {
     if !(lo.is_finite() && hi.is_finite()) {
         return Some([0, 0, w - 1, h - 1]);
     }
-    let px = |x: f32| super::tiles::floor((x + 1.0) * 0.5 * w as f32);
-    let py = |y: f32| super::tiles::floor((1.0 - y) * 0.5 * h as f32);
+    let px = |x: f32| super::tiled::floor((x + 1.0) * 0.5 * w as f32);
+    let py = |y: f32| super::tiled::floor((1.0 - y) * 0.5 * h as f32);
     let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
     let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
     if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 || x0 > x1 || y0 > y1 {

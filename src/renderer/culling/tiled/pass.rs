@@ -18,8 +18,8 @@
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since
 //! passes record through `&self`.
 
-use super::{log_accum, FrameInputs, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::bindings;
+use crate::renderer::passes::{log_accum, FrameInputs, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::plan::Method;
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
@@ -68,7 +68,7 @@ pub struct TileLists {
 
 impl TileLists {
     /// The cell of pixel (`x`, `y`) whose G-buffer point lies at view depth `depth`, as
-    /// `tile_cell` in `shaders/tiled.wgsl` finds it.
+    /// `tile_cell` in `tiled.wgsl` finds it.
     pub fn cell(&self, x: u32, y: u32, depth: f32) -> usize {
         let p = &self.params;
         let tile = (y / p.tile_size).min(p.tiles_y - 1) * p.tiles_x + (x / p.tile_size).min(p.tiles_x - 1);

@@ -1,0 +1,420 @@
+//! Speed against error: `lampshade bench` renders one scene under many configurations, times
+//! each pass (median of N frames, GPU timestamps), counts fragments, and measures the error of
+//! each image against a reference rendered without deferred approximations (every light
+//! full-screen, an Rgba32Float G-buffer with stored position, Rgba32Float accumulation).
+//! Output: `bench.csv`, `bench.md` and `bench.png` (time against error, Pareto front marked).
+//!
+//! - [`configs`]: the configurations each group sweeps;
+//! - [`run`]: rendering them, with the reference each is measured against;
+//! - [`report`]: the CSV and markdown tables, the limits and the Pareto front;
+//! - [`plot`]: the charts.
+
+mod configs;
+mod plot;
+mod report;
+mod run;
+
+pub use configs::*;
+pub use plot::*;
+pub use report::*;
+pub use run::*;
+
+use crate::compare::flip;
+use crate::gpu::Gpu;
+use crate::headless::render_image;
+use crate::renderer::post::{Aa, Tonemap};
+use crate::renderer::{
+    AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
+    ShadowCube, ShadowFilter, ShadowMode, OUTPUT_FORMAT,
+};
+use crate::scene::builtin::BuiltinOptions;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::Path;
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: String,
+    pub quick: bool,
+    /// Frames timed per configuration (the median is reported).
+    pub frames: usize,
+    pub size: (u32, u32),
+    pub lights: usize,
+    pub time: f64,
+    /// Run only the configurations of these groups (all when empty).
+    pub groups: Vec<String>,
+    /// The scene brings a fixed set of lights (a glTF file with lights, a built-in scene that
+    /// takes no count): `lights` is not varied and the `lights` group is left out.
+    pub fixed_lights: bool,
+}
+
+impl BenchOptions {
+    pub fn new(scene: &str, quick: bool) -> Self {
+        if quick {
+            Self {
+                scene: scene.into(),
+                quick,
+                frames: 3,
+                size: (320, 180),
+                lights: 256,
+                time: 0.0,
+                groups: Vec::new(),
+                fixed_lights: false,
+            }
+        } else {
+            Self {
+                scene: scene.into(),
+                quick,
+                frames: 10,
+                size: (1280, 720),
+                lights: 1024,
+                time: 0.0,
+                groups: Vec::new(),
+                fixed_lights: false,
+            }
+        }
+    }
+}
+
+/// A configuration the bench did not run, and why: the scene cannot take it (a G-buffer layout
+/// with no channel for the material ID a multi-material scene needs, say) or the adapter cannot
+/// give it. It is listed in the report and on the console; the sweep goes on without it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Skipped {
+    pub group: String,
+    pub label: String,
+    pub scene: String,
+    pub reason: String,
+}
+
+/// What a sweep gives: a row per configuration that ran, and the configurations it skipped.
+#[derive(Clone, Debug, Default)]
+pub struct BenchRun {
+    pub rows: Vec<Row>,
+    pub skipped: Vec<Skipped>,
+}
+
+/// One configuration: what it varies, and the settings, light count, size and scene it runs with.
+#[derive(Clone, Debug)]
+pub struct Config {
+    pub group: &'static str,
+    pub label: String,
+    pub settings: Settings,
+    pub lights: usize,
+    pub size: (u32, u32),
+    /// Another built-in scene than the bench's (the depth group's `far-origin` rows).
+    pub scene: Option<&'static str>,
+    /// Every light's radius times this (the `radius` group; 1 elsewhere).
+    pub radius_scale: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    pub group: String,
+    pub label: String,
+    pub scene: String,
+    pub culling: String,
+    pub layout: String,
+    pub accumulation: String,
+    pub reversed_z: bool,
+    /// The depth-stencil format the frame used (the adapter's fallback shows here).
+    pub depth_format: String,
+    pub light_cutoff: f32,
+    pub sphere_subdivisions: u32,
+    pub cone_sides: u32,
+    /// Bounding meshes the frame drew, e.g. "sphere+cone".
+    pub volumes: String,
+    pub lights: usize,
+    /// The scene's light radii were scaled by this (the `radius` group; 1 elsewhere).
+    pub radius_scale: f64,
+    pub width: u32,
+    pub height: u32,
+    pub gbuffer_ms: f64,
+    pub lighting_ms: f64,
+    pub compose_ms: f64,
+    /// The forward pass of blended surfaces (0 without any).
+    pub forward_ms: f64,
+    /// The post chain's passes (0 where a pass did not run).
+    pub bloom_ms: f64,
+    pub exposure_ms: f64,
+    pub tonemap_ms: f64,
+    pub grading_ms: f64,
+    pub fog_ms: f64,
+    pub dof_ms: f64,
+    pub vignette_ms: f64,
+    pub aa_ms: f64,
+    pub total_ms: f64,
+    /// Light draws of a timed (uncounted) frame, and the batches they draw.
+    pub draw_calls: u64,
+    pub light_batches: u64,
+    pub coverage_fragments: u64,
+    pub shaded_fragments: u64,
+    pub ideal_fragments: u64,
+    pub efficiency: f64,
+    pub gbuffer_bytes_per_pixel: u32,
+    pub flip_mean: f32,
+    pub max_abs_light_error: f32,
+    pub psnr_db: f64,
+    pub pareto: bool,
+    /// The culling mode of the reference this row's error is measured against: `fullscreen`,
+    /// or `volume` where a full-screen reference would take minutes (see [`reference_culling`]).
+    pub reference: String,
+    /// `total_ms` over the same run's `limit` row for this scene, light count, size and radius
+    /// (NaN where the group has none; 1 on the `limit` row itself).
+    pub limit_ratio: f64,
+    /// The rendering path's figures (the `path` group; defaults elsewhere).
+    pub path: PathFigures,
+    /// The shadow maps' figures (every row, NaN/0 without shadows).
+    pub shadow: ShadowFigures,
+}
+
+/// What the `shadows` group compares: the shadow pass's cost and memory. Its time
+/// is part of `total_ms` (the G-buffer to the compose, plus the shadow pass before them).
+#[derive(Clone, Debug, Serialize)]
+pub struct ShadowFigures {
+    /// Median GPU ms of the shadow pass (the atlas's render pass and the cube array's layers;
+    /// NaN when nothing cast).
+    pub gpu_ms: f64,
+    /// Bytes of the atlas and the cube array as allocated.
+    pub bytes: u64,
+    /// Lights (the sun counted) with shadows, and those that fell back for the budget.
+    pub casting: u32,
+    pub fallback_budget: u32,
+    /// Lights that should cast but are off screen (unshadowed, counted).
+    pub fallback_off_screen: u32,
+    /// `--shadow-cube`, and the cube array's face side (0 with `unrolled`).
+    pub cube: String,
+    pub cube_side: u32,
+}
+
+impl Default for ShadowFigures {
+    fn default() -> Self {
+        Self {
+            gpu_ms: f64::NAN,
+            bytes: 0,
+            casting: 0,
+            fallback_budget: 0,
+            fallback_off_screen: 0,
+            cube: "-".into(),
+            cube_side: 0,
+        }
+    }
+}
+
+impl ShadowFigures {
+    fn of(stats: &FrameStats, times: &[FrameStats]) -> Self {
+        let Some(sh) = &stats.shadow else { return Self::default() };
+        Self {
+            gpu_ms: median(times.iter().filter_map(|t| t.shadow.as_ref().and_then(|s| s.gpu_ms)).collect()),
+            bytes: sh.bytes(),
+            casting: sh.casting,
+            fallback_budget: sh.fallback_budget,
+            fallback_off_screen: sh.fallback_off_screen,
+            cube: sh.cube.name(),
+            cube_side: sh.cube_side,
+        }
+    }
+}
+
+/// What the `path` group compares between rendering paths.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PathFigures {
+    /// `RenderPath::name`.
+    pub path: String,
+    /// Render passes up to the compose or tonemap (included): deferred's G-buffer, lights,
+    /// compose; forward's depth pass, shading (or ambient + sun and the pairs), tonemap.
+    pub passes: u32,
+    /// Bytes per pixel of every intermediate target, samples included (G-buffer, depth-stencil,
+    /// light accumulation or HDR colour, MSAA targets and their resolve).
+    pub target_bytes_per_pixel: u32,
+    /// Entries of the forward paths' object light lists: the (object, light) pairs the
+    /// multi-pass path draws (filled in for every path of the same scene and light count).
+    pub object_light_pairs: u64,
+    /// Lit pixels: the deferred path's shaded light fragments for the same scene and light
+    /// count (filled in for every path).
+    pub lit_fragments: u64,
+    /// Every draw of the frame up to the compose or tonemap: deferred's object draws into the
+    /// G-buffer, its light draws, the compose; the forward paths' draws of every pass and the
+    /// tonemap.
+    pub draw_calls: u64,
+    /// Opaque and masked objects drawn (from the forward rows; filled in for every path).
+    pub objects: u64,
+    /// Why the path could not render (empty when it did); the row has no figures then.
+    pub error: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn both_sweeps_cover_every_group_with_valid_settings() {
+        for quick in [true, false] {
+            let o = BenchOptions::new("demo", quick);
+            let list = configs(&o);
+            assert!(list.len() >= 8, "{} configurations", list.len());
+            for g in GROUPS {
+                assert!(list.iter().any(|c| c.group == *g), "quick {quick}: no {g} configuration");
+            }
+            for c in &list {
+                c.settings.validate().unwrap();
+            }
+            let labels: std::collections::HashSet<_> = list.iter().map(|c| (c.group, c.label.clone())).collect();
+            assert_eq!(labels.len(), list.len(), "duplicate labels");
+        }
+        let full = configs(&BenchOptions::new("demo", false));
+        let cutoffs: Vec<f32> = full.iter().filter(|c| c.group == "cutoff").map(|c| c.settings.light_cutoff).collect();
+        assert_eq!(cutoffs, vec![0.0, 1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0]);
+        let depth = full.iter().filter(|c| c.group == "depth" && c.scene == Some("far-origin")).count();
+        assert_eq!(depth, 4, "far-origin under both depth formats and both conventions");
+        let mut only = BenchOptions::new("demo", true);
+        only.groups = vec!["tessellation".into()];
+        assert!(configs(&only).iter().all(|c| c.group == "tessellation"));
+    }
+
+    #[test]
+    fn the_pareto_front_is_per_scene_light_count_and_size() {
+        let row = |label: &str, scene: &str, ms: f64, flip: f32| Row {
+            group: "g".into(),
+            label: label.into(),
+            scene: scene.into(),
+            culling: String::new(),
+            layout: String::new(),
+            accumulation: String::new(),
+            reversed_z: false,
+            depth_format: String::new(),
+            light_cutoff: 0.0,
+            sphere_subdivisions: 1,
+            cone_sides: 12,
+            volumes: String::new(),
+            lights: 10,
+            radius_scale: 1.0,
+            width: 8,
+            height: 8,
+            gbuffer_ms: 0.0,
+            lighting_ms: 0.0,
+            compose_ms: 0.0,
+            forward_ms: 0.0,
+            bloom_ms: 0.0,
+            exposure_ms: 0.0,
+            tonemap_ms: 0.0,
+            grading_ms: 0.0,
+            fog_ms: 0.0,
+            dof_ms: 0.0,
+            vignette_ms: 0.0,
+            aa_ms: 0.0,
+            total_ms: ms,
+            draw_calls: 0,
+            light_batches: 0,
+            coverage_fragments: 0,
+            shaded_fragments: 0,
+            ideal_fragments: 0,
+            efficiency: 0.0,
+            gbuffer_bytes_per_pixel: 0,
+            flip_mean: flip,
+            max_abs_light_error: 0.0,
+            psnr_db: 0.0,
+            pareto: false,
+            reference: "fullscreen".into(),
+            limit_ratio: f64::NAN,
+            path: Default::default(),
+            shadow: Default::default(),
+        };
+        let mut rows = vec![
+            row("fast", "a", 1.0, 0.02),
+            row("exact", "a", 5.0, 0.001),
+            row("dominated", "a", 6.0, 0.01),
+            // Another scene is not compared with scene a.
+            row("other", "b", 9.0, 0.5),
+        ];
+        mark_pareto(&mut rows);
+        let front: Vec<&str> = rows.iter().filter(|r| r.pareto).map(|r| r.label.as_str()).collect();
+        assert_eq!(front, vec!["fast", "exact", "other"]);
+    }
+
+    #[test]
+    fn the_limit_row_is_gbuffer_plus_compose_plus_the_ideal_at_fullscreen_cost() {
+        let row = |label: &str, culling: &str, lights: usize, g: f64, l: f64, c: f64, shaded: u64| Row {
+            group: "culling".into(),
+            label: label.into(),
+            scene: "s".into(),
+            culling: culling.into(),
+            layout: String::new(),
+            accumulation: String::new(),
+            reversed_z: false,
+            depth_format: String::new(),
+            light_cutoff: 0.0,
+            sphere_subdivisions: 1,
+            cone_sides: 12,
+            volumes: String::new(),
+            lights,
+            radius_scale: 1.0,
+            width: 8,
+            height: 8,
+            gbuffer_ms: g,
+            lighting_ms: l,
+            compose_ms: c,
+            forward_ms: 0.0,
+            bloom_ms: 0.0,
+            exposure_ms: 0.0,
+            tonemap_ms: 0.0,
+            grading_ms: 0.0,
+            fog_ms: 0.0,
+            dof_ms: 0.0,
+            vignette_ms: 0.0,
+            aa_ms: 0.0,
+            total_ms: g + l + c,
+            draw_calls: 0,
+            light_batches: 0,
+            coverage_fragments: 0,
+            shaded_fragments: shaded,
+            ideal_fragments: 1000,
+            efficiency: 0.0,
+            gbuffer_bytes_per_pixel: 0,
+            flip_mean: 0.0,
+            max_abs_light_error: 0.0,
+            psnr_db: 0.0,
+            pareto: false,
+            reference: "fullscreen".into(),
+            limit_ratio: f64::NAN,
+            path: Default::default(),
+            shadow: Default::default(),
+        };
+        let mut rows = vec![
+            // 100 ms for 100,000 fragments: 0.001 ms a fragment.
+            row("fullscreen", "fullscreen", 10, 10.0, 100.0, 4.0, 100_000),
+            row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000),
+            row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
+            // Another light count without a fullscreen row borrows its ms per fragment.
+            row("volume", "volume", 40, 11.0, 30.0, 5.0, 9000),
+        ];
+        add_limits(&mut rows);
+        let labels: Vec<(&str, usize)> = rows.iter().map(|r| (r.label.as_str(), r.lights)).collect();
+        assert_eq!(
+            labels,
+            vec![("fullscreen", 10), ("volume", 10), ("stencil", 10), ("limit", 10), ("volume", 40), ("limit", 40)]
+        );
+        // Medians of G-buffer (11) and compose (5), plus 1,000 ideal fragments at 0.001 ms.
+        let limit = &rows[3];
+        assert!((limit.total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", limit.total_ms);
+        assert!((rows[2].limit_ratio - 21.0 / 17.0).abs() < 1e-9, "{}", rows[2].limit_ratio);
+        assert!((rows[5].total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9);
+        // Without any fullscreen row there is no limit.
+        let mut alone = vec![row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000)];
+        add_limits(&mut alone);
+        assert_eq!(alone.len(), 1);
+        assert!(alone[0].limit_ratio.is_nan());
+        // A shadow pass is a fixed pass like the G-buffer: its median joins the limit.
+        let mut shadowed = vec![
+            row("fullscreen", "fullscreen", 10, 10.0, 100.0, 4.0, 100_000),
+            row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000),
+            row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
+        ];
+        for (r, s) in shadowed.iter_mut().zip([3.0, 2.0, 4.0]) {
+            r.shadow.gpu_ms = s;
+        }
+        add_limits(&mut shadowed);
+        assert!((shadowed[3].total_ms - (11.0 + 3.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", shadowed[3].total_ms);
+    }
+}

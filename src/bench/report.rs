@@ -1,0 +1,379 @@
+//! What a run reports: the CSV, the markdown tables, the limit each configuration is held to and the Pareto front.
+
+use super::*;
+
+/// The report's list of skipped configurations (empty when none was).
+pub fn skipped_markdown(skipped: &[Skipped]) -> String {
+    if skipped.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\n### Skipped ({})\n\nConfigurations this scene or adapter cannot take; the rest of the sweep ran without them.\n\n\
+         | group | configuration | scene | reason |\n|---|---|---|---|\n",
+        skipped.len()
+    );
+    for k in skipped {
+        s += &format!(
+            "| {} | {} | {} | {} |\n",
+            k.group,
+            k.label,
+            k.scene,
+            k.reason.replace('|', "/").replace('\n', " ")
+        );
+    }
+    s
+}
+
+/// The groups whose rows are culling modes, and so get a `limit` row.
+pub const LIMIT_GROUPS: [&str; 3] = ["culling", "lights", "radius"];
+
+/// What a frame could cost if lighting did only the ideal work: G-buffer ms + compose ms + ideal
+/// fragments x `fullscreen`'s lighting ms per shaded fragment, all from the same run. The
+/// shadow pass, when lights cast, is a fixed pass like the G-buffer: `gbuffer_ms` holds both.
+/// `fullscreen` shades every pixel for every light, so its ms per fragment is the price of one
+/// light-fragment evaluation with no per-draw or culling overhead worth counting (1,028 lights x
+/// 0.9 M fragments); the ideal is the fragments inside the lights' true shapes. G-buffer and
+/// compose do the same work in every mode, so their medians over the key's rows are used.
+pub fn limit_ms(gbuffer_ms: f64, compose_ms: f64, ideal: u64, ms_per_fragment: f64) -> f64 {
+    gbuffer_ms + compose_ms + ideal as f64 * ms_per_fragment
+}
+
+/// Adds a `limit` row after the last row of each (group, scene, light count, size, radius) among
+/// [`LIMIT_GROUPS`], and sets every such row's `limit_ratio`. The ms per fragment comes from the
+/// `fullscreen` row of the same scene and size (same light count and radius if the run has one,
+/// else the one with the most shaded fragments); without any `fullscreen` row there is no limit.
+pub fn add_limits(rows: &mut Vec<Row>) {
+    type Key = (String, String, usize, u32, u32, u64);
+    let key = |r: &Row| (r.group.clone(), r.scene.clone(), r.lights, r.width, r.height, r.radius_scale.to_bits());
+    let full: Vec<Row> = rows
+        .iter()
+        .filter(|r| r.culling == "fullscreen" && r.label != "limit" && r.shaded_fragments > 0)
+        .cloned()
+        .collect();
+    let per_fragment = |k: &Key| -> Option<f64> {
+        let same = |r: &&Row| r.scene == k.1 && r.width == k.3 && r.height == k.4;
+        let exact = full.iter().find(|r| same(r) && r.lights == k.2 && r.radius_scale.to_bits() == k.5);
+        let best = exact.or_else(|| full.iter().filter(same).max_by_key(|r| r.shaded_fragments))?;
+        Some(best.lighting_ms / best.shaded_fragments as f64)
+    };
+    let mut keys: Vec<Key> = Vec::new();
+    for r in rows.iter().filter(|r| LIMIT_GROUPS.contains(&r.group.as_str())) {
+        if !keys.contains(&key(r)) {
+            keys.push(key(r));
+        }
+    }
+    for k in keys {
+        let Some(ms_per_fragment) = per_fragment(&k) else { continue };
+        let mine: Vec<&Row> = rows.iter().filter(|r| key(r) == k).collect();
+        let Some(first) = mine.first() else { continue };
+        let gbuffer = median(mine.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
+        // NaN where nothing cast: no shadow pass ran.
+        let shadows = median(mine.iter().map(|r| r.shadow.gpu_ms).filter(|v| v.is_finite()).collect());
+        let compose = median(mine.iter().map(|r| r.compose_ms).filter(|v| v.is_finite()).collect());
+        // Every mode counts the same ideal (tested); the largest guards against a row that did
+        // not count it.
+        let ideal = mine.iter().map(|r| r.ideal_fragments).max().unwrap_or(0);
+        let lighting = ideal as f64 * ms_per_fragment;
+        let limit =
+            limit_ms(gbuffer + if shadows.is_finite() { shadows } else { 0.0 }, compose, ideal, ms_per_fragment);
+        let row = Row {
+            label: "limit".into(),
+            culling: "limit".into(),
+            volumes: "-".into(),
+            gbuffer_ms: gbuffer,
+            lighting_ms: lighting,
+            compose_ms: compose,
+            forward_ms: 0.0,
+            total_ms: limit,
+            coverage_fragments: 0,
+            shaded_fragments: ideal,
+            ideal_fragments: ideal,
+            efficiency: 1.0,
+            flip_mean: f32::NAN,
+            max_abs_light_error: f32::NAN,
+            psnr_db: f64::NAN,
+            pareto: false,
+            limit_ratio: 1.0,
+            draw_calls: 0,
+            light_batches: 0,
+            ..(*first).clone()
+        };
+        for r in rows.iter_mut().filter(|r| key(r) == k) {
+            r.limit_ratio = r.total_ms / limit;
+        }
+        let at = rows.iter().rposition(|r| key(r) == k).map_or(rows.len(), |i| i + 1);
+        rows.insert(at, row);
+    }
+}
+
+/// Marks the rows no other row of the same scene, light count and size beats in both time and
+/// error.
+pub fn mark_pareto(rows: &mut [Row]) {
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    let snapshot: Vec<(_, f64, f32)> = rows.iter().map(|r| (key(r), r.total_ms, r.flip_mean)).collect();
+    for (i, r) in rows.iter_mut().enumerate() {
+        let (k, t, e) = &snapshot[i];
+        r.pareto = !snapshot
+            .iter()
+            .enumerate()
+            .any(|(j, (k2, t2, e2))| j != i && k2 == k && t2 <= t && e2 <= e && (t2 < t || e2 < e));
+    }
+}
+
+pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
+    let mut out = String::from(
+        "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
+         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
+         coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
+         reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
+         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side\n",
+    );
+    for r in rows {
+        out += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
+            r.group,
+            r.label,
+            r.scene,
+            r.culling,
+            r.layout,
+            r.accumulation,
+            r.reversed_z,
+            r.depth_format,
+            r.light_cutoff,
+            r.sphere_subdivisions,
+            r.cone_sides,
+            r.volumes,
+            r.lights,
+            r.radius_scale,
+            r.width,
+            r.height,
+            r.gbuffer_ms,
+            r.lighting_ms,
+            r.compose_ms,
+            r.forward_ms,
+            r.bloom_ms,
+            r.exposure_ms,
+            r.tonemap_ms,
+            r.grading_ms,
+            r.fog_ms,
+            r.dof_ms,
+            r.vignette_ms,
+            r.aa_ms,
+            r.total_ms,
+            r.draw_calls,
+            r.light_batches,
+            r.coverage_fragments,
+            r.shaded_fragments,
+            r.ideal_fragments,
+            r.efficiency,
+            r.gbuffer_bytes_per_pixel,
+            r.flip_mean,
+            r.max_abs_light_error,
+            r.psnr_db,
+            r.pareto,
+            r.reference,
+            r.limit_ratio,
+            r.path.path,
+            r.path.passes,
+            r.path.target_bytes_per_pixel,
+            r.path.object_light_pairs,
+            r.path.lit_fragments,
+            r.path.error.replace('"', "'").replace(',', ";"),
+            r.shadow.gpu_ms,
+            r.shadow.bytes,
+            r.shadow.casting,
+            r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
+            r.shadow.cube,
+            r.shadow.cube_side
+        );
+    }
+    std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
+}
+
+pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
+    let rows = &run.rows[..];
+    let mut s = format!(
+        "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
+         (full-screen lights, Rgba32Float G-buffer and accumulation), measured before post: the light error and PSNR \
+         on the light accumulation, FLIP on the output only for frames without the post chain (`-` in the `post` rows). Ratio: lighting time over `fullscreen`'s in the \
+         same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
+         Volumes: the bounding meshes the frame drew (only the kinds its lights need). \
+         `limit` (groups culling, lights, radius): G-buffer ms + compose ms + ideal fragments x `fullscreen`'s \
+         lighting ms per shaded fragment, from this run; `x limit` is each row's total over it.\n\n",
+        o.scene, o.time, o.frames
+    );
+    let volume_refs: Vec<String> = rows
+        .iter()
+        .filter(|r| r.reference != "fullscreen" && r.label != "limit")
+        .map(|r| format!("{} lights at {}x{}", r.lights, r.width, r.height))
+        .fold(Vec::new(), |mut v, k| {
+            if !v.contains(&k) {
+                v.push(k);
+            }
+            v
+        });
+    if !volume_refs.is_empty() {
+        s += &format!(
+            "References drawn with plain volumes (a full-screen one would take minutes; volumes are tested equal to \
+             full-screen within one 8-bit step): {}.\n\n",
+            volume_refs.join(", ")
+        );
+    }
+    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | shadows ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    let full: HashMap<(usize, u32, u32), f64> = rows
+        .iter()
+        .filter(|r| r.label == "fullscreen")
+        .map(|r| ((r.lights, r.width, r.height), r.lighting_ms))
+        .collect();
+    for r in rows {
+        let ratio = full
+            .get(&(r.lights, r.width, r.height))
+            .filter(|_| r.scene == o.scene)
+            .filter(|_| r.label != "limit")
+            .map_or("-".into(), |f| format!("{:.3}", r.lighting_ms / f));
+        let x_limit = if r.limit_ratio.is_finite() { format!("{:.2}", r.limit_ratio) } else { "-".into() };
+        let error = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
+        s += &format!(
+            "| {} | {}{} | {} | {}x{} | {} | {} | {:.2} | {} | {:.2} | {:.2} | {} | {:.2} | {} | {} | {} ({}) | {} | {} | {} | {:.3} | {} | {} | {} |\n",
+            r.group,
+            r.label,
+            if r.pareto { " *" } else { "" },
+            r.lights,
+            r.width,
+            r.height,
+            r.gbuffer_bytes_per_pixel,
+            r.volumes,
+            r.gbuffer_ms,
+            if r.shadow.gpu_ms.is_finite() { format!("{:.2}", r.shadow.gpu_ms) } else { "-".into() },
+            r.lighting_ms,
+            r.forward_ms,
+            if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
+                format!(
+                    "{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}",
+                    r.bloom_ms,
+                    r.exposure_ms,
+                    r.tonemap_ms,
+                    r.grading_ms,
+                    r.fog_ms,
+                    r.dof_ms,
+                    r.vignette_ms,
+                    r.aa_ms
+                )
+            } else {
+                "-".into()
+            },
+            r.total_ms,
+            x_limit,
+            ratio,
+            r.draw_calls,
+            r.light_batches,
+            r.coverage_fragments,
+            r.shaded_fragments,
+            r.ideal_fragments,
+            r.efficiency,
+            error(r.flip_mean as f64, 5),
+            error(r.max_abs_light_error as f64, 4),
+            error(r.psnr_db, 1)
+        );
+    }
+    s += &paths_markdown(rows);
+    s += &shadows_markdown(rows);
+    s += &skipped_markdown(&run.skipped);
+    s
+}
+
+/// The `shadows` group's table: the shadow pass's GPU ms (outside `total ms`), the
+/// bytes of the atlas and the cube array, who casts, and the error against the finest shadows.
+pub fn shadows_markdown(rows: &[Row]) -> String {
+    let shadows: Vec<&Row> = rows.iter().filter(|r| r.group == "shadows").collect();
+    if shadows.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n### Shadows\n\n\
+         Shadow ms: the shadow pass (atlas and cube array; `-` where nothing cast), part of `total ms`. \
+         Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget, \
+         off screen: lights that fell back to unshadowed for the budget or for being off screen. FLIP mean against the finest shadows (64 MiB, poisson16, \
+         4 cascades) of the same casters (`cube` rows: every light, cubes unrolled).\n\n\
+         | configuration | lights | shadow ms | total ms | bytes | casting | budget | off screen | cube side | FLIP mean |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in shadows {
+        s += &format!(
+            "| {} | {} | {} | {:.2} | {} | {} | {} | {} | {} | {:.5} |\n",
+            r.label,
+            r.lights,
+            if r.shadow.gpu_ms.is_finite() { format!("{:.2}", r.shadow.gpu_ms) } else { "-".into() },
+            r.total_ms,
+            r.shadow.bytes,
+            r.shadow.casting,
+            r.shadow.fallback_budget,
+            r.shadow.fallback_off_screen,
+            if r.shadow.cube == "array" { r.shadow.cube_side.to_string() } else { "-".into() },
+            r.flip_mean
+        );
+    }
+    s
+}
+
+/// The `path` group's table: per scene and light count, each path's intermediate
+/// bytes per pixel, passes, draw calls, GPU ms and error; a path that failed says why.
+pub fn paths_markdown(rows: &[Row]) -> String {
+    let paths: Vec<&Row> = rows.iter().filter(|r| r.group == "path").collect();
+    if paths.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n### Rendering paths\n\n\
+         Bytes/pixel: every intermediate target, samples included. Passes: up to the compose or tonemap. \
+         Draw calls: every draw up to the compose or tonemap (deferred: one per object into the G-buffer, its light draws, \
+         the compose; light pre-pass: pass 1's and pass 3's object draws, its light draws and the tonemap; forward: every \
+         pass's draws and the tonemap). \
+         Pairs: entries of the forward object light lists, the (object, light) draws of multi-pass. \
+         Lit: the deferred light pass's shaded fragments for that scene and count. \
+         Shaded: fragments the path's shading passes shaded (deferred: light fragments). Error: FLIP mean against the reference.\n\n\
+         | scene | lights | path | bytes/pixel | passes | draw calls | pairs | lit | shaded | GPU ms | FLIP mean |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in paths {
+        let scene = std::path::Path::new(&r.scene).file_stem().map_or(r.scene.clone(), |f| f.to_string_lossy().into());
+        if !r.path.error.is_empty() {
+            s += &format!("| {scene} | {} | {} | error: {} | | | | | | | |\n", r.lights, r.path.path, r.path.error);
+            continue;
+        }
+        s += &format!(
+            "| {scene} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.5} |\n",
+            r.lights,
+            r.path.path,
+            r.path.target_bytes_per_pixel,
+            r.path.passes,
+            r.path.draw_calls,
+            r.path.object_light_pairs,
+            r.path.lit_fragments,
+            r.shaded_fragments,
+            r.total_ms,
+            r.flip_mean
+        );
+    }
+    s
+}
+
+/// For each x (light count in `lights`, radius factor in `radius`), the culling mode with the
+/// lowest total time: where each mode wins.
+pub fn winners(rows: &[Row], group: &str) -> Vec<(f64, String, f64)> {
+    let x = |r: &Row| if group == "radius" { r.radius_scale } else { r.lights as f64 };
+    let mut xs: Vec<f64> = rows.iter().filter(|r| r.group == group).map(x).collect();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    xs.into_iter()
+        .filter_map(|v| {
+            rows.iter()
+                .filter(|r| r.group == group && x(r) == v && r.label != "limit" && r.total_ms.is_finite())
+                .min_by(|a, b| a.total_ms.total_cmp(&b.total_ms))
+                .map(|r| (v, r.culling.clone(), r.total_ms))
+        })
+        .collect()
+}
+

@@ -1,0 +1,360 @@
+//! Rendering the configurations: each one's frames, times, counts and error against its reference.
+
+use super::*;
+
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+pub(crate) struct Reference {
+    image: image::RgbaImage,
+    light: Vec<f32>,
+    peak: f32,
+}
+
+/// The finest shadows of a mode, the `shadows` group's reference: a 64 MiB atlas (4096
+/// texels), 16 Poisson taps, 4 cascades.
+pub fn shadow_reference(mode: ShadowMode) -> Settings {
+    Settings {
+        shadows: mode,
+        shadow_budget_mb: 64.0,
+        shadow_filter: ShadowFilter::Poisson16,
+        shadow_cascades: 4,
+        ..Settings::default()
+    }
+}
+
+pub(crate) fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shadows: ShadowMode) -> Result<Reference> {
+    let settings = Settings {
+        culling: reference_culling(scene.lights.len(), size),
+        layout: LayoutChoice::Reference,
+        accumulation: AccumFormat::Rgba32Float,
+        count_fragments: false,
+        timestamps: false,
+        ..shadow_reference(shadows)
+    };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings)?;
+    let (image, _) = render_image(gpu, &mut r, scene, &settings, size.0, size.1)?;
+    let (d, s) = r.read_accumulation(gpu)?;
+    let light: Vec<f32> = d.into_iter().chain(s).collect();
+    let peak = light.iter().copied().filter(|v| v.is_finite()).fold(0.0, f32::max);
+    Ok(Reference { image, light, peak })
+}
+
+/// Runs the sweep; `progress(done, total, label)` is called before each configuration.
+/// Runs the sweep. A configuration that cannot be built or rendered for this scene on this
+/// adapter is skipped with its reason (a `path` row is kept instead, saying why); only a failure
+/// to open the scene, or one after a configuration's first frame rendered, ends the run.
+pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<BenchRun> {
+    let list = configs(o);
+    let frames = o.frames.max(1);
+    // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.
+    let steps = list.len() * 2 + frames;
+    // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT). A file is
+    // read once per light count.
+    let mut prepared = Vec::new();
+    let mut failed: Vec<(&Config, usize, String)> = Vec::new();
+    let mut skipped: Vec<Skipped> = Vec::new();
+    let mut scenes: HashMap<(&str, usize, u64), crate::Scene> = HashMap::new();
+    for (k, cfg) in list.iter().enumerate() {
+        progress(k, steps, &format!("prepare {}", cfg.label));
+        let name = cfg.scene.unwrap_or(&o.scene);
+        let lights = (!o.fixed_lights || cfg.scene.is_some()).then_some(cfg.lights);
+        let scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
+            std::collections::hash_map::Entry::Occupied(e) => e.get().clone(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                let options = crate::scene::import::ImportOptions::default();
+                let (mut scene, _) =
+                    crate::scene::open(name, BuiltinOptions { lights, time: o.time }, &options, &mut |_| {})?;
+                scale_light_radii(&mut scene, cfg.radius_scale);
+                e.insert(scene).clone()
+            }
+        };
+        let skip = |e: anyhow::Error| Skipped {
+            group: cfg.group.into(),
+            label: cfg.label.clone(),
+            scene: name.to_string(),
+            reason: format!("{e:#}"),
+        };
+        let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
+            Ok(r) => r,
+            Err(e) => {
+                skipped.push(skip(e));
+                continue;
+            }
+        };
+        if let Err(e) = render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1) {
+            if cfg.group == "path" {
+                // A path this build cannot render is a row saying why: the path comparison
+                // shows every path.
+                failed.push((cfg, scene.lights.len(), format!("{e:#}")));
+            } else {
+                skipped.push(skip(e));
+            }
+            continue;
+        }
+        prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
+    }
+    // Timed rounds, interleaved: each round renders every configuration once, so background
+    // load on a shared machine falls on all of them alike and the ratios stay comparable.
+    for round in 0..frames {
+        progress(list.len() + round, steps, &format!("timed round {}/{frames}", round + 1));
+        for (cfg, scene, renderer, times) in prepared.iter_mut() {
+            // Timed without counting (occlusion queries, the tiled pass's per-light atomics):
+            // the counts come from the counted render below.
+            let timed = Settings { count_fragments: false, ..cfg.settings.clone() };
+            times.push(render_image(gpu, renderer, scene, &timed, cfg.size.0, cfg.size.1)?.1);
+        }
+    }
+    // By scene, light count, size and radius factor (bits).
+    type RefKey<'a> = (&'a str, usize, (u32, u32), u64, ShadowMode);
+    let mut refs: HashMap<RefKey, Reference> = HashMap::new();
+    let mut rows = Vec::new();
+    for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
+        progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
+        let (w, h) = cfg.size;
+        // The `shadows` group (its `none` row too) is held against the finest shadows (of every
+        // light for the cube rows).
+        let shadows = match cfg.group {
+            "shadows" if cfg.settings.shadows == ShadowMode::All => ShadowMode::All,
+            "shadows" => ShadowMode::Spots,
+            _ => ShadowMode::None,
+        };
+        let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);
+        let reference = match refs.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size, shadows)?),
+        };
+        let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
+        let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
+        let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
+        let (d, s) = renderer.read_accumulation(gpu)?;
+        let figures = path_figures(gpu, &cfg.settings, &renderer, &stats)?;
+        // The forward paths have no light accumulation: their error is FLIP's alone.
+        let accumulated = stats.forward_path.is_none();
+        // FLIP compares output images; a frame through the post chain is not the reference's
+        // picture by design, so its row has none (NaN). The light error and PSNR are of the
+        // accumulation, before post, in every row.
+        let chain = crate::renderer::post::chain_active(&cfg.settings);
+        let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
+        let mut max_err = 0f32;
+        let mut sq = 0f64;
+        for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
+            let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
+            max_err = max_err.max(e);
+            sq += (e as f64).powi(2);
+        }
+        let mse = sq / reference.light.len().max(1) as f64;
+        let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+        if cfg.settings.path != crate::renderer::RenderPath::Deferred {
+            // The light error compares deferred's accumulation (ambient + sun, specular times
+            // reflectance) with the reference's; the other paths hold no such buffer (the light
+            // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
+            // the final picture.
+            (max_err, psnr) = (f32::NAN, f64::NAN);
+        }
+        rows.push(Row {
+            group: cfg.group.into(),
+            label: cfg.label.clone(),
+            scene: cfg.scene.unwrap_or(&o.scene).to_string(),
+            culling: cfg.settings.culling.name(),
+            layout: stats.gbuffer_layout.clone(),
+            accumulation: cfg.settings.accumulation.name(),
+            reversed_z: cfg.settings.reversed_z,
+            depth_format: stats.depth_stencil_format.clone(),
+            light_cutoff: cfg.settings.light_cutoff,
+            sphere_subdivisions: cfg.settings.sphere_subdivisions,
+            cone_sides: cfg.settings.cone_sides,
+            volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
+            lights: scene.lights.len(),
+            radius_scale: cfg.radius_scale,
+            width: w,
+            height: h,
+            gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
+            lighting_ms: pick(|s| s.gpu_ms.lighting),
+            compose_ms: pick(|s| s.gpu_ms.compose),
+            forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
+            bloom_ms: pick(|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
+            exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
+            tonemap_ms: pick(|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
+            grading_ms: pick(|s| s.gpu_ms.grading.or(s.gpu_ms.total.map(|_| 0.0))),
+            fog_ms: pick(|s| s.gpu_ms.fog.or(s.gpu_ms.total.map(|_| 0.0))),
+            dof_ms: pick(|s| s.gpu_ms.dof.or(s.gpu_ms.total.map(|_| 0.0))),
+            vignette_ms: pick(|s| s.gpu_ms.vignette.or(s.gpu_ms.total.map(|_| 0.0))),
+            aa_ms: pick(|s| s.gpu_ms.aa.or(s.gpu_ms.total.map(|_| 0.0))),
+            total_ms: pick(|s| s.gpu_ms.total),
+            draw_calls: times.last().map_or(0, |s| s.draw_calls),
+            light_batches: times.last().map_or(0, |s| s.light_batches),
+            coverage_fragments: stats.coverage_fragments.unwrap_or(0),
+            shaded_fragments: stats.shaded_fragments.unwrap_or_else(|| forward_shaded(&stats)),
+            ideal_fragments: stats.ideal_fragments.unwrap_or(0),
+            efficiency: stats.efficiency.unwrap_or(f64::NAN),
+            gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
+            flip_mean,
+            max_abs_light_error: if accumulated { max_err } else { f32::NAN },
+            psnr_db: if accumulated { psnr } else { f64::NAN },
+            pareto: false,
+            reference: reference_culling(scene.lights.len(), cfg.size).name(),
+            limit_ratio: f64::NAN,
+            path: figures,
+            shadow: ShadowFigures::of(&stats, &times),
+        });
+    }
+    for (cfg, lights, error) in failed {
+        rows.push(failed_row(cfg, &o.scene, lights, error));
+    }
+    fill_path_siblings(&mut rows);
+    progress(steps, steps, "done");
+    mark_pareto(&mut rows);
+    add_limits(&mut rows);
+    Ok(BenchRun { rows, skipped })
+}
+
+/// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.
+pub(crate) fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &FrameStats) -> Result<PathFigures> {
+    let mut f = PathFigures { path: settings.path.name(), ..Default::default() };
+    if let Some(fp) = &stats.forward_path {
+        // Its passes, and the tonemap.
+        f.passes = fp.passes.len() as u32 + 1;
+        f.draw_calls = fp.draw_calls() + 1;
+        f.objects = fp.objects as u64;
+        f.target_bytes_per_pixel = fp.bytes_per_pixel();
+        f.object_light_pairs = fp.list_entries;
+    } else if let Some(pp) = &stats.prepass {
+        // Seeds 003/004: pass 1, the lights, pass 3, then the tonemap; its draw calls are
+        // pass 1's and pass 3's object draws, the light draws, the full-screen draw that
+        // clears the light buffer (the ambient pass's, which adds ambient + sun in pass 3 on
+        // this path) and the tonemap.
+        f.passes = 4;
+        f.draw_calls =
+            pp.base_draw_calls + stats.draw_calls + !stats.ambient_in_gbuffer as u64 + pp.final_draw_calls + 1;
+        f.target_bytes_per_pixel = pp.normal_exp_bytes_per_pixel
+            + pp.depth_copy_bytes_per_pixel
+            + pp.light_buffer_bytes_per_pixel
+            + pp.hdr_bytes_per_pixel
+            + pp.msaa_bytes_per_pixel
+            + renderer_depth_bytes(renderer);
+    } else {
+        let bytes = |format: wgpu::TextureFormat| {
+            format.block_copy_size(None).unwrap_or_else(|| {
+                format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+                    + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
+            })
+        };
+        let accum = bytes(settings.accumulation.format(gpu.features)?);
+        // G-buffer, lights, compose; the HDR colour when blended surfaces or post need it.
+        let hdr = stats.forward.is_some() || stats.post.is_some();
+        f.passes = 3;
+        // Its light draws, the ambient + sun draw when it is not the G-buffer pass's, the
+        // compose (the G-buffer's object draws are added from the forward rows).
+        f.draw_calls = stats.draw_calls + !stats.ambient_in_gbuffer as u64 + 1;
+        f.target_bytes_per_pixel = stats.gbuffer_bytes_per_pixel
+            + bytes(renderer.depth_format())
+            + 2 * accum
+            + if hdr { bytes(crate::renderer::passes::HDR_FORMAT) } else { 0 };
+    }
+    Ok(f)
+}
+
+/// Bytes per pixel of the renderer's depth-stencil target.
+pub(crate) fn renderer_depth_bytes(renderer: &Renderer) -> u32 {
+    let format = renderer.depth_format();
+    format.block_copy_size(None).unwrap_or_else(|| {
+        format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
+            + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
+    })
+}
+
+/// Samples the forward paths' shading passes passed (single-pass's shading, multi-pass's
+/// ambient + sun and pairs; not the depth pass) when counted.
+pub(crate) fn forward_shaded(stats: &FrameStats) -> u64 {
+    stats.forward_path.as_ref().map_or(0, |fp| {
+        fp.passes
+            .iter()
+            .filter(|p| p.name != "depth" && !p.name.starts_with("g-buffer"))
+            .filter_map(|p| p.fragments)
+            .sum()
+    })
+}
+
+/// The row of a path configuration that failed to render: its error, no figures.
+pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String) -> Row {
+    Row {
+        group: cfg.group.into(),
+        label: cfg.label.clone(),
+        scene: cfg.scene.unwrap_or(scene).to_string(),
+        culling: cfg.settings.culling.name(),
+        layout: "-".into(),
+        accumulation: cfg.settings.accumulation.name(),
+        reversed_z: cfg.settings.reversed_z,
+        depth_format: "-".into(),
+        light_cutoff: cfg.settings.light_cutoff,
+        sphere_subdivisions: cfg.settings.sphere_subdivisions,
+        cone_sides: cfg.settings.cone_sides,
+        volumes: "-".into(),
+        lights,
+        radius_scale: cfg.radius_scale,
+        width: cfg.size.0,
+        height: cfg.size.1,
+        gbuffer_ms: f64::NAN,
+        lighting_ms: f64::NAN,
+        compose_ms: f64::NAN,
+        forward_ms: f64::NAN,
+        bloom_ms: f64::NAN,
+        exposure_ms: f64::NAN,
+        tonemap_ms: f64::NAN,
+        grading_ms: f64::NAN,
+        fog_ms: f64::NAN,
+        dof_ms: f64::NAN,
+        vignette_ms: f64::NAN,
+        aa_ms: f64::NAN,
+        total_ms: f64::NAN,
+        draw_calls: 0,
+        light_batches: 0,
+        coverage_fragments: 0,
+        shaded_fragments: 0,
+        ideal_fragments: 0,
+        efficiency: f64::NAN,
+        gbuffer_bytes_per_pixel: 0,
+        flip_mean: f32::NAN,
+        max_abs_light_error: f32::NAN,
+        psnr_db: f64::NAN,
+        pareto: false,
+        reference: reference_culling(lights, cfg.size).name(),
+        limit_ratio: f64::NAN,
+        path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
+        shadow: ShadowFigures::default(),
+    }
+}
+
+/// Gives every `path` row of a scene and light count the forward rows' pair count and the
+/// deferred row's lit fragments, so each path can be plotted against both.
+pub(crate) fn fill_path_siblings(rows: &mut [Row]) {
+    let key = |r: &Row| (r.scene.clone(), r.lights, r.width, r.height);
+    let pairs: HashMap<_, u64> = rows
+        .iter()
+        .filter(|r| r.group == "path" && r.path.object_light_pairs > 0)
+        .map(|r| (key(r), r.path.object_light_pairs))
+        .collect();
+    let lit: HashMap<_, u64> = rows
+        .iter()
+        .filter(|r| r.group == "path" && r.path.path == RenderPath::Deferred.name())
+        .map(|r| (key(r), r.shaded_fragments))
+        .collect();
+    let objects: HashMap<_, u64> =
+        rows.iter().filter(|r| r.group == "path" && r.path.objects > 0).map(|r| (key(r), r.path.objects)).collect();
+    for r in rows.iter_mut().filter(|r| r.group == "path") {
+        r.path.objects = objects.get(&key(r)).copied().unwrap_or(0);
+        if r.path.path == RenderPath::Deferred.name() && r.path.error.is_empty() {
+            // Its G-buffer's object draws on top of the light draws and the compose.
+            r.path.draw_calls += r.path.objects;
+        }
+        r.path.object_light_pairs = pairs.get(&key(r)).copied().unwrap_or(0);
+        r.path.lit_fragments = lit.get(&key(r)).copied().unwrap_or(0);
+    }
+}
+

@@ -299,4 +299,3 @@ pub fn scale_light_radii(scene: &mut crate::Scene, k: f64) {
         }
     }
 }
-

@@ -374,4 +374,3 @@ pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
     root.present()?;
     Ok(())
 }
-

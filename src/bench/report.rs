@@ -376,4 +376,3 @@ pub fn winners(rows: &[Row], group: &str) -> Vec<(f64, String, f64)> {
         })
         .collect()
 }
-

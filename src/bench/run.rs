@@ -215,7 +215,12 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
 }
 
 /// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.
-pub(crate) fn path_figures(gpu: &Gpu, settings: &Settings, renderer: &Renderer, stats: &FrameStats) -> Result<PathFigures> {
+pub(crate) fn path_figures(
+    gpu: &Gpu,
+    settings: &Settings,
+    renderer: &Renderer,
+    stats: &FrameStats,
+) -> Result<PathFigures> {
     let mut f = PathFigures { path: settings.path.name(), ..Default::default() };
     if let Some(fp) = &stats.forward_path {
         // Its passes, and the tonemap.
@@ -357,4 +362,3 @@ pub(crate) fn fill_path_siblings(rows: &mut [Row]) {
         r.path.lit_fragments = lit.get(&key(r)).copied().unwrap_or(0);
     }
 }
-

@@ -107,62 +107,49 @@ pub fn light_pass_ranges(
     })
 }
 
-/// The frame's timestamp slots: the beginning and end of each timed pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u32)]
-pub enum Stamp {
-    GBufferBegin = 0,
-    GBufferEnd = 1,
-    LightsBegin = 2,
-    LightsEnd = 3,
-    /// The compose, or with blended surfaces the HDR compose, forward pass and tonemap (the
-    /// forward pass's own span is taken out of `gpu_ms.compose`).
-    ComposeBegin = 4,
-    ComposeEnd = 5,
-    /// The forward pass of blended surfaces.
-    ForwardBegin = 6,
-    ForwardEnd = 7,
-    /// The post chain's passes, each when it runs.
-    BloomBegin = 8,
-    BloomEnd = 9,
-    ExposureBegin = 10,
-    ExposureEnd = 11,
-    TonemapBegin = 12,
-    TonemapEnd = 13,
-    GradingBegin = 14,
-    GradingEnd = 15,
-    FogBegin = 16,
-    FogEnd = 17,
-    DofBegin = 18,
-    DofEnd = 19,
-    VignetteBegin = 20,
-    VignetteEnd = 21,
-    AaBegin = 22,
-    AaEnd = 23,
-    /// The GPU building light lists (tiled's compute pass, or clustered lists built on the
-    /// GPU), inside the lighting span.
-    ListsBegin = 24,
-    ListsEnd = 25,
-    /// The forward paths: the depth pass (pre-pass or multi-pass's), the shading
-    /// pass (single-pass, or multi-pass's ambient + sun), the (object, light) pairs.
-    DepthPassBegin = 26,
-    DepthPassEnd = 27,
-    ForwardShadeBegin = 28,
-    ForwardShadeEnd = 29,
-    ForwardPairsBegin = 30,
-    ForwardPairsEnd = 31,
-    /// The light pre-pass's final pass (pass 3; passes 1 and 2 write the G-buffer and lights
-    /// stamps).
-    PrepassBegin = 32,
-    PrepassEnd = 33,
-    /// The shadow pass (before the G-buffer; `gpu_ms.shadows`, part of `total`).
-    ShadowsBegin = 34,
-    ShadowsEnd = 35,
+/// A timed span of the frame, named where its pass is declared (`passes::gbuffer::SPAN`, a row
+/// of `post::effects::EFFECTS`, …): a timestamp at its beginning and one at its end, at slots of
+/// the frame's query set given out by name the first time a span is used in this process. A
+/// span past [`MAX_SPANS`] gets no slot and is reported as not measured (null), never as
+/// another span's time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Span(pub &'static str);
+
+/// Spans the frame's timestamp query set holds (two timestamps each).
+pub const MAX_SPANS: u32 = 32;
+
+impl Span {
+    /// The span's slot pair, given out on first use.
+    fn slot(self) -> Option<u32> {
+        static NAMES: std::sync::Mutex<Vec<&'static str>> = std::sync::Mutex::new(Vec::new());
+        let mut names = NAMES.lock().unwrap_or_else(|e| e.into_inner());
+        let i = match names.iter().position(|n| *n == self.0) {
+            Some(i) => i,
+            None if names.len() < MAX_SPANS as usize => {
+                names.push(self.0);
+                names.len() - 1
+            }
+            None => {
+                log::error!("no timestamp slot left for the span '{}' (MAX_SPANS = {MAX_SPANS})", self.0);
+                return None;
+            }
+        };
+        Some(i as u32)
+    }
+
+    /// The index of the timestamp at its beginning.
+    pub fn begin(self) -> Option<u32> {
+        self.slot().map(|s| 2 * s)
+    }
+
+    /// The index of the timestamp at its end.
+    pub fn end(self) -> Option<u32> {
+        self.slot().map(|s| 2 * s + 1)
+    }
 }
 
-impl Stamp {
-    pub const COUNT: u32 = 36;
-}
+/// Timestamps in the frame's query set.
+const TIMESTAMPS: u32 = 2 * MAX_SPANS;
 
 /// Byte offset of the light pre-pass's two occlusion counts (pass 1, pass 3) in the resolve
 /// buffer: the 256-byte block after the forward pass's.
@@ -170,7 +157,7 @@ const PREPASS_QUERY_OFFSET: u64 = FORWARD_QUERY_OFFSET + 256;
 
 /// Byte offset of the forward pass's occlusion count in the resolve buffer: the first 256-byte
 /// boundary after the timestamps (resolve offsets are multiples of 256).
-const FORWARD_QUERY_OFFSET: u64 = (Stamp::COUNT as u64 * 8).div_ceil(256) * 256;
+const FORWARD_QUERY_OFFSET: u64 = (TIMESTAMPS as u64 * 8).div_ceil(256) * 256;
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct GpuMs {
@@ -424,7 +411,7 @@ impl Queries {
             gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
                 ty: wgpu::QueryType::Timestamp,
-                count: Stamp::COUNT,
+                count: TIMESTAMPS,
             })
         });
         let forward = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -520,7 +507,7 @@ impl Queries {
         let (occ_off, ideal_off, cov_off, size) = Self::offsets(self.capacity);
         if times {
             if let Some(ts) = &self.timestamps {
-                encoder.resolve_query_set(ts, 0..Stamp::COUNT, resolve, 0);
+                encoder.resolve_query_set(ts, 0..TIMESTAMPS, resolve, 0);
             }
         }
         if forward {
@@ -599,58 +586,64 @@ impl Queries {
                     let (t0, t1) = (words[a], words[b]);
                     (t1 >= t0 && t0 != 0).then(|| (t1 - t0) as f64 * self.period_ns as f64 / 1e6)
                 };
-                let span = |a: Stamp, b: Stamp| ms(a as usize, b as usize);
-                stats.gpu_ms.gbuffer = span(Stamp::GBufferBegin, Stamp::GBufferEnd);
-                stats.gpu_ms.lighting = span(Stamp::LightsBegin, Stamp::LightsEnd);
-                stats.gpu_ms.compose = span(Stamp::ComposeBegin, Stamp::ComposeEnd);
-                stats.gpu_ms.lists = span(Stamp::ListsBegin, Stamp::ListsEnd).filter(|_| stats.lists_on_gpu);
+                // From one timestamp to another (`Span::begin`, `Span::end`), and a span's own.
+                let between = |a: Option<u32>, b: Option<u32>| ms(a? as usize, b? as usize);
+                let span = |s: Span| between(s.begin(), s.end());
+                use crate::renderer::passes::{compose, forward, gbuffer, prepass};
+                use crate::renderer::{culling, post, shadows};
+                let (gbuffer, compose) = (gbuffer::SPAN, compose::SPAN);
+                stats.gpu_ms.gbuffer = span(gbuffer);
+                stats.gpu_ms.lighting = span(culling::light_pass::SPAN);
+                stats.gpu_ms.compose = span(compose);
+                stats.gpu_ms.lists = span(culling::tiled::pass::SPAN).filter(|_| stats.lists_on_gpu);
                 if stats.prepass.is_some() {
                     // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
                     // what follows it (forward pass, tonemap or post chain) is the compose span.
-                    stats.gpu_ms.prepass_final = span(Stamp::PrepassBegin, Stamp::PrepassEnd);
-                    stats.gpu_ms.compose = span(Stamp::PrepassEnd, Stamp::ComposeEnd);
+                    stats.gpu_ms.prepass_final = span(prepass::SPAN);
+                    stats.gpu_ms.compose = between(prepass::SPAN.end(), compose.end());
                 }
                 if stats.forward.is_some() {
-                    stats.gpu_ms.forward = span(Stamp::ForwardBegin, Stamp::ForwardEnd);
+                    stats.gpu_ms.forward = span(forward::SPAN);
                     // The forward pass runs between the HDR compose and the tonemap.
                     if let (Some(c), Some(f)) = (stats.gpu_ms.compose, stats.gpu_ms.forward) {
                         stats.gpu_ms.compose = Some((c - f).max(0.0));
                     }
                 }
-                stats.gpu_ms.total = span(Stamp::GBufferBegin, Stamp::ComposeEnd);
+                stats.gpu_ms.total = between(gbuffer.begin(), compose.end());
                 if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
-                    sh.gpu_ms = span(Stamp::ShadowsBegin, Stamp::ShadowsEnd);
+                    sh.gpu_ms = span(shadows::pass::SPAN);
                     stats.gpu_ms.shadows = sh.gpu_ms;
                 }
                 if let Some(fp) = stats.forward_path.as_mut() {
                     // The forward paths: each pass's own span; no light pass, and the G-buffer
                     // only when the post chain needed it (one of the passes then).
                     for p in &mut fp.passes {
-                        p.gpu_ms = p.stamps.and_then(|(b, e)| span(b, e));
+                        p.gpu_ms = p.span.and_then(span);
                     }
                     stats.gpu_ms.lighting = None;
                     stats.gpu_ms.gbuffer = None;
                     stats.gpu_ms.total =
-                        fp.passes.first().and_then(|p| p.stamps).and_then(|(b, _)| span(b, Stamp::ComposeEnd));
+                        fp.passes.first().and_then(|p| p.span).and_then(|s| between(s.begin(), compose.end()));
                 }
                 if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
                     stats.gpu_ms.total = Some(t + s);
                 }
-                if let Some(post) = stats.post {
+                if let Some(p) = stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).
+                    let effect = |name: &'static str, on: bool| span(Span(name)).filter(|_| on);
                     let (b, e, t, g) = (
-                        span(Stamp::BloomBegin, Stamp::BloomEnd).filter(|_| post.bloom),
-                        span(Stamp::ExposureBegin, Stamp::ExposureEnd).filter(|_| post.auto_exposure),
-                        span(Stamp::TonemapBegin, Stamp::TonemapEnd),
-                        span(Stamp::GradingBegin, Stamp::GradingEnd).filter(|_| post.grading),
+                        span(post::bloom::SPAN).filter(|_| p.bloom),
+                        span(post::exposure::SPAN).filter(|_| p.auto_exposure),
+                        span(post::tonemap::SPAN),
+                        effect("grading", p.grading),
                     );
                     (stats.gpu_ms.bloom, stats.gpu_ms.exposure, stats.gpu_ms.tonemap, stats.gpu_ms.grading) =
                         (b, e, t, g);
                     let (fo, d, v, a) = (
-                        span(Stamp::FogBegin, Stamp::FogEnd).filter(|_| post.fog),
-                        span(Stamp::DofBegin, Stamp::DofEnd).filter(|_| post.dof),
-                        span(Stamp::VignetteBegin, Stamp::VignetteEnd).filter(|_| post.vignette),
-                        span(Stamp::AaBegin, Stamp::AaEnd).filter(|_| post.aa),
+                        effect("fog", p.fog),
+                        effect("dof", p.dof),
+                        effect("vignette", p.vignette),
+                        effect("aa", p.aa),
                     );
                     (stats.gpu_ms.fog, stats.gpu_ms.dof, stats.gpu_ms.vignette, stats.gpu_ms.aa) = (fo, d, v, a);
                     let chain: f64 = [b, e, t, g, fo, d, v, a].iter().flatten().sum();

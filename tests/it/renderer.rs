@@ -556,3 +556,62 @@ fn a_pass_set_from_the_pool_draws_what_a_fresh_one_draws() {
         assert_eq!(shaded(&fresh.1), shaded(&pooled.1), "{mode:?}: other per-light counts");
     }
 }
+
+#[test]
+fn every_timed_pass_reports_its_own_span_on_every_path() {
+    // Each pass names its timing span where it is declared; a span begun in one pass and
+    // ended under another name, or never ended, reads as null here.
+    let timed = |name: &str, knobs: &[(&str, &str)]| {
+        let mut s = Settings::default();
+        for (k, v) in knobs {
+            s.set(k, v).expect("a knob");
+        }
+        assert!(s.timestamps, "the default settings time the frame");
+        render(&scene(name), &s, 96, 54).stats
+    };
+    let post = [
+        ("bloom", "on"),
+        ("auto-exposure", "on"),
+        ("lut", "identity"),
+        ("fog", "on"),
+        ("dof", "on"),
+        ("vignette", "0.3"),
+        ("aa", "fxaa"),
+    ];
+    let d = timed("demo", &post).gpu_ms;
+    let parts = [
+        ("gbuffer", d.gbuffer),
+        ("lighting", d.lighting),
+        ("compose", d.compose),
+        ("shadows", d.shadows),
+        ("bloom", d.bloom),
+        ("exposure", d.exposure),
+        ("tonemap", d.tonemap),
+        ("grading", d.grading),
+        ("fog", d.fog),
+        ("dof", d.dof),
+        ("vignette", d.vignette),
+        ("aa", d.aa),
+    ];
+    for (name, ms) in parts {
+        assert!(ms.is_some_and(|ms| ms >= 0.0), "deferred with every effect: {name} is {ms:?}");
+    }
+    let total = d.total.expect("a total");
+    let sum: f64 = parts.iter().filter_map(|(_, ms)| *ms).sum();
+    assert!(total >= 0.99 * sum, "the parts ({sum} ms) exceed the total ({total} ms): {d:?}");
+    let glass = timed("glass", &[("shadows", "none")]).gpu_ms;
+    assert!(glass.forward.is_some() && glass.compose.is_some(), "blended surfaces: {glass:?}");
+    let tiled = timed("demo", &[("culling", "tiled")]).gpu_ms;
+    assert!(tiled.lists.is_some() && tiled.lighting.is_some(), "tiled lists on the GPU: {tiled:?}");
+    let prepass = timed("demo", &[("path", "light-prepass")]).gpu_ms;
+    assert!(prepass.prepass_final.is_some() && prepass.compose.is_some(), "light pre-pass: {prepass:?}");
+    for path in ["forward", "forward-multipass"] {
+        let s = timed("demo", &[("path", path)]);
+        let fp = s.forward_path.expect("the forward path's figures");
+        assert!(!fp.passes.is_empty());
+        for p in &fp.passes {
+            assert!(p.gpu_ms.is_some(), "{path}: the {} pass has no time", p.name);
+        }
+        assert!(s.gpu_ms.total.is_some(), "{path}: no total");
+    }
+}

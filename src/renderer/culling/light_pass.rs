@@ -8,8 +8,12 @@
 
 use crate::renderer::passes::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
-use crate::renderer::stats::{binned_bytes, Stamp, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
+use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
+
+/// The lighting's timing (`gpu_ms.lighting`): from the first light draw to the last, or to
+/// the end of the tiled pass when it shades the frame.
+pub const SPAN: Span = Span("lights");
 
 /// A culling method's draws.
 #[derive(Clone, Debug)]
@@ -258,10 +262,7 @@ impl LightPass {
             color_attachments: &t.accumulation(first && !self.ambient_in_gbuffer),
             depth_stencil_attachment: Some(t.depth_attachment(clear_stencil)),
             // The tiled pass ends the lighting's span when it shades the frame.
-            timestamp_writes: f.timestamps(
-                first.then_some(Stamp::LightsBegin),
-                (end && f.plan.tiled.is_none()).then_some(Stamp::LightsEnd),
-            ),
+            timestamp_writes: f.timestamps(first.then_some(SPAN), (end && f.plan.tiled.is_none()).then_some(SPAN)),
             occlusion_query_set: if f.counts { f.queries.occlusion.get(block) } else { None },
             multiview_mask: None,
         });

@@ -5,7 +5,11 @@
 use super::{FrameInputs, Shared, HDR_FORMAT};
 use crate::renderer::records::{ComposeParams, FrameBuffers};
 use crate::renderer::settings::DebugView;
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// The compose's timing (`gpu_ms.compose`): from the compose to the frame's last pass (the
+/// tonemap or the post chain's last), which ends it and `gpu_ms.total`.
+pub const SPAN: Span = Span("compose");
 use crate::renderer::targets::{attachment, Targets};
 
 pub struct ComposePass {
@@ -85,7 +89,7 @@ impl ComposePass {
             label: Some("compose (HDR)"),
             color_attachments: &[attachment(hdr_view, Some(wgpu::Color::BLACK))],
             depth_stencil_attachment: None,
-            timestamp_writes: f.timestamps(Some(Stamp::ComposeBegin), None),
+            timestamp_writes: f.timestamps(Some(SPAN), None),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -104,7 +108,7 @@ impl ComposePass {
             label: Some("tonemap"),
             color_attachments: &[attachment(target, Some(wgpu::Color::BLACK))],
             depth_stencil_attachment: None,
-            timestamp_writes: f.timestamps(None, Some(Stamp::ComposeEnd)),
+            timestamp_writes: f.timestamps(None, Some(SPAN)),
             occlusion_query_set: None,
             multiview_mask: None,
         });

@@ -6,7 +6,10 @@
 
 use super::gbuffer::{surface_pipeline, SurfacePipe};
 use super::{FrameInputs, Shared, HDR_FORMAT};
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// The blended surfaces' forward pass's timing (`gpu_ms.forward`).
+pub const SPAN: Span = Span("forward");
 use crate::renderer::targets::attachment;
 
 pub struct ForwardPass {
@@ -45,7 +48,7 @@ impl ForwardPass {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
-            timestamp_writes: f.timestamps(Some(Stamp::ForwardBegin), Some(Stamp::ForwardEnd)),
+            timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
             occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
             multiview_mask: None,
         });

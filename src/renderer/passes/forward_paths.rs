@@ -18,7 +18,13 @@
 use super::{FrameInputs, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::plan::{Draw, ForwardPathLists};
 use crate::renderer::settings::{RenderPath, Settings};
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// The forward paths' passes' timings: the depth pass (pre-pass or multi-pass's), the shading
+/// pass (single-pass, or multi-pass's ambient + sun), the (object, light) pairs.
+pub const DEPTH: Span = Span("depth pass");
+pub const SHADE: Span = Span("forward shading");
+pub const PAIRS: Span = Span("forward pairs");
 use crate::scene::Topology;
 use anyhow::{bail, Result};
 use serde::{Deserialize, Serialize};
@@ -40,9 +46,9 @@ pub struct PathPass {
     /// when counting.
     pub fragments: Option<u64>,
     pub gpu_ms: Option<f64>,
-    /// The pass's timestamp slots.
+    /// The pass's timing.
     #[serde(skip)]
-    pub stamps: Option<(Stamp, Stamp)>,
+    pub span: Option<Span>,
     #[serde(skip)]
     query: Option<u32>,
 }
@@ -423,7 +429,7 @@ impl ForwardPathsPass {
             stats.passes.push(PathPass {
                 name: "g-buffer (post inputs)".into(),
                 draw_calls: opaque.len() as u64,
-                stamps: Some((Stamp::GBufferBegin, Stamp::GBufferEnd)),
+                span: Some(crate::renderer::passes::gbuffer::SPAN),
                 ..Default::default()
             });
             stats.targets.push(PathTarget {
@@ -473,7 +479,7 @@ impl ForwardPathsPass {
                 label: Some("forward depth"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(ops_depth(true)),
-                timestamp_writes: f.timestamps(Some(Stamp::DepthPassBegin), Some(Stamp::DepthPassEnd)),
+                timestamp_writes: f.timestamps(Some(DEPTH), Some(DEPTH)),
                 occlusion_query_set: count.then_some(&self.queries),
                 multiview_mask: None,
             });
@@ -488,7 +494,7 @@ impl ForwardPathsPass {
             stats.passes.push(PathPass {
                 name: "depth".into(),
                 draw_calls: opaque.len() as u64,
-                stamps: Some((Stamp::DepthPassBegin, Stamp::DepthPassEnd)),
+                span: Some(DEPTH),
                 query: query(0),
                 ..Default::default()
             });
@@ -501,7 +507,7 @@ impl ForwardPathsPass {
                 label: Some(if multipass { "forward ambient + sun" } else { "forward single-pass" }),
                 color_attachments: &[color_att(true, last)],
                 depth_stencil_attachment: Some(ops_depth(!prepass)),
-                timestamp_writes: f.timestamps(Some(Stamp::ForwardShadeBegin), Some(Stamp::ForwardShadeEnd)),
+                timestamp_writes: f.timestamps(Some(SHADE), Some(SHADE)),
                 occlusion_query_set: count.then_some(&self.queries),
                 multiview_mask: None,
             });
@@ -543,7 +549,7 @@ impl ForwardPathsPass {
             stats.passes.push(PathPass {
                 name: if multipass { "ambient + sun" } else { "shading" }.into(),
                 draw_calls: opaque.len() as u64,
-                stamps: Some((Stamp::ForwardShadeBegin, Stamp::ForwardShadeEnd)),
+                span: Some(SHADE),
                 query: query(1),
                 ..Default::default()
             });
@@ -556,7 +562,7 @@ impl ForwardPathsPass {
                 label: Some("forward lights (object, light) pairs"),
                 color_attachments: &[color_att(false, last)],
                 depth_stencil_attachment: Some(ops_depth(false)),
-                timestamp_writes: f.timestamps(Some(Stamp::ForwardPairsBegin), Some(Stamp::ForwardPairsEnd)),
+                timestamp_writes: f.timestamps(Some(PAIRS), Some(PAIRS)),
                 occlusion_query_set: count.then_some(&self.queries),
                 multiview_mask: None,
             });
@@ -592,7 +598,7 @@ impl ForwardPathsPass {
             stats.passes.push(PathPass {
                 name: "lights (object, light) pairs".into(),
                 draw_calls: lists.pairs.len() as u64,
-                stamps: Some((Stamp::ForwardPairsBegin, Stamp::ForwardPairsEnd)),
+                span: Some(PAIRS),
                 query: query(2),
                 ..Default::default()
             });
@@ -604,7 +610,7 @@ impl ForwardPathsPass {
                 label: Some("forward compose begin"),
                 color_attachments: &[super::super::targets::attachment(hdr_view, None)],
                 depth_stencil_attachment: None,
-                timestamp_writes: f.timestamps(Some(Stamp::ComposeBegin), None),
+                timestamp_writes: f.timestamps(Some(crate::renderer::passes::compose::SPAN), None),
                 occlusion_query_set: None,
                 multiview_mask: None,
             }));
@@ -616,7 +622,10 @@ impl ForwardPathsPass {
                     label: Some("forward (blended, multisampled)"),
                     color_attachments: &[color_att(false, true)],
                     depth_stencil_attachment: Some(ops_depth(false)),
-                    timestamp_writes: f.timestamps(Some(Stamp::ForwardBegin), Some(Stamp::ForwardEnd)),
+                    timestamp_writes: f.timestamps(
+                        Some(crate::renderer::passes::forward::SPAN),
+                        Some(crate::renderer::passes::forward::SPAN),
+                    ),
                     occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
                     multiview_mask: None,
                 });

@@ -1,7 +1,11 @@
 //! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
-use super::{FrameInputs, Shared, Stamp};
+use super::{FrameInputs, Shared};
+use crate::renderer::stats::Span;
+
+/// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).
+pub const SPAN: Span = Span("gbuffer");
 use crate::renderer::gbuffer::Attr;
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
@@ -166,7 +170,7 @@ impl GBufferPass {
                 }),
                 stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
             }),
-            timestamp_writes: f.timestamps(Some(Stamp::GBufferBegin), Some(Stamp::GBufferEnd)),
+            timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
             // The light pre-pass counts its pass 1's fragments (query 0 of `Queries::prepass`).
             occlusion_query_set: (f.counts && t.prepass).then_some(&f.queries.prepass),
             multiview_mask: None,

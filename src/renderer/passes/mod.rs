@@ -21,7 +21,7 @@ use super::plan::FramePlan;
 use super::records::{self, FrameBuffers};
 use super::scene_gpu::SceneGpu;
 use super::settings::{self, DebugView, Settings};
-use super::stats::{Queries, Stamp};
+use super::stats::{Queries, Span};
 use super::targets::Targets;
 use super::volumes::Volumes;
 use std::sync::{Arc, OnceLock};
@@ -615,27 +615,31 @@ impl FrameInputs<'_> {
         self.shadowed.get(i as usize).is_some_and(|&(first, _)| first != records::NO_SHADOW)
     }
 
-    /// Timestamp writes at the beginning and/or end of a pass, when the frame is timed.
-    pub fn timestamps(&self, begin: Option<Stamp>, end: Option<Stamp>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    /// Timestamp writes when the frame is timed: the beginning of span `begin` at the start of
+    /// the pass and/or the end of span `end` at its end (a span may begin in one pass and end
+    /// in a later one).
+    pub fn timestamps(&self, begin: Option<Span>, end: Option<Span>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let (begin, end) = (begin.and_then(Span::begin), end.and_then(Span::end));
         if !self.times || (begin.is_none() && end.is_none()) {
             return None;
         }
         self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
             query_set: q,
-            beginning_of_pass_write_index: begin.map(|s| s as u32),
-            end_of_pass_write_index: end.map(|s| s as u32),
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
         })
     }
 
-    /// The same for a compute pass, both ends.
-    pub fn compute_timestamps(&self, begin: Stamp, end: Stamp) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        if !self.times {
+    /// Span `span` over one compute pass.
+    pub fn compute_timestamps(&self, span: Span) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let (begin, end) = (span.begin(), span.end());
+        if !self.times || begin.is_none() {
             return None;
         }
         self.queries.timestamps.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
             query_set: q,
-            beginning_of_pass_write_index: Some(begin as u32),
-            end_of_pass_write_index: Some(end as u32),
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
         })
     }
 

@@ -3,11 +3,14 @@
 //! combining its material's textures with the light buffer at its pixel, plus ambient + sun
 //! and emission (`shaders/prepass.wgsl`), into the HDR scene colour. Passes 1 and 2 are the
 //! G-buffer and light passes built for `gbuffer::prepass_layout` (`PipelineKey::prepass`).
-//! Timed as `gpu_ms.prepass_final` (`Stamp::PrepassBegin`/`End`).
+//! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
 use super::gbuffer::topology_pipeline_index;
 use super::{FrameInputs, Shared, HDR_FORMAT};
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// Pass 3's timing (`gpu_ms.prepass_final`).
+pub const SPAN: Span = Span("prepass final");
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
 use wgpu::CompareFunction as Cmp;
@@ -117,7 +120,7 @@ impl PrepassFinalPass {
                 depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
                 stencil_ops,
             }),
-            timestamp_writes: f.timestamps(Some(Stamp::PrepassBegin), Some(Stamp::PrepassEnd)),
+            timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
             occlusion_query_set: f.counts.then_some(&f.queries.prepass),
             multiview_mask: None,
         });

@@ -15,9 +15,10 @@ pub mod light_prepass;
 
 use super::frame::{Prepared, Shape};
 use super::passes::compose::ComposeTarget;
+use super::passes::compose::SPAN as COMPOSE;
 use super::passes::forward_paths::ForwardPathStats;
 use super::passes::{FrameInputs, Passes};
-use super::stats::{PrepassStats, Stamp};
+use super::stats::PrepassStats;
 use super::{post, RenderPath};
 use crate::scene::Scene;
 use anyhow::Result;
@@ -92,7 +93,7 @@ pub fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f6
 pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
     let settings = c.f.settings;
     let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: settings.debug_view, slot: 0 };
-    let stamps = c.f.timestamps(Some(Stamp::ComposeBegin), Some(Stamp::ComposeEnd));
+    let stamps = c.f.timestamps(Some(COMPOSE), Some(COMPOSE));
     c.group(encoder, "compose", |e| c.passes.compose.encode(e, c.queue, c.f.targets, c.f.frame, &to, stamps));
 }
 
@@ -101,7 +102,7 @@ pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
 /// skips itself when off, the last one writes the output) or the tonemap alone.
 pub fn finish(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
     if let Some(pt) = c.f.targets.post.as_ref().filter(|_| c.shape.chain) {
-        let stamps = c.f.timestamps(None, Some(Stamp::ComposeEnd));
+        let stamps = c.f.timestamps(None, Some(COMPOSE));
         c.group(encoder, "post chain", |e| post::encode_chain(e, c.f, c.passes, pt, c.target, stamps));
     } else {
         c.group(encoder, "tonemap", |e| c.passes.compose.encode_tonemap(e, c.f, c.target));

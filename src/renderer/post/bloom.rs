@@ -7,7 +7,10 @@
 use super::post_draw;
 use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::{PostTargets, BLOOM_LEVELS, POST_FORMAT};
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// Bloom's timing (`gpu_ms.bloom`).
+pub const SPAN: Span = Span("bloom");
 
 pub struct BloomPass {
     bright: wgpu::RenderPipeline,
@@ -39,7 +42,7 @@ impl BloomPass {
             &self.bright,
             &post.down[0],
             &post.bright,
-            f.timestamps(Some(Stamp::BloomBegin), None),
+            f.timestamps(Some(SPAN), None),
         );
         for k in 1..BLOOM_LEVELS {
             post_draw(encoder, f, "bloom down", &self.down, &post.down[k], &post.downs[k - 1], None);
@@ -47,7 +50,7 @@ impl BloomPass {
         for k in (0..BLOOM_LEVELS - 1).rev() {
             post_draw(encoder, f, "bloom up", &self.up, &post.up[k], &post.ups[k], None);
         }
-        let end = f.timestamps(None, Some(Stamp::BloomEnd));
+        let end = f.timestamps(None, Some(SPAN));
         post_draw(encoder, f, "bloom combine", &self.combine, &post.bloomed_view, &post.combine, end);
     }
 }

@@ -25,53 +25,27 @@ use super::post_draw;
 use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::{Aa, POST_FORMAT};
 use crate::renderer::settings::{DebugView, Settings};
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
 
 /// One effect after tone mapping.
 pub struct Effect {
-    /// The pass's label (and its debug view's, with " view").
+    /// The pass's label (its debug view's with " view") and its timing span (`gpu_ms`).
     pub name: &'static str,
     /// Its fragment function in `post.wgsl`.
     pub fs: &'static str,
     /// Whether it runs (in the lit view; the other views stop before it).
     pub on: fn(&Settings) -> bool,
-    /// Its timestamps (`gpu_ms`).
-    pub stamps: (Stamp, Stamp),
     /// Its own debug view and the fragment function that draws it.
     pub view: Option<(DebugView, &'static str)>,
 }
 
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
-    Effect {
-        name: "grading",
-        fs: "fs_grade",
-        on: |s| s.lut.is_some(),
-        stamps: (Stamp::GradingBegin, Stamp::GradingEnd),
-        view: None,
-    },
-    Effect { name: "fog", fs: "fs_fog", on: |s| s.fog, stamps: (Stamp::FogBegin, Stamp::FogEnd), view: None },
-    Effect {
-        name: "dof",
-        fs: "fs_dof",
-        on: |s| s.dof,
-        stamps: (Stamp::DofBegin, Stamp::DofEnd),
-        view: Some((DebugView::Coc, "fs_view_coc")),
-    },
-    Effect {
-        name: "vignette",
-        fs: "fs_vignette",
-        on: |s| s.vignette > 0.0,
-        stamps: (Stamp::VignetteBegin, Stamp::VignetteEnd),
-        view: None,
-    },
-    Effect {
-        name: "aa",
-        fs: "fs_aa",
-        on: |s| s.aa != Aa::Off,
-        stamps: (Stamp::AaBegin, Stamp::AaEnd),
-        view: Some((DebugView::Edges, "fs_view_edges")),
-    },
+    Effect { name: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
+    Effect { name: "fog", fs: "fs_fog", on: |s| s.fog, view: None },
+    Effect { name: "dof", fs: "fs_dof", on: |s| s.dof, view: Some((DebugView::Coc, "fs_view_coc")) },
+    Effect { name: "vignette", fs: "fs_vignette", on: |s| s.vignette > 0.0, view: None },
+    Effect { name: "aa", fs: "fs_aa", on: |s| s.aa != Aa::Off, view: Some((DebugView::Edges, "fs_view_edges")) },
 ];
 
 /// Whether effect `name` runs under `s`.
@@ -114,7 +88,7 @@ impl EffectsPass {
         last: bool,
     ) {
         let (e, (to_post, to_output, _)) = (&EFFECTS[i], &self.pipelines[i]);
-        let stamps = f.timestamps(Some(e.stamps.0), Some(e.stamps.1));
+        let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
         post_draw(encoder, f, e.name, if last { to_output } else { to_post }, view, group, stamps);
     }
 
@@ -131,7 +105,7 @@ impl EffectsPass {
         for (e, (_, _, pipeline)) in EFFECTS.iter().zip(&self.pipelines) {
             if let (Some((v, _)), Some(pipeline)) = (e.view, pipeline) {
                 if v == debug_view {
-                    let stamps = f.timestamps(Some(e.stamps.0), Some(e.stamps.1));
+                    let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
                     post_draw(encoder, f, &format!("{} view", e.name), pipeline, target, group, stamps);
                     return true;
                 }

@@ -5,7 +5,10 @@
 
 use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::PostTargets;
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// Auto-exposure's timing (`gpu_ms.exposure`).
+pub const SPAN: Span = Span("exposure");
 
 pub struct ExposurePass {
     histogram: wgpu::ComputePipeline,
@@ -39,12 +42,7 @@ impl ExposurePass {
         if !f.settings.auto_exposure && f.settings.debug_view != crate::renderer::DebugView::Histogram {
             return;
         }
-        let timestamp_writes =
-            f.times.then_some(()).and(f.queries.timestamps.as_ref()).map(|q| wgpu::ComputePassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(Stamp::ExposureBegin as u32),
-                end_of_pass_write_index: Some(Stamp::ExposureEnd as u32),
-            });
+        let timestamp_writes = f.compute_timestamps(SPAN);
         let mut pass =
             encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("auto-exposure"), timestamp_writes });
         pass.set_bind_group(0, &f.frame.group, &[]);

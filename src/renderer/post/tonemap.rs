@@ -6,7 +6,10 @@
 use super::post_draw;
 use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::post::POST_FORMAT;
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// The tone mapping's timing (`gpu_ms.tonemap`).
+pub const SPAN: Span = Span("tonemap");
 
 pub struct TonemapPass {
     to_output: wgpu::RenderPipeline,
@@ -51,7 +54,7 @@ impl TonemapPass {
         } else {
             &self.view_histogram
         };
-        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        let stamps = f.timestamps(Some(SPAN), Some(SPAN));
         post_draw(encoder, f, "post view", pipeline, target, group, stamps);
     }
 
@@ -65,7 +68,7 @@ impl TonemapPass {
         last: bool,
     ) {
         let pipeline = if last { &self.to_output } else { &self.to_post };
-        let stamps = f.timestamps(Some(Stamp::TonemapBegin), Some(Stamp::TonemapEnd));
+        let stamps = f.timestamps(Some(SPAN), Some(SPAN));
         post_draw(encoder, f, "post tonemap", pipeline, view, group, stamps);
     }
 }

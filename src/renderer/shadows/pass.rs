@@ -7,7 +7,10 @@ use super::{ShadowPlan, TileDraw};
 use crate::renderer::bindings;
 use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::records::SHADOW_FORMAT;
-use crate::renderer::stats::Stamp;
+use crate::renderer::stats::Span;
+
+/// The shadow pass's timing (`gpu_ms.shadows`, before every path's first pass).
+pub const SPAN: Span = Span("shadows");
 
 pub struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
@@ -85,8 +88,8 @@ impl ShadowPass {
         }
         let last = targets.len().saturating_sub(1);
         for (k, (view, draws)) in targets.into_iter().enumerate() {
-            let begin = (k == 0).then_some(Stamp::ShadowsBegin);
-            let end = (k == last).then_some(Stamp::ShadowsEnd);
+            let begin = (k == 0).then_some(SPAN);
+            let end = (k == last).then_some(SPAN);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadows"),
                 color_attachments: &[],

@@ -23,11 +23,14 @@ use crate::renderer::passes::{log_accum, FrameInputs, Shared, ADDITIVE, DEBUG_FO
 use crate::renderer::plan::Method;
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
-use crate::renderer::stats::{FrameStats, Stamp, TileStats};
+use crate::renderer::stats::{FrameStats, Span, TileStats};
 use crate::renderer::targets::attachment;
 use crate::renderer::tiles::{ClusterBuild, ALL_LIGHTS, TILE};
 use anyhow::Result;
 use std::sync::Mutex;
+
+/// The GPU building the light lists (`gpu_ms.lists`, inside the lighting's span).
+pub const SPAN: Span = Span("light lists");
 
 /// Average list entries per tile the GPU list buffer holds room for (tiles beyond it are
 /// shaded with every light, correct but slower; the stats count them as `overflowed`).
@@ -302,7 +305,7 @@ impl TiledPass {
         if gpu_job.is_some() && n > 0 {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("cluster lists"),
-                timestamp_writes: f.compute_timestamps(Stamp::ListsBegin, Stamp::ListsEnd),
+                timestamp_writes: f.compute_timestamps(SPAN),
             });
             pass.set_bind_group(0, &f.frame.group, &[]);
             pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
@@ -322,7 +325,7 @@ impl TiledPass {
         if method == Method::Tiled {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("tile lists"),
-                timestamp_writes: f.compute_timestamps(Stamp::ListsBegin, Stamp::ListsEnd),
+                timestamp_writes: f.compute_timestamps(SPAN),
             });
             pass.set_pipeline(&self.build);
             pass.set_bind_group(0, &f.frame.group, &[]);
@@ -335,7 +338,7 @@ impl TiledPass {
                 label: Some("tiled shade"),
                 color_attachments: &f.targets.accumulation(false),
                 depth_stencil_attachment: None,
-                timestamp_writes: f.timestamps(None, Some(Stamp::LightsEnd)),
+                timestamp_writes: f.timestamps(None, Some(crate::renderer::culling::light_pass::SPAN)),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });

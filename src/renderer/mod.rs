@@ -28,6 +28,7 @@ pub mod scene_gpu;
 pub mod settings;
 pub mod shadows;
 pub mod stats;
+pub mod surfaces;
 pub mod targets;
 
 // The culling modules at the paths the rest of the crate and the tests name them by.
@@ -39,7 +40,6 @@ use crate::scene::Scene;
 use anyhow::{bail, Result};
 use glam::DMat4;
 pub use inspect::{volume_wireframe_with, PixelProbe};
-use passes::compose::ComposeTarget;
 use passes::{Passes, PipelineKey};
 use plan::FramePlan;
 pub use plan::{LightPlan, Method, AUTO_STENCIL_MIN_PIXELS};
@@ -51,6 +51,7 @@ pub use settings::{
     Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
+use surfaces::compose::ComposeTarget;
 use targets::Targets;
 pub use volumes::VolumeKind;
 use volumes::Volumes;
@@ -307,7 +308,7 @@ impl Renderer {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
         let layout = if settings.path == RenderPath::LightPrepass {
-            // One layer for the whole scene (`passes::prepass::check` refuses masks that tell
+            // One layer for the whole scene (`paths::prepass_pass::check` refuses masks that tell
             // layers apart: the thin buffer has no channel for them).
             gbuffer::GBufferLayout { uniform_layer: scene.uniform_layer(), ..gbuffer::prepass_layout() }
         } else {

@@ -107,7 +107,7 @@ pub fn light_pass_ranges(
     })
 }
 
-/// A timed span of the frame, named where its pass is declared (`passes::gbuffer::SPAN`, a row
+/// A timed span of the frame, named where its pass is declared (`surfaces::gbuffer::SPAN`, a row
 /// of `post::effects::EFFECTS`, …): a timestamp at its beginning and one at its end, at slots of
 /// the frame's query set given out by name the first time a span is used in this process. A
 /// span past [`MAX_SPANS`] gets no slot and is reported as not measured (null), never as
@@ -364,7 +364,7 @@ pub struct FrameStats {
     #[serde(default)]
     pub shadow: Option<crate::renderer::shadows::ShadowStats>,
     /// The forward paths' passes, targets and lists (`None` on the other paths).
-    pub forward_path: Option<super::passes::forward_paths::ForwardPathStats>,
+    pub forward_path: Option<super::paths::forward_pass::ForwardPathStats>,
     /// The render path the frame was drawn with.
     pub path: crate::renderer::RenderPath,
     /// The light pre-pass's own figures (`None` on the other paths).
@@ -589,7 +589,8 @@ impl Queries {
                 // From one timestamp to another (`Span::begin`, `Span::end`), and a span's own.
                 let between = |a: Option<u32>, b: Option<u32>| ms(a? as usize, b? as usize);
                 let span = |s: Span| between(s.begin(), s.end());
-                use crate::renderer::passes::{compose, forward, gbuffer, prepass};
+                use crate::renderer::paths::prepass_pass as prepass;
+                use crate::renderer::surfaces::{blended as forward, compose, gbuffer};
                 use crate::renderer::{culling, post, shadows};
                 let (gbuffer, compose) = (gbuffer::SPAN, compose::SPAN);
                 stats.gpu_ms.gbuffer = span(gbuffer);

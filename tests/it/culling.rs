@@ -60,7 +60,7 @@ fn every_mode_matches_fullscreen_on_every_case() {
                 "{name}: the ideal depends on the mode"
             );
             // Light by light too: volume modes count the ideal over the light's bounding volume,
-            // `fullscreen` over the whole screen (`passes/measure.rs`).
+            // `fullscreen` over the whole screen (`surfaces/measure.rs`).
             for (l, r) in f.stats.per_light.iter().zip(&reference.stats.per_light) {
                 assert_eq!(l.ideal, r.ideal, "{name}/{}: light {}'s ideal depends on the mode", mode.name(), l.index);
             }

@@ -624,7 +624,7 @@ pub type Draw = (usize, usize, usize);
 /// Objects of one frame by how they are drawn.
 #[derive(Default)]
 pub struct DrawLists {
-    /// Into the G-buffer: pipeline index from `passes::gbuffer::pipeline_index`.
+    /// Into the G-buffer: pipeline index from `surfaces::gbuffer::pipeline_index`.
     pub gbuffer: Vec<Draw>,
     /// Forward, blended, sorted back to front; pipeline index 1 for two-sided.
     pub forward: Vec<Draw>,
@@ -796,7 +796,7 @@ fn plan_draws(
             // Lines and points go into the G-buffer whatever their alpha mode (the importer
             // warns about blended ones).
             let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
-            let p = crate::renderer::passes::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
+            let p = crate::renderer::surfaces::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
@@ -834,7 +834,7 @@ fn plan_draws(
                 let masked = matches!(mode, AlphaMode::Mask { .. });
                 draws.gbuffer.push((
                     i,
-                    crate::renderer::passes::gbuffer::pipeline_index(masked, m.double_sided),
+                    crate::renderer::surfaces::gbuffer::pipeline_index(masked, m.double_sided),
                     o.material,
                 ));
             }

@@ -7,9 +7,7 @@ use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
-use super::{
-    check_shadow_cube, cputime, overlap, passes, post, AccumFormat, DebugView, RenderPath, Renderer, Settings,
-};
+use super::{check_shadow_cube, cputime, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 
@@ -48,7 +46,7 @@ impl Shape {
         }
         let prepass = settings.path == RenderPath::LightPrepass;
         if prepass {
-            passes::prepass::check(scene, settings)?;
+            super::paths::prepass_pass::check(scene, settings)?;
         }
         Ok(Shape {
             size,

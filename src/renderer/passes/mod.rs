@@ -7,14 +7,6 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
-pub mod compose;
-pub mod debug;
-pub mod forward;
-pub mod forward_paths;
-pub mod gbuffer;
-pub mod measure;
-pub mod prepass;
-
 use super::bindings;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
 use super::plan::FramePlan;
@@ -725,14 +717,14 @@ pub struct Needs {
 /// Every pass of the frame, built for one [`PipelineKey`].
 pub struct Passes {
     pub shared: Arc<Shared>,
-    pub gbuffer: Lazy<gbuffer::GBufferPass>,
+    pub gbuffer: Lazy<crate::renderer::surfaces::gbuffer::GBufferPass>,
     pub lights: Lazy<crate::renderer::culling::light_pass::LightPass>,
-    pub debug: Lazy<debug::DebugPass>,
-    pub compose: Lazy<compose::ComposePass>,
-    pub forward: Lazy<forward::ForwardPass>,
-    pub forward_paths: Lazy<forward_paths::ForwardPathsPass>,
-    pub measure: Lazy<measure::MeasurePass>,
-    pub prepass: Lazy<prepass::PrepassFinalPass>,
+    pub debug: Lazy<crate::renderer::surfaces::debug::DebugPass>,
+    pub compose: Lazy<crate::renderer::surfaces::compose::ComposePass>,
+    pub forward: Lazy<crate::renderer::surfaces::blended::ForwardPass>,
+    pub forward_paths: Lazy<crate::renderer::paths::forward_pass::ForwardPathsPass>,
+    pub measure: Lazy<crate::renderer::surfaces::measure::MeasurePass>,
+    pub prepass: Lazy<crate::renderer::paths::prepass_pass::PrepassFinalPass>,
     pub tiled: Lazy<crate::renderer::culling::tiled::pass::TiledPass>,
     pub bloom: Lazy<crate::renderer::post::bloom::BloomPass>,
     pub exposure: Lazy<crate::renderer::post::exposure::ExposurePass>,
@@ -753,14 +745,14 @@ impl Passes {
     pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
         let shared = Arc::new(Shared::new(device, key));
         Self {
-            gbuffer: Lazy::new(device, &shared, gbuffer::GBufferPass::new),
+            gbuffer: Lazy::new(device, &shared, crate::renderer::surfaces::gbuffer::GBufferPass::new),
             lights: Lazy::new(device, &shared, crate::renderer::culling::light_pass::LightPass::new),
-            debug: Lazy::new(device, &shared, debug::DebugPass::new),
-            compose: Lazy::new(device, &shared, compose::ComposePass::new),
-            forward: Lazy::new(device, &shared, forward::ForwardPass::new),
-            forward_paths: Lazy::new(device, &shared, forward_paths::ForwardPathsPass::new),
-            measure: Lazy::new(device, &shared, measure::MeasurePass::new),
-            prepass: Lazy::new(device, &shared, prepass::PrepassFinalPass::new),
+            debug: Lazy::new(device, &shared, crate::renderer::surfaces::debug::DebugPass::new),
+            compose: Lazy::new(device, &shared, crate::renderer::surfaces::compose::ComposePass::new),
+            forward: Lazy::new(device, &shared, crate::renderer::surfaces::blended::ForwardPass::new),
+            forward_paths: Lazy::new(device, &shared, crate::renderer::paths::forward_pass::ForwardPathsPass::new),
+            measure: Lazy::new(device, &shared, crate::renderer::surfaces::measure::MeasurePass::new),
+            prepass: Lazy::new(device, &shared, crate::renderer::paths::prepass_pass::PrepassFinalPass::new),
             tiled: Lazy::new(device, &shared, crate::renderer::culling::tiled::pass::TiledPass::new),
             bloom: Lazy::new(device, &shared, crate::renderer::post::bloom::BloomPass::new),
             exposure: Lazy::new(device, &shared, crate::renderer::post::exposure::ExposurePass::new),

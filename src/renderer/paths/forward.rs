@@ -4,7 +4,7 @@
 //! then the tonemap or the post chain.
 
 use super::{finish, Drawn, PathInputs};
-use crate::renderer::passes::forward_paths::{post_reads_gbuffer, PathFrame};
+use crate::renderer::paths::forward_pass::{post_reads_gbuffer, PathFrame};
 use crate::renderer::RenderPath;
 use anyhow::Result;
 

@@ -7,7 +7,7 @@
 //!    shading does. A debug view composes the buffers instead.
 
 use super::{compose, finish, tiled, Drawn, PathInputs};
-use crate::renderer::passes::prepass;
+use crate::renderer::paths::prepass_pass;
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
     let (p, f) = (c.passes, c.f);
@@ -26,6 +26,6 @@ pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
         compose(c, encoder);
         0
     };
-    let stats = prepass::stats(p.key(), c.prepared.plan.draws.gbuffer.len() as u64, finals);
+    let stats = prepass_pass::stats(p.key(), c.prepared.plan.draws.gbuffer.len() as u64, finals);
     Drawn { draw_calls, cpu_ms, prepass: Some(stats), ..Default::default() }
 }

@@ -11,14 +11,16 @@
 
 pub mod deferred;
 pub mod forward;
+pub mod forward_pass;
 pub mod light_prepass;
+pub mod prepass_pass;
 
 use super::frame::{Prepared, Shape};
-use super::passes::compose::ComposeTarget;
-use super::passes::compose::SPAN as COMPOSE;
-use super::passes::forward_paths::ForwardPathStats;
 use super::passes::{FrameInputs, Passes};
+use super::paths::forward_pass::ForwardPathStats;
 use super::stats::PrepassStats;
+use super::surfaces::compose::ComposeTarget;
+use super::surfaces::compose::SPAN as COMPOSE;
 use super::{post, RenderPath};
 use crate::scene::Scene;
 use anyhow::Result;

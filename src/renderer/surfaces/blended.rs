@@ -4,9 +4,9 @@
 //! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
 //! (`forward.fragments`) as its own pass.
 
-use super::gbuffer::{surface_pipeline, SurfacePipe};
-use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
+use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};
 
 /// The blended surfaces' forward pass's timing (`gpu_ms.forward`).
 pub const SPAN: Span = Span("forward");

@@ -2,7 +2,7 @@
 //! of the debug views. Scenes with blended surfaces compose into the HDR scene colour instead,
 //! the forward pass draws over it, and `tonemap` finishes the frame.
 
-use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
 use crate::renderer::records::{ComposeParams, FrameBuffers};
 use crate::renderer::settings::DebugView;
 use crate::renderer::stats::Span;

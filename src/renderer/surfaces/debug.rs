@@ -2,8 +2,8 @@
 //! the marking pass; red: passed Z in the shading pass; green: passed the stencil test, lit),
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
-use super::{FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::culling::light_pass::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
+use crate::renderer::passes::{FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;
 use crate::renderer::targets::attachment;

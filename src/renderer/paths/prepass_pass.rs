@@ -5,9 +5,9 @@
 //! G-buffer and light passes built for `gbuffer::prepass_layout` (`PipelineKey::prepass`).
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
-use super::gbuffer::topology_pipeline_index;
-use super::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
+use crate::renderer::surfaces::gbuffer::topology_pipeline_index;
 
 /// Pass 3's timing (`gpu_ms.prepass_final`).
 pub const SPAN: Span = Span("prepass final");
@@ -182,7 +182,11 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
 
 /// The light pre-pass's figures for a frame drawn with `key`: bytes per pixel of its targets
 /// and the object draws of pass 1 (`base`) and pass 3 (`finals`; 0 when a debug view replaced it).
-pub fn stats(key: &super::PipelineKey, base: u64, finals: u64) -> crate::renderer::stats::PrepassStats {
+pub fn stats(
+    key: &crate::renderer::passes::PipelineKey,
+    base: u64,
+    finals: u64,
+) -> crate::renderer::stats::PrepassStats {
     let bytes = |f: wgpu::TextureFormat| f.block_copy_size(None).unwrap_or(0);
     let target = |name: &str| key.layout.targets.iter().find(|t| t.name == name).map_or(0, |t| bytes(t.format));
     crate::renderer::stats::PrepassStats {

@@ -15,7 +15,7 @@
 //! The pipelines are built on a path's first frame (not with every configuration's passes: the
 //! deferred path never needs them).
 
-use super::{FrameInputs, Shared, ADDITIVE, HDR_FORMAT};
+use crate::renderer::passes::{FrameInputs, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::plan::{Draw, ForwardPathLists};
 use crate::renderer::settings::{RenderPath, Settings};
 use crate::renderer::stats::Span;
@@ -101,7 +101,7 @@ pub fn post_reads_gbuffer(s: &Settings, chain: bool) -> bool {
     chain && (s.fog || s.dof || s.aa == Aa::Edge || matches!(s.debug_view, V::Edges | V::Coc))
 }
 
-/// The pipelines of one sample count, by [`super::gbuffer::topology_pipeline_index`] each.
+/// The pipelines of one sample count, by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`] each.
 struct Pipelines {
     depth: [wgpu::RenderPipeline; 6],
     /// Single-pass shading after the depth pre-pass (LessEqual, no depth write).
@@ -121,7 +121,7 @@ struct Msaa {
 }
 
 pub struct ForwardPathsPass {
-    key: super::PipelineKey,
+    key: crate::renderer::passes::PipelineKey,
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     pipelines: Mutex<HashMap<u32, Arc<Pipelines>>>,
@@ -209,7 +209,7 @@ impl ForwardPathsPass {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: self.key.depth_format,
                 depth_write_enabled: Some(depth.0),
-                depth_compare: Some(super::z(self.key.reversed_z, depth.1)),
+                depth_compare: Some(crate::renderer::passes::z(self.key.reversed_z, depth.1)),
                 stencil: depth.2,
                 bias: Default::default(),
             }),
@@ -225,7 +225,7 @@ impl ForwardPathsPass {
         })
     }
 
-    /// The six pipelines of one stage (by [`super::gbuffer::topology_pipeline_index`]): opaque and masked
+    /// The six pipelines of one stage (by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`]): opaque and masked
     /// triangles, one- and two-sided, then lines and points (masked shader, two-sided).
     #[allow(clippy::too_many_arguments)]
     fn stage(
@@ -271,17 +271,17 @@ impl ForwardPathsPass {
             write_mask: wgpu::ColorWrites::ALL,
         })];
         use wgpu::StencilOperation as Op;
-        let none = super::NO_STENCIL;
+        let none = crate::renderer::passes::NO_STENCIL;
         let tested = (false, Cmp::LessEqual, none.clone());
         let written = (true, Cmp::Less, none.clone());
         // Multi-pass: the ambient + sun draw marks its pixels with the object's stencil
         // reference (its index mod 256; drawn in reverse, the surface the depth pass kept marks
         // last), and a pair's draw lights only its object's pixels: of coincident surfaces
         // (equal depth) only the kept one adds lights, as deferred shading lights one surface.
-        let owner = super::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
-        let marked = (false, Cmp::LessEqual, super::stencil(owner, owner));
-        let mine = super::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
-        let owned = (false, Cmp::LessEqual, super::stencil(mine, mine));
+        let owner = crate::renderer::passes::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
+        let marked = (false, Cmp::LessEqual, crate::renderer::passes::stencil(owner, owner));
+        let mine = crate::renderer::passes::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
+        let owned = (false, Cmp::LessEqual, crate::renderer::passes::stencil(mine, mine));
         let single = Some(("fs_forward_single", "fs_forward_single_masked"));
         let p = Pipelines {
             depth: self.stage(device, "forward depth", "vs_forward", None, true, written.clone(), &[], samples),
@@ -393,7 +393,7 @@ impl ForwardPathsPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         pf: &PathFrame<'_>,
-        blended_pass: &super::forward::ForwardPass,
+        blended_pass: &crate::renderer::surfaces::blended::ForwardPass,
     ) -> Result<ForwardPathStats> {
         let s = f.settings;
         let samples = s.msaa.samples();
@@ -429,7 +429,7 @@ impl ForwardPathsPass {
             stats.passes.push(PathPass {
                 name: "g-buffer (post inputs)".into(),
                 draw_calls: opaque.len() as u64,
-                span: Some(crate::renderer::passes::gbuffer::SPAN),
+                span: Some(crate::renderer::surfaces::gbuffer::SPAN),
                 ..Default::default()
             });
             stats.targets.push(PathTarget {
@@ -608,9 +608,9 @@ impl ForwardPathsPass {
         if f.times {
             drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("forward compose begin"),
-                color_attachments: &[super::super::targets::attachment(hdr_view, None)],
+                color_attachments: &[crate::renderer::targets::attachment(hdr_view, None)],
                 depth_stencil_attachment: None,
-                timestamp_writes: f.timestamps(Some(crate::renderer::passes::compose::SPAN), None),
+                timestamp_writes: f.timestamps(Some(crate::renderer::surfaces::compose::SPAN), None),
                 occlusion_query_set: None,
                 multiview_mask: None,
             }));
@@ -623,8 +623,8 @@ impl ForwardPathsPass {
                     color_attachments: &[color_att(false, true)],
                     depth_stencil_attachment: Some(ops_depth(false)),
                     timestamp_writes: f.timestamps(
-                        Some(crate::renderer::passes::forward::SPAN),
-                        Some(crate::renderer::passes::forward::SPAN),
+                        Some(crate::renderer::surfaces::blended::SPAN),
+                        Some(crate::renderer::surfaces::blended::SPAN),
                     ),
                     occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
                     multiview_mask: None,

@@ -1,7 +1,7 @@
 //! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
-use super::{FrameInputs, Shared};
+use crate::renderer::passes::{FrameInputs, Shared};
 use crate::renderer::stats::Span;
 
 /// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).

@@ -138,6 +138,8 @@ fn count<T: std::str::FromStr>(v: &str, what: &str) -> Result<T, String> {
     v.parse().map_err(|_| format!("{what} '{v}' is not a whole number"))
 }
 
+/// One script line's action. Long (about 130 lines) because it is one arm per action of the
+/// language in the module doc, in that order, each parsing its own arguments.
 fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
     let (name, args) = words.split_first().ok_or("missing action")?;
     let want = |n: usize| -> Result<(), String> {

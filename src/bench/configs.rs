@@ -8,6 +8,10 @@ pub const CUTOFFS: [(f32, &str); 4] = [(0.0, "0"), (1.0 / 256.0, "1/256"), (1.0 
 /// The sweep. Every configuration differs from the default (`volume` culling, `compact`
 /// layout, Rgba16Float accumulation, Depth32FloatStencil8, exact radii, an 80-triangle sphere
 /// and a 12-sided cone) in one knob; `--quick` keeps a subset of each group.
+///
+/// Long (about 230 lines) because it is the sweep's table written as code: one block per group,
+/// in the order the report lists them, each setting the one knob its group varies. A reader
+/// holds it against the report's tables; split by group, the sweep would be scattered.
 pub fn configs(o: &BenchOptions) -> Vec<Config> {
     // Timed frames do not count: counting splits every batch's shading draw into a draw per
     // light (its occlusion query). The counts come from a separate counted render. Unshadowed:

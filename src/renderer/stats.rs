@@ -534,6 +534,9 @@ impl Queries {
         }
     }
 
+    /// Reads the frame's queries back into `stats`. Long (about 150 lines) because it fills each
+    /// measured figure in turn (the spans, the forward and pre-pass counts, each light's counts),
+    /// each a few lines that read its slots.
     #[allow(clippy::too_many_arguments)]
     pub fn read(
         &self,

@@ -119,6 +119,8 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     });
 }
 
+/// The right panel's figures of the last frame. Long (about 130 lines) because it is one row
+/// per figure, in the order the panel shows them.
 pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
     let Some(s) = f.stats else {
         ui.label("no frame yet");

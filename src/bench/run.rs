@@ -260,7 +260,7 @@ pub(crate) fn path_figures(
         f.target_bytes_per_pixel = stats.gbuffer_bytes_per_pixel
             + bytes(renderer.depth_format())
             + 2 * accum
-            + if hdr { bytes(crate::renderer::passes::HDR_FORMAT) } else { 0 };
+            + if hdr { bytes(crate::renderer::kit::HDR_FORMAT) } else { 0 };
     }
     Ok(f)
 }

@@ -1,7 +1,7 @@
 //! Looking inside a frame: the values at one pixel (the viewer's hover probe) and the
 //! screen-space wireframe of a light's bounding volume.
 
-use super::gbuffer::{Attr, NormalEncoding};
+use super::kit::gbuffer::{Attr, NormalEncoding};
 use super::records::{LightRecord, LIGHT_KIND_SPOT};
 use super::volumes::{self, VolumeKind};
 use super::Renderer;
@@ -227,7 +227,7 @@ impl Renderer {
             let v = read_texel(gpu, tex, x, y)?;
             raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
             // Signed attributes are remapped in normalised channels only (as the WGSL does).
-            let float = super::gbuffer::is_float(desc.format);
+            let float = super::kit::gbuffer::is_float(desc.format);
             for (c, slot) in desc.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
@@ -261,7 +261,7 @@ impl Renderer {
             (p, p.z < 0.0)
         };
         let decode = |v: [f32; 4]| {
-            if super::passes::log_accum(t.diffuse.format()) {
+            if super::kit::log_accum(t.diffuse.format()) {
                 v.map(super::settings::log_accum_decode)
             } else {
                 v
@@ -274,7 +274,7 @@ impl Renderer {
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
-        let exponent = 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::gbuffer::SPEC_EXP_LOG_RANGE);
+        let exponent = 2f32.powf(get(Attr::SpecExp, 0, 0.0) * super::kit::gbuffer::SPEC_EXP_LOG_RANGE);
         let emissive = v3(Attr::Emissive);
         // As `surface_of` decodes it.
         let material_id =
@@ -298,7 +298,7 @@ impl Renderer {
             y,
             valid,
             albedo,
-            specular_level: super::gbuffer::level_from_reflectance(get(Attr::SpecLevel, 0, 0.0), exponent),
+            specular_level: super::kit::gbuffer::level_from_reflectance(get(Attr::SpecLevel, 0, 0.0), exponent),
             specular_exponent: exponent,
             normal,
             emissive,

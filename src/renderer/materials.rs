@@ -118,7 +118,7 @@ pub fn bind_groups(
             let mut resources: Vec<wgpu::BindingResource<'_>> =
                 maps.iter().map(wgpu::BindingResource::TextureView).collect();
             resources.push(wgpu::BindingResource::Sampler(sampler));
-            let entries = super::bindings::MATERIAL.entries(resources);
+            let entries = super::kit::bindings::MATERIAL.entries(resources);
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("material"), layout, entries: &entries })
         })
         .collect()

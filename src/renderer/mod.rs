@@ -7,21 +7,23 @@
 //! - `plan` — the culling decision per light and the object draw lists;
 //! - `scene_gpu`, `targets`, `volumes` — what is uploaded once per scene, per size, per
 //!   tessellation;
-//! - `passes/` — one file per pass, each building its own pipelines;
-//! - `bindings`, `gbuffer` — the Rust/WGSL contracts that write their own WGSL;
+//! - `kit/` — how a pass is built (pipeline helpers, bindings, G-buffer layout, `common.wgsl`);
+//! - `program` — the one shader module, assembled from every room's WGSL;
+//! - `frame/` — the frame's shape, its CPU preparation, what the passes read, the pass set;
+//! - `paths/`, `surfaces/`, `culling/`, `shadows/`, `post/` — the techniques, each with its
+//!   passes and shaders;
 //! - `stats`, `inspect` — what is read back: counts, times, pixels.
 
-pub mod bindings;
 pub mod cputime;
 pub mod culling;
 mod frame;
-pub mod gbuffer;
 pub mod inspect;
+pub mod kit;
 pub mod knobs;
 pub mod materials;
-pub mod passes;
 mod paths;
 pub mod post;
+pub mod program;
 pub mod records;
 mod report;
 pub mod scene_gpu;
@@ -38,9 +40,10 @@ pub use culling::{batches, overlap, plan, volumes};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
+use frame::passes::Passes;
 use glam::DMat4;
 pub use inspect::{volume_wireframe_with, PixelProbe};
-use passes::{Passes, PipelineKey};
+use kit::{gbuffer, PipelineKey};
 use plan::FramePlan;
 pub use plan::{LightPlan, Method, AUTO_STENCIL_MIN_PIXELS};
 pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
@@ -267,7 +270,7 @@ impl Renderer {
         Ok(PipelineKey {
             ambient_in_gbuffer: !prepass
                 && settings.ambient_in_gbuffer
-                && passes::ambient_fits(&layout, accum_format, limits),
+                && kit::ambient_fits(&layout, accum_format, limits),
             prepass,
             samples: if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 },
             layout,
@@ -276,7 +279,7 @@ impl Renderer {
             reversed_z: settings.reversed_z,
             accum_format,
             depth_clamp: settings.depth_clamp && clamp_available,
-            features: passes::ShaderFeatures::of(scene, settings),
+            features: program::ShaderFeatures::of(scene, settings),
         })
     }
 
@@ -477,7 +480,7 @@ impl Renderer {
         }
         let format = t.diffuse.format();
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
-        let log = passes::log_accum(format);
+        let log = kit::log_accum(format);
         let bytes = gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?;
         let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
         for c in bytes.chunks_exact(bpp) {
@@ -586,7 +589,7 @@ impl Renderer {
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
         let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {
             let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
-            let log = passes::log_accum(format);
+            let log = kit::log_accum(format);
             for c in bytes.chunks_exact(bpp) {
                 let v = inspect::texel(format, c)?;
                 out.extend(if log { v.map(settings::log_accum_decode) } else { v });

@@ -764,7 +764,7 @@ impl FrameBuffers {
             wgpu::BindingResource::TextureView(shadow.2),
             wgpu::BindingResource::TextureView(shadow.3),
         ]);
-        let entries = super::bindings::FRAME.entries(resources);
+        let entries = super::kit::bindings::FRAME.entries(resources);
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: bgl, entries: &entries })
     }
 

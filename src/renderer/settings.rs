@@ -10,7 +10,7 @@ pub const DEFAULT_SPHERE_SUBDIVISIONS: u32 = 1;
 /// Default sides of the spot lights' bounding pyramid.
 pub const DEFAULT_CONE_SIDES: u32 = 12;
 
-pub use super::gbuffer::LayoutChoice;
+pub use super::kit::gbuffer::LayoutChoice;
 
 /// The one name of a knob's value, used by the CLI, settings files, scripts, the viewer and the
 /// bench: clap's `ValueEnum` name, which is the kebab-case name serde writes (the

@@ -357,7 +357,7 @@ pub struct FrameStats {
     pub post: Option<PostStats>,
     pub per_light: Vec<LightStats>,
     /// The shadow and cookie lookups compiled into this frame's shaders, by name
-    /// (`passes::ShaderFeatures::names`): only those some light of the scene can need.
+    /// (`program::ShaderFeatures::names`): only those some light of the scene can need.
     #[serde(default)]
     pub shader_lookups: Vec<String>,
     /// The shadow atlas and who casts (`None` with `--shadows none`).

@@ -1,9 +1,9 @@
 //! The size-dependent render targets: G-buffer, depth-stencil, light accumulation, the debug
 //! target, the HDR scene colour (scenes with blended surfaces only), and their bind groups.
 
-use super::bindings;
-use super::gbuffer::GBufferTargets;
-use super::passes::{Shared, DEBUG_FORMAT, HDR_FORMAT};
+use super::kit::bindings;
+use super::kit::gbuffer::GBufferTargets;
+use crate::renderer::kit::{Shared, DEBUG_FORMAT, HDR_FORMAT};
 
 pub fn texture(
     device: &wgpu::Device,
@@ -204,7 +204,7 @@ impl Targets {
     pub fn accumulation(&self, clear: bool) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
         // Cleared to no light: 0, or exp2(-0) = 1 in seed 004's logarithmic encoding.
         let none =
-            if super::passes::log_accum(self.diffuse.format()) { wgpu::Color::WHITE } else { wgpu::Color::TRANSPARENT };
+            if super::kit::log_accum(self.diffuse.format()) { wgpu::Color::WHITE } else { wgpu::Color::TRANSPARENT };
         let ops = wgpu::Operations {
             load: if clear { wgpu::LoadOp::Clear(none) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,

@@ -5,7 +5,7 @@
 //!
 //! The shaders read the texels from one storage buffer (`cookie_texels`, every cookie's faces
 //! one after the other, one `u32` per texel) and filter them themselves, bilinearly with
-//! clamp-to-edge addressing at texel centres (`ls_cookie` in `shaders/common.wgsl`). The f64
+//! clamp-to-edge addressing at texel centres (`ls_cookie` in `kit/common.wgsl`). The f64
 //! reference ([`CookieImage::sample`], [`cube_face_uv`], [`spot_uv`]) does the same arithmetic,
 //! so its error against the GPU is f32 rounding only (see `tests/it/cookies_masks.rs`).
 //!

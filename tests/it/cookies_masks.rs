@@ -7,7 +7,7 @@ use crate::common::*;
 use glam::{DVec3, Vec3};
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
-use lampshade::renderer::gbuffer::Attr;
+use lampshade::renderer::kit::gbuffer::Attr;
 use lampshade::renderer::{AccumFormat, CullingMode, LayoutChoice, PixelProbe, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::cookie::CookieImage;
 use lampshade::scene::{Light, Scene, ALL_LAYERS};

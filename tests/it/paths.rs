@@ -8,7 +8,7 @@
 use crate::common::*;
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
-use lampshade::renderer::gbuffer::{component_rounding, Attr};
+use lampshade::renderer::kit::gbuffer::{component_rounding, Attr};
 use lampshade::renderer::post::PostImage;
 use lampshade::renderer::{
     CullingMode, DepthFormat, LayoutChoice, Msaa, RenderPath, Renderer, Settings, OUTPUT_FORMAT,
@@ -147,7 +147,7 @@ fn deferred_bound(
     v: f64,
     (k, total): (u32, f64),
     multipass: bool,
-    layout: &lampshade::renderer::gbuffer::GBufferLayout,
+    layout: &lampshade::renderer::kit::gbuffer::GBufferLayout,
     scene: &Scene,
 ) -> f64 {
     let k = k as f64;

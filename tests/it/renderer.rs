@@ -125,7 +125,7 @@ fn bad_values_are_errors_not_panics() {
 
 #[test]
 fn the_fitted_layout_models_only_what_the_scene_needs() {
-    use lampshade::renderer::gbuffer::{fit, Attr};
+    use lampshade::renderer::kit::gbuffer::{fit, Attr};
     // classify: no emissive material, exponents of 32: 8+8-bit normals, no emissive target.
     let small = fit(&scene("classify"));
     small.validate().unwrap();

@@ -3,8 +3,8 @@
 //! the members, offsets and size of its Rust twin, every binding the Rust tables list, and no
 //! uniform buffer but the light planes, which are read only at an index computed at run time.
 
-use lampshade::renderer::bindings::{Kind, GROUPS};
-use lampshade::renderer::passes::shader_source;
+use lampshade::renderer::kit::bindings::{Kind, GROUPS};
+use lampshade::renderer::program::shader_source;
 use lampshade::renderer::records::{self, RecordLayout};
 use lampshade::renderer::LayoutChoice;
 
@@ -165,7 +165,6 @@ fn every_shared_constant_is_generated_from_rust_not_copied_into_a_shader_file() 
     }
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
-    wgsl_files(&root.join("shaders"), &mut files);
     wgsl_files(&root.join("src"), &mut files);
     assert!(files.len() >= 10, "{} shader files found", files.len());
     let mut copied = Vec::new();

@@ -26,7 +26,7 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
             let (view, label) = match slot.attr {
                 Attr::Albedo => (DebugView::Albedo, "albedo"),
                 // The light pre-pass stores the exponent alone (green; red is its unit f0).
-                Attr::SpecExp if layout.name == crate::renderer::gbuffer::PREPASS_LAYOUT => {
+                Attr::SpecExp if layout.name == crate::renderer::kit::gbuffer::PREPASS_LAYOUT => {
                     (DebugView::Specular, "exponent")
                 }
                 Attr::SpecLevel | Attr::SpecExp => (DebugView::Specular, "specular"),
@@ -42,7 +42,7 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
         }
     }
     let accum = accum.map_or("-".into(), |a| format!("{a:?}"));
-    if layout.name == crate::renderer::gbuffer::PREPASS_LAYOUT {
+    if layout.name == crate::renderer::kit::gbuffer::PREPASS_LAYOUT {
         // The light pre-pass's one light buffer, decoded: RGB diffuse, A mono specular (grey).
         add(DebugView::DiffuseLight, "diffuse light", "light buffer RGB", accum.clone());
         add(DebugView::SpecularLight, "mono specular", "light buffer A", accum.clone());

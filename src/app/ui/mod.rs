@@ -4,7 +4,7 @@
 
 use super::camera;
 use super::state::{self, Panels, Scope, Tab, UiState, WireColour, Wireframes, MAX_LIGHTS, MAX_SCALE, MIN_SCALE};
-use crate::renderer::gbuffer::{Attr, GBufferLayout};
+use crate::renderer::kit::gbuffer::{Attr, GBufferLayout};
 use crate::renderer::settings::AccumFormat;
 use crate::renderer::{CullingMode, DebugView, FrameStats, LayoutChoice, Method, PixelProbe, RenderPath};
 use crate::scene::builtin;

@@ -6,7 +6,8 @@
 //! tables: the marking draw (if any) and the shading draw, each as faces, depth test and
 //! stencil. Depth is written for standard depth (near = 0) and flipped under reversed Z.
 
-use crate::renderer::passes::{face, stencil, DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
@@ -63,7 +64,7 @@ pub const STENCIL_TWO_PASS: StencilMethod = StencilMethod {
     mark: Some(DrawState {
         faces: Faces::Front,
         depth: Cmp::LessEqual,
-        stencil: stencil(face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), crate::renderer::passes::KEEP),
+        stencil: stencil(face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), crate::renderer::kit::KEEP),
     }),
     shade: DrawState {
         faces: Faces::Back,

@@ -1,8 +1,11 @@
 //! One frame, before any pass is recorded: what the frame is ([`Shape`], from its settings and
 //! scene), then the CPU's part ([`Renderer::prepare`]): the records the shaders read, the
-//! culling plan, the fp16 clamps, the shadow plan, and their upload.
+//! culling plan, the fp16 clamps, the shadow plan, and their upload. [`inputs`] is what the
+//! passes read; [`passes`] every pass, built for one configuration.
 
-use super::passes::{FrameInputs, Needs};
+pub mod inputs;
+pub mod passes;
+
 use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
@@ -10,6 +13,8 @@ use super::stats::CpuMs;
 use super::{check_shadow_cube, cputime, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
+use inputs::FrameInputs;
+use passes::Needs;
 
 /// What a frame draws, decided from its settings and scene before anything is built.
 pub struct Shape {

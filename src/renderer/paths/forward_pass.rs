@@ -15,7 +15,8 @@
 //! The pipelines are built on a path's first frame (not with every configuration's passes: the
 //! deferred path never needs them).
 
-use crate::renderer::passes::{FrameInputs, Shared, ADDITIVE, HDR_FORMAT};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::plan::{Draw, ForwardPathLists};
 use crate::renderer::settings::{RenderPath, Settings};
 use crate::renderer::stats::Span;
@@ -77,7 +78,7 @@ pub struct ForwardPathStats {
     /// Multi-pass: (object, light) pairs drawn.
     pub pairs: u64,
     /// The post chain reads depth and normals (fog, depth of field, edge AA): the G-buffer pass
-    /// ran for it alone (`gbuffer` in `passes`).
+    /// ran for it alone (`gbuffer` in `frame::passes::Passes`).
     pub gbuffer_for_post: bool,
 }
 
@@ -121,7 +122,7 @@ struct Msaa {
 }
 
 pub struct ForwardPathsPass {
-    key: crate::renderer::passes::PipelineKey,
+    key: crate::renderer::kit::PipelineKey,
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     pipelines: Mutex<HashMap<u32, Arc<Pipelines>>>,
@@ -209,7 +210,7 @@ impl ForwardPathsPass {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: self.key.depth_format,
                 depth_write_enabled: Some(depth.0),
-                depth_compare: Some(crate::renderer::passes::z(self.key.reversed_z, depth.1)),
+                depth_compare: Some(crate::renderer::kit::z(self.key.reversed_z, depth.1)),
                 stencil: depth.2,
                 bias: Default::default(),
             }),
@@ -271,17 +272,17 @@ impl ForwardPathsPass {
             write_mask: wgpu::ColorWrites::ALL,
         })];
         use wgpu::StencilOperation as Op;
-        let none = crate::renderer::passes::NO_STENCIL;
+        let none = crate::renderer::kit::NO_STENCIL;
         let tested = (false, Cmp::LessEqual, none.clone());
         let written = (true, Cmp::Less, none.clone());
         // Multi-pass: the ambient + sun draw marks its pixels with the object's stencil
         // reference (its index mod 256; drawn in reverse, the surface the depth pass kept marks
         // last), and a pair's draw lights only its object's pixels: of coincident surfaces
         // (equal depth) only the kept one adds lights, as deferred shading lights one surface.
-        let owner = crate::renderer::passes::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
-        let marked = (false, Cmp::LessEqual, crate::renderer::passes::stencil(owner, owner));
-        let mine = crate::renderer::passes::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
-        let owned = (false, Cmp::LessEqual, crate::renderer::passes::stencil(mine, mine));
+        let owner = crate::renderer::kit::face(Cmp::Always, Op::Keep, Op::Keep, Op::Replace);
+        let marked = (false, Cmp::LessEqual, crate::renderer::kit::stencil(owner, owner));
+        let mine = crate::renderer::kit::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
+        let owned = (false, Cmp::LessEqual, crate::renderer::kit::stencil(mine, mine));
         let single = Some(("fs_forward_single", "fs_forward_single_masked"));
         let p = Pipelines {
             depth: self.stage(device, "forward depth", "vs_forward", None, true, written.clone(), &[], samples),

@@ -16,12 +16,13 @@ pub mod light_prepass;
 pub mod prepass_pass;
 
 use super::frame::{Prepared, Shape};
-use super::passes::{FrameInputs, Passes};
 use super::paths::forward_pass::ForwardPathStats;
 use super::stats::PrepassStats;
 use super::surfaces::compose::ComposeTarget;
 use super::surfaces::compose::SPAN as COMPOSE;
 use super::{post, RenderPath};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::frame::passes::Passes;
 use crate::scene::Scene;
 use anyhow::Result;
 

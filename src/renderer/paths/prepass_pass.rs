@@ -1,11 +1,12 @@
 //! The light pre-pass's final pass (seeds 003/004, pass 3): the opaque and alpha-masked
 //! geometry again, depth tested against pass 1's depth and not writing it, each fragment
 //! combining its material's textures with the light buffer at its pixel, plus ambient + sun
-//! and emission (`shaders/prepass.wgsl`), into the HDR scene colour. Passes 1 and 2 are the
+//! and emission (`paths/prepass.wgsl`), into the HDR scene colour. Passes 1 and 2 are the
 //! G-buffer and light passes built for `gbuffer::prepass_layout` (`PipelineKey::prepass`).
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
-use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::topology_pipeline_index;
 
@@ -182,11 +183,7 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
 
 /// The light pre-pass's figures for a frame drawn with `key`: bytes per pixel of its targets
 /// and the object draws of pass 1 (`base`) and pass 3 (`finals`; 0 when a debug view replaced it).
-pub fn stats(
-    key: &crate::renderer::passes::PipelineKey,
-    base: u64,
-    finals: u64,
-) -> crate::renderer::stats::PrepassStats {
+pub fn stats(key: &crate::renderer::kit::PipelineKey, base: u64, finals: u64) -> crate::renderer::stats::PrepassStats {
     let bytes = |f: wgpu::TextureFormat| f.block_copy_size(None).unwrap_or(0);
     let target = |name: &str| key.layout.targets.iter().find(|t| t.name == name).map_or(0, |t| bytes(t.format));
     crate::renderer::stats::PrepassStats {

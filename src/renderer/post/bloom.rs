@@ -5,7 +5,8 @@
 //! bright pass's light (see `post::bloom_energy_bound`).
 
 use super::post_draw;
-use crate::renderer::passes::{FrameInputs, Shared};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::Shared;
 use crate::renderer::post::{PostTargets, BLOOM_LEVELS, POST_FORMAT};
 use crate::renderer::stats::Span;
 

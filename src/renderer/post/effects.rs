@@ -22,7 +22,8 @@
 //!   mask are copied unchanged. Its view: the edges.
 
 use super::post_draw;
-use crate::renderer::passes::{FrameInputs, Shared};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::Shared;
 use crate::renderer::post::{Aa, POST_FORMAT};
 use crate::renderer::settings::{DebugView, Settings};
 use crate::renderer::stats::Span;

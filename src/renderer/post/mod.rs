@@ -16,11 +16,12 @@ pub mod effects;
 pub mod exposure;
 pub mod tonemap;
 
-use super::bindings;
-use super::passes::{FrameInputs, Shared};
 use super::records::PostParams;
 use super::settings::Settings;
 use super::targets::texture;
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::bindings;
+use crate::renderer::kit::Shared;
 use effects::EFFECTS;
 use serde::{Deserialize, Serialize};
 
@@ -446,8 +447,8 @@ pub enum PostImage {
 /// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
 pub fn encode_chain(
     encoder: &mut wgpu::CommandEncoder,
-    f: &super::passes::FrameInputs<'_>,
-    p: &super::passes::Passes,
+    f: &crate::renderer::frame::inputs::FrameInputs<'_>,
+    p: &crate::renderer::frame::passes::Passes,
     pt: &PostTargets,
     target: &wgpu::TextureView,
     end: Option<wgpu::RenderPassTimestampWrites<'_>>,

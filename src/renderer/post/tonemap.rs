@@ -4,7 +4,8 @@
 //! `post.toned`.
 
 use super::post_draw;
-use crate::renderer::passes::{FrameInputs, Shared};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::Shared;
 use crate::renderer::post::POST_FORMAT;
 use crate::renderer::stats::Span;
 

@@ -4,8 +4,8 @@
 //! on demand, after a frame, into a texture the caller keeps (the viewer registers it with
 //! egui once and has it redrawn in place).
 
-use crate::renderer::bindings;
-use crate::renderer::passes::Shared;
+use crate::renderer::kit::bindings;
+use crate::renderer::kit::Shared;
 use crate::renderer::records::FrameBuffers;
 
 /// Invocations per workgroup side of `cs_atlas_range`, and texels per invocation side

@@ -107,7 +107,7 @@ fn cube_face(d: vec3<f32>) -> u32 {
 // THE shadow lookup of a light: every place that shades a light calls it through
 // `shade_light` (light volumes, the tiled/clustered loop, the forward pass). 1 when the light
 // casts no shadow this frame.
-// Only the lookups the configuration compiles in (`passes::ShaderFeatures`): a light of a kind
+// Only the lookups the configuration compiles in (`program::ShaderFeatures`): a light of a kind
 // the scene has no caster of never has a shadow.
 fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
     if !(LS_TILE_SHADOWS || LS_CUBE_SHADOWS) || l.shadow.x == LS_NO_SHADOW {

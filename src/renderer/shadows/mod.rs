@@ -132,7 +132,7 @@ pub fn sun_casts(scene: &Scene) -> Option<crate::scene::Sun> {
     scene.sun.filter(|s| s.intensity > 0.0)
 }
 
-/// The shadow lookups a configuration's shaders compile in (`passes::ShaderFeatures`): the
+/// The shadow lookups a configuration's shaders compile in (`program::ShaderFeatures`): the
 /// lookups some light (or the sun) of `scene` can need under `st`, whatever the frame's budget
 /// and view then grant. With no scene (a renderer not yet handed one), the lookups the settings
 /// allow.

@@ -4,8 +4,9 @@
 //! `--shadow-cube array`, cube faces go to the layers of the cube array instead.
 
 use super::{ShadowPlan, TileDraw};
-use crate::renderer::bindings;
-use crate::renderer::passes::{FrameInputs, Shared};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::bindings;
+use crate::renderer::kit::Shared;
 use crate::renderer::records::SHADOW_FORMAT;
 use crate::renderer::stats::Span;
 

@@ -4,7 +4,8 @@
 //! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
 //! (`forward.fragments`) as its own pass.
 
-use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};
 

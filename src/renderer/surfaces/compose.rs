@@ -2,7 +2,8 @@
 //! of the debug views. Scenes with blended surfaces compose into the HDR scene colour instead,
 //! the forward pass draws over it, and `tonemap` finishes the frame.
 
-use crate::renderer::passes::{FrameInputs, Shared, HDR_FORMAT};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::records::{ComposeParams, FrameBuffers};
 use crate::renderer::settings::DebugView;
 use crate::renderer::stats::Span;

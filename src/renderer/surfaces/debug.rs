@@ -3,7 +3,8 @@
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
 use crate::renderer::culling::light_pass::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
-use crate::renderer::passes::{FrameInputs, LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;
 use crate::renderer::targets::attachment;

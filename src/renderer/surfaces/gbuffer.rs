@@ -1,12 +1,13 @@
 //! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
-use crate::renderer::passes::{FrameInputs, Shared};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
 
 /// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).
 pub const SPAN: Span = Span("gbuffer");
-use crate::renderer::gbuffer::Attr;
+use crate::renderer::kit::gbuffer::Attr;
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
 use wgpu::CompareFunction as Cmp;

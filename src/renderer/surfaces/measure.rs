@@ -10,7 +10,8 @@
 //! full-screen, so `fullscreen` mode counts the ideal without any volume, and
 //! `every_culling_mode_gives_the_fullscreen_picture` holds the two counts equal, light by light.
 
-use crate::renderer::passes::{DrawState, Faces, FrameInputs, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, pass_ranges, LIGHTS_PER_QUERY_SET};
 use crate::renderer::volumes::VolumeKind;

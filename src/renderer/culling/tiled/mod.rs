@@ -48,7 +48,7 @@ pub fn shade_chunks(lights: usize) -> u32 {
 pub const HEAT_MAX: f32 = 64.0;
 
 /// The heatmap colour map of the complexity and `tile-lights` views, as `heat()` in
-/// `shaders/compose.wgsl` computes it (linear RGB), for the viewer's legend and the tests.
+/// `surfaces/compose.wgsl` computes it (linear RGB), for the viewer's legend and the tests.
 pub fn heat(t: f32) -> [f32; 3] {
     let x = t.clamp(0.0, 1.0);
     let c = |v: f32| v.clamp(0.0, 1.0);

@@ -18,8 +18,9 @@
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since
 //! passes record through `&self`.
 
-use crate::renderer::bindings;
-use crate::renderer::passes::{log_accum, FrameInputs, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::bindings;
+use crate::renderer::kit::{log_accum, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::plan::Method;
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;

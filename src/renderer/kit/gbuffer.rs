@@ -13,7 +13,7 @@ pub const SPEC_EXP_LOG_RANGE: f32 = 11.0;
 
 /// The specular channel stores the reflectance f0 = level x 8 / (exponent + 8), in [0, 1] for
 /// every material (the level reaches 257 for a polished metal); this is the level back.
-/// Mirrors `surface_of` in `shaders/common.wgsl`.
+/// Mirrors `surface_of` in `kit/common.wgsl`.
 pub fn level_from_reflectance(f0: f32, exponent: f32) -> f32 {
     f0 * (exponent + 8.0) / 8.0
 }

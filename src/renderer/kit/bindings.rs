@@ -65,8 +65,8 @@ const fn light_plane(slot: u32, name: &'static str) -> Binding {
     Binding { slot, name, wgsl_type: "array<vec4<u32>, 4096>", kind: Kind::LightPlane }
 }
 
-// `light_plane`'s WGSL array length is [`super::records::UNIFORM_LIGHTS`].
-const _: () = assert!(super::records::UNIFORM_LIGHTS == 4096);
+// `light_plane`'s WGSL array length is [`crate::renderer::records::UNIFORM_LIGHTS`].
+const _: () = assert!(crate::renderer::records::UNIFORM_LIGHTS == 4096);
 
 /// The light planes' slots in [`FRAME`], plane by plane.
 pub const LIGHT_PLANES: [u32; 4] = [6, 7, 8, 9];
@@ -131,7 +131,7 @@ pub const MATERIAL: Group = Group {
 };
 
 /// Size of one compose-parameter record as bound (a dynamic offset selects the slot).
-pub const COMPOSE_PARAMS_SIZE: u64 = std::mem::size_of::<super::records::ComposeParams>() as u64;
+pub const COMPOSE_PARAMS_SIZE: u64 = std::mem::size_of::<crate::renderer::records::ComposeParams>() as u64;
 
 /// Group 2 of the compose passes: the light accumulation, the debug target and the parameters.
 pub const COMPOSE: Group = Group {
@@ -170,7 +170,7 @@ pub const TILES: Group = Group {
     ],
 };
 
-/// Group 2 of the post chain's passes (`passes::{bloom, exposure, tonemap, grading}`): its
+/// Group 2 of the post chain's passes (`post::{bloom, exposure, tonemap}` and the effects): its
 /// parameters, the image a pass reads and a second one (bloom's levels), the exposure state
 /// (histogram bins, adapted and measured log2 luminance, `post::STATE_WORDS`) and the grading
 /// LUT (`size`³ entries, red fastest). Slots from 30.
@@ -261,7 +261,7 @@ impl Group {
                     Kind::LightPlane => wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(super::records::LIGHT_PLANE_BYTES),
+                        min_binding_size: wgpu::BufferSize::new(crate::renderer::records::LIGHT_PLANE_BYTES),
                     },
                     Kind::Texture { filterable } => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable },

@@ -1,5 +1,5 @@
 // Shared by every pass: frame uniforms, the light record, G-buffer attribute packing and the
-// lighting model. Constants prefixed LS_ are generated from Rust (see renderer::passes::wgsl_constants).
+// lighting model. Constants prefixed LS_ are generated from Rust (see renderer::program::wgsl_constants).
 
 struct Camera {
     proj: mat4x4<f32>,

@@ -1,0 +1,83 @@
+//! What the frame's passes read.
+
+use crate::renderer::plan::FramePlan;
+use crate::renderer::records::{self, FrameBuffers};
+use crate::renderer::scene_gpu::SceneGpu;
+use crate::renderer::settings::Settings;
+use crate::renderer::stats::{Queries, Span};
+use crate::renderer::targets::Targets;
+use crate::renderer::volumes::Volumes;
+
+/// What the frame's passes read: targets, scene, frame buffers, plan and what to measure.
+pub struct FrameInputs<'a> {
+    pub targets: &'a Targets,
+    pub scene: &'a SceneGpu,
+    pub frame: &'a FrameBuffers,
+    pub volumes: &'a Volumes,
+    pub plan: &'a FramePlan,
+    pub queries: &'a Queries,
+    pub settings: &'a Settings,
+    /// Count each light's shaded fragments (occlusion queries).
+    pub counts: bool,
+    /// Count the ideal and the coverage (measurement passes).
+    pub ideal: bool,
+    /// Write timestamps.
+    pub times: bool,
+    /// Count the forward pass's fragments (an occlusion query over the pass).
+    pub forward_counts: bool,
+    pub depth_clamp: bool,
+    /// Per light, its first shadow tile and tile count this frame (`shadows::ShadowPlan::lights`;
+    /// `records::NO_SHADOW` first: unshadowed).
+    pub shadowed: &'a [(u32, u32)],
+}
+
+impl FrameInputs<'_> {
+    /// Whether light `i` casts a shadow this frame.
+    pub fn casts(&self, i: u32) -> bool {
+        self.shadowed.get(i as usize).is_some_and(|&(first, _)| first != records::NO_SHADOW)
+    }
+
+    /// Timestamp writes when the frame is timed: the beginning of span `begin` at the start of
+    /// the pass and/or the end of span `end` at its end (a span may begin in one pass and end
+    /// in a later one).
+    pub fn timestamps(&self, begin: Option<Span>, end: Option<Span>) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let (begin, end) = (begin.and_then(Span::begin), end.and_then(Span::end));
+        if !self.times || (begin.is_none() && end.is_none()) {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
+        })
+    }
+
+    /// Span `span` over one compute pass.
+    pub fn compute_timestamps(&self, span: Span) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let (begin, end) = (span.begin(), span.end());
+        if !self.times || begin.is_none() {
+            return None;
+        }
+        self.queries.timestamps.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: begin,
+            end_of_pass_write_index: end,
+        })
+    }
+
+    /// Frame buffers, the G-buffer and the light-volume meshes: what every light draw reads.
+    pub fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_bind_group(0, &self.frame.group, &[]);
+        pass.set_bind_group(1, &self.targets.gbuffer_group, &[]);
+        self.volumes.bind(pass);
+    }
+
+    /// Depth value of the far plane (1, or 0 with reversed Z).
+    pub fn far_depth(&self) -> f64 {
+        if self.settings.reversed_z {
+            0.0
+        } else {
+            1.0
+        }
+    }
+}

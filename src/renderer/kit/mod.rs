@@ -1,0 +1,213 @@
+//! How a pass is built, importing no technique: the formats every pass shares, the blend and
+//! stencil states the seeds' tables are written in, the per-light pipeline description, the
+//! pipeline layouts and the shader module a configuration is compiled to ([`pipeline`]), the
+//! bindings and G-buffer layout that write their own WGSL ([`bindings`], [`gbuffer`]), the WGSL
+//! every entry point shares (`common.wgsl`), and [`Lazy`], a pass built the first time a frame
+//! uses it.
+//!
+//! A pass is a struct in its technique's folder that builds its own pipelines in
+//! `new(&Shared)` and records itself in `encode(&self, encoder, &FrameInputs, …)`.
+//!
+//! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
+//! [`z`] flips the compare functions when reversed Z is on.
+
+pub mod bindings;
+pub mod gbuffer;
+pub mod pipeline;
+
+pub use pipeline::{ambient_fits, PipelineKey, Shared};
+use std::sync::{Arc, OnceLock};
+use wgpu::CompareFunction as Cmp;
+
+/// Format of the debug target (stencil diagram, light complexity).
+pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the HDR scene colour that scenes with blended surfaces compose through.
+pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
+/// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).
+pub fn log_accum(format: wgpu::TextureFormat) -> bool {
+    format == wgpu::TextureFormat::Rgba8Unorm
+}
+
+/// Maps a compare function written for standard depth to reversed Z when `reversed`.
+pub fn z(reversed: bool, c: Cmp) -> Cmp {
+    if !reversed {
+        return c;
+    }
+    match c {
+        Cmp::Less => Cmp::Greater,
+        Cmp::LessEqual => Cmp::GreaterEqual,
+        Cmp::Greater => Cmp::Less,
+        Cmp::GreaterEqual => Cmp::LessEqual,
+        other => other,
+    }
+}
+
+/// Which faces of a volume a draw rasterises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Faces {
+    Front,
+    Back,
+    Both,
+}
+
+impl Faces {
+    pub fn cull_mode(self) -> Option<wgpu::Face> {
+        match self {
+            Faces::Front => Some(wgpu::Face::Back),
+            Faces::Back => Some(wgpu::Face::Front),
+            Faces::Both => None,
+        }
+    }
+}
+
+/// One draw's raster state as the seeds' tables give it: faces drawn, depth test (standard
+/// depth; never written), stencil.
+#[derive(Clone, Debug)]
+pub struct DrawState {
+    pub faces: Faces,
+    pub depth: Cmp,
+    pub stencil: wgpu::StencilState,
+}
+
+/// Which colour targets a per-light pipeline writes.
+#[derive(Clone, Copy)]
+pub enum Out {
+    /// Diffuse + specular accumulation, additive (multiplicative for the log encoding).
+    Accumulate,
+    /// Same targets, colour writes off (stencil marking, counting).
+    NoColor,
+    /// Same targets, replaced (the ambient + sun pass starts the accumulation).
+    Replace,
+    /// The debug target with a blend.
+    Debug(wgpu::BlendState),
+}
+
+/// The vertex stage of a per-light pipeline.
+#[derive(Clone, Copy)]
+pub enum Vs {
+    /// A full-screen triangle per light instance.
+    Fullscreen,
+    /// A full-screen triangle, no light.
+    FullscreenPlain,
+    /// The light's bounding volume.
+    Volume,
+}
+
+pub struct LightPipe {
+    pub label: &'static str,
+    pub vs: Vs,
+    pub fs: &'static str,
+    pub state: DrawState,
+    pub out: Out,
+}
+
+/// A stencil face state: compare, then the ops on stencil fail, depth fail and pass.
+pub const fn face(
+    compare: Cmp,
+    fail_op: wgpu::StencilOperation,
+    depth_fail_op: wgpu::StencilOperation,
+    pass_op: wgpu::StencilOperation,
+) -> wgpu::StencilFaceState {
+    wgpu::StencilFaceState { compare, fail_op, depth_fail_op, pass_op }
+}
+
+/// A stencil state with full read and write masks.
+pub const fn stencil(front: wgpu::StencilFaceState, back: wgpu::StencilFaceState) -> wgpu::StencilState {
+    wgpu::StencilState { front, back, read_mask: 0xff, write_mask: 0xff }
+}
+
+/// Stencil off.
+pub const NO_STENCIL: wgpu::StencilState = stencil(KEEP, KEEP);
+/// A face that ignores the stencil.
+pub const KEEP: wgpu::StencilFaceState = wgpu::StencilFaceState::IGNORE;
+
+pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// Seed 004's logarithmic accumulation: dst = src x dst, so the product of every light's
+/// exp2(-light) is exp2(-sum).
+pub const MULTIPLY: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Dst,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::DstAlpha,
+        dst_factor: wgpu::BlendFactor::Zero,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+pub const MAX: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Max,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Max,
+    },
+};
+
+/// A pass built the first time a frame uses it. On lavapipe every pipeline is compiled to
+/// machine code by LLVM when it is created, 2 to 9 MiB of heap each for the shading passes
+/// (measured: a full set of passes took about 160 MiB), and the renderer keeps the passes of
+/// recent configurations: a frame that never draws the light pre-pass, the tiled/clustered
+/// shading, blended surfaces or the post chain should not pay for them.
+pub struct Lazy<T> {
+    cell: OnceLock<T>,
+    device: wgpu::Device,
+    shared: Arc<Shared>,
+    build: fn(&wgpu::Device, &Shared) -> T,
+}
+
+impl<T> Lazy<T> {
+    pub fn new(device: &wgpu::Device, shared: &Arc<Shared>, build: fn(&wgpu::Device, &Shared) -> T) -> Self {
+        Self { cell: OnceLock::new(), device: device.clone(), shared: shared.clone(), build }
+    }
+
+    /// The pass if a frame has built it.
+    pub fn get(&self) -> Option<&T> {
+        self.cell.get()
+    }
+
+    /// Builds the pass now if it is not built, turning a validation error (a shader that fails
+    /// to compile for this configuration) into an error instead of a panic.
+    pub fn prepare(&self) -> anyhow::Result<()> {
+        if self.cell.get().is_some() {
+            return Ok(());
+        }
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let pass = (self.build)(&self.device, &self.shared);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            anyhow::bail!("building the pipelines failed: {e}");
+        }
+        let _ = self.cell.set(pass);
+        Ok(())
+    }
+}
+
+impl<T> std::ops::Deref for Lazy<T> {
+    type Target = T;
+
+    /// The pass, built here if no frame has built it ([`Passes::prepare`] builds what a frame
+    /// needs first, inside an error scope).
+    fn deref(&self) -> &T {
+        self.cell.get_or_init(|| (self.build)(&self.device, &self.shared))
+    }
+}

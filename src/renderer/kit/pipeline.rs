@@ -1,0 +1,211 @@
+//! The shader module and pipeline layouts a configuration ([`PipelineKey`]) is compiled to, and
+//! the two pipeline shapes most passes are: a full-screen triangle into one target, and a
+//! per-light draw against the G-buffer's depth.
+
+use super::gbuffer::{GBufferLayout, GBufferTargets};
+use super::{bindings, log_accum, z, LightPipe, Out, Vs, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use crate::renderer::program::ShaderFeatures;
+use wgpu::CompareFunction as Cmp;
+
+/// Key of everything the pipelines depend on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PipelineKey {
+    pub layout: GBufferLayout,
+    pub depth_format: wgpu::TextureFormat,
+    pub output_format: wgpu::TextureFormat,
+    pub reversed_z: bool,
+    /// Format of the diffuse and specular light accumulation targets.
+    pub accum_format: wgpu::TextureFormat,
+    /// Depth clamp (`unclipped_depth`) on light volumes.
+    pub depth_clamp: bool,
+    /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's
+    /// RT1); otherwise the light pass starts with a full-screen ambient + sun draw.
+    pub ambient_in_gbuffer: bool,
+    /// The light pre-pass (seeds 003/004): `layout` is `gbuffer::prepass_layout`, the light
+    /// passes write one light buffer (RGB diffuse + mono specular), ambient + sun go to pass 3.
+    pub prepass: bool,
+    /// Samples per pixel of the light pre-pass's pass 3 and the forward pass after it (1, or 4
+    /// with `--msaa 4`; passes 1 and 2 stay single-sample).
+    pub samples: u32,
+    /// The shadow and cookie lookups compiled in.
+    pub features: ShaderFeatures,
+}
+
+/// Whether the G-buffer pass can also write the two accumulation targets on a device with
+/// `limits`: the colour attachments and their bytes per sample, G-buffer and accumulation
+/// together, must fit (WebGPU's default 32 bytes do not take `compact`'s 24 plus two Rgba16Float
+/// targets; lavapipe allows 128).
+pub fn ambient_fits(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, limits: &wgpu::Limits) -> bool {
+    let accum = accum_format.block_copy_size(None).unwrap_or(16);
+    (layout.targets.len() + 2) as u32 <= limits.max_color_attachments
+        && layout.bytes_per_pixel() + 2 * accum <= limits.max_color_attachment_bytes_per_sample
+}
+
+/// What every pass's pipelines are built from.
+pub struct Shared {
+    pub key: PipelineKey,
+    pub module: wgpu::ShaderModule,
+    pub frame_bgl: wgpu::BindGroupLayout,
+    pub gbuffer_bgl: wgpu::BindGroupLayout,
+    pub material_bgl: wgpu::BindGroupLayout,
+    pub compose_bgl: wgpu::BindGroupLayout,
+    pub hdr_bgl: wgpu::BindGroupLayout,
+    pub post_bgl: wgpu::BindGroupLayout,
+    /// Frame + G-buffer + post: the post chain's passes.
+    pub post_layout: wgpu::PipelineLayout,
+    /// Frame + material: the surface passes (G-buffer, forward).
+    pub surface_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer: everything drawn per light.
+    pub light_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer + compose.
+    pub compose_layout: wgpu::PipelineLayout,
+    /// Frame + G-buffer + compose + HDR colour.
+    pub tonemap_layout: wgpu::PipelineLayout,
+}
+
+impl Shared {
+    /// The layouts for `key`, and `source` (the program assembled for `key`,
+    /// `program::shader_source_for`) compiled to one module.
+    pub fn new(device: &wgpu::Device, key: PipelineKey, source: String) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(key.layout.name),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let frame_bgl = bindings::FRAME.layout(device);
+        let gbuffer_bgl = GBufferTargets::bind_group_layout(device, &key.layout);
+        let material_bgl = bindings::MATERIAL.layout(device);
+        let compose_bgl = bindings::COMPOSE.layout(device);
+        let hdr_bgl = bindings::HDR.layout(device);
+        let post_bgl = bindings::POST.layout(device);
+        let layout = |label, groups: &[&wgpu::BindGroupLayout]| {
+            let groups: Vec<Option<&wgpu::BindGroupLayout>> = groups.iter().map(|g| Some(*g)).collect();
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &groups,
+                immediate_size: 0,
+            })
+        };
+        let surface_layout = layout("surfaces", &[&frame_bgl, &material_bgl]);
+        let light_layout = layout("lights", &[&frame_bgl, &gbuffer_bgl]);
+        let compose_layout = layout("compose", &[&frame_bgl, &gbuffer_bgl, &compose_bgl]);
+        let tonemap_layout = layout("tonemap", &[&frame_bgl, &gbuffer_bgl, &compose_bgl, &hdr_bgl]);
+        let post_layout = layout("post", &[&frame_bgl, &gbuffer_bgl, &post_bgl]);
+        Self {
+            key,
+            module,
+            frame_bgl,
+            gbuffer_bgl,
+            material_bgl,
+            compose_bgl,
+            hdr_bgl,
+            post_bgl,
+            post_layout,
+            surface_layout,
+            light_layout,
+            compose_layout,
+            tonemap_layout,
+        }
+    }
+
+    /// Maps a compare function written for standard depth to the depth convention in use.
+    pub fn z(&self, c: Cmp) -> Cmp {
+        z(self.key.reversed_z, c)
+    }
+
+    /// A pipeline drawing a full-screen triangle (`vs_compose`) into one target, no depth.
+    pub fn fullscreen_pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        fs: &str,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::RenderPipeline {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_compose"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// A pipeline of the per-light passes (lights, debug views, measurement): a volume or a
+    /// full-screen triangle against the G-buffer's depth, with the draw's faces, depth and
+    /// stencil state.
+    pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
+        let key = &self.key;
+        let accum = |blend: Option<wgpu::BlendState>, write_mask| {
+            let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
+            // The light pre-pass has one light buffer (`Targets::accumulation`).
+            vec![Some(t.clone()), Some(t).filter(|_| !key.prepass)]
+        };
+        let targets = match p.out {
+            Out::Accumulate => {
+                accum(Some(if log_accum(key.accum_format) { MULTIPLY } else { ADDITIVE }), wgpu::ColorWrites::ALL)
+            }
+            Out::NoColor => accum(None, wgpu::ColorWrites::empty()),
+            Out::Replace => accum(None, wgpu::ColorWrites::ALL),
+            Out::Debug(blend) => vec![Some(wgpu::ColorTargetState {
+                format: DEBUG_FORMAT,
+                blend: Some(blend),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        };
+        let volume_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 16,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
+        })];
+        let (entry, buffers): (&str, &[Option<wgpu::VertexBufferLayout>]) = match p.vs {
+            Vs::Fullscreen => ("vs_fullscreen", &[]),
+            Vs::FullscreenPlain => ("vs_fullscreen_plain", &[]),
+            Vs::Volume => ("vs_volume", &volume_buffers),
+        };
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(p.label),
+            layout: Some(&self.light_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                buffers,
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: p.state.faces.cull_mode(),
+                unclipped_depth: key.depth_clamp && matches!(p.vs, Vs::Volume),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: key.depth_format,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(self.z(p.state.depth)),
+                stencil: p.state.stencil,
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(p.fs),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}

@@ -1,6 +1,7 @@
 //! What a run reports: the CSV, the markdown tables, the limit each configuration is held to and the Pareto front.
 
 use super::*;
+use crate::renderer::post::effects::EFFECTS;
 
 /// The report's list of skipped configurations (empty when none was).
 pub fn skipped_markdown(skipped: &[Skipped]) -> String {
@@ -121,16 +122,17 @@ pub fn mark_pareto(rows: &mut [Row]) {
 }
 
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
-    let mut out = String::from(
+    let effects: String = EFFECTS.iter().map(|e| format!("{}_ms,", e.name)).collect();
+    let mut out = format!(
         "group,label,scene,culling,layout,accumulation,reversed_z,depth_format,light_cutoff,sphere_subdivisions,cone_sides,volumes,\
-         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,grading_ms,fog_ms,dof_ms,vignette_ms,aa_ms,total_ms,draw_calls,light_batches,\
+         lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,{effects}total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
          shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -154,11 +156,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.bloom_ms,
             r.exposure_ms,
             r.tonemap_ms,
-            r.grading_ms,
-            r.fog_ms,
-            r.dof_ms,
-            r.vignette_ms,
-            r.aa_ms,
+            r.effects_ms.iter().map(|v| format!("{v:.3},")).collect::<String>(),
             r.total_ms,
             r.draw_calls,
             r.light_batches,
@@ -249,18 +247,13 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
             if r.shadow.gpu_ms.is_finite() { format!("{:.2}", r.shadow.gpu_ms) } else { "-".into() },
             r.lighting_ms,
             r.forward_ms,
-            if r.bloom_ms + r.exposure_ms + r.tonemap_ms + r.grading_ms > 0.0 {
-                format!(
-                    "{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}/{:.2}",
-                    r.bloom_ms,
-                    r.exposure_ms,
-                    r.tonemap_ms,
-                    r.grading_ms,
-                    r.fog_ms,
-                    r.dof_ms,
-                    r.vignette_ms,
-                    r.aa_ms
-                )
+            if r.bloom_ms + r.exposure_ms + r.tonemap_ms > 0.0 {
+                [r.bloom_ms, r.exposure_ms, r.tonemap_ms]
+                    .iter()
+                    .chain(&r.effects_ms)
+                    .map(|v| format!("{v:.2}"))
+                    .collect::<Vec<_>>()
+                    .join("/")
             } else {
                 "-".into()
             },

@@ -129,7 +129,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size, shadows)?),
         };
-        let pick = |f: fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
+        let pick = |f: &dyn Fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
         let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
         let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
         let (d, s) = renderer.read_accumulation(gpu)?;
@@ -174,19 +174,18 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             radius_scale: cfg.radius_scale,
             width: w,
             height: h,
-            gbuffer_ms: pick(|s| s.gpu_ms.gbuffer),
-            lighting_ms: pick(|s| s.gpu_ms.lighting),
-            compose_ms: pick(|s| s.gpu_ms.compose),
-            forward_ms: pick(|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
-            bloom_ms: pick(|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
-            exposure_ms: pick(|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
-            tonemap_ms: pick(|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
-            grading_ms: pick(|s| s.gpu_ms.grading.or(s.gpu_ms.total.map(|_| 0.0))),
-            fog_ms: pick(|s| s.gpu_ms.fog.or(s.gpu_ms.total.map(|_| 0.0))),
-            dof_ms: pick(|s| s.gpu_ms.dof.or(s.gpu_ms.total.map(|_| 0.0))),
-            vignette_ms: pick(|s| s.gpu_ms.vignette.or(s.gpu_ms.total.map(|_| 0.0))),
-            aa_ms: pick(|s| s.gpu_ms.aa.or(s.gpu_ms.total.map(|_| 0.0))),
-            total_ms: pick(|s| s.gpu_ms.total),
+            gbuffer_ms: pick(&|s| s.gpu_ms.gbuffer),
+            lighting_ms: pick(&|s| s.gpu_ms.lighting),
+            compose_ms: pick(&|s| s.gpu_ms.compose),
+            forward_ms: pick(&|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
+            bloom_ms: pick(&|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
+            exposure_ms: pick(&|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
+            tonemap_ms: pick(&|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
+            effects_ms: crate::renderer::post::effects::EFFECTS
+                .iter()
+                .map(|e| pick(&|s| s.gpu_ms.effect(e.name).or(s.gpu_ms.total.map(|_| 0.0))))
+                .collect(),
+            total_ms: pick(&|s| s.gpu_ms.total),
             draw_calls: times.last().map_or(0, |s| s.draw_calls),
             light_batches: times.last().map_or(0, |s| s.light_batches),
             coverage_fragments: stats.coverage_fragments.unwrap_or(0),
@@ -312,11 +311,7 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         bloom_ms: f64::NAN,
         exposure_ms: f64::NAN,
         tonemap_ms: f64::NAN,
-        grading_ms: f64::NAN,
-        fog_ms: f64::NAN,
-        dof_ms: f64::NAN,
-        vignette_ms: f64::NAN,
-        aa_ms: f64::NAN,
+        effects_ms: vec![f64::NAN; crate::renderer::post::effects::EFFECTS.len()],
         total_ms: f64::NAN,
         draw_calls: 0,
         light_batches: 0,

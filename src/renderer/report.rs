@@ -4,7 +4,7 @@
 use super::frame::{Prepared, Shape};
 use super::paths::Drawn;
 use super::plan::Method;
-use super::post::effects::runs;
+use super::post::effects::EFFECTS;
 use super::stats::{self, FrameStats};
 use super::{tiles, DebugView, Renderer, Settings, ShadowMode};
 use crate::scene::Scene;
@@ -50,12 +50,11 @@ impl Renderer {
             post: shape.chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
-                grading: runs("grading", settings) && lit,
-                fog: runs("fog", settings) && lit,
-                dof: runs("dof", settings) && lit,
-                vignette: runs("vignette", settings) && lit,
-                aa: runs("aa", settings) && lit,
                 tonemap: settings.tonemap,
+                effects: match lit {
+                    true => EFFECTS.iter().filter(|e| (e.on)(settings)).map(|e| e.name.to_string()).collect(),
+                    false => Vec::new(),
+                },
             }),
             cpu_ms,
             shadow: (settings.shadows != ShadowMode::None).then(|| prepared.shadows.stats.clone()),

@@ -5,6 +5,7 @@
 //! same kind of query around a full-screen draw that discards every sample whose G-buffer point
 //! lies outside the light's true radius and cone.
 
+use super::culling::methods::{self, Covers};
 use super::plan::{LightPlan, Method};
 use super::settings::ForwardLights;
 use super::CullingMode;
@@ -51,7 +52,7 @@ pub fn binned_bytes(plan: &LightPlan, size: (u32, u32), draws: u64, triangles: u
     let (w, h) = (size.0.max(1), size.1.max(1));
     let tiles = (w.div_ceil(LP_TILE) * h.div_ceil(LP_TILE)) as u64;
     let rect_tiles = match (plan.method, plan.screen_rect) {
-        (Method::Fullscreen, _) => tiles,
+        _ if methods::row(plan.method).covers == Covers::Screen => tiles,
         (_, None) => 0,
         (_, Some((lo, hi))) => {
             let t = |x: f32, n: u32| (((x + 1.0) * 0.5 * n as f32).clamp(0.0, n as f32 - 1.0) as u32) / LP_TILE;
@@ -98,11 +99,11 @@ pub fn light_pass_ranges(
             super::volumes::VolumeKind::Sphere => triangles.0,
             super::volumes::VolumeKind::Cone => triangles.1,
         };
-        match p.method {
-            Method::Skipped => binned_bytes(p, size, 0, 0),
-            Method::Fullscreen => binned_bytes(p, size, 1, 1),
-            Method::Volume => binned_bytes(p, size, 1, t),
-            _ => binned_bytes(p, size, 2, t),
+        let row = methods::row(p.method);
+        match row.covers {
+            Covers::Screen => binned_bytes(p, size, row.draws_per_light as u64, 1),
+            Covers::Volume => binned_bytes(p, size, row.draws_per_light as u64, t),
+            Covers::Nothing => binned_bytes(p, size, 0, 0),
         }
     })
 }
@@ -175,16 +176,10 @@ pub struct GpuMs {
     pub exposure: Option<f64>,
     #[serde(default)]
     pub tonemap: Option<f64>,
-    #[serde(default)]
-    pub grading: Option<f64>,
-    #[serde(default)]
-    pub fog: Option<f64>,
-    #[serde(default)]
-    pub dof: Option<f64>,
-    #[serde(default)]
-    pub vignette: Option<f64>,
-    #[serde(default)]
-    pub aa: Option<f64>,
+    /// Each effect after tone mapping that ran and was timed, by its name in
+    /// `post::effects::EFFECTS` (written beside the other passes: `"fog": 0.21`).
+    #[serde(flatten)]
+    pub effects: std::collections::BTreeMap<String, f64>,
     /// The GPU building the tiled or clustered light lists (part of `lighting`; `None` when
     /// the frame built none on the GPU).
     #[serde(default)]
@@ -373,17 +368,29 @@ pub struct FrameStats {
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
 /// with auto-exposure, the exposure state after the frame is read by `Renderer::exposure_state`.
-#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct PostStats {
     pub bloom: bool,
     pub auto_exposure: bool,
-    pub grading: bool,
-    pub fog: bool,
-    pub dof: bool,
-    pub vignette: bool,
-    pub aa: bool,
     pub tonemap: crate::renderer::post::Tonemap,
+    /// The effects after tone mapping that ran, by name, in the chain's order
+    /// (`post::effects::EFFECTS`).
+    pub effects: Vec<String>,
+}
+
+impl PostStats {
+    /// Whether effect `name` ran.
+    pub fn ran(&self, name: &str) -> bool {
+        self.effects.iter().any(|e| e == name)
+    }
+}
+
+impl GpuMs {
+    /// The time of effect `name` (`None`: it did not run, or the frame was not timed).
+    pub fn effect(&self, name: &str) -> Option<f64> {
+        self.effects.get(name).copied()
+    }
 }
 
 pub struct Queries {
@@ -632,26 +639,20 @@ impl Queries {
                 if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
                     stats.gpu_ms.total = Some(t + s);
                 }
-                if let Some(p) = stats.post {
+                if let Some(p) = &stats.post {
                     // The chain runs inside the compose span (HDR compose … its last pass).
-                    let effect = |name: &'static str, on: bool| span(Span(name)).filter(|_| on);
-                    let (b, e, t, g) = (
-                        span(post::bloom::SPAN).filter(|_| p.bloom),
-                        span(post::exposure::SPAN).filter(|_| p.auto_exposure),
-                        span(post::tonemap::SPAN),
-                        effect("grading", p.grading),
-                    );
-                    (stats.gpu_ms.bloom, stats.gpu_ms.exposure, stats.gpu_ms.tonemap, stats.gpu_ms.grading) =
-                        (b, e, t, g);
-                    let (fo, d, v, a) = (
-                        effect("fog", p.fog),
-                        effect("dof", p.dof),
-                        effect("vignette", p.vignette),
-                        effect("aa", p.aa),
-                    );
-                    (stats.gpu_ms.fog, stats.gpu_ms.dof, stats.gpu_ms.vignette, stats.gpu_ms.aa) = (fo, d, v, a);
-                    let chain: f64 = [b, e, t, g, fo, d, v, a].iter().flatten().sum();
-                    stats.gpu_ms.compose = stats.gpu_ms.compose.map(|c| (c - chain).max(0.0));
+                    let g = &mut stats.gpu_ms;
+                    g.bloom = span(post::bloom::SPAN).filter(|_| p.bloom);
+                    g.exposure = span(post::exposure::SPAN).filter(|_| p.auto_exposure);
+                    g.tonemap = span(post::tonemap::SPAN);
+                    g.effects = post::effects::EFFECTS
+                        .iter()
+                        .filter(|e| p.ran(e.name))
+                        .filter_map(|e| Some((e.name.to_string(), span(Span(e.name))?)))
+                        .collect();
+                    let chain: f64 = [g.bloom, g.exposure, g.tonemap].iter().flatten().sum::<f64>()
+                        + g.effects.values().sum::<f64>();
+                    g.compose = g.compose.map(|c| (c - chain).max(0.0));
                 }
             }
             if let Some(f) = stats.forward.as_mut().filter(|_| forward) {

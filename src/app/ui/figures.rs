@@ -1,6 +1,7 @@
 //! The right panel: the frame's figures (lights drawn, fragments, efficiency, GPU ms per pass), their history plot, the culling modes and views.
 
 use super::*;
+use crate::renderer::post::effects::EFFECTS;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Sample {
@@ -235,16 +236,8 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
                 row(ui, "GPU auto-exposure", fmt_ms(s.gpu_ms.exposure));
             }
             row(ui, "GPU tonemap", format!("{} ({})", fmt_ms(s.gpu_ms.tonemap), post.tonemap.name()));
-            for (on, name, ms) in [
-                (post.grading, "GPU grading", s.gpu_ms.grading),
-                (post.fog, "GPU fog", s.gpu_ms.fog),
-                (post.dof, "GPU depth of field", s.gpu_ms.dof),
-                (post.vignette, "GPU vignette", s.gpu_ms.vignette),
-                (post.aa, "GPU anti-aliasing", s.gpu_ms.aa),
-            ] {
-                if on {
-                    row(ui, name, fmt_ms(ms));
-                }
+            for e in EFFECTS.iter().filter(|e| post.ran(e.name)) {
+                row(ui, &format!("GPU {}", e.title), fmt_ms(s.gpu_ms.effect(e.name)));
             }
         }
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));

@@ -174,27 +174,10 @@ struct Key {
     crosses_near: bool,
 }
 
-fn method_order(m: Method) -> u8 {
-    match m {
-        Method::Fullscreen => 0,
-        Method::Volume => 1,
-        Method::StencilTwoPass => 2,
-        Method::StencilInvert => 3,
-        Method::StencilReplace => 4,
-        Method::Skipped => 5,
-        Method::Tiled => 6,
-        Method::Clustered => 7,
-    }
-}
-
 /// Whether the light pass draws a light of method `m`: not when it is skipped, nor when the
 /// tiled pass shades it.
 fn drawn(m: Method) -> bool {
-    !matches!(m, Method::Skipped | Method::Tiled | Method::Clustered)
-}
-
-fn stencil(m: Method) -> bool {
-    matches!(m, Method::StencilTwoPass | Method::StencilInvert | Method::StencilReplace)
+    super::methods::row(m).draws.is_some()
 }
 
 impl LightBatches {
@@ -260,7 +243,7 @@ impl LightBatches {
                 continue;
             }
             let key = Key {
-                method: method_order(p.method),
+                method: super::methods::order(p.method),
                 // Full-screen draws use no mesh: one batch whatever the light's kind.
                 volume: if p.method == Method::Fullscreen { 0 } else { p.volume as u8 },
                 // Only REPLACE shades near-crossing lights with another pipeline.
@@ -295,7 +278,7 @@ impl LightBatches {
             let joins = match last {
                 Some(b) if cells.is_none() => Some(b),
                 Some(b) if b + 1 > after => Some(b),
-                Some(b) if b + 1 == after && !stencil(p.method) => Some(b),
+                Some(b) if b + 1 == after && !super::methods::row(p.method).marks() => Some(b),
                 _ => None,
             };
             let b = match joins {

@@ -2,12 +2,11 @@
 //! method its plan chose, additively into the diffuse and specular targets, in instanced
 //! batches (`renderer::batches`).
 //!
-//! Each culling method is one [`StencilMethod`] literal below, to be held against the seeds'
-//! tables: the marking draw (if any) and the shading draw, each as faces, depth test and
-//! stencil. Depth is written for standard depth (near = 0) and flipped under reversed Z.
+//! Each culling method's draws are its row of [`METHODS`] (`culling/methods.rs`).
 
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
@@ -15,136 +14,6 @@ use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 /// The lighting's timing (`gpu_ms.lighting`): from the first light draw to the last, or to
 /// the end of the tiled pass when it shades the frame.
 pub const SPAN: Span = Span("lights");
-
-/// A culling method's draws.
-#[derive(Clone, Debug)]
-pub struct StencilMethod {
-    /// Drawn first with colour writes off, to mark the stencil.
-    pub mark: Option<DrawState>,
-    /// Drawn with the lighting shader.
-    pub shade: DrawState,
-    /// Replaces `shade` for lights whose volume crosses the near plane (its front faces are
-    /// clipped away there).
-    pub shade_crossing_near: Option<DrawState>,
-    /// The stencil reference: zero, or a value per batch of lights whose pixels never meet
-    /// (1..=255, cleared every 255 batches; see `batches.rs`).
-    pub reference: Reference,
-    /// Whether the shading draw is the light's volume or a full-screen triangle.
-    pub fullscreen: bool,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Reference {
-    Zero,
-    PerLight,
-}
-
-/// No culling: every light shades every pixel (the reference picture).
-pub const FULLSCREEN: StencilMethod = StencilMethod {
-    mark: None,
-    shade: DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL },
-    shade_crossing_near: None,
-    reference: Reference::Zero,
-    fullscreen: true,
-};
-
-/// Back faces at or behind the scene point: the point is in front of the volume's far side.
-pub const VOLUME: StencilMethod = StencilMethod {
-    mark: None,
-    shade: DrawState { faces: Faces::Back, depth: Cmp::GreaterEqual, stencil: NO_STENCIL },
-    shade_crossing_near: None,
-    reference: Reference::Zero,
-    fullscreen: false,
-};
-
-/// Seed 000. Pass 1: front faces, no colour, Z LessEqual, Z-fail increments (saturating).
-/// Pass 2: back faces, Z GreaterEqual, stencil Equal 0, every outcome writes zero (clearing the
-/// mark for the next light).
-pub const STENCIL_TWO_PASS: StencilMethod = StencilMethod {
-    mark: Some(DrawState {
-        faces: Faces::Front,
-        depth: Cmp::LessEqual,
-        stencil: stencil(face(Cmp::Always, Op::Keep, Op::IncrementClamp, Op::Keep), crate::renderer::kit::KEEP),
-    }),
-    shade: DrawState {
-        faces: Faces::Back,
-        depth: Cmp::GreaterEqual,
-        stencil: stencil(
-            face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero),
-            face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero),
-        ),
-    },
-    shade_crossing_near: None,
-    reference: Reference::Zero,
-    fullscreen: false,
-};
-
-/// Seed 001. Mark: both faces, Z Less, Z-fail inverts: a scene point inside the volume fails
-/// only against the back face, an odd count, non-zero stencil. Shade: back faces, depth test
-/// off, stencil NotEqual 0, pass op Zero clears for the next light.
-pub const STENCIL_INVERT: StencilMethod = StencilMethod {
-    mark: Some(DrawState {
-        faces: Faces::Both,
-        depth: Cmp::Less,
-        stencil: stencil(
-            face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep),
-            face(Cmp::Always, Op::Keep, Op::Invert, Op::Keep),
-        ),
-    }),
-    shade: DrawState {
-        faces: Faces::Back,
-        depth: Cmp::Always,
-        stencil: stencil(
-            face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero),
-            face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero),
-        ),
-    },
-    shade_crossing_near: None,
-    reference: Reference::Zero,
-    fullscreen: false,
-};
-
-/// Seed 002 with REPLACE. Mark: back faces, Z Less, so Z fails (REPLACE X) exactly where the
-/// scene point is at or in front of the far side. Shade: front faces, Z LessEqual, stencil
-/// Equal X: the point is also at or behind the near side, i.e. inside. Where no front face
-/// exists (camera inside, volume crossing the near plane) the shade draws back faces with the
-/// depth test off instead; stencil Equal X alone is then exact. X = 1..255 differs per light
-/// (per batch: a batch's lights never reach the same pixel), so the stencil is cleared only once
-/// every 255 batches.
-pub const STENCIL_REPLACE: StencilMethod = StencilMethod {
-    mark: Some(DrawState {
-        faces: Faces::Back,
-        depth: Cmp::Less,
-        stencil: stencil(
-            face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep),
-            face(Cmp::Always, Op::Keep, Op::Replace, Op::Keep),
-        ),
-    }),
-    shade: DrawState { faces: Faces::Front, depth: Cmp::LessEqual, stencil: EQUAL_REFERENCE },
-    shade_crossing_near: Some(DrawState { faces: Faces::Back, depth: Cmp::Always, stencil: EQUAL_REFERENCE }),
-    reference: Reference::PerLight,
-    fullscreen: false,
-};
-
-const EQUAL_REFERENCE: wgpu::StencilState =
-    stencil(face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep), face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep));
-
-/// The table of methods, in the order of [`Method`]'s drawn variants.
-pub fn stencil_method(m: Method) -> Option<&'static StencilMethod> {
-    match m {
-        Method::Fullscreen => Some(&FULLSCREEN),
-        Method::Volume => Some(&VOLUME),
-        Method::StencilTwoPass => Some(&STENCIL_TWO_PASS),
-        Method::StencilInvert => Some(&STENCIL_INVERT),
-        Method::StencilReplace => Some(&STENCIL_REPLACE),
-        // Shaded from their lists by the tiled pass (`culling::tiled::pass`), not drawn here.
-        Method::Tiled | Method::Clustered | Method::Skipped => None,
-    }
-}
-
-/// The methods that draw something, for building their pipelines.
-pub const DRAWN: [Method; 5] =
-    [Method::Fullscreen, Method::Volume, Method::StencilTwoPass, Method::StencilInvert, Method::StencilReplace];
 
 /// One method's pipelines.
 struct MethodPipelines {
@@ -161,8 +30,8 @@ pub struct LightPass {
     ambient: wgpu::RenderPipeline,
     /// The G-buffer pass wrote ambient + sun: the accumulation is loaded, not started here.
     ambient_in_gbuffer: bool,
-    /// By [`DRAWN`]'s order.
-    methods: Vec<MethodPipelines>,
+    /// By [`METHODS`]' order; `None` for the methods the light pass does not draw.
+    methods: Vec<Option<MethodPipelines>>,
     /// Zeroes the stencil (REPLACE, every 255 batches).
     stencil_clear: wgpu::RenderPipeline,
     /// `ShadowCode::casters_apart`: lights that cast no shadow this frame draw with
@@ -199,17 +68,11 @@ impl LightPass {
         let pipe = |label, vs, fs, state, out| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out });
         let fullscreen = DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL };
         let apart = shared.key.features.shadows.casters_apart;
-        let methods = DRAWN
+        let methods = METHODS
             .iter()
-            .filter_map(|&m| stencil_method(m).map(|s| (m, s)))
-            .map(|(m, s)| {
-                let (label, mark_label, near_label) = match m {
-                    Method::Fullscreen => ("light fullscreen", "", ""),
-                    Method::Volume => ("light volume", "", ""),
-                    Method::StencilTwoPass => ("two-pass shade", "two-pass mark", ""),
-                    Method::StencilInvert => ("invert shade", "invert mark", ""),
-                    _ => ("replace shade (front faces)", "replace mark", "replace shade (back faces)"),
-                };
+            .map(|row| {
+                let s = row.draws.as_ref()?;
+                let [label, mark_label, near_label] = row.labels;
                 let vs = if s.fullscreen { Vs::Fullscreen } else { Vs::Volume };
                 let shades = |label, vs, state: &DrawState| {
                     let lookups = pipe(label, vs, "fs_light", state.clone(), Out::Accumulate);
@@ -219,12 +82,12 @@ impl LightPass {
                     };
                     [plain, lookups]
                 };
-                MethodPipelines {
+                Some(MethodPipelines {
                     method: s,
                     mark: s.mark.clone().map(|d| pipe(mark_label, Vs::Volume, "fs_no_color", d, Out::NoColor)),
                     shade: shades(label, vs, &s.shade),
                     shade_crossing_near: s.shade_crossing_near.as_ref().map(|d| shades(near_label, Vs::Volume, d)),
-                }
+                })
             })
             .collect();
         let clear = face(Cmp::Always, Op::Zero, Op::Zero, Op::Zero);
@@ -244,7 +107,7 @@ impl LightPass {
     }
 
     fn pipelines(&self, m: Method) -> Option<&MethodPipelines> {
-        DRAWN.iter().position(|&d| d == m).and_then(|i| self.methods.get(i))
+        self.methods.get(methods::order(m) as usize)?.as_ref()
     }
 
     /// Begins one render pass of the accumulation over query set `block` (when counting): the
@@ -307,10 +170,10 @@ impl LightPass {
                 crate::renderer::VolumeKind::Sphere => triangles.0,
                 crate::renderer::VolumeKind::Cone => triangles.1,
             };
-            match p.method {
-                Method::Fullscreen => binned_bytes(p, size, draws, 1),
-                Method::Skipped | Method::Tiled | Method::Clustered => binned_bytes(p, size, 0, 0),
-                _ => binned_bytes(p, size, draws, tris),
+            match methods::row(p.method).covers {
+                Covers::Screen => binned_bytes(p, size, draws, 1),
+                Covers::Nothing => binned_bytes(p, size, 0, 0),
+                Covers::Volume => binned_bytes(p, size, draws, tris),
             }
         };
         let mut replace_counter = 0u32;
@@ -339,7 +202,7 @@ impl LightPass {
                 // Skipped lights (outside the frustum) shade nothing here, nor do lights the
                 // tiled pass shades (its own counts replace these): their count is zero.
                 for i in block_start..((b + 1) * chunk).min(n) {
-                    if matches!(f.plan.lights[i].method, Method::Skipped | Method::Tiled | Method::Clustered) {
+                    if methods::row(f.plan.lights[i].method).draws.is_none() {
                         room_for!(cost(i, 0));
                         pass.begin_occlusion_query((i - block_start) as u32);
                         pass.end_occlusion_query();

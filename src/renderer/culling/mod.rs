@@ -13,6 +13,7 @@
 
 pub mod batches;
 pub mod light_pass;
+pub mod methods;
 pub mod overlap;
 pub mod plan;
 pub mod tiled;

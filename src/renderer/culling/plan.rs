@@ -41,7 +41,7 @@ pub enum Method {
 impl Method {
     /// The name in stats, the viewer and the bench: the culling mode's name, or `skipped`.
     pub fn name(self) -> String {
-        match CullingMode::ALL.into_iter().find(|m| m.method() == Some(self)) {
+        match super::methods::row(self).mode {
             Some(m) => m.name().to_string(),
             None => "skipped".into(),
         }
@@ -51,16 +51,7 @@ impl Method {
 impl CullingMode {
     /// The one method a fixed mode draws every light with; `None` for `auto`.
     pub fn method(self) -> Option<Method> {
-        match self {
-            CullingMode::Fullscreen => Some(Method::Fullscreen),
-            CullingMode::Volume => Some(Method::Volume),
-            CullingMode::StencilTwoPass => Some(Method::StencilTwoPass),
-            CullingMode::StencilInvert => Some(Method::StencilInvert),
-            CullingMode::StencilReplace => Some(Method::StencilReplace),
-            CullingMode::Tiled => Some(Method::Tiled),
-            CullingMode::Clustered => Some(Method::Clustered),
-            CullingMode::Auto => None,
-        }
+        super::methods::METHODS.iter().find(|r| r.mode == Some(self)).map(|r| r.method)
     }
 }
 
@@ -712,8 +703,7 @@ impl FramePlan {
     pub fn volume_meshes_drawn(&self) -> Vec<String> {
         let drawn = |kind| {
             self.lights.iter().any(|p| {
-                p.volume == kind
-                    && !matches!(p.method, Method::Fullscreen | Method::Skipped | Method::Tiled | Method::Clustered)
+                p.volume == kind && super::methods::row(p.method).covers == super::methods::Covers::Volume
             })
         };
         [VolumeKind::Sphere, VolumeKind::Cone].into_iter().filter(|&k| drawn(k)).map(|k| k.name().to_string()).collect()

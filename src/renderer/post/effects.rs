@@ -32,6 +32,8 @@ use crate::renderer::stats::Span;
 pub struct Effect {
     /// The pass's label (its debug view's with " view") and its timing span (`gpu_ms`).
     pub name: &'static str,
+    /// Its name in the viewer's figures.
+    pub title: &'static str,
     /// Its fragment function in `post.wgsl`.
     pub fs: &'static str,
     /// Whether it runs (in the lit view; the other views stop before it).
@@ -42,11 +44,23 @@ pub struct Effect {
 
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
-    Effect { name: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
-    Effect { name: "fog", fs: "fs_fog", on: |s| s.fog, view: None },
-    Effect { name: "dof", fs: "fs_dof", on: |s| s.dof, view: Some((DebugView::Coc, "fs_view_coc")) },
-    Effect { name: "vignette", fs: "fs_vignette", on: |s| s.vignette > 0.0, view: None },
-    Effect { name: "aa", fs: "fs_aa", on: |s| s.aa != Aa::Off, view: Some((DebugView::Edges, "fs_view_edges")) },
+    Effect { name: "grading", title: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
+    Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None },
+    Effect {
+        name: "dof",
+        title: "depth of field",
+        fs: "fs_dof",
+        on: |s| s.dof,
+        view: Some((DebugView::Coc, "fs_view_coc")),
+    },
+    Effect { name: "vignette", title: "vignette", fs: "fs_vignette", on: |s| s.vignette > 0.0, view: None },
+    Effect {
+        name: "aa",
+        title: "anti-aliasing",
+        fs: "fs_aa",
+        on: |s| s.aa != Aa::Off,
+        view: Some((DebugView::Edges, "fs_view_edges")),
+    },
 ];
 
 /// Whether effect `name` runs under `s`.

@@ -2,7 +2,7 @@
 //! the marking pass; red: passed Z in the shading pass; green: passed the stencil test, lit),
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
-use crate::renderer::culling::light_pass::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
+use crate::renderer::culling::methods::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;

@@ -7,6 +7,7 @@
 
 pub mod pass;
 
+use crate::renderer::culling::methods::Covers;
 use crate::renderer::culling::plan::{LightPlan, Method, PlanView};
 use crate::renderer::records::LightRecord;
 use crate::renderer::settings::CullingMode;
@@ -557,15 +558,6 @@ pub const PAIR_PER_FOOTPRINT: f64 = 0.31;
 /// at 1,024 lights and more, and with few lights the per-light plan's draws cost little.
 pub const FRAME_RULE_MIN_LIGHTS: usize = 256;
 
-/// Draw calls a per-light method issues.
-fn draws(m: Method) -> f64 {
-    match m {
-        Method::Fullscreen | Method::Volume => 1.0,
-        Method::StencilTwoPass | Method::StencilInvert | Method::StencilReplace => 2.0,
-        Method::Tiled | Method::Clustered | Method::Skipped => 0.0,
-    }
-}
-
 /// Estimated GPU ms of `auto`'s per-light plan and of `clustered` for the frame (per-light,
 /// clustered): draws x [`DRAW_MS`] + each drawn light's footprint x [`FRAGMENT_NS`], against
 /// a full-screen pass + the footprints x [`PAIR_PER_FOOTPRINT`] x [`PAIR_NS`].
@@ -574,12 +566,13 @@ pub fn frame_costs(plans: &[LightPlan], size: (u32, u32)) -> (f64, f64) {
     let mut per_light = 0.0;
     let mut clustered = CLUSTERED_FIXED_MS_PER_MPX * pixels / 1e6;
     for p in plans {
-        let footprint = match p.method {
-            Method::Fullscreen => pixels,
-            Method::Skipped => 0.0,
-            _ => p.screen_share as f64 * pixels,
+        let row = crate::renderer::culling::methods::row(p.method);
+        let footprint = match row.covers {
+            Covers::Screen => pixels,
+            Covers::Nothing => 0.0,
+            Covers::Volume => p.screen_share as f64 * pixels,
         };
-        per_light += draws(p.method) * DRAW_MS + footprint * FRAGMENT_NS * 1e-6;
+        per_light += row.draws_per_light as f64 * DRAW_MS + footprint * FRAGMENT_NS * 1e-6;
         if p.method != Method::Skipped {
             clustered += (p.screen_share as f64 * pixels).min(pixels) * PAIR_PER_FOOTPRINT * PAIR_NS * 1e-6;
         }

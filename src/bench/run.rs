@@ -46,22 +46,69 @@ pub(crate) fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shado
 }
 
 /// Runs the sweep; `progress(done, total, label)` is called before each configuration.
-/// Runs the sweep. A configuration that cannot be built or rendered for this scene on this
-/// adapter is skipped with its reason (a `path` row is kept instead, saying why); only a failure
-/// to open the scene, or one after a configuration's first frame rendered, ends the run.
+/// A configuration that cannot be built or rendered for this scene on this adapter is skipped
+/// with its reason (a `path` row is kept instead, saying why); only a failure to open the scene,
+/// or one after a configuration's first frame rendered, ends the run. The steps:
+/// 1. prepare every configuration ([`prepare`]);
+/// 2. `frames` timed rounds, interleaved;
+/// 3. count, and compare with the reference, each configuration ([`measure`]).
 pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<BenchRun> {
     let list = configs(o);
     let frames = o.frames.max(1);
     // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.
     let steps = list.len() * 2 + frames;
+    let (mut prepared, failed, skipped) = prepare(gpu, o, &list, &mut |k, label| progress(k, steps, label))?;
+    // Timed rounds, interleaved: each round renders every configuration once, so background
+    // load on a shared machine falls on all of them alike and the ratios stay comparable.
+    for round in 0..frames {
+        progress(list.len() + round, steps, &format!("timed round {}/{frames}", round + 1));
+        for (cfg, scene, renderer, times) in prepared.iter_mut() {
+            // Timed without counting (occlusion queries, the tiled pass's per-light atomics):
+            // the counts come from the counted render below.
+            let timed = Settings { count_fragments: false, ..cfg.settings.clone() };
+            times.push(render_image(gpu, renderer, scene, &timed, cfg.size.0, cfg.size.1)?.1);
+        }
+    }
+    let mut refs: HashMap<RefKey, Reference> = HashMap::new();
+    let mut rows = Vec::new();
+    for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
+        progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
+        rows.push(measure(gpu, o, cfg, &scene, &mut renderer, &times, &mut refs)?);
+    }
+    for (cfg, lights, error) in failed {
+        rows.push(failed_row(cfg, &o.scene, lights, error));
+    }
+    fill_path_siblings(&mut rows);
+    progress(steps, steps, "done");
+    mark_pareto(&mut rows);
+    add_limits(&mut rows);
+    Ok(BenchRun { rows, skipped })
+}
+
+/// A configuration ready to time: its scene, its renderer (warm), its timed frames' stats.
+type Ready<'c> = (&'c Config, crate::Scene, Renderer, Vec<FrameStats>);
+
+/// The references, by scene, light count, size, radius factor (bits) and shadows.
+type RefKey<'a> = (&'a str, usize, (u32, u32), u64, ShadowMode);
+
+/// Prepares every configuration: its scene (a file is read once per light count), a renderer
+/// and a warm-up frame (shader JIT). Returns those ready, the `path` rows that failed (with the
+/// scene's light count and why) and the configurations skipped.
+#[allow(clippy::type_complexity)]
+fn prepare<'c>(
+    gpu: &Gpu,
+    o: &'c BenchOptions,
+    list: &'c [Config],
+    progress: &mut dyn FnMut(usize, &str),
+) -> Result<(Vec<Ready<'c>>, Vec<(&'c Config, usize, String)>, Vec<Skipped>)> {
     // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT). A file is
     // read once per light count.
-    let mut prepared = Vec::new();
+    let mut prepared: Vec<Ready<'c>> = Vec::new();
     let mut failed: Vec<(&Config, usize, String)> = Vec::new();
     let mut skipped: Vec<Skipped> = Vec::new();
     let mut scenes: HashMap<(&str, usize, u64), crate::Scene> = HashMap::new();
     for (k, cfg) in list.iter().enumerate() {
-        progress(k, steps, &format!("prepare {}", cfg.label));
+        progress(k, &format!("prepare {}", cfg.label));
         let name = cfg.scene.unwrap_or(&o.scene);
         let lights = (!o.fixed_lights || cfg.scene.is_some()).then_some(cfg.lights);
         let scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
@@ -99,118 +146,106 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         }
         prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
     }
-    // Timed rounds, interleaved: each round renders every configuration once, so background
-    // load on a shared machine falls on all of them alike and the ratios stay comparable.
-    for round in 0..frames {
-        progress(list.len() + round, steps, &format!("timed round {}/{frames}", round + 1));
-        for (cfg, scene, renderer, times) in prepared.iter_mut() {
-            // Timed without counting (occlusion queries, the tiled pass's per-light atomics):
-            // the counts come from the counted render below.
-            let timed = Settings { count_fragments: false, ..cfg.settings.clone() };
-            times.push(render_image(gpu, renderer, scene, &timed, cfg.size.0, cfg.size.1)?.1);
-        }
+    Ok((prepared, failed, skipped))
+}
+
+/// Counts configuration `cfg`'s frame and compares it with its reference (rendered once per
+/// [`RefKey`] into `refs`): its row, with the median of its timed frames `times`.
+fn measure<'c>(
+    gpu: &Gpu,
+    o: &'c BenchOptions,
+    cfg: &'c Config,
+    scene: &crate::Scene,
+    renderer: &mut Renderer,
+    times: &[FrameStats],
+    refs: &mut HashMap<RefKey<'c>, Reference>,
+) -> Result<Row> {
+    let (w, h) = cfg.size;
+    // The `shadows` group (its `none` row too) is held against the finest shadows (of every
+    // light for the cube rows).
+    let shadows = match cfg.group {
+        "shadows" if cfg.settings.shadows == ShadowMode::All => ShadowMode::All,
+        "shadows" => ShadowMode::Spots,
+        _ => ShadowMode::None,
+    };
+    let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);
+    let reference = match refs.entry(key) {
+        std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+        std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, scene, cfg.size, shadows)?),
+    };
+    let pick = |f: &dyn Fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
+    let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
+    let (image, stats) = render_image(gpu, renderer, scene, &counted, w, h)?;
+    let (d, s) = renderer.read_accumulation(gpu)?;
+    let figures = path_figures(gpu, &cfg.settings, renderer, &stats)?;
+    // The forward paths have no light accumulation: their error is FLIP's alone.
+    let accumulated = stats.forward_path.is_none();
+    // FLIP compares output images; a frame through the post chain is not the reference's
+    // picture by design, so its row has none (NaN). The light error and PSNR are of the
+    // accumulation, before post, in every row.
+    let chain = crate::renderer::post::chain_active(&cfg.settings);
+    let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
+    let mut max_err = 0f32;
+    let mut sq = 0f64;
+    for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
+        let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
+        max_err = max_err.max(e);
+        sq += (e as f64).powi(2);
     }
-    // By scene, light count, size and radius factor (bits).
-    type RefKey<'a> = (&'a str, usize, (u32, u32), u64, ShadowMode);
-    let mut refs: HashMap<RefKey, Reference> = HashMap::new();
-    let mut rows = Vec::new();
-    for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
-        progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
-        let (w, h) = cfg.size;
-        // The `shadows` group (its `none` row too) is held against the finest shadows (of every
-        // light for the cube rows).
-        let shadows = match cfg.group {
-            "shadows" if cfg.settings.shadows == ShadowMode::All => ShadowMode::All,
-            "shadows" => ShadowMode::Spots,
-            _ => ShadowMode::None,
-        };
-        let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);
-        let reference = match refs.entry(key) {
-            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => e.insert(reference(gpu, &scene, cfg.size, shadows)?),
-        };
-        let pick = |f: &dyn Fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
-        let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
-        let (image, stats) = render_image(gpu, &mut renderer, &scene, &counted, w, h)?;
-        let (d, s) = renderer.read_accumulation(gpu)?;
-        let figures = path_figures(gpu, &cfg.settings, &renderer, &stats)?;
-        // The forward paths have no light accumulation: their error is FLIP's alone.
-        let accumulated = stats.forward_path.is_none();
-        // FLIP compares output images; a frame through the post chain is not the reference's
-        // picture by design, so its row has none (NaN). The light error and PSNR are of the
-        // accumulation, before post, in every row.
-        let chain = crate::renderer::post::chain_active(&cfg.settings);
-        let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
-        let mut max_err = 0f32;
-        let mut sq = 0f64;
-        for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
-            let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
-            max_err = max_err.max(e);
-            sq += (e as f64).powi(2);
-        }
-        let mse = sq / reference.light.len().max(1) as f64;
-        let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
-        if cfg.settings.path != crate::renderer::RenderPath::Deferred {
-            // The light error compares deferred's accumulation (ambient + sun, specular times
-            // reflectance) with the reference's; the other paths hold no such buffer (the light
-            // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
-            // the final picture.
-            (max_err, psnr) = (f32::NAN, f64::NAN);
-        }
-        rows.push(Row {
-            group: cfg.group.into(),
-            label: cfg.label.clone(),
-            scene: cfg.scene.unwrap_or(&o.scene).to_string(),
-            culling: cfg.settings.culling.name(),
-            layout: stats.gbuffer_layout.clone(),
-            accumulation: cfg.settings.accumulation.name(),
-            reversed_z: cfg.settings.reversed_z,
-            depth_format: stats.depth_stencil_format.clone(),
-            light_cutoff: cfg.settings.light_cutoff,
-            sphere_subdivisions: cfg.settings.sphere_subdivisions,
-            cone_sides: cfg.settings.cone_sides,
-            volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
-            lights: scene.lights.len(),
-            radius_scale: cfg.radius_scale,
-            width: w,
-            height: h,
-            gbuffer_ms: pick(&|s| s.gpu_ms.gbuffer),
-            lighting_ms: pick(&|s| s.gpu_ms.lighting),
-            compose_ms: pick(&|s| s.gpu_ms.compose),
-            forward_ms: pick(&|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
-            bloom_ms: pick(&|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
-            exposure_ms: pick(&|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
-            tonemap_ms: pick(&|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
-            effects_ms: crate::renderer::post::effects::EFFECTS
-                .iter()
-                .map(|e| pick(&|s| s.gpu_ms.effect(e.name).or(s.gpu_ms.total.map(|_| 0.0))))
-                .collect(),
-            total_ms: pick(&|s| s.gpu_ms.total),
-            draw_calls: times.last().map_or(0, |s| s.draw_calls),
-            light_batches: times.last().map_or(0, |s| s.light_batches),
-            coverage_fragments: stats.coverage_fragments.unwrap_or(0),
-            shaded_fragments: stats.shaded_fragments.unwrap_or_else(|| forward_shaded(&stats)),
-            ideal_fragments: stats.ideal_fragments.unwrap_or(0),
-            efficiency: stats.efficiency.unwrap_or(f64::NAN),
-            gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
-            flip_mean,
-            max_abs_light_error: if accumulated { max_err } else { f32::NAN },
-            psnr_db: if accumulated { psnr } else { f64::NAN },
-            pareto: false,
-            reference: reference_culling(scene.lights.len(), cfg.size).name(),
-            limit_ratio: f64::NAN,
-            path: figures,
-            shadow: ShadowFigures::of(&stats, &times),
-        });
+    let mse = sq / reference.light.len().max(1) as f64;
+    let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+    if cfg.settings.path != crate::renderer::RenderPath::Deferred {
+        // The light error compares deferred's accumulation (ambient + sun, specular times
+        // reflectance) with the reference's; the other paths hold no such buffer (the light
+        // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
+        // the final picture.
+        (max_err, psnr) = (f32::NAN, f64::NAN);
     }
-    for (cfg, lights, error) in failed {
-        rows.push(failed_row(cfg, &o.scene, lights, error));
-    }
-    fill_path_siblings(&mut rows);
-    progress(steps, steps, "done");
-    mark_pareto(&mut rows);
-    add_limits(&mut rows);
-    Ok(BenchRun { rows, skipped })
+    Ok(Row {
+        group: cfg.group.into(),
+        label: cfg.label.clone(),
+        scene: cfg.scene.unwrap_or(&o.scene).to_string(),
+        culling: cfg.settings.culling.name(),
+        layout: stats.gbuffer_layout.clone(),
+        accumulation: cfg.settings.accumulation.name(),
+        reversed_z: cfg.settings.reversed_z,
+        depth_format: stats.depth_stencil_format.clone(),
+        light_cutoff: cfg.settings.light_cutoff,
+        sphere_subdivisions: cfg.settings.sphere_subdivisions,
+        cone_sides: cfg.settings.cone_sides,
+        volumes: if stats.volume_meshes.is_empty() { "-".into() } else { stats.volume_meshes.join("+") },
+        lights: scene.lights.len(),
+        radius_scale: cfg.radius_scale,
+        width: w,
+        height: h,
+        gbuffer_ms: pick(&|s| s.gpu_ms.gbuffer),
+        lighting_ms: pick(&|s| s.gpu_ms.lighting),
+        compose_ms: pick(&|s| s.gpu_ms.compose),
+        forward_ms: pick(&|s| s.gpu_ms.forward.or(s.gpu_ms.total.map(|_| 0.0))),
+        bloom_ms: pick(&|s| s.gpu_ms.bloom.or(s.gpu_ms.total.map(|_| 0.0))),
+        exposure_ms: pick(&|s| s.gpu_ms.exposure.or(s.gpu_ms.total.map(|_| 0.0))),
+        tonemap_ms: pick(&|s| s.gpu_ms.tonemap.or(s.gpu_ms.total.map(|_| 0.0))),
+        effects_ms: crate::renderer::post::effects::EFFECTS
+            .iter()
+            .map(|e| pick(&|s| s.gpu_ms.effect(e.name).or(s.gpu_ms.total.map(|_| 0.0))))
+            .collect(),
+        total_ms: pick(&|s| s.gpu_ms.total),
+        draw_calls: times.last().map_or(0, |s| s.draw_calls),
+        light_batches: times.last().map_or(0, |s| s.light_batches),
+        coverage_fragments: stats.coverage_fragments.unwrap_or(0),
+        shaded_fragments: stats.shaded_fragments.unwrap_or_else(|| forward_shaded(&stats)),
+        ideal_fragments: stats.ideal_fragments.unwrap_or(0),
+        efficiency: stats.efficiency.unwrap_or(f64::NAN),
+        gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
+        flip_mean,
+        max_abs_light_error: if accumulated { max_err } else { f32::NAN },
+        psnr_db: if accumulated { psnr } else { f64::NAN },
+        pareto: false,
+        reference: reference_culling(scene.lights.len(), cfg.size).name(),
+        limit_ratio: f64::NAN,
+        path: figures,
+        shadow: ShadowFigures::of(&stats, times),
+    })
 }
 
 /// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.

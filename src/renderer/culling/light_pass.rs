@@ -4,9 +4,9 @@
 //!
 //! Each culling method's draws are its row of [`METHODS`] (`culling/methods.rs`).
 
+use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
-use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
@@ -156,26 +156,11 @@ impl LightPass {
     /// Returns the light draws issued (marks, shades and stencil clears; not the ambient + sun
     /// draw).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> u64 {
-        let t = f.targets;
         let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
         let blocks = n.div_ceil(chunk).max(1);
         let batches = &f.plan.batches;
-        let size = (t.width, t.height);
-        let triangles = (f.volumes.sphere.indices.len() as u64 / 3, f.volumes.cone.indices.len() as u64 / 3);
-        // Estimated bytes llvmpipe bins for light `i`'s `draws` draws (its query included).
-        let cost = |i: usize, draws: u64| -> u64 {
-            let p = &f.plan.lights[i];
-            let tris = match p.volume {
-                crate::renderer::VolumeKind::Sphere => triangles.0,
-                crate::renderer::VolumeKind::Cone => triangles.1,
-            };
-            match methods::row(p.method).covers {
-                Covers::Screen => binned_bytes(p, size, draws, 1),
-                Covers::Nothing => binned_bytes(p, size, 0, 0),
-                Covers::Volume => binned_bytes(p, size, draws, tris),
-            }
-        };
+        let cost = |i: usize, draws: u64| light_binned_bytes(f, i, draws);
         let mut replace_counter = 0u32;
         let mut draws = 0u64;
         for b in 0..blocks {
@@ -275,5 +260,21 @@ impl LightPass {
             }
         }
         draws
+    }
+}
+
+/// Estimated bytes llvmpipe bins for light `i`'s `draws` draws (its query included): its
+/// method's triangles over its screen rectangle (`stats::binned_bytes`).
+fn light_binned_bytes(f: &FrameInputs<'_>, i: usize, draws: u64) -> u64 {
+    let p = &f.plan.lights[i];
+    let size = (f.targets.width, f.targets.height);
+    let mesh = match p.volume {
+        crate::renderer::VolumeKind::Sphere => &f.volumes.sphere,
+        crate::renderer::VolumeKind::Cone => &f.volumes.cone,
+    };
+    match methods::row(p.method).covers {
+        Covers::Screen => binned_bytes(p, size, draws, 1),
+        Covers::Nothing => binned_bytes(p, size, 0, 0),
+        Covers::Volume => binned_bytes(p, size, draws, mesh.indices.len() as u64 / 3),
     }
 }

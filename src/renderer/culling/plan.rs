@@ -367,18 +367,7 @@ pub fn plan_sphere_ahead(
     // sphere's box (the mesh holds that sphere) and the outer's (its vertices lie on it). Where
     // the two boxes disagree (on being on screen, or on `auto`'s threshold) the vertices are
     // projected as the hull path projects them, so both paths decide alike.
-    let vertex_box = || {
-        let pos = Vec3::from(light.position);
-        let (mut vlo, mut vhi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-        for v in &mesh.vertices {
-            let q =
-                *p * volumes::place(*v, pos, light.radius, Vec3::from(light.direction), light.tan_outer).extend(1.0);
-            let n = Vec2::new(q.x, q.y) / q.w;
-            vlo = vlo.min(n);
-            vhi = vhi.max(n);
-        }
-        (vlo.as_dvec2(), vhi.as_dvec2())
-    };
+    let vertex_box = || projected_vertex_box(light, mesh, p);
     let on_screen = |(lo, hi): (DVec2, DVec2)| lo.x < 1.0 && lo.y < 1.0 && hi.x > -1.0 && hi.y > -1.0;
     // The inner box lies in the outer one: wholly on screen if the outer one is.
     let inner_box = bounds(inner);
@@ -414,6 +403,20 @@ pub fn plan_sphere_ahead(
     let screen_rect = Some((lo.as_vec2(), hi.as_vec2()));
     let depths = light_depths(light);
     Some(LightPlan { method, volume, crosses_near: false, crosses_far: false, screen_share, screen_rect, depths })
+}
+
+/// The NDC box of `light`'s bounding mesh's vertices under projection `p`, as the hull path
+/// projects them.
+fn projected_vertex_box(light: &LightRecord, mesh: &volumes::VolumeMesh, p: &Mat4) -> (DVec2, DVec2) {
+    let pos = Vec3::from(light.position);
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+    for v in &mesh.vertices {
+        let q = *p * volumes::place(*v, pos, light.radius, Vec3::from(light.direction), light.tan_outer).extend(1.0);
+        let n = Vec2::new(q.x, q.y) / q.w;
+        lo = lo.min(n);
+        hi = hi.max(n);
+    }
+    (lo.as_dvec2(), hi.as_dvec2())
 }
 
 /// Area (NDC) on screen of an ellipse given by its bounding box (`lo`, `hi`: an ellipse's box is
@@ -702,9 +705,9 @@ impl FramePlan {
     /// the light types present (a scene without narrow spots draws no cone).
     pub fn volume_meshes_drawn(&self) -> Vec<String> {
         let drawn = |kind| {
-            self.lights.iter().any(|p| {
-                p.volume == kind && super::methods::row(p.method).covers == super::methods::Covers::Volume
-            })
+            self.lights
+                .iter()
+                .any(|p| p.volume == kind && super::methods::row(p.method).covers == super::methods::Covers::Volume)
         };
         [VolumeKind::Sphere, VolumeKind::Cone].into_iter().filter(|&k| drawn(k)).map(|k| k.name().to_string()).collect()
     }
@@ -752,6 +755,32 @@ pub fn long_forward_list_warnings(path: Option<u32>, blended: Option<&ForwardSta
 
 /// Size in pixels of the forward pass's screen tiles.
 pub const FORWARD_TILE: u32 = 16;
+
+/// The forward pass's screen tiles ([`FORWARD_TILE`] pixels) at `size`: (tiles across, down,
+/// each tile's lights in light order), a light in every tile its screen rectangle, widened by a
+/// pixel against rounding, covers; only the lights `wanted` marks.
+fn forward_tiles(plans: &[LightPlan], wanted: &[bool], (w, h): (u32, u32)) -> (u32, u32, Vec<Vec<u32>>) {
+    let (tx, ty) = (w.div_ceil(FORWARD_TILE), h.div_ceil(FORWARD_TILE));
+    let mut tiles: Vec<Vec<u32>> = vec![Vec::new(); (tx * ty) as usize];
+    for (k, p) in plans.iter().enumerate() {
+        let Some((lo, hi)) = p.screen_rect.filter(|_| wanted[k]) else { continue };
+        // NDC to pixels (y down), widened by a pixel; a fragment's centre lies inside.
+        let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
+        let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
+        let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / FORWARD_TILE;
+        let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
+        let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
+        if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
+            continue;
+        }
+        for y in tile(y0, h)..=tile(y1, h) {
+            for x in tile(x0, w)..=tile(x1, w) {
+                tiles[(y * tx + x) as usize].push(k as u32);
+            }
+        }
+    }
+    (tx, ty, tiles)
+}
 
 /// Sorts the objects into the G-buffer pass (opaque, masked) and the forward pass (blended,
 /// back to front by the view depth of their bounding sphere's centre), and builds the forward
@@ -832,26 +861,7 @@ fn plan_draws(
     }
     camera.forward_tiles = [0; 4];
     if mode == ForwardLights::Tiled && !forward.is_empty() {
-        let (w, h) = view.size;
-        let (tx, ty) = (w.div_ceil(FORWARD_TILE), h.div_ceil(FORWARD_TILE));
-        let mut tiles: Vec<Vec<u32>> = vec![Vec::new(); (tx * ty) as usize];
-        for (k, p) in plans.iter().enumerate() {
-            let Some((lo, hi)) = p.screen_rect.filter(|_| reaches_glass[k]) else { continue };
-            // NDC to pixels (y down), widened by a pixel; a fragment's centre lies inside.
-            let px = |x: f32| ((x + 1.0) * 0.5 * w as f32).floor();
-            let py = |y: f32| ((1.0 - y) * 0.5 * h as f32).floor();
-            let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / FORWARD_TILE;
-            let (x0, x1) = (px(lo.x) - 1.0, px(hi.x) + 1.0);
-            let (y0, y1) = (py(hi.y) - 1.0, py(lo.y) + 1.0);
-            if x1 < 0.0 || y1 < 0.0 || x0 >= w as f32 || y0 >= h as f32 {
-                continue;
-            }
-            for y in tile(y0, h)..=tile(y1, h) {
-                for x in tile(x0, w)..=tile(x1, w) {
-                    tiles[(y * tx + x) as usize].push(k as u32);
-                }
-            }
-        }
+        let (tx, ty, mut tiles) = forward_tiles(plans, &reaches_glass, view.size);
         let entries: usize = tiles.iter().map(Vec::len).sum();
         if lists.len() + 2 * tiles.len() + entries > MAX_FORWARD_LIST_ENTRIES {
             // Too many to upload in one storage buffer: the pass walks the object lists alone

@@ -387,7 +387,13 @@ impl ForwardPathsPass {
     /// Records the path's passes into the HDR scene colour (resolved there with MSAA), the
     /// blended surfaces after them, and the compose span's first stamp; returns what the
     /// frame's stats report (fragments and times are filled in by [`Self::read`] and
-    /// `Queries::read`).
+    /// `Queries::read`). The steps:
+    /// 1. depth (the pre-pass, or multi-pass's depth pass);
+    /// 2. shading: single-pass (each object with its light list), or multi-pass's ambient +
+    ///    sun per object;
+    /// 3. multi-pass: one additive draw per (object, light) pair, scissored to the light's
+    ///    screen rectangle;
+    /// 4. blended surfaces, back to front; multisampled with MSAA (and resolved).
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -406,17 +412,70 @@ impl ForwardPathsPass {
             Some(m) => (&m.color, &m.depth),
             None => (hdr_view, &f.targets.depth),
         };
+        let [r, g, b, a] = pf.background.map(f64::from);
+        let at = Attachments {
+            color,
+            depth,
+            hdr: hdr_view,
+            msaa: msaa.is_some(),
+            background: wgpu::Color { r, g, b, a },
+            far: f.far_depth() as f32,
+        };
         let multipass = s.path == RenderPath::ForwardMultipass;
         let prepass = multipass || s.depth_prepass;
-        let count = s.count_fragments;
-        let [r, g, b, a] = pf.background.map(f64::from);
-        let opaque = &f.plan.draws.gbuffer;
+        let mut stats = self.path_stats(f, pf, samples, prepass);
+        // The last pass over the multisampled colour resolves it (the blended pass, when the
+        // frame has one).
+        let resolve_in_blended = at.msaa && pf.blended;
+        if prepass {
+            self.depth_pass(encoder, f, &at, &pipes, &mut stats);
+        }
+        let last = at.msaa && !resolve_in_blended && !multipass;
+        self.shading_pass(encoder, f, &at, &pipes, (multipass, prepass, last), &mut stats);
+        if multipass {
+            self.pairs_pass(encoder, f, pf.lists, &at, &pipes, at.msaa && !resolve_in_blended, &mut stats);
+        }
+        // The compose span starts here, as deferred's HDR compose starts it: blended surfaces,
+        // then tonemap or the post chain.
+        if f.times {
+            drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward compose begin"),
+                color_attachments: &[crate::renderer::targets::attachment(hdr_view, None)],
+                depth_stencil_attachment: None,
+                timestamp_writes: f.timestamps(Some(crate::renderer::surfaces::compose::SPAN), None),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            }));
+        }
+        if pf.blended {
+            if at.msaa {
+                let blended = crate::renderer::surfaces::blended::SPAN;
+                let query = f.forward_counts.then_some((&f.queries.forward, 0));
+                let (label, colour) = ("forward (blended, multisampled)", [at.color(false, true)]);
+                let mut pass = begin(encoder, f, label, &colour, at.depth(false), blended, query);
+                f.scene.draw(&mut pass, &f.plan.draws.forward, &pipes.blended);
+                if query.is_some() {
+                    pass.end_occlusion_query();
+                }
+            } else {
+                blended_pass.encode(encoder, f);
+            }
+        }
+        if s.count_fragments {
+            encoder.resolve_query_set(&self.queries, 0..QUERIES, &self.resolve, 0);
+            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, QUERIES as u64 * 8);
+        }
+        Ok(stats)
+    }
+
+    /// The path's figures before its passes are recorded: its lists and its targets.
+    fn path_stats(&self, f: &FrameInputs<'_>, pf: &PathFrame<'_>, samples: u32, prepass: bool) -> ForwardPathStats {
         let lists = pf.lists;
         let depth_bytes = self.key.depth_format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)).unwrap_or(4)
             + self.key.depth_format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0);
         let hdr_bytes = HDR_FORMAT.block_copy_size(None).unwrap_or(8);
         let mut stats = ForwardPathStats {
-            path: s.path,
+            path: f.settings.path,
             samples,
             depth_prepass: prepass,
             objects: lists.objects,
@@ -429,7 +488,7 @@ impl ForwardPathsPass {
         if pf.gbuffer_for_post {
             stats.passes.push(PathPass {
                 name: "g-buffer (post inputs)".into(),
-                draw_calls: opaque.len() as u64,
+                draw_calls: f.plan.draws.gbuffer.len() as u64,
                 span: Some(crate::renderer::surfaces::gbuffer::SPAN),
                 ..Default::default()
             });
@@ -445,208 +504,145 @@ impl ForwardPathsPass {
         if samples > 1 {
             stats.targets.push(PathTarget { name: "hdr colour (resolved)".into(), bytes_per_pixel: hdr_bytes });
         }
-        let ops_depth = |clear: bool| wgpu::RenderPassDepthStencilAttachment {
-            view: depth,
-            depth_ops: Some(wgpu::Operations {
-                load: if clear { wgpu::LoadOp::Clear(f.far_depth() as f32) } else { wgpu::LoadOp::Load },
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: Some(wgpu::Operations {
-                load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
-                store: wgpu::StoreOp::Store,
-            }),
-        };
-        // The last pass over the multisampled colour resolves it (the blended pass, when the
-        // frame has one).
-        let resolve_in_blended = msaa.is_some() && pf.blended;
-        let color_att = |clear: bool, last: bool| {
-            Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: if last && msaa.is_some() { Some(hdr_view) } else { None },
-                ops: wgpu::Operations {
-                    load: if clear { wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }) } else { wgpu::LoadOp::Load },
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
-        let query = |i: u32| (count).then_some(i);
-        let draw = |pass: &mut wgpu::RenderPass<'_>, list: &[Draw], pipelines: &[wgpu::RenderPipeline]| {
-            f.scene.draw(pass, list, pipelines);
-        };
-        // 1. Depth (the pre-pass, or multi-pass's depth pass).
-        if prepass {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("forward depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(ops_depth(true)),
-                timestamp_writes: f.timestamps(Some(DEPTH), Some(DEPTH)),
-                occlusion_query_set: count.then_some(&self.queries),
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            if count {
-                pass.begin_occlusion_query(0);
-            }
-            draw(&mut pass, opaque, &pipes.depth);
-            if count {
-                pass.end_occlusion_query();
-            }
-            stats.passes.push(PathPass {
-                name: "depth".into(),
-                draw_calls: opaque.len() as u64,
-                span: Some(DEPTH),
-                query: query(0),
-                ..Default::default()
-            });
+        stats
+    }
+
+    /// Occlusion query `index` of the path's set when the frame counts fragments.
+    fn query(&self, f: &FrameInputs<'_>, index: u32) -> Option<(&wgpu::QuerySet, u32)> {
+        f.settings.count_fragments.then_some((&self.queries, index))
+    }
+
+    /// Step 1: the opaque objects' depth (query 0).
+    fn depth_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        at: &Attachments<'_>,
+        pipes: &Pipelines,
+        stats: &mut ForwardPathStats,
+    ) {
+        let opaque = &f.plan.draws.gbuffer;
+        let query = self.query(f, 0);
+        let mut pass = begin(encoder, f, "forward depth", &[], at.depth(true), DEPTH, query);
+        f.scene.draw(&mut pass, opaque, &pipes.depth);
+        if query.is_some() {
+            pass.end_occlusion_query();
         }
-        // 2. Shading: single-pass (each object with its light list), or multi-pass's ambient +
-        //    sun per object.
-        {
-            let last = msaa.is_some() && !resolve_in_blended && !multipass;
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(if multipass { "forward ambient + sun" } else { "forward single-pass" }),
-                color_attachments: &[color_att(true, last)],
-                depth_stencil_attachment: Some(ops_depth(!prepass)),
-                timestamp_writes: f.timestamps(Some(SHADE), Some(SHADE)),
-                occlusion_query_set: count.then_some(&self.queries),
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            if count {
-                pass.begin_occlusion_query(1);
-            }
-            let pipelines = match (multipass, prepass) {
-                (true, _) => &pipes.base,
-                (false, true) => &pipes.single,
-                (false, false) => &pipes.single_no_prepass,
-            };
-            // After a depth pass, every surface at the kept depth passes LessEqual: of
-            // coincident surfaces (equal depth) the last drawn would win, where the depth pass
-            // (Less) and the G-buffer pass keep the first. Drawn in reverse, the first is drawn
-            // last and wins, as in deferred shading.
-            if multipass {
-                // Each object's stencil reference marks its pixels for its pairs.
-                pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
-                pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-                for &(i, p, m) in opaque.iter().rev() {
-                    let Some((range, base)) = f.scene.draws.get(i) else { continue };
-                    pass.set_pipeline(&pipelines[p]);
-                    if let Some(g) = f.scene.materials.get(m) {
-                        pass.set_bind_group(1, g, &[]);
-                    }
-                    pass.set_stencil_reference(i as u32 & 0xff);
-                    pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
-                }
-            } else if prepass {
-                let reversed: Vec<Draw> = opaque.iter().rev().copied().collect();
-                draw(&mut pass, &reversed, pipelines);
-            } else {
-                draw(&mut pass, opaque, pipelines);
-            }
-            if count {
-                pass.end_occlusion_query();
-            }
-            stats.passes.push(PathPass {
-                name: if multipass { "ambient + sun" } else { "shading" }.into(),
-                draw_calls: opaque.len() as u64,
-                span: Some(SHADE),
-                query: query(1),
-                ..Default::default()
-            });
-        }
-        // 3. Multi-pass: one additive draw per (object, light) pair, scissored to the light's
-        //    screen rectangle.
+        stats.passes.push(PathPass {
+            name: "depth".into(),
+            draw_calls: opaque.len() as u64,
+            span: Some(DEPTH),
+            query: query.map(|(_, i)| i),
+            ..Default::default()
+        });
+    }
+
+    /// Step 2: single-pass shading, or multi-pass's ambient + sun (query 1). `last`: this pass
+    /// resolves the multisampled colour.
+    fn shading_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        at: &Attachments<'_>,
+        pipes: &Pipelines,
+        (multipass, prepass, last): (bool, bool, bool),
+        stats: &mut ForwardPathStats,
+    ) {
+        let opaque = &f.plan.draws.gbuffer;
+        let label = if multipass { "forward ambient + sun" } else { "forward single-pass" };
+        let colour = [at.color(true, last)];
+        let query = self.query(f, 1);
+        let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, query);
+        let pipelines = match (multipass, prepass) {
+            (true, _) => &pipes.base,
+            (false, true) => &pipes.single,
+            (false, false) => &pipes.single_no_prepass,
+        };
+        // After a depth pass, every surface at the kept depth passes LessEqual: of coincident
+        // surfaces (equal depth) the last drawn would win, where the depth pass (Less) and the
+        // G-buffer pass keep the first. Drawn in reverse, the first is drawn last and wins, as
+        // in deferred shading.
         if multipass {
-            let last = msaa.is_some() && !resolve_in_blended;
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("forward lights (object, light) pairs"),
-                color_attachments: &[color_att(false, last)],
-                depth_stencil_attachment: Some(ops_depth(false)),
-                timestamp_writes: f.timestamps(Some(PAIRS), Some(PAIRS)),
-                occlusion_query_set: count.then_some(&self.queries),
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &f.frame.group, &[]);
+            // Each object's stencil reference marks its pixels for its pairs.
             pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
             pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            if count {
-                pass.begin_occlusion_query(2);
-            }
-            let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
-            for (j, pair) in lists.pairs.iter().enumerate() {
-                let (i, p, m) = pair.draw;
+            for &(i, p, m) in opaque.iter().rev() {
                 let Some((range, base)) = f.scene.draws.get(i) else { continue };
-                if p != pipe {
-                    pass.set_pipeline(&pipes.pair[p]);
-                    pipe = p;
-                }
-                if m != mat {
-                    if let Some(g) = f.scene.materials.get(m) {
-                        pass.set_bind_group(1, g, &[]);
-                    }
-                    mat = m;
+                pass.set_pipeline(&pipelines[p]);
+                if let Some(g) = f.scene.materials.get(m) {
+                    pass.set_bind_group(1, g, &[]);
                 }
                 pass.set_stencil_reference(i as u32 & 0xff);
-                let [x, y, w, h] = pair.scissor;
-                pass.set_scissor_rect(x, y, w, h);
-                let instance = lists.pair_base + j as u32;
-                pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+                pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
             }
-            if count {
-                pass.end_occlusion_query();
+        } else if prepass {
+            let reversed: Vec<Draw> = opaque.iter().rev().copied().collect();
+            f.scene.draw(&mut pass, &reversed, pipelines);
+        } else {
+            f.scene.draw(&mut pass, opaque, pipelines);
+        }
+        if query.is_some() {
+            pass.end_occlusion_query();
+        }
+        stats.passes.push(PathPass {
+            name: if multipass { "ambient + sun" } else { "shading" }.into(),
+            draw_calls: opaque.len() as u64,
+            span: Some(SHADE),
+            query: query.map(|(_, i)| i),
+            ..Default::default()
+        });
+    }
+
+    /// Step 3: multi-pass's (object, light) pairs, each scissored to its light's rectangle and
+    /// stencil-tested against its object's mark (query 2). `last`: this pass resolves the
+    /// multisampled colour.
+    #[allow(clippy::too_many_arguments)]
+    fn pairs_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        lists: &ForwardPathLists,
+        at: &Attachments<'_>,
+        pipes: &Pipelines,
+        last: bool,
+        stats: &mut ForwardPathStats,
+    ) {
+        let colour = [at.color(false, last)];
+        let label = "forward lights (object, light) pairs";
+        let query = self.query(f, 2);
+        let mut pass = begin(encoder, f, label, &colour, at.depth(false), PAIRS, query);
+        pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+        pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
+        for (j, pair) in lists.pairs.iter().enumerate() {
+            let (i, p, m) = pair.draw;
+            let Some((range, base)) = f.scene.draws.get(i) else { continue };
+            if p != pipe {
+                pass.set_pipeline(&pipes.pair[p]);
+                pipe = p;
             }
-            stats.passes.push(PathPass {
-                name: "lights (object, light) pairs".into(),
-                draw_calls: lists.pairs.len() as u64,
-                span: Some(PAIRS),
-                query: query(2),
-                ..Default::default()
-            });
-        }
-        // The compose span starts here, as deferred's HDR compose starts it: blended surfaces,
-        // then tonemap or the post chain.
-        if f.times {
-            drop(encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("forward compose begin"),
-                color_attachments: &[crate::renderer::targets::attachment(hdr_view, None)],
-                depth_stencil_attachment: None,
-                timestamp_writes: f.timestamps(Some(crate::renderer::surfaces::compose::SPAN), None),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            }));
-        }
-        // 4. Blended surfaces, back to front, as today; multisampled with MSAA (and resolved).
-        if pf.blended {
-            if msaa.is_some() {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("forward (blended, multisampled)"),
-                    color_attachments: &[color_att(false, true)],
-                    depth_stencil_attachment: Some(ops_depth(false)),
-                    timestamp_writes: f.timestamps(
-                        Some(crate::renderer::surfaces::blended::SPAN),
-                        Some(crate::renderer::surfaces::blended::SPAN),
-                    ),
-                    occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
-                    multiview_mask: None,
-                });
-                pass.set_bind_group(0, &f.frame.group, &[]);
-                if f.forward_counts {
-                    pass.begin_occlusion_query(0);
+            if m != mat {
+                if let Some(g) = f.scene.materials.get(m) {
+                    pass.set_bind_group(1, g, &[]);
                 }
-                f.scene.draw(&mut pass, &f.plan.draws.forward, &pipes.blended);
-                if f.forward_counts {
-                    pass.end_occlusion_query();
-                }
-            } else {
-                blended_pass.encode(encoder, f);
+                mat = m;
             }
+            pass.set_stencil_reference(i as u32 & 0xff);
+            let [x, y, w, h] = pair.scissor;
+            pass.set_scissor_rect(x, y, w, h);
+            let instance = lists.pair_base + j as u32;
+            pass.draw_indexed(range.clone(), *base, instance..instance + 1);
         }
-        if count {
-            encoder.resolve_query_set(&self.queries, 0..QUERIES, &self.resolve, 0);
-            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, QUERIES as u64 * 8);
+        if query.is_some() {
+            pass.end_occlusion_query();
         }
-        Ok(stats)
+        stats.passes.push(PathPass {
+            name: "lights (object, light) pairs".into(),
+            draw_calls: lists.pairs.len() as u64,
+            span: Some(PAIRS),
+            query: query.map(|(_, i)| i),
+            ..Default::default()
+        });
     }
 
     /// Reads the frame's occlusion counts into `stats` (after the frame was submitted).
@@ -673,4 +669,73 @@ impl ForwardPathsPass {
         self.readback.unmap();
         Ok(())
     }
+}
+
+/// The forward passes' attachments this frame: the colour (multisampled with MSAA) with the
+/// HDR colour it resolves into, and the depth-stencil.
+struct Attachments<'a> {
+    color: &'a wgpu::TextureView,
+    depth: &'a wgpu::TextureView,
+    hdr: &'a wgpu::TextureView,
+    msaa: bool,
+    background: wgpu::Color,
+    /// The far plane's depth (the clear value).
+    far: f32,
+}
+
+impl<'a> Attachments<'a> {
+    /// The colour attachment, cleared to the background or loaded; `last` resolves it into
+    /// the HDR colour (with MSAA).
+    fn color(&self, clear: bool, last: bool) -> Option<wgpu::RenderPassColorAttachment<'a>> {
+        Some(wgpu::RenderPassColorAttachment {
+            view: self.color,
+            depth_slice: None,
+            resolve_target: if last && self.msaa { Some(self.hdr) } else { None },
+            ops: wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(self.background) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    }
+
+    /// The depth-stencil, cleared (to the far plane and zero) or loaded.
+    fn depth(&self, clear: bool) -> wgpu::RenderPassDepthStencilAttachment<'a> {
+        wgpu::RenderPassDepthStencilAttachment {
+            view: self.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(self.far) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: Some(wgpu::Operations {
+                load: if clear { wgpu::LoadOp::Clear(0) } else { wgpu::LoadOp::Load },
+                store: wgpu::StoreOp::Store,
+            }),
+        }
+    }
+}
+
+/// Begins one of the forward passes with the frame's bind group, timed as `span`, with
+/// occlusion query `query` (set, index) begun when given (the caller ends it).
+fn begin<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    f: &FrameInputs<'_>,
+    label: &str,
+    color: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+    depth: wgpu::RenderPassDepthStencilAttachment<'_>,
+    span: Span,
+    query: Option<(&wgpu::QuerySet, u32)>,
+) -> wgpu::RenderPass<'e> {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: color,
+        depth_stencil_attachment: Some(depth),
+        timestamp_writes: f.timestamps(Some(span), Some(span)),
+        occlusion_query_set: query.map(|(set, _)| set),
+        multiview_mask: None,
+    });
+    pass.set_bind_group(0, &f.frame.group, &[]);
+    if let Some((_, i)) = query {
+        pass.begin_occlusion_query(i);
+    }
+    pass
 }

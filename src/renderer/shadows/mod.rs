@@ -448,7 +448,14 @@ pub struct ShadowInputs<'a> {
     pub max_layers: u32,
 }
 
-/// Plans the frame's shadows.
+/// Plans the frame's shadows. The steps:
+/// 1. the requests: the sun's cascades, then each casting light on screen, largest footprint
+///    first ([`requests`]);
+/// 2. the budget: in that order, each request's tiles halved until they fit what is left
+///    ([`grant`]);
+/// 3. the atlas: the granted tiles packed in Morton order and re-fitted to the sizes they were
+///    granted, each with the casters its frustum meets ([`place`]);
+/// 4. with `--shadow-cube array`, the cube lights' faces in the cube array ([`place_cubes`]).
 pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     let st = inp.settings;
     let side = atlas_side(st.shadow_budget_mb, inp.max_texture.max(1));
@@ -473,89 +480,15 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
         return with_casters(out);
     }
     let cam = &scene.camera;
-    let rot = cam.rotation();
-    let view = DMat4::from_mat3(rot) * DMat4::from_translation(-cam.position);
+    let view = DMat4::from_mat3(cam.rotation()) * DMat4::from_translation(-cam.position);
     let casters = casters(scene, inp.bounds, view);
-
-    // Requests: (light index or None for the sun, tiles' records, wanted size), in priority order.
-    struct Request {
-        light: Option<usize>,
-        tiles: Vec<ShadowTile>,
-        size: u32,
-    }
-    let mut requests: Vec<Request> = Vec::new();
-    let quarter = (side / 4).max(MIN_TILE.min(side));
-    if let Some(sun) = sun_casts(scene) {
-        let to_sun = (rot * (-sun.direction.as_dvec3())).normalize_or(DVec3::Y);
-        let tiles = sun_cascades(scene, st, &casters, to_sun, inp.proj, quarter);
-        if !tiles.1.is_empty() {
-            out.params.splits = tiles.0;
-            requests.push(Request { light: None, size: quarter, tiles: tiles.1 });
-        }
-    }
-    let pixels = inp.size.0 as f64 * inp.size.1 as f64;
-    let mut lit: Vec<(usize, f32)> = Vec::new();
-    for (i, l) in scene.lights.iter().enumerate() {
-        if !kind_casts(l, st.shadows) {
-            continue;
-        }
-        if !l.cast_shadows() {
-            out.stats.flag_off += 1;
-            continue;
-        }
-        let (share, on) = inp.footprints.get(i).copied().unwrap_or((0.0, false));
-        if !on || share <= 0.0 {
-            out.stats.fallback_off_screen += 1;
-            continue;
-        }
-        lit.push((i, share));
-    }
-    // Largest footprint first; ties by index, so the order is the same in every culling mode.
-    lit.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    // With `--shadow-cube array`, cube lights (points, wide spots) go to the cube array.
-    let array = st.shadow_cube == ShadowCube::Array;
-    let mut cubes: Vec<(usize, u32)> = Vec::new();
-    for (i, share) in lit {
-        let want = ((share as f64 * pixels).sqrt().ceil() as u32).next_power_of_two().clamp(MIN_TILE, quarter);
-        let origin = rot * (scene.lights[i].position() - cam.position);
-        let far = scene.lights[i].radius() as f64;
-        let tiles = match &scene.lights[i] {
-            Light::Spot(s) if !casts_cube(&scene.lights[i]) => {
-                let dir = (rot * s.direction.as_dvec3()).normalize();
-                let half = (s.outer_angle as f64).max(0.5f64.to_radians()) * 1.02;
-                vec![perspective_tile(origin, dir, half, far, want)]
-            }
-            _ if array => {
-                cubes.push((i, want));
-                continue;
-            }
-            _ => FACES.iter().map(|&d| perspective_tile(origin, d, std::f64::consts::FRAC_PI_4, far, want)).collect(),
-        };
-        requests.push(Request { light: Some(i), tiles, size: want });
-    }
-
-    // Fit the budget: in priority order, halve a request's tiles until they fit what is left.
-    let total = side as u64 * side as u64;
-    let mut used = 0u64;
-    let mut granted: Vec<Request> = Vec::new();
-    for mut r in requests {
-        let n = r.tiles.len() as u64;
-        while r.size > MIN_TILE && used + n * (r.size as u64).pow(2) > total {
-            r.size /= 2;
-        }
-        if used + n * (r.size as u64).pow(2) > total || r.size > side {
-            if r.light.is_some() {
-                out.stats.fallback_budget += 1;
-            }
-            continue;
-        }
-        used += n * (r.size as u64).pow(2);
-        granted.push(r);
-    }
+    let (requests, cubes) = requests(scene, inp, &casters, side, &mut out);
+    let (granted, used) = grant(requests, side, &mut out.stats);
     let sizes: Vec<u32> = granted.iter().flat_map(|r| std::iter::repeat_n(r.size, r.tiles.len())).collect();
     // With the cube array, the atlas shrinks to the smallest power of two holding its tiles
     // (Morton packing puts the first k² units in a k x k square), and the cube array gets the
     // budget's rest; the tiles keep the sizes they were granted against the full side.
+    let array = st.shadow_cube == ShadowCube::Array;
     let side = if array {
         let largest = sizes.iter().copied().max().unwrap_or(1);
         let mut s = largest.max(1);
@@ -578,7 +511,127 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
         out.side = 1;
         return with_casters(out);
     }
-    let corners = corners.unwrap_or_default();
+    place(&mut out, granted, (&sizes, &corners.unwrap_or_default()), side, &casters);
+    if sizes.is_empty() {
+        // Cubes only (the array): a 1-texel atlas stands in.
+        out.side = 1;
+        out.stats.atlas_side = 1;
+        out.stats.atlas_bytes = 4;
+    }
+    out.stats.tiles = out.tiles.len() as u32;
+    out.stats.atlas_used = used as f64 / (side as u64 * side as u64) as f64;
+    if !cubes.is_empty() {
+        place_cubes(&mut out, scene, inp, &cubes, &casters);
+    }
+    with_casters(out)
+}
+
+/// One shadow request: the sun (`light` `None`) or a light, its tiles' records and the size it
+/// wants for each.
+struct Request {
+    light: Option<usize>,
+    tiles: Vec<ShadowTile>,
+    size: u32,
+}
+
+/// The frame's requests in priority order (the sun's cascades, then the casting lights on
+/// screen, largest footprint first; ties by index, so the order is the same in every culling
+/// mode), and with `--shadow-cube array` the cube lights (points, wide spots) with the face
+/// size each wants. Counts the lights left out in `out.stats`; sets the sun's cascade splits.
+fn requests(
+    scene: &Scene,
+    inp: &ShadowInputs<'_>,
+    casters: &[(u32, DVec3, f64)],
+    side: u32,
+    out: &mut ShadowPlan,
+) -> (Vec<Request>, Vec<(usize, u32)>) {
+    let (st, cam) = (inp.settings, &scene.camera);
+    let rot = cam.rotation();
+    let mut requests: Vec<Request> = Vec::new();
+    let quarter = (side / 4).max(MIN_TILE.min(side));
+    if let Some(sun) = sun_casts(scene) {
+        let to_sun = (rot * (-sun.direction.as_dvec3())).normalize_or(DVec3::Y);
+        let tiles = sun_cascades(scene, st, casters, to_sun, inp.proj, quarter);
+        if !tiles.1.is_empty() {
+            out.params.splits = tiles.0;
+            requests.push(Request { light: None, size: quarter, tiles: tiles.1 });
+        }
+    }
+    let pixels = inp.size.0 as f64 * inp.size.1 as f64;
+    let mut lit: Vec<(usize, f32)> = Vec::new();
+    for (i, l) in scene.lights.iter().enumerate() {
+        if !kind_casts(l, st.shadows) {
+            continue;
+        }
+        if !l.cast_shadows() {
+            out.stats.flag_off += 1;
+            continue;
+        }
+        let (share, on) = inp.footprints.get(i).copied().unwrap_or((0.0, false));
+        if !on || share <= 0.0 {
+            out.stats.fallback_off_screen += 1;
+            continue;
+        }
+        lit.push((i, share));
+    }
+    lit.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let array = st.shadow_cube == ShadowCube::Array;
+    let mut cubes: Vec<(usize, u32)> = Vec::new();
+    for (i, share) in lit {
+        let want = ((share as f64 * pixels).sqrt().ceil() as u32).next_power_of_two().clamp(MIN_TILE, quarter);
+        let origin = rot * (scene.lights[i].position() - cam.position);
+        let far = scene.lights[i].radius() as f64;
+        let tiles = match &scene.lights[i] {
+            Light::Spot(s) if !casts_cube(&scene.lights[i]) => {
+                let dir = (rot * s.direction.as_dvec3()).normalize();
+                let half = (s.outer_angle as f64).max(0.5f64.to_radians()) * 1.02;
+                vec![perspective_tile(origin, dir, half, far, want)]
+            }
+            _ if array => {
+                cubes.push((i, want));
+                continue;
+            }
+            _ => FACES.iter().map(|&d| perspective_tile(origin, d, std::f64::consts::FRAC_PI_4, far, want)).collect(),
+        };
+        requests.push(Request { light: Some(i), tiles, size: want });
+    }
+    (requests, cubes)
+}
+
+/// Fits the budget: in priority order, halves a request's tiles until they fit what is left of
+/// the `side`² atlas; a light that does not fit at `MIN_TILE` falls back (counted). Returns the
+/// granted requests and the texels they use.
+fn grant(requests: Vec<Request>, side: u32, stats: &mut ShadowStats) -> (Vec<Request>, u64) {
+    let total = side as u64 * side as u64;
+    let mut used = 0u64;
+    let mut granted: Vec<Request> = Vec::new();
+    for mut r in requests {
+        let n = r.tiles.len() as u64;
+        while r.size > MIN_TILE && used + n * (r.size as u64).pow(2) > total {
+            r.size /= 2;
+        }
+        if used + n * (r.size as u64).pow(2) > total || r.size > side {
+            if r.light.is_some() {
+                stats.fallback_budget += 1;
+            }
+            continue;
+        }
+        used += n * (r.size as u64).pow(2);
+        granted.push(r);
+    }
+    (granted, used)
+}
+
+/// Places the granted tiles at their packed corners in the `side`² atlas: each tile's
+/// projection re-fitted to its granted size (the border is in texels), its caster draws, and
+/// each light's (first tile, count) or the sun's cascades.
+fn place(
+    out: &mut ShadowPlan,
+    granted: Vec<Request>,
+    (sizes, corners): (&[u32], &[(u32, u32)]),
+    side: u32,
+    casters: &[(u32, DVec3, f64)],
+) {
     let mut k = 0usize;
     for r in granted {
         let first = out.tiles.len() as u32;
@@ -586,7 +639,6 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             let (x, y) = corners[k];
             let size = sizes[k];
             k += 1;
-            // Re-fit the tile's projection to its granted size (the border is in texels).
             let s_old = t.proj[0] as f64;
             let r_old = t.info[2] as f64;
             let tan_half = (r_old - 2.0 * BORDER as f64) / (r_old * s_old);
@@ -598,12 +650,7 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             t.info[2] = size as f32;
             t.rect =
                 [x as f32 / side as f32, y as f32 / side as f32, size as f32 / side as f32, size as f32 / side as f32];
-            let index = out.tiles.len() as u32;
-            let objects: Vec<u32> =
-                casters.iter().filter(|(_, c, rad)| sphere_meets(&t, *c, *rad)).map(|(o, _, _)| *o).collect();
-            out.stats.caster_draws += objects.len() as u64;
-            out.draws.push(TileDraw { tile: index, x, y, size, objects, layer: None });
-            out.tiles.push(t);
+            out.add_tile(t, (x, y, size), None, casters);
         }
         let count = out.tiles.len() as u32 - first;
         out.stats.casting += 1;
@@ -616,49 +663,62 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
             }
         }
     }
-    if sizes.is_empty() {
-        // Cubes only (the array): a 1-texel atlas stands in.
-        out.side = 1;
-        out.stats.atlas_side = 1;
-        out.stats.atlas_bytes = 4;
+}
+
+/// The cube array: one face side for every cube (`cube_array_fit`) within what the atlas left
+/// of the budget, six layers a light; the cubes that do not fit fall back (counted).
+fn place_cubes(
+    out: &mut ShadowPlan,
+    scene: &Scene,
+    inp: &ShadowInputs<'_>,
+    cubes: &[(usize, u32)],
+    casters: &[(u32, DVec3, f64)],
+) {
+    let (cam, rot) = (&scene.camera, scene.camera.rotation());
+    let budget = (inp.settings.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
+    let left = budget.saturating_sub(out.stats.atlas_bytes);
+    let wants: Vec<u32> = cubes.iter().map(|c| c.1).collect();
+    let (cube_side, kept) = cube_array_fit(&wants, left, inp.max_texture.max(1), inp.max_layers);
+    out.stats.fallback_budget += (cubes.len() - kept) as u32;
+    for (c, &(i, _)) in cubes.iter().take(kept).enumerate() {
+        let origin = rot * (scene.lights[i].position() - cam.position);
+        let far = scene.lights[i].radius() as f64;
+        let first = out.tiles.len() as u32;
+        for face in 0..6 {
+            let layer = (6 * c + face) as u32;
+            let t = cube_face_tile(origin, face, far, cube_side, layer);
+            out.add_tile(t, (0, 0, cube_side), Some(layer), casters);
+        }
+        out.lights[i] = (first, 6);
+        out.stats.casting += 1;
+    }
+    if kept > 0 {
+        out.cube_side = cube_side;
+        out.cube_layers = 6 * kept as u32;
+        out.stats.cube_side = cube_side;
+        out.stats.cube_layers = out.cube_layers;
+        out.stats.cube_bytes = 4 * out.cube_layers as u64 * cube_side as u64 * cube_side as u64;
     }
     out.stats.tiles = out.tiles.len() as u32;
-    out.stats.atlas_used = used as f64 / (side as u64 * side as u64) as f64;
+}
 
-    // The cube array: one face side for every cube (`cube_array_fit`), six layers a light.
-    if !cubes.is_empty() {
-        let budget = (st.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
-        let left = budget.saturating_sub(out.stats.atlas_bytes);
-        let wants: Vec<u32> = cubes.iter().map(|c| c.1).collect();
-        let (cube_side, kept) = cube_array_fit(&wants, left, inp.max_texture.max(1), inp.max_layers);
-        out.stats.fallback_budget += (cubes.len() - kept) as u32;
-        for (c, &(i, _)) in cubes.iter().take(kept).enumerate() {
-            let origin = rot * (scene.lights[i].position() - cam.position);
-            let far = scene.lights[i].radius() as f64;
-            let first = out.tiles.len() as u32;
-            for face in 0..6 {
-                let layer = (6 * c + face) as u32;
-                let t = cube_face_tile(origin, face, far, cube_side, layer);
-                let index = out.tiles.len() as u32;
-                let objects: Vec<u32> =
-                    casters.iter().filter(|(_, cc, rad)| sphere_meets(&t, *cc, *rad)).map(|(o, _, _)| *o).collect();
-                out.stats.caster_draws += objects.len() as u64;
-                out.draws.push(TileDraw { tile: index, x: 0, y: 0, size: cube_side, objects, layer: Some(layer) });
-                out.tiles.push(t);
-            }
-            out.lights[i] = (first, 6);
-            out.stats.casting += 1;
-        }
-        if kept > 0 {
-            out.cube_side = cube_side;
-            out.cube_layers = 6 * kept as u32;
-            out.stats.cube_side = cube_side;
-            out.stats.cube_layers = out.cube_layers;
-            out.stats.cube_bytes = 4 * out.cube_layers as u64 * cube_side as u64 * cube_side as u64;
-        }
-        out.stats.tiles = out.tiles.len() as u32;
+impl ShadowPlan {
+    /// Adds tile `t` at (x, y, size) in the atlas (or cube-array `layer`) with a draw of the
+    /// casters whose bounding spheres its frustum meets.
+    fn add_tile(
+        &mut self,
+        t: ShadowTile,
+        (x, y, size): (u32, u32, u32),
+        layer: Option<u32>,
+        casters: &[(u32, DVec3, f64)],
+    ) {
+        let index = self.tiles.len() as u32;
+        let objects: Vec<u32> =
+            casters.iter().filter(|(_, c, rad)| sphere_meets(&t, *c, *rad)).map(|(o, _, _)| *o).collect();
+        self.stats.caster_draws += objects.len() as u64;
+        self.draws.push(TileDraw { tile: index, x, y, size, objects, layer });
+        self.tiles.push(t);
     }
-    with_casters(out)
 }
 
 /// `plan`'s caster list and the counts the `shadow` view reads: (lights, casters, the table row

@@ -183,7 +183,11 @@ impl TiledPass {
     /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
     /// when shown. `queue` uploads the parameters and the clustered lists (or the lights' spans
     /// the GPU builds them from); returns the ms that upload took, CPU over all threads and wall
-    /// clock (`cputime`; part of the frame's `cpu_ms.upload` and `cpu_ms.wall`).
+    /// clock (`cputime`; part of the frame's `cpu_ms.upload` and `cpu_ms.wall`). The steps:
+    /// 1. the grid and the lists' sizes ([`grid`]);
+    /// 2. buffers that hold them, grown when they do not ([`Self::fit_buffers`]);
+    /// 3. the upload: parameters, and the CPU-built lists or the spans the GPU lists from;
+    /// 4. the passes ([`Self::record`]): the GPU's list building, the shading, the view.
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -201,49 +205,14 @@ impl TiledPass {
             (Some(Method::Clustered), Some(_)) => Method::Clustered,
             _ => Method::Tiled,
         };
-        let (w, h) = (f.targets.width, f.targets.height);
         let n = f.plan.lights.len();
-        let counted = f.counts && f.plan.tiled.is_some();
-        let mut params = TileParams {
-            mode: 0,
-            tile_size: TILE,
-            tiles_x: w.div_ceil(TILE),
-            tiles_y: h.div_ceil(TILE),
-            slices: 1,
-            light_count: n as u32,
-            capacity: 0,
-            slice_scale: 0.0,
-            slice_bias: 0.0,
-            near: 0.0,
-            far: 0.0,
-        };
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
         // CPU-built lists as they fit one binding (`ClusterLists::fitted`).
         let cpu_lists = match clusters {
             Some(ClusterBuild::Cpu(c)) => Some(c.fitted(MAX_ENTRIES as usize)),
             _ => None,
         };
-        let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
-            params.mode = 1;
-            params.tile_size = g.tile;
-            (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
-            (params.slice_scale, params.slice_bias, params.near, params.far) = (g.scale, g.bias, g.near, g.far);
-            let header = 2 * g.cells() as u64;
-            let capacity = match c {
-                ClusterBuild::Cpu(_) => cpu_lists.as_ref().map_or(0, |d| d.len() as u64 - header),
-                // The spans bound what the GPU can list; past the binding limit (the spans'
-                // 4 words a light follow the entries in the same binding), cells walk every
-                // light (counted as overflowed).
-                ClusterBuild::Gpu(j) => j.bound.min(MAX_ENTRIES.saturating_sub(header + 4 * n as u64)),
-            };
-            params.capacity = capacity as u32;
-            header + capacity
-        } else {
-            let cells = (params.tiles_x * params.tiles_y) as u64;
-            let capacity = (cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64)).min(MAX_ENTRIES - 2 * cells);
-            params.capacity = capacity as u32;
-            2 * cells + capacity
-        };
+        let (params, entries) = grid(f, clusters, cpu_lists.as_deref());
         let cells = (params.tiles_x * params.tiles_y * params.slices) as u64;
         let gpu_job = match clusters {
             Some(ClusterBuild::Gpu(j)) => Some(j),
@@ -255,62 +224,95 @@ impl TiledPass {
             Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
             None => (entries, n as u64 + 1),
         };
-        let fits = |b: &Option<Buffers>| {
-            b.as_ref().is_some_and(|b| b.lists.size() >= list_words * 4 && b.counts.size() >= count_words * 4)
-        };
-        if !fits(&state.0) {
-            use wgpu::BufferUsages as U;
-            // Rounded up to a power of two to grow less often, but never past what one
-            // binding may hold (the lists and spans were sized to fit it).
-            let lists = buffer(
-                device,
-                "tile lists",
-                (list_words * 4).next_power_of_two().min(MAX_ENTRIES * 4).max(list_words * 4),
-                U::STORAGE | U::COPY_DST | U::COPY_SRC,
-            );
-            let counts = buffer(
-                device,
-                "tile counts",
-                (count_words * 4).next_power_of_two(),
-                U::STORAGE | U::COPY_DST | U::COPY_SRC,
-            );
-            let params =
-                buffer(device, "tile params", std::mem::size_of::<TileParams>() as u64, U::STORAGE | U::COPY_DST);
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("tiles"),
-                layout: &self.bgl,
-                entries: &bindings::TILES.entries(vec![
-                    params.as_entire_binding(),
-                    lists.as_entire_binding(),
-                    counts.as_entire_binding(),
-                ]),
-            });
-            let lists_read = buffer(device, "tile lists readback", lists.size(), U::COPY_DST | U::MAP_READ);
-            let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
-            state.0 = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
-        }
+        self.fit_buffers(device, &mut state.0, list_words, count_words);
         let Some(b) = &state.0 else { return (0.0, 0.0) };
         let clock = crate::renderer::cputime::Clock::start();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
-        match clusters {
-            Some(ClusterBuild::Cpu(_)) => {
-                if let Some(d) = &cpu_lists {
-                    queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
-                }
-            }
-            Some(ClusterBuild::Gpu(j)) => queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans)),
-            None => {}
+        if let Some(d) = &cpu_lists {
+            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
+        }
+        if let Some(j) = gpu_job {
+            queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans));
         }
         let upload_ms = (clock.ms(), clock.wall_ms());
         encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
-        if gpu_job.is_some() && n > 0 {
+        self.record(encoder, f, b, (method, gpu_job.is_some(), view), &params, cells);
+        if f.counts {
+            encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
+            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, (n as u64 + 1) * 4);
+        }
+        state.1 = Some(Pending {
+            method,
+            cells,
+            lights: n,
+            counted: f.counts,
+            tile_size: params.tile_size,
+            slices: params.slices,
+            params,
+            words: entries,
+        });
+        upload_ms
+    }
+
+    /// Makes `slot` hold buffers of at least `list_words` list words and `count_words` count
+    /// words, creating them (and their bind group and read-backs) when it does not.
+    fn fit_buffers(&self, device: &wgpu::Device, slot: &mut Option<Buffers>, list_words: u64, count_words: u64) {
+        let fits = |b: &Buffers| b.lists.size() >= list_words * 4 && b.counts.size() >= count_words * 4;
+        if slot.as_ref().is_some_and(fits) {
+            return;
+        }
+        use wgpu::BufferUsages as U;
+        // Rounded up to a power of two to grow less often, but never past what one binding may
+        // hold (the lists and spans were sized to fit it).
+        let lists = buffer(
+            device,
+            "tile lists",
+            (list_words * 4).next_power_of_two().min(MAX_ENTRIES * 4).max(list_words * 4),
+            U::STORAGE | U::COPY_DST | U::COPY_SRC,
+        );
+        let counts = buffer(
+            device,
+            "tile counts",
+            (count_words * 4).next_power_of_two(),
+            U::STORAGE | U::COPY_DST | U::COPY_SRC,
+        );
+        let params = buffer(device, "tile params", std::mem::size_of::<TileParams>() as u64, U::STORAGE | U::COPY_DST);
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tiles"),
+            layout: &self.bgl,
+            entries: &bindings::TILES.entries(vec![
+                params.as_entire_binding(),
+                lists.as_entire_binding(),
+                counts.as_entire_binding(),
+            ]),
+        });
+        let lists_read = buffer(device, "tile lists readback", lists.size(), U::COPY_DST | U::MAP_READ);
+        let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
+        *slot = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
+    }
+
+    /// Records the passes over the lists in `b`: the GPU's cluster building (`gpu_lists`) or
+    /// tile building (`method` tiled), the shading when the plan shades with them, and the
+    /// `tile-lights` view (`view`).
+    fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        b: &Buffers,
+        (method, gpu_lists, view): (Method, bool, bool),
+        params: &TileParams,
+        cells: u64,
+    ) {
+        let n = f.plan.lights.len();
+        let bind = |pass: &mut dyn SetGroups| {
+            pass.groups(&f.frame.group, &f.targets.gbuffer_group, &b.group);
+        };
+        if gpu_lists && n > 0 {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("cluster lists"),
                 timestamp_writes: f.compute_timestamps(SPAN),
             });
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
-            pass.set_bind_group(2, &b.group, &[]);
+            bind(&mut pass);
             let [count, scan, fill, sort] = &self.cluster;
             let lights = (n as u32).div_ceil(64);
             pass.set_pipeline(count);
@@ -329,9 +331,7 @@ impl TiledPass {
                 timestamp_writes: f.compute_timestamps(SPAN),
             });
             pass.set_pipeline(&self.build);
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
-            pass.set_bind_group(2, &b.group, &[]);
+            bind(&mut pass);
             pass.dispatch_workgroups(params.tiles_x, params.tiles_y, 1);
         }
         if f.plan.tiled.is_some() {
@@ -343,10 +343,9 @@ impl TiledPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            let counted = f.counts && f.plan.tiled.is_some();
             pass.set_pipeline(&self.shade[counted as usize]);
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
-            pass.set_bind_group(2, &b.group, &[]);
+            bind(&mut pass);
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
             pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));
         }
@@ -360,26 +359,9 @@ impl TiledPass {
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.count_view);
-            pass.set_bind_group(0, &f.frame.group, &[]);
-            pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
-            pass.set_bind_group(2, &b.group, &[]);
+            bind(&mut pass);
             pass.draw(0..3, 0..1);
         }
-        if f.counts {
-            encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
-            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, (n as u64 + 1) * 4);
-        }
-        state.1 = Some(Pending {
-            method,
-            cells,
-            lights: n,
-            counted: f.counts,
-            tile_size: params.tile_size,
-            slices: params.slices,
-            params,
-            words: entries,
-        });
-        upload_ms
     }
 
     /// The last frame's lists, read back from the GPU; `None` when it built none.
@@ -468,5 +450,70 @@ impl TiledPass {
             }
         }
         Ok(())
+    }
+}
+
+/// The grid the frame's lists are built over (tiles of the screen, or clusters when `clusters`
+/// builds them) and the words its lists take: a header of two words per cell, then at most
+/// `capacity` entries (`cpu_lists`: the CPU-built lists, which set it).
+fn grid(f: &FrameInputs<'_>, clusters: Option<&ClusterBuild>, cpu_lists: Option<&[u32]>) -> (TileParams, u64) {
+    let (w, h) = (f.targets.width, f.targets.height);
+    let n = f.plan.lights.len();
+    let mut params = TileParams {
+        mode: 0,
+        tile_size: TILE,
+        tiles_x: w.div_ceil(TILE),
+        tiles_y: h.div_ceil(TILE),
+        slices: 1,
+        light_count: n as u32,
+        capacity: 0,
+        slice_scale: 0.0,
+        slice_bias: 0.0,
+        near: 0.0,
+        far: 0.0,
+    };
+    let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
+        params.mode = 1;
+        params.tile_size = g.tile;
+        (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
+        (params.slice_scale, params.slice_bias, params.near, params.far) = (g.scale, g.bias, g.near, g.far);
+        let header = 2 * g.cells() as u64;
+        let capacity = match c {
+            ClusterBuild::Cpu(_) => cpu_lists.map_or(0, |d| d.len() as u64 - header),
+            // The spans bound what the GPU can list; past the binding limit (the spans' 4 words
+            // a light follow the entries in the same binding), cells walk every light (counted
+            // as overflowed).
+            ClusterBuild::Gpu(j) => j.bound.min(MAX_ENTRIES.saturating_sub(header + 4 * n as u64)),
+        };
+        params.capacity = capacity as u32;
+        header + capacity
+    } else {
+        let cells = (params.tiles_x * params.tiles_y) as u64;
+        let capacity = (cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64)).min(MAX_ENTRIES - 2 * cells);
+        params.capacity = capacity as u32;
+        2 * cells + capacity
+    };
+    (params, entries)
+}
+
+/// The three bind groups every tiled pass reads (frame, G-buffer, tiles), for render and
+/// compute passes alike.
+trait SetGroups {
+    fn groups(&mut self, frame: &wgpu::BindGroup, gbuffer: &wgpu::BindGroup, tiles: &wgpu::BindGroup);
+}
+
+impl SetGroups for wgpu::RenderPass<'_> {
+    fn groups(&mut self, frame: &wgpu::BindGroup, gbuffer: &wgpu::BindGroup, tiles: &wgpu::BindGroup) {
+        self.set_bind_group(0, frame, &[]);
+        self.set_bind_group(1, gbuffer, &[]);
+        self.set_bind_group(2, tiles, &[]);
+    }
+}
+
+impl SetGroups for wgpu::ComputePass<'_> {
+    fn groups(&mut self, frame: &wgpu::BindGroup, gbuffer: &wgpu::BindGroup, tiles: &wgpu::BindGroup) {
+        self.set_bind_group(0, frame, &[]);
+        self.set_bind_group(1, gbuffer, &[]);
+        self.set_bind_group(2, tiles, &[]);
     }
 }

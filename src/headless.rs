@@ -14,18 +14,10 @@ pub struct Offscreen {
 
 impl Offscreen {
     pub fn new(gpu: &Gpu, width: u32, height: u32) -> Self {
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("offscreen output"),
-            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: OUTPUT_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        use wgpu::TextureUsages as U;
+        let usage = U::RENDER_ATTACHMENT | U::COPY_SRC | U::TEXTURE_BINDING;
+        let texture =
+            crate::renderer::kit::texture(&gpu.device, "offscreen output", OUTPUT_FORMAT, (width, height), usage);
         let view = texture.create_view(&Default::default());
         Self { texture, view, width, height }
     }

@@ -98,6 +98,45 @@ fn safe_normalize(v: DVec3, fallback: DVec3) -> DVec3 {
     }
 }
 
+/// Where a light reaches a view-space point `pos` of normal `n`: its world position, the unit
+/// direction to it (view space; `n` at the light itself), its attenuation (the windowed falloff
+/// (1 - (d/r)²)², times the spot's smoothstep cone) and its colour times intensity.
+struct Reach {
+    lp: DVec3,
+    l: DVec3,
+    att: f64,
+    color: DVec3,
+}
+
+/// [`Reach`] of `light` at `pos`, or `None` beyond its radius.
+/// `rot` is the camera's rotation (world to view).
+fn reach(light: &Light, cam: &crate::scene::Camera, rot: glam::DMat3, pos: DVec3, n: DVec3) -> Option<Reach> {
+    let (lp, radius, color, spot) = match light {
+        Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
+        Light::Spot(s) => (
+            s.position,
+            s.radius as f64,
+            (s.color * s.intensity).as_dvec3(),
+            Some(((rot * s.direction.as_dvec3()).normalize(), s.outer_angle as f64, s.inner_angle as f64)),
+        ),
+    };
+    let to_light = cam.to_view(lp) - pos;
+    let d = to_light.length();
+    if !(d < radius) {
+        return None;
+    }
+    let l = if d > 1e-6 * radius { to_light / d } else { n };
+    let x = d / radius;
+    let w = (1.0 - x * x).clamp(0.0, 1.0);
+    let mut att = w * w;
+    if let Some((dir, outer, inner)) = spot {
+        let (co, ci) = (outer.cos(), inner.cos());
+        let c = (-l).dot(dir);
+        att *= if ci - co < 1e-6 { f64::from(u8::from(c >= co)) } else { smoothstep(co, ci, c) };
+    }
+    Some(Reach { lp, l, att, color })
+}
+
 fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
     let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
@@ -173,29 +212,7 @@ pub fn shade_with_margin(scene: &Scene, p: &PixelProbe, clamp: &Clamps) -> (DVec
             continue;
         }
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
-        let (lp, radius, color, spot) = match light {
-            Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
-            Light::Spot(s) => (
-                s.position,
-                s.radius as f64,
-                (s.color * s.intensity).as_dvec3(),
-                Some(((rot * s.direction.as_dvec3()).normalize(), s.outer_angle as f64, s.inner_angle as f64)),
-            ),
-        };
-        let to_light = cam.to_view(lp) - pos;
-        let d = to_light.length();
-        if !(d < radius) {
-            continue;
-        }
-        let l = if d > 1e-6 * radius { to_light / d } else { n };
-        let x = d / radius;
-        let w = (1.0 - x * x).clamp(0.0, 1.0);
-        let mut att = w * w;
-        if let Some((dir, outer, inner)) = spot {
-            let (co, ci) = (outer.cos(), inner.cos());
-            let c = (-l).dot(dir);
-            att *= if ci - co < 1e-6 { f64::from(u8::from(c >= co)) } else { smoothstep(co, ci, c) };
-        }
+        let Some(Reach { lp, l, att, color }) = reach(light, cam, rot, pos, n) else { continue };
         let ndl = n.dot(l).max(0.0);
         if att <= 0.0 || ndl <= 0.0 {
             continue;
@@ -344,29 +361,7 @@ pub fn prepass_enclosure(
     let (mut d_lo, mut d_hi, mut m_lo, mut m_hi) = (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0);
     for (i, light) in scene.lights.iter().enumerate() {
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
-        let (lp, radius, color, spot) = match light {
-            Light::Point(l) => (l.position, l.radius as f64, (l.color * l.intensity).as_dvec3(), None),
-            Light::Spot(s) => (
-                s.position,
-                s.radius as f64,
-                (s.color * s.intensity).as_dvec3(),
-                Some(((rot * s.direction.as_dvec3()).normalize(), s.outer_angle as f64, s.inner_angle as f64)),
-            ),
-        };
-        let to_light = cam.to_view(lp) - pos;
-        let d = to_light.length();
-        if !(d < radius) {
-            continue;
-        }
-        let l = if d > 1e-6 * radius { to_light / d } else { n };
-        let x = d / radius;
-        let w = (1.0 - x * x).clamp(0.0, 1.0);
-        let mut att = w * w;
-        if let Some((dir, outer, inner)) = spot {
-            let (co, ci) = (outer.cos(), inner.cos());
-            let c = (-l).dot(dir);
-            att *= if ci - co < 1e-6 { f64::from(u8::from(c >= co)) } else { smoothstep(co, ci, c) };
-        }
+        let Some(Reach { l, att, color, .. }) = reach(light, cam, rot, pos, n) else { continue };
         if att <= 0.0 {
             continue;
         }

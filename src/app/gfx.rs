@@ -22,18 +22,16 @@ pub struct Image {
 }
 
 fn image_texture(device: &wgpu::Device, label: &str, width: u32, height: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: crate::renderer::OUTPUT_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[wgpu::TextureFormat::Rgba8Unorm],
-    })
+    use wgpu::TextureUsages as U;
+    let formats = (crate::renderer::OUTPUT_FORMAT, [wgpu::TextureFormat::Rgba8Unorm].as_slice());
+    crate::renderer::kit::texture_2d(
+        device,
+        label,
+        formats,
+        (width, height),
+        1,
+        U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+    )
 }
 
 fn egui_view(texture: &wgpu::Texture) -> wgpu::TextureView {

@@ -275,6 +275,8 @@ impl App {
         )));
         let surface = instance.create_surface(window.clone()).context("creating the window surface")?;
         let gpu = Gpu::for_surface(instance, &surface)?;
+        // One renderer draws the viewer's frames: it keeps its recent configurations itself.
+        gpu.passes.keep_at_most(crate::renderer::PIPELINE_CACHE);
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
         let settings = self.state.frame_settings();
         let renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;

@@ -109,26 +109,18 @@ impl LightEdit {
     }
 
     pub fn apply(&self, light: &mut Light) {
-        match light {
-            Light::Point(p) => {
-                p.color = self.color;
-                p.intensity = self.intensity;
-                p.radius = self.radius;
-                p.cast_shadows = self.cast_shadows;
-                p.mask = self.mask;
-            }
+        let (color, intensity, radius, cast_shadows, mask) = match light {
+            Light::Point(p) => (&mut p.color, &mut p.intensity, &mut p.radius, &mut p.cast_shadows, &mut p.mask),
             Light::Spot(s) => {
-                s.mask = self.mask;
-                s.color = self.color;
-                s.intensity = self.intensity;
-                s.radius = self.radius;
-                s.cast_shadows = self.cast_shadows;
                 if let Some((inner, outer)) = self.angles {
                     s.inner_angle = inner;
                     s.outer_angle = outer;
                 }
+                (&mut s.color, &mut s.intensity, &mut s.radius, &mut s.cast_shadows, &mut s.mask)
             }
-        }
+        };
+        (*color, *intensity, *radius, *cast_shadows, *mask) =
+            (self.color, self.intensity, self.radius, self.cast_shadows, self.mask);
     }
 }
 

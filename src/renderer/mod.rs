@@ -54,6 +54,7 @@ pub use settings::{
     Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
+use std::sync::Arc;
 use surfaces::compose::ComposeTarget;
 use targets::Targets;
 pub use volumes::VolumeKind;
@@ -63,44 +64,56 @@ use volumes::Volumes;
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// Pass sets kept for configurations other than the current one (layout, accumulation, depth
 /// format and convention, depth clamp).
-const PIPELINE_CACHE: usize = 8;
+pub const PIPELINE_CACHE: usize = 8;
 
-/// Idle pass sets a device keeps for renderers created later ([`PassPool`]).
+/// Pass sets a device keeps for its renderers ([`PassPool`]).
 const POOL_SETS: usize = 32;
 
-/// The pass sets of renderers that were dropped, by configuration, for the next renderer on the
-/// same device that needs one. On lavapipe a pass set's first frame costs 0.7-1.8 s of pipeline
-/// compilation at 192x108, a frame on built pipelines 10-150 ms, so a process that creates many
-/// renderers (the bench, one per configuration; the test suite) compiles each configuration
-/// once. A set is held by one renderer at a time, so the scratch buffers some passes own (the
-/// tile lists, the query read-backs) are never shared: taking a set from the pool is what a
-/// renderer does when it switches back to a configuration it keeps (`PIPELINE_CACHE`), and a
-/// set's buffers are written before each frame reads them. Least recently returned sets are
-/// dropped past [`POOL_SETS`].
+/// The pass sets built on a device, by configuration, shared by every renderer on it. On
+/// lavapipe a pass set's first frame costs 0.7-1.8 s of pipeline compilation at 192x108, a frame
+/// on built pipelines 10-150 ms, so a process that creates many renderers (the bench, one per
+/// configuration, all alive at once; the test suite, on several threads) compiles each
+/// configuration once. A set holds only pipelines and layouts, built once each (`kit::Lazy`);
+/// what a frame writes and reads back is each renderer's own (`frame::scratch::Scratch`), so
+/// renderers share sets freely. The pool keeps the [`POOL_SETS`] most recently used; a set
+/// dropped from it lives on while a renderer draws with it.
 #[derive(Default)]
 pub struct PassPool {
-    idle: std::sync::Mutex<Vec<Passes>>,
+    sets: std::sync::Mutex<Vec<Arc<Passes>>>,
+    /// Sets kept at most; 0: [`POOL_SETS`].
+    capacity: std::sync::atomic::AtomicUsize,
 }
 
 impl PassPool {
-    /// Takes an idle set built for `key`.
-    fn take(&self, key: &PipelineKey) -> Option<Passes> {
-        let mut idle = self.idle.lock().unwrap_or_else(|e| e.into_inner());
-        let i = idle.iter().rposition(|p| p.key() == key)?;
-        Some(idle.remove(i))
+    /// Keeps at most `sets` sets from now on (a process with one long-lived renderer, the
+    /// viewer, keeps few: each set's compiled pipelines hold up to 160 MiB on lavapipe).
+    pub fn keep_at_most(&self, sets: usize) {
+        self.capacity.store(sets.max(1), std::sync::atomic::Ordering::Relaxed);
     }
 
-    /// Keeps `sets` for later renderers, dropping the oldest past [`POOL_SETS`].
-    fn give(&self, sets: impl IntoIterator<Item = Passes>) {
-        let mut idle = self.idle.lock().unwrap_or_else(|e| e.into_inner());
-        idle.extend(sets);
-        let excess = idle.len().saturating_sub(POOL_SETS);
-        idle.drain(..excess);
+    /// The set built for `key`, built now (and kept) if the pool has none.
+    fn get(&self, device: &wgpu::Device, key: PipelineKey) -> Result<Arc<Passes>> {
+        let mut sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = sets.iter().rposition(|p| *p.key() == key) {
+            // Most recently used last.
+            let set = sets.remove(i);
+            sets.push(set.clone());
+            return Ok(set);
+        }
+        let set = Arc::new(build_passes(device, key)?);
+        sets.push(set.clone());
+        let capacity = match self.capacity.load(std::sync::atomic::Ordering::Relaxed) {
+            0 => POOL_SETS,
+            n => n,
+        };
+        let excess = sets.len().saturating_sub(capacity);
+        sets.drain(..excess);
+        Ok(set)
     }
 
-    /// Idle sets held now.
+    /// Sets held now.
     pub fn len(&self) -> usize {
-        self.idle.lock().unwrap_or_else(|e| e.into_inner()).len()
+        self.sets.lock().unwrap_or_else(|e| e.into_inner()).len()
     }
 
     pub fn is_empty(&self) -> bool {
@@ -147,16 +160,19 @@ pub struct Renderer {
     cube_arrays: bool,
     /// The frame's steps are pushed as debug groups (`Gpu::encoder_debug_groups`).
     debug_groups: bool,
-    /// Taken out only by `drop`, which hands it to the pool.
-    passes: std::mem::ManuallyDrop<Passes>,
-    /// Passes of recent other configurations, least recently used first.
-    pass_cache: Vec<Passes>,
-    /// The device's idle pass sets: this renderer takes from it and returns its sets when dropped.
-    pool: std::sync::Arc<PassPool>,
-    /// A frame has been configured with `passes`. The set `new` builds before it sees a scene
-    /// (so with the shader features the settings allow) goes back to the device's pool, not to
-    /// this renderer's cache, when the first scene needs other ones.
+    /// The pass set of the current configuration, shared with the device's other renderers.
+    passes: Arc<Passes>,
+    /// Passes of recent other configurations, least recently used first: kept alive here even
+    /// when the device's pool has let them go.
+    pass_cache: Vec<Arc<Passes>>,
+    /// The device's pass sets.
+    pool: Arc<PassPool>,
+    /// A frame has been configured with `passes`. The set `new` chooses before it sees a scene
+    /// (so with the shader features the settings allow) is not kept in this renderer's cache
+    /// when the first scene needs other ones.
     passes_used: bool,
+    /// What this renderer's passes write and read back.
+    scratch: frame::scratch::Scratch,
     frame: FrameBuffers,
     defaults: MaterialDefaults,
     volumes: Volumes,
@@ -197,17 +213,6 @@ fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
     Ok(p)
 }
 
-impl Drop for Renderer {
-    /// Returns the pass sets this renderer drew with to the device's pool. A set `new` built
-    /// before the first scene and never drew with is dropped (its pipelines were never built).
-    fn drop(&mut self) {
-        let cache = std::mem::take(&mut self.pass_cache);
-        // SAFETY: `passes` is not used again: this is the renderer's last act.
-        let current = unsafe { std::mem::ManuallyDrop::take(&mut self.passes) };
-        self.pool.give(cache.into_iter().chain(self.passes_used.then_some(current)));
-    }
-}
-
 impl Renderer {
     pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
         let device = gpu.device.clone();
@@ -219,10 +224,7 @@ impl Renderer {
         check_shadow_cube(settings, cube_arrays)?;
         let key =
             Self::key(None, settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
-        let passes = match gpu.passes.take(&key) {
-            Some(p) => p,
-            None => build_passes(&device, key)?,
-        };
+        let passes = gpu.passes.get(&device, key)?;
         Ok(Self {
             pool: gpu.passes.clone(),
             frame: FrameBuffers::new(&device, &passes.shared.frame_bgl),
@@ -236,9 +238,10 @@ impl Renderer {
             limits,
             cube_arrays,
             debug_groups: gpu.encoder_debug_groups(),
-            passes: std::mem::ManuallyDrop::new(passes),
+            passes,
             pass_cache: Vec::new(),
             passes_used: false,
+            scratch: Default::default(),
             scene: None,
             targets: None,
             last: LastFrame::default(),
@@ -334,21 +337,12 @@ impl Renderer {
             // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
             let next = match self.pass_cache.iter().position(|p| *p.key() == key) {
                 Some(i) => self.pass_cache.remove(i),
-                None => match self.pool.take(&key) {
-                    Some(p) => p,
-                    None => build_passes(&self.device, key)?,
-                },
+                None => self.pool.get(&self.device, key)?,
             };
-            let previous = std::mem::ManuallyDrop::into_inner(std::mem::replace(
-                &mut self.passes,
-                std::mem::ManuallyDrop::new(next),
-            ));
+            let previous = std::mem::replace(&mut self.passes, next);
+            // The set `new` chose before it saw a scene stays in the pool only.
             if self.passes_used {
                 self.pass_cache.push(previous);
-            } else {
-                // The set `new` chose before it saw a scene: another renderer may want it (it
-                // may have come from the pool with its pipelines built).
-                self.pool.give([previous]);
             }
             if self.pass_cache.len() > PIPELINE_CACHE {
                 self.pass_cache.remove(0);
@@ -516,10 +510,7 @@ impl Renderer {
     /// The last frame's tile or cluster light lists as the GPU held them (`tiled`, `clustered`
     /// or the `tile-lights` view), read back; `None` when the frame built none.
     pub fn tile_lists(&self, gpu: &Gpu) -> Result<Option<culling::tiled::pass::TileLists>> {
-        match self.passes.tiled.get() {
-            Some(t) => t.lists(&gpu.device, &gpu.queue),
-            None => Ok(None),
-        }
+        self.scratch.tiled.lists(&gpu.device, &gpu.queue)
     }
 
     /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).

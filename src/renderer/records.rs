@@ -4,6 +4,7 @@
 //! offsets and size, parsed from the final shader source with naga).
 
 use super::settings::{self, Settings};
+use crate::renderer::kit::texture;
 use crate::scene::{AlphaMode, Camera, Light, Scene};
 use glam::{DMat4, Vec4};
 
@@ -587,16 +588,9 @@ const _: () = assert!(std::mem::size_of::<ShadowTile>() == 16 * SHADOW_TABLE_WID
 const _: () = assert!(std::mem::size_of::<ShadowParams>() <= 16 * SHADOW_TABLE_WIDTH as usize);
 
 fn shadow_table(device: &wgpu::Device, rows: u32) -> (wgpu::Texture, wgpu::TextureView) {
-    let t = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("shadow table"),
-        size: wgpu::Extent3d { width: SHADOW_TABLE_WIDTH, height: rows, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba32Uint,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    use wgpu::TextureUsages as U;
+    let size = (SHADOW_TABLE_WIDTH, rows);
+    let t = texture(device, "shadow table", wgpu::TextureFormat::Rgba32Uint, size, U::TEXTURE_BINDING | U::COPY_DST);
     let v = t.create_view(&Default::default());
     (t, v)
 }
@@ -605,18 +599,9 @@ fn shadow_table(device: &wgpu::Device, rows: u32) -> (wgpu::Texture, wgpu::Textu
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 fn shadow_atlas(device: &wgpu::Device, side: u32) -> (wgpu::Texture, wgpu::TextureView) {
-    let t = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("shadow atlas"),
-        size: wgpu::Extent3d { width: side, height: side, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: SHADOW_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    use wgpu::TextureUsages as U;
+    let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+    let t = texture(device, "shadow atlas", SHADOW_FORMAT, (side, side), usage);
     let v = t.create_view(&Default::default());
     (t, v)
 }
@@ -662,16 +647,9 @@ fn shadow_cubes(
 
 /// The cookie texels' texture: `width` x `rows` Rgba8Unorm (read with textureLoad, exact).
 fn cookie_texture(device: &wgpu::Device, width: u32, rows: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("cookie texels"),
-        size: wgpu::Extent3d { width: width.max(1), height: rows.max(1), depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8Unorm,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
+    use wgpu::TextureUsages as U;
+    let size = (width.max(1), rows.max(1));
+    texture(device, "cookie texels", wgpu::TextureFormat::Rgba8Unorm, size, U::TEXTURE_BINDING | U::COPY_DST)
 }
 
 fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {

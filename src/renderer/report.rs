@@ -66,9 +66,9 @@ impl Renderer {
         let m = self.measured(settings, shape, prepared);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, m.counts, m.ideal, m.times, m.forward)?;
         if let Some(fp) = stats.forward_path.as_mut() {
-            self.passes.forward_paths.read(&self.device, fp, settings.count_fragments)?;
-        } else if let Some(t) = self.passes.tiled.get() {
-            t.read(&self.device, &mut stats, plan.tiled)?;
+            self.scratch.forward.read(&self.device, fp, settings.count_fragments)?;
+        } else {
+            self.scratch.tiled.read(&self.device, &mut stats, plan.tiled)?;
         }
         Ok(stats)
     }

@@ -7,7 +7,6 @@ use super::plan::Draw;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use glam::{DVec3, Vec3};
-use wgpu::util::DeviceExt;
 
 pub struct SceneGpu {
     pub vertices: wgpu::Buffer,
@@ -112,16 +111,7 @@ impl SceneGpu {
             vertices.push(Default::default());
             indices.extend([0, 0, 0]);
         }
-        let vb = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene vertices"),
-            contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let ib = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("scene indices"),
-            contents: bytemuck::cast_slice(&indices),
-            usage: wgpu::BufferUsages::INDEX,
-        });
+        let (vb, ib) = crate::renderer::kit::mesh_buffers(device, "scene", &vertices, &indices);
         let limit = device.limits().max_texture_dimension_2d;
         if let Some(t) = scene.textures.iter().find(|t| t.width > limit || t.height > limit) {
             bail!("texture {} is {}x{}, larger than this GPU's limit of {limit}", t.name, t.width, t.height);

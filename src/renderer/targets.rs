@@ -3,26 +3,7 @@
 
 use super::kit::bindings;
 use super::kit::gbuffer::GBufferTargets;
-use crate::renderer::kit::{Shared, DEBUG_FORMAT, HDR_FORMAT};
-
-pub fn texture(
-    device: &wgpu::Device,
-    label: &str,
-    format: wgpu::TextureFormat,
-    (width, height): (u32, u32),
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
+use crate::renderer::kit::{texture, texture_2d, Shared, DEBUG_FORMAT, HDR_FORMAT};
 
 pub struct Targets {
     pub width: u32,
@@ -68,17 +49,7 @@ impl MsaaTargets {
         samples: u32,
     ) -> Self {
         let make = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: samples,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
+            texture_2d(device, label, (format, &[]), size, samples, wgpu::TextureUsages::RENDER_ATTACHMENT)
                 .create_view(&Default::default())
         };
         Self { color: make("hdr colour (multisampled)", format), depth: make("depth (multisampled)", depth), samples }

@@ -515,12 +515,13 @@ fn a_change_of_shader_features_alone_keeps_the_targets_and_the_exposure() {
     assert!(max_channel_difference(&restarted, &never) > 0, "the exposure did not need the frames before");
 }
 
-/// A renderer dropped hands its pass sets to the device's pool and the next renderer that
-/// needs one of them takes it, building no pipeline: and it draws what a renderer on a device
-/// that never drew anything draws, bit for bit, after the set drew other scenes, sizes and
-/// settings for its first owner (the scratch buffers it keeps are written before they are read).
+/// Renderers on one device share the pass set of a configuration: a second renderer of it,
+/// created while the first is alive, builds no pipeline. Each keeps its own scratch (the tile
+/// lists, the query read-backs): the two drawing in turn at other sizes leave each other's
+/// lists and counts alone, and each draws what a renderer alone on the device draws, bit for
+/// bit.
 #[test]
-fn a_pass_set_from_the_pool_draws_what_a_fresh_one_draws() {
+fn renderers_share_pass_sets_and_keep_their_own_scratch() {
     // Its own device: wgpu counts live pipelines per device, and other tests share `gpu()`.
     let gpu = lampshade::Gpu::headless().expect("these tests need a GPU adapter");
     let pipelines = || {
@@ -528,32 +529,36 @@ fn a_pass_set_from_the_pool_draws_what_a_fresh_one_draws() {
         h.render_pipelines.read() + h.compute_pipelines.read()
     };
     let spot = scene("spot");
-    let mut demo = scene("demo");
-    demo.lights.truncate(200);
     let s = |culling| Settings { culling, ..Settings::default() };
-    let frame = |r: &mut Renderer, scene: &lampshade::Scene, s: &Settings, (w, h): (u32, u32)| {
-        let (image, stats) = render_image(&gpu, r, scene, s, w, h).expect("render");
+    let frame = |r: &mut Renderer, s: &Settings, (w, h): (u32, u32)| {
+        let (image, stats) = render_image(&gpu, r, &spot, s, w, h).expect("render");
         let (d, sp) = r.read_accumulation(&gpu).expect("accumulation");
         (image, stats, d, sp)
     };
+    let lists = |r: &Renderer| r.tile_lists(&gpu).expect("tile lists").map(|l| l.data);
+    let shaded = |st: &lampshade::renderer::FrameStats| st.per_light.iter().map(|l| l.shaded).collect::<Vec<_>>();
     for mode in [CullingMode::StencilReplace, CullingMode::Tiled, CullingMode::Clustered] {
         let mut first = Renderer::new(&gpu, OUTPUT_FORMAT, &s(mode)).expect("renderer");
-        let fresh = frame(&mut first, &spot, &s(mode), (W, H));
-        // Its first owner draws a larger, busier frame with it (other lists, other counts).
-        frame(&mut first, &demo, &s(mode), (2 * W, 2 * H));
-        frame(&mut first, &demo, &s(mode), (W, H));
-        let sets = gpu.passes.len();
-        drop(first);
-        assert!(gpu.passes.len() > sets, "{mode:?}: the dropped renderer gave nothing to the pool");
+        let alone = frame(&mut first, &s(mode), (W, H));
+        let first_lists = lists(&first);
+        assert_eq!(first_lists.is_some(), mode != CullingMode::StencilReplace, "{mode:?}: lists");
         let built = pipelines();
         let mut second = Renderer::new(&gpu, OUTPUT_FORMAT, &s(mode)).expect("renderer");
-        let pooled = frame(&mut second, &spot, &s(mode), (W, H));
-        assert_eq!(pipelines(), built, "{mode:?}: the second renderer built pipelines: it did not take the pooled set");
-        assert_eq!(max_channel_difference(&fresh.0, &pooled.0), 0, "{mode:?}: the pooled set drew another picture");
-        assert!(fresh.2 == pooled.2 && fresh.3 == pooled.3, "{mode:?}: the accumulation differs");
-        assert_eq!(fresh.1.shaded_fragments, pooled.1.shaded_fragments, "{mode:?}: other counts");
-        let shaded = |st: &lampshade::renderer::FrameStats| st.per_light.iter().map(|l| l.shaded).collect::<Vec<_>>();
-        assert_eq!(shaded(&fresh.1), shaded(&pooled.1), "{mode:?}: other per-light counts");
+        // The second draws a larger frame (other lists, other counts) with the shared set.
+        let larger = frame(&mut second, &s(mode), (2 * W, 2 * H));
+        assert_eq!(pipelines(), built, "{mode:?}: the second renderer built pipelines: it did not share the set");
+        assert_eq!(lists(&first), first_lists, "{mode:?}: the second renderer's frame changed the first's lists");
+        if first_lists.is_some() {
+            assert_ne!(lists(&second), first_lists, "{mode:?}: a frame twice the size has the same lists");
+        }
+        assert_ne!(shaded(&larger.1), shaded(&alone.1), "{mode:?}: a frame twice the size shaded as many fragments");
+        for (who, r) in [("first", &mut first), ("second", &mut second)] {
+            let again = frame(r, &s(mode), (W, H));
+            assert_eq!(max_channel_difference(&alone.0, &again.0), 0, "{mode:?}, {who}: another picture");
+            assert!(alone.2 == again.2 && alone.3 == again.3, "{mode:?}, {who}: the accumulation differs");
+            assert_eq!(shaded(&alone.1), shaded(&again.1), "{mode:?}, {who}: other per-light counts");
+        }
+        assert_eq!(pipelines(), built, "{mode:?}: drawing in turn built pipelines");
     }
 }
 

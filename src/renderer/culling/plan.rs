@@ -756,6 +756,14 @@ pub fn long_forward_list_warnings(path: Option<u32>, blended: Option<&ForwardSta
 /// Size in pixels of the forward pass's screen tiles.
 pub const FORWARD_TILE: u32 = 16;
 
+/// Object `o`'s bounding sphere in world space: its mesh's sphere (`bounds`) moved by its
+/// transform, the radius scaled by the transform's largest axis scale.
+fn world_sphere(o: &crate::scene::Object, bounds: &[(DVec3, f64)]) -> (DVec3, f64) {
+    let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
+    let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
+    (o.transform.transform_point3(c), r * scale)
+}
+
 /// The forward pass's screen tiles ([`FORWARD_TILE`] pixels) at `size`: (tiles across, down,
 /// each tile's lights in light order), a light in every tile its screen rectangle, widened by a
 /// pixel against rounding, covers; only the lights `wanted` marks.
@@ -821,10 +829,7 @@ fn plan_draws(
         }
         match m.alpha_mode {
             AlphaMode::Blend => {
-                let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
-                let centre = o.transform.transform_point3(c);
-                let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
-                let radius = r * scale;
+                let (centre, radius) = world_sphere(o, bounds);
                 let first = lists.len() as u32;
                 for (k, l) in scene.lights.iter().enumerate() {
                     let keep = match mode {
@@ -1234,10 +1239,7 @@ pub fn forward_path_lists(
     for &draw in opaque {
         let i = draw.0;
         let (Some(o), Some(record)) = (scene.objects.get(i), objects.get_mut(i)) else { continue };
-        let (c, r) = bounds.get(o.mesh).copied().unwrap_or((DVec3::ZERO, 0.0));
-        let centre = o.transform.transform_point3(c);
-        let scale = (0..3).map(|k| o.transform.col(k).truncate().length()).fold(0.0, f64::max);
-        let radius = r * scale;
+        let (centre, radius) = world_sphere(o, bounds);
         let first = lists.len() as u32;
         for (k, l) in scene.lights.iter().enumerate() {
             let Some(scissor) = scissors.get(k).copied().flatten() else { continue };

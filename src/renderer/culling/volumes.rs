@@ -4,7 +4,6 @@
 
 use crate::renderer::records::{LightRecord, LIGHT_KIND_SPOT};
 use glam::{Vec3, Vec4};
-use wgpu::util::DeviceExt;
 
 /// Relative safety margin on top of exact circumscription, for rasterisation of faces that
 /// coincide with geometry.
@@ -206,16 +205,8 @@ impl Volumes {
         let cone = VolumeMesh::cone(tessellation.1);
         let all_vertices: Vec<Vec4> = sphere.vertices.iter().chain(cone.vertices.iter()).copied().collect();
         let all_indices: Vec<u32> = sphere.indices.iter().chain(cone.indices.iter()).copied().collect();
-        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light volumes"),
-            contents: bytemuck::cast_slice(&all_vertices),
-            usage: wgpu::BufferUsages::VERTEX,
-        });
-        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("light volume indices"),
-            contents: bytemuck::cast_slice(&all_indices),
-            usage: wgpu::BufferUsages::INDEX,
-        });
+        let (vertices, indices) =
+            crate::renderer::kit::mesh_buffers(device, "light volume", &all_vertices, &all_indices);
         Self { sphere, cone, tessellation, vertices, indices }
     }
 

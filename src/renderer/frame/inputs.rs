@@ -29,6 +29,8 @@ pub struct FrameInputs<'a> {
     /// Per light, its first shadow tile and tile count this frame (`shadows::ShadowPlan::lights`;
     /// `records::NO_SHADOW` first: unshadowed).
     pub shadowed: &'a [(u32, u32)],
+    /// This renderer's buffers the passes write and read back (the pass set is shared).
+    pub scratch: &'a super::scratch::Scratch,
 }
 
 impl FrameInputs<'_> {

@@ -5,6 +5,7 @@
 
 pub mod inputs;
 pub mod passes;
+pub mod scratch;
 
 use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
@@ -209,6 +210,7 @@ impl Renderer {
             forward_counts: m.forward,
             depth_clamp: self.passes.key().depth_clamp,
             shadowed: &prepared.shadows.lights,
+            scratch: &self.scratch,
         })
     }
 }

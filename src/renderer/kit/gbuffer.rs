@@ -715,18 +715,9 @@ impl GBufferTargets {
             .targets
             .iter()
             .map(|t| {
-                device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(t.name),
-                    size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: t.format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                })
+                use wgpu::TextureUsages as U;
+                let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+                super::texture(device, t.name, t.format, (width, height), usage)
             })
             .collect();
         let views = textures.iter().map(|t| t.create_view(&Default::default())).collect();

@@ -15,7 +15,7 @@ pub mod bindings;
 pub mod gbuffer;
 pub mod pipeline;
 
-pub use pipeline::{ambient_fits, PipelineKey, Shared};
+pub use pipeline::{ambient_fits, scene_pipeline, PipelineKey, ScenePipe, Shared};
 use std::sync::{Arc, OnceLock};
 use wgpu::CompareFunction as Cmp;
 
@@ -23,6 +23,60 @@ use wgpu::CompareFunction as Cmp;
 pub const DEBUG_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Format of the HDR scene colour that scenes with blended surfaces compose through.
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+pub fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    format: wgpu::TextureFormat,
+    size: (u32, u32),
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    texture_2d(device, label, (format, &[]), size, 1, usage)
+}
+
+/// A 2D texture of `samples` samples, one mip level, of `format` and the other formats its
+/// views may take.
+pub fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    (format, view_formats): (wgpu::TextureFormat, &[wgpu::TextureFormat]),
+    (width, height): (u32, u32),
+    samples: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: samples,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats,
+    })
+}
+
+/// A vertex buffer holding `vertices` and an index buffer holding `indices` ("`label`
+/// vertices", "`label` indices").
+pub fn mesh_buffers<V: bytemuck::Pod>(
+    device: &wgpu::Device,
+    label: &str,
+    vertices: &[V],
+    indices: &[u32],
+) -> (wgpu::Buffer, wgpu::Buffer) {
+    use wgpu::util::DeviceExt;
+    let buffer = |what: &str, contents: &[u8], usage| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(&format!("{label} {what}")),
+            contents,
+            usage,
+        })
+    };
+    (
+        buffer("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
+        buffer("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+    )
+}
 
 /// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
 /// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).

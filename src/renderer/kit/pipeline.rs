@@ -121,12 +121,25 @@ impl Shared {
         fs: &str,
         format: wgpu::TextureFormat,
     ) -> wgpu::RenderPipeline {
+        self.screen_pipeline(device, label, layout, ("vs_compose", fs), &[Some(format.into())])
+    }
+
+    /// A pipeline of vertex stage `vs` without vertex buffers (a full-screen triangle, or
+    /// instances of one) and fragment stage `fs` into `targets`, no depth.
+    pub fn screen_pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::PipelineLayout,
+        (vs, fs): (&str, &str),
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> wgpu::RenderPipeline {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
             layout: Some(layout),
             vertex: wgpu::VertexState {
                 module: &self.module,
-                entry_point: Some("vs_compose"),
+                entry_point: Some(vs),
                 compilation_options: Default::default(),
                 buffers: &[],
             },
@@ -137,7 +150,7 @@ impl Shared {
                 module: &self.module,
                 entry_point: Some(fs),
                 compilation_options: Default::default(),
-                targets: &[Some(format.into())],
+                targets,
             }),
             multiview_mask: None,
             cache: None,
@@ -208,4 +221,73 @@ impl Shared {
             cache: None,
         })
     }
+}
+
+/// A pipeline drawing the scene's vertices (`scene::Vertex`): what every surface pass (the
+/// G-buffer, the forward paths, the light pre-pass's pass 3, blended surfaces) is built from.
+pub struct ScenePipe<'a> {
+    pub label: &'a str,
+    pub layout: &'a wgpu::PipelineLayout,
+    pub vs: &'a str,
+    /// `None`: depth only.
+    pub fs: Option<&'a str>,
+    pub topology: crate::scene::Topology,
+    pub double_sided: bool,
+    /// Depth written, its compare (written for standard depth, flipped under reversed Z), the
+    /// stencil state.
+    pub depth: (bool, Cmp, wgpu::StencilState),
+    pub samples: u32,
+}
+
+/// The pipeline `p` describes from `module`, for `key`'s depth format and convention, writing
+/// `targets`. Triangles cull back faces unless two-sided; lines and points cull nothing.
+pub fn scene_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    key: &PipelineKey,
+    p: ScenePipe<'_>,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    use crate::scene::Topology;
+    let vertex_buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
+    })];
+    let triangles = p.topology == Topology::Triangles;
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(p.label),
+        layout: Some(p.layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(p.vs),
+            compilation_options: Default::default(),
+            buffers: &vertex_buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: match p.topology {
+                Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
+                Topology::Lines => wgpu::PrimitiveTopology::LineList,
+                Topology::Points => wgpu::PrimitiveTopology::PointList,
+            },
+            cull_mode: if p.double_sided || !triangles { None } else { Some(wgpu::Face::Back) },
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: key.depth_format,
+            depth_write_enabled: Some(p.depth.0),
+            depth_compare: Some(z(key.reversed_z, p.depth.1)),
+            stencil: p.depth.2,
+            bias: Default::default(),
+        }),
+        multisample: wgpu::MultisampleState { count: p.samples, ..Default::default() },
+        fragment: p.fs.map(|fs| wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

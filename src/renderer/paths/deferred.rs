@@ -7,14 +7,11 @@
 //!    blended surfaces or the post chain, compose in HDR, shade the blended surfaces forward
 //!    over it back to front (deferred shading cannot do transparency), then finish.
 
-use super::{compose, finish, tiled, Drawn, PathInputs};
+use super::{compose, finish, surfaces_and_lights, Drawn, PathInputs};
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
     let (p, f) = (c.passes, c.f);
-    c.group(encoder, "gbuffer", |e| p.gbuffer.encode(e, f));
-    let draw_calls = c.group(encoder, "lights", |e| p.lights.encode(e, f));
-    let cpu_ms = tiled(c, encoder);
-    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
+    let (draw_calls, cpu_ms) = surfaces_and_lights(c, encoder, ("gbuffer", "lights"));
     if (c.shape.chain && f.targets.post.is_some()) || c.shape.blended {
         c.group(encoder, "compose (HDR)", |e| p.compose.encode_hdr(e, c.queue, f));
         c.group(encoder, "blended surfaces", |e| p.forward.encode(e, f));

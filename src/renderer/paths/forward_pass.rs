@@ -16,7 +16,7 @@
 //! deferred path never needs them).
 
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{Shared, ADDITIVE, HDR_FORMAT};
+use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::plan::{Draw, ForwardPathLists};
 use crate::renderer::settings::{RenderPath, Settings};
 use crate::renderer::stats::Span;
@@ -126,10 +126,72 @@ pub struct ForwardPathsPass {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
     pipelines: Mutex<HashMap<u32, Arc<Pipelines>>>,
+}
+
+/// A renderer's forward-path buffers: the occlusion queries of the path's passes with their
+/// resolve and read-back buffers (made on the first forward frame), and the multisampled
+/// targets of the last size.
+#[derive(Default)]
+pub struct ForwardScratch {
+    queries: std::sync::OnceLock<Queries>,
     msaa: Mutex<Option<Arc<Msaa>>>,
-    queries: wgpu::QuerySet,
+}
+
+struct Queries {
+    set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
+}
+
+impl ForwardScratch {
+    fn queries(&self, device: &wgpu::Device) -> &Queries {
+        self.queries.get_or_init(|| {
+            let buffer = |label, usage| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: QUERIES as u64 * 8,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            use wgpu::BufferUsages as B;
+            Queries {
+                set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("forward path fragments"),
+                    ty: wgpu::QueryType::Occlusion,
+                    count: QUERIES,
+                }),
+                resolve: buffer("forward path query resolve", B::QUERY_RESOLVE | B::COPY_SRC),
+                readback: buffer("forward path query readback", B::COPY_DST | B::MAP_READ),
+            }
+        })
+    }
+
+    /// Reads the frame's occlusion counts into `stats` (after the frame was submitted).
+    pub fn read(&self, device: &wgpu::Device, stats: &mut ForwardPathStats, count: bool) -> Result<()> {
+        if !count {
+            return Ok(());
+        }
+        let Some(q) = self.queries.get() else { return Ok(()) };
+        let slice = q.readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
+        {
+            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
+            let words: &[u64] = bytemuck::cast_slice(&data);
+            for p in &mut stats.passes {
+                if let Some(q) = p.query {
+                    p.fragments = words.get(q as usize).copied();
+                }
+            }
+        }
+        q.readback.unmap();
+        Ok(())
+    }
 }
 
 /// What the frame hands the forward paths besides [`FrameInputs`].
@@ -145,28 +207,12 @@ pub struct PathFrame<'a> {
 
 impl ForwardPathsPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let buffer = |label, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: QUERIES as u64 * 8,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        use wgpu::BufferUsages as B;
+        let _ = device;
         Self {
             key: shared.key.clone(),
             module: shared.module.clone(),
             layout: shared.surface_layout.clone(),
             pipelines: Mutex::new(HashMap::new()),
-            msaa: Mutex::new(None),
-            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("forward path fragments"),
-                ty: wgpu::QueryType::Occlusion,
-                count: QUERIES,
-            }),
-            resolve: buffer("forward path query resolve", B::QUERY_RESOLVE | B::COPY_SRC),
-            readback: buffer("forward path query readback", B::COPY_DST | B::MAP_READ),
         }
     }
 
@@ -184,46 +230,8 @@ impl ForwardPathsPass {
         targets: &[Option<wgpu::ColorTargetState>],
         samples: u32,
     ) -> wgpu::RenderPipeline {
-        let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
-        })];
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(&self.layout),
-            vertex: wgpu::VertexState {
-                module: &self.module,
-                entry_point: Some(vs),
-                compilation_options: Default::default(),
-                buffers: &vertex_buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: match topology {
-                    Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
-                    Topology::Lines => wgpu::PrimitiveTopology::LineList,
-                    Topology::Points => wgpu::PrimitiveTopology::PointList,
-                },
-                cull_mode: if double_sided || topology != Topology::Triangles { None } else { Some(wgpu::Face::Back) },
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: self.key.depth_format,
-                depth_write_enabled: Some(depth.0),
-                depth_compare: Some(crate::renderer::kit::z(self.key.reversed_z, depth.1)),
-                stencil: depth.2,
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
-            fragment: fs.map(|fs| wgpu::FragmentState {
-                module: &self.module,
-                entry_point: Some(fs),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+        let p = ScenePipe { label, layout: &self.layout, vs, fs, topology, double_sided, depth, samples };
+        scene_pipeline(device, &self.module, &self.key, p, targets)
     }
 
     /// The six pipelines of one stage (by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`]): opaque and masked
@@ -356,24 +364,21 @@ impl ForwardPathsPass {
         Ok(p)
     }
 
-    fn msaa_targets(&self, device: &wgpu::Device, size: (u32, u32)) -> Result<Arc<Msaa>> {
-        let mut slot = self.msaa.lock().map_err(|_| anyhow::anyhow!("MSAA targets lock poisoned"))?;
+    fn msaa_targets(&self, device: &wgpu::Device, scratch: &ForwardScratch, size: (u32, u32)) -> Result<Arc<Msaa>> {
+        let mut slot = scratch.msaa.lock().map_err(|_| anyhow::anyhow!("MSAA targets lock poisoned"))?;
         if let Some(m) = slot.as_ref().filter(|m| m.size == size) {
             return Ok(m.clone());
         }
         let make = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width: size.0, height: size.1, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 4,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
+            crate::renderer::kit::texture_2d(
+                device,
+                label,
+                (format, &[]),
+                size,
+                4,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&Default::default())
         };
         let m = Arc::new(Msaa {
             size,
@@ -406,8 +411,11 @@ impl ForwardPathsPass {
         let samples = s.msaa.samples();
         let Some((hdr_view, _)) = &f.targets.hdr else { bail!("internal: the forward paths need the HDR colour") };
         let pipes = self.pipelines(device, samples)?;
-        let msaa =
-            if samples > 1 { Some(self.msaa_targets(device, (f.targets.width, f.targets.height))?) } else { None };
+        let msaa = if samples > 1 {
+            Some(self.msaa_targets(device, &f.scratch.forward, (f.targets.width, f.targets.height))?)
+        } else {
+            None
+        };
         let (color, depth) = match &msaa {
             Some(m) => (&m.color, &m.depth),
             None => (hdr_view, &f.targets.depth),
@@ -424,6 +432,9 @@ impl ForwardPathsPass {
         let multipass = s.path == RenderPath::ForwardMultipass;
         let prepass = multipass || s.depth_prepass;
         let mut stats = self.path_stats(f, pf, samples, prepass);
+        if s.count_fragments {
+            f.scratch.forward.queries(device);
+        }
         // The last pass over the multisampled colour resolves it (the blended pass, when the
         // frame has one).
         let resolve_in_blended = at.msaa && pf.blended;
@@ -462,8 +473,9 @@ impl ForwardPathsPass {
             }
         }
         if s.count_fragments {
-            encoder.resolve_query_set(&self.queries, 0..QUERIES, &self.resolve, 0);
-            encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, QUERIES as u64 * 8);
+            let q = f.scratch.forward.queries(device);
+            encoder.resolve_query_set(&q.set, 0..QUERIES, &q.resolve, 0);
+            encoder.copy_buffer_to_buffer(&q.resolve, 0, &q.readback, 0, QUERIES as u64 * 8);
         }
         Ok(stats)
     }
@@ -508,8 +520,10 @@ impl ForwardPathsPass {
     }
 
     /// Occlusion query `index` of the path's set when the frame counts fragments.
-    fn query(&self, f: &FrameInputs<'_>, index: u32) -> Option<(&wgpu::QuerySet, u32)> {
-        f.settings.count_fragments.then_some((&self.queries, index))
+    /// (`encode` makes the renderer's query set before the passes when the frame counts.)
+    fn query<'f>(f: &'f FrameInputs<'_>, index: u32) -> Option<(&'f wgpu::QuerySet, u32)> {
+        let queries = f.scratch.forward.queries.get().filter(|_| f.settings.count_fragments)?;
+        Some((&queries.set, index))
     }
 
     /// Step 1: the opaque objects' depth (query 0).
@@ -522,19 +536,10 @@ impl ForwardPathsPass {
         stats: &mut ForwardPathStats,
     ) {
         let opaque = &f.plan.draws.gbuffer;
-        let query = self.query(f, 0);
+        let query = Self::query(f, 0);
         let mut pass = begin(encoder, f, "forward depth", &[], at.depth(true), DEPTH, query);
         f.scene.draw(&mut pass, opaque, &pipes.depth);
-        if query.is_some() {
-            pass.end_occlusion_query();
-        }
-        stats.passes.push(PathPass {
-            name: "depth".into(),
-            draw_calls: opaque.len() as u64,
-            span: Some(DEPTH),
-            query: query.map(|(_, i)| i),
-            ..Default::default()
-        });
+        stats.passes.push(end(pass, query, "depth", opaque.len() as u64, DEPTH));
     }
 
     /// Step 2: single-pass shading, or multi-pass's ambient + sun (query 1). `last`: this pass
@@ -551,7 +556,7 @@ impl ForwardPathsPass {
         let opaque = &f.plan.draws.gbuffer;
         let label = if multipass { "forward ambient + sun" } else { "forward single-pass" };
         let colour = [at.color(true, last)];
-        let query = self.query(f, 1);
+        let query = Self::query(f, 1);
         let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, query);
         let pipelines = match (multipass, prepass) {
             (true, _) => &pipes.base,
@@ -581,16 +586,13 @@ impl ForwardPathsPass {
         } else {
             f.scene.draw(&mut pass, opaque, pipelines);
         }
-        if query.is_some() {
-            pass.end_occlusion_query();
-        }
-        stats.passes.push(PathPass {
-            name: if multipass { "ambient + sun" } else { "shading" }.into(),
-            draw_calls: opaque.len() as u64,
-            span: Some(SHADE),
-            query: query.map(|(_, i)| i),
-            ..Default::default()
-        });
+        stats.passes.push(end(
+            pass,
+            query,
+            if multipass { "ambient + sun" } else { "shading" },
+            opaque.len() as u64,
+            SHADE,
+        ));
     }
 
     /// Step 3: multi-pass's (object, light) pairs, each scissored to its light's rectangle and
@@ -609,7 +611,7 @@ impl ForwardPathsPass {
     ) {
         let colour = [at.color(false, last)];
         let label = "forward lights (object, light) pairs";
-        let query = self.query(f, 2);
+        let query = Self::query(f, 2);
         let mut pass = begin(encoder, f, label, &colour, at.depth(false), PAIRS, query);
         pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
         pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -633,41 +635,7 @@ impl ForwardPathsPass {
             let instance = lists.pair_base + j as u32;
             pass.draw_indexed(range.clone(), *base, instance..instance + 1);
         }
-        if query.is_some() {
-            pass.end_occlusion_query();
-        }
-        stats.passes.push(PathPass {
-            name: "lights (object, light) pairs".into(),
-            draw_calls: lists.pairs.len() as u64,
-            span: Some(PAIRS),
-            query: query.map(|(_, i)| i),
-            ..Default::default()
-        });
-    }
-
-    /// Reads the frame's occlusion counts into `stats` (after the frame was submitted).
-    pub fn read(&self, device: &wgpu::Device, stats: &mut ForwardPathStats, count: bool) -> Result<()> {
-        if !count {
-            return Ok(());
-        }
-        let slice = self.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
-        {
-            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
-            let words: &[u64] = bytemuck::cast_slice(&data);
-            for p in &mut stats.passes {
-                if let Some(q) = p.query {
-                    p.fragments = words.get(q as usize).copied();
-                }
-            }
-        }
-        self.readback.unmap();
-        Ok(())
+        stats.passes.push(end(pass, query, "lights (object, light) pairs", lists.pairs.len() as u64, PAIRS));
     }
 }
 
@@ -738,4 +706,18 @@ fn begin<'e>(
         pass.begin_occlusion_query(i);
     }
     pass
+}
+
+/// Ends `pass` (its occlusion query first, when begun) and describes it for the stats.
+fn end(
+    mut pass: wgpu::RenderPass<'_>,
+    query: Option<(&wgpu::QuerySet, u32)>,
+    name: impl Into<String>,
+    draw_calls: u64,
+    span: Span,
+) -> PathPass {
+    if query.is_some() {
+        pass.end_occlusion_query();
+    }
+    PathPass { name: name.into(), draw_calls, span: Some(span), query: query.map(|(_, i)| i), ..Default::default() }
 }

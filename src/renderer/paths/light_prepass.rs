@@ -6,15 +6,13 @@
 //!    colour; then blended surfaces forward and the tonemap or the post chain, as deferred
 //!    shading does. A debug view composes the buffers instead.
 
-use super::{compose, finish, tiled, Drawn, PathInputs};
+use super::{compose, finish, surfaces_and_lights, Drawn, PathInputs};
 use crate::renderer::paths::prepass_pass;
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
     let (p, f) = (c.passes, c.f);
-    c.group(encoder, "normals and exponent", |e| p.gbuffer.encode(e, f));
-    let draw_calls = c.group(encoder, "lights into the light buffer", |e| p.lights.encode(e, f));
-    let cpu_ms = tiled(c, encoder);
-    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
+    let (draw_calls, cpu_ms) =
+        surfaces_and_lights(c, encoder, ("normals and exponent", "lights into the light buffer"));
     let finals = if c.shape.prepass_lit {
         let bg = c.scene.background.as_dvec3();
         let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };

@@ -87,8 +87,28 @@ impl PathInputs<'_> {
 pub fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
     match c.passes.tiled.get() {
         Some(t) => c.group(encoder, "tiled and clustered lights", |e| t.encode(c.device, c.queue, e, c.f)),
-        None => (0.0, 0.0),
+        None => {
+            c.f.scratch.tiled.clear();
+            (0.0, 0.0)
+        }
     }
+}
+
+/// The first half both deferred paths share: the surface pass (the G-buffer, or the light
+/// pre-pass's normals and exponent), every light with its culling method, the tiled and
+/// clustered lights, and the stencil and complexity views; `labels` name the first two for a
+/// capture. Returns the light draws and the CPU ms the tiled lists' upload took.
+pub fn surfaces_and_lights(
+    c: &PathInputs<'_>,
+    encoder: &mut wgpu::CommandEncoder,
+    (surfaces, lights): (&str, &str),
+) -> (u64, (f64, f64)) {
+    let (p, f) = (c.passes, c.f);
+    c.group(encoder, surfaces, |e| p.gbuffer.encode(e, f));
+    let draw_calls = c.group(encoder, lights, |e| p.lights.encode(e, f));
+    let cpu_ms = tiled(c, encoder);
+    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
+    (draw_calls, cpu_ms)
 }
 
 /// Compose straight into the output: the lit picture from the G-buffer and light buffers, or

@@ -6,7 +6,7 @@
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{Shared, HDR_FORMAT};
+use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::topology_pipeline_index;
 
@@ -29,11 +29,6 @@ impl PrepassFinalPass {
             bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.material_bgl), Some(&shared.compose_bgl)],
             immediate_size: 0,
         });
-        let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
-        })];
         let targets = [Some(wgpu::ColorTargetState::from(HDR_FORMAT))];
         // Single-sample: pass 1's depth, the same vertex shader, so only the visible surface
         // passes (less-equal, not written). Multisampled (`--msaa 4`): pass 1's depth has one
@@ -41,45 +36,19 @@ impl PrepassFinalPass {
         let samples = shared.key.samples;
         let ms = samples > 1;
         let pipe = |label: &str, fs: &str, double_sided: bool, topology: Topology| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &shared.module,
-                    entry_point: Some("vs_geometry"),
-                    compilation_options: Default::default(),
-                    buffers: &vertex_buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: match topology {
-                        Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
-                        Topology::Lines => wgpu::PrimitiveTopology::LineList,
-                        Topology::Points => wgpu::PrimitiveTopology::PointList,
-                    },
-                    cull_mode: if double_sided || topology != Topology::Triangles {
-                        None
-                    } else {
-                        Some(wgpu::Face::Back)
-                    },
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: shared.key.depth_format,
-                    depth_write_enabled: Some(ms),
-                    depth_compare: Some(shared.z(if ms { Cmp::Less } else { Cmp::LessEqual })),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
-                fragment: Some(wgpu::FragmentState {
-                    module: &shared.module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            let compare = if ms { Cmp::Less } else { Cmp::LessEqual };
+            let depth = (ms, compare, Default::default());
+            let p = ScenePipe {
+                label,
+                layout: &layout,
+                vs: "vs_geometry",
+                fs: Some(fs),
+                topology,
+                double_sided,
+                depth,
+                samples,
+            };
+            scene_pipeline(device, &shared.module, &shared.key, p, &targets)
         };
         let t = Topology::Triangles;
         let pipelines = [

@@ -103,8 +103,7 @@ impl EffectsPass {
         last: bool,
     ) {
         let (e, (to_post, to_output, _)) = (&EFFECTS[i], &self.pipelines[i]);
-        let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
-        post_draw(encoder, f, e.name, if last { to_output } else { to_post }, view, group, stamps);
+        draw(encoder, f, e, e.name, if last { to_output } else { to_post }, (group, view));
     }
 
     /// Records the effect whose view `debug_view` is from `group`'s source into `target`;
@@ -120,12 +119,25 @@ impl EffectsPass {
         for (e, (_, _, pipeline)) in EFFECTS.iter().zip(&self.pipelines) {
             if let (Some((v, _)), Some(pipeline)) = (e.view, pipeline) {
                 if v == debug_view {
-                    let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
-                    post_draw(encoder, f, &format!("{} view", e.name), pipeline, target, group, stamps);
+                    draw(encoder, f, e, &format!("{} view", e.name), pipeline, (group, target));
                     return true;
                 }
             }
         }
         false
     }
+}
+
+/// Records one draw of effect `e` with `pipeline` from `group`'s source into `target`, timed as
+/// the effect's span.
+fn draw(
+    encoder: &mut wgpu::CommandEncoder,
+    f: &FrameInputs<'_>,
+    e: &Effect,
+    label: &str,
+    pipeline: &wgpu::RenderPipeline,
+    (group, target): (&wgpu::BindGroup, &wgpu::TextureView),
+) {
+    let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
+    post_draw(encoder, f, label, pipeline, target, group, stamps);
 }

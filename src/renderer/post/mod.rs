@@ -16,9 +16,9 @@ pub mod effects;
 pub mod exposure;
 pub mod tonemap;
 
+use super::kit::texture;
 use super::records::PostParams;
 use super::settings::Settings;
-use super::targets::texture;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;

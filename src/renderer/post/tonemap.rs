@@ -22,23 +22,12 @@ pub struct TonemapPass {
 impl TonemapPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let out = shared.key.output_format;
+        let pipe = |label, fs, format| shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, format);
         Self {
-            to_output: shared.fullscreen_pipeline(device, "post tonemap", &shared.post_layout, "fs_post_tonemap", out),
-            to_post: shared.fullscreen_pipeline(
-                device,
-                "post tonemap (graded)",
-                &shared.post_layout,
-                "fs_post_tonemap",
-                POST_FORMAT,
-            ),
-            view_bloom: shared.fullscreen_pipeline(device, "bloom view", &shared.post_layout, "fs_view_bloom", out),
-            view_histogram: shared.fullscreen_pipeline(
-                device,
-                "histogram view",
-                &shared.post_layout,
-                "fs_view_histogram",
-                out,
-            ),
+            to_output: pipe("post tonemap", "fs_post_tonemap", out),
+            to_post: pipe("post tonemap (graded)", "fs_post_tonemap", POST_FORMAT),
+            view_bloom: pipe("bloom view", "fs_view_bloom", out),
+            view_histogram: pipe("histogram view", "fs_view_histogram", out),
         }
     }
 

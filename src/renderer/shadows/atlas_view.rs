@@ -18,10 +18,42 @@ pub struct AtlasViewPass {
     view: wgpu::RenderPipeline,
     atlas_bgl: wgpu::BindGroupLayout,
     range_bgl: wgpu::BindGroupLayout,
-    /// `atlas_range`: least and greatest depth bits, the image's side, a pad.
-    buffer: wgpu::Buffer,
-    /// The range copied out for the CPU.
-    staging: wgpu::Buffer,
+}
+
+/// A renderer's range buffers (made on first use): `atlas_range` (least and greatest depth
+/// bits, the image's side, a pad) and its copy for the CPU.
+#[derive(Default)]
+pub struct AtlasScratch {
+    buffers: std::sync::OnceLock<(wgpu::Buffer, wgpu::Buffer)>,
+}
+
+impl AtlasScratch {
+    fn buffers(&self, device: &wgpu::Device) -> &(wgpu::Buffer, wgpu::Buffer) {
+        self.buffers.get_or_init(|| {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("atlas range"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let staging = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("atlas range readback"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            (buffer, staging)
+        })
+    }
+
+    /// The depth range the last [`AtlasViewPass::encode`] found (after its submission): least
+    /// and greatest stored depth below the clear value, `None` when every texel is clear.
+    pub fn read(&self, gpu: &crate::Gpu) -> anyhow::Result<Option<(f32, f32)>> {
+        let Some((_, staging)) = self.buffers.get() else { return Ok(None) };
+        let bytes = gpu.read_buffer(staging)?;
+        let w: &[u32] = bytemuck::cast_slice(&bytes);
+        Ok(range_of(w.first().copied().unwrap_or(u32::MAX), w.get(1).copied().unwrap_or(0)))
+    }
 }
 
 impl AtlasViewPass {
@@ -42,19 +74,7 @@ impl AtlasViewPass {
             cache: None,
         });
         let view = shared.fullscreen_pipeline(device, "atlas view", &layout, "fs_atlas_view", shared.key.output_format);
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas range"),
-            size: 16,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("atlas range readback"),
-            size: 16,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Self { range, view, atlas_bgl, range_bgl, buffer, staging }
+        Self { range, view, atlas_bgl, range_bgl }
     }
 
     /// Records the range search and the image into `target` (`side` pixels square, the
@@ -68,12 +88,13 @@ impl AtlasViewPass {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &FrameBuffers,
+        (frame, scratch): (&FrameBuffers, &AtlasScratch),
         target: &wgpu::TextureView,
         side: u32,
         empty: bool,
     ) {
-        queue.write_buffer(&self.buffer, 0, bytemuck::cast_slice(&[u32::MAX, 0, side.max(1), 0]));
+        let (buffer, staging) = scratch.buffers(device);
+        queue.write_buffer(buffer, 0, bytemuck::cast_slice(&[u32::MAX, 0, side.max(1), 0]));
         if empty {
             let [r, g, b] = EMPTY;
             // A pass that only clears.
@@ -93,7 +114,7 @@ impl AtlasViewPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             }));
-            encoder.copy_buffer_to_buffer(&self.buffer, 0, &self.staging, 0, 16);
+            encoder.copy_buffer_to_buffer(buffer, 0, staging, 0, 16);
             return;
         }
         let atlas = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -107,7 +128,7 @@ impl AtlasViewPass {
         let range = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("atlas view: range"),
             layout: &self.range_bgl,
-            entries: &bindings::ATLAS_VIEW.entries(vec![self.buffer.as_entire_binding()]),
+            entries: &bindings::ATLAS_VIEW.entries(vec![buffer.as_entire_binding()]),
         });
         let texels = frame.shadow_side();
         let groups = texels.div_ceil(WORKGROUP * BLOCK);
@@ -143,15 +164,7 @@ impl AtlasViewPass {
             pass.set_bind_group(1, &range, &[]);
             pass.draw(0..3, 0..1);
         }
-        encoder.copy_buffer_to_buffer(&self.buffer, 0, &self.staging, 0, 16);
-    }
-
-    /// The depth range the last [`Self::encode`] found (after its submission): least and
-    /// greatest stored depth below the clear value, `None` when every texel is clear.
-    pub fn read(&self, gpu: &crate::Gpu) -> anyhow::Result<Option<(f32, f32)>> {
-        let bytes = gpu.read_buffer(&self.staging)?;
-        let w: &[u32] = bytemuck::cast_slice(&bytes);
-        Ok(range_of(w.first().copied().unwrap_or(u32::MAX), w.get(1).copied().unwrap_or(0)))
+        encoder.copy_buffer_to_buffer(buffer, 0, staging, 0, 16);
     }
 }
 

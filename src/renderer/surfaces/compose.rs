@@ -34,22 +34,11 @@ pub struct ComposeTarget<'a> {
 impl ComposePass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let out = shared.key.output_format;
+        let pipe = |label, fs, format| shared.fullscreen_pipeline(device, label, &shared.compose_layout, fs, format);
         Self {
-            compose: shared.fullscreen_pipeline(device, "compose", &shared.compose_layout, "fs_compose", out),
-            compose_view: shared.fullscreen_pipeline(
-                device,
-                "compose (views)",
-                &shared.compose_layout,
-                "fs_compose_view",
-                out,
-            ),
-            compose_hdr: shared.fullscreen_pipeline(
-                device,
-                "compose (HDR)",
-                &shared.compose_layout,
-                "fs_compose_hdr",
-                HDR_FORMAT,
-            ),
+            compose: pipe("compose", "fs_compose", out),
+            compose_view: pipe("compose (views)", "fs_compose_view", out),
+            compose_hdr: pipe("compose (HDR)", "fs_compose_hdr", HDR_FORMAT),
             tonemap: shared.fullscreen_pipeline(device, "tonemap", &shared.tonemap_layout, "fs_tonemap", out),
         }
     }

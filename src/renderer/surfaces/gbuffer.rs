@@ -2,7 +2,7 @@
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::Shared;
+use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared};
 use crate::renderer::stats::Span;
 
 /// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).
@@ -56,46 +56,18 @@ pub(crate) fn surface_pipeline(
     targets: &[Option<wgpu::ColorTargetState>],
 ) -> wgpu::RenderPipeline {
     let SurfacePipe { label, fs, double_sided, depth_write, topology, samples } = pipe;
-    let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
-    })];
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(&shared.surface_layout),
-        vertex: wgpu::VertexState {
-            module: &shared.module,
-            entry_point: Some("vs_geometry"),
-            compilation_options: Default::default(),
-            buffers: &vertex_buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: match topology {
-                Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
-                Topology::Lines => wgpu::PrimitiveTopology::LineList,
-                Topology::Points => wgpu::PrimitiveTopology::PointList,
-            },
-            cull_mode: if double_sided || topology != Topology::Triangles { None } else { Some(wgpu::Face::Back) },
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: shared.key.depth_format,
-            depth_write_enabled: Some(depth_write),
-            depth_compare: Some(shared.z(if depth_write { Cmp::Less } else { Cmp::LessEqual })),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
-        fragment: Some(wgpu::FragmentState {
-            module: &shared.module,
-            entry_point: Some(fs),
-            compilation_options: Default::default(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    let compare = if depth_write { Cmp::Less } else { Cmp::LessEqual };
+    let p = ScenePipe {
+        label,
+        layout: &shared.surface_layout,
+        vs: "vs_geometry",
+        fs: Some(fs),
+        topology,
+        double_sided,
+        depth: (depth_write, compare, Default::default()),
+        samples,
+    };
+    scene_pipeline(device, &shared.module, &shared.key, p, targets)
 }
 
 pub struct GBufferPass {

@@ -611,6 +611,24 @@ pub fn pixel_ndc(x: u32, y: u32, size: (u32, u32)) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A white point light's record at view-space `position`.
+    fn point_light(position: [f32; 3], radius: f32) -> LightRecord {
+        LightRecord {
+            position,
+            radius,
+            color: [1.0; 3],
+            kind: crate::renderer::records::LIGHT_KIND_POINT,
+            direction: [0.0, 0.0, -1.0],
+            cos_outer: -1.0,
+            cos_inner: -1.0,
+            tan_outer: 0.0,
+            falloff: radius,
+            clamp: f32::MAX,
+            shadow: crate::renderer::records::UNSHADOWED,
+            ..bytemuck::Zeroable::zeroed()
+        }
+    }
     use crate::renderer::settings::ForwardLights;
     use crate::scene::Camera;
 
@@ -743,20 +761,7 @@ mod tests {
     #[test]
     fn the_slices_span_the_depths_the_lights_reach() {
         let v = view((320, 180));
-        let light = |depth: f32, radius: f32| LightRecord {
-            position: [0.0, 0.0, -depth],
-            radius,
-            color: [1.0; 3],
-            kind: crate::renderer::records::LIGHT_KIND_POINT,
-            direction: [0.0, 0.0, -1.0],
-            cos_outer: -1.0,
-            cos_inner: -1.0,
-            tan_outer: 0.0,
-            falloff: radius,
-            clamp: f32::MAX,
-            shadow: crate::renderer::records::UNSHADOWED,
-            ..bytemuck::Zeroable::zeroed()
-        };
+        let light = |depth: f32, radius: f32| point_light([0.0, 0.0, -depth], radius);
         let plan = |l: &LightRecord, on_screen: bool| LightPlan {
             method: Method::Clustered,
             volume: crate::renderer::VolumeKind::Sphere,
@@ -852,20 +857,7 @@ mod tests {
             let p = inv.project_point3(Vec3::new(ndc.x, ndc.y, 0.5));
             let pos = p.normalize() * d;
             let radius = 0.3 + rnd() * 6.0;
-            let l = LightRecord {
-                position: pos.into(),
-                radius,
-                color: [1.0; 3],
-                kind: crate::renderer::records::LIGHT_KIND_POINT,
-                direction: [0.0, 0.0, -1.0],
-                cos_outer: -1.0,
-                cos_inner: -1.0,
-                tan_outer: 0.0,
-                falloff: radius,
-                clamp: f32::MAX,
-                shadow: crate::renderer::records::UNSHADOWED,
-                ..bytemuck::Zeroable::zeroed()
-            };
+            let l = point_light(pos.into(), radius);
             lights.push(l);
         }
         // The whole screen as every light's rectangle: the clusters' own tests do the culling.

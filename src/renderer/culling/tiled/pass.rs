@@ -101,6 +101,12 @@ pub struct TiledPass {
     /// `fs_tiled`, and `fs_tiled_counted` for frames that count each light's pairs.
     shade: [wgpu::RenderPipeline; 2],
     count_view: wgpu::RenderPipeline,
+}
+
+/// A renderer's tile lists: the buffers (grown as frames need) and what the last frame left to
+/// read back.
+#[derive(Default)]
+pub struct TiledScratch {
     state: Mutex<(Option<Buffers>, Option<Pending>)>,
 }
 
@@ -146,27 +152,7 @@ impl TiledPass {
         };
         let debug = wgpu::ColorTargetState { format: DEBUG_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL };
         let pipe = |label, vs, fs, targets: &[Option<wgpu::ColorTargetState>]| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &shared.module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &shared.module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            shared.screen_pipeline(device, label, &layout, (vs, fs), targets)
         };
         // The light pre-pass has one light buffer (`Targets::accumulation`).
         let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
@@ -176,7 +162,7 @@ impl TiledPass {
             pipe("tiled shade, counted", "vs_tiled", "fs_tiled_counted", &targets),
         ];
         let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug)]);
-        Self { bgl, build, cluster, shade, count_view, state: Mutex::new((None, None)) }
+        Self { bgl, build, cluster, shade, count_view }
     }
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
@@ -196,7 +182,7 @@ impl TiledPass {
         f: &FrameInputs<'_>,
     ) -> (f64, f64) {
         let view = f.settings.debug_view == DebugView::TileLights;
-        let Ok(mut state) = self.state.lock() else { return (0.0, 0.0) };
+        let Ok(mut state) = f.scratch.tiled.state.lock() else { return (0.0, 0.0) };
         state.1 = None;
         if f.plan.tiled.is_none() && !view {
             return (0.0, 0.0);
@@ -361,6 +347,15 @@ impl TiledPass {
             pass.set_pipeline(&self.count_view);
             bind(&mut pass);
             pass.draw(0..3, 0..1);
+        }
+    }
+}
+
+impl TiledScratch {
+    /// Forgets the last frame's lists (a frame that builds none).
+    pub fn clear(&self) {
+        if let Ok(mut state) = self.state.lock() {
+            state.1 = None;
         }
     }
 

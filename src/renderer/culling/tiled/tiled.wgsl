@@ -31,6 +31,23 @@ var<workgroup> wg_valid: atomic<u32>;
 var<workgroup> wg_total: atomic<u32>;
 var<workgroup> wg_mask: array<atomic<u32>, 2048>;
 var<workgroup> wg_scan: array<u32, 256>;
+
+// Inclusive prefix sum of the workgroup's 256 `value`s into `wg_scan` (Hillis and Steele):
+// afterwards `wg_scan[li]` is the sum of the values of invocations 0..=li. Called by every
+// invocation of the workgroup (uniform control flow: it holds barriers).
+fn wg_inclusive_scan(li: u32, value: u32) {
+    wg_scan[li] = value;
+    workgroupBarrier();
+    for (var off = 1u; off < 256u; off *= 2u) {
+        var v = 0u;
+        if li >= off {
+            v = wg_scan[li - off];
+        }
+        workgroupBarrier();
+        wg_scan[li] += v;
+        workgroupBarrier();
+    }
+}
 // Plain copies for workgroupUniformLoad (barriers need uniform control flow).
 var<workgroup> wg_base: u32;
 var<workgroup> wg_count: u32;
@@ -172,17 +189,7 @@ fn cs_tile_lists(
             bits = atomicLoad(&wg_mask[w]);
         }
         let c = countOneBits(bits);
-        wg_scan[li] = c;
-        workgroupBarrier();
-        for (var off = 1u; off < 256u; off *= 2u) {
-            var v = 0u;
-            if li >= off {
-                v = wg_scan[li - off];
-            }
-            workgroupBarrier();
-            wg_scan[li] += v;
-            workgroupBarrier();
-        }
+        wg_inclusive_scan(li, c);
         var at = header + base + done + wg_scan[li] - c;
         let round_total = wg_scan[255];
         workgroupBarrier();
@@ -471,17 +478,7 @@ fn cs_cluster_scan(@builtin(local_invocation_index) li: u32) {
     for (var c = start; c < end; c++) {
         mine += atomicLoad(&tile_counts[cluster_counter(c)]);
     }
-    wg_scan[li] = mine;
-    workgroupBarrier();
-    for (var off = 1u; off < 256u; off *= 2u) {
-        var v = 0u;
-        if li >= off {
-            v = wg_scan[li - off];
-        }
-        workgroupBarrier();
-        wg_scan[li] += v;
-        workgroupBarrier();
-    }
+    wg_inclusive_scan(li, mine);
     let header = 2u * cells;
     var at = wg_scan[li] - mine;
     for (var c = start; c < end; c++) {

@@ -1,0 +1,15 @@
+//! What one renderer's passes keep between a frame and its read-back: the tile lists' buffers,
+//! the forward paths' occlusion queries and multisampled targets, the atlas view's range. A pass
+//! set holds only what is built for a configuration (pipelines, layouts), so every renderer on a
+//! device shares the sets of its configurations (`PassPool`) while each writes its own scratch.
+
+use crate::renderer::culling::tiled::pass::TiledScratch;
+use crate::renderer::paths::forward_pass::ForwardScratch;
+use crate::renderer::shadows::atlas_view::AtlasScratch;
+
+#[derive(Default)]
+pub struct Scratch {
+    pub tiled: TiledScratch,
+    pub forward: ForwardScratch,
+    pub atlas_view: AtlasScratch,
+}

@@ -580,16 +580,9 @@ impl Queries {
         let Some(readback) = &self.readback else {
             return Ok(());
         };
-        let slice = readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
+        let words: Vec<u64> = crate::renderer::kit::read_back(device, readback, readback.size())?;
         {
-            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
-            let words: &[u64] = bytemuck::cast_slice(&data);
+            let words = &words[..];
             let (occ_off, ideal_off, cov_off, _) = Self::offsets(self.capacity);
             if times && self.timestamps.is_some() {
                 let ms = |a: usize, b: usize| {
@@ -679,7 +672,6 @@ impl Queries {
                 }
             }
         }
-        readback.unmap();
         if counts {
             stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
         }

@@ -78,6 +78,24 @@ pub fn mesh_buffers<V: bytemuck::Pod>(
     )
 }
 
+/// The first `bytes` of `buffer` (a `MAP_READ` buffer the submitted work wrote), read back as
+/// `T`s once the device is idle.
+pub fn read_back<T: bytemuck::Pod>(device: &wgpu::Device, buffer: &wgpu::Buffer, bytes: u64) -> anyhow::Result<Vec<T>> {
+    let slice = buffer.slice(0..bytes);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+    rx.recv()?.map_err(|e| anyhow::anyhow!("buffer read-back failed: {e}"))?;
+    let values = {
+        let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
+        bytemuck::pod_collect_to_vec::<u8, T>(&data)
+    };
+    buffer.unmap();
+    Ok(values)
+}
+
 /// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
 /// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).
 pub fn log_accum(format: wgpu::TextureFormat) -> bool {

@@ -173,23 +173,12 @@ impl ForwardScratch {
             return Ok(());
         }
         let Some(q) = self.queries.get() else { return Ok(()) };
-        let slice = q.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-        rx.recv()?.map_err(|e| anyhow::anyhow!("query readback failed: {e}"))?;
-        {
-            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
-            let words: &[u64] = bytemuck::cast_slice(&data);
-            for p in &mut stats.passes {
-                if let Some(q) = p.query {
-                    p.fragments = words.get(q as usize).copied();
-                }
+        let words: Vec<u64> = crate::renderer::kit::read_back(device, &q.readback, QUERIES as u64 * 8)?;
+        for p in &mut stats.passes {
+            if let Some(q) = p.query {
+                p.fragments = words.get(q as usize).copied();
             }
         }
-        q.readback.unmap();
         Ok(())
     }
 }

@@ -368,18 +368,7 @@ impl TiledScratch {
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile lists readback") });
         encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, bytes);
         queue.submit([encoder.finish()]);
-        let slice = b.lists_read.slice(0..bytes);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-        rx.recv()?.map_err(|e| anyhow::anyhow!("tile readback failed: {e}"))?;
-        let data = {
-            let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
-            bytemuck::cast_slice::<u8, u32>(&data).to_vec()
-        };
-        b.lists_read.unmap();
+        let data = crate::renderer::kit::read_back(device, &b.lists_read, bytes)?;
         Ok(Some(TileLists { params: p.params, data }))
     }
 
@@ -398,23 +387,8 @@ impl TiledScratch {
             });
             return Ok(());
         }
-        let map = |buf: &wgpu::Buffer, bytes: u64| -> Result<Vec<u32>> {
-            let slice = buf.slice(0..bytes);
-            let (tx, rx) = std::sync::mpsc::channel();
-            slice.map_async(wgpu::MapMode::Read, move |r| {
-                let _ = tx.send(r);
-            });
-            device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
-            rx.recv()?.map_err(|e| anyhow::anyhow!("tile readback failed: {e}"))?;
-            let words = {
-                let data = slice.get_mapped_range().map_err(|e| anyhow::anyhow!("{e}"))?;
-                bytemuck::cast_slice::<u8, u32>(&data).to_vec()
-            };
-            buf.unmap();
-            Ok(words)
-        };
-        let headers = map(&b.lists_read, p.cells * 8)?;
-        let counts = map(&b.counts_read, (p.lights as u64 + 1) * 4)?;
+        let headers: Vec<u32> = crate::renderer::kit::read_back(device, &b.lists_read, p.cells * 8)?;
+        let counts: Vec<u32> = crate::renderer::kit::read_back(device, &b.counts_read, (p.lights as u64 + 1) * 4)?;
         let mut t = TileStats {
             method: p.method,
             tile_size: p.tile_size,

@@ -145,16 +145,7 @@ impl Gpu {
 
     /// Reads a whole buffer back to the CPU.
     pub fn read_buffer(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>> {
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.wait()?;
-        rx.recv().context("buffer map callback never ran")?.map_err(|e| anyhow!("buffer map failed: {e}"))?;
-        let data = slice.get_mapped_range().map_err(|e| anyhow!("mapped range unavailable: {e}"))?.to_vec();
-        buffer.unmap();
-        Ok(data)
+        crate::renderer::kit::read_back(&self.device, buffer, buffer.size())
     }
 
     /// Copies a 2-D texture (one aspect, mip 0) to the CPU, tightly packed rows.

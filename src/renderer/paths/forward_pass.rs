@@ -195,8 +195,8 @@ pub struct PathFrame<'a> {
 }
 
 impl ForwardPathsPass {
-    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let _ = device;
+    /// The pipelines are built per sample count by the first frame that needs them.
+    pub fn new(_device: &wgpu::Device, shared: &Shared) -> Self {
         Self {
             key: shared.key.clone(),
             module: shared.module.clone(),

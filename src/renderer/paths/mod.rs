@@ -84,7 +84,7 @@ impl PathInputs<'_> {
 
 /// Tiled / clustered shading: per-tile or per-cluster light lists, one full-screen shading
 /// (when the plan has such lights). Returns the CPU ms it took (upload, wall).
-pub fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
+fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
     match c.passes.tiled.get() {
         Some(t) => c.group(encoder, "tiled and clustered lights", |e| t.encode(c.device, c.queue, e, c.f)),
         None => {

@@ -329,8 +329,7 @@ impl TiledPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            let counted = f.counts && f.plan.tiled.is_some();
-            pass.set_pipeline(&self.shade[counted as usize]);
+            pass.set_pipeline(&self.shade[f.counts as usize]);
             bind(&mut pass);
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
             pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));

@@ -43,6 +43,9 @@ pub enum Command {
     View(ViewArgs),
     /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
     Bench(BenchArgs),
+    /// List the graphics adapters found and what each supports (paths, layouts, culling modes,
+    /// knobs), from each adapter's capability table.
+    Adapters(AdaptersArgs),
     /// List the built-in scenes.
     Scenes,
     /// Regenerate the project's own glTF scene (assets/room) from code.
@@ -53,8 +56,42 @@ pub enum Command {
     },
 }
 
+/// Which adapter a command runs on.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct AdapterArgs {
+    /// Graphics backend: vulkan, gl, metal or dx12 (default: WGPU_BACKEND, else Vulkan, Metal
+    /// and DX12 headless, any in the viewer).
+    #[arg(long, value_enum)]
+    pub backend: Option<crate::gpu::Backend>,
+    /// Adapter: its index in `lampshade adapters`' list or a part of its name (default: the
+    /// backend's high-performance adapter).
+    #[arg(long)]
+    pub adapter: Option<String>,
+    /// Mask the adapter's capability table to another adapter class's (gl: wgpu's GL backend
+    /// on Mesa), to see what that class would render.
+    #[arg(long, value_enum)]
+    pub restrict: Option<crate::renderer::kit::caps::Profile>,
+}
+
+impl AdapterArgs {
+    pub fn choice(&self) -> crate::gpu::AdapterChoice {
+        crate::gpu::AdapterChoice { backend: self.backend, adapter: self.adapter.clone(), restrict: self.restrict }
+    }
+}
+
+#[derive(clap::Args)]
+pub struct AdaptersArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
+    /// Write each adapter's capability table and supported choices as JSON instead.
+    #[arg(long)]
+    pub json: bool,
+}
+
 #[derive(clap::Args)]
 pub struct RenderArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
     /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default
     /// `demo`, or the settings file's.
     pub scene: Option<String>,
@@ -103,6 +140,8 @@ pub fn requested_lights(lights: Option<usize>, light_grid: Option<u32>) -> Optio
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
     /// Built-in scene name or a glTF file (.gltf, .glb).
     #[arg(default_value = "demo")]
     pub scene: String,
@@ -133,6 +172,8 @@ pub struct BenchArgs {
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct ViewArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
     /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb); default: the
     /// last one shown (saved state), else `demo`.
     pub scene: Option<String>,
@@ -173,6 +214,7 @@ pub struct ViewArgs {
 impl Default for ViewArgs {
     fn default() -> Self {
         Self {
+            adapter: AdapterArgs::default(),
             scene: None,
             light_grid: None,
             script: None,

@@ -5,7 +5,9 @@
 //! adapter has them and each missing one is logged once, so a run on a weaker driver says what
 //! it cannot measure instead of failing.
 
-use anyhow::{anyhow, Context, Result};
+use crate::renderer::kit::caps::{feature_name, AdapterName, Caps, Profile};
+use anyhow::{anyhow, bail, Context, Result};
+use std::sync::{Arc, Mutex};
 
 /// Features Lampshade uses when present, with what is lost without each.
 pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
@@ -38,9 +40,80 @@ pub fn quiet_headless_device_select() {
     }
 }
 
-/// See [`Gpu::encoder_debug_groups`].
-pub fn encoder_debug_groups(info: &wgpu::AdapterInfo) -> bool {
-    !(info.backend == wgpu::Backend::Vulkan && info.driver == "llvmpipe")
+/// Which adapter to open (`--backend`, `--adapter`) and what to mask its table to.
+#[derive(Clone, Debug, Default)]
+pub struct AdapterChoice {
+    /// Only this backend (else `WGPU_BACKEND`, else Vulkan, Metal and DX12).
+    pub backend: Option<Backend>,
+    /// The adapter's index in `lampshade adapters`' list, or a part of its name.
+    pub adapter: Option<String>,
+    /// Mask the adapter's capability table to another adapter class's.
+    pub restrict: Option<Profile>,
+}
+
+/// A backend as `--backend` names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Backend {
+    Vulkan,
+    Gl,
+    Metal,
+    Dx12,
+}
+
+impl Backend {
+    fn backends(self) -> wgpu::Backends {
+        match self {
+            Backend::Vulkan => wgpu::Backends::VULKAN,
+            Backend::Gl => wgpu::Backends::GL,
+            Backend::Metal => wgpu::Backends::METAL,
+            Backend::Dx12 => wgpu::Backends::DX12,
+        }
+    }
+}
+
+impl AdapterChoice {
+    /// The instance's options: `--backend`, else `WGPU_BACKEND`, else `default` (the primary
+    /// backends headless: on a headless machine GL's EGL probe only logs errors before Vulkan is
+    /// chosen anyway), and wgpu's other environment variables.
+    fn descriptor(&self, desc: wgpu::InstanceDescriptor, default: wgpu::Backends) -> wgpu::InstanceDescriptor {
+        let mut desc = wgpu::InstanceDescriptor { backends: default, ..desc }.with_env();
+        if let Some(b) = self.backend {
+            desc.backends = b.backends();
+        }
+        desc
+    }
+}
+
+/// The device's errors that no error scope caught (validation, out of memory), kept for the
+/// renderer and the viewer to turn into error messages: without a handler wgpu panics at the
+/// first one.
+#[derive(Clone, Default)]
+pub struct DeviceErrors(Arc<Mutex<Vec<String>>>);
+
+impl DeviceErrors {
+    fn push(&self, e: wgpu::Error) {
+        let text = match &e {
+            wgpu::Error::OutOfMemory { .. } => format!("the GPU ran out of memory: {e}"),
+            _ => format!("{e}"),
+        };
+        log::error!("wgpu: {text}");
+        if let Ok(mut v) = self.0.lock() {
+            v.push(text);
+        }
+    }
+
+    /// The errors since the last call, as one error.
+    pub fn check(&self) -> Result<()> {
+        let errors = match self.0.lock() {
+            Ok(mut v) => std::mem::take(&mut *v),
+            Err(_) => return Ok(()),
+        };
+        match errors.first() {
+            None => Ok(()),
+            Some(first) if errors.len() == 1 => Err(anyhow!("wgpu error: {first}")),
+            Some(first) => Err(anyhow!("wgpu error: {first} (and {} more)", errors.len() - 1)),
+        }
+    }
 }
 
 /// A device and what it can do.
@@ -49,43 +122,138 @@ pub struct Gpu {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
+    /// The optional features the device was made with (`caps.features`).
     pub features: wgpu::Features,
     pub info: wgpu::AdapterInfo,
+    /// What the adapter can do, as every choice asks it.
+    pub caps: Arc<Caps>,
+    /// Errors wgpu reported outside an error scope.
+    pub errors: DeviceErrors,
     /// Pass sets of dropped renderers, for the next renderer on this device.
-    pub passes: std::sync::Arc<crate::renderer::PassPool>,
+    pub passes: Arc<crate::renderer::PassPool>,
+}
+
+/// What a device on `adapter` is made with: the optional features it has (less those
+/// `restrict` masks), the limits, and each missing feature's name with what is lost without it.
+fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Features, wgpu::Limits, Vec<String>) {
+    let masked = restrict.map_or(wgpu::Features::empty(), |p| p.missing_features());
+    let available = adapter.features() - masked;
+    let mut features = wgpu::Features::empty();
+    let mut lacks = Vec::new();
+    for (feature, consequence) in OPTIONAL_FEATURES {
+        if available.contains(*feature) {
+            features |= *feature;
+        } else {
+            lacks.push(format!("{} ({consequence})", feature_name(*feature)));
+        }
+    }
+    let adapter_limits = adapter.limits();
+    let limits = wgpu::Limits {
+        // Seed 000's layout alone is 4 x Rgba16Float = 32 bytes; a depth copy needs more.
+        max_color_attachment_bytes_per_sample: adapter_limits.max_color_attachment_bytes_per_sample,
+        max_color_attachments: adapter_limits.max_color_attachments,
+        max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
+        max_buffer_size: adapter_limits.max_buffer_size,
+        ..wgpu::Limits::default()
+    };
+    (features, limits, lacks)
+}
+
+/// The capability table a device on `adapter` would have.
+pub fn caps_of(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> Caps {
+    let (features, limits, _) = request(adapter, restrict);
+    Caps::read(adapter, features, limits, restrict)
+}
+
+/// The adapters `choice`'s backends offer, in the order `--adapter INDEX` counts them.
+/// Every backend unless `--backend` or `WGPU_BACKEND` names one.
+pub fn adapters(choice: &AdapterChoice) -> Vec<wgpu::Adapter> {
+    let desc = choice.descriptor(wgpu::InstanceDescriptor::new_without_display_handle(), wgpu::Backends::all());
+    let instance = wgpu::Instance::new(desc);
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+}
+
+fn instance(choice: &AdapterChoice) -> wgpu::Instance {
+    let desc = choice.descriptor(wgpu::InstanceDescriptor::new_without_display_handle(), wgpu::Backends::PRIMARY);
+    wgpu::Instance::new(desc)
 }
 
 impl Gpu {
-    /// A device with no window, for the CLI, the tests and the bench.
-    ///
-    /// Only the primary backends (Vulkan, Metal, DX12) unless `WGPU_BACKEND` says otherwise:
-    /// OpenGL needs a display connection and, on a headless machine, only logs EGL errors
-    /// before Vulkan is chosen anyway.
+    /// A device with no window, for the CLI, the tests and the bench: the default adapter.
     pub fn headless() -> Result<Self> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-        desc.backends = wgpu::Backends::PRIMARY;
-        let instance = wgpu::Instance::new(desc.with_env());
-        Self::from_instance(instance, None)
+        Self::open(&AdapterChoice::default())
+    }
+
+    /// A device with no window on the adapter `choice` names.
+    pub fn open(choice: &AdapterChoice) -> Result<Self> {
+        let instance = instance(choice);
+        Self::from_instance(instance, None, choice)
     }
 
     /// A device able to present to `surface`.
-    pub fn for_surface(instance: wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self> {
-        Self::from_instance(instance, Some(surface))
+    pub fn for_surface(instance: wgpu::Instance, surface: &wgpu::Surface<'_>, choice: &AdapterChoice) -> Result<Self> {
+        Self::from_instance(instance, Some(surface), choice)
     }
 
-    fn from_instance(instance: wgpu::Instance, surface: Option<&wgpu::Surface<'_>>) -> Result<Self> {
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: surface,
-            apply_limit_buckets: false,
-        }))
-        .map_err(|e| {
+    /// The instance the viewer makes its surface with.
+    pub fn instance_for_window(
+        choice: &AdapterChoice,
+        display: Box<dyn wgpu::wgt::WgpuHasDisplayHandle>,
+    ) -> wgpu::Instance {
+        let desc = choice.descriptor(wgpu::InstanceDescriptor::new_with_display_handle(display), wgpu::Backends::all());
+        wgpu::Instance::new(desc)
+    }
+
+    fn pick(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+        choice: &AdapterChoice,
+    ) -> Result<wgpu::Adapter> {
+        let fits = |a: &wgpu::Adapter| surface.is_none_or(|s| a.is_surface_supported(s));
+        let Some(wanted) = choice.adapter.as_deref() else {
+            return pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: surface,
+                apply_limit_buckets: false,
+            }))
+            .map_err(|e| {
+                let backend = choice.backend.map(|b| format!(" on the {b:?} backend")).unwrap_or_default();
+                anyhow!(
+                    "no graphics adapter found{backend} ({e}). On a headless Linux machine install Mesa's \
+                     software Vulkan driver: `apt-get install mesa-vulkan-drivers libvulkan1`; \
+                     `lampshade adapters` lists what is found"
+                )
+            });
+        };
+        let all = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        let names: Vec<String> =
+            all.iter().enumerate().map(|(i, a)| format!("{i}: {}", AdapterName::of(&a.get_info()))).collect();
+        let found = match wanted.parse::<usize>() {
+            Ok(i) => all.into_iter().nth(i),
+            Err(_) => {
+                let w = wanted.to_lowercase();
+                all.into_iter().find(|a| a.get_info().name.to_lowercase().contains(&w))
+            }
+        };
+        let adapter = found.ok_or_else(|| {
             anyhow!(
-                "no graphics adapter found ({e}). On a headless Linux machine install Mesa's software \
-                 Vulkan driver: `apt-get install mesa-vulkan-drivers libvulkan1`"
+                "no adapter '{wanted}'; the adapters found are: {}",
+                if names.is_empty() { "none".into() } else { names.join(", ") }
             )
         })?;
+        if !fits(&adapter) {
+            bail!("adapter {} cannot present to this window", AdapterName::of(&adapter.get_info()));
+        }
+        Ok(adapter)
+    }
+
+    fn from_instance(
+        instance: wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+        choice: &AdapterChoice,
+    ) -> Result<Self> {
+        let adapter = Self::pick(&instance, surface, choice)?;
         let info = adapter.get_info();
         log::info!(
             "adapter: {} ({:?}, {:?}; driver {} {})",
@@ -95,42 +263,54 @@ impl Gpu {
             info.driver,
             info.driver_info
         );
-        let available = adapter.features();
-        let mut features = wgpu::Features::empty();
-        for (feature, consequence) in OPTIONAL_FEATURES {
-            if available.contains(*feature) {
-                features |= *feature;
-            } else {
-                log::warn!("adapter lacks {feature:?}: {consequence}");
-            }
+        let (features, limits, lacks) = request(&adapter, choice.restrict);
+        if !lacks.is_empty() {
+            log::warn!("adapter {} lacks: {}", AdapterName::of(&info), lacks.join("; "));
         }
-        let adapter_limits = adapter.limits();
-        let limits = wgpu::Limits {
-            // Seed 000's layout alone is 4 x Rgba16Float = 32 bytes; a depth copy needs more.
-            max_color_attachment_bytes_per_sample: adapter_limits.max_color_attachment_bytes_per_sample,
-            max_color_attachments: adapter_limits.max_color_attachments,
-            max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
-            max_buffer_size: adapter_limits.max_buffer_size,
-            ..wgpu::Limits::default()
-        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("lampshade"),
             required_features: features,
-            required_limits: limits,
+            required_limits: limits.clone(),
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,
             trace: wgpu::Trace::Off,
         }))
-        .context("the adapter refused to create a device")?;
-        Ok(Self { instance, adapter, device, queue, features, info, passes: Default::default() })
+        .with_context(|| format!("adapter {} refused to create a device", AdapterName::of(&info)))?;
+        let errors = DeviceErrors::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e| sink.push(e)));
+        let caps = Caps::read(&adapter, features, limits, choice.restrict);
+        if info.backend == wgpu::Backend::Gl {
+            log::warn!(
+                "adapter {}: wgpu's GL backend; docs/adapters.md lists what it renders differently",
+                caps.adapter
+            );
+        }
+        if !caps.has_downlevel(wgpu::DownlevelFlags::FRAGMENT_STORAGE) {
+            bail!(
+                "adapter {} cannot read storage buffers in fragment shaders (wgpu DownlevelFlags::FRAGMENT_STORAGE), \
+                 which every Lampshade pass needs; `lampshade adapters` lists the others",
+                caps.adapter
+            );
+        }
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            features,
+            info,
+            caps: Arc::new(caps),
+            errors,
+            passes: Default::default(),
+        })
     }
 
-    /// Whether debug groups may be pushed on a command encoder (outside a pass): Mesa's
-    /// lavapipe crashes in `vkCmdBeginDebugUtilsLabelEXT` there (seen with Mesa 22.3.6; its
-    /// render-pass labels work, and every pass is labelled), so on lavapipe the frame's steps
-    /// are not grouped.
+    /// Whether debug groups may be pushed on a command encoder (outside a pass): not on
+    /// lavapipe ([`Quirks::no_encoder_debug_groups`]; its render-pass labels work, and every
+    /// pass is labelled).
     pub fn encoder_debug_groups(&self) -> bool {
-        encoder_debug_groups(&self.info)
+        !self.caps.quirks.no_encoder_debug_groups
     }
 
     pub fn has(&self, feature: wgpu::Features) -> bool {

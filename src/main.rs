@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use lampshade::cli::{image_size, BenchArgs, Cli, Command, RenderArgs};
+use lampshade::cli::{image_size, AdaptersArgs, BenchArgs, Cli, Command, RenderArgs};
 use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Gpu;
@@ -55,7 +55,7 @@ fn bench(args: BenchArgs) -> Result<()> {
     }
     o.groups = args.only.clone();
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
-    let gpu = Gpu::headless()?;
+    let gpu = Gpu::open(&args.adapter.choice())?;
     let bar = indicatif::ProgressBar::new((bench::configs(&o).len() * 2 + o.frames.max(1)) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
@@ -146,7 +146,7 @@ fn render(args: RenderArgs) -> Result<()> {
             bail!("--light {k}: scene '{scene_name}' has {} lights", scene.lights.len());
         }
     }
-    let gpu = Gpu::headless()?;
+    let gpu = Gpu::open(&args.adapter.choice())?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
     let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
     image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
@@ -209,15 +209,67 @@ fn open_scene(
     result
 }
 
+/// `lampshade adapters`: each adapter found, its capability table and what it supports.
+fn adapters(args: AdaptersArgs) -> Result<()> {
+    let choice = args.adapter.choice();
+    let found = lampshade::gpu::adapters(&choice);
+    if found.is_empty() {
+        bail!(
+            "no graphics adapter found. On a headless Linux machine install Mesa's software Vulkan driver \
+             (`apt-get install mesa-vulkan-drivers libvulkan1`) or its GL driver (`libegl-mesa0 libgl1-mesa-dri`)"
+        );
+    }
+    let mut json = Vec::new();
+    for (i, adapter) in found.iter().enumerate() {
+        let caps = lampshade::gpu::caps_of(adapter, choice.restrict);
+        let choices = lampshade::renderer::support::choices(&caps);
+        if args.json {
+            json.push(serde_json::json!({ "index": i, "table": caps.report(Vec::new()), "choices": choices }));
+            continue;
+        }
+        let a = &caps.adapter;
+        println!("{i}: {} ({}, {}; driver {} {})", a.name, a.backend, a.device_type, a.driver, a.driver_info);
+        if let Some(p) = caps.profile {
+            println!("   masked to the {p:?} profile");
+        }
+        for r in caps.rows() {
+            if r.has {
+                println!("   yes  {}", r.name);
+            } else {
+                println!("   no   {}: {}", r.name, r.without);
+            }
+        }
+        let mut knob = "";
+        for c in &choices {
+            if c.knob != knob {
+                knob = c.knob;
+                let ok: Vec<&str> =
+                    choices.iter().filter(|d| d.knob == knob && d.outcome.is_ok()).map(|d| d.value.as_str()).collect();
+                println!("   --{knob}: {}", if ok.is_empty() { "none".to_string() } else { ok.join(", ") });
+            }
+            match &c.outcome {
+                Err(why) => println!("      not {}: {why}", c.value),
+                Ok(f) if !f.is_empty() => println!("      {}: {}", c.value, f.join("; ")),
+                Ok(_) => {}
+            }
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    }
+    Ok(())
+}
+
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_))) {
+    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_))) {
         lampshade::gpu::quiet_headless_device_select();
     }
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::Adapters(args)) => adapters(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),
         Some(Command::Scenes) => {
             for (name, what) in builtin::NAMES {

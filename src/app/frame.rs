@@ -190,7 +190,7 @@ impl App {
             // No G-buffer to show (the strip says so).
             return Vec::new();
         }
-        let accum = settings.accumulation.format(g.gpu.features).ok();
+        let accum = settings.accumulation.format(&g.gpu.caps).ok();
         let tiles = ui::thumbs(g.renderer.layout(), accum, g.renderer.depth_format());
         if rendered {
             let (vw, vh) = (g.viewport.width, g.viewport.height);

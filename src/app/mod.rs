@@ -270,11 +270,10 @@ impl App {
             .with_title(format!("Lampshade — {}", self.state.scene))
             .with_inner_size(winit::dpi::LogicalSize::new(w, h));
         let window = Arc::new(event_loop.create_window(attrs).context("creating the window")?);
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
-            event_loop.owned_display_handle(),
-        )));
+        let instance =
+            Gpu::instance_for_window(&self.args.adapter.choice(), Box::new(event_loop.owned_display_handle()));
         let surface = instance.create_surface(window.clone()).context("creating the window surface")?;
-        let gpu = Gpu::for_surface(instance, &surface)?;
+        let gpu = Gpu::for_surface(instance, &surface, &self.args.adapter.choice())?;
         // One renderer draws the viewer's frames: it keeps its recent configurations itself.
         gpu.passes.keep_at_most(crate::renderer::PIPELINE_CACHE);
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;

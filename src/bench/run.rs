@@ -284,7 +284,7 @@ pub(crate) fn path_figures(
                     + format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0)
             })
         };
-        let accum = bytes(settings.accumulation.format(gpu.features)?);
+        let accum = bytes(settings.accumulation.format(&gpu.caps)?);
         // G-buffer, lights, compose; the HDR colour when blended surfaces or post need it.
         let hdr = stats.forward.is_some() || stats.post.is_some();
         f.passes = 3;

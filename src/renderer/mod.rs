@@ -30,6 +30,7 @@ pub mod scene_gpu;
 pub mod settings;
 pub mod shadows;
 pub mod stats;
+pub mod support;
 pub mod surfaces;
 pub mod targets;
 
@@ -55,6 +56,7 @@ pub use settings::{
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
 use std::sync::Arc;
+pub use support::support;
 use surfaces::compose::ComposeTarget;
 use targets::Targets;
 pub use volumes::VolumeKind;
@@ -153,11 +155,13 @@ pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     output_format: wgpu::TextureFormat,
-    clamp_available: bool,
-    features: wgpu::Features,
+    /// What the adapter can do: every choice asks it.
+    caps: Arc<kit::caps::Caps>,
     limits: wgpu::Limits,
-    /// The adapter has `DownlevelFlags::CUBE_ARRAY_TEXTURES` (`--shadow-cube array`).
-    cube_arrays: bool,
+    /// The device's uncaptured errors: a frame that made one returns it as its error.
+    errors: crate::gpu::DeviceErrors,
+    /// The fallbacks already logged (each is said once).
+    said: Vec<String>,
     /// The frame's steps are pushed as debug groups (`Gpu::encoder_debug_groups`).
     debug_groups: bool,
     /// The pass set of the current configuration, shared with the device's other renderers.
@@ -192,12 +196,13 @@ pub struct Renderer {
 }
 
 /// `--shadow-cube array` on an adapter without cube-array textures is an error, not a panic.
-fn check_shadow_cube(settings: &Settings, cube_arrays: bool) -> Result<()> {
-    if settings.shadow_cube == ShadowCube::Array && !cube_arrays {
-        bail!(
-            "--shadow-cube array needs cube-array textures, which this adapter does not support \
-             (wgpu DownlevelFlags::CUBE_ARRAY_TEXTURES); use --shadow-cube unrolled"
-        );
+fn check_shadow_cube(settings: &Settings, caps: &kit::caps::Caps) -> Result<()> {
+    if settings.shadow_cube == ShadowCube::Array && !caps.cube_arrays() {
+        return Err(caps.refuse(
+            "--shadow-cube array",
+            "cube-array textures (wgpu DownlevelFlags::CUBE_ARRAY_TEXTURES)",
+            "use --shadow-cube unrolled",
+        ));
     }
     Ok(())
 }
@@ -217,26 +222,22 @@ impl Renderer {
     pub fn new(gpu: &Gpu, output_format: wgpu::TextureFormat, settings: &Settings) -> Result<Self> {
         let device = gpu.device.clone();
         settings.validate().map_err(anyhow::Error::msg)?;
-        let clamp_available = gpu.has(wgpu::Features::DEPTH_CLIP_CONTROL);
         let limits = device.limits();
-        let cube_arrays =
-            gpu.adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES);
-        check_shadow_cube(settings, cube_arrays)?;
-        let key =
-            Self::key(None, settings, settings.layout.layout(), gpu.features, &limits, output_format, clamp_available)?;
+        let caps = gpu.caps.clone();
+        let key = Self::key(None, settings, settings.layout.layout(), &caps, output_format)?;
         let passes = gpu.passes.get(&device, key)?;
         Ok(Self {
             pool: gpu.passes.clone(),
-            frame: FrameBuffers::new(&device, &passes.shared.frame_bgl),
+            frame: FrameBuffers::new(&device, &passes.shared.frame_bgl, caps.quirks.min_cube_layers()),
             defaults: MaterialDefaults::new(&device, &gpu.queue),
             volumes: Volumes::new(&device, (settings.sphere_subdivisions, settings.cone_sides)),
             queries: stats::Queries::new(gpu),
             queue: gpu.queue.clone(),
             output_format,
-            clamp_available,
-            features: gpu.features,
+            caps,
             limits,
-            cube_arrays,
+            errors: gpu.errors.clone(),
+            said: Vec::new(),
             debug_groups: gpu.encoder_debug_groups(),
             passes,
             pass_cache: Vec::new(),
@@ -254,35 +255,48 @@ impl Renderer {
 
     /// The pipeline configuration `settings` ask for with G-buffer `layout` for `scene` (its
     /// shader features; `None` before the renderer is handed one), or why the adapter cannot
-    /// give it.
+    /// give it. Asks only the capability table: [`support`] calls it without a device.
     fn key(
         scene: Option<&Scene>,
         settings: &Settings,
         layout: gbuffer::GBufferLayout,
-        features: wgpu::Features,
-        limits: &wgpu::Limits,
+        caps: &kit::caps::Caps,
         output_format: wgpu::TextureFormat,
-        clamp_available: bool,
     ) -> Result<PipelineKey> {
+        check_shadow_cube(settings, caps)?;
         // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
         let prepass = settings.path == RenderPath::LightPrepass;
         let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
+        let layout = layout.for_caps(caps);
         layout.validate().map_err(anyhow::Error::msg)?;
-        layout.check_features(features).map_err(anyhow::Error::msg)?;
-        let accum_format = settings.accumulation.format(features)?;
+        layout.check_caps(caps)?;
+        let accum_format = settings.accumulation.format(caps)?;
+        let samples = if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 };
+        if samples == 4 {
+            for (what, format) in [("the light buffer", accum_format), ("the output", output_format)] {
+                if !caps.multisample_x4(format) {
+                    return Err(caps.refuse(
+                        "--msaa 4",
+                        &format!("4-sample {format:?} targets ({what})"),
+                        "use --msaa 1",
+                    ));
+                }
+            }
+        }
         Ok(PipelineKey {
             ambient_in_gbuffer: !prepass
                 && settings.ambient_in_gbuffer
-                && kit::ambient_fits(&layout, accum_format, limits),
+                && kit::ambient_fits(&layout, accum_format, &caps.limits),
             prepass,
-            samples: if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 },
+            samples,
             layout,
-            depth_format: settings.depth_format.format(features),
+            depth_format: settings.depth_format.format(caps.features),
             output_format,
             reversed_z: settings.reversed_z,
             accum_format,
-            depth_clamp: settings.depth_clamp && clamp_available,
-            features: program::ShaderFeatures::of(scene, settings),
+            post_format: post::post_format(caps),
+            depth_clamp: settings.depth_clamp && caps.has(wgpu::Features::DEPTH_CLIP_CONTROL),
+            features: program::ShaderFeatures::of(scene, settings, &caps.quirks),
         })
     }
 
@@ -320,15 +334,7 @@ impl Renderer {
         } else {
             settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
         };
-        let key = Self::key(
-            Some(scene),
-            settings,
-            layout,
-            self.features,
-            &self.limits,
-            self.output_format,
-            self.clamp_available,
-        )?;
+        let key = Self::key(Some(scene), settings, layout, &self.caps, self.output_format)?;
         if key != *self.passes.key() {
             // Whether only the shader features differ from the set this renderer drew with.
             let only_features = self.passes_used
@@ -396,7 +402,7 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<FrameStats> {
-        let shape = frame::Shape::of(scene, settings, (width, height), self.cube_arrays)?;
+        let shape = frame::Shape::of(scene, settings, (width, height), &self.caps)?;
         self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
         // The CPU's part: records, the culling plan, clamps, the shadow plan, their upload.
         let prepared = self.prepare(scene, settings, &shape)?;
@@ -425,7 +431,16 @@ impl Renderer {
         let prepass = drawn.prepass.is_some();
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, prepass);
         self.queue.submit([encoder.finish()]);
+        // A validation or out-of-memory error anywhere since the last frame: this frame is not
+        // what was asked for.
+        self.errors.check()?;
         let stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        for f in &stats.adapter.fallbacks {
+            if !self.said.contains(f) {
+                log::warn!("on {}: {f}", self.caps.adapter);
+                self.said.push(f.clone());
+            }
+        }
         self.keep(scene, settings, prepared);
         Ok(stats)
     }
@@ -603,9 +618,13 @@ mod tests {
     #[test]
     fn the_cube_array_is_refused_where_the_adapter_lacks_it() {
         let array = Settings { shadow_cube: ShadowCube::Array, ..Settings::default() };
-        let e = check_shadow_cube(&array, false).expect_err("refused").to_string();
+        use kit::caps::{Caps, Quirks};
+        let without = Caps::guaranteed(wgpu::Features::empty(), wgpu::DownlevelFlags::empty(), Quirks::NONE);
+        let with = Caps::guaranteed(wgpu::Features::empty(), wgpu::DownlevelFlags::all(), Quirks::NONE);
+        let e = check_shadow_cube(&array, &without).expect_err("refused").to_string();
         assert!(e.contains("--shadow-cube array") && e.contains("--shadow-cube unrolled"), "{e}");
-        assert!(check_shadow_cube(&array, true).is_ok());
-        assert!(check_shadow_cube(&Settings::default(), false).is_ok());
+        assert!(e.contains("CUBE_ARRAY_TEXTURES") && e.contains(&without.adapter.name), "{e}");
+        assert!(check_shadow_cube(&array, &with).is_ok());
+        assert!(check_shadow_cube(&Settings::default(), &without).is_ok());
     }
 }

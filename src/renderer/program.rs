@@ -107,12 +107,19 @@ impl ShaderFeatures {
 
     /// What `scene` can need under `settings`; with no scene, what the settings allow (no
     /// cookies: they come with a scene).
-    pub fn of(scene: Option<&crate::scene::Scene>, settings: &Settings) -> ShaderFeatures {
+    /// The driver workarounds follow `quirks`: light planes only where uniform loads gather
+    /// faster than storage loads, paired loops only under a loop limit.
+    pub fn of(
+        scene: Option<&crate::scene::Scene>,
+        settings: &Settings,
+        quirks: &crate::renderer::kit::caps::Quirks,
+    ) -> ShaderFeatures {
         ShaderFeatures {
             shadows: shadows::ShadowCode::of(scene, settings),
             cookies: scene.is_some_and(|s| s.lights.iter().any(|l| l.cookie().is_some())),
-            light_planes: scene.is_some_and(|s| records::planes_hold(&s.lights)),
-            paired_loops: scene.is_some_and(|s| s.lights.len() > plan::FORWARD_LOOP_LIGHTS as usize),
+            light_planes: quirks.uniform_gathers && scene.is_some_and(|s| records::planes_hold(&s.lights)),
+            paired_loops: quirks.loop_limit.is_some()
+                && scene.is_some_and(|s| s.lights.len() > plan::FORWARD_LOOP_LIGHTS as usize),
         }
     }
 
@@ -220,15 +227,17 @@ mod tests {
 
     #[test]
     fn the_cookie_feature_is_set_only_for_scenes_with_cookies() {
+        use crate::renderer::kit::caps::{Quirks, GALLIVM_LOOP_LIMIT};
         use crate::scene::builtin::{build, BuiltinOptions};
         let st = Settings::default();
+        let lavapipe = Quirks { loop_limit: Some(GALLIVM_LOOP_LIMIT), uniform_gathers: true, ..Quirks::NONE };
         let features = |name: &str| {
             let scene = build(name, BuiltinOptions::default()).expect("built-in scene");
-            ShaderFeatures::of(Some(&scene), &st)
+            ShaderFeatures::of(Some(&scene), &st, &lavapipe)
         };
         assert!(features("cookies").cookies);
         assert!(!features("demo").cookies && !features("shadows").cookies);
-        assert!(!ShaderFeatures::of(None, &st).cookies);
+        assert!(!ShaderFeatures::of(None, &st, &lavapipe).cookies);
         // The stats name what is compiled in: `demo` under the default `spots` has the sun and
         // narrow spots casting, no cube and no cookie, and its 1,028 lights read from the light
         // planes; a scene with cookies reads the storage buffer.
@@ -238,6 +247,10 @@ mod tests {
         );
         assert!(features("cookies").names().iter().any(|n| n == "cookies"));
         assert!(features("demo").light_planes && !features("cookies").light_planes);
+        // The light planes and paired loops are lavapipe's workarounds: another adapter's
+        // shaders read the storage buffer.
+        let demo = build("demo", BuiltinOptions::default()).expect("built-in scene");
+        assert!(!ShaderFeatures::of(Some(&demo), &st, &Quirks::NONE).light_planes);
         // The constant the shader's branches test follows the feature.
         let on = ShaderFeatures { cookies: true, ..ShaderFeatures::ALL };
         assert!(on.wgsl().contains("const LS_COOKIES: bool = true;"));

@@ -547,6 +547,7 @@ pub const COMPOSE_SLOT: u64 = 256;
 /// branches read a uniform at a constant offset, and the planes are only read at a light's
 /// index (`bindings.rs`, `tests/it/shader_contract.rs`).
 pub struct FrameBuffers {
+    min_cube_layers: u32,
     pub camera: wgpu::Buffer,
     pub lights: wgpu::Buffer,
     pub objects: wgpu::Buffer,
@@ -662,7 +663,8 @@ fn storage(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
 }
 
 impl FrameBuffers {
-    pub fn new(device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) -> Self {
+    /// `min_cube_layers`: the fewest layers the cube array is made with (`Quirks::min_cube_layers`).
+    pub fn new(device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout, min_cube_layers: u32) -> Self {
         let camera = storage(device, "camera", std::mem::size_of::<CameraRecord>() as u64);
         let lights = storage(device, "lights", 64 * std::mem::size_of::<LightRecord>() as u64);
         let objects = storage(device, "objects", 64 * std::mem::size_of::<ObjectRecord>() as u64);
@@ -687,7 +689,7 @@ impl FrameBuffers {
             ..Default::default()
         });
         let (shadow_table, shadow_table_view) = shadow_table(device, 16);
-        let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) = shadow_cubes(device, 1, 6);
+        let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) = shadow_cubes(device, 1, min_cube_layers);
         let group = Self::bind(
             device,
             frame_bgl,
@@ -697,6 +699,7 @@ impl FrameBuffers {
             (&shadow_view, &shadow_sampler, &shadow_table_view, &shadow_cubes_view),
         );
         Self {
+            min_cube_layers,
             group,
             camera,
             lights,
@@ -780,7 +783,8 @@ impl FrameBuffers {
         side: u32,
         layers: u32,
     ) {
-        let (side, layers) = if layers == 0 { (1, 6) } else { (side.max(1), layers.div_ceil(6) * 6) };
+        let min = self.min_cube_layers;
+        let (side, layers) = if layers == 0 { (1, min) } else { (side.max(1), (layers.div_ceil(6) * 6).max(min)) };
         if self.shadow_cubes.width() != side || self.shadow_cubes.depth_or_array_layers() != layers {
             (self.shadow_cubes, self.shadow_cubes_view, self.shadow_cube_layers) = shadow_cubes(device, side, layers);
             self.rebind(device, frame_bgl);

@@ -27,6 +27,7 @@ impl Renderer {
         let mut cpu_ms = prepared.cpu_ms;
         (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + drawn.cpu_ms.0, cpu_ms.wall + drawn.cpu_ms.1);
         let mut stats = FrameStats {
+            adapter: self.caps.report(super::support::fallbacks(&self.caps, key, settings, shape.chain)),
             size: [shape.size.0, shape.size.1],
             culling: settings.culling,
             lights: plan.lights.len(),

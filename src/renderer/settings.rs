@@ -343,17 +343,20 @@ impl AccumFormat {
         [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log];
 
     /// The texture format, or why the adapter cannot blend into it.
-    pub fn format(self, features: wgpu::Features) -> anyhow::Result<wgpu::TextureFormat> {
-        let (format, needs) = match self {
-            AccumFormat::Rgba16Float => (wgpu::TextureFormat::Rgba16Float, wgpu::Features::empty()),
-            AccumFormat::Rgba32Float => (wgpu::TextureFormat::Rgba32Float, wgpu::Features::FLOAT32_BLENDABLE),
-            AccumFormat::Rg11b10Ufloat => {
-                (wgpu::TextureFormat::Rg11b10Ufloat, wgpu::Features::RG11B10UFLOAT_RENDERABLE)
-            }
-            AccumFormat::Rgba8Log => (wgpu::TextureFormat::Rgba8Unorm, wgpu::Features::empty()),
+    pub fn format(self, caps: &super::kit::caps::Caps) -> anyhow::Result<wgpu::TextureFormat> {
+        let format = match self {
+            AccumFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
+            AccumFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
+            AccumFormat::Rg11b10Ufloat => wgpu::TextureFormat::Rg11b10Ufloat,
+            AccumFormat::Rgba8Log => wgpu::TextureFormat::Rgba8Unorm,
         };
-        if !features.contains(needs) {
-            anyhow::bail!("{self:?} accumulation needs {needs:?}, which this adapter lacks");
+        // The lights add into it: it must take blending.
+        if !caps.blendable(format) {
+            return Err(caps.refuse(
+                &format!("--accumulation {}", super::settings::name_of(&self)),
+                &format!("blending into {format:?} render targets"),
+                "use --accumulation rgba16-float",
+            ));
         }
         Ok(format)
     }

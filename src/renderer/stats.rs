@@ -305,6 +305,8 @@ pub struct LightStats {
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct FrameStats {
+    /// The adapter, its capability table and the fallbacks this frame took.
+    pub adapter: crate::renderer::kit::caps::CapsReport,
     pub size: [u32; 2],
     pub culling: CullingMode,
     pub lights: usize,
@@ -407,6 +409,8 @@ pub struct Queries {
     /// tests, not the fragments shaded.
     pub coverage: Vec<wgpu::QuerySet>,
     coverage_supported: bool,
+    /// The occlusion queries count samples (`Caps::occlusion`).
+    exact: bool,
     resolve: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
     capacity: usize,
@@ -440,6 +444,7 @@ impl Queries {
             ideal: Vec::new(),
             coverage: Vec::new(),
             coverage_supported: gpu.has(wgpu::Features::PIPELINE_STATISTICS_QUERY),
+            exact: gpu.caps.occlusion == crate::renderer::kit::caps::Occlusion::Exact,
             resolve: None,
             readback: None,
             capacity: 0,
@@ -574,6 +579,9 @@ impl Queries {
                 coverage: None,
             })
             .collect();
+        // Occlusion queries that only say 0 or 1 (wgpu's GL backend) count nothing: the counts
+        // they would give are left out, not reported wrong.
+        let (counts, ideal, forward) = (counts && self.exact, ideal && self.exact, forward && self.exact);
         if !(counts || ideal || times || forward) {
             return Ok(());
         }

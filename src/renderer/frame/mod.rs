@@ -11,7 +11,7 @@ use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
-use super::{check_shadow_cube, cputime, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
+use super::{check_shadow_cube, cputime, kit, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use inputs::FrameInputs;
@@ -33,14 +33,14 @@ pub struct Shape {
 
 impl Shape {
     /// The frame's shape, or why `settings` cannot draw `scene` at `size`.
-    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32), cube_arrays: bool) -> Result<Shape> {
+    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32), caps: &kit::caps::Caps) -> Result<Shape> {
         let (width, height) = size;
         if width == 0 || height == 0 {
             bail!("cannot render a {width}x{height} frame");
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        check_shadow_cube(settings, cube_arrays)?;
+        check_shadow_cube(settings, caps)?;
         let final_view = settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view);
         let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
         if forward_path && !final_view {

@@ -518,23 +518,28 @@ impl GBufferLayout {
         }
     }
 
-    /// Checks that the adapter can render every target's format.
-    pub fn check_features(&self, features: wgpu::Features) -> Result<(), String> {
-        for t in &self.targets {
-            let mut needs = t.format.required_features();
-            if !t
-                .format
-                .guaranteed_format_features(needs)
-                .allowed_usages
-                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
-            {
-                // Renderable only where the adapter says so (Rg16Unorm).
-                needs |= wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+    /// The layout as `caps`' adapter can render it: a depth copy in R32Float becomes R32Uint
+    /// holding depth's bits (written with `bitcast<u32>`, read back with `bitcast<f32>`: exact)
+    /// where R32Float is not renderable (wgpu's GL backend).
+    pub fn for_caps(mut self, caps: &super::caps::Caps) -> Self {
+        use wgpu::TextureFormat as F;
+        for t in &mut self.targets {
+            let depth_only = t.channels.iter().all(|c| matches!(c, Some(Slot { attr: Attr::Depth, .. })));
+            if t.format == F::R32Float && depth_only && !caps.renderable(F::R32Float) && caps.renderable(F::R32Uint) {
+                t.format = F::R32Uint;
             }
-            if !features.contains(needs) {
-                return Err(format!(
-                    "layout {} stores {} as {:?}, which needs {needs:?}; this adapter lacks it",
-                    self.name, t.name, t.format
+        }
+        self
+    }
+
+    /// Checks that the adapter can render every target's format.
+    pub fn check_caps(&self, caps: &super::caps::Caps) -> anyhow::Result<()> {
+        for t in &self.targets {
+            if !caps.renderable(t.format) {
+                return Err(caps.refuse(
+                    &format!("layout {} (its {} target)", self.name, t.name),
+                    &format!("{:?} render targets", t.format),
+                    "choose another --layout (`lampshade adapters` lists those it renders)",
                 ));
             }
         }
@@ -574,7 +579,8 @@ impl GBufferLayout {
                 return Err(format!("target {} lists {} channels for {:?}", t.name, t.channels.len(), t.format));
             }
             for s in t.channels.iter().flatten() {
-                if matches!(s.attr, Attr::Depth | Attr::Position) && !is_float(t.format) {
+                let bits = s.attr == Attr::Depth && t.format == wgpu::TextureFormat::R32Uint;
+                if matches!(s.attr, Attr::Depth | Attr::Position) && !is_float(t.format) && !bits {
                     return Err(format!("{:?} needs a float channel, {} is {:?}", s.attr, t.name, t.format));
                 }
             }
@@ -629,12 +635,12 @@ impl GBufferLayout {
         // The culling layer (seed 004): per pixel from its channel, or the scene's one layer.
         let _ = writeln!(w, "const GBUFFER_HAS_LAYER: bool = {};", self.uniform_layer.is_none());
         let _ = writeln!(w, "const GBUFFER_LAYER: u32 = {}u;", self.uniform_layer.unwrap_or(0));
-        for (i, _) in self.targets.iter().enumerate() {
-            let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<f32>;");
+        for (i, t) in self.targets.iter().enumerate() {
+            let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<{}>;", scalar(t.format));
         }
         let _ = writeln!(w, "struct GBufferOut {{");
-        for (i, _) in self.targets.iter().enumerate() {
-            let _ = writeln!(w, "    @location({i}) t{i}: vec4<f32>,");
+        for (i, t) in self.targets.iter().enumerate() {
+            let _ = writeln!(w, "    @location({i}) t{i}: vec4<{}>,", scalar(t.format));
         }
         if ambient {
             let n = self.targets.len();
@@ -648,11 +654,17 @@ impl GBufferLayout {
         let _ = writeln!(w, "    let a = attributes_of(s);");
         let comps = ["x", "y", "z", "w"];
         for (i, t) in self.targets.iter().enumerate() {
-            let _ = writeln!(w, "    o.t{i} = vec4<f32>(0.0);");
+            let _ = writeln!(w, "    o.t{i} = vec4<{}>();", scalar(t.format));
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let src = format!("a.{}{}", attr_field(s.attr), self.accessor(s));
-                    let val = if s.attr.signed() && !is_float(t.format) { format!("{src} * 0.5 + 0.5") } else { src };
+                    let val = if is_bits(t.format) {
+                        format!("bitcast<u32>({src})")
+                    } else if s.attr.signed() && !is_float(t.format) {
+                        format!("{src} * 0.5 + 0.5")
+                    } else {
+                        src
+                    };
                     let _ = writeln!(w, "    o.t{i}.{} = {val};", comps[c]);
                 }
             }
@@ -678,13 +690,33 @@ impl GBufferLayout {
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let src = format!("t{i}.{}", comps[c]);
-                    let val = if s.attr.signed() && !is_float(t.format) { format!("{src} * 2.0 - 1.0") } else { src };
+                    let val = if is_bits(t.format) {
+                        format!("bitcast<f32>({src})")
+                    } else if s.attr.signed() && !is_float(t.format) {
+                        format!("{src} * 2.0 - 1.0")
+                    } else {
+                        src
+                    };
                     let _ = writeln!(w, "    a.{}{} = {val};", attr_field(s.attr), self.accessor(s));
                 }
             }
         }
         let _ = writeln!(w, "    return surface_of(a, p);\n}}");
         w
+    }
+}
+
+/// A target holding a float's bits in an unsigned integer (the R32Uint depth copy).
+pub(crate) fn is_bits(format: wgpu::TextureFormat) -> bool {
+    format == wgpu::TextureFormat::R32Uint
+}
+
+/// The WGSL scalar type a target is written and read as.
+fn scalar(format: wgpu::TextureFormat) -> &'static str {
+    if is_bits(format) {
+        "u32"
+    } else {
+        "f32"
     }
 }
 
@@ -726,13 +758,17 @@ impl GBufferTargets {
 
     /// Bind group layout entries for reading every target with `textureLoad`.
     pub fn bind_group_layout(device: &wgpu::Device, layout: &GBufferLayout) -> wgpu::BindGroupLayout {
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..layout.targets.len())
-            .map(|i| wgpu::BindGroupLayoutEntry {
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (layout.targets.iter().enumerate())
+            .map(|(i, t)| wgpu::BindGroupLayoutEntry {
                 binding: i as u32,
                 // Compute: the tiled pass reads each tile's depth bounds.
                 visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
                 ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    sample_type: if is_bits(t.format) {
+                        wgpu::TextureSampleType::Uint
+                    } else {
+                        wgpu::TextureSampleType::Float { filterable: false }
+                    },
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 },

@@ -12,6 +12,7 @@
 //! [`z`] flips the compare functions when reversed Z is on.
 
 pub mod bindings;
+pub mod caps;
 pub mod gbuffer;
 pub mod pipeline;
 

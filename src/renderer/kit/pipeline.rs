@@ -16,6 +16,8 @@ pub struct PipelineKey {
     pub reversed_z: bool,
     /// Format of the diffuse and specular light accumulation targets.
     pub accum_format: wgpu::TextureFormat,
+    /// Format of the post chain's intermediate images (`post::post_format`).
+    pub post_format: wgpu::TextureFormat,
     /// Depth clamp (`unclipped_depth`) on light volumes.
     pub depth_clamp: bool,
     /// The G-buffer pass also writes ambient + sun into the accumulation targets (seed 000's

@@ -7,7 +7,7 @@
 use super::post_draw;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
-use crate::renderer::post::{PostTargets, BLOOM_LEVELS, POST_FORMAT};
+use crate::renderer::post::{PostTargets, BLOOM_LEVELS};
 use crate::renderer::stats::Span;
 
 /// Bloom's timing (`gpu_ms.bloom`).
@@ -22,7 +22,8 @@ pub struct BloomPass {
 
 impl BloomPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let pipe = |label, fs| shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, POST_FORMAT);
+        let pipe =
+            |label, fs| shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, shared.key.post_format);
         Self {
             bright: pipe("bloom bright pass", "fs_bloom_bright"),
             down: pipe("bloom down", "fs_bloom_down"),

@@ -24,7 +24,7 @@
 use super::post_draw;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
-use crate::renderer::post::{Aa, POST_FORMAT};
+use crate::renderer::post::Aa;
 use crate::renderer::settings::{DebugView, Settings};
 use crate::renderer::stats::Span;
 
@@ -83,7 +83,7 @@ impl EffectsPass {
                     .view
                     .map(|(_, fs)| shared.fullscreen_pipeline(device, &format!("{} view", e.name), layout, fs, out));
                 (
-                    shared.fullscreen_pipeline(device, e.name, layout, e.fs, POST_FORMAT),
+                    shared.fullscreen_pipeline(device, e.name, layout, e.fs, shared.key.post_format),
                     shared.fullscreen_pipeline(device, e.name, layout, e.fs, out),
                     view,
                 )

@@ -47,8 +47,21 @@ pub const FRAME_DT: f32 = 1.0 / 60.0;
 pub const BLOOM_LEVELS: usize = 5;
 /// Largest `.cube` LUT edge accepted (65 is the largest in common use).
 pub const MAX_LUT_SIZE: u32 = 65;
-/// Format of the chain's intermediate images (f32: the bloom energy test sums them).
+/// Format of the chain's intermediate images where the adapter renders it (f32: the bloom
+/// energy test sums them).
 pub const POST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// The chain's format on an adapter: [`POST_FORMAT`], else Rgba16Float (wgpu's GL backend renders
+/// no 32-bit float target). Half floats keep 11 significant bits: each stored value is off by at
+/// most 2^-11 of itself, below one step of the 8-bit output after tone mapping (1/255 of the
+/// output range), so the picture differs from the f32 chain's by at most one step.
+pub fn post_format(caps: &crate::renderer::kit::caps::Caps) -> wgpu::TextureFormat {
+    if caps.renderable(POST_FORMAT) && caps.blendable(POST_FORMAT) {
+        POST_FORMAT
+    } else {
+        wgpu::TextureFormat::Rgba16Float
+    }
+}
 
 /// The tone curve. The values are shared with WGSL as generated constants (`LS_TONEMAP_*`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
@@ -368,11 +381,12 @@ impl PostTargets {
             s = (s.0.div_ceil(2).max(1), s.1.div_ceil(2).max(1));
             level_sizes.push(s);
         }
-        let view =
-            |label: &str, s: (u32, u32)| texture(device, label, POST_FORMAT, s, usage).create_view(&Default::default());
+        let view = |label: &str, s: (u32, u32)| {
+            texture(device, label, shared.key.post_format, s, usage).create_view(&Default::default())
+        };
         let down: Vec<_> = level_sizes.iter().map(|s| view("bloom down", *s)).collect();
         let up: Vec<_> = level_sizes[..BLOOM_LEVELS - 1].iter().map(|s| view("bloom up", *s)).collect();
-        let bloomed = texture(device, "bloomed", POST_FORMAT, size, usage);
+        let bloomed = texture(device, "bloomed", shared.key.post_format, size, usage);
         let bloomed_view = bloomed.create_view(&Default::default());
         let toned_view = view("tonemapped", size);
         let second_view = view("post second", size);

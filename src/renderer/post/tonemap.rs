@@ -6,7 +6,6 @@
 use super::post_draw;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
-use crate::renderer::post::POST_FORMAT;
 use crate::renderer::stats::Span;
 
 /// The tone mapping's timing (`gpu_ms.tonemap`).
@@ -25,7 +24,7 @@ impl TonemapPass {
         let pipe = |label, fs, format| shared.fullscreen_pipeline(device, label, &shared.post_layout, fs, format);
         Self {
             to_output: pipe("post tonemap", "fs_post_tonemap", out),
-            to_post: pipe("post tonemap (graded)", "fs_post_tonemap", POST_FORMAT),
+            to_post: pipe("post tonemap (graded)", "fs_post_tonemap", shared.key.post_format),
             view_bloom: pipe("bloom view", "fs_view_bloom", out),
             view_histogram: pipe("histogram view", "fs_view_histogram", out),
         }

@@ -2,7 +2,7 @@
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared};
+use crate::renderer::kit::{self, scene_pipeline, ScenePipe, Shared};
 use crate::renderer::stats::Span;
 
 /// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).
@@ -125,7 +125,12 @@ impl GBufferPass {
             .zip(&t.gbuffer.layout.targets)
             .map(|(view, desc)| {
                 let has_depth = desc.channels.iter().flatten().any(|s| s.attr == Attr::Depth);
-                let r = if has_depth { far_depth } else { 0.0 };
+                // An integer target's clear value is the integer: the far depth's bits.
+                let r = match (has_depth, kit::gbuffer::is_bits(desc.format)) {
+                    (true, true) => f64::from((far_depth as f32).to_bits()),
+                    (true, false) => far_depth,
+                    (false, _) => 0.0,
+                };
                 attachment(view, Some(wgpu::Color { r, g: 0.0, b: 0.0, a: 0.0 }))
             })
             .collect();

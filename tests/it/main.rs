@@ -8,6 +8,7 @@
 
 mod common;
 
+mod adapters;
 mod batching;
 mod cli;
 mod cookies_masks;

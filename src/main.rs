@@ -162,7 +162,7 @@ fn render(args: RenderArgs) -> Result<()> {
     );
     if let Some(path) = &args.stats {
         let json = serde_json::json!({
-            "adapter": { "name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend) },
+            "adapter": stats.adapter,
             "scene": scene_name,
             "time": time,
             "settings": settings,

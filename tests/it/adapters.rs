@@ -67,7 +67,10 @@ fn the_capability_table_is_read_from_the_adapters_report() {
         let rows = caps.rows();
         let row = |name: &str| rows.iter().find(|r| r.name == name).map(|r| r.has);
         assert_eq!(row("timestamp queries"), Some(gpu.has(wgpu::Features::TIMESTAMP_QUERY)));
-        assert_eq!(row("cube-array textures"), Some(caps.downlevel.contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES)));
+        assert_eq!(
+            row("cube-array textures"),
+            Some(caps.downlevel.contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES))
+        );
     }
     // What the two backends of the same driver report differently.
     let (vk, gl) = (&gpu().caps, &gl().caps);
@@ -186,8 +189,8 @@ fn the_gl_backend_renders_every_mode_to_its_full_screen_picture() {
         let modes = CullingMode::ALL.into_iter().skip(1);
         for culling in modes.filter(|&m| m != CullingMode::Tiled || path == RenderPath::Deferred) {
             let what = format!("GL {} {}", path.name(), culling.name());
-            let (img, _) = draw(gl(), &scene, &Settings { culling, ..base.clone() })
-                .unwrap_or_else(|e| panic!("{what}: {e:#}"));
+            let (img, _) =
+                draw(gl(), &scene, &Settings { culling, ..base.clone() }).unwrap_or_else(|e| panic!("{what}: {e:#}"));
             let step = max_channel_difference(&reference, &img);
             let (fl, _) = flip(&reference, &img).expect("flip");
             assert!(step <= 1 && fl.mean <= 0.001, "{what}: {step} steps from fullscreen, FLIP mean {}", fl.mean);

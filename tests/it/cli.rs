@@ -255,6 +255,60 @@ fn bad_input_is_a_clear_error() {
     }
 }
 
+/// `--backend`, `--adapter` and `--restrict` pick the adapter on every command, the stats name
+/// it with its capability table, `adapters` lists both backends of Mesa's driver with what each
+/// gives, and an adapter or a choice that cannot be had is a clear error, never a panic.
+#[test]
+fn every_command_takes_an_adapter_and_says_what_it_cannot_do() {
+    let png = tmp("gl.png");
+    let json = tmp("gl.json");
+    let bench_dir = tmp("bench-on-dx12");
+    let (p, j, b) = (png.to_str().unwrap(), json.to_str().unwrap(), bench_dir.to_str().unwrap());
+    let size = ["--size", "96x54", "--lights", "16"];
+    let out = lampshade(&[&["render", "demo", "--backend", "gl", "--out", p, "--stats", j][..], &size].concat());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "GL render: {err}");
+    assert!(!err.contains("Cube` rather than `CubeArray"), "GL's cube guess: {err}");
+    assert!(!err.contains("Features {"), "a feature printed as a debug struct: {err}");
+    assert_eq!(err.matches("lacks: PIPELINE_STATISTICS_QUERY").count(), 1, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let a = &v["adapter"];
+    assert_eq!(a["adapter"]["backend"], "gl");
+    assert!(a["adapter"]["name"].as_str().is_some_and(|n| n.contains("llvmpipe")), "{a}");
+    assert_eq!(a["capabilities"]["R32Float render targets"], false);
+    assert!(a["fallbacks"].as_array().unwrap().iter().any(|f| f.as_str().unwrap().contains("R32Uint")), "{a}");
+    assert!(v["shaded_fragments"].is_null(), "GL's binary occlusion counted fragments");
+
+    let out = lampshade(&["adapters"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("(vulkan, Cpu") && text.contains("(gl, Cpu"), "{text}");
+    assert!(text.contains("not reference: layout reference"), "{text}");
+    let out = lampshade(&["adapters", "--json", "--backend", "vulkan"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("adapters --json");
+    assert_eq!(v.as_array().map(|a| a.len()), Some(1));
+    assert_eq!(v[0]["table"]["capabilities"]["R32Float render targets"], true);
+
+    for (args, expect) in [
+        (vec!["render", "demo", "--out", p, "--adapter", "99"], "no adapter '99'; the adapters found are: 0: llvmpipe"),
+        (vec!["render", "demo", "--out", p, "--adapter", "no-such-gpu"], "no adapter 'no-such-gpu'"),
+        (vec!["render", "demo", "--out", p, "--backend", "metal"], "no graphics adapter found on the Metal backend"),
+        (
+            vec!["render", "demo", "--out", p, "--backend", "gl", "--layout", "reference"],
+            "needs Rgba32Float render targets",
+        ),
+        (vec!["render", "demo", "--out", p, "--restrict", "gl", "--accumulation", "rgba32-float"], "Gl profile lacks"),
+        (vec!["bench", "--out", b, "--backend", "dx12"], "no graphics adapter found on the Dx12 backend"),
+        (vec!["view", "--no-state", "--backend", "warp"], "invalid value 'warp'"),
+    ] {
+        let out = lampshade(&[&args[..], &size].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(expect), "{args:?}: stderr does not mention '{expect}': {err}");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    }
+}
+
 /// A file of three spheres in three reflectance models (`blinn-phong`, `metal`, and `unlit`
 /// through KHR_materials_unlit), generated from `room::stress`, with no lights of its own.
 fn three_model_spheres(tag: &str) -> std::path::PathBuf {

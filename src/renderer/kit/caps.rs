@@ -480,3 +480,43 @@ impl Caps {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(name: &str, driver: &str, backend: wgpu::Backend) -> wgpu::AdapterInfo {
+        wgpu::AdapterInfo {
+            name: name.into(),
+            vendor: 0,
+            device: 0,
+            device_type: wgpu::DeviceType::DiscreteGpu,
+            device_pci_bus_id: String::new(),
+            driver: driver.into(),
+            driver_info: String::new(),
+            backend,
+            subgroup_min_size: 4,
+            subgroup_max_size: 128,
+            transient_saves_memory: None,
+            limit_bucket: None,
+        }
+    }
+
+    /// Each workaround is keyed to the driver that needs it: gallivm's loop limit and gathers
+    /// to llvmpipe under either backend, the debug-group crash to lavapipe, the cube guess to
+    /// wgpu's GL backend; a hardware GPU gets none.
+    #[test]
+    fn quirks_follow_the_driver_that_needs_them() {
+        use wgpu::Backend::{Gl, Vulkan};
+        let lavapipe = Quirks::of(&info("llvmpipe (LLVM 15.0.6, 256 bits)", "llvmpipe", Vulkan));
+        let gl = Quirks::of(&info("llvmpipe (LLVM 15.0.6, 256 bits)", "", Gl));
+        let nvidia = Quirks::of(&info("NVIDIA H100 80GB HBM3", "NVIDIA", Vulkan));
+        let nvidia_gl = Quirks::of(&info("NVIDIA H100 80GB HBM3/PCIe/SSE2", "", Gl));
+        assert_eq!(lavapipe.loop_limit, Some(GALLIVM_LOOP_LIMIT));
+        assert!(lavapipe.uniform_gathers && lavapipe.no_encoder_debug_groups && !lavapipe.cube_guess_by_layers);
+        assert!(gl.loop_limit.is_some() && gl.uniform_gathers && !gl.no_encoder_debug_groups);
+        assert_eq!((gl.min_cube_layers(), lavapipe.min_cube_layers()), (12, 6));
+        assert_eq!(nvidia, Quirks::NONE);
+        assert_eq!(nvidia_gl, Quirks { cube_guess_by_layers: true, ..Quirks::NONE });
+    }
+}

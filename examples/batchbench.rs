@@ -113,6 +113,7 @@ fn cpu(gpu: &lampshade::Gpu) {
                     forward_lights: settings.forward_lights,
                     light_batching,
                     cluster_build: settings.cluster_build,
+                    loop_limit: None,
                 };
                 let t = std::time::Instant::now();
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);

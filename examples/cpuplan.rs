@@ -105,6 +105,7 @@ fn main() {
                 forward_lights: settings.forward_lights,
                 light_batching: true,
                 cluster_build: settings.cluster_build,
+                loop_limit: None,
             };
             let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
                 settings: &settings,

@@ -92,10 +92,22 @@ pub struct DeviceErrors(Arc<Mutex<Vec<String>>>);
 
 impl DeviceErrors {
     fn push(&self, e: wgpu::Error) {
-        let text = match &e {
-            wgpu::Error::OutOfMemory { .. } => format!("the GPU ran out of memory: {e}"),
-            _ => format!("{e}"),
+        // wgpu's `Display` says only "Validation Error": the causes below it name the call.
+        let mut causes = Vec::new();
+        let mut next = std::error::Error::source(&e);
+        while let Some(c) = next {
+            let t = c.to_string();
+            if !t.trim().is_empty() && !causes.contains(&t) {
+                causes.push(t);
+            }
+            next = c.source();
+        }
+        let kind = match &e {
+            wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory",
+            wgpu::Error::Validation { .. } => "validation error",
+            wgpu::Error::Internal { .. } => "internal error",
         };
+        let text = if causes.is_empty() { kind.to_string() } else { format!("{kind}: {}", causes.join(": ")) };
         log::error!("wgpu: {text}");
         if let Ok(mut v) = self.0.lock() {
             v.push(text);

@@ -6,7 +6,7 @@
 use super::gfx::{self, Acquired, Image};
 use super::script::{Action, SCRIPT_DT};
 use super::state::{self, Wireframes};
-use super::ui::{self, Command, Sample, Status, Thumb, UiOut};
+use super::ui::{self, Command, Sample, Thumb, UiOut};
 use super::{camera, App};
 use crate::renderer::{volume_wireframe_with, DebugView, RenderPath, Settings};
 use anyhow::{anyhow, bail, Result};
@@ -157,6 +157,7 @@ impl App {
         }
         match g.renderer.render(scene, settings, &g.viewport.target, w, h) {
             Ok(stats) => {
+                g.viewport.publish(&g.gpu);
                 self.history.push(Sample {
                     gpu_total: stats.gpu_ms.total,
                     lighting: stats.gpu_ms.lighting,
@@ -176,7 +177,10 @@ impl App {
                     }
                     _ => format!("render failed: {e:#}"),
                 };
-                self.status = Some(Status { text, error: true });
+                // Said once while it lasts, not at every frame.
+                if self.status.as_ref().is_none_or(|s| s.text != text) {
+                    self.say(text, true);
+                }
                 false
             }
         }
@@ -197,12 +201,15 @@ impl App {
             let tw = THUMB_WIDTH;
             let th = ((tw as f32 * vh as f32 / vw.max(1) as f32).round() as u32).clamp(16, THUMB_WIDTH);
             for v in tiles.iter().map(|t| t.view) {
+                let views = g.gpu.caps.has_downlevel(wgpu::DownlevelFlags::VIEW_FORMATS);
                 let img = g.thumbs.entry(v).or_insert_with(|| {
-                    Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", tw, th, wgpu::FilterMode::Linear)
+                    let linear = wgpu::FilterMode::Linear;
+                    Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", (tw, th), linear, views)
                 });
                 img.resize(&g.gpu.device, &mut g.egui_renderer, tw, th, wgpu::FilterMode::Linear);
-                if let Err(e) = g.renderer.compose_view(v, &img.target, tw, th) {
-                    log::warn!("thumbnail {v:?}: {e:#}");
+                match g.renderer.compose_view(v, &img.target, tw, th) {
+                    Ok(()) => img.publish(&g.gpu),
+                    Err(e) => log::warn!("thumbnail {v:?}: {e:#}"),
                 }
             }
         }
@@ -219,12 +226,17 @@ impl App {
         }
         let (atlas_side, _) = g.renderer.shadow_atlas_tiles();
         let side = atlas_side.clamp(ATLAS_IMAGE.0, ATLAS_IMAGE.1);
+        let views = g.gpu.caps.has_downlevel(wgpu::DownlevelFlags::VIEW_FORMATS);
         let img = g.atlas.get_or_insert_with(|| {
-            Image::new(&g.gpu.device, &mut g.egui_renderer, "shadow atlas", side, side, wgpu::FilterMode::Nearest)
+            let nearest = wgpu::FilterMode::Nearest;
+            Image::new(&g.gpu.device, &mut g.egui_renderer, "shadow atlas", (side, side), nearest, views)
         });
         img.resize(&g.gpu.device, &mut g.egui_renderer, side, side, wgpu::FilterMode::Nearest);
         g.atlas_range = match g.renderer.draw_shadow_atlas(&g.gpu, &img.target, side) {
-            Ok(r) => r,
+            Ok(r) => {
+                img.publish(&g.gpu);
+                r
+            }
             Err(e) => {
                 log::warn!("shadow atlas image: {e:#}");
                 None
@@ -304,6 +316,7 @@ impl App {
             gbuffer_bytes: layout.bytes_per_pixel(),
             probe: self.probe.as_ref(),
             adapter: &g.adapter,
+            caps: &g.gpu.caps,
             status: self.status.as_ref(),
             warnings: &self.cache.warnings,
             cpu_ms: self.cpu_ms,
@@ -371,7 +384,7 @@ impl App {
                 g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
             }
             g.gpu.queue.submit(user.into_iter().chain([encoder.finish()]));
-            if capture {
+            if capture && g.surface.can_capture {
                 window_image = Some(g.surface.capture(&g.gpu, &frame));
             }
             g.surface.window.pre_present_notify();
@@ -431,12 +444,22 @@ impl App {
         for a in post {
             match a {
                 Action::Screenshot(path) => {
+                    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("screenshot");
+                    let vp: PathBuf = path.with_file_name(format!("{stem}-viewport.png"));
+                    if self.gfx.as_ref().is_some_and(|g| !g.surface.can_capture) {
+                        // wgpu's GL backend: the window's texture cannot be copied from.
+                        self.save_viewport(&vp)?;
+                        println!(
+                            "frame {}: this window cannot be read back (its surface lacks COPY_SRC); saved the viewport only: {}",
+                            self.frame,
+                            vp.display()
+                        );
+                        continue;
+                    }
                     let img = window_image
                         .take()
                         .ok_or_else(|| anyhow!("frame {}: the window was not drawn (minimised?)", self.frame))??;
                     gfx::save_png(&img, &path)?;
-                    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("screenshot");
-                    let vp: PathBuf = path.with_file_name(format!("{stem}-viewport.png"));
                     self.save_viewport(&vp)?;
                     println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
                 }

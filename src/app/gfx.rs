@@ -11,8 +11,14 @@ use winit::window::Window;
 /// `Rgba8UnormSrgb` (the renderer's output format, so it writes sRGB-encoded bytes); egui reads
 /// it through an `Rgba8Unorm` view, i.e. gets those encoded bytes, which is what it expects of a
 /// user texture. The bytes in the window are then exactly the bytes of a headless render.
+///
+/// An adapter without view formats (`DownlevelFlags::VIEW_FORMATS`: wgpu's GL backend) cannot
+/// view one texture in both formats: egui then reads an `Rgba8Unorm` copy, which
+/// [`Image::publish`] refreshes after each draw (a copy between the two formats keeps the bytes).
 pub struct Image {
     pub texture: wgpu::Texture,
+    /// The `Rgba8Unorm` copy egui reads where views cannot reinterpret the format.
+    shown: Option<wgpu::Texture>,
     /// For the renderer.
     pub target: wgpu::TextureView,
     /// For egui.
@@ -21,39 +27,60 @@ pub struct Image {
     pub height: u32,
 }
 
-fn image_texture(device: &wgpu::Device, label: &str, width: u32, height: u32) -> wgpu::Texture {
+/// The texture the renderer draws into and, where `views`, egui's view of it; else also the
+/// copy egui reads.
+fn image_textures(
+    device: &wgpu::Device,
+    label: &str,
+    width: u32,
+    height: u32,
+    views: bool,
+) -> (wgpu::Texture, Option<wgpu::Texture>) {
     use wgpu::TextureUsages as U;
-    let formats = (crate::renderer::OUTPUT_FORMAT, [wgpu::TextureFormat::Rgba8Unorm].as_slice());
-    crate::renderer::kit::texture_2d(
-        device,
-        label,
-        formats,
-        (width, height),
-        1,
-        U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
-    )
+    let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+    let unorm = [wgpu::TextureFormat::Rgba8Unorm];
+    let formats = (crate::renderer::OUTPUT_FORMAT, if views { unorm.as_slice() } else { &[] });
+    let texture = crate::renderer::kit::texture_2d(device, label, formats, (width, height), 1, usage);
+    let shown = (!views).then(|| {
+        let usage = U::TEXTURE_BINDING | U::COPY_DST;
+        crate::renderer::kit::texture(device, label, wgpu::TextureFormat::Rgba8Unorm, (width, height), usage)
+    });
+    (texture, shown)
 }
 
-fn egui_view(texture: &wgpu::Texture) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
+fn egui_view(texture: &wgpu::Texture, shown: Option<&wgpu::Texture>) -> wgpu::TextureView {
+    shown.unwrap_or(texture).create_view(&wgpu::TextureViewDescriptor {
         format: Some(wgpu::TextureFormat::Rgba8Unorm),
         ..Default::default()
     })
 }
 
 impl Image {
+    /// `views`: the device can view a texture in another format (`DownlevelFlags::VIEW_FORMATS`).
     pub fn new(
         device: &wgpu::Device,
         egui: &mut egui_wgpu::Renderer,
         label: &str,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
         filter: wgpu::FilterMode,
+        views: bool,
     ) -> Self {
-        let texture = image_texture(device, label, width, height);
+        let (texture, shown) = image_textures(device, label, width, height, views);
         let target = texture.create_view(&Default::default());
-        let id = egui.register_native_texture(device, &egui_view(&texture), filter);
-        Self { texture, target, id, width, height }
+        let id = egui.register_native_texture(device, &egui_view(&texture, shown.as_ref()), filter);
+        Self { texture, shown, target, id, width, height }
+    }
+
+    /// Brings the copy egui reads up to what was drawn (where there is one).
+    pub fn publish(&self, gpu: &Gpu) {
+        let Some(shown) = &self.shown else { return };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_texture_to_texture(
+            self.texture.as_image_copy(),
+            shown.as_image_copy(),
+            wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
+        );
+        gpu.queue.submit([encoder.finish()]);
     }
 
     /// Recreates the texture at a new size, keeping its egui id. Returns whether it changed.
@@ -68,9 +95,14 @@ impl Image {
         if (width, height) == (self.width, self.height) {
             return false;
         }
-        self.texture = image_texture(device, "viewer image", width, height);
+        (self.texture, self.shown) = image_textures(device, "viewer image", width, height, self.shown.is_none());
         self.target = self.texture.create_view(&Default::default());
-        egui.update_egui_texture_from_wgpu_texture(device, &egui_view(&self.texture), filter, self.id);
+        egui.update_egui_texture_from_wgpu_texture(
+            device,
+            &egui_view(&self.texture, self.shown.as_ref()),
+            filter,
+            self.id,
+        );
         self.width = width;
         self.height = height;
         true

@@ -292,7 +292,9 @@ impl App {
         );
         let mut egui_renderer =
             egui_wgpu::Renderer::new(&gpu.device, surface.format(), egui_wgpu::RendererOptions::default());
-        let viewport = Image::new(&gpu.device, &mut egui_renderer, "viewport", 64, 36, wgpu::FilterMode::Linear);
+        let views = gpu.caps.has_downlevel(wgpu::DownlevelFlags::VIEW_FORMATS);
+        let viewport =
+            Image::new(&gpu.device, &mut egui_renderer, "viewport", (64, 36), wgpu::FilterMode::Linear, views);
         let adapter = format!("{} ({:?})", gpu.info.name, gpu.info.backend);
         self.gfx = Some(Gfx {
             surface,

@@ -271,6 +271,21 @@ impl Renderer {
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_caps(caps)?;
         let accum_format = settings.accumulation.format(caps)?;
+        let compute = caps.has_downlevel(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+        if !compute && settings.culling == CullingMode::Tiled {
+            return Err(caps.refuse(
+                "--culling tiled",
+                "compute shaders (its tile lists are built on the GPU)",
+                "use --culling clustered, whose lists the CPU builds",
+            ));
+        }
+        if !compute && settings.auto_exposure {
+            return Err(caps.refuse(
+                "--auto-exposure on",
+                "compute shaders (the luminance histogram)",
+                "use --auto-exposure off",
+            ));
+        }
         let samples = if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 };
         if samples == 4 {
             for (what, format) in [("the light buffer", accum_format), ("the output", output_format)] {

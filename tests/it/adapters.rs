@@ -116,7 +116,7 @@ fn the_gl_profile_takes_each_fallback_or_refuses_with_the_named_capability() {
         let at_new = Renderer::new(gl_profile(), OUTPUT_FORMAT, &asked).err().expect("refused at new").to_string();
         assert_eq!(at_new, why);
         let out = lampshade::headless::Offscreen::new(gl_profile(), W, H);
-        let at_frame = ok.render(&scene, &asked, &out.view, W, H).err().expect("refused at a frame").to_string();
+        let at_frame = ok.render(&scene, &asked, &out.view, W, H).expect_err("refused at a frame").to_string();
         assert_eq!(at_frame, why);
         // The unmasked adapter gives it.
         assert!(support(&gpu().caps, &asked).is_ok(), "{knob} {value}");
@@ -164,7 +164,7 @@ fn a_wgpu_validation_error_becomes_the_frames_error() {
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
-    let e = r.render(&scene, &s, &out.view, W, H).err().expect("the frame reports the error").to_string();
+    let e = r.render(&scene, &s, &out.view, W, H).expect_err("the frame reports the error").to_string();
     assert!(e.starts_with("wgpu error") && e.contains("invalid on purpose"), "{e}");
     r.render(&scene, &s, &out.view, W, H).expect("the next frame draws");
 }

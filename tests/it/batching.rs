@@ -213,6 +213,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         forward_lights: settings.forward_lights,
         light_batching: true,
         cluster_build: settings.cluster_build,
+        loop_limit: None,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

@@ -1093,3 +1093,23 @@ fn judge_memory_lines(stdout: &str, expected: u64, warmup: u64, what: &str) -> b
     }
     true
 }
+
+/// The viewer on wgpu's GL backend: it opens, draws the demo, says once (on the status line,
+/// and on stderr when scripted) that the reference layout needs what GL lacks, draws on after
+/// it, and a screenshot of a window it cannot read back saves the viewport and says so.
+#[test]
+fn the_viewer_runs_on_the_gl_backend_and_says_what_it_refuses() {
+    need_display!();
+    let dir = out_dir("gl");
+    let script = dir.join("gl.script");
+    std::fs::write(&script, "1 set layout reference\n4 set layout compact\n8 screenshot gl.png\n9 quit\n").unwrap();
+    let out = view("demo", &script, &["--backend", "gl", "--size", "640x360"], &dir);
+    let (stdout, stderr) = text(&out);
+    let said = stderr.lines().filter(|l| l.starts_with("frame ") && l.contains("needs Rgba32Float render targets"));
+    assert_eq!(said.count(), 1, "stderr:\n{stderr}");
+    assert!(!stderr.contains("wgpu: validation error"), "stderr:\n{stderr}");
+    assert!(stdout.contains("saved the viewport only"), "stdout:\n{stdout}");
+    let vp = load(&dir, "gl-viewport.png");
+    assert!(lit_share(&vp) > 0.3, "the GL viewport is mostly black");
+    assert_eq!(json(&dir, "gl-viewport.json")["layout"], "compact");
+}

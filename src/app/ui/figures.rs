@@ -34,7 +34,15 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.label(RichText::new("Light culling").strong());
         egui::Grid::new("modes").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
             for (i, m) in CullingMode::ALL.into_iter().enumerate() {
-                ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                match super::refused(f, &st.settings, "culling", m.name()) {
+                    Some(why) => {
+                        let checked = st.settings.culling == m;
+                        ui.add_enabled(false, egui::RadioButton::new(checked, m.name())).on_disabled_hover_text(why);
+                    }
+                    None => {
+                        ui.radio_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                    }
+                }
                 if i % 2 == 1 {
                     ui.end_row();
                 }

@@ -71,7 +71,8 @@ pub(super) fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) 
                 ui,
                 |ui| {
                     for l in LayoutChoice::ALL {
-                        ui.selectable_value(&mut st.settings.layout, l, l.name());
+                        let why = super::refused(f, &st.settings, "layout", l.name());
+                        super::offer(ui, why, &mut st.settings.layout, l, l.name());
                     }
                 },
             );

@@ -50,6 +50,32 @@ const PIXEL_PANEL: f32 = 236.0;
 /// The left panel pins the pixel probe below the tabs only when the tabs keep this much height.
 const MIN_TAB_HEIGHT: f32 = 200.0;
 
+/// Why the adapter cannot give knob `knob` = `name` on top of `settings`, if it cannot.
+pub(super) fn refused(
+    f: &FrameInfo,
+    settings: &crate::renderer::Settings,
+    knob: &str,
+    name: impl AsRef<str>,
+) -> Option<String> {
+    crate::renderer::support::refusal(f.caps, settings, knob, name.as_ref())
+}
+
+/// `value` as a selectable entry, greyed out with `why` as its tooltip when the adapter cannot
+/// give it.
+pub(super) fn offer<T: PartialEq>(
+    ui: &mut egui::Ui,
+    why: Option<String>,
+    current: &mut T,
+    value: T,
+    text: impl AsRef<str>,
+) -> egui::Response {
+    let text = text.as_ref();
+    match why {
+        Some(w) => ui.add_enabled(false, egui::Button::selectable(*current == value, text)).on_disabled_hover_text(w),
+        None => ui.selectable_value(current, value, text),
+    }
+}
+
 /// A status line message: what the last action did, or why it was rejected.
 #[derive(Clone, Debug)]
 pub struct Status {
@@ -72,6 +98,8 @@ pub struct FrameInfo<'a> {
     pub gbuffer_bytes: u32,
     pub probe: Option<&'a PixelProbe>,
     pub adapter: &'a str,
+    /// What the adapter can do: choices it cannot give are greyed out with the reason.
+    pub caps: &'a crate::renderer::kit::caps::Caps,
     pub status: Option<&'a Status>,
     /// The loaded file's warnings, in full (the status line shows the first; hovering it, all).
     pub warnings: &'a [String],

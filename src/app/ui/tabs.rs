@@ -126,14 +126,16 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.label("accumulation");
         egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(ui, |ui| {
             for a in AccumFormat::ALL {
-                ui.selectable_value(&mut st.settings.accumulation, a, a.name());
+                let why = super::refused(f, &st.settings, "accumulation", a.name());
+                super::offer(ui, why, &mut st.settings.accumulation, a, a.name());
             }
         });
         ui.end_row();
         ui.label("G-buffer");
         egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
             for l in LayoutChoice::ALL {
-                ui.selectable_value(&mut st.settings.layout, l, l.name());
+                let why = super::refused(f, &st.settings, "layout", l.name());
+                super::offer(ui, why, &mut st.settings.layout, l, l.name());
             }
         });
         ui.end_row();
@@ -149,11 +151,11 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     super::shadow_atlas::shadow_knobs(ui, st, "scene");
     ui.separator();
     ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
-    post_panel(ui, st);
+    post_panel(ui, st, f);
 }
 
 /// The post chain's knobs: bloom, auto-exposure, the tone curve and the grading LUT.
-fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
+fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     let s = &mut st.settings;
     egui::Grid::new("post-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         ui.label("bloom");
@@ -171,7 +173,14 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState) {
         );
         ui.end_row();
         ui.label("auto-exposure");
-        ui.checkbox(&mut s.auto_exposure, "on").on_hover_text("adapt to the frame's luminance histogram");
+        match super::refused(f, s, "auto-exposure", "on") {
+            Some(why) if !s.auto_exposure => {
+                ui.add_enabled(false, egui::Checkbox::new(&mut false, "on")).on_disabled_hover_text(why);
+            }
+            _ => {
+                ui.checkbox(&mut s.auto_exposure, "on").on_hover_text("adapt to the frame's luminance histogram");
+            }
+        }
         ui.end_row();
         ui.label("target");
         ui.add(

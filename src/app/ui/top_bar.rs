@@ -57,7 +57,8 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 ui,
                 |ui| {
                     for m in CullingMode::ALL {
-                        ui.selectable_value(&mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                        let why = super::refused(f, &st.settings, "culling", m.name());
+                        super::offer(ui, why, &mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
                     }
                 },
             );

@@ -102,6 +102,9 @@ pub struct PlanView {
     pub light_batching: bool,
     /// Who builds the clustered lists.
     pub cluster_build: crate::renderer::settings::ClusterBuilder,
+    /// The adapter's shader loop limit (`Quirks::loop_limit`): a GPU list build that would run
+    /// past it is done on the CPU instead.
+    pub loop_limit: Option<u64>,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -684,10 +687,10 @@ impl FramePlan {
                     ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
                 }
                 crate::renderer::settings::ClusterBuilder::Gpu => {
-                    // A light the GPU could not assign within lavapipe's loop limit: the CPU
-                    // builds this frame's lists (the stats' `lists_on_gpu` says so).
+                    // A light the GPU could not assign within the adapter's loop limit (gallivm's):
+                    // the CPU builds this frame's lists (the stats' `lists_on_gpu` says so).
                     let job = cluster_job(&records.lights, &lights, view);
-                    if job.longest <= super::tiled::GPU_LOOP_BUDGET {
+                    if view.loop_limit.is_none() || job.longest <= super::tiled::GPU_LOOP_BUDGET {
                         ClusterBuild::Gpu(job)
                     } else {
                         ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
@@ -985,6 +988,7 @@ mod tests {
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
+            loop_limit: None,
         }
     }
 

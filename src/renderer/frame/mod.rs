@@ -114,7 +114,13 @@ impl Renderer {
             // order lights are blended in far more than fp16's: batching reorders them (up to 3
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
-            cluster_build: settings.cluster_build,
+            // Without compute shaders the CPU builds the lists (`support::fallbacks` says so).
+            cluster_build: if self.caps.has_downlevel(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
+                settings.cluster_build
+            } else {
+                super::settings::ClusterBuilder::Cpu
+            },
+            loop_limit: self.caps.quirks.loop_limit,
         };
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
@@ -134,7 +140,7 @@ impl Renderer {
         } else {
             Default::default()
         };
-        warn_long_lists(&mut self.long_list_warnings, settings, shape, &plan, &path_lists);
+        warn_long_lists(self.caps.quirks.loop_limit, &mut self.long_list_warnings, settings, shape, &plan, &path_lists);
         // The fp16 clamp by what can overlap a pixel (see `overlap`).
         let clamps = overlap::clamps(&plan.lights, size, key.accum_format);
         records.camera.light_clamp = clamps.ambient;
@@ -215,15 +221,20 @@ impl Renderer {
     }
 }
 
-/// Logs lists longer than the forward loops walk on lavapipe (multi-pass draws a pair a light)
-/// when they change (`last`: the warnings logged before), not at every frame of the viewer.
+/// Logs lists longer than the forward loops walk under `loop_limit` (lavapipe's; multi-pass
+/// draws a pair a light) when they change (`last`: the warnings logged before), not at every
+/// frame of the viewer.
 fn warn_long_lists(
+    loop_limit: Option<u64>,
     last: &mut Vec<String>,
     settings: &Settings,
     shape: &Shape,
     plan: &FramePlan,
     lists: &ForwardPathLists,
 ) {
+    if loop_limit.is_none() {
+        return;
+    }
     let warnings = plan::long_forward_list_warnings(
         (settings.path == RenderPath::Forward).then_some(lists.longest_list),
         plan.forward.as_ref().filter(|_| shape.blended),

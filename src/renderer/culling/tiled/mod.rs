@@ -492,11 +492,12 @@ pub struct ClusterJob {
     pub longest: u64,
 }
 
-/// The loop iterations a GPU list build may ask of one invocation: lavapipe ends a shader
-/// invocation's loops once they have run 65,535 iterations between them (gallivm's shared
-/// loop limiter, silently), so a light whose span takes more would be left out of the cells past
-/// it (`inside` at 2560x1440 shaded nothing). Frames with such a light build their lists on the
-/// CPU (`plan::FramePlan::new`).
+/// The loop iterations a GPU list build may ask of one invocation under a loop limit: lavapipe
+/// ends a shader invocation's loops once they have run 65,535 iterations between them
+/// (gallivm's shared loop limiter, `kit::caps::GALLIVM_LOOP_LIMIT`, silently), so a light whose
+/// span takes more would be left out of the cells past it (`inside` at 2560x1440 shaded
+/// nothing). Frames with such a light build their lists on the CPU (`plan::FramePlan::new`);
+/// adapters without a loop limit always build them on the GPU when asked.
 pub const GPU_LOOP_BUDGET: u64 = 65_000;
 
 /// The spans of every light (on one thread, as `plan::FramePlan::reusing` plans the lights).
@@ -670,6 +671,7 @@ mod tests {
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
+            loop_limit: None,
         }
     }
 

@@ -26,6 +26,15 @@ pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
     ),
 ];
 
+/// What every pass needs: the frame's shader module reads storage buffers in the vertex and
+/// fragment stages, writes some in fragment shaders (counted tiled shading), declares the
+/// shadows' cube array and has compute entry points. Without one of these nothing renders.
+pub const REQUIRED_DOWNLEVEL: wgpu::DownlevelFlags = wgpu::DownlevelFlags::FRAGMENT_STORAGE
+    .union(wgpu::DownlevelFlags::VERTEX_STORAGE)
+    .union(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+    .union(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES)
+    .union(wgpu::DownlevelFlags::COMPUTE_SHADERS);
+
 /// Keeps Mesa's Vulkan device-select layer from connecting to a Wayland display when there is
 /// none: without `XDG_RUNTIME_DIR` that layer prints "error: XDG_RUNTIME_DIR is invalid or not
 /// set" twice per run, although a headless run needs no display. The layer only orders the
@@ -84,42 +93,46 @@ impl AdapterChoice {
     }
 }
 
-/// The device's errors that no error scope caught (validation, out of memory), kept for the
-/// renderer and the viewer to turn into error messages: without a handler wgpu panics at the
-/// first one.
+/// A wgpu error in words: its kind and the causes below it (wgpu's `Display` says only
+/// "Validation Error"; the causes name the call and what was wrong).
+pub fn describe(e: &wgpu::Error) -> String {
+    let mut causes = Vec::new();
+    let mut next = std::error::Error::source(e);
+    while let Some(c) = next {
+        let t = c.to_string();
+        if !t.trim().is_empty() && !causes.contains(&t) {
+            causes.push(t);
+        }
+        next = c.source();
+    }
+    let kind = match e {
+        wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory",
+        wgpu::Error::Validation { .. } => "validation error",
+        wgpu::Error::Internal { .. } => "internal error",
+    };
+    if causes.is_empty() {
+        kind.to_string()
+    } else {
+        format!("{kind}: {}", causes.join(": "))
+    }
+}
+
+/// The device's errors that no error scope caught (validation, out of memory): those outside a
+/// frame (a frame catches its own, `Renderer::render`), kept for the commands and the viewer to
+/// turn into error messages. Without a handler wgpu panics at the first one.
 #[derive(Clone, Default)]
 pub struct DeviceErrors(Arc<Mutex<Vec<String>>>);
 
 impl DeviceErrors {
     fn push(&self, e: wgpu::Error) {
-        // wgpu's `Display` says only "Validation Error": the causes below it name the call.
-        let mut causes = Vec::new();
-        let mut next = std::error::Error::source(&e);
-        while let Some(c) = next {
-            let t = c.to_string();
-            if !t.trim().is_empty() && !causes.contains(&t) {
-                causes.push(t);
-            }
-            next = c.source();
-        }
-        let kind = match &e {
-            wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory",
-            wgpu::Error::Validation { .. } => "validation error",
-            wgpu::Error::Internal { .. } => "internal error",
-        };
-        let text = if causes.is_empty() { kind.to_string() } else { format!("{kind}: {}", causes.join(": ")) };
+        let text = describe(&e);
         log::error!("wgpu: {text}");
-        if let Ok(mut v) = self.0.lock() {
-            v.push(text);
-        }
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(text);
     }
 
     /// The errors since the last call, as one error.
     pub fn check(&self) -> Result<()> {
-        let errors = match self.0.lock() {
-            Ok(mut v) => std::mem::take(&mut *v),
-            Err(_) => return Ok(()),
-        };
+        let errors = std::mem::take(&mut *self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner));
         match errors.first() {
             None => Ok(()),
             Some(first) if errors.len() == 1 => Err(anyhow!("wgpu error: {first}")),
@@ -185,8 +198,11 @@ pub fn adapters(choice: &AdapterChoice) -> Vec<wgpu::Adapter> {
     pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
 }
 
+/// The headless instance: the primary backends, or every backend when `--adapter` names one (its
+/// index counts `lampshade adapters`' list, which spans every backend).
 fn instance(choice: &AdapterChoice) -> wgpu::Instance {
-    let desc = choice.descriptor(wgpu::InstanceDescriptor::new_without_display_handle(), wgpu::Backends::PRIMARY);
+    let default = if choice.adapter.is_some() { wgpu::Backends::all() } else { wgpu::Backends::PRIMARY };
+    let desc = choice.descriptor(wgpu::InstanceDescriptor::new_without_display_handle(), default);
     wgpu::Instance::new(desc)
 }
 
@@ -275,6 +291,14 @@ impl Gpu {
             info.driver,
             info.driver_info
         );
+        let missing = REQUIRED_DOWNLEVEL - adapter.get_downlevel_capabilities().flags;
+        if !missing.is_empty() {
+            bail!(
+                "adapter {} lacks {missing:?} (wgpu downlevel flags), which the one shader module every Lampshade \
+                 pass is compiled from needs; `lampshade adapters` lists the others",
+                AdapterName::of(&info)
+            );
+        }
         let (features, limits, lacks) = request(&adapter, choice.restrict);
         if !lacks.is_empty() {
             log::warn!("adapter {} lacks: {}", AdapterName::of(&info), lacks.join("; "));
@@ -295,13 +319,6 @@ impl Gpu {
         if info.backend == wgpu::Backend::Gl {
             log::warn!(
                 "adapter {}: wgpu's GL backend; docs/adapters.md lists what it renders differently",
-                caps.adapter
-            );
-        }
-        if !caps.has_downlevel(wgpu::DownlevelFlags::FRAGMENT_STORAGE) {
-            bail!(
-                "adapter {} cannot read storage buffers in fragment shaders (wgpu DownlevelFlags::FRAGMENT_STORAGE), \
-                 which every Lampshade pass needs; `lampshade adapters` lists the others",
                 caps.adapter
             );
         }

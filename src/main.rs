@@ -67,6 +67,7 @@ fn bench(args: BenchArgs) -> Result<()> {
         bar.set_message(label.to_string());
     })?;
     bar.finish_with_message("done");
+    gpu.errors.check()?;
     for k in &run.skipped {
         eprintln!("skipped {} `{}` on {}: {}", k.group, k.label, k.scene, k.reason);
     }
@@ -149,6 +150,8 @@ fn render(args: RenderArgs) -> Result<()> {
     let gpu = Gpu::open(&args.adapter.choice())?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
     let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
+    // An error outside the frame's own (the read-back): the image is not to be trusted.
+    gpu.errors.check()?;
     image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     println!(
         "{}: {} lights, {}, shaded {} fragments, ideal {}, gpu {} ms -> {}",
@@ -220,9 +223,18 @@ fn adapters(args: AdaptersArgs) -> Result<()> {
         );
     }
     let mut json = Vec::new();
-    for (i, adapter) in found.iter().enumerate() {
+    // `--adapter`: that one only (an index in the whole list, or a part of its name).
+    let wanted = |i: usize, a: &wgpu::Adapter| match choice.adapter.as_deref() {
+        None => true,
+        Some(w) => {
+            w.parse::<usize>().map_or_else(|_| a.get_info().name.to_lowercase().contains(&w.to_lowercase()), |k| k == i)
+        }
+    };
+    for (i, adapter) in found.iter().enumerate().filter(|(i, a)| wanted(*i, a)) {
         let caps = lampshade::gpu::caps_of(adapter, choice.restrict);
-        let choices = lampshade::renderer::support::choices(&caps);
+        let missing = lampshade::gpu::REQUIRED_DOWNLEVEL - caps.downlevel;
+        // An adapter that cannot run the shader module gives no choice.
+        let choices = if missing.is_empty() { lampshade::renderer::support::choices(&caps) } else { Vec::new() };
         if args.json {
             json.push(serde_json::json!({ "index": i, "table": caps.report(Vec::new()), "choices": choices }));
             continue;
@@ -231,6 +243,9 @@ fn adapters(args: AdaptersArgs) -> Result<()> {
         println!("{i}: {} ({}, {}; driver {} {})", a.name, a.backend, a.device_type, a.driver, a.driver_info);
         if let Some(p) = caps.profile {
             println!("   masked to the {p:?} profile");
+        }
+        if !missing.is_empty() {
+            println!("   cannot run Lampshade: lacks {missing:?}");
         }
         for r in caps.rows() {
             if r.has {

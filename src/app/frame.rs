@@ -346,6 +346,7 @@ impl App {
     fn present(&mut self, mut full: egui::FullOutput, capture: bool) -> Result<Option<Result<image::RgbaImage>>> {
         let g = self.gfx.as_mut().ok_or_else(|| anyhow!("no window"))?;
         let mut window_image = None;
+        let mut ui_error = None;
         // egui assumes every delta is applied, whether or not this frame reaches the window.
         for (id, deltas) in full.textures_delta.set.drain() {
             for d in &deltas {
@@ -384,6 +385,8 @@ impl App {
                 g.egui_renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
             }
             g.gpu.queue.submit(user.into_iter().chain([encoder.finish()]));
+            // The window's own wgpu errors (egui, the images it shows): said on the status line.
+            ui_error = g.gpu.errors.check().err();
             if capture && g.surface.can_capture {
                 window_image = Some(g.surface.capture(&g.gpu, &frame));
             }
@@ -392,6 +395,9 @@ impl App {
         }
         for id in &freed {
             g.egui_renderer.free_texture(id);
+        }
+        if let Some(e) = ui_error {
+            self.say(format!("the window: {e:#}"), true);
         }
         Ok(window_image)
     }

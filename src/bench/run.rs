@@ -53,6 +53,12 @@ pub(crate) fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shado
 /// 2. `frames` timed rounds, interleaved;
 /// 3. count, and compare with the reference, each configuration ([`measure`]).
 pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<BenchRun> {
+    // The error column compares every configuration with the f32 reference: an adapter that
+    // cannot render it (wgpu's GL backend) is told before anything is timed.
+    let probe =
+        Settings { layout: LayoutChoice::Reference, accumulation: AccumFormat::Rgba32Float, ..Settings::default() };
+    crate::renderer::support(&gpu.caps, &probe)
+        .map_err(|e| anyhow::anyhow!("the bench's error reference cannot be rendered here: {e:#}"))?;
     let list = configs(o);
     let frames = o.frames.max(1);
     // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.

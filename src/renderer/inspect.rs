@@ -93,7 +93,8 @@ pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
             };
             out = [small(v & 0x7ff, 6), small((v >> 11) & 0x7ff, 6), small(v >> 22, 5), 0.0];
         }
-        F::R32Float | F::Rg32Float | F::Rgba32Float => {
+        // R32Uint is the depth copy holding a float's bits (`gbuffer::is_bits`): the same bytes.
+        F::R32Float | F::Rg32Float | F::Rgba32Float | F::R32Uint => {
             for (i, c) in bytes.chunks_exact(4).take(4).enumerate() {
                 out[i] = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
             }

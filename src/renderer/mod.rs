@@ -158,8 +158,6 @@ pub struct Renderer {
     /// What the adapter can do: every choice asks it.
     caps: Arc<kit::caps::Caps>,
     limits: wgpu::Limits,
-    /// The device's uncaptured errors: a frame that made one returns it as its error.
-    errors: crate::gpu::DeviceErrors,
     /// The fallbacks already logged (each is said once).
     said: Vec<String>,
     /// The frame's steps are pushed as debug groups (`Gpu::encoder_debug_groups`).
@@ -195,18 +193,6 @@ pub struct Renderer {
     lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
 }
 
-/// `--shadow-cube array` on an adapter without cube-array textures is an error, not a panic.
-fn check_shadow_cube(settings: &Settings, caps: &kit::caps::Caps) -> Result<()> {
-    if settings.shadow_cube == ShadowCube::Array && !caps.cube_arrays() {
-        return Err(caps.refuse(
-            "--shadow-cube array",
-            "cube-array textures (wgpu DownlevelFlags::CUBE_ARRAY_TEXTURES)",
-            "use --shadow-cube unrolled",
-        ));
-    }
-    Ok(())
-}
-
 /// Builds a configuration's passes, turning validation errors (a bad layout, a shader that
 /// fails to compile) into an error instead of a panic.
 fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
@@ -236,7 +222,6 @@ impl Renderer {
             output_format,
             caps,
             limits,
-            errors: gpu.errors.clone(),
             said: Vec::new(),
             debug_groups: gpu.encoder_debug_groups(),
             passes,
@@ -263,7 +248,6 @@ impl Renderer {
         caps: &kit::caps::Caps,
         output_format: wgpu::TextureFormat,
     ) -> Result<PipelineKey> {
-        check_shadow_cube(settings, caps)?;
         // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
         let prepass = settings.path == RenderPath::LightPrepass;
         let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
@@ -271,32 +255,12 @@ impl Renderer {
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_caps(caps)?;
         let accum_format = settings.accumulation.format(caps)?;
-        let compute = caps.has_downlevel(wgpu::DownlevelFlags::COMPUTE_SHADERS);
-        if !compute && settings.culling == CullingMode::Tiled {
-            return Err(caps.refuse(
-                "--culling tiled",
-                "compute shaders (its tile lists are built on the GPU)",
-                "use --culling clustered, whose lists the CPU builds",
-            ));
-        }
-        if !compute && settings.auto_exposure {
-            return Err(caps.refuse(
-                "--auto-exposure on",
-                "compute shaders (the luminance histogram)",
-                "use --auto-exposure off",
-            ));
-        }
         let samples = if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 };
-        if samples == 4 {
-            for (what, format) in [("the light buffer", accum_format), ("the output", output_format)] {
-                if !caps.multisample_x4(format) {
-                    return Err(caps.refuse(
-                        "--msaa 4",
-                        &format!("4-sample {format:?} targets ({what})"),
-                        "use --msaa 1",
-                    ));
-                }
-            }
+        // `--msaa 4` multisamples the light pre-pass's pass 3 and the forward paths: their HDR
+        // colour and depth.
+        let forward = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+        if settings.msaa == Msaa::X4 && (prepass || forward) && !caps.multisample_x4(kit::HDR_FORMAT) {
+            return Err(caps.refuse("--msaa 4", &format!("4-sample {:?} targets", kit::HDR_FORMAT), "use --msaa 1"));
         }
         Ok(PipelineKey {
             ambient_in_gbuffer: !prepass
@@ -417,7 +381,37 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<FrameStats> {
-        let shape = frame::Shape::of(scene, settings, (width, height), &self.caps)?;
+        // The frame's own wgpu errors (validation, out of memory) are caught here, on this
+        // thread, and become its error: no other renderer's frame, and no error the viewer's UI
+        // made, is blamed on it.
+        let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory]
+            .map(|filter| self.device.push_error_scope(filter));
+        let encoded = self.encode_frame(scene, settings, target, (width, height));
+        let caught: Vec<wgpu::Error> = scopes.into_iter().rev().filter_map(|s| pollster::block_on(s.pop())).collect();
+        let (shape, prepared, drawn) = encoded?;
+        if let Some(e) = caught.first() {
+            bail!("wgpu error: {}", crate::gpu::describe(e));
+        }
+        let stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        for f in &stats.adapter.fallbacks {
+            if !self.said.contains(f) {
+                log::warn!("on {}: {f}", self.caps.adapter);
+                self.said.push(f.clone());
+            }
+        }
+        self.keep(scene, settings, prepared);
+        Ok(stats)
+    }
+
+    /// The frame's steps up to its submission.
+    fn encode_frame(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        target: &wgpu::TextureView,
+        (width, height): (u32, u32),
+    ) -> Result<(frame::Shape, frame::Prepared, paths::Drawn)> {
+        let shape = frame::Shape::of(scene, settings, (width, height))?;
         self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
         // The CPU's part: records, the culling plan, clamps, the shadow plan, their upload.
         let prepared = self.prepare(scene, settings, &shape)?;
@@ -446,18 +440,7 @@ impl Renderer {
         let prepass = drawn.prepass.is_some();
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, prepass);
         self.queue.submit([encoder.finish()]);
-        // A validation or out-of-memory error anywhere since the last frame: this frame is not
-        // what was asked for.
-        self.errors.check()?;
-        let stats = self.report(scene, settings, &shape, &prepared, drawn)?;
-        for f in &stats.adapter.fallbacks {
-            if !self.said.contains(f) {
-                log::warn!("on {}: {f}", self.caps.adapter);
-                self.said.push(f.clone());
-            }
-        }
-        self.keep(scene, settings, prepared);
-        Ok(stats)
+        Ok((shape, prepared, drawn))
     }
 
     /// Keeps what the probe, the wireframes and the panels read of the frame just drawn, and
@@ -621,25 +604,5 @@ impl Renderer {
             to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?)?,
             to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?,
         ))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// `--shadow-cube array` without cube-array textures is refused with a message naming the
-    /// knob and the way out; `unrolled` never is.
-    #[test]
-    fn the_cube_array_is_refused_where_the_adapter_lacks_it() {
-        let array = Settings { shadow_cube: ShadowCube::Array, ..Settings::default() };
-        use kit::caps::{Caps, Quirks};
-        let without = Caps::guaranteed(wgpu::Features::empty(), wgpu::DownlevelFlags::empty(), Quirks::NONE);
-        let with = Caps::guaranteed(wgpu::Features::empty(), wgpu::DownlevelFlags::all(), Quirks::NONE);
-        let e = check_shadow_cube(&array, &without).expect_err("refused").to_string();
-        assert!(e.contains("--shadow-cube array") && e.contains("--shadow-cube unrolled"), "{e}");
-        assert!(e.contains("CUBE_ARRAY_TEXTURES") && e.contains(&without.adapter.name), "{e}");
-        assert!(check_shadow_cube(&array, &with).is_ok());
-        assert!(check_shadow_cube(&Settings::default(), &without).is_ok());
     }
 }

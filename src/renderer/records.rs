@@ -574,9 +574,9 @@ pub struct FrameBuffers {
     /// 1 + i tile i, each as its bytes.
     pub shadow_table: wgpu::Texture,
     pub shadow_table_view: wgpu::TextureView,
-    /// `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side`
-    /// square, 6 layers a cube; a 1x1 6-layer stand-in when no cube casts), its CubeArray view
-    /// (bound) and one 2D view per layer (the shadow pass renders into them).
+    /// `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side` square, 6 layers
+    /// a cube, at least `Quirks::min_cube_layers`; a 1x1 stand-in when no cube casts), its
+    /// CubeArray view (bound) and one 2D view per layer (the shadow pass renders into them).
     pub shadow_cubes: wgpu::Texture,
     pub shadow_cubes_view: wgpu::TextureView,
     pub shadow_cube_layers: Vec<wgpu::TextureView>,

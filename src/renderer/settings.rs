@@ -362,8 +362,8 @@ impl AccumFormat {
     }
 }
 
-/// The depth-stencil buffer's format. Position is reconstructed from the G-buffer's R32Float
-/// depth copy either way; this decides the precision of every depth *test* (visibility in the
+/// The depth-stencil buffer's format. Position is reconstructed from the G-buffer's depth copy
+/// (`GBufferLayout::for_caps`) either way; this decides the precision of every depth *test* (visibility in the
 /// G-buffer pass, the light volumes' tests against the scene).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]

@@ -262,7 +262,8 @@ pub struct TileStats {
 pub struct PrepassStats {
     /// Pass 1's normal + exponent target (Rgba8Unorm).
     pub normal_exp_bytes_per_pixel: u32,
-    /// The R32Float depth copy pass 1 writes beside it (`gbuffer::prepass_layout`).
+    /// The depth copy pass 1 writes beside it (`gbuffer::prepass_layout`; R32Float, or R32Uint
+    /// holding its bits where R32Float is not renderable).
     pub depth_copy_bytes_per_pixel: u32,
     /// The light buffer: format and bytes (Rgba16Float 8, seed 004's log Rgba8 4).
     pub light_buffer_format: String,

@@ -35,15 +35,10 @@ pub(super) fn fallbacks(caps: &kit::caps::Caps, key: &PipelineKey, settings: &Se
     if settings.depth_clamp && !key.depth_clamp {
         v.push("no depth clamp: light volumes crossing the far plane are drawn full-screen".to_string());
     }
-    if settings.cluster_build == super::settings::ClusterBuilder::Gpu
-        && !caps.has_downlevel(wgpu::DownlevelFlags::COMPUTE_SHADERS)
-    {
-        v.push("cluster lists are built on the CPU (no compute shaders)".to_string());
-    }
-    if !caps.has(wgpu::Features::TIMESTAMP_QUERY) {
+    if settings.timestamps && !caps.has(wgpu::Features::TIMESTAMP_QUERY) {
         v.push("no per-pass GPU times (no timestamp queries)".to_string());
     }
-    if caps.occlusion == Occlusion::Binary {
+    if (settings.count_fragments || settings.count_ideal) && caps.occlusion == Occlusion::Binary {
         v.push("no per-light pixel counts (occlusion queries say only 0 or 1)".to_string());
     }
     v

@@ -43,6 +43,23 @@ fn tests_in(dir: &Path, out: &mut Vec<(String, String)>) {
     }
 }
 
+/// The module name (as [`tests_in`] gives it) of every Rust file under `dir`.
+fn source_modules(dir: &Path, out: &mut Vec<String>) {
+    for entry in std::fs::read_dir(dir).expect("a source directory").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            if let Some(name) = path.file_name().and_then(|s| s.to_str()) {
+                out.push(name.to_string());
+            }
+            source_modules(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            if let Some(stem) = path.file_stem().and_then(|s| s.to_str()) {
+                out.push(stem.to_string());
+            }
+        }
+    }
+}
+
 #[test]
 fn docs_testing_names_every_test_and_no_other() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -66,13 +83,24 @@ fn docs_testing_names_every_test_and_no_other() {
     assert!(missing.is_empty(), "docs/testing.md does not name these tests:\n{}", missing.join("\n"));
     // Every test the tables name exists: an entry left behind by a removed test fails too.
     let names: Vec<String> = integration.iter().map(|(m, n)| format!("{m}::{n}")).collect();
+    let unit_names: Vec<String> = unit.iter().map(|(m, n)| format!("{m}: {n}")).collect();
+    let mut modules = Vec::new();
+    source_modules(&root.join("src"), &mut modules);
+    let snake =
+        |name: &str| !name.is_empty() && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     let mut stale = Vec::new();
     for cell in doc.split('`').skip(1).step_by(2) {
-        let Some((module, name)) = cell.split_once("::") else { continue };
-        let snake = !name.is_empty() && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-        let is_test = snake && integration.iter().any(|(m, _)| m == module);
-        if is_test && !names.iter().any(|n| n == cell) {
-            stale.push(cell.to_string());
+        if let Some((module, name)) = cell.split_once("::") {
+            let is_test = snake(name) && integration.iter().any(|(m, _)| m == module);
+            if is_test && !names.iter().any(|n| n == cell) {
+                stale.push(cell.to_string());
+            }
+        } else if let Some((module, name)) = cell.split_once(": ") {
+            // A unit test's entry: `module: name`, module a source file or folder.
+            let is_test = snake(name) && modules.iter().any(|m| m == module);
+            if is_test && !unit_names.iter().any(|n| n == cell) {
+                stale.push(cell.to_string());
+            }
         }
     }
     assert!(stale.is_empty(), "docs/testing.md names tests that do not exist:\n{}", stale.join("\n"));

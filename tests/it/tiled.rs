@@ -406,7 +406,10 @@ fn the_light_planes_give_the_storage_buffers_picture() {
         let (ia, sa, a) = run(&planes, &s);
         let (ib, sb, b) = run(&storage, &s);
         let what = format!("{} {} shadows {}", s.culling.name(), s.path.name(), s.shadows.name());
-        assert!(sa.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,096 lights read the planes");
+        // The planes are llvmpipe's workaround (`Quirks::uniform_gathers`): other adapters read
+        // storage at any count, and the two frames then compare storage with storage.
+        let gathers = gpu.caps.quirks.uniform_gathers;
+        assert_eq!(sa.shader_lookups.iter().any(|l| l == "light planes"), gathers, "{what}: 4,096 lights");
         assert!(!sb.shader_lookups.iter().any(|l| l == "light planes"), "{what}: 4,097 read storage");
         assert!(lit_share(&ia) > 0.2, "{what}: the frame is lit");
         assert!(a.iter().any(|v| *v > 0.0), "{what}: nothing read back");
@@ -465,7 +468,10 @@ fn a_light_too_wide_for_the_gpus_list_build_gets_the_cpus_lists() {
     assert!(asked_gpu.stats.shaded_fragments.unwrap_or(0) > 1_000_000, "{:?} pairs", asked_gpu.stats.shaded_fragments);
     assert!(lit_share(&asked_gpu.image) > 0.5, "the frame is lit");
     assert_eq!(max_channel_difference(&cpu.image, &asked_gpu.image), 0);
-    assert!(!asked_gpu.stats.lists_on_gpu, "the GPU built the lists");
+    // Under a loop limit (llvmpipe's) the CPU builds them; an adapter without one builds them
+    // on the GPU whole.
+    let limited = gpu().caps.quirks.loop_limit.is_some();
+    assert_eq!(asked_gpu.stats.lists_on_gpu, !limited, "who built the lists under loop limit {limited}");
     // At the tests' usual size the GPU still builds them.
     let small = render(
         &scene,

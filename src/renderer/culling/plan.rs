@@ -690,7 +690,7 @@ impl FramePlan {
                     // A light the GPU could not assign within the adapter's loop limit (gallivm's):
                     // the CPU builds this frame's lists (the stats' `lists_on_gpu` says so).
                     let job = cluster_job(&records.lights, &lights, view);
-                    if view.loop_limit.is_none() || job.longest <= super::tiled::GPU_LOOP_BUDGET {
+                    if view.loop_limit.is_none_or(|l| job.longest <= super::tiled::gpu_loop_budget(l)) {
                         ClusterBuild::Gpu(job)
                     } else {
                         ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))

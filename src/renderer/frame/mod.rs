@@ -11,7 +11,7 @@ use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
-use super::{check_shadow_cube, cputime, kit, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
+use super::{cputime, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use inputs::FrameInputs;
@@ -33,14 +33,13 @@ pub struct Shape {
 
 impl Shape {
     /// The frame's shape, or why `settings` cannot draw `scene` at `size`.
-    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32), caps: &kit::caps::Caps) -> Result<Shape> {
+    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<Shape> {
         let (width, height) = size;
         if width == 0 || height == 0 {
             bail!("cannot render a {width}x{height} frame");
         }
         settings.validate().map_err(anyhow::Error::msg)?;
         scene.validate().map_err(anyhow::Error::msg)?;
-        check_shadow_cube(settings, caps)?;
         let final_view = settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view);
         let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
         if forward_path && !final_view {
@@ -114,12 +113,7 @@ impl Renderer {
             // order lights are blended in far more than fp16's: batching reorders them (up to 3
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
-            // Without compute shaders the CPU builds the lists (`support::fallbacks` says so).
-            cluster_build: if self.caps.has_downlevel(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
-                settings.cluster_build
-            } else {
-                super::settings::ClusterBuilder::Cpu
-            },
+            cluster_build: settings.cluster_build,
             loop_limit: self.caps.quirks.loop_limit,
         };
         let clock = cputime::Clock::start();

@@ -105,8 +105,8 @@ pub const FRAME: Group = Group {
         Binding { slot: 50, name: "shadow_atlas", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
         Binding { slot: 51, name: "shadow_sampler", wgsl_type: "sampler_comparison", kind: Kind::ComparisonSampler },
         Binding { slot: 52, name: "shadow_table", wgsl_type: "texture_2d<u32>", kind: Kind::UintTexture },
-        // `--shadow-cube array`: the cubes' faces, six layers a light (a 1x1, 6-layer stand-in
-        // otherwise; `ls_shadow`'s `shadow_cube_lookup`). A sampled texture, not a storage
+        // `--shadow-cube array`: the cubes' faces, six layers a light (a 1x1 stand-in of
+        // `Quirks::min_cube_layers` layers otherwise; `ls_shadow`'s `shadow_cube_lookup`). A sampled texture, not a storage
         // buffer; the fragment stage's sampled textures stay within WebGPU's default 16.
         Binding { slot: 53, name: "shadow_cubes", wgsl_type: "texture_depth_cube_array", kind: Kind::DepthCubeArray },
     ],

@@ -5,8 +5,9 @@
 //! in the frame's stats) or is refused with the adapter's name and the capability it lacks.
 //!
 //! A [`Profile`] masks a real adapter's table down to another adapter class's (the GL backend's),
-//! so that the fallbacks and refusals are tested on the machine at hand; the device is then made
-//! with the masked features only, so wgpu's own validation catches a use the table did not allow.
+//! so that the fallbacks and refusals are tested on the machine at hand. The device is then made
+//! with the masked features only, so wgpu's own validation catches a use of a masked feature;
+//! the masked formats and downlevel flags are masked in the table only (wgpu still allows them).
 
 use serde::{Deserialize, Serialize};
 use wgpu::{DownlevelFlags as D, Features as F, TextureFormat as Tf};
@@ -202,6 +203,9 @@ pub struct Caps {
     pub quirks: Quirks,
 }
 
+/// What a row without which nothing renders says (`gpu::REQUIRED_DOWNLEVEL`).
+const REQUIRED: &str = "required: the one shader module every pass is compiled from uses it; Lampshade does not start";
+
 /// A named capability: a row of `lampshade adapters` and of the stats' `capabilities`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Row {
@@ -329,20 +333,13 @@ impl Caps {
         let r = |name, has, without| Row { name, has, without };
         vec![
             r(
-                "storage buffers in fragment shaders",
-                self.has_downlevel(D::FRAGMENT_STORAGE),
-                "nothing renders: every pass reads the lights from storage buffers",
+                "storage buffers in vertex and fragment shaders",
+                self.has_downlevel(D::VERTEX_STORAGE | D::FRAGMENT_STORAGE),
+                REQUIRED,
             ),
-            r(
-                "writable storage in fragment shaders",
-                self.has_downlevel(D::FRAGMENT_WRITABLE_STORAGE),
-                "tiled and clustered shading cannot count each light's pixels",
-            ),
-            r(
-                "compute shaders",
-                self.has_downlevel(D::COMPUTE_SHADERS),
-                "cluster lists are built on the CPU; auto-exposure and the tiled depth bounds are unavailable",
-            ),
+            r("writable storage in fragment shaders", self.has_downlevel(D::FRAGMENT_WRITABLE_STORAGE), REQUIRED),
+            r("compute shaders", self.has_downlevel(D::COMPUTE_SHADERS), REQUIRED),
+            r("cube-array textures", self.cube_arrays(), REQUIRED),
             r(
                 "indirect draws",
                 self.has_downlevel(D::INDIRECT_EXECUTION),
@@ -352,11 +349,6 @@ impl Caps {
                 "depth clamp",
                 self.has(F::DEPTH_CLIP_CONTROL),
                 "light volumes crossing the far plane are drawn full-screen",
-            ),
-            r(
-                "cube-array textures",
-                self.cube_arrays(),
-                "point-light shadows use the unrolled cube (--shadow-cube array refused)",
             ),
             r(
                 "read-only depth-stencil attachments",
@@ -426,6 +418,8 @@ impl Caps {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct CapsReport {
+    /// Its fields (`name`, `backend`, …) at the report's top level.
+    #[serde(flatten)]
     pub adapter: AdapterName,
     pub profile: Option<Profile>,
     /// [`Caps::rows`] by name.

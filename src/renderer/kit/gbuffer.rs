@@ -807,7 +807,7 @@ pub const PREPASS_LAYOUT: &str = "prepass";
 /// ([`GBufferLayout::normal_error_bound`]); the exponent's log2 by at most 11 / 510, i.e. the
 /// exponent by a factor 2^(11/510) = 1.0151.
 ///
-/// Plus the R32Float depth copy every layout here keeps: the stencil culling methods write the
+/// Plus the depth copy every layout here keeps (R32Float; `GBufferLayout::for_caps`): the stencil culling methods write the
 /// stencil while the lights read depth, and wgpu cannot sample a depth-stencil texture that is
 /// the pass's writable attachment (seed 004's own fallback: "if Z buffer can't be accessed as
 /// a texture, then depth is rendered" apart). One reflectance model in the buffer: the light

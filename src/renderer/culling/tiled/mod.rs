@@ -500,6 +500,12 @@ pub struct ClusterJob {
 /// adapters without a loop limit always build them on the GPU when asked.
 pub const GPU_LOOP_BUDGET: u64 = 65_000;
 
+/// [`GPU_LOOP_BUDGET`] under loop limit `limit`: the same room (535 iterations) left for the
+/// invocation's other loops.
+pub fn gpu_loop_budget(limit: u64) -> u64 {
+    limit.saturating_sub(crate::renderer::kit::caps::GALLIVM_LOOP_LIMIT - GPU_LOOP_BUDGET)
+}
+
 /// The spans of every light (on one thread, as `plan::FramePlan::reusing` plans the lights).
 pub fn cluster_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterJob {
     let grid = fitted_grid(lights, plans, view);

@@ -147,6 +147,21 @@ pub struct FormatCaps {
     pub multisample_x4: bool,
 }
 
+impl FormatCaps {
+    /// The row of `format` whose features are `f`, where the device has what rendering to it
+    /// needs (`enabled`).
+    fn of(format: Tf, f: &wgpu::TextureFormatFeatures, enabled: bool) -> Self {
+        use wgpu::TextureFormatFeatureFlags as Fl;
+        let renderable = enabled && f.allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
+        FormatCaps {
+            format,
+            renderable,
+            blendable: renderable && f.flags.contains(Fl::BLENDABLE),
+            multisample_x4: renderable && f.flags.contains(Fl::MULTISAMPLE_X4),
+        }
+    }
+}
+
 /// The adapter a table was read from.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AdapterName {
@@ -235,14 +250,7 @@ impl Caps {
                 if format == Tf::Rg11b10Ufloat {
                     needs |= F::RG11B10UFLOAT_RENDERABLE;
                 }
-                let renderable =
-                    f.allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT) && features.contains(needs);
-                FormatCaps {
-                    format,
-                    renderable,
-                    blendable: renderable && f.flags.contains(wgpu::TextureFormatFeatureFlags::BLENDABLE),
-                    multisample_x4: renderable && f.flags.contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_X4),
-                }
+                FormatCaps::of(format, &f, features.contains(needs))
             })
             .collect();
         let mut occlusion = if info.backend == wgpu::Backend::Gl { Occlusion::Binary } else { Occlusion::Exact };
@@ -272,41 +280,27 @@ impl Caps {
         caps
     }
 
-    fn format(&self, format: Tf) -> Option<&FormatCaps> {
-        self.formats.iter().find(|f| f.format == format)
+    /// `format`'s row: the table's, or for formats outside [`FORMATS`] what WebGPU guarantees.
+    fn format(&self, format: Tf) -> FormatCaps {
+        match self.formats.iter().find(|f| f.format == format) {
+            Some(f) => *f,
+            None => FormatCaps::of(format, &format.guaranteed_format_features(self.features), true),
+        }
     }
 
-    /// The adapter can render to `format` (formats outside [`FORMATS`]: as WebGPU guarantees).
+    /// The adapter can render to `format`.
     pub fn renderable(&self, format: Tf) -> bool {
-        match self.format(format) {
-            Some(f) => f.renderable,
-            None => format
-                .guaranteed_format_features(self.features)
-                .allowed_usages
-                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT),
-        }
+        self.format(format).renderable
     }
 
     /// The adapter can blend into `format`.
     pub fn blendable(&self, format: Tf) -> bool {
-        match self.format(format) {
-            Some(f) => f.blendable,
-            None => format
-                .guaranteed_format_features(self.features)
-                .flags
-                .contains(wgpu::TextureFormatFeatureFlags::BLENDABLE),
-        }
+        self.format(format).blendable
     }
 
     /// The adapter renders `format` with 4 samples.
     pub fn multisample_x4(&self, format: Tf) -> bool {
-        match self.format(format) {
-            Some(f) => f.multisample_x4,
-            None => format
-                .guaranteed_format_features(self.features)
-                .flags
-                .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_X4),
-        }
+        self.format(format).multisample_x4
     }
 
     pub fn has(&self, feature: F) -> bool {
@@ -439,40 +433,6 @@ pub struct CapsReport {
 /// A feature's name as wgpu's flags print it (`PIPELINE_STATISTICS_QUERY`), not its debug struct.
 pub fn feature_name(feature: F) -> String {
     format!("{feature}")
-}
-
-impl Caps {
-    /// A table with only what WebGPU guarantees for `features` and `downlevel`: for checking
-    /// choices without an adapter (unit tests).
-    pub fn guaranteed(features: F, downlevel: D, quirks: Quirks) -> Self {
-        let formats = FORMATS
-            .iter()
-            .map(|&format| {
-                let f = format.guaranteed_format_features(features);
-                let renderable = f.allowed_usages.contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
-                FormatCaps {
-                    format,
-                    renderable,
-                    blendable: renderable && f.flags.contains(wgpu::TextureFormatFeatureFlags::BLENDABLE),
-                    multisample_x4: renderable && f.flags.contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_X4),
-                }
-            })
-            .collect();
-        Self {
-            adapter: AdapterName {
-                name: "a WebGPU-guaranteed adapter".into(),
-                backend: "none".into(),
-                ..Default::default()
-            },
-            profile: None,
-            features,
-            downlevel,
-            limits: wgpu::Limits::default(),
-            formats,
-            occlusion: Occlusion::Exact,
-            quirks,
-        }
-    }
 }
 
 #[cfg(test)]

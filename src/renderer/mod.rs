@@ -262,10 +262,24 @@ impl Renderer {
         if settings.msaa == Msaa::X4 && (prepass || forward) && !caps.multisample_x4(kit::HDR_FORMAT) {
             return Err(caps.refuse("--msaa 4", &format!("4-sample {:?} targets", kit::HDR_FORMAT), "use --msaa 1"));
         }
+        // A layout without an emissive target (seed 000's, `packed`) carries the surfaces'
+        // emission in the accumulation the G-buffer pass starts (`gbuffer_store`): that pass
+        // must write ambient + sun, whatever `ambient_in_gbuffer` says, or the emission is lost.
+        let fits = kit::ambient_fits(&layout, accum_format, &caps.limits);
+        let emission_in_accumulation = !prepass && !layout.has(gbuffer::Attr::Emissive);
+        if emission_in_accumulation && !fits {
+            return Err(caps.refuse(
+                &format!("layout {} (no emissive target: emission goes into the light accumulation)", layout.name),
+                &format!(
+                    "{} colour attachments of {} bytes per sample in all",
+                    layout.targets.len() + 2,
+                    layout.bytes_per_pixel() + 2 * accum_format.block_copy_size(None).unwrap_or(16)
+                ),
+                "choose a layout with an emissive target (compact)",
+            ));
+        }
         Ok(PipelineKey {
-            ambient_in_gbuffer: !prepass
-                && settings.ambient_in_gbuffer
-                && kit::ambient_fits(&layout, accum_format, &caps.limits),
+            ambient_in_gbuffer: !prepass && (settings.ambient_in_gbuffer || emission_in_accumulation) && fits,
             prepass,
             samples,
             layout,

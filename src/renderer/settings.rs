@@ -457,7 +457,9 @@ pub struct Settings {
     /// Write ambient + sun into the light accumulation from the G-buffer pass itself (seed
     /// 000: its RT1 starts with them), instead of a full-screen pass of their own. Where the
     /// device cannot take the accumulation targets beside the G-buffer's (colour attachment
-    /// bytes per sample), the own pass is used and the stats say so.
+    /// bytes per sample), the own pass is used and the stats say so. A layout without an
+    /// emissive target (`seed000`, `packed`) always writes them in the G-buffer pass, which also
+    /// carries the surfaces' emission into the accumulation.
     pub ambient_in_gbuffer: bool,
     /// Draw lights in instanced batches (`renderer::batches`): one draw per volume kind for
     /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled

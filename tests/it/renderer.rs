@@ -363,6 +363,26 @@ fn ambient_and_sun_written_by_the_gbuffer_pass_equal_their_own_pass() {
     }
 }
 
+/// A layout without an emissive target (`seed000`, `packed`) carries emission in the light
+/// accumulation the G-buffer pass starts, so with `ambient_in_gbuffer` off it still writes
+/// ambient + sun there: the same picture either way (emission was lost with the knob off: 79
+/// pixels of `demo` at 320x180, up to 146 steps), and the stats say where ambient went.
+#[test]
+fn a_layout_without_an_emissive_target_keeps_its_emission_with_ambient_in_its_own_pass() {
+    let demo = scene("demo");
+    for layout in [LayoutChoice::Seed000, LayoutChoice::Packed] {
+        let on = Settings { layout, count_fragments: false, ..Settings::default() };
+        let off = Settings { ambient_in_gbuffer: false, ..on.clone() };
+        let (a, b) =
+            (frame_of("demo", || demo.clone(), &on, 320, 180), frame_of("demo", || demo.clone(), &off, 320, 180));
+        assert!(b.stats.ambient_in_gbuffer, "{}: ambient left the G-buffer pass", layout.name());
+        assert_eq!(max_channel_difference(&a.image, &b.image), 0, "{}: emission lost with ambient off", layout.name());
+    }
+    // A layout with an emissive target keeps its own ambient pass when asked.
+    let compact = Settings { ambient_in_gbuffer: false, count_fragments: false, ..Settings::default() };
+    assert!(!frame_of("demo", || demo.clone(), &compact, 320, 180).stats.ambient_in_gbuffer);
+}
+
 /// `seed000` is seed 000's own layout: RT2 holds the world-space normal and RT3 the world-space,
 /// not normalised, view vector (surface to eye), whatever way the camera looks. Checked against
 /// `compact`, which stores a view-space normal and reconstructs the position from depth: at the

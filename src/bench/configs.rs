@@ -60,7 +60,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     let accumulations: &[AccumFormat] = if q {
         &[AccumFormat::Rgba8Log]
     } else {
-        &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log]
+        &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log, AccumFormat::Rgba8Unorm]
     };
     for &accumulation in accumulations {
         v.push(c("accumulation", accumulation.name(), Settings { accumulation, ..base.clone() }, o.lights));

@@ -58,6 +58,7 @@ pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
         F::Rgba8Unorm | F::Rg8Unorm | F::R8Unorm => {
             bytes.iter().take(4).enumerate().for_each(|(i, b)| out[i] = *b as f32 / 255.0)
         }
+        F::Bgra8Unorm => bytes.iter().take(4).enumerate().for_each(|(i, b)| out[[2, 1, 0, 3][i]] = *b as f32 / 255.0),
         F::Rgba8UnormSrgb => bytes.iter().take(4).enumerate().for_each(|(i, b)| {
             let v = *b as f32 / 255.0;
             out[i] = if i < 3 { srgb_to_linear(v) } else { v };

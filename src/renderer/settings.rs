@@ -318,6 +318,21 @@ pub enum AccumFormat {
     /// value is `log2(q / (q - 1))` of light at code q, i.e. 0.0057 near 0, 0.011 at 1, 0.09 at 4
     /// and 1.0 at the top; every blend rounds once more (see [`log_accum_error_bound`]).
     Rgba8Log,
+    /// Seed 003's light buffer ("24-bit diffuse color (rgb) and 8-bit specular value", blended
+    /// `GL_ONE, GL_ONE`) and seed 002's "8-bit for higher performance, beware of saturation":
+    /// 8-bit linear channels, added. Stored as Bgra8Unorm, the byte order of the seeds'
+    /// ARGB32. Range 0 ..= 1: more light saturates at 1. Precision: every write rounds to the
+    /// nearest of 255 steps, so a sum of `blends` writes below 1 is off by at most
+    /// `blends x 0.5 / 255` ([`unorm_accum_error_bound`]).
+    Rgba8Unorm,
+}
+
+/// How far an [`AccumFormat::Rgba8Unorm`] channel may be from the exact sum when `blends`
+/// writes produced it and the sum stays below 1: the blender adds each write's value to a
+/// stored code and rounds the result to the nearest code, half a step (0.5/255); the stored
+/// codes themselves add exactly. So at most `blends x 0.5 / 255`, whatever the order.
+pub fn unorm_accum_error_bound(blends: u32) -> f32 {
+    blends as f32 * 0.5 / 255.0
 }
 
 /// Largest light an [`AccumFormat::Rgba8Log`] channel holds: the smallest non-zero code, 1/255,
@@ -339,8 +354,13 @@ pub fn log_accum_error_bound(light: f32, blends: u32) -> f32 {
 }
 
 impl AccumFormat {
-    pub const ALL: [AccumFormat; 4] =
-        [AccumFormat::Rgba16Float, AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log];
+    pub const ALL: [AccumFormat; 5] = [
+        AccumFormat::Rgba16Float,
+        AccumFormat::Rgba32Float,
+        AccumFormat::Rg11b10Ufloat,
+        AccumFormat::Rgba8Log,
+        AccumFormat::Rgba8Unorm,
+    ];
 
     /// The texture format, or why the adapter cannot blend into it.
     pub fn format(self, caps: &super::kit::caps::Caps) -> anyhow::Result<wgpu::TextureFormat> {
@@ -349,6 +369,8 @@ impl AccumFormat {
             AccumFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
             AccumFormat::Rg11b10Ufloat => wgpu::TextureFormat::Rg11b10Ufloat,
             AccumFormat::Rgba8Log => wgpu::TextureFormat::Rgba8Unorm,
+            // Bgra8Unorm tells the linear 8-bit buffer from the log one (`kit::log_accum`).
+            AccumFormat::Rgba8Unorm => wgpu::TextureFormat::Bgra8Unorm,
         };
         // The lights add into it: it must take blending.
         if !caps.blendable(format) {

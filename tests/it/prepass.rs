@@ -7,7 +7,7 @@ use crate::common::*;
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::renderer::post::PostImage;
-use lampshade::renderer::settings::{log_accum_error_bound, LOG_ACCUM_MAX};
+use lampshade::renderer::settings::{log_accum_error_bound, unorm_accum_error_bound, LOG_ACCUM_MAX};
 use lampshade::renderer::{
     AccumFormat, BrdfOverride, CullingMode, DebugView, LayoutChoice, Method, Msaa, RenderPath, Renderer, Settings,
     OUTPUT_FORMAT,
@@ -98,13 +98,14 @@ fn every_culling_mode_matches_fullscreen_with_the_log_light_buffer() {
     modes_match_fullscreen(&s, &["demo", "spot", "inside", "near", "far"], "rgba8-log");
 }
 
-/// Both encodings of the light buffer: seed 003's (fp16, additive) and seed 004's (log Rgba8,
-/// multiplicative), each channel of the decoded log buffer, the mono specular in A included,
-/// within `log_accum_error_bound` of the exact (Rgba32Float) buffer for the blends that wrote
-/// it (the start value and one per light whose shape holds the pixel's point), and the fp16
-/// buffer within two fp16 roundings per light of the exact one.
+/// The encodings of the light buffer: seed 003's (8-bit linear, additive), seed 004's (log
+/// Rgba8, multiplicative) and fp16 (additive), each channel, the mono specular in A included,
+/// against the exact (Rgba32Float) buffer for the blends that wrote it (the start value and
+/// one per light whose shape holds the pixel's point): the log buffer decoded within
+/// `log_accum_error_bound`, the 8-bit linear one within `unorm_accum_error_bound` below its
+/// saturation at 1, and the fp16 buffer within two fp16 roundings per light.
 #[test]
-fn both_light_buffer_encodings_hold_the_light() {
+fn every_light_buffer_encoding_holds_the_light() {
     let gpu = gpu();
     for name in ["classify", "spot", "coincident"] {
         let scene = scene(name);
@@ -124,7 +125,8 @@ fn both_light_buffer_encodings_hold_the_light() {
             })
             .collect();
         assert!(exact.iter().skip(3).step_by(4).any(|a| *a > 0.0), "{name}: no mono specular anywhere");
-        for (accumulation, bytes) in [(AccumFormat::Rgba8Log, 4), (AccumFormat::Rgba16Float, 8)] {
+        let encodings = [(AccumFormat::Rgba8Log, 4), (AccumFormat::Rgba8Unorm, 4), (AccumFormat::Rgba16Float, 8)];
+        for (accumulation, bytes) in encodings {
             let s = prepass(Settings { accumulation, ..Settings::default() });
             let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
             let (_, stats) = render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
@@ -139,6 +141,12 @@ fn both_light_buffer_encodings_hold_the_light() {
                         let b = log_accum_error_bound(want, 1 + blends);
                         if want + b > LOG_ACCUM_MAX - 0.5 {
                             continue; // saturated: the top code spans most of a unit
+                        }
+                        b
+                    } else if accumulation == AccumFormat::Rgba8Unorm {
+                        let b = unorm_accum_error_bound(1 + blends);
+                        if want + b >= 1.0 {
+                            continue; // saturated at 1, as seed 002 warns
                         }
                         b
                     } else {

@@ -15,6 +15,7 @@ use wgpu::{DownlevelFlags as D, Features as F, TextureFormat as Tf};
 /// The formats the renderer may ask for, whose renderability and blending the table records.
 pub const FORMATS: &[Tf] = &[
     Tf::Rgba8Unorm,
+    Tf::Bgra8Unorm,
     Tf::Rgba16Float,
     Tf::Rg16Float,
     Tf::R16Float,

@@ -98,7 +98,8 @@ pub fn read_back<T: bytemuck::Pod>(device: &wgpu::Device, buffer: &wgpu::Buffer,
 }
 
 /// Whether an accumulation target of `format` holds seed 004's logarithmic encoding
-/// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm).
+/// (`AccumFormat::Rgba8Log` is the only one stored as Rgba8Unorm; the linear 8-bit
+/// `AccumFormat::Rgba8Unorm` is stored as Bgra8Unorm).
 pub fn log_accum(format: wgpu::TextureFormat) -> bool {
     format == wgpu::TextureFormat::Rgba8Unorm
 }

@@ -52,6 +52,8 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             LayoutChoice::Oct16,
             LayoutChoice::Xyz8,
             LayoutChoice::Xyz16f,
+            LayoutChoice::Lambert8,
+            LayoutChoice::Lambert16,
         ]
     };
     for &layout in layouts {

@@ -140,6 +140,13 @@ fn oct_decode(e: Vec2) -> Vec3 {
     n.normalize_or(Vec3::Z)
 }
 
+/// As `lambert_decode` in `kit/common.wgsl`.
+fn lambert_decode(e: Vec2) -> Vec3 {
+    let g = 2.0 * e;
+    let f = g.length_squared().min(4.0);
+    (g * (1.0 - f / 4.0).sqrt()).extend(1.0 - f / 2.0).normalize_or(Vec3::Z)
+}
+
 /// Whether view-space point `p` lies inside the light's true shape (as `inside_light` in WGSL).
 pub fn inside_light(l: &LightRecord, p: Vec3) -> bool {
     let v = p - Vec3::from(l.position);
@@ -241,6 +248,7 @@ impl Renderer {
         let v3 = |a: Attr| Vec3::new(get(a, 0, 0.0), get(a, 1, 0.0), get(a, 2, 0.0));
         let normal = match layout.normal {
             NormalEncoding::Octahedral => oct_decode(Vec2::new(get(Attr::Normal, 0, 0.0), get(Attr::Normal, 1, 0.0))),
+            NormalEncoding::Lambert => lambert_decode(Vec2::new(get(Attr::Normal, 0, 0.0), get(Attr::Normal, 1, 0.0))),
             NormalEncoding::Xyz => v3(Attr::Normal).normalize_or(Vec3::Z),
         };
         // World-space layouts (seed 000) store the normal and the view vector (surface to eye)

@@ -122,7 +122,7 @@ struct Attributes {
     albedo: vec3<f32>,
     spec_level: f32,
     spec_exp: f32,
-    // Octahedral layouts use .xy.
+    // Octahedral and Lambert layouts use .xy.
     normal: vec3<f32>,
     emissive: vec3<f32>,
     depth: f32,
@@ -164,6 +164,24 @@ fn oct_decode(e: vec2<f32>) -> vec3<f32> {
     return safe_normalize(n, vec3<f32>(0.0, 0.0, 1.0));
 }
 
+// Lambert azimuthal equal-area projection (seed 001; Pranckevičius 2009, "Compact Normal
+// Storage for small G-Buffers", method #4), scaled to the unit disc: e = n.xy / sqrt(2 + 2 n.z).
+// n = -z, the one direction with no single point, goes to the rim at (1, 0).
+fn lambert_encode(n: vec3<f32>) -> vec2<f32> {
+    let d = 2.0 + 2.0 * n.z;
+    if d <= 1e-12 {
+        return vec2<f32>(1.0, 0.0);
+    }
+    return n.xy * inverseSqrt(d);
+}
+
+// g = 2e, f = |g|^2 in [0, 4] (clamped: rounding can step just past the rim):
+// n = (g sqrt(1 - f/4), 1 - f/2), unit length by construction.
+fn lambert_decode(e: vec2<f32>) -> vec3<f32> {
+    let g = 2.0 * e;
+    let f = min(dot(g, g), 4.0);
+    return safe_normalize(vec3<f32>(g * sqrt(1.0 - f / 4.0), 1.0 - f / 2.0), vec3<f32>(0.0, 0.0, 1.0));
+}
 
 fn attributes_of(s: Surface) -> Attributes {
     var a: Attributes;
@@ -184,6 +202,8 @@ fn attributes_of(s: Surface) -> Attributes {
     }
     if GBUFFER_NORMAL_OCTAHEDRAL {
         a.normal = vec3<f32>(oct_encode(n), 0.0);
+    } else if GBUFFER_NORMAL_LAMBERT {
+        a.normal = vec3<f32>(lambert_encode(n), 0.0);
     } else {
         a.normal = n;
     }
@@ -223,6 +243,8 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     s.spec_level = a.spec_level * (s.spec_exp + 8.0) / 8.0;
     if GBUFFER_NORMAL_OCTAHEDRAL {
         s.normal = oct_decode(a.normal.xy);
+    } else if GBUFFER_NORMAL_LAMBERT {
+        s.normal = lambert_decode(a.normal.xy);
     } else {
         s.normal = safe_normalize(a.normal, vec3<f32>(0.0, 0.0, 1.0));
     }

@@ -57,12 +57,18 @@ pub enum NormalEncoding {
     Octahedral,
     /// Three channels, x y z.
     Xyz,
+    /// Lambert azimuthal equal-area projection to two channels (seed 001; "Compact Normal
+    /// Storage for small G-Buffers", Pranckevičius 2009, method #4): the view-space unit
+    /// normal n goes to e = n.xy / sqrt(2 + 2 n.z), a point of the unit disc; the one
+    /// direction it cannot tell apart, n = -z (facing straight away from the eye), is the disc's
+    /// rim.
+    Lambert,
 }
 
 impl NormalEncoding {
     fn components(self) -> usize {
         match self {
-            NormalEncoding::Octahedral => 2,
+            NormalEncoding::Octahedral | NormalEncoding::Lambert => 2,
             NormalEncoding::Xyz => 3,
         }
     }
@@ -126,10 +132,15 @@ pub enum LayoutChoice {
     Xyz8,
     /// The same with x y z in Rgba16Float.
     Xyz16f,
+    /// The same with seed 001's Lambert azimuthal equal-area projection in Rg8Unorm (8+8 bits).
+    Lambert8,
+    /// The same with the Lambert azimuthal equal-area projection in Rg16Unorm (16+16 bits;
+    /// needs TEXTURE_FORMAT_16BIT_NORM).
+    Lambert16,
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 9] = [
+    pub const ALL: [LayoutChoice; 11] = [
         LayoutChoice::Compact,
         LayoutChoice::Seed000,
         LayoutChoice::Packed,
@@ -139,11 +150,19 @@ impl LayoutChoice {
         LayoutChoice::Oct16,
         LayoutChoice::Xyz8,
         LayoutChoice::Xyz16f,
+        LayoutChoice::Lambert8,
+        LayoutChoice::Lambert16,
     ];
 
     /// The layouts that differ from `compact` in the normal's encoding only.
-    pub const NORMAL_ENCODINGS: [LayoutChoice; 4] =
-        [LayoutChoice::Oct8, LayoutChoice::Oct16, LayoutChoice::Xyz8, LayoutChoice::Xyz16f];
+    pub const NORMAL_ENCODINGS: [LayoutChoice; 6] = [
+        LayoutChoice::Oct8,
+        LayoutChoice::Oct16,
+        LayoutChoice::Xyz8,
+        LayoutChoice::Xyz16f,
+        LayoutChoice::Lambert8,
+        LayoutChoice::Lambert16,
+    ];
 
     /// The layout for `scene` (every object shaded with `force` when given): `Fit` derives one
     /// from it; the fixed tables take it as they are, plus the material ID channel when the
@@ -229,7 +248,7 @@ impl LayoutChoice {
 
     /// Where the fixed table keeps the material ID when a scene needs one: (target, channel)
     /// of a channel its formats already have and leave unused, so the ID costs no bytes.
-    /// `oct8` and `oct16` have none.
+    /// `oct8`, `oct16`, `lambert8` and `lambert16` have none.
     pub fn material_slot(self) -> Option<(usize, usize)> {
         match self {
             // normal+exp .w (fp16; 8-bit unorm in packed; the normal target in xyz8/xyz16f).
@@ -238,7 +257,7 @@ impl LayoutChoice {
             LayoutChoice::Seed000 | LayoutChoice::Reference => Some((2, 3)),
             // `fit` places it itself (`fit_material_slot`).
             LayoutChoice::Fit => None,
-            LayoutChoice::Oct8 | LayoutChoice::Oct16 => None,
+            LayoutChoice::Oct8 | LayoutChoice::Oct16 | LayoutChoice::Lambert8 | LayoutChoice::Lambert16 => None,
         }
     }
 
@@ -279,6 +298,8 @@ impl LayoutChoice {
             LayoutChoice::Oct16 => normal_apart("oct16", F::Rg16Unorm, NormalEncoding::Octahedral),
             LayoutChoice::Xyz8 => normal_apart("xyz8", F::Rgba8Unorm, NormalEncoding::Xyz),
             LayoutChoice::Xyz16f => normal_apart("xyz16f", F::Rgba16Float, NormalEncoding::Xyz),
+            LayoutChoice::Lambert8 => normal_apart("lambert8", F::Rg8Unorm, NormalEncoding::Lambert),
+            LayoutChoice::Lambert16 => normal_apart("lambert16", F::Rg16Unorm, NormalEncoding::Lambert),
             LayoutChoice::Seed000 => seed000(),
             LayoutChoice::Reference => four_stored("reference", F::Rgba32Float),
             LayoutChoice::Packed => GBufferLayout {
@@ -506,8 +527,23 @@ impl GBufferLayout {
     ///   an error of at most `q` in x and y moves v by at most sqrt(q^2 + q^2 + (2q)^2) = sqrt(6) q
     ///   and the normalised direction by at most |dv| / |v| <= sqrt(6) sqrt(3) q = 3 sqrt(2) q
     ///   (the lower hemisphere's fold only permutes and reflects the coordinates). For 8+8 bits
-    ///   that is 0.955 degrees (0.946 measured, `OCT8_MAX_ERROR_DEG`).
+    ///   that is 0.955 degrees (0.946 measured, `OCT8_MAX_ERROR_DEG`);
+    /// * Lambert azimuthal equal-area: the bound depends on the direction, see
+    ///   [`Self::normal_error_bound_at`]; this is its value over the hemisphere facing the eye
+    ///   (view-space n.z >= 0), 0.906 degrees for 8+8 bits.
     pub fn normal_error_bound(&self) -> f64 {
+        self.normal_error_bound_at(std::f64::consts::FRAC_PI_2)
+    }
+
+    /// [`Self::normal_error_bound`] for a normal `theta` radians from the stored frame's +z (the
+    /// view direction towards the eye in view space). The same for every direction but with the
+    /// Lambert azimuthal equal-area encoding, whose decoding stretches with the angle: with
+    /// g = 2e on the disc of radius 2, a normal at angle θ sits at radius r = 2 sin(θ/2); the
+    /// map stretches radial steps by dθ/dr = 1 / cos(θ/2) and shrinks the others (by cos(θ/2)).
+    /// Rounding moves g by at most 2 sqrt(2) q, within which θ reaches at most
+    /// θ' = 2 asin(min(1, r/2 + sqrt(2) q)), so the angle is off by at most
+    /// 2 sqrt(2) q / cos(θ'/2); π where θ' reaches the rim (n = -z cannot be bounded).
+    pub fn normal_error_bound_at(&self, theta: f64) -> f64 {
         let Some(t) = self.targets.iter().find(|t| t.channels.iter().flatten().any(|s| s.attr == Attr::Normal)) else {
             return std::f64::consts::PI;
         };
@@ -515,6 +551,15 @@ impl GBufferLayout {
         match self.normal {
             NormalEncoding::Xyz => (3f64.sqrt() * q).min(1.0).asin(),
             NormalEncoding::Octahedral => 3.0 * 2f64.sqrt() * q,
+            NormalEncoding::Lambert => {
+                let reach = ((theta.clamp(0.0, std::f64::consts::PI) / 2.0).sin() + 2f64.sqrt() * q).min(1.0);
+                let half = reach.asin();
+                let stretch = half.cos();
+                if stretch <= 0.0 {
+                    return std::f64::consts::PI;
+                }
+                (2.0 * 2f64.sqrt() * q / stretch).min(std::f64::consts::PI)
+            }
         }
     }
 
@@ -627,6 +672,7 @@ impl GBufferLayout {
         let mut w = String::new();
         let _ = writeln!(w, "// Generated from G-buffer layout '{}'.", self.name);
         let _ = writeln!(w, "const GBUFFER_NORMAL_OCTAHEDRAL: bool = {};", self.normal == NormalEncoding::Octahedral);
+        let _ = writeln!(w, "const GBUFFER_NORMAL_LAMBERT: bool = {};", self.normal == NormalEncoding::Lambert);
         let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
         let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
         // The material ID: per pixel from its channel, or the scene's one model.
@@ -848,7 +894,7 @@ mod tests {
             })
             .collect();
         // seed000: RT0, RT2, RT3 (RT1 is the accumulation, not counted here).
-        assert_eq!(sizes, vec![24, 24, 12, 64, 24, 18, 20, 20, 24]);
+        assert_eq!(sizes, vec![24, 24, 12, 64, 24, 18, 20, 20, 24, 18, 20]);
     }
 
     #[test]
@@ -882,6 +928,17 @@ mod tests {
         assert!(deg(LayoutChoice::Xyz16f) < deg(LayoutChoice::Xyz8) / 15.0);
         assert!(deg(LayoutChoice::Compact) < deg(LayoutChoice::Oct8) / 15.0);
         assert!(deg(LayoutChoice::Reference) < 1e-5);
+        // Lambert 8+8 over the hemisphere facing the eye: 2 sqrt(2) q / cos(theta'/2), theta'
+        // just past 90 degrees: 0.906 degrees, a little under octahedral's 0.953; it grows
+        // towards the back (2.68 degrees at 150), and near the rim (n = -z) it is pi.
+        assert!((deg(LayoutChoice::Lambert8) - 0.906).abs() < 2e-3, "{}", deg(LayoutChoice::Lambert8));
+        let at = |c: LayoutChoice, t: f64| c.layout().normal_error_bound_at(t.to_radians()).to_degrees();
+        assert!(at(LayoutChoice::Lambert8, 0.0) < at(LayoutChoice::Lambert8, 90.0));
+        assert!((at(LayoutChoice::Lambert8, 150.0) - 2.680).abs() < 2e-3, "{}", at(LayoutChoice::Lambert8, 150.0));
+        assert_eq!(at(LayoutChoice::Lambert8, 180.0), 180.0);
+        assert!(deg(LayoutChoice::Lambert16) < deg(LayoutChoice::Lambert8) / 250.0);
+        // The other encodings' bounds do not depend on the direction.
+        assert_eq!(at(LayoutChoice::Oct8, 180.0), deg(LayoutChoice::Oct8));
     }
 
     #[test]
@@ -909,7 +966,7 @@ mod tests {
             }
             let l = c.layout_for(&several, None);
             match c {
-                LayoutChoice::Oct8 | LayoutChoice::Oct16 => {
+                LayoutChoice::Oct8 | LayoutChoice::Oct16 | LayoutChoice::Lambert8 | LayoutChoice::Lambert16 => {
                     let e = l.unwrap_err();
                     assert!(
                         e.contains("no spare channel") && e.contains("blinn-phong, lambert, metal, toon, unlit"),

@@ -8,6 +8,7 @@
 //! The text comes from the user, so [`parse`] never panics: any input gives the settings or an
 //! error that says what is wrong (fuzzed by `fuzz/fuzz_targets/settings_file.rs`).
 
+use crate::renderer::presets::Preset;
 use crate::renderer::Settings;
 use crate::scene::Camera;
 use anyhow::{bail, Context, Result};
@@ -84,6 +85,8 @@ impl SceneKeys {
 pub const VIEWER_KEY: &str = "viewer";
 /// The key of an optional nested object of renderer settings.
 pub const RENDERER_KEY: &str = "renderer";
+/// The key naming a preset (`renderer::presets`) the file's renderer settings apply on top of.
+pub const PRESET_KEY: &str = "preset";
 
 /// The field names of a struct, read from its serialised default (every field is written).
 fn field_names<T: Serialize>(value: &T) -> Vec<String> {
@@ -117,15 +120,33 @@ pub fn parse(text: &str) -> Result<(Settings, SceneKeys)> {
         serde_json::from_str(text).context("not a JSON object")?;
     let (renderer, scene) = (settings_keys(), scene_keys());
     for k in top.keys() {
-        if !renderer.contains(k) && !scene.contains(k) && k != VIEWER_KEY && k != RENDERER_KEY {
+        if !renderer.contains(k) && !scene.contains(k) && k != VIEWER_KEY && k != RENDERER_KEY && k != PRESET_KEY {
             bail!(
-                "unknown key \"{k}\": a settings file holds renderer settings ({}), scene keys ({}), \"{RENDERER_KEY}\" and \"{VIEWER_KEY}\"",
+                "unknown key \"{k}\": a settings file holds renderer settings ({}), scene keys ({}), \"{PRESET_KEY}\", \"{RENDERER_KEY}\" and \"{VIEWER_KEY}\"",
                 renderer.join(", "),
                 scene.join(", ")
             );
         }
     }
     let mut settings = serde_json::from_str::<Settings>(text).context("renderer settings")?;
+    // `{"preset": "seed000", "culling": "tiled"}`: the preset's settings, the file's renderer
+    // keys on top (as `--preset` and later flags).
+    if top.contains_key(PRESET_KEY) {
+        #[derive(Deserialize)]
+        struct Named {
+            preset: String,
+        }
+        let named: Named = serde_json::from_str(text).context("\"preset\" must be a preset's name")?;
+        let preset = Preset::parse(&named.preset).map_err(anyhow::Error::msg)?;
+        let base = preset.apply(&Settings::default()).map_err(anyhow::Error::msg)?;
+        let mut merged = serde_json::to_value(&base).context("renderer settings")?;
+        let given: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_str(text).context("not a JSON object")?;
+        if let Some(m) = merged.as_object_mut() {
+            m.extend(given.into_iter().filter(|(k, _)| renderer.contains(k)));
+        }
+        settings = Settings::deserialize(merged).context("renderer settings")?;
+    }
     let keys = serde_json::from_str::<SceneKeys>(text).context("scene keys")?;
     // `{"renderer": {"exposure": 3}}` reads as `{"exposure": 3}`.
     if top.contains_key(RENDERER_KEY) {
@@ -171,6 +192,19 @@ pub fn parse(text: &str) -> Result<(Settings, SceneKeys)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_preset_key_applies_first_and_the_files_keys_on_top() {
+        let (s, _) = parse(r#"{"preset": "seed004", "aa": "fxaa", "scene": "demo"}"#).unwrap();
+        let seed004 = Preset::Seed004.apply(&Settings::default()).unwrap();
+        assert_eq!(s, Settings { aa: crate::renderer::settings::Aa::Fxaa, ..seed004 });
+        assert_eq!(s.get("preset").unwrap(), "custom");
+        let (s, _) = parse(r#"{"preset": "seed000", "renderer": {"exposure": 2}}"#).unwrap();
+        assert_eq!((s.get("preset").unwrap().as_str(), s.exposure), ("seed000", 2.0));
+        let e = format!("{:#}", parse(r#"{"preset": "seed9"}"#).unwrap_err());
+        assert!(e.contains("unknown preset 'seed9'") && e.contains("seed004"), "{e}");
+        assert!(parse(r#"{"preset": 3}"#).is_err());
+    }
 
     #[test]
     fn a_viewer_file_round_trips() {

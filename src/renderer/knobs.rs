@@ -8,10 +8,11 @@
 //! A value's one name is its clap `ValueEnum` name, which is also its serde name in settings
 //! files (see [`super::settings::name_of`]).
 
+use super::presets::{Preset, CUSTOM};
 use super::settings::{
     name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
-    LayoutChoice, Msaa, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE,
-    MAX_SPHERE_SUBDIVISIONS,
+    LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap,
+    CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -92,6 +93,23 @@ fn whole(v: &str) -> Result<u32, String> {
 
 /// Every knob, in the order `--help` and the script documentation list them.
 pub const KNOBS: &[Knob] = &[
+    // First: the flags and keys after it apply on top of the preset.
+    Knob {
+        name: "preset",
+        what: "preset",
+        help: "A seed's pipeline as the seed writes it (seed000 .. seed004; docs/presets.md), or the defaults; \
+               the other knobs given apply on top; reads `custom` when the settings are no preset's",
+        values: Values::Choice(names::<Preset>),
+        cli: true,
+        get: |s| Preset::of(s).map_or_else(|| CUSTOM.to_string(), |p| name_of(&p)),
+        put: |s, v| {
+            if v == CUSTOM {
+                return Ok(());
+            }
+            *s = choice::<Preset>("preset", v)?.apply(s)?;
+            Ok(())
+        },
+    },
     Knob {
         name: "path",
         what: "rendering path",
@@ -137,6 +155,19 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.culling),
         put: |s, v| {
             s.culling = choice("culling mode", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "near-lights",
+        what: "near-plane rule",
+        help: "Lights whose volume crosses the near plane: by the culling mode's method (volume) or full-screen \
+               (fullscreen, seed 004's rule)",
+        values: Values::Choice(names::<NearLights>),
+        cli: true,
+        get: |s| name_of(&s.near_lights),
+        put: |s, v| {
+            s.near_lights = choice("near-plane rule", v)?;
             Ok(())
         },
     },
@@ -681,6 +712,11 @@ pub fn knob(name: &str) -> Result<&'static Knob, String> {
 }
 
 impl Knob {
+    /// Writes `value` to `s` without checking the other rules (`Settings::set` does both).
+    pub fn put(&self, s: &mut Settings, value: &str) -> Result<(), String> {
+        (self.put)(s, value)
+    }
+
     /// Whether `s`'s value of this knob lies in its range.
     pub fn check(&self, s: &Settings) -> Result<(), String> {
         let value = (self.get)(s);

@@ -23,6 +23,7 @@ pub mod knobs;
 pub mod materials;
 mod paths;
 pub mod post;
+pub mod presets;
 pub mod program;
 pub mod records;
 mod report;
@@ -51,8 +52,8 @@ pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
-    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, RenderPath,
-    Settings, ShadowCube, ShadowFilter, ShadowMode,
+    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, NearLights,
+    RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
 use std::sync::Arc;

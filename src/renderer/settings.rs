@@ -64,6 +64,7 @@ knob_names!(
     RenderPath => "rendering path",
     ClusterBuilder => "cluster list builder",
     Msaa => "MSAA sample count",
+    NearLights => "near-plane rule",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
     ShadowCube => "shadow cube layout",
@@ -146,6 +147,20 @@ pub enum ClusterBuilder {
     Cpu,
     /// The GPU, from each light's span of clusters: the CPU uploads a 16-byte span per light.
     Gpu,
+}
+
+/// How lights whose volume crosses the near plane are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum NearLights {
+    /// By the culling mode's method, as every other light (a plain volume under `auto`: its
+    /// back faces, GreaterEqual, shade every pixel a full-screen draw would that the volume
+    /// holds).
+    #[default]
+    Volume,
+    /// Full-screen (seed 004: "Point/Spot lights that cross the near plane are rendered as
+    /// fullscreen quads"); tiled and clustered shading are unchanged.
+    Fullscreen,
 }
 
 /// Samples per pixel of the paths that can multisample (`RenderPath::can_multisample`).
@@ -445,6 +460,8 @@ pub struct Settings {
     /// 002's "Z-cull"); off: shaded as drawn, overdraw included.
     pub depth_prepass: bool,
     pub culling: CullingMode,
+    /// How lights crossing the near plane are drawn (seed 004's rule: full-screen).
+    pub near_lights: NearLights,
     pub layout: LayoutChoice,
     pub debug_view: DebugView,
     /// Restrict the stencil and complexity views to one light.
@@ -562,6 +579,7 @@ impl Default for Settings {
             msaa: Msaa::X1,
             depth_prepass: true,
             culling: CullingMode::default(),
+            near_lights: NearLights::default(),
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,
             selected_light: None,

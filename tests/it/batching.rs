@@ -214,6 +214,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         light_batching: true,
         cluster_build: settings.cluster_build,
         loop_limit: None,
+        near_fullscreen: false,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

@@ -105,6 +105,9 @@ pub struct PlanView {
     /// The adapter's shader loop limit (`Quirks::loop_limit`): a GPU list build that would run
     /// past it is done on the CPU instead.
     pub loop_limit: Option<u64>,
+    /// Seed 004's rule (`NearLights::Fullscreen`): a light whose volume crosses the near plane
+    /// is drawn full-screen instead of by its volume method.
+    pub near_fullscreen: bool,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -217,6 +220,17 @@ struct Facts {
 }
 
 fn choose(view: &PlanView, f: Facts) -> Method {
+    let method = choose_method(view, &f);
+    let volume =
+        matches!(method, Method::Volume | Method::StencilTwoPass | Method::StencilInvert | Method::StencilReplace);
+    if view.near_fullscreen && f.crosses_near && volume {
+        Method::Fullscreen
+    } else {
+        method
+    }
+}
+
+fn choose_method(view: &PlanView, f: &Facts) -> Method {
     if f.crosses_far && !view.depth_clamp && !(view.mode == CullingMode::Auto && f.off_screen) {
         // Without depth clamp the far side would be clipped away: no volume method is correct,
         // so the light is drawn full-screen.
@@ -989,6 +1003,7 @@ mod tests {
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
             loop_limit: None,
+            near_fullscreen: false,
         }
     }
 

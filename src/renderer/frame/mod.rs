@@ -11,7 +11,7 @@ use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
-use super::{cputime, overlap, post, AccumFormat, DebugView, RenderPath, Renderer, Settings};
+use super::{cputime, overlap, post, AccumFormat, DebugView, NearLights, RenderPath, Renderer, Settings};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use inputs::FrameInputs;
@@ -115,6 +115,7 @@ impl Renderer {
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
             cluster_build: settings.cluster_build,
             loop_limit: self.caps.quirks.loop_limit,
+            near_fullscreen: settings.near_lights == NearLights::Fullscreen,
         };
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);

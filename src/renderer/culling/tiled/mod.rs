@@ -678,6 +678,7 @@ mod tests {
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
             loop_limit: None,
+            near_fullscreen: false,
         }
     }
 

@@ -1,0 +1,326 @@
+//! The seed presets: each seed's pipeline as the seed writes it, knob by knob, with the seed's
+//! own line behind every setting. The defaults stay the best-measured settings; a preset shows
+//! a seed. What a seed names that no knob can give yet is listed with the preset
+//! ([`Preset::missing`]), so a user sees how far the preset is from the seed.
+//!
+//! A preset sets every pipeline knob: the default for the knobs its seed says nothing of, its
+//! rows for the rest. The instruments ([`INSTRUMENTS`]: the debug view, the selected light, the
+//! counters, the exposure) stay as the user has them. Later flags, keys and `set`s apply on top
+//! (`--preset seed000 --culling tiled`: the preset first, then the culling mode).
+
+use super::knobs;
+use super::settings::Settings;
+use serde::{Deserialize, Serialize};
+
+/// A named pipeline: the defaults, or one seed's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Preset {
+    /// The defaults: the best-measured settings (deferred shading, volume culling, compact).
+    Default,
+    /// Seed 000: deferred shading, 1,024 point lights, two-pass stencil culling, four fp16 targets.
+    Seed000,
+    /// Seed 001: deferred spot lights culled with one INVERT stencil pass, Lambert normals.
+    Seed001,
+    /// Seed 002: NVIDIA's deferred shading talk: stencil REPLACE, material IDs, shadows, post.
+    Seed002,
+    /// Seed 003: the light pre-pass on a tile GPU, an 8-bit additive light buffer.
+    Seed003,
+    /// Seed 004: Unity's deferred lighting, a log-encoded light buffer.
+    Seed004,
+}
+
+super::settings::knob_names!(Preset => "preset");
+
+/// The knobs a preset leaves as they are: what the user looks at and counts, not the pipeline.
+pub const INSTRUMENTS: [&str; 5] = ["debug-view", "counts", "ideal", "timestamps", "exposure"];
+
+/// The value `preset` reads when the settings are no preset's.
+pub const CUSTOM: &str = "custom";
+
+/// One setting of a preset and the seed's line that asks for it.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Row {
+    pub knob: &'static str,
+    pub value: &'static str,
+    /// The seed's words, quoted as the seed writes them.
+    pub seed: &'static str,
+}
+
+/// Something the seed names that no knob gives yet.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Missing {
+    pub what: &'static str,
+    pub seed: &'static str,
+}
+
+/// A [`Row`] as a constant expression (so a table of them is `'static`).
+macro_rules! row {
+    ($knob:expr, $value:expr, $seed:expr) => {
+        Row { knob: $knob, value: $value, seed: $seed }
+    };
+}
+
+/// A [`Missing`] as a constant expression.
+macro_rules! missing {
+    ($what:expr, $seed:expr) => {
+        Missing { what: $what, seed: $seed }
+    };
+}
+
+impl Preset {
+    pub const ALL: [Preset; 6] =
+        [Preset::Default, Preset::Seed000, Preset::Seed001, Preset::Seed002, Preset::Seed003, Preset::Seed004];
+
+    /// The seeds' presets (all but `default`).
+    pub const SEEDS: [Preset; 5] =
+        [Preset::Seed000, Preset::Seed001, Preset::Seed002, Preset::Seed003, Preset::Seed004];
+
+    /// The settings the preset changes from the defaults, each with its seed line.
+    pub fn rows(self) -> &'static [Row] {
+        match self {
+            Preset::Default => &[],
+            Preset::Seed000 => &[
+                row!("path", "deferred", "All lighting function inputs are rendered into several buffers (in a single pass, using multiple render targets) which are then sampled by the light shader."),
+                row!("layout", "seed000", "In the demo, I'm using four fp16 textures with this layout"),
+                row!("accumulation", "rgba16-float", "RT1: RGB – light accumulation, Alpha – nothing"),
+                row!("ambient-in-gbuffer", "on", "RT1 starts off with light contribution from main ambient and directional sources (sun)."),
+                row!("culling", "stencil-two-pass", "Each light volume is rendered it two passes"),
+                row!("light-batching", "off", "Each light volume is rendered it two passes"),
+                row!("sphere-subdivisions", "1", "they are rendered as low-poly spheres"),
+                row!("reversed-z", "off", "Z function = Less/Equal"),
+                row!("brdf", "blinn-phong", "Standard Phong function is used in the demo."),
+                row!("shadows", "none", "It is also possible for each light to cast a shadow. I will explore this topic in the future articles."),
+                row!("bloom", "on", "It can now be used in post-process effects (like bloom)."),
+                row!("aa", "off", "No hardware antialiasing."),
+            ],
+            Preset::Seed001 => &[
+                row!("path", "deferred", "reconstructs a view space position from the depth stored in the g-buffer"),
+                row!("layout", "lambert8", "reconstructs the view space normal from two channels (using Lambert azimuthal equal-area projection"),
+                row!("culling", "stencil-invert", "setting the stencil depthfail operation for both front and back faces to D3D11_STENCIL_OP_INVERT"),
+                row!("light-batching", "off", "The next stage is to render the cone again with the following depth stencil state."),
+                row!("shadows", "none", "calculates diffuse and specular light colour, taking into account distance and spotlight attenuation"),
+            ],
+            Preset::Seed002 => &[
+                row!("path", "deferred", "For Each Light: framebuffer += brdf( G-buffer, light )"),
+                row!("layout", "xyz16f", "Normal.x Normal.y Normal.z Free"),
+                row!("accumulation", "rgba16-float", "16-bit floating point enables HDR"),
+                row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"),
+                row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
+                row!("depth-prepass", "on", "Do an initial front-to-back-sorted z-only pass."),
+                row!("shadows", "all", "Shadow maps work very well with deferred shading"),
+                row!("shadow-cube", "unrolled", "Unrolls a shadow cube map into a 2D depth texture"),
+                row!("shadow-filter", "pcf2x2", "Enable bilinear filtering to get 4-sample PCF"),
+                row!("bloom", "on", "Glow"),
+                row!("auto-exposure", "on", "Auto-Exposure"),
+                row!("fog", "on", "Fog"),
+                row!("aa", "edge", "\"Intelligent Blur\" : Only filter object edges"),
+            ],
+            Preset::Seed003 => &[
+                row!("path", "light-prepass", "my 1st pass renders into an intermediate buffer (g-buffer) consisting of a 24-bit normal and a scaled 8-bit specular exponent"),
+                row!("accumulation", "rgba8-unorm", "A second g-buffer containing a 24-bit diffuse color (rgb) and 8-bit specular value is updated by each light. … a glBlendFunc(GL_ONE, GL_ONE) call is used"),
+                row!("culling", "volume", "The point lights are rendered using 3-d sphere geometry, taking advantage of the z-buffer"),
+                row!("shadows", "none", "(no shadows are named)"),
+                row!("lut", "identity", "a 5th pass is applied to perform color grading, depth of field, vignetting"),
+                row!("dof", "on", "a 5th pass is applied to perform color grading, depth of field, vignetting"),
+                row!("vignette", "0.3", "a 5th pass is applied to perform color grading, depth of field, vignetting (no strength given)"),
+            ],
+            Preset::Seed004 => &[
+                row!("path", "light-prepass", "Base Pass … Lighting pass … Final pass: objects are rendered again."),
+                row!("accumulation", "rgba8-log", "Lighting values are encoded using logarithmic encoding"),
+                row!("culling", "volume", "Point and Spot lights that do not cross camera's near plane are rendered as 3D shapes, with Z buffer test against scene enabled."),
+                row!("near-lights", "fullscreen", "Directional lights and Point/Spot lights that cross the near plane are rendered as fullscreen quads."),
+                row!("brdf", "blinn-phong", "Lighting model is fixed to Blinn-Phong."),
+                row!("shadows", "all", "All lights can have Shadows."),
+                row!("aa", "off", "No real anti-aliasing support."),
+            ],
+        }
+    }
+
+    /// What the seed names that no knob gives yet: the preset is that far from the seed.
+    pub fn missing(self) -> &'static [Missing] {
+        match self {
+            Preset::Default => &[],
+            Preset::Seed000 => &[
+                missing!("one accumulation target (RT1): the renderer keeps diffuse and specular light apart, 40 B/px where the seed has 32", "RT1: RGB – light accumulation, Alpha – nothing"),
+                missing!("Phong's lobe: the renderer's Phong is Blinn-Phong", "Standard Phong function is used in the demo."),
+            ],
+            Preset::Seed001 => &[
+                missing!("the normal's bit depth: the seed does not give it; the preset takes 8+8 bits", "reconstructs the view space normal from two channels"),
+            ],
+            Preset::Seed002 => &[
+                missing!("the seed's own G-buffer (position + emissive, diffuse + specular, normal + material ID, 24 B/px); `xyz16f` is the nearest", "Position.x Position.y Position.z Emissive / Diffuse.r Diffuse.g Diffuse.b Specular / Normal.x Normal.y Normal.z Free"),
+                missing!("D16 / D24 shadow formats", "Use D16 or D24X8 format for shadow maps"),
+                missing!("a shadow bias that grows with view depth", "May want to increase shadow bias based on pos.z"),
+                missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
+                missing!("distortion in the post chain", "Distortion"),
+                missing!("depth peeling for blended surfaces", "Can use depth peeling"),
+                missing!("dynamic branching on the material ID as a knob", "Reasonably coherent dynamic branching"),
+                missing!("anisotropic filtering in the G-buffer pass", "Use aniso filtering during G-buffer pass"),
+                missing!("front-to-back sorting of the z-only and G-buffer passes", "Do an initial front-to-back-sorted z-only pass."),
+            ],
+            Preset::Seed003 => &[
+                missing!("the sun as a full-screen quad into the light buffer: the pre-pass shades it in pass 3", "Directional lights (representing the sun) are rendered as full screen quads"),
+                missing!("an additive material mode for blended surfaces", "additive blending modes be used to eliminate the need to sort polygons"),
+            ],
+            Preset::Seed004 => &[
+                missing!("lightmaps, crossfading from realtime + baked indirect near the camera to fully baked far away", "Lightmaps are also applied in the final pass."),
+                missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
+                missing!("the sun as a full-screen quad into the light buffer", "Directional lights … are rendered as fullscreen quads."),
+                missing!("objects the path cannot light drawn forward afterwards (they are refused)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
+            ],
+        }
+    }
+
+    /// The seed's file in `shared/seeds/`, by number (`None` for the defaults).
+    pub fn seed(self) -> Option<&'static str> {
+        match self {
+            Preset::Default => None,
+            Preset::Seed000 => Some("000"),
+            Preset::Seed001 => Some("001"),
+            Preset::Seed002 => Some("002"),
+            Preset::Seed003 => Some("003"),
+            Preset::Seed004 => Some("004"),
+        }
+    }
+
+    /// `keep`'s instruments on the defaults, with the preset's rows. Not validated here (the
+    /// `preset` knob's own reading calls this inside validation); [`Preset::apply`] validates.
+    pub fn settings(self, keep: &Settings) -> Settings {
+        let mut s = Settings::default();
+        for name in INSTRUMENTS {
+            if let (Some(k), Ok(v)) = (knobs::find(name), keep.get(name)) {
+                // The value came from a knob of the same table: it parses.
+                let _ = k.put(&mut s, &v);
+            }
+        }
+        s.selected_light = keep.selected_light;
+        for r in self.rows() {
+            if let Some(k) = knobs::find(r.knob) {
+                let _ = k.put(&mut s, r.value);
+            }
+        }
+        s
+    }
+
+    /// [`Preset::settings`], checked: every row names a knob and a value it takes, and the
+    /// result passes `Settings::validate`.
+    pub fn apply(self, keep: &Settings) -> Result<Settings, String> {
+        let mut s = self.settings(keep);
+        for r in self.rows() {
+            let k = knobs::knob(r.knob)?;
+            k.put(&mut s, r.value).map_err(|e| format!("preset {}: {}: {e}", self.name(), r.knob))?;
+        }
+        s.validate().map_err(|e| format!("preset {}: {e}", self.name()))?;
+        Ok(s)
+    }
+
+    /// The preset `s` is, instruments aside.
+    pub fn of(s: &Settings) -> Option<Preset> {
+        Preset::ALL.into_iter().find(|p| p.settings(s) == *s)
+    }
+
+    /// The table of every preset as Markdown: what it sets, the seed's line behind each
+    /// setting, and what the seed names that no knob gives yet (`lampshade presets`;
+    /// `docs/presets.md` holds it).
+    pub fn markdown() -> String {
+        let mut out = String::new();
+        for p in Preset::SEEDS {
+            let seed = p.seed().unwrap_or_default();
+            out.push_str(&format!("### `{}` (seed {seed})\n\n", p.name()));
+            out.push_str(&format!("{}\n\n", super::settings::help_of(&p)));
+            out.push_str("| knob | value | the seed's line |\n|---|---|---|\n");
+            for r in p.rows() {
+                out.push_str(&format!("| `{}` | `{}` | {} |\n", r.knob, r.value, r.seed.replace('|', "\\|")));
+            }
+            if !p.missing().is_empty() {
+                out.push_str("\nNot yet given by any knob:\n\n");
+                for m in p.missing() {
+                    out.push_str(&format!("- {} (\"{}\")\n", m.what, m.seed.replace('|', "\\|")));
+                }
+            }
+            out.push('\n');
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_sets_valid_values_and_is_recognised() {
+        for p in Preset::ALL {
+            let s = p.apply(&Settings::default()).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(Preset::of(&s), Some(p), "{p:?} is not recognised from its own settings");
+            // Every row changes its knob to the row's value (or keeps a default the seed names).
+            for r in p.rows() {
+                assert_eq!(s.get(r.knob).unwrap(), r.value, "{p:?}: {}", r.knob);
+            }
+        }
+        // The seeds' presets differ from each other and from the defaults.
+        let all: Vec<Settings> = Preset::ALL.iter().map(|p| p.settings(&Settings::default())).collect();
+        for (i, a) in all.iter().enumerate() {
+            assert!(all[i + 1..].iter().all(|b| b != a), "{:?} equals a later preset", Preset::ALL[i]);
+        }
+    }
+
+    #[test]
+    fn a_preset_keeps_the_instruments_and_a_changed_knob_makes_it_custom() {
+        let mut mine = Settings { exposure: 2.5, count_ideal: true, ..Settings::default() };
+        mine.set("debug-view", "stencil").unwrap();
+        mine.set("preset", "seed000").unwrap();
+        assert_eq!((mine.exposure, mine.count_ideal), (2.5, true));
+        assert_eq!(mine.get("debug-view").unwrap(), "stencil");
+        assert_eq!(mine.get("layout").unwrap(), "seed000");
+        assert_eq!(mine.get("preset").unwrap(), "seed000");
+        mine.set("culling", "tiled").unwrap();
+        assert_eq!(mine.get("preset").unwrap(), CUSTOM);
+        // `custom` leaves the knobs as they are; nonsense is an error that lists the presets.
+        let before = mine.clone();
+        mine.set("preset", CUSTOM).unwrap();
+        assert_eq!(mine, before);
+        let e = mine.set("preset", "seed005").unwrap_err();
+        assert!(e.contains("seed000") && e.contains("seed004"), "{e}");
+    }
+
+    #[test]
+    fn every_row_quotes_its_seed() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/seeds");
+        let Ok(dir) = std::fs::read_dir(&root) else {
+            // The seeds sit beside the repository (CI's layout); a copy without them has
+            // nothing to check the quotes against.
+            eprintln!("no seeds at {}", root.display());
+            return;
+        };
+        let texts: Vec<(String, String)> = dir
+            .flatten()
+            .map(|e| {
+                (e.file_name().to_string_lossy().into_owned(), std::fs::read_to_string(e.path()).unwrap_or_default())
+            })
+            .collect();
+        let norm = |s: &str| {
+            s.replace(['’', '‘'], "'").replace(['“', '”'], "\"").split_whitespace().collect::<Vec<_>>().join(" ")
+        };
+        for p in Preset::SEEDS {
+            let number = p.seed().unwrap();
+            let text = &texts.iter().find(|(n, _)| n.starts_with(number)).expect("the seed's file").1;
+            let text = norm(text);
+            let quotes = p.rows().iter().map(|r| r.seed).chain(p.missing().iter().map(|m| m.seed));
+            for q in quotes {
+                // A quote may elide with " … " and end with a note in parentheses.
+                let q = q.split(" (no ").next().unwrap_or(q);
+                if q.starts_with('(') {
+                    continue;
+                }
+                for part in q.split('…').map(str::trim).filter(|s| !s.is_empty()) {
+                    for piece in part.split(" / ") {
+                        let piece = norm(piece.trim_end_matches('.'));
+                        assert!(text.contains(&piece), "seed {number} does not say \"{piece}\"");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -48,6 +48,9 @@ pub enum Command {
     Adapters(AdaptersArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Print the seed presets (`--preset`): what each sets, the seed's line behind each
+    /// setting, and what the seed names that no knob gives yet (Markdown; docs/presets.md).
+    Presets,
     /// Regenerate the project's own glTF scene (assets/room) from code.
     MakeAssets {
         /// Output directory.

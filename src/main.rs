@@ -286,6 +286,10 @@ fn main() {
         Some(Command::Bench(args)) => bench(args),
         Some(Command::Adapters(args)) => adapters(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),
+        Some(Command::Presets) => {
+            print!("{}", lampshade::renderer::presets::Preset::markdown());
+            Ok(())
+        }
         Some(Command::Scenes) => {
             for (name, what) in builtin::NAMES {
                 println!("{name:10} {what}");

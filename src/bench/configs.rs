@@ -243,6 +243,13 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let settings = Settings { shadows: ShadowMode::All, shadow_cube: cube, ..base.clone() };
         v.push(c("shadows", format!("cube {}", cube.name()), settings, CUBE_LIGHTS));
     }
+    // Each seed's whole pipeline as its preset sets it, shadows and post chain included (held
+    // against the reference with the preset's shadows: the FLIP column includes the seeds'
+    // post effects); the counters as every row has them.
+    let presets: &[Preset] = if q { &[Preset::Seed000, Preset::Seed004] } else { &Preset::SEEDS };
+    for &p in presets {
+        v.push(c("presets", p.name(), p.settings(&base), o.lights));
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     v
 }
@@ -258,6 +265,7 @@ pub const ROOM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gl
 /// The configuration groups, for `--only`.
 pub const GROUPS: &[&str] = &[
     "culling",
+    "presets",
     "layout",
     "accumulation",
     "depth",

@@ -172,6 +172,7 @@ fn measure<'c>(
     let shadows = match cfg.group {
         "shadows" if cfg.settings.shadows == ShadowMode::All => ShadowMode::All,
         "shadows" => ShadowMode::Spots,
+        "presets" => cfg.settings.shadows,
         _ => ShadowMode::None,
     };
     let key = (cfg.scene.unwrap_or(&o.scene), cfg.lights, cfg.size, cfg.radius_scale.to_bits(), shadows);

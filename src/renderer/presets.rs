@@ -99,6 +99,7 @@ impl Preset {
                 row!("layout", "lambert8", "reconstructs the view space normal from two channels (using Lambert azimuthal equal-area projection"),
                 row!("culling", "stencil-invert", "setting the stencil depthfail operation for both front and back faces to D3D11_STENCIL_OP_INVERT"),
                 row!("light-batching", "off", "The next stage is to render the cone again with the following depth stencil state."),
+                row!("brdf", "blinn-phong", "calculates diffuse and specular light colour, taking into account distance and spotlight attenuation"),
                 row!("shadows", "none", "calculates diffuse and specular light colour, taking into account distance and spotlight attenuation"),
             ],
             Preset::Seed002 => &[
@@ -283,6 +284,12 @@ mod tests {
         assert_eq!(mine, before);
         let e = mine.set("preset", "seed005").unwrap_err();
         assert!(e.contains("seed000") && e.contains("seed004"), "{e}");
+    }
+
+    #[test]
+    fn the_docs_hold_the_printed_tables() {
+        let doc = include_str!("../../docs/presets.md");
+        assert!(doc.ends_with(&Preset::markdown()), "docs/presets.md is not what `lampshade presets` prints");
     }
 
     #[test]

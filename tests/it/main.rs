@@ -23,6 +23,7 @@ mod materials;
 mod paths;
 mod post;
 mod prepass;
+mod presets;
 mod renderer;
 mod scale;
 mod shader_contract;

@@ -62,6 +62,23 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                     }
                 },
             );
+            // A seed's pipeline at once (`renderer::presets`); `custom` once a knob moves.
+            ui.label("preset");
+            let current = st.settings.get("preset").unwrap_or_default();
+            egui::ComboBox::from_id_salt("preset").selected_text(&current).width(80.0).show_ui(ui, |ui| {
+                for p in crate::renderer::presets::Preset::ALL {
+                    let name = p.name();
+                    let why = super::refused(f, &st.settings, "preset", &name);
+                    let help = crate::renderer::settings::help_of(&p);
+                    let mut chosen = current.clone();
+                    let r = super::offer(ui, why, &mut chosen, name.clone(), &name).on_hover_text(help);
+                    if r.clicked() && chosen != current {
+                        if let Err(e) = st.settings.set("preset", &name) {
+                            out.commands.push(Command::Status(Status { text: e, error: true }));
+                        }
+                    }
+                }
+            });
             ui.label("view");
             egui::ComboBox::from_id_salt("view").selected_text(st.settings.debug_view.name()).width(110.0).show_ui(
                 ui,

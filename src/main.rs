@@ -181,6 +181,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "coverage_fragments": stats.coverage_fragments,
             "efficiency": stats.efficiency,
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
+            "gbuffer_fragments": stats.gbuffer_fragments,
             "volume_meshes": stats.volume_meshes,
             "forward": stats.forward,
             "post": stats.post,

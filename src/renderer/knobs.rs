@@ -10,8 +10,8 @@
 
 use super::presets::{Preset, CUSTOM};
 use super::settings::{
-    name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, ForwardLights,
-    LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap,
+    name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, DrawOrder,
+    ForwardLights, LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap,
     CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
@@ -168,6 +168,19 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.near_lights),
         put: |s, v| {
             s.near_lights = choice("near-plane rule", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "draw-order",
+        what: "draw order",
+        help: "Order of the opaque draws: by material (fewest state changes) or front-to-back (seed 002; fewer \
+               fragments shaded)",
+        values: Values::Choice(names::<DrawOrder>),
+        cli: true,
+        get: |s| name_of(&s.draw_order),
+        put: |s, v| {
+            s.draw_order = choice("draw order", v)?;
             Ok(())
         },
     },

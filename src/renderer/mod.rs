@@ -52,8 +52,8 @@ pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
-    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, ForwardLights, LayoutChoice, Msaa, NearLights,
-    RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
+    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, DrawOrder, ForwardLights, LayoutChoice, Msaa,
+    NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
 use std::sync::Arc;
@@ -452,8 +452,9 @@ impl Renderer {
         // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
         c.group(&mut encoder, "measure", |e| p.measure.encode(e, &f));
         let (n, m) = (prepared.plan.lights.len(), self.measured(settings, &shape, &prepared));
-        let prepass = drawn.prepass.is_some();
-        self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, prepass);
+        // The geometry passes' counts: the G-buffer pass (deferred shading) or passes 1 and 3.
+        let geometry = if drawn.prepass.is_some() { 2 } else { u32::from(settings.path == RenderPath::Deferred) };
+        self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, geometry);
         self.queue.submit([encoder.finish()]);
         Ok((shape, prepared, drawn))
     }

@@ -8,7 +8,7 @@
 use super::culling::methods::{self, Covers};
 use super::plan::{LightPlan, Method};
 use super::settings::ForwardLights;
-use super::CullingMode;
+use super::{CullingMode, RenderPath};
 use crate::gpu::Gpu;
 use crate::scene::Scene;
 use anyhow::Result;
@@ -327,6 +327,10 @@ pub struct FrameStats {
     pub gbuffer_layout: String,
     /// Colour targets of the G-buffer (the depth-stencil buffer is named apart).
     pub gbuffer_bytes_per_pixel: u32,
+    /// Samples that passed the G-buffer pass's depth test (deferred shading; the light
+    /// pre-pass's pass 1): the fragments it wrote, overdraw included, which the draw order
+    /// (`--draw-order`) changes. `None` without counting and on the forward paths.
+    pub gbuffer_fragments: Option<u64>,
     pub depth_stencil_format: String,
     pub depth_clamp: bool,
     /// Ambient + sun were written by the G-buffer pass (`Settings::ambient_in_gbuffer`, where
@@ -502,7 +506,9 @@ impl Queries {
         }
     }
 
-    /// Resolves the frame's queries; `forward` when the forward pass counted its fragments.
+    /// Resolves the frame's queries; `forward` when the forward pass counted its fragments,
+    /// `geometry`: how many geometry passes counted theirs (1: the G-buffer pass; 2: the light
+    /// pre-pass's passes 1 and 3).
     #[allow(clippy::too_many_arguments)]
     pub fn resolve(
         &self,
@@ -512,7 +518,7 @@ impl Queries {
         ideal: bool,
         times: bool,
         forward: bool,
-        prepass: bool,
+        geometry: u32,
     ) {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
             return;
@@ -526,8 +532,8 @@ impl Queries {
         if forward {
             encoder.resolve_query_set(&self.forward, 0..1, resolve, FORWARD_QUERY_OFFSET);
         }
-        if prepass && counts {
-            encoder.resolve_query_set(&self.prepass, 0..2, resolve, PREPASS_QUERY_OFFSET);
+        if geometry > 0 && counts {
+            encoder.resolve_query_set(&self.prepass, 0..geometry, resolve, PREPASS_QUERY_OFFSET);
         }
         let block = (LIGHTS_PER_QUERY_SET * 8) as u64;
         for b in 0..n.div_ceil(LIGHTS_PER_QUERY_SET) {
@@ -659,6 +665,9 @@ impl Queries {
             }
             if let Some(f) = stats.forward.as_mut().filter(|_| forward) {
                 f.fragments = Some(words[(FORWARD_QUERY_OFFSET / 8) as usize]);
+            }
+            if counts && matches!(stats.path, RenderPath::Deferred | RenderPath::LightPrepass) {
+                stats.gbuffer_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);
             }
             if let Some(p) = stats.prepass.as_mut().filter(|_| counts) {
                 p.base_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);

@@ -215,6 +215,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         cluster_build: settings.cluster_build,
         loop_limit: None,
         near_fullscreen: false,
+        front_to_back: false,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

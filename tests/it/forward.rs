@@ -175,6 +175,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             cluster_build: lampshade::renderer::settings::ClusterBuilder::Cpu,
             loop_limit: None,
             near_fullscreen: false,
+            front_to_back: false,
         };
         let bounds: Vec<(glam::DVec3, f64)> = scene
             .meshes

@@ -1,11 +1,13 @@
 //! The seed presets (`--preset`): each renders the demo, the project's room and every hard case
 //! finite and lit, with the formats and bytes per pixel its seed names; seed 004's near-plane
-//! rule draws exactly the lights that cross the near plane full-screen and changes no pixel.
+//! rule draws exactly the lights that cross the near plane full-screen and changes no pixel;
+//! seed 002's front-to-back order changes no pixel and writes fewer G-buffer samples.
 
 use crate::common::*;
 use lampshade::compare::max_channel_difference;
+use lampshade::headless::render_image;
 use lampshade::renderer::presets::Preset;
-use lampshade::renderer::{Method, NearLights, RenderPath, Settings};
+use lampshade::renderer::{DrawOrder, Method, NearLights, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
 
 const W: u32 = 96;
 const H: u32 = 54;
@@ -90,4 +92,48 @@ fn the_near_plane_rule_draws_the_crossing_lights_full_screen_and_changes_no_pixe
         let d = max_channel_difference(&a.image, &b.image);
         assert!(d <= 1, "{name}: the near-plane rule changed a pixel by {d} steps");
     }
+}
+
+#[test]
+fn front_to_back_order_draws_the_same_picture_with_fewer_gbuffer_fragments() {
+    // Seed 002's "front-to-back-sorted" opaque draws: the same depth-tested picture; farther
+    // surfaces fail the depth test behind nearer ones already drawn, so the G-buffer pass
+    // writes fewer samples (overdraw) than in material order on scenes that overlap in depth.
+    // Where two surfaces meet at exactly the same depth (a box standing on the floor) the
+    // first drawn keeps the pixel, so those pixels may differ: each differing pixel must be
+    // such a tie, the same depth in both frames.
+    let gpu = gpu();
+    let (w, h) = (W * 2, H * 2);
+    for name in ["demo", "street"] {
+        let scene = scene(name);
+        let material = Settings { count_ideal: false, ..Settings::default() };
+        let sorted = Settings { draw_order: DrawOrder::FrontToBack, ..material.clone() };
+        let mut ra = Renderer::new(gpu, OUTPUT_FORMAT, &material).unwrap();
+        let mut rb = Renderer::new(gpu, OUTPUT_FORMAT, &sorted).unwrap();
+        let (a, sa) = render_image(gpu, &mut ra, &scene, &material, w, h).unwrap();
+        let (b, sb) = render_image(gpu, &mut rb, &scene, &sorted, w, h).unwrap();
+        let mut ties = 0;
+        for (x, y, p) in a.enumerate_pixels() {
+            if p.0.iter().zip(b.get_pixel(x, y).0).all(|(u, v)| u.abs_diff(v) <= 1) {
+                continue;
+            }
+            let (pa, pb) = (ra.probe(gpu, x, y).unwrap(), rb.probe(gpu, x, y).unwrap());
+            assert!(
+                pa.valid && pb.valid && pa.position.z == pb.position.z,
+                "{name} pixel ({x}, {y}): the draw order changed it, and not at a depth tie ({} vs {})",
+                pa.position.z,
+                pb.position.z
+            );
+            ties += 1;
+        }
+        assert!(ties * 1000 < w * h, "{name}: {ties} pixels changed");
+        let (fa, fb) = (sa.gbuffer_fragments.unwrap(), sb.gbuffer_fragments.unwrap());
+        assert!(fb < fa, "{name}: front-to-back wrote {fb} G-buffer samples, material order {fa}");
+        println!("{name}: G-buffer samples {fa} in material order, {fb} front to back; {ties} depth ties differ");
+    }
+    // The light pre-pass's pass 1 counts the same way.
+    let scene = scene("street");
+    let p = Settings { path: RenderPath::LightPrepass, count_ideal: false, ..Settings::default() };
+    let f = render(&scene, &p, W, H);
+    assert_eq!(f.stats.gbuffer_fragments, f.stats.prepass.as_ref().and_then(|p| p.base_fragments));
 }

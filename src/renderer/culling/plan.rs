@@ -108,6 +108,8 @@ pub struct PlanView {
     /// Seed 004's rule (`NearLights::Fullscreen`): a light whose volume crosses the near plane
     /// is drawn full-screen instead of by its volume method.
     pub near_fullscreen: bool,
+    /// Opaque draws nearest first (`DrawOrder::FrontToBack`) instead of by material.
+    pub front_to_back: bool,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -830,11 +832,17 @@ fn plan_draws(
     let mut lists = Vec::new();
     let mut draws = DrawLists::default();
     let mut forward: Vec<(f64, usize, usize, usize)> = Vec::new();
+    // Each opaque draw's nearest view depth, for front-to-back order.
+    let mut nearest: Vec<f64> = vec![0.0; if view.front_to_back { scene.objects.len() } else { 0 }];
     let mut stats = ForwardStats { lights: mode, ..Default::default() };
     // Lights in at least one blended object's list: the only ones a tile needs.
     let mut reaches_glass = vec![false; scene.lights.len()];
     for (i, o) in scene.objects.iter().enumerate() {
         let m = &scene.materials[o.material];
+        if let Some(d) = nearest.get_mut(i) {
+            let (centre, radius) = world_sphere(o, bounds);
+            *d = -scene.camera.to_view(centre).z - radius;
+        }
         let topology = scene.meshes.get(o.mesh).map_or(Default::default(), |mesh| mesh.topology);
         if topology != crate::scene::Topology::Triangles {
             // Lines and points go into the G-buffer whatever their alpha mode (the importer
@@ -912,8 +920,13 @@ fn plan_draws(
     // View space looks down -z: the farthest has the most negative z and is drawn first.
     forward.sort_by(|a, b| a.0.total_cmp(&b.0));
     draws.forward = forward.into_iter().map(|(_, i, p, m)| (i, p, m)).collect();
-    // Fewer pipeline and material switches in the G-buffer pass.
-    draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
+    if view.front_to_back {
+        // Nearest sphere first (seed 002's front-to-back z-only pass); ties by material.
+        draws.gbuffer.sort_by(|a, b| nearest[a.0].total_cmp(&nearest[b.0]).then((a.1, a.2).cmp(&(b.1, b.2))));
+    } else {
+        // Fewer pipeline and material switches in the G-buffer pass.
+        draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
+    }
     let stats = (!draws.forward.is_empty()).then_some(stats);
     (draws, lists, stats)
 }
@@ -1004,6 +1017,7 @@ mod tests {
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
             loop_limit: None,
             near_fullscreen: false,
+            front_to_back: false,
         }
     }
 

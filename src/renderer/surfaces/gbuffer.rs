@@ -149,16 +149,17 @@ impl GBufferPass {
                 stencil_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Store }),
             }),
             timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
-            // The light pre-pass counts its pass 1's fragments (query 0 of `Queries::prepass`).
-            occlusion_query_set: (f.counts && t.prepass).then_some(&f.queries.prepass),
+            // The pass counts the samples that pass its depth test (query 0 of
+            // `Queries::prepass`): the fragments it writes, which the draw order changes.
+            occlusion_query_set: f.counts.then_some(&f.queries.prepass),
             multiview_mask: None,
         });
         pass.set_bind_group(0, &f.frame.group, &[]);
-        if f.counts && t.prepass {
+        if f.counts {
             pass.begin_occlusion_query(0);
         }
         f.scene.draw(&mut pass, &f.plan.draws.gbuffer, &self.pipelines);
-        if f.counts && t.prepass {
+        if f.counts {
             pass.end_occlusion_query();
         }
     }

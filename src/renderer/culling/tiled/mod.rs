@@ -679,6 +679,7 @@ mod tests {
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
             loop_limit: None,
             near_fullscreen: false,
+            front_to_back: false,
         }
     }
 

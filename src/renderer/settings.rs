@@ -560,7 +560,8 @@ pub struct Settings {
     pub aperture: f32,
     /// Vignette strength: the corners are darkened by this fraction (0: off).
     pub vignette: f32,
-    /// Anti-aliasing, last in the chain: seed 002's edge blur from G-buffer discontinuities, or FXAA.
+    /// Anti-aliasing, before fog in the chain (seed 002's order): seed 002's edge blur from
+    /// G-buffer discontinuities, or FXAA.
     pub aa: Aa,
     /// Which lights cast shadows (`renderer::shadows`): none, the sun, the sun and
     /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.

@@ -1,10 +1,19 @@
 //! The effects after tone mapping, as one table. Each is one full-screen pass from the chain's
 //! last image into the next (or into the output when it is the last that runs), in the
-//! table's order (seed 002's), and each is one fragment function in `post.wgsl`.
+//! table's order, and each is one fragment function in `post.wgsl`. The order is the seeds':
+//! seed 002 lists "Glow, Auto-Exposure, Distortion, Edge-smoothing, Fog" (glow and exposure
+//! run before tone mapping), seed 003's fifth pass "color grading, depth of field, vignetting".
+//! Grading first, on the tone-mapped colour LUTs are made for; then seed 002's edge smoothing
+//! and fog; then seed 003's depth of field and vignette.
 //! Adding one is a row here, its function there, its option in `Settings` and its knob row.
 //!
 //! - **grading** (seed 003's fifth pass): the tonemapped colour through a 3D LUT
 //!   (`--lut FILE.cube`, or `identity`), trilinear, in the sRGB encoding LUTs are made for.
+//! - **aa**: seed 002's edge-detect "intelligent blur" (edges where the second difference
+//!   of 1/depth — zero across any plane — or the turn of the normal to a neighbour is large;
+//!   the pixel blended with its four neighbours by the edge's strength) or FXAA (Lottes; the
+//!   minimal console form: a luma contrast test, then a blend along the edge). Pixels off the
+//!   mask are copied unchanged. Its view: the edges.
 //! - **fog** (seed 002's chain): distance fog with an exponential height falloff towards the
 //!   background colour, by `post::fog_amount`'s formula from the G-buffer's view-space point.
 //!   Background pixels are left as they are.
@@ -15,11 +24,6 @@
 //!   pixel. Its view: the CoC.
 //! - **vignette** (seed 003): darkened towards the corners by `vignette` (a smoothstep in the
 //!   distance from the centre, 1 - strength at the corners).
-//! - **aa**, last: seed 002's edge-detect "intelligent blur" (edges where the second difference
-//!   of 1/depth — zero across any plane — or the turn of the normal to a neighbour is large;
-//!   the pixel blended with its four neighbours by the edge's strength) or FXAA (Lottes; the
-//!   minimal console form: a luma contrast test, then a blend along the edge). Pixels off the
-//!   mask are copied unchanged. Its view: the edges.
 
 use super::post_draw;
 use crate::renderer::frame::inputs::FrameInputs;
@@ -45,6 +49,13 @@ pub struct Effect {
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
     Effect { name: "grading", title: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
+    Effect {
+        name: "aa",
+        title: "anti-aliasing",
+        fs: "fs_aa",
+        on: |s| s.aa != Aa::Off,
+        view: Some((DebugView::Edges, "fs_view_edges")),
+    },
     Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None },
     Effect {
         name: "dof",
@@ -54,13 +65,6 @@ pub const EFFECTS: &[Effect] = &[
         view: Some((DebugView::Coc, "fs_view_coc")),
     },
     Effect { name: "vignette", title: "vignette", fs: "fs_vignette", on: |s| s.vignette > 0.0, view: None },
-    Effect {
-        name: "aa",
-        title: "anti-aliasing",
-        fs: "fs_aa",
-        on: |s| s.aa != Aa::Off,
-        view: Some((DebugView::Edges, "fs_view_edges")),
-    },
 ];
 
 /// Whether effect `name` runs under `s`.

@@ -1,5 +1,7 @@
-//! The HDR post chain (seed 002's order after transparency): bloom → auto-exposure → tone
-//! mapping → colour grading → fog → depth of field → vignette → anti-aliasing. The technique
+//! The HDR post chain (after transparency, in the seeds' order: seed 002's glow, exposure,
+//! edge smoothing and fog, seed 003's grading, depth of field and vignetting): bloom →
+//! auto-exposure → tone mapping → colour grading → anti-aliasing → fog → depth of field →
+//! vignette. The technique
 //! is this folder: [`bloom`], [`exposure`], [`tonemap`], then the effects after tone mapping as
 //! one table ([`effects::EFFECTS`]); their WGSL is `post.wgsl`. This file holds what they
 //! share and the chain itself ([`encode_chain`]): the tone curves' and fog's CPU twins
@@ -464,8 +466,8 @@ pub enum PostImage {
     Bloomed,
 }
 
-/// Records the chain after the HDR compose and the forward pass, in seed 002's order: bloom,
-/// auto-exposure, tone mapping, grading, fog, depth of field, vignette, anti-aliasing. Each pass skips itself when its effect is off; the
+/// Records the chain after the HDR compose and the forward pass, in the seeds' order: bloom,
+/// auto-exposure, tone mapping, grading, anti-aliasing, fog, depth of field, vignette. Each pass skips itself when its effect is off; the
 /// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
 pub fn encode_chain(
     encoder: &mut wgpu::CommandEncoder,

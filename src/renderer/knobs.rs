@@ -185,6 +185,19 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "anisotropy",
+        what: "anisotropic filtering",
+        help: "The material textures' anisotropic filtering: up to N samples along a footprint (1: trilinear; \
+               seed 002 asks for it in the G-buffer pass)",
+        values: Values::Whole { min: 1, max: 16 },
+        cli: true,
+        get: |s| s.anisotropy.to_string(),
+        put: |s, v| {
+            s.anisotropy = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "cluster-build",
         what: "cluster list builder",
         help: "Who builds the clustered mode's light lists: the CPU (uploaded) or the GPU (from each light's span)",

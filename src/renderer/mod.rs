@@ -360,6 +360,11 @@ impl Renderer {
                 gpu_scene.rebind_materials(&self.device, scene, &shared.material_bgl, &self.defaults);
             }
         }
+        if self.defaults.set_anisotropy(&self.device, settings.anisotropy as u16) {
+            if let Some(gpu_scene) = &mut self.scene {
+                gpu_scene.rebind_materials(&self.device, scene, &self.passes.shared.material_bgl, &self.defaults);
+            }
+        }
         if self.scene.as_ref().is_none_or(|g| g.fingerprint != SceneFingerprint::of(scene)) {
             self.load_scene(scene)?;
         }

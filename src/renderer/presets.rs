@@ -110,6 +110,7 @@ impl Preset {
                 row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
                 row!("depth-prepass", "on", "Do an initial front-to-back-sorted z-only pass."),
                 row!("draw-order", "front-to-back", "Do an initial front-to-back-sorted z-only pass."),
+                row!("anisotropy", "8", "Use aniso filtering during G-buffer pass (no level given)"),
                 row!("shadows", "all", "Shadow maps work very well with deferred shading"),
                 row!("shadow-cube", "unrolled", "Unrolls a shadow cube map into a 2D depth texture"),
                 row!("shadow-filter", "pcf2x2", "Enable bilinear filtering to get 4-sample PCF"),
@@ -158,7 +159,6 @@ impl Preset {
                 missing!("distortion in the post chain", "Distortion"),
                 missing!("depth peeling for blended surfaces", "Can use depth peeling"),
                 missing!("dynamic branching on the material ID as a knob", "Reasonably coherent dynamic branching"),
-                missing!("anisotropic filtering in the G-buffer pass", "Use aniso filtering during G-buffer pass"),
             ],
             Preset::Seed003 => &[
                 missing!("the sun as a full-screen quad into the light buffer: the pre-pass shades it in pass 3", "Directional lights (representing the sun) are rendered as full screen quads"),

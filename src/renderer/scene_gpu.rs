@@ -51,21 +51,40 @@ impl SceneFingerprint {
 /// The material sampler and the 1x1 textures that stand in for absent maps.
 pub struct MaterialDefaults {
     pub sampler: wgpu::Sampler,
+    /// The sampler's anisotropy clamp (`Settings::anisotropy`).
+    pub anisotropy: u16,
     pub textures: DefaultTextures,
 }
 
 impl MaterialDefaults {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+        Self { sampler: Self::sampler(device, 1), anisotropy: 1, textures: DefaultTextures::new(device, queue) }
+    }
+
+    /// Trilinear, repeating, with up to `anisotropy` samples along a footprint's long axis
+    /// (seed 002: "use aniso filtering during G-buffer pass"; 1 is plain trilinear).
+    fn sampler(device: &wgpu::Device, anisotropy: u16) -> wgpu::Sampler {
+        device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("material"),
             address_mode_u: wgpu::AddressMode::Repeat,
             address_mode_v: wgpu::AddressMode::Repeat,
             mag_filter: wgpu::FilterMode::Linear,
             min_filter: wgpu::FilterMode::Linear,
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            anisotropy_clamp: anisotropy.clamp(1, 16),
             ..Default::default()
-        });
-        Self { sampler, textures: DefaultTextures::new(device, queue) }
+        })
+    }
+
+    /// Makes the sampler `anisotropy`'s; true when it changed (the material bind groups that
+    /// hold the old one must be made again).
+    pub fn set_anisotropy(&mut self, device: &wgpu::Device, anisotropy: u16) -> bool {
+        if anisotropy == self.anisotropy {
+            return false;
+        }
+        self.sampler = Self::sampler(device, anisotropy);
+        self.anisotropy = anisotropy;
+        true
     }
 }
 

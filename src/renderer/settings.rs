@@ -479,6 +479,9 @@ pub struct Settings {
     pub near_lights: NearLights,
     /// The order of the opaque draws.
     pub draw_order: DrawOrder,
+    /// The material sampler's anisotropy clamp, 1 ..= 16 (seed 002: "use aniso filtering
+    /// during G-buffer pass"; 1: trilinear).
+    pub anisotropy: u32,
     pub layout: LayoutChoice,
     pub debug_view: DebugView,
     /// Restrict the stencil and complexity views to one light.
@@ -599,6 +602,7 @@ impl Default for Settings {
             culling: CullingMode::default(),
             near_lights: NearLights::default(),
             draw_order: DrawOrder::default(),
+            anisotropy: 1,
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,
             selected_light: None,

@@ -38,6 +38,9 @@ pub(super) fn fallbacks(caps: &kit::caps::Caps, key: &PipelineKey, settings: &Se
     if settings.timestamps && !caps.has(wgpu::Features::TIMESTAMP_QUERY) {
         v.push("no per-pass GPU times (no timestamp queries)".to_string());
     }
+    if settings.anisotropy > 1 && !caps.downlevel.contains(wgpu::DownlevelFlags::ANISOTROPIC_FILTERING) {
+        v.push("textures are filtered trilinearly (no ANISOTROPIC_FILTERING)".to_string());
+    }
     if (settings.count_fragments || settings.count_ideal) && caps.occlusion == Occlusion::Binary {
         v.push("no per-light pixel counts (occlusion queries say only 0 or 1)".to_string());
     }

@@ -307,10 +307,12 @@ impl Occluders {
 ///
 /// Every factor is non-negative and each product and sum is monotone in its factors, so the
 /// products of the ends enclose the pre-pass's value (the per-light clamps are monotone too).
-/// Ambient, sun and emission are evaluated in pass 3 from the material itself, as deferred
-/// evaluates them from its G-buffer (exactly, with the `reference` layout), so they add no
-/// width. What remains is f32 arithmetic and the HDR target's fp16 rounding, which the caller
-/// allows for.
+/// The sun goes through the light buffer as a light (seeds 003/004: directional lights are
+/// full-screen quads in the lighting pass): the same three widenings, with attenuation 1 and
+/// the ambient clamp. Ambient and emission are evaluated in pass 3 from the material itself,
+/// as deferred evaluates them from its G-buffer (exactly, with the `reference` layout), so
+/// they add no width. What remains is f32 arithmetic and the HDR target's fp16 rounding,
+/// which the caller allows for.
 pub fn prepass_enclosure(
     scene: &Scene,
     p: &PixelProbe,
@@ -336,19 +338,11 @@ pub fn prepass_enclosure(
         spec_exp: p.specular_exponent as f64,
         toon_margin: std::cell::Cell::new(f64::INFINITY),
     };
-    // Ambient + sun: pass 3, from the material (the same values deferred computes).
+    // Ambient: pass 3, from the material (the same values deferred computes).
     let ambient = scene.ambient.as_dvec3();
-    let (mut amb_d, mut amb_s) = (ambient_diffuse(&s, ambient), ambient_specular(&s, ambient));
-    if let Some(sun) = scene.sun {
-        let l = (rot * (-sun.direction.as_dvec3())).normalize();
-        let c = (sun.color * sun.intensity).as_dvec3();
-        let (d, sp) = brdf_light(&s, l, n.dot(l).max(0.0), c, 1.0);
-        amb_d += d;
-        amb_s += sp;
-    }
     let ambient_limit = if s.brdf == Brdf::Unlit { clamp.ambient.max(1.0) } else { clamp.ambient };
-    amb_d = amb_d.min(DVec3::splat(ambient_limit));
-    amb_s = amb_s.min(DVec3::splat(ambient_limit));
+    let amb_d = ambient_diffuse(&s, ambient).min(DVec3::splat(ambient_limit));
+    let amb_s = ambient_specular(&s, ambient).min(DVec3::splat(ambient_limit));
     // Pass 2: every light, Blinn-Phong with unit reflectance, on the stored normal/exponent.
     let e = normal_error;
     let exp_lo = (s.spec_exp / exp_ratio).clamp(1.0, 2048.0);
@@ -359,9 +353,17 @@ pub fn prepass_enclosure(
         ((t + e).min(half_pi).cos().max(0.0), (t - e).max(0.0).min(half_pi).cos().max(0.0))
     };
     let (mut d_lo, mut d_hi, mut m_lo, mut m_hi) = (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0);
-    for (i, light) in scene.lights.iter().enumerate() {
+    // The sun first (the pass that starts the buffer; the thin buffer's one model is
+    // Blinn-Phong, so its clamp is the ambient one), then every light.
+    let sun = scene.sun.map(|sun| {
+        let l = (rot * (-sun.direction.as_dvec3())).normalize();
+        (l, 1.0, (sun.color * sun.intensity).as_dvec3(), DVec3::splat(clamp.ambient))
+    });
+    let lights = scene.lights.iter().enumerate().filter_map(|(i, light)| {
         let limit = DVec3::splat(clamp.lights.get(i).copied().unwrap_or(f64::INFINITY));
-        let Some(Reach { l, att, color, .. }) = reach(light, cam, rot, pos, n) else { continue };
+        reach(light, cam, rot, pos, n).map(|Reach { l, att, color, .. }| (l, att, color, limit))
+    });
+    for (l, att, color, limit) in sun.into_iter().chain(lights) {
         if att <= 0.0 {
             continue;
         }

@@ -161,13 +161,11 @@ impl Preset {
                 missing!("dynamic branching on the material ID as a knob", "Reasonably coherent dynamic branching"),
             ],
             Preset::Seed003 => &[
-                missing!("the sun as a full-screen quad into the light buffer: the pre-pass shades it in pass 3", "Directional lights (representing the sun) are rendered as full screen quads"),
                 missing!("an additive material mode for blended surfaces", "additive blending modes be used to eliminate the need to sort polygons"),
             ],
             Preset::Seed004 => &[
                 missing!("lightmaps, crossfading from realtime + baked indirect near the camera to fully baked far away", "Lightmaps are also applied in the final pass."),
                 missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
-                missing!("the sun as a full-screen quad into the light buffer", "Directional lights … are rendered as fullscreen quads."),
                 missing!("objects the path cannot light drawn forward afterwards (they are refused)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
             ],
         }

@@ -90,22 +90,26 @@ fn light_fragment(in: LightVarying, lookups: bool) -> LightTargets {
 // In the pixel's reflectance model (`ambient_diffuse`, `ambient_specular`, `brdf_light`); the
 // forward pass calls it too.
 fn ambient_sun(s: Surface) -> Lighting {
-    var r: Lighting;
-    r.diffuse = ambient_diffuse(s);
-    r.specular = ambient_specular(s);
+    var r = sun_light(s);
+    r.diffuse += ambient_diffuse(s);
+    r.specular += ambient_specular(s);
+    return r;
+}
+
+// The sun (the scene's directional light) at a surface point, shadowed; zero without a sun.
+fn sun_light(s: Surface) -> Lighting {
+    var sun: Lighting;
     if camera.sun_dir.w > 0.5 {
         let L = camera.sun_dir.xyz;
         let ndl = max(dot(s.normal, L), 0.0);
-        var sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
+        sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
         if ndl > 0.0 {
             let shadow = ls_sun_shadow(s.position, s.normal);
             sun.diffuse *= shadow;
             sun.specular *= shadow;
         }
-        r.diffuse += sun.diffuse;
-        r.specular += sun.specular;
     }
-    return r;
+    return sun;
 }
 
 // The surface as the G-buffer stores it, without the targets' rounding: exponent and
@@ -130,9 +134,15 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     out.diffuse = encode_light(vec3<f32>(0.0));
     out.specular = encode_light(vec3<f32>(0.0));
     if LS_PREPASS {
-        // The light pre-pass adds ambient + sun in its final pass (seed 004), from the full
-        // material: its light buffer starts with no light (all four channels).
-        out.diffuse = encode_light_buffer(vec3<f32>(0.0), vec3<f32>(0.0));
+        // Seeds 003 and 004 draw directional lights as full-screen quads into the light
+        // buffer: the sun starts it, shaded like every light from the thin buffer's normal and
+        // exponent with unit reflectance, its specular summed into the mono A. Ambient and
+        // emission are added in pass 3 from the material.
+        var sun: Lighting;
+        if s.valid {
+            sun = sun_light(s);
+        }
+        out.diffuse = encode_light_buffer(min(sun.diffuse, ambient_limit(s)), min(sun.specular, ambient_limit(s)));
         return out;
     }
     if s.valid {

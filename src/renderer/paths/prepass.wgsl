@@ -1,6 +1,7 @@
 // The light pre-pass's final pass (seeds 003/004, pass 3): the geometry again, depth tested
 // against pass 1's depth (not written), each fragment combining its own material (textures
-// included) with the light buffer at its pixel, plus ambient + sun and emission (seed 004:
+// included) with the light buffer at its pixel (every light and the sun), plus ambient and
+// emission (seed 004:
 // "fetch the computed lighting, combine it with color textures and add any ambient/emissive
 // lighting"). Writes the HDR scene colour; blended surfaces are drawn forward over it after.
 // Reads `light_diffuse` (the compose group, group 2): the one light buffer.
@@ -40,9 +41,8 @@ fn prepass_light(s: Surface, p: vec2<i32>) -> Lighting {
 
 fn prepass_shade(s: Surface, p: vec2<i32>) -> vec4<f32> {
     let light = prepass_light(s, p);
-    let ambient = ambient_sun(s);
-    let diffuse = light.diffuse + min(ambient.diffuse, ambient_limit(s));
-    let specular = light.specular + min(ambient.specular, ambient_limit(s));
+    let diffuse = light.diffuse + min(ambient_diffuse(s), ambient_limit(s));
+    let specular = light.specular + min(ambient_specular(s), ambient_limit(s));
     let lit = diffuse * s.albedo + specular + s.emissive;
     return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), 1.0);
 }

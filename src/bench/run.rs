@@ -201,11 +201,11 @@ fn measure<'c>(
     }
     let mse = sq / reference.light.len().max(1) as f64;
     let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
-    if cfg.settings.path != crate::renderer::RenderPath::Deferred {
+    if cfg.settings.path != crate::renderer::RenderPath::Deferred || renderer.layout().one_accumulation {
         // The light error compares deferred's accumulation (ambient + sun, specular times
         // reflectance) with the reference's; the other paths hold no such buffer (the light
-        // pre-pass's is unit-reflectance light without ambient): their error is FLIP's, on
-        // the final picture.
+        // pre-pass's is unit-reflectance light without ambient, seed 000's one RT1 the lit
+        // colour with the albedo in): their error is FLIP's, on the final picture.
         (max_err, psnr) = (f32::NAN, f64::NAN);
     }
     Ok(Row {

@@ -280,7 +280,14 @@ impl Renderer {
         let diffuse = decode(read_texel(gpu, &t.diffuse, x, y)?);
         // The light pre-pass has one light buffer (its `specular` target is a 1x1 stand-in):
         // the mono specular (A) as grey.
-        let specular = if t.prepass { [diffuse[3]; 4] } else { decode(read_texel(gpu, &t.specular, x, y)?) };
+        // Seed 000's one RT1 holds all light (`diffuse_light`, the lit colour).
+        let specular = if t.prepass {
+            [diffuse[3]; 4]
+        } else if t.one_target {
+            [0.0; 4]
+        } else {
+            decode(read_texel(gpu, &t.specular, x, y)?)
+        };
         let diffuse_light = Vec3::new(diffuse[0], diffuse[1], diffuse[2]);
         let specular_light = Vec3::new(specular[0], specular[1], specular[2]);
         let albedo = v3(Attr::Albedo);
@@ -319,6 +326,7 @@ impl Renderer {
             lit: match (&t.hdr_texture, valid) {
                 (_, false) => Vec3::ZERO,
                 (Some(hdr), true) if t.prepass => Vec3::from_slice(&read_texel(gpu, hdr, x, y)?[..3]),
+                (_, true) if t.one_target => diffuse_light,
                 _ => diffuse_light * albedo + specular_light + emissive,
             },
             lights,

@@ -602,7 +602,8 @@ impl Renderer {
 
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks
     /// (decoded, for the logarithmic Rgba8 format). On the light pre-pass: its one light buffer
-    /// decoded, as (RGB diffuse, A mono specular) and the mono specular as grey RGB.
+    /// decoded, as (RGB diffuse, A mono specular) and the mono specular as grey RGB. With seed
+    /// 000's one RT1: (the lit colour, zeros).
     pub fn read_accumulation(&self, gpu: &Gpu) -> Result<(Vec<f32>, Vec<f32>)> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         if t.prepass {
@@ -612,6 +613,7 @@ impl Renderer {
         }
         let format = t.diffuse.format();
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let one = t.one_target;
         let to_f32 = |bytes: Vec<u8>| -> Result<Vec<f32>> {
             let mut out = Vec::with_capacity(bytes.len() / bpp * 4);
             let log = kit::log_accum(format);
@@ -621,9 +623,11 @@ impl Renderer {
             }
             Ok(out)
         };
-        Ok((
-            to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?)?,
-            to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?,
-        ))
+        let light = to_f32(gpu.read_texture(&t.diffuse, wgpu::TextureAspect::All)?)?;
+        if one {
+            let zeros = vec![0.0; light.len()];
+            return Ok((light, zeros));
+        }
+        Ok((light, to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?))
     }
 }

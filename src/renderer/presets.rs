@@ -145,8 +145,8 @@ impl Preset {
         match self {
             Preset::Default => &[],
             Preset::Seed000 => &[
-                missing!("one accumulation target (RT1): the renderer keeps diffuse and specular light apart, 40 B/px where the seed has 32", "RT1: RGB – light accumulation, Alpha – nothing"),
                 missing!("Phong's lobe: the renderer's Phong is Blinn-Phong", "Standard Phong function is used in the demo."),
+                missing!("RT0's alpha holds the reflectance f0 = level x 8 / (n + 8) every layout stores, not the level (exactly invertible with the exponent RT2's alpha keeps)", "RT0: RGB – unlit diffuse colour, Alpha – specular level"),
             ],
             Preset::Seed001 => &[
                 missing!("the normal's bit depth: the seed does not give it; the preset takes 8+8 bits", "reconstructs the view space normal from two channels"),

@@ -37,6 +37,8 @@ impl Renderer {
             depth_clamp: key.depth_clamp,
             ambient_in_gbuffer: key.ambient_in_gbuffer,
             accumulation_format: format!("{:?}", key.accum_format),
+            accumulation_bytes_per_pixel: key.accum_format.block_copy_size(None).unwrap_or(0)
+                * if key.one_target() { 1 } else { 2 },
             light_cutoff: settings.light_cutoff,
             sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
             cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,

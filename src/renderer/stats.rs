@@ -338,6 +338,9 @@ pub struct FrameStats {
     pub ambient_in_gbuffer: bool,
     /// Format of the light accumulation targets.
     pub accumulation_format: String,
+    /// Bytes per pixel of the accumulation targets: two (diffuse, specular), or one (the light
+    /// pre-pass's light buffer, seed 000's RT1).
+    pub accumulation_bytes_per_pixel: u32,
     /// `Settings::light_cutoff` this frame was drawn with.
     pub light_cutoff: f32,
     /// Triangles of the point lights' bounding sphere and of the spots' pyramid.

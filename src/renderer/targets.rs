@@ -28,6 +28,9 @@ pub struct Targets {
     /// The light pre-pass's configuration: `diffuse` is its one light buffer (RGB diffuse, mono
     /// specular in A) and `specular` a 1x1 stand-in the compose group binds, never attached.
     pub prepass: bool,
+    /// One accumulation target (`PipelineKey::one_target`): the pre-pass's light buffer or
+    /// seed 000's RT1; `specular` is then the 1x1 stand-in.
+    pub one_target: bool,
     /// The light pre-pass's multisampled pass 3 (`--msaa 4`): its colour and depth samples.
     pub msaa: Option<MsaaTargets>,
 }
@@ -89,7 +92,7 @@ impl Targets {
             .create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
-        let specular_size = if key.prepass { (1, 1) } else { size };
+        let specular_size = if key.one_target() { (1, 1) } else { size };
         let specular = texture(device, "light specular", key.accum_format, specular_size, read);
         let debug = texture(device, "debug", DEBUG_FORMAT, size, read);
         let diffuse_view = diffuse.create_view(&Default::default());
@@ -142,6 +145,7 @@ impl Targets {
             hdr_texture,
             post,
             prepass: key.prepass,
+            one_target: key.one_target(),
             msaa,
         }
     }
@@ -155,6 +159,7 @@ impl Targets {
             && self.hdr.is_some() == (hdr || post)
             && self.post.is_some() == post
             && self.prepass == shared.key.prepass
+            && self.one_target == shared.key.one_target()
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero
@@ -180,9 +185,9 @@ impl Targets {
             load: if clear { wgpu::LoadOp::Clear(none) } else { wgpu::LoadOp::Load },
             store: wgpu::StoreOp::Store,
         };
-        let prepass = self.prepass;
-        // The light pre-pass accumulates into one light buffer; its pipelines have no second target.
-        [Some(&self.diffuse_view), Some(&self.specular_view).filter(|_| !prepass)].map(|v| {
+        let one = self.one_target;
+        // The light pre-pass's one light buffer and seed 000's one RT1: no second target.
+        [Some(&self.diffuse_view), Some(&self.specular_view).filter(|_| !one)].map(|v| {
             v.map(|view| wgpu::RenderPassColorAttachment { view, depth_slice: None, resolve_target: None, ops })
         })
     }

@@ -39,10 +39,10 @@ fn every_preset_renders_demo_the_room_and_every_hard_case_finite_and_lit() {
             // The formats and bytes the seed names.
             match p {
                 Preset::Seed000 => {
-                    // RT0, RT2 and RT3 in fp16 (24 B); RT1, the light accumulation, in fp16 too
-                    // (kept as two targets, diffuse and specular: docs/presets.md).
+                    // "four fp16 textures": RT0, RT2 and RT3 (24 B) and RT1, the one light
+                    // accumulation (8 B): 32 B/px, and depth.
                     assert_eq!((st.gbuffer_layout.as_str(), st.gbuffer_bytes_per_pixel), ("seed000", 24), "{what}");
-                    assert_eq!(st.accumulation_format, "Rgba16Float", "{what}");
+                    assert_eq!((st.accumulation_format.as_str(), st.accumulation_bytes_per_pixel), ("Rgba16Float", 8));
                     assert!(st.ambient_in_gbuffer, "{what}: RT1 starts with ambient and sun");
                 }
                 Preset::Seed001 => {

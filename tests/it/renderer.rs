@@ -637,3 +637,51 @@ fn every_timed_pass_reports_its_own_span_on_every_path() {
         assert!(s.gpu_ms.total.is_some(), "{path}: no total");
     }
 }
+
+/// Seed 000's one RT1: every light adds its lit colour, albedo x diffuse + specular, to one
+/// target, and compose shows it as it is. With f32 accumulation and no ambient or sun (which
+/// the G-buffer pass computes from the unrounded surface), RT1 at sampled pixels equals the f64
+/// evaluation of the probe's decoded surface, albedo x diffuse + specular, within the f32
+/// allowance of `hard_cases::gpu_lighting_matches_f64_at_sampled_pixels`.
+#[test]
+fn seed000_accumulates_the_lit_colour_in_its_one_rt1() {
+    use lampshade::renderer::AccumFormat;
+    let gpu = gpu();
+    let settings = Settings {
+        layout: LayoutChoice::Seed000,
+        accumulation: AccumFormat::Rgba32Float,
+        culling: CullingMode::Volume,
+        count_ideal: false,
+        ..unshadowed()
+    };
+    let (mut worst, mut checked) = (0f64, 0);
+    for name in ["classify", "spot", "on-surface", "coincident", "spot-extremes"] {
+        let mut scene = scene(name);
+        (scene.sun, scene.ambient) = (None, glam::Vec3::ZERO);
+        assert!(!scene.any_emissive(), "{name} has emissive surfaces");
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
+        let (_, stats) = render_image(gpu, &mut r, &scene, &settings, W, H).unwrap();
+        assert_eq!(stats.accumulation_bytes_per_pixel, 16, "one Rgba32Float target");
+        let clamp = lampshade::reference::Clamps::of(&r);
+        for k in 0..48u32 {
+            let (x, y) = ((k * 37 + 5) % W, (k * 23 + 3) % H);
+            let p = r.probe(gpu, x, y).unwrap();
+            if !p.valid {
+                continue;
+            }
+            checked += 1;
+            assert_eq!(p.specular_light, glam::Vec3::ZERO, "{name}: RT1 holds all light");
+            let (d, s) = lampshade::reference::shade(&scene, &p, &clamp);
+            let want = d * p.albedo.as_dvec3() + s;
+            for c in 0..3 {
+                let (g, e) = (p.diffuse_light[c] as f64, want[c]);
+                let err = (g - e).abs();
+                worst = worst.max(err / e.abs().max(1e-3));
+                assert!(err <= 1e-4 * e.abs() + 1e-4, "{name} ({x},{y})[{c}]: RT1 {g} vs f64 {e}");
+                assert_eq!(p.lit[c], p.diffuse_light[c], "{name}: the probe's lit colour is RT1");
+            }
+        }
+    }
+    assert!(checked >= 50, "only {checked} sampled pixels hit geometry");
+    println!("worst relative error of RT1 against f64: {worst:.2e}");
+}

@@ -7,6 +7,24 @@ struct LightTargets {
     @location(1) specular: vec4<f32>,
 };
 
+// A term's light as the accumulation stores it: diffuse (before the albedo) and specular in
+// two targets; the light pre-pass's one buffer (RGB diffuse, mono specular in A); or seed 000's
+// one RT1 (GBUFFER_ONE_ACCUM), the lit colour albedo x diffuse + specular. `s` is the pixel's
+// surface (its albedo).
+fn light_targets(s: Surface, diffuse: vec3<f32>, specular: vec3<f32>) -> LightTargets {
+    var out: LightTargets;
+    out.specular = encode_light(vec3<f32>(0.0));
+    if LS_PREPASS {
+        out.diffuse = encode_light_buffer(diffuse, specular);
+    } else if GBUFFER_ONE_ACCUM {
+        out.diffuse = encode_light(diffuse * s.albedo + specular);
+    } else {
+        out.diffuse = encode_light(diffuse);
+        out.specular = encode_light(specular);
+    }
+    return out;
+}
+
 struct LightVarying {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) light: u32,
@@ -69,19 +87,12 @@ fn fs_light_plain(in: LightVarying) -> LightTargets {
 
 fn light_fragment(in: LightVarying, lookups: bool) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(in.clip.xy));
-    var out: LightTargets;
-    out.diffuse = encode_light(vec3<f32>(0.0));
-    out.specular = encode_light(vec3<f32>(0.0));
-    if s.valid {
-        let l = light_at(in.light);
-        let r = shade_light_as(s, l, lookups);
-        out.diffuse = encode_light(min(r.diffuse, vec3<f32>(l.clamp)));
-        out.specular = encode_light(min(r.specular, vec3<f32>(l.clamp)));
-        if LS_PREPASS {
-            out.diffuse = encode_light_buffer(min(r.diffuse, vec3<f32>(l.clamp)), min(r.specular, vec3<f32>(l.clamp)));
-        }
+    if !s.valid {
+        return light_targets(s, vec3<f32>(0.0), vec3<f32>(0.0));
     }
-    return out;
+    let l = light_at(in.light);
+    let r = shade_light_as(s, l, lookups);
+    return light_targets(s, min(r.diffuse, vec3<f32>(l.clamp)), min(r.specular, vec3<f32>(l.clamp)));
 }
 
 // Ambient + sun at a surface point: the accumulation's starting value (seed 000's RT1). Written
@@ -130,27 +141,19 @@ fn as_stored(s: Surface) -> Surface {
 @fragment
 fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
     let s = gbuffer_load(vec2<i32>(frag.xy));
-    var out: LightTargets;
-    out.diffuse = encode_light(vec3<f32>(0.0));
-    out.specular = encode_light(vec3<f32>(0.0));
-    if LS_PREPASS {
-        // Seeds 003 and 004 draw directional lights as full-screen quads into the light
-        // buffer: the sun starts it, shaded like every light from the thin buffer's normal and
-        // exponent with unit reflectance, its specular summed into the mono A. Ambient and
-        // emission are added in pass 3 from the material.
-        var sun: Lighting;
-        if s.valid {
-            sun = sun_light(s);
-        }
-        out.diffuse = encode_light_buffer(min(sun.diffuse, ambient_limit(s)), min(sun.specular, ambient_limit(s)));
-        return out;
-    }
+    var r: Lighting;
     if s.valid {
-        let r = ambient_sun(s);
-        out.diffuse = encode_light(min(r.diffuse, ambient_limit(s)));
-        out.specular = encode_light(min(r.specular, ambient_limit(s)));
+        if LS_PREPASS {
+            // Seeds 003 and 004 draw directional lights as full-screen quads into the light
+            // buffer: the sun starts it, shaded like every light from the thin buffer's normal
+            // and exponent with unit reflectance, its specular summed into the mono A. Ambient
+            // and emission are added in pass 3 from the material.
+            r = sun_light(s);
+        } else {
+            r = ambient_sun(s);
+        }
     }
-    return out;
+    return light_targets(s, min(r.diffuse, ambient_limit(s)), min(r.specular, ambient_limit(s)));
 }
 
 @vertex

@@ -105,6 +105,11 @@ pub struct GBufferLayout {
     /// layers apart: a constant in the shaders and no channel. `None`: read per pixel from the
     /// [`Attr::Layer`] channel.
     pub uniform_layer: Option<u32>,
+    /// Seed 000's RT1: the light passes accumulate the lit colour (albedo x diffuse + specular,
+    /// emission and ambient + sun from the G-buffer pass) into ONE target, which compose reads
+    /// as it is; otherwise diffuse light (before the albedo) and specular light go to two
+    /// targets and compose multiplies the albedo in.
+    pub one_accumulation: bool,
 }
 
 /// The layouts Lampshade knows, by name.
@@ -274,6 +279,7 @@ impl LayoutChoice {
                 world: false,
                 uniform_brdf: Some(Brdf::BlinnPhong),
                 uniform_layer: Some(0),
+                one_accumulation: false,
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -308,6 +314,7 @@ impl LayoutChoice {
                 world: false,
                 uniform_brdf: Some(Brdf::BlinnPhong),
                 uniform_layer: Some(0),
+                one_accumulation: false,
                 targets: vec![
                     TargetDesc {
                         name: "albedo+spec",
@@ -341,6 +348,7 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
         uniform_layer: Some(0),
+        one_accumulation: false,
         targets: vec![
             TargetDesc {
                 name: "albedo+spec",
@@ -358,12 +366,13 @@ fn normal_apart(name: &'static str, format: wgpu::TextureFormat, normal: NormalE
     }
 }
 
-/// Seed 000's own layout, all Rgba16Float: RT0 diffuse colour + specular level, RT1 the light
-/// accumulation (the renderer's accumulation targets, which the G-buffer pass starts with
-/// ambient and sun), RT2 the world-space normal, RT3 the world-space, not normalised, view
-/// vector. The seed's alphas hold "nothing"; RT2's carries the specular exponent, which the
-/// seed's fixed Phong did not need. There is no emissive target: the G-buffer pass writes a
-/// surface's emission into the accumulation (`GBufferLayout::wgsl`), as RT1 holds all light.
+/// Seed 000's own layout, four Rgba16Float targets (32 B/px): RT0 diffuse colour + specular
+/// level, RT1 the light accumulation (ONE target, `one_accumulation`: the lit colour, which
+/// the G-buffer pass starts with ambient and sun and every light adds to), RT2 the world-space
+/// normal, RT3 the world-space, not normalised, view vector. The seed's alphas hold "nothing";
+/// RT2's carries the specular exponent (the renderer's materials have one each; in a channel
+/// the format has anyway, so it costs no byte). There is no emissive target: the G-buffer pass
+/// writes a surface's emission into RT1 (`GBufferLayout::wgsl`), as RT1 holds all light.
 fn seed000() -> GBufferLayout {
     use Attr::*;
     let s = |attr, comp| Some(Slot { attr, comp });
@@ -374,6 +383,7 @@ fn seed000() -> GBufferLayout {
         world: true,
         uniform_brdf: Some(Brdf::BlinnPhong),
         uniform_layer: Some(0),
+        one_accumulation: true,
         targets: vec![
             target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("world normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -394,6 +404,7 @@ fn four_stored(name: &'static str, format: wgpu::TextureFormat) -> GBufferLayout
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
         uniform_layer: Some(0),
+        one_accumulation: false,
         targets: vec![
             target("albedo+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
@@ -461,6 +472,7 @@ pub fn fit_for(scene: &crate::scene::Scene, brdfs: &[Brdf]) -> GBufferLayout {
         targets,
         uniform_brdf: forced,
         uniform_layer: Some(0),
+        one_accumulation: false,
     };
     if forced.is_none() {
         // Several models: the ID goes to a channel the formats already have (always one).
@@ -675,6 +687,7 @@ impl GBufferLayout {
         let _ = writeln!(w, "const GBUFFER_NORMAL_LAMBERT: bool = {};", self.normal == NormalEncoding::Lambert);
         let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
         let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
+        let _ = writeln!(w, "const GBUFFER_ONE_ACCUM: bool = {};", self.one_accumulation);
         // The material ID: per pixel from its channel, or the scene's one model.
         let _ = writeln!(w, "const GBUFFER_HAS_MATERIAL: bool = {};", self.uniform_brdf.is_none());
         let _ = writeln!(w, "const GBUFFER_BRDF: u32 = {}u;", self.uniform_brdf.unwrap_or_default().id());
@@ -691,7 +704,9 @@ impl GBufferLayout {
         if ambient {
             let n = self.targets.len();
             let _ = writeln!(w, "    @location({n}) light_diffuse: vec4<f32>,");
-            let _ = writeln!(w, "    @location({}) light_specular: vec4<f32>,", n + 1);
+            if !self.one_accumulation {
+                let _ = writeln!(w, "    @location({}) light_specular: vec4<f32>,", n + 1);
+            }
         }
         let _ = writeln!(w, "}};");
         // Packed attribute vectors.
@@ -718,15 +733,18 @@ impl GBufferLayout {
         if ambient {
             let _ = writeln!(w, "    let stored = as_stored(s);");
             let _ = writeln!(w, "    let light = ambient_sun(stored);");
-            let _ = writeln!(w, "    o.light_diffuse = encode_light(min(light.diffuse, ambient_limit(stored)));");
             // A layout without an emissive target (seed 000's) writes the surface's emission
             // into the accumulation here: it is light, and compose adds the specular target
-            // as it is.
+            // (seed 000: the one accumulation) as it is.
             let emitted = if self.has(Attr::Emissive) { "" } else { " + max(s.emissive, vec3<f32>(0.0))" };
-            let _ = writeln!(
-                w,
-                "    o.light_specular = encode_light(min(light.specular{emitted}, ambient_limit(stored)));"
-            );
+            let diffuse = "min(light.diffuse, ambient_limit(stored))";
+            let specular = format!("min(light.specular{emitted}, ambient_limit(stored))");
+            if self.one_accumulation {
+                let _ = writeln!(w, "    o.light_diffuse = encode_light({diffuse} * stored.albedo + {specular});");
+            } else {
+                let _ = writeln!(w, "    o.light_diffuse = encode_light({diffuse});");
+                let _ = writeln!(w, "    o.light_specular = encode_light({specular});");
+            }
         }
         let _ = writeln!(w, "    return o;\n}}");
         let _ = writeln!(w, "fn gbuffer_load(p: vec2<i32>) -> Surface {{");
@@ -868,6 +886,7 @@ pub fn prepass_layout() -> GBufferLayout {
         world: false,
         uniform_brdf: Some(Brdf::BlinnPhong),
         uniform_layer: Some(0),
+        one_accumulation: false,
         targets: vec![
             TargetDesc {
                 name: "normal+exp",

@@ -33,14 +33,23 @@ pub struct PipelineKey {
     pub features: ShaderFeatures,
 }
 
+impl PipelineKey {
+    /// The light passes write one accumulation target: the light pre-pass's light buffer, or
+    /// seed 000's RT1 (`GBufferLayout::one_accumulation`); the second is a 1x1 stand-in.
+    pub fn one_target(&self) -> bool {
+        self.prepass || self.layout.one_accumulation
+    }
+}
+
 /// Whether the G-buffer pass can also write the two accumulation targets on a device with
 /// `limits`: the colour attachments and their bytes per sample, G-buffer and accumulation
 /// together, must fit (WebGPU's default 32 bytes do not take `compact`'s 24 plus two Rgba16Float
 /// targets; lavapipe allows 128).
 pub fn ambient_fits(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, limits: &wgpu::Limits) -> bool {
     let accum = accum_format.block_copy_size(None).unwrap_or(16);
-    (layout.targets.len() + 2) as u32 <= limits.max_color_attachments
-        && layout.bytes_per_pixel() + 2 * accum <= limits.max_color_attachment_bytes_per_sample
+    let n = if layout.one_accumulation { 1 } else { 2 };
+    (layout.targets.len() + n) as u32 <= limits.max_color_attachments
+        && layout.bytes_per_pixel() + n as u32 * accum <= limits.max_color_attachment_bytes_per_sample
 }
 
 /// What every pass's pipelines are built from.
@@ -166,8 +175,8 @@ impl Shared {
         let key = &self.key;
         let accum = |blend: Option<wgpu::BlendState>, write_mask| {
             let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
-            // The light pre-pass has one light buffer (`Targets::accumulation`).
-            vec![Some(t.clone()), Some(t).filter(|_| !key.prepass)]
+            // The light pre-pass's one light buffer, seed 000's one RT1 (`Targets::accumulation`).
+            vec![Some(t.clone()), Some(t).filter(|_| !key.one_target())]
         };
         let targets = match p.out {
             Out::Accumulate => {

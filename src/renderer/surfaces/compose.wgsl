@@ -43,7 +43,17 @@ fn fs_compose_hdr(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> 
     let s = gbuffer_load(p);
     let diffuse = finite(decode_light(textureLoad(light_diffuse, p, 0).rgb));
     let specular = finite(decode_light(textureLoad(light_specular, p, 0).rgb));
-    return vec4<f32>(select(camera.background.rgb, diffuse * s.albedo + specular + s.emissive, s.valid), 1.0);
+    return vec4<f32>(select(camera.background.rgb, lit_colour(s, diffuse, specular), s.valid), 1.0);
+}
+
+// The lit colour from the accumulation: diffuse x albedo + specular + emissive, or seed 000's
+// one RT1 as it is (GBUFFER_ONE_ACCUM: the lights multiplied the albedo in, and its layout has
+// no emissive target: the G-buffer pass wrote the emission into RT1).
+fn lit_colour(s: Surface, diffuse: vec3<f32>, specular: vec3<f32>) -> vec3<f32> {
+    if GBUFFER_ONE_ACCUM {
+        return diffuse;
+    }
+    return diffuse * s.albedo + specular + s.emissive;
 }
 
 // Exposure and tonemapping of the HDR scene colour.
@@ -92,6 +102,9 @@ fn compose_inputs(frag: vec4<f32>) -> ComposeInputs {
     if LS_PREPASS {
         // The light pre-pass's buffer: its mono specular (A) as grey.
         i.specular = finite(vec3<f32>(decode_light_buffer(textureLoad(light_diffuse, i.p, 0)).a));
+    } else if GBUFFER_ONE_ACCUM {
+        // Seed 000's one RT1 (the `specular` binding is a 1x1 stand-in): all light in `diffuse`.
+        i.specular = vec3<f32>(0.0);
     }
     return i;
 }
@@ -99,7 +112,7 @@ fn compose_inputs(frag: vec4<f32>) -> ComposeInputs {
 // The lit picture, exposed and tonemapped.
 fn compose_lit(i: ComposeInputs) -> vec3<f32> {
     let s = i.s;
-    let lit = select(camera.background.rgb, i.diffuse * s.albedo + i.specular + s.emissive, s.valid);
+    let lit = select(camera.background.rgb, lit_colour(s, i.diffuse, i.specular), s.valid);
     return aces(lit * camera.exposure);
 }
 

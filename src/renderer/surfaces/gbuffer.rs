@@ -83,7 +83,9 @@ impl GBufferPass {
             shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
         if shared.key.ambient_in_gbuffer {
             // Seed 000's RT1: the light accumulation starts with ambient + sun, written here.
-            targets.extend([Some(shared.key.accum_format.into()), Some(shared.key.accum_format.into())]);
+            // Seed 000's one RT1: the second slot is empty, as in `Targets::accumulation`.
+            let accum = Some(shared.key.accum_format.into());
+            targets.extend([accum.clone(), accum.filter(|_| !shared.key.one_target())]);
         }
         let p = |label, fs, two_sided| {
             surface_pipeline(device, shared, SurfacePipe::triangles(label, fs, two_sided, true), &targets)

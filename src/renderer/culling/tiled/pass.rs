@@ -155,7 +155,7 @@ impl TiledPass {
             shared.screen_pipeline(device, label, &layout, (vs, fs), targets)
         };
         // The light pre-pass has one light buffer (`Targets::accumulation`).
-        let second = Some(accum.clone()).filter(|_| !shared.key.prepass);
+        let second = Some(accum.clone()).filter(|_| !shared.key.one_target());
         let targets = [Some(accum), second];
         let shade = [
             pipe("tiled shade", "vs_tiled", "fs_tiled", &targets),

@@ -308,13 +308,7 @@ fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
             sp += min(r.specular, vec3<f32>(l.clamp));
         }
     }
-    var out: LightTargets;
-    out.diffuse = encode_light(d);
-    out.specular = encode_light(sp);
-    if LS_PREPASS {
-        out.diffuse = encode_light_buffer(d, sp);
-    }
-    return out;
+    return light_targets(s, d, sp);
 }
 
 // Debug: the length of the pixel's list (every pixel with a G-buffer point).

@@ -106,6 +106,8 @@ fn main() {
                 light_batching: true,
                 cluster_build: settings.cluster_build,
                 loop_limit: None,
+                near_fullscreen: false,
+                front_to_back: false,
             };
             let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
                 settings: &settings,

@@ -114,6 +114,8 @@ fn cpu(gpu: &lampshade::Gpu) {
                     light_batching,
                     cluster_build: settings.cluster_build,
                     loop_limit: None,
+                    near_fullscreen: false,
+                    front_to_back: false,
                 };
                 let t = std::time::Instant::now();
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);

@@ -116,6 +116,7 @@ fn cpu(gpu: &lampshade::Gpu) {
                     loop_limit: None,
                     near_fullscreen: false,
                     front_to_back: false,
+                    sort_blended: true,
                 };
                 let t = std::time::Instant::now();
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);

@@ -108,6 +108,7 @@ fn main() {
                 loop_limit: None,
                 near_fullscreen: false,
                 front_to_back: false,
+                sort_blended: true,
             };
             let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
                 settings: &settings,

@@ -10,9 +10,9 @@
 
 use super::presets::{Preset, CUSTOM};
 use super::settings::{
-    name_of, Aa, AccumFormat, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat, DrawOrder,
-    ForwardLights, LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode, Tonemap,
-    CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat,
+    DrawOrder, ForwardLights, LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter,
+    ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -181,6 +181,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.draw_order),
         put: |s, v| {
             s.draw_order = choice("draw order", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "blended",
+        what: "blending of blended surfaces",
+        help: "Blended surfaces: alpha blending, sorted back to front, or additive (seed 003), unsorted",
+        values: Values::Choice(names::<BlendedMode>),
+        cli: true,
+        get: |s| name_of(&s.blended),
+        put: |s, v| {
+            s.blended = choice("blending of blended surfaces", v)?;
             Ok(())
         },
     },

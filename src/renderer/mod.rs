@@ -52,8 +52,8 @@ pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
-    AccumFormat, BrdfOverride, CullingMode, DebugView, DepthFormat, DrawOrder, ForwardLights, LayoutChoice, Msaa,
-    NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
+    AccumFormat, BlendedMode, BrdfOverride, CullingMode, DebugView, DepthFormat, DrawOrder, ForwardLights,
+    LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
 use std::sync::Arc;
@@ -291,6 +291,7 @@ impl Renderer {
             post_format: post::post_format(caps),
             depth_clamp: settings.depth_clamp && caps.has(wgpu::Features::DEPTH_CLIP_CONTROL),
             features: program::ShaderFeatures::of(scene, settings, &caps.quirks),
+            additive_blended: settings.blended == BlendedMode::Additive,
         })
     }
 

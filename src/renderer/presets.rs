@@ -123,6 +123,7 @@ impl Preset {
                 row!("path", "light-prepass", "my 1st pass renders into an intermediate buffer (g-buffer) consisting of a 24-bit normal and a scaled 8-bit specular exponent"),
                 row!("accumulation", "rgba8-unorm", "A second g-buffer containing a 24-bit diffuse color (rgb) and 8-bit specular value is updated by each light. … a glBlendFunc(GL_ONE, GL_ONE) call is used"),
                 row!("culling", "volume", "The point lights are rendered using 3-d sphere geometry, taking advantage of the z-buffer"),
+                row!("blended", "alpha", "These polygons must also be sorted from back to front"),
                 row!("shadows", "none", "(no shadows are named)"),
                 row!("lut", "identity", "a 5th pass is applied to perform color grading, depth of field, vignetting"),
                 row!("dof", "on", "a 5th pass is applied to perform color grading, depth of field, vignetting"),
@@ -161,7 +162,6 @@ impl Preset {
                 missing!("dynamic branching on the material ID as a knob", "Reasonably coherent dynamic branching"),
             ],
             Preset::Seed003 => &[
-                missing!("an additive material mode for blended surfaces", "additive blending modes be used to eliminate the need to sort polygons"),
             ],
             Preset::Seed004 => &[
                 missing!("lightmaps, crossfading from realtime + baked indirect near the camera to fully baked far away", "Lightmaps are also applied in the final pass."),

@@ -66,6 +66,7 @@ knob_names!(
     Msaa => "MSAA sample count",
     NearLights => "near-plane rule",
     DrawOrder => "draw order",
+    BlendedMode => "blending of blended surfaces",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
     ShadowCube => "shadow cube layout",
@@ -162,6 +163,20 @@ pub enum DrawOrder {
     /// front-to-back-sorted z-only pass"): later, farther surfaces fail the depth test, so
     /// fewer fragments are shaded; the stats' `gbuffer_fragments` counts them.
     FrontToBack,
+}
+
+/// How blended (alpha `BLEND`) surfaces are composited over the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum BlendedMode {
+    /// Alpha blending (`src x alpha + dst x (1 - alpha)`), sorted back to front by each
+    /// object's bounding sphere.
+    #[default]
+    Alpha,
+    /// Additive (`src x alpha + dst`; seed 003: "additive blending modes be used to eliminate
+    /// the need to sort polygons"): drawn unsorted, in scene order; the sum does not depend on
+    /// it beyond the fp16 target's rounding.
+    Additive,
 }
 
 /// How lights whose volume crosses the near plane are drawn.
@@ -479,6 +494,8 @@ pub struct Settings {
     pub near_lights: NearLights,
     /// The order of the opaque draws.
     pub draw_order: DrawOrder,
+    /// How blended surfaces are composited (alpha, sorted; or additive, unsorted).
+    pub blended: BlendedMode,
     /// The material sampler's anisotropy clamp, 1 ..= 16 (seed 002: "use aniso filtering
     /// during G-buffer pass"; 1: trilinear).
     pub anisotropy: u32,
@@ -602,6 +619,7 @@ impl Default for Settings {
             culling: CullingMode::default(),
             near_lights: NearLights::default(),
             draw_order: DrawOrder::default(),
+            blended: BlendedMode::default(),
             anisotropy: 1,
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,

@@ -216,6 +216,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         loop_limit: None,
         near_fullscreen: false,
         front_to_back: false,
+        sort_blended: true,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

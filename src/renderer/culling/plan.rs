@@ -110,6 +110,9 @@ pub struct PlanView {
     pub near_fullscreen: bool,
     /// Opaque draws nearest first (`DrawOrder::FrontToBack`) instead of by material.
     pub front_to_back: bool,
+    /// Blended draws back to front (alpha blending); unsorted, in scene order, when they are
+    /// added (`BlendedMode::Additive`).
+    pub sort_blended: bool,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -918,7 +921,10 @@ fn plan_draws(
         }
     }
     // View space looks down -z: the farthest has the most negative z and is drawn first.
-    forward.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Added surfaces (seed 003's additive blending) need no order: they stay in scene order.
+    if view.sort_blended {
+        forward.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
     draws.forward = forward.into_iter().map(|(_, i, p, m)| (i, p, m)).collect();
     if view.front_to_back {
         // Nearest sphere first (seed 002's front-to-back z-only pass); ties by material.
@@ -1018,6 +1024,7 @@ mod tests {
             loop_limit: None,
             near_fullscreen: false,
             front_to_back: false,
+            sort_blended: true,
         }
     }
 

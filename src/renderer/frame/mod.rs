@@ -11,7 +11,9 @@ use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
-use super::{cputime, overlap, post, AccumFormat, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings};
+use super::{
+    cputime, overlap, post, AccumFormat, BlendedMode, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings,
+};
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use inputs::FrameInputs;
@@ -117,6 +119,7 @@ impl Renderer {
             loop_limit: self.caps.quirks.loop_limit,
             near_fullscreen: settings.near_lights == NearLights::Fullscreen,
             front_to_back: settings.draw_order == DrawOrder::FrontToBack,
+            sort_blended: settings.blended == BlendedMode::Alpha,
         };
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);

@@ -197,6 +197,22 @@ pub const NO_STENCIL: wgpu::StencilState = stencil(KEEP, KEEP);
 /// A face that ignores the stencil.
 pub const KEEP: wgpu::StencilFaceState = wgpu::StencilFaceState::IGNORE;
 
+/// Seed 003's additive blending for blended surfaces (`BlendedMode::Additive`): the colour
+/// times its alpha added to what is there, `src x alpha + dst`; the target's alpha kept. A
+/// sum, so the draw order does not matter (up to the HDR target's rounding).
+pub const ADD_BLENDED: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::SrcAlpha,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
 pub const ADDITIVE: wgpu::BlendState = wgpu::BlendState {
     color: wgpu::BlendComponent {
         src_factor: wgpu::BlendFactor::One,

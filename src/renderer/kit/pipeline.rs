@@ -31,6 +31,8 @@ pub struct PipelineKey {
     pub samples: u32,
     /// The shadow and cookie lookups compiled in.
     pub features: ShaderFeatures,
+    /// Blended surfaces are added (`BlendedMode::Additive`), not alpha blended.
+    pub additive_blended: bool,
 }
 
 impl PipelineKey {

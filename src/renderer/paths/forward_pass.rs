@@ -263,9 +263,15 @@ impl ForwardPathsPass {
             blend: Some(ADDITIVE),
             write_mask: wgpu::ColorWrites::ALL,
         })];
+        // Blended surfaces: alpha blended, or added (seed 003; `BlendedMode::Additive`).
+        let blended = if self.key.additive_blended {
+            crate::renderer::kit::ADD_BLENDED
+        } else {
+            wgpu::BlendState::ALPHA_BLENDING
+        };
         let alpha = [Some(wgpu::ColorTargetState {
             format: HDR_FORMAT,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            blend: Some(blended),
             write_mask: wgpu::ColorWrites::ALL,
         })];
         use wgpu::StencilOperation as Op;

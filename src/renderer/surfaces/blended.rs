@@ -1,5 +1,6 @@
 //! Forward shading of blended surfaces (seeds 002-004: deferred shading cannot do
-//! transparency): back to front over the HDR scene colour, depth tested against the G-buffer
+//! transparency): back to front (alpha blending) or in scene order (seed 003's additive
+//! blending, `BlendedMode`) over the HDR scene colour, depth tested against the G-buffer
 //! pass's depth and not written, each fragment lit by the shorter of its object's and its
 //! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
 //! (`forward.fragments`) as its own pass.
@@ -22,7 +23,11 @@ impl ForwardPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let blended = [Some(wgpu::ColorTargetState {
             format: HDR_FORMAT,
-            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            blend: Some(if shared.key.additive_blended {
+                crate::renderer::kit::ADD_BLENDED
+            } else {
+                wgpu::BlendState::ALPHA_BLENDING
+            }),
             write_mask: wgpu::ColorWrites::ALL,
         })];
         // The light pre-pass's `--msaa 4` draws blended surfaces into its multisampled colour.

@@ -680,6 +680,7 @@ mod tests {
             loop_limit: None,
             near_fullscreen: false,
             front_to_back: false,
+            sort_blended: true,
         }
     }
 

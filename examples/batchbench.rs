@@ -117,6 +117,7 @@ fn cpu(gpu: &lampshade::Gpu) {
                     near_fullscreen: false,
                     front_to_back: false,
                     sort_blended: true,
+                    prepass_models: None,
                 };
                 let t = std::time::Instant::now();
                 let plan = FramePlan::new(&scene, &mut records, &[], &volumes, &view);

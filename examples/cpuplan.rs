@@ -109,6 +109,7 @@ fn main() {
                 near_fullscreen: false,
                 front_to_back: false,
                 sort_blended: true,
+                prepass_models: None,
             };
             let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
                 settings: &settings,

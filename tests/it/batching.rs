@@ -217,6 +217,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         near_fullscreen: false,
         front_to_back: false,
         sort_blended: true,
+        prepass_models: None,
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

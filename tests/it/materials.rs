@@ -344,3 +344,41 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
         }
     }
 }
+
+/// Seed 004: "objects with shaders that can't handle Deferred Lighting are rendered after this
+/// process is done, using RenderTech-ForwardRendering path". The light pre-pass's one
+/// Blinn-Phong buffer cannot carry toon's per-light bands, so its opaque toon sphere is shaded
+/// forward after pass 3, with its light list, as the forward pass shades blended surfaces: its
+/// pixels are deferred shading's (full-precision G-buffer and accumulation) within one 8-bit
+/// step, and the other spheres still go through the light buffer.
+#[test]
+fn the_light_prepass_shades_opaque_toon_forward_as_deferred_does() {
+    let scene = scene("materials");
+    let deferred = Settings {
+        layout: LayoutChoice::Reference,
+        accumulation: AccumFormat::Rgba32Float,
+        count_ideal: false,
+        ..unshadowed()
+    };
+    let prepass = Settings { path: lampshade::renderer::RenderPath::LightPrepass, ..deferred.clone() };
+    let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
+    let mut checked = 0;
+    for (brdf, pixels) in sphere_pixels(&scene) {
+        if brdf != Brdf::Toon {
+            continue;
+        }
+        for (x, y) in pixels {
+            let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
+            let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+            assert!(step <= 1, "toon ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 42);
+    // Pass 1 drew every opaque object's depth, pass 3 all but the toon ones.
+    let opaque_toon = |m: &Material| m.brdf == Brdf::Toon && m.alpha_mode == lampshade::scene::AlphaMode::Opaque;
+    let toon = scene.objects.iter().filter(|o| opaque_toon(&scene.materials[o.material])).count() as u64;
+    assert!(toon >= 1);
+    let p = b.stats.prepass.as_ref().unwrap();
+    assert_eq!(p.final_draw_calls + toon, p.base_draw_calls, "{p:?}");
+}

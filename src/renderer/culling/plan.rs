@@ -113,6 +113,10 @@ pub struct PlanView {
     /// Blended draws back to front (alpha blending); unsorted, in scene order, when they are
     /// added (`BlendedMode::Additive`).
     pub sort_blended: bool,
+    /// The light pre-pass (seed 004): opaque objects whose reflectance model its one
+    /// Blinn-Phong light buffer cannot carry (toon) are shaded forward after pass 3; `Some`
+    /// holds the model forced on every object (`--brdf`), if any.
+    pub prepass_models: Option<Option<crate::scene::Brdf>>,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -644,6 +648,24 @@ pub struct DrawLists {
     pub gbuffer: Vec<Draw>,
     /// Forward, blended, sorted back to front; pipeline index 1 for two-sided.
     pub forward: Vec<Draw>,
+    /// The light pre-pass's opaque objects it cannot light (toon; seed 004: "objects with
+    /// shaders that can't handle Deferred Lighting are rendered after this process is done,
+    /// using RenderTech-ForwardRendering path"): in `gbuffer` (pass 1's depth) but not in
+    /// `lit`, shaded forward with their light lists after pass 3. Pipeline index 1 for two-sided.
+    pub forward_opaque: Vec<Draw>,
+    /// Pass 3's draws when `forward_opaque` is not empty: `gbuffer` without them.
+    pub lit: Vec<Draw>,
+}
+
+impl DrawLists {
+    /// The light pre-pass's pass 3 draws: every G-buffer draw but those shaded forward.
+    pub fn prepass_final(&self) -> &[Draw] {
+        if self.forward_opaque.is_empty() {
+            &self.gbuffer
+        } else {
+            &self.lit
+        }
+    }
 }
 
 /// Everything decided on the CPU for one frame.
@@ -855,8 +877,13 @@ fn plan_draws(
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
+        // Toon under the light pre-pass: its depth in pass 1, its shading forward (a light list,
+        // as a blended object's).
+        let toon_forward = view.prepass_models.is_some_and(|force| {
+            force.unwrap_or(m.brdf) == crate::scene::Brdf::Toon && m.alpha_mode == AlphaMode::Opaque
+        });
         match m.alpha_mode {
-            AlphaMode::Blend => {
+            _ if toon_forward || m.alpha_mode == AlphaMode::Blend => {
                 let (centre, radius) = world_sphere(o, bounds);
                 let first = lists.len() as u32;
                 for (k, l) in scene.lights.iter().enumerate() {
@@ -879,8 +906,17 @@ fn plan_draws(
                 stats.objects += 1;
                 stats.object_list_entries += count as u64;
                 stats.longest_object_list = stats.longest_object_list.max(count);
-                let depth = scene.camera.to_view(centre).z;
-                forward.push((depth, i, m.double_sided as usize, o.material));
+                if toon_forward {
+                    draws.gbuffer.push((
+                        i,
+                        crate::renderer::surfaces::gbuffer::pipeline_index(false, m.double_sided),
+                        o.material,
+                    ));
+                    draws.forward_opaque.push((i, m.double_sided as usize, o.material));
+                } else {
+                    let depth = scene.camera.to_view(centre).z;
+                    forward.push((depth, i, m.double_sided as usize, o.material));
+                }
             }
             mode => {
                 let masked = matches!(mode, AlphaMode::Mask { .. });
@@ -932,6 +968,10 @@ fn plan_draws(
     } else {
         // Fewer pipeline and material switches in the G-buffer pass.
         draws.gbuffer.sort_by_key(|&(_, p, m)| (p, m));
+    }
+    if !draws.forward_opaque.is_empty() {
+        let apart: std::collections::HashSet<usize> = draws.forward_opaque.iter().map(|d| d.0).collect();
+        draws.lit = draws.gbuffer.iter().copied().filter(|d| !apart.contains(&d.0)).collect();
     }
     let stats = (!draws.forward.is_empty()).then_some(stats);
     (draws, lists, stats)
@@ -1025,6 +1065,7 @@ mod tests {
             near_fullscreen: false,
             front_to_back: false,
             sort_blended: true,
+            prepass_models: None,
         }
     }
 

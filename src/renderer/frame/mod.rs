@@ -120,6 +120,7 @@ impl Renderer {
             near_fullscreen: settings.near_lights == NearLights::Fullscreen,
             front_to_back: settings.draw_order == DrawOrder::FrontToBack,
             sort_blended: settings.blended == BlendedMode::Alpha,
+            prepass_models: (settings.path == RenderPath::LightPrepass).then(|| settings.brdf.brdf()),
         };
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);

@@ -100,19 +100,23 @@ impl PrepassFinalPass {
         if f.counts {
             pass.begin_occlusion_query(1);
         }
-        f.scene.draw(&mut pass, &f.plan.draws.gbuffer, &self.pipelines);
+        // Every pass-1 draw but the toon objects shaded forward after this pass.
+        let lit = f.plan.draws.prepass_final();
+        f.scene.draw(&mut pass, lit, &self.pipelines);
         if f.counts {
             pass.end_occlusion_query();
         }
-        f.plan.draws.gbuffer.len() as u64
+        lit.len() as u64
     }
 }
 
 /// What the light pre-pass cannot draw, refused before the frame with what to use instead
 /// (never a silent wrong picture):
 /// - an accumulation format without alpha (`rg11b10-ufloat`): no channel for the mono specular;
-/// - toon (`Brdf::Toon`) on an opaque or masked surface: its bands quantise each light's N.L
-///   and specular lobe apart, and the light buffer holds only their sum;
+/// - toon (`Brdf::Toon`) on a masked surface: its bands quantise each light's N.L and specular
+///   lobe apart, and the light buffer holds only their sum. Opaque toon objects are shaded
+///   forward after pass 3 instead (`DrawLists::forward_opaque`, seed 004); a masked one would
+///   need the forward pass to discard as pass 1 did;
 /// - debug views of attributes the thin buffer does not hold (albedo, emissive, material ID).
 pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) -> anyhow::Result<()> {
     use crate::renderer::{AccumFormat, DebugView};
@@ -125,12 +129,15 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
     }
     let force = settings.brdf.brdf();
     let toon = scene.objects.iter().any(|o| {
-        scene.materials.get(o.material).is_some_and(|m| !m.is_blended() && force.unwrap_or(m.brdf) == Brdf::Toon)
+        scene.materials.get(o.material).is_some_and(|m| {
+            matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }) && force.unwrap_or(m.brdf) == Brdf::Toon
+        })
     });
     if toon {
         anyhow::bail!(
-            "the light-prepass path cannot shade toon: its light buffer holds the sum of every light's Blinn-Phong \
-             terms, and toon bands each light's N.L and lobe apart; use --path deferred, or --brdf blinn-phong"
+            "the light-prepass path cannot shade a masked toon surface: its light buffer holds the sum of every \
+             light's Blinn-Phong terms, toon bands each light's N.L and lobe apart, and the forward pass that \
+             shades opaque toon objects does not discard; use --path deferred, or --brdf blinn-phong"
         );
     }
     if scene.uniform_layer().is_none() {

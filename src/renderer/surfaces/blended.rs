@@ -17,6 +17,9 @@ use crate::renderer::targets::attachment;
 pub struct ForwardPass {
     /// One- and two-sided.
     pipelines: [wgpu::RenderPipeline; 2],
+    /// The light pre-pass's opaque toon objects (`DrawLists::forward_opaque`): the same shading
+    /// written over pass 3's colour, one- and two-sided; built for the light pre-pass only.
+    opaque: Option<[wgpu::RenderPipeline; 2]>,
 }
 
 impl ForwardPass {
@@ -36,7 +39,16 @@ impl ForwardPass {
             let pipe = SurfacePipe { samples, ..SurfacePipe::triangles(label, "fs_forward", two_sided, false) };
             surface_pipeline(device, shared, pipe, &blended)
         };
-        Self { pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)] }
+        let replace =
+            [Some(wgpu::ColorTargetState { format: HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+        let o = |label, two_sided| {
+            let pipe = SurfacePipe { samples, ..SurfacePipe::triangles(label, "fs_forward", two_sided, false) };
+            surface_pipeline(device, shared, pipe, &replace)
+        };
+        Self {
+            pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)],
+            opaque: shared.key.prepass.then(|| [o("forward (opaque)", false), o("forward (opaque, two-sided)", true)]),
+        }
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
@@ -61,6 +73,9 @@ impl ForwardPass {
         pass.set_bind_group(0, &f.frame.group, &[]);
         if f.forward_counts {
             pass.begin_occlusion_query(0);
+        }
+        if let Some(opaque) = &self.opaque {
+            f.scene.draw(&mut pass, &f.plan.draws.forward_opaque, opaque);
         }
         f.scene.draw(&mut pass, &f.plan.draws.forward, &self.pipelines);
         if f.forward_counts {

@@ -681,6 +681,7 @@ mod tests {
             near_fullscreen: false,
             front_to_back: false,
             sort_blended: true,
+            prepass_models: None,
         }
     }
 

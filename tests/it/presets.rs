@@ -28,11 +28,16 @@ fn preset(p: Preset) -> Settings {
 fn every_preset_renders_demo_the_room_and_every_hard_case_finite_and_lit() {
     let mut scenes: Vec<(String, lampshade::Scene)> = vec![("demo".into(), scene("demo")), ("room".into(), room())];
     scenes.extend(HARD_CASES.iter().map(|n| (n.to_string(), scene(n))));
+    let gpu = gpu();
     for p in Preset::SEEDS {
         let s = preset(p);
+        // One renderer per preset, as a viewer switching scenes keeps one.
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
         for (name, scene) in &scenes {
             let (w, h) = if name == "overflow" { hard_case_size(name) } else { (W, H) };
-            let f = render(scene, &s, w, h);
+            let (image, stats) = render_image(gpu, &mut r, scene, &s, w, h).unwrap();
+            let (diffuse, specular) = r.read_accumulation(gpu).unwrap();
+            let f = Frame { image, stats, diffuse, specular };
             let what = format!("{} on {name}", p.name());
             assert_finite(&f, &what);
             assert!(lit_share(&f.image) > 0.05, "{what}: the picture is black");

@@ -218,7 +218,12 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
             volume_refs.join(", ")
         );
     }
-    s += "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | shadows ms | lighting ms | forward ms | post ms (bloom/exposure/tonemap/grading/fog/dof/vignette/aa) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n";
+    // The post columns in the chain's order, as `effects_ms` holds them.
+    let chain: Vec<&str> = ["bloom", "exposure", "tonemap"].into_iter().chain(EFFECTS.iter().map(|e| e.name)).collect();
+    s += &format!(
+        "| group | configuration | lights | size | G-buffer B/px | volumes | gbuffer ms | shadows ms | lighting ms | forward ms | post ms ({}) | total ms | x limit | lighting ratio | draw calls (batches) | coverage | shaded | ideal | efficiency | FLIP mean | max abs light error | PSNR dB |\n",
+        chain.join("/")
+    );
     s += "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     let full: HashMap<(usize, u32, u32), f64> = rows
         .iter()

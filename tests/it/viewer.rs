@@ -627,6 +627,17 @@ fn every_scene_layout_view_and_option_renders() {
         "dof off",
         "vignette 0",
         "aa off",
+        // The seed presets (the top bar's preset box sets the same knob), then the defaults.
+        "preset seed000",
+        "preset seed004",
+        "preset default",
+        "accumulation rgba8-unorm",
+        "accumulation rgba16-float",
+        "draw-order front-to-back",
+        "blended additive",
+        "anisotropy 16",
+        "near-lights fullscreen",
+        "preset default",
     ] {
         at(format!("set {opt}"));
     }

@@ -243,6 +243,12 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let settings = Settings { shadows: ShadowMode::All, shadow_cube: cube, ..base.clone() };
         v.push(c("shadows", format!("cube {}", cube.name()), settings, CUBE_LIGHTS));
     }
+    // Seed 002's material IDs: every model computed and one selected, or a branch on the ID
+    // (the same values; on a scene of one model both compile to that model alone).
+    for material_branch in [MaterialBranch::Select, MaterialBranch::Branch] {
+        let label = format!("material {}", material_branch.name());
+        v.push(c("materials", label, Settings { material_branch, ..base.clone() }, o.lights));
+    }
     // Each seed's whole pipeline as its preset sets it, shadows and post chain included (held
     // against the reference with the preset's shadows: the FLIP column includes the seeds'
     // post effects); the counters as every row has them.
@@ -266,6 +272,7 @@ pub const ROOM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gl
 pub const GROUPS: &[&str] = &[
     "culling",
     "presets",
+    "materials",
     "layout",
     "accumulation",
     "depth",

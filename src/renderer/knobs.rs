@@ -11,8 +11,8 @@
 use super::presets::{Preset, CUSTOM};
 use super::settings::{
     name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat,
-    DrawOrder, ForwardLights, LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter,
-    ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, Settings, ShadowCube,
+    ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -193,6 +193,19 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.blended),
         put: |s, v| {
             s.blended = choice("blending of blended surfaces", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "material-branch",
+        what: "material selection",
+        help: "How the lighting shaders pick a pixel's reflectance model: compute every model and select (select) \
+               or branch on the material ID (branch, seed 002); the same values",
+        values: Values::Choice(names::<MaterialBranch>),
+        cli: true,
+        get: |s| name_of(&s.material_branch),
+        put: |s, v| {
+            s.material_branch = choice("material selection", v)?;
             Ok(())
         },
     },

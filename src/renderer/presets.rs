@@ -108,6 +108,7 @@ impl Preset {
                 row!("accumulation", "rgba16-float", "16-bit floating point enables HDR"),
                 row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"),
                 row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
+                row!("material-branch", "branch", "Reasonably coherent dynamic branching"),
                 row!("depth-prepass", "on", "Do an initial front-to-back-sorted z-only pass."),
                 row!("draw-order", "front-to-back", "Do an initial front-to-back-sorted z-only pass."),
                 row!("anisotropy", "8", "Use aniso filtering during G-buffer pass (no level given)"),
@@ -159,7 +160,6 @@ impl Preset {
                 missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
                 missing!("distortion in the post chain", "Distortion"),
                 missing!("depth peeling for blended surfaces", "Can use depth peeling"),
-                missing!("dynamic branching on the material ID as a knob", "Reasonably coherent dynamic branching"),
             ],
             Preset::Seed003 => &[
             ],

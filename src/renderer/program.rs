@@ -87,6 +87,10 @@ pub struct ShaderFeatures {
     /// (`plan::FORWARD_LOOP_LIGHTS`), so some list may be longer. Other scenes compile the
     /// plain loops.
     pub paired_loops: bool,
+    /// The reflectance models are picked by branching on the material ID
+    /// (`MaterialBranch::Branch`, seed 002's "reasonably coherent dynamic branching"), not by
+    /// computing every model's terms and selecting one.
+    pub brdf_branch: bool,
 }
 
 impl ShaderFeatures {
@@ -103,6 +107,7 @@ impl ShaderFeatures {
         cookies: true,
         light_planes: true,
         paired_loops: true,
+        brdf_branch: true,
     };
 
     /// What `scene` can need under `settings`; with no scene, what the settings allow (no
@@ -120,6 +125,7 @@ impl ShaderFeatures {
             light_planes: quirks.uniform_gathers && scene.is_some_and(|s| records::planes_hold(&s.lights)),
             paired_loops: quirks.loop_limit.is_some()
                 && scene.is_some_and(|s| s.lights.len() > plan::FORWARD_LOOP_LIGHTS as usize),
+            brdf_branch: settings.material_branch == crate::renderer::settings::MaterialBranch::Branch,
         }
     }
 
@@ -153,6 +159,9 @@ impl ShaderFeatures {
         if self.paired_loops {
             v.push("paired light loops".to_string());
         }
+        if self.brdf_branch {
+            v.push("branch on the material".to_string());
+        }
         v
     }
 
@@ -164,7 +173,7 @@ impl ShaderFeatures {
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
              const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
-             const LS_PAIRED_LOOPS: bool = {};\n",
+             const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
@@ -172,7 +181,8 @@ impl ShaderFeatures {
             self.cookies,
             sh.casters_apart,
             self.light_planes,
-            self.paired_loops
+            self.paired_loops,
+            self.brdf_branch
         )
     }
 }

@@ -67,6 +67,7 @@ knob_names!(
     NearLights => "near-plane rule",
     DrawOrder => "draw order",
     BlendedMode => "blending of blended surfaces",
+    MaterialBranch => "material selection",
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
     ShadowCube => "shadow cube layout",
@@ -163,6 +164,19 @@ pub enum DrawOrder {
     /// front-to-back-sorted z-only pass"): later, farther surfaces fail the depth test, so
     /// fewer fragments are shaded; the stats' `gbuffer_fragments` counts them.
     FrontToBack,
+}
+
+/// How the lighting shaders pick a pixel's reflectance model (seed 002's material IDs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaterialBranch {
+    /// Every model's terms computed, one selected: no divergent branch (lavapipe runs both
+    /// sides of a branch whenever one lane takes each).
+    #[default]
+    Select,
+    /// A branch on the material ID, each model computing only its own terms (seed 002:
+    /// "reasonably coherent dynamic branching"). The same values.
+    Branch,
 }
 
 /// How blended (alpha `BLEND`) surfaces are composited over the scene.
@@ -496,6 +510,8 @@ pub struct Settings {
     pub draw_order: DrawOrder,
     /// How blended surfaces are composited (alpha, sorted; or additive, unsorted).
     pub blended: BlendedMode,
+    /// How the lighting shaders pick the reflectance model (select or branch).
+    pub material_branch: MaterialBranch,
     /// The material sampler's anisotropy clamp, 1 ..= 16 (seed 002: "use aniso filtering
     /// during G-buffer pass"; 1: trilinear).
     pub anisotropy: u32,
@@ -620,6 +636,7 @@ impl Default for Settings {
             near_lights: NearLights::default(),
             draw_order: DrawOrder::default(),
             blended: BlendedMode::default(),
+            material_branch: MaterialBranch::default(),
             anisotropy: 1,
             layout: LayoutChoice::default(),
             debug_view: DebugView::Lit,

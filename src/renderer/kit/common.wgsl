@@ -348,6 +348,9 @@ fn view_dir(s: Surface) -> vec3<f32> {
 // operation, as the branchy form's, so for finite inputs the picture is unchanged (a term a
 // model leaves out is colour x 0, so an infinite colour now gives NaN there, not 0).
 fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
+    if LS_BRDF_BRANCH {
+        return brdf_light_branch(s, V, L, ndl, color, att);
+    }
     let H = safe_normalize(L + V, s.normal);
     let lobe = pow(max(dot(s.normal, H), 0.0), s.spec_exp);
     let toon = s.brdf == LS_BRDF_TOON;
@@ -364,6 +367,36 @@ fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3
     var r: Lighting;
     r.diffuse = color * dw;
     r.specular = select(color * sw, color * sw * s.albedo, metal);
+    return r;
+}
+
+// The same terms as `brdf_light_view`, the model picked by branching on the material ID
+// (LS_BRDF_BRANCH; seed 002: "store multiple BRDFs in light shader, choose per-pixel …
+// reasonably coherent dynamic branching"): each model computes only its own terms, with the
+// same arithmetic, so both give the same values.
+fn brdf_light_branch(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
+    var r: Lighting;
+    if s.brdf == LS_BRDF_UNLIT {
+        return r;
+    }
+    if s.brdf == LS_BRDF_LAMBERT {
+        r.diffuse = color * (att * ndl);
+        return r;
+    }
+    let H = safe_normalize(L + V, s.normal);
+    let lobe = pow(max(dot(s.normal, H), 0.0), s.spec_exp);
+    if s.brdf == LS_BRDF_TOON {
+        r.diffuse = color * (att * (ceil(ndl * 3.0) / 3.0));
+        r.specular = color * (att * select(0.0, s.spec_level, lobe >= 0.5));
+        return r;
+    }
+    let sw = att * ndl * (lobe * s.spec_level);
+    if s.brdf == LS_BRDF_METAL {
+        r.specular = color * sw * s.albedo;
+        return r;
+    }
+    r.diffuse = color * (att * ndl);
+    r.specular = color * sw;
     return r;
 }
 

@@ -24,7 +24,7 @@ use crate::gpu::Gpu;
 use crate::headless::render_image;
 use crate::renderer::post::{Aa, Tonemap};
 use crate::renderer::presets::Preset;
-use crate::renderer::settings::MaterialBranch;
+use crate::renderer::settings::{MaterialBranch, NearLights};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
     ShadowCube, ShadowFilter, ShadowMode, OUTPUT_FORMAT,

@@ -245,18 +245,21 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     }
     // Seed 004's near-plane rule (lights crossing the near plane drawn full-screen) against
     // `auto` and plain volumes, on `street` (a street-level camera among 64 lights, several
-    // crossing the near plane).
-    if !q {
-        for (mode, near_lights) in [
+    // crossing the near plane); `--quick` keeps the rule under `auto`.
+    let near: &[(CullingMode, NearLights)] = if q {
+        &[(CullingMode::Auto, NearLights::Fullscreen)]
+    } else {
+        &[
             (CullingMode::Auto, NearLights::Volume),
             (CullingMode::Auto, NearLights::Fullscreen),
             (CullingMode::Volume, NearLights::Volume),
             (CullingMode::Volume, NearLights::Fullscreen),
-        ] {
-            let label = format!("street {} near {}", mode.name(), near_lights.name());
-            let settings = Settings { culling: mode, near_lights, ..base.clone() };
-            v.push(Config { scene: Some("street"), ..c("near", label, settings, 64) });
-        }
+        ]
+    };
+    for &(mode, near_lights) in near {
+        let label = format!("street {} near {}", mode.name(), near_lights.name());
+        let settings = Settings { culling: mode, near_lights, ..base.clone() };
+        v.push(Config { scene: Some("street"), ..c("near", label, settings, 64) });
     }
     // Seed 002's material IDs: every model computed and one selected, or a branch on the ID
     // (the same values; on a scene of one model both compile to that model alone).

@@ -41,22 +41,15 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     }
     // Seed 000's fp16 targets, the packed and fitted layouts, and the normal encodings with
     // everything else as `compact` stores it (compact itself is the `volume` row).
-    let layouts: &[LayoutChoice] = if q {
-        &[LayoutChoice::Seed000, LayoutChoice::Oct8, LayoutChoice::Xyz8]
+    let layouts: Vec<LayoutChoice> = if q {
+        vec![LayoutChoice::Seed000, LayoutChoice::Oct8, LayoutChoice::Xyz8]
     } else {
-        &[
-            LayoutChoice::Seed000,
-            LayoutChoice::Packed,
-            LayoutChoice::Fit,
-            LayoutChoice::Oct8,
-            LayoutChoice::Oct16,
-            LayoutChoice::Xyz8,
-            LayoutChoice::Xyz16f,
-            LayoutChoice::Lambert8,
-            LayoutChoice::Lambert16,
-        ]
+        [LayoutChoice::Seed000, LayoutChoice::Packed, LayoutChoice::Fit]
+            .into_iter()
+            .chain(LayoutChoice::NORMAL_ENCODINGS)
+            .collect()
     };
-    for &layout in layouts {
+    for layout in layouts {
         v.push(c("layout", format!("{layout:?}").to_lowercase(), Settings { layout, ..base.clone() }, o.lights));
     }
     let accumulations: &[AccumFormat] = if q {

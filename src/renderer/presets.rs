@@ -186,6 +186,22 @@ impl Preset {
     /// `keep`'s instruments on the defaults, with the preset's rows. Not validated here (the
     /// `preset` knob's own reading calls this inside validation); [`Preset::apply`] validates.
     pub fn settings(self, keep: &Settings) -> Settings {
+        self.build(keep).0
+    }
+
+    /// [`Preset::settings`], checked: every row names a knob and a value it takes, and the
+    /// result passes `Settings::validate`.
+    pub fn apply(self, keep: &Settings) -> Result<Settings, String> {
+        let (s, errors) = self.build(keep);
+        if let Some(e) = errors.into_iter().next() {
+            return Err(e);
+        }
+        s.validate().map_err(|e| format!("preset {}: {e}", self.name()))?;
+        Ok(s)
+    }
+
+    /// The preset's settings and the rows that did not apply (an unknown knob or value).
+    fn build(self, keep: &Settings) -> (Settings, Vec<String>) {
         let mut s = Settings::default();
         for name in INSTRUMENTS {
             if let (Some(k), Ok(v)) = (knobs::find(name), keep.get(name)) {
@@ -194,24 +210,14 @@ impl Preset {
             }
         }
         s.selected_light = keep.selected_light;
+        let mut errors = Vec::new();
         for r in self.rows() {
-            if let Some(k) = knobs::find(r.knob) {
-                let _ = k.put(&mut s, r.value);
+            let put = knobs::knob(r.knob).and_then(|k| k.put(&mut s, r.value));
+            if let Err(e) = put {
+                errors.push(format!("preset {}: {}: {e}", self.name(), r.knob));
             }
         }
-        s
-    }
-
-    /// [`Preset::settings`], checked: every row names a knob and a value it takes, and the
-    /// result passes `Settings::validate`.
-    pub fn apply(self, keep: &Settings) -> Result<Settings, String> {
-        let mut s = self.settings(keep);
-        for r in self.rows() {
-            let k = knobs::knob(r.knob)?;
-            k.put(&mut s, r.value).map_err(|e| format!("preset {}: {}: {e}", self.name(), r.knob))?;
-        }
-        s.validate().map_err(|e| format!("preset {}: {e}", self.name()))?;
-        Ok(s)
+        (s, errors)
     }
 
     /// The preset `s` is, instruments aside.

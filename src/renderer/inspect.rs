@@ -240,8 +240,23 @@ impl Renderer {
             for (c, slot) in desc.channels.iter().enumerate() {
                 if let Some(s) = slot {
                     let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
-                    comps.insert((s.attr, s.comp), val);
+                    // Packed channels, as `gbuffer_load` unpacks them.
+                    match s.attr {
+                        Attr::MaterialExp => {
+                            comps.insert((Attr::Material, 0), val.floor() / 255.0);
+                            comps.insert((Attr::SpecExp, 0), val.fract() * (256.0 / 255.0));
+                        }
+                        _ => {
+                            comps.insert((s.attr, s.comp), val);
+                        }
+                    }
                 }
+            }
+        }
+        if let Some(&e) = comps.get(&(Attr::EmissiveScale, 0)) {
+            for c in 0..3 {
+                let a = comps.get(&(Attr::Albedo, c)).copied().unwrap_or(0.0);
+                comps.insert((Attr::Emissive, c), e * a);
             }
         }
         let get = |a: Attr, c: u8, default: f32| comps.get(&(a, c)).copied().unwrap_or(default);

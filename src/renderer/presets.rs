@@ -104,7 +104,7 @@ impl Preset {
             ],
             Preset::Seed002 => &[
                 row!("path", "deferred", "For Each Light: framebuffer += brdf( G-buffer, light )"),
-                row!("layout", "xyz16f", "Normal.x Normal.y Normal.z Free"),
+                row!("layout", "seed002", "Position.x Position.y Position.z Emissive"),
                 row!("accumulation", "rgba16-float", "16-bit floating point enables HDR"),
                 row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"),
                 row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
@@ -154,9 +154,9 @@ impl Preset {
                 missing!("the normal's bit depth: the seed does not give it; the preset takes 8+8 bits", "reconstructs the view space normal from two channels"),
             ],
             Preset::Seed002 => &[
-                missing!("the seed's own G-buffer (position + emissive, diffuse + specular, normal + material ID, 24 B/px); `xyz16f` is the nearest", "Position.x Position.y Position.z Emissive / Diffuse.r Diffuse.g Diffuse.b Specular / Normal.x Normal.y Normal.z Free"),
+                missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 1.5% off at most)", "Normal.x Normal.y Normal.z Free"),
+                missing!("emission is one channel, so it is stored as a multiple of the diffuse colour: exact only where the emission has the albedo's hue", "Emissive (single channel)"),
                 missing!("D16 / D24 shadow formats", "Use D16 or D24X8 format for shadow maps"),
-                missing!("a shadow bias that grows with view depth", "May want to increase shadow bias based on pos.z"),
                 missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
                 missing!("distortion in the post chain", "Distortion"),
                 missing!("depth peeling for blended surfaces", "Can use depth peeling"),

@@ -57,7 +57,7 @@ fn every_preset_renders_demo_the_room_and_every_hard_case_finite_and_lit() {
                     assert_eq!((st.gbuffer_layout.as_str(), st.gbuffer_bytes_per_pixel), ("lambert8", 18), "{what}");
                 }
                 Preset::Seed002 => {
-                    assert_eq!((st.gbuffer_layout.as_str(), st.gbuffer_bytes_per_pixel), ("xyz16f", 24), "{what}");
+                    assert_eq!((st.gbuffer_layout.as_str(), st.gbuffer_bytes_per_pixel), ("seed002", 24), "{what}");
                     assert_eq!(st.accumulation_format, "Rgba16Float", "{what}");
                 }
                 Preset::Seed003 | Preset::Seed004 => {

@@ -82,6 +82,89 @@ fn the_probe_decodes_what_the_scene_put_there() {
     assert!(p.diffuse_light.max_element() > scene.ambient.max_element());
 }
 
+/// Seed 002's packed channels against the f32 reference layout, pixel by pixel on the five
+/// reflectance models. The probe (the CPU's decoding of the stored texels): the material ID
+/// survives exactly, the exponent within its derived 1.5%, and the one-channel emission is off
+/// by exactly the part of the material's emission orthogonal to its albedo
+/// (`emission_residual`), plus fp16 rounding (albedo and scale, 2^-11 each). Half the materials
+/// emit in their own hue (exact), half not. The shaders' decoding (`gbuffer_load`), through the
+/// debug views: the material ID view equal, the exponent (specular view's green, 8 bits) within
+/// a step of rounding and one of the 1.5%, the emissive view equal where the emission has the
+/// albedo's hue and different where it is far from it.
+#[test]
+fn seed002s_packed_channels_decode_as_derived() {
+    use lampshade::renderer::kit::gbuffer::{emission_residual, MATERIAL_EXP_RELATIVE_ERROR};
+    let gpu = gpu();
+    let mut scene = scene("materials");
+    for (i, m) in scene.materials.iter_mut().enumerate() {
+        m.emissive = if i % 2 == 0 { m.diffuse * 0.5 } else { glam::Vec3::new(0.2, 0.5, 0.9) };
+    }
+    let probes = |layout| {
+        let s = Settings { layout, ..Settings::default() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+        render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
+        let mut v = Vec::new();
+        for y in (3..H).step_by(9) {
+            for x in (3..W).step_by(9) {
+                v.push(r.probe(gpu, x, y).unwrap());
+            }
+        }
+        v
+    };
+    let (reference, seed) = (probes(LayoutChoice::Reference), probes(LayoutChoice::Seed002));
+    let (mut n, mut ids, mut orthogonal) = (0, std::collections::BTreeSet::new(), 0);
+    for (a, b) in reference.iter().zip(&seed) {
+        assert_eq!(a.valid, b.valid, "({}, {})", a.x, a.y);
+        if !a.valid {
+            continue;
+        }
+        n += 1;
+        let at = format!("({}, {})", a.x, a.y);
+        assert_eq!(a.material_id, b.material_id, "{at}: the material ID");
+        ids.extend(b.material_id);
+        let ratio = (b.specular_exponent / a.specular_exponent).max(a.specular_exponent / b.specular_exponent);
+        assert!(
+            ratio as f64 - 1.0 <= MATERIAL_EXP_RELATIVE_ERROR,
+            "{at}: exponent {} vs {}",
+            b.specular_exponent,
+            a.specular_exponent
+        );
+        let residual = emission_residual(a.emissive, a.albedo);
+        orthogonal += (residual > 0.05) as usize;
+        let rounding = 3.0 * 2f32.powi(-11) * a.emissive.max_element() + 1e-6;
+        let off = (b.emissive - a.emissive).abs().max_element();
+        assert!(
+            (off - residual).abs() <= rounding,
+            "{at}: emission {} vs {}: off by {off}, the derived residual is {residual}",
+            b.emissive,
+            a.emissive
+        );
+    }
+    assert!(n > 100, "only {n} surface pixels probed");
+    assert!(ids.len() >= 4, "the probes met only the models {ids:?}");
+    assert!(orthogonal > 10, "only {orthogonal} probes emit off their albedo's hue");
+    let view = |layout, debug_view| render(&scene, &Settings { layout, debug_view, ..Settings::default() }, W, H).image;
+    for (debug_view, steps) in [(DebugView::MaterialId, 0), (DebugView::Specular, 2)] {
+        let (a, b) = (view(LayoutChoice::Reference, debug_view), view(LayoutChoice::Seed002, debug_view));
+        let d = max_channel_difference(&a, &b);
+        assert!(d <= steps, "{debug_view:?}: seed002's view differs from the reference's by {d} steps");
+    }
+    let (a, b) = (view(LayoutChoice::Reference, DebugView::Emissive), view(LayoutChoice::Seed002, DebugView::Emissive));
+    let (mut same_hue, mut apart) = (0, 0);
+    for p in reference.iter().filter(|p| p.valid && p.emissive.max_element() > 0.0) {
+        let step = |img: &image::RgbaImage| img.get_pixel(p.x, p.y).0;
+        let d = step(&a).iter().zip(step(&b)).map(|(u, v)| u.abs_diff(v)).max().unwrap_or(0);
+        if emission_residual(p.emissive, p.albedo) < 1e-3 {
+            same_hue += 1;
+            assert!(d <= 1, "({}, {}): emission in the albedo's hue, yet the views differ by {d} steps", p.x, p.y);
+        } else if emission_residual(p.emissive, p.albedo) > 0.2 {
+            apart += 1;
+            assert!(d > 4, "({}, {}): emission far from the albedo's hue, yet the views agree", p.x, p.y);
+        }
+    }
+    assert!(same_hue > 10 && apart > 10, "{same_hue} probes emit in the albedo's hue, {apart} far from it");
+}
+
 #[test]
 fn thumbnails_recompose_the_last_frame() {
     let gpu = gpu();

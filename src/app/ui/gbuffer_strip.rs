@@ -32,9 +32,11 @@ pub fn thumbs(layout: &GBufferLayout, accum: Option<wgpu::TextureFormat>, depth:
                 Attr::SpecLevel | Attr::SpecExp => (DebugView::Specular, "specular"),
                 Attr::Normal => (DebugView::Normal, "normal"),
                 Attr::Emissive => (DebugView::Emissive, "emissive"),
+                Attr::EmissiveScale => (DebugView::Emissive, "emissive x albedo"),
                 Attr::Depth => (DebugView::Depth, "depth"),
                 Attr::Position => (DebugView::Depth, "position z"),
                 Attr::Material => (DebugView::MaterialId, "material ID"),
+                Attr::MaterialExp => (DebugView::MaterialId, "material ID + exponent"),
                 // The culling layer has no view of its own; the probe shows it.
                 Attr::Layer => continue,
             };

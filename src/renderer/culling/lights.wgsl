@@ -115,7 +115,7 @@ fn sun_light(s: Surface) -> Lighting {
         let ndl = max(dot(s.normal, L), 0.0);
         sun = brdf_light(s, L, ndl, camera.sun_color.rgb, 1.0);
         if ndl > 0.0 {
-            let shadow = ls_sun_shadow(s.position, s.normal);
+            let shadow = ls_sun_shadow(s.position, s.normal, s.position_error);
             sun.diffuse *= shadow;
             sun.specular *= shadow;
         }

@@ -107,6 +107,9 @@ struct Surface {
     emissive: vec3<f32>,
     // View-space position.
     position: vec3<f32>,
+    // How far `position` may lie from the surface's true one (`stored_position_error`): a
+    // layout's fp16 stored position; 0 from depth or the vertex stage.
+    position_error: f32,
     depth: f32,
     valid: bool,
     // The reflectance model (LS_BRDF_*, seed 002's material ID): from the ID channel, or the
@@ -276,6 +279,7 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
         s.position = view_position_from_depth(p, a.depth);
     } else {
         s.position = position;
+        s.position_error = stored_position_error(position);
         s.valid = valid;
         s.depth = 0.0;
     }
@@ -580,7 +584,7 @@ fn shade_light_view(s: Surface, V: vec3<f32>, l: GpuLight, lookups: bool) -> Lig
     var shadow = 1.0;
     if lookups {
         if lit {
-            shadow = ls_shadow(l, s.position, s.normal);
+            shadow = ls_shadow(l, s.position, s.normal, s.position_error);
         }
         lit = lit && shadow > 0.0;
     }

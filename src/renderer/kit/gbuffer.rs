@@ -42,12 +42,43 @@ pub enum Attr {
     /// layer / 255 in 1 component. Present only when some light's mask tells the scene's
     /// layers apart (`Scene::uniform_layer`).
     Layer,
+    /// Seed 002's single-channel emissive: the emission E stored as one multiple e of the
+    /// albedo A, e = E.A / A.A (the least-squares fit), and decoded as e A. Exact when the
+    /// emission is proportional to the albedo; otherwise off by E - e A, the part of E
+    /// orthogonal to A ([`emission_residual`]). A black albedo loses the emission.
+    EmissiveScale,
+    /// Seed 002's free channel when the scene uses several reflectance models: the material ID
+    /// in the integer part and the specular exponent's code (log2(exp) / [`SPEC_EXP_LOG_RANGE`])
+    /// times 255/256 in the fraction, in one fp16 channel. IDs stay below 8, where fp16 steps
+    /// are at most 2^-8: the largest fraction, 255/256, never rounds up into the next ID, and
+    /// the code is off by at most half a step, 2^-9 x 256/255, i.e. the exponent by a factor of
+    /// at most 2^(11 x 2^-9 x 256/255) = 1.0151 (1.5%).
+    MaterialExp,
+}
+
+/// The largest relative error [`Attr::MaterialExp`] leaves in the specular exponent.
+pub const MATERIAL_EXP_RELATIVE_ERROR: f64 = 0.0151;
+
+/// How far [`Attr::EmissiveScale`] leaves a material's emission from its own (linear units,
+/// per channel at most): the part of `emissive` orthogonal to `albedo`; all of it for a black
+/// albedo.
+pub fn emission_residual(emissive: glam::Vec3, albedo: glam::Vec3) -> f32 {
+    let a2 = albedo.dot(albedo);
+    let e = if a2 > 0.0 { emissive.dot(albedo) / a2 } else { 0.0 };
+    (emissive - e.max(0.0) * albedo).abs().max_element()
 }
 
 impl Attr {
     /// Whether the attribute's natural range is [-1, 1] (needs remapping in unorm channels).
     pub(crate) fn signed(self) -> bool {
         matches!(self, Attr::Normal | Attr::Position)
+    }
+
+    /// Whether a channel holding `self` gives attribute `attr` (a packed channel gives two).
+    pub fn gives(self, attr: Attr) -> bool {
+        self == attr
+            || (self == Attr::MaterialExp && matches!(attr, Attr::Material | Attr::SpecExp))
+            || (self == Attr::EmissiveScale && attr == Attr::Emissive)
     }
 }
 
@@ -142,12 +173,17 @@ pub enum LayoutChoice {
     /// The same with the Lambert azimuthal equal-area projection in Rg16Unorm (16+16 bits;
     /// needs TEXTURE_FORMAT_16BIT_NORM).
     Lambert16,
+    /// Seed 002's example: three Rgba16Float targets (24 B/px), view-space position +
+    /// single-channel emissive, diffuse + specular, xyz normal + the free channel (the
+    /// exponent; with several models, the material ID and the exponent packed).
+    Seed002,
 }
 
 impl LayoutChoice {
-    pub const ALL: [LayoutChoice; 11] = [
+    pub const ALL: [LayoutChoice; 12] = [
         LayoutChoice::Compact,
         LayoutChoice::Seed000,
+        LayoutChoice::Seed002,
         LayoutChoice::Packed,
         LayoutChoice::Reference,
         LayoutChoice::Fit,
@@ -246,7 +282,9 @@ impl LayoutChoice {
                 names.join(", ")
             ));
         };
-        layout.targets[t].channels[c] = Some(Slot { attr: Attr::Material, comp: 0 });
+        // Seed 002's free channel holds the exponent too (packed with the ID).
+        let attr = if self == LayoutChoice::Seed002 { Attr::MaterialExp } else { Attr::Material };
+        layout.targets[t].channels[c] = Some(Slot { attr, comp: 0 });
         layout.uniform_brdf = None;
         Ok(layout)
     }
@@ -260,6 +298,8 @@ impl LayoutChoice {
             LayoutChoice::Compact | LayoutChoice::Packed | LayoutChoice::Xyz8 | LayoutChoice::Xyz16f => Some((1, 3)),
             // The position (seed 000: view vector) target's .w.
             LayoutChoice::Seed000 | LayoutChoice::Reference => Some((2, 3)),
+            // Seed 002's free channel (normal target .w), packed with the exponent.
+            LayoutChoice::Seed002 => Some((2, 3)),
             // `fit` places it itself (`fit_material_slot`).
             LayoutChoice::Fit => None,
             LayoutChoice::Oct8 | LayoutChoice::Oct16 | LayoutChoice::Lambert8 | LayoutChoice::Lambert16 => None,
@@ -307,6 +347,7 @@ impl LayoutChoice {
             LayoutChoice::Lambert8 => normal_apart("lambert8", F::Rg8Unorm, NormalEncoding::Lambert),
             LayoutChoice::Lambert16 => normal_apart("lambert16", F::Rg16Unorm, NormalEncoding::Lambert),
             LayoutChoice::Seed000 => seed000(),
+            LayoutChoice::Seed002 => seed002(),
             LayoutChoice::Reference => four_stored("reference", F::Rgba32Float),
             LayoutChoice::Packed => GBufferLayout {
                 name: "packed",
@@ -388,6 +429,31 @@ fn seed000() -> GBufferLayout {
             target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
             target("world normal+exp", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
             target("view vector", vec![s(Position, 0), s(Position, 1), s(Position, 2), None]),
+        ],
+    }
+}
+
+/// Seed 002's example layout ("Three 16-bit Float MRTs"), 24 B/px and no depth target:
+/// RT0 view-space position + emissive (one channel, [`Attr::EmissiveScale`]), RT1 diffuse +
+/// specular (level; the seed's "gloss"), RT2 xyz normal + the free channel. The seed leaves
+/// the exponent out; the free channel carries it, and when the scene uses several reflectance
+/// models the material ID with it ([`Attr::MaterialExp`], the talk's "use that last free
+/// channel in G-buffer to store material ID").
+fn seed002() -> GBufferLayout {
+    use Attr::*;
+    let s = |attr, comp| Some(Slot { attr, comp });
+    let target = |name, channels| TargetDesc { name, format: wgpu::TextureFormat::Rgba16Float, channels };
+    GBufferLayout {
+        name: "seed002",
+        normal: NormalEncoding::Xyz,
+        world: false,
+        uniform_brdf: Some(Brdf::BlinnPhong),
+        uniform_layer: Some(0),
+        one_accumulation: false,
+        targets: vec![
+            target("position+emissive", vec![s(Position, 0), s(Position, 1), s(Position, 2), s(EmissiveScale, 0)]),
+            target("diffuse+spec", vec![s(Albedo, 0), s(Albedo, 1), s(Albedo, 2), s(SpecLevel, 0)]),
+            target("normal+free", vec![s(Normal, 0), s(Normal, 1), s(Normal, 2), s(SpecExp, 0)]),
         ],
     }
 }
@@ -608,15 +674,42 @@ impl GBufferLayout {
         self.targets.iter().map(|t| t.format.block_copy_size(None).unwrap_or(0)).sum()
     }
 
+    /// Whether some channel gives `attr` (alone or packed with another).
     pub fn has(&self, attr: Attr) -> bool {
-        self.targets.iter().flat_map(|t| t.channels.iter()).flatten().any(|s| s.attr == attr)
+        self.targets.iter().flat_map(|t| t.channels.iter()).flatten().any(|s| s.attr.gives(attr))
+    }
+
+    /// The largest relative rounding of a stored position component (seed 000's and 002's
+    /// fp16 positions: half an ulp, 2^-11; f32: 2^-24); 0 for layouts that reconstruct the
+    /// position from depth. The shadow lookups widen their depth bias by it (seed 002: "may
+    /// want to increase shadow bias based on pos.z if using fp16 for G-buffer positions").
+    pub fn position_rounding(&self) -> f64 {
+        if self.has(Attr::Depth) {
+            return 0.0;
+        }
+        self.targets
+            .iter()
+            .filter(|t| t.channels.iter().flatten().any(|s| s.attr == Attr::Position))
+            .map(|t| match t.format {
+                wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::Rg16Float | wgpu::TextureFormat::R16Float => {
+                    2f64.powi(-11)
+                }
+                _ => 2f64.powi(-24),
+            })
+            .fold(0.0, f64::max)
     }
 
     fn components(&self, attr: Attr) -> usize {
         match attr {
             Attr::Albedo | Attr::Emissive | Attr::Position => 3,
             Attr::Normal => self.normal.components(),
-            Attr::SpecLevel | Attr::SpecExp | Attr::Depth | Attr::Material | Attr::Layer => 1,
+            Attr::SpecLevel
+            | Attr::SpecExp
+            | Attr::Depth
+            | Attr::Material
+            | Attr::Layer
+            | Attr::EmissiveScale
+            | Attr::MaterialExp => 1,
         }
     }
 
@@ -651,7 +744,7 @@ impl GBufferLayout {
                     .iter()
                     .flat_map(|t| t.channels.iter())
                     .flatten()
-                    .any(|s| *s == Slot { attr, comp: c as u8 })
+                    .any(|s| s.attr.gives(attr) && (s.comp == c as u8 || self.components(s.attr) == 1))
                 {
                     return Err(format!("layout {} misses {:?}[{c}]", self.name, attr));
                 }
@@ -688,6 +781,7 @@ impl GBufferLayout {
         let _ = writeln!(w, "const GBUFFER_HAS_DEPTH: bool = {};", self.has(Attr::Depth));
         let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
         let _ = writeln!(w, "const GBUFFER_ONE_ACCUM: bool = {};", self.one_accumulation);
+        let _ = writeln!(w, "const GBUFFER_POSITION_ROUNDING: f32 = {:?};", self.position_rounding() as f32);
         // The material ID: per pixel from its channel, or the scene's one model.
         let _ = writeln!(w, "const GBUFFER_HAS_MATERIAL: bool = {};", self.uniform_brdf.is_none());
         let _ = writeln!(w, "const GBUFFER_BRDF: u32 = {}u;", self.uniform_brdf.unwrap_or_default().id());
@@ -718,7 +812,14 @@ impl GBufferLayout {
             let _ = writeln!(w, "    o.t{i} = vec4<{}>();", scalar(t.format));
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
-                    let src = format!("a.{}{}", attr_field(s.attr), self.accessor(s));
+                    let src = match s.attr {
+                        // The least-squares multiple of the albedo (fp16's largest finite value at most).
+                        Attr::EmissiveScale => "min(select(0.0, max(dot(a.emissive, a.albedo), 0.0) / \
+                                                max(dot(a.albedo, a.albedo), 1e-30), dot(a.albedo, a.albedo) > 0.0), 65504.0)"
+                            .to_string(),
+                        Attr::MaterialExp => "a.material * 255.0 + a.spec_exp * (255.0 / 256.0)".to_string(),
+                        _ => format!("a.{}{}", attr_field(s.attr), self.accessor(s)),
+                    };
                     let val = if is_bits(t.format) {
                         format!("bitcast<u32>({src})")
                     } else if s.attr.signed() && !is_float(t.format) {
@@ -749,6 +850,9 @@ impl GBufferLayout {
         let _ = writeln!(w, "    return o;\n}}");
         let _ = writeln!(w, "fn gbuffer_load(p: vec2<i32>) -> Surface {{");
         let _ = writeln!(w, "    var a = default_attributes();");
+        if self.targets.iter().flat_map(|t| &t.channels).flatten().any(|s| s.attr == Attr::EmissiveScale) {
+            let _ = writeln!(w, "    var emissive_scale = 0.0;");
+        }
         for (i, t) in self.targets.iter().enumerate() {
             let _ = writeln!(w, "    let t{i} = textureLoad(gbuf{i}, p, 0);");
             for (c, slot) in t.channels.iter().enumerate() {
@@ -761,9 +865,23 @@ impl GBufferLayout {
                     } else {
                         src
                     };
-                    let _ = writeln!(w, "    a.{}{} = {val};", attr_field(s.attr), self.accessor(s));
+                    match s.attr {
+                        Attr::EmissiveScale => {
+                            let _ = writeln!(w, "    emissive_scale = {val};");
+                        }
+                        Attr::MaterialExp => {
+                            let _ = writeln!(w, "    a.material = floor({val}) / 255.0;");
+                            let _ = writeln!(w, "    a.spec_exp = fract({val}) * (256.0 / 255.0);");
+                        }
+                        _ => {
+                            let _ = writeln!(w, "    a.{}{} = {val};", attr_field(s.attr), self.accessor(s));
+                        }
+                    }
                 }
             }
+        }
+        if self.targets.iter().flat_map(|t| &t.channels).flatten().any(|s| s.attr == Attr::EmissiveScale) {
+            let _ = writeln!(w, "    a.emissive = emissive_scale * a.albedo;");
         }
         let _ = writeln!(w, "    return surface_of(a, p);\n}}");
         w
@@ -795,6 +913,8 @@ fn attr_field(a: Attr) -> &'static str {
         Attr::Position => "position",
         Attr::Material => "material",
         Attr::Layer => "layer",
+        Attr::EmissiveScale => "emissive_scale",
+        Attr::MaterialExp => "material_exp",
     }
 }
 
@@ -912,8 +1032,46 @@ mod tests {
                 l.bytes_per_pixel()
             })
             .collect();
-        // seed000: RT0, RT2, RT3 (RT1 is the accumulation, not counted here).
-        assert_eq!(sizes, vec![24, 24, 12, 64, 24, 18, 20, 20, 24, 18, 20]);
+        // seed000: RT0, RT2, RT3 (RT1 is the accumulation, not counted here); seed002: its
+        // three fp16 targets, as the seed says.
+        assert_eq!(sizes, vec![24, 24, 24, 12, 64, 24, 18, 20, 20, 24, 18, 20]);
+    }
+
+    #[test]
+    fn seed002s_free_channel_keeps_the_material_id_and_the_exponent_apart() {
+        // Every ID a scene can have and every exponent code, through fp16 as the target stores
+        // them, and unpacked as `gbuffer_load` does.
+        for b in Brdf::ALL {
+            let id = b.id() as f32;
+            for k in 0..=4096 {
+                let code = k as f32 / 4096.0;
+                let stored = half::f16::from_f32(id + code * (255.0 / 256.0)).to_f32();
+                assert_eq!(stored.floor(), id, "{b:?} code {code}: the ID changed");
+                let back = stored.fract() * (256.0 / 255.0);
+                let ratio = 2f64.powf(((back - code).abs() * SPEC_EXP_LOG_RANGE) as f64);
+                assert!(ratio - 1.0 <= MATERIAL_EXP_RELATIVE_ERROR, "{b:?} code {code}: exponent off by {ratio}");
+            }
+        }
+    }
+
+    #[test]
+    fn seed002s_one_channel_emission_is_exact_along_the_albedo_only() {
+        use glam::Vec3;
+        let a = Vec3::new(0.8, 0.4, 0.1);
+        assert!(emission_residual(a * 3.0, a) < 1e-6);
+        // Orthogonal to the albedo: all of it is lost.
+        let e = Vec3::new(0.4, -0.8, 0.0) * 2.0;
+        assert!((emission_residual(e, a) - e.abs().max_element()).abs() < 1e-6);
+        // Black albedo: nothing survives.
+        assert_eq!(emission_residual(Vec3::ONE, Vec3::ZERO), 1.0);
+    }
+
+    #[test]
+    fn only_stored_positions_widen_the_shadow_bias() {
+        assert_eq!(LayoutChoice::Compact.layout().position_rounding(), 0.0);
+        assert_eq!(LayoutChoice::Seed002.layout().position_rounding(), 2f64.powi(-11));
+        assert_eq!(LayoutChoice::Seed000.layout().position_rounding(), 2f64.powi(-11));
+        assert_eq!(LayoutChoice::Reference.layout().position_rounding(), 2f64.powi(-24));
     }
 
     #[test]

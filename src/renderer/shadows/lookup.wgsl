@@ -12,15 +12,29 @@
 //   the texels the kernel reads, which is less than h / N.L when h > (reach + 1/2) sin.
 // - depth bias: the compared depth is lowered by (constant + slope x tan(angle to the light),
 //   tan at most 10) texels.
+// - stored-position bias (`stored_position_error`): a layout that stores the position in fp16
+//   (seeds 000 and 002) moves the receiver by up to e; along the light that changes its depth
+//   by up to e, and sideways (the lookup lands on the receiver's plane up to e away) the
+//   plane's stored depth by up to e x tan, so the compared depth is lowered by e (1 + tan) more.
 // Points outside the tile's frustum are lit (a spot's cone and a light's radius end there).
-fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>) -> f32 {
+fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>, pos_err: f32) -> f32 {
     let q0 = (t.to_light * vec4<f32>(p, 1.0)).xyz;
     let w0 = select(-q0.z, 1.0, t.info.x == LS_TILE_ORTHOGRAPHIC);
     if !(w0 > 0.0) {
         return 1.0;
     }
     let texel = t.info.y * w0;
-    return shadow_lookup(t, shadow_offset_point(p, n, texel), n, L, texel);
+    return shadow_lookup(t, shadow_offset_point(p, n, texel), n, L, texel, pos_err);
+}
+
+// How far the G-buffer's stored position may lie from the surface's (`Surface.position_error`,
+// 0 for surfaces shaded forward, whose position is the vertex stage's): each component rounds by
+// at most GBUFFER_POSITION_ROUNDING of its magnitude (half an ulp: 2^-11 in fp16), which is at
+// most |p|, so |error| <= sqrt(3) x rounding x |p| (seed 002: "increase shadow bias based on
+// pos.z if using fp16 for G-buffer positions"). 0 for layouts that reconstruct the position
+// from depth. Seed 000 stores the world-space view vector, of the same length.
+fn stored_position_error(p: vec3<f32>) -> f32 {
+    return sqrt(3.0) * GBUFFER_POSITION_ROUNDING * length(p);
 }
 
 // The normal offset's lookup point: `p` moved (reach + knob) texels along the normal.
@@ -32,7 +46,7 @@ fn shadow_offset_point(p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec3<f32> {
 
 // The lookup at the (offset) point `p1` in tile `t`; `texel` is a texel's world size at the
 // receiver.
-fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
+fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32, pos_err: f32) -> f32 {
     let shadow_params = shadow_params_load();
     let ortho = t.info.x == LS_TILE_ORTHOGRAPHIC;
     let ndl = clamp(dot(n, L), 0.0, 1.0);
@@ -47,7 +61,7 @@ fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel
         return 1.0;
     }
     let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
-    let bias = (shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel * t.proj.z;
+    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * t.proj.z;
     let depth = -q.z * t.proj.z + t.proj.w - bias;
     if depth >= 1.0 {
         return 1.0;
@@ -109,13 +123,13 @@ fn cube_face(d: vec3<f32>) -> u32 {
 // casts no shadow this frame.
 // Only the lookups the configuration compiles in (`program::ShaderFeatures`): a light of a kind
 // the scene has no caster of never has a shadow.
-fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>, pos_err: f32) -> f32 {
     if !(LS_TILE_SHADOWS || LS_CUBE_SHADOWS) || l.shadow.x == LS_NO_SHADOW {
         return 1.0;
     }
     let L = safe_normalize(l.position - p, n);
     if LS_TILE_SHADOWS && (!LS_CUBE_SHADOWS || l.shadow.y < 6u) {
-        return shadow_tile_factor(shadow_tile_load(l.shadow.x), p, n, L);
+        return shadow_tile_factor(shadow_tile_load(l.shadow.x), p, n, L, pos_err);
     }
     if !LS_CUBE_SHADOWS {
         return 1.0;
@@ -130,9 +144,10 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let texel = first.info.y * max(a.x, max(a.y, a.z));
     let p1 = shadow_offset_point(p, n, texel);
     if LS_CUBE_ARRAY {
-        return shadow_cube_lookup(first, p1 - l.position, n, L, texel);
+        return shadow_cube_lookup(first, p1 - l.position, n, L, texel, pos_err);
     }
-    return shadow_lookup(shadow_tile_load(l.shadow.x + cube_face(p1 - l.position)), p1, n, L, texel);
+    let face = shadow_tile_load(l.shadow.x + cube_face(p1 - l.position));
+    return shadow_lookup(face, p1, n, L, texel, pos_err);
 }
 
 // `--shadow-cube array`: the lookup of a cube in the cube array, for the (offset) light-to-point
@@ -145,7 +160,7 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>) -> f32 {
 // axial one, exactly). The hardware picks the face and filters 2x2 across face edges
 // (seamless), so no border; the wider kernels move d in the plane of its major face by whole
 // texels (2 ma / side a texel at that face's distance), as the atlas kernels move uv.
-fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32) -> f32 {
+fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32, pos_err: f32) -> f32 {
     let shadow_params = shadow_params_load();
     let kernel = LS_SHADOW_KERNEL;
     let a = abs(d);
@@ -155,7 +170,7 @@ fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32
     }
     let ndl = clamp(dot(n, L), 0.0, 1.0);
     let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
-    let bias = (shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel * first.proj.z;
+    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * first.proj.z;
     let axial = ma * first.proj.z - bias;
     if axial >= 1.0 {
         return 1.0;
@@ -208,7 +223,7 @@ fn sun_cascade(p: vec3<f32>) -> u32 {
 
 // The sun's shadow factor (ambient + sun, in the G-buffer pass, its own pass and the forward
 // pass).
-fn ls_sun_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn ls_sun_shadow(p: vec3<f32>, n: vec3<f32>, pos_err: f32) -> f32 {
     let shadow_params = shadow_params_load();
     if !LS_SUN_SHADOW || shadow_params.sun.x == LS_NO_SHADOW {
         return 1.0;
@@ -217,7 +232,7 @@ fn ls_sun_shadow(p: vec3<f32>, n: vec3<f32>) -> f32 {
     if i >= shadow_params.sun.y {
         return 1.0;
     }
-    return shadow_tile_factor(shadow_tile_load(shadow_params.sun.x + i), p, n, camera.sun_dir.xyz);
+    return shadow_tile_factor(shadow_tile_load(shadow_params.sun.x + i), p, n, camera.sun_dir.xyz, pos_err);
 }
 
 // The shadow table (`records::FrameBuffers::shadow_table`): row 0 the ShadowParams, row 1 + i

@@ -72,14 +72,14 @@ fn shadow_view_factor(s: Surface) -> f32 {
     let shadow_params = shadow_params_load();
     var f = 1.0;
     if camera.sun_dir.w > 0.5 && dot(s.normal, camera.sun_dir.xyz) > 0.0 {
-        f = ls_sun_shadow(s.position, s.normal);
+        f = ls_sun_shadow(s.position, s.normal, s.position_error);
     }
     let per_row = 4u * LS_SHADOW_TABLE_WIDTH;
     for (var k = 0u; k < shadow_params.counts.y; k++) {
         let at = vec2<i32>(i32((k % per_row) / 4u), i32(shadow_params.counts.z + k / per_row));
         let l = light_at(textureLoad(shadow_table, at, 0)[k % 4u]);
         if l.shadow.x != LS_NO_SHADOW && inside_light(s, l) && dot(s.normal, l.position - s.position) > 0.0 {
-            f = min(f, ls_shadow(l, s.position, s.normal));
+            f = min(f, ls_shadow(l, s.position, s.normal, s.position_error));
         }
     }
     return f;
@@ -196,7 +196,7 @@ fn fs_compose_view(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32>
                     vec3<f32>(1.0, 1.0, 0.25),
                 )[min(i, 3u)];
             }
-            c = tint * (0.3 + 0.7 * ls_sun_shadow(s.position, s.normal));
+            c = tint * (0.3 + 0.7 * ls_sun_shadow(s.position, s.normal, s.position_error));
         }
     }
     return vec4<f32>(c, 1.0);

@@ -301,6 +301,7 @@ impl App {
         let atlas = self.state.panels.shadows.then(|| ui::AtlasInfo {
             image: g.atlas.as_ref().map(|i| i.id),
             side: atlas_side,
+            format: g.renderer.shadow_plan().stats.format.texture(),
             tiles: &atlas_tiles,
             range: g.atlas_range,
         });

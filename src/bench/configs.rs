@@ -226,6 +226,11 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for n in if q { vec![1, 4] } else { vec![1, 2, 4] } {
         sh.push((format!("{n} cascades"), Settings { shadow_cascades: n, ..shadowed.clone() }));
     }
+    // Seed 002's D16 / D24X8 maps (at the same budget: D16 halves the bytes, the side only
+    // doubles when the budget holds the next power of two).
+    for f in if q { vec![ShadowFormat::Depth16] } else { vec![ShadowFormat::Depth24, ShadowFormat::Depth16] } {
+        sh.push((f.name(), Settings { shadow_format: f, ..shadowed.clone() }));
+    }
     for (label, settings) in sh {
         v.push(c("shadows", label, settings, o.lights));
     }

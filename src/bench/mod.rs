@@ -27,7 +27,7 @@ use crate::renderer::presets::Preset;
 use crate::renderer::settings::{MaterialBranch, NearLights};
 use crate::renderer::{
     AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
-    ShadowCube, ShadowFilter, ShadowMode, OUTPUT_FORMAT,
+    ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};

@@ -12,7 +12,7 @@ use super::presets::{Preset, CUSTOM};
 use super::settings::{
     name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat,
     DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, Settings, ShadowCube,
-    ShadowFilter, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    ShadowFilter, ShadowFormat, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -618,7 +618,7 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "shadow-budget",
         what: "shadow atlas budget",
-        help: "Shadow atlas byte budget in MiB (Depth32Float; the side is the largest power of two that fits; with --shadow-cube array, the atlas and the cube array share it)",
+        help: "Shadow atlas byte budget in MiB (at --shadow-format's bytes a texel; the side is the largest power of two that fits; with --shadow-cube array, the atlas and the cube array share it)",
         values: Values::Float { min: 0.25, max: 1024.0, open: (false, false), slider: (1.0, 64.0) },
         cli: true,
         get: |s| s.shadow_budget_mb.to_string(),
@@ -672,6 +672,18 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.shadow_filter),
         put: |s, v| {
             s.shadow_filter = choice("shadow filter", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "shadow-format",
+        what: "shadow map format",
+        help: "Depth format of the shadow atlas and cube array: depth32 (Depth32Float), depth24 (Depth24Plus) or depth16 (Depth16Unorm, 2 bytes a texel); its step is added to the depth bias",
+        values: Values::Choice(names::<ShadowFormat>),
+        cli: true,
+        get: |s| name_of(&s.shadow_format),
+        put: |s, v| {
+            s.shadow_format = choice("shadow map format", v)?;
             Ok(())
         },
     },

@@ -53,7 +53,7 @@ use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
     AccumFormat, BlendedMode, BrdfOverride, CullingMode, DebugView, DepthFormat, DrawOrder, ForwardLights,
-    LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowMode,
+    LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowFormat, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
 use std::sync::Arc;

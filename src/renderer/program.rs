@@ -102,6 +102,7 @@ impl ShaderFeatures {
             tiles: true,
             cubes: Some(shadows::ShadowCube::Unrolled),
             filter: shadows::ShadowFilter::Pcf3x3,
+            format: shadows::ShadowFormat::Depth32,
             casters_apart: true,
         },
         cookies: true,
@@ -146,6 +147,7 @@ impl ShaderFeatures {
         }
         if sh.sun || sh.tiles || sh.cubes.is_some() {
             v.push(format!("kernel {}", sh.filter.name()));
+            v.push(format!("maps {}", sh.format.name()));
         }
         if sh.casters_apart {
             v.push("casters apart".to_string());
@@ -173,7 +175,8 @@ impl ShaderFeatures {
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
              const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
-             const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n",
+             const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n\
+             const LS_SHADOW_DEPTH_STEP: f32 = {:?};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
@@ -182,7 +185,8 @@ impl ShaderFeatures {
             sh.casters_apart,
             self.light_planes,
             self.paired_loops,
-            self.brdf_branch
+            self.brdf_branch,
+            sh.format.step()
         )
     }
 }
@@ -253,7 +257,7 @@ mod tests {
         // planes; a scene with cookies reads the storage buffer.
         assert_eq!(
             features("demo").names(),
-            ["sun cascades", "spot tiles", "kernel pcf3x3", "casters apart", "light planes"]
+            ["sun cascades", "spot tiles", "kernel pcf3x3", "maps depth32", "casters apart", "light planes"]
         );
         assert!(features("cookies").names().iter().any(|n| n == "cookies"));
         assert!(features("demo").light_planes && !features("cookies").light_planes);

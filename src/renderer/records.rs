@@ -565,7 +565,7 @@ pub struct FrameBuffers {
     /// of one buffer; written only in frames whose shaders read them.
     pub light_planes: wgpu::Buffer,
     pub group: wgpu::BindGroup,
-    /// The shadow atlas (Depth32Float, `shadow_side` square), its view and comparison
+    /// The shadow atlas (`--shadow-format`, `shadow_side` square), its view and comparison
     /// sampler, the tiles (`ShadowTile`) and the frame's `ShadowParams`.
     pub shadow_atlas: wgpu::Texture,
     pub shadow_view: wgpu::TextureView,
@@ -574,7 +574,7 @@ pub struct FrameBuffers {
     /// 1 + i tile i, each as its bytes.
     pub shadow_table: wgpu::Texture,
     pub shadow_table_view: wgpu::TextureView,
-    /// `--shadow-cube array`: the cube array (Depth32Float, `shadow_cube_side` square, 6 layers
+    /// `--shadow-cube array`: the cube array (the atlas's format, `shadow_cube_side` square, 6 layers
     /// a cube, at least `Quirks::min_cube_layers`; a 1x1 stand-in when no cube casts), its
     /// CubeArray view (bound) and one 2D view per layer (the shadow pass renders into them).
     pub shadow_cubes: wgpu::Texture,
@@ -596,13 +596,15 @@ fn shadow_table(device: &wgpu::Device, rows: u32) -> (wgpu::Texture, wgpu::Textu
     (t, v)
 }
 
-/// Format of the shadow atlas.
-pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-fn shadow_atlas(device: &wgpu::Device, side: u32) -> (wgpu::Texture, wgpu::TextureView) {
+/// The shadow atlas of `side` texels square in `format`; COPY_SRC where the format can be copied
+/// (Depth24Plus cannot).
+fn shadow_atlas(device: &wgpu::Device, side: u32, format: wgpu::TextureFormat) -> (wgpu::Texture, wgpu::TextureView) {
     use wgpu::TextureUsages as U;
-    let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
-    let t = texture(device, "shadow atlas", SHADOW_FORMAT, (side, side), usage);
+    let mut usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
+    if format != wgpu::TextureFormat::Depth24Plus {
+        usage |= U::COPY_SRC;
+    }
+    let t = texture(device, "shadow atlas", format, (side, side), usage);
     let v = t.create_view(&Default::default());
     (t, v)
 }
@@ -613,6 +615,7 @@ fn shadow_cubes(
     device: &wgpu::Device,
     side: u32,
     layers: u32,
+    format: wgpu::TextureFormat,
 ) -> (wgpu::Texture, wgpu::TextureView, Vec<wgpu::TextureView>) {
     let layers = layers.max(6).div_ceil(6) * 6;
     let t = device.create_texture(&wgpu::TextureDescriptor {
@@ -621,10 +624,8 @@ fn shadow_cubes(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: SHADOW_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     });
     let cubes = t.create_view(&wgpu::TextureViewDescriptor {
@@ -680,7 +681,7 @@ impl FrameBuffers {
         });
         let cookie_texels = cookie_texture(device, 1, 1);
         let cookie_view = cookie_texels.create_view(&Default::default());
-        let (shadow_atlas, shadow_view) = shadow_atlas(device, 1);
+        let (shadow_atlas, shadow_view) = shadow_atlas(device, 1, wgpu::TextureFormat::Depth32Float);
         let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("shadow comparison"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -689,7 +690,8 @@ impl FrameBuffers {
             ..Default::default()
         });
         let (shadow_table, shadow_table_view) = shadow_table(device, 16);
-        let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) = shadow_cubes(device, 1, min_cube_layers);
+        let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) =
+            shadow_cubes(device, 1, min_cube_layers, wgpu::TextureFormat::Depth32Float);
         let group = Self::bind(
             device,
             frame_bgl,
@@ -774,24 +776,28 @@ impl FrameBuffers {
         self.shadow_atlas.width()
     }
 
-    /// Reallocates the cube array (`--shadow-cube array`) when its face side or layer count
-    /// differs from `side` x `layers` (0 layers: the 1x1 stand-in), rebinding the frame group.
+    /// Reallocates the cube array (`--shadow-cube array`) when its face side, layer count or
+    /// format differs from `side` x `layers` in `format` (0 layers: the 1x1 stand-in),
+    /// rebinding the frame group.
     pub fn ensure_shadow_cubes(
         &mut self,
         device: &wgpu::Device,
         frame_bgl: &wgpu::BindGroupLayout,
-        side: u32,
-        layers: u32,
+        (side, layers): (u32, u32),
+        format: wgpu::TextureFormat,
     ) {
         let min = self.min_cube_layers;
         let (side, layers) = if layers == 0 { (1, min) } else { (side.max(1), (layers.div_ceil(6) * 6).max(min)) };
-        if self.shadow_cubes.width() != side || self.shadow_cubes.depth_or_array_layers() != layers {
-            (self.shadow_cubes, self.shadow_cubes_view, self.shadow_cube_layers) = shadow_cubes(device, side, layers);
+        let t = &self.shadow_cubes;
+        if t.width() != side || t.depth_or_array_layers() != layers || t.format() != format {
+            (self.shadow_cubes, self.shadow_cubes_view, self.shadow_cube_layers) =
+                shadow_cubes(device, side, layers, format);
             self.rebind(device, frame_bgl);
         }
     }
 
-    /// Reallocates the shadow atlas at `side` texels square when it has another size, and
+    /// Reallocates the shadow atlas at `side` texels square in `format` when it has another
+    /// size or format, and
     /// writes the frame's shadow parameters, tiles and casters (their light indices, four a
     /// texel, after the tiles: `ShadowParams::counts`).
     #[allow(clippy::too_many_arguments)]
@@ -800,14 +806,14 @@ impl FrameBuffers {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         frame_bgl: &wgpu::BindGroupLayout,
-        side: u32,
+        (side, format): (u32, wgpu::TextureFormat),
         tiles: &[ShadowTile],
         params: &ShadowParams,
         casters: &[u32],
     ) {
         let mut rebind = false;
-        if self.shadow_atlas.width() != side {
-            (self.shadow_atlas, self.shadow_view) = shadow_atlas(device, side.max(1));
+        if self.shadow_atlas.width() != side || self.shadow_atlas.format() != format {
+            (self.shadow_atlas, self.shadow_view) = shadow_atlas(device, side.max(1), format);
             rebind = true;
         }
         let per_row = 4 * SHADOW_TABLE_WIDTH as usize;

@@ -71,9 +71,10 @@ knob_names!(
     ShadowMode => "shadow casters",
     ShadowFilter => "shadow filter",
     ShadowCube => "shadow cube layout",
+    ShadowFormat => "shadow map format",
 );
 
-pub use super::shadows::{ShadowCube, ShadowFilter, ShadowMode};
+pub use super::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode};
 
 pub use super::post::{Aa, Tonemap};
 
@@ -615,6 +616,8 @@ pub struct Settings {
     pub shadow_normal_offset: f32,
     /// The filter kernel of the shadow lookup.
     pub shadow_filter: ShadowFilter,
+    /// The shadow maps' depth format (seed 002: D16 or D24).
+    pub shadow_format: ShadowFormat,
     /// Sun cascades (1 ..= 4) over the view frustum.
     pub shadow_cascades: u32,
     /// Cascade splits: lambda x logarithmic + (1 - lambda) x uniform.
@@ -678,6 +681,7 @@ impl Default for Settings {
             shadow_slope_bias: 1.0,
             shadow_normal_offset: 1.0,
             shadow_filter: ShadowFilter::Pcf3x3,
+            shadow_format: ShadowFormat::Depth32,
             shadow_cascades: 3,
             shadow_split_lambda: 0.7,
             cluster_build: ClusterBuilder::Cpu,

@@ -372,6 +372,30 @@ fn a_plane_lit_at_a_grazing_angle_shows_no_acne_with_the_default_bias() {
     }
 }
 
+/// Per pixel, whether the lights' shadows take more than half its diffuse light under `base`
+/// with shadows `mode` (against the same settings without shadows).
+fn shadowed_pixels(scene: &Scene, base: &Settings, mode: ShadowMode) -> Vec<bool> {
+    let plain = lit(scene, &Settings { shadows: ShadowMode::None, ..base.clone() });
+    let f = lit(scene, &Settings { shadows: mode, ..base.clone() });
+    plain.diffuse.iter().zip(&f.diffuse).map(|(a, b)| *a > 1e-3 && *b < 0.5 * *a).collect()
+}
+
+/// The pixels where `other` differs from `reference` away from a shadow's edge (a pixel whose
+/// 8 neighbours all agree with it in `reference`).
+fn differ_off_edges(reference: &[bool], other: &[bool]) -> Vec<usize> {
+    let w = W as i64;
+    let edge = |k: usize| {
+        let (x, y) = (k as i64 % w, k as i64 / w);
+        (-1..=1).any(|dy| {
+            (-1..=1).any(|dx| {
+                let (nx, ny) = (x + dx, y + dy);
+                nx >= 0 && ny >= 0 && nx < w && ny < H as i64 && reference[(ny * w + nx) as usize] != reference[k]
+            })
+        })
+    };
+    (0..reference.len()).filter(|&k| other[k] != reference[k] && !edge(k)).collect()
+}
+
 /// Seed 000's and seed 002's fp16 stored positions widen the shadow bias by their rounding
 /// (`stored_position_error`: sqrt(3) 2^-11 |p| (1 + tan)); at the scene's own distances that
 /// must not move shadows: every light's shadowed pixels (factor below 1/2) are the depth
@@ -382,30 +406,47 @@ fn a_plane_lit_at_a_grazing_angle_shows_no_acne_with_the_default_bias() {
 fn fp16_stored_positions_shadow_the_pixels_depth_layouts_shadow() {
     use lampshade::renderer::LayoutChoice;
     let s = scene("shadows");
-    let mode = ShadowMode::All;
-    let shadowed = |layout| {
-        let base = Settings { layout, ..settings(ShadowMode::None) };
-        let plain = lit(&s, &base);
-        let f = lit(&s, &Settings { shadows: mode, ..base });
-        plain.diffuse.iter().zip(&f.diffuse).map(|(a, b)| *a > 1e-3 && *b < 0.5 * *a).collect::<Vec<bool>>()
-    };
-    let depth = shadowed(LayoutChoice::Compact);
-    let w = W as usize;
-    let edge = |k: usize| {
-        let (x, y) = ((k % w) as i64, (k / w) as i64);
-        (-1..=1).any(|dy| {
-            (-1..=1).any(|dx| {
-                let (nx, ny) = (x + dx, y + dy);
-                nx >= 0 && ny >= 0 && nx < w as i64 && ny < H as i64 && depth[(ny * w as i64 + nx) as usize] != depth[k]
-            })
-        })
-    };
+    let at = |layout| shadowed_pixels(&s, &Settings { layout, ..settings(ShadowMode::None) }, ShadowMode::All);
+    let depth = at(LayoutChoice::Compact);
     let n = depth.iter().filter(|b| **b).count();
     assert!(n > 1000, "only {n} shadowed pixels");
-    let stored = shadowed(LayoutChoice::Seed002);
-    let off: Vec<usize> = (0..depth.len()).filter(|&k| stored[k] != depth[k] && !edge(k)).collect();
+    let off = differ_off_edges(&depth, &at(LayoutChoice::Seed002));
     eprintln!("seed002: {} of {n} shadowed pixels differ away from an edge", off.len());
     assert!(off.is_empty(), "seed002: {} pixels away from a shadow edge differ, first {:?}", off.len(), off.first());
+}
+
+/// Seed 002's shadow formats (`--shadow-format`): D24 and D16 maps shadow the pixels the
+/// Depth32Float maps shadow (but at shadow edges), for the atlas and the cube array, and the
+/// stats report the format and its bytes: 2 a texel for D16, whose atlas doubles its side where
+/// the budget allows the next power of two.
+#[test]
+fn every_shadow_format_shadows_the_pixels_depth32_shadows() {
+    use lampshade::renderer::ShadowFormat;
+    let s = scene("shadows");
+    for cube in CUBES {
+        let at = |format| {
+            let base = Settings { shadow_format: format, shadow_cube: cube, ..settings(ShadowMode::None) };
+            shadowed_pixels(&s, &base, ShadowMode::All)
+        };
+        let d32 = at(ShadowFormat::Depth32);
+        let n = d32.iter().filter(|b| **b).count();
+        assert!(n > 1000, "only {n} shadowed pixels");
+        for format in [ShadowFormat::Depth24, ShadowFormat::Depth16] {
+            let off = differ_off_edges(&d32, &at(format));
+            eprintln!("{} {format:?}: {} of {n} shadowed pixels differ away from an edge", cube_name(cube), off.len());
+            assert!(
+                off.is_empty(),
+                "{} {format:?}: {} pixels away from a shadow edge differ",
+                cube_name(cube),
+                off.len()
+            );
+        }
+    }
+    for (format, bytes, side) in [(ShadowFormat::Depth32, 4, 2048), (ShadowFormat::Depth16, 2, 4096)] {
+        let st = Settings { shadow_format: format, shadow_budget_mb: 32.0, ..settings(ShadowMode::All) };
+        let sh = lit(&s, &st).stats.shadow.expect("shadow stats");
+        assert_eq!((sh.format, sh.atlas_side, sh.atlas_bytes), (format, side, side as u64 * side as u64 * bytes));
+    }
 }
 
 /// A 2 cm wall between a point light and the floor behind it, wider than the light's reach:

@@ -10,7 +10,7 @@ use super::*;
 use crate::renderer::inspect::{AtlasTile, TileOwner};
 use crate::renderer::knobs;
 use crate::renderer::shadows::{kind_casts, ShadowStats};
-use crate::renderer::{ShadowFilter, ShadowMode};
+use crate::renderer::{ShadowFilter, ShadowFormat, ShadowMode};
 use state::AtlasView;
 
 /// The selected light's outline.
@@ -40,6 +40,8 @@ pub struct AtlasInfo<'a> {
     pub image: Option<egui::TextureId>,
     /// Side of the atlas in texels.
     pub side: u32,
+    /// Its depth format (`--shadow-format`).
+    pub format: wgpu::TextureFormat,
     pub tiles: &'a [AtlasTile],
     /// Least and greatest stored depth (fractions of each tile's far distance).
     pub range: Option<(f32, f32)>,
@@ -186,7 +188,7 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
         ui.label(RichText::new("shadows are off: pick sun, spots or all below").color(Color32::from_rgb(255, 170, 80)));
     }
     ui.horizontal(|ui| {
-        ui.label(format!("{0}x{0} Depth32Float", a.side));
+        ui.label(format!("{0}x{0} {1:?}", a.side, a.format));
         if let Some(s) = stats {
             ui.label(format!("{:.1} MiB, {:.0}% used", s.atlas_bytes as f64 / 1048576.0, s.atlas_used * 100.0));
         }
@@ -391,6 +393,14 @@ pub(super) fn shadow_knobs(ui: &mut egui::Ui, st: &mut UiState, salt: &str) {
             for k in [ShadowFilter::Pcf2x2, ShadowFilter::Pcf3x3, ShadowFilter::Poisson16] {
                 ui.selectable_value(&mut s.shadow_filter, k, k.name())
                     .on_hover_text(crate::renderer::settings::help_of(&k));
+            }
+        });
+        ui.end_row();
+        ui.label("format");
+        egui::ComboBox::from_id_salt((salt, "format")).selected_text(s.shadow_format.name()).show_ui(ui, |ui| {
+            for f in [ShadowFormat::Depth32, ShadowFormat::Depth24, ShadowFormat::Depth16] {
+                ui.selectable_value(&mut s.shadow_format, f, f.name())
+                    .on_hover_text(crate::renderer::settings::help_of(&f));
             }
         });
         ui.end_row();

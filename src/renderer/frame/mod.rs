@@ -172,8 +172,10 @@ impl Renderer {
             self.frame.upload_light_planes(&self.queue, &records.lights)?;
         }
         let (side, tiles, params) = (shadow_plan.side, &shadow_plan.tiles, &shadow_plan.params);
-        self.frame.upload_shadows(&self.device, &self.queue, bgl, side, tiles, params, &shadow_plan.casters);
-        self.frame.ensure_shadow_cubes(&self.device, bgl, shadow_plan.cube_side, shadow_plan.cube_layers);
+        let format = shadow_plan.stats.format.texture();
+        self.frame.upload_shadows(&self.device, &self.queue, bgl, (side, format), tiles, params, &shadow_plan.casters);
+        let cubes = (shadow_plan.cube_side, shadow_plan.cube_layers);
+        self.frame.ensure_shadow_cubes(&self.device, bgl, cubes, format);
         let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
         self.queries.ensure_lights(&self.device, plan.lights.len());
         Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms })

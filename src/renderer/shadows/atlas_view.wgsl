@@ -1,5 +1,5 @@
 // The viewer's shadow-atlas panel (`shadows::atlas_view`): the last frame's shadow
-// atlas (Depth32Float, linear depth -z / far per tile, cleared to 1.0) as a grey image, its
+// atlas (any depth format, linear depth -z / far per tile, cleared to 1.0) as a grey image, its
 // depth stretched over the range actually present.
 //
 // 1. `cs_atlas_range` finds the least and greatest stored depth below the clear value (1.0):

@@ -16,6 +16,9 @@
 //   (seeds 000 and 002) moves the receiver by up to e; along the light that changes its depth
 //   by up to e, and sideways (the lookup lands on the receiver's plane up to e away) the
 //   plane's stored depth by up to e x tan, so the compared depth is lowered by e (1 + tan) more.
+// - format step (`LS_SHADOW_DEPTH_STEP`, `ShadowFormat::step`): the stored depth rounds by half
+//   a step of the map's format and the compared reference by up to half a step more, so one
+//   step more (1/65535 of the light's range for `depth16`).
 // Points outside the tile's frustum are lit (a spot's cone and a light's radius end there).
 fn shadow_tile_factor(t: ShadowTile, p: vec3<f32>, n: vec3<f32>, L: vec3<f32>, pos_err: f32) -> f32 {
     let q0 = (t.to_light * vec4<f32>(p, 1.0)).xyz;
@@ -61,7 +64,8 @@ fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel
         return 1.0;
     }
     let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
-    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * t.proj.z;
+    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * t.proj.z
+        + LS_SHADOW_DEPTH_STEP;
     let depth = -q.z * t.proj.z + t.proj.w - bias;
     if depth >= 1.0 {
         return 1.0;
@@ -170,7 +174,8 @@ fn shadow_cube_lookup(first: ShadowTile, d: vec3<f32>, n: vec3<f32>, L: vec3<f32
     }
     let ndl = clamp(dot(n, L), 0.0, 1.0);
     let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
-    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * first.proj.z;
+    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * first.proj.z
+        + LS_SHADOW_DEPTH_STEP;
     let axial = ma * first.proj.z - bias;
     if axial >= 1.0 {
         return 1.0;

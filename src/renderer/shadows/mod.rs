@@ -79,6 +79,53 @@ impl ShadowFilter {
     }
 }
 
+/// The depth format of the shadow atlas and the cube array (seed 002: "Use D16 or D24X8 format
+/// for shadow maps"). The maps store linear depth -z / far in [0, 1]; a format's step (its
+/// quantisation near 1, [`ShadowFormat::step`]) is added to the depth bias: the stored depth
+/// rounds by up to half a step, and the reference the hardware compares with may be converted
+/// to the format's precision, by up to half a step more.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowFormat {
+    /// Depth32Float, 4 bytes a texel.
+    #[default]
+    Depth32,
+    /// wgpu's Depth24Plus (D24X8 where the adapter has it, else a 32-bit float), 4 bytes a
+    /// texel as budgeted.
+    Depth24,
+    /// Depth16Unorm, 2 bytes a texel: twice the texels for a budget (the side doubles when the
+    /// budget allows a power of two more).
+    Depth16,
+}
+
+impl ShadowFormat {
+    pub fn texture(self) -> wgpu::TextureFormat {
+        match self {
+            ShadowFormat::Depth32 => wgpu::TextureFormat::Depth32Float,
+            ShadowFormat::Depth24 => wgpu::TextureFormat::Depth24Plus,
+            ShadowFormat::Depth16 => wgpu::TextureFormat::Depth16Unorm,
+        }
+    }
+
+    /// Bytes a texel, for the budget.
+    pub fn bytes(self) -> u64 {
+        match self {
+            ShadowFormat::Depth16 => 2,
+            ShadowFormat::Depth32 | ShadowFormat::Depth24 => 4,
+        }
+    }
+
+    /// The largest step between stored depths in [0, 1]: 2^-24 for a 32-bit float near 1 and
+    /// for 24-bit unorm (1 / (2^24 - 1), which Depth24Plus's float fallback does not exceed),
+    /// 1 / 65535 for 16-bit unorm.
+    pub fn step(self) -> f32 {
+        match self {
+            ShadowFormat::Depth32 | ShadowFormat::Depth24 => 2f32.powi(-24),
+            ShadowFormat::Depth16 => 1.0 / 65535.0,
+        }
+    }
+}
+
 /// Where point lights' (and wide spots') six faces live.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
@@ -146,6 +193,9 @@ pub struct ShadowCode {
     pub cubes: Option<ShadowCube>,
     /// The one kernel compiled in (`st.shadow_filter`).
     pub filter: ShadowFilter,
+    /// The maps' depth format (`st.shadow_format`): the shadow pass's pipeline and the depth
+    /// bias's format step (`LS_SHADOW_DEPTH_STEP`).
+    pub format: ShadowFormat,
     /// Only the lights that cast this frame run the light lookups: the light pass draws the
     /// others with a pipeline compiled without them (`fs_light_plain`), and the tiled and
     /// clustered passes shade a list's casting lights in a loop of their own after the others
@@ -161,12 +211,18 @@ impl ShadowCode {
         let mode = st.shadows;
         // The kernel only matters to a lookup: with none compiled in, the default, so that
         // changing `--shadow-filter` then compiles nothing new.
-        let none =
-            ShadowCode { sun: false, tiles: false, cubes: None, filter: ShadowFilter::default(), casters_apart: false };
+        let none = ShadowCode {
+            sun: false,
+            tiles: false,
+            cubes: None,
+            filter: ShadowFilter::default(),
+            format: ShadowFormat::default(),
+            casters_apart: false,
+        };
         if mode == ShadowMode::None {
             return none;
         }
-        let mut code = ShadowCode { filter: st.shadow_filter, ..none };
+        let mut code = ShadowCode { filter: st.shadow_filter, format: st.shadow_format, ..none };
         let Some(scene) = scene else {
             code.sun = true;
             code.tiles = matches!(mode, ShadowMode::Spots | ShadowMode::All);
@@ -196,6 +252,8 @@ impl ShadowCode {
 pub struct ShadowStats {
     pub mode: ShadowMode,
     pub filter: ShadowFilter,
+    #[serde(default)]
+    pub format: ShadowFormat,
     pub atlas_side: u32,
     pub atlas_bytes: u64,
     pub tiles: u32,
@@ -264,9 +322,9 @@ impl Default for ShadowParams {
     }
 }
 
-/// Side of the atlas for a budget of `mb` MiB (4 bytes a texel), capped at `limit`.
-pub fn atlas_side(mb: f32, limit: u32) -> u32 {
-    let texels = (mb as f64 * 1024.0 * 1024.0 / 4.0).max(1.0);
+/// Side of the atlas for a budget of `mb` MiB (`bytes` a texel), capped at `limit`.
+pub fn atlas_side(mb: f32, bytes: u64, limit: u32) -> u32 {
+    let texels = (mb as f64 * 1024.0 * 1024.0 / bytes.max(1) as f64).max(1.0);
     let mut side = 1u32;
     while (side as f64 * 2.0).powi(2) <= texels && side * 2 <= limit {
         side *= 2;
@@ -278,14 +336,14 @@ pub fn atlas_side(mb: f32, limit: u32) -> u32 {
 /// side. `wants` holds each cube light's wanted face side (its footprint rule, as for atlas
 /// tiles), in priority order; `bytes` is what the budget leaves after the atlas (the budget
 /// less the atlas as allocated). The side starts at the largest want (at most `max_side`) and
-/// is halved while 6 faces x 4 bytes x side² x (cube lights) exceeds `bytes`, down to
+/// is halved while 6 faces x `texel` bytes x side² x (cube lights) exceeds `bytes`, down to
 /// [`MIN_TILE`]; at `MIN_TILE` the first cubes in priority order that fit are kept, the rest
 /// fall back to unshadowed (budget). At most `max_layers` / 6 cubes (the device's array-layer
 /// limit; the rest are budget fallbacks too). Returns (face side, cubes kept).
-pub fn cube_array_fit(wants: &[u32], bytes: u64, max_side: u32, max_layers: u32) -> (u32, usize) {
+pub fn cube_array_fit(wants: &[u32], bytes: u64, texel: u64, max_side: u32, max_layers: u32) -> (u32, usize) {
     let Some(&most) = wants.iter().max() else { return (0, 0) };
     let n = wants.len().min((max_layers / 6) as usize);
-    let cube = |side: u32| 6 * 4 * side as u64 * side as u64;
+    let cube = |side: u32| 6 * texel * side as u64 * side as u64;
     let mut side = most.min(max_side.max(1));
     while side > MIN_TILE && n as u64 * cube(side) > bytes {
         side /= 2;
@@ -458,15 +516,16 @@ pub struct ShadowInputs<'a> {
 /// 4. with `--shadow-cube array`, the cube lights' faces in the cube array ([`place_cubes`]).
 pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     let st = inp.settings;
-    let side = atlas_side(st.shadow_budget_mb, inp.max_texture.max(1));
+    let side = atlas_side(st.shadow_budget_mb, st.shadow_format.bytes(), inp.max_texture.max(1));
     let mut out = ShadowPlan {
         side,
         lights: vec![(NO_SHADOW, 0); scene.lights.len()],
         stats: ShadowStats {
             mode: st.shadows,
             filter: st.shadow_filter,
+            format: st.shadow_format,
             atlas_side: side,
-            atlas_bytes: side as u64 * side as u64 * 4,
+            atlas_bytes: side as u64 * side as u64 * st.shadow_format.bytes(),
             cube: st.shadow_cube,
             ..Default::default()
         },
@@ -678,7 +737,8 @@ fn place_cubes(
     let budget = (inp.settings.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
     let left = budget.saturating_sub(out.stats.atlas_bytes);
     let wants: Vec<u32> = cubes.iter().map(|c| c.1).collect();
-    let (cube_side, kept) = cube_array_fit(&wants, left, inp.max_texture.max(1), inp.max_layers);
+    let texel = inp.settings.shadow_format.bytes();
+    let (cube_side, kept) = cube_array_fit(&wants, left, texel, inp.max_texture.max(1), inp.max_layers);
     out.stats.fallback_budget += (cubes.len() - kept) as u32;
     for (c, &(i, _)) in cubes.iter().take(kept).enumerate() {
         let origin = rot * (scene.lights[i].position() - cam.position);
@@ -697,7 +757,7 @@ fn place_cubes(
         out.cube_layers = 6 * kept as u32;
         out.stats.cube_side = cube_side;
         out.stats.cube_layers = out.cube_layers;
-        out.stats.cube_bytes = 4 * out.cube_layers as u64 * cube_side as u64 * cube_side as u64;
+        out.stats.cube_bytes = texel * out.cube_layers as u64 * cube_side as u64 * cube_side as u64;
     }
     out.stats.tiles = out.tiles.len() as u32;
 }
@@ -937,18 +997,21 @@ mod tests {
     fn the_cube_array_fits_the_budget_with_one_side() {
         let cube = |side: u64| 6 * 4 * side * side;
         // Room for all at the largest want.
-        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256), 8192, 256), (256, 3));
+        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256), 4, 8192, 256), (256, 3));
         // One byte short: halved once.
-        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256) - 1, 8192, 256), (128, 3));
+        assert_eq!(cube_array_fit(&[256, 64, 128], 3 * cube(256) - 1, 4, 8192, 256), (128, 3));
         // At MIN_TILE only the first in priority order that fit.
-        assert_eq!(cube_array_fit(&[64; 10], 4 * cube(32) + 5, 8192, 256), (32, 4));
+        assert_eq!(cube_array_fit(&[64; 10], 4 * cube(32) + 5, 4, 8192, 256), (32, 4));
         // Nothing fits: no array.
-        assert_eq!(cube_array_fit(&[64], cube(32) - 1, 8192, 256), (0, 0));
+        assert_eq!(cube_array_fit(&[64], cube(32) - 1, 4, 8192, 256), (0, 0));
         // The layer limit: 256 / 6 = 42 cubes.
-        assert_eq!(cube_array_fit(&[32; 50], u64::MAX / 2, 8192, 256), (32, 42));
+        assert_eq!(cube_array_fit(&[32; 50], u64::MAX / 2, 4, 8192, 256), (32, 42));
         // The device's side limit.
-        assert_eq!(cube_array_fit(&[1024], u64::MAX / 2, 512, 256), (512, 1));
-        assert_eq!(cube_array_fit(&[], 1 << 30, 8192, 256), (0, 0));
+        assert_eq!(cube_array_fit(&[1024], u64::MAX / 2, 4, 512, 256), (512, 1));
+        assert_eq!(cube_array_fit(&[], 1 << 30, 4, 8192, 256), (0, 0));
+        // Two bytes a texel (Depth16): the budget of three 256-cubes at 4 bytes holds them at
+        // 256 with room for three more.
+        assert_eq!(cube_array_fit(&[256; 6], 3 * cube(256), 2, 8192, 256), (256, 6));
     }
 
     /// Each face looks down its own axis (the axis maps to the face's centre at distance 1),
@@ -984,9 +1047,12 @@ mod tests {
 
     #[test]
     fn the_atlas_side_follows_the_budget() {
-        assert_eq!(atlas_side(16.0, 8192), 2048);
-        assert_eq!(atlas_side(64.0, 8192), 4096);
-        assert_eq!(atlas_side(64.0, 2048), 2048);
-        assert_eq!(atlas_side(1.0, 8192), 512);
+        assert_eq!(atlas_side(16.0, 4, 8192), 2048);
+        assert_eq!(atlas_side(64.0, 4, 8192), 4096);
+        assert_eq!(atlas_side(64.0, 4, 2048), 2048);
+        assert_eq!(atlas_side(1.0, 4, 8192), 512);
+        // Two bytes a texel: twice the texels, the next power of two when it fits.
+        assert_eq!(atlas_side(32.0, 2, 8192), 4096);
+        assert_eq!(atlas_side(16.0, 2, 8192), 2048);
     }
 }

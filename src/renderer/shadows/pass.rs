@@ -7,7 +7,6 @@ use super::{ShadowPlan, TileDraw};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;
-use crate::renderer::records::SHADOW_FORMAT;
 use crate::renderer::stats::Span;
 
 /// The shadow pass's timing (`gpu_ms.shadows`, before every path's first pass).
@@ -43,7 +42,7 @@ impl ShadowPass {
             // Both faces cast: a thin wall or an open mesh stops light from either side.
             primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
-                format: SHADOW_FORMAT,
+                format: shared.key.features.shadows.format.texture(),
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::Less),
                 stencil: Default::default(),

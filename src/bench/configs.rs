@@ -192,6 +192,9 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         p.push(("fog", Settings { fog: true, ..ldr.clone() }));
         p.push(("dof", Settings { dof: true, ..ldr.clone() }));
         p.push(("vignette", Settings { vignette: 0.5, ..ldr.clone() }));
+        // Seed 002's distortion: its buffer's draws (the scene's distorting materials; none on
+        // most scenes, `glass` has them) and the effect's pass.
+        p.push(("distortion", Settings { distortion: true, ..ldr.clone() }));
         p.push(("aa edge", Settings { aa: Aa::Edge, ..ldr.clone() }));
         p.push(("aa fxaa", Settings { aa: Aa::Fxaa, ..ldr.clone() }));
         p.push((

@@ -592,6 +592,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "distortion",
+        what: "distortion",
+        help: "Distortion (seed 002's post chain): the picture behind a material with a distortion strength shifted by its view-space normal",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.distortion),
+        put: |s, v| {
+            s.distortion = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "aa",
         what: "anti-aliasing",
         help: "Anti-aliasing: seed 002's edge blur (G-buffer depth and normal discontinuities) or FXAA",

@@ -589,6 +589,7 @@ impl Renderer {
         let texture = match image {
             post::PostImage::Hdr => t.hdr_texture.as_ref(),
             post::PostImage::Bloomed => t.post.as_ref().map(|p| &p.bloomed),
+            post::PostImage::Distortion => t.post.as_ref().map(|p| &p.distortion),
         };
         let Some(texture) = texture else { return Ok(None) };
         let format = texture.format();

@@ -118,6 +118,7 @@ impl Preset {
                 row!("shadow-format", "depth24", "Use D16 or D24X8 format for shadow maps"),
                 row!("bloom", "on", "Glow"),
                 row!("auto-exposure", "on", "Auto-Exposure"),
+                row!("distortion", "on", "Distortion"),
                 row!("fog", "on", "Fog"),
                 row!("aa", "edge", "\"Intelligent Blur\" : Only filter object edges"),
             ],
@@ -158,7 +159,6 @@ impl Preset {
                 missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 1.5% off at most)", "Normal.x Normal.y Normal.z Free"),
                 missing!("emission is one channel, so it is stored as a multiple of the diffuse colour: exact only where the emission has the albedo's hue", "Emissive (single channel)"),
                 missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
-                missing!("distortion in the post chain", "Distortion"),
                 missing!("depth peeling for blended surfaces", "Can use depth peeling"),
             ],
             Preset::Seed003 => &[

@@ -221,7 +221,8 @@ gpu_record! {
         pub emissive_exp: [f32; 4],
         /// Alpha factor, alpha cut-off (mask), normal scale, culling layer (0..=31, seed 004).
         pub material: [f32; 4],
-        /// Metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness map.
+        /// Metallic, roughness, dielectric f0 (used per pixel with a metallic-roughness map),
+        /// distortion strength (`Material::distortion`).
         pub pbr: [f32; 4],
         /// Flags (`MAT_*`), first entry in the light lists, count (forward-shaded objects),
         /// reflectance model (`Brdf::id`).
@@ -443,7 +444,7 @@ impl ObjectRecord {
             emissive_exp: m.emissive.extend(m.specular_exponent).into(),
             material: [m.alpha, cutoff, m.normal_scale, f32::from(o.layer & 31)],
             // With a metallic-roughness map the importer keeps f0 in specular_level.
-            pbr: [m.metallic, m.roughness, m.specular_level, 0.0],
+            pbr: [m.metallic, m.roughness, m.specular_level, m.distortion.clamp(0.0, crate::scene::MAX_DISTORTION)],
             info: [flags, 0, 0, force.unwrap_or(m.brdf).id()],
             uv_transform: {
                 let u = &m.uvs;

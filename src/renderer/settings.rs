@@ -600,6 +600,9 @@ pub struct Settings {
     /// Anti-aliasing, before fog in the chain (seed 002's order): seed 002's edge blur from
     /// G-buffer discontinuities, or FXAA.
     pub aa: Aa,
+    /// Seed 002's distortion (before edge smoothing in the chain): the picture behind each
+    /// distorting material (`Material::distortion`) shifted by its view-space normal.
+    pub distortion: bool,
     /// Which lights cast shadows (`renderer::shadows`): none, the sun, the sun and
     /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
     pub shadows: ShadowMode,
@@ -675,6 +678,7 @@ impl Default for Settings {
             aperture: 8.0,
             vignette: 0.0,
             aa: Aa::Off,
+            distortion: false,
             shadows: ShadowMode::Spots,
             shadow_budget_mb: 16.0,
             shadow_bias: 1.0,

@@ -23,7 +23,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("normals", "hard case: normals at the encoding's singularities, facing away, and zero-length"),
     ("spot-extremes", "hard case: spot cones of 0 and 89 degrees"),
     ("coincident", "hard case: a light volume touching a wall; a light inside a box"),
-    ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case"),
+    ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case; the glass distorts (--distortion on)"),
     ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
     ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
     (
@@ -239,6 +239,8 @@ pub fn glass(n: usize, t: f64) -> Scene {
         emissive: Vec3::ZERO,
         alpha: 0.3,
         alpha_mode: AlphaMode::Blend,
+        // Seed 002's distortion (`--distortion on`): the panes bend what is behind them.
+        distortion: 0.02,
         ..Material::default()
     });
     for z in [24.0, 8.0, -8.0, -24.0, -40.0] {
@@ -252,6 +254,7 @@ pub fn glass(n: usize, t: f64) -> Scene {
             emissive: Vec3::ZERO,
             alpha: 0.25 + unit(22, i) as f32 * 0.4,
             alpha_mode: AlphaMode::Blend,
+            distortion: 0.04,
             ..Material::default()
         });
         let x = (unit(23, i) - 0.5) * 100.0;

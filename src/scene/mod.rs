@@ -297,7 +297,15 @@ pub struct Material {
     /// The reflectance model (seed 002's material ID).
     #[serde(default)]
     pub brdf: Brdf,
+    /// Seed 002's post-processing distortion: where the surface is visible, the picture behind
+    /// it is shifted by this times the view-space normal's x and y, in fractions of the screen
+    /// height (`--distortion`; 0: none). glTF: the material's `extras` `{"distortion": k}`.
+    #[serde(default)]
+    pub distortion: f32,
 }
+
+/// The largest [`Material::distortion`]: a shift of a quarter of the screen height.
+pub const MAX_DISTORTION: f32 = 0.25;
 
 fn one() -> f32 {
     1.0
@@ -406,6 +414,7 @@ impl Material {
             roughness: 1.0,
             uvs: MaterialUvs::default(),
             brdf: Brdf::BlinnPhong,
+            distortion: 0.0,
         }
     }
 

@@ -444,3 +444,92 @@ fn thick_fog_turns_geometry_into_the_sky_beside_it() {
     assert!(geometry > 1000, "too little geometry ({geometry} pixels)");
     assert!(worst <= 1, "thick fog is {worst} steps from the sky's colour {:?}", sky[0]);
 }
+
+/// Seed 002's distortion moves only pixels under a distorting surface: on `glass` (its panes
+/// and boxes distort), every pixel that changes has an offset in the distortion buffer, many
+/// do change, and each changed pixel is a copy of the undistorted frame's pixel at the offset
+/// the buffer gives (or its own, where that source lies in front of the glass). A scene without
+/// distorting materials (`demo`) is unchanged bit for bit.
+#[test]
+fn distortion_moves_only_pixels_under_a_distorting_surface() {
+    let (w, h) = (192u32, 108u32);
+    let mut sc = scene("glass");
+    sc.lights.truncate(64);
+    let base = Settings { tonemap: Tonemap::None, exposure: 0.5, ..quiet() };
+    let with = Settings { distortion: true, ..base.clone() };
+    let mut r = renderer(&base);
+    let (plain, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
+    let (bent, _) = render_image(gpu(), &mut r, &sc, &with, w, h).unwrap();
+    let buffer = r.read_post_image(gpu(), PostImage::Distortion).unwrap().expect("the chain ran");
+    let points = r.view_positions(gpu()).unwrap();
+    let (mut changed, mut under, mut in_front) = (0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let d = &buffer[4 * (y * w + x) as usize..][..4];
+            let covered = d[3] > 0.0;
+            under += covered as usize;
+            let (p, q) = (plain.get_pixel(x, y), bent.get_pixel(x, y));
+            // The source the offset names (view y up, screen y down), as the effect rounds it.
+            let sx = (x as f32 + (d[0] * h as f32).round()).clamp(0.0, (w - 1) as f32) as u32;
+            let sy = (y as f32 + (-d[1] * h as f32).round()).clamp(0.0, (h - 1) as f32) as u32;
+            // A source surface nearer than the nearest distorting surface here is in front of
+            // the glass: the pixel keeps its own colour.
+            if covered && points[(sy * w + sx) as usize].is_some_and(|v| -v.z * d[3] < 1.0) {
+                in_front += 1;
+                assert_eq!(p, q, "({x}, {y}) took ({sx}, {sy}), which lies in front of the glass");
+                continue;
+            }
+            if p == q {
+                continue;
+            }
+            changed += 1;
+            assert!(covered, "({x}, {y}) changed without a distorting surface over it");
+            assert_eq!(q, plain.get_pixel(sx, sy), "({x}, {y}) is not the pixel its offset names, ({sx}, {sy})");
+        }
+    }
+    eprintln!(
+        "glass: {changed} pixels moved, {under} under a distorting surface of {}, {in_front} kept (source in front)",
+        w * h
+    );
+    assert!(changed > 500, "only {changed} pixels moved");
+    assert!(in_front > 0, "no pixel's source lay in front of the glass: the rule went untested");
+    let demo = scene("demo");
+    let (a, _) = render_image(gpu(), &mut r, &demo, &base, w, h).unwrap();
+    let (b, _) = render_image(gpu(), &mut r, &demo, &with, w, h).unwrap();
+    assert_eq!(max_step(&a, &b), (0, 0), "demo has no distorting surface, yet the picture changed");
+}
+
+/// glTF: `"extras": {"distortion": k}` on a material sets its distortion strength; a value out
+/// of [0, MAX_DISTORTION] or not a number is a warning naming the material, and no distortion.
+#[test]
+fn gltf_extras_set_a_materials_distortion() {
+    use lampshade::scene::import::{self, ImportOptions};
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/gltf-tests/distortion-extras");
+    let _ = std::fs::remove_dir_all(&dir);
+    lampshade::scene::room::write(&dir).expect("write the room");
+    let path = dir.join("room.gltf");
+    let original: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).expect("room.gltf")).expect("json");
+    let load = |extras: [serde_json::Value; 3]| {
+        let mut v = original.clone();
+        let materials = v["materials"].as_array_mut().expect("the room's materials");
+        assert!(materials.len() >= 3, "the room has {} materials", materials.len());
+        for (m, e) in materials.iter_mut().zip(extras) {
+            m["extras"] = e;
+        }
+        std::fs::write(&path, serde_json::to_vec(&v).expect("json")).expect("write");
+        import::load(&path, &ImportOptions::default(), &mut |_| {}).expect("the room loads")
+    };
+    let strengths = |i: &import::Imported| i.scene.materials.iter().map(|m| m.distortion).collect::<Vec<_>>();
+    let plain = load([serde_json::json!({}), serde_json::json!({}), serde_json::json!({})]);
+    assert!(strengths(&plain).iter().all(|&k| k == 0.0), "without extras nothing distorts");
+    let set = load([
+        serde_json::json!({"distortion": 0.05}),
+        serde_json::json!({"distortion": 3.0}),
+        serde_json::json!({"distortion": "lots"}),
+    ]);
+    let k = strengths(&set);
+    assert_eq!(k.iter().filter(|&&k| k > 0.0).count(), 1, "exactly one material distorts: {k:?}");
+    assert!(k.contains(&0.05), "{k:?}");
+    let warned = set.warnings.iter().filter(|w| w.contains("distortion")).count();
+    assert_eq!(warned, 2, "two bad strengths, two warnings: {:?}", set.warnings);
+}

@@ -206,6 +206,10 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             }
         });
         ui.end_row();
+        ui.label("distortion");
+        ui.checkbox(&mut s.distortion, "on")
+            .on_hover_text("seed 002: the picture behind a distorting material shifted by its normal");
+        ui.end_row();
         ui.label("fog");
         ui.checkbox(&mut s.fog, "on").on_hover_text("distance fog with a height falloff, towards the background");
         ui.end_row();

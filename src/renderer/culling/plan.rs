@@ -655,6 +655,9 @@ pub struct DrawLists {
     pub forward_opaque: Vec<Draw>,
     /// Pass 3's draws when `forward_opaque` is not empty: `gbuffer` without them.
     pub lit: Vec<Draw>,
+    /// The objects whose material distorts (seed 002's distortion, `post::distortion`), opaque
+    /// or blended, in scene order; pipeline index 1 for two-sided.
+    pub distorting: Vec<Draw>,
 }
 
 impl DrawLists {
@@ -882,6 +885,9 @@ fn plan_draws(
         let toon_forward = view.prepass_models.is_some_and(|force| {
             force.unwrap_or(m.brdf) == crate::scene::Brdf::Toon && m.alpha_mode == AlphaMode::Opaque
         });
+        if m.distortion > 0.0 {
+            draws.distorting.push((i, m.double_sided as usize, o.material));
+        }
         match m.alpha_mode {
             _ if toon_forward || m.alpha_mode == AlphaMode::Blend => {
                 let (centre, radius) = world_sphere(o, bounds);

@@ -34,6 +34,8 @@ pub struct Passes {
     pub tonemap: Lazy<crate::renderer::post::tonemap::TonemapPass>,
     /// The effects after tone mapping (`effects::EFFECTS`).
     pub effects: Lazy<crate::renderer::post::effects::EffectsPass>,
+    /// The distortion buffer's draws (`post::distortion`).
+    pub distortion: Lazy<crate::renderer::post::distortion::DistortionPass>,
     pub shadows: Lazy<crate::renderer::shadows::pass::ShadowPass>,
     /// The viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<crate::renderer::shadows::atlas_view::AtlasViewPass>,
@@ -68,6 +70,7 @@ impl Passes {
             exposure: Lazy::new(device, &shared, crate::renderer::post::exposure::ExposurePass::new),
             tonemap: Lazy::new(device, &shared, crate::renderer::post::tonemap::TonemapPass::new),
             effects: Lazy::new(device, &shared, crate::renderer::post::effects::EffectsPass::new),
+            distortion: Lazy::new(device, &shared, crate::renderer::post::distortion::DistortionPass::new),
             shadows: Lazy::new(device, &shared, crate::renderer::shadows::pass::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
             shared,

@@ -87,7 +87,8 @@ struct GpuObject {
     emissive_exp: vec4<f32>,
     // alpha factor, alpha cutoff (mask), normal scale, culling layer (0..31, seed 004)
     material: vec4<f32>,
-    // metallic, roughness, dielectric f0, 0: used per pixel with a metallic-roughness texture
+    // metallic, roughness, dielectric f0 (used per pixel with a metallic-roughness texture),
+    // distortion strength (seed 002's post distortion)
     pbr: vec4<f32>,
     // flags (LS_MAT_*), first entry in light_lists, count (forward-shaded objects), 0
     info: vec4<u32>,

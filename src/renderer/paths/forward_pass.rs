@@ -95,11 +95,11 @@ impl ForwardPathStats {
 }
 
 /// Whether the post chain as `s` sets it reads the G-buffer (depth, normals): fog, depth of
-/// field, edge AA and their views. The forward paths then run the G-buffer pass for it alone.
+/// field, edge AA, distortion (its foreground test) and their views. The forward paths then run the G-buffer pass for it alone.
 pub fn post_reads_gbuffer(s: &Settings, chain: bool) -> bool {
     use crate::renderer::post::Aa;
     use crate::renderer::settings::DebugView as V;
-    chain && (s.fog || s.dof || s.aa == Aa::Edge || matches!(s.debug_view, V::Edges | V::Coc))
+    chain && (s.fog || s.dof || s.distortion || s.aa == Aa::Edge || matches!(s.debug_view, V::Edges | V::Coc))
 }
 
 /// The pipelines of one sample count, by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`] each.

@@ -3,12 +3,17 @@
 //! table's order, and each is one fragment function in `post.wgsl`. The order is the seeds':
 //! seed 002 lists "Glow, Auto-Exposure, Distortion, Edge-smoothing, Fog" (glow and exposure
 //! run before tone mapping), seed 003's fifth pass "color grading, depth of field, vignetting".
-//! Grading first, on the tone-mapped colour LUTs are made for; then seed 002's edge smoothing
-//! and fog; then seed 003's depth of field and vignette.
+//! Grading first, on the tone-mapped colour LUTs are made for; then seed 002's distortion,
+//! edge smoothing and fog; then seed 003's depth of field and vignette.
 //! Adding one is a row here, its function there, its option in `Settings` and its knob row.
 //!
 //! - **grading** (seed 003's fifth pass): the tonemapped colour through a 3D LUT
 //!   (`--lut FILE.cube`, or `identity`), trilinear, in the sRGB encoding LUTs are made for.
+//! - **distortion** (seed 002's chain): each pixel reads the picture at its own position plus
+//!   the distortion buffer's offset (`post::distortion`: the distorting surfaces' view-space
+//!   normals times their strength), nearest texel; a source pixel nearer to the eye than the
+//!   nearest distorting surface at the pixel (something in front of the glass) is not taken:
+//!   the pixel keeps its own colour. Pixels without an offset are copied unchanged.
 //! - **aa**: seed 002's edge-detect "intelligent blur" (edges where the second difference
 //!   of 1/depth — zero across any plane — or the turn of the normal to a neighbour is large;
 //!   the pixel blended with its four neighbours by the edge's strength) or FXAA (Lottes; the
@@ -49,6 +54,7 @@ pub struct Effect {
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
     Effect { name: "grading", title: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
+    Effect { name: "distortion", title: "distortion", fs: "fs_distort", on: |s| s.distortion, view: None },
     Effect {
         name: "aa",
         title: "anti-aliasing",
@@ -142,6 +148,8 @@ fn draw(
     pipeline: &wgpu::RenderPipeline,
     (group, target): (&wgpu::BindGroup, &wgpu::TextureView),
 ) {
-    let stamps = f.timestamps(Some(Span(e.name)), Some(Span(e.name)));
+    // The distortion's span began with its buffer's draws (`post::distortion`).
+    let begin = (e.name != "distortion").then_some(Span(e.name));
+    let stamps = f.timestamps(begin, Some(Span(e.name)));
     post_draw(encoder, f, label, pipeline, target, group, stamps);
 }

@@ -14,6 +14,7 @@
 //! this: the chain does not change what the accuracy figures measure.
 
 pub mod bloom;
+pub mod distortion;
 pub mod effects;
 pub mod exposure;
 pub mod tonemap;
@@ -204,6 +205,7 @@ pub fn chain_active(s: &Settings) -> bool {
                 || s.dof
                 || s.vignette > 0.0
                 || s.aa != Aa::Off
+                || s.distortion
         }
         v => post_view(v),
     }
@@ -364,6 +366,11 @@ pub struct PostTargets {
     /// tone mapping alternate with.
     pub toned_view: wgpu::TextureView,
     pub second_view: wgpu::TextureView,
+    /// Seed 002's distortion buffer (full size, Rgba16Float): the summed screen offsets of the
+    /// distorting surfaces in .rg, the nearest one's 1 / view depth in .a (`distortion`). The
+    /// effects after tone mapping read it as their second texture.
+    pub distortion: wgpu::Texture,
+    pub distortion_view: wgpu::TextureView,
     pub params: wgpu::Buffer,
     /// Histogram bins and the adapted / measured log2 luminance (`STATE_WORDS` words).
     pub state: wgpu::Buffer,
@@ -400,6 +407,8 @@ impl PostTargets {
         let bloomed_view = bloomed.create_view(&Default::default());
         let toned_view = view("tonemapped", size);
         let second_view = view("post second", size);
+        let distortion = texture(device, "distortion", distortion::FORMAT, size, usage);
+        let distortion_view = distortion.create_view(&Default::default());
         let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false })
         };
@@ -431,8 +440,8 @@ impl PostTargets {
         let combine = group(hdr, &up[0]);
         let from_hdr = group(hdr, &down[0]);
         let from_bloomed = group(&bloomed_view, &down[0]);
-        let from_toned = group(&toned_view, &down[0]);
-        let from_second = group(&second_view, &down[0]);
+        let from_toned = group(&toned_view, &distortion_view);
+        let from_second = group(&second_view, &distortion_view);
         Self {
             size,
             down,
@@ -442,6 +451,8 @@ impl PostTargets {
             bloomed_view,
             toned_view,
             second_view,
+            distortion,
+            distortion_view,
             params,
             state,
             lut,
@@ -464,10 +475,13 @@ pub enum PostImage {
     Hdr,
     /// The HDR colour with bloom added.
     Bloomed,
+    /// The distortion buffer (offsets in .rg, the nearest distorter's 1 / view depth in .a).
+    Distortion,
 }
 
 /// Records the chain after the HDR compose and the forward pass, in the seeds' order: bloom,
-/// auto-exposure, tone mapping, grading, anti-aliasing, fog, depth of field, vignette. Each pass skips itself when its effect is off; the
+/// auto-exposure, tone mapping, grading, distortion (its buffer drawn first), anti-aliasing,
+/// fog, depth of field, vignette. Each pass skips itself when its effect is off; the
 /// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
 pub fn encode_chain(
     encoder: &mut wgpu::CommandEncoder,
@@ -478,6 +492,9 @@ pub fn encode_chain(
     end: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
     let s = f.settings;
+    if effects::runs("distortion", s) {
+        p.distortion.encode(encoder, f, pt);
+    }
     p.bloom.encode(encoder, f, pt);
     let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
     p.exposure.encode(encoder, f, pt, hdr);

@@ -521,3 +521,38 @@ fn fs_view_edges(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // green where the edge is faint.
     return vec4<f32>(select(base, vec3<f32>(k, 1.0, k), k > 0.0), 1.0);
 }
+
+// Seed 002's distortion buffer (`post::distortion`): a distorting surface's view-space normal's
+// x and y (normal map applied) times its strength (GpuObject.pbr.w), in fractions of the screen
+// height, summed by the blend; 1 / view depth in .a, the nearest kept (max blend).
+@fragment
+fn fs_distortion(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    var s: Surface;
+    let o = objects[in.object];
+    if material_surface(in, front, &s) < o.material.y {
+        discard;
+    }
+    return vec4<f32>(s.normal.xy * o.pbr.w, 0.0, 1.0 / max(-in.view_pos.z, 1e-6));
+}
+
+// Seed 002's distortion: the picture at the pixel plus the buffer's offset (view-space y up,
+// screen y down), the nearest texel. A source pixel whose surface is nearer to the eye than
+// the nearest distorting surface here (1 / .a) lies in front of it and is not what the glass
+// shows: the pixel keeps its own colour. No offset: copied unchanged.
+@fragment
+fn fs_distort(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(floor(frag.xy));
+    let own = textureLoad(post_src, p, 0).rgb;
+    let d = textureLoad(post_aux, p, 0);
+    if !(d.a > 0.0) {
+        return vec4<f32>(own, 1.0);
+    }
+    let size = vec2<i32>(textureDimensions(post_src));
+    let shift = vec2<i32>(round(vec2<f32>(d.x, -d.y) * f32(size.y)));
+    let q = clamp(p + shift, vec2<i32>(0), size - 1);
+    let sq = gbuffer_load(q);
+    if sq.valid && -sq.position.z * d.a < 1.0 {
+        return vec4<f32>(own, 1.0);
+    }
+    return vec4<f32>(textureLoad(post_src, q, 0).rgb, 1.0);
+}

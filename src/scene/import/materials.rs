@@ -221,6 +221,7 @@ impl Importer<'_> {
             roughness,
             uvs,
             brdf,
+            distortion: self.distortion_of(m, &label),
         };
         // Values the file controls: keep them finite and in range.
         let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };
@@ -246,6 +247,26 @@ impl Importer<'_> {
 }
 
 impl Importer<'_> {
+    /// Seed 002's distortion strength from the material's `extras` (`{"distortion": k}`, k in
+    /// [0, `MAX_DISTORTION`]); anything else there is a warning and no distortion.
+    fn distortion_of(&mut self, m: &gltf::Material<'_>, label: &str) -> f32 {
+        let Some(raw) = m.extras() else { return 0.0 };
+        let Ok(serde_json::Value::Object(map)) = serde_json::from_str::<serde_json::Value>(raw.get()) else {
+            return 0.0;
+        };
+        let Some(v) = map.get("distortion") else { return 0.0 };
+        match v.as_f64().filter(|k| (0.0..=crate::scene::MAX_DISTORTION as f64).contains(k)) {
+            Some(k) => k as f32,
+            None => {
+                self.warnings.push(format!(
+                    "{label}: extras \"distortion\" must be a number from 0 to {}; no distortion",
+                    crate::scene::MAX_DISTORTION
+                ));
+                0.0
+            }
+        }
+    }
+
     /// Maps the renderer has no input for, said once per material rather than dropped.
     fn warn_unused_maps(&mut self, m: &gltf::Material<'_>, label: &str) {
         if m.occlusion_texture().is_some() {

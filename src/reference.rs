@@ -33,6 +33,12 @@ fn brdf_light(s: &Surface, l: DVec3, ndl: f64, color: DVec3, att: f64) -> (DVec3
     if s.brdf == Brdf::Lambert {
         return (color * (att * ndl), DVec3::ZERO);
     }
+    if s.brdf == Brdf::Phong {
+        // R = reflect(-L, N) = 2 (N.L) N - L.
+        let r = s.normal * (2.0 * s.normal.dot(l)) - l;
+        let lobe = r.dot(s.view).max(0.0).powf(s.spec_exp);
+        return (color * (att * ndl), color * (att * (lobe * s.spec_level)));
+    }
     let h = safe_normalize(l + s.view, s.normal);
     let lobe = s.normal.dot(h).max(0.0).powf(s.spec_exp);
     match s.brdf {

@@ -330,7 +330,11 @@ impl Renderer {
             y,
             valid,
             albedo,
-            specular_level: super::kit::gbuffer::level_from_reflectance(get(Attr::SpecLevel, 0, 0.0), exponent),
+            specular_level: if layout.spec_level_raw() {
+                get(Attr::SpecLevel, 0, 0.0)
+            } else {
+                super::kit::gbuffer::level_from_reflectance(get(Attr::SpecLevel, 0, 0.0), exponent)
+            },
             specular_exponent: exponent,
             normal,
             emissive,

@@ -89,7 +89,7 @@ impl Preset {
                 row!("light-batching", "off", "Each light volume is rendered it two passes"),
                 row!("sphere-subdivisions", "1", "they are rendered as low-poly spheres"),
                 row!("reversed-z", "off", "Z function = Less/Equal"),
-                row!("brdf", "blinn-phong", "Standard Phong function is used in the demo."),
+                row!("brdf", "phong", "Standard Phong function is used in the demo."),
                 row!("shadows", "none", "It is also possible for each light to cast a shadow. I will explore this topic in the future articles."),
                 row!("bloom", "on", "It can now be used in post-process effects (like bloom)."),
                 row!("aa", "off", "No hardware antialiasing."),
@@ -148,15 +148,12 @@ impl Preset {
     pub fn missing(self) -> &'static [Missing] {
         match self {
             Preset::Default => &[],
-            Preset::Seed000 => &[
-                missing!("Phong's lobe: the renderer's Phong is Blinn-Phong", "Standard Phong function is used in the demo."),
-                missing!("RT0's alpha holds the reflectance f0 = level x 8 / (n + 8) every layout stores, not the level (exactly invertible with the exponent RT2's alpha keeps)", "RT0: RGB – unlit diffuse colour, Alpha – specular level"),
-            ],
+            Preset::Seed000 => &[],
             Preset::Seed001 => &[
                 missing!("the normal's bit depth: the seed does not give it; the preset takes 8+8 bits", "reconstructs the view space normal from two channels"),
             ],
             Preset::Seed002 => &[
-                missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 1.5% off at most)", "Normal.x Normal.y Normal.z Free"),
+                missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 3% off at most)", "Normal.x Normal.y Normal.z Free"),
                 missing!("emission is one channel, so it is stored as a multiple of the diffuse colour: exact only where the emission has the albedo's hue", "Emissive (single channel)"),
                 missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
                 missing!("depth peeling for blended surfaces", "Can use depth peeling"),

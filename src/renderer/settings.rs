@@ -96,6 +96,8 @@ pub enum BrdfOverride {
     Toon,
     /// The base colour as it is, no lighting.
     Unlit,
+    /// Seed 000's standard Phong: Lambert diffuse + level x (R.V)^n.
+    Phong,
 }
 
 impl BrdfOverride {
@@ -109,6 +111,7 @@ impl BrdfOverride {
             BrdfOverride::Metal => Some(Brdf::Metal),
             BrdfOverride::Toon => Some(Brdf::Toon),
             BrdfOverride::Unlit => Some(Brdf::Unlit),
+            BrdfOverride::Phong => Some(Brdf::Phong),
         }
     }
 }

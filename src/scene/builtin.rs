@@ -28,7 +28,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
     (
         "materials",
-        "the five reflectance models side by side: blinn-phong, lambert, metal, toon, unlit spheres and boxes",
+        "the six reflectance models side by side: blinn-phong, lambert, metal, toon, unlit, phong spheres and boxes",
     ),
     ("shadows", "boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
     (
@@ -653,8 +653,8 @@ fn sphere_mesh(segments: u32, rings: u32) -> Mesh {
     mesh
 }
 
-/// Seed 002's material IDs side by side: five spheres, each on a box of the same model, in
-/// `Brdf::ALL` order from left to right (blinn-phong, lambert, metal, toon, unlit), on a
+/// Seed 002's material IDs side by side: six spheres, each on a box of the same model, in
+/// `Brdf::ALL` order from left to right (blinn-phong, lambert, metal, toon, unlit, phong), on a
 /// blinn-phong floor, lit by a sun, ambient, eight coloured point lights and a spot; a
 /// translucent toon pane in front of the lambert and metal spheres (the forward pass).
 pub fn materials() -> Scene {
@@ -680,6 +680,7 @@ pub fn materials() -> Scene {
         (Brdf::Metal, gold, max_specular_level(96.0), 96.0),
         (Brdf::Toon, Vec3::new(0.85, 0.5, 0.75), 1.0, 48.0),
         (Brdf::Unlit, Vec3::new(0.3, 0.75, 0.35), 0.0, 1.0),
+        (Brdf::Phong, Vec3::new(0.55, 0.5, 0.8), 0.8, 32.0),
     ];
     for (k, (brdf, color, level, exponent)) in models.into_iter().enumerate() {
         let m = b.material(Material {
@@ -690,7 +691,7 @@ pub fn materials() -> Scene {
             brdf,
             ..Material::default()
         });
-        let x = (k as f64 - 2.0) * 3.2;
+        let x = (k as f64 - 2.5) * 2.9;
         b.boxed(DVec3::new(x - 1.1, 0.0, -2.6), DVec3::new(x + 1.1, 0.8, -1.4), m);
         let t = DMat4::from_translation(DVec3::new(x, 1.3, 0.0)) * DMat4::from_scale(DVec3::splat(1.3));
         b.scene.objects.push(Object { mesh: sphere, material: m, transform: t, layer: 0 });
@@ -705,7 +706,7 @@ pub fn materials() -> Scene {
         brdf: Brdf::Toon,
         ..Material::default()
     });
-    b.boxed(DVec3::new(-4.6, 0.0, 2.4), DVec3::new(1.4, 1.6, 2.5), pane);
+    b.boxed(DVec3::new(-5.9, 0.0, 2.4), DVec3::new(0.0, 1.6, 2.5), pane);
     for i in 0..8u64 {
         let x = -9.0 + 18.0 * (i as f64 + 0.5) / 8.0;
         let z = if i % 2 == 0 { 3.0 } else { -3.5 };

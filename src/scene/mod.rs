@@ -227,12 +227,16 @@ pub enum Brdf {
     /// glTF `KHR_materials_unlit`: the base colour as it is (times exposure); lights, sun and
     /// ambient add nothing.
     Unlit = 4,
+    /// Seed 000's "standard Phong function": Lambert diffuse + level x (R.V)^n in white, R the
+    /// light's direction mirrored about the normal (Phong 1975), with no N.L on the highlight
+    /// and nothing where N.L <= 0. The level is the material's as it is (no normalisation).
+    Phong = 5,
 }
 
 impl Brdf {
-    pub const ALL: [Brdf; 5] = [Brdf::BlinnPhong, Brdf::Lambert, Brdf::Metal, Brdf::Toon, Brdf::Unlit];
+    pub const ALL: [Brdf; 6] = [Brdf::BlinnPhong, Brdf::Lambert, Brdf::Metal, Brdf::Toon, Brdf::Unlit, Brdf::Phong];
 
-    /// The value's one name (`blinn-phong`, `lambert`, `metal`, `toon`, `unlit`).
+    /// The value's one name (`blinn-phong`, `lambert`, `metal`, `toon`, `unlit`, `phong`).
     pub fn name(self) -> String {
         clap::ValueEnum::to_possible_value(&self).map_or_else(String::new, |p| p.get_name().to_string())
     }
@@ -242,9 +246,16 @@ impl Brdf {
         self as u32
     }
 
+    /// Whether the light pre-pass's one buffer (every light's Blinn-Phong terms at unit
+    /// reflectance, summed) can shade the model in its final pass: not toon (it bands each
+    /// light's terms apart) nor Phong (another lobe); those are shaded forward after pass 3.
+    pub fn prepass_lit(self) -> bool {
+        !matches!(self, Brdf::Toon | Brdf::Phong)
+    }
+
     /// Whether the model uses the specular level and exponent.
     pub fn specular(self) -> bool {
-        matches!(self, Brdf::BlinnPhong | Brdf::Metal | Brdf::Toon)
+        matches!(self, Brdf::BlinnPhong | Brdf::Metal | Brdf::Toon | Brdf::Phong)
     }
 
     /// The colour the `material-id` debug view paints the model in (linear RGB; the viewer's
@@ -256,6 +267,7 @@ impl Brdf {
             Brdf::Metal => [0.95, 0.65, 0.1],
             Brdf::Toon => [0.85, 0.15, 0.6],
             Brdf::Unlit => [0.15, 0.8, 0.25],
+            Brdf::Phong => [0.9, 0.9, 0.75],
         }
     }
 }

@@ -84,7 +84,7 @@ fn each_brdf_matches_its_f64_twin_at_sampled_pixels() {
         let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &settings).unwrap();
         let (_, stats) = render_image(gpu(), &mut r, &scene, &settings, W, H).unwrap();
         assert_eq!(stats.ambient_in_gbuffer, ambient_in_gbuffer);
-        assert!(r.layout().has(Attr::Material), "five models and no material ID channel");
+        assert!(r.layout().has(Attr::Material), "six models and no material ID channel");
         let clamp = lampshade::reference::Clamps::of(&r);
         for (brdf, pixels) in sphere_pixels(&scene) {
             let (mut checked, mut near_step) = (0, 0);
@@ -332,7 +332,7 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
             checked += 1;
         }
     }
-    assert_eq!(checked, 5 * 42);
+    assert_eq!(checked, spheres.len() * 42);
     // The forward pass did draw them: they are not in the G-buffer (its material-id view shows
     // what is behind them, never the unlit sphere's colour).
     let ids = render(&blended, &Settings { debug_view: lampshade::renderer::DebugView::MaterialId, ..settings }, W, H);
@@ -347,12 +347,13 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
 
 /// Seed 004: "objects with shaders that can't handle Deferred Lighting are rendered after this
 /// process is done, using RenderTech-ForwardRendering path". The light pre-pass's one
-/// Blinn-Phong buffer cannot carry toon's per-light bands, so its opaque toon sphere is shaded
-/// forward after pass 3, with its light list, as the forward pass shades blended surfaces: its
-/// pixels are deferred shading's (full-precision G-buffer and accumulation) within one 8-bit
-/// step, and the other spheres still go through the light buffer.
+/// Blinn-Phong buffer cannot carry toon's per-light bands nor Phong's lobe, so its opaque toon
+/// and Phong spheres are shaded forward after pass 3, with their light lists, as the forward
+/// pass shades blended surfaces: their pixels are deferred shading's (full-precision G-buffer
+/// and accumulation) within one 8-bit step, and the other spheres still go through the light
+/// buffer.
 #[test]
-fn the_light_prepass_shades_opaque_toon_forward_as_deferred_does() {
+fn the_light_prepass_shades_opaque_toon_and_phong_forward_as_deferred_does() {
     let scene = scene("materials");
     let deferred = Settings {
         layout: LayoutChoice::Reference,
@@ -364,30 +365,30 @@ fn the_light_prepass_shades_opaque_toon_forward_as_deferred_does() {
     let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
     let mut checked = 0;
     for (brdf, pixels) in sphere_pixels(&scene) {
-        if brdf != Brdf::Toon {
+        if brdf.prepass_lit() {
             continue;
         }
         for (x, y) in pixels {
             let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
             let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
-            assert!(step <= 1, "toon ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
+            assert!(step <= 1, "{brdf:?} ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
             checked += 1;
         }
     }
-    assert_eq!(checked, 42);
-    // Pass 1 drew every opaque object's depth, pass 3 all but the toon ones.
-    let opaque_toon = |m: &Material| m.brdf == Brdf::Toon && m.alpha_mode == lampshade::scene::AlphaMode::Opaque;
-    let toon = scene.objects.iter().filter(|o| opaque_toon(&scene.materials[o.material])).count() as u64;
-    assert!(toon >= 1);
+    assert_eq!(checked, 2 * 42, "the toon and the Phong sphere");
+    // Pass 1 drew every opaque object's depth, pass 3 all but the toon and Phong ones.
+    let forward = |m: &Material| !m.brdf.prepass_lit() && m.alpha_mode == lampshade::scene::AlphaMode::Opaque;
+    let apart = scene.objects.iter().filter(|o| forward(&scene.materials[o.material])).count() as u64;
+    assert!(apart >= 2);
     let p = b.stats.prepass.as_ref().unwrap();
-    assert_eq!(p.final_draw_calls + toon, p.base_draw_calls, "{p:?}");
+    assert_eq!(p.final_draw_calls + apart, p.base_draw_calls, "{p:?}");
 }
 
 /// Seed 002's "reasonably coherent dynamic branching" on the material ID (`--material-branch
 /// branch`) against computing every model and selecting one: each model computes its own
 /// terms with the same arithmetic, so the pictures are the same and the accumulation agrees
 /// to f32 rounding (the two shaders may contract differently), on the deferred and forward
-/// paths of the five-model scene.
+/// paths of the six-model scene.
 #[test]
 fn branching_on_the_material_gives_the_selected_models_values() {
     use lampshade::renderer::settings::MaterialBranch;

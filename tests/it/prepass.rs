@@ -264,7 +264,7 @@ fn refuses_what_it_cannot_draw_with_a_clear_error() {
         try_render(&demo, &prepass(Settings { debug_view: DebugView::Albedo, ..Settings::default() })).unwrap_err();
     assert!(albedo.to_string().contains("albedo"), "{albedo}");
     // Toon: the `materials` scene's opaque toon object is shaded forward (seed 004;
-    // `materials::the_light_prepass_shades_opaque_toon_forward_as_deferred_does`); a masked one
+    // `materials::the_light_prepass_shades_opaque_toon_and_phong_forward_as_deferred_does`); a masked one
     // is refused, and forcing blinn-phong draws it.
     let mut materials = scene("materials");
     try_render(&materials, &prepass(Settings::default())).unwrap();

@@ -130,7 +130,7 @@ fn as_stored(s: Surface) -> Surface {
     let a = attributes_of(s);
     var r = s;
     r.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
-    r.spec_level = a.spec_level * (r.spec_exp + 8.0) / 8.0;
+    r.spec_level = select(a.spec_level * (r.spec_exp + 8.0) / 8.0, a.spec_level, GBUFFER_SPEC_LEVEL_RAW);
     r.normal = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
     if !GBUFFER_HAS_MATERIAL {
         r.brdf = GBUFFER_BRDF;

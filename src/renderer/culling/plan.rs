@@ -880,11 +880,11 @@ fn plan_draws(
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
-        // Toon under the light pre-pass: its depth in pass 1, its shading forward (a light list,
-        // as a blended object's).
-        let toon_forward = view.prepass_models.is_some_and(|force| {
-            force.unwrap_or(m.brdf) == crate::scene::Brdf::Toon && m.alpha_mode == AlphaMode::Opaque
-        });
+        // Toon and Phong under the light pre-pass (`Brdf::prepass_lit`): its depth in pass 1,
+        // its shading forward (a light list, as a blended object's).
+        let toon_forward = view
+            .prepass_models
+            .is_some_and(|force| !force.unwrap_or(m.brdf).prepass_lit() && m.alpha_mode == AlphaMode::Opaque);
         if m.distortion > 0.0 {
             draws.distorting.push((i, m.double_sided as usize, o.material));
         }

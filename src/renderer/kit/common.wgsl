@@ -195,6 +195,10 @@ fn attributes_of(s: Surface) -> Attributes {
     // [0, 1] for every physical material, and `surface_of` multiplies the normalisation back:
     // the level itself reaches (2048 + 8) / 8 for a polished metal and would not fit.
     a.spec_level = clamp(s.spec_level * 8.0 / (exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE) + 8.0), 0.0, 1.0);
+    if GBUFFER_SPEC_LEVEL_RAW {
+        // A float channel holds the level itself (seed 000's RT0 alpha).
+        a.spec_level = max(s.spec_level, 0.0);
+    }
     var n = safe_normalize(s.normal, vec3<f32>(0.0, 0.0, 1.0));
     a.position = s.position;
     if GBUFFER_WORLD {
@@ -245,6 +249,9 @@ fn surface_of(a: Attributes, p: vec2<i32>) -> Surface {
     s.albedo = a.albedo;
     s.spec_exp = exp2(a.spec_exp * LS_SPEC_EXP_LOG_RANGE);
     s.spec_level = a.spec_level * (s.spec_exp + 8.0) / 8.0;
+    if GBUFFER_SPEC_LEVEL_RAW {
+        s.spec_level = a.spec_level;
+    }
     if GBUFFER_NORMAL_OCTAHEDRAL {
         s.normal = oct_decode(a.normal.xy);
     } else if GBUFFER_NORMAL_LAMBERT {
@@ -328,6 +335,8 @@ fn inside_light(s: Surface, l: GpuLight) -> bool {
 // is light as it leaves the surface:
 // - blinn-phong: diffuse N.L, specular N.L x the normalised lobe (N.H)^n x level, in white;
 // - lambert: diffuse N.L only;
+// - phong (seed 000's "standard Phong function"): diffuse N.L, specular (R.V)^n x level in
+//   white, R = reflect(-L, N), no N.L on the highlight;
 // - metal: no diffuse; the blinn-phong specular tinted by the albedo channel, which holds the
 //   metal's specular colour F0 (`Material::metal_from_pbr`);
 // - toon: diffuse N.L in three bands (ceil(3 N.L) / 3), specular the flat level where the
@@ -349,7 +358,7 @@ fn view_dir(s: Surface) -> vec3<f32> {
 // `brdf_light` for ndl > 0 with the view vector `V` given, so a loop over lights computes it
 // once. Straight-line code: each model's terms are chosen with `select`, not branches, because
 // lavapipe runs every branch of a fragment shader under a lane mask (the branchy form cost
-// every pixel all five models' arithmetic). Each model's expression is the same, operation for
+// every pixel all the models' arithmetic). Each model's expression is the same, operation for
 // operation, as the branchy form's, so for finite inputs the picture is unchanged (a term a
 // model leaves out is colour x 0, so an infinite colour now gives NaN there, not 0).
 fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3<f32>, att: f32) -> Lighting {
@@ -362,12 +371,16 @@ fn brdf_light_view(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: vec3
     let metal = s.brdf == LS_BRDF_METAL;
     let lambert = s.brdf == LS_BRDF_LAMBERT;
     let unlit = s.brdf == LS_BRDF_UNLIT;
+    let phong = s.brdf == LS_BRDF_PHONG;
+    // Phong's lobe: the light mirrored about the normal, against the view.
+    let phong_lobe = pow(max(dot(reflect(-L, s.normal), V), 0.0), s.spec_exp);
     // Diffuse: att x ndl (Blinn-Phong, Lambert), in three bands (toon), none (metal, unlit).
     var dw = select(att * ndl, att * (ceil(ndl * 3.0) / 3.0), toon);
     dw = select(dw, 0.0, metal || unlit);
     // Specular: att x ndl x lobe x level (Blinn-Phong, metal, tinted by the albedo below), the
     // level where the lobe passes 1/2 (toon), none (Lambert, unlit).
     var sw = select(att * ndl * (lobe * s.spec_level), att * select(0.0, s.spec_level, lobe >= 0.5), toon);
+    sw = select(sw, att * (phong_lobe * s.spec_level), phong);
     sw = select(sw, 0.0, lambert || unlit);
     var r: Lighting;
     r.diffuse = color * dw;
@@ -386,6 +399,11 @@ fn brdf_light_branch(s: Surface, V: vec3<f32>, L: vec3<f32>, ndl: f32, color: ve
     }
     if s.brdf == LS_BRDF_LAMBERT {
         r.diffuse = color * (att * ndl);
+        return r;
+    }
+    if s.brdf == LS_BRDF_PHONG {
+        r.diffuse = color * (att * ndl);
+        r.specular = color * (att * (pow(max(dot(reflect(-L, s.normal), V), 0.0), s.spec_exp) * s.spec_level));
         return r;
     }
     let H = safe_normalize(L + V, s.normal);

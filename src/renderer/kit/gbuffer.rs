@@ -50,14 +50,15 @@ pub enum Attr {
     /// Seed 002's free channel when the scene uses several reflectance models: the material ID
     /// in the integer part and the specular exponent's code (log2(exp) / [`SPEC_EXP_LOG_RANGE`])
     /// times 255/256 in the fraction, in one fp16 channel. IDs stay below 8, where fp16 steps
-    /// are at most 2^-8: the largest fraction, 255/256, never rounds up into the next ID, and
-    /// the code is off by at most half a step, 2^-9 x 256/255, i.e. the exponent by a factor of
-    /// at most 2^(11 x 2^-9 x 256/255) = 1.0151 (1.5%).
+    /// are at most 2^-8. The conversion to fp16 may round to nearest or toward zero (Vulkan
+    /// leaves it to the implementation; lavapipe truncates): either way the largest fraction,
+    /// 255/256, never reaches the next ID, and the code is off by less than one step,
+    /// 2^-8 x 256/255, i.e. the exponent by a factor below 2^(11 x 2^-8 x 256/255) = 1.0304.
     MaterialExp,
 }
 
-/// The largest relative error [`Attr::MaterialExp`] leaves in the specular exponent.
-pub const MATERIAL_EXP_RELATIVE_ERROR: f64 = 0.0151;
+/// The largest relative error [`Attr::MaterialExp`] leaves in the specular exponent (3.0%).
+pub const MATERIAL_EXP_RELATIVE_ERROR: f64 = 0.0304;
 
 /// How far [`Attr::EmissiveScale`] leaves a material's emission from its own (linear units,
 /// per channel at most): the part of `emissive` orthogonal to `albedo`; all of it for a black
@@ -679,6 +680,16 @@ impl GBufferLayout {
         self.targets.iter().flat_map(|t| t.channels.iter()).flatten().any(|s| s.attr.gives(attr))
     }
 
+    /// Whether the specular level is stored as it is: where its channel is a float (seed 000's
+    /// "RT0 … Alpha – specular level", seed 002's, the reference's), which holds the level's
+    /// whole range ((exponent + 8) / 8 at reflectance 1). A normalised 8-bit channel stores the
+    /// reflectance f0 = level x 8 / (exponent + 8) in [0, 1] instead ([`level_from_reflectance`]).
+    pub fn spec_level_raw(&self) -> bool {
+        self.targets
+            .iter()
+            .any(|t| is_float(t.format) && t.channels.iter().flatten().any(|s| s.attr == Attr::SpecLevel))
+    }
+
     /// The largest relative rounding of a stored position component (seed 000's and 002's
     /// fp16 positions: half an ulp, 2^-11; f32: 2^-24); 0 for layouts that reconstruct the
     /// position from depth. The shadow lookups widen their depth bias by it (seed 002: "may
@@ -782,6 +793,7 @@ impl GBufferLayout {
         let _ = writeln!(w, "const GBUFFER_WORLD: bool = {};", self.world);
         let _ = writeln!(w, "const GBUFFER_ONE_ACCUM: bool = {};", self.one_accumulation);
         let _ = writeln!(w, "const GBUFFER_POSITION_ROUNDING: f32 = {:?};", self.position_rounding() as f32);
+        let _ = writeln!(w, "const GBUFFER_SPEC_LEVEL_RAW: bool = {};", self.spec_level_raw());
         // The material ID: per pixel from its channel, or the scene's one model.
         let _ = writeln!(w, "const GBUFFER_HAS_MATERIAL: bool = {};", self.uniform_brdf.is_none());
         let _ = writeln!(w, "const GBUFFER_BRDF: u32 = {}u;", self.uniform_brdf.unwrap_or_default().id());
@@ -1045,11 +1057,17 @@ mod tests {
             let id = b.id() as f32;
             for k in 0..=4096 {
                 let code = k as f32 / 4096.0;
-                let stored = half::f16::from_f32(id + code * (255.0 / 256.0)).to_f32();
-                assert_eq!(stored.floor(), id, "{b:?} code {code}: the ID changed");
-                let back = stored.fract() * (256.0 / 255.0);
-                let ratio = 2f64.powf(((back - code).abs() * SPEC_EXP_LOG_RANGE) as f64);
-                assert!(ratio - 1.0 <= MATERIAL_EXP_RELATIVE_ERROR, "{b:?} code {code}: exponent off by {ratio}");
+                let v = id + code * (255.0 / 256.0);
+                // Rounded to nearest, and toward zero (the other conversion Vulkan allows).
+                let nearest = half::f16::from_f32(v);
+                let toward_zero =
+                    if nearest.to_f32() > v { half::f16::from_bits(nearest.to_bits() - 1) } else { nearest };
+                for stored in [nearest.to_f32(), toward_zero.to_f32()] {
+                    assert_eq!(stored.floor(), id, "{b:?} code {code}: the ID changed");
+                    let back = stored.fract() * (256.0 / 255.0);
+                    let ratio = 2f64.powf(((back - code).abs() * SPEC_EXP_LOG_RANGE) as f64);
+                    assert!(ratio - 1.0 <= MATERIAL_EXP_RELATIVE_ERROR, "{b:?} code {code}: exponent off by {ratio}");
+                }
             }
         }
     }
@@ -1153,7 +1171,7 @@ mod tests {
                 _ => {
                     let l = l.unwrap();
                     l.validate().unwrap();
-                    assert!(l.has(Attr::Material), "{}: five models and no ID channel", l.name);
+                    assert!(l.has(Attr::Material), "{}: every model and no ID channel", l.name);
                     assert_eq!(l.uniform_brdf, None);
                     // In a channel the formats already had: no byte more.
                     let without =

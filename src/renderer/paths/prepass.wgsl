@@ -25,8 +25,8 @@ fn prepass_light(s: Surface, p: vec2<i32>) -> Lighting {
     var r: Lighting;
     r.diffuse = diffuse;
     r.specular = chroma * (mono * f0);
-    // The reflectance models the one Blinn-Phong buffer can express (`brdf_light`); toon is
-    // refused on the CPU (`Renderer::render`).
+    // The reflectance models the one Blinn-Phong buffer can express (`brdf_light`); toon and
+    // Phong are shaded forward after this pass (`Brdf::prepass_lit`).
     if s.brdf == LS_BRDF_LAMBERT {
         r.specular = vec3<f32>(0.0);
     } else if s.brdf == LS_BRDF_UNLIT {

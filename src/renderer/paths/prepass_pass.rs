@@ -113,14 +113,14 @@ impl PrepassFinalPass {
 /// What the light pre-pass cannot draw, refused before the frame with what to use instead
 /// (never a silent wrong picture):
 /// - an accumulation format without alpha (`rg11b10-ufloat`): no channel for the mono specular;
-/// - toon (`Brdf::Toon`) on a masked surface: its bands quantise each light's N.L and specular
-///   lobe apart, and the light buffer holds only their sum. Opaque toon objects are shaded
-///   forward after pass 3 instead (`DrawLists::forward_opaque`, seed 004); a masked one would
-///   need the forward pass to discard as pass 1 did;
+/// - toon or Phong (`Brdf::prepass_lit`) on a masked surface: toon's bands quantise each
+///   light's N.L and specular lobe apart, Phong's lobe is another, and the light buffer holds
+///   only the Blinn-Phong sum. Opaque ones are shaded forward after pass 3 instead
+///   (`DrawLists::forward_opaque`, seed 004); a masked one would need the forward pass to
+///   discard as pass 1 did;
 /// - debug views of attributes the thin buffer does not hold (albedo, emissive, material ID).
 pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) -> anyhow::Result<()> {
     use crate::renderer::{AccumFormat, DebugView};
-    use crate::scene::Brdf;
     if settings.accumulation == AccumFormat::Rg11b10Ufloat {
         anyhow::bail!(
             "the light-prepass path keeps its mono specular in the light buffer's alpha, which rg11b10-ufloat \
@@ -130,14 +130,15 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
     let force = settings.brdf.brdf();
     let toon = scene.objects.iter().any(|o| {
         scene.materials.get(o.material).is_some_and(|m| {
-            matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }) && force.unwrap_or(m.brdf) == Brdf::Toon
+            matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }) && !force.unwrap_or(m.brdf).prepass_lit()
         })
     });
     if toon {
         anyhow::bail!(
-            "the light-prepass path cannot shade a masked toon surface: its light buffer holds the sum of every \
-             light's Blinn-Phong terms, toon bands each light's N.L and lobe apart, and the forward pass that \
-             shades opaque toon objects does not discard; use --path deferred, or --brdf blinn-phong"
+            "the light-prepass path cannot shade a masked toon or phong surface: its light buffer holds the sum of \
+             every light's Blinn-Phong terms, toon bands each light's N.L and lobe apart, Phong's lobe is another, \
+             and the forward pass that shades opaque toon and phong objects does not discard; use --path deferred, \
+             or --brdf blinn-phong"
         );
     }
     if scene.uniform_layer().is_none() {

@@ -492,9 +492,6 @@ pub fn encode_chain(
     end: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
     let s = f.settings;
-    if effects::runs("distortion", s) {
-        p.distortion.encode(encoder, f, pt);
-    }
     p.bloom.encode(encoder, f, pt);
     let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
     p.exposure.encode(encoder, f, pt, hdr);
@@ -518,6 +515,10 @@ pub fn encode_chain(
                 let last = k + 1 == on.len();
                 let (src, dst) =
                     if k % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
+                if EFFECTS[i].name == "distortion" {
+                    // Its buffer first, right before it: the effect's span holds both.
+                    p.distortion.encode(encoder, f, pt);
+                }
                 p.effects.encode(encoder, f, i, src, if last { target } else { dst }, last);
             }
         }

@@ -167,8 +167,9 @@ pub struct BenchArgs {
     /// glTF without lights: N x N point lights (the same as `--lights` N²).
     #[arg(long, conflicts_with = "lights")]
     pub light_grid: Option<u32>,
-    /// Only these groups (comma-separated): culling, layout, accumulation, depth, cutoff,
-    /// tessellation, resolution, lights, radius, ambient, forward, post, shadows, path.
+    /// Only these groups (comma-separated): culling, presets, near, materials, layout,
+    /// accumulation, depth, cutoff, tessellation, resolution, lights, radius, ambient, forward,
+    /// post, shadows, path.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -247,5 +248,17 @@ mod tests {
         let parsed = Cli::parse_from(["lampshade"]).view;
         let default = ViewArgs::default();
         assert_eq!(format!("{parsed:?}"), format!("{default:?}"));
+    }
+
+    #[test]
+    fn the_bench_help_names_every_group() {
+        use clap::CommandFactory;
+        let cmd = Cli::command();
+        let bench = cmd.find_subcommand("bench").expect("the bench command");
+        let only = bench.get_arguments().find(|a| a.get_id() == "only").expect("--only");
+        let help = only.get_help().map(|h| h.to_string()).unwrap_or_default();
+        for g in crate::bench::GROUPS {
+            assert!(help.contains(g), "`bench --only`'s help does not name the group {g}: {help}");
+        }
     }
 }

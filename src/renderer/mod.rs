@@ -323,9 +323,9 @@ impl Renderer {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
         let layout = if settings.path == RenderPath::LightPrepass {
-            // One layer for the whole scene (`paths::prepass_pass::check` refuses masks that tell
-            // layers apart: the thin buffer has no channel for them).
-            gbuffer::GBufferLayout { uniform_layer: scene.uniform_layer(), ..gbuffer::prepass_layout() }
+            // One layer for the whole buffer (the thin buffer has no channel for it); objects on
+            // layers the lights tell apart from it are shaded forward (`Scene::shared_layers`).
+            gbuffer::GBufferLayout { uniform_layer: Some(scene.shared_layers().0), ..gbuffer::prepass_layout() }
         } else {
             settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
         };

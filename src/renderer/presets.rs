@@ -163,7 +163,7 @@ impl Preset {
             Preset::Seed004 => &[
                 missing!("lightmaps, crossfading from realtime + baked indirect near the camera to fully baked far away", "Lightmaps are also applied in the final pass."),
                 missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
-                missing!("objects under light culling masks the 4-byte buffer cannot carry, and masked toon objects, drawn forward afterwards: they are refused (opaque toon objects are drawn forward)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
+                missing!("alpha-masked objects the buffer cannot shade (toon, Phong, or on a layer the culling masks tell apart) drawn forward afterwards: they are refused (opaque ones are drawn forward)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
             ],
         }
     }

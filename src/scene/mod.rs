@@ -861,6 +861,23 @@ impl Scene {
         }
     }
 
+    /// The light pre-pass's one layer and the layers that share it (seed 004's "limited support"
+    /// for light culling masks: its buffer has no channel for a layer). The layer is the used
+    /// one most objects are on (the lowest of a tie); a used layer shares it when every light
+    /// lights both or neither. Objects on shared layers go through the light buffer, shaded as
+    /// that layer; the others are shaded forward after pass 3. Returns (layer, shared layers
+    /// as a mask); every used layer shares it when [`Self::uniform_layer`] is `Some`.
+    pub fn shared_layers(&self) -> (u32, u32) {
+        let mut count = [0usize; 32];
+        for o in &self.objects {
+            count[(o.layer & 31) as usize] += 1;
+        }
+        let layer = (0..32).max_by_key(|&k| (count[k], std::cmp::Reverse(k))).unwrap_or(0) as u32;
+        let same = |k: u32| self.lights.iter().all(|l| (l.mask() >> k) & 1 == (l.mask() >> layer) & 1);
+        let shared = (0..32).filter(|&k| same(k)).fold(0u32, |m, k| m | (1 << k));
+        (layer, shared)
+    }
+
     pub fn any_emissive(&self) -> bool {
         self.materials.iter().any(|m| m.emissive.max_element() > 0.0)
     }

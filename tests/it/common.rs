@@ -54,6 +54,20 @@ pub fn unshadowed() -> Settings {
     Settings { shadows: lampshade::renderer::ShadowMode::None, ..Settings::default() }
 }
 
+/// Deferred shading at full precision (the reference layout, an Rgba32Float accumulation),
+/// unshadowed and without the ideal count, and the light pre-pass with the same settings: the
+/// pair a pre-pass frame's forward-shaded objects are held against.
+pub fn full_precision_and_prepass() -> (Settings, Settings) {
+    let deferred = Settings {
+        layout: lampshade::LayoutChoice::Reference,
+        accumulation: lampshade::renderer::AccumFormat::Rgba32Float,
+        count_ideal: false,
+        ..unshadowed()
+    };
+    let prepass = Settings { path: lampshade::renderer::RenderPath::LightPrepass, ..deferred.clone() };
+    (deferred, prepass)
+}
+
 pub fn scene(name: &str) -> Scene {
     builtin::build(name, BuiltinOptions::default()).expect("built-in scene")
 }

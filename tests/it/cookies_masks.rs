@@ -451,3 +451,56 @@ fn gltf_extras_carry_cookies_masks_and_layers() {
         assert!(e.contains(says), "{e}");
     }
 }
+
+/// Seed 004's "limited support" for light culling masks on the light pre-pass: its buffer has no
+/// channel for a layer, so it is shaded as one layer (the one most objects are on), and objects
+/// on layers some light's mask tells apart from it are shaded forward after pass 3, as toon.
+/// On `cookies` the red box (layer 1) and the blue sphere (layer 2) are apart from the floor's
+/// and wall's layer 0: their pixels are deferred shading's (full-precision G-buffer and
+/// accumulation) within one 8-bit step, and pass 3 draws every opaque object but those two.
+#[test]
+fn the_light_prepass_shades_objects_its_masks_tell_apart_forward() {
+    let scene = scene("cookies");
+    let (layer, shared) = scene.shared_layers();
+    assert_eq!((layer, shared & 0b111), (0, 0b001), "layer 0 shared, 1 and 2 apart");
+    let (deferred, prepass) = full_precision_and_prepass();
+    let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
+    let pixel_of = |p: DVec3| {
+        let v = scene.camera.to_view(p);
+        let c = scene.camera.projection(W as f64 / H as f64, false) * v.extend(1.0);
+        let (x, y) = (c.x / c.w, c.y / c.w);
+        (((x * 0.5 + 0.5) * W as f64) as i64, ((0.5 - y * 0.5) * H as f64) as i64)
+    };
+    // The red box's face towards the camera and the blue sphere's upper half (the pane covers
+    // its lower front).
+    let mut checked = 0;
+    for (what, centre) in [("red box", DVec3::new(-2.3, 1.2, 1.0)), ("blue sphere", DVec3::new(2.3, 1.7, 0.6))] {
+        let (cx, cy) = pixel_of(centre);
+        for dy in -2..=2 {
+            for dx in -2..=2 {
+                let (x, y) = ((cx + dx) as u32, (cy + dy) as u32);
+                let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
+                let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+                assert!(step <= 1, "{what} ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 50);
+    let opaque_apart = scene
+        .objects
+        .iter()
+        .filter(|o| shared & (1 << o.layer) == 0)
+        .filter(|o| scene.materials[o.material].alpha_mode == lampshade::scene::AlphaMode::Opaque)
+        .count() as u64;
+    assert_eq!(opaque_apart, 2);
+    let p = b.stats.prepass.as_ref().expect("pre-pass figures");
+    assert_eq!(p.final_draw_calls + opaque_apart, p.base_draw_calls, "{p:?}");
+    // An alpha-masked object there would need the forward pass to discard: refused.
+    let mut masked = scene.clone();
+    let red = masked.objects.iter().find(|o| o.layer == 1).expect("the red box").material;
+    masked.materials[red].alpha_mode = lampshade::scene::AlphaMode::Mask { cutoff: 0.5 };
+    let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &prepass).unwrap();
+    let e = render_image(gpu(), &mut r, &masked, &prepass, 64, 36).expect_err("a masked object apart rendered");
+    assert!(format!("{e:#}").contains("alpha-masked object on layer 1"), "{e:#}");
+}

@@ -355,13 +355,7 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
 #[test]
 fn the_light_prepass_shades_opaque_toon_and_phong_forward_as_deferred_does() {
     let scene = scene("materials");
-    let deferred = Settings {
-        layout: LayoutChoice::Reference,
-        accumulation: AccumFormat::Rgba32Float,
-        count_ideal: false,
-        ..unshadowed()
-    };
-    let prepass = Settings { path: lampshade::renderer::RenderPath::LightPrepass, ..deferred.clone() };
+    let (deferred, prepass) = full_precision_and_prepass();
     let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
     let mut checked = 0;
     for (brdf, pixels) in sphere_pixels(&scene) {

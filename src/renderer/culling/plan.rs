@@ -865,6 +865,8 @@ fn plan_draws(
     let mut stats = ForwardStats { lights: mode, ..Default::default() };
     // Lights in at least one blended object's list: the only ones a tile needs.
     let mut reaches_glass = vec![false; scene.lights.len()];
+    // The light pre-pass's buffer shades the layers its lights treat alike.
+    let shared_layers = if view.prepass_models.is_some() { scene.shared_layers().1 } else { u32::MAX };
     for (i, o) in scene.objects.iter().enumerate() {
         let m = &scene.materials[o.material];
         if let Some(d) = nearest.get_mut(i) {
@@ -880,11 +882,13 @@ fn plan_draws(
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
-        // Toon and Phong under the light pre-pass (`Brdf::prepass_lit`): its depth in pass 1,
-        // its shading forward (a light list, as a blended object's).
-        let toon_forward = view
-            .prepass_models
-            .is_some_and(|force| !force.unwrap_or(m.brdf).prepass_lit() && m.alpha_mode == AlphaMode::Opaque);
+        // Toon and Phong under the light pre-pass (`Brdf::prepass_lit`), and objects on a layer
+        // some light tells apart from the buffer's (`Scene::shared_layers`): its depth in pass
+        // 1, its shading forward (a light list, as a blended object's).
+        let toon_forward = view.prepass_models.is_some_and(|force| {
+            let apart = !force.unwrap_or(m.brdf).prepass_lit() || shared_layers & (1 << (o.layer & 31)) == 0;
+            apart && m.alpha_mode == AlphaMode::Opaque
+        });
         if m.distortion > 0.0 {
             draws.distorting.push((i, m.double_sided as usize, o.material));
         }

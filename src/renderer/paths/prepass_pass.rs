@@ -118,6 +118,8 @@ impl PrepassFinalPass {
 ///   only the Blinn-Phong sum. Opaque ones are shaded forward after pass 3 instead
 ///   (`DrawLists::forward_opaque`, seed 004); a masked one would need the forward pass to
 ///   discard as pass 1 did;
+/// - an alpha-masked object on a layer the lights' culling masks tell apart from the buffer's
+///   (`Scene::shared_layers`): opaque ones are shaded forward, as toon;
 /// - debug views of attributes the thin buffer does not hold (albedo, emissive, material ID).
 pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) -> anyhow::Result<()> {
     use crate::renderer::{AccumFormat, DebugView};
@@ -141,11 +143,22 @@ pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) 
              or --brdf blinn-phong"
         );
     }
-    if scene.uniform_layer().is_none() {
+    // Seed 004's limited support for light culling masks: objects on layers some light tells
+    // apart from the buffer's are shaded forward; a masked one would need that pass to discard.
+    let (_, shared) = scene.shared_layers();
+    let apart = scene.objects.iter().find(|o| {
+        shared & (1 << (o.layer & 31)) == 0
+            && scene
+                .materials
+                .get(o.material)
+                .is_some_and(|m| matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }))
+    });
+    if let Some(o) = apart {
         anyhow::bail!(
-            "the light-prepass path has no channel for the object layer that light culling masks need (its \
-             buffer is normal + exponent in 4 bytes, seed 004's): some light's mask takes some of the scene's \
-             layers but not all; use --path deferred or a forward path, or masks that take every layer in use or none"
+            "the light-prepass path cannot shade an alpha-masked object on layer {} (light culling masks tell it \
+             apart from the layer its buffer is shaded as, so it is shaded forward, and that pass does not discard); \
+             use --path deferred, or masks that treat its layer as the others",
+            o.layer & 31
         );
     }
     if matches!(settings.debug_view, DebugView::Albedo | DebugView::Emissive | DebugView::MaterialId) {

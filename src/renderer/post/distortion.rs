@@ -26,12 +26,9 @@ pub struct DistortionPass {
 
 impl DistortionPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        // Offsets summed; the nearest surface's 1 / depth kept.
         let blend = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
+            color: crate::renderer::kit::ADDITIVE.color,
             alpha: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
                 dst_factor: wgpu::BlendFactor::One,

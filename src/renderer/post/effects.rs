@@ -49,28 +49,54 @@ pub struct Effect {
     pub on: fn(&Settings) -> bool,
     /// Its own debug view and the fragment function that draws it.
     pub view: Option<(DebugView, &'static str)>,
+    /// Its second texture is drawn right before it (the distortion buffer,
+    /// `post::distortion`), and that draw opens the effect's span.
+    pub buffer_first: bool,
 }
 
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
-    Effect { name: "grading", title: "grading", fs: "fs_grade", on: |s| s.lut.is_some(), view: None },
-    Effect { name: "distortion", title: "distortion", fs: "fs_distort", on: |s| s.distortion, view: None },
+    Effect {
+        name: "grading",
+        title: "grading",
+        fs: "fs_grade",
+        on: |s| s.lut.is_some(),
+        view: None,
+        buffer_first: false,
+    },
+    Effect {
+        name: "distortion",
+        title: "distortion",
+        fs: "fs_distort",
+        on: |s| s.distortion,
+        view: None,
+        buffer_first: true,
+    },
     Effect {
         name: "aa",
         title: "anti-aliasing",
         fs: "fs_aa",
         on: |s| s.aa != Aa::Off,
         view: Some((DebugView::Edges, "fs_view_edges")),
+        buffer_first: false,
     },
-    Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None },
+    Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None, buffer_first: false },
     Effect {
         name: "dof",
         title: "depth of field",
         fs: "fs_dof",
         on: |s| s.dof,
         view: Some((DebugView::Coc, "fs_view_coc")),
+        buffer_first: false,
     },
-    Effect { name: "vignette", title: "vignette", fs: "fs_vignette", on: |s| s.vignette > 0.0, view: None },
+    Effect {
+        name: "vignette",
+        title: "vignette",
+        fs: "fs_vignette",
+        on: |s| s.vignette > 0.0,
+        view: None,
+        buffer_first: false,
+    },
 ];
 
 /// Whether effect `name` runs under `s`.
@@ -148,8 +174,8 @@ fn draw(
     pipeline: &wgpu::RenderPipeline,
     (group, target): (&wgpu::BindGroup, &wgpu::TextureView),
 ) {
-    // The distortion's span began with its buffer's draws (`post::distortion`).
-    let begin = (e.name != "distortion").then_some(Span(e.name));
+    // An effect whose buffer is drawn first: the span began with those draws.
+    let begin = (!e.buffer_first).then_some(Span(e.name));
     let stamps = f.timestamps(begin, Some(Span(e.name)));
     post_draw(encoder, f, label, pipeline, target, group, stamps);
 }

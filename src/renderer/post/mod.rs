@@ -515,7 +515,7 @@ pub fn encode_chain(
                 let last = k + 1 == on.len();
                 let (src, dst) =
                     if k % 2 == 0 { (&pt.from_toned, &pt.second_view) } else { (&pt.from_second, &pt.toned_view) };
-                if EFFECTS[i].name == "distortion" {
+                if EFFECTS[i].buffer_first {
                     // Its buffer first, right before it: the effect's span holds both.
                     p.distortion.encode(encoder, f, pt);
                 }

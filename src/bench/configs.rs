@@ -1,6 +1,7 @@
 //! The configurations each group of the bench sweeps, and the scenes and light counts it sweeps them over.
 
 use super::*;
+use crate::renderer::BlendedMode;
 
 /// The cut-off thresholds the `cutoff` group sweeps (fractions of each light's peak).
 pub const CUTOFFS: [(f32, &str); 4] = [(0.0, "0"), (1.0 / 256.0, "1/256"), (1.0 / 64.0, "1/64"), (1.0 / 16.0, "1/16")];
@@ -146,6 +147,18 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for forward_lights in ForwardLights::ALL {
         let label = format!("forward {}", forward_lights.name());
         v.push(c("forward", label, Settings { forward_lights, ..base.clone() }, o.lights));
+    }
+    // How blended surfaces are composited: the rows above sort them (alpha); seed 003's
+    // additive blending needs no sort, depth peeling (seed 002) a pass pair per layer.
+    v.push(c(
+        "forward",
+        "blended additive".into(),
+        Settings { blended: BlendedMode::Additive, ..base.clone() },
+        o.lights,
+    ));
+    for peel_layers in [2, 4, 8] {
+        let s = Settings { blended: BlendedMode::Peeled, peel_layers, ..base.clone() };
+        v.push(c("forward", format!("blended peeled x{peel_layers}"), s, o.lights));
     }
     // The rendering paths side by side (seed 002): every path over the light count,
     // and on the room. A path that cannot render on this build is a row saying why.

@@ -1,7 +1,8 @@
 //! Speed against error: `lampshade bench` renders one scene under many configurations, times
 //! each pass (median of N frames, GPU timestamps), counts fragments, and measures the error of
 //! each image against a reference rendered without deferred approximations (every light
-//! full-screen, an Rgba32Float G-buffer with stored position, Rgba32Float accumulation).
+//! full-screen, an Rgba32Float G-buffer with stored position, Rgba32Float accumulation, blended
+//! surfaces composited in depth order per pixel by 16 layers of depth peeling).
 //! Output: `bench.csv`, `bench.md` and `bench.png` (time against error, Pareto front marked).
 //!
 //! - [`configs`]: the configurations each group sweeps;

@@ -193,7 +193,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
     let rows = &run.rows[..];
     let mut s = format!(
         "Scene `{}`, time {}, adapter {gpu_name}; GPU ms are medians of {} frames; error against the reference \
-         (full-screen lights, Rgba32Float G-buffer and accumulation), measured before post: the light error and PSNR \
+         (full-screen lights, Rgba32Float G-buffer and accumulation, blended surfaces depth peeled 16 layers deep), measured before post: the light error and PSNR \
          on the light accumulation, FLIP on the output only for frames without the post chain (`-` in the `post` rows). Ratio: lighting time over `fullscreen`'s in the \
          same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
          Volumes: the bounding meshes the frame drew (only the kinds its lights need). \

@@ -33,6 +33,9 @@ pub(crate) fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shado
         culling: reference_culling(scene.lights.len(), size),
         layout: LayoutChoice::Reference,
         accumulation: AccumFormat::Rgba32Float,
+        // Blended surfaces in depth order at every pixel (up to 16 deep), not by object.
+        blended: crate::renderer::BlendedMode::Peeled,
+        peel_layers: crate::renderer::settings::MAX_PEEL_LAYERS,
         count_fragments: false,
         timestamps: false,
         ..shadow_reference(shadows)

@@ -187,12 +187,26 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "blended",
         what: "blending of blended surfaces",
-        help: "Blended surfaces: alpha blending, sorted back to front, or additive (seed 003), unsorted",
+        help: "Blended surfaces: alpha blending, sorted back to front; additive (seed 003), unsorted; or depth \
+               peeling (seed 002), in depth order per pixel",
         values: Values::Choice(names::<BlendedMode>),
         cli: true,
         get: |s| name_of(&s.blended),
         put: |s, v| {
             s.blended = choice("blending of blended surfaces", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "peel-layers",
+        what: "depth peeling layers",
+        help: "Layers --blended peeled peels: each pixel's nearest N blended fragments are composited in depth \
+               order, any behind them dropped",
+        values: Values::Whole { min: 1, max: crate::renderer::settings::MAX_PEEL_LAYERS },
+        cli: true,
+        get: |s| s.peel_layers.to_string(),
+        put: |s, v| {
+            s.peel_layers = whole(v)?;
             Ok(())
         },
     },

@@ -292,6 +292,7 @@ impl Renderer {
             depth_clamp: settings.depth_clamp && caps.has(wgpu::Features::DEPTH_CLIP_CONTROL),
             features: program::ShaderFeatures::of(scene, settings, &caps.quirks),
             additive_blended: settings.blended == BlendedMode::Additive,
+            peeled_blended: settings.blended == BlendedMode::Peeled,
         })
     }
 

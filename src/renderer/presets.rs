@@ -121,6 +121,7 @@ impl Preset {
                 row!("distortion", "on", "Distortion"),
                 row!("fog", "on", "Fog"),
                 row!("aa", "edge", "\"Intelligent Blur\" : Only filter object edges"),
+                row!("blended", "alpha", "Blend into final image, sort back-to-front as always"),
             ],
             Preset::Seed003 => &[
                 row!("path", "light-prepass", "my 1st pass renders into an intermediate buffer (g-buffer) consisting of a 24-bit normal and a scaled 8-bit specular exponent"),
@@ -156,7 +157,6 @@ impl Preset {
                 missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 3% off at most)", "Normal.x Normal.y Normal.z Free"),
                 missing!("emission is one channel, so it is stored as a multiple of the diffuse colour: exact only where the emission has the albedo's hue", "Emissive (single channel)"),
                 missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
-                missing!("depth peeling for blended surfaces", "Can use depth peeling"),
             ],
             Preset::Seed003 => &[
             ],

@@ -43,7 +43,11 @@ impl Renderer {
             sphere_triangles: (self.volumes.sphere.indices.len() / 3) as u32,
             cone_triangles: (self.volumes.cone.indices.len() / 3) as u32,
             volume_meshes: plan.volume_meshes_drawn(),
-            forward: plan.forward.clone().filter(|_| shape.blended),
+            forward: plan.forward.clone().filter(|_| shape.blended).map(|f| stats::ForwardStats {
+                peel_layers: (settings.blended == crate::renderer::settings::BlendedMode::Peeled)
+                    .then_some(settings.peel_layers),
+                ..f
+            }),
             draw_calls: drawn.draw_calls,
             light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
             forward_path: drawn.forward_path,

@@ -195,7 +195,16 @@ pub enum BlendedMode {
     /// the need to sort polygons"): drawn unsorted, in scene order; the sum does not depend on
     /// it beyond the fp16 target's rounding.
     Additive,
+    /// Depth peeling (seed 002: "can use depth peeling"; Everitt 2001, "Interactive
+    /// Order-Independent Transparency"): `peel_layers` passes each keep the nearest blended
+    /// fragment behind the last layer and add it under the layers before it, so every pixel's
+    /// fragments are composited in depth order without sorting objects, interpenetrating ones
+    /// included. Fragments behind the last layer are dropped (the stats count them).
+    Peeled,
 }
+
+/// The most layers depth peeling peels (`Settings::peel_layers`).
+pub const MAX_PEEL_LAYERS: u32 = 16;
 
 /// How lights whose volume crosses the near plane are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
@@ -512,8 +521,11 @@ pub struct Settings {
     pub near_lights: NearLights,
     /// The order of the opaque draws.
     pub draw_order: DrawOrder,
-    /// How blended surfaces are composited (alpha, sorted; or additive, unsorted).
+    /// How blended surfaces are composited (alpha, sorted; additive, unsorted; or peeled).
     pub blended: BlendedMode,
+    /// Layers `BlendedMode::Peeled` peels, 1 ..= `MAX_PEEL_LAYERS`: a pixel's nearest this many
+    /// blended fragments are composited, the rest dropped.
+    pub peel_layers: u32,
     /// How the lighting shaders pick the reflectance model (select or branch).
     pub material_branch: MaterialBranch,
     /// The material sampler's anisotropy clamp, 1 ..= 16 (seed 002: "use aniso filtering
@@ -645,6 +657,7 @@ impl Default for Settings {
             near_lights: NearLights::default(),
             draw_order: DrawOrder::default(),
             blended: BlendedMode::default(),
+            peel_layers: 4,
             material_branch: MaterialBranch::default(),
             anisotropy: 1,
             layout: LayoutChoice::default(),
@@ -708,6 +721,9 @@ impl Settings {
                  use --msaa 1, or the light-prepass or forward paths",
                 self.path.name()
             ));
+        }
+        if self.msaa != Msaa::X1 && self.blended == BlendedMode::Peeled {
+            return Err("depth peeling peels single-sampled depth; use --msaa 1 or another --blended mode".into());
         }
         Ok(())
     }

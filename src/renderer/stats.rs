@@ -152,6 +152,11 @@ impl Span {
 /// Timestamps in the frame's query set.
 const TIMESTAMPS: u32 = 2 * MAX_SPANS;
 
+/// The forward pass's occlusion queries: one per peeled layer, and one for what is behind the
+/// last ([`crate::renderer::settings::MAX_PEEL_LAYERS`] + 1), within its 256-byte block.
+const FORWARD_QUERIES: u32 = crate::renderer::settings::MAX_PEEL_LAYERS + 1;
+const _: () = assert!(FORWARD_QUERIES * 8 <= 256);
+
 /// Byte offset of the light pre-pass's two occlusion counts (pass 1, pass 3) in the resolve
 /// buffer: the 256-byte block after the forward pass's.
 const PREPASS_QUERY_OFFSET: u64 = FORWARD_QUERY_OFFSET + 256;
@@ -234,8 +239,13 @@ pub struct ForwardStats {
     pub tiles: u64,
     pub tile_list_entries: u64,
     pub longest_tile_list: u32,
-    /// Samples the forward pass shaded (passed the depth test; occlusion query), when counting.
+    /// Samples the forward pass shaded (passed the depth test; occlusion query), when counting;
+    /// peeled, every layer's together.
     pub fragments: Option<u64>,
+    /// Layers depth peeling peeled (`--blended peeled`), and the blended samples behind the
+    /// last one, which it dropped (when counting).
+    pub peel_layers: Option<u32>,
+    pub unpeeled: Option<u64>,
 }
 
 /// The tiled pass's lists (`tiled`, `clustered`, or the `tile-lights` view's): cells (tiles, or
@@ -405,7 +415,8 @@ impl GpuMs {
 
 pub struct Queries {
     pub timestamps: Option<wgpu::QuerySet>,
-    /// One occlusion query over the whole forward pass.
+    /// One occlusion query over the whole forward pass; peeled, one per layer and one for
+    /// the fragments behind the last (`FORWARD_QUERIES`).
     pub forward: wgpu::QuerySet,
     /// The light pre-pass's pass 1 (query 0) and pass 3 (query 1), one occlusion query each.
     pub prepass: wgpu::QuerySet,
@@ -436,7 +447,7 @@ impl Queries {
         let forward = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("forward fragments"),
             ty: wgpu::QueryType::Occlusion,
-            count: 1,
+            count: FORWARD_QUERIES,
         });
         let prepass = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("pre-pass fragments"),
@@ -509,7 +520,8 @@ impl Queries {
         }
     }
 
-    /// Resolves the frame's queries; `forward` when the forward pass counted its fragments,
+    /// Resolves the frame's queries; `forward`: the forward pass's occlusion queries (0: it did
+    /// not count; peeled, one per layer and one behind the last),
     /// `geometry`: how many geometry passes counted theirs (1: the G-buffer pass; 2: the light
     /// pre-pass's passes 1 and 3).
     #[allow(clippy::too_many_arguments)]
@@ -520,7 +532,7 @@ impl Queries {
         counts: bool,
         ideal: bool,
         times: bool,
-        forward: bool,
+        forward: u32,
         geometry: u32,
     ) {
         let (Some(resolve), Some(readback)) = (&self.resolve, &self.readback) else {
@@ -532,8 +544,8 @@ impl Queries {
                 encoder.resolve_query_set(ts, 0..TIMESTAMPS, resolve, 0);
             }
         }
-        if forward {
-            encoder.resolve_query_set(&self.forward, 0..1, resolve, FORWARD_QUERY_OFFSET);
+        if forward > 0 {
+            encoder.resolve_query_set(&self.forward, 0..forward, resolve, FORWARD_QUERY_OFFSET);
         }
         if geometry > 0 && counts {
             encoder.resolve_query_set(&self.prepass, 0..geometry, resolve, PREPASS_QUERY_OFFSET);
@@ -551,7 +563,7 @@ impl Queries {
                 }
             }
         }
-        if counts || ideal || times || forward {
+        if counts || ideal || times || forward > 0 {
             encoder.copy_buffer_to_buffer(resolve, 0, readback, 0, size);
         }
     }
@@ -569,7 +581,7 @@ impl Queries {
         counts: bool,
         ideal: bool,
         times: bool,
-        forward: bool,
+        forward: u32,
     ) -> Result<()> {
         stats.per_light = plans
             .iter()
@@ -591,8 +603,9 @@ impl Queries {
             .collect();
         // Occlusion queries that only say 0 or 1 (wgpu's GL backend) count nothing: the counts
         // they would give are left out, not reported wrong.
-        let (counts, ideal, forward) = (counts && self.exact, ideal && self.exact, forward && self.exact);
-        if !(counts || ideal || times || forward) {
+        let forward = if self.exact { forward } else { 0 };
+        let (counts, ideal) = (counts && self.exact, ideal && self.exact);
+        if !(counts || ideal || times || forward > 0) {
             return Ok(());
         }
         let Some(readback) = &self.readback else {
@@ -666,8 +679,13 @@ impl Queries {
                     g.compose = g.compose.map(|c| (c - chain).max(0.0));
                 }
             }
-            if let Some(f) = stats.forward.as_mut().filter(|_| forward) {
-                f.fragments = Some(words[(FORWARD_QUERY_OFFSET / 8) as usize]);
+            if let Some(f) = stats.forward.as_mut().filter(|_| forward > 0) {
+                let at = (FORWARD_QUERY_OFFSET / 8) as usize;
+                let layers = f.peel_layers.map_or(1, |n| n as usize);
+                f.fragments = Some(words[at..at + layers].iter().sum());
+                if f.peel_layers.is_some() {
+                    f.unpeeled = Some(words[at + layers]);
+                }
             }
             if counts && matches!(stats.path, RenderPath::Deferred | RenderPath::LightPrepass) {
                 stats.gbuffer_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);

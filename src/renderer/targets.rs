@@ -33,6 +33,8 @@ pub struct Targets {
     pub one_target: bool,
     /// The light pre-pass's multisampled pass 3 (`--msaa 4`): its colour and depth samples.
     pub msaa: Option<MsaaTargets>,
+    /// Depth peeling's depth buffers and layers (`BlendedMode::Peeled` frames with an HDR colour).
+    pub peel: Option<crate::renderer::surfaces::blended::PeelTargets>,
 }
 
 /// Multisampled HDR colour and depth-stencil (the light pre-pass's pass 3 and forward pass),
@@ -88,8 +90,11 @@ impl Targets {
         use wgpu::TextureUsages as U;
         let key = &shared.key;
         let gbuffer = GBufferTargets::new(device, &key.layout, size.0, size.1);
-        let depth = texture(device, "depth-stencil", key.depth_format, size, U::RENDER_ATTACHMENT)
-            .create_view(&Default::default());
+        // Depth peeling reads the opaque depth in its layer passes.
+        let depth_usage =
+            if key.peeled_blended { U::RENDER_ATTACHMENT | U::TEXTURE_BINDING } else { U::RENDER_ATTACHMENT };
+        let depth_texture = texture(device, "depth-stencil", key.depth_format, size, depth_usage);
+        let depth = depth_texture.create_view(&Default::default());
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
         let specular_size = if key.one_target() { (1, 1) } else { size };
@@ -126,6 +131,8 @@ impl Targets {
         });
         let post =
             hdr.as_ref().filter(|_| post).map(|(view, _)| super::post::PostTargets::new(device, shared, size, view));
+        let peel = (hdr.is_some() && key.peeled_blended)
+            .then(|| crate::renderer::surfaces::blended::PeelTargets::new(device, shared, &depth_texture, size));
         let msaa = (hdr.is_some() && key.samples > 1)
             .then(|| MsaaTargets::new(device, HDR_FORMAT, key.depth_format, size, key.samples));
         Self {
@@ -147,6 +154,7 @@ impl Targets {
             prepass: key.prepass,
             one_target: key.one_target(),
             msaa,
+            peel,
         }
     }
 
@@ -160,6 +168,7 @@ impl Targets {
             && self.post.is_some() == post
             && self.prepass == shared.key.prepass
             && self.one_target == shared.key.one_target()
+            && self.peel.is_some() == (shared.key.peeled_blended && (hdr || post))
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero

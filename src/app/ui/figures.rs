@@ -202,6 +202,11 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
             let longest =
                 if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
             row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
+            if let Some(n) = fw.peel_layers {
+                // Depth peeling: samples behind the last layer are dropped.
+                let dropped = fw.unpeeled.map_or("-".into(), fmt_count);
+                row(ui, "peeled layers", format!("{n} · {dropped} dropped"));
+            }
         }
         if let Some(fp) = &s.forward_path {
             // The forward paths: each pass's draws, samples shaded and time, the

@@ -139,6 +139,21 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             }
         });
         ui.end_row();
+        ui.label("blended");
+        ui.horizontal(|ui| {
+            use crate::renderer::settings::{BlendedMode, MAX_PEEL_LAYERS};
+            egui::ComboBox::from_id_salt("blended").selected_text(st.settings.blended.name()).show_ui(ui, |ui| {
+                for &b in <BlendedMode as clap::ValueEnum>::value_variants() {
+                    let why = super::refused(f, &st.settings, "blended", b.name());
+                    super::offer(ui, why, &mut st.settings.blended, b, b.name()).on_hover_text(knob_help(&b));
+                }
+            });
+            if st.settings.blended == BlendedMode::Peeled {
+                ui.add(egui::DragValue::new(&mut st.settings.peel_layers).range(1..=MAX_PEEL_LAYERS).suffix(" layers"))
+                    .on_hover_text("each pixel's nearest N blended fragments, in depth order; any behind them dropped");
+            }
+        });
+        ui.end_row();
     });
     ui.separator();
     ui.label(RichText::new("Ambient and sun").strong());

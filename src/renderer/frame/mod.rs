@@ -189,7 +189,11 @@ impl Renderer {
             counts: settings.count_fragments && lit && !shape.forward_path,
             ideal: settings.count_ideal && lit && !shape.forward_path,
             times: settings.timestamps && self.queries.timestamps.is_some(),
-            forward: settings.count_fragments && shape.blended,
+            forward: match (settings.count_fragments && shape.blended, settings.blended) {
+                (false, _) => 0,
+                (true, crate::renderer::settings::BlendedMode::Peeled) => settings.peel_layers + 1,
+                (true, _) => 1,
+            },
         }
     }
 
@@ -215,7 +219,7 @@ impl Renderer {
             counts: m.counts,
             ideal: m.ideal,
             times: m.times,
-            forward_counts: m.forward,
+            forward_counts: m.forward > 0,
             depth_clamp: self.passes.key().depth_clamp,
             shadowed: &prepared.shadows.lights,
             scratch: &self.scratch,
@@ -258,6 +262,7 @@ pub struct Measured {
     pub ideal: bool,
     /// Timestamps.
     pub times: bool,
-    /// The forward pass's fragments.
-    pub forward: bool,
+    /// The forward pass's occlusion queries (0: not counted; peeled, one per layer and one
+    /// behind the last).
+    pub forward: u32,
 }

@@ -201,8 +201,24 @@ pub const ATLAS_VIEW: Group = Group {
     }],
 };
 
+/// Group 2 of depth peeling's layer passes (`surfaces::blended`): the opaque surfaces' depth
+/// (fragments behind it are hidden) and the previous layer's (fragments at or in front of it
+/// are peeled already), read with `textureLoad`. Slots from 70.
+pub const PEEL: Group = Group {
+    label: "peel",
+    index: 2,
+    bindings: &[
+        Binding { slot: 70, name: "peel_opaque", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
+        Binding { slot: 71, name: "peel_previous", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
+    ],
+};
+
+/// Group 1 of depth peeling's last pass: the layers composited front to back (premultiplied
+/// colour, coverage in alpha), laid over the scene colour.
+pub const PEELED: Group = Group { label: "peeled layers", index: 1, bindings: &[texture(72, "peeled", false)] };
+
 /// Every group above, in the order the shader source declares them.
-pub const GROUPS: [&Group; 7] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW];
+pub const GROUPS: [&Group; 9] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW, &PEEL, &PEELED];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.

@@ -33,6 +33,9 @@ pub struct PipelineKey {
     pub features: ShaderFeatures,
     /// Blended surfaces are added (`BlendedMode::Additive`), not alpha blended.
     pub additive_blended: bool,
+    /// Blended surfaces are depth peeled (`BlendedMode::Peeled`): the depth buffer is also
+    /// sampled, and the peel pipelines are built.
+    pub peeled_blended: bool,
 }
 
 impl PipelineKey {
@@ -74,6 +77,12 @@ pub struct Shared {
     pub compose_layout: wgpu::PipelineLayout,
     /// Frame + G-buffer + compose + HDR colour.
     pub tonemap_layout: wgpu::PipelineLayout,
+    /// Depth peeling's groups ([`bindings::PEEL`], [`bindings::PEELED`]) and layouts: frame +
+    /// material + peel for the layer passes, frame + peeled layers for the last.
+    pub peel_bgl: wgpu::BindGroupLayout,
+    pub peeled_bgl: wgpu::BindGroupLayout,
+    pub peel_layout: wgpu::PipelineLayout,
+    pub peeled_layout: wgpu::PipelineLayout,
 }
 
 impl Shared {
@@ -103,6 +112,10 @@ impl Shared {
         let compose_layout = layout("compose", &[&frame_bgl, &gbuffer_bgl, &compose_bgl]);
         let tonemap_layout = layout("tonemap", &[&frame_bgl, &gbuffer_bgl, &compose_bgl, &hdr_bgl]);
         let post_layout = layout("post", &[&frame_bgl, &gbuffer_bgl, &post_bgl]);
+        let peel_bgl = bindings::PEEL.layout(device);
+        let peeled_bgl = bindings::PEELED.layout(device);
+        let peel_layout = layout("peel", &[&frame_bgl, &material_bgl, &peel_bgl]);
+        let peeled_layout = layout("peeled layers", &[&frame_bgl, &peeled_bgl]);
         Self {
             key,
             module,
@@ -117,6 +130,10 @@ impl Shared {
             light_layout,
             compose_layout,
             tonemap_layout,
+            peel_bgl,
+            peeled_bgl,
+            peel_layout,
+            peeled_layout,
         }
     }
 

@@ -1,14 +1,17 @@
 //! Forward shading of blended surfaces (seeds 002-004: deferred shading cannot do
-//! transparency): back to front (alpha blending) or in scene order (seed 003's additive
-//! blending, `BlendedMode`) over the HDR scene colour, depth tested against the G-buffer
+//! transparency): back to front (alpha blending), in scene order (seed 003's additive
+//! blending, `BlendedMode`) or peeled in depth order per pixel ([`Peel`]) over the HDR scene
+//! colour, depth tested against the G-buffer
 //! pass's depth and not written, each fragment lit by the shorter of its object's and its
 //! screen tile's light list (`plan::plan_draws`). Timed (`gpu_ms.forward`) and counted
 //! (`forward.fragments`) as its own pass.
 
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{Shared, HDR_FORMAT};
+use crate::renderer::kit::pipeline::{scene_pipeline, ScenePipe};
+use crate::renderer::kit::{bindings, texture, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};
+use wgpu::CompareFunction as Cmp;
 
 /// The blended surfaces' forward pass's timing (`gpu_ms.forward`).
 pub const SPAN: Span = Span("forward");
@@ -20,6 +23,235 @@ pub struct ForwardPass {
     /// The light pre-pass's opaque toon objects (`DrawLists::forward_opaque`): the same shading
     /// written over pass 3's colour, one- and two-sided; built for the light pre-pass only.
     opaque: Option<[wgpu::RenderPipeline; 2]>,
+    /// Depth peeling's pipelines (`BlendedMode::Peeled`).
+    peel: Option<Peel>,
+}
+
+/// Depth peeling (seed 002: "can use depth peeling"; Everitt 2001): per layer, a depth-only
+/// pass finds each pixel's nearest blended fragment behind the previous layer and in front of
+/// the opaque depth, and a colour pass shades the fragments at that depth and adds them under
+/// the layers before (front to back, premultiplied); a last pass lays the layers over the scene
+/// colour. `layers` passes composite each pixel's nearest `layers` fragments exactly in depth
+/// order, interpenetrating objects included; fragments behind them are dropped, and counted
+/// ([`ForwardStats::unpeeled`](crate::renderer::stats::ForwardStats)) when the frame counts.
+struct Peel {
+    /// Depth only, then colour at equal depth; one- and two-sided each.
+    depth: [wgpu::RenderPipeline; 2],
+    colour: [wgpu::RenderPipeline; 2],
+    /// The layers over the scene colour.
+    over: wgpu::RenderPipeline,
+}
+
+/// The format the peeled layers are composited in.
+const PEELED_FORMAT: wgpu::TextureFormat = HDR_FORMAT;
+
+/// The layers' depth: 32-bit float whatever the frame's depth format, so that a fragment's depth
+/// as stored is its depth as shaded, and `fs_peel_depth`'s "behind the previous layer" never
+/// takes a layer again (a 24-bit buffer rounds it). The opaque depth is compared as stored:
+/// with 24-bit depth, a blended fragment within one 24-bit step in front of an opaque surface
+/// may be hidden where the hardware test, rounding it first, would keep it.
+const PEEL_DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Depth peeling's size-dependent targets (`Targets::peel`): two depth buffers the layers
+/// alternate between (one written, the other read as the previous layer), the layers'
+/// composite, and the bind groups reading them.
+pub struct PeelTargets {
+    /// Attachment and sampled (depth aspect) views of each depth buffer.
+    depth: [(wgpu::TextureView, wgpu::TextureView); 2],
+    peeled: wgpu::TextureView,
+    /// Group 2 of layer k is `groups[k % 2]`: the opaque depth and depth buffer `(k + 1) % 2`.
+    groups: [wgpu::BindGroup; 2],
+    peeled_group: wgpu::BindGroup,
+}
+
+impl PeelTargets {
+    /// `opaque`: the frame's depth buffer (made with `TEXTURE_BINDING` when peeling).
+    pub fn new(device: &wgpu::Device, shared: &Shared, opaque: &wgpu::Texture, size: (u32, u32)) -> Self {
+        use wgpu::TextureUsages as U;
+        let depth_only = wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() };
+        let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
+        let depth = [0, 1].map(|_| {
+            let t = texture(device, "peel depth", PEEL_DEPTH, size, usage);
+            (t.create_view(&Default::default()), t.create_view(&depth_only))
+        });
+        let peeled = texture(device, "peeled layers", PEELED_FORMAT, size, usage).create_view(&Default::default());
+        let opaque = opaque.create_view(&depth_only);
+        let groups = [1, 0].map(|previous| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("peel"),
+                layout: &shared.peel_bgl,
+                entries: &bindings::PEEL.entries(vec![
+                    wgpu::BindingResource::TextureView(&opaque),
+                    wgpu::BindingResource::TextureView(&depth[previous].1),
+                ]),
+            })
+        });
+        let peeled_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("peeled layers"),
+            layout: &shared.peeled_bgl,
+            entries: &bindings::PEELED.entries(vec![wgpu::BindingResource::TextureView(&peeled)]),
+        });
+        Self { depth, peeled, groups, peeled_group }
+    }
+}
+
+impl Peel {
+    fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let key = crate::renderer::kit::PipelineKey { depth_format: PEEL_DEPTH, ..shared.key.clone() };
+        let pipe = |label, fs, two_sided, depth, targets: &[Option<wgpu::ColorTargetState>]| {
+            let p = ScenePipe {
+                label,
+                layout: &shared.peel_layout,
+                vs: "vs_geometry",
+                fs: Some(fs),
+                topology: crate::scene::Topology::Triangles,
+                double_sided: two_sided,
+                depth,
+                samples: 1,
+            };
+            scene_pipeline(device, &shared.module, &key, p, targets)
+        };
+        // Front to back: each layer only adds where the layers before left coverage (1 - dst.a).
+        let under = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let layer = [Some(wgpu::ColorTargetState {
+            format: PEELED_FORMAT,
+            blend: Some(wgpu::BlendState { color: under, alpha: under }),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let nearest = (true, Cmp::Less, wgpu::StencilState::default());
+        let at = (false, Cmp::Equal, wgpu::StencilState::default());
+        // Premultiplied layers over the scene: c + (1 - a) x scene; the scene's alpha kept.
+        let over = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::Zero,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+        };
+        let scene = [Some(wgpu::ColorTargetState {
+            format: HDR_FORMAT,
+            blend: Some(over),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        Self {
+            depth: [false, true].map(|two| pipe("peel depth", "fs_peel_depth", two, nearest.clone(), &[])),
+            colour: [false, true].map(|two| pipe("peel colour", "fs_peel_colour", two, at.clone(), &layer)),
+            over: shared.screen_pipeline(
+                device,
+                "peeled layers",
+                &shared.peeled_layout,
+                ("vs_compose", "fs_peeled"),
+                &scene,
+            ),
+        }
+    }
+
+    /// Peels `f`'s blended draws in `layers` layers and lays them over `hdr`; with the frame's
+    /// fragment counts, occlusion query k counts layer k's shaded samples and query `layers`
+    /// the samples behind the last layer.
+    /// `begin`: the first pass opens the forward span (no pass before it did).
+    fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        hdr: &wgpu::TextureView,
+        layers: u32,
+        begin: bool,
+    ) {
+        let Some(t) = &f.targets.peel else { return };
+        let near = 1.0 - f.far_depth() as f32;
+        let depth_pass = |encoder: &mut wgpu::CommandEncoder, k: u32, clear: f32, query: bool, first: bool| {
+            encoder
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("peel depth"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth[k as usize % 2].0,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(clear),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: f.timestamps(first.then_some(SPAN), None),
+                    occlusion_query_set: query.then_some(&f.queries.forward),
+                    multiview_mask: None,
+                })
+                .forget_lifetime()
+        };
+        // Layer 0's "previous layer" is the near plane: nothing is peeled yet.
+        drop(depth_pass(encoder, 1, near, false, begin));
+        for k in 0..=layers {
+            // Pass `layers` only counts what is left behind the last layer.
+            let leftover = k == layers;
+            if leftover && !f.forward_counts {
+                break;
+            }
+            {
+                let mut pass = depth_pass(encoder, k, f.far_depth() as f32, leftover, false);
+                pass.set_bind_group(0, &f.frame.group, &[]);
+                pass.set_bind_group(2, &t.groups[k as usize % 2], &[]);
+                if leftover {
+                    pass.begin_occlusion_query(k);
+                }
+                f.scene.draw(&mut pass, &f.plan.draws.forward, &self.depth);
+                if leftover {
+                    pass.end_occlusion_query();
+                }
+            }
+            if leftover {
+                break;
+            }
+            let load = if k == 0 { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("peel colour"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &t.peeled,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth[k as usize % 2].0,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &f.frame.group, &[]);
+            pass.set_bind_group(2, &t.groups[k as usize % 2], &[]);
+            if f.forward_counts {
+                pass.begin_occlusion_query(k);
+            }
+            f.scene.draw(&mut pass, &f.plan.draws.forward, &self.colour);
+            if f.forward_counts {
+                pass.end_occlusion_query();
+            }
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("peeled layers"),
+            color_attachments: &[attachment(hdr, None)],
+            depth_stencil_attachment: None,
+            timestamp_writes: f.timestamps(None, Some(SPAN)),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.over);
+        pass.set_bind_group(0, &f.frame.group, &[]);
+        pass.set_bind_group(1, &t.peeled_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
 }
 
 impl ForwardPass {
@@ -48,11 +280,37 @@ impl ForwardPass {
         Self {
             pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)],
             opaque: shared.key.prepass.then(|| [o("forward (opaque)", false), o("forward (opaque, two-sided)", true)]),
+            peel: shared.key.peeled_blended.then(|| Peel::new(device, shared)),
         }
     }
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
+        // Peeling is single-sampled (`Settings::validate` refuses it with MSAA); the light
+        // pre-pass's opaque toon objects are drawn first, as below.
+        if let Some(peel) = self.peel.as_ref().filter(|_| f.targets.msaa.is_none()) {
+            if let Some(opaque) = self.opaque.as_ref().filter(|_| !f.plan.draws.forward_opaque.is_empty()) {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("forward (opaque)"),
+                    color_attachments: &[attachment(hdr_view, None)],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &f.targets.depth,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: f.timestamps(Some(SPAN), None),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &f.frame.group, &[]);
+                f.scene.draw(&mut pass, &f.plan.draws.forward_opaque, opaque);
+                drop(pass);
+                peel.encode(encoder, f, hdr_view, f.settings.peel_layers, false);
+                return;
+            }
+            peel.encode(encoder, f, hdr_view, f.settings.peel_layers, true);
+            return;
+        }
         // Multisampled (the light pre-pass's `--msaa 4`): over its samples, resolved again.
         let (color, depth) = match &f.targets.msaa {
             Some(ms) => (ms.color_attachment(hdr_view, None), &ms.depth),

@@ -5,7 +5,8 @@
 // The material's bindings (group 1) are declared from Rust: renderer::bindings::MATERIAL.
 
 struct GeometryOut {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: depth peeling draws the same triangles again at Equal depth.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) view_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) object: u32,
@@ -146,6 +147,11 @@ fn fs_geometry_masked(in: GeometryOut, @builtin(front_facing) front: bool) -> GB
 // The result is blended over it with the material's alpha.
 @fragment
 fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return forward_shade(in, front);
+}
+
+// The blended fragment's colour and alpha (straight, not premultiplied).
+fn forward_shade(in: GeometryOut, front: bool) -> vec4<f32> {
     var s: Surface;
     let alpha = clamp(material_surface(in, front, &s), 0.0, 1.0);
     let o = objects[in.object];
@@ -191,4 +197,43 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     }
     let lit = diffuse * s.albedo + specular + s.emissive;
     return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), alpha);
+}
+
+// Depth peeling (seed 002; Everitt 2001, "Interactive Order-Independent Transparency"). Layer
+// k keeps, per pixel, the nearest blended fragment strictly behind layer k - 1's and not behind
+// the opaque surfaces: first a depth-only pass finds its depth (`fs_peel_depth` discards the
+// rest, the depth test keeps the nearest), then `fs_peel_colour` shades the fragments at exactly
+// that depth and adds them under the layers before (front to back: the blend multiplies by the
+// coverage not yet taken, 1 - dst.a). Coincident fragments are one layer, each added.
+fn peel_keeps(in: GeometryOut) -> bool {
+    let p = vec2<i32>(in.clip.xy);
+    let opaque = textureLoad(peel_opaque, p, 0);
+    let previous = textureLoad(peel_previous, p, 0);
+    // Reversed Z (far plane at 0) flips both comparisons.
+    if camera.far_depth == 0.0 {
+        return in.clip.z >= opaque && in.clip.z < previous;
+    }
+    return in.clip.z <= opaque && in.clip.z > previous;
+}
+
+@fragment
+fn fs_peel_depth(in: GeometryOut) {
+    if !peel_keeps(in) {
+        discard;
+    }
+}
+
+@fragment
+fn fs_peel_colour(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let c = forward_shade(in, front);
+    if !peel_keeps(in) {
+        discard;
+    }
+    return vec4<f32>(c.rgb * c.a, c.a);
+}
+
+// The layers, composited front to back (premultiplied), over the scene colour.
+@fragment
+fn fs_peeled(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return textureLoad(peeled, vec2<i32>(floor(frag.xy)), 0);
 }

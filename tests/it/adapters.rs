@@ -220,3 +220,11 @@ fn the_gl_backend_renders_every_mode_to_its_full_screen_picture() {
         }
     }
 }
+
+/// Depth peeling on wgpu's GL backend (whose GLSL cannot load from a depth texture, so the
+/// layers read depth as unfilterable float textures): the crossed panes match the CPU
+/// per-pixel depth sort within the fp16 rounding, as on Vulkan.
+#[test]
+fn the_gl_backend_peels_blended_surfaces_in_depth_order() {
+    crate::presets::check_peeling(gl(), "GL deferred", &Settings::default());
+}

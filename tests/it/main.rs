@@ -23,7 +23,7 @@ mod materials;
 mod paths;
 mod post;
 mod prepass;
-mod presets;
+pub mod presets;
 mod renderer;
 mod scale;
 mod shader_contract;

@@ -203,14 +203,13 @@ pub const ATLAS_VIEW: Group = Group {
 
 /// Group 2 of depth peeling's layer passes (`surfaces::blended`): the opaque surfaces' depth
 /// (fragments behind it are hidden) and the previous layer's (fragments at or in front of it
-/// are peeled already), read with `textureLoad`. Slots from 70.
+/// are peeled already), read with `textureLoad` as unfilterable float textures (depth in .r;
+/// naga's GLSL backend declares a `texture_depth_2d` a shadow sampler, which cannot be
+/// loaded from). Slots from 70.
 pub const PEEL: Group = Group {
     label: "peel",
     index: 2,
-    bindings: &[
-        Binding { slot: 70, name: "peel_opaque", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
-        Binding { slot: 71, name: "peel_previous", wgsl_type: "texture_depth_2d", kind: Kind::DepthTexture },
-    ],
+    bindings: &[texture(70, "peel_opaque", false), texture(71, "peel_previous", false)],
 };
 
 /// Group 1 of depth peeling's last pass: the layers composited front to back (premultiplied

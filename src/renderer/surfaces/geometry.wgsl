@@ -207,8 +207,8 @@ fn forward_shade(in: GeometryOut, front: bool) -> vec4<f32> {
 // coverage not yet taken, 1 - dst.a). Coincident fragments are one layer, each added.
 fn peel_keeps(in: GeometryOut) -> bool {
     let p = vec2<i32>(in.clip.xy);
-    let opaque = textureLoad(peel_opaque, p, 0);
-    let previous = textureLoad(peel_previous, p, 0);
+    let opaque = textureLoad(peel_opaque, p, 0).r;
+    let previous = textureLoad(peel_previous, p, 0).r;
     // Reversed Z (far plane at 0) flips both comparisons.
     if camera.far_depth == 0.0 {
         return in.clip.z >= opaque && in.clip.z < previous;

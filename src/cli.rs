@@ -51,6 +51,10 @@ pub enum Command {
     /// Print the seed presets (`--preset`): what each sets, the seed's line behind each
     /// setting, and what the seed names that no knob gives yet (Markdown; docs/presets.md).
     Presets,
+    /// Bake seed 004's lightmaps for a scene (ambient through occlusion, sun through
+    /// visibility; `scene::lightmap`): writes DIR/lightmaps.json and a PNG per object, which
+    /// `render --baked DIR` applies.
+    Bake(BakeArgs),
     /// Regenerate the project's own glTF scene (assets/room) from code.
     MakeAssets {
         /// Output directory.
@@ -104,6 +108,9 @@ pub struct RenderArgs {
     /// Start from the file's viewpoint K (its cameras in order, then a framing view).
     #[arg(long)]
     pub viewpoint: Option<usize>,
+    /// Apply the lightmaps `lampshade bake` wrote to DIR for this scene.
+    #[arg(long)]
+    pub baked: Option<PathBuf>,
     /// Output PNG.
     #[arg(long)]
     pub out: PathBuf,
@@ -134,6 +141,25 @@ pub struct RenderArgs {
     /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct BakeArgs {
+    /// Built-in scene name or a glTF file (.gltf, .glb); objects whose mesh has a second
+    /// texture coordinate set (the built-in cube has one) are baked.
+    pub scene: String,
+    /// Output directory.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Texels along a cube face's cell (the map is 3N x 2N), 1..=256.
+    #[arg(long, default_value_t = 16)]
+    pub texels: u32,
+    /// Occlusion rays per texel, 1..=4096.
+    #[arg(long, default_value_t = 64)]
+    pub rays: u32,
+    /// How far an occluder may be and still shade the ambient (world units).
+    #[arg(long, default_value_t = 4.0)]
+    pub occlusion_distance: f64,
 }
 
 /// `--lights N` or `--light-grid N` (N² lights): the light count a scene is asked for, if any.

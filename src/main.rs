@@ -137,6 +137,10 @@ fn render(args: RenderArgs) -> Result<()> {
         };
         scene.camera = *camera;
     }
+    if let Some(dir) = &args.baked {
+        let baked = lampshade::scene::lightmap::load(dir, &scene)?;
+        lampshade::scene::lightmap::apply(&mut scene, &baked);
+    }
     keys.apply_to(&mut scene).with_context(|| format!("settings file: scene '{scene_name}'"))?;
     if let Some(camera) = keys.camera {
         camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
@@ -213,6 +217,40 @@ fn open_scene(
     result
 }
 
+/// `lampshade bake`: seed 004's lightmaps for a scene, to a folder `render --baked` reads.
+fn bake(args: lampshade::cli::BakeArgs) -> Result<()> {
+    let (mut scene, warnings) = open_scene(&args.scene, BuiltinOptions::default(), &Default::default())?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    // A built-in scene that comes baked is baked again from its unbaked self.
+    if args.scene == "courtyard" {
+        scene = builtin::courtyard_unbaked();
+    }
+    let options = lampshade::scene::lightmap::BakeOptions {
+        texels: args.texels,
+        rays: args.rays,
+        occlusion_distance: args.occlusion_distance,
+    };
+    let bar = indicatif::ProgressBar::new(scene.objects.len() as u64);
+    let start = std::time::Instant::now();
+    let baked = lampshade::scene::lightmap::bake(&scene, &options, |done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
+    lampshade::scene::lightmap::save(&baked, scene.objects.len(), &args.out)?;
+    println!(
+        "{}: baked {} of {} objects in {:.1} s -> {}",
+        args.scene,
+        baked.objects.len(),
+        scene.objects.len(),
+        start.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    for (k, why) in &baked.skipped {
+        println!("  object {k} left out: {why}");
+    }
+    Ok(())
+}
+
 /// `lampshade adapters`: each adapter found, its capability table and what it supports.
 fn adapters(args: AdaptersArgs) -> Result<()> {
     let choice = args.adapter.choice();
@@ -286,6 +324,7 @@ fn main() {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
         Some(Command::Adapters(args)) => adapters(args),
+        Some(Command::Bake(args)) => bake(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),
         Some(Command::Presets) => {
             print!("{}", lampshade::renderer::presets::Preset::markdown());

@@ -606,6 +606,31 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "lightmaps",
+        what: "lightmaps",
+        help: "Seed 004's lightmaps, where the scene's materials have them (`lampshade bake`): near the camera realtime \
+               light plus the baked occlusion, crossfading to fully baked light by --lightmap-distance",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.lightmaps),
+        put: |s, v| {
+            s.lightmaps = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "lightmap-distance",
+        what: "lightmap distance",
+        help: "View distance from which lightmapped surfaces are fully baked; the crossfade starts at 0.8 of it",
+        values: Values::Float { min: 0.0, max: 1e6, open: (true, false), slider: (1.0, 200.0) },
+        cli: true,
+        get: |s| s.lightmap_distance.to_string(),
+        put: |s, v| {
+            s.lightmap_distance = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
         name: "distortion",
         what: "distortion",
         help: "Distortion (seed 002's post chain): the picture behind a material with a distortion strength shifted by its view-space normal",

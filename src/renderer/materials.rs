@@ -114,10 +114,13 @@ pub fn bind_groups(
                 pick(t.emissive, &defaults.white_srgb),
                 pick(t.metallic_roughness, &defaults.white_linear),
             ];
-            // In the order of `bindings::MATERIAL`: base colour, normal, emissive, metal-rough, sampler.
+            let lightmap = pick(m.lightmap.map(|l| l.texture), &defaults.white_linear);
+            // In the order of `bindings::MATERIAL`: base colour, normal, emissive, metal-rough,
+            // sampler, lightmap.
             let mut resources: Vec<wgpu::BindingResource<'_>> =
                 maps.iter().map(wgpu::BindingResource::TextureView).collect();
             resources.push(wgpu::BindingResource::Sampler(sampler));
+            resources.push(wgpu::BindingResource::TextureView(&lightmap));
             let entries = super::kit::bindings::MATERIAL.entries(resources);
             device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("material"), layout, entries: &entries })
         })

@@ -279,8 +279,24 @@ impl Renderer {
                 "choose a layout with an emissive target (compact)",
             ));
         }
+        // Seed 004's lightmaps are read at the surface's second texture coordinates, which only
+        // the G-buffer pass has: on the deferred path it must start the accumulation.
+        let lightmapped = !prepass && !forward && settings.lightmaps && scene.is_some_and(crate::scene::lightmap::any);
+        if lightmapped && !fits {
+            return Err(caps.refuse(
+                "lightmaps on the deferred path (the G-buffer pass applies them as it starts the light accumulation)",
+                &format!(
+                    "{} colour attachments of {} bytes per sample in all",
+                    layout.targets.len() + 2,
+                    layout.bytes_per_pixel() + 2 * accum_format.block_copy_size(None).unwrap_or(16)
+                ),
+                "use --lightmaps off, or the light-prepass or forward paths",
+            ));
+        }
         Ok(PipelineKey {
-            ambient_in_gbuffer: !prepass && (settings.ambient_in_gbuffer || emission_in_accumulation) && fits,
+            ambient_in_gbuffer: !prepass
+                && (settings.ambient_in_gbuffer || emission_in_accumulation || lightmapped)
+                && fits,
             prepass,
             samples,
             layout,

@@ -140,6 +140,7 @@ impl Preset {
                 row!("near-lights", "fullscreen", "Directional lights and Point/Spot lights that cross the near plane are rendered as fullscreen quads."),
                 row!("brdf", "blinn-phong", "Lighting model is fixed to Blinn-Phong."),
                 row!("shadows", "all", "All lights can have Shadows."),
+                row!("lightmaps", "on", "Lightmaps are also applied in the final pass. Close to the camera, realtime lighting is used, and only baked indirect lighting is added."),
                 row!("aa", "off", "No real anti-aliasing support."),
             ],
         }
@@ -161,7 +162,6 @@ impl Preset {
             Preset::Seed003 => &[
             ],
             Preset::Seed004 => &[
-                missing!("lightmaps, crossfading from realtime + baked indirect near the camera to fully baked far away", "Lightmaps are also applied in the final pass."),
                 missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
                 missing!("alpha-masked objects the buffer cannot shade (toon, Phong, or on a layer the culling masks tell apart) drawn forward afterwards: they are refused (opaque ones are drawn forward)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
             ],

@@ -18,6 +18,7 @@ pub fn wgsl_constants() -> String {
     u("MAT_METAL_ROUGH", records::MAT_METAL_ROUGH);
     u("MAT_UV_TRANSFORMED", records::MAT_UV_TRANSFORMED);
     u("MAT_METAL_BY_PIXEL", records::MAT_METAL_BY_PIXEL);
+    u("MAT_LIGHTMAP", records::MAT_LIGHTMAP);
     u("NO_COOKIE", records::NO_COOKIE);
     u("COOKIE_ROW", records::COOKIE_ROW);
     for b in crate::scene::Brdf::ALL {

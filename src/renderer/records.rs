@@ -26,6 +26,13 @@ pub const MAT_UV_TRANSFORMED: u32 = 4;
 /// the map's metallic (times the factor) is at least `import::METAL_THRESHOLD`, `blinn-phong`
 /// below (bands of paint in a metal keep their diffuse term). Not set when a model is forced.
 pub const MAT_METAL_BY_PIXEL: u32 = 64;
+/// The object's material has a lightmap (`scene::Lightmap`; its scale in
+/// `ObjectRecord::lightmap`).
+pub const MAT_LIGHTMAP: u32 = 128;
+/// Where the lightmap crossfade starts, as a share of `Settings::lightmap_distance` (fully
+/// baked at the distance itself).
+pub const LIGHTMAP_FADE_START: f32 = 0.8;
+
 /// The most lights the light planes hold (`bindings::Kind::LightPlane`): 4,096 vec4s a plane,
 /// WebGPU's 64 KiB uniform binding.
 pub const UNIFORM_LIGHTS: usize = 4096;
@@ -133,6 +140,9 @@ gpu_record! {
         /// across, tiles down, and where the tiles' (first, count) pairs start in the light
         /// lists (filled by `plan::plan_draws`).
         pub forward_tiles: [u32; 4],
+        /// Seed 004's lightmap crossfade (`baked_weight` in the shaders): realtime up to x,
+        /// fully baked from y (view distance); z = 1 when lightmaps apply this frame.
+        pub lightmap_fade: [f32; 4],
     }
 }
 
@@ -230,6 +240,8 @@ gpu_record! {
         /// Per map (base colour, normal, emissive, metallic-roughness) the two rows of its
         /// `UvTransform`; the first row's w is the texture coordinate set.
         pub uv_transform: [[f32; 4]; 8],
+        /// The lightmap's scale (`scene::Lightmap::scale`; with `MAT_LIGHTMAP`), 0, 0, 0.
+        pub lightmap: [f32; 4],
     }
 }
 
@@ -404,6 +416,11 @@ impl CameraRecord {
             light_clamp: light_clamp(accum, scene.lights.len()),
             pad0: 0.0,
             forward_tiles: [0; 4],
+            lightmap_fade: {
+                let on = settings.lightmaps && crate::scene::lightmap::any(scene);
+                let d = settings.lightmap_distance;
+                [d * LIGHTMAP_FADE_START, d, if on { 1.0 } else { 0.0 }, 0.0]
+            },
         }
     }
 }
@@ -433,6 +450,9 @@ impl ObjectRecord {
         if force.is_none() && m.brdf == crate::scene::Brdf::Metal && m.textures.metallic_roughness.is_some() {
             flags |= MAT_METAL_BY_PIXEL;
         }
+        if m.lightmap.is_some() {
+            flags |= MAT_LIGHTMAP;
+        }
         let cutoff = match m.alpha_mode {
             AlphaMode::Mask { cutoff } => cutoff,
             _ => 0.0,
@@ -451,6 +471,7 @@ impl ObjectRecord {
                 let [a, b, c, d] = [u.base_color, u.normal, u.emissive, u.metallic_roughness].map(|t| t.rows());
                 [a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]]
             },
+            lightmap: [m.lightmap.map_or(0.0, |l| l.scale), 0.0, 0.0, 0.0],
         }
     }
 }

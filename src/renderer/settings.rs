@@ -523,6 +523,12 @@ pub struct Settings {
     pub draw_order: DrawOrder,
     /// How blended surfaces are composited (alpha, sorted; additive, unsorted; or peeled).
     pub blended: BlendedMode,
+    /// Seed 004's lightmaps, where the scene's materials have them (`scene::Lightmap`); off:
+    /// realtime lighting everywhere.
+    pub lightmaps: bool,
+    /// Seed 004's crossfade: view distance from which lightmapped surfaces are fully baked
+    /// (realtime up to `records::LIGHTMAP_FADE_START` of it).
+    pub lightmap_distance: f32,
     /// Layers `BlendedMode::Peeled` peels, 1 ..= `MAX_PEEL_LAYERS`: a pixel's nearest this many
     /// blended fragments are composited, the rest dropped.
     pub peel_layers: u32,
@@ -658,6 +664,8 @@ impl Default for Settings {
             draw_order: DrawOrder::default(),
             blended: BlendedMode::default(),
             peel_layers: 4,
+            lightmaps: true,
+            lightmap_distance: 40.0,
             material_branch: MaterialBranch::default(),
             anisotropy: 1,
             layout: LayoutChoice::default(),

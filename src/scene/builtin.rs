@@ -32,6 +32,10 @@ pub const NAMES: &[(&str, &str)] = &[
     ),
     ("shadows", "boxes and a thin wall on a floor under the sun, a spot and a point light (--shadows all)"),
     (
+        "courtyard",
+        "seed 004: a long courtyard of boxes under the sun, lightmapped (baked on first use): realtime light near the camera crossfading to baked far away (--lightmap-distance)",
+    ),
+    (
         "cookies",
         "seed 004: a spot throwing the window cookie on a wall, a point light's cube cookie, two objects on layers 1 and 2 under lights whose masks leave one of them out",
     ),
@@ -81,6 +85,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "materials" => materials(),
         "shadows" => shadows(),
         "cookies" => cookies(),
+        "courtyard" => courtyard(),
         _ => {
             let names: Vec<&str> = NAMES.iter().map(|(n, _)| *n).collect();
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
@@ -842,4 +847,59 @@ pub fn shadows() -> Scene {
     }));
     b.point(DVec3::new(-3.5, 1.2, -1.0), Vec3::new(0.5, 0.7, 1.0), 3.0, 6.0);
     b.scene
+}
+
+/// `courtyard` before its bake: a 60-unit floor receding from the camera, boxes and walls along
+/// it, the sun low enough to cast long shadows, an ambient bright enough to show its occlusion,
+/// and two point lights near the camera (realtime everywhere: a bake holds only ambient and sun).
+pub fn courtyard_unbaked() -> Scene {
+    let camera = Camera { far: 200.0, ..Camera::looking_at(DVec3::new(0.0, 4.0, 24.0), DVec3::new(0.0, 0.0, -10.0)) };
+    let mut b = Builder::new("courtyard", camera);
+    b.scene.ambient = Vec3::new(0.16, 0.17, 0.2);
+    b.scene.sun = Some(Sun {
+        direction: Vec3::new(0.5, -0.6, 0.35).normalize(),
+        color: Vec3::new(1.0, 0.93, 0.8),
+        intensity: 0.5,
+    });
+    let floor = b.material(Material::diffuse(Vec3::new(0.62, 0.6, 0.56)));
+    b.boxed(DVec3::new(-12.0, -1.0, -36.0), DVec3::new(12.0, 0.0, 28.0), floor);
+    let wall = b.material(Material::diffuse(Vec3::new(0.55, 0.5, 0.45)));
+    b.boxed(DVec3::new(-12.0, 0.0, -36.0), DVec3::new(-11.0, 4.0, 28.0), wall);
+    b.boxed(DVec3::new(11.0, 0.0, -36.0), DVec3::new(12.0, 4.0, 28.0), wall);
+    for i in 0..8u64 {
+        let m = b.material(Material::diffuse(hue(i as f32 * 0.13) * 0.5 + Vec3::splat(0.3)));
+        let z = 16.0 - i as f64 * 7.0;
+        let x = if i % 2 == 0 { -5.0 } else { 4.0 } + (unit(41, i) - 0.5) * 2.0;
+        let s = 0.8 + unit(42, i);
+        b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, 1.0 + 2.5 * unit(43, i), z + s), m);
+    }
+    b.point(DVec3::new(-2.0, 1.5, 16.0), Vec3::new(1.0, 0.6, 0.3), 4.0, 7.0);
+    b.point(DVec3::new(3.0, 1.2, 10.0), Vec3::new(0.3, 0.6, 1.0), 4.0, 7.0);
+    b.scene
+}
+
+/// The bake options `courtyard` is baked with.
+pub const COURTYARD_BAKE: crate::scene::lightmap::BakeOptions =
+    crate::scene::lightmap::BakeOptions { texels: 32, rays: 64, occlusion_distance: 4.0 };
+
+/// Seed 004's lightmapped scene: [`courtyard_unbaked`] with every object's lightmap, baked once
+/// per process ([`COURTYARD_BAKE`]; `lampshade bake courtyard` writes the same maps).
+pub fn courtyard() -> Scene {
+    static BAKED: std::sync::OnceLock<crate::scene::lightmap::Baked> = std::sync::OnceLock::new();
+    let mut scene = courtyard_unbaked();
+    let baked = BAKED.get_or_init(|| {
+        crate::scene::lightmap::bake(&scene, &COURTYARD_BAKE, |_, _| {}).unwrap_or_else(|e| {
+            // The scene is built in code and valid: a failure here is a bug, shown as an unbaked
+            // scene rather than a crash.
+            log::error!("courtyard: the bake failed ({e:#}); shown without lightmaps");
+            crate::scene::lightmap::Baked {
+                scene: "courtyard".into(),
+                options: COURTYARD_BAKE,
+                objects: Vec::new(),
+                skipped: Vec::new(),
+            }
+        })
+    });
+    crate::scene::lightmap::apply(&mut scene, baked);
+    scene
 }

@@ -3,6 +3,7 @@
 pub mod builtin;
 pub mod cookie;
 pub mod import;
+pub mod lightmap;
 pub mod room;
 
 use glam::{DMat3, DMat4, DVec3, Vec2, Vec3};
@@ -174,8 +175,21 @@ pub struct Mesh {
     pub topology: Topology,
 }
 
+/// The cube's lightmap layout (its TEXCOORD_1): face k in cell (k % 3, k / 3) of a 3 x 2 grid,
+/// inset by [`CUBE_LIGHTMAP_INSET`] of a cell on each side so that bilinear filtering at a
+/// face's edge reads only that face's texels (down to 8 x 8 texels a cell).
+pub fn cube_lightmap_uv(face: usize, uv: Vec2) -> Vec2 {
+    let cell = Vec2::new((face % 3) as f32, (face / 3) as f32);
+    let inset = uv * (1.0 - 2.0 * CUBE_LIGHTMAP_INSET) + Vec2::splat(CUBE_LIGHTMAP_INSET);
+    (cell + inset) / Vec2::new(3.0, 2.0)
+}
+
+/// The inset of a cube face in its lightmap cell, as a share of the cell.
+pub const CUBE_LIGHTMAP_INSET: f32 = 1.0 / 16.0;
+
 impl Mesh {
-    /// An axis-aligned unit cube centred on the origin, with per-face normals.
+    /// An axis-aligned unit cube centred on the origin, with per-face normals; TEXCOORD_1 lays
+    /// the faces out for a lightmap ([`cube_lightmap_uv`]).
     pub fn cube() -> Self {
         let mut m = Mesh { name: "cube".into(), ..Default::default() };
         let faces: [(Vec3, Vec3, Vec3); 6] = [
@@ -186,11 +200,13 @@ impl Mesh {
             (Vec3::Z, Vec3::Y, Vec3::NEG_X),
             (Vec3::NEG_Z, Vec3::Y, Vec3::X),
         ];
-        for (n, up, right) in faces {
+        for (k, (n, up, right)) in faces.into_iter().enumerate() {
             let base = m.vertices.len() as u32;
             for (u, v) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
                 let p = n * 0.5 + right * (u - 0.5) + up * (v - 0.5);
-                m.vertices.push(Vertex::new(p.into(), n.into(), Vec2::new(u, v).into()));
+                let mut vertex = Vertex::new(p.into(), n.into(), Vec2::new(u, v).into());
+                vertex.uv1 = cube_lightmap_uv(k, Vec2::new(u, v)).into();
+                m.vertices.push(vertex);
             }
             // Counter-clockwise seen from outside: right x up = normal.
             let ccw = right.cross(up).dot(n) > 0.0;
@@ -314,6 +330,24 @@ pub struct Material {
     /// height (`--distortion`; 0: none). glTF: the material's `extras` `{"distortion": k}`.
     #[serde(default)]
     pub distortion: f32,
+    /// Seed 004's lightmap, read with the second texture coordinate set (TEXCOORD_1): see
+    /// [`Lightmap`]. glTF: the material's `extras` `{"lightmap": {"texture": i, "scale": s}}`.
+    #[serde(default)]
+    pub lightmap: Option<Lightmap>,
+}
+
+/// A baked lightmap (seed 004: "Lightmaps are also applied in the final pass"): a linear RGBA8
+/// texture, read at the surface's TEXCOORD_1. RGB is the baked diffuse irradiance (ambient
+/// through its occlusion, plus the sun through its visibility) divided by `scale`; A is the
+/// ambient occlusion, the share of the sky the point sees (what the renderer adds near the
+/// camera: "only baked indirect lighting"). `lampshade bake` writes them
+/// (`scene::lightmap`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Lightmap {
+    /// Index into `Scene::textures`.
+    pub texture: usize,
+    /// The irradiance RGB = 1 stands for.
+    pub scale: f32,
 }
 
 /// The largest [`Material::distortion`]: a shift of a quarter of the screen height.
@@ -427,6 +461,7 @@ impl Material {
             uvs: MaterialUvs::default(),
             brdf: Brdf::BlinnPhong,
             distortion: 0.0,
+            lightmap: None,
         }
     }
 
@@ -755,7 +790,13 @@ impl Scene {
                 return Err(format!("material {i} has non-finite values"));
             }
             let t = m.textures;
-            for k in [t.base_color, t.normal, t.emissive, t.metallic_roughness].into_iter().flatten() {
+            if let Some(l) = m.lightmap {
+                if !(l.scale.is_finite() && l.scale > 0.0) {
+                    return Err(format!("material {i}'s lightmap scale {} is not a positive number", l.scale));
+                }
+            }
+            let lightmap = m.lightmap.map(|l| l.texture);
+            for k in [t.base_color, t.normal, t.emissive, t.metallic_roughness, lightmap].into_iter().flatten() {
                 if k >= self.textures.len() {
                     return Err(format!("material {i} refers to missing texture {k}"));
                 }

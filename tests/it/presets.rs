@@ -410,3 +410,100 @@ pub fn check_peeling(gpu: &lampshade::gpu::Gpu, name: &str, base: &Settings) {
     );
     println!("{name}: peeled exact at {} pixels ({three} of three panes, {crossings} crossing pixels left out); the object sort off at {sort_misses}; 2 layers off at {two_misses} ({unpeeled} unpeeled)", reference.iter().flatten().count());
 }
+
+#[test]
+fn lightmaps_crossfade_from_realtime_near_to_baked_far_monotone_in_distance() {
+    // Seed 004: "Close to the camera, realtime lighting is used, and only baked indirect
+    // lighting is added. This crossfades into fully baked lighting further away." On
+    // `courtyard` (every object lightmapped), three frames differ only in the crossfade: N all
+    // near (--lightmap-distance 1e5), F all baked (1e-3), M at 18 (realtime to 14.4, baked
+    // from 18). The lighting is linear in the weight, so at each pixel whose near and baked values
+    // differ, w = (M - N) / (F - N) (luminance of the HDR scene colour; the lights and the
+    // albedo cancel) must be the shader's clamp((d - 14.4) / 3.6) at the pixel's view distance d,
+    // within the fp16 rounding of the three frames: each value is stored at most 4 times
+    // (light buffer or accumulation, scene colour), 2^-10 relative each (lavapipe truncates),
+    // so |dw| <= 4 x 2^-10 x (|M| + |N| + |F|) / |F - N|. And w is non-decreasing in d.
+    let gpu = gpu();
+    let scene = scene("courtyard");
+    assert!(lampshade::scene::lightmap::any(&scene), "courtyard has no lightmaps");
+    let (w, h) = (240u32, 135u32);
+    let paths = [RenderPath::Deferred, RenderPath::LightPrepass, RenderPath::Forward];
+    // Each pixel's view-space point, from the deferred frame's G-buffer (the forward paths have
+    // none; the geometry is the same).
+    let points = {
+        let s = Settings { count_ideal: false, ..Settings::default() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+        render_image(gpu, &mut r, &scene, &s, w, h).unwrap();
+        r.view_positions(gpu).unwrap()
+    };
+    for path in paths {
+        // Bloom, above every value: the frame keeps its HDR colour, the colour itself unchanged.
+        let base = Settings { path, count_ideal: false, bloom: true, bloom_threshold: 1e4, ..Settings::default() };
+        let frame = |scene: &lampshade::Scene, distance: f32| {
+            let s = Settings { lightmap_distance: distance, ..base.clone() };
+            let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+            render_image(gpu, &mut r, scene, &s, w, h).unwrap();
+            r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
+        };
+        let lum = |c: &[f32]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let (near, far, mid) = (frame(&scene, 1e5), frame(&scene, 1e-3), frame(&scene, 18.0));
+        // The ends are pure: fully baked takes nothing from the realtime sun (a brighter sun,
+        // not baked again, changes no value), near takes nothing from the baked irradiance (maps
+        // whose RGB stands for twice the light change no value).
+        let mut sunny = scene.clone();
+        if let Some(sun) = sunny.sun.as_mut() {
+            sun.intensity *= 2.0;
+        }
+        let differ = |a: &[f32], b: &[f32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+        let n = differ(&frame(&sunny, 1e-3), &far);
+        assert_eq!(n, 0, "{}: {n} values of the fully baked frame change with the realtime sun", path.name());
+        let mut brighter = scene.clone();
+        for m in brighter.materials.iter_mut() {
+            if let Some(l) = m.lightmap.as_mut() {
+                l.scale *= 2.0;
+            }
+        }
+        let n = differ(&frame(&brighter, 1e5), &near);
+        assert_eq!(n, 0, "{}: {n} values of the near frame change with the baked irradiance", path.name());
+        let mut samples: Vec<(f32, f32)> = Vec::new();
+        let mut worst = 0f32;
+        for (i, p) in points.iter().enumerate() {
+            let Some(p) = p else { continue };
+            let (n, f, m) = (lum(&near[i * 4..]), lum(&far[i * 4..]), lum(&mid[i * 4..]));
+            if (f - n).abs() < 0.02 {
+                continue;
+            }
+            let weight = (m - n) / (f - n);
+            let d = p.length();
+            let expected = ((d - 14.4) / 3.6).clamp(0.0, 1.0);
+            let bound = 4.0 * 2f32.powi(-10) * (m.abs() + n.abs() + f.abs()) / (f - n).abs() + 1e-4;
+            assert!(
+                (weight - expected).abs() <= bound,
+                "{}: pixel {i} at distance {d:.2}: weight {weight:.4}, the crossfade gives {expected:.4} (bound {bound:.4})",
+                path.name()
+            );
+            worst = worst.max((weight - expected).abs() / bound);
+            samples.push((d, weight));
+        }
+        let between = samples.iter().filter(|s| s.1 > 0.1 && s.1 < 0.9).count();
+        let (nearer, farther) =
+            (samples.iter().filter(|s| s.0 < 14.0).count(), samples.iter().filter(|s| s.0 > 18.5).count());
+        assert!(
+            between > 20 && nearer > 200 && farther > 200,
+            "{}: {nearer} near, {between} between, {farther} far pixels",
+            path.name()
+        );
+        // Monotone: the weights, ordered by distance, never fall by more than their bounds.
+        samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut highest = f32::MIN;
+        for &(d, wt) in &samples {
+            assert!(wt >= highest - 0.02, "{}: the weight falls to {wt:.3} at {d:.2} after {highest:.3}", path.name());
+            highest = highest.max(wt);
+        }
+        println!(
+            "{}: {} pixels compared ({nearer} near, {between} crossfading, {farther} baked); worst error {worst:.2} of its bound",
+            path.name(),
+            samples.len()
+        );
+    }
+}

@@ -154,6 +154,23 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             }
         });
         ui.end_row();
+        if f.scene.is_some_and(crate::scene::lightmap::any) {
+            // Seed 004's lightmaps (`courtyard`, or a file's): realtime near, baked far.
+            ui.label("lightmaps");
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut st.settings.lightmaps, "on");
+                ui.add_enabled(
+                    st.settings.lightmaps,
+                    egui::Slider::new(&mut st.settings.lightmap_distance, slider("lightmap-distance"))
+                        .logarithmic(true)
+                        .text("baked from"),
+                )
+                .on_hover_text(
+                    "view distance from which lightmapped surfaces are fully baked; the crossfade starts at 0.8 of it",
+                );
+            });
+            ui.end_row();
+        }
     });
     ui.separator();
     ui.label(RichText::new("Ambient and sun").strong());

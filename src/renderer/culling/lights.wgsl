@@ -100,8 +100,17 @@ fn light_fragment(in: LightVarying, lookups: bool) -> LightTargets {
 // `fs_ambient` from the decoded G-buffer where the device cannot take the extra targets.
 // In the pixel's reflectance model (`ambient_diffuse`, `ambient_specular`, `brdf_light`); the
 // forward pass calls it too.
+// A lightmapped surface (seed 004): near the camera the sun stays realtime and the ambient
+// takes the baked occlusion ("only baked indirect lighting is added"); far away both are the
+// baked irradiance; between, mixed by `baked_weight`. Unchanged, bit for bit, without one.
 fn ambient_sun(s: Surface) -> Lighting {
     var r = sun_light(s);
+    if takes_lightmap(s) {
+        let w = baked_weight(s.position);
+        r.diffuse = (r.diffuse + ambient_diffuse(s) * s.baked.a) * (1.0 - w) + s.baked.rgb * w;
+        r.specular = (r.specular + ambient_specular(s) * s.baked.a) * (1.0 - w);
+        return r;
+    }
     r.diffuse += ambient_diffuse(s);
     r.specular += ambient_specular(s);
     return r;
@@ -147,8 +156,13 @@ fn fs_ambient(@builtin(position) frag: vec4<f32>) -> LightTargets {
             // Seeds 003 and 004 draw directional lights as full-screen quads into the light
             // buffer: the sun starts it, shaded like every light from the thin buffer's normal
             // and exponent with unit reflectance, its specular summed into the mono A. Ambient
-            // and emission are added in pass 3 from the material.
+            // and emission are added in pass 3 from the material. With lightmaps the sun
+            // fades out with distance at every pixel (the thin buffer cannot tell lightmapped
+            // ones): pass 3 takes it from the lightmap there, or adds the rest back.
             r = sun_light(s);
+            let w = baked_weight(s.position);
+            r.diffuse *= 1.0 - w;
+            r.specular *= 1.0 - w;
         } else {
             r = ambient_sun(s);
         }

@@ -127,6 +127,8 @@ pub const MATERIAL: Group = Group {
         texture(12, "emissive_tex", true),
         texture(13, "metal_rough_tex", true),
         Binding { slot: 14, name: "material_sampler", wgsl_type: "sampler", kind: Kind::Sampler },
+        // Seed 004's lightmap (`scene::Lightmap`), read at TEXCOORD_1, level 0.
+        texture(15, "lightmap_tex", true),
     ],
 };
 

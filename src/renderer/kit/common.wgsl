@@ -23,6 +23,9 @@ struct Camera {
     // The forward pass's screen tiles: tile size in pixels (0: no tile lists), tiles across,
     // tiles down, and where the tiles' (first, count) pairs start in `light_lists`.
     forward_tiles: vec4<u32>,
+    // Seed 004's lightmap crossfade: realtime up to x, fully baked from y (view distance);
+    // z = 1 when lightmaps apply.
+    lightmap_fade: vec4<f32>,
 };
 
 // A light in view space. `color` is colour x intensity.
@@ -95,6 +98,8 @@ struct GpuObject {
     // per map (base colour, normal, emissive, metal-rough) two rows of its uv transform;
     // the first row's w is the texture coordinate set
     uv_transform: array<vec4<f32>, 8>,
+    // The lightmap's scale (with LS_MAT_LIGHTMAP), 0, 0, 0.
+    lightmap: vec4<f32>,
 };
 
 // The bindings (group 0, the frame's storage buffers) are declared from Rust: renderer::bindings.
@@ -119,7 +124,29 @@ struct Surface {
     // The object's culling layer (seed 004): from the layer channel, or the scene's one
     // layer (GBUFFER_LAYER).
     layer: u32,
+    // Seed 004's lightmap at the point (surfaces drawn from their material only): baked
+    // irradiance in rgb, ambient occlusion in a; `lightmapped` when there is one.
+    baked: vec4<f32>,
+    lightmapped: bool,
 };
+
+// Seed 004's crossfade (Unity's dual lightmaps): the share of a lightmapped point's ambient and
+// sun taken from the lightmap at view-space position `p`: 0 (realtime, plus the baked
+// occlusion on the ambient) up to `lightmap_fade.x`, 1 (fully baked) from `lightmap_fade.y`,
+// linear between; 0 when lightmaps are off. Non-decreasing in the distance.
+fn baked_weight(p: vec3<f32>) -> f32 {
+    let f = camera.lightmap_fade;
+    if f.z < 0.5 {
+        return 0.0;
+    }
+    return clamp((length(p) - f.x) / max(f.y - f.x, 1e-6), 0.0, 1.0);
+}
+
+// The models a lightmap's diffuse irradiance applies to: those whose ambient is the ambient
+// itself (`ambient_diffuse`), not a metal (no diffuse) or an unlit surface.
+fn takes_lightmap(s: Surface) -> bool {
+    return s.lightmapped && s.brdf != LS_BRDF_METAL && s.brdf != LS_BRDF_UNLIT;
+}
 
 // The stored (encoded) form: what the layout table distributes over channels.
 struct Attributes {

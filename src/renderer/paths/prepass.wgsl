@@ -41,8 +41,20 @@ fn prepass_light(s: Surface, p: vec2<i32>) -> Lighting {
 
 fn prepass_shade(s: Surface, p: vec2<i32>) -> vec4<f32> {
     let light = prepass_light(s, p);
-    let diffuse = light.diffuse + min(ambient_diffuse(s), ambient_limit(s));
-    let specular = light.specular + min(ambient_specular(s), ambient_limit(s));
+    var diffuse = light.diffuse + min(ambient_diffuse(s), ambient_limit(s));
+    var specular = light.specular + min(ambient_specular(s), ambient_limit(s));
+    // Seed 004's lightmaps: the buffer's sun faded out by `baked_weight` (`fs_ambient`); a
+    // lightmapped surface takes the baked part (`ambient_sun`'s crossfade), any other adds
+    // the faded share of the sun back, from its own normal.
+    let w = baked_weight(s.position);
+    if takes_lightmap(s) {
+        diffuse = light.diffuse + min((ambient_diffuse(s) * s.baked.a) * (1.0 - w) + s.baked.rgb * w, ambient_limit(s));
+        specular = light.specular + min(ambient_specular(s) * s.baked.a * (1.0 - w), ambient_limit(s));
+    } else if w > 0.0 {
+        let sun = sun_light(s);
+        diffuse += min(sun.diffuse * w, ambient_limit(s));
+        specular += min(sun.specular * w, ambient_limit(s));
+    }
     let lit = diffuse * s.albedo + specular + s.emissive;
     return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), 1.0);
 }

@@ -120,6 +120,13 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     (*s).position = in.view_pos;
     (*s).depth = in.clip.z;
     (*s).valid = true;
+    // Seed 004's lightmap, at TEXCOORD_1, level 0 (the faces' cells are apart by a gutter of a
+    // level-0 texel or more; coarser levels would blend neighbouring faces).
+    if (flags & LS_MAT_LIGHTMAP) != 0u && camera.lightmap_fade.z > 0.5 {
+        let l = textureSampleLevel(lightmap_tex, material_sampler, in.uv1, 0.0);
+        (*s).baked = vec4<f32>(l.rgb * o.lightmap.x, l.a);
+        (*s).lightmapped = true;
+    }
     return o.material.x * base.a;
 }
 

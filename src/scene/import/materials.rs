@@ -29,6 +29,9 @@ impl Importer<'_> {
             want(m.emissive_texture().map(|i| i.texture()), Role::Color);
             want(m.normal_texture().map(|i| i.texture()), Role::Data);
             want(pbr.metallic_roughness_texture().map(|i| i.texture()), Role::Data);
+            if let Some((t, _)) = lightmap_extras(&m) {
+                want(self.doc.textures().nth(t), Role::Data);
+            }
         }
         let total = wanted.len();
         progress(Progress { stage: "textures", done: 0, total });
@@ -222,6 +225,7 @@ impl Importer<'_> {
             uvs,
             brdf,
             distortion: self.distortion_of(m, &label),
+            lightmap: self.lightmap_of(m, &label),
         };
         // Values the file controls: keep them finite and in range.
         let fix = |v: f32, lo: f32, hi: f32, default: f32| if v.is_finite() { v.clamp(lo, hi) } else { default };
@@ -246,7 +250,37 @@ impl Importer<'_> {
     }
 }
 
+/// The material's `extras` `{"lightmap": {"texture": i, "scale": s}}` as given: the texture's
+/// index in the file and the scale (1 when absent); `None` without one.
+fn lightmap_extras(m: &gltf::Material<'_>) -> Option<(usize, f64)> {
+    let v: serde_json::Value = serde_json::from_str(m.extras().as_ref()?.get()).ok()?;
+    let l = v.get("lightmap")?;
+    let texture = l.get("texture")?.as_u64()? as usize;
+    Some((texture, l.get("scale").map_or(Some(1.0), |s| s.as_f64())?.max(f64::MIN)))
+}
+
 impl Importer<'_> {
+    /// Seed 004's lightmap from the material's `extras` (see [`lightmap_extras`]): read at
+    /// TEXCOORD_1, linear. A malformed entry, a missing texture or a scale that is not a positive
+    /// number is a warning and no lightmap.
+    fn lightmap_of(&mut self, m: &gltf::Material<'_>, label: &str) -> Option<crate::scene::Lightmap> {
+        let raw = m.extras().as_ref()?.get().to_string();
+        let v: serde_json::Value = serde_json::from_str(&raw).ok()?;
+        v.get("lightmap")?;
+        let found = lightmap_extras(m).and_then(|(t, scale)| {
+            let image = self.doc.textures().nth(t)?.source().index();
+            let texture = *self.texture_slots.get(&(image, Role::Data))?;
+            (scale.is_finite() && scale > 0.0 && scale < 1e6)
+                .then_some(crate::scene::Lightmap { texture, scale: scale as f32 })
+        });
+        if found.is_none() {
+            self.warnings.push(format!(
+                "{label}: extras \"lightmap\" must be {{\"texture\": a readable texture's index, \"scale\": a positive number}}; no lightmap"
+            ));
+        }
+        found
+    }
+
     /// Seed 002's distortion strength from the material's `extras` (`{"distortion": k}`, k in
     /// [0, `MAX_DISTORTION`]); anything else there is a warning and no distortion.
     fn distortion_of(&mut self, m: &gltf::Material<'_>, label: &str) -> f32 {

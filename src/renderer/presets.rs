@@ -163,7 +163,6 @@ impl Preset {
             ],
             Preset::Seed004 => &[
                 missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
-                missing!("alpha-masked objects the buffer cannot shade (toon, Phong, or on a layer the culling masks tell apart) drawn forward afterwards: they are refused (opaque ones are drawn forward)", "Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
             ],
         }
     }

@@ -353,23 +353,48 @@ fn the_forward_pass_shades_each_model_as_the_deferred_path_does() {
 /// and accumulation) within one 8-bit step, and the other spheres still go through the light
 /// buffer.
 #[test]
-fn the_light_prepass_shades_opaque_toon_and_phong_forward_as_deferred_does() {
-    let scene = scene("materials");
+fn the_light_prepass_shades_toon_and_phong_forward_as_deferred_does() {
+    // Opaque, then alpha-masked above the cutoff (kept: shaded as the opaque ones), then below
+    // it (dropped in pass 1 and in the forward draw: the pre-pass shows what is behind, as
+    // deferred does).
+    use lampshade::scene::AlphaMode;
     let (deferred, prepass) = full_precision_and_prepass();
-    let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
-    let mut checked = 0;
-    for (brdf, pixels) in sphere_pixels(&scene) {
-        if brdf.prepass_lit() {
-            continue;
+    let cases =
+        [(AlphaMode::Opaque, 1.0), (AlphaMode::Mask { cutoff: 0.5 }, 0.8), (AlphaMode::Mask { cutoff: 0.5 }, 0.3)];
+    let mut kept_images = Vec::new();
+    for (mode, alpha) in cases {
+        let mut scene = scene("materials");
+        for m in scene.materials.iter_mut().filter(|m| !m.brdf.prepass_lit()) {
+            m.alpha_mode = mode;
+            m.alpha = alpha;
         }
-        for (x, y) in pixels {
-            let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
-            let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
-            assert!(step <= 1, "{brdf:?} ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
-            checked += 1;
+        let (a, b) = (render(&scene, &deferred, W, H), render(&scene, &prepass, W, H));
+        let mut checked = 0;
+        for (brdf, pixels) in sphere_pixels(&scene) {
+            if brdf.prepass_lit() {
+                continue;
+            }
+            for (x, y) in pixels {
+                let (p, q) = (a.image.get_pixel(x, y), b.image.get_pixel(x, y));
+                let step = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+                assert!(step <= 1, "{mode:?} {alpha} {brdf:?} ({x},{y}): deferred {p:?}, light pre-pass {q:?}");
+                checked += 1;
+            }
         }
+        assert_eq!(checked, 2 * 42, "the toon and the Phong sphere");
+        kept_images.push(b.image.clone());
     }
-    assert_eq!(checked, 2 * 42, "the toon and the Phong sphere");
+    // The dropped spheres are gone: their pixels differ from the kept ones.
+    let (kept, dropped) = (&kept_images[1], &kept_images[2]);
+    let scene = scene("materials");
+    let gone = sphere_pixels(&scene)
+        .into_iter()
+        .filter(|(b, _)| !b.prepass_lit())
+        .flat_map(|(_, p)| p)
+        .filter(|&(x, y)| kept.get_pixel(x, y) != dropped.get_pixel(x, y))
+        .count();
+    assert!(gone > 60, "only {gone} of the spheres' pixels changed when they were dropped");
+    let b = render(&scene, &prepass, W, H);
     // Pass 1 drew every opaque object's depth, pass 3 all but the toon and Phong ones.
     let forward = |m: &Material| !m.brdf.prepass_lit() && m.alpha_mode == lampshade::scene::AlphaMode::Opaque;
     let apart = scene.objects.iter().filter(|o| forward(&scene.materials[o.material])).count() as u64;

@@ -651,7 +651,8 @@ pub struct DrawLists {
     /// The light pre-pass's opaque objects it cannot light (toon; seed 004: "objects with
     /// shaders that can't handle Deferred Lighting are rendered after this process is done,
     /// using RenderTech-ForwardRendering path"): in `gbuffer` (pass 1's depth) but not in
-    /// `lit`, shaded forward with their light lists after pass 3. Pipeline index 1 for two-sided.
+    /// `lit`, shaded forward with their light lists after pass 3. Pipeline index: 1 for
+    /// two-sided, + 2 for alpha-masked.
     pub forward_opaque: Vec<Draw>,
     /// Pass 3's draws when `forward_opaque` is not empty: `gbuffer` without them.
     pub lit: Vec<Draw>,
@@ -887,7 +888,7 @@ fn plan_draws(
         // 1, its shading forward (a light list, as a blended object's).
         let toon_forward = view.prepass_models.is_some_and(|force| {
             let apart = !force.unwrap_or(m.brdf).prepass_lit() || shared_layers & (1 << (o.layer & 31)) == 0;
-            apart && m.alpha_mode == AlphaMode::Opaque
+            apart && m.alpha_mode != AlphaMode::Blend
         });
         if m.distortion > 0.0 {
             draws.distorting.push((i, m.double_sided as usize, o.material));
@@ -917,12 +918,14 @@ fn plan_draws(
                 stats.object_list_entries += count as u64;
                 stats.longest_object_list = stats.longest_object_list.max(count);
                 if toon_forward {
+                    // Alpha-masked ones discard in pass 1 and again in their forward draw.
+                    let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
                     draws.gbuffer.push((
                         i,
-                        crate::renderer::surfaces::gbuffer::pipeline_index(false, m.double_sided),
+                        crate::renderer::surfaces::gbuffer::pipeline_index(masked, m.double_sided),
                         o.material,
                     ));
-                    draws.forward_opaque.push((i, m.double_sided as usize, o.material));
+                    draws.forward_opaque.push((i, m.double_sided as usize + 2 * masked as usize, o.material));
                 } else {
                     let depth = scene.camera.to_view(centre).z;
                     forward.push((depth, i, m.double_sided as usize, o.material));

@@ -53,7 +53,7 @@ impl Shape {
         }
         let prepass = settings.path == RenderPath::LightPrepass;
         if prepass {
-            super::paths::prepass_pass::check(scene, settings)?;
+            super::paths::prepass_pass::check(settings)?;
         }
         Ok(Shape {
             size,

@@ -113,52 +113,18 @@ impl PrepassFinalPass {
 /// What the light pre-pass cannot draw, refused before the frame with what to use instead
 /// (never a silent wrong picture):
 /// - an accumulation format without alpha (`rg11b10-ufloat`): no channel for the mono specular;
-/// - toon or Phong (`Brdf::prepass_lit`) on a masked surface: toon's bands quantise each
-///   light's N.L and specular lobe apart, Phong's lobe is another, and the light buffer holds
-///   only the Blinn-Phong sum. Opaque ones are shaded forward after pass 3 instead
-///   (`DrawLists::forward_opaque`, seed 004); a masked one would need the forward pass to
-///   discard as pass 1 did;
-/// - an alpha-masked object on a layer the lights' culling masks tell apart from the buffer's
-///   (`Scene::shared_layers`): opaque ones are shaded forward, as toon;
 /// - debug views of attributes the thin buffer does not hold (albedo, emissive, material ID).
-pub fn check(scene: &crate::scene::Scene, settings: &crate::renderer::Settings) -> anyhow::Result<()> {
+///
+/// What its buffer cannot light is drawn, not refused: toon and Phong objects
+/// (`Brdf::prepass_lit`) and objects on a layer the lights' culling masks tell apart from the
+/// buffer's (`Scene::shared_layers`), opaque or alpha-masked, are shaded forward after pass 3
+/// (`DrawLists::forward_opaque`, seed 004).
+pub fn check(settings: &crate::renderer::Settings) -> anyhow::Result<()> {
     use crate::renderer::{AccumFormat, DebugView};
     if settings.accumulation == AccumFormat::Rg11b10Ufloat {
         anyhow::bail!(
             "the light-prepass path keeps its mono specular in the light buffer's alpha, which rg11b10-ufloat \
              lacks; use --accumulation rgba16-float (seed 003), rgba8-log (seed 004) or rgba32-float"
-        );
-    }
-    let force = settings.brdf.brdf();
-    let toon = scene.objects.iter().any(|o| {
-        scene.materials.get(o.material).is_some_and(|m| {
-            matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }) && !force.unwrap_or(m.brdf).prepass_lit()
-        })
-    });
-    if toon {
-        anyhow::bail!(
-            "the light-prepass path cannot shade a masked toon or phong surface: its light buffer holds the sum of \
-             every light's Blinn-Phong terms, toon bands each light's N.L and lobe apart, Phong's lobe is another, \
-             and the forward pass that shades opaque toon and phong objects does not discard; use --path deferred, \
-             or --brdf blinn-phong"
-        );
-    }
-    // Seed 004's limited support for light culling masks: objects on layers some light tells
-    // apart from the buffer's are shaded forward; a masked one would need that pass to discard.
-    let (_, shared) = scene.shared_layers();
-    let apart = scene.objects.iter().find(|o| {
-        shared & (1 << (o.layer & 31)) == 0
-            && scene
-                .materials
-                .get(o.material)
-                .is_some_and(|m| matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }))
-    });
-    if let Some(o) = apart {
-        anyhow::bail!(
-            "the light-prepass path cannot shade an alpha-masked object on layer {} (light culling masks tell it \
-             apart from the layer its buffer is shaded as, so it is shaded forward, and that pass does not discard); \
-             use --path deferred, or masks that treat its layer as the others",
-            o.layer & 31
         );
     }
     if matches!(settings.debug_view, DebugView::Albedo | DebugView::Emissive | DebugView::MaterialId) {

@@ -20,9 +20,10 @@ use crate::renderer::targets::attachment;
 pub struct ForwardPass {
     /// One- and two-sided.
     pipelines: [wgpu::RenderPipeline; 2],
-    /// The light pre-pass's opaque toon objects (`DrawLists::forward_opaque`): the same shading
-    /// written over pass 3's colour, one- and two-sided; built for the light pre-pass only.
-    opaque: Option<[wgpu::RenderPipeline; 2]>,
+    /// The light pre-pass's opaque objects it cannot light (`DrawLists::forward_opaque`): the
+    /// same shading written over pass 3's colour, one- and two-sided, then alpha-masked (which
+    /// discard below the cutoff as pass 1 did); built for the light pre-pass only.
+    opaque: Option<[wgpu::RenderPipeline; 4]>,
     /// Depth peeling's pipelines (`BlendedMode::Peeled`).
     peel: Option<Peel>,
 }
@@ -273,13 +274,20 @@ impl ForwardPass {
         };
         let replace =
             [Some(wgpu::ColorTargetState { format: HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
-        let o = |label, two_sided| {
-            let pipe = SurfacePipe { samples, ..SurfacePipe::triangles(label, "fs_forward", two_sided, false) };
+        let o = |label, fs, two_sided| {
+            let pipe = SurfacePipe { samples, ..SurfacePipe::triangles(label, fs, two_sided, false) };
             surface_pipeline(device, shared, pipe, &replace)
         };
         Self {
             pipelines: [p("forward (blended)", false), p("forward (blended, two-sided)", true)],
-            opaque: shared.key.prepass.then(|| [o("forward (opaque)", false), o("forward (opaque, two-sided)", true)]),
+            opaque: shared.key.prepass.then(|| {
+                [
+                    o("forward (opaque)", "fs_forward", false),
+                    o("forward (opaque, two-sided)", "fs_forward", true),
+                    o("forward (masked)", "fs_forward_masked", false),
+                    o("forward (masked, two-sided)", "fs_forward_masked", true),
+                ]
+            }),
             peel: shared.key.peeled_blended.then(|| Peel::new(device, shared)),
         }
     }

@@ -157,6 +157,17 @@ fn fs_forward(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(
     return forward_shade(in, front);
 }
 
+// The light pre-pass's alpha-masked objects shaded forward (`DrawLists::forward_opaque`):
+// dropped below the cutoff, as pass 1 dropped them, else written opaque.
+@fragment
+fn fs_forward_masked(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let c = forward_shade(in, front);
+    if c.a < objects[in.object].material.y {
+        discard;
+    }
+    return vec4<f32>(c.rgb, 1.0);
+}
+
 // The blended fragment's colour and alpha (straight, not premultiplied).
 fn forward_shade(in: GeometryOut, front: bool) -> vec4<f32> {
     var s: Surface;

@@ -240,7 +240,8 @@ pub struct ForwardStats {
     pub tile_list_entries: u64,
     pub longest_tile_list: u32,
     /// Samples the forward pass shaded (passed the depth test; occlusion query), when counting;
-    /// peeled, every layer's together.
+    /// peeled, every layer's together (the light pre-pass's forward-shaded opaque objects, which
+    /// the unpeeled count includes, left out).
     pub fragments: Option<u64>,
     /// Layers depth peeling peeled (`--blended peeled`), and the blended samples behind the
     /// last one, which it dropped (when counting).

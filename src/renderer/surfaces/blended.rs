@@ -294,28 +294,11 @@ impl ForwardPass {
 
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
-        // Peeling is single-sampled (`Settings::validate` refuses it with MSAA); the light
-        // pre-pass's opaque toon objects are drawn first, as below.
-        if let Some(peel) = self.peel.as_ref().filter(|_| f.targets.msaa.is_none()) {
-            if let Some(opaque) = self.opaque.as_ref().filter(|_| !f.plan.draws.forward_opaque.is_empty()) {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("forward (opaque)"),
-                    color_attachments: &[attachment(hdr_view, None)],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &f.targets.depth,
-                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: f.timestamps(Some(SPAN), None),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_bind_group(0, &f.frame.group, &[]);
-                f.scene.draw(&mut pass, &f.plan.draws.forward_opaque, opaque);
-                drop(pass);
-                peel.encode(encoder, f, hdr_view, f.settings.peel_layers, false);
-                return;
-            }
+        // Peeling is single-sampled (`Settings::validate` refuses it with MSAA): this pass then
+        // draws only the light pre-pass's opaque objects (if any), and the layers follow.
+        let peel = self.peel.as_ref().filter(|_| f.targets.msaa.is_none());
+        let opaque = self.opaque.as_ref().filter(|_| !f.plan.draws.forward_opaque.is_empty());
+        if let (Some(peel), None) = (peel, opaque) {
             peel.encode(encoder, f, hdr_view, f.settings.peel_layers, true);
             return;
         }
@@ -324,6 +307,8 @@ impl ForwardPass {
             Some(ms) => (ms.color_attachment(hdr_view, None), &ms.depth),
             None => (attachment(hdr_view, None), &f.targets.depth),
         };
+        // Peeled, the layers' passes count the fragments and close the span.
+        let (counts, end) = (f.forward_counts && peel.is_none(), peel.is_none().then_some(SPAN));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("forward (blended)"),
             color_attachments: &[color],
@@ -332,20 +317,26 @@ impl ForwardPass {
                 depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
-            timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
-            occlusion_query_set: f.forward_counts.then_some(&f.queries.forward),
+            timestamp_writes: f.timestamps(Some(SPAN), end),
+            occlusion_query_set: counts.then_some(&f.queries.forward),
             multiview_mask: None,
         });
         pass.set_bind_group(0, &f.frame.group, &[]);
-        if f.forward_counts {
+        if counts {
             pass.begin_occlusion_query(0);
         }
-        if let Some(opaque) = &self.opaque {
+        if let Some(opaque) = opaque {
             f.scene.draw(&mut pass, &f.plan.draws.forward_opaque, opaque);
         }
-        f.scene.draw(&mut pass, &f.plan.draws.forward, &self.pipelines);
-        if f.forward_counts {
+        if peel.is_none() {
+            f.scene.draw(&mut pass, &f.plan.draws.forward, &self.pipelines);
+        }
+        if counts {
             pass.end_occlusion_query();
+        }
+        drop(pass);
+        if let Some(peel) = peel {
+            peel.encode(encoder, f, hdr_view, f.settings.peel_layers, false);
         }
     }
 }

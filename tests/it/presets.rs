@@ -507,3 +507,63 @@ fn lightmaps_crossfade_from_realtime_near_to_baked_far_monotone_in_distance() {
         );
     }
 }
+
+#[test]
+fn the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun() {
+    // The pre-pass's thin buffer cannot tell lightmapped pixels, so its sun is faded by the
+    // crossfade weight everywhere and pass 3 adds the faded share back to surfaces without a
+    // lightmap, from their own normal. `courtyard` with the floor's lightmap taken away, fully
+    // baked (--lightmap-distance 1e-3: all of the floor's sun comes from pass 3) against
+    // --lightmaps off (all of it from the buffer), in the HDR scene colour: the two differ by
+    // the buffer's normal, 8 bits a component over [-1, 1] (each off by at most 1/255, so
+    // N.L by at most sqrt(3)/255), times the sun's intensity and the floor's albedo, plus the
+    // fp16 rounding in each frame: once per draw added into the buffer (the sun, each point
+    // light) and once into the scene colour, 2^-10 of the value each (lavapipe truncates), so
+    // 2 x (lights + 2) x 2^-10 of the larger value. Without the sun added back the floor would
+    // lose all of it.
+    let gpu = gpu();
+    // Without its point lights: the buffer's specular takes its colour from the diffuse sum, so
+    // with lights of other colours the sun's highlight would be tinted there and not in pass 3
+    // (the pre-pass's own approximation, tested in `prepass`).
+    let mut scene = scene("courtyard");
+    scene.lights.clear();
+    let floor = scene.objects[0].material;
+    scene.materials[floor].lightmap = None;
+    let albedo = scene.materials[floor].diffuse.max_element();
+    let sun = scene.sun.expect("courtyard's sun");
+    let sun = (sun.color * sun.intensity).max_element();
+    // Bloom above every value: the frame keeps its HDR colour, unchanged.
+    let base = Settings {
+        path: RenderPath::LightPrepass,
+        count_ideal: false,
+        bloom: true,
+        bloom_threshold: 1e4,
+        ..Settings::default()
+    };
+    let (w, h) = (240u32, 135u32);
+    let roundings = 2.0 * (scene.lights.len() as f32 + 2.0);
+    let frame = |s: &Settings| {
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).unwrap();
+        render_image(gpu, &mut r, &scene, s, w, h).unwrap();
+        r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
+    };
+    let baked = frame(&Settings { lightmap_distance: 1e-3, ..base.clone() });
+    let off = frame(&Settings { lightmaps: false, ..base.clone() });
+    // The bottom tenth of the frame, its middle half: floor only, below every box.
+    let mut worst = 0f32;
+    for y in h * 9 / 10..h {
+        for x in w / 4..w * 3 / 4 {
+            let i = ((y * w + x) * 4) as usize;
+            for c in 0..3 {
+                let (a, b) = (baked[i + c], off[i + c]);
+                let bound = sun * albedo * 3f32.sqrt() / 255.0 + roundings * 2f32.powi(-10) * a.abs().max(b.abs());
+                assert!(
+                    (a - b).abs() <= bound,
+                    "({x},{y}) channel {c}: {a} from pass 3, {b} from the buffer (bound {bound})"
+                );
+                worst = worst.max((a - b).abs() / bound);
+            }
+        }
+    }
+    println!("floor without a lightmap: worst difference {worst:.2} of its bound");
+}

@@ -1295,3 +1295,37 @@ fn an_unlit_material_drops_its_metallic_roughness_map() {
     let unlit: Vec<_> = s.materials.iter().filter(|m| m.brdf == Brdf::Unlit).collect();
     assert_eq!(unlit.len(), 1, "one unlit material");
 }
+
+/// Seed 004's lightmap named in a material's `extras` (glTF has no slot of its own): the
+/// texture it names, read linear whatever role the image has elsewhere, with its scale; a
+/// missing texture, a non-positive scale or a malformed entry is a warning and no lightmap.
+#[test]
+fn a_materials_extras_name_its_lightmap() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/gltf-tests/lightmap-extras");
+    let _ = std::fs::remove_dir_all(&dir);
+    room::write(&dir).expect("write the room");
+    let path = dir.join("room.gltf");
+    let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).expect("room.gltf")).expect("json");
+    let materials = v["materials"].as_array_mut().expect("the room's materials");
+    assert!(materials.len() >= 4);
+    let extras = [
+        serde_json::json!({"lightmap": {"texture": 0, "scale": 2.5}}),
+        serde_json::json!({"lightmap": {"texture": 999}}),
+        serde_json::json!({"lightmap": {"texture": 0, "scale": -1}}),
+        serde_json::json!({"lightmap": "baked.png"}),
+    ];
+    for (m, e) in materials.iter_mut().zip(extras) {
+        m["extras"] = e;
+    }
+    std::fs::write(&path, serde_json::to_vec(&v).expect("json")).expect("write");
+    let imported = import::load(&path, &ImportOptions::default(), &mut |_| {}).expect("the room loads");
+    let maps: Vec<_> = imported.scene.materials.iter().filter_map(|m| m.lightmap).collect();
+    assert_eq!(maps.len(), 1, "exactly one material has a lightmap: {maps:?}");
+    assert_eq!(maps[0].scale, 2.5);
+    assert!(!imported.scene.textures[maps[0].texture].srgb, "a lightmap is read linear");
+    let warned = imported.warnings.iter().filter(|w| w.contains("lightmap")).count();
+    assert_eq!(warned, 3, "three bad entries, three warnings: {:?}", imported.warnings);
+    // The scene renders with it.
+    let frame = render(&imported.scene, &Settings { count_ideal: false, ..Settings::default() }, 96, 54);
+    assert!(lit_share(&frame.image) > 0.1);
+}

@@ -29,7 +29,7 @@ impl Importer<'_> {
             want(m.emissive_texture().map(|i| i.texture()), Role::Color);
             want(m.normal_texture().map(|i| i.texture()), Role::Data);
             want(pbr.metallic_roughness_texture().map(|i| i.texture()), Role::Data);
-            if let Some((t, _)) = lightmap_extras(&m) {
+            if let Some(Some((t, _))) = lightmap_extras(&m) {
                 want(self.doc.textures().nth(t), Role::Data);
             }
         }
@@ -250,13 +250,15 @@ impl Importer<'_> {
     }
 }
 
-/// The material's `extras` `{"lightmap": {"texture": i, "scale": s}}` as given: the texture's
-/// index in the file and the scale (1 when absent); `None` without one.
-fn lightmap_extras(m: &gltf::Material<'_>) -> Option<(usize, f64)> {
+/// The material's `extras` `{"lightmap": {"texture": i, "scale": s}}` as given: `None` without
+/// a `lightmap` entry; `Some(None)` for a malformed one; else the texture's index in the file
+/// and the scale (1 when absent).
+fn lightmap_extras(m: &gltf::Material<'_>) -> Option<Option<(usize, f64)>> {
     let v: serde_json::Value = serde_json::from_str(m.extras().as_ref()?.get()).ok()?;
     let l = v.get("lightmap")?;
-    let texture = l.get("texture")?.as_u64()? as usize;
-    Some((texture, l.get("scale").map_or(Some(1.0), |s| s.as_f64())?.max(f64::MIN)))
+    let texture = l.get("texture").and_then(|t| t.as_u64());
+    let scale = l.get("scale").map_or(Some(1.0), |s| s.as_f64());
+    Some(texture.zip(scale).map(|(t, s)| (t as usize, s)))
 }
 
 impl Importer<'_> {
@@ -264,10 +266,7 @@ impl Importer<'_> {
     /// TEXCOORD_1, linear. A malformed entry, a missing texture or a scale that is not a positive
     /// number is a warning and no lightmap.
     fn lightmap_of(&mut self, m: &gltf::Material<'_>, label: &str) -> Option<crate::scene::Lightmap> {
-        let raw = m.extras().as_ref()?.get().to_string();
-        let v: serde_json::Value = serde_json::from_str(&raw).ok()?;
-        v.get("lightmap")?;
-        let found = lightmap_extras(m).and_then(|(t, scale)| {
+        let found = lightmap_extras(m)?.and_then(|(t, scale)| {
             let image = self.doc.textures().nth(t)?.source().index();
             let texture = *self.texture_slots.get(&(image, Role::Data))?;
             (scale.is_finite() && scale > 0.0 && scale < 1e6)

@@ -37,7 +37,14 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     };
     let q = o.quick;
     let mut v = Vec::new();
+    // `fullscreen` only while its frame stays within the reference's budget of light-pixel
+    // pairs: at 100,000 lights and 1920x1080 it is 2e11 pairs, about 45 s a frame even on an
+    // NVIDIA H200 (0.22 ns a pair measured there), and the reference is then `volume` anyway.
+    let pairs = o.lights as f64 * o.size.0 as f64 * o.size.1 as f64;
     for mode in CullingMode::ALL {
+        if mode == CullingMode::Fullscreen && pairs > REFERENCE_FULLSCREEN_BUDGET {
+            continue;
+        }
         v.push(c("culling", mode.name(), Settings { culling: mode, ..base.clone() }, o.lights));
     }
     // Seed 000's fp16 targets, the packed and fitted layouts, and the normal encodings with
@@ -80,6 +87,10 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             }
         }
     }
+    // Seed 004's depth read: the depth buffer itself in place of the R32F copy (the base's
+    // volume culling allows it; `kit::gbuffer::depth_read_refusal`).
+    let settings = Settings { depth_read: crate::renderer::DepthRead::Buffer, ..base.clone() };
+    v.push(c("depth", "depth read buffer".into(), settings, o.lights));
     for (t, name) in CUTOFFS {
         if t == 0.0 && q {
             continue;
@@ -178,6 +189,10 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         let label = format!("{} room", path.name());
         v.push(Config { scene: Some(ROOM), ..c("path", label, Settings { path, ..base.clone() }, o.lights) });
     }
+    // The light pre-pass with `--msaa 4`: pass 3 and the forward pass over four samples, primed
+    // by a depth-only draw of pass 1's list.
+    let msaa = Settings { path: RenderPath::LightPrepass, msaa: crate::renderer::Msaa::X4, ..base.clone() };
+    v.push(c("path", format!("light-prepass msaa x4 x{}", o.lights), msaa, o.lights));
     // The post chain, one effect at a time, then all of them; the light error is of
     // the accumulation, before post, so it is the `volume` row's in every one of these.
     let post: Vec<(&str, Settings)> = {
@@ -351,5 +366,36 @@ pub fn scale_light_radii(scene: &mut crate::Scene, k: f64) {
             crate::scene::Light::Point(p) => p.radius *= k as f32,
             crate::scene::Light::Spot(s) => s.radius *= k as f32,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn culling_rows(lights: usize, size: (u32, u32)) -> Vec<String> {
+        let o = BenchOptions {
+            scene: "demo".into(),
+            quick: false,
+            frames: 1,
+            size,
+            lights,
+            time: 0.0,
+            groups: vec!["culling".into()],
+            fixed_lights: false,
+        };
+        configs(&o).into_iter().filter(|c| c.group == "culling").map(|c| c.label).collect()
+    }
+
+    #[test]
+    fn the_culling_group_drops_fullscreen_only_past_the_references_budget() {
+        let every: Vec<String> = CullingMode::ALL.iter().map(|m| m.name()).collect();
+        assert_eq!(culling_rows(1024, (1280, 720)), every);
+        // 1024 x 1920 x 1080 = 2.1e9 pairs: within the budget, so the GPU run's 1,024 rows
+        // include it; 16,384 lights at the same size do not.
+        assert_eq!(culling_rows(1024, (1920, 1080)), every);
+        let without: Vec<String> = every.iter().filter(|m| *m != "fullscreen").cloned().collect();
+        assert_eq!(culling_rows(16_384, (1920, 1080)), without);
+        assert_eq!(culling_rows(100_000, (1920, 1080)), without);
     }
 }

@@ -7,7 +7,7 @@ use super::volumes::{self, VolumeKind};
 use super::Renderer;
 use crate::gpu::Gpu;
 use crate::scene::{Brdf, Scene};
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use glam::{DVec4, Vec2, Vec3};
 
 /// What the G-buffer and the light buffers hold at one pixel of the last frame, decoded.
@@ -95,7 +95,7 @@ pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
             out = [small(v & 0x7ff, 6), small((v >> 11) & 0x7ff, 6), small(v >> 22, 5), 0.0];
         }
         // R32Uint is the depth copy holding a float's bits (`gbuffer::is_bits`): the same bytes.
-        F::R32Float | F::Rg32Float | F::Rgba32Float | F::R32Uint => {
+        F::R32Float | F::Rg32Float | F::Rgba32Float | F::R32Uint | F::Depth32Float => {
             for (i, c) in bytes.chunks_exact(4).take(4).enumerate() {
                 out[i] = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
             }
@@ -106,7 +106,26 @@ pub fn texel(format: wgpu::TextureFormat, bytes: &[u8]) -> Result<[f32; 4]> {
 }
 
 fn read_texel(gpu: &Gpu, texture: &wgpu::Texture, x: u32, y: u32) -> Result<[f32; 4]> {
-    let bpp = texture.format().block_copy_size(None).unwrap_or(16);
+    read_texel_aspect(gpu, texture, wgpu::TextureAspect::All, x, y)
+}
+
+/// Texel (`x`, `y`) of `aspect` of `texture` (a depth-stencil texture's depth: Depth32Float,
+/// read whole: a copy out of a depth-stencil texture must cover the whole subresource).
+fn read_texel_aspect(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    x: u32,
+    y: u32,
+) -> Result<[f32; 4]> {
+    let format = texture.format().aspect_specific_format(aspect).unwrap_or(texture.format());
+    let bpp = format.block_copy_size(None).unwrap_or(16);
+    if texture.format().is_depth_stencil_format() {
+        let bytes = gpu.read_texture(texture, aspect)?;
+        let at = ((y * texture.width() + x) * bpp) as usize;
+        let texel_bytes = bytes.get(at..at + bpp as usize).context("the depth readback is short")?;
+        return texel(format, texel_bytes);
+    }
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("probe"),
         size: 256,
@@ -115,12 +134,7 @@ fn read_texel(gpu: &Gpu, texture: &wgpu::Texture, x: u32, y: u32) -> Result<[f32
     });
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d { x, y, z: 0 },
-            aspect: wgpu::TextureAspect::All,
-        },
+        wgpu::TexelCopyTextureInfo { texture, mip_level: 0, origin: wgpu::Origin3d { x, y, z: 0 }, aspect },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: None, rows_per_image: None },
@@ -129,7 +143,7 @@ fn read_texel(gpu: &Gpu, texture: &wgpu::Texture, x: u32, y: u32) -> Result<[f32
     );
     gpu.queue.submit([encoder.finish()]);
     let bytes = gpu.read_buffer(&buffer)?;
-    texel(texture.format(), &bytes[..bpp as usize])
+    texel(format, &bytes[..bpp as usize])
 }
 
 fn oct_decode(e: Vec2) -> Vec3 {
@@ -171,7 +185,7 @@ impl Renderer {
         if let Some(i) = find(Attr::Depth) {
             let format = layout.targets[i].format;
             let bpp = format.block_copy_size(None).unwrap_or(4) as usize;
-            let bytes = gpu.read_texture(&t.gbuffer.textures[i], wgpu::TextureAspect::All)?;
+            let bytes = gpu.read_texture(&t.gbuffer.textures[i], t.gbuffer.aspect(i))?;
             let mut out = Vec::with_capacity(bytes.len() / bpp);
             for (k, c) in bytes.chunks_exact(bpp).enumerate() {
                 let d = texel(format, c)?[0];
@@ -192,7 +206,7 @@ impl Renderer {
         let Some(i) = find(Attr::Position) else { bail!("layout {} stores no position", layout.name) };
         let format = layout.targets[i].format;
         let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
-        let bytes = gpu.read_texture(&t.gbuffer.textures[i], wgpu::TextureAspect::All)?;
+        let bytes = gpu.read_texture(&t.gbuffer.textures[i], t.gbuffer.aspect(i))?;
         bytes
             .chunks_exact(bpp)
             .map(|c| {
@@ -232,8 +246,8 @@ impl Renderer {
         let layout = &t.gbuffer.layout;
         let mut comps: std::collections::HashMap<(Attr, u8), f32> = Default::default();
         let mut raw = Vec::new();
-        for (desc, tex) in layout.targets.iter().zip(&t.gbuffer.textures) {
-            let v = read_texel(gpu, tex, x, y)?;
+        for (i, (desc, tex)) in layout.targets.iter().zip(&t.gbuffer.textures).enumerate() {
+            let v = read_texel_aspect(gpu, tex, t.gbuffer.aspect(i), x, y)?;
             raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
             // Signed attributes are remapped in normalised channels only (as the WGSL does).
             let float = super::kit::gbuffer::is_float(desc.format);

@@ -11,8 +11,8 @@
 use super::presets::{Preset, CUSTOM};
 use super::settings::{
     name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat,
-    DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, Settings, ShadowCube,
-    ShadowFilter, ShadowFormat, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
+    DepthRead, DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, Settings,
+    ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
 /// The values a knob takes.
@@ -181,6 +181,19 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.draw_order),
         put: |s, v| {
             s.draw_order = choice("draw order", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "depth-read",
+        what: "depth read",
+        help: "Where the passes after the G-buffer read depth: its R32F copy, or the depth buffer itself (seed \
+               004; 32-bit depth and stencil-free culling modes only, else the copy, and the stats say why)",
+        values: Values::Choice(names::<DepthRead>),
+        cli: true,
+        get: |s| name_of(&s.depth_read),
+        put: |s, v| {
+            s.depth_read = choice("depth read", v)?;
             Ok(())
         },
     },

@@ -52,7 +52,7 @@ pub use records::{light_clamp, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 use records::{FrameBuffers, LightRecord};
 use scene_gpu::{MaterialDefaults, SceneFingerprint, SceneGpu};
 pub use settings::{
-    AccumFormat, BlendedMode, BrdfOverride, CullingMode, DebugView, DepthFormat, DrawOrder, ForwardLights,
+    AccumFormat, BlendedMode, BrdfOverride, CullingMode, DebugView, DepthFormat, DepthRead, DrawOrder, ForwardLights,
     LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowFormat, ShadowMode,
 };
 pub use stats::{CpuMs, FrameStats, LightStats};
@@ -253,6 +253,11 @@ impl Renderer {
         let prepass = settings.path == RenderPath::LightPrepass;
         let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
         let layout = layout.for_caps(caps);
+        let depth_format = settings.depth_format.format(caps.features);
+        let layout = match gbuffer::depth_read_refusal(settings, caps, depth_format) {
+            None => layout.reading_depth_buffer(),
+            Some(_) => layout,
+        };
         layout.validate().map_err(anyhow::Error::msg)?;
         layout.check_caps(caps)?;
         let accum_format = settings.accumulation.format(caps)?;
@@ -300,7 +305,7 @@ impl Renderer {
             prepass,
             samples,
             layout,
-            depth_format: settings.depth_format.format(caps.features),
+            depth_format,
             output_format,
             reversed_z: settings.reversed_z,
             accum_format,

@@ -142,6 +142,7 @@ impl Preset {
                 row!("shadows", "all", "All lights can have Shadows."),
                 row!("lightmaps", "on", "Lightmaps are also applied in the final pass. Close to the camera, realtime lighting is used, and only baked indirect lighting is added."),
                 row!("aa", "off", "No real anti-aliasing support."),
+                row!("depth-read", "buffer", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
             ],
         }
     }
@@ -161,9 +162,7 @@ impl Preset {
             ],
             Preset::Seed003 => &[
             ],
-            Preset::Seed004 => &[
-                missing!("reading the depth buffer itself instead of a depth copy", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
-            ],
+            Preset::Seed004 => &[],
         }
     }
 

@@ -34,6 +34,22 @@ impl Renderer {
             gbuffer_layout: key.layout.name.to_string(),
             gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
             depth_stencil_format: format!("{:?}", key.depth_format),
+            depth_read: if forward_path {
+                "none: the forward paths keep no G-buffer".into()
+            } else if key.layout.reads_depth_buffer() {
+                "depth buffer (its depth aspect; no copy)".into()
+            } else if let Some(copy) = key
+                .layout
+                .targets
+                .iter()
+                .find(|t| t.channels.iter().flatten().any(|s| s.attr == super::kit::gbuffer::Attr::Depth))
+            {
+                let why = super::kit::gbuffer::depth_read_refusal(settings, &self.caps, key.depth_format)
+                    .unwrap_or_else(|| "the layout".into());
+                format!("{:?} copy ({why})", copy.format)
+            } else {
+                "none: the layout stores positions".into()
+            },
             depth_clamp: key.depth_clamp,
             ambient_in_gbuffer: key.ambient_in_gbuffer,
             accumulation_format: format!("{:?}", key.accum_format),

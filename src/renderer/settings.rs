@@ -66,6 +66,7 @@ knob_names!(
     Msaa => "MSAA sample count",
     NearLights => "near-plane rule",
     DrawOrder => "draw order",
+    DepthRead => "depth read",
     BlendedMode => "blending of blended surfaces",
     MaterialBranch => "material selection",
     ShadowMode => "shadow casters",
@@ -168,6 +169,21 @@ pub enum DrawOrder {
     /// front-to-back-sorted z-only pass"): later, farther surfaces fail the depth test, so
     /// fewer fragments are shaded; the stats' `gbuffer_fragments` counts them.
     FrontToBack,
+}
+
+/// Where the passes after the G-buffer read each pixel's depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum DepthRead {
+    /// From an R32Float copy the G-buffer pass writes beside its other targets (4 bytes a
+    /// pixel written and read again): the stencil methods keep the depth-stencil buffer
+    /// attached for writing while they read it, which a buffer bound for reading cannot be.
+    #[default]
+    Copy,
+    /// From the depth buffer itself, through a depth-aspect view (seed 004: "if the platform
+    /// supports reading Z as a texture, depth is not explicitly rendered"), where the frame
+    /// allows (`kit::gbuffer::depth_read_refusal`); the copy otherwise, and the stats say why.
+    Buffer,
 }
 
 /// How the lighting shaders pick a pixel's reflectance model (seed 002's material IDs).
@@ -521,6 +537,8 @@ pub struct Settings {
     pub near_lights: NearLights,
     /// The order of the opaque draws.
     pub draw_order: DrawOrder,
+    /// Where the passes after the G-buffer read depth: its copy or the depth buffer.
+    pub depth_read: DepthRead,
     /// How blended surfaces are composited (alpha, sorted; additive, unsorted; or peeled).
     pub blended: BlendedMode,
     /// Seed 004's lightmaps, where the scene's materials have them (`scene::Lightmap`); off:
@@ -662,6 +680,7 @@ impl Default for Settings {
             culling: CullingMode::default(),
             near_lights: NearLights::default(),
             draw_order: DrawOrder::default(),
+            depth_read: DepthRead::default(),
             blended: BlendedMode::default(),
             peel_layers: 4,
             lightmaps: true,

@@ -289,6 +289,9 @@ pub struct PrepassStats {
     /// Object draws of pass 1 and of pass 3.
     pub base_draw_calls: u64,
     pub final_draw_calls: u64,
+    /// `--msaa 4`: the depth-only draws priming pass 3's samples with pass 1's list (pass 1's
+    /// depth has one sample a pixel); 0 single-sampled, where pass 3 tests pass 1's depth.
+    pub prime_draw_calls: u64,
     /// Samples that passed pass 1's and pass 3's depth tests (occlusion queries), when counting.
     pub base_fragments: Option<u64>,
     pub final_fragments: Option<u64>,
@@ -343,6 +346,10 @@ pub struct FrameStats {
     /// (`--draw-order`) changes. `None` without counting and on the forward paths.
     pub gbuffer_fragments: Option<u64>,
     pub depth_stencil_format: String,
+    /// Where the passes after the G-buffer read depth: "depth buffer", or the copy and why
+    /// (`kit::gbuffer::depth_read_refusal`), or none (a layout storing positions; the forward
+    /// paths).
+    pub depth_read: String,
     pub depth_clamp: bool,
     /// Ambient + sun were written by the G-buffer pass (`Settings::ambient_in_gbuffer`, where
     /// the device allows), not by a full-screen pass of their own.

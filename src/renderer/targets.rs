@@ -89,12 +89,18 @@ impl Targets {
     ) -> Self {
         use wgpu::TextureUsages as U;
         let key = &shared.key;
-        let gbuffer = GBufferTargets::new(device, &key.layout, size.0, size.1);
-        // Depth peeling reads the opaque depth in its layer passes.
-        let depth_usage =
-            if key.peeled_blended { U::RENDER_ATTACHMENT | U::TEXTURE_BINDING } else { U::RENDER_ATTACHMENT };
+        // Depth peeling reads the opaque depth in its layer passes; a layout that reads the
+        // depth buffer instead of a copy binds it as a G-buffer target (read back like one).
+        let depth_usage = if key.layout.reads_depth_buffer() {
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC
+        } else if key.peeled_blended {
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING
+        } else {
+            U::RENDER_ATTACHMENT
+        };
         let depth_texture = texture(device, "depth-stencil", key.depth_format, size, depth_usage);
         let depth = depth_texture.create_view(&Default::default());
+        let gbuffer = GBufferTargets::new(device, &key.layout, size.0, size.1, &depth_texture);
         let read = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
         let diffuse = texture(device, "light diffuse", key.accum_format, size, read);
         let specular_size = if key.one_target() { (1, 1) } else { size };
@@ -172,8 +178,13 @@ impl Targets {
     }
 
     /// The depth-stencil buffer as the G-buffer pass left its depth; the stencil cleared to zero
-    /// or kept.
+    /// or kept. Read-only, depth and stencil, where the G-buffer reads the depth buffer
+    /// (`GBufferLayout::reads_depth_buffer`): the passes that attach it here also bind it for
+    /// reading, and no pipeline of a frame that allows it writes either.
     pub fn depth_attachment(&self, clear_stencil: bool) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        if self.gbuffer.layout.reads_depth_buffer() {
+            return wgpu::RenderPassDepthStencilAttachment { view: &self.depth, depth_ops: None, stencil_ops: None };
+        }
         let store = wgpu::StoreOp::Store;
         wgpu::RenderPassDepthStencilAttachment {
             view: &self.depth,

@@ -386,6 +386,34 @@ fn msaa_changes_only_pixels_on_geometric_edges() {
     }
 }
 
+/// `--msaa 4` primes pass 3's samples with a depth-only draw of pass 1's list (pass 1's depth
+/// has one sample a pixel), so pass 3 tests less-equal without writing, as it does single-
+/// sampled (seed 003: "the z-buffer is already in a primed state, reducing the number of
+/// fragment shader executions to only the surfaces that have not been occluded"): each
+/// sample's nearest surface is shaded once, whatever the draw order. Pass 1, which tests
+/// against its own writes, shades more in material order than front to back on `demo`; pass
+/// 3's samples are the same count in both orders, at most 4 a pixel, and the pictures agree.
+#[test]
+fn multisampled_pass_3_is_primed_and_shades_each_sample_once_in_any_draw_order() {
+    use lampshade::renderer::DrawOrder;
+    let demo = scene("demo");
+    let base = prepass(Settings { msaa: Msaa::X4, count_ideal: false, ..Settings::default() });
+    let material = render(&demo, &Settings { draw_order: DrawOrder::Material, ..base.clone() }, W, H);
+    let nearest = render(&demo, &Settings { draw_order: DrawOrder::FrontToBack, ..base.clone() }, W, H);
+    let (m, n) = (material.stats.prepass.clone().unwrap(), nearest.stats.prepass.clone().unwrap());
+    let (m1, n1) = (m.base_fragments.unwrap(), n.base_fragments.unwrap());
+    assert!(m1 > n1, "pass 1 shades {m1} fragments in material order and {n1} front to back: no overdraw to remove");
+    let (m3, n3) = (m.final_fragments.unwrap(), n.final_fragments.unwrap());
+    assert_eq!(m3, n3, "pass 3's samples depend on the draw order: the depth is not primed");
+    assert!(m3 <= 4 * (W * H) as u64, "pass 3 shaded {m3} samples of {}", 4 * W * H);
+    assert_eq!((m.prime_draw_calls, m.samples), (m.base_draw_calls, 4));
+    let steps = max_channel_difference(&material.image, &nearest.image);
+    assert!(steps <= 1, "the draw order changed the picture by {steps} steps");
+    // Single-sampled, pass 3 tests pass 1's depth: no prime.
+    let one = render(&demo, &Settings { msaa: Msaa::X1, ..base }, W, H);
+    assert_eq!(one.stats.prepass.unwrap().prime_draw_calls, 0);
+}
+
 /// The pixel probe (the viewer's pixel panel) on a pre-pass frame: the light buffer decoded
 /// (mono specular as grey) and pass 3's colour as `lit`; no read past the 1x1 stand-in target.
 #[test]

@@ -779,3 +779,74 @@ fn seed000_accumulates_the_lit_colour_in_its_one_rt1() {
     assert!(checked >= 50, "only {checked} sampled pixels hit geometry");
     println!("worst relative error of RT1 against f64: {worst:.2e}");
 }
+
+/// Seed 004's "depth is not explicitly rendered": with `--depth-read buffer` the G-buffer pass
+/// writes no R32F copy and every reader takes the depth buffer's depth aspect instead. The
+/// 32-bit float buffer holds what the copy held, so the frame is the copy's bit for bit: the
+/// picture, the linear light, the fragment counts, the reconstructed positions and the probe;
+/// and 4 bytes a pixel are gone. Where the frame cannot (a stencil method or `auto` writing the
+/// stencil while the lights read, 24-bit depth, a stencil view), it keeps the copy and says why.
+#[test]
+fn reading_the_depth_buffer_instead_of_its_copy_changes_nothing_but_the_bytes() {
+    use lampshade::renderer::{DepthFormat, DepthRead, RenderPath};
+    let gpu = gpu();
+    let demo = scene("demo");
+    let base = Settings { count_ideal: true, ..Settings::default() };
+    let allowed = [
+        (RenderPath::Deferred, LayoutChoice::Compact, CullingMode::Volume),
+        (RenderPath::Deferred, LayoutChoice::Compact, CullingMode::Fullscreen),
+        (RenderPath::Deferred, LayoutChoice::Compact, CullingMode::Tiled),
+        (RenderPath::Deferred, LayoutChoice::Compact, CullingMode::Clustered),
+        (RenderPath::Deferred, LayoutChoice::Lambert8, CullingMode::Volume),
+        (RenderPath::Deferred, LayoutChoice::Fit, CullingMode::Clustered),
+        (RenderPath::LightPrepass, LayoutChoice::Compact, CullingMode::Volume),
+        (RenderPath::LightPrepass, LayoutChoice::Compact, CullingMode::Tiled),
+    ];
+    for (path, layout, culling) in allowed {
+        let what = format!("{path:?} {layout:?} {culling:?}");
+        let copy_settings = Settings { path, layout, culling, ..base.clone() };
+        let buffer_settings = Settings { depth_read: DepthRead::Buffer, ..copy_settings.clone() };
+        let mut rc = Renderer::new(gpu, OUTPUT_FORMAT, &copy_settings).unwrap();
+        let (copy, cs) = render_image(gpu, &mut rc, &demo, &copy_settings, W, H).unwrap();
+        let mut rb = Renderer::new(gpu, OUTPUT_FORMAT, &buffer_settings).unwrap();
+        let (buffer, bs) = render_image(gpu, &mut rb, &demo, &buffer_settings, W, H).unwrap();
+        assert!(cs.depth_read.starts_with("R32Float copy (--depth-read copy"), "{what}: {}", cs.depth_read);
+        assert_eq!(bs.depth_read, "depth buffer (its depth aspect; no copy)", "{what}");
+        let differ = copy.pixels().zip(buffer.pixels()).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{what}: {differ} pixels differ");
+        let (accum_c, accum_b) = (rc.read_accumulation(gpu).unwrap(), rb.read_accumulation(gpu).unwrap());
+        let same_bits = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+        assert!(same_bits(&accum_c.0, &accum_b.0) && same_bits(&accum_c.1, &accum_b.1), "{what}: the light differs");
+        assert_eq!(
+            (cs.shaded_fragments, cs.ideal_fragments),
+            (bs.shaded_fragments, bs.ideal_fragments),
+            "{what}: the counts differ"
+        );
+        if path == RenderPath::Deferred {
+            assert_eq!(cs.gbuffer_bytes_per_pixel - bs.gbuffer_bytes_per_pixel, 4, "{what}");
+            let (pc, pb) = (rc.view_positions(gpu).unwrap(), rb.view_positions(gpu).unwrap());
+            assert!(pc.iter().flatten().count() > (W * H / 2) as usize, "{what}: too few surface pixels");
+            assert!(pc == pb, "{what}: the reconstructed positions differ");
+        } else {
+            let depth_copy = |s: &lampshade::FrameStats| s.prepass.as_ref().unwrap().depth_copy_bytes_per_pixel;
+            assert_eq!((depth_copy(&cs), depth_copy(&bs)), (4, 0), "{what}");
+        }
+        for (x, y) in [(W / 2, H / 2), (W / 4, H * 3 / 4), (W - 3, H - 2)] {
+            let (a, b) = (rc.probe(gpu, x, y).unwrap(), rb.probe(gpu, x, y).unwrap());
+            assert_eq!((a.valid, a.position, a.normal), (b.valid, b.position, b.normal), "{what}: probe at ({x}, {y})");
+        }
+    }
+    // Where the frame must keep the copy: the reason, and the copy's bytes.
+    let refused = [
+        (Settings { culling: CullingMode::StencilReplace, ..base.clone() }, "writes the stencil"),
+        (Settings { culling: CullingMode::Auto, ..base.clone() }, "auto picks stencil methods"),
+        (Settings { depth_format: DepthFormat::Depth24PlusStencil8, ..base.clone() }, "2^-24"),
+        (Settings { debug_view: DebugView::Stencil, ..base.clone() }, "stencil view"),
+    ];
+    for (s, why) in refused {
+        let s = Settings { depth_read: DepthRead::Buffer, ..s };
+        let f = render(&demo, &s, W, H);
+        assert!(f.stats.depth_read.contains(why), "{:?}: {}", s.culling, f.stats.depth_read);
+        assert_eq!(f.stats.gbuffer_bytes_per_pixel, 24, "{}", f.stats.depth_read);
+    }
+}

@@ -103,6 +103,21 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
             }
         });
         ui.end_row();
+        ui.label("depth read");
+        ui.horizontal(|ui| {
+            use crate::renderer::DepthRead;
+            egui::ComboBox::from_id_salt("depth-read").selected_text(st.settings.depth_read.name()).show_ui(ui, |ui| {
+                for &d in <DepthRead as clap::ValueEnum>::value_variants() {
+                    ui.selectable_value(&mut st.settings.depth_read, d, d.name()).on_hover_text(knob_help(&d));
+                }
+            });
+            // What the frame did, in short; the buffer, or the copy and why, on hover.
+            if let Some(s) = f.stats {
+                let short = if s.depth_read.starts_with("depth buffer") { "no copy" } else { "copy kept" };
+                ui.label(RichText::new(short).weak()).on_hover_text(&s.depth_read);
+            }
+        });
+        ui.end_row();
         ui.label("light cut-off");
         ui.add(
             egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff"))

@@ -348,7 +348,7 @@ impl Caps {
             r(
                 "read-only depth-stencil attachments",
                 self.has_downlevel(D::READ_ONLY_DEPTH_STENCIL),
-                "not used: the lights read the G-buffer's depth copy",
+                "--depth-read buffer keeps the G-buffer's depth copy",
             ),
             r(
                 "depth copies to buffers",

@@ -578,7 +578,53 @@ pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
             | wgpu::TextureFormat::Rg32Float
             | wgpu::TextureFormat::Rgba32Float
             | wgpu::TextureFormat::Rg11b10Ufloat
+            | wgpu::TextureFormat::Depth32Float
     )
+}
+
+/// Why a frame drawn with `settings` on `caps`' adapter with depth format `depth_format` keeps
+/// the R32Float depth copy; `None` when it reads the depth buffer instead. The passes that read
+/// the G-buffer while the depth-stencil buffer is attached (the light pass, the measurement
+/// passes) must attach it read-only, depth and stencil both, so:
+/// - `--depth-read copy` asks for the copy;
+/// - the adapter must allow a read-only depth-stencil attachment (wgpu's GL backend does not);
+/// - the buffer must hold what the copy holds: Depth32Float does, bit for bit; a 24-bit buffer
+///   holds depth to 2^-24, which the copy's f32 does not lose, so it keeps the copy;
+/// - the light pass must not write the stencil: not the stencil methods, not `auto` (it picks a
+///   stencil method per light), not the stencil and complexity views (they draw stencil marks).
+pub fn depth_read_refusal(
+    settings: &crate::renderer::Settings,
+    caps: &super::caps::Caps,
+    depth_format: wgpu::TextureFormat,
+) -> Option<String> {
+    use crate::renderer::{CullingMode as M, DebugView, DepthRead};
+    if settings.depth_read == DepthRead::Copy {
+        return Some("--depth-read copy".into());
+    }
+    if !caps.has_downlevel(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL) {
+        return Some("the adapter has no read-only depth-stencil attachments".into());
+    }
+    if depth_format != wgpu::TextureFormat::Depth32FloatStencil8 {
+        return Some(format!("{depth_format:?} holds depth to 2^-24; the f32 copy keeps what it rounds away"));
+    }
+    if matches!(settings.culling, M::StencilTwoPass | M::StencilInvert | M::StencilReplace | M::Auto) {
+        let what = if settings.culling == M::Auto { "auto picks stencil methods per light, which" } else { "it" };
+        return Some(format!(
+            "culling {}: {what} writes the stencil beside the depth the lights read",
+            settings.culling.name()
+        ));
+    }
+    if matches!(settings.debug_view, DebugView::Stencil | DebugView::Complexity) {
+        return Some(format!("the {} view draws stencil marks", settings.debug_view.name()));
+    }
+    None
+}
+
+/// Whether target `t` is the depth buffer itself, read through its depth aspect (format
+/// `Depth32Float`, [`GBufferLayout::reading_depth_buffer`]): bound for reading like the other
+/// targets, but not rendered by the G-buffer pass.
+pub fn is_depth_buffer(t: &TargetDesc) -> bool {
+    t.format == wgpu::TextureFormat::Depth32Float
 }
 
 /// Largest rounding error of one stored normal component in [-1, 1]: half a step of a
@@ -656,9 +702,34 @@ impl GBufferLayout {
         self
     }
 
+    /// The layout reading depth from the depth buffer (a `Depth32Float` view of its depth
+    /// aspect) instead of the R32Float copy the G-buffer pass writes: the copy's target stays in
+    /// the table, bound at the same slot and read by the same code, but is no longer rendered.
+    /// Exact: the copy holds the fragment's depth as the 32-bit float buffer stores it. Only for
+    /// a frame [`depth_read_refusal`] allows.
+    pub fn reading_depth_buffer(mut self) -> Self {
+        for t in &mut self.targets {
+            let depth_only = t.channels.iter().all(|c| matches!(c, Some(Slot { attr: Attr::Depth, .. })));
+            if depth_only && t.format == wgpu::TextureFormat::R32Float {
+                t.format = wgpu::TextureFormat::Depth32Float;
+            }
+        }
+        self
+    }
+
+    /// Whether depth is read from the depth buffer ([`Self::reading_depth_buffer`]).
+    pub fn reads_depth_buffer(&self) -> bool {
+        self.targets.iter().any(is_depth_buffer)
+    }
+
+    /// The targets the G-buffer pass renders, in attachment order: all but the depth buffer.
+    pub fn rendered(&self) -> impl Iterator<Item = &TargetDesc> {
+        self.targets.iter().filter(|t| !is_depth_buffer(t))
+    }
+
     /// Checks that the adapter can render every target's format.
     pub fn check_caps(&self, caps: &super::caps::Caps) -> anyhow::Result<()> {
-        for t in &self.targets {
+        for t in self.rendered() {
             if !caps.renderable(t.format) {
                 return Err(caps.refuse(
                     &format!("layout {} (its {} target)", self.name, t.name),
@@ -672,7 +743,7 @@ impl GBufferLayout {
 
     /// Bytes per pixel of the colour targets (the depth-stencil buffer is reported apart).
     pub fn bytes_per_pixel(&self) -> u32 {
-        self.targets.iter().map(|t| t.format.block_copy_size(None).unwrap_or(0)).sum()
+        self.rendered().map(|t| t.format.block_copy_size(None).unwrap_or(0)).sum()
     }
 
     /// Whether some channel gives `attr` (alone or packed with another).
@@ -804,11 +875,14 @@ impl GBufferLayout {
             let _ = writeln!(w, "@group({group}) @binding({i}) var gbuf{i}: texture_2d<{}>;", scalar(t.format));
         }
         let _ = writeln!(w, "struct GBufferOut {{");
-        for (i, t) in self.targets.iter().enumerate() {
-            let _ = writeln!(w, "    @location({i}) t{i}: vec4<{}>,", scalar(t.format));
+        // The depth buffer read as a target is not an output: locations count rendered targets.
+        let mut location = 0;
+        for (i, t) in self.targets.iter().enumerate().filter(|(_, t)| !is_depth_buffer(t)) {
+            let _ = writeln!(w, "    @location({location}) t{i}: vec4<{}>,", scalar(t.format));
+            location += 1;
         }
         if ambient {
-            let n = self.targets.len();
+            let n = location;
             let _ = writeln!(w, "    @location({n}) light_diffuse: vec4<f32>,");
             if !self.one_accumulation {
                 let _ = writeln!(w, "    @location({}) light_specular: vec4<f32>,", n + 1);
@@ -820,7 +894,7 @@ impl GBufferLayout {
         let _ = writeln!(w, "    var o: GBufferOut;");
         let _ = writeln!(w, "    let a = attributes_of(s);");
         let comps = ["x", "y", "z", "w"];
-        for (i, t) in self.targets.iter().enumerate() {
+        for (i, t) in self.targets.iter().enumerate().filter(|(_, t)| !is_depth_buffer(t)) {
             let _ = writeln!(w, "    o.t{i} = vec4<{}>();", scalar(t.format));
             for (c, slot) in t.channels.iter().enumerate() {
                 if let Some(s) = slot {
@@ -938,18 +1012,39 @@ pub struct GBufferTargets {
 }
 
 impl GBufferTargets {
-    pub fn new(device: &wgpu::Device, layout: &GBufferLayout, width: u32, height: u32) -> Self {
+    /// The targets at `width`x`height`; a target that is the depth buffer
+    /// ([`is_depth_buffer`]) is `depth`, the frame's depth-stencil texture, seen through its
+    /// depth aspect.
+    pub fn new(device: &wgpu::Device, layout: &GBufferLayout, width: u32, height: u32, depth: &wgpu::Texture) -> Self {
         let textures: Vec<wgpu::Texture> = layout
             .targets
             .iter()
             .map(|t| {
                 use wgpu::TextureUsages as U;
+                if is_depth_buffer(t) {
+                    return depth.clone();
+                }
                 let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
                 super::texture(device, t.name, t.format, (width, height), usage)
             })
             .collect();
-        let views = textures.iter().map(|t| t.create_view(&Default::default())).collect();
+        let views = textures
+            .iter()
+            .zip(&layout.targets)
+            .map(|(tex, t)| {
+                let aspect = if is_depth_buffer(t) { wgpu::TextureAspect::DepthOnly } else { wgpu::TextureAspect::All };
+                tex.create_view(&wgpu::TextureViewDescriptor { aspect, ..Default::default() })
+            })
+            .collect();
         Self { layout: layout.clone(), textures, views }
+    }
+
+    /// The aspect target `i` is read back through (the depth buffer's depth, else the whole).
+    pub fn aspect(&self, i: usize) -> wgpu::TextureAspect {
+        match self.layout.targets.get(i) {
+            Some(t) if is_depth_buffer(t) => wgpu::TextureAspect::DepthOnly,
+            _ => wgpu::TextureAspect::All,
+        }
     }
 
     /// Bind group layout entries for reading every target with `textureLoad`.

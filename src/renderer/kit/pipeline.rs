@@ -53,7 +53,7 @@ impl PipelineKey {
 pub fn ambient_fits(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, limits: &wgpu::Limits) -> bool {
     let accum = accum_format.block_copy_size(None).unwrap_or(16);
     let n = if layout.one_accumulation { 1 } else { 2 };
-    (layout.targets.len() + n) as u32 <= limits.max_color_attachments
+    (layout.rendered().count() + n) as u32 <= limits.max_color_attachments
         && layout.bytes_per_pixel() + n as u32 * accum <= limits.max_color_attachment_bytes_per_sample
 }
 

@@ -22,7 +22,7 @@ pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
         finals
     } else {
         compose(c, encoder);
-        0
+        (0, 0)
     };
     let stats = prepass_pass::stats(p.key(), c.prepared.plan.draws.gbuffer.len() as u64, finals);
     Drawn { draw_calls, cpu_ms, prepass: Some(stats), ..Default::default() }

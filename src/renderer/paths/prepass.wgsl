@@ -59,6 +59,17 @@ fn prepass_shade(s: Surface, p: vec2<i32>) -> vec4<f32> {
     return vec4<f32>(min(lit, vec3<f32>(LS_FP16_MAX)), 1.0);
 }
 
+// `--msaa 4`: pass 1's depth has one sample a pixel, so pass 3's multisampled depth is primed
+// by a depth-only draw of pass 1's list first (seed 003: "the z-buffer is already in a primed
+// state"), alpha-masked surfaces discarding as pass 1 does.
+@fragment
+fn fs_prepass_prime_masked(in: GeometryOut, @builtin(front_facing) front: bool) {
+    var s: Surface;
+    if material_surface(in, front, &s) < objects[in.object].material.y {
+        discard;
+    }
+}
+
 @fragment
 fn fs_prepass(in: GeometryOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     var s: Surface;

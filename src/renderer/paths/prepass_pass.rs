@@ -19,6 +19,8 @@ use wgpu::CompareFunction as Cmp;
 pub struct PrepassFinalPass {
     /// By `gbuffer::topology_pipeline_index`, as the G-buffer pass's.
     pipelines: [wgpu::RenderPipeline; 6],
+    /// Multisampled (`--msaa 4`): the depth-only draws that prime pass 3's samples.
+    prime: Option<[wgpu::RenderPipeline; 6]>,
 }
 
 impl PrepassFinalPass {
@@ -30,14 +32,12 @@ impl PrepassFinalPass {
             immediate_size: 0,
         });
         let targets = [Some(wgpu::ColorTargetState::from(HDR_FORMAT))];
-        // Single-sample: pass 1's depth, the same vertex shader, so only the visible surface
-        // passes (less-equal, not written). Multisampled (`--msaa 4`): pass 1's depth has one
-        // sample, so pass 3 resolves visibility itself in its own depth samples (less, written).
+        // Pass 1's depth (single-sample) or the primed samples (`--msaa 4`), drawn by the same
+        // vertex shader (`@invariant` position): only the visible surface passes (less-equal,
+        // not written), so each sample is shaded once whatever the draw order.
         let samples = shared.key.samples;
-        let ms = samples > 1;
         let pipe = |label: &str, fs: &str, double_sided: bool, topology: Topology| {
-            let compare = if ms { Cmp::Less } else { Cmp::LessEqual };
-            let depth = (ms, compare, Default::default());
+            let depth = (false, Cmp::LessEqual, Default::default());
             let p = ScenePipe {
                 label,
                 layout: &layout,
@@ -50,6 +50,12 @@ impl PrepassFinalPass {
             };
             scene_pipeline(device, &shared.module, &shared.key, p, &targets)
         };
+        // The prime: depth only (less, written), masked surfaces discarding.
+        let prime = |label: &str, fs: Option<&str>, double_sided: bool, topology: Topology| {
+            let depth = (true, Cmp::Less, Default::default());
+            let p = ScenePipe { label, layout: &layout, vs: "vs_geometry", fs, topology, double_sided, depth, samples };
+            scene_pipeline(device, &shared.module, &shared.key, p, &[])
+        };
         let t = Topology::Triangles;
         let pipelines = [
             pipe("pre-pass final", "fs_prepass", false, t),
@@ -60,37 +66,75 @@ impl PrepassFinalPass {
             pipe("pre-pass final (points)", "fs_prepass_masked", true, Topology::Points),
         ];
         debug_assert_eq!(topology_pipeline_index(Topology::Points, false, false), 5);
-        Self { pipelines }
+        let masked = Some("fs_prepass_prime_masked");
+        let prime = (samples > 1).then(|| {
+            [
+                prime("pre-pass prime", None, false, t),
+                prime("pre-pass prime (two-sided)", None, true, t),
+                prime("pre-pass prime (masked)", masked, false, t),
+                prime("pre-pass prime (masked, two-sided)", masked, true, t),
+                prime("pre-pass prime (lines)", masked, true, Topology::Lines),
+                prime("pre-pass prime (points)", masked, true, Topology::Points),
+            ]
+        });
+        Self { pipelines, prime }
     }
 
     /// Clears the HDR scene colour to `background` and draws the G-buffer list again over it.
-    /// Returns the draws issued.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, background: wgpu::Color) -> u64 {
-        let Some((hdr_view, _)) = &f.targets.hdr else { return 0 };
-        // Multisampled: cleared colour and depth samples, resolved into the HDR colour (the
-        // forward pass draws over the samples and resolves again).
-        let (color, depth, depth_load) = match &f.targets.msaa {
-            Some(ms) => {
-                let far = wgpu::LoadOp::Clear(f.far_depth() as f32);
-                (ms.color_attachment(hdr_view, Some(background)), &ms.depth, far)
-            }
-            None => (attachment(hdr_view, Some(background)), &f.targets.depth, wgpu::LoadOp::Load),
-        };
+    /// Returns the draws issued: pass 3's and, multisampled, the prime's.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        background: wgpu::Color,
+    ) -> (u64, u64) {
+        let Some((hdr_view, _)) = &f.targets.hdr else { return (0, 0) };
+        // The stencil aspect of the multisampled depth: cleared, never read.
         let stencil_ops = f
             .targets
             .msaa
             .as_ref()
             .filter(|_| f.targets.depth_format.has_stencil_aspect())
             .map(|_| wgpu::Operations { load: wgpu::LoadOp::Clear(0), store: wgpu::StoreOp::Discard });
+        // Multisampled: the samples' depth primed with pass 1's draws (the forward pass after
+        // this one then tests its objects against the same depth as single-sampled), colour
+        // cleared and resolved into the HDR colour (the forward pass draws over the samples
+        // and resolves again).
+        let mut primed = 0;
+        let (color, depth, first) = match (&f.targets.msaa, &self.prime) {
+            (Some(ms), Some(prime)) => {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("pre-pass prime"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &ms.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(f.far_depth() as f32),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops,
+                    }),
+                    timestamp_writes: f.timestamps(Some(SPAN), None),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &f.frame.group, &[]);
+                pass.set_bind_group(2, &f.targets.compose_group, &[0]);
+                f.scene.draw(&mut pass, &f.plan.draws.gbuffer, prime);
+                primed = f.plan.draws.gbuffer.len() as u64;
+                (ms.color_attachment(hdr_view, Some(background)), &ms.depth, false)
+            }
+            _ => (attachment(hdr_view, Some(background)), &f.targets.depth, true),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("pre-pass final"),
             color_attachments: &[color],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
-                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store }),
                 stencil_ops,
             }),
-            timestamp_writes: f.timestamps(Some(SPAN), Some(SPAN)),
+            timestamp_writes: f.timestamps(first.then_some(SPAN), Some(SPAN)),
             occlusion_query_set: f.counts.then_some(&f.queries.prepass),
             multiview_mask: None,
         });
@@ -106,7 +150,7 @@ impl PrepassFinalPass {
         if f.counts {
             pass.end_occlusion_query();
         }
-        lit.len() as u64
+        (lit.len() as u64, primed)
     }
 }
 
@@ -138,10 +182,16 @@ pub fn check(settings: &crate::renderer::Settings) -> anyhow::Result<()> {
 }
 
 /// The light pre-pass's figures for a frame drawn with `key`: bytes per pixel of its targets
-/// and the object draws of pass 1 (`base`) and pass 3 (`finals`; 0 when a debug view replaced it).
-pub fn stats(key: &crate::renderer::kit::PipelineKey, base: u64, finals: u64) -> crate::renderer::stats::PrepassStats {
+/// and the object draws of pass 1 (`base`), pass 3 (`finals`; 0 when a debug view replaced it)
+/// and the multisampled prime (`primed`).
+pub fn stats(
+    key: &crate::renderer::kit::PipelineKey,
+    base: u64,
+    (finals, primed): (u64, u64),
+) -> crate::renderer::stats::PrepassStats {
     let bytes = |f: wgpu::TextureFormat| f.block_copy_size(None).unwrap_or(0);
-    let target = |name: &str| key.layout.targets.iter().find(|t| t.name == name).map_or(0, |t| bytes(t.format));
+    // Rendered targets only: a depth read from the depth buffer costs no bytes of its own.
+    let target = |name: &str| key.layout.rendered().find(|t| t.name == name).map_or(0, |t| bytes(t.format));
     crate::renderer::stats::PrepassStats {
         normal_exp_bytes_per_pixel: target("normal+exp"),
         depth_copy_bytes_per_pixel: target("depth"),
@@ -158,6 +208,7 @@ pub fn stats(key: &crate::renderer::kit::PipelineKey, base: u64, finals: u64) ->
         },
         base_draw_calls: base,
         final_draw_calls: finals,
+        prime_draw_calls: primed,
         base_fragments: None,
         final_fragments: None,
     }

@@ -80,7 +80,7 @@ pub struct GBufferPass {
 impl GBufferPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let mut targets: Vec<Option<wgpu::ColorTargetState>> =
-            shared.key.layout.targets.iter().map(|t| Some(t.format.into())).collect();
+            shared.key.layout.rendered().map(|t| Some(t.format.into())).collect();
         if shared.key.ambient_in_gbuffer {
             // Seed 000's RT1: the light accumulation starts with ambient + sun, written here.
             // Seed 000's one RT1: the second slot is empty, as in `Targets::accumulation`.
@@ -125,6 +125,7 @@ impl GBufferPass {
             .views
             .iter()
             .zip(&t.gbuffer.layout.targets)
+            .filter(|(_, desc)| !kit::gbuffer::is_depth_buffer(desc))
             .map(|(view, desc)| {
                 let has_depth = desc.channels.iter().flatten().any(|s| s.attr == Attr::Depth);
                 // An integer target's clear value is the integer: the far depth's bits.

@@ -266,9 +266,15 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         v.push(c("shadows", label, settings, o.lights));
     }
     // Point lights' six faces (every light casting; `CUBE_LIGHTS` point lights, plus the
-    // scene's spots): unrolled into the atlas (seed 002's virtual cube) or a cube array, at the
-    // default budget, against the finest shadows of `all` (`shadow_reference`).
-    for cube in [ShadowCube::Unrolled, ShadowCube::Array] {
+    // scene's spots): unrolled into the atlas (seed 002's virtual cube), the same tiles read
+    // through seed 002's indirection cube (not in `--quick`), or a cube array, at the default
+    // budget, against the finest shadows of `all` (`shadow_reference`).
+    let cubes: &[ShadowCube] = if q {
+        &[ShadowCube::Unrolled, ShadowCube::Array]
+    } else {
+        &[ShadowCube::Unrolled, ShadowCube::Indirect, ShadowCube::Array]
+    };
+    for &cube in cubes {
         let settings = Settings { shadows: ShadowMode::All, shadow_cube: cube, ..base.clone() };
         v.push(c("shadows", format!("cube {}", cube.name()), settings, CUBE_LIGHTS));
     }

@@ -177,14 +177,15 @@ pub struct ShadowFigures {
     /// Median GPU ms of the shadow pass (the atlas's render pass and the cube array's layers;
     /// NaN when nothing cast).
     pub gpu_ms: f64,
-    /// Bytes of the atlas and the cube array as allocated.
+    /// Bytes of the atlas, the cube array and the indirection cube as allocated.
     pub bytes: u64,
     /// Lights (the sun counted) with shadows, and those that fell back for the budget.
     pub casting: u32,
     pub fallback_budget: u32,
     /// Lights that should cast but are off screen (unshadowed, counted).
     pub fallback_off_screen: u32,
-    /// `--shadow-cube`, and the cube array's face side (0 with `unrolled`).
+    /// `--shadow-cube`, and the cube array's face side or the indirection cube's (0 with
+    /// `unrolled`).
     pub cube: String,
     pub cube_side: u32,
 }
@@ -213,7 +214,7 @@ impl ShadowFigures {
             fallback_budget: sh.fallback_budget,
             fallback_off_screen: sh.fallback_off_screen,
             cube: sh.cube.name(),
-            cube_side: sh.cube_side,
+            cube_side: sh.cube_side.max(sh.indirection_side),
         }
     }
 }

@@ -292,7 +292,8 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
     let mut s = String::from(
         "\n### Shadows\n\n\
          Shadow ms: the shadow pass (atlas and cube array; `-` where nothing cast), part of `total ms`. \
-         Bytes: the atlas and the cube array as allocated. Casting: lights with shadows (the sun counted); budget, \
+         Bytes: the atlas, the cube array and the indirection cube as allocated; cube side: the cube array's face \
+         or the indirection cube's. Casting: lights with shadows (the sun counted); budget, \
          off screen: lights that fell back to unshadowed for the budget or for being off screen. FLIP mean against the finest shadows (64 MiB, poisson16, \
          4 cascades) of the same casters (`cube` rows: every light, cubes unrolled).\n\n\
          | configuration | lights | shadow ms | total ms | bytes | casting | budget | off screen | cube side | FLIP mean |\n\
@@ -309,7 +310,7 @@ pub fn shadows_markdown(rows: &[Row]) -> String {
             r.shadow.casting,
             r.shadow.fallback_budget,
             r.shadow.fallback_off_screen,
-            if r.shadow.cube == "array" { r.shadow.cube_side.to_string() } else { "-".into() },
+            if r.shadow.cube_side > 0 { r.shadow.cube_side.to_string() } else { "-".into() },
             r.flip_mean
         );
     }

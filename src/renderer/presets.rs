@@ -113,7 +113,7 @@ impl Preset {
                 row!("draw-order", "front-to-back", "Do an initial front-to-back-sorted z-only pass."),
                 row!("anisotropy", "8", "Use aniso filtering during G-buffer pass (no level given)"),
                 row!("shadows", "all", "Shadow maps work very well with deferred shading"),
-                row!("shadow-cube", "unrolled", "Unrolls a shadow cube map into a 2D depth texture"),
+                row!("shadow-cube", "indirect", "Unrolls a shadow cube map into a 2D depth texture … G16R16 cubemap efficiently maps XYZ->ST"),
                 row!("shadow-filter", "pcf2x2", "Enable bilinear filtering to get 4-sample PCF"),
                 row!("shadow-format", "depth24", "Use D16 or D24X8 format for shadow maps"),
                 row!("bloom", "on", "Glow"),
@@ -158,7 +158,6 @@ impl Preset {
             Preset::Seed002 => &[
                 missing!("the table has no specular exponent: the free channel carries it (packed with the material ID when the scene uses several models, 3% off at most)", "Normal.x Normal.y Normal.z Free"),
                 missing!("emission is one channel, so it is stored as a multiple of the diffuse colour: exact only where the emission has the albedo's hue", "Emissive (single channel)"),
-                missing!("the G16R16 cube indirection for the unrolled cube", "G16R16 cubemap efficiently maps XYZ->ST"),
             ],
             Preset::Seed003 => &[
             ],

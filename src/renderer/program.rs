@@ -72,7 +72,7 @@ pub fn wgsl_constants() -> String {
 /// long as without them (`--shadows none` included, before this). A GPU that branches skips
 /// them at run time; here they are left out when compiling. Each is a WGSL constant that the
 /// shader's branches test (`LS_SUN_SHADOW`, `LS_TILE_SHADOWS`, `LS_CUBE_SHADOWS`,
-/// `LS_CUBE_ARRAY`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off;
+/// `LS_CUBE_ARRAY`, `LS_CUBE_INDIRECT`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off;
 /// `LS_CASTERS_APART` (`ShadowCode::casters_apart`) moves the few casting lights of a tile or
 /// cluster list into a loop of their own. Named in the stats' `shader_lookups`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -171,9 +171,11 @@ impl ShaderFeatures {
     fn wgsl(&self) -> String {
         let sh = &self.shadows;
         let cube_array = sh.cubes == Some(shadows::ShadowCube::Array);
+        let cube_indirect = sh.cubes == Some(shadows::ShadowCube::Indirect);
         format!(
             "const LS_SUN_SHADOW: bool = {};\nconst LS_TILE_SHADOWS: bool = {};\n\
              const LS_CUBE_SHADOWS: bool = {};\nconst LS_CUBE_ARRAY: bool = {cube_array};\n\
+             const LS_CUBE_INDIRECT: bool = {cube_indirect};\n\
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
              const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
              const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n\

@@ -602,6 +602,21 @@ pub struct FrameBuffers {
     pub shadow_cubes: wgpu::Texture,
     pub shadow_cubes_view: wgpu::TextureView,
     pub shadow_cube_layers: Vec<wgpu::TextureView>,
+    /// `--shadow-cube indirect`: the indirection cube (`shadows::indirection_texels`, a 1x1
+    /// stand-in until a frame reads one), its Cube view and its nearest sampler.
+    pub shadow_indirection: wgpu::Texture,
+    pub shadow_indirection_view: wgpu::TextureView,
+    pub indirection_sampler: wgpu::Sampler,
+}
+
+/// The shadow bindings of the frame group, in [`super::kit::bindings::FRAME`]'s order.
+struct ShadowViews<'a> {
+    atlas: &'a wgpu::TextureView,
+    sampler: &'a wgpu::Sampler,
+    table: &'a wgpu::TextureView,
+    cubes: &'a wgpu::TextureView,
+    indirection: &'a wgpu::TextureView,
+    indirection_sampler: &'a wgpu::Sampler,
 }
 
 /// Rgba32Uint texels a shadow-table row holds: a `ShadowTile` (112 bytes) or the
@@ -669,6 +684,41 @@ fn shadow_cubes(
     (t, cubes, faces)
 }
 
+/// The indirection cube of `side` texels a face (`shadows::indirection_texels`), written, and
+/// its Cube view. `side` 0: a 1x1 stand-in, left unwritten.
+fn shadow_indirection(
+    device: &wgpu::Device,
+    queue: Option<&wgpu::Queue>,
+    side: u32,
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let n = side.max(1);
+    let size = wgpu::Extent3d { width: n, height: n, depth_or_array_layers: 6 };
+    let t = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow cube indirection"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    if let (Some(queue), true) = (queue, side > 0) {
+        queue.write_texture(
+            t.as_image_copy(),
+            &super::shadows::indirection_texels(n),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * n), rows_per_image: Some(n) },
+            size,
+        );
+    }
+    let v = t.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("shadow cube indirection"),
+        dimension: Some(wgpu::TextureViewDimension::Cube),
+        ..Default::default()
+    });
+    (t, v)
+}
+
 /// The cookie texels' texture: `width` x `rows` Rgba8Unorm (read with textureLoad, exact).
 fn cookie_texture(device: &wgpu::Device, width: u32, rows: u32) -> wgpu::Texture {
     use wgpu::TextureUsages as U;
@@ -714,13 +764,27 @@ impl FrameBuffers {
         let (shadow_table, shadow_table_view) = shadow_table(device, 16);
         let (shadow_cubes, shadow_cubes_view, shadow_cube_layers) =
             shadow_cubes(device, 1, min_cube_layers, wgpu::TextureFormat::Depth32Float);
+        let (shadow_indirection, shadow_indirection_view) = shadow_indirection(device, None, 0);
+        let indirection_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("shadow cube indirection"),
+            mag_filter: wgpu::FilterMode::Nearest,
+            min_filter: wgpu::FilterMode::Nearest,
+            ..Default::default()
+        });
         let group = Self::bind(
             device,
             frame_bgl,
             [&camera, &lights, &objects, &light_lists, &draw_lights],
             &light_planes,
             &cookie_view,
-            (&shadow_view, &shadow_sampler, &shadow_table_view, &shadow_cubes_view),
+            ShadowViews {
+                atlas: &shadow_view,
+                sampler: &shadow_sampler,
+                table: &shadow_table_view,
+                cubes: &shadow_cubes_view,
+                indirection: &shadow_indirection_view,
+                indirection_sampler: &indirection_sampler,
+            },
         );
         Self {
             min_cube_layers,
@@ -743,6 +807,20 @@ impl FrameBuffers {
             shadow_cubes,
             shadow_cubes_view,
             shadow_cube_layers,
+            shadow_indirection,
+            shadow_indirection_view,
+            indirection_sampler,
+        }
+    }
+
+    fn shadow_views(&self) -> ShadowViews<'_> {
+        ShadowViews {
+            atlas: &self.shadow_view,
+            sampler: &self.shadow_sampler,
+            table: &self.shadow_table_view,
+            cubes: &self.shadow_cubes_view,
+            indirection: &self.shadow_indirection_view,
+            indirection_sampler: &self.indirection_sampler,
         }
     }
 
@@ -752,7 +830,7 @@ impl FrameBuffers {
         buffers: [&wgpu::Buffer; 5],
         planes: &wgpu::Buffer,
         cookies: &wgpu::TextureView,
-        shadow: (&wgpu::TextureView, &wgpu::Sampler, &wgpu::TextureView, &wgpu::TextureView),
+        shadow: ShadowViews<'_>,
     ) -> wgpu::BindGroup {
         let mut resources: Vec<wgpu::BindingResource<'_>> = buffers.iter().map(|b| b.as_entire_binding()).collect();
         resources.extend((0..LIGHT_PLANE_COUNT as u64).map(|k| {
@@ -764,10 +842,12 @@ impl FrameBuffers {
         }));
         resources.extend([
             wgpu::BindingResource::TextureView(cookies),
-            wgpu::BindingResource::TextureView(shadow.0),
-            wgpu::BindingResource::Sampler(shadow.1),
-            wgpu::BindingResource::TextureView(shadow.2),
-            wgpu::BindingResource::TextureView(shadow.3),
+            wgpu::BindingResource::TextureView(shadow.atlas),
+            wgpu::BindingResource::Sampler(shadow.sampler),
+            wgpu::BindingResource::TextureView(shadow.table),
+            wgpu::BindingResource::TextureView(shadow.cubes),
+            wgpu::BindingResource::TextureView(shadow.indirection),
+            wgpu::BindingResource::Sampler(shadow.indirection_sampler),
         ]);
         let entries = super::kit::bindings::FRAME.entries(resources);
         device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("frame"), layout: bgl, entries: &entries })
@@ -776,8 +856,7 @@ impl FrameBuffers {
     /// Binds the buffers again for another pipeline configuration's layout.
     pub fn rebind(&mut self, device: &wgpu::Device, frame_bgl: &wgpu::BindGroupLayout) {
         let buffers = [&self.camera, &self.lights, &self.objects, &self.light_lists, &self.draw_lights];
-        let shadow = (&self.shadow_view, &self.shadow_sampler, &self.shadow_table_view, &self.shadow_cubes_view);
-        self.group = Self::bind(device, frame_bgl, buffers, &self.light_planes, &self.cookie_view, shadow);
+        self.group = Self::bind(device, frame_bgl, buffers, &self.light_planes, &self.cookie_view, self.shadow_views());
     }
 
     /// The shadow pass's group 0 (`bindings::SHADOW_CASTER_SLOTS`) for `bgl`.
@@ -814,6 +893,22 @@ impl FrameBuffers {
         if t.width() != side || t.depth_or_array_layers() != layers || t.format() != format {
             (self.shadow_cubes, self.shadow_cubes_view, self.shadow_cube_layers) =
                 shadow_cubes(device, side, layers, format);
+            self.rebind(device, frame_bgl);
+        }
+    }
+
+    /// Makes the indirection cube (`--shadow-cube indirect`) at `side` texels a face when it has
+    /// another side, rebinding the frame group; `side` 0 (no cube read through it this frame)
+    /// keeps what there is, so that a cube leaving and entering the view writes it once.
+    pub fn ensure_shadow_indirection(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        frame_bgl: &wgpu::BindGroupLayout,
+        side: u32,
+    ) {
+        if side > 0 && self.shadow_indirection.width() != side {
+            (self.shadow_indirection, self.shadow_indirection_view) = shadow_indirection(device, Some(queue), side);
             self.rebind(device, frame_bgl);
         }
     }

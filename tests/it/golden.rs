@@ -46,7 +46,7 @@ fn cases() -> Vec<(String, Vec<(String, String)>)> {
             add(scene, &[("path", path)]);
         }
         for filter in ["pcf2x2", "pcf3x3", "poisson16"] {
-            for cube in ["unrolled", "array"] {
+            for cube in ["unrolled", "indirect", "array"] {
                 add("shadows", &[("shadows", "all"), ("shadow-filter", filter), ("shadow-cube", cube), ("path", path)]);
             }
         }

@@ -58,10 +58,16 @@ fn settings(shadows: ShadowMode) -> Settings {
 /// with each.
 const CUBES: [ShadowCube; 2] = [ShadowCube::Unrolled, ShadowCube::Array];
 
+/// With seed 002's indirection too, which reads the unrolled tiles: the tests of what happens
+/// at the faces' edges (`the_cube_indirection_shadows_the_pixels_the_face_pick_does` holds
+/// it to the face pick everywhere else).
+const ALL_CUBES: [ShadowCube; 3] = [ShadowCube::Unrolled, ShadowCube::Array, ShadowCube::Indirect];
+
 fn cube_name(c: ShadowCube) -> &'static str {
     match c {
         ShadowCube::Unrolled => "unrolled",
         ShadowCube::Array => "array",
+        ShadowCube::Indirect => "indirect",
     }
 }
 
@@ -531,14 +537,14 @@ fn a_point_lights_cube_shows_no_seams_at_face_edges() {
             }
         }
     }
-    for cube in CUBES {
+    for cube in ALL_CUBES {
         let st = Settings { shadow_cube: cube, ..fine(ShadowMode::All) };
         let name = format!("point at face edges-{}", cube_name(cube));
         check_light_at(&name, &s, &st, false, Some(near.clone()), (300, 30));
     }
     for (filter, cube) in [ShadowFilter::Pcf2x2, ShadowFilter::Pcf3x3, ShadowFilter::Poisson16]
         .into_iter()
-        .flat_map(|f| CUBES.map(|c| (f, c)))
+        .flat_map(|f| ALL_CUBES.map(|c| (f, c)))
     {
         let mut s = only(|_, l| matches!(l, Light::Point(_)), false);
         s.objects.truncate(1);
@@ -703,6 +709,80 @@ fn the_cube_array_and_the_unrolled_cube_shadow_the_same_pixels() {
     assert!(share >= 0.99, "the cube array and the unrolled cube agree at {share:.4} of {total} pixels");
 }
 
+/// `--shadow-cube indirect` (seed 002's indirection cube) and `unrolled` (the major-axis pick)
+/// read the same tiles, so they shadow the same pixels except within the indirection's lateral
+/// error of an edge: the point light alone over the `shadows` scene, each pixel's factor taken
+/// as lit (> 0.5) or not in both, compared at the pixels farther from the CPU's shadow edges
+/// than the usual band plus sqrt(2) x `indirection_error` texels of the largest face. There
+/// every pixel must agree (the lookups differ by less than the band; the wider depth bias
+/// only removes shadow within its own slope's reach, inside the band too), and the compared
+/// pixels must include shadowed ones. Then the same against the CPU's visibility, as every
+/// light is checked. `--shadow-budget 64`: an atlas of 4096 and an indirection cube of 1024
+/// (the faces at 320x180 take 128 texels).
+#[test]
+fn the_cube_indirection_shadows_the_pixels_the_face_pick_does() {
+    use lampshade::renderer::shadows::{indirection_error, BORDER};
+    let s = only(|_, l| matches!(l, Light::Point(_)), false);
+    let plain = lit(&s, &settings(ShadowMode::None));
+    let unrolled = lit(&s, &Settings { shadow_cube: ShadowCube::Unrolled, ..fine(ShadowMode::All) });
+    let indirect = lit(&s, &Settings { shadow_cube: ShadowCube::Indirect, ..fine(ShadowMode::All) });
+    let (first, count) = indirect.lights[0];
+    assert_eq!(count, 6, "the point light cast no cube");
+    assert_eq!(unrolled.lights[0], indirect.lights[0]);
+    for f in 0..6 {
+        let (a, b) = (&unrolled.tiles[(first + f) as usize], &indirect.tiles[(first + f) as usize]);
+        assert_eq!((a.to_light, a.proj, a.rect), (b.to_light, b.proj, b.rect), "face {f}: the same tile");
+    }
+    let sh = indirect.stats.shadow.as_ref().expect("shadow stats");
+    assert_eq!((sh.indirection_side, sh.indirection_bytes), (1024, 6 * 4 * 1024 * 1024), "{sh:?}");
+    assert_eq!(unrolled.stats.shadow.as_ref().map(|s| s.indirection_bytes), Some(0));
+    let largest = (0..6).map(|f| indirect.tiles[(first + f) as usize].info[2]).fold(0.0f32, f32::max) as f64;
+    let lateral = 2f64.sqrt() * indirection_error(largest - 2.0 * BORDER as f64, sh.indirection_side);
+    eprintln!("faces up to {largest} texels: the indirection's lookup within {lateral:.3} texels");
+    let rot = s.camera.rotation();
+    let lp = rot * (s.lights[0].position() - s.camera.position);
+    let texel = |vp: DVec3| {
+        let d = vp - lp;
+        let a = d.abs();
+        let face = if a.x >= a.y && a.x >= a.z {
+            (d.x < 0.0) as u32
+        } else if a.y >= a.z {
+            2 + (d.y < 0.0) as u32
+        } else {
+            4 + (d.z < 0.0) as u32
+        };
+        Some(texel_at(&unrolled.tiles[(first + face) as usize], vp))
+    };
+    let light = s.lights[0].position();
+    let band = band_texels(&fine(ShadowMode::All)) + lateral;
+    for against in [Some(&unrolled), None] {
+        let check = Check {
+            scene: &s,
+            occluders: Occluders::of(&s),
+            plain: &plain,
+            shadowed: &indirect,
+            band_texels: band,
+            misses: std::cell::RefCell::new(Some(indirect.image.clone())),
+            pixels: None,
+            against,
+        };
+        let (agree, total, blocked) = check.run(|_| light, texel);
+        let share = agree as f64 / total.max(1) as f64;
+        let what = if against.is_some() { "the face pick" } else { "the CPU" };
+        eprintln!("indirect vs {what}: {agree} of {total} pixels agree ({share:.5}); {blocked} shadowed");
+        let least = if against.is_some() { 1.0 } else { 0.99 };
+        if share < least {
+            let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/image-tests");
+            let _ = std::fs::create_dir_all(&dir);
+            if let Some(img) = check.misses.borrow().as_ref() {
+                let _ = img.save(dir.join("shadows-indirect-misses.png"));
+            }
+        }
+        assert!(total > 1000 && blocked > 200, "only {total} pixels compared, {blocked} shadowed");
+        assert!(share >= least, "the indirection and {what} agree at {share:.5} of {total} pixels");
+    }
+}
+
 /// Every hard case with every light casting: finite, and no pixel gets more light than without
 /// shadows (a shadow factor is in 0 ..= 1 and fp16 rounding is monotone, so with the same
 /// lights blended in the same order the sum cannot grow; one fp16 step allowed).
@@ -763,7 +843,7 @@ fn fallbacks_are_counted_in_the_stats() {
         let sh = f.stats.shadow.expect("shadow stats");
         eprintln!("{}: {sh:?}", cube_name(cube));
         match cube {
-            ShadowCube::Unrolled => {
+            ShadowCube::Unrolled | ShadowCube::Indirect => {
                 assert_eq!(sh.atlas_side, 256);
                 assert_eq!(sh.cube_bytes, 0);
             }

@@ -191,6 +191,25 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
         ui.label(format!("{0}x{0} {1:?}", a.side, a.format));
         if let Some(s) = stats {
             ui.label(format!("{:.1} MiB, {:.0}% used", s.atlas_bytes as f64 / 1048576.0, s.atlas_used * 100.0));
+            if s.cube_bytes > 0 {
+                ui.label(format!(
+                    "+ cube array {0}x{0} x{1}: {2:.1} MiB",
+                    s.cube_side,
+                    s.cube_layers,
+                    s.cube_bytes as f64 / 1048576.0
+                ));
+            }
+            if s.indirection_bytes > 0 {
+                ui.label(format!(
+                    "+ indirection cube {0}x{0}: {1:.1} MiB",
+                    s.indirection_side,
+                    s.indirection_bytes as f64 / 1048576.0
+                ))
+                .on_hover_text(
+                    "seed 002's G16R16 cube: the face and face coordinates of every direction, read \
+                         nearest; lookups within about half a texel of the face pick's (frame.md)",
+                );
+            }
         }
     });
     // Contrast, stated: what grey means in this frame's image.

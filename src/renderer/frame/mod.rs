@@ -176,6 +176,7 @@ impl Renderer {
         self.frame.upload_shadows(&self.device, &self.queue, bgl, (side, format), tiles, params, &shadow_plan.casters);
         let cubes = (shadow_plan.cube_side, shadow_plan.cube_layers);
         self.frame.ensure_shadow_cubes(&self.device, bgl, cubes, format);
+        self.frame.ensure_shadow_indirection(&self.device, &self.queue, bgl, shadow_plan.indirection_side);
         let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
         self.queries.ensure_lights(&self.device, plan.lights.len());
         Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms })

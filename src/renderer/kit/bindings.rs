@@ -33,6 +33,8 @@ pub enum Kind {
     /// A cube-array depth texture (`texture_depth_cube_array`), read through a comparison
     /// sampler (`--shadow-cube array`).
     DepthCubeArray,
+    /// A float cube texture (`texture_cube<f32>`; `--shadow-cube indirect`'s indirection).
+    CubeTexture,
     /// A comparison sampler (`sampler_comparison`): hardware 2x2 PCF.
     ComparisonSampler,
     /// A 2D unsigned-integer texture (`texture_2d<u32>`) of records, read with `textureLoad` in
@@ -109,6 +111,10 @@ pub const FRAME: Group = Group {
         // `Quirks::min_cube_layers` layers otherwise; `ls_shadow`'s `shadow_cube_lookup`). A sampled texture, not a storage
         // buffer; the fragment stage's sampled textures stay within WebGPU's default 16.
         Binding { slot: 53, name: "shadow_cubes", wgsl_type: "texture_depth_cube_array", kind: Kind::DepthCubeArray },
+        // `--shadow-cube indirect`: seed 002's indirection cube (`shadows::indirection_texels`;
+        // a 1x1 stand-in otherwise) and its nearest-filtering sampler.
+        Binding { slot: 54, name: "shadow_indirection", wgsl_type: "texture_cube<f32>", kind: Kind::CubeTexture },
+        Binding { slot: 55, name: "indirection_sampler", wgsl_type: "sampler", kind: Kind::Sampler },
     ],
 };
 
@@ -234,6 +240,7 @@ impl Group {
                 | Kind::Sampler
                 | Kind::DepthTexture
                 | Kind::DepthCubeArray
+                | Kind::CubeTexture
                 | Kind::ComparisonSampler
                 | Kind::UintTexture => "var",
             };
@@ -294,6 +301,11 @@ impl Group {
                     Kind::DepthCubeArray => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Depth,
                         view_dimension: wgpu::TextureViewDimension::CubeArray,
+                        multisampled: false,
+                    },
+                    Kind::CubeTexture => wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::Cube,
                         multisampled: false,
                     },
                     Kind::ComparisonSampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),

@@ -50,10 +50,7 @@ fn shadow_offset_point(p: vec3<f32>, n: vec3<f32>, texel: f32) -> vec3<f32> {
 // The lookup at the (offset) point `p1` in tile `t`; `texel` is a texel's world size at the
 // receiver.
 fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32, pos_err: f32) -> f32 {
-    let shadow_params = shadow_params_load();
     let ortho = t.info.x == LS_TILE_ORTHOGRAPHIC;
-    let ndl = clamp(dot(n, L), 0.0, 1.0);
-    let kernel = LS_SHADOW_KERNEL;
     let q = (t.to_light * vec4<f32>(p1, 1.0)).xyz;
     let w = select(-q.z, 1.0, ortho);
     if !(w > 0.0) {
@@ -63,10 +60,22 @@ fn shadow_lookup(t: ShadowTile, p1: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel
     if any(abs(ndc) > vec2<f32>(1.0)) {
         return 1.0;
     }
+    return shadow_compare(t, ndc, -q.z, n, L, texel, pos_err, 0.0);
+}
+
+// The comparison in tile `t` at `ndc` for a point `dist` along the tile's axis (-q.z), within
+// `lateral` texels of its true projection: the lookup may land that far sideways on the
+// receiver's plane, where the stored depths differ by up to lateral x tan texels, so the depth
+// bias's slope term grows by that (0 for the tiles' own projection).
+fn shadow_compare(t: ShadowTile, ndc: vec2<f32>, dist: f32, n: vec3<f32>, L: vec3<f32>, texel: f32, pos_err: f32, lateral: f32) -> f32 {
+    let shadow_params = shadow_params_load();
+    let ndl = clamp(dot(n, L), 0.0, 1.0);
+    let kernel = LS_SHADOW_KERNEL;
     let tan_angle = min(sqrt(max(1.0 - ndl * ndl, 0.0)) / max(ndl, 1e-4), 10.0);
-    let bias = ((shadow_params.bias.x + shadow_params.bias.y * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * t.proj.z
+    let slope = shadow_params.bias.y + lateral;
+    let bias = ((shadow_params.bias.x + slope * tan_angle) * texel + pos_err * (1.0 + tan_angle)) * t.proj.z
         + LS_SHADOW_DEPTH_STEP;
-    let depth = -q.z * t.proj.z + t.proj.w - bias;
+    let depth = dist * t.proj.z + t.proj.w - bias;
     if depth >= 1.0 {
         return 1.0;
     }
@@ -150,8 +159,38 @@ fn ls_shadow(l: GpuLight, p: vec3<f32>, n: vec3<f32>, pos_err: f32) -> f32 {
     if LS_CUBE_ARRAY {
         return shadow_cube_lookup(first, p1 - l.position, n, L, texel, pos_err);
     }
+    if LS_CUBE_INDIRECT {
+        return shadow_cube_indirect(l.shadow.x, p1 - l.position, n, L, texel, pos_err);
+    }
     let face = shadow_tile_load(l.shadow.x + cube_face(p1 - l.position));
     return shadow_lookup(face, p1, n, L, texel, pos_err);
+}
+
+// `--shadow-cube indirect`: seed 002's indirection. One nearest fetch of the indirection cube
+// by the (offset) light-to-point vector `d` gives the face the hardware picks for `d` and the
+// face coordinates (u, v) of that texel's centre (`shadows::indirection_texels`: (face + u) / 6
+// and v, 16 bits each, split over two bytes); the tile's ndc follows from them (the faces lie
+// in the cube-map orientation, `shadows::cube_face_space`), and the depth is the axial
+// distance, the largest component of |d|, the unrolled face's -q.z. The lookup lands within
+// `shadows::indirection_error` texels (per axis) of the face pick's, so up to sqrt(2) times
+// that sideways; `shadow_compare` widens the bias by it. `first` is the cube's first face.
+fn shadow_cube_indirect(first: u32, d: vec3<f32>, n: vec3<f32>, L: vec3<f32>, texel: f32, pos_err: f32) -> f32 {
+    let a = abs(d);
+    let ma = max(a.x, max(a.y, a.z));
+    if !(ma > 0.0) {
+        return 1.0;
+    }
+    let c = round(textureSampleLevel(shadow_indirection, indirection_sampler, d, 0.0) * 255.0);
+    let r = (c.x * 256.0 + c.y) / 65535.0 * 6.0;
+    let v = (c.z * 256.0 + c.w) / 65535.0;
+    let f = min(floor(r), 5.0);
+    let t = shadow_tile_load(first + u32(f));
+    let ndc = vec2<f32>(2.0 * (r - f) - 1.0, 1.0 - 2.0 * v) * t.proj.xy;
+    let side = f32(textureDimensions(shadow_indirection).x);
+    // The face frustum's span in texels: the tile less its borders (`shadows::BORDER`).
+    let inner = t.proj.x * t.info.z;
+    let lateral = sqrt(2.0) * inner * ((0.5 + 1.0 / 16.0) / side + 3.0 / 65535.0);
+    return shadow_compare(t, ndc, ma, n, L, texel, pos_err, lateral);
 }
 
 // `--shadow-cube array`: the lookup of a cube in the cube array, for the (offset) light-to-point

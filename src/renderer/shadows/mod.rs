@@ -28,6 +28,10 @@
 //!   Depth32Float cube-array texture instead of atlas tiles, sampled by direction with the
 //!   hardware's (seamless) cube filtering, so no border. See [`ShadowCube`] and
 //!   [`cube_array_fit`] for the size rule.
+//! - **Cube indirection** (`--shadow-cube indirect`): the unrolled tiles, but the face and its
+//!   coordinates come from one texture fetch of a shared indirection cube (seed 002's "G16R16
+//!   cubemap efficiently maps XYZ->ST") instead of the major-axis pick; see
+//!   [`indirection_error`] for what that costs in accuracy.
 //! - **The sun:** 1-4 cascades over the view frustum up to the farthest scene point; split
 //!   distances lambda x logarithmic + (1 - lambda) x uniform; each cascade an orthographic tile
 //!   around the bounding sphere of its slice, deep enough to hold every object.
@@ -138,6 +142,67 @@ pub enum ShadowCube {
     /// direction (`texture_depth_cube_array`; seamless hardware filtering, no border). Needs
     /// the adapter's `DownlevelFlags::CUBE_ARRAY_TEXTURES`.
     Array,
+    /// The unrolled tiles, the face and its coordinates read from seed 002's "G16R16 cubemap
+    /// [that] efficiently maps XYZ->ST" instead of picked in the shader: one shared cube
+    /// texture whose texels hold their own face and face coordinates (`indirection_texels`),
+    /// sampled nearest by the light-to-point direction. Within [`indirection_error`] texels
+    /// of the face-pick's lookup point; the depth bias widens by that much.
+    Indirect,
+}
+
+/// The indirection cube's side for an atlas of `side` texels: the largest tile a cube face can
+/// be granted (a quarter of the side), at most [`MAX_INDIRECTION`], at least [`MIN_TILE`].
+pub fn indirection_side(side: u32) -> u32 {
+    (side / 4).clamp(MIN_TILE, MAX_INDIRECTION)
+}
+
+/// The largest indirection cube: 1024² x 6 texels of 4 bytes, 24 MiB.
+pub const MAX_INDIRECTION: u32 = 1024;
+
+/// How far (in texels of the face's tile, along each axis) the indirection's lookup point may
+/// lie from the face pick's, for a face tile whose frustum spans `inner` texels and an
+/// indirection cube of side `n`. Sampled nearest, the texel read is the one holding the
+/// direction, whose centre's face coordinate is within half a texel (1 / 2n of the face) of
+/// the direction's, plus the hardware's rounding of the texel coordinate (Vulkan guarantees
+/// `subTexelPrecisionBits` >= 4: 1/16 texel); the face coordinate is then stored as
+/// (face + u) / 6 in 16 bits, read back within 1/2 of 1/65535, so u within 3/65535 (v within
+/// 1/2 of that). A face coordinate error du is du x inner texels of the tile.
+/// Bilinear filtering would be exact inside a face ("free bilinear filtering" in the seed,
+/// written for Direct3D 9's cube maps, which clamp at face edges), but Vulkan, Direct3D 11+ and
+/// Metal filter cube maps across face edges (seamless), blending two faces' coordinates in
+/// the band half a texel wide along every edge, so it is sampled nearest.
+pub fn indirection_error(inner: f64, n: u32) -> f64 {
+    inner * ((0.5 + 1.0 / 16.0) / n as f64 + 3.0 / 65535.0)
+}
+
+/// The indirection cube's texels, layer by layer (+x, -x, +y, -y, +z, -z: the cube-map face
+/// order, [`FACES`]), row by row, 4 bytes each: the face's 16-bit (face + u) / 6 and 16-bit v at
+/// the texel's centre (u = (i + 1/2) / n, v = (j + 1/2) / n: the face coordinates of the
+/// cube-map face selection table, [`cube_face_space`]), each split high byte first into two
+/// channels of an Rgba8Unorm texel. The bits of seed 002's G16R16, in a format every adapter
+/// samples (Rg16Unorm needs the native-only `TEXTURE_FORMAT_16BIT_NORM`); nearest sampling
+/// returns them exactly.
+pub fn indirection_texels(n: u32) -> Vec<u8> {
+    let unorm16 = |x: f64| (x * 65535.0).round().clamp(0.0, 65535.0) as u16;
+    let mut out = Vec::with_capacity(6 * 4 * n as usize * n as usize);
+    for face in 0..6u32 {
+        for j in 0..n {
+            let v = unorm16((j as f64 + 0.5) / n as f64);
+            for i in 0..n {
+                let r = unorm16((face as f64 + (i as f64 + 0.5) / n as f64) / 6.0);
+                out.extend_from_slice(&[(r >> 8) as u8, r as u8, (v >> 8) as u8, v as u8]);
+            }
+        }
+    }
+    out
+}
+
+/// Decodes an indirection texel (`indirection_texels`) into (face, u, v), as the shader does.
+pub fn indirection_decode(t: [u8; 4]) -> (u32, f64, f64) {
+    let r = (t[0] as u32 * 256 + t[1] as u32) as f64 / 65535.0;
+    let v = (t[2] as u32 * 256 + t[3] as u32) as f64 / 65535.0;
+    let f = ((r * 6.0).floor() as u32).min(5);
+    (f, r * 6.0 - f as f64, v)
 }
 
 /// `ShadowTile::info[0]` of a tile: perspective in the atlas, orthographic in the atlas (the
@@ -275,13 +340,19 @@ pub struct ShadowStats {
     pub cube_side: u32,
     pub cube_layers: u32,
     pub cube_bytes: u64,
+    /// With `indirect`, the indirection cube's side and bytes (0 when no cube casts).
+    #[serde(default)]
+    pub indirection_side: u32,
+    #[serde(default)]
+    pub indirection_bytes: u64,
     pub gpu_ms: Option<f64>,
 }
 
 impl ShadowStats {
-    /// Bytes of shadow maps this frame: the atlas and the cube array as allocated.
+    /// Bytes of shadow maps this frame: the atlas, the cube array and the indirection cube as
+    /// allocated.
     pub fn bytes(&self) -> u64 {
-        self.atlas_bytes + self.cube_bytes
+        self.atlas_bytes + self.cube_bytes + self.indirection_bytes
     }
 }
 
@@ -311,6 +382,8 @@ pub struct ShadowPlan {
     /// The cube array's face side and layers (`--shadow-cube array`; 0 when no cube casts).
     pub cube_side: u32,
     pub cube_layers: u32,
+    /// The indirection cube's side (`--shadow-cube indirect`; 0 when no cube casts).
+    pub indirection_side: u32,
     /// The casting lights' indices in light order: what the `shadow` view walks (uploaded after
     /// the tiles, `ShadowParams::counts`).
     pub casters: Vec<u32>,
@@ -582,6 +655,12 @@ pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
     if !cubes.is_empty() {
         place_cubes(&mut out, scene, inp, &cubes, &casters);
     }
+    if st.shadow_cube == ShadowCube::Indirect && out.lights.iter().any(|l| l.1 == 6) {
+        let n = indirection_side(side);
+        out.indirection_side = n;
+        out.stats.indirection_side = n;
+        out.stats.indirection_bytes = 6 * 4 * n as u64 * n as u64;
+    }
     with_casters(out)
 }
 
@@ -650,7 +729,14 @@ fn requests(
                 cubes.push((i, want));
                 continue;
             }
-            _ => FACES.iter().map(|&d| perspective_tile(origin, d, std::f64::consts::FRAC_PI_4, far, want)).collect(),
+            // The faces in the cube-map orientation (`cube_face_space`), which the indirection
+            // cube's coordinates follow; the face pick finds the same texels in them.
+            _ => (0..6)
+                .map(|f| ShadowTile {
+                    to_light: cube_face_space(origin, f).as_mat4().to_cols_array_2d(),
+                    ..perspective_tile(origin, FACES[f], std::f64::consts::FRAC_PI_4, far, want)
+                })
+                .collect(),
         };
         requests.push(Request { light: Some(i), tiles, size: want });
     }
@@ -882,7 +968,7 @@ mod tests {
         for scene in &scenes {
             let bounds = crate::renderer::scene_gpu::mesh_bounds(scene);
             for mode in [ShadowMode::Sun, ShadowMode::Spots, ShadowMode::All] {
-                for cube in [ShadowCube::Unrolled, ShadowCube::Array] {
+                for cube in [ShadowCube::Unrolled, ShadowCube::Array, ShadowCube::Indirect] {
                     let st = super::super::Settings {
                         shadows: mode,
                         shadow_cube: cube,
@@ -909,11 +995,15 @@ mod tests {
                         match count {
                             1 => granted.1 = true,
                             6 if kind == TILE_CUBE_FACE => granted.2 = Some(ShadowCube::Array),
+                            // The unrolled tiles, read through the indirection or not.
+                            6 if cube == ShadowCube::Indirect => granted.2 = Some(ShadowCube::Indirect),
                             6 => granted.2 = Some(ShadowCube::Unrolled),
                             n => panic!("{what}: a light with {n} tiles"),
                         }
                     }
                     assert_eq!(granted, (code.sun, code.tiles, code.cubes), "{what}");
+                    // The indirection cube is made exactly when it is read.
+                    assert_eq!(plan.indirection_side > 0, code.cubes == Some(ShadowCube::Indirect), "{what}");
                 }
             }
         }
@@ -945,6 +1035,9 @@ mod tests {
         assert_eq!(code(Some(&shadows), M::Spots, un), (true, true, None));
         assert_eq!(code(Some(&shadows), M::All, un), (true, true, Some(un)));
         assert_eq!(code(Some(&shadows), M::All, ar), (true, true, Some(ar)));
+        let ind = ShadowCube::Indirect;
+        assert_eq!(code(Some(&shadows), M::All, ind), (true, true, Some(ind)));
+        assert_eq!(code(Some(&shadows), M::Spots, ind), (true, true, None));
         // A light's own flag off takes its lookup out; no sun, no cascades.
         let mut flagged = shadows.clone();
         for l in flagged.lights.iter_mut().filter(|l| matches!(l, Light::Point(_))) {
@@ -1043,6 +1136,62 @@ mod tests {
             assert!((w - a.max_element()).abs() < 1e-12);
             assert!(q.x.abs() <= w + 1e-12 && q.y.abs() <= w + 1e-12);
         }
+    }
+
+    /// The indirection cube's texel holding a direction (the cube-map face selection table of
+    /// the Vulkan spec, written out here, not taken from `cube_face_space`) decodes to that
+    /// direction's face and to face coordinates within half a texel and the 16-bit rounding:
+    /// `indirection_error` without the hardware's sub-texel term. The coordinates are also
+    /// where `cube_face_space` puts the direction, so the face tiles and the indirection agree.
+    #[test]
+    fn the_indirection_cube_maps_each_direction_to_its_face_and_coordinates() {
+        let mut seed = 11u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for n in [32u32, 1024] {
+            let texels = indirection_texels(n);
+            assert_eq!(texels.len(), 6 * 4 * (n * n) as usize);
+            let bound = indirection_error(1.0, n) - (1.0 / 16.0) / n as f64;
+            for k in 0..20_000 {
+                // Every fourth direction on a face edge or corner.
+                let mut d = DVec3::new(rnd(), rnd(), rnd());
+                if k % 4 == 0 {
+                    d.y = d.x.abs() * d.y.signum();
+                }
+                let (rx, ry, rz) = (d.x, d.y, d.z);
+                let a = d.abs();
+                let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
+                    if rx > 0.0 {
+                        (0, -rz, -ry, a.x)
+                    } else {
+                        (1, rz, -ry, a.x)
+                    }
+                } else if a.y >= a.z {
+                    if ry > 0.0 {
+                        (2, rx, rz, a.y)
+                    } else {
+                        (3, rx, -rz, a.y)
+                    }
+                } else if rz > 0.0 {
+                    (4, rx, -ry, a.z)
+                } else {
+                    (5, -rx, -ry, a.z)
+                };
+                let (u, v) = ((sc / ma + 1.0) / 2.0, (tc / ma + 1.0) / 2.0);
+                let q = cube_face_space(DVec3::ZERO, face).transform_point3(d);
+                assert!((q.x / -q.z - (2.0 * u - 1.0)).abs() < 1e-9 && (-q.y / -q.z - (2.0 * v - 1.0)).abs() < 1e-9);
+                let (i, j) = (((u * n as f64) as u32).min(n - 1), ((v * n as f64) as u32).min(n - 1));
+                let at = 4 * ((face as u32 * n + j) * n + i) as usize;
+                let (f, du, dv) = indirection_decode([texels[at], texels[at + 1], texels[at + 2], texels[at + 3]]);
+                assert_eq!(f, face as u32, "n {n}: {d}");
+                assert!((du - u).abs() <= bound && (dv - v).abs() <= bound, "n {n}: {d}: ({du}, {dv}) for ({u}, {v})");
+            }
+        }
+        assert_eq!(indirection_side(2048), 512);
+        assert_eq!(indirection_side(8192), MAX_INDIRECTION);
+        assert_eq!(indirection_side(64), MIN_TILE);
     }
 
     #[test]

@@ -24,6 +24,8 @@
 #   culling-S-N   `lampshade bench S --only culling --lights N` at GPU_CHECK_SIZE, for
 #                 S in demo, sphere-wall and N in GPU_CHECK_COUNTS: every mode's ms and FLIP
 #   lights-S      `lampshade bench S --only lights`: the light-count sweep, every mode
+#   shadows       `lampshade bench demo --only shadows`: budgets, kernels, cascades, formats
+#                 and the cube layouts (face pick, seed 002's indirection, cube array)
 #   references-gl the `gpucheck` comparisons again on wgpu's GL backend
 set -u
 bin=${1:-target/release}
@@ -79,6 +81,8 @@ for scene in demo sphere-wall; do
     step "lights-$scene" 150 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only lights \
         --size "$size" --frames "$frames" --out "$out/lights-$scene"
 done
+step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows \
+    --size "$size" --frames "$frames" --out "$out/shadows"
 # The same comparisons on wgpu's GL backend (EGL), the backend the suite checks on llvmpipe.
 step references-gl 90 "$check" --adapter "$adapter" --backend gl --out "$out/images-gl"
 tail -n 1 "$out/references.log" >>"$summary" 2>/dev/null

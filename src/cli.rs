@@ -18,6 +18,13 @@ fn size_at_least(s: &str, min: u32, what: &str) -> Result<(u32, u32), String> {
 }
 
 /// An image size, `WxH`, 1x1 to 8192x8192.
+/// A pixel, `X,Y`.
+pub fn pixel(s: &str) -> Result<(u32, u32), String> {
+    let (x, y) = s.split_once(',').ok_or_else(|| format!("pixel '{s}' is not X,Y"))?;
+    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("pixel '{s}': '{v}': {e}"));
+    Ok((parse(x)?, parse(y)?))
+}
+
 pub fn image_size(s: &str) -> Result<(u32, u32), String> {
     size_at_least(s, 1, "size")
 }
@@ -137,6 +144,11 @@ pub struct RenderArgs {
     /// Write the frame's statistics as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
+    /// Explain pixel X,Y (from the top left): every light whose bounds cover it, what the
+    /// culling did with it, what it adds and what zeroed it (deferred path). Printed as a
+    /// table; with `--stats`, also the JSON's `probe`.
+    #[arg(long, value_parser = pixel)]
+    pub probe: Option<(u32, u32)>,
     /// Start from a settings file (as the viewer's F12 screenshots write: renderer settings plus
     /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]

@@ -167,8 +167,17 @@ fn render(args: RenderArgs) -> Result<()> {
         stats.gpu_ms.total.map_or("-".into(), |v| format!("{v:.2}")),
         args.out.display()
     );
+    let probe = match args.probe {
+        Some((x, y)) => {
+            let e = renderer.explain(&gpu, x, y).with_context(|| format!("--probe {x},{y}"))?;
+            print!("{}", lampshade::renderer::explain::table(&e));
+            Some(e)
+        }
+        None => None,
+    };
     if let Some(path) = &args.stats {
         let json = serde_json::json!({
+            "probe": probe,
             "adapter": stats.adapter,
             "scene": scene_name,
             "time": time,

@@ -316,6 +316,7 @@ impl App {
             depth_format: format!("{:?}", g.renderer.depth_format()),
             gbuffer_bytes: layout.bytes_per_pixel(),
             probe: self.probe.as_ref(),
+            explanation: self.explanation.as_ref(),
             adapter: &g.adapter,
             caps: &g.gpu.caps,
             status: self.status.as_ref(),

@@ -186,6 +186,8 @@ struct App {
     history: History,
     status: Option<Status>,
     probe: Option<PixelProbe>,
+    /// Why each light lit the last clicked pixel (`Renderer::explain`), or why it cannot say.
+    explanation: Option<Result<crate::renderer::explain::Explanation, String>>,
     scene: Option<Scene>,
     /// From the last frame's layout.
     viewport_rect: Option<egui::Rect>,
@@ -226,6 +228,7 @@ impl App {
             history: History::default(),
             status: None,
             probe: None,
+            explanation: None,
             scene: None,
             viewport_rect: None,
             hover_pixel: None,
@@ -466,6 +469,9 @@ impl App {
             probe.lights.iter().copied().min_by(|a, b| scene.lights[*a].radius().total_cmp(&scene.lights[*b].radius()))
         };
         let chosen = nearest.or_else(touching);
+        let (x, y) = ((px[0] as u32).min(w - 1), (px[1] as u32).min(h - 1));
+        self.explanation = Some(g.renderer.explain(&g.gpu, x, y).map_err(|e| format!("{e:#}")));
+        self.state.panels.explain = true;
         self.state.selected_light = chosen;
         if chosen.is_some() {
             // Show the picked light's editor, its row in view.

@@ -195,11 +195,13 @@ pub struct Panels {
     pub gbuffer: bool,
     /// The shadow-atlas window (floats over the viewport; off until asked for).
     pub shadows: bool,
+    /// The "why each light" window (opens on a click in the viewport).
+    pub explain: bool,
 }
 
 impl Default for Panels {
     fn default() -> Self {
-        Self { left: true, right: true, gbuffer: true, shadows: false }
+        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false }
     }
 }
 

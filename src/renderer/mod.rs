@@ -16,6 +16,7 @@
 
 pub mod cputime;
 pub mod culling;
+pub mod explain;
 mod frame;
 pub mod inspect;
 pub mod kit;
@@ -140,6 +141,8 @@ struct LastFrame {
     /// The path it was drawn with: the forward paths leave no G-buffer to read (what the
     /// targets hold is an older frame's).
     path: RenderPath,
+    /// The culling mode it was drawn with.
+    mode: CullingMode,
 }
 
 impl LastFrame {
@@ -498,6 +501,7 @@ impl Renderer {
             plan: prepared.plan,
             shadows: prepared.shadows,
             path: settings.path,
+            mode: settings.culling,
         };
         let before = std::mem::replace(&mut self.last, last);
         self.spare = (before.lights, before.plan.lights);

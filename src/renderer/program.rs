@@ -232,6 +232,7 @@ pub fn shader_source_for(
             include_str!("shadows/casters.wgsl"),
             include_str!("paths/prepass.wgsl"),
             include_str!("shadows/atlas_view.wgsl"),
+            include_str!("explain/explain.wgsl"),
         ]
         .map(String::from),
     );

@@ -13,6 +13,7 @@ mod batching;
 mod cli;
 mod cookies_masks;
 mod culling;
+mod explain;
 mod forward;
 mod fuzz_regressions;
 mod gltf;

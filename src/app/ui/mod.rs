@@ -97,6 +97,8 @@ pub struct FrameInfo<'a> {
     pub depth_format: String,
     pub gbuffer_bytes: u32,
     pub probe: Option<&'a PixelProbe>,
+    /// Why each light lit the last clicked pixel.
+    pub explanation: Option<&'a Result<crate::renderer::explain::Explanation, String>>,
     pub adapter: &'a str,
     /// What the adapter can do: choices it cannot give are greyed out with the reason.
     pub caps: &'a crate::renderer::kit::caps::Caps,
@@ -245,6 +247,15 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
     out.regions.push(region("viewport", r.response.rect, given));
     if st.panels.shadows {
         shadow_window(ui.ctx(), st, f, out);
+    }
+    if st.panels.explain && f.explanation.is_some() {
+        let mut open = true;
+        egui::Window::new("Why each light")
+            .open(&mut open)
+            .default_size([420.0, 320.0])
+            .resizable(true)
+            .show(ui.ctx(), |ui| probe::explanation_panel(ui, f));
+        st.panels.explain = open;
     }
 }
 

@@ -1,6 +1,7 @@
 //! The pixel probe: the G-buffer values, lit value and lights of the pixel under the pointer.
 
 use super::*;
+use crate::renderer::explain::LightWhy;
 
 pub(super) fn v3(v: Vec3) -> String {
     format!("{:.3} {:.3} {:.3}", v.x, v.y, v.z)
@@ -50,5 +51,98 @@ pub(super) fn pixel_panel(ui: &mut egui::Ui, f: &FrameInfo) {
             ui.label(RichText::new(format!("{name} ({format})")).weak());
             ui.label(RichText::new(format!("{:.4} {:.4} {:.4} {:.4}", v[0], v[1], v[2], v[3])).monospace());
         }
+    });
+}
+
+/// The colour of what the culling did: green admitted and adding light, amber admitted for
+/// nothing (wasted), grey culled, red light the culling dropped (missed).
+fn culling_colour(l: &LightWhy) -> Color32 {
+    if l.missed {
+        Color32::from_rgb(255, 80, 80)
+    } else if l.wasted {
+        Color32::from_rgb(255, 180, 60)
+    } else if l.culling.admitted() {
+        Color32::from_rgb(110, 220, 110)
+    } else {
+        Color32::GRAY
+    }
+}
+
+/// Why each light lit the last clicked pixel (`Renderer::explain`; `render --probe X,Y` gives
+/// the same): one row a light, the culling's verdict as a short coloured word, the shader
+/// test that zeroed it, what it adds. As of the click: the frame may have changed since.
+pub(super) fn explanation_panel(ui: &mut egui::Ui, f: &FrameInfo) {
+    let Some(e) = f.explanation else {
+        ui.label(RichText::new("click a pixel: why each light lit it").weak());
+        return;
+    };
+    let e = match e {
+        Ok(e) => e,
+        Err(msg) => {
+            ui.label(RichText::new(format!("no explanation: {msg}")).color(Color32::from_rgb(255, 170, 80)));
+            return;
+        }
+    };
+    ui.label(RichText::new(format!("Why each light: pixel {}, {} (at the click)", e.x, e.y)).strong());
+    if !e.valid {
+        ui.label("background: nothing is lit");
+        return;
+    }
+    let cell = e.cell.as_ref().map_or(String::new(), |c| format!(", cell {} holds {}", c.index, c.lights));
+    ui.label(format!(
+        "{} culling{cell}: {} listed, {} wasted, {} missed",
+        e.culling_mode,
+        e.lights.len(),
+        e.wasted,
+        e.missed
+    ))
+    .on_hover_text(
+        "listed: lights whose screen bounds cover the pixel, that the culling admitted, or that add light. \
+             wasted: evaluated, adding nothing. missed: culled though they add light (never, in a correct mode)",
+    );
+    ui.label(
+        RichText::new(format!(
+            "accumulated {}  = lights {} + rest {}",
+            v3(e.accumulated_diffuse),
+            v3(e.lights_diffuse),
+            v3(e.rest_diffuse)
+        ))
+        .small(),
+    )
+    .on_hover_text(
+        "diffuse light (seed 000: the lit colour); the rest is ambient and sun as the G-buffer pass wrote them",
+    );
+    egui::ScrollArea::vertical().id_salt("explanation").show(ui, |ui| {
+        egui::Grid::new("explanation rows").num_columns(4).striped(true).spacing([8.0, 1.0]).show(ui, |ui| {
+            for h in ["light", "culling", "shading", "adds (lit colour)"] {
+                ui.label(RichText::new(h).weak());
+            }
+            ui.end_row();
+            for l in &e.lights {
+                ui.label(RichText::new(format!("{} {}", l.index, l.kind)).monospace());
+                ui.label(RichText::new(l.culling.word()).color(culling_colour(l))).on_hover_text(format!(
+                    "{}: {}",
+                    l.method.name(),
+                    if l.missed {
+                        "MISSED: culled, but adds light"
+                    } else if l.wasted {
+                        "wasted: evaluated for nothing"
+                    } else {
+                        ""
+                    }
+                ));
+                ui.label(format!("{:?}", l.shading).to_lowercase()).on_hover_text(format!(
+                    "distance / radius {:.3}, spot {:.3}, N.L {:.3}, shadow {:.3}{}, cookie {:.3}",
+                    l.distance_over_radius,
+                    l.spot,
+                    l.n_dot_l,
+                    l.shadow,
+                    if l.shadow_tile { "" } else { " (no shadow map)" },
+                    l.cookie
+                ));
+                ui.label(RichText::new(v3(l.lit)).monospace());
+                ui.end_row();
+            }
+        });
     });
 }

@@ -39,6 +39,8 @@ pub struct Passes {
     pub shadows: Lazy<crate::renderer::shadows::pass::ShadowPass>,
     /// The viewer's shadow-atlas image (not part of the frame).
     pub atlas_view: Lazy<crate::renderer::shadows::atlas_view::AtlasViewPass>,
+    /// Why each light lit a pixel (`explain`; not part of the frame).
+    pub explain: Lazy<crate::renderer::explain::ExplainPass>,
 }
 
 impl Passes {
@@ -73,6 +75,7 @@ impl Passes {
             distortion: Lazy::new(device, &shared, crate::renderer::post::distortion::DistortionPass::new),
             shadows: Lazy::new(device, &shared, crate::renderer::shadows::pass::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
+            explain: Lazy::new(device, &shared, crate::renderer::explain::ExplainPass::new),
             shared,
         }
     }

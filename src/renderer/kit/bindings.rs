@@ -225,7 +225,20 @@ pub const PEEL: Group = Group {
 pub const PEELED: Group = Group { label: "peeled layers", index: 1, bindings: &[texture(72, "peeled", false)] };
 
 /// Every group above, in the order the shader source declares them.
-pub const GROUPS: [&Group; 9] = [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW, &PEEL, &PEELED];
+/// Group 2 of the per-pixel light explanation (`explain`): the pixel and the light count
+/// (`explain_params`: x, y, lights, a pad) and, per light, four vec4 of what its shading gave
+/// there (`explain_out`, `explain::Raw`). Slots from 70.
+pub const EXPLAIN: Group = Group {
+    label: "explain",
+    index: 2,
+    bindings: &[
+        storage(70, "explain_params", "array<u32>"),
+        Binding { slot: 71, name: "explain_out", wgsl_type: "array<vec4<f32>>", kind: Kind::StorageReadWrite },
+    ],
+};
+
+pub const GROUPS: [&Group; 10] =
+    [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW, &PEEL, &PEELED, &EXPLAIN];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.

@@ -1,0 +1,549 @@
+//! Why each light did or did not reach one pixel of the last frame: the per-pixel half of the
+//! light ledger. RenderDoc and PIX give a pixel's history by draw; in a tiled or clustered
+//! frame a light has no draw of its own, so this answers by light.
+//!
+//! Two halves, each answering one question:
+//! - **the shading** (`explain.wgsl`, on the GPU): every light of the frame shades the pixel's
+//!   G-buffer surface exactly as the light pass and the tiled/clustered loop do, whatever the
+//!   culling decided (brute force at one pixel), and says what it added and which test zeroed
+//!   it: the culling mask, the range, the spot cone, the surface facing away, the shadow, a
+//!   dark cookie;
+//! - **the culling** (here, on the CPU, from the frame's plan): whether the frame's culling
+//!   admitted the light to the pixel: the pixel's tile or cluster list (read back from the
+//!   GPU), or the light's bounding volume along the pixel's ray against the surface's depth as
+//!   the method's depth and stencil tests take it (the volume's back face behind the surface;
+//!   with the stencil methods, the surface inside the volume), a full-screen draw, or skipped
+//!   off screen.
+//!
+//! Put together: each light is `lit` (admitted and adding light), `wasted` (admitted, adding
+//! nothing: the false positives of the culling, with the test that zeroed it) or `culled`
+//! (not admitted and adding nothing); a light the culling did not admit but that would have
+//! added light is `missed`, which no culling mode may do ("culling may only skip work, never
+//! light"). The sum of what the admitted lights add is held against the pixel's accumulated
+//! light: the rest is what the G-buffer pass wrote before any light (ambient, sun, and in seed
+//! 000's one target the emission).
+
+use super::inspect::PixelProbe;
+use super::kit::bindings;
+use super::kit::Shared;
+use super::plan::Method;
+use super::records::LIGHT_KIND_SPOT;
+use super::{RenderPath, Renderer};
+use crate::gpu::Gpu;
+use anyhow::{bail, Result};
+use glam::{Vec2, Vec3};
+use serde::Serialize;
+
+/// Lights a workgroup of `cs_explain` shades.
+const WORKGROUP: u32 = 64;
+/// vec4s `cs_explain` writes a light.
+const WORDS: usize = 4;
+
+pub struct ExplainPass {
+    pipeline: wgpu::ComputePipeline,
+    bgl: wgpu::BindGroupLayout,
+}
+
+impl ExplainPass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let bgl = bindings::EXPLAIN.layout(device);
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("explain"),
+            bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("explain"),
+            layout: Some(&layout),
+            module: &shared.module,
+            entry_point: Some("cs_explain"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Self { pipeline, bgl }
+    }
+}
+
+/// What the frame's culling did with a light at the pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Culling {
+    /// Drawn full screen: every pixel evaluates it.
+    FullScreen,
+    /// In the pixel's tile or cluster list.
+    InList,
+    /// Not in the pixel's tile or cluster list.
+    NotInList,
+    /// The bounding volume's back face lies behind the surface (the volume method's depth
+    /// test passes): evaluated.
+    VolumeDepthPassed,
+    /// The surface lies inside the bounding volume (the stencil methods' mark and test pass):
+    /// evaluated.
+    InsideVolume,
+    /// The pixel's ray misses the bounding volume: never rasterised there.
+    VolumeMissed,
+    /// The surface lies behind the volume's back face: the depth test rejects it.
+    BehindVolume,
+    /// The surface lies in front of the volume (stencil methods): the stencil test rejects it.
+    InFrontOfVolume,
+    /// `auto` left the light undrawn (its volume is off screen).
+    Skipped,
+}
+
+impl Culling {
+    /// Whether the frame evaluated the light at the pixel.
+    pub fn admitted(self) -> bool {
+        matches!(self, Culling::FullScreen | Culling::InList | Culling::VolumeDepthPassed | Culling::InsideVolume)
+    }
+
+    /// A short word for the viewer.
+    pub fn word(self) -> &'static str {
+        match self {
+            Culling::FullScreen => "full screen",
+            Culling::InList => "in list",
+            Culling::NotInList => "not in list",
+            Culling::VolumeDepthPassed => "depth passed",
+            Culling::InsideVolume => "stencil passed",
+            Culling::VolumeMissed => "volume missed",
+            Culling::BehindVolume => "depth failed",
+            Culling::InFrontOfVolume => "stencil failed",
+            Culling::Skipped => "skipped",
+        }
+    }
+}
+
+/// The first of the shader's tests that zeroes a light at the pixel, in the order a reader
+/// checks them, or `Lit`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Shading {
+    Lit,
+    /// The light's culling mask leaves out the surface's layer (seed 004).
+    Mask,
+    /// The surface lies at or beyond the light's radius.
+    Range,
+    /// Outside a spot's cone.
+    Cone,
+    /// The surface faces away from the light (N.L <= 0).
+    FacingAway,
+    /// In the light's shadow (factor 0).
+    Shadowed,
+    /// The cookie is black there.
+    CookieDark,
+}
+
+/// One light at the pixel.
+#[derive(Clone, Debug, Serialize)]
+pub struct LightWhy {
+    pub index: usize,
+    /// "point" or "spot".
+    pub kind: &'static str,
+    /// How the frame shades the light (its culling method).
+    pub method: Method,
+    pub culling: Culling,
+    pub shading: Shading,
+    /// What it adds at the pixel, linear, after its clamp: diffuse (before the albedo) and
+    /// specular; `lit` is diffuse x albedo + specular, the colour it adds.
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    pub lit: Vec3,
+    /// Shadow factor (1 lit .. 0 shadowed; 1 without a shadow map), and whether the light has
+    /// one this frame (`shadow_tile`: lit / shadowed / no tile).
+    pub shadow: f32,
+    pub shadow_tile: bool,
+    /// The cookie's luminance at the pixel (1 without a cookie).
+    pub cookie: f32,
+    /// Distance over the light's radius, spot attenuation, N.L.
+    pub distance_over_radius: f32,
+    pub spot: f32,
+    pub n_dot_l: f32,
+    /// Admitted and adding nothing: evaluated for nothing.
+    pub wasted: bool,
+    /// Not admitted but would have added light: light the culling dropped.
+    pub missed: bool,
+}
+
+impl LightWhy {
+    /// Whether the light adds anything at the pixel.
+    pub fn contributes(&self) -> bool {
+        self.diffuse.max_element() > 0.0 || self.specular.max_element() > 0.0
+    }
+}
+
+/// The pixel's tile or cluster.
+#[derive(Clone, Debug, Serialize)]
+pub struct Cell {
+    pub index: usize,
+    /// Lights in its list.
+    pub lights: usize,
+}
+
+/// Why each light did or did not light pixel (`x`, `y`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Explanation {
+    pub x: u32,
+    pub y: u32,
+    /// False where no surface was drawn (background: nothing is lit).
+    pub valid: bool,
+    pub culling_mode: String,
+    pub path: String,
+    /// View-space position of the surface.
+    pub position: Vec3,
+    pub cell: Option<Cell>,
+    /// The pixel's accumulated light as the targets hold it (decoded): diffuse and specular,
+    /// or (seed 000's one target) the lit colour in `diffuse` and zero specular.
+    pub accumulated_diffuse: Vec3,
+    pub accumulated_specular: Vec3,
+    /// The same for the sum of what the admitted lights add (`one_target`: their lit colours).
+    pub lights_diffuse: Vec3,
+    pub lights_specular: Vec3,
+    /// Accumulated less the lights: what the G-buffer pass wrote before them (ambient, sun,
+    /// seed 000's emission).
+    pub rest_diffuse: Vec3,
+    pub rest_specular: Vec3,
+    /// The accumulation holds the lit colour in one target (seed 000).
+    pub one_target: bool,
+    /// Every light whose screen bounds cover the pixel, or that the culling admitted, or that
+    /// adds light; by contribution, largest first.
+    pub lights: Vec<LightWhy>,
+    /// Admitted, adding nothing (the culling's false positives at this pixel).
+    pub wasted: usize,
+    /// Adding light but not admitted: must be 0.
+    pub missed: usize,
+}
+
+/// (t_in, t_out) of the ray t x `dir` (t > 0, from the eye) through a convex volume given as
+/// (point, outward normal) faces; `None` when it misses.
+fn ray_interval(faces: &[(Vec3, Vec3)], dir: Vec3) -> Option<(f32, f32)> {
+    let (mut t_in, mut t_out) = (0.0f32, f32::INFINITY);
+    for &(a, n) in faces {
+        if n == Vec3::ZERO {
+            continue;
+        }
+        // Inside: (t dir - a) . n <= 0, i.e. t (dir . n) <= a . n.
+        let (dn, an) = (dir.dot(n), a.dot(n));
+        if dn.abs() < 1e-12 {
+            if an < 0.0 {
+                return None;
+            }
+        } else if dn > 0.0 {
+            t_out = t_out.min(an / dn);
+        } else {
+            t_in = t_in.max(an / dn);
+        }
+    }
+    (t_in <= t_out).then_some((t_in, t_out))
+}
+
+/// What the culling method `method` does at a surface `t_s` along the pixel's ray, for the
+/// volume's interval `interval` along it. A relative 1e-4 of slack at the faces: the
+/// rasteriser's depth and the mesh's may differ by rounding there.
+fn volume_culling(method: Method, interval: Option<(f32, f32)>, t_s: f32) -> Culling {
+    let Some((t_in, t_out)) = interval else { return Culling::VolumeMissed };
+    let eps = 1e-4 * t_s.max(1e-6);
+    if t_s > t_out + eps {
+        return Culling::BehindVolume;
+    }
+    if method == Method::Volume {
+        return Culling::VolumeDepthPassed;
+    }
+    if t_s + eps < t_in {
+        return Culling::InFrontOfVolume;
+    }
+    Culling::InsideVolume
+}
+
+/// The first test that zeroes a light, in `shade_light_view`'s terms: the mask, then
+/// distance / radius < 1, spot attenuation > 0, N.L > 0, shadow > 0, cookie > 0. A NaN fails
+/// its test, as in the shader (`!(x > 0)`).
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+fn shading_of(reaches: bool, dr: f32, spot: f32, ndl: f32, shadow: f32, cookie: f32) -> Shading {
+    if !reaches {
+        Shading::Mask
+    } else if !(dr < 1.0) {
+        Shading::Range
+    } else if !(spot > 0.0) {
+        Shading::Cone
+    } else if !(ndl > 0.0) {
+        Shading::FacingAway
+    } else if !(shadow > 0.0) {
+        Shading::Shadowed
+    } else if !(cookie > 0.0) {
+        Shading::CookieDark
+    } else {
+        Shading::Lit
+    }
+}
+
+impl Renderer {
+    /// Why each light did or did not light pixel (`x`, `y`) of the last frame (deferred path).
+    pub fn explain(&self, gpu: &Gpu, x: u32, y: u32) -> Result<Explanation> {
+        if self.last.path != RenderPath::Deferred {
+            bail!(
+                "light explanations cover the deferred path (the last frame drew {}): the light pre-pass's \
+                 buffer and the forward paths shade differently",
+                self.last.path.name()
+            );
+        }
+        let probe: PixelProbe = self.probe(gpu, x, y)?;
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        let n = self.last.lights.len();
+        let raw = self.explain_raw(gpu, x, y, n)?;
+        let lists = if self.last.plan.lights.iter().any(|p| matches!(p.method, Method::Tiled | Method::Clustered)) {
+            self.tile_lists(gpu)?
+        } else {
+            None
+        };
+        let depth = -probe.position.z;
+        let (cell, list): (Option<Cell>, Option<Vec<u32>>) = match (&lists, probe.valid) {
+            (Some(l), true) => {
+                let c = l.cell(x, y, depth);
+                let list = l.list(c);
+                (Some(Cell { index: c, lights: list.len() }), Some(list))
+            }
+            _ => (None, None),
+        };
+        let ndc =
+            Vec2::new((x as f32 + 0.5) / t.width as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / t.height as f32 * 2.0);
+        let t_s = probe.position.length();
+        let dir = probe.position / t_s.max(1e-30);
+        let mut lights = Vec::new();
+        let (mut lights_d, mut lights_s) = (Vec3::ZERO, Vec3::ZERO);
+        for (i, rec) in self.last.lights.iter().enumerate() {
+            let Some(plan) = self.last.plan.lights.get(i) else { continue };
+            let Some(w) = raw.get(4 * WORDS * i..4 * WORDS * (i + 1)) else { continue };
+            let culling = match plan.method {
+                Method::Fullscreen => Culling::FullScreen,
+                Method::Skipped => Culling::Skipped,
+                Method::Tiled | Method::Clustered => match &list {
+                    Some(l) if l.contains(&(i as u32)) => Culling::InList,
+                    _ => Culling::NotInList,
+                },
+                m => match self.volume_planes(i) {
+                    Some(faces) if probe.valid => volume_culling(m, ray_interval(&faces, dir), t_s),
+                    _ => Culling::VolumeMissed,
+                },
+            };
+            let (diffuse, specular, lit) =
+                (Vec3::from_slice(&w[0..3]), Vec3::from_slice(&w[4..7]), Vec3::from_slice(&w[8..11]));
+            let (shadow, cookie) = (w[3], w[7]);
+            let (dr, spot, ndl, reaches) = (w[12], w[13], w[14], w[15] > 0.5);
+            let shading = shading_of(reaches, dr, spot, ndl, shadow, cookie);
+            let covers = plan
+                .screen_rect
+                .is_some_and(|(lo, hi)| ndc.x >= lo.x && ndc.x <= hi.x && ndc.y >= lo.y && ndc.y <= hi.y);
+            let why = LightWhy {
+                index: i,
+                kind: if rec.kind == LIGHT_KIND_SPOT { "spot" } else { "point" },
+                method: plan.method,
+                culling,
+                shading,
+                diffuse,
+                specular,
+                lit,
+                shadow,
+                shadow_tile: rec.shadow[0] != super::records::NO_SHADOW,
+                cookie,
+                distance_over_radius: dr,
+                spot,
+                n_dot_l: ndl,
+                wasted: false,
+                missed: false,
+            };
+            let adds = why.contributes();
+            let admitted = culling.admitted() && probe.valid;
+            if admitted {
+                if t.one_target {
+                    lights_d += lit;
+                } else {
+                    lights_d += diffuse;
+                    lights_s += specular;
+                }
+            }
+            if covers || admitted || adds {
+                lights.push(LightWhy { wasted: admitted && !adds, missed: !admitted && adds, ..why });
+            }
+        }
+        lights.sort_by(|a, b| b.lit.max_element().total_cmp(&a.lit.max_element()).then(a.index.cmp(&b.index)));
+        let (acc_d, acc_s) = (probe.diffuse_light, probe.specular_light);
+        Ok(Explanation {
+            x,
+            y,
+            valid: probe.valid,
+            culling_mode: self.last.mode.name(),
+            path: self.last.path.name(),
+            position: probe.position,
+            cell,
+            accumulated_diffuse: acc_d,
+            accumulated_specular: acc_s,
+            lights_diffuse: lights_d,
+            lights_specular: lights_s,
+            rest_diffuse: acc_d - lights_d,
+            rest_specular: acc_s - lights_s,
+            one_target: t.one_target,
+            wasted: lights.iter().filter(|l| l.wasted).count(),
+            missed: lights.iter().filter(|l| l.missed).count(),
+            lights,
+        })
+    }
+
+    /// `cs_explain` at pixel (`x`, `y`) for the `n` lights of the last frame: [`WORDS`] x 4
+    /// floats a light.
+    fn explain_raw(&self, gpu: &Gpu, x: u32, y: u32, n: usize) -> Result<Vec<f32>> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        self.passes.explain.prepare()?;
+        let Some(pass) = self.passes.explain.get() else { bail!("the explanation's pipeline was not built") };
+        let device = &self.device;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("explain params"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.queue.write_buffer(&params, 0, bytemuck::cast_slice(&[x, y, n as u32, 0]));
+        let bytes = (WORDS * 16 * n) as u64;
+        let out = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("explain out"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("explain read"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("explain"),
+            layout: &pass.bgl,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 70, resource: params.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 71, resource: out.as_entire_binding() },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("explain") });
+        {
+            let mut cpass = encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("explain"), timestamp_writes: None });
+            cpass.set_pipeline(&pass.pipeline);
+            cpass.set_bind_group(0, &self.frame.group, &[]);
+            cpass.set_bind_group(1, &t.gbuffer_group, &[]);
+            cpass.set_bind_group(2, &group, &[]);
+            cpass.dispatch_workgroups((n as u32).div_ceil(WORKGROUP), 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&out, 0, &read, 0, bytes);
+        self.queue.submit([encoder.finish()]);
+        let _ = gpu;
+        super::kit::read_back(device, &read, bytes)
+    }
+}
+
+/// The explanation as a plain-text table: the pixel, its cell, the accumulated light against
+/// the admitted lights' sum and the rest, then one row a light.
+pub fn table(e: &Explanation) -> String {
+    use std::fmt::Write;
+    let v = |v: Vec3| format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z);
+    let mut s = String::new();
+    let _ = writeln!(s, "pixel {},{} ({} path, {} culling):", e.x, e.y, e.path, e.culling_mode);
+    if !e.valid {
+        let _ = writeln!(s, "  background: no surface, no light");
+        return s;
+    }
+    if let Some(c) = &e.cell {
+        let _ = writeln!(s, "  cell {} holds {} lights", c.index, c.lights);
+    }
+    let (what, d) = if e.one_target { ("lit colour", "") } else { ("diffuse", " specular") };
+    let _ = writeln!(
+        s,
+        "  accumulated {what} {}{d} {}",
+        v(e.accumulated_diffuse),
+        if e.one_target { String::new() } else { v(e.accumulated_specular) }
+    );
+    let _ = writeln!(
+        s,
+        "  lights add  {what} {}{d} {}",
+        v(e.lights_diffuse),
+        if e.one_target { String::new() } else { v(e.lights_specular) }
+    );
+    let _ = writeln!(s, "  rest (ambient, sun{}) {}", if e.one_target { ", emission" } else { "" }, v(e.rest_diffuse));
+    let _ = writeln!(s, "  {} lights listed, {} wasted, {} missed", e.lights.len(), e.wasted, e.missed);
+    let _ = writeln!(
+        s,
+        "  {:>6} {:5} {:16} {:15} {:11} {:>28} {:>6} {:>6}",
+        "light", "kind", "method", "culling", "shading", "adds (lit colour)", "d/r", "shadow"
+    );
+    for l in &e.lights {
+        let flag = if l.missed {
+            "  MISSED"
+        } else if l.wasted {
+            "  wasted"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            s,
+            "  {:>6} {:5} {:16} {:15} {:11} {:>28} {:>6.3} {:>6.3}{flag}",
+            l.index,
+            l.kind,
+            l.method.name(),
+            l.culling.word(),
+            format!("{:?}", l.shading).to_lowercase(),
+            v(l.lit),
+            l.distance_over_radius,
+            l.shadow
+        );
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube around (0, 0, -5): the ray down -z enters at 4 and leaves at 6; each method's
+    /// verdict for surfaces in front of, inside and behind it; a ray beside it misses.
+    #[test]
+    fn the_volume_tests_follow_each_methods_depth_and_stencil_rule() {
+        let c = Vec3::new(0.0, 0.0, -5.0);
+        let faces: Vec<(Vec3, Vec3)> =
+            [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z].iter().map(|&n| (c + n, n)).collect();
+        let hit = ray_interval(&faces, Vec3::NEG_Z).expect("the ray hits the cube");
+        assert!((hit.0 - 4.0).abs() < 1e-6 && (hit.1 - 6.0).abs() < 1e-6, "{hit:?}");
+        assert_eq!(ray_interval(&faces, Vec3::new(0.5, 0.0, -1.0).normalize()), None);
+        // The eye inside: the interval starts at the eye.
+        let around: Vec<(Vec3, Vec3)> = faces.iter().map(|&(a, n)| (a - c, n)).collect();
+        assert_eq!(ray_interval(&around, Vec3::NEG_Z), Some((0.0, 1.0)));
+        use Culling as C;
+        for (t_s, volume, stencil) in [
+            (3.0, C::VolumeDepthPassed, C::InFrontOfVolume),
+            (5.0, C::VolumeDepthPassed, C::InsideVolume),
+            (7.0, C::BehindVolume, C::BehindVolume),
+        ] {
+            assert_eq!(volume_culling(Method::Volume, Some(hit), t_s), volume, "volume at {t_s}");
+            for m in [Method::StencilTwoPass, Method::StencilInvert, Method::StencilReplace] {
+                assert_eq!(volume_culling(m, Some(hit), t_s), stencil, "{m:?} at {t_s}");
+            }
+        }
+        assert_eq!(volume_culling(Method::Volume, None, 5.0), C::VolumeMissed);
+        assert!(C::VolumeDepthPassed.admitted() && C::InsideVolume.admitted() && !C::BehindVolume.admitted());
+    }
+
+    /// Each test in turn zeroes the light; the first failing one is named; NaN fails.
+    #[test]
+    fn the_first_test_that_zeroes_a_light_is_named() {
+        use Shading as S;
+        assert_eq!(shading_of(true, 0.5, 1.0, 0.5, 1.0, 1.0), S::Lit);
+        assert_eq!(shading_of(false, 2.0, 0.0, -1.0, 0.0, 0.0), S::Mask);
+        assert_eq!(shading_of(true, 1.0, 0.0, -1.0, 0.0, 0.0), S::Range);
+        assert_eq!(shading_of(true, 0.5, 0.0, -1.0, 0.0, 0.0), S::Cone);
+        assert_eq!(shading_of(true, 0.5, 1.0, 0.0, 0.0, 0.0), S::FacingAway);
+        assert_eq!(shading_of(true, 0.5, 1.0, 0.5, 0.0, 0.0), S::Shadowed);
+        assert_eq!(shading_of(true, 0.5, 1.0, 0.5, 0.3, 0.0), S::CookieDark);
+        assert_eq!(shading_of(true, f32::NAN, 1.0, 0.5, 1.0, 1.0), S::Range);
+        assert_eq!(shading_of(true, 0.5, 1.0, f32::NAN, 1.0, 1.0), S::FacingAway);
+    }
+}

@@ -1,0 +1,202 @@
+//! Why each light lit a pixel (`Renderer::explain`, `render --probe X,Y`): the explanation
+//! adds up to the pixel in every culling mode on the hard cases, drops no light, and names the
+//! stage that rejected a light hidden behind a wall.
+
+use crate::common::*;
+use lampshade::headless::render_image;
+use lampshade::renderer::explain::{Culling, Explanation};
+use lampshade::renderer::{CullingMode, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::scene::Scene;
+
+fn settings(culling: CullingMode) -> Settings {
+    Settings { culling, count_fragments: false, ..Settings::default() }
+}
+
+/// Renders `scene` with `st` and returns the renderer (for `explain`) and the accumulation
+/// (diffuse, specular; RGBA a pixel).
+fn rendered(scene: &Scene, st: &Settings, w: u32, h: u32) -> (Renderer, (Vec<f32>, Vec<f32>)) {
+    let gpu = gpu();
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, st).expect("renderer");
+    render_image(gpu, &mut r, scene, st, w, h).expect("render");
+    let acc = r.read_accumulation(gpu).expect("accumulation");
+    (r, acc)
+}
+
+/// The lights the frame evaluated at the pixel and that add light there.
+fn adding(e: &Explanation) -> usize {
+    e.lights.iter().filter(|l| l.culling.admitted() && l.contributes()).count()
+}
+
+/// For every hard case, every culling mode (shadows on, as by default), at the pixels where
+/// the lights add the most and at two fixed ones: no light that adds to the pixel was left out
+/// by the culling (`missed` 0), and what the admitted lights add, taken from the accumulated
+/// light, leaves exactly what the same frame without lights accumulates (ambient and sun,
+/// written by the G-buffer pass: the same pass, the same values). The bound is the targets'
+/// fp16 rounding: each of the k lights that add is blended into an Rgba16Float target, and
+/// each blend rounds the running sum (at most the final value: every term is >= 0) by at most
+/// half an ulp, 2^-11 of it; the rest is written once and the tiled pass adds its f32 sum once,
+/// so (k + 2) x 2^-11 of the value.
+#[test]
+fn the_explanation_adds_up_to_the_pixel_in_every_mode_on_the_hard_cases() {
+    let gpu = gpu();
+    let mut checked = 0;
+    let mut with_light = 0;
+    for &name in HARD_CASES {
+        let s = scene(name);
+        let (w, h) = hard_case_size(name);
+        let mut dark = s.clone();
+        dark.lights.clear();
+        let (_, (d0, s0)) = rendered(&dark, &settings(CullingMode::Fullscreen), w, h);
+        // The pixels where the lights add the most (in the full-screen frame), and two fixed.
+        let (_, (d1, _)) = rendered(&s, &settings(CullingMode::Fullscreen), w, h);
+        let mut order: Vec<usize> = (0..(w * h) as usize).collect();
+        let added = |i: usize| (0..3).map(|c| d1[4 * i + c] - d0[4 * i + c]).fold(0.0f32, f32::max);
+        order.sort_by(|&a, &b| added(b).total_cmp(&added(a)));
+        let mut pixels: Vec<(u32, u32)> = order.iter().take(2).map(|&i| (i as u32 % w, i as u32 / w)).collect();
+        pixels.extend([(w / 3, h / 2), (2 * w / 3, h / 3)]);
+        for mode in CullingMode::ALL {
+            let (r, _) = rendered(&s, &settings(mode), w, h);
+            for &(x, y) in &pixels {
+                let e = r.explain(gpu, x, y).expect("explain");
+                let what = format!("{name}, {}, pixel {x},{y}", mode.name());
+                assert_eq!(
+                    e.missed,
+                    0,
+                    "{what}: the culling left out light:\n{}",
+                    lampshade::renderer::explain::table(&e)
+                );
+                if !e.valid {
+                    continue;
+                }
+                let k = adding(&e);
+                with_light += (k > 0) as usize;
+                let i = (y * w + x) as usize;
+                for c in 0..3 {
+                    for (acc, rest, dark) in [
+                        (e.accumulated_diffuse[c], e.rest_diffuse[c], d0[4 * i + c]),
+                        (e.accumulated_specular[c], e.rest_specular[c], s0[4 * i + c]),
+                    ] {
+                        let bound = (k as f32 + 2.0) * 2f32.powi(-11) * acc.abs();
+                        assert!(
+                            (rest - dark).abs() <= bound,
+                            "{what}: channel {c}: accumulated {acc}, the lights leave {rest}, the frame without \
+                             lights has {dark} (bound {bound})\n{}",
+                            lampshade::renderer::explain::table(&e)
+                        );
+                    }
+                }
+                checked += 1;
+            }
+        }
+    }
+    eprintln!("{checked} pixels explained, {with_light} of them lit by some light");
+    assert!(with_light > 100, "only {with_light} explained pixels had any light");
+}
+
+/// The same sum in the light's shadows: `shadows` with every light casting (the sun, a spot, a
+/// point light's cube), at the pixels the shadows darken the most (against the same frame
+/// without shadows), in the modes that shade from a draw, a list and the stencil. Each such
+/// pixel's explanation names a light whose shadow factor is below 1 there, and the sum holds.
+#[test]
+fn the_explanation_adds_up_in_the_lights_shadows() {
+    use lampshade::renderer::ShadowMode;
+    let gpu = gpu();
+    let s = scene("shadows");
+    let (w, h) = (160, 90);
+    let shadowed = |culling| Settings { shadows: ShadowMode::All, ..settings(culling) };
+    let mut dark = s.clone();
+    dark.lights.clear();
+    let (_, (d0, s0)) = rendered(&dark, &shadowed(CullingMode::Fullscreen), w, h);
+    let (_, (lit, _)) =
+        rendered(&s, &Settings { shadows: ShadowMode::None, ..settings(CullingMode::Fullscreen) }, w, h);
+    let (_, (shade, _)) = rendered(&s, &shadowed(CullingMode::Fullscreen), w, h);
+    let mut order: Vec<usize> = (0..(w * h) as usize).collect();
+    let darkened = |i: usize| (0..3).map(|c| lit[4 * i + c] - shade[4 * i + c]).fold(0.0f32, f32::max);
+    order.sort_by(|&a, &b| darkened(b).total_cmp(&darkened(a)));
+    let pixels: Vec<(u32, u32)> = order.iter().take(6).map(|&i| (i as u32 % w, i as u32 / w)).collect();
+    for mode in [CullingMode::Volume, CullingMode::StencilReplace, CullingMode::Tiled, CullingMode::Clustered] {
+        let (r, _) = rendered(&s, &shadowed(mode), w, h);
+        for &(x, y) in &pixels {
+            let e = r.explain(gpu, x, y).expect("explain");
+            let what = format!("shadows, {}, pixel {x},{y}", mode.name());
+            let table = lampshade::renderer::explain::table(&e);
+            assert_eq!(e.missed, 0, "{what}: the culling left out light:\n{table}");
+            assert!(e.lights.iter().any(|l| l.shadow < 1.0), "{what}: no light is shadowed here:\n{table}");
+            let k = adding(&e);
+            let i = (y * w + x) as usize;
+            for c in 0..3 {
+                for (acc, rest, dark) in [
+                    (e.accumulated_diffuse[c], e.rest_diffuse[c], d0[4 * i + c]),
+                    (e.accumulated_specular[c], e.rest_specular[c], s0[4 * i + c]),
+                ] {
+                    let bound = (k as f32 + 2.0) * 2f32.powi(-11) * acc.abs();
+                    assert!(
+                        (rest - dark).abs() <= bound,
+                        "{what}: channel {c}: {rest} against {dark} (bound {bound})\n{table}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// `occluded`: the light behind the wall reaches nothing visible. At the wall's pixels its
+/// screen bounds cover, each mode's own stage stops it or lets it through for nothing: the
+/// volume method's depth test passes (its back faces lie behind the wall: evaluated, wasted),
+/// the stencil methods' test fails (the wall is in front of the volume), and the tiled and
+/// clustered lists leave it out (the cells' depth bounds end at the wall).
+#[test]
+fn a_light_behind_a_wall_is_wasted_by_the_volume_method_and_rejected_by_the_others() {
+    let gpu = gpu();
+    let s = scene("occluded");
+    let (w, h) = (160, 90);
+    // The pixels whose ray meets the light's volume (in the volume frame: the light is not
+    // `volume missed` there), on a grid of every 6th pixel.
+    let (r, _) = rendered(&s, &settings(CullingMode::Volume), w, h);
+    let mut pixels = Vec::new();
+    for y in (0..h).step_by(6) {
+        for x in (0..w).step_by(6) {
+            let e = r.explain(gpu, x, y).expect("explain");
+            if e.lights.iter().any(|l| l.index == 0 && l.culling != Culling::VolumeMissed) {
+                pixels.push((x, y));
+            }
+        }
+    }
+    assert!(pixels.len() >= 10, "the hidden light's volume meets only {} probed pixels", pixels.len());
+    for (mode, expect, wasted) in [
+        (CullingMode::Volume, Culling::VolumeDepthPassed, true),
+        (CullingMode::StencilTwoPass, Culling::InFrontOfVolume, false),
+        (CullingMode::StencilInvert, Culling::InFrontOfVolume, false),
+        (CullingMode::StencilReplace, Culling::InFrontOfVolume, false),
+        (CullingMode::Tiled, Culling::NotInList, false),
+        (CullingMode::Clustered, Culling::NotInList, false),
+    ] {
+        let (r, _) = rendered(&s, &settings(mode), w, h);
+        for &(x, y) in &pixels {
+            let e = r.explain(gpu, x, y).expect("explain");
+            let what = format!("{}, pixel {x},{y}", mode.name());
+            let Some(l) = e.lights.iter().find(|l| l.index == 0) else {
+                panic!("{what}: the hidden light is not listed")
+            };
+            assert!(!l.contributes(), "{what}: the hidden light adds light");
+            assert_eq!((l.culling, l.wasted), (expect, wasted), "{what}\n{}", lampshade::renderer::explain::table(&e));
+        }
+    }
+    eprintln!("the hidden light checked at {} pixels in six modes", pixels.len());
+}
+
+/// The explanation asks for the deferred path's G-buffer: the forward paths and the light
+/// pre-pass get an error naming the path, not a panic or a wrong answer.
+#[test]
+fn explaining_a_frame_without_a_deferred_gbuffer_is_a_clear_error() {
+    let gpu = gpu();
+    let s = scene("occluded");
+    for path in [lampshade::renderer::RenderPath::Forward, lampshade::renderer::RenderPath::LightPrepass] {
+        let st = Settings { path, ..settings(CullingMode::Volume) };
+        let (r, _) = rendered(&s, &st, 64, 36);
+        let err = r.explain(gpu, 10, 10).expect_err("explained a non-deferred frame");
+        assert!(err.to_string().contains(&path.name()), "{err}");
+    }
+    let (r, _) = rendered(&s, &settings(CullingMode::Volume), 64, 36);
+    assert!(r.explain(gpu, 64, 10).is_err(), "a pixel outside the frame");
+}

@@ -33,8 +33,12 @@ fn render_writes_an_image_and_complete_stats() {
         "--stats",
         json.to_str().unwrap(),
         "--ideal",
+        "--probe",
+        "80,60",
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("pixel 80,60 (deferred path, stencil-two-pass culling)"), "{stdout}");
     let img = image::open(&png).unwrap().to_rgba8();
     assert_eq!(img.dimensions(), (160, 90));
     let lit = img.pixels().filter(|p| p[0] as u32 + p[1] as u32 + p[2] as u32 > 60).count();
@@ -65,6 +69,10 @@ fn render_writes_an_image_and_complete_stats() {
         assert!(v["gpu_ms"].get(pass).is_some(), "gpu_ms lacks {pass}");
     }
     assert!(v["shaded_fragments"].as_u64().unwrap() >= v["ideal_fragments"].as_u64().unwrap());
+    // `--probe`'s explanation: the pixel, and no light missed.
+    assert_eq!((v["probe"]["x"].as_u64(), v["probe"]["y"].as_u64()), (Some(80), Some(60)));
+    assert_eq!(v["probe"]["missed"], 0);
+    assert!(v["probe"]["lights"].is_array());
 }
 
 #[test]
@@ -229,6 +237,9 @@ fn bad_input_is_a_clear_error() {
         (vec!["render", "spot", "--out", p, "--settings", "/no/such/file.json"], "reading settings"),
         (vec!["render", "spot", "--out", p, "--settings", bad_settings.to_str().unwrap()], "sideways"),
         (vec!["render", "spot", "--size", "8x8", "--out", "/no/such/dir/x.png"], "writing"),
+        (vec!["render", "spot", "--size", "8x8", "--out", p, "--probe", "5"], "not X,Y"),
+        (vec!["render", "spot", "--size", "8x8", "--out", p, "--probe", "8,2"], "outside the 8x8 frame"),
+        (vec!["render", "spot", "--size", "8x8", "--out", p, "--probe", "2,2", "--path", "forward"], "deferred path"),
         (vec!["bench", "--out", p, "--only", "nothing"], "groups are"),
         (vec!["bench", "nowhere", "--out", p], "unknown scene"),
         (vec!["view", "--no-state", "--exposure=0"], "exposure 0 must be"),

@@ -27,6 +27,27 @@ fn adding(e: &Explanation) -> usize {
     e.lights.iter().filter(|l| l.culling.admitted() && l.contributes()).count()
 }
 
+/// What the explanation's admitted lights add, taken from pixel `i`'s accumulated light,
+/// leaves what the frame without lights accumulated there (`dark`: its diffuse and specular
+/// targets), within (k + 2) half-ulps of fp16 for the k lights that add (see the test below).
+fn assert_adds_up(e: &Explanation, i: usize, dark: (&[f32], &[f32]), what: &str) {
+    let k = adding(e);
+    for c in 0..3 {
+        for (acc, rest, dark) in [
+            (e.accumulated_diffuse[c], e.rest_diffuse[c], dark.0[4 * i + c]),
+            (e.accumulated_specular[c], e.rest_specular[c], dark.1[4 * i + c]),
+        ] {
+            let bound = (k as f32 + 2.0) * 2f32.powi(-11) * acc.abs();
+            assert!(
+                (rest - dark).abs() <= bound,
+                "{what}: channel {c}: accumulated {acc}, the lights leave {rest}, the frame without lights has \
+                 {dark} (bound {bound})\n{}",
+                lampshade::renderer::explain::table(e)
+            );
+        }
+    }
+}
+
 /// For every hard case, every culling mode (shadows on, as by default), at the pixels where
 /// the lights add the most and at two fixed ones: no light that adds to the pixel was left out
 /// by the culling (`missed` 0), and what the admitted lights add, taken from the accumulated
@@ -68,23 +89,8 @@ fn the_explanation_adds_up_to_the_pixel_in_every_mode_on_the_hard_cases() {
                 if !e.valid {
                     continue;
                 }
-                let k = adding(&e);
-                with_light += (k > 0) as usize;
-                let i = (y * w + x) as usize;
-                for c in 0..3 {
-                    for (acc, rest, dark) in [
-                        (e.accumulated_diffuse[c], e.rest_diffuse[c], d0[4 * i + c]),
-                        (e.accumulated_specular[c], e.rest_specular[c], s0[4 * i + c]),
-                    ] {
-                        let bound = (k as f32 + 2.0) * 2f32.powi(-11) * acc.abs();
-                        assert!(
-                            (rest - dark).abs() <= bound,
-                            "{what}: channel {c}: accumulated {acc}, the lights leave {rest}, the frame without \
-                             lights has {dark} (bound {bound})\n{}",
-                            lampshade::renderer::explain::table(&e)
-                        );
-                    }
-                }
+                with_light += (adding(&e) > 0) as usize;
+                assert_adds_up(&e, (y * w + x) as usize, (&d0, &s0), &what);
                 checked += 1;
             }
         }
@@ -122,20 +128,7 @@ fn the_explanation_adds_up_in_the_lights_shadows() {
             let table = lampshade::renderer::explain::table(&e);
             assert_eq!(e.missed, 0, "{what}: the culling left out light:\n{table}");
             assert!(e.lights.iter().any(|l| l.shadow < 1.0), "{what}: no light is shadowed here:\n{table}");
-            let k = adding(&e);
-            let i = (y * w + x) as usize;
-            for c in 0..3 {
-                for (acc, rest, dark) in [
-                    (e.accumulated_diffuse[c], e.rest_diffuse[c], d0[4 * i + c]),
-                    (e.accumulated_specular[c], e.rest_specular[c], s0[4 * i + c]),
-                ] {
-                    let bound = (k as f32 + 2.0) * 2f32.powi(-11) * acc.abs();
-                    assert!(
-                        (rest - dark).abs() <= bound,
-                        "{what}: channel {c}: {rest} against {dark} (bound {bound})\n{table}"
-                    );
-                }
-            }
+            assert_adds_up(&e, (y * w + x) as usize, (&d0, &s0), &what);
         }
     }
 }

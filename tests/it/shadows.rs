@@ -116,6 +116,19 @@ fn surface(scene: &Scene, points: &[Option<Vec3>], i: usize) -> Option<(DVec3, D
     Some((scene.camera.position + to_world * p, to_world * n))
 }
 
+/// The cube face (`shadows::FACES` order: +x, -x, +y, -y, +z, -z) of the major axis of the
+/// light-to-point vector `d`, as `cube_face` in lookup.wgsl picks it.
+fn major_face(d: DVec3) -> u32 {
+    let a = d.abs();
+    if a.x >= a.y && a.x >= a.z {
+        (d.x < 0.0) as u32
+    } else if a.y >= a.z {
+        2 + (d.y < 0.0) as u32
+    } else {
+        4 + (d.z < 0.0) as u32
+    }
+}
+
 /// A texel's world size at view-space point `p` in tile `t` (`ShadowTile::info.y` x w).
 fn texel_at(t: &ShadowTile, p: DVec3) -> f64 {
     let m = glam::Mat4::from_cols_array_2d(&t.to_light).as_dmat4();
@@ -682,18 +695,7 @@ fn the_cube_array_and_the_unrolled_cube_shadow_the_same_pixels() {
     };
     let rot = s.camera.rotation();
     let lp = rot * (s.lights[0].position() - s.camera.position);
-    let texel = |f: &Lit, vp: DVec3| {
-        let d = vp - lp;
-        let a = d.abs();
-        let face = if a.x >= a.y && a.x >= a.z {
-            (d.x < 0.0) as u32
-        } else if a.y >= a.z {
-            2 + (d.y < 0.0) as u32
-        } else {
-            4 + (d.z < 0.0) as u32
-        };
-        texel_at(&f.tiles[(f.lights[0].0 + face) as usize], vp)
-    };
+    let texel = |f: &Lit, vp: DVec3| texel_at(&f.tiles[(f.lights[0].0 + major_face(vp - lp)) as usize], vp);
     let light = s.lights[0].position();
     let (agree, total, blocked) = check.run(|_| light, |vp| Some(texel(&unrolled, vp).max(texel(&array, vp))));
     let share = agree as f64 / total.max(1) as f64;
@@ -741,18 +743,7 @@ fn the_cube_indirection_shadows_the_pixels_the_face_pick_does() {
     eprintln!("faces up to {largest} texels: the indirection's lookup within {lateral:.3} texels");
     let rot = s.camera.rotation();
     let lp = rot * (s.lights[0].position() - s.camera.position);
-    let texel = |vp: DVec3| {
-        let d = vp - lp;
-        let a = d.abs();
-        let face = if a.x >= a.y && a.x >= a.z {
-            (d.x < 0.0) as u32
-        } else if a.y >= a.z {
-            2 + (d.y < 0.0) as u32
-        } else {
-            4 + (d.z < 0.0) as u32
-        };
-        Some(texel_at(&unrolled.tiles[(first + face) as usize], vp))
-    };
+    let texel = |vp: DVec3| Some(texel_at(&unrolled.tiles[(first + major_face(vp - lp)) as usize], vp));
     let light = s.lights[0].position();
     let band = band_texels(&fine(ShadowMode::All)) + lateral;
     for against in [Some(&unrolled), None] {

@@ -288,7 +288,7 @@ impl Renderer {
         let probe: PixelProbe = self.probe(gpu, x, y)?;
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let n = self.last.lights.len();
-        let raw = self.explain_raw(gpu, x, y, n)?;
+        let raw = self.explain_raw(x, y, n)?;
         let lists = if self.last.plan.lights.iter().any(|p| matches!(p.method, Method::Tiled | Method::Clustered)) {
             self.tile_lists(gpu)?
         } else {
@@ -389,7 +389,7 @@ impl Renderer {
 
     /// `cs_explain` at pixel (`x`, `y`) for the `n` lights of the last frame: [`WORDS`] x 4
     /// floats a light.
-    fn explain_raw(&self, gpu: &Gpu, x: u32, y: u32, n: usize) -> Result<Vec<f32>> {
+    fn explain_raw(&self, x: u32, y: u32, n: usize) -> Result<Vec<f32>> {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         if n == 0 {
             return Ok(Vec::new());
@@ -437,7 +437,6 @@ impl Renderer {
         }
         encoder.copy_buffer_to_buffer(&out, 0, &read, 0, bytes);
         self.queue.submit([encoder.finish()]);
-        let _ = gpu;
         super::kit::read_back(device, &read, bytes)
     }
 }

@@ -88,6 +88,9 @@ impl Renderer {
         };
         let m = self.measured(settings, shape, prepared);
         self.queries.read(&self.device, &mut stats, &plan.lights, scene, m.counts, m.ideal, m.times, m.forward)?;
+        for l in &mut stats.per_light {
+            (l.shadow_tiles, l.shadow_texels, l.caster_draws) = prepared.shadows.light_share(l.index);
+        }
         if let Some(fp) = stats.forward_path.as_mut() {
             self.scratch.forward.read(&self.device, fp, settings.count_fragments)?;
         } else {

@@ -315,6 +315,14 @@ pub struct LightStats {
     /// full-screen lights): fragment-shader invocations from pipeline statistics, counted with
     /// the ideal.
     pub coverage: Option<u64>,
+    /// Its shadow maps this frame (`ShadowPlan::light_share`): tiles (atlas tiles or cube-array
+    /// faces), their texels, and the caster draws into them; 0 when it casts no shadow.
+    #[serde(default)]
+    pub shadow_tiles: u32,
+    #[serde(default)]
+    pub shadow_texels: u64,
+    #[serde(default)]
+    pub caster_draws: u64,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -607,6 +615,7 @@ impl Queries {
                 shaded: None,
                 ideal: None,
                 coverage: None,
+                ..Default::default()
             })
             .collect();
         // Occlusion queries that only say 0 or 1 (wgpu's GL backend) count nothing: the counts

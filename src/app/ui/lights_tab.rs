@@ -40,6 +40,16 @@ pub(super) fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
                     if ls.crosses_near { " | crosses near" } else { "" },
                     if ls.crosses_far { " | crosses far" } else { "" }
                 ));
+                if ls.shadow_tiles > 0 {
+                    ui.label(format!(
+                        "shadow: {} tile{}, {} texels, {} caster draws",
+                        ls.shadow_tiles,
+                        if ls.shadow_tiles == 1 { "" } else { "s" },
+                        fmt_count(ls.shadow_texels),
+                        ls.caster_draws
+                    ))
+                    .on_hover_text("its share of the shadow maps this frame: the tiles (or cube faces) it holds and the casters drawn into them");
+                }
             }
             let p = light.position();
             ui.label(format!("position {:.2}, {:.2}, {:.2}", p.x, p.y, p.z));

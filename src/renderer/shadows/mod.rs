@@ -867,6 +867,26 @@ impl ShadowPlan {
     }
 }
 
+impl ShadowPlan {
+    /// Light `i`'s share of the frame's shadow maps: its tiles (atlas tiles or cube-array
+    /// faces), their texels, and the caster draws into them; zeros when it casts none. With
+    /// the sun's cascades (`params.sun`) the lights' shares add up to the plan's tiles, texels
+    /// and `stats.caster_draws`.
+    pub fn light_share(&self, i: usize) -> (u32, u64, u64) {
+        match self.lights.get(i) {
+            Some(&(first, count)) if first != NO_SHADOW => self.tiles_share(first, count),
+            _ => (0, 0, 0),
+        }
+    }
+
+    /// Tiles `first .. first + count`: (count, texels, caster draws).
+    fn tiles_share(&self, first: u32, count: u32) -> (u32, u64, u64) {
+        let draws = self.draws.get(first as usize..(first + count) as usize).unwrap_or_default();
+        let texels = draws.iter().map(|d| d.size as u64 * d.size as u64).sum();
+        (draws.len() as u32, texels, draws.iter().map(|d| d.objects.len() as u64).sum())
+    }
+}
+
 /// `plan`'s caster list and the counts the `shadow` view reads: (lights, casters, the table row
 /// the casters start at: after the parameters' row and the tiles', 0).
 fn with_casters(mut out: ShadowPlan) -> ShadowPlan {
@@ -1192,6 +1212,47 @@ mod tests {
         assert_eq!(indirection_side(2048), 512);
         assert_eq!(indirection_side(8192), MAX_INDIRECTION);
         assert_eq!(indirection_side(64), MIN_TILE);
+    }
+
+    /// The lights' shares of the shadow maps and the sun's cascades add up to the plan's
+    /// tiles, texels and caster draws; a light that casts holds tiles, one that does not none.
+    #[test]
+    fn each_lights_shadow_share_adds_up_to_the_plan() {
+        use crate::scene::builtin::{build, BuiltinOptions};
+        for (name, cube) in
+            [("shadows", ShadowCube::Unrolled), ("shadows", ShadowCube::Array), ("demo", ShadowCube::Unrolled)]
+        {
+            let scene = build(name, BuiltinOptions::default()).expect("built-in scene");
+            let bounds = crate::renderer::scene_gpu::mesh_bounds(&scene);
+            let st = super::super::Settings { shadows: ShadowMode::All, shadow_cube: cube, ..Default::default() };
+            let plan = plan(
+                &scene,
+                &ShadowInputs {
+                    settings: &st,
+                    bounds: &bounds,
+                    footprints: vec![(0.01, true); scene.lights.len()],
+                    size: (640, 360),
+                    proj: scene.camera.projection(16.0 / 9.0, false),
+                    max_texture: 8192,
+                    max_layers: 2048,
+                },
+            );
+            let sun = if plan.params.sun[0] == NO_SHADOW {
+                (0, 0, 0)
+            } else {
+                plan.tiles_share(plan.params.sun[0], plan.params.sun[1])
+            };
+            let mut sum = sun;
+            for i in 0..scene.lights.len() {
+                let (t, x, d) = plan.light_share(i);
+                assert_eq!(t > 0, plan.lights[i].0 != NO_SHADOW, "{name}: light {i}");
+                assert!(t == 0 || x >= t as u64 * (MIN_TILE as u64).pow(2), "{name}: light {i}: {x} texels");
+                sum = (sum.0 + t, sum.1 + x, sum.2 + d);
+            }
+            let texels: u64 = plan.draws.iter().map(|d| d.size as u64 * d.size as u64).sum();
+            assert_eq!(sum, (plan.tiles.len() as u32, texels, plan.stats.caster_draws), "{name} {cube:?}");
+            assert!(sum.0 > sun.0, "{name}: no light cast");
+        }
     }
 
     #[test]

@@ -322,6 +322,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "tile-view-depth",
+        what: "tile view depth",
+        help: "The tile-lights view of a clustered frame: 0 shows each pixel's own cluster; a view depth shows the slice of clusters there",
+        values: Values::Float { min: 0.0, max: 1e9, open: (false, false), slider: (0.0, 100.0) },
+        cli: true,
+        get: |s| s.tile_view_depth.to_string(),
+        put: |s, v| {
+            s.tile_view_depth = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
         name: "light-cutoff",
         what: "light cut-off",
         help: "Cut lights off where they fall below this fraction of their peak (0 = exact radius)",

@@ -275,6 +275,10 @@ gpu_record! {
         /// Clustered: the view depths the slices span.
         pub near: f32,
         pub far: f32,
+        /// The `tile-lights` view of a clustered frame: 0 shows each pixel's own cluster (at
+        /// its surface's depth); d > 0 shows, at every pixel, background included, the cluster
+        /// of its tile at view depth d (`Settings::tile_view_depth`).
+        pub view_depth: f32,
     }
 }
 

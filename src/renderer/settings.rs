@@ -580,6 +580,9 @@ pub struct Settings {
     /// Cut each light off where its attenuation falls below this fraction of its peak (see
     /// [`cutoff_radius`]); 0 draws and shades the exact radius.
     pub light_cutoff: f32,
+    /// The `tile-lights` view of a clustered frame: 0 shows each pixel's own cluster; a view
+    /// depth d > 0 shows the slice of clusters at d across the whole screen.
+    pub tile_view_depth: f32,
     /// Subdivisions of the icosphere bounding point lights (0 ..= 4).
     pub sphere_subdivisions: u32,
     /// Sides of the pyramid bounding spot lights (3 ..= 64).
@@ -699,6 +702,7 @@ impl Default for Settings {
             accumulation: AccumFormat::default(),
             depth_format: DepthFormat::default(),
             light_cutoff: 0.0,
+            tile_view_depth: 0.0,
             sphere_subdivisions: DEFAULT_SPHERE_SUBDIVISIONS,
             cone_sides: DEFAULT_CONE_SIDES,
             forward_lights: ForwardLights::default(),

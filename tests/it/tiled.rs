@@ -298,6 +298,52 @@ fn the_tile_lights_view_shows_each_pixels_list_length() {
     }
 }
 
+/// `--tile-view-depth D` on a clustered frame (the viewer's cluster slice): every pixel,
+/// background included, shows the length of its tile's list at view depth D, the colour map
+/// at that length; slices near and far differ; 0 is the per-pixel view above.
+#[test]
+fn the_cluster_slice_view_shows_each_tiles_list_at_the_chosen_depth() {
+    let gpu = gpu();
+    let scene = scene("demo");
+    let (w, h) = (160, 90);
+    let mut seen = Vec::new();
+    for depth in [6.0f32, 25.0] {
+        let s = Settings {
+            debug_view: DebugView::TileLights,
+            count_ideal: false,
+            tile_view_depth: depth,
+            ..settings(CullingMode::Clustered)
+        };
+        let (r, image, _) = render_with(&scene, &s, w, h);
+        let lists = r.tile_lists(gpu).unwrap().expect("lists for the view");
+        assert_eq!(lists.params.mode, 1);
+        let mut total = 0usize;
+        for y in 0..h {
+            for x in 0..w {
+                let n = lists.list(lists.cell(x, y, depth)).len();
+                total += n;
+                let expected = if n == 0 {
+                    [0.02; 3]
+                } else {
+                    lampshade::renderer::tiles::heat(n as f32 / lampshade::renderer::tiles::HEAT_MAX)
+                };
+                let got = image.get_pixel(x, y);
+                for c in 0..3 {
+                    let want = srgb(expected[c]) * 255.0;
+                    assert!(
+                        (got[c] as f32 - want).abs() <= 2.0,
+                        "slice at {depth}: pixel ({x}, {y}) channel {c} is {}, the map gives {want:.1} ({n} lights)",
+                        got[c]
+                    );
+                }
+            }
+        }
+        assert!(total > 0, "the slice at {depth} holds no light");
+        seen.push(total);
+    }
+    assert_ne!(seen[0], seen[1], "the slices at two depths show the same lists");
+}
+
 #[test]
 fn the_gpu_builds_the_cpus_clustered_lists_and_the_same_picture() {
     // `--cluster-build gpu` runs the CPU's tests (tiles::light_cells) in a compute pass and

@@ -99,6 +99,19 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         }
         if st.settings.debug_view == DebugView::TileLights {
             tile_legend(ui);
+            let tiles = f.stats.and_then(|s| s.tiles.as_ref());
+            if tiles.is_some_and(|t| t.slices > 1) {
+                // A slice through the clusters at one view depth (Unity HDRP's cluster display).
+                ui.horizontal(|ui| {
+                    ui.label("cluster slice at");
+                    let range = super::tabs::slider("tile-view-depth");
+                    ui.add(egui::Slider::new(&mut st.settings.tile_view_depth, range).logarithmic(true).suffix(" m"))
+                        .on_hover_text(
+                            "0: each pixel's own cluster, at its surface; a depth: every pixel shows its tile's \
+                             cluster at that view depth",
+                        );
+                });
+            }
         }
         if st.settings.debug_view == DebugView::MaterialId {
             brdf_legend(ui);

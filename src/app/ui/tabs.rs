@@ -531,7 +531,7 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
 /// A knob's slider span. Sliders using it clamp only what the user drags or types
 /// (`SliderClamping::Edits`): a value set beyond the span by the CLI, a script or a settings
 /// file (the knob's own range is wider) stays as it is, never silently clamped by drawing.
-fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
+pub(super) fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
     // The names are this file's literals; `every_slider_knob_has_a_span` checks them.
     knobs::find(name).and_then(|k| k.slider()).unwrap_or(0.0..=1.0)
 }
@@ -543,6 +543,7 @@ mod tests {
         for name in [
             "exposure",
             "light-cutoff",
+            "tile-view-depth",
             "bloom-threshold",
             "bloom-intensity",
             "target-luminance",

@@ -439,6 +439,7 @@ fn grid(f: &FrameInputs<'_>, clusters: Option<&ClusterBuild>, cpu_lists: Option<
         slice_bias: 0.0,
         near: 0.0,
         far: 0.0,
+        view_depth: f.settings.tile_view_depth,
     };
     let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
         params.mode = 1;

@@ -20,6 +20,8 @@ struct TileParams {
     // Clustered: the view depths the slices span.
     near: f32,
     far: f32,
+    // The tile-lights view's slice depth (0: each pixel's own surface).
+    view_depth: f32,
 };
 
 // Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);
@@ -311,12 +313,17 @@ fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
     return light_targets(s, d, sp);
 }
 
-// Debug: the length of the pixel's list (every pixel with a G-buffer point).
+// Debug: the length of the pixel's list (every pixel with a G-buffer point). In a clustered
+// frame with `tile_params.view_depth` > 0, the length of its tile's list at that view depth
+// instead, at every pixel (a slice through the clusters, as Unity HDRP's cluster display).
 @fragment
 fn fs_tile_count(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(frag.xy);
-    let s = gbuffer_load(p);
-    if !s.valid {
+    var s = gbuffer_load(p);
+    let slice = tile_params.mode == 1u && tile_params.view_depth > 0.0;
+    if slice {
+        s.position = vec3<f32>(0.0, 0.0, -tile_params.view_depth);
+    } else if !s.valid {
         return vec4<f32>(0.0);
     }
     let cell = tile_cell(p, s);

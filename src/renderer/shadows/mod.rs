@@ -996,18 +996,7 @@ mod tests {
                         ..Default::default()
                     };
                     let code = ShadowCode::of(Some(scene), &st);
-                    let plan = plan(
-                        scene,
-                        &ShadowInputs {
-                            settings: &st,
-                            bounds: &bounds,
-                            footprints: vec![(0.01, true); scene.lights.len()],
-                            size: (640, 360),
-                            proj: scene.camera.projection(16.0 / 9.0, false),
-                            max_texture: 8192,
-                            max_layers: 2048,
-                        },
-                    );
+                    let plan = test_plan(scene, &bounds, &st);
                     let what = format!("{} {mode:?} {cube:?}: {code:?}", scene.name);
                     let mut granted = (plan.params.sun[0] != NO_SHADOW, false, None);
                     for &(first, count) in plan.lights.iter().filter(|l| l.0 != NO_SHADOW) {
@@ -1127,6 +1116,23 @@ mod tests {
         assert_eq!(cube_array_fit(&[256; 6], 3 * cube(256), 2, 8192, 256), (256, 6));
     }
 
+    /// The plan of `scene` under `st` at 640x360, every light on screen with a 1% footprint,
+    /// on a device with 8192-texel textures and 2048 layers.
+    fn test_plan(scene: &Scene, bounds: &[(DVec3, f64)], st: &super::super::Settings) -> ShadowPlan {
+        plan(
+            scene,
+            &ShadowInputs {
+                settings: st,
+                bounds,
+                footprints: vec![(0.01, true); scene.lights.len()],
+                size: (640, 360),
+                proj: scene.camera.projection(16.0 / 9.0, false),
+                max_texture: 8192,
+                max_layers: 2048,
+            },
+        )
+    }
+
     /// Each face looks down its own axis (the axis maps to the face's centre at distance 1),
     /// and every direction lands inside the face of its major axis (|ndc| <= 1, w = |major|).
     #[test]
@@ -1225,18 +1231,7 @@ mod tests {
             let scene = build(name, BuiltinOptions::default()).expect("built-in scene");
             let bounds = crate::renderer::scene_gpu::mesh_bounds(&scene);
             let st = super::super::Settings { shadows: ShadowMode::All, shadow_cube: cube, ..Default::default() };
-            let plan = plan(
-                &scene,
-                &ShadowInputs {
-                    settings: &st,
-                    bounds: &bounds,
-                    footprints: vec![(0.01, true); scene.lights.len()],
-                    size: (640, 360),
-                    proj: scene.camera.projection(16.0 / 9.0, false),
-                    max_texture: 8192,
-                    max_layers: 2048,
-                },
-            );
+            let plan = test_plan(&scene, &bounds, &st);
             let sun = if plan.params.sun[0] == NO_SHADOW {
                 (0, 0, 0)
             } else {

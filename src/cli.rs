@@ -141,6 +141,12 @@ pub struct RenderArgs {
     /// Count the ideal fragments too (a full-screen counting pass per light).
     #[arg(long)]
     pub ideal: bool,
+    /// The light ledger, `on` or `off`: each light's evaluated pairs, wasted pairs (with
+    /// `--ideal`) and cost in the stats. Default: on up to 4,096 lights, off above unless asked
+    /// (its counters split the light pass's batched draws into a draw per light and add an
+    /// atomic per pair in tiled and clustered; `bench --only ledger` measures what it costs).
+    #[arg(long, value_parser = crate::renderer::knobs::parse_switch)]
+    pub ledger: Option<bool>,
     /// Write the frame's statistics as JSON.
     #[arg(long)]
     pub stats: Option<PathBuf>,
@@ -207,7 +213,8 @@ pub struct BenchArgs {
     pub light_grid: Option<u32>,
     /// Only these groups (comma-separated): culling, presets, near, materials, layout,
     /// accumulation, depth, cutoff, tessellation, resolution, lights, radius, ambient, forward,
-    /// post, shadows, path.
+    /// post, shadows, path; and ledger (the per-light cost model fitted and checked by removing
+    /// lights, per culling mode).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }

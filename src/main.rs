@@ -49,8 +49,8 @@ fn bench(args: BenchArgs) -> Result<()> {
         );
     }
     for g in &args.only {
-        if !bench::GROUPS.contains(&g.as_str()) {
-            bail!("--only {g}: groups are {}", bench::GROUPS.join(", "));
+        if !bench::GROUPS.contains(&g.as_str()) && g != bench::LEDGER_GROUP {
+            bail!("--only {g}: groups are {}, {}", bench::GROUPS.join(", "), bench::LEDGER_GROUP);
         }
     }
     o.groups = args.only.clone();
@@ -146,6 +146,21 @@ fn render(args: RenderArgs) -> Result<()> {
         camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
         scene.camera = camera;
     }
+    // The ledger's counters: asked for, or by default up to LEDGER_DEFAULT_MAX lights.
+    settings.count_fragments = match args.ledger {
+        Some(on) => on,
+        None if scene.lights.len() > lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX => {
+            if settings.count_fragments {
+                eprintln!(
+                    "note: {} lights: the light ledger is off above {} unless asked (--ledger on)",
+                    scene.lights.len(),
+                    lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX
+                );
+            }
+            false
+        }
+        None => settings.count_fragments,
+    };
     if let Some(k) = settings.selected_light {
         if k >= scene.lights.len() {
             bail!("--light {k}: scene '{scene_name}' has {} lights", scene.lights.len());
@@ -191,6 +206,10 @@ fn render(args: RenderArgs) -> Result<()> {
             "shaded_fragments": stats.shaded_fragments,
             "ideal_fragments": stats.ideal_fragments,
             "ideal_counted": settings.count_ideal,
+            "ledger": settings.count_fragments,
+            "wasted_fragments": stats.wasted_fragments,
+            "light_cost_ms": stats.light_cost_ms,
+            "cost_model": stats.cost_model,
             "coverage_fragments": stats.coverage_fragments,
             "efficiency": stats.efficiency,
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,

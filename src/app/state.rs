@@ -148,6 +148,8 @@ pub struct UiState {
     /// Camera speed in units per second (Shift: x4).
     pub move_speed: f64,
     pub light_edits: BTreeMap<usize, LightEdit>,
+    /// The light list in the ledger's order: costliest first, with bars.
+    pub lights_by_cost: bool,
     /// Cookies the user picked per light (seed 004): a built-in name or a PNG path; `None`
     /// takes the light's cookie away.
     #[serde(default)]
@@ -222,6 +224,7 @@ impl Default for UiState {
             camera: None,
             move_speed: 8.0,
             light_edits: BTreeMap::new(),
+            lights_by_cost: false,
             light_cookies: BTreeMap::new(),
             radius_scale: 1.0,
             intensity_scale: 1.0,

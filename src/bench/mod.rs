@@ -11,11 +11,13 @@
 //! - [`plot`]: the charts.
 
 mod configs;
+mod ledger;
 mod plot;
 mod report;
 mod run;
 
 pub use configs::*;
+pub use ledger::*;
 pub use plot::*;
 pub use report::*;
 pub use run::*;
@@ -96,6 +98,8 @@ pub struct Skipped {
 pub struct BenchRun {
     pub rows: Vec<Row>,
     pub skipped: Vec<Skipped>,
+    /// The `ledger` group: the per-light cost model checked per mode.
+    pub ledger: Vec<LedgerRow>,
 }
 
 /// One configuration: what it varies, and the settings, light count, size and scene it runs with.

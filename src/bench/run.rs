@@ -88,10 +88,14 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         rows.push(failed_row(cfg, &o.scene, lights, error));
     }
     fill_path_siblings(&mut rows);
+    let ledger = match o.groups.is_empty() || o.groups.iter().any(|g| g == super::LEDGER_GROUP) {
+        true => super::ledger(gpu, o, &mut |label| progress(steps, steps, label))?,
+        false => Vec::new(),
+    };
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
-    Ok(BenchRun { rows, skipped })
+    Ok(BenchRun { rows, skipped, ledger })
 }
 
 /// A configuration ready to time: its scene, its renderer (warm), its timed frames' stats.

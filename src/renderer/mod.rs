@@ -195,6 +195,9 @@ pub struct Renderer {
     /// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded).
     /// Keyed by the file's modification time too, so an edited file is read again.
     lut: Option<((String, Option<std::time::SystemTime>), post::Lut)>,
+    /// The per-light cost model of the stats (`explain::cost`): a fitted one, by mode (tiled
+    /// and clustered: the list modes; every other: the drawn ones), or the built-in constants.
+    pub cost_models: Vec<(CullingMode, explain::cost::CostModel)>,
 }
 
 /// Builds a configuration's passes, turning validation errors (a bad layout, a shader that
@@ -238,6 +241,7 @@ impl Renderer {
             spare: Default::default(),
             long_list_warnings: Vec::new(),
             lut: None,
+            cost_models: Vec::new(),
             device,
         })
     }

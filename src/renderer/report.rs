@@ -96,6 +96,35 @@ impl Renderer {
         } else {
             self.scratch.tiled.read(&self.device, &mut stats, plan.tiled)?;
         }
+        self.ledger(&mut stats, plan.tiled.is_some());
         Ok(stats)
+    }
+
+    /// The ledger's per-frame figures from the counts read back: each light's wasted pairs
+    /// and its cost by the model for the frame's mode (`listed`: shaded from tile or cluster
+    /// lists).
+    fn ledger(&self, stats: &mut FrameStats, listed: bool) {
+        for l in &mut stats.per_light {
+            l.wasted = l.shaded.zip(l.ideal).map(|(s, i)| s.saturating_sub(i));
+        }
+        let wasted: Option<u64> = stats.per_light.iter().map(|l| l.wasted).sum();
+        stats.wasted_fragments = wasted.filter(|_| !stats.per_light.is_empty());
+        if stats.shaded_fragments.is_none() || stats.forward_path.is_some() {
+            return;
+        }
+        let pixels = stats.size[0] as f64 * stats.size[1] as f64;
+        let model = self
+            .cost_models
+            .iter()
+            .find(|(m, _)| *m == stats.culling)
+            .map(|(_, c)| c.clone())
+            .unwrap_or_else(|| super::explain::cost::CostModel::builtin(listed, pixels));
+        let mut sum = 0.0;
+        for l in &mut stats.per_light {
+            l.cost_ms = model.light_ms(l);
+            sum += l.cost_ms.unwrap_or(0.0);
+        }
+        stats.light_cost_ms = Some(sum);
+        stats.cost_model = Some(model);
     }
 }

@@ -323,6 +323,14 @@ pub struct LightStats {
     pub shadow_texels: u64,
     #[serde(default)]
     pub caster_draws: u64,
+    /// Evaluated pairs that the light's true shape does not hold: `shaded - ideal`, when
+    /// both were counted (the culling's false positives for this light).
+    #[serde(default)]
+    pub wasted: Option<u64>,
+    /// Its cost in the light pass by the frame's [`CostModel`](crate::renderer::explain::cost::CostModel)
+    /// (ms): its draws and its evaluated pairs.
+    #[serde(default)]
+    pub cost_ms: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
@@ -342,6 +350,12 @@ pub struct FrameStats {
     pub coverage_fragments: Option<u64>,
     /// ideal / shaded.
     pub efficiency: Option<f64>,
+    /// shaded - ideal, summed over the lights (when both were counted).
+    pub wasted_fragments: Option<u64>,
+    /// The model the per-light `cost_ms` come from, and its sum over the lights with the
+    /// fixed part apart (`light_cost_ms` + `cost_model.fixed_ms` against `gpu_ms.lighting`).
+    pub cost_model: Option<crate::renderer::explain::cost::CostModel>,
+    pub light_cost_ms: Option<f64>,
     /// The forward pass of blended surfaces, when the frame drew one.
     pub forward: Option<ForwardStats>,
     /// The tiled pass's light lists, when the frame (or the `tile-lights` view) built them.

@@ -93,6 +93,45 @@ fn stats_alone_do_not_count_the_ideal_and_say_so() {
     assert!(v["ideal_fragments"].as_u64().is_some_and(|n| n > 0));
 }
 
+/// The ledger in `--stats`: on by default (each light's pairs, wasted pairs with `--ideal`, cost
+/// and the model), off above 4,096 lights with a note, on again when asked.
+#[test]
+fn the_ledger_is_in_the_stats_and_off_above_4096_lights_unless_asked() {
+    let png = tmp("ledger.png");
+    let json = tmp("ledger.json");
+    let read = || -> serde_json::Value { serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap() };
+    let base = ["render", "demo", "--size", "64x36", "--culling", "tiled", "--out", png.to_str().unwrap()];
+    let stats = ["--stats", json.to_str().unwrap()];
+    let out = lampshade(&[&base[..], &stats, &["--lights", "16", "--ideal"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v = read();
+    assert_eq!(v["ledger"], true);
+    let lights = v["per_light"].as_array().unwrap();
+    let (mut shaded, mut wasted) = (0, 0);
+    for l in lights {
+        let (s, i, w) = (l["shaded"].as_u64().unwrap(), l["ideal"].as_u64().unwrap(), l["wasted"].as_u64().unwrap());
+        assert_eq!(w, s - i, "{l}");
+        assert!(l["cost_ms"].as_f64().is_some_and(|c| c >= 0.0), "{l}");
+        (shaded, wasted) = (shaded + s, wasted + w);
+    }
+    assert_eq!((v["shaded_fragments"].as_u64(), v["wasted_fragments"].as_u64()), (Some(shaded), Some(wasted)));
+    assert!(v["cost_model"]["pair_ns"].as_f64().is_some() && v["light_cost_ms"].as_f64().is_some());
+    let many = ["--lights", "4100"];
+    let out = lampshade(&[&base[..], &stats, &many].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("ledger is off above 4096"));
+    let v = read();
+    assert_eq!(v["ledger"], false);
+    assert!(v["shaded_fragments"].is_null() && v["per_light"][0]["cost_ms"].is_null());
+    let out = lampshade(&[&base[..], &stats, &many, &["--ledger", "on"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v = read();
+    assert_eq!(v["ledger"], true);
+    assert!(v["shaded_fragments"].as_u64().is_some() && v["per_light"][0]["cost_ms"].as_f64().is_some());
+    let out = lampshade(&[&base[..], &["--ledger", "maybe"]].concat());
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("--ledger"));
+}
+
 #[test]
 fn a_headless_render_needs_no_runtime_dir_and_prints_no_display_errors() {
     let png = tmp("no-xdg.png");
@@ -371,6 +410,15 @@ fn bench_runs_every_group(file: &str, extra: &[&str], fixed: bool) {
     let md = std::fs::read_to_string(dir.join("bench.md")).unwrap();
     let skipped = md.split("### Skipped").nth(1).unwrap_or_else(|| panic!("{file}: no Skipped section:\n{md}"));
     assert!(skipped.contains("| layout | oct8 |") && skipped.contains("material ID"), "{file}: {skipped}");
+    // The ledger group: a row per mode it checks, each with its fit or the reason it has none.
+    let ledger = md.split("## The light ledger").nth(1).unwrap_or_else(|| panic!("{file}: no ledger section:\n{md}"));
+    for mode in lampshade::bench::LEDGER_MODES {
+        assert!(
+            ledger.contains(&format!("\n| {} |", mode.name())),
+            "{file}: no ledger row for {}:\n{ledger}",
+            mode.name()
+        );
+    }
     let rows = bench_rows(&dir.join("bench.csv"));
     for group in lampshade::bench::GROUPS {
         let expected = !(fixed && *group == "lights");

@@ -193,3 +193,75 @@ fn explaining_a_frame_without_a_deferred_gbuffer_is_a_clear_error() {
     let (r, _) = rendered(&s, &settings(CullingMode::Volume), 64, 36);
     assert!(r.explain(gpu, 64, 10).is_err(), "a pixel outside the frame");
 }
+
+/// The ledger of `tiled` and `clustered`, where a light has no draw of its own: each light's
+/// pairs (the shading pass's per-light counters) equal, light by light and exactly, the pairs
+/// counted on the CPU from the lists read back (every pixel with a G-buffer point adds one to
+/// each light of its tile's or cluster's list), so a light outside every list has none; they
+/// add up to the frame's total; and every light's pairs hold its ideal pairs (culling only
+/// skips work), the rest being its wasted pairs. `demo` with 64 point lights and its spots, on
+/// a frame where some lights reach no cell.
+#[test]
+fn the_ledgers_pairs_are_the_lists_pixels_light_by_light() {
+    let gpu = gpu();
+    let scene = lampshade::scene::builtin::build(
+        "demo",
+        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
+    )
+    .expect("demo");
+    let (w, h) = (160, 90);
+    for mode in [CullingMode::Tiled, CullingMode::Clustered] {
+        let st = Settings { culling: mode, count_fragments: true, count_ideal: true, ..settings(mode) };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &st).expect("renderer");
+        let stats = render_image(gpu, &mut r, &scene, &st, w, h).expect("render").1;
+        let lists = r.tile_lists(gpu).expect("lists").expect("the frame built lists");
+        let points = r.view_positions(gpu).expect("positions");
+        let mut expected = vec![0u64; scene.lights.len()];
+        for (k, p) in points.iter().enumerate() {
+            let Some(p) = p else { continue };
+            let (x, y) = (k as u32 % w, k as u32 / w);
+            for i in lists.list(lists.cell(x, y, -p.z)) {
+                expected[i as usize] += 1;
+            }
+        }
+        let what = mode.name();
+        let counted: Vec<u64> = stats.per_light.iter().map(|l| l.shaded.expect("counted")).collect();
+        assert_eq!(counted, expected, "{what}: per-light pairs against the lists' pixels");
+        assert_eq!(stats.shaded_fragments, Some(expected.iter().sum()), "{what}");
+        let unlisted = expected.iter().filter(|&&n| n == 0).count();
+        assert!(unlisted > 0 && unlisted < scene.lights.len(), "{what}: {unlisted} lights in no list");
+        for l in &stats.per_light {
+            let (shaded, ideal) = (l.shaded.unwrap(), l.ideal.expect("ideal counted"));
+            assert!(shaded >= ideal, "{what}: light {} evaluated {shaded} pairs of its {ideal} ideal", l.index);
+            assert_eq!(l.wasted, Some(shaded - ideal), "{what}: light {}", l.index);
+            assert!(l.cost_ms.is_some_and(|c| c >= 0.0), "{what}: light {} has no cost", l.index);
+        }
+        let wasted: u64 = stats.per_light.iter().filter_map(|l| l.wasted).sum();
+        assert_eq!(stats.wasted_fragments, Some(wasted), "{what}");
+        assert!(wasted > 0, "{what}: lists that waste nothing on demo");
+    }
+}
+
+/// The ledger off: the same picture, bit for bit, in the modes whose counters are atomics in
+/// the shading pass (a second entry point), and no per-light figure at all.
+#[test]
+fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
+    let gpu = gpu();
+    let scene = lampshade::scene::builtin::build(
+        "demo",
+        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
+    )
+    .expect("demo");
+    for mode in [CullingMode::Tiled, CullingMode::Clustered] {
+        let on = Settings { count_fragments: true, ..settings(mode) };
+        let off = settings(mode);
+        let (_, a) = rendered(&scene, &on, 160, 90);
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &off).expect("renderer");
+        let stats = render_image(gpu, &mut r, &scene, &off, 160, 90).expect("render").1;
+        let b = r.read_accumulation(gpu).expect("accumulation");
+        assert!(a == b, "{}: the counted frame's light differs from the uncounted one's", mode.name());
+        assert_eq!(stats.shaded_fragments, None, "{}", mode.name());
+        assert!(stats.per_light.iter().all(|l| l.shaded.is_none() && l.cost_ms.is_none() && l.wasted.is_none()));
+        assert_eq!((stats.light_cost_ms, stats.wasted_fragments), (None, None), "{}", mode.name());
+    }
+}

@@ -32,10 +32,12 @@ pub(super) fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
             });
             if let Some(ls) = f.stats.and_then(|s| s.per_light.get(k)) {
                 ui.label(format!(
-                    "{} | shaded {} | ideal {} | screen {:.1}%{}{}",
+                    "{} | shaded {} | ideal {} | wasted {} | cost {} | screen {:.1}%{}{}",
                     method_name(ls.method),
                     fmt_opt(ls.shaded),
                     fmt_opt(ls.ideal),
+                    fmt_opt(ls.wasted),
+                    ls.cost_ms.map_or("-".into(), |ms| format!("{ms:.3} ms (model)")),
                     ls.screen_share * 100.0,
                     if ls.crosses_near { " | crosses near" } else { "" },
                     if ls.crosses_far { " | crosses far" } else { "" }
@@ -199,38 +201,124 @@ fn cookie_picker(ui: &mut egui::Ui, st: &mut UiState, out: &mut UiOut, k: usize,
     }
 }
 
-/// Every light with its shaded count and method; a click selects it.
+/// Every light with its shaded count and method, or (the ledger's order) costliest first with
+/// bars of its evaluated, ideal and wasted pairs and its cost; a click selects it.
 fn light_list(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, scene: &Scene) {
     ui.separator();
-    ui.label(RichText::new(format!("All lights ({})", scene.lights.len())).strong());
-    let row_h = 18.0;
     let per_light = f.stats.map(|s| s.per_light.as_slice()).unwrap_or(&[]);
+    ui.horizontal(|ui| {
+        ui.label(RichText::new(format!("All lights ({})", scene.lights.len())).strong());
+        ui.checkbox(&mut st.lights_by_cost, "costliest first")
+            .on_hover_text("the light ledger: each light's evaluated pairs (ideal in green, wasted in red) and its cost in the light pass by the cost model; needs the fragment counts (and the ideal counts for the waste)");
+    });
+    let by_cost = st.lights_by_cost && per_light.iter().any(|l| l.cost_ms.is_some());
+    if st.lights_by_cost {
+        ledger_summary(ui, f.stats);
+    }
+    // The rows' order: the scene's, or by cost.
+    let order: Vec<usize> = if by_cost {
+        let mut v: Vec<usize> = (0..scene.lights.len()).collect();
+        let cost = |i: usize| per_light.get(i).and_then(|l| l.cost_ms).unwrap_or(0.0);
+        v.sort_by(|&a, &b| cost(b).total_cmp(&cost(a)));
+        v
+    } else {
+        Vec::new()
+    };
+    let widest = per_light.iter().filter_map(|l| l.shaded).max().unwrap_or(0).max(1);
+    let row_h = 18.0;
     let mut list = egui::ScrollArea::vertical()
         .id_salt("light-list")
         .max_height(ui.available_height().max(120.0))
         .auto_shrink([false, true]);
     if let Some(k) = f.scroll_to_light {
         // A light picked in the viewport: bring its row into view, a few rows from the top.
-        list = list.vertical_scroll_offset((k.saturating_sub(3)) as f32 * (row_h + ui.spacing().item_spacing.y));
+        let row = if by_cost { order.iter().position(|&i| i == k).unwrap_or(k) } else { k };
+        list = list.vertical_scroll_offset((row.saturating_sub(3)) as f32 * (row_h + ui.spacing().item_spacing.y));
     }
     list.show_rows(ui, row_h, scene.lights.len(), |ui, range| {
-        for i in range {
+        for row in range {
+            let i = if by_cost { order[row] } else { row };
             let l = &scene.lights[i];
             ui.horizontal(|ui| {
                 let (r, _) = ui.allocate_exact_size(Vec2::new(12.0, 12.0), Sense::hover());
                 ui.painter().rect_filled(r, 2.0, colour32(l.color()));
                 let ls = per_light.get(i);
-                let text = format!(
-                    "{:<10}{:>8} {}",
-                    light_label(i, l),
-                    ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
-                    ls.map_or(String::new(), |s| method_name(s.method))
-                );
+                let text = if by_cost {
+                    format!(
+                        "{:<10}{:>9}",
+                        light_label(i, l),
+                        ls.and_then(|s| s.cost_ms).map_or("-".into(), |ms| format!("{ms:.3} ms"))
+                    )
+                } else {
+                    format!(
+                        "{:<10}{:>8} {}",
+                        light_label(i, l),
+                        ls.and_then(|s| s.shaded).map_or("-".into(), fmt_count),
+                        ls.map_or(String::new(), |s| method_name(s.method))
+                    )
+                };
                 let sel = st.selected_light == Some(i);
                 if ui.add(egui::Button::selectable(sel, RichText::new(text).monospace()).truncate()).clicked() {
                     st.selected_light = if sel { None } else { Some(i) };
                 }
+                if let (true, Some(ls)) = (by_cost, ls) {
+                    pair_bar(ui, ls, widest);
+                }
             });
         }
     });
+}
+
+/// The ledger's totals: the lights' costs by the model, its fixed part and the measured light
+/// pass, and the wasted pairs.
+fn ledger_summary(ui: &mut egui::Ui, stats: Option<&FrameStats>) {
+    let Some(s) = stats else { return };
+    match (&s.cost_model, s.light_cost_ms) {
+        (Some(m), Some(sum)) => {
+            ui.label(format!(
+                "lights {sum:.2} ms + fixed {:.2} ms (model) | light pass {} measured",
+                m.fixed_ms,
+                fmt_ms(s.gpu_ms.lighting)
+            ))
+            .on_hover_text(format!(
+                "cost = draws x {:.4} ms + evaluated pairs x {:.1} ns; {}. `lampshade bench --only ledger` fits the model on this adapter and checks it by removing lights.",
+                m.draw_ms, m.pair_ns, m.source
+            ));
+        }
+        _ => {
+            ui.label("no costs: the frame counted no pairs (turn on fragment counting; the forward paths have no per-light counts)");
+        }
+    }
+    if let (Some(w), Some(sh)) = (s.wasted_fragments, s.shaded_fragments) {
+        ui.label(format!("wasted pairs {} of {}", fmt_count(w), fmt_count(sh)));
+    } else {
+        ui.label("wasted pairs: count the ideal fragments to see them");
+    }
+}
+
+/// A bar of light `ls`'s evaluated pairs, to scale against `widest`: green the part in its
+/// true shape (ideal), red the wasted rest; grey when the ideal was not counted.
+fn pair_bar(ui: &mut egui::Ui, ls: &crate::renderer::stats::LightStats, widest: u64) {
+    let (r, resp) = ui.allocate_exact_size(Vec2::new(120.0, 10.0), Sense::hover());
+    let p = ui.painter();
+    p.rect_stroke(r, 1.0, Stroke::new(0.5, Color32::DARK_GRAY), egui::StrokeKind::Inside);
+    let Some(shaded) = ls.shaded else { return };
+    let w = r.width() * (shaded as f32 / widest as f32);
+    let bar = Rect::from_min_size(r.min, Vec2::new(w, r.height()));
+    match ls.ideal {
+        Some(ideal) => {
+            let g = w * (ideal.min(shaded) as f32 / shaded.max(1) as f32);
+            p.rect_filled(bar, 1.0, Color32::from_rgb(200, 60, 60));
+            p.rect_filled(Rect::from_min_size(r.min, Vec2::new(g, r.height())), 1.0, Color32::from_rgb(70, 180, 90));
+        }
+        None => {
+            p.rect_filled(bar, 1.0, Color32::GRAY);
+        }
+    }
+    resp.on_hover_text(format!(
+        "evaluated {} | ideal {} | wasted {}",
+        fmt_count(shaded),
+        fmt_opt(ls.ideal),
+        fmt_opt(ls.wasted)
+    ));
 }

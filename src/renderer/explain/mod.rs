@@ -23,6 +23,8 @@
 //! light: the rest is what the G-buffer pass wrote before any light (ambient, sun, and in seed
 //! 000's one target the emission).
 
+pub mod cost;
+
 use super::inspect::PixelProbe;
 use super::kit::bindings;
 use super::kit::Shared;

@@ -1,0 +1,363 @@
+//! The `ledger` group: the per-light cost model (`renderer::explain::cost`) fitted and checked
+//! against reality, per culling mode, on the bench's scene.
+//!
+//! For each mode:
+//! 1. **fit** on frames that each shade a subset of the lights (every fourth and every other
+//!    light by evaluated pairs; the half and the quarter with the fewest pairs, and with the
+//!    most; the half with the least and with the most wasted share), each counted for its own
+//!    draws and pairs, then timed (not the empty set: a frame without lights skips passes,
+//!    the lists, so it is not on the model's line);
+//! 2. **the sum**: the model's fixed part plus every light's cost against the whole set's
+//!    measured light pass, a frame the fit never saw (goal: within ±10%);
+//! 3. **the removals**: the ten costliest lights, each taken out in turn; the measured saving
+//!    (the median over rounds of whole-set time minus the set without it, interleaved round by
+//!    round) against the light's cost in the model (goal: within ±20%). A saving whose standard
+//!    error is more than a tenth of the cost cannot decide ±20% and is reported as unresolved,
+//!    with its noise, not counted as a pass or a failure;
+//! 4. **the ledger's own cost**: the light pass with the per-light counters on against off, in
+//!    the same rounds.
+
+use super::*;
+use crate::renderer::explain::cost::{self, CostModel, Sample};
+use crate::renderer::stats::LightStats;
+
+/// The modes the ledger group checks: every mode whose lights all go one way (`auto` mixes
+/// methods per light; its lights' costs come from the modes it mixes).
+pub const LEDGER_MODES: [CullingMode; 7] = [
+    CullingMode::Fullscreen,
+    CullingMode::Volume,
+    CullingMode::StencilTwoPass,
+    CullingMode::StencilInvert,
+    CullingMode::StencilReplace,
+    CullingMode::Tiled,
+    CullingMode::Clustered,
+];
+
+/// The group's name for `--only` (apart from [`GROUPS`]: its rows are not configurations).
+pub const LEDGER_GROUP: &str = "ledger";
+
+/// Lights taken out one at a time.
+pub const REMOVALS: usize = 10;
+
+/// One light of a mode's ten costliest.
+#[derive(Clone, Debug, Serialize)]
+pub struct CostlyLight {
+    pub index: usize,
+    pub kind: String,
+    pub draws: u64,
+    pub pairs: u64,
+    pub ideal: Option<u64>,
+    pub wasted: Option<u64>,
+    /// Its cost in the fitted model (ms).
+    pub predicted_ms: f64,
+    /// The measured saving without it (ms), and that saving's standard error.
+    pub measured_ms: f64,
+    pub noise_ms: f64,
+}
+
+impl CostlyLight {
+    /// Whether the noise lets the measurement decide ±20%: the standard error is at most a
+    /// tenth of the predicted cost.
+    pub fn resolved(&self) -> bool {
+        self.noise_ms <= 0.1 * self.predicted_ms
+    }
+
+    pub fn within(&self) -> bool {
+        (self.measured_ms - self.predicted_ms).abs() <= 0.2 * self.predicted_ms
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct LedgerRow {
+    pub mode: String,
+    pub lights: usize,
+    pub size: (u32, u32),
+    pub model: Option<CostModel>,
+    /// The fit's frames: (draws, pairs, measured ms).
+    pub samples: Vec<Sample>,
+    /// The whole set: the model's fixed part + the lights' costs, against the measured pass.
+    pub predicted_ms: f64,
+    pub measured_ms: f64,
+    pub costliest: Vec<CostlyLight>,
+    /// The light pass with the ledger's counters on and off (medians, ms).
+    pub counted_ms: f64,
+    pub uncounted_ms: f64,
+    /// Why the mode has no row (it could not be built or rendered here).
+    pub error: Option<String>,
+}
+
+impl LedgerRow {
+    /// The sum's relative error.
+    pub fn sum_error(&self) -> f64 {
+        (self.predicted_ms - self.measured_ms) / self.measured_ms
+    }
+}
+
+/// Runs the group: a row per mode of [`LEDGER_MODES`] (the reference's budget keeps
+/// `fullscreen` out where its frame would take minutes).
+pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Result<Vec<LedgerRow>> {
+    let lights = (!o.fixed_lights).then_some(o.lights);
+    let options = crate::scene::import::ImportOptions::default();
+    let (scene, _) = crate::scene::open(&o.scene, BuiltinOptions { lights, time: o.time }, &options, &mut |_| {})?;
+    let pairs = scene.lights.len() as f64 * o.size.0 as f64 * o.size.1 as f64;
+    // Each light's ideal pairs (its true shape over the G-buffer: the same in every mode),
+    // counted once.
+    progress("ledger: ideal counts");
+    let ideal: Vec<u64> = {
+        let s = Settings { count_ideal: true, shadows: ShadowMode::None, ..Settings::default() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s)?;
+        let stats = render_image(gpu, &mut r, &scene, &s, o.size.0, o.size.1)?.1;
+        stats.per_light.iter().map(|l| l.ideal).collect::<Option<Vec<u64>>>().ok_or_else(|| {
+            anyhow::anyhow!("this adapter's occlusion queries do not count samples: the ledger has no pairs")
+        })?
+    };
+    let mut rows = Vec::new();
+    for mode in LEDGER_MODES {
+        if mode == CullingMode::Fullscreen && pairs > REFERENCE_FULLSCREEN_BUDGET {
+            continue;
+        }
+        progress(&format!("ledger {}", mode.name()));
+        let settings = Settings {
+            culling: mode,
+            count_fragments: false,
+            count_ideal: false,
+            timestamps: true,
+            shadows: ShadowMode::None,
+            ..Settings::default()
+        };
+        rows.push(mode_row(gpu, o, &scene, &ideal, &settings).unwrap_or_else(|e| LedgerRow {
+            mode: mode.name(),
+            lights: scene.lights.len(),
+            size: o.size,
+            model: None,
+            samples: Vec::new(),
+            predicted_ms: f64::NAN,
+            measured_ms: f64::NAN,
+            costliest: Vec::new(),
+            counted_ms: f64::NAN,
+            uncounted_ms: f64::NAN,
+            error: Some(format!("{e:#}")),
+        }));
+    }
+    Ok(rows)
+}
+
+/// The scene with only the lights `keep` (indices into its lights).
+fn subset(scene: &crate::Scene, keep: &[usize]) -> crate::Scene {
+    let mut s = scene.clone();
+    s.lights = keep.iter().map(|&i| scene.lights[i]).collect();
+    s
+}
+
+/// A frame's features from its counted render, whose light k is the scene's light `keep[k]`
+/// (`ideal`: each of the scene's lights' ideal pairs).
+fn features(per_light: &[LightStats], keep: &[usize], ideal: &[u64]) -> Sample {
+    let mut f = Sample::default();
+    for (l, &i) in per_light.iter().zip(keep) {
+        let shaded = l.shaded.unwrap_or(0);
+        let e = ideal[i].min(shaded);
+        f.draws += cost::light_draws(l.method) as f64;
+        f.ideal += e as f64;
+        f.wasted += (shaded - e) as f64;
+    }
+    f
+}
+
+fn mode_row(
+    gpu: &Gpu,
+    o: &BenchOptions,
+    scene: &crate::Scene,
+    ideal: &[u64],
+    settings: &Settings,
+) -> Result<LedgerRow> {
+    let (w, h) = o.size;
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings)?;
+    let counted = Settings { count_fragments: true, ..settings.clone() };
+    let lighting = |stats: &FrameStats| stats.gpu_ms.lighting.unwrap_or(f64::NAN);
+    // Warm (shader compiles), then the whole set counted.
+    render_image(gpu, &mut r, scene, settings, w, h)?;
+    let mut full = render_image(gpu, &mut r, scene, &counted, w, h)?.1;
+    let n = scene.lights.len();
+    for (l, &i) in full.per_light.iter_mut().zip(ideal) {
+        l.ideal = Some(i);
+        l.wasted = l.shaded.map(|s| s.saturating_sub(i));
+    }
+    let everyone: Vec<usize> = (0..n).collect();
+    // The fit's subsets, by the lights' evaluated pairs.
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&i| full.per_light[i].shaded.unwrap_or(0));
+    // And by the share of their pairs wasted.
+    let share = |i: usize| {
+        let l = &full.per_light[i];
+        l.wasted.unwrap_or(0) as f64 / l.shaded.unwrap_or(0).max(1) as f64
+    };
+    let mut by_waste = order.clone();
+    by_waste.sort_by(|&a, &b| share(a).total_cmp(&share(b)));
+    // The fixed part is where the line meets no light.
+    let subsets: Vec<Vec<usize>> = vec![
+        order.iter().step_by(4).copied().collect(),
+        order[..n / 2].to_vec(),
+        order[n / 2..].to_vec(),
+        order[..n / 4].to_vec(),
+        order[n - n / 4..].to_vec(),
+        order.iter().step_by(2).copied().collect(),
+        by_waste[..n / 2].to_vec(),
+        by_waste[n / 2..].to_vec(),
+    ];
+    let scenes: Vec<crate::Scene> = subsets.iter().map(|k| subset(scene, k)).collect();
+    let mut fit_features = Vec::new();
+    for (s, keep) in scenes.iter().zip(&subsets) {
+        render_image(gpu, &mut r, s, settings, w, h)?;
+        fit_features.push(features(&render_image(gpu, &mut r, s, &counted, w, h)?.1.per_light, keep, ideal));
+    }
+    // The ten costliest by the built-in model for now; the fitted one reorders them below.
+    let builtin = CostModel::builtin(
+        matches!(settings.culling, CullingMode::Tiled | CullingMode::Clustered),
+        w as f64 * h as f64,
+    );
+    let mut by_cost: Vec<usize> = (0..n).collect();
+    let cost_of = |m: &CostModel, i: usize| m.light_ms(&full.per_light[i]).unwrap_or(0.0);
+    by_cost.sort_by(|&a, &b| cost_of(&builtin, b).total_cmp(&cost_of(&builtin, a)));
+    let removed: Vec<usize> = by_cost.iter().copied().take(REMOVALS.min(n)).collect();
+    let without: Vec<crate::Scene> =
+        removed.iter().map(|&k| subset(scene, &(0..n).filter(|&i| i != k).collect::<Vec<_>>())).collect();
+    for s in &without {
+        render_image(gpu, &mut r, s, settings, w, h)?;
+    }
+    // Timed rounds, interleaved: the subsets, the whole set, the set less each light, and the
+    // whole set counted.
+    // At least five rounds for a median with a spread, except in the quick sweep.
+    let rounds = if o.quick { o.frames.max(1) } else { o.frames.max(5) };
+    let mut fit_times = vec![Vec::new(); scenes.len()];
+    let (mut whole, mut with_counts) = (Vec::new(), Vec::new());
+    let mut less = vec![Vec::new(); without.len()];
+    for _ in 0..rounds {
+        for (s, t) in scenes.iter().zip(&mut fit_times) {
+            t.push(lighting(&render_image(gpu, &mut r, s, settings, w, h)?.1));
+        }
+        whole.push(lighting(&render_image(gpu, &mut r, scene, settings, w, h)?.1));
+        for (s, t) in without.iter().zip(&mut less) {
+            t.push(lighting(&render_image(gpu, &mut r, s, settings, w, h)?.1));
+        }
+        with_counts.push(lighting(&render_image(gpu, &mut r, scene, &counted, w, h)?.1));
+    }
+    let samples: Vec<Sample> =
+        fit_features.iter().zip(&fit_times).map(|(f, t)| Sample { ms: median(t.clone()), ..*f }).collect();
+    let model = CostModel::fit(&samples, format!("fitted on {} frames of {rounds} rounds", samples.len()));
+    let measured_ms = median(whole.clone());
+    let predicted_ms = model.as_ref().map_or(f64::NAN, |m| m.predict(&features(&full.per_light, &everyone, ideal)));
+    let mut costliest: Vec<CostlyLight> = removed
+        .iter()
+        .zip(&less)
+        .map(|(&k, t)| {
+            let l = &full.per_light[k];
+            let diffs: Vec<f64> = whole.iter().zip(t).map(|(a, b)| a - b).collect();
+            let measured = median(diffs.clone());
+            let mad = median(diffs.iter().map(|v| (v - measured).abs()).collect());
+            CostlyLight {
+                index: k,
+                kind: l.kind.to_string(),
+                draws: cost::light_draws(l.method),
+                pairs: l.shaded.unwrap_or(0),
+                ideal: l.ideal,
+                wasted: l.wasted,
+                predicted_ms: model.as_ref().map_or(f64::NAN, |m| cost_of(m, k)),
+                measured_ms: measured,
+                // The median's standard error, from the deviations' spread (1.4826 MAD is σ
+                // for normal noise; the median's is 1.2533 σ/√n).
+                noise_ms: 1.2533 * 1.4826 * mad / (diffs.len() as f64).sqrt(),
+            }
+        })
+        .collect();
+    costliest.sort_by(|a, b| b.predicted_ms.total_cmp(&a.predicted_ms));
+    Ok(LedgerRow {
+        mode: settings.culling.name(),
+        lights: n,
+        size: o.size,
+        model,
+        samples,
+        predicted_ms,
+        measured_ms,
+        costliest,
+        counted_ms: median(with_counts),
+        uncounted_ms: measured_ms,
+        error: None,
+    })
+}
+
+/// The group's markdown: a table of the modes, then each mode's ten costliest lights.
+pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n## The light ledger: each light's cost, checked\n\n\
+         Model (`renderer::explain::cost`): light pass = fixed + Σ lights (draws x draw ms + evaluated pairs x ns a pair), fitted by least squares on frames of light subsets (every fourth and every other light; the halves and quarters \
+         with the fewest and most pairs; the halves with the least and most wasted share), \
+         then held against frames it was not fitted on. Sum: fixed + the lights' costs against the whole set's light pass \
+         (goal ±10%). Removals: each of the ten costliest lights taken out; measured saving = median over interleaved rounds \
+         of (whole - without it), ± its standard error (goal ±20%; unresolved when the standard error exceeds a tenth of the cost). \
+         Ledger: the light pass with the per-light counters on, against off.\n\n\
+         | mode | lights | size | fixed ms | draw ms | ns/pair | predicted ms | measured ms | sum error | removals within ±20% (resolved) | ledger on ms | off ms |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        if let Some(e) = &r.error {
+            s += &format!("| {} | {} | {}x{} | error: {e} | | | | | | | | |\n", r.mode, r.lights, r.size.0, r.size.1);
+            continue;
+        }
+        let [fixed, draw, pair] = r.model.as_ref().map_or(["-".to_string(), "-".into(), "-".into()], |m| {
+            [format!("{:.3}", m.fixed_ms), format!("{:.4}", m.draw_ms), format!("{:.2}", m.pair_ns)]
+        });
+        let resolved: Vec<&CostlyLight> = r.costliest.iter().filter(|c| c.resolved()).collect();
+        s += &format!(
+            "| {} | {} | {}x{} | {fixed} | {draw} | {pair} | {:.2} | {:.2} | {:+.1}% | {}/{} ({} of {}) | {:.2} | {:.2} |\n",
+            r.mode,
+            r.lights,
+            r.size.0,
+            r.size.1,
+            r.predicted_ms,
+            r.measured_ms,
+            100.0 * r.sum_error(),
+            resolved.iter().filter(|c| c.within()).count(),
+            resolved.len(),
+            resolved.len(),
+            r.costliest.len(),
+            r.counted_ms,
+            r.uncounted_ms,
+        );
+    }
+    for r in rows.iter().filter(|r| r.error.is_none()) {
+        let frames: Vec<String> = r
+            .samples
+            .iter()
+            .map(|f| format!("{} draws, {} pairs ({} wasted): {:.2} ms", f.draws, f.pairs(), f.wasted, f.ms))
+            .collect();
+        s += &format!("\n**{}**: the fit's frames: {}.\n", r.mode, frames.join("; "));
+        s += &format!(
+            "\n**{}**: the ten costliest lights\n\n| light | kind | draws | pairs | ideal | wasted | cost ms (model) | saving ms (measured) | ± | check |\n|---|---|---|---|---|---|---|---|---|---|\n",
+            r.mode
+        );
+        for c in &r.costliest {
+            let opt = |v: Option<u64>| v.map_or("-".into(), |v| v.to_string());
+            let check = match (c.resolved(), c.within()) {
+                (false, _) => "unresolved",
+                (true, true) => "within",
+                (true, false) => "outside",
+            };
+            s += &format!(
+                "| {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {check} |\n",
+                c.index,
+                c.kind,
+                c.draws,
+                c.pairs,
+                opt(c.ideal),
+                opt(c.wasted),
+                c.predicted_ms,
+                c.measured_ms,
+                c.noise_ms
+            );
+        }
+    }
+    s
+}

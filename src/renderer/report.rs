@@ -93,6 +93,15 @@ impl Renderer {
         }
         if let Some(fp) = stats.forward_path.as_mut() {
             self.scratch.forward.read(&self.device, fp, settings.count_fragments)?;
+            let lists = (&prepared.path_lists, &plan.light_lists[..]);
+            if let Some(counts) =
+                self.scratch.forward.read_lights(&self.device, fp, lists.0, lists.1, plan.lights.len())?
+            {
+                for (l, n) in stats.per_light.iter_mut().zip(counts) {
+                    l.shaded = Some(n);
+                }
+                stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
+            }
         } else {
             self.scratch.tiled.read(&self.device, &mut stats, plan.tiled)?;
         }

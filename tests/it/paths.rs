@@ -430,3 +430,53 @@ fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() 
         );
     }
 }
+
+/// The ledger on the forward paths: each light's evaluated samples come from the shading
+/// draws' own occlusion queries (single-pass: an object's samples once for every light of its
+/// list; multi-pass: each (object, light) pair's draw). On `demo` with 64 lights:
+/// - single-pass's shading draws, summed, shade exactly the frame's covered pixels (a deferred
+///   frame's G-buffer points: the same depth test of the same geometry), with the depth
+///   pre-pass each once;
+/// - a multi-pass light evaluates at most what single-pass evaluates for it (a pair shades its
+///   object's kept pixels cut to the light's rectangle; single-pass evaluates the object's
+///   whole list at all of them), and somewhere strictly less;
+/// - the lights' samples add up to the frame's, and the counted picture is the uncounted one.
+#[test]
+fn the_forward_paths_count_each_lights_samples() {
+    let gpu = gpu();
+    let scene = lampshade::scene::builtin::build(
+        "demo",
+        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
+    )
+    .expect("demo");
+    let (w, h) = (160, 90);
+    let deferred = Settings { count_fragments: false, ..unshadowed() };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &deferred).expect("renderer");
+    render_image(gpu, &mut r, &scene, &deferred, w, h).expect("render");
+    let covered = r.view_positions(gpu).expect("positions").iter().filter(|p| p.is_some()).count() as u64;
+    let mut per_path = Vec::new();
+    for path in FORWARD {
+        let counted = Settings { path, count_fragments: true, depth_prepass: true, ..unshadowed() };
+        let plain = Settings { count_fragments: false, ..counted.clone() };
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &counted).expect("renderer");
+        let (image, stats) = render_image(gpu, &mut r, &scene, &counted, w, h).expect("render");
+        let (uncounted, _) = render_image(gpu, &mut r, &scene, &plain, w, h).expect("render");
+        assert!(image == uncounted, "{path:?}: counting changed the picture");
+        let lights: Vec<u64> = stats.per_light.iter().map(|l| l.shaded.expect("counted")).collect();
+        assert_eq!(stats.shaded_fragments, Some(lights.iter().sum()), "{path:?}");
+        let fp = stats.forward_path.as_ref().expect("a forward frame");
+        let pass = |name: &str| fp.passes.iter().find(|p| p.name == name).and_then(|p| p.fragments);
+        if path == RenderPath::Forward {
+            assert_eq!(pass("shading"), Some(covered), "single-pass's objects against the covered pixels");
+        } else {
+            assert_eq!(pass("lights (object, light) pairs"), Some(lights.iter().sum()), "{path:?}");
+        }
+        per_path.push(lights);
+    }
+    let (single, multi) = (&per_path[0], &per_path[1]);
+    for (k, (s, m)) in single.iter().zip(multi).enumerate() {
+        assert!(m <= s, "light {k}: multi-pass evaluated {m} samples, single-pass {s}");
+    }
+    assert!(multi.iter().sum::<u64>() < single.iter().sum::<u64>());
+    assert!(multi.iter().any(|&m| m > 0), "no light evaluated anywhere");
+}

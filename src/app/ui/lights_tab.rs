@@ -286,7 +286,7 @@ fn ledger_summary(ui: &mut egui::Ui, stats: Option<&FrameStats>) {
             ));
         }
         _ => {
-            ui.label("no costs: the frame counted no pairs (turn on fragment counting; the forward paths have no per-light counts)");
+            ui.label("no costs: the frame counted no pairs (turn on fragment counting), or it is a forward frame (its lights' samples are counted; the cost model is the deferred light pass's)");
         }
     }
     if let (Some(w), Some(sh)) = (s.wasted_fragments, s.shaded_fragments) {

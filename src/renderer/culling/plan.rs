@@ -1291,6 +1291,8 @@ pub struct ForwardPathLists {
     /// Instance index of the first pair: pair `j` is `light_lists[2 (pair_base + j)]` (object)
     /// and `light_lists[2 (pair_base + j) + 1]` (light).
     pub pair_base: u32,
+    /// Each drawn object's list: (object, first entry in the frame's light lists, count).
+    pub spans: Vec<(usize, u32, u32)>,
 }
 
 /// A light's screen rectangle in pixels (x, y, width, height; y down), widened by a pixel
@@ -1345,6 +1347,7 @@ pub fn forward_path_lists(
             }
         }
         let count = lists.len() as u32 - first;
+        out.spans.push((i, first, count));
         record.info[1] = first;
         record.info[2] = count;
         out.objects += 1;

@@ -37,6 +37,11 @@ use wgpu::CompareFunction as Cmp;
 /// ambient + sun), the pairs.
 const QUERIES: u32 = 3;
 
+/// The most draws a counted frame queries one by one for the per-light counts (one query set,
+/// wgpu's largest): single-pass's objects, multi-pass's (object, light) pairs. Past it the
+/// passes are counted whole and the lights are not.
+pub const MAX_DRAW_QUERIES: u32 = 4096;
+
 /// One pass of a forward path as the frame's stats report it.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
@@ -52,6 +57,10 @@ pub struct PathPass {
     pub span: Option<Span>,
     #[serde(skip)]
     query: Option<u32>,
+    /// Counted draw by draw instead (the per-light counts): its draws' queries in the frame's
+    /// draw-query set, summed into `fragments`.
+    #[serde(skip)]
+    draw_queries: Option<std::ops::Range<u32>>,
 }
 
 /// An intermediate target of a forward path and its bytes per pixel (all samples).
@@ -134,7 +143,26 @@ pub struct ForwardPathsPass {
 #[derive(Default)]
 pub struct ForwardScratch {
     queries: std::sync::OnceLock<Queries>,
+    /// The per-draw queries of counted frames ([`MAX_DRAW_QUERIES`]), made on the first.
+    draws: std::sync::OnceLock<Queries>,
+    /// What the last counted frame's draw queries counted, in query order.
+    counted: Mutex<Vec<Counted>>,
     msaa: Mutex<Option<Arc<Msaa>>>,
+}
+
+/// What one draw query of a counted frame covers: a single-pass object (each light of its
+/// list evaluated at every sample it shades) or a multi-pass (object, light) pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Counted {
+    Object(usize),
+    Pair(usize),
+}
+
+/// A counted frame's per-draw queries: their set (`None`: the passes are counted whole, or
+/// not at all) and what each query covers, in query order.
+struct DrawCounts<'a> {
+    set: Option<&'a wgpu::QuerySet>,
+    counted: Vec<Counted>,
 }
 
 struct Queries {
@@ -143,28 +171,75 @@ struct Queries {
     readback: wgpu::Buffer,
 }
 
+impl Queries {
+    fn new(device: &wgpu::Device, label: &str, count: u32) -> Self {
+        let buffer = |what: &str, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&format!("{label} {what}")),
+                size: count as u64 * 8,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as B;
+        Queries {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some(label),
+                ty: wgpu::QueryType::Occlusion,
+                count,
+            }),
+            resolve: buffer("resolve", B::QUERY_RESOLVE | B::COPY_SRC),
+            readback: buffer("readback", B::COPY_DST | B::MAP_READ),
+        }
+    }
+}
+
 impl ForwardScratch {
     fn queries(&self, device: &wgpu::Device) -> &Queries {
-        self.queries.get_or_init(|| {
-            let buffer = |label, usage| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: QUERIES as u64 * 8,
-                    usage,
-                    mapped_at_creation: false,
-                })
-            };
-            use wgpu::BufferUsages as B;
-            Queries {
-                set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("forward path fragments"),
-                    ty: wgpu::QueryType::Occlusion,
-                    count: QUERIES,
-                }),
-                resolve: buffer("forward path query resolve", B::QUERY_RESOLVE | B::COPY_SRC),
-                readback: buffer("forward path query readback", B::COPY_DST | B::MAP_READ),
+        self.queries.get_or_init(|| Queries::new(device, "forward path fragments", QUERIES))
+    }
+
+    fn draw_queries(&self, device: &wgpu::Device) -> &Queries {
+        self.draws.get_or_init(|| Queries::new(device, "forward draw fragments", MAX_DRAW_QUERIES))
+    }
+
+    /// Each light's evaluated samples in the last counted frame, from its draw queries: a
+    /// single-pass object's samples count once for every light of its list, a pair's for its
+    /// light. `None` when the frame counted its passes whole. Also fills the passes' sums.
+    pub fn read_lights(
+        &self,
+        device: &wgpu::Device,
+        stats: &mut ForwardPathStats,
+        lists: &ForwardPathLists,
+        light_lists: &[u32],
+        lights: usize,
+    ) -> Result<Option<Vec<u64>>> {
+        let counted = self.counted.lock().map_err(|_| anyhow::anyhow!("forward counts lock poisoned"))?;
+        let (Some(q), false) = (self.draws.get(), counted.is_empty()) else { return Ok(None) };
+        let words: Vec<u64> = crate::renderer::kit::read_back(device, &q.readback, counted.len() as u64 * 8)?;
+        for p in &mut stats.passes {
+            if let Some(r) = p.draw_queries.clone() {
+                p.fragments = Some(words[r.start as usize..r.end as usize].iter().sum());
             }
-        })
+        }
+        let spans: HashMap<usize, (u32, u32)> = lists.spans.iter().map(|&(o, first, n)| (o, (first, n))).collect();
+        let mut per_light = vec![0u64; lights];
+        for (c, &n) in counted.iter().zip(&words) {
+            match *c {
+                Counted::Object(o) => {
+                    let Some(&(first, count)) = spans.get(&o) else { continue };
+                    for &l in &light_lists[first as usize..(first + count) as usize] {
+                        per_light[l as usize] += n;
+                    }
+                }
+                Counted::Pair(j) => {
+                    if let Some(p) = lists.pairs.get(j) {
+                        per_light[p.light as usize] += n;
+                    }
+                }
+            }
+        }
+        Ok(Some(per_light))
     }
 
     /// Reads the frame's occlusion counts into `stats` (after the frame was submitted).
@@ -430,6 +505,12 @@ impl ForwardPathsPass {
         if s.count_fragments {
             f.scratch.forward.queries(device);
         }
+        // The lights' counts: the shading draws queried one by one (single-pass's objects,
+        // multi-pass's pairs) when they fit one query set.
+        let draws = if multipass { pf.lists.pairs.len() } else { f.plan.draws.gbuffer.len() };
+        let set = (s.count_fragments && draws as u32 <= MAX_DRAW_QUERIES)
+            .then(|| &f.scratch.forward.draw_queries(device).set);
+        let mut counts = DrawCounts { set, counted: Vec::new() };
         // The last pass over the multisampled colour resolves it (the blended pass, when the
         // frame has one).
         let resolve_in_blended = at.msaa && pf.blended;
@@ -437,9 +518,11 @@ impl ForwardPathsPass {
             self.depth_pass(encoder, f, &at, &pipes, &mut stats);
         }
         let last = at.msaa && !resolve_in_blended && !multipass;
-        self.shading_pass(encoder, f, &at, &pipes, (multipass, prepass, last), &mut stats);
+        let shape = (multipass, prepass, last);
+        self.shading_pass(encoder, f, &at, &pipes, shape, &mut counts, &mut stats);
         if multipass {
-            self.pairs_pass(encoder, f, pf.lists, &at, &pipes, at.msaa && !resolve_in_blended, &mut stats);
+            let last = at.msaa && !resolve_in_blended;
+            self.pairs_pass(encoder, f, pf.lists, &at, &pipes, last, &mut counts, &mut stats);
         }
         // The compose span starts here, as deferred's HDR compose starts it: blended surfaces,
         // then tonemap or the post chain.
@@ -472,6 +555,14 @@ impl ForwardPathsPass {
             encoder.resolve_query_set(&q.set, 0..QUERIES, &q.resolve, 0);
             encoder.copy_buffer_to_buffer(&q.resolve, 0, &q.readback, 0, QUERIES as u64 * 8);
         }
+        let counted = counts.counted;
+        if set.is_some() && !counted.is_empty() {
+            let q = f.scratch.forward.draw_queries(device);
+            let n = counted.len() as u32;
+            encoder.resolve_query_set(&q.set, 0..n, &q.resolve, 0);
+            encoder.copy_buffer_to_buffer(&q.resolve, 0, &q.readback, 0, n as u64 * 8);
+        }
+        *f.scratch.forward.counted.lock().map_err(|_| anyhow::anyhow!("forward counts lock poisoned"))? = counted;
         Ok(stats)
     }
 
@@ -521,6 +612,42 @@ impl ForwardPathsPass {
         Some((&queries.set, index))
     }
 
+    /// Draws `list` into `pass` as `SceneGpu::draw` does, each draw inside an occlusion query of
+    /// its own (numbered on from `counted`'s length), what it covers recorded in `counted`
+    /// (`what`: from the object); returns the queries' range.
+    fn draw_counted(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        f: &FrameInputs<'_>,
+        list: &[Draw],
+        pipelines: &[wgpu::RenderPipeline],
+        counted: &mut Vec<Counted>,
+        what: impl Fn(usize) -> Counted,
+    ) -> std::ops::Range<u32> {
+        let first = counted.len() as u32;
+        pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+        pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
+        for &(i, p, m) in list {
+            let Some((range, base)) = f.scene.draws.get(i) else { continue };
+            if p != pipe {
+                pass.set_pipeline(&pipelines[p]);
+                pipe = p;
+            }
+            if m != mat {
+                if let Some(g) = f.scene.materials.get(m) {
+                    pass.set_bind_group(1, g, &[]);
+                }
+                mat = m;
+            }
+            pass.begin_occlusion_query(counted.len() as u32);
+            counted.push(what(i));
+            pass.draw_indexed(range.clone(), *base, i as u32..i as u32 + 1);
+            pass.end_occlusion_query();
+        }
+        first..counted.len() as u32
+    }
+
     /// Step 1: the opaque objects' depth (query 0).
     fn depth_pass(
         &self,
@@ -539,6 +666,7 @@ impl ForwardPathsPass {
 
     /// Step 2: single-pass shading, or multi-pass's ambient + sun (query 1). `last`: this pass
     /// resolves the multisampled colour.
+    #[allow(clippy::too_many_arguments)]
     fn shading_pass(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -546,11 +674,33 @@ impl ForwardPathsPass {
         at: &Attachments<'_>,
         pipes: &Pipelines,
         (multipass, prepass, last): (bool, bool, bool),
+        counts: &mut DrawCounts<'_>,
         stats: &mut ForwardPathStats,
     ) {
         let opaque = &f.plan.draws.gbuffer;
         let label = if multipass { "forward ambient + sun" } else { "forward single-pass" };
         let colour = [at.color(true, last)];
+        let pipelines = match (multipass, prepass) {
+            (true, _) => &pipes.base,
+            (false, true) => &pipes.single,
+            (false, false) => &pipes.single_no_prepass,
+        };
+        if let Some(set) = counts.set.filter(|_| !multipass) {
+            // Counted object by object (the lights' counts: each object's samples, once for
+            // every light of its list), drawn in the order below.
+            let mut pass = begin_with(encoder, f, label, &colour, at.depth(!prepass), SHADE, Some(set));
+            let order: Vec<Draw> = if prepass { opaque.iter().rev().copied().collect() } else { opaque.clone() };
+            let queries = self.draw_counted(&mut pass, f, &order, pipelines, &mut counts.counted, Counted::Object);
+            drop(pass);
+            stats.passes.push(PathPass {
+                name: "shading".into(),
+                draw_calls: opaque.len() as u64,
+                span: Some(SHADE),
+                draw_queries: Some(queries),
+                ..Default::default()
+            });
+            return;
+        }
         let query = Self::query(f, 1);
         let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, query);
         let pipelines = match (multipass, prepass) {
@@ -602,12 +752,19 @@ impl ForwardPathsPass {
         at: &Attachments<'_>,
         pipes: &Pipelines,
         last: bool,
+        counts: &mut DrawCounts<'_>,
         stats: &mut ForwardPathStats,
     ) {
+        let (per_draw, counted) = (counts.set, &mut counts.counted);
         let colour = [at.color(false, last)];
         let label = "forward lights (object, light) pairs";
-        let query = Self::query(f, 2);
-        let mut pass = begin(encoder, f, label, &colour, at.depth(false), PAIRS, query);
+        // Counted pair by pair (the lights' counts), or the pass whole.
+        let query = Self::query(f, 2).filter(|_| per_draw.is_none());
+        let mut pass = match per_draw {
+            Some(set) => begin_with(encoder, f, label, &colour, at.depth(false), PAIRS, Some(set)),
+            None => begin(encoder, f, label, &colour, at.depth(false), PAIRS, query),
+        };
+        let first = counted.len() as u32;
         pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
         pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
         let (mut pipe, mut mat) = (usize::MAX, usize::MAX);
@@ -628,9 +785,18 @@ impl ForwardPathsPass {
             let [x, y, w, h] = pair.scissor;
             pass.set_scissor_rect(x, y, w, h);
             let instance = lists.pair_base + j as u32;
+            if per_draw.is_some() {
+                pass.begin_occlusion_query(counted.len() as u32);
+                counted.push(Counted::Pair(j));
+            }
             pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+            if per_draw.is_some() {
+                pass.end_occlusion_query();
+            }
         }
-        stats.passes.push(end(pass, query, "lights (object, light) pairs", lists.pairs.len() as u64, PAIRS));
+        let mut p = end(pass, query, "lights (object, light) pairs", lists.pairs.len() as u64, PAIRS);
+        p.draw_queries = per_draw.map(|_| first..counted.len() as u32);
+        stats.passes.push(p);
     }
 }
 
@@ -688,18 +854,32 @@ fn begin<'e>(
     span: Span,
     query: Option<(&wgpu::QuerySet, u32)>,
 ) -> wgpu::RenderPass<'e> {
+    let mut pass = begin_with(encoder, f, label, color, depth, span, query.map(|(set, _)| set));
+    if let Some((_, i)) = query {
+        pass.begin_occlusion_query(i);
+    }
+    pass
+}
+
+/// [`begin`] with occlusion query set `set` and no query begun: the pass queries its draws.
+fn begin_with<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    f: &FrameInputs<'_>,
+    label: &str,
+    color: &[Option<wgpu::RenderPassColorAttachment<'_>>],
+    depth: wgpu::RenderPassDepthStencilAttachment<'_>,
+    span: Span,
+    set: Option<&wgpu::QuerySet>,
+) -> wgpu::RenderPass<'e> {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: color,
         depth_stencil_attachment: Some(depth),
         timestamp_writes: f.timestamps(Some(span), Some(span)),
-        occlusion_query_set: query.map(|(set, _)| set),
+        occlusion_query_set: set,
         multiview_mask: None,
     });
     pass.set_bind_group(0, &f.frame.group, &[]);
-    if let Some((_, i)) = query {
-        pass.begin_occlusion_query(i);
-    }
     pass
 }
 

@@ -530,6 +530,16 @@ impl Renderer {
         Ok(())
     }
 
+    /// The last frame's debug target, its red channel per pixel: the counts of the complexity,
+    /// tile-lights and waste views (exact integers up to 2048 in its Rgba16Float).
+    pub fn read_debug_view(&self, gpu: &Gpu) -> Result<Vec<f32>> {
+        let Some(t) = &self.targets else { bail!("nothing rendered yet") };
+        let format = t.debug_texture.format();
+        let bpp = format.block_copy_size(None).unwrap_or(8) as usize;
+        let bytes = gpu.read_texture(&t.debug_texture, wgpu::TextureAspect::All)?;
+        bytes.chunks_exact(bpp).map(|c| Ok(inspect::texel(format, c)?[0])).collect()
+    }
+
     /// The light pre-pass's light buffer of the last frame, decoded (`-log2` for seed 004's
     /// log encoding) to f32 RGBA: RGB the diffuse light, A the mono specular.
     pub fn read_light_buffer(&self, gpu: &Gpu) -> Result<Vec<f32>> {

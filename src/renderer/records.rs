@@ -279,6 +279,9 @@ gpu_record! {
         /// its surface's depth); d > 0 shows, at every pixel, background included, the cluster
         /// of its tile at view depth d (`Settings::tile_view_depth`).
         pub view_depth: f32,
+        /// The light the waste view is restricted to (`Settings::selected_light`), or
+        /// `u32::MAX` for every light.
+        pub selected: u32,
     }
 }
 

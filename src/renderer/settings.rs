@@ -360,10 +360,15 @@ pub enum DebugView {
     /// The sun's cascades, one colour each (red, green, blue, yellow), darkened by its shadow;
     /// grey beyond the last cascade.
     Cascades = 17,
+    /// The light ledger's waste at each pixel: the lights the frame evaluated there whose true
+    /// shape does not hold the pixel's point (evaluated minus ideal), drawn with each light's
+    /// own culling (its stencil marks, its tile or cluster list): a heatmap on the tile-lights
+    /// scale; with a selected light, that light's alone. Deferred path.
+    Waste = 18,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 18] = [
+    pub const ALL: [DebugView; 19] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -382,6 +387,7 @@ impl DebugView {
         DebugView::Coc,
         DebugView::Shadow,
         DebugView::Cascades,
+        DebugView::Waste,
     ];
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.

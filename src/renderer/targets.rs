@@ -16,6 +16,7 @@ pub struct Targets {
     pub diffuse_view: wgpu::TextureView,
     pub specular_view: wgpu::TextureView,
     pub debug_view: wgpu::TextureView,
+    pub debug_texture: wgpu::Texture,
     /// The G-buffer as the lighting passes read it (group 1).
     pub gbuffer_group: wgpu::BindGroup,
     /// Accumulation, debug target and compose parameters (group 2).
@@ -152,6 +153,7 @@ impl Targets {
             diffuse_view,
             specular_view,
             debug_view,
+            debug_texture: debug.clone(),
             gbuffer_group,
             compose_group,
             hdr,

@@ -265,3 +265,50 @@ fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
         assert_eq!((stats.light_cost_ms, stats.wasted_fragments), (None, None), "{}", mode.name());
     }
 }
+
+/// The waste view (`--debug-view waste`) against the ledger: in every culling mode, over the
+/// whole frame, the view's per-pixel counts add up exactly to the lights' wasted pairs (each
+/// light's evaluated samples minus its ideal ones, from the counted frame's queries and list
+/// counters), and with a light selected to that light's; on `demo` with 64 lights and on the hard cases where volumes hold the camera or
+/// cross the near and far planes (`inside`, `near`, `far`, `spot-extremes`).
+#[test]
+fn the_waste_view_adds_up_to_the_ledgers_wasted_pairs_in_every_mode() {
+    use lampshade::renderer::DebugView;
+    let gpu = gpu();
+    let demo = lampshade::scene::builtin::build(
+        "demo",
+        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
+    )
+    .expect("demo");
+    let scenes = [
+        ("demo", demo),
+        ("inside", scene("inside")),
+        ("near", scene("near")),
+        ("far", scene("far")),
+        ("spot-extremes", scene("spot-extremes")),
+    ];
+    let (w, h) = (160, 90);
+    for (name, s) in &scenes {
+        for mode in CullingMode::ALL {
+            let what = format!("{name}, {}", mode.name());
+            let counted = Settings { count_fragments: true, count_ideal: true, ..settings(mode) };
+            let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &counted).expect("renderer");
+            let stats = render_image(gpu, &mut r, s, &counted, w, h).expect("render").1;
+            let wasted = stats.wasted_fragments.unwrap_or_else(|| panic!("{what}: no waste counted"));
+            let view = Settings { debug_view: DebugView::Waste, ..settings(mode) };
+            render_image(gpu, &mut r, s, &view, w, h).expect("render the view");
+            let counts = r.read_debug_view(gpu).expect("debug target");
+            let shown: f64 = counts.iter().map(|&c| c as f64).sum();
+            assert_eq!(shown, wasted as f64, "{what}: the view's counts against the ledger's wasted pairs");
+            if *name == "demo" && mode != CullingMode::Auto {
+                assert!(wasted > 0, "{what}: a mode that wastes nothing on demo");
+            }
+            // One light's: the view of the light that wastes the most against its own count.
+            let worst = stats.per_light.iter().max_by_key(|l| l.wasted).expect("lights");
+            let one = Settings { selected_light: Some(worst.index), ..view.clone() };
+            render_image(gpu, &mut r, s, &one, w, h).expect("render the view");
+            let shown: f64 = r.read_debug_view(gpu).expect("debug target").iter().map(|&c| c as f64).sum();
+            assert_eq!(shown, worst.wasted.unwrap() as f64, "{what}: light {}'s waste", worst.index);
+        }
+    }
+}

@@ -73,6 +73,7 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                 DebugView::Stencil,
                 DebugView::Complexity,
                 DebugView::TileLights,
+                DebugView::Waste,
                 DebugView::Shadow,
                 DebugView::Cascades,
             ] {
@@ -112,6 +113,10 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                         );
                 });
             }
+        }
+        if st.settings.debug_view == DebugView::Waste {
+            // Lights evaluated at each pixel for nothing: the light ledger's waste.
+            tile_legend(ui);
         }
         if st.settings.debug_view == DebugView::MaterialId {
             brdf_legend(ui);

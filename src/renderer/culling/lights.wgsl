@@ -205,6 +205,24 @@ fn fs_green() -> @location(0) vec4<f32> {
     return vec4<f32>(0.0, 1.0, 0.0, 1.0);
 }
 
+// Debug: the ledger's waste, +1 where the light was evaluated (this draw passed its method's
+// depth and stencil tests, as its shading draw does) and its true shape does not hold the
+// pixel's point, or the pixel has none (additive). It adds zero rather than discard: a
+// discarded fragment skips its stencil pass operation, which the INVERT method's shading draw
+// needs to clear its mark for the next light. `fs_waste_mark`: a marking draw's, adding
+// nothing.
+@fragment
+fn fs_waste(in: LightVarying) -> @location(0) vec4<f32> {
+    let s = gbuffer_load(vec2<i32>(in.clip.xy));
+    let useful = s.valid && inside_light(s, light_at(in.light));
+    return vec4<f32>(select(1.0, 0.0, useful), 0.0, 0.0, 0.0);
+}
+
+@fragment
+fn fs_waste_mark() -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0);
+}
+
 // Debug: light complexity, +1 where a light touches the pixel (additive).
 @fragment
 fn fs_complexity(in: LightVarying) -> @location(0) vec4<f32> {

@@ -24,6 +24,7 @@
 //! 000's one target the emission).
 
 pub mod cost;
+pub mod waste;
 
 use super::inspect::PixelProbe;
 use super::kit::bindings;

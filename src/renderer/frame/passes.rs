@@ -41,6 +41,9 @@ pub struct Passes {
     pub atlas_view: Lazy<crate::renderer::shadows::atlas_view::AtlasViewPass>,
     /// Why each light lit a pixel (`explain`; not part of the frame).
     pub explain: Lazy<crate::renderer::explain::ExplainPass>,
+    /// The ledger's waste view of the lights drawn one by one (built by the first frame that
+    /// shows it).
+    pub waste: Lazy<crate::renderer::explain::waste::WastePass>,
 }
 
 impl Passes {
@@ -76,6 +79,7 @@ impl Passes {
             shadows: Lazy::new(device, &shared, crate::renderer::shadows::pass::ShadowPass::new),
             atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
             explain: Lazy::new(device, &shared, crate::renderer::explain::ExplainPass::new),
+            waste: Lazy::new(device, &shared, crate::renderer::explain::waste::WastePass::new),
             shared,
         }
     }

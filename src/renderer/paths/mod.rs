@@ -108,6 +108,9 @@ pub fn surfaces_and_lights(
     let draw_calls = c.group(encoder, lights, |e| p.lights.encode(e, f));
     let cpu_ms = tiled(c, encoder);
     c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
+    if f.settings.debug_view == crate::renderer::DebugView::Waste && f.plan.tiled.is_none() {
+        c.group(encoder, "waste view", |e| p.waste.encode(e, f));
+    }
     (draw_calls, cpu_ms)
 }
 

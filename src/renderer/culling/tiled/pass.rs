@@ -101,6 +101,8 @@ pub struct TiledPass {
     /// `fs_tiled`, and `fs_tiled_counted` for frames that count each light's pairs.
     shade: [wgpu::RenderPipeline; 2],
     count_view: wgpu::RenderPipeline,
+    /// The ledger's waste view (`fs_tile_waste`) of frames the tiled pass shades.
+    waste_view: wgpu::RenderPipeline,
 }
 
 /// A renderer's tile lists: the buffers (grown as frames need) and what the last frame left to
@@ -161,8 +163,9 @@ impl TiledPass {
             pipe("tiled shade", "vs_tiled", "fs_tiled", &targets),
             pipe("tiled shade, counted", "vs_tiled", "fs_tiled_counted", &targets),
         ];
-        let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug)]);
-        Self { bgl, build, cluster, shade, count_view }
+        let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug.clone())]);
+        let waste_view = pipe("waste view (lists)", "vs_compose", "fs_tile_waste", &[Some(debug)]);
+        Self { bgl, build, cluster, shade, count_view, waste_view }
     }
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
@@ -181,10 +184,14 @@ impl TiledPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
     ) -> (f64, f64) {
-        let view = f.settings.debug_view == DebugView::TileLights;
+        let view = match f.settings.debug_view {
+            DebugView::TileLights => Some(&self.count_view),
+            DebugView::Waste if f.plan.tiled.is_some() => Some(&self.waste_view),
+            _ => None,
+        };
         let Ok(mut state) = f.scratch.tiled.state.lock() else { return (0.0, 0.0) };
         state.1 = None;
-        if f.plan.tiled.is_none() && !view {
+        if f.plan.tiled.is_none() && view.is_none() {
             return (0.0, 0.0);
         }
         let method = match (f.plan.tiled, &f.plan.clusters) {
@@ -285,7 +292,7 @@ impl TiledPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         b: &Buffers,
-        (method, gpu_lists, view): (Method, bool, bool),
+        (method, gpu_lists, view): (Method, bool, Option<&wgpu::RenderPipeline>),
         params: &TileParams,
         cells: u64,
     ) {
@@ -334,7 +341,7 @@ impl TiledPass {
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
             pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));
         }
-        if view {
+        if let Some(pipeline) = view {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("tile lights view"),
                 color_attachments: &[attachment(&f.targets.debug_view, Some(wgpu::Color::TRANSPARENT))],
@@ -343,7 +350,7 @@ impl TiledPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.count_view);
+            pass.set_pipeline(pipeline);
             bind(&mut pass);
             pass.draw(0..3, 0..1);
         }
@@ -440,6 +447,7 @@ fn grid(f: &FrameInputs<'_>, clusters: Option<&ClusterBuild>, cpu_lists: Option<
         near: 0.0,
         far: 0.0,
         view_depth: f.settings.tile_view_depth,
+        selected: f.settings.selected_light.map_or(u32::MAX, |k| k as u32),
     };
     let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
         params.mode = 1;

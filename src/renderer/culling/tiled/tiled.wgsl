@@ -22,6 +22,8 @@ struct TileParams {
     far: f32,
     // The tile-lights view's slice depth (0: each pixel's own surface).
     view_depth: f32,
+    // The waste view's one light (0xffffffff: every light).
+    selected: u32,
 };
 
 // Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);
@@ -311,6 +313,34 @@ fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
         }
     }
     return light_targets(s, d, sp);
+}
+
+// Debug: the ledger's waste at the pixel, the entries of its list whose light's true shape does
+// not hold its point (every entry the shading loop visits there counts as evaluated).
+@fragment
+fn fs_tile_waste(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(frag.xy);
+    let s = gbuffer_load(p);
+    if !s.valid {
+        return vec4<f32>(0.0);
+    }
+    let cell = tile_cell(p, s);
+    let first = tile_lists[2u * cell];
+    var count = tile_lists[2u * cell + 1u];
+    let all = count == LS_TILE_ALL;
+    if all {
+        count = tile_params.light_count;
+    }
+    var wasted = 0u;
+    for (var k = 0u; k < count; k++) {
+        var i = k;
+        if !all {
+            i = tile_lists[first + k];
+        }
+        let counted = tile_params.selected == 0xffffffffu || tile_params.selected == i;
+        wasted += u32(counted && !inside_light(s, light_at(i)));
+    }
+    return vec4<f32>(f32(wasted), 0.0, 0.0, 0.0);
 }
 
 // Debug: the length of the pixel's list (every pixel with a G-buffer point). In a clustered

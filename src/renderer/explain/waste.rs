@@ -1,0 +1,115 @@
+//! The per-pixel half of the ledger's waste (the `waste` debug view): at each pixel, the lights
+//! the frame evaluated there whose true shape does not hold the pixel's point. For the lights
+//! drawn one by one (every culling method but the lists) each light is drawn again with its
+//! own method's draws: the marking draw with its stencil operations and reference, then the
+//! shading draw's depth and stencil tests, so a fragment reaches `fs_waste` exactly where the
+//! light pass evaluated the light (the light pass's batches are lights whose pixels never meet,
+//! so one light at a time marks and tests what its batch did). `fs_waste` adds one where the
+//! point is outside the light's shape, or there is no point. Frames shaded from tile or cluster
+//! lists get the same count from their lists (`fs_tile_waste`, in the tiled pass).
+
+use crate::renderer::culling::methods::{self, Reference, METHODS};
+use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL};
+use crate::renderer::targets::attachment;
+use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
+
+/// One method's draws for the view: its mark (adding nothing), its shading draw, and the
+/// shading draw of lights whose volume crosses the near plane.
+struct MethodPipes {
+    mark: Option<wgpu::RenderPipeline>,
+    shade: wgpu::RenderPipeline,
+    shade_crossing_near: Option<wgpu::RenderPipeline>,
+}
+
+pub struct WastePass {
+    /// By [`METHODS`]' order; `None` for the methods the light pass does not draw.
+    methods: Vec<Option<MethodPipes>>,
+    /// Zeroes the stencil (REPLACE, every 255 lights).
+    stencil_clear: wgpu::RenderPipeline,
+}
+
+impl WastePass {
+    pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
+        let pipe = |label, vs, fs, state, out| shared.light_pipeline(device, LightPipe { label, vs, fs, state, out });
+        let out = Out::Debug(ADDITIVE);
+        let methods = METHODS
+            .iter()
+            .map(|row| {
+                let s = row.draws.as_ref()?;
+                let vs = if s.fullscreen { Vs::Fullscreen } else { Vs::Volume };
+                Some(MethodPipes {
+                    mark: s.mark.clone().map(|d| pipe("waste view: mark", Vs::Volume, "fs_waste_mark", d, out)),
+                    shade: pipe("waste view", vs, "fs_waste", s.shade.clone(), out),
+                    shade_crossing_near: s
+                        .shade_crossing_near
+                        .clone()
+                        .map(|d| pipe("waste view: crossing near", Vs::Volume, "fs_waste", d, out)),
+                })
+            })
+            .collect();
+        let clear = face(Cmp::Always, Op::Zero, Op::Zero, Op::Zero);
+        let fullscreen = DrawState { faces: Faces::Both, depth: Cmp::Always, stencil: NO_STENCIL };
+        Self {
+            methods,
+            stencil_clear: pipe(
+                "waste view: stencil clear",
+                Vs::FullscreenPlain,
+                "fs_waste_mark",
+                DrawState { stencil: stencil(clear, clear), ..fullscreen },
+                out,
+            ),
+        }
+    }
+
+    /// Records the view into the debug target: every light the light pass drew (or the selected
+    /// one), one at a time with its method's draws.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        let t = f.targets;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("waste view"),
+            color_attachments: &[attachment(&t.debug_view, Some(wgpu::Color::TRANSPARENT))],
+            depth_stencil_attachment: Some(t.depth_attachment(true)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        f.bind_light_inputs(&mut pass);
+        let mut reference = 0u32;
+        for (i, plan) in f.plan.lights.iter().enumerate() {
+            if f.settings.selected_light.is_some_and(|k| k != i) {
+                continue;
+            }
+            let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };
+            let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
+            let li = i as u32..i as u32 + 1;
+            let (range, base) = f.volumes.range(plan.volume);
+            if let Some(mark) = &m.mark {
+                if draws.reference == Reference::PerLight {
+                    if reference == 255 {
+                        pass.set_pipeline(&self.stencil_clear);
+                        pass.draw(0..3, 0..1);
+                        reference = 0;
+                    }
+                    reference += 1;
+                    pass.set_stencil_reference(reference);
+                }
+                pass.set_pipeline(mark);
+                pass.draw_indexed(range.clone(), base, li.clone());
+                if draws.reference == Reference::Zero {
+                    pass.set_stencil_reference(0);
+                }
+            }
+            let shade = match &m.shade_crossing_near {
+                Some(near) if plan.crosses_near => near,
+                _ => &m.shade,
+            };
+            pass.set_pipeline(shade);
+            if draws.fullscreen {
+                pass.draw(0..3, li);
+            } else {
+                pass.draw_indexed(range, base, li);
+            }
+        }
+    }
+}

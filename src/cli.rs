@@ -151,8 +151,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub stats: Option<PathBuf>,
     /// Explain pixel X,Y (from the top left): every light whose bounds cover it, what the
-    /// culling did with it, what it adds and what zeroed it (deferred path). Printed as a
-    /// table; with `--stats`, also the JSON's `probe`.
+    /// culling did with it, what it adds and what zeroed it (deferred path and light
+    /// pre-pass). Printed as a table; with `--stats`, also the JSON's `probe`.
     #[arg(long, value_parser = pixel)]
     pub probe: Option<(u32, u32)>,
     /// Start from a settings file (as the viewer's F12 screenshots write: renderer settings plus

@@ -184,7 +184,7 @@ fn a_light_behind_a_wall_is_wasted_by_the_volume_method_and_rejected_by_the_othe
 fn explaining_a_frame_without_a_deferred_gbuffer_is_a_clear_error() {
     let gpu = gpu();
     let s = scene("occluded");
-    for path in [lampshade::renderer::RenderPath::Forward, lampshade::renderer::RenderPath::LightPrepass] {
+    for path in [lampshade::renderer::RenderPath::Forward, lampshade::renderer::RenderPath::ForwardMultipass] {
         let st = Settings { path, ..settings(CullingMode::Volume) };
         let (r, _) = rendered(&s, &st, 64, 36);
         let err = r.explain(gpu, 10, 10).expect_err("explained a non-deferred frame");
@@ -192,6 +192,72 @@ fn explaining_a_frame_without_a_deferred_gbuffer_is_a_clear_error() {
     }
     let (r, _) = rendered(&s, &settings(CullingMode::Volume), 64, 36);
     assert!(r.explain(gpu, 64, 10).is_err(), "a pixel outside the frame");
+}
+
+/// The light pre-pass (seed 003): the explanation adds up to its light buffer as it adds up to
+/// the deferred accumulation. Each light's terms are shaded with unit reflectance there (the
+/// buffer's RGB the diffuse light, its A the specular light's luminance), and what the admitted
+/// lights add, taken from the pixel's buffer, leaves the lightless frame's buffer within the
+/// same (k + 2) fp16 roundings (half an ulp, or half the subnormal step for values under fp16's
+/// normal range, which the buffer's small specular luminances reach), on every hard case in
+/// every mode, with no light missed.
+#[test]
+fn the_explanation_adds_up_on_the_light_prepass() {
+    use lampshade::renderer::RenderPath;
+    let gpu = gpu();
+    let mut with_light = 0;
+    for &name in HARD_CASES {
+        let s = scene(name);
+        let (w, h) = hard_case_size(name);
+        let st = |mode| Settings { path: RenderPath::LightPrepass, ..settings(mode) };
+        let buffer = |scene: &Scene, mode| {
+            let (r, _) = rendered(scene, &st(mode), w, h);
+            let b = r.read_light_buffer(gpu).expect("light buffer");
+            (r, b)
+        };
+        let mut dark = s.clone();
+        dark.lights.clear();
+        let (_, b0) = buffer(&dark, CullingMode::Fullscreen);
+        let (_, b1) = buffer(&s, CullingMode::Fullscreen);
+        let mut order: Vec<usize> = (0..(w * h) as usize).collect();
+        let added = |i: usize| (0..4).map(|c| b1[4 * i + c] - b0[4 * i + c]).fold(0.0f32, f32::max);
+        order.sort_by(|&a, &b| added(b).total_cmp(&added(a)));
+        let mut pixels: Vec<(u32, u32)> = order.iter().take(2).map(|&i| (i as u32 % w, i as u32 / w)).collect();
+        pixels.extend([(w / 3, h / 2), (2 * w / 3, h / 3)]);
+        for mode in CullingMode::ALL {
+            let (r, _) = buffer(&s, mode);
+            for &(x, y) in &pixels {
+                let e = r.explain(gpu, x, y).expect("explain");
+                let what = format!("{name}, {}, light pre-pass, pixel {x},{y}", mode.name());
+                let table = lampshade::renderer::explain::table(&e);
+                assert!(e.prepass, "{what}");
+                assert_eq!(e.missed, 0, "{what}: the culling left out light:\n{table}");
+                if !e.valid {
+                    continue;
+                }
+                let k = adding(&e);
+                with_light += (k > 0) as usize;
+                let i = (y * w + x) as usize;
+                let channels = [
+                    (e.accumulated_diffuse.x, e.rest_diffuse.x, b0[4 * i]),
+                    (e.accumulated_diffuse.y, e.rest_diffuse.y, b0[4 * i + 1]),
+                    (e.accumulated_diffuse.z, e.rest_diffuse.z, b0[4 * i + 2]),
+                    (e.accumulated_specular.x, e.rest_specular.x, b0[4 * i + 3]),
+                ];
+                for (c, (acc, rest, dark)) in channels.into_iter().enumerate() {
+                    // Each rounding is half an ulp of the value, or below fp16's normal range
+                    // half its subnormal step (2^-24): a specular luminance of 1e-8 is stored 0.
+                    let bound = (k as f32 + 2.0) * (2f32.powi(-11) * acc.abs()).max(2f32.powi(-25));
+                    assert!(
+                        (rest - dark).abs() <= bound,
+                        "{what}: channel {c}: buffer {acc}, the lights leave {rest}, the lightless frame has {dark} \
+                         (bound {bound})\n{table}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(with_light > 100, "only {with_light} explained pixels had any light");
 }
 
 /// The ledger of `tiled` and `clustered`, where a light has no draw of its own: each light's

@@ -109,9 +109,11 @@ pub(super) fn explanation_panel(ui: &mut egui::Ui, f: &FrameInfo) {
         ))
         .small(),
     )
-    .on_hover_text(
-        "diffuse light (seed 000: the lit colour); the rest is ambient and sun as the G-buffer pass wrote them",
-    );
+    .on_hover_text(if e.prepass {
+        "the light pre-pass's buffer: diffuse light with unit reflectance; the rest is ambient and sun as its pass 2 began"
+    } else {
+        "diffuse light (seed 000: the lit colour); the rest is ambient and sun as the G-buffer pass wrote them"
+    });
     egui::ScrollArea::vertical().id_salt("explanation").show(ui, |ui| {
         egui::Grid::new("explanation rows").num_columns(4).striped(true).spacing([8.0, 1.0]).show(ui, |ui| {
             for h in ["light", "culling", "shading", "adds (lit colour)"] {

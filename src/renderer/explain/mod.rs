@@ -206,6 +206,10 @@ pub struct Explanation {
     pub rest_specular: Vec3,
     /// The accumulation holds the lit colour in one target (seed 000).
     pub one_target: bool,
+    /// The light pre-pass's light buffer (seed 003): `accumulated_diffuse` its RGB, the
+    /// diffuse light with unit reflectance, `accumulated_specular` its A (the specular light's
+    /// luminance, with unit reflectance) in every channel; the lights' sums likewise.
+    pub prepass: bool,
     /// Every light whose screen bounds cover the pixel, or that the culling admitted, or that
     /// adds light; by contribution, largest first.
     pub lights: Vec<LightWhy>,
@@ -213,6 +217,12 @@ pub struct Explanation {
     pub wasted: usize,
     /// Adding light but not admitted: must be 0.
     pub missed: usize,
+}
+
+/// The luminance weights of the light pre-pass's mono specular (`LS_LUMINANCE`).
+fn luminance() -> Vec3 {
+    let [r, g, b] = crate::scene::LUMINANCE.map(|w| w as f32);
+    Vec3::new(r, g, b)
 }
 
 /// (t_in, t_out) of the ray t x `dir` (t > 0, from the eye) through a convex volume given as
@@ -281,10 +291,10 @@ fn shading_of(reaches: bool, dr: f32, spot: f32, ndl: f32, shadow: f32, cookie: 
 impl Renderer {
     /// Why each light did or did not light pixel (`x`, `y`) of the last frame (deferred path).
     pub fn explain(&self, gpu: &Gpu, x: u32, y: u32) -> Result<Explanation> {
-        if self.last.path != RenderPath::Deferred {
+        if !matches!(self.last.path, RenderPath::Deferred | RenderPath::LightPrepass) {
             bail!(
-                "light explanations cover the deferred path (the last frame drew {}): the light pre-pass's \
-                 buffer and the forward paths shade differently",
+                "light explanations cover the deferred path and the light pre-pass (the last frame drew {}): \
+                 the forward paths keep no G-buffer to shade the pixel from",
                 self.last.path.name()
             );
         }
@@ -356,7 +366,12 @@ impl Renderer {
             let adds = why.contributes();
             let admitted = culling.admitted() && probe.valid;
             if admitted {
-                if t.one_target {
+                if t.prepass {
+                    // The light pre-pass's buffer: RGB diffuse, A the specular's luminance, both
+                    // with unit reflectance (`encode_light_buffer`).
+                    lights_d += diffuse;
+                    lights_s += Vec3::splat(specular.dot(luminance()));
+                } else if t.one_target {
                     lights_d += lit;
                 } else {
                     lights_d += diffuse;
@@ -383,7 +398,8 @@ impl Renderer {
             lights_specular: lights_s,
             rest_diffuse: acc_d - lights_d,
             rest_specular: acc_s - lights_s,
-            one_target: t.one_target,
+            one_target: t.one_target && !t.prepass,
+            prepass: t.prepass,
             wasted: lights.iter().filter(|l| l.wasted).count(),
             missed: lights.iter().filter(|l| l.missed).count(),
             lights,
@@ -458,7 +474,11 @@ pub fn table(e: &Explanation) -> String {
     if let Some(c) = &e.cell {
         let _ = writeln!(s, "  cell {} holds {} lights", c.index, c.lights);
     }
-    let (what, d) = if e.one_target { ("lit colour", "") } else { ("diffuse", " specular") };
+    let (what, d) = match (e.one_target, e.prepass) {
+        (true, _) => ("lit colour", ""),
+        (false, true) => ("light buffer: diffuse", " specular (luminance)"),
+        (false, false) => ("diffuse", " specular"),
+    };
     let _ = writeln!(
         s,
         "  accumulated {what} {}{d} {}",

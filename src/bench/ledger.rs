@@ -70,6 +70,8 @@ impl CostlyLight {
 #[derive(Clone, Debug, Serialize)]
 pub struct LedgerRow {
     pub mode: String,
+    #[serde(skip)]
+    pub culling: CullingMode,
     pub lights: usize,
     pub size: (u32, u32),
     pub model: Option<CostModel>,
@@ -127,6 +129,7 @@ pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Re
         };
         rows.push(mode_row(gpu, o, &scene, &ideal, &settings).unwrap_or_else(|e| LedgerRow {
             mode: mode.name(),
+            culling: mode,
             lights: scene.lights.len(),
             size: o.size,
             model: None,
@@ -272,6 +275,7 @@ fn mode_row(
     costliest.sort_by(|a, b| b.predicted_ms.total_cmp(&a.predicted_ms));
     Ok(LedgerRow {
         mode: settings.culling.name(),
+        culling: settings.culling,
         lights: n,
         size: o.size,
         model,
@@ -283,6 +287,30 @@ fn mode_row(
         uncounted_ms: measured_ms,
         error: None,
     })
+}
+
+/// The fitted models by mode, for the other configurations' per-light costs.
+pub fn fitted_models(rows: &[LedgerRow]) -> Vec<(CullingMode, CostModel)> {
+    rows.iter().filter_map(|r| Some((r.culling, r.model.clone()?))).collect()
+}
+
+/// Every configuration's ten costliest lights, by the cost model of its counted frame (the
+/// `ledger` group's fit for its mode where that ran, or the built-in constants).
+pub fn costliest_markdown(rows: &[Row]) -> String {
+    let rows: Vec<&Row> = rows.iter().filter(|r| !r.costliest.is_empty()).collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut s = String::from(
+        "\n### The ten costliest lights of each configuration\n\nLight index: its cost in the light pass (ms), by the cost model named \
+         (`renderer::explain::cost`: its draws and its evaluated pairs).\n\n\
+         | group | configuration | lights | model | costliest (light: ms) |\n|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let list: Vec<String> = r.costliest.iter().map(|(i, ms)| format!("{i}: {ms:.3}")).collect();
+        s += &format!("| {} | {} | {} | {} | {} |\n", r.group, r.label, r.lights, r.cost_source, list.join(", "));
+    }
+    s
 }
 
 /// The group's markdown: a table of the modes, then each mode's ten costliest lights.

@@ -172,6 +172,13 @@ pub struct Row {
     pub path: PathFigures,
     /// The shadow maps' figures (every row, NaN/0 without shadows).
     pub shadow: ShadowFigures,
+    /// The ledger: the frame's ten costliest lights (index, ms) by the cost model its counted
+    /// frame used (`cost_source`), costliest first; empty where the frame has no per-light
+    /// costs (the forward paths).
+    #[serde(skip)]
+    pub costliest: Vec<(usize, f64)>,
+    #[serde(skip)]
+    pub cost_source: String,
 }
 
 /// What the `shadows` group compares: the shadow pass's cost and memory. Its time
@@ -322,6 +329,8 @@ mod tests {
             limit_ratio: f64::NAN,
             path: Default::default(),
             shadow: Default::default(),
+            costliest: Vec::new(),
+            cost_source: String::new(),
         }
     }
 

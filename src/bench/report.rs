@@ -278,6 +278,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
     }
     s += &paths_markdown(rows);
     s += &shadows_markdown(rows);
+    s += &costliest_markdown(&run.rows);
     s += &ledger_markdown(&run.ledger);
     s += &skipped_markdown(&run.skipped);
     s

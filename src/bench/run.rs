@@ -78,20 +78,24 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
             times.push(render_image(gpu, renderer, scene, &timed, cfg.size.0, cfg.size.1)?.1);
         }
     }
+    // The ledger group fits the per-light cost model per mode; the counted frames below
+    // charge their lights by it.
+    let ledger = match o.groups.is_empty() || o.groups.iter().any(|g| g == super::LEDGER_GROUP) {
+        true => super::ledger(gpu, o, &mut |label| progress(list.len() + frames, steps, label))?,
+        false => Vec::new(),
+    };
+    let models = super::fitted_models(&ledger);
     let mut refs: HashMap<RefKey, Reference> = HashMap::new();
     let mut rows = Vec::new();
     for (k, (cfg, scene, mut renderer, times)) in prepared.into_iter().enumerate() {
         progress(list.len() + frames + k, steps, &format!("error of {}", cfg.label));
+        renderer.cost_models = models.clone();
         rows.push(measure(gpu, o, cfg, &scene, &mut renderer, &times, &mut refs)?);
     }
     for (cfg, lights, error) in failed {
         rows.push(failed_row(cfg, &o.scene, lights, error));
     }
     fill_path_siblings(&mut rows);
-    let ledger = match o.groups.is_empty() || o.groups.iter().any(|g| g == super::LEDGER_GROUP) {
-        true => super::ledger(gpu, o, &mut |label| progress(steps, steps, label))?,
-        false => Vec::new(),
-    };
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
@@ -160,6 +164,14 @@ fn prepare<'c>(
         prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
     }
     Ok((prepared, failed, skipped))
+}
+
+/// The frame's ten costliest lights (index, ms), costliest first, by its stats' cost model.
+fn costliest(stats: &FrameStats) -> Vec<(usize, f64)> {
+    let mut v: Vec<(usize, f64)> = stats.per_light.iter().filter_map(|l| Some((l.index, l.cost_ms?))).collect();
+    v.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    v.truncate(10);
+    v
 }
 
 /// Counts configuration `cfg`'s frame and compares it with its reference (rendered once per
@@ -259,6 +271,8 @@ fn measure<'c>(
         limit_ratio: f64::NAN,
         path: figures,
         shadow: ShadowFigures::of(&stats, times),
+        costliest: costliest(&stats),
+        cost_source: stats.cost_model.as_ref().map_or(String::new(), |m| m.source.clone()),
     })
 }
 
@@ -377,6 +391,8 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         limit_ratio: f64::NAN,
         path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
         shadow: ShadowFigures::default(),
+        costliest: Vec::new(),
+        cost_source: String::new(),
     }
 }
 

@@ -91,6 +91,21 @@ impl Renderer {
         for l in &mut stats.per_light {
             (l.shadow_tiles, l.shadow_texels, l.caster_draws) = prepared.shadows.light_share(l.index);
         }
+        for (owner, ms) in self.scratch.shadows.read(&self.device, self.queue.get_timestamp_period())? {
+            use super::shadows::pass::Owner;
+            match owner {
+                Owner::Light(i) => {
+                    if let Some(l) = stats.per_light.get_mut(i) {
+                        l.shadow_ms = Some(ms);
+                    }
+                }
+                Owner::Sun => {
+                    if let Some(sh) = stats.shadow.as_mut() {
+                        sh.sun_ms = Some(ms);
+                    }
+                }
+            }
+        }
         if let Some(fp) = stats.forward_path.as_mut() {
             self.scratch.forward.read(&self.device, fp, settings.count_fragments)?;
             let lists = (&prepared.path_lists, &plan.light_lists[..]);

@@ -323,6 +323,10 @@ pub struct LightStats {
     pub shadow_texels: u64,
     #[serde(default)]
     pub caster_draws: u64,
+    /// Its shadow maps' drawing time (ms): the render passes of its tiles in a ledger frame
+    /// (counted, with timestamps), each timed on its own; `None` otherwise or when it casts none.
+    #[serde(default)]
+    pub shadow_ms: Option<f64>,
     /// Evaluated pairs that the light's true shape does not hold: `shaded - ideal`, when
     /// both were counted (the culling's false positives for this light).
     #[serde(default)]

@@ -72,6 +72,11 @@ pub fn scene(name: &str) -> Scene {
     builtin::build(name, BuiltinOptions::default()).expect("built-in scene")
 }
 
+/// Built-in scene `name` with `n` lights (a scene that takes a count).
+pub fn with_lights(name: &str, n: usize) -> Scene {
+    builtin::build(name, BuiltinOptions { lights: Some(n), ..Default::default() }).expect("built-in scene")
+}
+
 pub struct Frame {
     pub image: image::RgbaImage,
     pub stats: FrameStats,

@@ -270,11 +270,7 @@ fn the_explanation_adds_up_on_the_light_prepass() {
 #[test]
 fn the_ledgers_pairs_are_the_lists_pixels_light_by_light() {
     let gpu = gpu();
-    let scene = lampshade::scene::builtin::build(
-        "demo",
-        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
-    )
-    .expect("demo");
+    let scene = with_lights("demo", 64);
     let (w, h) = (160, 90);
     for mode in [CullingMode::Tiled, CullingMode::Clustered] {
         let st = Settings { culling: mode, count_fragments: true, count_ideal: true, ..settings(mode) };
@@ -313,11 +309,7 @@ fn the_ledgers_pairs_are_the_lists_pixels_light_by_light() {
 #[test]
 fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
     let gpu = gpu();
-    let scene = lampshade::scene::builtin::build(
-        "demo",
-        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
-    )
-    .expect("demo");
+    let scene = with_lights("demo", 64);
     for mode in [CullingMode::Tiled, CullingMode::Clustered] {
         let on = Settings { count_fragments: true, ..settings(mode) };
         let off = settings(mode);
@@ -341,11 +333,7 @@ fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
 fn the_waste_view_adds_up_to_the_ledgers_wasted_pairs_in_every_mode() {
     use lampshade::renderer::DebugView;
     let gpu = gpu();
-    let demo = lampshade::scene::builtin::build(
-        "demo",
-        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
-    )
-    .expect("demo");
+    let demo = with_lights("demo", 64);
     let scenes = [
         ("demo", demo),
         ("inside", scene("inside")),

@@ -444,11 +444,7 @@ fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() 
 #[test]
 fn the_forward_paths_count_each_lights_samples() {
     let gpu = gpu();
-    let scene = lampshade::scene::builtin::build(
-        "demo",
-        lampshade::scene::builtin::BuiltinOptions { lights: Some(64), time: 0.0 },
-    )
-    .expect("demo");
+    let scene = with_lights("demo", 64);
     let (w, h) = (160, 90);
     let deferred = Settings { count_fragments: false, ..unshadowed() };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &deferred).expect("renderer");

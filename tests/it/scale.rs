@@ -10,10 +10,6 @@ use lampshade::renderer::{AccumFormat, CullingMode, LayoutChoice, Renderer, Sett
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::scene::{Light, PointLight, Scene};
 
-fn with_lights(name: &str, n: usize) -> Scene {
-    builtin::build(name, BuiltinOptions { lights: Some(n), ..Default::default() }).expect("built-in scene")
-}
-
 #[test]
 fn sphere_wall_matches_the_reference_in_every_mode() {
     // The camera at the centre of the inward-facing sphere, lights all around it.

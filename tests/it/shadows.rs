@@ -1034,3 +1034,36 @@ fn the_shadow_view_shows_casters_past_the_loop_limit() {
         assert_eq!(diff, 0, "{cube:?}: the shadow view changed by {diff} with the casters past index 65,535");
     }
 }
+
+/// The ledger's shadow times: a counted frame with timestamps draws each casting light's tiles
+/// (and the sun's cascades) in render passes of their own, each timed. The maps they leave are
+/// the uncounted frame's (the `shadow` view is the same, byte for byte); every light that holds
+/// tiles has a time and no other light has one; the sun's cascades have theirs; and the times
+/// add up to no more than the shadow pass's span, whose two stamps the timed passes run between
+/// one after another. With every light casting, on both cube layouts that draw into the atlas
+/// and into the cube array.
+#[test]
+fn the_ledger_times_each_lights_shadow_maps() {
+    use lampshade::renderer::{DebugView, ShadowCube, ShadowMode};
+    let s = scene("shadows");
+    for cube in [ShadowCube::Unrolled, ShadowCube::Array] {
+        let base = Settings { shadows: ShadowMode::All, shadow_cube: cube, timestamps: true, ..Settings::default() };
+        let counted = Settings { count_fragments: true, ..base.clone() };
+        let plain = Settings { count_fragments: false, ..base.clone() };
+        let view = |st: &Settings| render(&s, &Settings { debug_view: DebugView::Shadow, ..st.clone() }, 160, 90).image;
+        assert!(view(&counted) == view(&plain), "{cube:?}: the timed shadow passes drew other maps");
+        let stats = render(&s, &counted, 160, 90).stats;
+        let sh = stats.shadow.as_ref().expect("shadow stats");
+        let mut sum = 0.0;
+        for l in &stats.per_light {
+            assert_eq!(l.shadow_ms.is_some(), l.shadow_tiles > 0, "{cube:?}: light {}: {:?}", l.index, l.shadow_ms);
+            sum += l.shadow_ms.unwrap_or(0.0);
+        }
+        assert!(stats.per_light.iter().any(|l| l.shadow_ms.is_some()), "{cube:?}: no light timed");
+        assert_eq!(sh.sun_ms.is_some(), sh.sun_cascades > 0, "{cube:?}");
+        sum += sh.sun_ms.unwrap_or(0.0);
+        let span = stats.gpu_ms.shadows.expect("the shadow pass timed");
+        assert!(sum <= span + 1e-6, "{cube:?}: the owners' {sum} ms over the pass's {span} ms");
+        assert!(render(&s, &plain, 160, 90).stats.per_light.iter().all(|l| l.shadow_ms.is_none()));
+    }
+}

@@ -44,11 +44,12 @@ pub(super) fn lights_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
                 ));
                 if ls.shadow_tiles > 0 {
                     ui.label(format!(
-                        "shadow: {} tile{}, {} texels, {} caster draws",
+                        "shadow: {} tile{}, {} texels, {} caster draws{}",
                         ls.shadow_tiles,
                         if ls.shadow_tiles == 1 { "" } else { "s" },
                         fmt_count(ls.shadow_texels),
-                        ls.caster_draws
+                        ls.caster_draws,
+                        ls.shadow_ms.map_or(String::new(), |ms| format!(", {ms:.3} ms"))
                     ))
                     .on_hover_text("its share of the shadow maps this frame: the tiles (or cube faces) it holds and the casters drawn into them");
                 }

@@ -10,6 +10,8 @@ use crate::renderer::shadows::atlas_view::AtlasScratch;
 #[derive(Default)]
 pub struct Scratch {
     pub tiled: TiledScratch,
+    /// The ledger's per-light shadow timing.
+    pub shadows: crate::renderer::shadows::pass::ShadowTimes,
     pub forward: ForwardScratch,
     pub atlas_view: AtlasScratch,
 }

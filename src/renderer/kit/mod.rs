@@ -16,7 +16,7 @@ pub mod caps;
 pub mod gbuffer;
 pub mod pipeline;
 
-pub use pipeline::{ambient_fits, scene_pipeline, PipelineKey, ScenePipe, Shared};
+pub use pipeline::{ambient_fits, scene_pipeline, screen_pipeline, PipelineKey, ScenePipe, Shared};
 use std::sync::{Arc, OnceLock};
 use wgpu::CompareFunction as Cmp;
 

@@ -57,6 +57,39 @@ pub fn ambient_fits(layout: &GBufferLayout, accum_format: wgpu::TextureFormat, l
         && layout.bytes_per_pixel() + n as u32 * accum <= limits.max_color_attachment_bytes_per_sample
 }
 
+/// [`Shared::screen_pipeline`] from `module`, for a pass that builds a pipeline after its
+/// construction (when a frame first needs it).
+pub fn screen_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    (vs, fs): (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// What every pass's pipelines are built from.
 pub struct Shared {
     pub key: PipelineKey,
@@ -164,27 +197,7 @@ impl Shared {
         (vs, fs): (&str, &str),
         targets: &[Option<wgpu::ColorTargetState>],
     ) -> wgpu::RenderPipeline {
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module: &self.module,
-                entry_point: Some(vs),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &self.module,
-                entry_point: Some(fs),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+        screen_pipeline(device, &self.module, label, layout, (vs, fs), targets)
     }
 
     /// A pipeline of the per-light passes (lights, debug views, measurement): a volume or a

@@ -327,6 +327,10 @@ pub struct ShadowStats {
     /// Lights (the sun counted) with shadows this frame.
     pub casting: u32,
     pub sun_cascades: u32,
+    /// The sun's cascades' drawing time (ms) in a ledger frame, timed apart from the lights'
+    /// (`LightStats::shadow_ms`); `None` otherwise.
+    #[serde(default)]
+    pub sun_ms: Option<f64>,
     /// Fallbacks to unshadowed: the light's volume is off screen, or the atlas was full.
     pub fallback_off_screen: u32,
     pub fallback_budget: u32,

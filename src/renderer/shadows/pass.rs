@@ -63,7 +63,9 @@ impl ShadowPass {
 
     /// Clears the atlas to the far depth and draws each tile's casters, then (with
     /// `--shadow-cube array`) each cube face into its layer of the cube array, one render pass a
-    /// layer; nothing when no tile. The pass's timestamps span all of them.
+    /// layer; nothing when no tile. The pass's timestamps span all of them. A frame that counts
+    /// (the ledger) with timestamps draws each light's tiles (and the sun's) in render passes of
+    /// their own instead, each timed ([`Self::encode_timed`]).
     pub fn encode(
         &self,
         device: &wgpu::Device,
@@ -71,10 +73,15 @@ impl ShadowPass {
         f: &FrameInputs<'_>,
         plan: &ShadowPlan,
     ) {
+        f.scratch.shadows.clear();
         if plan.tiles.is_empty() {
             return;
         }
         let group = f.frame.caster_group(device, &self.caster_bgl);
+        if f.counts && f.times && f.queries.timestamps.is_some() {
+            self.encode_timed(device, encoder, f, plan, &group);
+            return;
+        }
         let atlas: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_none()).collect();
         let faces: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_some()).collect();
         // (target, its draws): the atlas when it has tiles, then each cube face.
@@ -90,36 +97,205 @@ impl ShadowPass {
         for (k, (view, draws)) in targets.into_iter().enumerate() {
             let begin = (k == 0).then_some(SPAN);
             let end = (k == last).then_some(SPAN);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadows"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: f.timestamps(begin, end),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
-            pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
-            let objects = plan.params.sun[3].max(1);
-            for d in draws {
-                if d.objects.is_empty() {
-                    continue;
-                }
-                let (x, y, s) = (d.x as f32, d.y as f32, d.size as f32);
-                pass.set_viewport(x, y, s, s, 0.0, 1.0);
-                pass.set_scissor_rect(d.x, d.y, d.size, d.size);
-                for &o in &d.objects {
-                    let Some((range, base)) = f.scene.draws.get(o as usize) else { continue };
-                    let instance = d.tile * objects + o;
-                    pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+            let mut pass = begin_pass(encoder, view, true, f.timestamps(begin, end));
+            self.draw_tiles(&mut pass, f, plan, &group, &draws);
+        }
+    }
+
+    /// Draws `draws`' casters into `pass`, each tile through its viewport.
+    fn draw_tiles(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        f: &FrameInputs<'_>,
+        plan: &ShadowPlan,
+        group: &wgpu::BindGroup,
+        draws: &[&TileDraw],
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
+        pass.set_index_buffer(f.scene.indices.slice(..), wgpu::IndexFormat::Uint32);
+        let objects = plan.params.sun[3].max(1);
+        for d in draws {
+            if d.objects.is_empty() {
+                continue;
+            }
+            let (x, y, s) = (d.x as f32, d.y as f32, d.size as f32);
+            pass.set_viewport(x, y, s, s, 0.0, 1.0);
+            pass.set_scissor_rect(d.x, d.y, d.size, d.size);
+            for &o in &d.objects {
+                let Some((range, base)) = f.scene.draws.get(o as usize) else { continue };
+                let instance = d.tile * objects + o;
+                pass.draw_indexed(range.clone(), *base, instance..instance + 1);
+            }
+        }
+    }
+
+    /// The ledger's shadow pass: the atlas cleared by an empty pass that starts the span, then
+    /// each owner's tiles (a light's, or the sun's cascades), atlas tiles and cube faces apart,
+    /// in a render pass of its own timed by a pair of timestamps of [`ShadowTimes`], then an
+    /// empty pass that ends the span. The same draws into the same tiles as [`Self::encode`],
+    /// only split into more passes (each loads what the last stored).
+    fn encode_timed(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        plan: &ShadowPlan,
+        group: &wgpu::BindGroup,
+    ) {
+        let mut owner = vec![Owner::Sun; plan.draws.len()];
+        for (i, &(first, count)) in plan.lights.iter().enumerate() {
+            if first != super::NO_SHADOW {
+                for o in owner.iter_mut().skip(first as usize).take(count as usize) {
+                    *o = Owner::Light(i);
                 }
             }
         }
+        // Runs of draws with one owner and one target (the atlas, or one cube face).
+        let mut runs: Vec<(Owner, Option<u32>, Vec<&TileDraw>)> = Vec::new();
+        for (d, &o) in plan.draws.iter().zip(&owner) {
+            match runs.last_mut() {
+                Some((ro, layer, draws)) if *ro == o && *layer == d.layer && d.layer.is_none() => draws.push(d),
+                _ => runs.push((o, d.layer, vec![d])),
+            }
+        }
+        drop(begin_pass(encoder, &f.frame.shadow_view, true, f.timestamps(Some(SPAN), None)));
+        let timers = f.scratch.shadows.timers(device, runs.len() as u32 * 2);
+        let mut owners = Vec::with_capacity(runs.len());
+        for (k, (o, layer, draws)) in runs.iter().enumerate() {
+            let view = match layer {
+                None => &f.frame.shadow_view,
+                Some(l) => match f.frame.shadow_cube_layers.get(*l as usize) {
+                    Some(v) => v,
+                    None => continue,
+                },
+            };
+            let writes = wgpu::RenderPassTimestampWrites {
+                query_set: &timers.set,
+                beginning_of_pass_write_index: Some(2 * k as u32),
+                end_of_pass_write_index: Some(2 * k as u32 + 1),
+            };
+            let mut pass = begin_pass(encoder, view, layer.is_some(), Some(writes));
+            self.draw_tiles(&mut pass, f, plan, group, draws);
+            owners.push((*o, k as u32));
+        }
+        drop(begin_pass(encoder, &f.frame.shadow_view, false, f.timestamps(None, Some(SPAN))));
+        let n = runs.len() as u32 * 2;
+        encoder.resolve_query_set(&timers.set, 0..n, &timers.resolve, 0);
+        encoder.copy_buffer_to_buffer(&timers.resolve, 0, &timers.readback, 0, n as u64 * 8);
+        f.scratch.shadows.pending(owners);
+    }
+}
+
+/// A render pass into shadow depth `view`, cleared to the far depth or loaded, timed by `writes`.
+fn begin_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    clear: bool,
+    writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+) -> wgpu::RenderPass<'e> {
+    let load = if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("shadows"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: writes,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Whose tiles a timed shadow render pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Owner {
+    /// The sun's cascades.
+    Sun,
+    Light(usize),
+}
+
+struct Timers {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    capacity: u32,
+}
+
+/// A renderer's per-light shadow timing (the ledger's frames): the timestamp queries, grown as
+/// frames need, and the last frame's owner of each pair.
+#[derive(Default)]
+pub struct ShadowTimes {
+    timers: std::sync::Mutex<Option<std::sync::Arc<Timers>>>,
+    owners: std::sync::Mutex<Vec<(Owner, u32)>>,
+}
+
+impl ShadowTimes {
+    fn clear(&self) {
+        if let Ok(mut o) = self.owners.lock() {
+            o.clear();
+        }
+    }
+
+    fn pending(&self, owners: Vec<(Owner, u32)>) {
+        if let Ok(mut o) = self.owners.lock() {
+            *o = owners;
+        }
+    }
+
+    /// Timestamp queries for at least `count` writes.
+    fn timers(&self, device: &wgpu::Device, count: u32) -> std::sync::Arc<Timers> {
+        let mut slot = match self.timers.lock() {
+            Ok(s) => s,
+            Err(p) => p.into_inner(),
+        };
+        if let Some(t) = slot.as_ref().filter(|t| t.capacity >= count) {
+            return t.clone();
+        }
+        // wgpu's largest query set; a frame's passes stay far below it (two per casting light).
+        let capacity = count.next_power_of_two().clamp(16, wgpu::QUERY_SET_MAX_QUERIES);
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: capacity as u64 * 8,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        use wgpu::BufferUsages as B;
+        let t = std::sync::Arc::new(Timers {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("shadow times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: capacity,
+            }),
+            resolve: buffer("shadow times resolve", B::QUERY_RESOLVE | B::COPY_SRC),
+            readback: buffer("shadow times readback", B::COPY_DST | B::MAP_READ),
+            capacity,
+        });
+        *slot = Some(t.clone());
+        t
+    }
+
+    /// Each owner's shadow ms in the last frame (its passes summed); empty when the frame did
+    /// not time them. `period_ns`: the queue's timestamp period.
+    pub fn read(&self, device: &wgpu::Device, period_ns: f32) -> anyhow::Result<Vec<(Owner, f64)>> {
+        let owners = self.owners.lock().map_err(|_| anyhow::anyhow!("shadow times lock poisoned"))?.clone();
+        let timers = self.timers.lock().map_err(|_| anyhow::anyhow!("shadow times lock poisoned"))?.clone();
+        let (Some(t), Some(last)) = (timers, owners.iter().map(|o| o.1).max()) else { return Ok(Vec::new()) };
+        let words: Vec<u64> = crate::renderer::kit::read_back(device, &t.readback, (2 * last as u64 + 2) * 8)?;
+        let mut out: Vec<(Owner, f64)> = Vec::new();
+        for &(o, k) in &owners {
+            let (a, b) = (words[2 * k as usize], words[2 * k as usize + 1]);
+            let ms = b.saturating_sub(a) as f64 * period_ns as f64 / 1e6;
+            match out.iter_mut().find(|(w, _)| *w == o) {
+                Some((_, sum)) => *sum += ms,
+                None => out.push((o, ms)),
+            }
+        }
+        Ok(out)
     }
 }

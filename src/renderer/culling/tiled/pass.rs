@@ -98,8 +98,13 @@ pub struct TiledPass {
     build: wgpu::ComputePipeline,
     /// The GPU's clustered lists: count, scan, fill, sort.
     cluster: [wgpu::ComputePipeline; 4],
-    /// `fs_tiled`, and `fs_tiled_counted` for frames that count each light's pairs.
-    shade: [wgpu::RenderPipeline; 2],
+    /// `fs_tiled`.
+    shade: wgpu::RenderPipeline,
+    /// `fs_tiled_counted`, for frames that count each light's pairs (the ledger): built by the
+    /// first such frame, so a configuration that never counts compiles no counter, from
+    /// `counted_from` (the module, the layout and the targets).
+    counted: std::sync::OnceLock<wgpu::RenderPipeline>,
+    counted_from: (wgpu::ShaderModule, wgpu::PipelineLayout, [Option<wgpu::ColorTargetState>; 2]),
     count_view: wgpu::RenderPipeline,
     /// The ledger's waste view (`fs_tile_waste`) of frames the tiled pass shades.
     waste_view: wgpu::RenderPipeline,
@@ -159,13 +164,19 @@ impl TiledPass {
         // The light pre-pass has one light buffer (`Targets::accumulation`).
         let second = Some(accum.clone()).filter(|_| !shared.key.one_target());
         let targets = [Some(accum), second];
-        let shade = [
-            pipe("tiled shade", "vs_tiled", "fs_tiled", &targets),
-            pipe("tiled shade, counted", "vs_tiled", "fs_tiled_counted", &targets),
-        ];
+        let shade = pipe("tiled shade", "vs_tiled", "fs_tiled", &targets);
         let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug.clone())]);
         let waste_view = pipe("waste view (lists)", "vs_compose", "fs_tile_waste", &[Some(debug)]);
-        Self { bgl, build, cluster, shade, count_view, waste_view }
+        Self {
+            bgl,
+            build,
+            cluster,
+            shade,
+            counted: std::sync::OnceLock::new(),
+            counted_from: (shared.module.clone(), layout.clone(), targets),
+            count_view,
+            waste_view,
+        }
     }
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
@@ -229,7 +240,15 @@ impl TiledPass {
         }
         let upload_ms = (clock.ms(), clock.wall_ms());
         encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
-        self.record(encoder, f, b, (method, gpu_job.is_some(), view), &params, cells);
+        let shade = match f.counts {
+            true => self.counted.get_or_init(|| {
+                let (module, layout, targets) = &self.counted_from;
+                let stages = ("vs_tiled", "fs_tiled_counted");
+                crate::renderer::kit::screen_pipeline(device, module, "tiled shade, counted", layout, stages, targets)
+            }),
+            false => &self.shade,
+        };
+        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params), cells);
         if f.counts {
             encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
             encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, (n as u64 + 1) * 4);
@@ -293,7 +312,7 @@ impl TiledPass {
         f: &FrameInputs<'_>,
         b: &Buffers,
         (method, gpu_lists, view): (Method, bool, Option<&wgpu::RenderPipeline>),
-        params: &TileParams,
+        (shade, params): (&wgpu::RenderPipeline, &TileParams),
         cells: u64,
     ) {
         let n = f.plan.lights.len();
@@ -336,7 +355,7 @@ impl TiledPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.shade[f.counts as usize]);
+            pass.set_pipeline(shade);
             bind(&mut pass);
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
             pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));

@@ -323,6 +323,7 @@ impl UiState {
             "speed" => self.time_speed = in_range("time speed", parse_f64(value)?, -100.0, 100.0)?,
             "move-speed" => self.move_speed = in_range("move speed", parse_f64(value)?, 0.01, 1000.0)?,
             "animate" => self.animate = parse_bool(value)?,
+            "costliest-first" => self.lights_by_cost = parse_bool(value)?,
             "panel-left" => self.panels.left = parse_bool(value)?,
             "panel-right" => self.panels.right = parse_bool(value)?,
             "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,

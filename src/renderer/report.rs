@@ -148,6 +148,12 @@ impl Renderer {
             l.cost_ms = model.light_ms(l);
             sum += l.cost_ms.unwrap_or(0.0);
         }
+        if let Some(measured) = stats.gpu_ms.lighting.filter(|_| sum + model.fixed_ms > 0.0) {
+            let scale = measured / (sum + model.fixed_ms);
+            for l in &mut stats.per_light {
+                l.share_ms = l.cost_ms.map(|c| c * scale);
+            }
+        }
         stats.light_cost_ms = Some(sum);
         stats.cost_model = Some(model);
     }

@@ -335,6 +335,11 @@ pub struct LightStats {
     /// (ms): its draws and its evaluated pairs.
     #[serde(default)]
     pub cost_ms: Option<f64>,
+    /// Its share of the light pass's measured time (ms): the measured pass times its cost over
+    /// the model's whole pass (fixed part + every light's cost). The shares and the fixed part's
+    /// add up to the measured pass by construction; the model only weighs them.
+    #[serde(default)]
+    pub share_ms: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]

@@ -116,6 +116,13 @@ fn the_ledger_is_in_the_stats_and_off_above_4096_lights_unless_asked() {
     }
     assert_eq!((v["shaded_fragments"].as_u64(), v["wasted_fragments"].as_u64()), (Some(shaded), Some(wasted)));
     assert!(v["cost_model"]["pair_ns"].as_f64().is_some() && v["light_cost_ms"].as_f64().is_some());
+    // Each light's share of the measured pass: the pass split in proportion to the model's
+    // costs, the fixed part's share apart.
+    let (measured, model) = (v["stats"]["gpu_ms"]["lighting"].as_f64().unwrap(), v["light_cost_ms"].as_f64().unwrap());
+    let fixed = v["cost_model"]["fixed_ms"].as_f64().unwrap();
+    let shares: f64 = lights.iter().map(|l| l["share_ms"].as_f64().unwrap()).sum();
+    let expected = measured * model / (model + fixed);
+    assert!((shares - expected).abs() <= 1e-9 * measured, "shares {shares} ms, expected {expected} of {measured}");
     let many = ["--lights", "4100"];
     let out = lampshade(&[&base[..], &stats, &many].concat());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

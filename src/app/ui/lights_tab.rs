@@ -245,11 +245,9 @@ fn light_list(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, scene: &Scene)
                 ui.painter().rect_filled(r, 2.0, colour32(l.color()));
                 let ls = per_light.get(i);
                 let text = if by_cost {
-                    format!(
-                        "{:<10}{:>9}",
-                        light_label(i, l),
-                        ls.and_then(|s| s.cost_ms).map_or("-".into(), |ms| format!("{ms:.3} ms"))
-                    )
+                    // Its share of the measured pass where the frame was timed, else the model's ms.
+                    let ms = ls.and_then(|s| s.share_ms.or(s.cost_ms));
+                    format!("{:<10}{:>9}", light_label(i, l), ms.map_or("-".into(), |ms| format!("{ms:.3} ms")))
                 } else {
                     format!(
                         "{:<10}{:>8} {}",
@@ -277,12 +275,12 @@ fn ledger_summary(ui: &mut egui::Ui, stats: Option<&FrameStats>) {
     match (&s.cost_model, s.light_cost_ms) {
         (Some(m), Some(sum)) => {
             ui.label(format!(
-                "lights {sum:.2} ms + fixed {:.2} ms (model) | light pass {} measured",
+                "model: lights {sum:.2} ms + fixed {:.2} ms; measured pass {}",
                 m.fixed_ms,
                 fmt_ms(s.gpu_ms.lighting)
             ))
             .on_hover_text(format!(
-                "cost = draws x {:.4} ms + evaluated pairs x {:.1} ns; {}. `lampshade bench --only ledger` fits the model on this adapter and checks it by removing lights.",
+                "cost = draws x {:.4} ms + evaluated pairs x {:.1} ns; {}. Each row shows the light's share of the measured pass (the measured time split in proportion to the model's costs, fixed part included), or the model's ms where the frame was not timed. `lampshade bench --only ledger` fits the model on this adapter and checks it by removing lights.",
                 m.draw_ms, m.pair_ns, m.source
             ));
         }

@@ -23,15 +23,9 @@ use crate::renderer::stats::LightStats;
 
 /// The modes the ledger group checks: every mode whose lights all go one way (`auto` mixes
 /// methods per light; its lights' costs come from the modes it mixes).
-pub const LEDGER_MODES: [CullingMode; 7] = [
-    CullingMode::Fullscreen,
-    CullingMode::Volume,
-    CullingMode::StencilTwoPass,
-    CullingMode::StencilInvert,
-    CullingMode::StencilReplace,
-    CullingMode::Tiled,
-    CullingMode::Clustered,
-];
+pub fn ledger_modes() -> impl Iterator<Item = CullingMode> {
+    CullingMode::ALL.into_iter().filter(|m| *m != CullingMode::Auto)
+}
 
 /// The group's name for `--only` (apart from [`GROUPS`]: its rows are not configurations).
 pub const LEDGER_GROUP: &str = "ledger";
@@ -95,7 +89,7 @@ impl LedgerRow {
     }
 }
 
-/// Runs the group: a row per mode of [`LEDGER_MODES`] (the reference's budget keeps
+/// Runs the group: a row per mode of [`ledger_modes`] (the reference's budget keeps
 /// `fullscreen` out where its frame would take minutes).
 pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Result<Vec<LedgerRow>> {
     let lights = (!o.fixed_lights).then_some(o.lights);
@@ -114,7 +108,7 @@ pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Re
         })?
     };
     let mut rows = Vec::new();
-    for mode in LEDGER_MODES {
+    for mode in ledger_modes() {
         if mode == CullingMode::Fullscreen && pairs > REFERENCE_FULLSCREEN_BUDGET {
             continue;
         }

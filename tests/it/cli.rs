@@ -419,7 +419,7 @@ fn bench_runs_every_group(file: &str, extra: &[&str], fixed: bool) {
     assert!(skipped.contains("| layout | oct8 |") && skipped.contains("material ID"), "{file}: {skipped}");
     // The ledger group: a row per mode it checks, each with its fit or the reason it has none.
     let ledger = md.split("## The light ledger").nth(1).unwrap_or_else(|| panic!("{file}: no ledger section:\n{md}"));
-    for mode in lampshade::bench::LEDGER_MODES {
+    for mode in lampshade::bench::ledger_modes() {
         assert!(
             ledger.contains(&format!("\n| {} |", mode.name())),
             "{file}: no ledger row for {}:\n{ledger}",

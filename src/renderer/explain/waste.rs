@@ -11,7 +11,6 @@
 use crate::renderer::culling::methods::{self, Reference, METHODS};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL};
-use crate::renderer::targets::attachment;
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
 /// One method's draws for the view: its mark (adding nothing), its shading draw, and the
@@ -65,16 +64,7 @@ impl WastePass {
     /// Records the view into the debug target: every light the light pass drew (or the selected
     /// one), one at a time with its method's draws.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
-        let t = f.targets;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("waste view"),
-            color_attachments: &[attachment(&t.debug_view, Some(wgpu::Color::TRANSPARENT))],
-            depth_stencil_attachment: Some(t.depth_attachment(true)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        f.bind_light_inputs(&mut pass);
+        let mut pass = f.debug_view_pass(encoder, "waste view");
         let mut reference = 0u32;
         for (i, plan) in f.plan.lights.iter().enumerate() {
             if f.settings.selected_light.is_some_and(|k| k != i) {

@@ -67,6 +67,23 @@ impl FrameInputs<'_> {
         })
     }
 
+    /// A render pass of per-light draws into the debug target (cleared), against the scene's
+    /// depth with the stencil cleared, the light inputs bound: the debug views' and the waste
+    /// view's.
+    pub fn debug_view_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, label: &str) -> wgpu::RenderPass<'e> {
+        let t = self.targets;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[crate::renderer::targets::attachment(&t.debug_view, Some(wgpu::Color::TRANSPARENT))],
+            depth_stencil_attachment: Some(t.depth_attachment(true)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.bind_light_inputs(&mut pass);
+        pass
+    }
+
     /// Frame buffers, the G-buffer and the light-volume meshes: what every light draw reads.
     pub fn bind_light_inputs(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.frame.group, &[]);

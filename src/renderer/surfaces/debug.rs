@@ -7,7 +7,6 @@ use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;
-use crate::renderer::targets::attachment;
 
 pub struct DebugPass {
     /// Seed 000's diagram: the two-pass mark, the volume test alone, the two-pass shade.
@@ -58,16 +57,7 @@ impl DebugPass {
         if !matches!(view, DebugView::Stencil | DebugView::Complexity) {
             return;
         }
-        let t = f.targets;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("debug view"),
-            color_attachments: &[attachment(&t.debug_view, Some(wgpu::Color::TRANSPARENT))],
-            depth_stencil_attachment: Some(t.depth_attachment(true)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        f.bind_light_inputs(&mut pass);
+        let mut pass = f.debug_view_pass(encoder, "debug view");
         let n = f.plan.lights.len();
         // Frames the tiled pass shades have no batches: their lights are drawn one by one below.
         if view == DebugView::Complexity && f.settings.selected_light.is_none() && f.plan.tiled.is_none() {

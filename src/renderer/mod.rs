@@ -642,6 +642,27 @@ impl Renderer {
         Ok(Some(out))
     }
 
+    /// The GPU objects only the ledger uses that this renderer (or the pass sets it holds) has
+    /// made: each is built by the first frame that counts or shows the ledger, so a renderer
+    /// that never does lists none.
+    pub fn ledger_objects(&self) -> Vec<&'static str> {
+        let mut out = Vec::new();
+        let sets = || std::iter::once(&self.passes).chain(&self.pass_cache);
+        if sets().any(|p| p.tiled.get().is_some_and(|t| t.counter_built())) {
+            out.push("the tiled pass's per-light counter");
+        }
+        if sets().any(|p| p.waste.get().is_some()) {
+            out.push("the waste view's passes");
+        }
+        if self.scratch.forward.draw_queries_made() {
+            out.push("the forward paths' per-draw queries");
+        }
+        if self.scratch.shadows.made() {
+            out.push("the per-light shadow timers");
+        }
+        out
+    }
+
     /// Reads the linear HDR accumulation (diffuse, specular) as f32 RGBA, for NaN/Inf checks
     /// (decoded, for the logarithmic Rgba8 format). On the light pre-pass: its one light buffer
     /// decoded, as (RGB diffuse, A mono specular) and the mono specular as grey RGB. With seed

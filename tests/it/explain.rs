@@ -324,6 +324,35 @@ fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
     }
 }
 
+/// The ledger off compiles no counter: a renderer on a device of its own (so no other test's
+/// frame has built a pass it shares) draws every culling mode and path, with shadows on, and
+/// has made none of the ledger's GPU objects (the tiled pass's counting pipeline, the waste
+/// view, the forward paths' per-draw queries, the per-light shadow timers); one counted frame
+/// in each of `tiled` and forward single-pass, with a view of the waste, then makes them.
+#[test]
+fn the_ledger_off_compiles_no_counter() {
+    use lampshade::renderer::{DebugView, RenderPath};
+    let own = lampshade::gpu::Gpu::headless().expect("a second device");
+    let scene = with_lights("demo", 16);
+    let off = settings(CullingMode::Tiled);
+    let mut r = Renderer::new(&own, OUTPUT_FORMAT, &off).expect("renderer");
+    for mode in CullingMode::ALL {
+        render_image(&own, &mut r, &scene, &settings(mode), 96, 54).expect("render");
+    }
+    for path in [RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass] {
+        render_image(&own, &mut r, &scene, &Settings { path, ..off.clone() }, 96, 54).expect("render");
+    }
+    assert_eq!(r.ledger_objects(), Vec::<&str>::new(), "frames without the ledger made its objects");
+    let on = Settings { count_fragments: true, count_ideal: true, ..off.clone() };
+    render_image(&own, &mut r, &scene, &on, 96, 54).expect("render");
+    let forward = Settings { path: RenderPath::Forward, ..on.clone() };
+    render_image(&own, &mut r, &scene, &forward, 96, 54).expect("render");
+    render_image(&own, &mut r, &scene, &Settings { debug_view: DebugView::Waste, culling: CullingMode::Volume, ..off }, 96, 54)
+        .expect("render");
+    let made = r.ledger_objects();
+    assert!(made.len() == 4, "counted frames made {made:?}");
+}
+
 /// The waste view (`--debug-view waste`) against the ledger: in every culling mode, over the
 /// whole frame, the view's per-pixel counts add up exactly to the lights' wasted pairs (each
 /// light's evaluated samples minus its ideal ones, from the counted frame's queries and list

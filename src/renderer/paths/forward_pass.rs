@@ -195,6 +195,11 @@ impl Queries {
 }
 
 impl ForwardScratch {
+    /// Whether a counted frame has made the per-draw queries.
+    pub fn draw_queries_made(&self) -> bool {
+        self.draws.get().is_some()
+    }
+
     fn queries(&self, device: &wgpu::Device) -> &Queries {
         self.queries.get_or_init(|| Queries::new(device, "forward path fragments", QUERIES))
     }

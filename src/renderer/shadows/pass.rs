@@ -234,6 +234,11 @@ pub struct ShadowTimes {
 }
 
 impl ShadowTimes {
+    /// Whether a timed frame has made the timestamp queries.
+    pub fn made(&self) -> bool {
+        self.timers.lock().map(|t| t.is_some()).unwrap_or(true)
+    }
+
     fn clear(&self) {
         if let Ok(mut o) = self.owners.lock() {
             o.clear();

@@ -127,6 +127,11 @@ fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsag
 }
 
 impl TiledPass {
+    /// Whether a counted frame has built `fs_tiled_counted`.
+    pub fn counter_built(&self) -> bool {
+        self.counted.get().is_some()
+    }
+
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let bgl = bindings::TILES.layout(device);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

@@ -7,6 +7,7 @@ pub mod compare;
 pub mod gpu;
 pub mod headless;
 pub mod memory;
+pub mod oracle;
 pub mod plot_layout;
 pub mod reference;
 pub mod renderer;

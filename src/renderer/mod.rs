@@ -642,6 +642,12 @@ impl Renderer {
         Ok(Some(out))
     }
 
+    /// Whether the last frame accumulated into one target (seed 000's RT1 of lit colour, or the
+    /// light pre-pass's light buffer).
+    pub fn one_target(&self) -> bool {
+        self.targets.as_ref().is_some_and(|t| t.one_target)
+    }
+
     /// The GPU objects only the ledger uses that this renderer (or the pass sets it holds) has
     /// made: each is built by the first frame that counts or shows the ledger, so a renderer
     /// that never does lists none.

@@ -23,6 +23,7 @@
 //! light: the rest is what the G-buffer pass wrote before any light (ambient, sun, and in seed
 //! 000's one target the emission).
 
+pub mod brute;
 pub mod cost;
 pub mod waste;
 

@@ -44,6 +44,9 @@ pub struct Passes {
     /// The ledger's waste view of the lights drawn one by one (built by the first frame that
     /// shows it).
     pub waste: Lazy<crate::renderer::explain::waste::WastePass>,
+    /// Every light at every pixel, the culling oracle's reference (`explain::brute`; not part of
+    /// the frame).
+    pub brute: Lazy<crate::renderer::explain::brute::BrutePass>,
 }
 
 impl Passes {
@@ -80,6 +83,7 @@ impl Passes {
             atlas_view: Lazy::new(device, &shared, crate::renderer::shadows::atlas_view::AtlasViewPass::new),
             explain: Lazy::new(device, &shared, crate::renderer::explain::ExplainPass::new),
             waste: Lazy::new(device, &shared, crate::renderer::explain::waste::WastePass::new),
+            brute: Lazy::new(device, &shared, crate::renderer::explain::brute::BrutePass::new),
             shared,
         }
     }

@@ -1,0 +1,339 @@
+//! The oracle's cases: a scene, a camera and the settings that change what the culling sees,
+//! written down as plain data (so a failing case is a file the suite replays), and the seeded
+//! generator that draws them from the space the culling bugs of the field live in.
+
+use crate::renderer::{AccumFormat, DepthFormat, LayoutChoice, Settings, ShadowMode};
+use crate::scene::{Camera, Light, Material, Mesh, Object, PointLight, Scene, SpotLight, ALL_LAYERS};
+use glam::{DMat4, DQuat, DVec3, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// One box of a case: a unit cube scaled, turned about +Y and moved. A zero size on an axis is
+/// a degenerate box (zero-area faces), a tiny one a thin wall.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BoxSpec {
+    pub center: [f64; 3],
+    pub size: [f64; 3],
+    /// Radians about +Y.
+    pub yaw: f64,
+    /// Culling layer (seed 004's masks), 0..=31.
+    #[serde(default)]
+    pub layer: u8,
+    pub color: [f32; 3],
+    /// Blinn-Phong specular level (0: diffuse only).
+    #[serde(default)]
+    pub specular: f32,
+}
+
+/// The settings a case varies: what changes the culling's inputs (the G-buffer's layout and
+/// precision, the depth buffer, the accumulation) and the lookups that zero light (shadows).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CaseSettings {
+    pub layout: LayoutChoice,
+    pub depth_format: DepthFormat,
+    pub reversed_z: bool,
+    pub accumulation: AccumFormat,
+    pub shadows: ShadowMode,
+}
+
+impl CaseSettings {
+    /// The frame's settings: the case's, nothing counted or timed.
+    pub fn settings(&self) -> Settings {
+        Settings {
+            layout: self.layout,
+            depth_format: self.depth_format,
+            reversed_z: self.reversed_z,
+            accumulation: self.accumulation,
+            shadows: self.shadows,
+            count_fragments: false,
+            count_ideal: false,
+            timestamps: false,
+            ..Settings::default()
+        }
+    }
+}
+
+/// A case: everything the oracle renders, as data.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Case {
+    /// Where it came from: the generator's seed and the case's index (a shrunk case keeps its
+    /// origin's).
+    pub seed: u64,
+    pub index: u64,
+    /// What the generator aimed at, in words ("camera inside 3 volumes", ...).
+    #[serde(default)]
+    pub aims: Vec<String>,
+    pub width: u32,
+    pub height: u32,
+    pub camera: Camera,
+    /// Added to every position (camera, boxes, lights): far-from-origin coordinates.
+    #[serde(default)]
+    pub offset: [f64; 3],
+    pub boxes: Vec<BoxSpec>,
+    pub lights: Vec<Light>,
+    pub settings: CaseSettings,
+}
+
+impl Case {
+    /// The scene the case describes.
+    pub fn scene(&self) -> Scene {
+        let offset = DVec3::from_array(self.offset);
+        let mut camera = self.camera;
+        camera.position += offset;
+        let mut scene = Scene { meshes: vec![Mesh::cube()], ..Scene::new(&format!("oracle-{}-{}", self.seed, self.index), camera) };
+        scene.sun = None;
+        scene.ambient = Vec3::splat(0.02);
+        for b in &self.boxes {
+            scene.materials.push(Material {
+                diffuse: Vec3::from_array(b.color),
+                specular_level: b.specular,
+                specular_exponent: 32.0,
+                ..Material::diffuse(Vec3::from_array(b.color))
+            });
+            let transform = DMat4::from_scale_rotation_translation(
+                DVec3::from_array(b.size),
+                DQuat::from_rotation_y(b.yaw),
+                DVec3::from_array(b.center) + offset,
+            );
+            let material = scene.materials.len() - 1;
+            scene.objects.push(Object { mesh: 0, material, transform, layer: b.layer.min(31) });
+        }
+        scene.lights = self.lights.clone();
+        for l in &mut scene.lights {
+            match l {
+                Light::Point(p) => p.position += offset,
+                Light::Spot(s) => s.position += offset,
+            }
+        }
+        scene
+    }
+}
+
+/// SplitMix64 (Steele, Lea and Flood, "Fast splittable pseudorandom number generators"): the
+/// generator's stream, one per case, so case k of seed s is the same on every machine.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64, index: u64) -> Self {
+        Self(seed ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(17))
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    /// Log-uniform in [lo, hi] (both > 0).
+    pub fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
+    }
+
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.unit() * n as f64) as usize % n.max(1)
+    }
+
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.unit() < p
+    }
+
+    pub fn pick<T: Copy>(&mut self, items: &[T]) -> T {
+        items[self.below(items.len())]
+    }
+
+    /// A direction uniform on the sphere.
+    pub fn direction(&mut self) -> DVec3 {
+        let z = self.range(-1.0, 1.0);
+        let a = self.range(0.0, std::f64::consts::TAU);
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(r * a.cos(), z, r * a.sin())
+    }
+}
+
+/// Consecutive cases that share their settings (see [`generate`]).
+pub const SETTINGS_BLOCK: u64 = 50;
+
+/// How large the generator draws cases.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    pub width: u32,
+    pub height: u32,
+    /// The most lights a case holds (the counts are log-distributed from 1).
+    pub max_lights: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self { width: 64, height: 36, max_lights: 256 }
+    }
+}
+
+/// Case `index` of stream `seed`. It draws, each with its own chance:
+/// - the camera: pitch from -90 to 90 degrees (an eighth straight down or up), any yaw, fields
+///   of view from 0.5 to 170 degrees, near planes from 1e-4 to 10 and far planes from 10 to
+///   10^6 near planes away;
+/// - boxes: a floor and walls (planes at the camera's depth ranges), blocks, thin walls (1e-3
+///   thick) and degenerate boxes (one size 0), on up to 4 layers;
+/// - lights: 1 to `max_lights` (log-distributed), some stacked at one point; ranges from 1e-4
+///   to 10^4; points and spots with half-angles from 0 to 89.9 degrees; placed at random, on a
+///   box's face, just in front of or behind it, at the camera (which then stands inside the
+///   volume), behind the camera; masks that leave layers out;
+/// - far from the origin (everything moved 10^6);
+/// - the G-buffer layout, the depth format, reversed Z, the accumulation format (16- and
+///   32-bit float; the 8-bit and 11-bit formats' bounds are coarser than a light) and shadows,
+///   shared by [`SETTINGS_BLOCK`] cases in a row.
+pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
+    let mut r = Rng::new(seed, index);
+    let mut aims = Vec::new();
+    // The settings come from a stream of their own, the same for SETTINGS_BLOCK cases in a row:
+    // each combination compiles its own pipelines (tens of ms each on lavapipe), which a block
+    // then reuses.
+    let settings = {
+        let mut r = Rng::new(seed ^ 0x5E77_1465, index / SETTINGS_BLOCK);
+        CaseSettings {
+            layout: r.pick(&LayoutChoice::ALL),
+            depth_format: r.pick(&DepthFormat::ALL),
+            reversed_z: r.chance(0.5),
+            accumulation: r.pick(&[AccumFormat::Rgba16Float, AccumFormat::Rgba32Float]),
+            shadows: r.pick(&[ShadowMode::None, ShadowMode::Spots, ShadowMode::All]),
+        }
+    };
+    // Masks that leave some layers out need a layout with a channel for the layer (the others
+    // refuse such scenes, with a clear error, which a test covers).
+    let masks = matches!(settings.layout, LayoutChoice::Compact | LayoutChoice::Fit | LayoutChoice::Reference);
+    // The world: a scale so cases are not all room-sized.
+    let scale = r.log(0.01, 100.0);
+    let camera = {
+        let pitch = if r.chance(0.125) {
+            aims.push("camera straight down or up".to_string());
+            r.pick(&[-1.0, 1.0]) * std::f64::consts::FRAC_PI_2
+        } else {
+            r.range(-1.0, 1.0) * std::f64::consts::FRAC_PI_2
+        };
+        let fov_deg = if r.chance(0.2) { r.pick(&[0.5, 1.0, 150.0, 170.0]) } else { r.range(20.0, 120.0) };
+        let near = if r.chance(0.3) { r.log(1e-4, 10.0) } else { scale * r.log(1e-3, 0.1) };
+        let far = near * r.log(10.0, 1e6);
+        let position = DVec3::new(r.range(-1.0, 1.0), r.range(0.1, 2.0), r.range(-1.0, 1.0)) * scale;
+        Camera { position, yaw: r.range(-3.2, 3.2), pitch, fov_y: fov_deg.to_radians(), near, far }
+    };
+    let forward = camera.forward();
+    // Boxes: a floor below the camera, walls ahead, blocks, thin walls, degenerate boxes.
+    let mut boxes = Vec::new();
+    let grey = |r: &mut Rng| [r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32];
+    let layers = if masks && r.chance(0.3) { 4 } else { 1 };
+    boxes.push(BoxSpec {
+        center: [camera.position.x, -0.5 * scale, camera.position.z],
+        size: [40.0 * scale, scale, 40.0 * scale],
+        yaw: 0.0,
+        layer: 0,
+        color: grey(&mut r),
+        specular: r.pick(&[0.0, 0.5]) as f32,
+    });
+    let blocks = 1 + r.below(8);
+    for _ in 0..blocks {
+        let depth = r.log(camera.near.max(1e-3 * scale), 20.0 * scale);
+        let side = r.range(-0.6, 0.6) * depth;
+        let center = camera.position + forward * depth + camera.right() * side + DVec3::Y * r.range(-0.5, 0.5) * depth;
+        let mut size = [r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale];
+        let kind = r.below(6);
+        if kind == 0 {
+            size[r.below(3)] = 1e-3 * scale;
+            aims.push("a thin wall".into());
+        } else if kind == 1 {
+            size[r.below(3)] = 0.0;
+            aims.push("a degenerate box".into());
+        }
+        boxes.push(BoxSpec {
+            center: center.to_array(),
+            size,
+            yaw: r.range(0.0, 3.2),
+            layer: r.below(layers) as u8,
+            color: grey(&mut r),
+            specular: r.pick(&[0.0, 0.3, 1.0]) as f32,
+        });
+    }
+    // Lights.
+    let count = (r.log(1.0, limits.max_lights as f64 + 1.0) as usize).clamp(1, limits.max_lights.max(1));
+    let mut lights: Vec<Light> = Vec::with_capacity(count);
+    let spots = r.pick(&[0.0, 0.5, 1.0]);
+    let range_lo = if r.chance(0.2) { 1e-4 } else { 1e-2 * scale };
+    while lights.len() < count {
+        let radius = r.log(range_lo, 1e4_f64.min(100.0 * scale.max(1.0))) as f32;
+        let position = match r.below(6) {
+            0 => {
+                // At the camera, or within the near plane of it: the camera inside the volume.
+                camera.position + r.direction() * camera.near * r.range(0.0, 2.0)
+            }
+            1 => camera.position - forward * r.log(1e-3, 10.0) * scale,
+            2 | 3 => {
+                // On, just in front of or just behind a box's face (its +Y or -Z face).
+                let b = &boxes[r.below(boxes.len())];
+                let c = DVec3::from_array(b.center);
+                let face = if r.chance(0.5) { DVec3::Y * b.size[1] * 0.5 } else { DVec3::Z * b.size[2] * 0.5 };
+                let dir = face.normalize_or(DVec3::Y);
+                let eps = r.pick(&[0.0, 1e-4, -1e-4, 1e-2, -1e-2]) * scale;
+                c + face + dir * eps + DVec3::new(r.range(-0.4, 0.4) * b.size[0], 0.0, 0.0)
+            }
+            _ => camera.position + r.direction() * r.log(1e-3, 30.0) * scale,
+        };
+        let color = Vec3::new(r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32);
+        let intensity = r.log(0.1, 20.0) as f32;
+        let mask = if layers > 1 && r.chance(0.5) { (r.next_u64() as u32) | 1 << r.below(4) } else { ALL_LAYERS };
+        let light = if r.chance(spots) {
+            let outer = if r.chance(0.2) { r.pick(&[0.0, 89.9]) } else { r.range(0.5, 89.9) };
+            let inner = outer * r.range(0.0, 1.0);
+            let direction = if r.chance(0.3) { (-forward).as_vec3() } else { r.direction().as_vec3() };
+            Light::Spot(SpotLight {
+                position,
+                direction,
+                color,
+                intensity,
+                radius,
+                inner_angle: (inner as f32).to_radians(),
+                outer_angle: (outer as f32).to_radians(),
+                cast_shadows: true,
+                cookie: None,
+                mask,
+            })
+        } else {
+            Light::Point(PointLight { position, color, intensity, radius, cookie: None, mask, cast_shadows: true })
+        };
+        // Some lights stacked at one point.
+        let copies = if r.chance(0.05) { 1 + r.below(16) } else { 1 };
+        for _ in 0..copies.min(count - lights.len()) {
+            lights.push(light);
+        }
+    }
+    let inside = lights.iter().filter(|l| l.position().distance(camera.position) < l.radius() as f64).count();
+    if inside > 0 {
+        aims.push(format!("camera inside {inside} volumes"));
+    }
+    let offset = if r.chance(0.1) {
+        aims.push("far from the origin".into());
+        [1e6, 0.0, -1e6]
+    } else {
+        [0.0; 3]
+    };
+    Case {
+        seed,
+        index,
+        aims,
+        width: limits.width,
+        height: limits.height,
+        camera,
+        offset,
+        boxes,
+        lights,
+        settings,
+    }
+}

@@ -1,0 +1,303 @@
+//! The culling oracle: each culling mode's light, pixel by pixel, against brute force (every
+//! light evaluated at every pixel in f32, `Renderer::brute_force`), on cases drawn by a seeded
+//! generator ([`case::generate`]) or read from a file. Culling may only skip work: a pixel
+//! where brute force adds more light than the mode did, by more than the accumulation's
+//! rounding, is a missed pair; more light than brute force is extra light.
+//!
+//! What is compared, per path with a G-buffer (deferred, light pre-pass):
+//! - the mode's accumulated light minus the same frame without lights (ambient, and what the
+//!   G-buffer pass writes first), against brute force's sum;
+//! - per channel: diffuse and specular (the pre-pass's light buffer: diffuse and the
+//!   specular's luminance; seed 000's one target: the lit colour).
+//!
+//! The bound ([`rounding_bound`]) is the accumulation format's rounding: each of the k lights
+//! adding at the pixel is blended into the target, and each blend rounds.
+//!
+//! [`shrink`] reduces a failing case to the fewest lights and boxes that still fail.
+
+pub mod case;
+pub mod shrink;
+
+use crate::gpu::Gpu;
+use crate::headless::render_image;
+use crate::renderer::{AccumFormat, CullingMode, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
+use anyhow::Result;
+use case::Case;
+use serde::{Deserialize, Serialize};
+
+/// The paths the oracle holds against brute force: those that keep a G-buffer.
+pub const PATHS: [RenderPath; 2] = [RenderPath::Deferred, RenderPath::LightPrepass];
+
+/// How far one accumulated channel may lie from the exact sum `value` of the k lights adding
+/// at a pixel in `format`, from rounding alone. Each light's blend rounds twice (its value
+/// converted to the target's format, then the sum; the tiled pass's one write of its f32 sum
+/// likewise), and the lightless frame's value is rounded once on its own and once where the
+/// lights' frame wrote it: 2k + 2 roundings of half a step each.
+/// - Rgba16Float: half an ulp is at most 2^-11 of the value, and under fp16's normal range
+///   half the subnormal step, 2^-25;
+/// - Rgba32Float: 2^-24 of the value, with k more for brute force's own f32 sum, added in
+///   another order;
+/// - Rg11b10Ufloat: 5 mantissa bits in blue (6 in red and green), 2^-6 of the value, and half
+///   its subnormal step, 2^-21;
+/// - Rgba8Log and Rgba8Unorm: their own stated bounds for k + 2 writes
+///   ([`crate::renderer::settings::log_accum_error_bound`], `unorm_accum_error_bound`).
+pub fn rounding_bound(format: AccumFormat, value: f32, k: u32) -> f32 {
+    let n = 2.0 * k as f32 + 2.0;
+    let v = value.abs();
+    match format {
+        AccumFormat::Rgba16Float => n * (2f32.powi(-11) * v).max(2f32.powi(-25)),
+        AccumFormat::Rgba32Float => (n + k as f32) * (2f32.powi(-24) * v).max(f32::MIN_POSITIVE),
+        AccumFormat::Rg11b10Ufloat => n * (2f32.powi(-6) * v).max(2f32.powi(-21)),
+        AccumFormat::Rgba8Log => crate::renderer::settings::log_accum_error_bound(v, k + 2),
+        AccumFormat::Rgba8Unorm => crate::renderer::settings::unorm_accum_error_bound(k + 2),
+    }
+}
+
+/// The largest value a channel of `format` holds: past it the target saturates, which is not
+/// the culling's doing (such pixels are counted apart).
+pub fn range_max(format: AccumFormat) -> f32 {
+    match format {
+        AccumFormat::Rgba16Float => 65504.0,
+        AccumFormat::Rgba32Float => f32::MAX,
+        AccumFormat::Rg11b10Ufloat => 64512.0,
+        AccumFormat::Rgba8Log => crate::renderer::settings::LOG_ACCUM_MAX,
+        AccumFormat::Rgba8Unorm => 1.0,
+    }
+}
+
+/// The worst pixel of a mode, and the lights the explanation there says the mode missed.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Worst {
+    pub x: u32,
+    pub y: u32,
+    /// Brute force's value minus the mode's (positive: light missing), in the channel where it
+    /// is largest against its bound.
+    pub difference: f32,
+    pub bound: f32,
+    /// Brute force's value there.
+    pub reference: f32,
+    /// The lights the pixel's explanation names as missed (admitted by no culling stage, adding
+    /// light).
+    pub missed_lights: Vec<usize>,
+}
+
+/// One culling mode on one path of one case.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ModeResult {
+    pub path: String,
+    pub mode: String,
+    /// Pixels where brute force adds more light than the mode by more than the bound.
+    pub missed: usize,
+    /// Pixels where the mode adds more light than brute force by more than the bound.
+    pub extra: usize,
+    /// Pixels past the accumulation format's range (not compared).
+    pub saturated: usize,
+    pub worst: Option<Worst>,
+    /// Why the frame was not drawn (a mode or layout the adapter refuses), instead of a result.
+    pub refused: Option<String>,
+}
+
+impl ModeResult {
+    pub fn failed(&self) -> bool {
+        self.missed > 0 || self.extra > 0
+    }
+}
+
+/// A case's results, every path and mode.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CaseResult {
+    pub seed: u64,
+    pub index: u64,
+    pub lights: usize,
+    pub modes: Vec<ModeResult>,
+}
+
+impl CaseResult {
+    pub fn failures(&self) -> impl Iterator<Item = &ModeResult> {
+        self.modes.iter().filter(|m| m.failed())
+    }
+}
+
+/// What to check: the paths and modes (all by default).
+#[derive(Clone, Debug)]
+pub struct Scope {
+    pub paths: Vec<RenderPath>,
+    pub modes: Vec<CullingMode>,
+}
+
+impl Default for Scope {
+    fn default() -> Self {
+        Self { paths: PATHS.to_vec(), modes: CullingMode::ALL.to_vec() }
+    }
+}
+
+/// The light a frame accumulated, per pixel and channel: (diffuse RGB, specular RGB).
+struct Light {
+    diffuse: Vec<f32>,
+    specular: Vec<f32>,
+}
+
+fn accumulated(gpu: &Gpu, r: &Renderer) -> Result<Light> {
+    let (diffuse, specular) = r.read_accumulation(gpu)?;
+    Ok(Light { diffuse, specular })
+}
+
+/// Renders `case` on every path and mode of `scope` and holds each against brute force.
+/// `renderer` is reused between cases (its passes stay built).
+pub fn check(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<CaseResult> {
+    let scene = case.scene();
+    scene.validate().map_err(anyhow::Error::msg)?;
+    let mut dark_scene = scene.clone();
+    dark_scene.lights.clear();
+    let (w, h) = (case.width, case.height);
+    let format = case.settings.accumulation;
+    let mut modes = Vec::new();
+    for &path in &scope.paths {
+        let base = Settings { path, ..case.settings.settings() };
+        let refused = |modes: &mut Vec<ModeResult>, e: anyhow::Error| {
+            for m in &scope.modes {
+                modes.push(ModeResult {
+                    path: path.name().into(),
+                    mode: m.name().into(),
+                    missed: 0,
+                    extra: 0,
+                    saturated: 0,
+                    worst: None,
+                    refused: Some(format!("{e:#}")),
+                });
+            }
+        };
+        // The lightless frame, then brute force over the first mode's G-buffer (every mode
+        // draws the same G-buffer: the culling comes after it).
+        if let Err(e) = render_image(gpu, renderer, &dark_scene, &base, w, h) {
+            refused(&mut modes, e);
+            continue;
+        }
+        let dark = accumulated(gpu, renderer)?;
+        let mut reference = None;
+        for &mode in &scope.modes {
+            let settings = Settings { culling: mode, ..base.clone() };
+            if let Err(e) = render_image(gpu, renderer, &scene, &settings, w, h) {
+                modes.push(ModeResult {
+                    path: path.name().into(),
+                    mode: mode.name().into(),
+                    missed: 0,
+                    extra: 0,
+                    saturated: 0,
+                    worst: None,
+                    refused: Some(format!("{e:#}")),
+                });
+                continue;
+            }
+            if reference.is_none() {
+                reference = Some(renderer.brute_force(gpu)?);
+            }
+            let Some(bf) = &reference else { continue };
+            let lit = accumulated(gpu, renderer)?;
+            let one_target = renderer.one_target() && path == RenderPath::Deferred;
+            let mut result = compare(&lit, &dark, bf, format, (path, one_target));
+            result.path = path.name().into();
+            result.mode = mode.name().into();
+            if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {
+                if let Ok(e) = renderer.explain(gpu, worst.x, worst.y) {
+                    worst.missed_lights = e.lights.iter().filter(|l| l.missed).map(|l| l.index).collect();
+                }
+            }
+            modes.push(result);
+        }
+    }
+    Ok(CaseResult { seed: case.seed, index: case.index, lights: case.lights.len(), modes })
+}
+
+/// Holds one frame's light against brute force (see the module's doc).
+fn compare(
+    lit: &Light,
+    dark: &Light,
+    bf: &crate::renderer::explain::brute::BruteForce,
+    format: AccumFormat,
+    (path, one_target): (RenderPath, bool),
+) -> ModeResult {
+    let mut r = ModeResult {
+        path: String::new(),
+        mode: String::new(),
+        missed: 0,
+        extra: 0,
+        saturated: 0,
+        worst: None,
+        refused: None,
+    };
+    let luminance = crate::scene::luminance_weights();
+    let mut worst_ratio = 1.0f32;
+    let max = range_max(format);
+    for p in 0..bf.adding.len() {
+        let k = bf.adding[p];
+        // (accumulated, lightless, brute force) per compared channel.
+        let mut channels: [(f32, f32, f32); 6] = [(0.0, 0.0, 0.0); 6];
+        let n = if path == RenderPath::LightPrepass {
+            for c in 0..3 {
+                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.diffuse[p][c]);
+            }
+            let s = glam::Vec3::from_array(bf.specular[p]).dot(luminance);
+            channels[3] = (lit.specular[4 * p], dark.specular[4 * p], s);
+            4
+        } else if one_target {
+            for c in 0..3 {
+                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.lit[p][c]);
+            }
+            3
+        } else {
+            for c in 0..3 {
+                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.diffuse[p][c]);
+                channels[3 + c] = (lit.specular[4 * p + c], dark.specular[4 * p + c], bf.specular[p][c]);
+            }
+            6
+        };
+        let (mut missed, mut extra, mut saturated) = (false, false, false);
+        for &(acc, rest, reference) in &channels[..n] {
+            if rest + reference >= max || acc >= max {
+                saturated = true;
+                continue;
+            }
+            let bound = rounding_bound(format, acc.max(rest + reference), k);
+            let difference = reference - (acc - rest);
+            let ratio = difference.abs() / bound;
+            if difference > bound {
+                missed = true;
+            } else if -difference > bound {
+                extra = true;
+            }
+            if ratio > worst_ratio {
+                worst_ratio = ratio;
+                r.worst = Some(Worst {
+                    x: p as u32 % bf.width,
+                    y: p as u32 / bf.width,
+                    difference,
+                    bound,
+                    reference,
+                    missed_lights: Vec::new(),
+                });
+            }
+        }
+        r.missed += missed as usize;
+        r.extra += extra as usize;
+        r.saturated += saturated as usize;
+    }
+    r
+}
+
+/// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights
+/// and boxes that still fail that mode.
+pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<(CaseResult, Option<Case>)> {
+    let result = check(gpu, renderer, case, scope)?;
+    let Some(first) = result.failures().next() else { return Ok((result, None)) };
+    let path = PATHS.into_iter().find(|p| p.name() == first.path).unwrap_or(RenderPath::Deferred);
+    let mode = CullingMode::ALL.into_iter().find(|m| m.name() == first.mode).unwrap_or(CullingMode::Fullscreen);
+    let narrow = Scope { paths: vec![path], modes: vec![mode] };
+    let shrunk = shrink::shrink(case, |c| check(gpu, renderer, c, &narrow).map(|r| r.failures().any(|m| m.mode == mode.name())).unwrap_or(false));
+    Ok((result, Some(shrunk)))
+}
+
+/// A renderer for the oracle's frames.
+pub fn renderer(gpu: &Gpu) -> Result<Renderer> {
+    Renderer::new(gpu, OUTPUT_FORMAT, &Settings { count_fragments: false, timestamps: false, ..Settings::default() })
+}

@@ -301,3 +301,57 @@ pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: 
 pub fn renderer(gpu: &Gpu) -> Result<Renderer> {
     Renderer::new(gpu, OUTPUT_FORMAT, &Settings { count_fragments: false, timestamps: false, ..Settings::default() })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::renderer::explain::brute::BruteForce;
+
+    /// Two pixels, one light adding 0.5 to the first one's diffuse red.
+    fn brute() -> BruteForce {
+        BruteForce {
+            width: 2,
+            height: 1,
+            diffuse: vec![[0.5, 0.0, 0.0], [0.0; 3]],
+            specular: vec![[0.0; 3]; 2],
+            lit: vec![[0.5, 0.0, 0.0], [0.0; 3]],
+            adding: vec![1, 0],
+        }
+    }
+
+    fn light(red: f32) -> Light {
+        Light { diffuse: vec![0.1 + red, 0.1, 0.1, 1.0, 0.1, 0.1, 0.1, 1.0], specular: vec![0.0; 8] }
+    }
+
+    #[test]
+    fn a_light_left_out_is_missed_and_one_added_is_extra() {
+        let dark = light(0.0);
+        let f = AccumFormat::Rgba16Float;
+        let deferred = (RenderPath::Deferred, false);
+        assert_eq!(compare(&light(0.5), &dark, &brute(), f, deferred).missed, 0);
+        // Off by the rounding bound's worth: still the same light.
+        let ulp = rounding_bound(f, 0.6, 1) * 0.99;
+        let close = compare(&light(0.5 - ulp), &dark, &brute(), f, deferred);
+        assert_eq!((close.missed, close.extra), (0, 0));
+        let missed = compare(&light(0.0), &dark, &brute(), f, deferred);
+        assert_eq!((missed.missed, missed.extra), (1, 0));
+        let worst = missed.worst.expect("a worst pixel");
+        assert_eq!((worst.x, worst.y, worst.reference), (0, 0, 0.5));
+        let extra = compare(&light(0.7), &dark, &brute(), f, deferred);
+        assert_eq!((extra.missed, extra.extra), (0, 1));
+        // A value past the format's range is not compared.
+        let saturated = compare(&light(70000.0), &dark, &brute(), f, deferred);
+        assert_eq!((saturated.missed, saturated.extra, saturated.saturated), (0, 0, 1));
+    }
+
+    /// The bound grows with the lights adding (each blend rounds) and with the value (a relative
+    /// step), and never falls to zero (fp16's subnormal step).
+    #[test]
+    fn the_rounding_bound_follows_the_format() {
+        let f = AccumFormat::Rgba16Float;
+        assert_eq!(rounding_bound(f, 1.0, 0), 2.0 * 2f32.powi(-11));
+        assert_eq!(rounding_bound(f, 1.0, 3), 8.0 * 2f32.powi(-11));
+        assert_eq!(rounding_bound(f, 0.0, 0), 2.0 * 2f32.powi(-25));
+        assert!(rounding_bound(AccumFormat::Rgba32Float, 1.0, 3) < rounding_bound(f, 1.0, 3) / 1000.0);
+    }
+}

@@ -21,6 +21,7 @@ mod golden;
 mod hard_cases;
 mod images;
 mod materials;
+mod oracle;
 mod paths;
 mod post;
 mod prepass;

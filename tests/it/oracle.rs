@@ -1,0 +1,64 @@
+//! The culling oracle (`lampshade::oracle`): generated cases and the regression files, every
+//! culling mode of the deferred path and the light pre-pass held against brute force (every
+//! light at every pixel in f32): no pixel may lack light brute force gives it, nor have more.
+//! On a device of its own, so its many settings do not crowd the shared pass pool.
+
+use lampshade::oracle::{self, case};
+
+fn report(r: &oracle::CaseResult) -> String {
+    r.failures()
+        .map(|m| {
+            format!(
+                "case {} ({} lights): {}/{}: {} pixels missed, {} extra; worst {:?}",
+                r.index, r.lights, m.path, m.mode, m.missed, m.extra, m.worst
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The fast subset: 10 cases from each of 12 settings blocks of stream 20261129 (so 12
+/// combinations of layout, depth format, reversed Z, accumulation and shadows), at 48x27, up
+/// to 64 lights, every mode on both paths. `cargo run --release --example oracle` runs the
+/// long ones.
+#[test]
+fn generated_cases_miss_no_light_in_any_mode() {
+    let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
+    let mut r = oracle::renderer(&gpu).expect("renderer");
+    let limits = case::Limits { width: 48, height: 27, max_lights: 64 };
+    let (mut failures, mut frames, mut refused) = (Vec::new(), 0, Vec::new());
+    for block in 0..12 {
+        for j in 0..10 {
+            let c = case::generate(20261129, block * case::SETTINGS_BLOCK + j, limits);
+            let result = oracle::check(&gpu, &mut r, &c, &oracle::Scope::default()).expect("check");
+            frames += result.modes.len();
+            refused.extend(result.modes.iter().filter_map(|m| m.refused.clone()));
+            if result.failures().next().is_some() {
+                failures.push(report(&result));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(refused.is_empty(), "frames refused: {refused:?}");
+    assert_eq!(frames, 120 * 16);
+}
+
+/// Every regression file in `tests/data/oracle/`: shrunk cases that a broken culling once
+/// failed (each file's `aims` says which), every mode on both paths.
+#[test]
+fn the_regression_cases_miss_no_light() {
+    let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
+    let mut r = oracle::renderer(&gpu).expect("renderer");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/oracle");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).expect("tests/data/oracle").flatten().map(|e| e.path()).collect();
+    files.retain(|p| p.extension().is_some_and(|e| e == "json"));
+    files.sort();
+    assert!(files.len() >= 4, "regression files: {files:?}");
+    for p in files {
+        let c: case::Case = serde_json::from_str(&std::fs::read_to_string(&p).expect("read")).expect("a case");
+        let result = oracle::check(&gpu, &mut r, &c, &oracle::Scope::default()).expect("check");
+        assert!(result.failures().next().is_none(), "{}:\n{}", p.display(), report(&result));
+        assert!(result.modes.iter().all(|m| m.refused.is_none()), "{}: refused", p.display());
+        assert_eq!(result.modes.len(), 16, "{}", p.display());
+    }
+}

@@ -50,6 +50,10 @@ pub enum Command {
     View(ViewArgs),
     /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
     Bench(BenchArgs),
+    /// Hold every culling mode against brute force (every light at every pixel) on a scene, at
+    /// its cameras and at cameras generated around it: missed light, extra light, the worst
+    /// pixel and a difference image per mode. Exits 1 when any mode misses or adds light.
+    Check(CheckArgs),
     /// List the graphics adapters found and what each supports (paths, layouts, culling modes,
     /// knobs), from each adapter's capability table.
     Adapters(AdaptersArgs),
@@ -159,6 +163,37 @@ pub struct RenderArgs {
     /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb).
+    pub scene: String,
+    /// Check only the file's viewpoint K (default: the scene's camera, each of its viewpoints
+    /// and the generated cameras).
+    #[arg(long)]
+    pub viewpoint: Option<usize>,
+    /// Number of point lights (as `render --lights`).
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Cameras generated around the scene's bounds (inside, at the edge and outside; from
+    /// straight down to above the horizon; near planes down to a thousandth of the bounds).
+    #[arg(long, default_value_t = 8)]
+    pub cameras: usize,
+    /// Image size, WxH.
+    #[arg(long, value_parser = image_size, default_value = "160x90")]
+    pub size: (u32, u32),
+    /// Write check.json and, for each frame that misses or adds light, its difference image
+    /// (red: light missing, blue: extra light; brighter the further past the rounding bound).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// The renderer's knobs (as `render`'s). `--culling` checks that mode alone, `--path` that
+    /// path alone (deferred or light-prepass: the paths with a G-buffer); by default every mode
+    /// on both.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
 }
 
 #[derive(clap::Args)]

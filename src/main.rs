@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use lampshade::cli::{image_size, AdaptersArgs, BenchArgs, Cli, Command, RenderArgs};
+use lampshade::cli::{image_size, AdaptersArgs, BenchArgs, CheckArgs, Cli, Command, RenderArgs};
 use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use lampshade::Gpu;
@@ -225,6 +225,118 @@ fn render(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// `lampshade check`: every culling mode against brute force at the scene's cameras and at
+/// cameras generated around it (`lampshade::oracle`).
+fn check(args: CheckArgs) -> Result<()> {
+    use lampshade::oracle::{self, Scope};
+    use lampshade::renderer::{CullingMode, RenderPath};
+    let mut settings = Settings::default();
+    args.knobs.apply(&mut settings).map_err(anyhow::Error::msg)?;
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let given = |name: &str| args.knobs.0.iter().any(|(k, _)| *k == name);
+    let mut scope = Scope::default();
+    if given("culling") {
+        scope.modes = vec![settings.culling];
+    }
+    if given("path") {
+        if !oracle::PATHS.contains(&settings.path) {
+            bail!(
+                "--path {}: the check holds the light a G-buffer path accumulates against brute force over its \
+                 G-buffer; the forward paths keep none (use deferred or light-prepass)",
+                settings.path.name()
+            );
+        }
+        scope.paths = vec![settings.path];
+    }
+    let import = lampshade::scene::import::ImportOptions::default();
+    let (scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights: args.lights, time: 0.0 }, &import)?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    let mut cameras: Vec<(String, lampshade::scene::Camera)> = Vec::new();
+    match args.viewpoint {
+        Some(k) => {
+            let Some((name, camera)) = scene.viewpoints.get(k) else {
+                bail!("--viewpoint {k}: '{}' offers {} viewpoint(s)", args.scene, scene.viewpoints.len());
+            };
+            cameras.push((format!("viewpoint {k} ({name})"), *camera));
+        }
+        None => {
+            cameras.push(("the scene's camera".into(), scene.camera));
+            for (k, (name, camera)) in scene.viewpoints.iter().enumerate() {
+                cameras.push((format!("viewpoint {k} ({name})"), *camera));
+            }
+            for (k, camera) in oracle::cameras_around(&scene, args.cameras, 1).into_iter().enumerate() {
+                cameras.push((format!("generated camera {k}"), camera));
+            }
+        }
+    }
+    let (w, h) = args.size;
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let mut renderer = oracle::renderer(&gpu)?;
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let bar = indicatif::ProgressBar::new(cameras.len() as u64);
+    let mut rows = Vec::new();
+    let (mut failed, mut refused) = (0usize, 0usize);
+    for (c, (name, camera)) in cameras.iter().enumerate() {
+        camera.validate().map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let mut s = scene.clone();
+        s.camera = *camera;
+        let results = oracle::check_scene(&gpu, &mut renderer, &s, &settings, (w, h), &scope, args.out.is_some())?;
+        for (m, difference) in results {
+            if m.refused.is_some() {
+                refused += 1;
+            }
+            let mut image = None;
+            if let (Some(dir), Some(d), true) = (&args.out, &difference, m.failed()) {
+                let path = dir.join(format!("camera{c}-{}-{}.png", m.path, m.mode));
+                oracle::difference_image(d, w, h).save(&path).with_context(|| format!("writing {}", path.display()))?;
+                image = Some(path.display().to_string());
+            }
+            if m.failed() {
+                failed += 1;
+                bar.suspend(|| {
+                    eprintln!(
+                        "{name}: {}/{}: {} pixels miss light, {} have extra light; worst {:?}",
+                        m.path, m.mode, m.missed, m.extra, m.worst
+                    )
+                });
+            }
+            rows.push(serde_json::json!({ "camera": name, "camera_values": camera, "result": m, "difference_image": image }));
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    gpu.errors.check()?;
+    let modes: Vec<String> = scope.modes.iter().map(|m: &CullingMode| m.name()).collect();
+    let paths: Vec<String> = scope.paths.iter().map(|p: &RenderPath| p.name()).collect();
+    println!(
+        "{}: {} lights, {} cameras, {} frames ({} on {}) at {w}x{h}: {} miss or add light, {} refused",
+        args.scene,
+        scene.lights.len(),
+        cameras.len(),
+        rows.len(),
+        modes.join(", "),
+        paths.join(", "),
+        failed,
+        refused
+    );
+    for r in rows.iter().filter(|r| r["result"]["refused"].is_string()) {
+        println!("  refused: {}: {}", r["camera"], r["result"]["refused"]);
+    }
+    if let Some(dir) = &args.out {
+        let path = dir.join("check.json");
+        let json = serde_json::json!({ "scene": args.scene, "size": [w, h], "settings": settings, "frames": rows });
+        std::fs::write(&path, serde_json::to_string_pretty(&json)?).with_context(|| format!("writing {}", path.display()))?;
+    }
+    if failed > 0 {
+        bail!("{failed} frame(s) miss or add light against brute force");
+    }
+    Ok(())
+}
+
 /// Opens a built-in scene or a glTF file, showing the load's progress on a terminal.
 fn open_scene(
     name: &str,
@@ -345,12 +457,13 @@ fn adapters(args: AdaptersArgs) -> Result<()> {
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_))) {
+    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_) | Command::Check(_))) {
         lampshade::gpu::quiet_headless_device_select();
     }
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
+        Some(Command::Check(args)) => check(args),
         Some(Command::Adapters(args)) => adapters(args),
         Some(Command::Bake(args)) => bake(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),

@@ -147,46 +147,66 @@ fn accumulated(gpu: &Gpu, r: &Renderer) -> Result<Light> {
 pub fn check(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<CaseResult> {
     let scene = case.scene();
     scene.validate().map_err(anyhow::Error::msg)?;
+    let modes = check_scene(gpu, renderer, &scene, &case.settings.settings(), (case.width, case.height), scope, false)?
+        .into_iter()
+        .map(|(m, _)| m)
+        .collect();
+    Ok(CaseResult { seed: case.seed, index: case.index, lights: case.lights.len(), modes })
+}
+
+/// Per pixel, brute force's value minus the mode's over the bound, in the channel where that
+/// is largest (positive: light missing; beyond 1 a missed pair, below -1 extra light; 0 on
+/// saturated and background pixels), row by row.
+pub type Difference = Vec<f32>;
+
+/// `scene` drawn with `base` (its culling mode replaced by each of `scope`'s, its path by each
+/// path's) at `size`, each frame held against brute force; with `differences`, each frame's
+/// [`Difference`] too.
+pub fn check_scene(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    scene: &crate::scene::Scene,
+    base: &Settings,
+    (w, h): (u32, u32),
+    scope: &Scope,
+    differences: bool,
+) -> Result<Vec<(ModeResult, Option<Difference>)>> {
     let mut dark_scene = scene.clone();
     dark_scene.lights.clear();
-    let (w, h) = (case.width, case.height);
-    let format = case.settings.accumulation;
+    let format = base.accumulation;
     let mut modes = Vec::new();
+    let refused = |path: RenderPath, mode: CullingMode, e: anyhow::Error| ModeResult {
+        path: path.name().into(),
+        mode: mode.name().into(),
+        missed: 0,
+        extra: 0,
+        saturated: 0,
+        worst: None,
+        refused: Some(format!("{e:#}")),
+    };
     for &path in &scope.paths {
-        let base = Settings { path, ..case.settings.settings() };
-        let refused = |modes: &mut Vec<ModeResult>, e: anyhow::Error| {
-            for m in &scope.modes {
-                modes.push(ModeResult {
-                    path: path.name().into(),
-                    mode: m.name().into(),
-                    missed: 0,
-                    extra: 0,
-                    saturated: 0,
-                    worst: None,
-                    refused: Some(format!("{e:#}")),
-                });
-            }
+        // Counting and timing change no pixel (tested); debug views replace the light.
+        let base = Settings {
+            path,
+            count_fragments: false,
+            count_ideal: false,
+            timestamps: false,
+            debug_view: Settings::default().debug_view,
+            ..base.clone()
         };
         // The lightless frame, then brute force over the first mode's G-buffer (every mode
         // draws the same G-buffer: the culling comes after it).
         if let Err(e) = render_image(gpu, renderer, &dark_scene, &base, w, h) {
-            refused(&mut modes, e);
+            let e = format!("{e:#}");
+            modes.extend(scope.modes.iter().map(|&m| (refused(path, m, anyhow::anyhow!("{e}")), None)));
             continue;
         }
         let dark = accumulated(gpu, renderer)?;
         let mut reference = None;
         for &mode in &scope.modes {
             let settings = Settings { culling: mode, ..base.clone() };
-            if let Err(e) = render_image(gpu, renderer, &scene, &settings, w, h) {
-                modes.push(ModeResult {
-                    path: path.name().into(),
-                    mode: mode.name().into(),
-                    missed: 0,
-                    extra: 0,
-                    saturated: 0,
-                    worst: None,
-                    refused: Some(format!("{e:#}")),
-                });
+            if let Err(e) = render_image(gpu, renderer, scene, &settings, w, h) {
+                modes.push((refused(path, mode, e), None));
                 continue;
             }
             if reference.is_none() {
@@ -195,7 +215,8 @@ pub fn check(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> 
             let Some(bf) = &reference else { continue };
             let lit = accumulated(gpu, renderer)?;
             let one_target = renderer.one_target() && path == RenderPath::Deferred;
-            let mut result = compare(&lit, &dark, bf, format, (path, one_target));
+            let mut difference = differences.then(|| vec![0.0; bf.adding.len()]);
+            let mut result = compare_into(&lit, &dark, bf, format, (path, one_target), difference.as_deref_mut());
             result.path = path.name().into();
             result.mode = mode.name().into();
             if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {
@@ -203,19 +224,32 @@ pub fn check(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> 
                     worst.missed_lights = e.lights.iter().filter(|l| l.missed).map(|l| l.index).collect();
                 }
             }
-            modes.push(result);
+            modes.push((result, difference));
         }
     }
-    Ok(CaseResult { seed: case.seed, index: case.index, lights: case.lights.len(), modes })
+    Ok(modes)
 }
 
 /// Holds one frame's light against brute force (see the module's doc).
+#[cfg(test)]
 fn compare(
     lit: &Light,
     dark: &Light,
     bf: &crate::renderer::explain::brute::BruteForce,
     format: AccumFormat,
+    path: (RenderPath, bool),
+) -> ModeResult {
+    compare_into(lit, dark, bf, format, path, None)
+}
+
+/// [`compare`], writing each pixel's [`Difference`] into `difference` when given.
+fn compare_into(
+    lit: &Light,
+    dark: &Light,
+    bf: &crate::renderer::explain::brute::BruteForce,
+    format: AccumFormat,
     (path, one_target): (RenderPath, bool),
+    mut difference: Option<&mut [f32]>,
 ) -> ModeResult {
     let mut r = ModeResult {
         path: String::new(),
@@ -253,6 +287,7 @@ fn compare(
             6
         };
         let (mut missed, mut extra, mut saturated) = (false, false, false);
+        let mut pixel_worst = 0f32;
         for &(acc, rest, reference) in &channels[..n] {
             if rest + reference >= max || acc >= max {
                 saturated = true;
@@ -261,6 +296,9 @@ fn compare(
             let bound = rounding_bound(format, acc.max(rest + reference), k);
             let difference = reference - (acc - rest);
             let ratio = difference.abs() / bound;
+            if ratio > pixel_worst.abs() {
+                pixel_worst = difference / bound;
+            }
             if difference > bound {
                 missed = true;
             } else if -difference > bound {
@@ -277,6 +315,9 @@ fn compare(
                     missed_lights: Vec::new(),
                 });
             }
+        }
+        if let Some(d) = difference.as_deref_mut() {
+            d[p] = pixel_worst;
         }
         r.missed += missed as usize;
         r.extra += extra as usize;
@@ -295,6 +336,55 @@ pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: 
     let narrow = Scope { paths: vec![path], modes: vec![mode] };
     let shrunk = shrink::shrink(case, |c| check(gpu, renderer, c, &narrow).map(|r| r.failures().any(|m| m.mode == mode.name())).unwrap_or(false));
     Ok((result, Some(shrunk)))
+}
+
+/// A [`Difference`] as an image: within the bound, grey up to a quarter; missed light in red
+/// and extra light in blue, from half to full brightness as the ratio to the bound goes from 1
+/// to 256 (log scale); background and saturated pixels black.
+pub fn difference_image(difference: &[f32], width: u32, height: u32) -> image::RgbaImage {
+    image::RgbaImage::from_fn(width, height, |x, y| {
+        let d = difference.get((y * width + x) as usize).copied().unwrap_or(0.0);
+        let a = d.abs();
+        if a <= 1.0 {
+            let g = (a * 64.0) as u8;
+            return image::Rgba([g, g, g, 255]);
+        }
+        let v = (128.0 + 127.0 * (a.log2() / 8.0).min(1.0)) as u8;
+        if d > 0.0 {
+            image::Rgba([v, 0, 0, 255])
+        } else {
+            image::Rgba([0, 0, v, 255])
+        }
+    })
+}
+
+/// Cameras around `scene` for `lampshade check`: its bounds' centre seen from inside them, at
+/// their edge and from outside, pitched from straight down to above the horizon, with near
+/// planes from a thousandth of the bounds' radius up and fields of view from 30 to 110
+/// degrees: case `k` of stream `seed` ([`case::Rng`]), so a report's camera can be drawn again.
+pub fn cameras_around(scene: &crate::scene::Scene, n: usize, seed: u64) -> Vec<crate::scene::Camera> {
+    use glam::DVec3;
+    let (lo, hi) = scene.bounds().unwrap_or((DVec3::splat(-1.0), DVec3::splat(1.0)));
+    let (centre, radius) = ((lo + hi) * 0.5, ((hi - lo).length() * 0.5).max(1e-3));
+    (0..n as u64)
+        .map(|k| {
+            let mut r = case::Rng::new(seed, k);
+            let distance = radius * [0.3, 1.0, 2.0][k as usize % 3] * r.range(0.8, 1.2);
+            let pitch = if k % 4 == 0 { -std::f64::consts::FRAC_PI_2 } else { r.range(-1.4, 0.5) };
+            let yaw = r.range(-std::f64::consts::PI, std::f64::consts::PI);
+            // The camera looks along (yaw, pitch) at the centre from `distance` back.
+            let look = DVec3::new(yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos());
+            let near = radius * r.log(1e-3, 0.05);
+            crate::scene::Camera {
+                position: centre - look * distance,
+                yaw,
+                pitch,
+                fov_y: r.range(30.0, 110.0).to_radians(),
+                near,
+                far: (distance + 2.0 * radius) * 4.0 + near,
+            }
+        })
+        .collect()
 }
 
 /// A renderer for the oracle's frames.

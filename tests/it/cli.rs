@@ -450,3 +450,36 @@ fn bench_runs_every_group_on_a_three_model_file_and_skips_what_it_cannot_take() 
     let spheres = three_model_spheres("bench-three-models");
     bench_runs_every_group(spheres.to_str().unwrap(), &["--lights", "8"], false);
 }
+
+/// `lampshade check` on the project's room and on a third-party file: every mode on both
+/// G-buffer paths at the file's cameras and generated ones, none missing or adding light, the
+/// report in check.json (a frame per camera, path and mode); bad arguments are clear errors.
+#[test]
+fn check_holds_every_mode_against_brute_force_on_a_users_file() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let engine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    let room = root.join("assets/room/room.gltf");
+    for (file, cameras) in [(room.to_str().unwrap(), "3"), (engine, "2")] {
+        let dir = tmp(&format!("check-{cameras}"));
+        let out = lampshade(&["check", file, "--cameras", cameras, "--size", "96x54", "--out", dir.to_str().unwrap()]);
+        let said = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "{file}: {said}");
+        assert!(said.contains("0 miss or add light, 0 refused"), "{file}: {said}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("check.json")).expect("check.json")).expect("json");
+        let frames = json["frames"].as_array().expect("frames");
+        let viewpoints = frames.iter().filter(|f| f["camera"].as_str().is_some_and(|c| c.starts_with("viewpoint"))).count() / 16;
+        assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 16, "{file}");
+        assert!(frames.iter().all(|f| f["result"]["missed"] == 0 && f["result"]["extra"] == 0), "{file}");
+    }
+    for (args, says) in [
+        (vec!["check", "demo", "--path", "forward"], "the forward paths keep none"),
+        (vec!["check", "demo", "--viewpoint", "3"], "offers 0 viewpoint"),
+        (vec!["check", "no-such-scene"], "no-such-scene"),
+    ] {
+        let out = lampshade(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}

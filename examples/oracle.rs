@@ -79,7 +79,10 @@ fn main() {
     if !args.replay.is_empty() {
         let mut failed = false;
         for p in &args.replay {
-            let c: case::Case = match std::fs::read_to_string(p).map_err(anyhow::Error::from).and_then(|t| Ok(serde_json::from_str(&t)?)) {
+            let c: case::Case = match std::fs::read_to_string(p)
+                .map_err(anyhow::Error::from)
+                .and_then(|t| Ok(serde_json::from_str(&t)?))
+            {
                 Ok(c) => c,
                 Err(e) => {
                     eprintln!("{}: {e:#}", p.display());
@@ -117,7 +120,10 @@ fn main() {
                     s.refused_frames += m.refused.is_some() as u64;
                 }
                 if let Some(m) = result.modes.iter().find(|m| m.refused.is_some()) {
-                    say(&bar, format!("case {index}: {} refused: {}", m.path, m.refused.as_deref().unwrap_or_default()));
+                    say(
+                        &bar,
+                        format!("case {index}: {} refused: {}", m.path, m.refused.as_deref().unwrap_or_default()),
+                    );
                 }
                 if let Some(shrunk) = shrunk {
                     s.failed_cases += 1;

@@ -304,7 +304,9 @@ fn check(args: CheckArgs) -> Result<()> {
                     )
                 });
             }
-            rows.push(serde_json::json!({ "camera": name, "camera_values": camera, "result": m, "difference_image": image }));
+            rows.push(
+                serde_json::json!({ "camera": name, "camera_values": camera, "result": m, "difference_image": image }),
+            );
         }
         bar.inc(1);
     }
@@ -329,7 +331,8 @@ fn check(args: CheckArgs) -> Result<()> {
     if let Some(dir) = &args.out {
         let path = dir.join("check.json");
         let json = serde_json::json!({ "scene": args.scene, "size": [w, h], "settings": settings, "frames": rows });
-        std::fs::write(&path, serde_json::to_string_pretty(&json)?).with_context(|| format!("writing {}", path.display()))?;
+        std::fs::write(&path, serde_json::to_string_pretty(&json)?)
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     if failed > 0 {
         bail!("{failed} frame(s) miss or add light against brute force");

@@ -317,6 +317,7 @@ impl App {
             gbuffer_bytes: layout.bytes_per_pixel(),
             probe: self.probe.as_ref(),
             explanation: self.explanation.as_ref(),
+            check: self.check.as_ref(),
             adapter: &g.adapter,
             caps: &g.gpu.caps,
             status: self.status.as_ref(),
@@ -422,6 +423,7 @@ impl App {
                     }
                 }
                 Command::ResetCamera => self.state.camera = None,
+                Command::CheckCulling => self.check_culling(),
                 Command::SceneChanged => {
                     if !crate::scene::import::is_gltf_path(&self.state.scene) {
                         self.reset_scene_edits();
@@ -489,6 +491,31 @@ impl App {
                     }
                     let names: Vec<String> = self.regions.iter().map(|r| format!("{} {:?}", r.name, r.rect)).collect();
                     println!("frame {}: no overlapping regions ({})", self.frame, names.join(", "));
+                }
+                Action::Check => {
+                    self.check_culling();
+                    match &self.check {
+                        Some(Ok(c)) => {
+                            let failing: Vec<String> = c
+                                .rows
+                                .iter()
+                                .filter(|r| r.failed())
+                                .map(|r| format!("{}/{} ({} missed, {} extra)", r.path, r.mode, r.missed, r.extra))
+                                .collect();
+                            println!(
+                                "frame {}: culling check at {}x{}: {} frames, {} miss or add light{}{}",
+                                self.frame,
+                                c.size[0],
+                                c.size[1],
+                                c.rows.len(),
+                                failing.len(),
+                                if failing.is_empty() { "" } else { ": " },
+                                failing.join(", ")
+                            );
+                        }
+                        Some(Err(e)) => bail!("frame {}: the culling check failed: {e}", self.frame),
+                        None => bail!("frame {}: no scene to check", self.frame),
+                    }
                 }
                 Action::Quit => event_loop.exit(),
                 _ => {}

@@ -188,6 +188,10 @@ struct App {
     probe: Option<PixelProbe>,
     /// Why each light lit the last clicked pixel (`Renderer::explain`), or why it cannot say.
     explanation: Option<Result<crate::renderer::explain::Explanation, String>>,
+    /// The last culling check (`oracle`), or why it could not run.
+    check: Option<Result<ui::CullingCheck, String>>,
+    /// The renderer the culling check draws with (its frames are not the viewport's).
+    check_renderer: Option<crate::renderer::Renderer>,
     scene: Option<Scene>,
     /// From the last frame's layout.
     viewport_rect: Option<egui::Rect>,
@@ -229,6 +233,8 @@ impl App {
             status: None,
             probe: None,
             explanation: None,
+            check: None,
+            check_renderer: None,
             scene: None,
             viewport_rect: None,
             hover_pixel: None,
@@ -407,7 +413,7 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
-            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Quit => {}
+            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Quit => {}
         }
     }
 
@@ -481,6 +487,60 @@ impl App {
         match chosen {
             Some(k) => self.say(format!("selected light {k}"), false),
             None => self.say("no light there", false),
+        }
+    }
+
+    /// Holds every culling mode of the current path (both G-buffer paths when the current one
+    /// is forward) against brute force at the current camera and settings, at a quarter of the
+    /// viewport's size (at most 320x180), and opens the check's window. Blocks the viewer
+    /// while it runs: 16 frames at that size.
+    fn check_culling(&mut self) {
+        let (Some(scene), Some(g)) = (&self.scene, &self.gfx) else { return };
+        let start = Instant::now();
+        let settings = self.state.frame_settings();
+        let (w, h) = (g.viewport.width, g.viewport.height);
+        let scale = (320.0 / w.max(1) as f64).min(180.0 / h.max(1) as f64).min(0.25);
+        let size = (((w as f64 * scale).round() as u32).max(8), ((h as f64 * scale).round() as u32).max(8));
+        let mut scope = crate::oracle::Scope::default();
+        if crate::oracle::PATHS.contains(&settings.path) {
+            scope.paths = vec![settings.path];
+        }
+        let renderer = match self.check_renderer.take() {
+            Some(r) => Ok(r),
+            None => crate::oracle::renderer(&g.gpu),
+        };
+        let result = renderer.and_then(|mut r| {
+            let rows = crate::oracle::check_scene(&g.gpu, &mut r, scene, &settings, size, &scope, true);
+            self.check_renderer = Some(r);
+            rows
+        });
+        self.check = Some(match result {
+            Ok(rows) => {
+                let images = rows
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (_, d))| {
+                        let img = crate::oracle::difference_image(d.as_deref().unwrap_or(&[]), size.0, size.1);
+                        let colour =
+                            egui::ColorImage::from_rgba_unmultiplied([size.0 as usize, size.1 as usize], img.as_raw());
+                        g.egui_ctx.load_texture(format!("check difference {i}"), colour, egui::TextureOptions::NEAREST)
+                    })
+                    .collect();
+                let rows: Vec<crate::oracle::ModeResult> = rows.into_iter().map(|(m, _)| m).collect();
+                // Show the first frame that fails, else the first.
+                self.state.check_row = rows.iter().position(|r| r.failed()).unwrap_or(0);
+                Ok(ui::CullingCheck { size: [size.0, size.1], rows, images, seconds: start.elapsed().as_secs_f64() })
+            }
+            Err(e) => Err(format!("{e:#}")),
+        });
+        self.state.panels.check = true;
+        match &self.check {
+            Some(Ok(c)) => {
+                let failed = c.failed();
+                self.say(format!("culling check: {} frames, {failed} miss or add light", c.rows.len()), failed > 0)
+            }
+            Some(Err(e)) => self.say(format!("culling check failed: {e}"), true),
+            None => {}
         }
     }
 

@@ -87,13 +87,15 @@ pub enum Action {
     Screenshot(PathBuf),
     Memory,
     Overlaps,
+    /// The culling check against brute force at the current camera (its window opens).
+    Check,
     Quit,
 }
 
 impl Action {
     /// Runs after the frame is drawn.
     pub fn is_post(&self) -> bool {
-        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Quit)
+        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Quit)
     }
 }
 
@@ -260,6 +262,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "overlaps" => {
             want(0)?;
             Action::Overlaps
+        }
+        "check" => {
+            want(0)?;
+            Action::Check
         }
         "quit" => {
             want(0)?;

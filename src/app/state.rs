@@ -139,6 +139,9 @@ pub struct UiState {
     pub settings: Settings,
     pub resolution_scale: f32,
     pub selected_light: Option<usize>,
+    /// The culling check's row whose difference image is shown.
+    #[serde(skip)]
+    pub check_row: usize,
     /// Stencil / complexity views for all lights or the selected one.
     pub scope: Scope,
     pub wireframes: Wireframes,
@@ -199,11 +202,13 @@ pub struct Panels {
     pub shadows: bool,
     /// The "why each light" window (opens on a click in the viewport).
     pub explain: bool,
+    /// The culling check's window (opens when a check runs).
+    pub check: bool,
 }
 
 impl Default for Panels {
     fn default() -> Self {
-        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false }
+        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false, check: false }
     }
 }
 
@@ -218,6 +223,7 @@ impl Default for UiState {
             settings: Settings { count_ideal: false, ..Settings::default() },
             resolution_scale: DEFAULT_SCALE,
             selected_light: None,
+            check_row: 0,
             scope: Scope::All,
             wireframes: Wireframes::Off,
             wire_colour: WireColour::Light,

@@ -79,7 +79,8 @@ impl Case {
         let offset = DVec3::from_array(self.offset);
         let mut camera = self.camera;
         camera.position += offset;
-        let mut scene = Scene { meshes: vec![Mesh::cube()], ..Scene::new(&format!("oracle-{}-{}", self.seed, self.index), camera) };
+        let mut scene =
+            Scene { meshes: vec![Mesh::cube()], ..Scene::new(&format!("oracle-{}-{}", self.seed, self.index), camera) };
         scene.sun = None;
         scene.ambient = Vec3::splat(0.02);
         for b in &self.boxes {
@@ -324,16 +325,5 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     } else {
         [0.0; 3]
     };
-    Case {
-        seed,
-        index,
-        aims,
-        width: limits.width,
-        height: limits.height,
-        camera,
-        offset,
-        boxes,
-        lights,
-        settings,
-    }
+    Case { seed, index, aims, width: limits.width, height: limits.height, camera, offset, boxes, lights, settings }
 }

@@ -328,13 +328,20 @@ fn compare_into(
 
 /// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights
 /// and boxes that still fail that mode.
-pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<(CaseResult, Option<Case>)> {
+pub fn check_and_shrink(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    case: &Case,
+    scope: &Scope,
+) -> Result<(CaseResult, Option<Case>)> {
     let result = check(gpu, renderer, case, scope)?;
     let Some(first) = result.failures().next() else { return Ok((result, None)) };
     let path = PATHS.into_iter().find(|p| p.name() == first.path).unwrap_or(RenderPath::Deferred);
     let mode = CullingMode::ALL.into_iter().find(|m| m.name() == first.mode).unwrap_or(CullingMode::Fullscreen);
     let narrow = Scope { paths: vec![path], modes: vec![mode] };
-    let shrunk = shrink::shrink(case, |c| check(gpu, renderer, c, &narrow).map(|r| r.failures().any(|m| m.mode == mode.name())).unwrap_or(false));
+    let shrunk = shrink::shrink(case, |c| {
+        check(gpu, renderer, c, &narrow).map(|r| r.failures().any(|m| m.mode == mode.name())).unwrap_or(false)
+    });
     Ok((result, Some(shrunk)))
 }
 

@@ -468,7 +468,8 @@ fn check_holds_every_mode_against_brute_force_on_a_users_file() {
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join("check.json")).expect("check.json")).expect("json");
         let frames = json["frames"].as_array().expect("frames");
-        let viewpoints = frames.iter().filter(|f| f["camera"].as_str().is_some_and(|c| c.starts_with("viewpoint"))).count() / 16;
+        let viewpoints =
+            frames.iter().filter(|f| f["camera"].as_str().is_some_and(|c| c.starts_with("viewpoint"))).count() / 16;
         assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 16, "{file}");
         assert!(frames.iter().all(|f| f["result"]["missed"] == 0 && f["result"]["extra"] == 0), "{file}");
     }

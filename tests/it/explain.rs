@@ -347,8 +347,15 @@ fn the_ledger_off_compiles_no_counter() {
     render_image(&own, &mut r, &scene, &on, 96, 54).expect("render");
     let forward = Settings { path: RenderPath::Forward, ..on.clone() };
     render_image(&own, &mut r, &scene, &forward, 96, 54).expect("render");
-    render_image(&own, &mut r, &scene, &Settings { debug_view: DebugView::Waste, culling: CullingMode::Volume, ..off }, 96, 54)
-        .expect("render");
+    render_image(
+        &own,
+        &mut r,
+        &scene,
+        &Settings { debug_view: DebugView::Waste, culling: CullingMode::Volume, ..off },
+        96,
+        54,
+    )
+    .expect("render");
     let made = r.ledger_objects();
     assert!(made.len() == 4, "counted frames made {made:?}");
 }

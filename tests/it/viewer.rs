@@ -1121,3 +1121,26 @@ fn the_viewer_runs_on_the_gl_backend_and_says_what_it_refuses() {
     assert!(lit_share(&vp) > 0.3, "the GL viewport is mostly black");
     assert_eq!(json(&dir, "gl-viewport.json")["layout"], "compact");
 }
+
+/// The Scene tab's "check against brute force" (script action `check`): every culling mode of
+/// the current path at the current camera held against brute force, its window drawn with a
+/// row a mode, on the deferred path and on the light pre-pass; none misses or adds light.
+#[test]
+fn the_culling_check_runs_in_the_window_on_each_g_buffer_path() {
+    need_display!();
+    let dir = out_dir("check");
+    let script = dir.join("check.script");
+    std::fs::write(&script, "5 check\n8 screenshot check.png\n9 set path light-prepass\n12 check\n14 quit\n")
+        .expect("script");
+    let out = view("demo", &script, &["--no-state", "--lights", "64"], &dir);
+    let (stdout, _) = text(&out);
+    let lines: Vec<&str> = stdout.lines().filter(|l| l.contains("culling check at")).collect();
+    assert_eq!(lines.len(), 2, "stdout:\n{stdout}");
+    for l in &lines {
+        assert!(l.ends_with("8 frames, 0 miss or add light"), "{l}");
+    }
+    let json = json(&dir, "check-viewport.json");
+    assert_eq!(json["viewer"]["panels"]["check"].as_bool(), Some(true), "the check's window is not open");
+    let shot = load(&dir, "check.png");
+    assert!(lit_share(&shot) > 0.05, "the window is dark");
+}

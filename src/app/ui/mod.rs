@@ -13,6 +13,8 @@ use egui::{Color32, Pos2, Rect, RichText, Sense, Stroke, Vec2};
 use glam::Vec3;
 use std::collections::{BTreeMap, HashMap, VecDeque};
 
+mod check;
+pub use check::CullingCheck;
 mod figures;
 mod gbuffer_strip;
 mod lights_tab;
@@ -99,6 +101,8 @@ pub struct FrameInfo<'a> {
     pub probe: Option<&'a PixelProbe>,
     /// Why each light lit the last clicked pixel.
     pub explanation: Option<&'a Result<crate::renderer::explain::Explanation, String>>,
+    /// The last culling check against brute force.
+    pub check: Option<&'a Result<CullingCheck, String>>,
     pub adapter: &'a str,
     /// What the adapter can do: choices it cannot give are greyed out with the reason.
     pub caps: &'a crate::renderer::kit::caps::Caps,
@@ -123,6 +127,8 @@ pub struct FrameInfo<'a> {
 #[derive(Clone, Debug)]
 pub enum Command {
     Screenshot,
+    /// Hold every culling mode against brute force at the current camera.
+    CheckCulling,
     ResetCamera,
     SceneChanged,
     Status(Status),
@@ -247,6 +253,9 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
     out.regions.push(region("viewport", r.response.rect, given));
     if st.panels.shadows {
         shadow_window(ui.ctx(), st, f, out);
+    }
+    if st.panels.check {
+        check::check_window(ui.ctx(), st, f);
     }
     if st.panels.explain && f.explanation.is_some() {
         let mut open = true;

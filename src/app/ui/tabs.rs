@@ -27,7 +27,7 @@ pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
         .max_height(tab_height.max(0.0))
         .show(ui, |ui| {
             match st.tab {
-                Tab::Scene => scene_tab(ui, st, f),
+                Tab::Scene => scene_tab(ui, st, f, out),
                 Tab::Lights => lights_tab(ui, st, f, out),
                 Tab::Materials => materials_tab(ui, st, f, out),
                 Tab::Camera => camera_tab(ui, st, f, out),
@@ -54,7 +54,7 @@ pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
     }
 }
 
-pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     egui::Grid::new("scene-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         ui.label("lights");
         if st.scene == "demo" {
@@ -71,6 +71,18 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.end_row();
         ui.label("animate");
         ui.checkbox(&mut st.animate, "lights move (Space)");
+        ui.end_row();
+        ui.label("culling");
+        if ui
+            .button("check against brute force")
+            .on_hover_text(
+                "every culling mode of this path at this camera against every light evaluated at every pixel: \
+                 pixels that miss light or get extra, with a difference image (lampshade check)",
+            )
+            .clicked()
+        {
+            out.commands.push(Command::CheckCulling);
+        }
         ui.end_row();
         ui.label("time");
         ui.horizontal(|ui| {

@@ -76,7 +76,10 @@ impl Renderer {
     /// light of the frame at every pixel, in f32.
     pub fn brute_force(&self, _gpu: &Gpu) -> Result<BruteForce> {
         if !matches!(self.last.path, RenderPath::Deferred | RenderPath::LightPrepass) {
-            bail!("brute force shades a G-buffer: the last frame drew the {} path, which keeps none", self.last.path.name());
+            bail!(
+                "brute force shades a G-buffer: the last frame drew the {} path, which keeps none",
+                self.last.path.name()
+            );
         }
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let (w, h) = (t.width, t.height);

@@ -340,7 +340,8 @@ mod tests {
         let s = Script::parse(
             "# a comment\n\n20 quit\n5 key W\n5 hold shift 10   # trailing comment\n6 culling stencil-invert\n\
              7 view stencil\n8 select 3\n8 select none\n9 set exposure 2\n10 hover 0.5 0.25\n\
-             11 screenshot out/a.png\n12 layout packed\n13 wireframes all\n14 tab lights\n15 resize 800 600\n",
+             11 screenshot out/a.png\n12 layout packed\n13 wireframes all\n14 tab lights\n15 resize 800 600\n\
+             16 check\n",
             Path::new("/base"),
         )
         .unwrap();
@@ -348,6 +349,7 @@ mod tests {
         assert_eq!(s.actions.last().unwrap(), &(20, Action::Quit));
         assert!(s.actions.contains(&(11, Action::Screenshot(PathBuf::from("/base/out/a.png")))));
         assert!(s.actions.contains(&(6, Action::Culling(CullingMode::StencilInvert))));
+        assert!(s.actions.contains(&(16, Action::Check)) && Action::Check.is_post());
     }
 
     #[test]

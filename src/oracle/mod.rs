@@ -25,8 +25,13 @@ use anyhow::Result;
 use case::Case;
 use serde::{Deserialize, Serialize};
 
-/// The paths the oracle holds against brute force: those that keep a G-buffer.
+/// The paths the oracle holds against brute force over their G-buffer.
 pub const PATHS: [RenderPath; 2] = [RenderPath::Deferred, RenderPath::LightPrepass];
+
+/// The forward paths, held against themselves unculled (`ForwardLights::All`: every light in
+/// every object's list, multi-pass's pairs full screen): they keep no G-buffer for brute force,
+/// and their culling is their object lists, not the culling mode.
+pub const FORWARD_PATHS: [RenderPath; 2] = [RenderPath::Forward, RenderPath::ForwardMultipass];
 
 /// How far one accumulated channel may lie from the exact sum `value` of the k lights adding
 /// at a pixel in `format`, from rounding alone. Each light's blend rounds twice (its value
@@ -127,7 +132,15 @@ pub struct Scope {
 
 impl Default for Scope {
     fn default() -> Self {
-        Self { paths: PATHS.to_vec(), modes: CullingMode::ALL.to_vec() }
+        Self { paths: RenderPath::ALL.to_vec(), modes: CullingMode::ALL.to_vec() }
+    }
+}
+
+impl Scope {
+    /// The frames a case draws for the comparison: each culling mode on each G-buffer path, one
+    /// on each forward path.
+    pub fn frames(&self) -> usize {
+        self.paths.iter().map(|p| if FORWARD_PATHS.contains(p) { 1 } else { self.modes.len() }).sum()
     }
 }
 
@@ -185,6 +198,10 @@ pub fn check_scene(
         refused: Some(format!("{e:#}")),
     };
     for &path in &scope.paths {
+        if FORWARD_PATHS.contains(&path) {
+            modes.push(check_forward(gpu, renderer, scene, base, (w, h), path, differences)?);
+            continue;
+        }
         // Counting and timing change no pixel (tested); debug views replace the light.
         let base = Settings {
             path,
@@ -228,6 +245,89 @@ pub fn check_scene(
         }
     }
     Ok(modes)
+}
+
+/// A forward path's frame with its culled object lists against the same frame unculled: the
+/// HDR colour, pixel by pixel. Both walk their lists in light order and a light left out adds
+/// exactly zero where it cannot reach, so the culled frame's f32 sums (single-pass) and fp16
+/// blends (multi-pass: adding 0 is exact) are the unculled frame's; the bound allows one fp16
+/// rounding on each side (2 x 2^-11 of the value, 2^-24 under fp16's normal range).
+fn check_forward(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    scene: &crate::scene::Scene,
+    base: &Settings,
+    (w, h): (u32, u32),
+    path: RenderPath,
+    differences: bool,
+) -> Result<(ModeResult, Option<Difference>)> {
+    use crate::renderer::{post::PostImage, ForwardLights};
+    let base = Settings { path, count_fragments: false, count_ideal: false, timestamps: false, ..base.clone() };
+    let lists = if base.forward_lights == ForwardLights::All { ForwardLights::Tiled } else { base.forward_lights };
+    let mut result = ModeResult {
+        path: path.name().into(),
+        mode: format!("{} lists", crate::renderer::settings::name_of(&lists)),
+        missed: 0,
+        extra: 0,
+        saturated: 0,
+        worst: None,
+        refused: None,
+    };
+    let mut hdr = |forward_lights| -> Result<Vec<f32>> {
+        render_image(gpu, renderer, scene, &Settings { forward_lights, ..base.clone() }, w, h)?;
+        renderer.read_post_image(gpu, PostImage::Hdr)?.ok_or_else(|| anyhow::anyhow!("the forward frame kept no HDR colour"))
+    };
+    let reference = match hdr(ForwardLights::All) {
+        Ok(v) => v,
+        Err(e) => {
+            result.refused = Some(format!("{e:#}"));
+            return Ok((result, None));
+        }
+    };
+    let culled = match hdr(lists) {
+        Ok(v) => v,
+        Err(e) => {
+            result.refused = Some(format!("{e:#}"));
+            return Ok((result, None));
+        }
+    };
+    let mut difference = differences.then(|| vec![0.0; (w * h) as usize]);
+    let mut worst_ratio = 1.0f32;
+    for p in 0..(w * h) as usize {
+        let (mut missed, mut extra, mut pixel_worst) = (false, false, 0f32);
+        for c in 0..3 {
+            let (r, m) = (reference[4 * p + c], culled[4 * p + c]);
+            if r >= 65504.0 || m >= 65504.0 {
+                result.saturated += 1;
+                continue;
+            }
+            let bound = 2.0 * (2f32.powi(-11) * r.abs().max(m.abs())).max(2f32.powi(-25));
+            let d = r - m;
+            let ratio = d.abs() / bound;
+            if ratio > pixel_worst.abs() {
+                pixel_worst = d / bound;
+            }
+            missed |= d > bound;
+            extra |= -d > bound;
+            if ratio > worst_ratio {
+                worst_ratio = ratio;
+                result.worst = Some(Worst {
+                    x: p as u32 % w,
+                    y: p as u32 / w,
+                    difference: d,
+                    bound,
+                    reference: r,
+                    missed_lights: Vec::new(),
+                });
+            }
+        }
+        if let Some(d) = difference.as_mut() {
+            d[p] = pixel_worst;
+        }
+        result.missed += missed as usize;
+        result.extra += extra as usize;
+    }
+    Ok((result, difference))
 }
 
 /// Holds one frame's light against brute force (see the module's doc).
@@ -328,19 +428,17 @@ fn compare_into(
 
 /// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights
 /// and boxes that still fail that mode.
-pub fn check_and_shrink(
-    gpu: &Gpu,
-    renderer: &mut Renderer,
-    case: &Case,
-    scope: &Scope,
-) -> Result<(CaseResult, Option<Case>)> {
+pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<(CaseResult, Option<Case>)> {
     let result = check(gpu, renderer, case, scope)?;
     let Some(first) = result.failures().next() else { return Ok((result, None)) };
-    let path = PATHS.into_iter().find(|p| p.name() == first.path).unwrap_or(RenderPath::Deferred);
-    let mode = CullingMode::ALL.into_iter().find(|m| m.name() == first.mode).unwrap_or(CullingMode::Fullscreen);
-    let narrow = Scope { paths: vec![path], modes: vec![mode] };
+    let (path_name, mode_name) = (first.path.clone(), first.mode.clone());
+    let path = RenderPath::ALL.into_iter().find(|p| p.name() == path_name).unwrap_or(RenderPath::Deferred);
+    let modes = CullingMode::ALL.into_iter().filter(|m| m.name() == mode_name).collect::<Vec<_>>();
+    let narrow = Scope { paths: vec![path], modes: if modes.is_empty() { vec![CullingMode::Fullscreen] } else { modes } };
     let shrunk = shrink::shrink(case, |c| {
-        check(gpu, renderer, c, &narrow).map(|r| r.failures().any(|m| m.mode == mode.name())).unwrap_or(false)
+        check(gpu, renderer, c, &narrow)
+            .map(|r| r.failures().any(|m| m.path == path_name && m.mode == mode_name))
+            .unwrap_or(false)
     });
     Ok((result, Some(shrunk)))
 }

@@ -259,8 +259,9 @@ impl Msaa {
     }
 }
 
-/// Which lights the forward pass (blended surfaces) evaluates at each of its fragments. Every
-/// choice gives the same picture: a light left out reaches no fragment it is left out of.
+/// Which lights the forward pass (blended surfaces) evaluates at each of its fragments, and
+/// whether the forward paths cull their objects' lists (`All`: they do not). Every choice gives
+/// the same picture: a light left out reaches no fragment it is left out of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum ForwardLights {
@@ -270,7 +271,8 @@ pub enum ForwardLights {
     Tiled,
     /// The object's list alone: the lights whose sphere reaches its bounding sphere.
     Object,
-    /// Every light at every fragment: the unculled reference.
+    /// Every light at every fragment: the unculled reference (on the forward paths too: every
+    /// light in every object's list, multi-pass's pairs drawn full screen).
     All,
 }
 

@@ -1317,7 +1317,10 @@ pub fn scissor_rect(rect: Option<(Vec2, Vec2)>, (w, h): (u32, u32)) -> Option<[u
 /// objects'). This list is the forward paths' light culling: a light is left out of an object
 /// only where it cannot reach it, so the culling mode, which picks how deferred draws light
 /// volumes, changes nothing here. With `pairs` (multi-pass) the (object, light) pairs follow,
-/// two entries each, for the additive draws. Errors when the lists outgrow one storage buffer.
+/// two entries each, for the additive draws. With `all` (`ForwardLights::All`) nothing is
+/// culled: every light is in every object's list, and every pair draws full screen, the
+/// unculled reference the culling oracle holds the lists against. Errors when the lists
+/// outgrow one storage buffer.
 #[allow(clippy::too_many_arguments)]
 pub fn forward_path_lists(
     scene: &Scene,
@@ -1327,10 +1330,12 @@ pub fn forward_path_lists(
     opaque: &[Draw],
     size: (u32, u32),
     lists: &mut Vec<u32>,
-    pairs: bool,
+    (pairs, all): (bool, bool),
 ) -> Result<ForwardPathLists, String> {
     let mut out = ForwardPathLists::default();
-    let scissors: Vec<Option<[u32; 4]>> = plans.iter().map(|p| scissor_rect(p.screen_rect, size)).collect();
+    let screen = [0, 0, size.0.max(1), size.1.max(1)];
+    let scissors: Vec<Option<[u32; 4]>> =
+        plans.iter().map(|p| if all { Some(screen) } else { scissor_rect(p.screen_rect, size) }).collect();
     let mut pair_list: Vec<ForwardPair> = Vec::new();
     for &draw in opaque {
         let i = draw.0;
@@ -1339,7 +1344,7 @@ pub fn forward_path_lists(
         let first = lists.len() as u32;
         for (k, l) in scene.lights.iter().enumerate() {
             let Some(scissor) = scissors.get(k).copied().flatten() else { continue };
-            if (l.position() - centre).length() < radius + l.radius() as f64 {
+            if all || (l.position() - centre).length() < radius + l.radius() as f64 {
                 lists.push(k as u32);
                 if pairs {
                     pair_list.push(ForwardPair { draw, light: k as u32, scissor });

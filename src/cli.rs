@@ -52,7 +52,8 @@ pub enum Command {
     Bench(BenchArgs),
     /// Hold every culling mode against brute force (every light at every pixel) on a scene, at
     /// its cameras and at cameras generated around it: missed light, extra light, the worst
-    /// pixel and a difference image per mode. Exits 1 when any mode misses or adds light.
+    /// pixel and a difference image per mode (the forward paths: their light lists against
+    /// themselves unculled). Exits 1 when any frame misses or adds light.
     Check(CheckArgs),
     /// List the graphics adapters found and what each supports (paths, layouts, culling modes,
     /// knobs), from each adapter's capability table.
@@ -190,8 +191,8 @@ pub struct CheckArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// The renderer's knobs (as `render`'s). `--culling` checks that mode alone, `--path` that
-    /// path alone (deferred or light-prepass: the paths with a G-buffer); by default every mode
-    /// on both.
+    /// path alone; by default every mode on the deferred path and the light pre-pass, and the
+    /// forward paths' light lists against themselves unculled.
     #[command(flatten)]
     pub knobs: KnobArgs,
 }

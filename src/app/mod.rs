@@ -490,10 +490,10 @@ impl App {
         }
     }
 
-    /// Holds every culling mode of the current path (both G-buffer paths when the current one
-    /// is forward) against brute force at the current camera and settings, at a quarter of the
-    /// viewport's size (at most 320x180), and opens the check's window. Blocks the viewer
-    /// while it runs: 16 frames at that size.
+    /// Holds every culling mode of the current path against brute force (a forward path: its
+    /// light lists against itself unculled) at the current camera and settings, at a quarter of
+    /// the viewport's size (at most 320x180), and opens the check's window. Blocks the viewer
+    /// while it runs: up to 8 frames and a lightless one at that size.
     fn check_culling(&mut self) {
         let (Some(scene), Some(g)) = (&self.scene, &self.gfx) else { return };
         let start = Instant::now();
@@ -501,10 +501,7 @@ impl App {
         let (w, h) = (g.viewport.width, g.viewport.height);
         let scale = (320.0 / w.max(1) as f64).min(180.0 / h.max(1) as f64).min(0.25);
         let size = (((w as f64 * scale).round() as u32).max(8), ((h as f64 * scale).round() as u32).max(8));
-        let mut scope = crate::oracle::Scope::default();
-        if crate::oracle::PATHS.contains(&settings.path) {
-            scope.paths = vec![settings.path];
-        }
+        let scope = crate::oracle::Scope { paths: vec![settings.path], ..Default::default() };
         let renderer = match self.check_renderer.take() {
             Some(r) => Ok(r),
             None => crate::oracle::renderer(&g.gpu),

@@ -4,7 +4,8 @@
 //! where brute force adds more light than the mode did, by more than the accumulation's
 //! rounding, is a missed pair; more light than brute force is extra light.
 //!
-//! What is compared, per path with a G-buffer (deferred, light pre-pass):
+//! The forward paths keep no G-buffer: each is held against itself unculled instead
+//! ([`check_forward`]). What is compared, per path with a G-buffer (deferred, light pre-pass):
 //! - the mode's accumulated light minus the same frame without lights (ambient, and what the
 //!   G-buffer pass writes first), against brute force's sum;
 //! - per channel: diffuse and specular (the pre-pass's light buffer: diffuse and the
@@ -24,9 +25,6 @@ use crate::renderer::{AccumFormat, CullingMode, RenderPath, Renderer, Settings, 
 use anyhow::Result;
 use case::Case;
 use serde::{Deserialize, Serialize};
-
-/// The paths the oracle holds against brute force over their G-buffer.
-pub const PATHS: [RenderPath; 2] = [RenderPath::Deferred, RenderPath::LightPrepass];
 
 /// The forward paths, held against themselves unculled (`ForwardLights::All`: every light in
 /// every object's list, multi-pass's pairs full screen): they keep no G-buffer for brute force,

@@ -452,7 +452,7 @@ fn bench_runs_every_group_on_a_three_model_file_and_skips_what_it_cannot_take() 
 }
 
 /// `lampshade check` on the project's room and on a third-party file: every mode on both
-/// G-buffer paths at the file's cameras and generated ones, none missing or adding light, the
+/// G-buffer paths and the forward paths' lists at the file's cameras and generated ones, none missing or adding light, the
 /// report in check.json (a frame per camera, path and mode); bad arguments are clear errors.
 #[test]
 fn check_holds_every_mode_against_brute_force_on_a_users_file() {
@@ -470,11 +470,11 @@ fn check_holds_every_mode_against_brute_force_on_a_users_file() {
         let frames = json["frames"].as_array().expect("frames");
         let viewpoints =
             frames.iter().filter(|f| f["camera"].as_str().is_some_and(|c| c.starts_with("viewpoint"))).count() / 16;
-        assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 16, "{file}");
+        assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 18, "{file}");
         assert!(frames.iter().all(|f| f["result"]["missed"] == 0 && f["result"]["extra"] == 0), "{file}");
     }
     for (args, says) in [
-        (vec!["check", "demo", "--path", "forward"], "the forward paths keep none"),
+        (vec!["check", "demo", "--size", "0x9"], "must be between"),
         (vec!["check", "demo", "--viewpoint", "3"], "offers 0 viewpoint"),
         (vec!["check", "no-such-scene"], "no-such-scene"),
     ] {

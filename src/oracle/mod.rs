@@ -187,8 +187,8 @@ pub fn check_scene(
     let format = base.accumulation;
     let mut modes = Vec::new();
     let refused = |path: RenderPath, mode: CullingMode, e: anyhow::Error| ModeResult {
-        path: path.name().into(),
-        mode: mode.name().into(),
+        path: path.name(),
+        mode: mode.name(),
         missed: 0,
         extra: 0,
         saturated: 0,
@@ -232,8 +232,8 @@ pub fn check_scene(
             let one_target = renderer.one_target() && path == RenderPath::Deferred;
             let mut difference = differences.then(|| vec![0.0; bf.adding.len()]);
             let mut result = compare_into(&lit, &dark, bf, format, (path, one_target), difference.as_deref_mut());
-            result.path = path.name().into();
-            result.mode = mode.name().into();
+            result.path = path.name();
+            result.mode = mode.name();
             if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {
                 if let Ok(e) = renderer.explain(gpu, worst.x, worst.y) {
                     worst.missed_lights = e.lights.iter().filter(|l| l.missed).map(|l| l.index).collect();
@@ -263,7 +263,7 @@ fn check_forward(
     let base = Settings { path, count_fragments: false, count_ideal: false, timestamps: false, ..base.clone() };
     let lists = if base.forward_lights == ForwardLights::All { ForwardLights::Tiled } else { base.forward_lights };
     let mut result = ModeResult {
-        path: path.name().into(),
+        path: path.name(),
         mode: format!("{} lists", crate::renderer::settings::name_of(&lists)),
         missed: 0,
         extra: 0,
@@ -273,7 +273,9 @@ fn check_forward(
     };
     let mut hdr = |forward_lights| -> Result<Vec<f32>> {
         render_image(gpu, renderer, scene, &Settings { forward_lights, ..base.clone() }, w, h)?;
-        renderer.read_post_image(gpu, PostImage::Hdr)?.ok_or_else(|| anyhow::anyhow!("the forward frame kept no HDR colour"))
+        renderer
+            .read_post_image(gpu, PostImage::Hdr)?
+            .ok_or_else(|| anyhow::anyhow!("the forward frame kept no HDR colour"))
     };
     let reference = match hdr(ForwardLights::All) {
         Ok(v) => v,
@@ -365,22 +367,26 @@ fn compare_into(
         let k = bf.adding[p];
         // (accumulated, lightless, brute force) per compared channel.
         let mut channels: [(f32, f32, f32); 6] = [(0.0, 0.0, 0.0); 6];
+        // Channel c of the accumulated diffuse and specular targets, and of the lightless frame's.
+        let diffuse = |c: usize| (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c]);
+        let specular = |c: usize| (lit.specular[4 * p + c], dark.specular[4 * p + c]);
         let n = if path == RenderPath::LightPrepass {
-            for c in 0..3 {
-                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.diffuse[p][c]);
+            for (c, slot) in channels.iter_mut().take(3).enumerate() {
+                *slot = (diffuse(c).0, diffuse(c).1, bf.diffuse[p][c]);
             }
             let s = glam::Vec3::from_array(bf.specular[p]).dot(luminance);
-            channels[3] = (lit.specular[4 * p], dark.specular[4 * p], s);
+            channels[3] = (specular(0).0, specular(0).1, s);
             4
         } else if one_target {
-            for c in 0..3 {
-                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.lit[p][c]);
+            for (c, slot) in channels.iter_mut().take(3).enumerate() {
+                *slot = (diffuse(c).0, diffuse(c).1, bf.lit[p][c]);
             }
             3
         } else {
             for c in 0..3 {
-                channels[c] = (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c], bf.diffuse[p][c]);
-                channels[3 + c] = (lit.specular[4 * p + c], dark.specular[4 * p + c], bf.specular[p][c]);
+                let (d, s) = (diffuse(c), specular(c));
+                channels[c] = (d.0, d.1, bf.diffuse[p][c]);
+                channels[3 + c] = (s.0, s.1, bf.specular[p][c]);
             }
             6
         };
@@ -426,13 +432,19 @@ fn compare_into(
 
 /// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights
 /// and boxes that still fail that mode.
-pub fn check_and_shrink(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<(CaseResult, Option<Case>)> {
+pub fn check_and_shrink(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    case: &Case,
+    scope: &Scope,
+) -> Result<(CaseResult, Option<Case>)> {
     let result = check(gpu, renderer, case, scope)?;
     let Some(first) = result.failures().next() else { return Ok((result, None)) };
     let (path_name, mode_name) = (first.path.clone(), first.mode.clone());
     let path = RenderPath::ALL.into_iter().find(|p| p.name() == path_name).unwrap_or(RenderPath::Deferred);
     let modes = CullingMode::ALL.into_iter().filter(|m| m.name() == mode_name).collect::<Vec<_>>();
-    let narrow = Scope { paths: vec![path], modes: if modes.is_empty() { vec![CullingMode::Fullscreen] } else { modes } };
+    let narrow =
+        Scope { paths: vec![path], modes: if modes.is_empty() { vec![CullingMode::Fullscreen] } else { modes } };
     let shrunk = shrink::shrink(case, |c| {
         check(gpu, renderer, c, &narrow)
             .map(|r| r.failures().any(|m| m.path == path_name && m.mode == mode_name))

@@ -134,7 +134,10 @@ impl Renderer {
                 &plan.draws.gbuffer,
                 size,
                 &mut plan.light_lists,
-                (settings.path == RenderPath::ForwardMultipass, settings.forward_lights == crate::renderer::ForwardLights::All),
+                (
+                    settings.path == RenderPath::ForwardMultipass,
+                    settings.forward_lights == crate::renderer::ForwardLights::All,
+                ),
             )
             .map_err(anyhow::Error::msg)?
         } else {

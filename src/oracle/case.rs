@@ -69,13 +69,17 @@ pub struct Case {
     #[serde(default)]
     pub offset: [f64; 3],
     pub boxes: Vec<BoxSpec>,
+    /// The lights; a light's `cookie` indexes [`Case::cookies`].
     pub lights: Vec<Light>,
+    /// Built-in cookie names (`window`, `flashlight`): a cube for a point light, 2D for a spot.
+    #[serde(default)]
+    pub cookies: Vec<String>,
     pub settings: CaseSettings,
 }
 
 impl Case {
-    /// The scene the case describes.
-    pub fn scene(&self) -> Scene {
+    /// The scene the case describes; an error for a cookie name that is not built in.
+    pub fn scene(&self) -> Result<Scene, String> {
         let offset = DVec3::from_array(self.offset);
         let mut camera = self.camera;
         camera.position += offset;
@@ -105,7 +109,16 @@ impl Case {
                 Light::Spot(s) => s.position += offset,
             }
         }
-        scene
+        for i in 0..scene.lights.len() {
+            let name = scene.lights[i].cookie().map(|k| self.cookies.get(k as usize).cloned());
+            let name = match name {
+                Some(Some(n)) => Some(n),
+                Some(None) => return Err(format!("light {i}: no cookie {:?} among {:?}", scene.lights[i].cookie(), self.cookies)),
+                None => None,
+            };
+            scene.set_light_cookie(i, name.as_deref())?;
+        }
+        Ok(scene)
     }
 }
 
@@ -188,7 +201,7 @@ impl Default for Limits {
 /// - lights: 1 to `max_lights` (log-distributed), some stacked at one point; ranges from 1e-4
 ///   to 10^4; points and spots with half-angles from 0 to 89.9 degrees; placed at random, on a
 ///   box's face, just in front of or behind it, at the camera (which then stands inside the
-///   volume), behind the camera; masks that leave layers out;
+///   volume), behind the camera; masks that leave layers out; built-in cookies;
 /// - far from the origin (everything moved 10^6);
 /// - the G-buffer layout, the depth format, reversed Z, the accumulation format (16- and
 ///   32-bit float; the 8-bit and 11-bit formats' bounds are coarser than a light) and shadows,
@@ -267,6 +280,12 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let count = (r.log(1.0, limits.max_lights as f64 + 1.0) as usize).clamp(1, limits.max_lights.max(1));
     let mut lights: Vec<Light> = Vec::with_capacity(count);
     let spots = r.pick(&[0.0, 0.5, 1.0]);
+    let cookies: Vec<String> = if r.chance(0.2) {
+        aims.push("cookies".into());
+        vec!["window".into(), "flashlight".into()]
+    } else {
+        Vec::new()
+    };
     let range_lo = if r.chance(0.2) { 1e-4 } else { 1e-2 * scale };
     while lights.len() < count {
         let radius = r.log(range_lo, 1e4_f64.min(100.0 * scale.max(1.0))) as f32;
@@ -309,6 +328,10 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         } else {
             Light::Point(PointLight { position, color, intensity, radius, cookie: None, mask, cast_shadows: true })
         };
+        let mut light = light;
+        if !cookies.is_empty() && r.chance(0.5) {
+            light.set_cookie(Some(r.below(cookies.len()) as u32));
+        }
         // Some lights stacked at one point.
         let copies = if r.chance(0.05) { 1 + r.below(16) } else { 1 };
         for _ in 0..copies.min(count - lights.len()) {
@@ -325,5 +348,5 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     } else {
         [0.0; 3]
     };
-    Case { seed, index, aims, width: limits.width, height: limits.height, camera, offset, boxes, lights, settings }
+    Case { seed, index, aims, width: limits.width, height: limits.height, camera, offset, boxes, lights, cookies, settings }
 }

@@ -156,7 +156,7 @@ fn accumulated(gpu: &Gpu, r: &Renderer) -> Result<Light> {
 /// Renders `case` on every path and mode of `scope` and holds each against brute force.
 /// `renderer` is reused between cases (its passes stay built).
 pub fn check(gpu: &Gpu, renderer: &mut Renderer, case: &Case, scope: &Scope) -> Result<CaseResult> {
-    let scene = case.scene();
+    let scene = case.scene().map_err(anyhow::Error::msg)?;
     scene.validate().map_err(anyhow::Error::msg)?;
     let modes = check_scene(gpu, renderer, &scene, &case.settings.settings(), (case.width, case.height), scope, false)?
         .into_iter()

@@ -113,7 +113,9 @@ impl Case {
             let name = scene.lights[i].cookie().map(|k| self.cookies.get(k as usize).cloned());
             let name = match name {
                 Some(Some(n)) => Some(n),
-                Some(None) => return Err(format!("light {i}: no cookie {:?} among {:?}", scene.lights[i].cookie(), self.cookies)),
+                Some(None) => {
+                    return Err(format!("light {i}: no cookie {:?} among {:?}", scene.lights[i].cookie(), self.cookies))
+                }
                 None => None,
             };
             scene.set_light_cookie(i, name.as_deref())?;
@@ -348,5 +350,17 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     } else {
         [0.0; 3]
     };
-    Case { seed, index, aims, width: limits.width, height: limits.height, camera, offset, boxes, lights, cookies, settings }
+    Case {
+        seed,
+        index,
+        aims,
+        width: limits.width,
+        height: limits.height,
+        camera,
+        offset,
+        boxes,
+        lights,
+        cookies,
+        settings,
+    }
 }

@@ -101,6 +101,16 @@ pub struct ModeResult {
 }
 
 impl ModeResult {
+    /// A frame of `path` and `mode` with nothing counted yet.
+    pub fn new(path: String, mode: String) -> Self {
+        Self { path, mode, missed: 0, extra: 0, saturated: 0, worst: None, refused: None }
+    }
+
+    /// A frame that was not drawn, and why.
+    pub fn refused(path: String, mode: String, why: &anyhow::Error) -> Self {
+        Self { refused: Some(format!("{why:#}")), ..Self::new(path, mode) }
+    }
+
     pub fn failed(&self) -> bool {
         self.missed > 0 || self.extra > 0
     }
@@ -186,15 +196,8 @@ pub fn check_scene(
     dark_scene.lights.clear();
     let format = base.accumulation;
     let mut modes = Vec::new();
-    let refused = |path: RenderPath, mode: CullingMode, e: anyhow::Error| ModeResult {
-        path: path.name(),
-        mode: mode.name(),
-        missed: 0,
-        extra: 0,
-        saturated: 0,
-        worst: None,
-        refused: Some(format!("{e:#}")),
-    };
+    let refused =
+        |path: RenderPath, mode: CullingMode, e: &anyhow::Error| ModeResult::refused(path.name(), mode.name(), e);
     for &path in &scope.paths {
         if FORWARD_PATHS.contains(&path) {
             modes.push(check_forward(gpu, renderer, scene, base, (w, h), path, differences)?);
@@ -212,8 +215,7 @@ pub fn check_scene(
         // The lightless frame, then brute force over the first mode's G-buffer (every mode
         // draws the same G-buffer: the culling comes after it).
         if let Err(e) = render_image(gpu, renderer, &dark_scene, &base, w, h) {
-            let e = format!("{e:#}");
-            modes.extend(scope.modes.iter().map(|&m| (refused(path, m, anyhow::anyhow!("{e}")), None)));
+            modes.extend(scope.modes.iter().map(|&m| (refused(path, m, &e), None)));
             continue;
         }
         let dark = accumulated(gpu, renderer)?;
@@ -221,7 +223,7 @@ pub fn check_scene(
         for &mode in &scope.modes {
             let settings = Settings { culling: mode, ..base.clone() };
             if let Err(e) = render_image(gpu, renderer, scene, &settings, w, h) {
-                modes.push((refused(path, mode, e), None));
+                modes.push((refused(path, mode, &e), None));
                 continue;
             }
             if reference.is_none() {
@@ -262,34 +264,16 @@ fn check_forward(
     use crate::renderer::{post::PostImage, ForwardLights};
     let base = Settings { path, count_fragments: false, count_ideal: false, timestamps: false, ..base.clone() };
     let lists = if base.forward_lights == ForwardLights::All { ForwardLights::Tiled } else { base.forward_lights };
-    let mut result = ModeResult {
-        path: path.name(),
-        mode: format!("{} lists", crate::renderer::settings::name_of(&lists)),
-        missed: 0,
-        extra: 0,
-        saturated: 0,
-        worst: None,
-        refused: None,
-    };
+    let mut result = ModeResult::new(path.name(), format!("{} lists", crate::renderer::settings::name_of(&lists)));
     let mut hdr = |forward_lights| -> Result<Vec<f32>> {
         render_image(gpu, renderer, scene, &Settings { forward_lights, ..base.clone() }, w, h)?;
         renderer
             .read_post_image(gpu, PostImage::Hdr)?
             .ok_or_else(|| anyhow::anyhow!("the forward frame kept no HDR colour"))
     };
-    let reference = match hdr(ForwardLights::All) {
+    let (reference, culled) = match hdr(ForwardLights::All).and_then(|r| Ok((r, hdr(lists)?))) {
         Ok(v) => v,
-        Err(e) => {
-            result.refused = Some(format!("{e:#}"));
-            return Ok((result, None));
-        }
-    };
-    let culled = match hdr(lists) {
-        Ok(v) => v,
-        Err(e) => {
-            result.refused = Some(format!("{e:#}"));
-            return Ok((result, None));
-        }
+        Err(e) => return Ok((ModeResult::refused(result.path, result.mode, &e), None)),
     };
     let mut difference = differences.then(|| vec![0.0; (w * h) as usize]);
     let mut worst_ratio = 1.0f32;
@@ -351,15 +335,7 @@ fn compare_into(
     (path, one_target): (RenderPath, bool),
     mut difference: Option<&mut [f32]>,
 ) -> ModeResult {
-    let mut r = ModeResult {
-        path: String::new(),
-        mode: String::new(),
-        missed: 0,
-        extra: 0,
-        saturated: 0,
-        worst: None,
-        refused: None,
-    };
+    let mut r = ModeResult::new(String::new(), String::new());
     let luminance = crate::scene::luminance_weights();
     let mut worst_ratio = 1.0f32;
     let max = range_max(format);

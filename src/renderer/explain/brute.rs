@@ -9,7 +9,6 @@
 //! most [`ITERATIONS_PER_LIGHT`] iterations, so a chunk holds
 //! `gpu_loop_budget(limit) / ITERATIONS_PER_LIGHT` lights. Without a limit one pass shades all.
 
-use super::super::kit::bindings;
 use super::super::kit::Shared;
 use super::super::{RenderPath, Renderer};
 use crate::gpu::Gpu;
@@ -29,20 +28,7 @@ pub struct BrutePass {
 
 impl BrutePass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let bgl = bindings::EXPLAIN.layout(device);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("brute force"),
-            bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("brute force"),
-            layout: Some(&layout),
-            module: &shared.module,
-            entry_point: Some("cs_brute_force"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let (pipeline, bgl) = super::compute_pipeline(device, shared, "brute force", "cs_brute_force");
         Self { pipeline, bgl }
     }
 }

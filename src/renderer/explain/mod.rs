@@ -50,22 +50,34 @@ pub struct ExplainPass {
 
 impl ExplainPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
-        let bgl = bindings::EXPLAIN.layout(device);
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("explain"),
-            bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("explain"),
-            layout: Some(&layout),
-            module: &shared.module,
-            entry_point: Some("cs_explain"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let (pipeline, bgl) = compute_pipeline(device, shared, "explain", "cs_explain");
         Self { pipeline, bgl }
     }
+}
+
+/// A compute pipeline over the frame, the G-buffer and the explanation's group
+/// (`bindings::EXPLAIN`: parameters in, results out), and that group's layout.
+pub(super) fn compute_pipeline(
+    device: &wgpu::Device,
+    shared: &Shared,
+    label: &str,
+    entry: &str,
+) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+    let bgl = bindings::EXPLAIN.layout(device);
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        module: &shared.module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    (pipeline, bgl)
 }
 
 /// What the frame's culling did with a light at the pixel.

@@ -69,13 +69,7 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let mut renderer = match oracle::renderer(&gpu) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("{e:#}");
-            std::process::exit(2);
-        }
-    };
+    let mut runner = oracle::Runner::new(&gpu);
     if !args.replay.is_empty() {
         let mut failed = false;
         for p in &args.replay {
@@ -89,7 +83,7 @@ fn main() {
                     std::process::exit(2);
                 }
             };
-            match oracle::check(&gpu, &mut renderer, &c, &oracle::Scope::default()) {
+            match runner.check(&gpu, &c, &oracle::Scope::default()) {
                 Ok(r) => {
                     failed |= r.failures().next().is_some();
                     println!("{}: {}", p.display(), serde_json::to_string(&r).unwrap_or_default());
@@ -109,7 +103,7 @@ fn main() {
     let mut s = Summary { seed: args.seed, first: args.first, ..Default::default() };
     for index in args.first..args.first + args.cases {
         let c = case::generate(args.seed, index, limits);
-        match oracle::check_and_shrink(&gpu, &mut renderer, &c, &scope) {
+        match runner.check_and_shrink(&gpu, &c, &scope) {
             Ok((result, shrunk)) => {
                 s.cases += 1;
                 s.frames += result.modes.len() as u64;

@@ -483,6 +483,52 @@ pub fn renderer(gpu: &Gpu) -> Result<Renderer> {
     Renderer::new(gpu, OUTPUT_FORMAT, &Settings { count_fragments: false, timestamps: false, ..Settings::default() })
 }
 
+/// Pass sets a [`Runner`]'s device keeps: a settings block draws each of the four paths with a
+/// few shader-feature variants (shadows, cookies, masks, light planes).
+pub const RUNNER_SETS: usize = 8;
+
+/// Runs case after case on one device with bounded memory. Each pass set's compiled pipelines
+/// hold 60-160 MiB on lavapipe and the device's pool keeps 32 by default, besides the 8 a
+/// renderer keeps for its recent configurations: cases from many settings blocks grew a run to
+/// 6.0 GB after 150 cases (2.3 GB after one block of 50). So the runner keeps
+/// [`RUNNER_SETS`] in the pool and starts a new renderer, dropping the old one's sets, when the
+/// settings change.
+pub struct Runner {
+    renderer: Option<(case::CaseSettings, Renderer)>,
+}
+
+impl Runner {
+    /// Limits `gpu`'s pass pool to [`RUNNER_SETS`]: give the runner a device of its own.
+    pub fn new(gpu: &Gpu) -> Self {
+        gpu.passes.keep_at_most(RUNNER_SETS);
+        Self { renderer: None }
+    }
+
+    /// The renderer for `case`'s settings.
+    fn renderer(&mut self, gpu: &Gpu, case: &Case) -> Result<&mut Renderer> {
+        if self.renderer.as_ref().is_none_or(|(s, _)| *s != case.settings) {
+            self.renderer = None;
+            self.renderer = Some((case.settings.clone(), renderer(gpu)?));
+        }
+        match self.renderer.as_mut() {
+            Some((_, r)) => Ok(r),
+            None => anyhow::bail!("no renderer"),
+        }
+    }
+
+    /// [`check`] with this runner's renderer.
+    pub fn check(&mut self, gpu: &Gpu, case: &Case, scope: &Scope) -> Result<CaseResult> {
+        let r = self.renderer(gpu, case)?;
+        check(gpu, r, case, scope)
+    }
+
+    /// [`check_and_shrink`] with this runner's renderer.
+    pub fn check_and_shrink(&mut self, gpu: &Gpu, case: &Case, scope: &Scope) -> Result<(CaseResult, Option<Case>)> {
+        let r = self.renderer(gpu, case)?;
+        check_and_shrink(gpu, r, case, scope)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

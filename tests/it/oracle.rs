@@ -25,13 +25,13 @@ fn report(r: &oracle::CaseResult) -> String {
 #[test]
 fn generated_cases_miss_no_light_in_any_mode() {
     let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
-    let mut r = oracle::renderer(&gpu).expect("renderer");
+    let mut runner = oracle::Runner::new(&gpu);
     let limits = case::Limits { width: 48, height: 27, max_lights: 64 };
     let (mut failures, mut frames, mut refused) = (Vec::new(), 0, Vec::new());
     for block in 0..6 {
         for j in 0..20 {
             let c = case::generate(20261129, block * case::SETTINGS_BLOCK + j, limits);
-            let result = oracle::check(&gpu, &mut r, &c, &oracle::Scope::default()).expect("check");
+            let result = runner.check(&gpu, &c, &oracle::Scope::default()).expect("check");
             frames += result.modes.len();
             refused.extend(result.modes.iter().filter_map(|m| m.refused.clone()));
             if result.failures().next().is_some() {
@@ -49,7 +49,7 @@ fn generated_cases_miss_no_light_in_any_mode() {
 #[test]
 fn the_regression_cases_miss_no_light() {
     let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
-    let mut r = oracle::renderer(&gpu).expect("renderer");
+    let mut runner = oracle::Runner::new(&gpu);
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/oracle");
     let mut files: Vec<_> = std::fs::read_dir(&dir).expect("tests/data/oracle").flatten().map(|e| e.path()).collect();
     files.retain(|p| p.extension().is_some_and(|e| e == "json"));
@@ -57,7 +57,7 @@ fn the_regression_cases_miss_no_light() {
     assert!(files.len() >= 4, "regression files: {files:?}");
     for p in files {
         let c: case::Case = serde_json::from_str(&std::fs::read_to_string(&p).expect("read")).expect("a case");
-        let result = oracle::check(&gpu, &mut r, &c, &oracle::Scope::default()).expect("check");
+        let result = runner.check(&gpu, &c, &oracle::Scope::default()).expect("check");
         assert!(result.failures().next().is_none(), "{}:\n{}", p.display(), report(&result));
         assert!(result.modes.iter().all(|m| m.refused.is_none()), "{}: refused", p.display());
         assert_eq!(result.modes.len(), 18, "{}", p.display());

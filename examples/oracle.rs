@@ -48,6 +48,8 @@ struct Summary {
     saturated_pixels: u64,
     refused_frames: u64,
     written: Vec<String>,
+    /// Cases per accumulation format.
+    accumulation: std::collections::BTreeMap<String, u64>,
     seconds: f64,
 }
 
@@ -103,6 +105,10 @@ fn main() {
     let mut s = Summary { seed: args.seed, first: args.first, ..Default::default() };
     for index in args.first..args.first + args.cases {
         let c = case::generate(args.seed, index, limits);
+        if index == args.first || index % case::SETTINGS_BLOCK == 0 {
+            say(&bar, format!("case {index}: settings {:?}", c.settings));
+        }
+        *s.accumulation.entry(format!("{:?}", c.settings.accumulation)).or_default() += 1;
         match runner.check_and_shrink(&gpu, &c, &scope) {
             Ok((result, shrunk)) => {
                 s.cases += 1;

@@ -205,8 +205,8 @@ impl Default for Limits {
 ///   box's face, just in front of or behind it, at the camera (which then stands inside the
 ///   volume), behind the camera; masks that leave layers out; built-in cookies;
 /// - far from the origin (everything moved 10^6);
-/// - the G-buffer layout, the depth format, reversed Z, the accumulation format (16- and
-///   32-bit float; the 8-bit and 11-bit formats' bounds are coarser than a light) and shadows,
+/// - the G-buffer layout, the depth format, reversed Z, the accumulation format (all five; the
+///   8-bit and 11-bit ones less often, their bounds being coarser than many lights) and shadows,
 ///   shared by [`SETTINGS_BLOCK`] cases in a row.
 pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let mut r = Rng::new(seed, index);
@@ -220,7 +220,18 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
             layout: r.pick(&LayoutChoice::ALL),
             depth_format: r.pick(&DepthFormat::ALL),
             reversed_z: r.chance(0.5),
-            accumulation: r.pick(&[AccumFormat::Rgba16Float, AccumFormat::Rgba32Float]),
+            // Every format; the float ones twice as often, as the 8-bit and 11-bit formats'
+            // bounds are coarser than many lights (a light below its bound cannot be told
+            // missed).
+            accumulation: r.pick(&[
+                AccumFormat::Rgba16Float,
+                AccumFormat::Rgba16Float,
+                AccumFormat::Rgba32Float,
+                AccumFormat::Rgba32Float,
+                AccumFormat::Rg11b10Ufloat,
+                AccumFormat::Rgba8Log,
+                AccumFormat::Rgba8Unorm,
+            ]),
             shadows: r.pick(&[ShadowMode::None, ShadowMode::Spots, ShadowMode::All]),
         }
     };
@@ -289,6 +300,13 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         Vec::new()
     };
     let range_lo = if r.chance(0.2) { 1e-4 } else { 1e-2 * scale };
+    // The 8-bit formats saturate at 1 (linear) and about 8 (log): their lights are dimmer, so
+    // that most pixels stay inside the range where a missed light shows.
+    let dim = match settings.accumulation {
+        AccumFormat::Rgba8Unorm => 0.02,
+        AccumFormat::Rgba8Log => 0.1,
+        _ => 1.0,
+    };
     while lights.len() < count {
         let radius = r.log(range_lo, 1e4_f64.min(100.0 * scale.max(1.0))) as f32;
         let position = match r.below(6) {
@@ -309,7 +327,7 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
             _ => camera.position + r.direction() * r.log(1e-3, 30.0) * scale,
         };
         let color = Vec3::new(r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32);
-        let intensity = r.log(0.1, 20.0) as f32;
+        let intensity = r.log(0.1, 20.0) as f32 * dim;
         let mask = if layers > 1 && r.chance(0.5) { (r.next_u64() as u32) | 1 << r.below(4) } else { ALL_LAYERS };
         let light = if r.chance(spots) {
             let outer = if r.chance(0.2) { r.pick(&[0.0, 89.9]) } else { r.range(0.5, 89.9) };

@@ -209,7 +209,7 @@ fn mode_row(
     }
     // The ten costliest by the built-in model for now; the fitted one reorders them below.
     let builtin = CostModel::builtin(
-        matches!(settings.culling, CullingMode::Tiled | CullingMode::Clustered),
+        matches!(settings.culling, CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin),
         w as f64 * h as f64,
     );
     let mut by_cost: Vec<usize> = (0..n).collect();

@@ -588,6 +588,11 @@ impl Renderer {
         self.scratch.tiled.lists(&gpu.device, &gpu.queue)
     }
 
+    /// The last frame's z-binned job (sorted lights, bins, rectangles), when it was z-binned.
+    pub fn zbin_job(&self) -> Option<&culling::zbin::ZBinJob> {
+        self.last.plan.zbins.as_ref()
+    }
+
     /// The last frame's lights as the shaders saw them (view space, cut-off radius applied).
     pub fn light_records(&self) -> &[LightRecord] {
         &self.last.lights

@@ -259,7 +259,9 @@ gpu_record! {
 gpu_record! {
     /// The tiled and clustered passes' parameters (`tile_params` in the shaders).
     pub struct TileParams as "TileParams" {
-        /// 0: tiled (lists built on the GPU between each tile's depth bounds), 1: clustered.
+        /// 0: tiled (lists built on the GPU between each tile's depth bounds), 1: clustered,
+        /// 2: z-binned (`culling::zbin`; `slices` are its depth bins, `capacity` the lights
+        /// sorted).
         pub mode: u32,
         /// Tile size in pixels, tiles across and down, depth slices (1 when tiled).
         pub tile_size: u32,
@@ -282,6 +284,14 @@ gpu_record! {
         /// The light the waste view is restricted to (`Settings::selected_light`), or
         /// `u32::MAX` for every light.
         pub selected: u32,
+        /// Z-binned: mask words per tile, where the masks start in `tile_counts`, where the
+        /// sorted lights' indices and their rectangles start in `tile_lists`, and the sorted
+        /// lights one shading draw walks.
+        pub words: u32,
+        pub mask_base: u32,
+        pub order_base: u32,
+        pub rect_base: u32,
+        pub chunk: u32,
     }
 }
 

@@ -301,13 +301,18 @@ pub enum CullingMode {
     /// Olsson et al. 2012: screen tiles x exponential depth slices, lights assigned on the CPU;
     /// one full-screen pass shades each pixel with its cluster's list.
     Clustered,
+    /// Drobot 2017 (z-binning, "Improved Culling for Tiled and Clustered Rendering"): lights
+    /// sorted by view depth, each depth bin the range of sorted lights it holds, each screen
+    /// tile a bitmask of the lights reaching it (built on the GPU); one full-screen pass walks
+    /// the tile's bits within the pixel's bin.
+    Zbin,
     /// Per light, the cheapest correct method (see `plan::plan_light`), or `clustered` for the
     /// whole frame when that is estimated cheaper (see `tiles::frame_rule`).
     Auto,
 }
 
 impl CullingMode {
-    pub const ALL: [CullingMode; 8] = [
+    pub const ALL: [CullingMode; 9] = [
         CullingMode::Fullscreen,
         CullingMode::Volume,
         CullingMode::StencilTwoPass,
@@ -315,6 +320,7 @@ impl CullingMode {
         CullingMode::StencilReplace,
         CullingMode::Tiled,
         CullingMode::Clustered,
+        CullingMode::Zbin,
         CullingMode::Auto,
     ];
 }

@@ -78,11 +78,8 @@ fn batched_frames_equal_unbatched_light_by_light() {
             // Fewer batches than lights wherever two lights share one; never more draws.
             let (u, b) = (&unbatched.stats, &batched.stats);
             assert!(b.light_batches <= u.light_batches && b.draw_calls <= u.draw_calls, "{what}: {u:?} {b:?}");
-            let drawn = u
-                .per_light
-                .iter()
-                .filter(|l| !matches!(l.method, Method::Skipped | Method::Tiled | Method::Clustered))
-                .count() as u64;
+            let drawn =
+                u.per_light.iter().filter(|l| !(l.method == Method::Skipped || l.method.listed())).count() as u64;
             assert_eq!(u.light_batches, drawn, "{what}: unbatched, one batch per drawn light");
         }
     }
@@ -138,16 +135,15 @@ fn draw_calls_fall_on_the_full_demo() {
             .per_light
             .iter()
             .map(|l| match l.method {
-                Method::Skipped | Method::Tiled | Method::Clustered => 0,
+                Method::Skipped | Method::Tiled | Method::Clustered | Method::Zbin => 0,
                 Method::Fullscreen | Method::Volume => 1,
                 _ => 2,
             })
             .sum();
         assert_eq!(u.draw_calls, per_light + clears(u.light_batches), "{}", mode.name());
-        let tiled =
-            |st: &FrameStats| st.per_light.iter().all(|l| matches!(l.method, Method::Tiled | Method::Clustered));
+        let tiled = |st: &FrameStats| st.per_light.iter().all(|l| l.method.listed());
         if tiled(&b) {
-            // The tiled pass shades the frame (`tiled`, `clustered`, or `auto`'s frame rule): the
+            // The tiled pass shades the frame (`tiled`, `clustered`, `zbin`, or `auto`'s frame rule): the
             // light pass draws nothing, batched or not.
             assert_eq!((b.draw_calls, b.light_batches, u.draw_calls), (0, 0, 0), "{}", mode.name());
             continue;
@@ -164,7 +160,9 @@ fn draw_calls_fall_on_the_full_demo() {
                 assert_eq!(b.draw_calls, 2 * b.light_batches);
             }
             CullingMode::Auto => assert!(methods(&b).len() > 1, "auto draws demo with one method"),
-            CullingMode::Tiled | CullingMode::Clustered => unreachable!("{}: drawn by the light pass", mode.name()),
+            CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin => {
+                unreachable!("{}: drawn by the light pass", mode.name())
+            }
         }
         assert!(
             b.draw_calls * 4 < u.draw_calls,
@@ -279,7 +277,7 @@ fn no_two_lights_of_a_batch_meet_and_every_drawn_light_is_in_one_batch() {
                 }
             }
             for (i, p) in plan.lights.iter().enumerate() {
-                let expected = u32::from(!matches!(p.method, Method::Skipped | Method::Tiled | Method::Clustered));
+                let expected = u32::from(!(p.method == Method::Skipped || p.method.listed()));
                 assert_eq!(seen[i], expected, "{what}: light {i} ({:?}) in {} batches", p.method, seen[i]);
             }
             // Light order at every pixel: two lights whose footprints meet are drawn in light

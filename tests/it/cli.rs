@@ -470,7 +470,7 @@ fn check_holds_every_mode_against_brute_force_on_a_users_file() {
         let frames = json["frames"].as_array().expect("frames");
         let viewpoints =
             frames.iter().filter(|f| f["camera"].as_str().is_some_and(|c| c.starts_with("viewpoint"))).count() / 16;
-        assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 18, "{file}");
+        assert_eq!(frames.len(), (1 + viewpoints + cameras.parse::<usize>().unwrap()) * 20, "{file}");
         assert!(frames.iter().all(|f| f["result"]["missed"] == 0 && f["result"]["extra"] == 0), "{file}");
     }
     for (args, says) in [

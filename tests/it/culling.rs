@@ -136,7 +136,7 @@ fn without_depth_clamp_far_crossing_lights_fall_back_to_fullscreen() {
         assert!(!f.stats.depth_clamp);
         // Tiled and clustered draw no volume: their lists need no depth clamp.
         let expected = match mode {
-            CullingMode::Tiled | CullingMode::Clustered => mode.method().unwrap(),
+            CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin => mode.method().unwrap(),
             _ => Method::Fullscreen,
         };
         assert_eq!(f.stats.per_light[0].method, expected, "{}", mode.name());
@@ -223,8 +223,8 @@ fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
             // Tiled and clustered write the log accumulation once per pixel, not once per
             // light: they differ from fullscreen-log by fullscreen's own rounding (up to 4 steps
             // on demo), and tests/it/tiled.rs holds them to two writes' bound of the exact light.
-            let one_write = matches!(mode, CullingMode::Tiled | CullingMode::Clustered)
-                || f.stats.per_light.iter().any(|l| matches!(l.method, Method::Tiled | Method::Clustered));
+            let one_write = matches!(mode, CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin)
+                || f.stats.per_light.iter().any(|l| l.method.listed());
             let log = base.accumulation == lampshade::renderer::AccumFormat::Rgba8Log;
             assert!(
                 step <= MAX_CHANNEL_STEP || (log && one_write),

@@ -9,7 +9,7 @@ use lampshade::headless::render_image;
 use lampshade::renderer::post::PostImage;
 use lampshade::renderer::settings::{log_accum_error_bound, unorm_accum_error_bound, LOG_ACCUM_MAX};
 use lampshade::renderer::{
-    AccumFormat, BrdfOverride, CullingMode, DebugView, LayoutChoice, Method, Msaa, RenderPath, Renderer, Settings,
+    AccumFormat, BrdfOverride, CullingMode, DebugView, LayoutChoice, Msaa, RenderPath, Renderer, Settings,
     OUTPUT_FORMAT,
 };
 
@@ -63,8 +63,8 @@ fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
             let f = render(&scene, &s(mode), W, H);
             assert_finite(&f, name);
             let step = max_channel_difference(&reference.image, &f.image);
-            let one_write = matches!(mode, CullingMode::Tiled | CullingMode::Clustered)
-                || f.stats.per_light.iter().any(|l| matches!(l.method, Method::Tiled | Method::Clustered));
+            let one_write = matches!(mode, CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin)
+                || f.stats.per_light.iter().any(|l| l.method.listed());
             let log = base.accumulation == AccumFormat::Rgba8Log;
             if step > 1 && !(log && one_write) {
                 failures.push(format!("{what} {name}/{}: {step} steps from fullscreen", mode.name()));

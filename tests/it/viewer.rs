@@ -1137,7 +1137,7 @@ fn the_culling_check_runs_in_the_window_on_each_g_buffer_path() {
     let lines: Vec<&str> = stdout.lines().filter(|l| l.contains("culling check at")).collect();
     assert_eq!(lines.len(), 2, "stdout:\n{stdout}");
     for l in &lines {
-        assert!(l.ends_with("8 frames, 0 miss or add light"), "{l}");
+        assert!(l.ends_with("9 frames, 0 miss or add light"), "{l}");
     }
     let json = json(&dir, "check-viewport.json");
     assert_eq!(json["viewer"]["panels"]["check"].as_bool(), Some(true), "the check's window is not open");

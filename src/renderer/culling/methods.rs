@@ -168,7 +168,7 @@ impl MethodRow {
 }
 
 /// Every method, in the order the light pass draws its batches.
-pub const METHODS: [MethodRow; 8] = [
+pub const METHODS: [MethodRow; 9] = [
     MethodRow {
         method: Method::Fullscreen,
         mode: Some(CullingMode::Fullscreen),
@@ -235,6 +235,14 @@ pub const METHODS: [MethodRow; 8] = [
         draws_per_light: 0,
         covers: Covers::Nothing,
     },
+    MethodRow {
+        method: Method::Zbin,
+        mode: Some(CullingMode::Zbin),
+        draws: None,
+        labels: ["", "", ""],
+        draws_per_light: 0,
+        covers: Covers::Nothing,
+    },
 ];
 
 /// The row of method `m`.
@@ -262,6 +270,7 @@ mod tests {
             Method::StencilReplace,
             Method::Tiled,
             Method::Clustered,
+            Method::Zbin,
             Method::Skipped,
         ];
         for m in all {

@@ -9,7 +9,9 @@
 //!   stencil states (seed 000's two-pass stencil, seed 001's single-pass INVERT, seed 002's
 //!   REPLACE);
 //! - [`tiled`]: tiled and clustered light lists (Olsson et al. 2012), built on the CPU or the
-//!   GPU, and the one full-screen pass that shades them (`tiled.wgsl`).
+//!   GPU, and the one full-screen pass that shades them (`tiled.wgsl`);
+//! - [`zbin`]: Drobot's z-bins (lights sorted by depth, a bin's range of them, a tile's
+//!   bitmask), shaded by the same pass (`zbin.wgsl`).
 
 pub mod batches;
 pub mod light_pass;
@@ -18,3 +20,4 @@ pub mod overlap;
 pub mod plan;
 pub mod tiled;
 pub mod volumes;
+pub mod zbin;

@@ -34,11 +34,20 @@ pub enum Method {
     Tiled,
     /// Shaded from its clusters' light lists in the tiled pass.
     Clustered,
+    /// Shaded from its tile's bitmask within its depth bin's range in the tiled pass
+    /// (`culling::zbin`).
+    Zbin,
     /// `auto` only: the volume lies outside the view frustum and is not drawn.
     Skipped,
 }
 
 impl Method {
+    /// Whether the tiled pass shades this light from a list or mask (`tiled`, `clustered`,
+    /// `zbin`), not a draw of its own.
+    pub fn listed(self) -> bool {
+        matches!(self, Method::Tiled | Method::Clustered | Method::Zbin)
+    }
+
     /// The name in stats, the viewer and the bench: the culling mode's name, or `skipped`.
     pub fn name(self) -> String {
         match super::methods::row(self).mode {
@@ -685,10 +694,12 @@ pub struct FramePlan {
     pub forward: Option<ForwardStats>,
     /// Which lights share an instanced draw, and the draw list they index.
     pub batches: LightBatches,
-    /// `Method::Tiled` or `Method::Clustered` when the tiled pass shades this frame's lights
+    /// `Method::Tiled`, `Method::Clustered` or `Method::Zbin` when the tiled pass shades this frame's lights
     /// (`tiles::frame_rule`), with the clustered lists built on the CPU or the GPU's job.
     pub tiled: Option<Method>,
     pub clusters: Option<super::tiled::ClusterBuild>,
+    /// The z-binned frame's sorted lights, bins and rectangles (`Method::Zbin`).
+    pub zbins: Option<super::zbin::ZBinJob>,
 }
 
 impl FramePlan {
@@ -743,10 +754,11 @@ impl FramePlan {
                 }
             }
         });
+        let zbins = (tiled == Some(Method::Zbin)).then(|| super::zbin::zbin_job(&records.lights, &lights, view));
         let (draws, light_lists, forward) =
             plan_draws(scene, &mut records.objects, &mut records.camera, bounds, &lights, view);
         let batches = LightBatches::new(&lights, &records.lights, volumes, view);
-        Self { lights, draws, light_lists, forward, batches, tiled, clusters }
+        Self { lights, draws, light_lists, forward, batches, tiled, clusters, zbins }
     }
 
     /// The bounding meshes this frame draws ("sphere", "cone"): volume kinds are drawn only for

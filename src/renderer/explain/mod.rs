@@ -315,11 +315,7 @@ impl Renderer {
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let n = self.last.lights.len();
         let raw = self.explain_raw(x, y, n)?;
-        let lists = if self.last.plan.lights.iter().any(|p| matches!(p.method, Method::Tiled | Method::Clustered)) {
-            self.tile_lists(gpu)?
-        } else {
-            None
-        };
+        let lists = if self.last.plan.lights.iter().any(|p| p.method.listed()) { self.tile_lists(gpu)? } else { None };
         let depth = -probe.position.z;
         let (cell, list): (Option<Cell>, Option<Vec<u32>>) = match (&lists, probe.valid) {
             (Some(l), true) => {
@@ -341,7 +337,7 @@ impl Renderer {
             let culling = match plan.method {
                 Method::Fullscreen => Culling::FullScreen,
                 Method::Skipped => Culling::Skipped,
-                Method::Tiled | Method::Clustered => match &list {
+                m if m.listed() => match &list {
                     Some(l) if l.contains(&(i as u32)) => Culling::InList,
                     _ => Culling::NotInList,
                 },

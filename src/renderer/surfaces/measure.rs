@@ -76,8 +76,8 @@ impl MeasurePass {
                 pass.begin_occlusion_query((i - b * chunk) as u32);
                 // A tiled light crossing the far plane without depth clamp would lose its volume's
                 // far side: counted full-screen like a light drawn so.
-                let fullscreen = plan.method == Method::Fullscreen
-                    || matches!(plan.method, Method::Tiled | Method::Clustered) && plan.crosses_far && !f.depth_clamp;
+                let fullscreen =
+                    plan.method == Method::Fullscreen || plan.method.listed() && plan.crosses_far && !f.depth_clamp;
                 match plan.method {
                     _ if fullscreen => {
                         pass.set_pipeline(&self.ideal);

@@ -91,7 +91,11 @@ pub struct ClusterGrid {
 
 impl ClusterGrid {
     pub fn new(size: (u32, u32), near: f32, far: f32) -> Self {
-        let (tile, slices) = (CLUSTER_TILE, SLICES);
+        Self::with_cells(size, near, far, CLUSTER_TILE, SLICES)
+    }
+
+    /// A grid of `tile`-pixel tiles and `slices` exponential slices from `near` to `far`.
+    pub fn with_cells(size: (u32, u32), near: f32, far: f32, tile: u32, slices: u32) -> Self {
         let far = far.max(near * 1.0001);
         let scale = slices as f32 / (far / near).ln();
         Self {
@@ -587,7 +591,7 @@ pub fn frame_costs(plans: &[LightPlan], size: (u32, u32)) -> (f64, f64) {
     (per_light, clustered)
 }
 
-/// The frame-level rule, after the per-light plans: `tiled` and `clustered` shade every light
+/// The frame-level rule, after the per-light plans: `tiled`, `clustered` and `zbin` shade every light
 /// from their lists; `auto` with at least [`FRAME_RULE_MIN_LIGHTS`] lights keeps its per-light
 /// plan unless [`frame_costs`] estimates `clustered` cheaper, and then shades the whole frame
 /// clustered. Returns the method of the tiled pass, if the frame uses it.
@@ -595,6 +599,7 @@ pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
     let method = match view.mode {
         CullingMode::Tiled => Method::Tiled,
         CullingMode::Clustered => Method::Clustered,
+        CullingMode::Zbin => Method::Zbin,
         CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
             let (per_light, clustered) = frame_costs(plans, view.size);
             if clustered >= per_light {

@@ -18,6 +18,7 @@
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since
 //! passes record through `&self`.
 
+use crate::renderer::culling::zbin::ZBinJob;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::{log_accum, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
@@ -61,6 +62,8 @@ struct Pending {
     params: TileParams,
     /// u32 words of the list buffer in use.
     words: u64,
+    /// Z-binned: u32 words of the masks (after the per-light counters in the counts buffer).
+    mask_words: u64,
 }
 
 /// The last frame's lists as the GPU held them (for tests and inspection): the parameters,
@@ -68,6 +71,8 @@ struct Pending {
 pub struct TileLists {
     pub params: TileParams,
     pub data: Vec<u32>,
+    /// Z-binned: the tiles' masks as the GPU built them (`params.words` words a tile).
+    pub masks: Vec<u32>,
 }
 
 impl TileLists {
@@ -83,8 +88,45 @@ impl TileLists {
         (k as u32 * p.tiles_x * p.tiles_y + tile) as usize
     }
 
-    /// Light indices of `cell` (every light when the GPU ran out of room for it).
+    /// The cells pixel (`x`, `y`) at view depth `depth` may lie in when the GPU's logarithm and
+    /// point differ from the caller's by up to `margin` of a slice: [`Self::cell`]'s, and the
+    /// neighbouring slice's when the depth lies within `margin` of a boundary (for tests that
+    /// rebuild the GPU's choice on the CPU).
+    pub fn cells_near(&self, x: u32, y: u32, depth: f32, margin: f32) -> Vec<usize> {
+        let p = &self.params;
+        let cell = self.cell(x, y, depth);
+        if p.mode == 0 {
+            return vec![cell];
+        }
+        let tiles = (p.tiles_x * p.tiles_y) as usize;
+        let t = depth.max(1e-30).ln() * p.slice_scale + p.slice_bias;
+        let k = cell / tiles;
+        let mut out = vec![cell];
+        let f = t - t.floor();
+        if f < margin && k > 0 && t < p.slices as f32 {
+            out.push(cell - tiles);
+        }
+        if f > 1.0 - margin && k + 1 < p.slices as usize && t >= 0.0 {
+            out.push(cell + tiles);
+        }
+        out
+    }
+
+    /// Light indices of `cell` (every light when the GPU ran out of room for it). Z-binned,
+    /// a cell is a tile at a bin (numbered as clusters are): the sorted lights of the bin's
+    /// range whose bit the tile's mask holds, in the order the shading pass walks them.
     pub fn list(&self, cell: usize) -> Vec<u32> {
+        let p = &self.params;
+        if p.mode == 2 {
+            let tiles = (p.tiles_x * p.tiles_y) as usize;
+            let (k, tile) = (cell / tiles, cell % tiles);
+            let (first, end) = (self.data[2 * k], self.data[2 * k + 1]);
+            let base = tile * p.words as usize;
+            return (first..end)
+                .filter(|&j| self.masks.get(base + (j / 32) as usize).is_some_and(|w| w >> (j % 32) & 1 == 1))
+                .filter_map(|j| self.data.get((p.order_base + j) as usize).copied())
+                .collect();
+        }
         let (first, count) = (self.data[2 * cell] as usize, self.data[2 * cell + 1]);
         if count == ALL_LIGHTS {
             return (0..self.params.light_count).collect();
@@ -108,6 +150,10 @@ pub struct TiledPass {
     count_view: wgpu::RenderPipeline,
     /// The ledger's waste view (`fs_tile_waste`) of frames the tiled pass shades.
     waste_view: wgpu::RenderPipeline,
+    /// Z-binned frames' mask building (`cs_zbin_mask`) and shading (`fs_zbin`, and
+    /// `fs_zbin_counted`), built by the first such frame.
+    zbin: std::sync::OnceLock<(wgpu::ComputePipeline, wgpu::RenderPipeline)>,
+    zbin_counted: std::sync::OnceLock<wgpu::RenderPipeline>,
 }
 
 /// A renderer's tile lists: the buffers (grown as frames need) and what the last frame left to
@@ -181,7 +227,40 @@ impl TiledPass {
             counted_from: (shared.module.clone(), layout.clone(), targets),
             count_view,
             waste_view,
+            zbin: std::sync::OnceLock::new(),
+            zbin_counted: std::sync::OnceLock::new(),
         }
+    }
+
+    /// Whether a z-binned frame has built its pipelines.
+    pub fn zbin_built(&self) -> bool {
+        self.zbin.get().is_some()
+    }
+
+    /// The z-binned frame's mask pass and shading pipeline (`counted`: the one counting each
+    /// light's pairs), built on first use.
+    fn zbin_pipelines(&self, device: &wgpu::Device, counted: bool) -> (&wgpu::ComputePipeline, &wgpu::RenderPipeline) {
+        let (module, layout, targets) = &self.counted_from;
+        let (mask, shade) = self.zbin.get_or_init(|| {
+            let mask = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("z-bin masks"),
+                layout: Some(layout),
+                module,
+                entry_point: Some("cs_zbin_mask"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let stages = ("vs_tiled", "fs_zbin");
+            (mask, crate::renderer::kit::screen_pipeline(device, module, "z-bin shade", layout, stages, targets))
+        });
+        if !counted {
+            return (mask, shade);
+        }
+        let shade = self.zbin_counted.get_or_init(|| {
+            let stages = ("vs_tiled", "fs_zbin_counted");
+            crate::renderer::kit::screen_pipeline(device, module, "z-bin shade, counted", layout, stages, targets)
+        });
+        (mask, shade)
     }
 
     /// Records the tiled pass when the frame's plan shades with it (lists, then one
@@ -210,28 +289,36 @@ impl TiledPass {
         if f.plan.tiled.is_none() && view.is_none() {
             return (0.0, 0.0);
         }
-        let method = match (f.plan.tiled, &f.plan.clusters) {
-            (Some(Method::Clustered), Some(_)) => Method::Clustered,
+        let method = match (f.plan.tiled, &f.plan.clusters, &f.plan.zbins) {
+            (Some(Method::Clustered), Some(_), _) => Method::Clustered,
+            (Some(Method::Zbin), _, Some(_)) => Method::Zbin,
             _ => Method::Tiled,
         };
         let n = f.plan.lights.len();
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
+        let zbins = f.plan.zbins.as_ref().filter(|_| method == Method::Zbin);
         // CPU-built lists as they fit one binding (`ClusterLists::fitted`).
         let cpu_lists = match clusters {
             Some(ClusterBuild::Cpu(c)) => Some(c.fitted(MAX_ENTRIES as usize)),
             _ => None,
         };
-        let (params, entries) = grid(f, clusters, cpu_lists.as_deref());
-        let cells = (params.tiles_x * params.tiles_y * params.slices) as u64;
+        let (params, entries) = grid(f, clusters, cpu_lists.as_deref(), zbins);
+        // Z-binned: the stats' cells are the masks' tiles (a tile's entries, its mask's bits).
+        let cells = match zbins {
+            Some(_) => (params.tiles_x * params.tiles_y) as u64,
+            None => (params.tiles_x * params.tiles_y * params.slices) as u64,
+        };
         let gpu_job = match clusters {
             Some(ClusterBuild::Gpu(j)) => Some(j),
             _ => None,
         };
         // GPU-built clusters: the lights' spans after the lists, a counter per cluster after
         // the lights' counts.
+        // Z-binned: the masks after the lights' counts.
+        let mask_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words as u64);
         let (list_words, count_words) = match gpu_job {
             Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
-            None => (entries, n as u64 + 1),
+            None => (entries, n as u64 + 1 + mask_words),
         };
         self.fit_buffers(device, &mut state.0, list_words, count_words);
         let Some(b) = &state.0 else { return (0.0, 0.0) };
@@ -243,9 +330,14 @@ impl TiledPass {
         if let Some(j) = gpu_job {
             queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans));
         }
+        if let Some(z) = zbins {
+            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&z.data));
+        }
         let upload_ms = (clock.ms(), clock.wall_ms());
         encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
+        let zbin = zbins.map(|z| (self.zbin_pipelines(device, f.counts), z));
         let shade = match f.counts {
+            _ if zbin.is_some() => zbin.map(|((_, shade), _)| shade).unwrap_or(&self.shade),
             true => self.counted.get_or_init(|| {
                 let (module, layout, targets) = &self.counted_from;
                 let stages = ("vs_tiled", "fs_tiled_counted");
@@ -253,10 +345,13 @@ impl TiledPass {
             }),
             false => &self.shade,
         };
-        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params), cells);
+        let zbin = zbin.map(|((mask, _), z)| (mask, z));
+        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params), cells, zbin);
         if f.counts {
-            encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
-            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, (n as u64 + 1) * 4);
+            if zbins.is_none() {
+                encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
+            }
+            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, count_words * 4);
         }
         state.1 = Some(Pending {
             method,
@@ -267,6 +362,7 @@ impl TiledPass {
             slices: params.slices,
             params,
             words: entries,
+            mask_words,
         });
         upload_ms
     }
@@ -290,7 +386,7 @@ impl TiledPass {
         let counts = buffer(
             device,
             "tile counts",
-            (count_words * 4).next_power_of_two(),
+            (count_words * 4).next_power_of_two().min(MAX_ENTRIES * 4).max(count_words * 4),
             U::STORAGE | U::COPY_DST | U::COPY_SRC,
         );
         let params = buffer(device, "tile params", std::mem::size_of::<TileParams>() as u64, U::STORAGE | U::COPY_DST);
@@ -319,6 +415,7 @@ impl TiledPass {
         (method, gpu_lists, view): (Method, bool, Option<&wgpu::RenderPipeline>),
         (shade, params): (&wgpu::RenderPipeline, &TileParams),
         cells: u64,
+        zbin: Option<(&wgpu::ComputePipeline, &ZBinJob)>,
     ) {
         let n = f.plan.lights.len();
         let bind = |pass: &mut dyn SetGroups| {
@@ -342,6 +439,16 @@ impl TiledPass {
             let groups = (cells as u32).div_ceil(64);
             pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
         }
+        if let Some((mask, z)) = zbin.filter(|(_, z)| z.visible > 0) {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("z-bin masks"),
+                timestamp_writes: f.compute_timestamps(SPAN),
+            });
+            pass.set_pipeline(mask);
+            bind(&mut pass);
+            let groups = z.visible.div_ceil(64);
+            pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
+        }
         if method == Method::Tiled {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("tile lists"),
@@ -362,8 +469,10 @@ impl TiledPass {
             });
             pass.set_pipeline(shade);
             bind(&mut pass);
-            // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit).
-            pass.draw(0..3, 0..crate::renderer::tiles::shade_chunks(n));
+            // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit), or per
+            // `ZBinJob::chunk` sorted lights.
+            let draws = zbin.map_or_else(|| crate::renderer::tiles::shade_chunks(n), |(_, z)| z.draws());
+            pass.draw(0..3, 0..draws);
         }
         if let Some(pipeline) = view {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -394,12 +503,20 @@ impl TiledScratch {
         let Ok(state) = self.state.lock() else { return Ok(None) };
         let (Some(b), Some(p)) = (&state.0, state.1) else { return Ok(None) };
         let bytes = p.words * 4;
+        let mask_bytes = p.mask_words * 4;
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile lists readback") });
         encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, bytes);
+        if mask_bytes > 0 {
+            encoder.copy_buffer_to_buffer(&b.counts, p.params.mask_base as u64 * 4, &b.counts_read, 0, mask_bytes);
+        }
         queue.submit([encoder.finish()]);
         let data = crate::renderer::kit::read_back(device, &b.lists_read, bytes)?;
-        Ok(Some(TileLists { params: p.params, data }))
+        let masks = match mask_bytes {
+            0 => Vec::new(),
+            _ => crate::renderer::kit::read_back(device, &b.counts_read, mask_bytes)?,
+        };
+        Ok(Some(TileLists { params: p.params, data, masks }))
     }
 
     /// After the frame's submission: the per-light pair counts as `shaded` (replacing the
@@ -417,8 +534,13 @@ impl TiledScratch {
             });
             return Ok(());
         }
-        let headers: Vec<u32> = crate::renderer::kit::read_back(device, &b.lists_read, p.cells * 8)?;
-        let counts: Vec<u32> = crate::renderer::kit::read_back(device, &b.counts_read, (p.lights as u64 + 1) * 4)?;
+        let zbinned = p.method == Method::Zbin;
+        let headers: Vec<u32> = match zbinned {
+            true => Vec::new(),
+            false => crate::renderer::kit::read_back(device, &b.lists_read, p.cells * 8)?,
+        };
+        let count_words = p.lights as u64 + 1 + p.mask_words;
+        let counts: Vec<u32> = crate::renderer::kit::read_back(device, &b.counts_read, count_words * 4)?;
         let mut t = TileStats {
             method: p.method,
             tile_size: p.tile_size,
@@ -426,6 +548,13 @@ impl TiledScratch {
             cells: p.cells,
             ..Default::default()
         };
+        // Z-binned: a tile's entries are its mask's bits.
+        let words = p.params.words.max(1) as usize;
+        for tile in counts.get(p.lights + 1..).unwrap_or_default().chunks_exact(words).filter(|_| zbinned) {
+            let len: u32 = tile.iter().map(|w| w.count_ones()).sum();
+            t.entries += len as u64;
+            t.longest = t.longest.max(len);
+        }
         for c in headers.chunks_exact(2) {
             let len = if c[1] == ALL_LIGHTS {
                 t.overflowed += 1;
@@ -455,7 +584,12 @@ impl TiledScratch {
 /// The grid the frame's lists are built over (tiles of the screen, or clusters when `clusters`
 /// builds them) and the words its lists take: a header of two words per cell, then at most
 /// `capacity` entries (`cpu_lists`: the CPU-built lists, which set it).
-fn grid(f: &FrameInputs<'_>, clusters: Option<&ClusterBuild>, cpu_lists: Option<&[u32]>) -> (TileParams, u64) {
+fn grid(
+    f: &FrameInputs<'_>,
+    clusters: Option<&ClusterBuild>,
+    cpu_lists: Option<&[u32]>,
+    zbins: Option<&ZBinJob>,
+) -> (TileParams, u64) {
     let (w, h) = (f.targets.width, f.targets.height);
     let n = f.plan.lights.len();
     let mut params = TileParams {
@@ -472,8 +606,25 @@ fn grid(f: &FrameInputs<'_>, clusters: Option<&ClusterBuild>, cpu_lists: Option<
         far: 0.0,
         view_depth: f.settings.tile_view_depth,
         selected: f.settings.selected_light.map_or(u32::MAX, |k| k as u32),
+        words: 0,
+        mask_base: 0,
+        order_base: 0,
+        rect_base: 0,
+        chunk: 0,
     };
-    let entries: u64 = if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
+    let entries: u64 = if let Some(z) = zbins {
+        let g = &z.grid;
+        params.mode = 2;
+        params.tile_size = g.tile;
+        (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);
+        (params.slice_scale, params.slice_bias, params.near, params.far) = (g.scale, g.bias, g.near, g.far);
+        params.capacity = z.visible;
+        params.words = z.words;
+        params.mask_base = n as u32 + 1;
+        (params.order_base, params.rect_base) = (z.order_base(), z.rect_base());
+        params.chunk = z.chunk;
+        z.data.len() as u64
+    } else if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
         params.mode = 1;
         params.tile_size = g.tile;
         (params.tiles_x, params.tiles_y, params.slices) = (g.tiles_x, g.tiles_y, g.slices);

@@ -5,7 +5,7 @@
 // the entries; `tile_counts[0]` is the list allocator, `tile_counts[1 + i]` light i's pairs.
 
 struct TileParams {
-    // 0: tiled, 1: clustered.
+    // 0: tiled, 1: clustered, 2: z-binned.
     mode: u32,
     tile_size: u32,
     tiles_x: u32,
@@ -24,6 +24,13 @@ struct TileParams {
     view_depth: f32,
     // The waste view's one light (0xffffffff: every light).
     selected: u32,
+    // Z-binned (zbin.wgsl): mask words per tile, the masks' start in tile_counts, the sorted
+    // lights' and their rectangles' starts in tile_lists, sorted lights per shading draw.
+    words: u32,
+    mask_base: u32,
+    order_base: u32,
+    rect_base: u32,
+    chunk: u32,
 };
 
 // Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);
@@ -324,6 +331,9 @@ fn fs_tile_waste(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if !s.valid {
         return vec4<f32>(0.0);
     }
+    if tile_params.mode == 2u {
+        return vec4<f32>(f32(zbin_count(p, s, -s.position.z, true)), 0.0, 0.0, 0.0);
+    }
     let cell = tile_cell(p, s);
     let first = tile_lists[2u * cell];
     var count = tile_lists[2u * cell + 1u];
@@ -343,18 +353,21 @@ fn fs_tile_waste(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(f32(wasted), 0.0, 0.0, 0.0);
 }
 
-// Debug: the length of the pixel's list (every pixel with a G-buffer point). In a clustered
-// frame with `tile_params.view_depth` > 0, the length of its tile's list at that view depth
+// Debug: the length of the pixel's list (every pixel with a G-buffer point; z-binned, the
+// bits of its tile's mask within its bin). In a clustered or z-binned frame with `tile_params.view_depth` > 0, the length of its tile's list at that view depth
 // instead, at every pixel (a slice through the clusters, as Unity HDRP's cluster display).
 @fragment
 fn fs_tile_count(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(frag.xy);
     var s = gbuffer_load(p);
-    let slice = tile_params.mode == 1u && tile_params.view_depth > 0.0;
+    let slice = tile_params.mode >= 1u && tile_params.view_depth > 0.0;
     if slice {
         s.position = vec3<f32>(0.0, 0.0, -tile_params.view_depth);
     } else if !s.valid {
         return vec4<f32>(0.0);
+    }
+    if tile_params.mode == 2u {
+        return vec4<f32>(f32(zbin_count(p, s, -s.position.z, false)), 0.0, 0.0, 1.0);
     }
     let cell = tile_cell(p, s);
     var count = tile_lists[2u * cell + 1u];

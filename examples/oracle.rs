@@ -46,7 +46,11 @@ struct Summary {
     missed_pixels: u64,
     extra_pixels: u64,
     saturated_pixels: u64,
+    /// Frames a mode refused (a limit of the mode: none so far).
     refused_frames: u64,
+    /// Frames whose path refused the case's settings before any culling (the light pre-pass
+    /// with Rg11b10Ufloat accumulation).
+    path_refused_frames: u64,
     written: Vec<String>,
     /// Cases per accumulation format.
     accumulation: std::collections::BTreeMap<String, u64>,
@@ -117,9 +121,10 @@ fn main() {
                     s.missed_pixels += m.missed as u64;
                     s.extra_pixels += m.extra as u64;
                     s.saturated_pixels += m.saturated as u64;
-                    s.refused_frames += m.refused.is_some() as u64;
+                    s.refused_frames += (m.refused.is_some() && !m.path_refused) as u64;
+                    s.path_refused_frames += m.path_refused as u64;
                 }
-                if let Some(m) = result.modes.iter().find(|m| m.refused.is_some()) {
+                if let Some(m) = result.modes.iter().find(|m| m.refused.is_some() && !m.path_refused) {
                     say(
                         &bar,
                         format!("case {index}: {} refused: {}", m.path, m.refused.as_deref().unwrap_or_default()),

@@ -98,12 +98,17 @@ pub struct ModeResult {
     pub worst: Option<Worst>,
     /// Why the frame was not drawn (a mode or layout the adapter refuses), instead of a result.
     pub refused: Option<String>,
+    /// The refusal is the path's, before any culling: the case's settings do not suit it (the
+    /// light pre-pass keeps its specular in alpha, which Rg11b10Ufloat lacks). Not a limit of
+    /// the mode.
+    #[serde(default)]
+    pub path_refused: bool,
 }
 
 impl ModeResult {
     /// A frame of `path` and `mode` with nothing counted yet.
     pub fn new(path: String, mode: String) -> Self {
-        Self { path, mode, missed: 0, extra: 0, saturated: 0, worst: None, refused: None }
+        Self { path, mode, missed: 0, extra: 0, saturated: 0, worst: None, refused: None, path_refused: false }
     }
 
     /// A frame that was not drawn, and why.
@@ -215,7 +220,8 @@ pub fn check_scene(
         // The lightless frame, then brute force over the first mode's G-buffer (every mode
         // draws the same G-buffer: the culling comes after it).
         if let Err(e) = render_image(gpu, renderer, &dark_scene, &base, w, h) {
-            modes.extend(scope.modes.iter().map(|&m| (refused(path, m, &e), None)));
+            let path_refused = |m| ModeResult { path_refused: true, ..refused(path, m, &e) };
+            modes.extend(scope.modes.iter().map(|&m| (path_refused(m), None)));
             continue;
         }
         let dark = accumulated(gpu, renderer)?;

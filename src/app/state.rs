@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Largest light count the viewer accepts (the core's own limit).
-pub const MAX_LIGHTS: usize = 100_000;
+pub const MAX_LIGHTS: usize = crate::scene::builtin::MAX_LIGHTS;
 /// Resolution scale bounds: share of the viewport's pixels the scene is rendered at.
 pub const MIN_SCALE: f32 = 0.1;
 pub const MAX_SCALE: f32 = 2.0;

@@ -325,6 +325,13 @@ impl CullingMode {
     ];
 }
 
+/// The most lights every culling mode and path takes. Past it only `zbin` and `clustered` on
+/// the G-buffer paths do (up to [`crate::scene::builtin::MAX_LIGHTS`]), and `auto` shades with
+/// `zbin`: the per-light modes draw a volume a light (a million draws), `tiled` keeps a bit
+/// for 65,536 lights per tile and walks every light past them, and the forward paths' loops
+/// walk at most 130,000 lights an object.
+pub const MAX_LIGHTS_EVERY_MODE: usize = 100_000;
+
 /// What the compose pass shows. The values are shared with WGSL as generated constants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]

@@ -26,6 +26,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case; the glass distorts (--distortion on)"),
     ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
     ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
+    ("many-lights", "Bevy's many_lights layout: 100,000 point lights of range 0.3 on an inward-facing sphere of radius 50, the camera at its centre"),
     (
         "materials",
         "the six reflectance models side by side: blinn-phong, lambert, metal, toon, unlit, phong spheres and boxes",
@@ -57,10 +58,18 @@ impl Default for BuiltinOptions {
 }
 
 /// The built-in scenes whose light count `--lights` sets.
-pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street", "sphere-wall"];
+pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street", "sphere-wall", "many-lights"];
+
+/// The most lights `--lights` gives a built-in scene. Past
+/// [`crate::renderer::settings::MAX_LIGHTS_EVERY_MODE`] only the `zbin` and `clustered` modes
+/// take them (the others refuse with a message).
+pub const MAX_LIGHTS: usize = 1_000_000;
 
 /// Builds a built-in scene by name, or says which names exist.
 pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
+    if let Some(n) = opts.lights.filter(|&n| n > MAX_LIGHTS) {
+        return Err(format!("--lights {n} is more than the {MAX_LIGHTS} Lampshade supports"));
+    }
     let scene = match name {
         "demo" => demo(opts.lights.unwrap_or(1024), opts.time),
         "spot" => spot(),
@@ -82,6 +91,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "glass" => glass(opts.lights.unwrap_or(1024), opts.time),
         "street" => street(opts.lights.unwrap_or(64)),
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
+        "many-lights" => many_lights(opts.lights.unwrap_or(100_000)),
         "materials" => materials(),
         "shadows" => shadows(),
         "cookies" => cookies(),
@@ -91,11 +101,6 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
             return Err(format!("unknown scene '{name}'; built-in scenes are: {}", names.join(", ")));
         }
     };
-    if let Some(n) = opts.lights {
-        if n > 100_000 {
-            return Err(format!("--lights {n} is more than the 100000 Lampshade supports"));
-        }
-    }
     Ok(scene)
 }
 
@@ -580,10 +585,34 @@ pub const SPHERE_WALL: (f64, f64, f32) = (50.0, 49.0, 5.0);
 /// Every light is the same distance from the eye, about a third of them in the view.
 pub fn sphere_wall(n: usize) -> Scene {
     let (wall, at, range) = SPHERE_WALL;
+    lights_on_a_sphere("sphere-wall", n, (wall, at, range), (64, 32), |i| 0.25 + 0.25 * unit(72, i as u64) as f32)
+}
+
+/// Bevy's `many_lights` stress test as a scene: `n` (100,000 there) point lights of range 0.3
+/// on a sphere of radius 50 seen from its centre, each lighting a disc of 0.28 to 0.3 of the
+/// wall. They sit 0.1 inside the sphere, in front of the mesh's flat faces: a quad of 128 x 64
+/// cuts at most 50 (1 - cos(pi/128) cos(pi/128)) = 0.03 inside it at its centre (with 64 x 32,
+/// 0.12, and the lights at the quads' centres were behind the wall). Bevy renders it at
+/// 1024x768 with a vertical field of view of 45 degrees, as this camera has.
+pub fn many_lights(n: usize) -> Scene {
+    let mut s = lights_on_a_sphere("many-lights", n, (50.0, 49.9, 0.3), (128, 64), |_| 2.0);
+    s.camera.fov_y = 45f64.to_radians();
+    s
+}
+
+/// An inward-facing UV sphere of radius `wall` (`segments` x `rings` quads) around a camera at
+/// its centre, lit by `n` point lights of range `range` on a Fibonacci sphere of radius `at`,
+/// light i of intensity `intensity(i)`.
+fn lights_on_a_sphere(
+    name: &str,
+    n: usize,
+    (wall, at, range): (f64, f64, f32),
+    (segments, rings): (u32, u32),
+    intensity: impl Fn(usize) -> f32,
+) -> Scene {
     let camera = Camera { far: 200.0, ..Camera::looking_at(DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0)) };
-    let mut b = Builder::new("sphere-wall", camera);
+    let mut b = Builder::new(name, camera);
     b.scene.ambient = Vec3::splat(0.02);
-    let (segments, rings) = (64u32, 32u32);
     let mut mesh = Mesh { name: "sphere wall".into(), ..Default::default() };
     for r in 0..=rings {
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
@@ -626,7 +655,7 @@ pub fn sphere_wall(n: usize) -> Scene {
         let ring = (1.0 - y * y).max(0.0).sqrt();
         let a = golden * i as f64;
         let dir = DVec3::new(ring * a.cos(), y, ring * a.sin());
-        b.point(dir * at, hue(unit(71, i as u64) as f32), 0.25 + 0.25 * unit(72, i as u64) as f32, range);
+        b.point(dir * at, hue(unit(71, i as u64) as f32), intensity(i), range);
     }
     b.scene
 }

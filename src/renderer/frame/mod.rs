@@ -14,6 +14,7 @@ use super::stats::CpuMs;
 use super::{
     cputime, overlap, post, AccumFormat, BlendedMode, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings,
 };
+use crate::renderer::settings::CullingMode;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use inputs::FrameInputs;
@@ -50,6 +51,19 @@ impl Shape {
                 settings.path.name(),
                 settings.debug_view.name()
             );
+        }
+        let n = scene.lights.len();
+        if n > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE {
+            let listed = matches!(settings.culling, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Auto);
+            if forward_path || !listed {
+                bail!(
+                    "{n} lights: past {} only --culling zbin or clustered (or auto, which then takes zbin) on the \
+                     deferred path or the light pre-pass take them; {} on the {} path draws or lists per light",
+                    crate::renderer::settings::MAX_LIGHTS_EVERY_MODE,
+                    settings.culling.name(),
+                    settings.path.name()
+                );
+            }
         }
         let prepass = settings.path == RenderPath::LightPrepass;
         if prepass {

@@ -600,6 +600,8 @@ pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
         CullingMode::Tiled => Method::Tiled,
         CullingMode::Clustered => Method::Clustered,
         CullingMode::Zbin => Method::Zbin,
+        // Past what every mode takes, `zbin`: O(lights) on the CPU and in memory.
+        CullingMode::Auto if plans.len() > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE => Method::Zbin,
         CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
             let (per_light, clustered) = frame_costs(plans, view.size);
             if clustered >= per_light {

@@ -316,3 +316,52 @@ fn forward_lists_longer_than_lavapipes_loop_limit_lose_no_light() {
         assert!(worst <= bound, "{}: 70,000 lights give {worst} off twice 35,000's (bound {bound})", path.name());
     }
 }
+
+/// Bevy's `many_lights` layout (`many-lights`) at 100,000 lights: `zbin` and `clustered` held
+/// against brute force (every light at every pixel, `oracle::check_scene`) at a small size,
+/// none missing or adding light, and the z-binned frame's GPU masks equal to the CPU's. A
+/// million lights: `zbin`, `clustered` and `auto` (which takes `zbin`) draw them, every
+/// other mode and the forward paths refuse with a message.
+#[test]
+fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
+    use lampshade::oracle;
+    use lampshade::renderer::{Method, RenderPath};
+    let gpu = gpu();
+    let scene = with_lights("many-lights", 100_000);
+    let mut r = oracle::renderer(gpu).expect("renderer");
+    let scope =
+        oracle::Scope { paths: vec![RenderPath::Deferred], modes: vec![CullingMode::Zbin, CullingMode::Clustered] };
+    let results =
+        oracle::check_scene(gpu, &mut r, &scene, &Settings::default(), (64, 48), &scope, false).expect("check");
+    assert_eq!(results.len(), 2);
+    for (m, _) in &results {
+        assert!(m.refused.is_none() && !m.failed(), "{}/{}: {m:?}", m.path, m.mode);
+    }
+    // The z-binned frame again, for its masks: those the GPU built are the CPU's.
+    let s = Settings { culling: CullingMode::Zbin, ..Settings::default() };
+    render_image(gpu, &mut r, &scene, &s, 64, 48).expect("zbin frame");
+    let job = r.zbin_job().expect("the frame's job");
+    let lists = r.tile_lists(gpu).expect("read back").expect("the frame's masks");
+    assert!(job.visible > 5_000, "only {} lights in view", job.visible);
+    assert_eq!(lists.masks, job.masks());
+
+    let million = with_lights("many-lights", 1_000_000);
+    for path in RenderPath::ALL {
+        for mode in CullingMode::ALL {
+            let s = Settings { culling: mode, path, ..Settings::default() };
+            let taken = !matches!(path, RenderPath::Forward | RenderPath::ForwardMultipass)
+                && matches!(mode, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Auto);
+            let out = render_image(gpu, &mut r, &million, &s, 32, 24);
+            match (taken, out) {
+                (true, Ok((image, stats))) => {
+                    assert!(lit_share(&image) > 0.3, "{}/{}: dark", path.name(), mode.name());
+                    let method = if mode == CullingMode::Clustered { Method::Clustered } else { Method::Zbin };
+                    assert!(stats.per_light.iter().all(|l| l.method == method), "{}/{}", path.name(), mode.name());
+                }
+                (false, Err(e)) => assert!(format!("{e:#}").contains("past 100000 only"), "{e:#}"),
+                (true, Err(e)) => panic!("{}/{}: {e:#}", path.name(), mode.name()),
+                (false, Ok(_)) => panic!("{}/{}: a million lights drawn", path.name(), mode.name()),
+            }
+        }
+    }
+}

@@ -155,12 +155,16 @@ fn every_point_inside_a_light_lies_in_a_cell_whose_list_holds_it() {
             assert!(inside > 100, "{name}: only {inside} light-point pairs inside a light");
             let t = stats.tiles.as_ref().unwrap();
             if mode == CullingMode::Zbin {
-                // The masks' bits: the GPU's masks are the CPU's reference bit for bit, and a
-                // tile's entries are its bits.
+                // The masks' bits: the GPU's lie inside the lights' rectangles (the CPU's
+                // reference; the depth bounds take tiles out), the test above holds that none
+                // a light reaches is missing, and a tile's entries are its bits.
                 let job = r.zbin_job().expect("a z-binned frame's job");
-                assert_eq!(lists.masks, job.masks(), "{name}: the GPU's masks differ from the CPU's");
+                let rect = job.rect_masks();
+                assert_eq!(lists.masks.len(), rect.len());
+                let outside = lists.masks.iter().zip(&rect).any(|(g, c)| g & !c != 0);
+                assert!(!outside, "{name}: a bit outside its light's rectangle");
                 let bits: u64 = lists.masks.iter().map(|w| w.count_ones() as u64).sum();
-                assert_eq!((t.entries, bits), (job.entries, job.entries), "{name}");
+                assert!(t.entries == bits && bits <= job.entries, "{name}: {} entries, {bits} bits", t.entries);
             } else {
                 assert_eq!(t.entries, (0..t.cells as usize).map(|c| lists.list(c).len() as u64).sum::<u64>());
             }

@@ -152,7 +152,7 @@ pub struct TiledPass {
     waste_view: wgpu::RenderPipeline,
     /// Z-binned frames' mask building (`cs_zbin_mask`) and shading (`fs_zbin`, and
     /// `fs_zbin_counted`), built by the first such frame.
-    zbin: std::sync::OnceLock<(wgpu::ComputePipeline, wgpu::RenderPipeline)>,
+    zbin: std::sync::OnceLock<([wgpu::ComputePipeline; 2], wgpu::RenderPipeline)>,
     zbin_counted: std::sync::OnceLock<wgpu::RenderPipeline>,
 }
 
@@ -239,17 +239,24 @@ impl TiledPass {
 
     /// The z-binned frame's mask pass and shading pipeline (`counted`: the one counting each
     /// light's pairs), built on first use.
-    fn zbin_pipelines(&self, device: &wgpu::Device, counted: bool) -> (&wgpu::ComputePipeline, &wgpu::RenderPipeline) {
+    fn zbin_pipelines(
+        &self,
+        device: &wgpu::Device,
+        counted: bool,
+    ) -> (&[wgpu::ComputePipeline; 2], &wgpu::RenderPipeline) {
         let (module, layout, targets) = &self.counted_from;
         let (mask, shade) = self.zbin.get_or_init(|| {
-            let mask = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("z-bin masks"),
-                layout: Some(layout),
-                module,
-                entry_point: Some("cs_zbin_mask"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let compute = |label, entry| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layout),
+                    module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            };
+            let mask = [compute("z-bin tile bounds", "cs_zbin_bounds"), compute("z-bin masks", "cs_zbin_mask")];
             let stages = ("vs_tiled", "fs_zbin");
             (mask, crate::renderer::kit::screen_pipeline(device, module, "z-bin shade", layout, stages, targets))
         });
@@ -314,11 +321,15 @@ impl TiledPass {
         };
         // GPU-built clusters: the lights' spans after the lists, a counter per cluster after
         // the lights' counts.
-        // Z-binned: the masks after the lights' counts.
+        // Z-binned: the masks after the lights' counts, then two words a tile (depth bounds).
         let mask_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words as u64);
+        // Each tile's summary (a bit per mask word holding a bit) and its depth bounds.
+        let summary_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words.div_ceil(32) as u64);
+        let bound_words = zbins.map_or(0, |z| 2 * (z.grid.tiles_x * z.grid.tiles_y) as u64);
+        // Z-binned: the masks' and summaries' copy after the job's data, for the shading pass.
         let (list_words, count_words) = match gpu_job {
             Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
-            None => (entries, n as u64 + 1 + mask_words),
+            None => (entries + mask_words + summary_words, n as u64 + 1 + mask_words + summary_words + bound_words),
         };
         self.fit_buffers(device, &mut state.0, list_words, count_words);
         let Some(b) = &state.0 else { return (0.0, 0.0) };
@@ -346,7 +357,7 @@ impl TiledPass {
             false => &self.shade,
         };
         let zbin = zbin.map(|((mask, _), z)| (mask, z));
-        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params), cells, zbin);
+        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params, zbin), cells);
         if f.counts {
             if zbins.is_none() {
                 encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
@@ -413,9 +424,8 @@ impl TiledPass {
         f: &FrameInputs<'_>,
         b: &Buffers,
         (method, gpu_lists, view): (Method, bool, Option<&wgpu::RenderPipeline>),
-        (shade, params): (&wgpu::RenderPipeline, &TileParams),
+        (shade, params, zbin): (&wgpu::RenderPipeline, &TileParams, Option<(&[wgpu::ComputePipeline; 2], &ZBinJob)>),
         cells: u64,
-        zbin: Option<(&wgpu::ComputePipeline, &ZBinJob)>,
     ) {
         let n = f.plan.lights.len();
         let bind = |pass: &mut dyn SetGroups| {
@@ -439,15 +449,23 @@ impl TiledPass {
             let groups = (cells as u32).div_ceil(64);
             pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
         }
-        if let Some((mask, z)) = zbin.filter(|(_, z)| z.visible > 0) {
+        if let Some(([bounds, mask], z)) = zbin.filter(|(_, z)| z.visible > 0) {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("z-bin masks"),
                 timestamp_writes: f.compute_timestamps(SPAN),
             });
-            pass.set_pipeline(mask);
             bind(&mut pass);
+            // The tiles' depth bounds, a 16x16 workgroup per 16x16 pixels, then the masks.
+            pass.set_pipeline(bounds);
+            pass.dispatch_workgroups(f.targets.width.div_ceil(16), f.targets.height.div_ceil(16), 1);
+            pass.set_pipeline(mask);
             let groups = z.visible.div_ceil(64);
             pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
+            drop(pass);
+            let tiles = (z.grid.tiles_x * z.grid.tiles_y) as u64;
+            let words = tiles * (z.words as u64 + z.words.div_ceil(32) as u64);
+            let (from, to) = (params.mask_base as u64 * 4, params.shade_mask_base as u64 * 4);
+            encoder.copy_buffer_to_buffer(&b.counts, from, &b.lists, to, words * 4);
         }
         if method == Method::Tiled {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -611,6 +629,7 @@ fn grid(
         order_base: 0,
         rect_base: 0,
         chunk: 0,
+        shade_mask_base: 0,
     };
     let entries: u64 = if let Some(z) = zbins {
         let g = &z.grid;
@@ -623,6 +642,7 @@ fn grid(
         params.mask_base = n as u32 + 1;
         (params.order_base, params.rect_base) = (z.order_base(), z.rect_base());
         params.chunk = z.chunk;
+        params.shade_mask_base = z.data.len() as u32;
         z.data.len() as u64
     } else if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
         params.mode = 1;

@@ -5,9 +5,12 @@
 //! - **depth**: the lights are sorted by the first depth bin their sphere reaches, and each of
 //!   [`BINS`] bins holds the range `[first, end)` of sorted positions whose lights reach its
 //!   depths (O(bins) words);
-//! - **screen**: each tile holds a bitmask, one bit a sorted light, set where the light's
-//!   screen rectangle holds the tile (O(tiles x lights / 32) words), built on the GPU from the
-//!   rectangles (`cs_zbin_mask` in `zbin.wgsl`).
+//! - **screen**: each tile holds a bitmask, one bit a sorted light (O(tiles x lights / 32)
+//!   words), built on the GPU (`zbin.wgsl`): a pass takes each tile's depth bounds from the
+//!   G-buffer (`cs_zbin_bounds`), then one invocation a light sets its bit in each tile of its
+//!   screen rectangle whose frustum piece between those bounds its sphere meets
+//!   (`cs_zbin_mask`, the clustered lists' axis-by-axis test). Drobot's masks are the
+//!   rectangles alone; the bounds halve the pairs walked on `demo`.
 //!
 //! A pixel walks the set bits of its tile's mask between its bin's `first` and `end`. Nothing
 //! is dropped that reaches the pixel: a light reaching a point at view depth d reaches d's bin
@@ -64,7 +67,7 @@ pub struct ZBinJob {
     pub words: u32,
     /// Sorted lights per shading draw ([`ZBIN_CHUNK`] under a loop limit, all otherwise).
     pub chunk: u32,
-    /// Mask bits set: the (light, tile) pairs the rectangles hold.
+    /// The (light, tile) pairs the rectangles hold: the most mask bits the GPU can set.
     pub entries: u64,
 }
 
@@ -100,8 +103,9 @@ impl ZBinJob {
         self.visible.div_ceil(self.chunk.max(1)).max(1)
     }
 
-    /// The masks as the GPU builds them, on the CPU (for the tests): per tile, `words` words.
-    pub fn masks(&self) -> Vec<u32> {
+    /// The rectangles' masks (for the tests): per tile, `words` words. The GPU's masks are
+    /// these less the tiles whose depth bounds the light's sphere misses.
+    pub fn rect_masks(&self) -> Vec<u32> {
         let tiles = (self.grid.tiles_x * self.grid.tiles_y) as usize;
         let words = self.words as usize;
         let mut m = vec![0u32; tiles * words];
@@ -117,7 +121,7 @@ impl ZBinJob {
     }
 
     /// Light indices a pixel of tile `tile` at bin `k` walks, given the masks (`masks`, as
-    /// [`Self::masks`] lays them out or the GPU left them).
+    /// [`Self::rect_masks`] lays them out or the GPU left them).
     pub fn walk(&self, masks: &[u32], tile: u32, k: u32) -> Vec<u32> {
         let (first, end) = self.bin(k);
         let base = tile as usize * self.words as usize;
@@ -127,6 +131,9 @@ impl ZBinJob {
             .collect()
     }
 }
+
+/// A light in view: its index, its bins `[k0, k1)` and its pixel rectangle (x0, x1, y0, y1).
+type Spanned = (u32, u32, u32, (u32, u32, u32, u32));
 
 /// Light `p`'s pixel rectangle (x0, x1, y0, y1, inclusive, y down), widened by a pixel and
 /// clamped to the screen, as the clustered spans take it (`tiles::Span`); `None` off screen.
@@ -157,7 +164,7 @@ pub fn zbin_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) ->
     let depth_grid = ClusterGrid::with_cells(view.size, fitted.near, fitted.far, TILE_SIZES[0], BINS);
     // Each light's bins [k0, k1) and pixel rectangle; lights reaching no visible point of the
     // grid's depths are left out.
-    let mut spans: Vec<(u32, u32, u32, (u32, u32, u32, u32))> = Vec::with_capacity(lights.len());
+    let mut spans: Vec<Spanned> = Vec::with_capacity(lights.len());
     for (i, p) in plans.iter().enumerate() {
         let Some(rect) = pixel_rect(p, view.size) else { continue };
         let (d0, d1) = (p.depths.0.max(depth_grid.near), p.depths.1.min(depth_grid.far));

@@ -3,9 +3,63 @@
 //   the sorted lights' indices (from tile_params.order_base), then each sorted light's tile
 //   rectangle, x0 | x1 << 16 and y0 | y1 << 16 (from tile_params.rect_base);
 // - tile_counts: the lights' pair counters (1 + i), then from tile_params.mask_base one mask
-//   per tile, tile_params.words words, bit j set when sorted light j's rectangle holds the tile.
+//   per tile, tile_params.words words, bit j set when sorted light j's sphere meets the tile's
+//   frustum between its depth bounds; then per tile its summary, zbin_summary_words() words,
+//   bit w set when word w of its mask holds a bit (the walk loads only those words); then two
+//   words a tile, its depth bounds (zbin_bounds_at).
 
-// One invocation per sorted light: its bit in every tile of its rectangle.
+fn zbin_summary_words() -> u32 {
+    return (tile_params.words + 31u) / 32u;
+}
+
+// Where the summaries start, after the masks (in tile_counts from mask_base, in tile_lists
+// from shade_mask_base).
+fn zbin_summary_offset() -> u32 {
+    return tile_params.tiles_x * tile_params.tiles_y * tile_params.words;
+}
+
+// Where tile `tile`'s depth bounds are: ~bits(nearest), bits(farthest), both raised by
+// atomicMax (positive floats order as their bits), so the cleared 0 means "no G-buffer point".
+fn zbin_bounds_at(tile: u32) -> u32 {
+    let summaries = tile_params.tiles_x * tile_params.tiles_y * zbin_summary_words();
+    return tile_params.mask_base + zbin_summary_offset() + summaries + 2u * tile;
+}
+
+// One 16x16 workgroup per 16x16 pixels (a tile is a whole number of them): the view depths of
+// its G-buffer points, nearest and farthest, into its tile's bounds.
+@compute @workgroup_size(16, 16, 1)
+fn cs_zbin_bounds(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+    @builtin(global_invocation_id) gid: vec3<u32>,
+) {
+    if li == 0u {
+        atomicStore(&wg_min, 0u);
+        atomicStore(&wg_max, 0u);
+    }
+    workgroupBarrier();
+    let size = vec2<u32>(camera.screen.xy);
+    if all(gid.xy < size) {
+        let s = gbuffer_load(vec2<i32>(gid.xy));
+        if s.valid {
+            // The depth the shading pass bins this point at, kept positive and finite.
+            let d = min(max(-s.position.z, 1e-30), 3.0e38);
+            atomicMax(&wg_min, ~bitcast<u32>(d));
+            atomicMax(&wg_max, bitcast<u32>(d));
+        }
+    }
+    workgroupBarrier();
+    if li == 0u && atomicLoad(&wg_max) != 0u {
+        let at = zbin_bounds_at(zbin_tile(vec2<i32>(wg.xy * 16u)));
+        atomicMax(&tile_counts[at], atomicLoad(&wg_min));
+        atomicMax(&tile_counts[at + 1u], atomicLoad(&wg_max));
+    }
+}
+
+// One invocation per sorted light: its bit in every tile of its rectangle whose frustum piece
+// between the tile's depth bounds (widened by 0.1%) its sphere meets, tested axis by axis as
+// the clustered lists test a cluster (tiles::light_cells: the piece's box along each axis, so
+// never tighter than the piece itself). Tiles without a G-buffer point get no bits.
 @compute @workgroup_size(64)
 fn cs_zbin_mask(@builtin(global_invocation_id) gid: vec3<u32>) {
     let j = gid.x + gid.y * 65535u * 64u;
@@ -14,12 +68,30 @@ fn cs_zbin_mask(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let rx = tile_lists[tile_params.rect_base + 2u * j];
     let ry = tile_lists[tile_params.rect_base + 2u * j + 1u];
+    let l = light_at(tile_lists[tile_params.order_base + j]);
+    let c = l.position;
+    let r2 = l.radius * l.radius * 1.0001;
     let bit = 1u << (j & 31u);
     let word = tile_params.mask_base + (j >> 5u);
+    let swords = zbin_summary_words();
+    let summary = tile_params.mask_base + zbin_summary_offset() + (j >> 10u);
+    let summary_bit = 1u << ((j >> 5u) & 31u);
     for (var ty = ry & 0xffffu; ty <= ry >> 16u; ty++) {
         let row = ty * tile_params.tiles_x;
+        let rows = cluster_row(ty);
         for (var tx = rx & 0xffffu; tx <= rx >> 16u; tx++) {
-            atomicOr(&tile_counts[word + (row + tx) * tile_params.words], bit);
+            let at = zbin_bounds_at(row + tx);
+            let far = atomicLoad(&tile_counts[at + 1u]);
+            if far == 0u {
+                continue;
+            }
+            let depths = vec2<f32>(bitcast<f32>(~atomicLoad(&tile_counts[at])) * 0.999, bitcast<f32>(far) * 1.001);
+            let dz = max(max(depths.x + c.z, -c.z - depths.y), 0.0);
+            let g = dz * dz + cluster_gap2(c.x, cluster_column(tx), depths) + cluster_gap2(c.y, rows, depths);
+            if g <= r2 {
+                atomicOr(&tile_counts[word + (row + tx) * tile_params.words], bit);
+                atomicOr(&tile_counts[summary + (row + tx) * swords], summary_bit);
+            }
         }
     }
 }
@@ -51,9 +123,20 @@ fn zbin_word_bits(w: u32, r: vec2<u32>) -> u32 {
     return insertBits(0u, 0xffffffffu, a, b - a);
 }
 
-// Tile `tile`'s mask bits over positions [r.x, r.y) in word w.
+// Tile `tile`'s mask bits over positions [r.x, r.y) in word w, from the masks as built.
 fn zbin_word(tile: u32, w: u32, r: vec2<u32>) -> u32 {
     return atomicLoad(&tile_counts[tile_params.mask_base + tile * tile_params.words + w]) & zbin_word_bits(w, r);
+}
+
+// The same from their copy in tile_lists, which the shading pass reads.
+fn zbin_shade_word(tile: u32, w: u32, r: vec2<u32>) -> u32 {
+    return tile_lists[tile_params.shade_mask_base + tile * tile_params.words + w] & zbin_word_bits(w, r);
+}
+
+// Summary word sw of tile `tile` (from the copy), cut to mask words [ws.x, ws.y].
+fn zbin_summary(tile: u32, sw: u32, ws: vec2<u32>) -> u32 {
+    let at = tile_params.shade_mask_base + zbin_summary_offset() + tile * zbin_summary_words() + sw;
+    return tile_lists[at] & zbin_word_bits(sw, vec2<u32>(ws.x, ws.y + 1u));
 }
 
 @fragment
@@ -79,8 +162,14 @@ fn zbin_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
         let tile = zbin_tile(p);
         let r = zbin_range(zbin_bin(-s.position.z), chunk);
         var casters = vec2<u32>(r.y, 0u);
-        for (var w = r.x >> 5u; r.x < r.y && w <= (r.y - 1u) >> 5u; w++) {
-            var m = zbin_word(tile, w, r);
+        // The mask words the range covers; of them, only those the summary marks are loaded.
+        let ws = vec2<u32>(r.x >> 5u, (max(r.y, 1u) - 1u) >> 5u);
+        for (var sw = ws.x >> 5u; r.x < r.y && sw <= ws.y >> 5u; sw++) {
+          var words = zbin_summary(tile, sw, ws);
+          while words != 0u {
+            let w = (sw << 5u) | countTrailingZeros(words);
+            words &= words - 1u;
+            var m = zbin_shade_word(tile, w, r);
             while m != 0u {
                 let j = (w << 5u) | countTrailingZeros(m);
                 m &= m - 1u;
@@ -101,9 +190,10 @@ fn zbin_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
                 d += min(lit.diffuse, vec3<f32>(l.clamp));
                 sp += min(lit.specular, vec3<f32>(l.clamp));
             }
+          }
         }
         for (var w = casters.x >> 5u; LS_CASTERS_APART && casters.x < casters.y && w <= (casters.y - 1u) >> 5u; w++) {
-            var m = zbin_word(tile, w, casters);
+            var m = zbin_shade_word(tile, w, casters);
             while m != 0u {
                 let j = (w << 5u) | countTrailingZeros(m);
                 m &= m - 1u;

@@ -688,7 +688,7 @@ fn bad_input_fails_with_a_message_and_no_panic() {
         (vec!["view", "demo", "--script", missing.to_str().unwrap()], "reading script"),
         (vec!["view", "demo", "--script", bad_line.to_str().unwrap()], "line 2: unknown culling mode 'sometimes'"),
         (vec!["view", "demo", "--script", empty.to_str().unwrap()], "no actions"),
-        (vec!["view", "demo", "--lights", "1000000"], "more than"),
+        (vec!["view", "demo", "--lights", "1000001"], "more than"),
         (vec!["view", "demo", "--scale", "0"], "--scale 0"),
     ];
     for (args, needle) in cases {

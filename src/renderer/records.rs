@@ -292,9 +292,6 @@ gpu_record! {
         pub order_base: u32,
         pub rect_base: u32,
         pub chunk: u32,
-        /// Z-binned: where the shading pass reads the masks, copied into `tile_lists` after the
-        /// mask pass (plain loads; atomic loads cost lavapipe a scalar loop a lane).
-        pub shade_mask_base: u32,
     }
 }
 

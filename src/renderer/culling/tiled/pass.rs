@@ -326,10 +326,9 @@ impl TiledPass {
         // Each tile's summary (a bit per mask word holding a bit) and its depth bounds.
         let summary_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words.div_ceil(32) as u64);
         let bound_words = zbins.map_or(0, |z| 2 * (z.grid.tiles_x * z.grid.tiles_y) as u64);
-        // Z-binned: the masks' and summaries' copy after the job's data, for the shading pass.
         let (list_words, count_words) = match gpu_job {
             Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
-            None => (entries + mask_words + summary_words, n as u64 + 1 + mask_words + summary_words + bound_words),
+            None => (entries, n as u64 + 1 + mask_words + summary_words + bound_words),
         };
         self.fit_buffers(device, &mut state.0, list_words, count_words);
         let Some(b) = &state.0 else { return (0.0, 0.0) };
@@ -461,11 +460,6 @@ impl TiledPass {
             pass.set_pipeline(mask);
             let groups = z.visible.div_ceil(64);
             pass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
-            drop(pass);
-            let tiles = (z.grid.tiles_x * z.grid.tiles_y) as u64;
-            let words = tiles * (z.words as u64 + z.words.div_ceil(32) as u64);
-            let (from, to) = (params.mask_base as u64 * 4, params.shade_mask_base as u64 * 4);
-            encoder.copy_buffer_to_buffer(&b.counts, from, &b.lists, to, words * 4);
         }
         if method == Method::Tiled {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -629,7 +623,6 @@ fn grid(
         order_base: 0,
         rect_base: 0,
         chunk: 0,
-        shade_mask_base: 0,
     };
     let entries: u64 = if let Some(z) = zbins {
         let g = &z.grid;
@@ -642,7 +635,6 @@ fn grid(
         params.mask_base = n as u32 + 1;
         (params.order_base, params.rect_base) = (z.order_base(), z.rect_base());
         params.chunk = z.chunk;
-        params.shade_mask_base = z.data.len() as u32;
         z.data.len() as u64
     } else if let Some((c, g)) = clusters.and_then(|c| c.grid().map(|g| (c, g))) {
         params.mode = 1;

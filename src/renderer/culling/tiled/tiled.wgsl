@@ -31,7 +31,6 @@ struct TileParams {
     order_base: u32,
     rect_base: u32,
     chunk: u32,
-    shade_mask_base: u32,
 };
 
 // Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);

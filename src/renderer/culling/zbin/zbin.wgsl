@@ -12,8 +12,7 @@ fn zbin_summary_words() -> u32 {
     return (tile_params.words + 31u) / 32u;
 }
 
-// Where the summaries start, after the masks (in tile_counts from mask_base, in tile_lists
-// from shade_mask_base).
+// Where the summaries start in tile_counts, after the masks (from mask_base).
 fn zbin_summary_offset() -> u32 {
     return tile_params.tiles_x * tile_params.tiles_y * tile_params.words;
 }
@@ -123,20 +122,15 @@ fn zbin_word_bits(w: u32, r: vec2<u32>) -> u32 {
     return insertBits(0u, 0xffffffffu, a, b - a);
 }
 
-// Tile `tile`'s mask bits over positions [r.x, r.y) in word w, from the masks as built.
+// Tile `tile`'s mask bits over positions [r.x, r.y) in word w.
 fn zbin_word(tile: u32, w: u32, r: vec2<u32>) -> u32 {
     return atomicLoad(&tile_counts[tile_params.mask_base + tile * tile_params.words + w]) & zbin_word_bits(w, r);
 }
 
-// The same from their copy in tile_lists, which the shading pass reads.
-fn zbin_shade_word(tile: u32, w: u32, r: vec2<u32>) -> u32 {
-    return tile_lists[tile_params.shade_mask_base + tile * tile_params.words + w] & zbin_word_bits(w, r);
-}
-
-// Summary word sw of tile `tile` (from the copy), cut to mask words [ws.x, ws.y].
+// Summary word sw of tile `tile`, cut to mask words [ws.x, ws.y].
 fn zbin_summary(tile: u32, sw: u32, ws: vec2<u32>) -> u32 {
-    let at = tile_params.shade_mask_base + zbin_summary_offset() + tile * zbin_summary_words() + sw;
-    return tile_lists[at] & zbin_word_bits(sw, vec2<u32>(ws.x, ws.y + 1u));
+    let at = tile_params.mask_base + zbin_summary_offset() + tile * zbin_summary_words() + sw;
+    return atomicLoad(&tile_counts[at]) & zbin_word_bits(sw, vec2<u32>(ws.x, ws.y + 1u));
 }
 
 @fragment
@@ -169,7 +163,7 @@ fn zbin_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
           while words != 0u {
             let w = (sw << 5u) | countTrailingZeros(words);
             words &= words - 1u;
-            var m = zbin_shade_word(tile, w, r);
+            var m = zbin_word(tile, w, r);
             while m != 0u {
                 let j = (w << 5u) | countTrailingZeros(m);
                 m &= m - 1u;
@@ -193,7 +187,7 @@ fn zbin_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
           }
         }
         for (var w = casters.x >> 5u; LS_CASTERS_APART && casters.x < casters.y && w <= (casters.y - 1u) >> 5u; w++) {
-            var m = zbin_shade_word(tile, w, casters);
+            var m = zbin_word(tile, w, casters);
             while m != 0u {
                 let j = (w << 5u) | countTrailingZeros(m);
                 m &= m - 1u;

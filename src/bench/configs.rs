@@ -34,6 +34,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         size: o.size,
         scene: None,
         radius_scale: 1.0,
+        calibration: false,
     };
     let q = o.quick;
     let mut v = Vec::new();
@@ -136,6 +137,14 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
             }
             v.push(c("lights", format!("{} x{n}", mode.name()), Settings { culling: mode, ..base.clone() }, n));
         }
+        // Clustered with its lists built on the GPU, so its culling share is measured (the
+        // default CPU build's lists cost no GPU time).
+        let gpu_lists = Settings {
+            culling: CullingMode::Clustered,
+            cluster_build: crate::renderer::settings::ClusterBuilder::Gpu,
+            ..base.clone()
+        };
+        v.push(c("lights", format!("clustered gpu-lists x{n}"), gpu_lists, n));
     }
     // Over the light radius: every mode with each light's radius scaled (the bench's light
     // count; a file's own lights are scaled too).
@@ -310,7 +319,53 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         v.push(c("presets", p.name(), p.settings(&base), o.lights));
     }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
+    // The calibration pass at every scene and size the sweep renders, timed in the same
+    // interleaved rounds: the unit of ρ_fs and of the fixed passes' cost.
+    let mut at: Vec<(Option<&'static str>, (u32, u32))> = Vec::new();
+    for k in v.iter().map(|c| (c.scene, c.size)) {
+        if !at.contains(&k) {
+            at.push(k);
+        }
+    }
+    for (scene, size) in at {
+        let settings = Settings { culling: CullingMode::Fullscreen, ..base.clone() };
+        v.push(Config {
+            scene,
+            size,
+            calibration: true,
+            ..c(
+                CALIBRATION,
+                format!("calibration {}{}x{}", scene.map_or(String::new(), |s| format!("{s} ")), size.0, size.1),
+                settings,
+                1,
+            )
+        });
+    }
     v
+}
+
+/// The group of the calibration rows: one point light reaching every pixel, shaded
+/// `fullscreen` over the scene's G-buffer (the scene's own lights left out), at each scene and
+/// size of the sweep. Its lighting time is one full-screen light pass: the unit of ρ_fs.
+pub const CALIBRATION: &str = "calibration";
+
+/// The calibration pass's scene: `scene` with its lights replaced by one white point light at
+/// the camera whose radius reaches past every surface (so no pixel is outside it).
+pub fn calibration_scene(scene: &mut crate::Scene) {
+    let reach = scene.bounds().map_or(1e3, |(lo, hi)| {
+        let c = scene.camera.position;
+        // The farthest corner of the bounds from the camera.
+        (hi - c).abs().max((c - lo).abs()).length() * 2.0 + 1.0
+    });
+    scene.lights = vec![crate::scene::Light::Point(crate::scene::PointLight {
+        position: scene.camera.position,
+        color: glam::Vec3::ONE,
+        intensity: 1.0,
+        radius: reach as f32,
+        cookie: None,
+        mask: u32::MAX,
+        cast_shadows: false,
+    })];
 }
 
 /// Point lights of the `shadows` group's cube rows (each casts six faces).
@@ -342,8 +397,9 @@ pub const GROUPS: &[&str] = &[
     "path",
 ];
 
-/// The light counts the full sweep's `lights` group runs every mode at (plus the scene's spots).
-pub const LIGHT_COUNTS: [usize; 5] = [64, 256, 1024, 4096, 16384];
+/// The light counts the full sweep's `lights` group runs every mode at (plus the scene's spots),
+/// up to Bevy's `many_lights` stress count.
+pub const LIGHT_COUNTS: [usize; 6] = [64, 256, 1024, 4096, 16384, 100_000];
 /// `fullscreen` runs in the `lights` group only up to this many lights: at 1280x720 each light is
 /// 0.9 M fragments (~17 ns each on lavapipe), so 256 lights are ~4 s a frame and 16,384 would be
 /// over four minutes.

@@ -291,7 +291,7 @@ pub fn fitted_models(rows: &[LedgerRow]) -> Vec<(CullingMode, CostModel)> {
 /// Every configuration's ten costliest lights, by the cost model of its counted frame (the
 /// `ledger` group's fit for its mode where that ran, or the built-in constants).
 pub fn costliest_markdown(rows: &[Row]) -> String {
-    let rows: Vec<&Row> = rows.iter().filter(|r| !r.costliest.is_empty()).collect();
+    let rows: Vec<&Row> = rows.iter().filter(|r| !r.costliest.is_empty() && r.group != CALIBRATION).collect();
     if rows.is_empty() {
         return String::new();
     }

@@ -114,6 +114,9 @@ pub struct Config {
     pub scene: Option<&'static str>,
     /// Every light's radius times this (the `radius` group; 1 elsewhere).
     pub radius_scale: f64,
+    /// The calibration pass ([`CALIBRATION`]): the scene's lights are replaced by one point
+    /// light that reaches every pixel, shaded `fullscreen`.
+    pub calibration: bool,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -168,6 +171,11 @@ pub struct Row {
     /// `total_ms` over the same run's `limit` row for this scene, light count, size and radius
     /// (NaN where the group has none; 1 on the `limit` row itself).
     pub limit_ratio: f64,
+    /// Median GPU ms of building the light lists or masks on the GPU (tiled, GPU-built
+    /// clustered, zbin; NaN where the frame built none on the GPU). Part of `lighting_ms`.
+    pub lists_ms: f64,
+    /// Units that survive a change of hardware (see [`add_units`]).
+    pub units: Units,
     /// The rendering path's figures (the `path` group; defaults elsewhere).
     pub path: PathFigures,
     /// The shadow maps' figures (every row, NaN/0 without shadows).
@@ -179,6 +187,40 @@ pub struct Row {
     pub costliest: Vec<(usize, f64)>,
     #[serde(skip)]
     pub cost_source: String,
+}
+
+/// A row's figures in units that survive a change of hardware (NaN where the row lacks what a
+/// unit divides by). Pairs are light–pixel pairs: `shaded_fragments` are the pairs a mode
+/// evaluated (its stencil-passed fragments, or its list entries walked per pixel), and
+/// `ideal_fragments` the pairs inside the lights' true shapes.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Units {
+    /// Lighting ns per evaluated pair.
+    pub ns_per_pair: f64,
+    /// Lighting ns per ideal pair.
+    pub ns_per_ideal: f64,
+    /// ρ_fs: lighting time over the same run's calibration pass at the same scene and size
+    /// (one light over every pixel of the G-buffer, [`CALIBRATION`]).
+    pub rho_fs: f64,
+    /// The G-buffer pass and the compose in calibration passes.
+    pub gbuffer_fs: f64,
+    pub compose_fs: f64,
+    /// List building or marking over lighting (`lists_ms / lighting_ms`; NaN where the frame
+    /// built no lists on the GPU: the drawn modes mark in the same draws they shade with).
+    pub culling_share: f64,
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Self {
+            ns_per_pair: f64::NAN,
+            ns_per_ideal: f64::NAN,
+            rho_fs: f64::NAN,
+            gbuffer_fs: f64::NAN,
+            compose_fs: f64::NAN,
+            culling_share: f64::NAN,
+        }
+    }
 }
 
 /// What the `shadows` group compares: the shadow pass's cost and memory. Its time
@@ -283,7 +325,24 @@ mod tests {
         assert_eq!(depth, 4, "far-origin under both depth formats and both conventions");
         let mut only = BenchOptions::new("demo", true);
         only.groups = vec!["tessellation".into()];
-        assert!(configs(&only).iter().all(|c| c.group == "tessellation"));
+        let tessellation = configs(&only);
+        assert!(tessellation.iter().all(|c| c.group == "tessellation" || c.group == CALIBRATION));
+        // One calibration pass at every scene and size the sweep renders, and no other.
+        for list in [full, tessellation] {
+            let at = |c: &Config| (c.scene, c.size);
+            let cal: Vec<_> = list.iter().filter(|c| c.calibration).map(at).collect();
+            let mut rendered: Vec<_> = list.iter().filter(|c| !c.calibration).map(at).collect();
+            rendered.dedup();
+            rendered.sort();
+            rendered.dedup();
+            let mut sorted = cal.clone();
+            sorted.sort();
+            assert_eq!(sorted, rendered);
+            assert!(list
+                .iter()
+                .filter(|c| c.calibration)
+                .all(|c| c.group == CALIBRATION && c.settings.culling == CullingMode::Fullscreen && c.lights == 1));
+        }
     }
 
     /// A row of scene `s`, 10 lights at 8x8, every figure zero.
@@ -327,6 +386,8 @@ mod tests {
             pareto: false,
             reference: "fullscreen".into(),
             limit_ratio: f64::NAN,
+            lists_ms: f64::NAN,
+            units: Units::default(),
             path: Default::default(),
             shadow: Default::default(),
             costliest: Vec::new(),
@@ -356,7 +417,7 @@ mod tests {
     }
 
     #[test]
-    fn the_limit_row_is_gbuffer_plus_compose_plus_the_ideal_at_fullscreen_cost() {
+    fn the_limit_row_prices_the_ideal_pairs_at_the_cheapest_pair_any_mode_measured() {
         let row = |label: &str, culling: &str, lights: usize, g: f64, l: f64, c: f64, shaded: u64| Row {
             group: "culling".into(),
             label: label.into(),
@@ -372,26 +433,39 @@ mod tests {
             ..blank_row()
         };
         let mut rows = vec![
-            // 100 ms for 100,000 fragments: 0.001 ms a fragment.
+            // 100 ms for 100,000 pairs: 0.001 ms a pair.
             row("fullscreen", "fullscreen", 10, 10.0, 100.0, 4.0, 100_000),
             row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000),
-            row("stencil", "stencil-two-pass", 10, 11.0, 5.0, 5.0, 1100),
-            // Another light count without a fullscreen row borrows its ms per fragment.
+            // The cheapest pair of the run: 0.8 ms for 1,000 pairs.
+            row("clustered", "clustered", 10, 11.0, 0.8, 5.0, 1000),
+            // Another light count is priced by the same cheapest pair.
             row("volume", "volume", 40, 11.0, 30.0, 5.0, 9000),
         ];
+        // Another scene's cheaper pair is not this scene's price.
+        rows.push(Row { scene: "t".into(), ..row("clustered", "clustered", 10, 1.0, 0.001, 1.0, 1000) });
         add_limits(&mut rows);
         let labels: Vec<(&str, usize)> = rows.iter().map(|r| (r.label.as_str(), r.lights)).collect();
         assert_eq!(
             labels,
-            vec![("fullscreen", 10), ("volume", 10), ("stencil", 10), ("limit", 10), ("volume", 40), ("limit", 40)]
+            vec![
+                ("fullscreen", 10),
+                ("volume", 10),
+                ("clustered", 10),
+                ("limit", 10),
+                ("volume", 40),
+                ("limit", 40),
+                ("clustered", 10),
+                ("limit", 10)
+            ]
         );
-        // Medians of G-buffer (11) and compose (5), plus 1,000 ideal fragments at 0.001 ms.
+        // Medians of G-buffer (11) and compose (5), plus 1,000 ideal pairs at 0.0008 ms.
         let limit = &rows[3];
-        assert!((limit.total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", limit.total_ms);
-        assert!((rows[2].limit_ratio - 21.0 / 17.0).abs() < 1e-9, "{}", rows[2].limit_ratio);
-        assert!((rows[5].total_ms - (11.0 + 5.0 + 1.0)).abs() < 1e-9);
-        // Without any fullscreen row there is no limit.
-        let mut alone = vec![row("volume", "volume", 10, 12.0, 9.0, 6.0, 3000)];
+        assert!((limit.total_ms - (11.0 + 5.0 + 0.8)).abs() < 1e-9, "{}", limit.total_ms);
+        assert!((rows[2].limit_ratio - 1.0).abs() < 1e-9, "{}", rows[2].limit_ratio);
+        assert!((rows[1].limit_ratio - 27.0 / 16.8).abs() < 1e-9, "{}", rows[1].limit_ratio);
+        assert!((rows[5].total_ms - (11.0 + 5.0 + 0.8)).abs() < 1e-9);
+        // Without any counted row there is no limit.
+        let mut alone = vec![row("volume", "volume", 10, 12.0, 9.0, 6.0, 0)];
         add_limits(&mut alone);
         assert_eq!(alone.len(), 1);
         assert!(alone[0].limit_ratio.is_nan());
@@ -406,5 +480,32 @@ mod tests {
         }
         add_limits(&mut shadowed);
         assert!((shadowed[3].total_ms - (11.0 + 3.0 + 5.0 + 1.0)).abs() < 1e-9, "{}", shadowed[3].total_ms);
+    }
+
+    #[test]
+    fn the_units_divide_by_the_pairs_and_the_calibration_of_the_same_scene_and_size() {
+        let mut rows = vec![
+            Row { group: CALIBRATION.into(), lighting_ms: 2.0, shaded_fragments: 64, ..blank_row() },
+            Row {
+                group: "culling".into(),
+                gbuffer_ms: 8.0,
+                lighting_ms: 10.0,
+                compose_ms: 1.0,
+                lists_ms: 2.5,
+                shaded_fragments: 1000,
+                ideal_fragments: 500,
+                ..blank_row()
+            },
+            // No calibration at this size: no ρ_fs; no lists: no culling share.
+            Row { group: "culling".into(), width: 16, lighting_ms: 10.0, shaded_fragments: 1000, ..blank_row() },
+        ];
+        add_units(&mut rows);
+        let u = rows[1].units;
+        assert!((u.ns_per_pair - 10_000.0).abs() < 1e-9 && (u.ns_per_ideal - 20_000.0).abs() < 1e-9, "{u:?}");
+        assert!((u.rho_fs - 5.0).abs() < 1e-12 && (u.gbuffer_fs - 4.0).abs() < 1e-12, "{u:?}");
+        assert!((u.compose_fs - 0.5).abs() < 1e-12 && (u.culling_share - 0.25).abs() < 1e-12, "{u:?}");
+        assert!((rows[0].units.rho_fs - 1.0).abs() < 1e-12);
+        let other = rows[2].units;
+        assert!(other.rho_fs.is_nan() && other.culling_share.is_nan() && other.ns_per_ideal.is_nan(), "{other:?}");
     }
 }

@@ -29,42 +29,46 @@ pub fn skipped_markdown(skipped: &[Skipped]) -> String {
 pub const LIMIT_GROUPS: [&str; 3] = ["culling", "lights", "radius"];
 
 /// What a frame could cost if lighting did only the ideal work: G-buffer ms + compose ms + ideal
-/// fragments x `fullscreen`'s lighting ms per shaded fragment, all from the same run. The
-/// shadow pass, when lights cast, is a fixed pass like the G-buffer: `gbuffer_ms` holds both.
-/// `fullscreen` shades every pixel for every light, so its ms per fragment is the price of one
-/// light-fragment evaluation with no per-draw or culling overhead worth counting (1,028 lights x
-/// 0.9 M fragments); the ideal is the fragments inside the lights' true shapes. G-buffer and
-/// compose do the same work in every mode, so their medians over the key's rows are used.
-pub fn limit_ms(gbuffer_ms: f64, compose_ms: f64, ideal: u64, ms_per_fragment: f64) -> f64 {
-    gbuffer_ms + compose_ms + ideal as f64 * ms_per_fragment
+/// pairs x the cheapest lighting ms per evaluated pair any mode measured, all from the same run.
+/// The shadow pass, when lights cast, is a fixed pass like the G-buffer: `gbuffer_ms` holds both.
+/// A mode evaluates at least the ideal pairs (tested: ideal ≤ shaded in every mode), and no
+/// mode of the run evaluated a pair more cheaply, so a mode reaching the limit would have to
+/// shade only the ideal pairs at the best per-pair price seen. G-buffer and compose do the same
+/// work in every mode, so their medians over the key's rows are used.
+pub fn limit_ms(gbuffer_ms: f64, compose_ms: f64, ideal: u64, ms_per_pair: f64) -> f64 {
+    gbuffer_ms + compose_ms + ideal as f64 * ms_per_pair
+}
+
+/// Lighting ms per evaluated pair of a row (`None` without a timed lighting pass or a count).
+fn ms_per_pair(r: &Row) -> Option<f64> {
+    (r.shaded_fragments > 0 && r.lighting_ms.is_finite() && r.lighting_ms > 0.0)
+        .then(|| r.lighting_ms / r.shaded_fragments as f64)
 }
 
 /// Adds a `limit` row after the last row of each (group, scene, light count, size, radius) among
-/// [`LIMIT_GROUPS`], and sets every such row's `limit_ratio`. The ms per fragment comes from the
-/// `fullscreen` row of the same scene and size (same light count and radius if the run has one,
-/// else the one with the most shaded fragments); without any `fullscreen` row there is no limit.
+/// [`LIMIT_GROUPS`], and sets every such row's `limit_ratio`. The ms per pair is the cheapest
+/// of every culling-mode row (any group of [`LIMIT_GROUPS`], any light count and radius) of the
+/// same scene and size in the run; without any such row there is no limit.
 pub fn add_limits(rows: &mut Vec<Row>) {
     type Key = (String, String, usize, u32, u32, u64);
     let key = |r: &Row| (r.group.clone(), r.scene.clone(), r.lights, r.width, r.height, r.radius_scale.to_bits());
-    let full: Vec<Row> = rows
-        .iter()
-        .filter(|r| r.culling == "fullscreen" && r.label != "limit" && r.shaded_fragments > 0)
-        .cloned()
-        .collect();
-    let per_fragment = |k: &Key| -> Option<f64> {
-        let same = |r: &&Row| r.scene == k.1 && r.width == k.3 && r.height == k.4;
-        let exact = full.iter().find(|r| same(r) && r.lights == k.2 && r.radius_scale.to_bits() == k.5);
-        let best = exact.or_else(|| full.iter().filter(same).max_by_key(|r| r.shaded_fragments))?;
-        Some(best.lighting_ms / best.shaded_fragments as f64)
+    let modes: Vec<Row> =
+        rows.iter().filter(|r| LIMIT_GROUPS.contains(&r.group.as_str()) && r.label != "limit").cloned().collect();
+    let cheapest = |k: &Key| -> Option<f64> {
+        modes
+            .iter()
+            .filter(|r| r.scene == k.1 && r.width == k.3 && r.height == k.4)
+            .filter_map(ms_per_pair)
+            .min_by(f64::total_cmp)
     };
     let mut keys: Vec<Key> = Vec::new();
-    for r in rows.iter().filter(|r| LIMIT_GROUPS.contains(&r.group.as_str())) {
+    for r in modes.iter() {
         if !keys.contains(&key(r)) {
             keys.push(key(r));
         }
     }
     for k in keys {
-        let Some(ms_per_fragment) = per_fragment(&k) else { continue };
+        let Some(ms_per_pair) = cheapest(&k) else { continue };
         let mine: Vec<&Row> = rows.iter().filter(|r| key(r) == k).collect();
         let Some(first) = mine.first() else { continue };
         let gbuffer = median(mine.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
@@ -74,9 +78,8 @@ pub fn add_limits(rows: &mut Vec<Row>) {
         // Every mode counts the same ideal (tested); the largest guards against a row that did
         // not count it.
         let ideal = mine.iter().map(|r| r.ideal_fragments).max().unwrap_or(0);
-        let lighting = ideal as f64 * ms_per_fragment;
-        let limit =
-            limit_ms(gbuffer + if shadows.is_finite() { shadows } else { 0.0 }, compose, ideal, ms_per_fragment);
+        let lighting = ideal as f64 * ms_per_pair;
+        let limit = limit_ms(gbuffer + if shadows.is_finite() { shadows } else { 0.0 }, compose, ideal, ms_per_pair);
         let row = Row {
             label: "limit".into(),
             culling: "limit".into(),
@@ -86,6 +89,7 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             compose_ms: compose,
             forward_ms: 0.0,
             total_ms: limit,
+            lists_ms: f64::NAN,
             coverage_fragments: 0,
             shaded_fragments: ideal,
             ideal_fragments: ideal,
@@ -97,6 +101,7 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             limit_ratio: 1.0,
             draw_calls: 0,
             light_batches: 0,
+            costliest: Vec::new(),
             ..(*first).clone()
         };
         for r in rows.iter_mut().filter(|r| key(r) == k) {
@@ -104,6 +109,33 @@ pub fn add_limits(rows: &mut Vec<Row>) {
         }
         let at = rows.iter().rposition(|r| key(r) == k).map_or(rows.len(), |i| i + 1);
         rows.insert(at, row);
+    }
+}
+
+/// Fills every row's [`Units`]: per-pair costs from its own figures, ρ_fs and the fixed passes
+/// against the calibration row of its scene and size (NaN without one).
+pub fn add_units(rows: &mut [Row]) {
+    let calibration: Vec<(String, u32, u32, f64)> = rows
+        .iter()
+        .filter(|r| r.group == CALIBRATION && r.lighting_ms.is_finite() && r.lighting_ms > 0.0)
+        .map(|r| (r.scene.clone(), r.width, r.height, r.lighting_ms))
+        .collect();
+    let per = |ms: f64, n: u64| if n > 0 && ms.is_finite() { ms * 1e6 / n as f64 } else { f64::NAN };
+    for r in rows.iter_mut() {
+        let fs =
+            calibration.iter().find(|c| c.0 == r.scene && c.1 == r.width && c.2 == r.height).map_or(f64::NAN, |c| c.3);
+        r.units = Units {
+            ns_per_pair: per(r.lighting_ms, r.shaded_fragments),
+            ns_per_ideal: per(r.lighting_ms, r.ideal_fragments),
+            rho_fs: r.lighting_ms / fs,
+            gbuffer_fs: r.gbuffer_ms / fs,
+            compose_fs: r.compose_ms / fs,
+            culling_share: if r.lists_ms.is_finite() && r.lighting_ms > 0.0 {
+                r.lists_ms / r.lighting_ms
+            } else {
+                f64::NAN
+            },
+        };
     }
 }
 
@@ -128,11 +160,12 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          lights,radius_scale,width,height,gbuffer_ms,lighting_ms,compose_ms,forward_ms,bloom_ms,exposure_ms,tonemap_ms,{effects}total_ms,draw_calls,light_batches,\
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
-         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side\n",
+         shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side,\
+         lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4}\n",
             r.group,
             r.label,
             r.scene,
@@ -183,7 +216,14 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.shadow.fallback_budget,
             r.shadow.fallback_off_screen,
             r.shadow.cube,
-            r.shadow.cube_side
+            r.shadow.cube_side,
+            r.lists_ms,
+            r.units.ns_per_pair,
+            r.units.ns_per_ideal,
+            r.units.rho_fs,
+            r.units.gbuffer_fs,
+            r.units.compose_fs,
+            r.units.culling_share
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -197,8 +237,8 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
          on the light accumulation, FLIP on the output only for frames without the post chain (`-` in the `post` rows). Ratio: lighting time over `fullscreen`'s in the \
          same run and size. * = on the Pareto front (time, FLIP) for its scene, light count and size. \
          Volumes: the bounding meshes the frame drew (only the kinds its lights need). \
-         `limit` (groups culling, lights, radius): G-buffer ms + compose ms + ideal fragments x `fullscreen`'s \
-         lighting ms per shaded fragment, from this run; `x limit` is each row's total over it.\n\n",
+         `limit` (groups culling, lights, radius): G-buffer ms + compose ms + ideal pairs x the cheapest \
+         lighting ms per evaluated pair any culling mode measured at this scene and size in this run; `x limit` is each row's total over it.\n\n",
         o.scene, o.time, o.frames
     );
     let volume_refs: Vec<String> = rows
@@ -276,11 +316,81 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
             error(r.psnr_db, 1)
         );
     }
+    s += &units_markdown(rows);
     s += &paths_markdown(rows);
     s += &shadows_markdown(rows);
     s += &costliest_markdown(&run.rows);
     s += &ledger_markdown(&run.ledger);
     s += &skipped_markdown(&run.skipped);
+    s
+}
+
+/// The culling-mode rows in units that survive a change of hardware, and the fixed passes
+/// against the calibration pass.
+pub fn units_markdown(rows: &[Row]) -> String {
+    let fmt = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
+    let mut s = String::new();
+    let cal: Vec<&Row> = rows.iter().filter(|r| r.group == CALIBRATION).collect();
+    if !cal.is_empty() {
+        s += "\n### Fixed passes in full-screen passes\n\n\
+              Calibration: one point light reaching every pixel, shaded `fullscreen` over the scene's G-buffer \
+              (the scene's lights left out), timed in the same rounds; its lighting ms is the unit (fs). \
+              G-buffer and compose: the median over the rows of the same scene and size.\n\n\
+              | scene | size | calibration ms | G-buffer ms | G-buffer fs | compose ms | compose fs |\n\
+              |---|---|---|---|---|---|---|\n";
+        for c in cal {
+            let same: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.scene == c.scene && r.width == c.width && r.height == c.height && r.label != "limit")
+                .filter(|r| r.path.path == RenderPath::Deferred.name() && r.path.error.is_empty())
+                .collect();
+            let gbuffer = median(same.iter().map(|r| r.gbuffer_ms).filter(|v| v.is_finite()).collect());
+            let compose = median(same.iter().map(|r| r.compose_ms).filter(|v| v.is_finite()).collect());
+            let scene = Path::new(&c.scene).file_stem().map_or(c.scene.clone(), |f| f.to_string_lossy().into());
+            s += &format!(
+                "| {scene} | {}x{} | {:.3} | {} | {} | {} | {} |\n",
+                c.width,
+                c.height,
+                c.lighting_ms,
+                fmt(gbuffer, 2),
+                fmt(gbuffer / c.lighting_ms, 2),
+                fmt(compose, 2),
+                fmt(compose / c.lighting_ms, 2)
+            );
+        }
+    }
+    let modes: Vec<&Row> = rows.iter().filter(|r| LIMIT_GROUPS.contains(&r.group.as_str())).collect();
+    if modes.is_empty() {
+        return s;
+    }
+    s += "\n### Lighting in units that survive a change of hardware\n\n\
+          ns/pair: lighting ns per evaluated light–pixel pair (the mode's shaded fragments, or its list entries walked \
+          per pixel); ns/ideal: per pair inside the lights' true shapes; ρ_fs: lighting ms in calibration passes; \
+          culling share: GPU list building or marking over lighting (`-` for the drawn modes, which mark in the draws \
+          that shade, and for lists built on the CPU); x limit: total over the `limit` row.\n\n\
+          | group | configuration | lights | size | lighting ms | lists ms | ns/pair | ns/ideal | ρ_fs | culling share | x limit |\n\
+          |---|---|---|---|---|---|---|---|---|---|---|\n";
+    for r in modes {
+        s += &format!(
+            "| {} | {} | {} | {}x{} | {:.2} | {} | {} | {} | {} | {} | {} |\n",
+            r.group,
+            r.label,
+            r.lights,
+            r.width,
+            r.height,
+            r.lighting_ms,
+            fmt(r.lists_ms, 2),
+            fmt(r.units.ns_per_pair, 3),
+            fmt(r.units.ns_per_ideal, 3),
+            fmt(r.units.rho_fs, 1),
+            if r.units.culling_share.is_finite() {
+                format!("{:.0}%", r.units.culling_share * 100.0)
+            } else {
+                "-".into()
+            },
+            fmt(r.limit_ratio, 2)
+        );
+    }
     s
 }
 

@@ -99,6 +99,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
+    add_units(&mut rows);
     Ok(BenchRun { rows, skipped, ledger })
 }
 
@@ -128,7 +129,7 @@ fn prepare<'c>(
         progress(k, &format!("prepare {}", cfg.label));
         let name = cfg.scene.unwrap_or(&o.scene);
         let lights = (!o.fixed_lights || cfg.scene.is_some()).then_some(cfg.lights);
-        let scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
+        let mut scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
             std::collections::hash_map::Entry::Occupied(e) => e.get().clone(),
             std::collections::hash_map::Entry::Vacant(e) => {
                 let options = crate::scene::import::ImportOptions::default();
@@ -138,6 +139,9 @@ fn prepare<'c>(
                 e.insert(scene).clone()
             }
         };
+        if cfg.calibration {
+            calibration_scene(&mut scene);
+        }
         let skip = |e: anyhow::Error| Skipped {
             group: cfg.group.into(),
             label: cfg.label.clone(),
@@ -256,6 +260,8 @@ fn measure<'c>(
             .map(|e| pick(&|s| s.gpu_ms.effect(e.name).or(s.gpu_ms.total.map(|_| 0.0))))
             .collect(),
         total_ms: pick(&|s| s.gpu_ms.total),
+        lists_ms: pick(&|s| s.gpu_ms.lists),
+        units: Units::default(),
         draw_calls: times.last().map_or(0, |s| s.draw_calls),
         light_batches: times.last().map_or(0, |s| s.light_batches),
         coverage_fragments: stats.coverage_fragments.unwrap_or(0),
@@ -376,6 +382,8 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         tonemap_ms: f64::NAN,
         effects_ms: vec![f64::NAN; crate::renderer::post::effects::EFFECTS.len()],
         total_ms: f64::NAN,
+        lists_ms: f64::NAN,
+        units: Units::default(),
         draw_calls: 0,
         light_batches: 0,
         coverage_fragments: 0,

@@ -69,7 +69,8 @@ impl Renderer {
             forward_path: drawn.forward_path,
             lists_on_gpu: !forward_path
                 && (plan.tiled == Some(Method::Tiled)
-                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()),
+                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()
+                    || plan.tiled == Some(Method::Zbin) && plan.zbins.as_ref().is_some_and(|z| z.visible > 0)),
             post: shape.chain.then_some(stats::PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,

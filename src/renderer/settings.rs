@@ -325,12 +325,13 @@ impl CullingMode {
     ];
 }
 
-/// The most lights every culling mode and path takes. Past it only `zbin` and `clustered` on
-/// the G-buffer paths do (up to [`crate::scene::builtin::MAX_LIGHTS`]), and `auto` shades with
-/// `zbin`: the per-light modes draw a volume a light (a million draws), `tiled` keeps a bit
-/// for 65,536 lights per tile and walks every light past them, and the forward paths' loops
-/// walk at most 130,000 lights an object.
-pub const MAX_LIGHTS_EVERY_MODE: usize = 100_000;
+/// The most lights every culling mode and path takes: the longest list the forward paths' loops
+/// walk whole ([`FORWARD_LIST_MAX`](super::culling::plan::FORWARD_LIST_MAX)), so 100,000 lights
+/// from `--lights` and a scene's own on top are taken by every mode. Past it only `zbin` and
+/// `clustered` on the G-buffer paths do (up to [`crate::scene::builtin::MAX_LIGHTS`]), and
+/// `auto` shades with `zbin`: the per-light modes draw a volume a light (up to a million draws),
+/// and `tiled` keeps a bit for 65,536 lights per tile and walks every light past them.
+pub const MAX_LIGHTS_EVERY_MODE: usize = super::culling::plan::FORWARD_LIST_MAX as usize;
 
 /// What the compose pass shows. The values are shared with WGSL as generated constants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]

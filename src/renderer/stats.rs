@@ -404,7 +404,8 @@ pub struct FrameStats {
     /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
     /// light with `light_batching` off.
     pub light_batches: u64,
-    /// The GPU built light lists this frame (tiled, or clustered with `--cluster-build gpu`).
+    /// The GPU built light lists this frame (tiled, zbin's masks, or clustered with
+    /// `--cluster-build gpu`).
     #[serde(default)]
     pub lists_on_gpu: bool,
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).

@@ -19,7 +19,7 @@
 //! nearest never lands farther above the exact sum y = s + x than s itself lies below it (s is
 //! representable), so the stored result is at most s + 2x, plus the f32 step's 2^-23 (s + x).
 //! Over n + 1 terms the stored sum is at most 2 (1 + u)(1 + 2^-24) max / 3 + (n + 1) 2^-23 max
-//! <= 0.678 max + 0.012 max (n <= 100,000, the most lights Lampshade takes) < max. So no pixel's
+//! <= 0.678 max + 0.120 max (n <= 1,000,000, the most lights Lampshade takes) < max. So no pixel's
 //! accumulated diffuse or specular light reaches the format's maximum (fp16's infinity lies
 //! beyond it), whatever the light count. The f64 reference (`crate::reference::shade`) applies
 //! the same per-light values, read back with [`Renderer::light_clamps`](super::Renderer::light_clamps).

@@ -787,7 +787,7 @@ pub const MAX_FORWARD_LIST_ENTRIES: usize = (128 << 20) / 4;
 pub const FORWARD_LOOP_LIGHTS: u32 = 65_000;
 
 /// The longest list the paired loops walk whole. Longer lists (a scene of more than 130,000
-/// lights reaching one object; `--lights` stops at 100,000) are warned of
+/// lights reaching one object, which only `zbin` and `clustered` take) are warned of
 /// ([`long_forward_list_warnings`]), not split.
 pub const FORWARD_LIST_MAX: u32 = 2 * FORWARD_LOOP_LIGHTS;
 

@@ -26,6 +26,7 @@ pub const NAMES: &[(&str, &str)] = &[
     ("glass", "the demo's 1024 lights through rows of glass walls and boxes: the forward pass's stress case; the glass distorts (--distortion on)"),
     ("street", "hard case: a street-level camera among 64 point lights, many crossing the near plane"),
     ("sphere-wall", "the camera at the centre of an inward-facing sphere lit by 4096 evenly spread point lights"),
+    ("railings", "a depth discontinuity in every tile: thin railings 4 units from the camera before a wall 42 away, half the lights at each"),
     ("many-lights", "Bevy's many_lights layout: 100,000 point lights of range 0.3 on an inward-facing sphere of radius 50, the camera at its centre"),
     (
         "materials",
@@ -58,7 +59,8 @@ impl Default for BuiltinOptions {
 }
 
 /// The built-in scenes whose light count `--lights` sets.
-pub const TAKES_LIGHT_COUNT: &[&str] = &["demo", "overflow", "glass", "street", "sphere-wall", "many-lights"];
+pub const TAKES_LIGHT_COUNT: &[&str] =
+    &["demo", "overflow", "glass", "street", "sphere-wall", "many-lights", "railings"];
 
 /// The most lights `--lights` gives a built-in scene. Past
 /// [`crate::renderer::settings::MAX_LIGHTS_EVERY_MODE`] only the `zbin` and `clustered` modes
@@ -92,6 +94,7 @@ pub fn build(name: &str, opts: BuiltinOptions) -> Result<Scene, String> {
         "street" => street(opts.lights.unwrap_or(64)),
         "sphere-wall" => sphere_wall(opts.lights.unwrap_or(4096)),
         "many-lights" => many_lights(opts.lights.unwrap_or(100_000)),
+        "railings" => railings(opts.lights.unwrap_or(1024)),
         "materials" => materials(),
         "shadows" => shadows(),
         "cookies" => cookies(),
@@ -571,6 +574,53 @@ fn street(n: usize) -> Scene {
             let z = 4.0 - unit(58, i) * 100.0;
             let y = 0.4 + unit(59, i) * 5.0;
             b.point(DVec3::new(x, y, z), color, intensity, 2.5 + unit(60, i) as f32 * 4.5);
+        }
+    }
+    b.scene
+}
+
+/// Railings in front of a far wall: the depth discontinuity inside a tile that per-tile lists
+/// cannot separate (Olsson et al. 2012's case for clusters). Vertical bars 0.03 wide every
+/// 0.12 units, 4 units from the camera and taller than the view there, are 5 pixels wide every
+/// 19 at 1280x720 (60° vertical field of view: 156 pixels a unit at that distance), so nearly
+/// every 16-pixel tile holds a bar and, behind it, the wall 42 units away or the floor. Lights at even indices hang among the bars (range
+/// 0.5–0.9), those at odd ones before the wall (range 2–4): a tile's depth bounds span both
+/// groups, while a cluster or z-bin at a pixel's depth holds only the lights near that depth.
+fn railings(n: usize) -> Scene {
+    let camera = Camera { far: 100.0, ..Camera::looking_at(DVec3::new(0.0, 1.4, 2.0), DVec3::new(0.0, 1.4, -40.0)) };
+    let mut b = Builder::new("railings", camera);
+    b.scene.ambient = Vec3::splat(0.03);
+    let floor = b.material(Material::diffuse(Vec3::splat(0.45)));
+    b.boxed(DVec3::new(-60.0, -1.0, -45.0), DVec3::new(60.0, 0.0, 4.0), floor);
+    let wall = b.material(Material {
+        diffuse: Vec3::new(0.6, 0.58, 0.55),
+        specular_level: 0.3,
+        specular_exponent: 24.0,
+        ..Material::default()
+    });
+    b.boxed(DVec3::new(-60.0, 0.0, -41.0), DVec3::new(60.0, 40.0, -40.0), wall);
+    let metal = b.material(Material {
+        diffuse: Vec3::new(0.35, 0.36, 0.4),
+        specular_level: 0.8,
+        specular_exponent: 64.0,
+        ..Material::default()
+    });
+    let (z0, z1) = (-2.015, -1.985);
+    for k in -45..=45 {
+        let x = k as f64 * 0.12;
+        b.boxed(DVec3::new(x - 0.015, 0.0, z0), DVec3::new(x + 0.015, 4.2, z1), metal);
+    }
+    for y in [1.2, 2.6, 4.0] {
+        b.boxed(DVec3::new(-5.5, y, z0 - 0.01), DVec3::new(5.5, y + 0.06, z1 + 0.01), metal);
+    }
+    for i in 0..n as u64 {
+        let colour = hue(unit(81, i) as f32) * 0.8 + Vec3::splat(0.2);
+        if i % 2 == 0 {
+            let p = DVec3::new((unit(82, i) - 0.5) * 9.0, 0.2 + unit(83, i) * 3.8, -2.0 + (unit(84, i) - 0.5) * 1.2);
+            b.point(p, colour, 0.6, 0.5 + 0.4 * unit(85, i) as f32);
+        } else {
+            let p = DVec3::new((unit(86, i) - 0.5) * 84.0, 0.5 + unit(87, i) * 24.0, -39.5 + unit(88, i) * 2.0);
+            b.point(p, colour, 1.5, 2.0 + 2.0 * unit(89, i) as f32);
         }
     }
     b.scene

@@ -191,9 +191,25 @@ fn bench_takes_a_gltf_file_and_a_light_count_for_it() {
     assert!(err.contains("brings its own 11 light(s)"), "{err}");
     let rows = bench_rows(&out_dir.join("bench.csv"));
     let modes = lampshade::renderer::CullingMode::ALL.len();
-    assert_eq!(rows.len(), modes + 1, "one row per culling mode and the limit, no `lights` rows: {rows:?}");
+    assert_eq!(
+        rows.len(),
+        modes + 2,
+        "a row per culling mode, the limit and the calibration, no `lights` rows: {rows:?}"
+    );
     assert!(rows.iter().all(|r| r[2] == room), "{rows:?}");
     assert_eq!(rows.iter().filter(|r| r[1] == "limit").count(), 1, "{rows:?}");
+    // Every culling row in the units that survive a change of hardware, against the one
+    // calibration pass (one light over every pixel), which is one full-screen pass of itself.
+    let header = std::fs::read_to_string(out_dir.join("bench.csv")).unwrap();
+    let col = |name: &str| header.lines().next().unwrap().split(',').position(|c| c == name).unwrap();
+    let (rho, per_pair) = (col("rho_fs"), col("ns_per_pair"));
+    let calibration: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "calibration").collect();
+    assert_eq!(calibration.len(), 1, "{rows:?}");
+    assert_eq!(calibration[0][rho], "1.000", "{:?}", calibration[0]);
+    for r in rows.iter().filter(|r| r[0] == "culling" && r[1] != "limit") {
+        let (rho, ns) = (r[rho].parse::<f64>().unwrap(), r[per_pair].parse::<f64>().unwrap());
+        assert!(rho.is_finite() && rho > 0.0 && ns.is_finite() && ns > 0.0, "{r:?}");
+    }
     // A file without lights takes --lights N: N lights, and the `lights` group varies it.
     let path = lightless_room("lightless-bench");
     let out_dir = tmp("bench-lightless");

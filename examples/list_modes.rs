@@ -2,7 +2,7 @@
 //! one scene, frame after frame on one renderer: `cargo run --release --example list_modes --
 //! SCENE LIGHTS WxH [FRAMES]`. Prints, per mode, the medians of the frames after the first
 //! two (pipelines compiled, buffers grown): the lighting span (`gpu_ms.lighting`) and the CPU's
-//! plan (`cpu_ms.plan`). Nothing counted, so the frame is the one a user gets. `tiled` is left
+//! plan (`cpu_ms.plan`), and the CPU's whole part (`cpu_ms`: records, plan, upload). Nothing counted, so the frame is the one a user gets. `tiled` is left
 //! out past 65,536 lights (its compute pass keeps a bit for that many and walks every light
 //! past them).
 
@@ -57,20 +57,25 @@ fn main() {
             ..Settings::default()
         };
         let run = Renderer::new(&gpu, OUTPUT_FORMAT, &s).and_then(|mut r| {
-            let mut out = (Vec::new(), Vec::new());
+            let mut out = (Vec::new(), Vec::new(), Vec::new());
             for k in 0..frames {
                 let (_, st) = lampshade::headless::render_image(&gpu, &mut r, &scene, &s, w, h)?;
                 if k >= 2 {
                     out.0.push(st.gpu_ms.lighting.unwrap_or(f64::NAN));
                     out.1.push(st.cpu_ms.plan);
+                    out.2.push(st.cpu_ms.total());
                 }
             }
             Ok(out)
         });
         match run {
-            Ok((gpu_ms, cpu_ms)) => {
-                println!("{:10} lighting {:8.2} ms  plan (CPU) {:7.3} ms", mode.name(), median(gpu_ms), median(cpu_ms))
-            }
+            Ok((gpu_ms, plan_ms, cpu_ms)) => println!(
+                "{:10} lighting {:8.2} ms  plan (CPU) {:7.3} ms  records + plan + upload (CPU) {:7.3} ms",
+                mode.name(),
+                median(gpu_ms),
+                median(plan_ms),
+                median(cpu_ms)
+            ),
             Err(e) => println!("{:10} {e:#}", mode.name()),
         }
     }

@@ -290,6 +290,9 @@ impl UiState {
                 Scope::All => None,
                 Scope::Selected => self.selected_light,
             },
+            // The panels read the per-light table (the light list, the probe, the shadow atlas)
+            // whether or not the frame counts.
+            per_light_stats: true,
             ..self.settings.clone()
         }
     }

@@ -824,6 +824,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "per-light-stats",
+        what: "per-light statistics",
+        help: "Build the per-light table of the stats in frames that count nothing (counting frames always do)",
+        values: Values::Switch,
+        cli: false,
+        get: |s| switch_name(s.per_light_stats),
+        put: |s, v| {
+            s.per_light_stats = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "timestamps",
         what: "timestamps",
         help: "Read back GPU timestamps",

@@ -88,7 +88,10 @@ impl Renderer {
             ..Default::default()
         };
         let m = self.measured(settings, shape, prepared);
-        self.queries.read(&self.device, &mut stats, &plan.lights, scene, m.counts, m.ideal, m.times, m.forward)?;
+        // The per-light table only where the frame counts (its counts are per light) or asks.
+        stats.per_light_stats = settings.count_fragments || settings.count_ideal || settings.per_light_stats;
+        let plans = if stats.per_light_stats { &plan.lights[..] } else { &[] };
+        self.queries.read(&self.device, &mut stats, plans, scene, m.counts, m.ideal, m.times, m.forward)?;
         for l in &mut stats.per_light {
             (l.shadow_tiles, l.shadow_texels, l.caster_draws) = prepared.shadows.light_share(l.index);
         }

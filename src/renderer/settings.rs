@@ -590,6 +590,11 @@ pub struct Settings {
     /// Also count the ideal: G-buffer points inside each light's true shape (costs a
     /// full-screen pass per light).
     pub count_ideal: bool,
+    /// Build the stats' per-light table (`FrameStats::per_light`: each light's kind, method,
+    /// screen share, shadow share and cost) in a frame that counts nothing. A counting frame
+    /// always builds it (its counts are per light); a frame that neither counts nor asks pays
+    /// nothing per light for its stats.
+    pub per_light_stats: bool,
     /// Read back GPU timestamps.
     pub timestamps: bool,
     /// Format of the light accumulation targets.
@@ -719,6 +724,7 @@ impl Default for Settings {
             exposure: 1.0,
             count_fragments: true,
             count_ideal: false,
+            per_light_stats: false,
             timestamps: true,
             depth_clamp: true,
             accumulation: AccumFormat::default(),

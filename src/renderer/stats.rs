@@ -410,7 +410,12 @@ pub struct FrameStats {
     pub lists_on_gpu: bool,
     /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
     pub post: Option<PostStats>,
+    /// One entry per light when the frame counted or asked for them
+    /// (`Settings::per_light_stats`); empty otherwise, and `per_light_stats` says which.
     pub per_light: Vec<LightStats>,
+    /// Whether `per_light` was built this frame.
+    #[serde(default)]
+    pub per_light_stats: bool,
     /// The shadow and cookie lookups compiled into this frame's shaders, by name
     /// (`program::ShaderFeatures::names`): only those some light of the scene can need.
     #[serde(default)]

@@ -104,6 +104,8 @@ fn draw_calls_fall_on_the_full_demo() {
             culling: mode,
             light_batching,
             count_fragments: false,
+            // The methods below are read from the per-light table.
+            per_light_stats: true,
             timestamps: false,
             shadows: ShadowMode::None,
             ..Settings::default()

@@ -305,22 +305,28 @@ fn the_ledgers_pairs_are_the_lists_pixels_light_by_light() {
 }
 
 /// The ledger off: the same picture, bit for bit, in the modes whose counters are atomics in
-/// the shading pass (a second entry point), and no per-light figure at all.
+/// the shading pass (a second entry point), and no per-light figure at all; nor, unless asked
+/// for, the per-light table.
 #[test]
 fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
     let gpu = gpu();
     let scene = with_lights("demo", 64);
     for mode in [CullingMode::Tiled, CullingMode::Clustered] {
         let on = Settings { count_fragments: true, ..settings(mode) };
-        let off = settings(mode);
+        let off = Settings { per_light_stats: true, ..settings(mode) };
         let (_, a) = rendered(&scene, &on, 160, 90);
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &off).expect("renderer");
         let stats = render_image(gpu, &mut r, &scene, &off, 160, 90).expect("render").1;
         let b = r.read_accumulation(gpu).expect("accumulation");
         assert!(a == b, "{}: the counted frame's light differs from the uncounted one's", mode.name());
         assert_eq!(stats.shaded_fragments, None, "{}", mode.name());
+        assert_eq!(stats.per_light.len(), scene.lights.len());
         assert!(stats.per_light.iter().all(|l| l.shaded.is_none() && l.cost_ms.is_none() && l.wasted.is_none()));
         assert_eq!((stats.light_cost_ms, stats.wasted_fragments), (None, None), "{}", mode.name());
+        // Not asked for, the per-light table is not built, and the stats say so.
+        let quiet = render_image(gpu, &mut r, &scene, &settings(mode), 160, 90).expect("render").1;
+        assert!(quiet.per_light.is_empty() && !quiet.per_light_stats, "{}", mode.name());
+        assert!(stats.per_light_stats, "{}", mode.name());
     }
 }
 

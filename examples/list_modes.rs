@@ -2,7 +2,12 @@
 //! one scene, frame after frame on one renderer: `cargo run --release --example list_modes --
 //! SCENE LIGHTS WxH [FRAMES]`. Prints, per mode, the medians of the frames after the first
 //! two (pipelines compiled, buffers grown): the lighting span (`gpu_ms.lighting`) and the CPU's
-//! plan (`cpu_ms.plan`), and the CPU's whole part (`cpu_ms`: records, plan, upload). Nothing counted, so the frame is the one a user gets. `tiled` is left
+//! plan (`cpu_ms.plan`), the CPU's whole part (`cpu_ms`: records, plan, upload), and the CPU
+//! time of the whole `render_image` call (this thread and its helpers: validation, the pass
+//! set, the stats, the picture's readback; not the driver's threads). The scene does not move,
+//! so from the second frame on a frame reuses the first one's CPU part (`FrameStats::cpu_reused`);
+//! `LIST_MODES_ANIMATE=1` hands each frame a new light list (the same lights), so every frame
+//! computes its part as a moving scene's would. Nothing counted, so the frame is the one a user gets. `tiled` is left
 //! out past 65,536 lights (its compute pass keeps a bit for that many and walks every light
 //! past them).
 
@@ -44,6 +49,8 @@ fn main() {
             std::process::exit(2);
         }
     };
+    let animate = std::env::var("LIST_MODES_ANIMATE").is_ok_and(|v| v == "1");
+    let mut scene = scene;
     println!("{name}, {} lights, {w}x{h}, medians of {} frames", scene.lights.len(), frames.saturating_sub(2));
     for mode in [CullingMode::Clustered, CullingMode::Zbin, CullingMode::Tiled] {
         if mode == CullingMode::Tiled && scene.lights.len() > 65_536 {
@@ -57,24 +64,38 @@ fn main() {
             ..Settings::default()
         };
         let run = Renderer::new(&gpu, OUTPUT_FORMAT, &s).and_then(|mut r| {
-            let mut out = (Vec::new(), Vec::new(), Vec::new());
+            let mut out = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for k in 0..frames {
+                if animate {
+                    // Another list of the same lights: nothing to reuse.
+                    scene.set_lights(scene.lights.to_vec());
+                }
+                let clock = lampshade::renderer::cputime::Clock::start();
                 let (_, st) = lampshade::headless::render_image(&gpu, &mut r, &scene, &s, w, h)?;
+                let call = clock.ms();
                 if k >= 2 {
                     out.0.push(st.gpu_ms.lighting.unwrap_or(f64::NAN));
                     out.1.push(st.cpu_ms.plan);
                     out.2.push(st.cpu_ms.total());
+                    out.4.push(st.cpu_ms.records);
+                    out.5.push(st.cpu_ms.upload);
+                    out.3.push(call);
                 }
             }
             Ok(out)
         });
         match run {
-            Ok((gpu_ms, plan_ms, cpu_ms)) => println!(
-                "{:10} lighting {:8.2} ms  plan (CPU) {:7.3} ms  records + plan + upload (CPU) {:7.3} ms",
+            Ok((gpu_ms, plan_ms, cpu_ms, call_ms, records_ms, upload_ms)) => println!(
+                "{:10} lighting {:8.2} ms  plan (CPU) {:7.3} ms  records + plan + upload (CPU) {:7.3} ms \
+                 ({:.3} + {:.3} + {:.3})  the frame call (CPU) {:7.3} ms",
                 mode.name(),
                 median(gpu_ms),
+                median(plan_ms.clone()),
+                median(cpu_ms),
+                median(records_ms),
                 median(plan_ms),
-                median(cpu_ms)
+                median(upload_ms),
+                median(call_ms)
             ),
             Err(e) => println!("{:10} {e:#}", mode.name()),
         }

@@ -55,14 +55,14 @@ impl SceneKeys {
         }
         for (&i, &mask) in self.light_masks.iter().flatten() {
             let n = scene.lights.len();
-            let Some(l) = scene.lights.get_mut(i) else {
+            let Some(l) = scene.lights_mut().get_mut(i) else {
                 bail!("light_masks: no light {i} (the scene has {n})");
             };
             l.set_mask(mask);
         }
         for (&i, &on) in self.light_shadows.iter().flatten() {
             let n = scene.lights.len();
-            let Some(l) = scene.lights.get_mut(i) else {
+            let Some(l) = scene.lights_mut().get_mut(i) else {
                 bail!("light_shadows: no light {i} (the scene has {n})");
             };
             l.set_cast_shadows(on);

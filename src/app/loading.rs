@@ -145,7 +145,7 @@ impl SceneCache {
         if let Some(c) = state.camera {
             scene.camera = c;
         }
-        for (i, l) in scene.lights.iter_mut().enumerate() {
+        for (i, l) in scene.lights_mut().iter_mut().enumerate() {
             if let Some(e) = state.light_edits.get(&i) {
                 e.apply(l);
             }

@@ -357,7 +357,7 @@ pub fn calibration_scene(scene: &mut crate::Scene) {
         // The farthest corner of the bounds from the camera.
         (hi - c).abs().max((c - lo).abs()).length() * 2.0 + 1.0
     });
-    scene.lights = vec![crate::scene::Light::Point(crate::scene::PointLight {
+    scene.set_lights(vec![crate::scene::Light::Point(crate::scene::PointLight {
         position: scene.camera.position,
         color: glam::Vec3::ONE,
         intensity: 1.0,
@@ -365,7 +365,7 @@ pub fn calibration_scene(scene: &mut crate::Scene) {
         cookie: None,
         mask: u32::MAX,
         cast_shadows: false,
-    })];
+    })]);
 }
 
 /// Point lights of the `shadows` group's cube rows (each casts six faces).
@@ -423,7 +423,7 @@ pub fn reference_culling(lights: usize, size: (u32, u32)) -> CullingMode {
 
 /// Scales every light's radius (and so its reach and volume) by `k`.
 pub fn scale_light_radii(scene: &mut crate::Scene, k: f64) {
-    for l in &mut scene.lights {
+    for l in scene.lights_mut() {
         match l {
             crate::scene::Light::Point(p) => p.radius *= k as f32,
             crate::scene::Light::Spot(s) => s.radius *= k as f32,

@@ -142,7 +142,7 @@ pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Re
 /// The scene with only the lights `keep` (indices into its lights).
 fn subset(scene: &crate::Scene, keep: &[usize]) -> crate::Scene {
     let mut s = scene.clone();
-    s.lights = keep.iter().map(|&i| scene.lights[i]).collect();
+    s.set_lights(keep.iter().map(|&i| scene.lights[i]).collect());
     s
 }
 

@@ -102,8 +102,8 @@ impl Case {
             let material = scene.materials.len() - 1;
             scene.objects.push(Object { mesh: 0, material, transform, layer: b.layer.min(31) });
         }
-        scene.lights = self.lights.clone();
-        for l in &mut scene.lights {
+        scene.set_lights(self.lights.clone());
+        for l in scene.lights_mut() {
             match l {
                 Light::Point(p) => p.position += offset,
                 Light::Spot(s) => s.position += offset,

@@ -198,7 +198,7 @@ pub fn check_scene(
     differences: bool,
 ) -> Result<Vec<(ModeResult, Option<Difference>)>> {
     let mut dark_scene = scene.clone();
-    dark_scene.lights.clear();
+    dark_scene.lights_mut().clear();
     let format = base.accumulation;
     let mut modes = Vec::new();
     let refused =

@@ -125,6 +125,25 @@ impl PassPool {
     }
 }
 
+/// The last light list a frame checked, by identity with the cookies it names
+/// (`Scene::lights` is copied on write), and the shader features it needed with the sun and
+/// settings then: a frame with the same list reads no light to validate it
+/// (`Shape::of_checked`) or to pick its shaders' lookups (`ShaderFeatures::of`).
+struct LightsSeen {
+    lights: std::sync::Arc<Vec<crate::scene::Light>>,
+    cookies: Vec<u64>,
+    sun: Option<crate::scene::Sun>,
+    settings: Settings,
+    features: program::ShaderFeatures,
+}
+
+impl LightsSeen {
+    fn same_list(&self, scene: &Scene) -> bool {
+        std::sync::Arc::ptr_eq(&self.lights, &scene.lights)
+            && self.cookies.iter().copied().eq(scene.cookies.iter().map(|c| c.id()))
+    }
+}
+
 /// What the last frame left for the probe, the wireframes and the viewer's panels.
 #[derive(Default)]
 struct LastFrame {
@@ -143,6 +162,10 @@ struct LastFrame {
     path: RenderPath,
     /// The culling mode it was drawn with.
     mode: CullingMode,
+    /// The projection it was drawn with.
+    proj: DMat4,
+    /// What the next frame may take as it is when its inputs are the same (`prepare`).
+    reusable: Option<frame::Reusable>,
 }
 
 impl LastFrame {
@@ -186,6 +209,8 @@ pub struct Renderer {
     targets: Option<Targets>,
     queries: stats::Queries,
     last: LastFrame,
+    /// The light list the last frame checked, and its shader features.
+    lights_seen: Option<LightsSeen>,
     /// The allocations of the frame before last's light records and plans, for this frame's
     /// (`FrameRecords::reusing`, `FramePlan::reusing`).
     spare: (Vec<LightRecord>, Vec<plan::LightPlan>),
@@ -217,7 +242,8 @@ impl Renderer {
         settings.validate().map_err(anyhow::Error::msg)?;
         let limits = device.limits();
         let caps = gpu.caps.clone();
-        let key = Self::key(None, settings, settings.layout.layout(), &caps, output_format)?;
+        let features = program::ShaderFeatures::of(None, settings, &caps.quirks);
+        let key = Self::key(None, settings, settings.layout.layout(), &caps, (output_format, features))?;
         let passes = gpu.passes.get(&device, key)?;
         Ok(Self {
             pool: gpu.passes.clone(),
@@ -238,6 +264,7 @@ impl Renderer {
             scene: None,
             targets: None,
             last: LastFrame::default(),
+            lights_seen: None,
             spare: Default::default(),
             long_list_warnings: Vec::new(),
             lut: None,
@@ -254,7 +281,7 @@ impl Renderer {
         settings: &Settings,
         layout: gbuffer::GBufferLayout,
         caps: &kit::caps::Caps,
-        output_format: wgpu::TextureFormat,
+        (output_format, features): (wgpu::TextureFormat, program::ShaderFeatures),
     ) -> Result<PipelineKey> {
         // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
         let prepass = settings.path == RenderPath::LightPrepass;
@@ -318,10 +345,31 @@ impl Renderer {
             accum_format,
             post_format: post::post_format(caps),
             depth_clamp: settings.depth_clamp && caps.has(wgpu::Features::DEPTH_CLIP_CONTROL),
-            features: program::ShaderFeatures::of(scene, settings, &caps.quirks),
+            features,
             additive_blended: settings.blended == BlendedMode::Additive,
             peeled_blended: settings.blended == BlendedMode::Peeled,
         })
+    }
+
+    /// The shader features of a frame of `scene` with `settings` (`ShaderFeatures::of`), read
+    /// from the lights only when they are another list than the last frame's (or the sun or
+    /// settings changed). Called once the frame's lights passed validation: the list is kept as
+    /// checked.
+    fn shader_features(&mut self, scene: &Scene, settings: &Settings) -> program::ShaderFeatures {
+        if let Some(s) = &self.lights_seen {
+            if s.same_list(scene) && s.sun == scene.sun && s.settings == *settings {
+                return s.features;
+            }
+        }
+        let features = program::ShaderFeatures::of(Some(scene), settings, &self.caps.quirks);
+        self.lights_seen = Some(LightsSeen {
+            lights: scene.lights.clone(),
+            cookies: scene.cookies.iter().map(|c| c.id()).collect(),
+            sun: scene.sun,
+            settings: settings.clone(),
+            features,
+        });
+        features
     }
 
     pub fn depth_format(&self) -> wgpu::TextureFormat {
@@ -358,7 +406,8 @@ impl Renderer {
         } else {
             settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
         };
-        let key = Self::key(Some(scene), settings, layout, &self.caps, self.output_format)?;
+        let features = self.shader_features(scene, settings);
+        let key = Self::key(Some(scene), settings, layout, &self.caps, (self.output_format, features))?;
         if key != *self.passes.key() {
             // Whether only the shader features differ from the set this renderer drew with.
             let only_features = self.passes_used
@@ -461,7 +510,8 @@ impl Renderer {
         target: &wgpu::TextureView,
         (width, height): (u32, u32),
     ) -> Result<(frame::Shape, frame::Prepared, paths::Drawn)> {
-        let shape = frame::Shape::of(scene, settings, (width, height))?;
+        let checked = self.lights_seen.as_ref().is_some_and(|s| s.same_list(scene));
+        let shape = frame::Shape::of_checked(scene, settings, (width, height), checked)?;
         self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
         // The CPU's part: records, the culling plan, clamps, the shadow plan, their upload.
         let prepared = self.prepare(scene, settings, &shape)?;
@@ -497,18 +547,24 @@ impl Renderer {
     /// Keeps what the probe, the wireframes and the panels read of the frame just drawn, and
     /// the allocations of the one before for the next frame's records and plans.
     fn keep(&mut self, scene: &Scene, settings: &Settings, prepared: frame::Prepared) {
+        let frame::Prepared { records, plan, path_lists, shadows, key, reused, .. } = prepared;
         let last = LastFrame {
-            inv_proj: prepared.records.proj.inverse(),
+            inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),
-            lights: prepared.records.lights,
-            ambient_clamp: prepared.records.camera.light_clamp,
-            plan: prepared.plan,
-            shadows: prepared.shadows,
+            lights: records.lights,
+            ambient_clamp: records.camera.light_clamp,
+            plan,
+            shadows,
             path: settings.path,
             mode: settings.culling,
+            proj: records.proj,
+            reusable: Some(frame::Reusable { key, camera: records.camera, objects: records.objects, path_lists }),
         };
         let before = std::mem::replace(&mut self.last, last);
-        self.spare = (before.lights, before.plan.lights);
+        // A reused frame took the last one's lists: the spare allocations stay those from before.
+        if !reused {
+            self.spare = (before.lights, before.plan.lights);
+        }
     }
 
     /// Re-runs only the compose pass of the last frame with another view, into `target` of the

@@ -81,6 +81,7 @@ impl Renderer {
                 },
             }),
             cpu_ms,
+            cpu_reused: prepared.reused,
             shadow: (settings.shadows != ShadowMode::None).then(|| prepared.shadows.stats.clone()),
             shader_lookups: key.features.names(),
             path: settings.path,

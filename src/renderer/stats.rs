@@ -353,6 +353,10 @@ pub struct FrameStats {
     pub gpu_ms: GpuMs,
     /// The CPU's part of the frame: records, plan, upload.
     pub cpu_ms: CpuMs,
+    /// The CPU's part (records, plans, clamps, shadow plan) and its upload were the frame
+    /// before's, taken as they were: its inputs were the same (`frame::FrameKey`).
+    #[serde(default)]
+    pub cpu_reused: bool,
     pub shaded_fragments: Option<u64>,
     pub ideal_fragments: Option<u64>,
     /// Rasterised coverage of the shading draws (pipeline statistics), where supported.

@@ -12,7 +12,8 @@ use anyhow::Result;
 /// for choices not yet made.
 pub fn support(caps: &kit::caps::Caps, settings: &Settings) -> Result<Vec<String>> {
     settings.validate().map_err(anyhow::Error::msg)?;
-    let key = Renderer::key(None, settings, settings.layout.layout(), caps, OUTPUT_FORMAT)?;
+    let features = super::program::ShaderFeatures::of(None, settings, &caps.quirks);
+    let key = Renderer::key(None, settings, settings.layout.layout(), caps, (OUTPUT_FORMAT, features))?;
     Ok(fallbacks(caps, &key, settings, true))
 }
 

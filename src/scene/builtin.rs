@@ -146,7 +146,7 @@ impl Builder {
     }
 
     fn point(&mut self, position: DVec3, color: Vec3, intensity: f32, radius: f32) {
-        self.scene.lights.push(Light::Point(PointLight {
+        self.scene.lights_mut().push(Light::Point(PointLight {
             position,
             color,
             intensity,
@@ -222,7 +222,7 @@ pub fn demo(n: usize, t: f64) -> Scene {
         let a = k as f64 * std::f64::consts::FRAC_PI_2 + t * 0.2;
         let pos = DVec3::new(20.0 * a.cos(), 10.0, 20.0 * a.sin());
         let dir = (DVec3::new(12.0 * a.cos(), 0.0, 12.0 * a.sin()) - pos).normalize().as_vec3();
-        b.scene.lights.push(Light::Spot(SpotLight {
+        b.scene.lights_mut().push(Light::Spot(SpotLight {
             position: pos,
             direction: dir,
             color: hue(0.1 + k as f32 * 0.25) * 0.5 + Vec3::splat(0.5),
@@ -303,7 +303,7 @@ pub fn spot() -> Scene {
         });
         b.boxed(DVec3::new(x - s, 0.0, z - s), DVec3::new(x + s, *h, z + s), m);
     }
-    b.scene.lights.push(Light::Spot(SpotLight {
+    b.scene.lights_mut().push(Light::Spot(SpotLight {
         position: DVec3::new(-2.0, 7.0, 1.0),
         direction: Vec3::new(0.25, -1.0, -0.1).normalize(),
         color: Vec3::new(1.0, 0.92, 0.8),
@@ -420,7 +420,7 @@ pub fn translated(mut scene: Scene, by: DVec3, name: &str) -> Scene {
     for o in &mut scene.objects {
         o.transform = DMat4::from_translation(by) * o.transform;
     }
-    for l in &mut scene.lights {
+    for l in scene.lights_mut() {
         match l {
             Light::Point(p) => p.position += by,
             Light::Spot(s) => s.position += by,
@@ -479,7 +479,7 @@ fn normals() -> Scene {
 fn spot_extremes() -> Scene {
     let mut b = room("spot-extremes", Camera::looking_at(DVec3::new(0.0, 5.0, 9.0), DVec3::new(0.0, 0.0, -1.0)));
     for (x, outer, inner) in [(-3.0, 0.0f32, 0.0f32), (3.0, 89.0, 80.0), (0.0, 0.5, 0.5)] {
-        b.scene.lights.push(Light::Spot(SpotLight {
+        b.scene.lights_mut().push(Light::Spot(SpotLight {
             position: DVec3::new(x, 3.0, 0.0),
             direction: Vec3::new(0.0, -1.0, -0.2).normalize(),
             color: Vec3::new(1.0, 0.9, 0.7),
@@ -796,7 +796,7 @@ pub fn materials() -> Scene {
         let z = if i % 2 == 0 { 3.0 } else { -3.5 };
         b.point(DVec3::new(x, 2.6 + unit(31, i) * 1.5, z), hue(i as f32 / 8.0) * 0.7 + Vec3::splat(0.3), 1.6, 6.0);
     }
-    b.scene.lights.push(Light::Spot(SpotLight {
+    b.scene.lights_mut().push(Light::Spot(SpotLight {
         position: DVec3::new(0.0, 7.0, 3.0),
         direction: Vec3::new(0.0, -1.0, -0.4).normalize(),
         color: Vec3::new(1.0, 0.95, 0.85),
@@ -861,7 +861,7 @@ pub fn cookies() -> Scene {
     });
     b.boxed(DVec3::new(1.0, 0.0, 2.2), DVec3::new(3.6, 1.4, 2.3), pane);
     b.scene.objects.last_mut().expect("the pane").layer = 2;
-    b.scene.lights.push(Light::Spot(SpotLight {
+    b.scene.lights_mut().push(Light::Spot(SpotLight {
         position: DVec3::new(0.0, 4.0, 3.0),
         direction: (DVec3::new(0.0, 3.5, -5.0) - DVec3::new(0.0, 4.0, 3.0)).normalize().as_vec3(),
         color: Vec3::new(1.0, 0.95, 0.85),
@@ -874,9 +874,9 @@ pub fn cookies() -> Scene {
         mask: crate::scene::ALL_LAYERS,
     }));
     b.point(DVec3::new(-1.0, 3.0, 1.5), Vec3::new(1.0, 0.75, 0.45), 4.0, 7.0);
-    b.scene.lights.last_mut().expect("the warm light").set_mask(0b011);
+    b.scene.lights_mut().last_mut().expect("the warm light").set_mask(0b011);
     b.point(DVec3::new(1.5, 2.5, 2.5), Vec3::new(0.45, 0.7, 1.0), 3.0, 6.0);
-    b.scene.lights.last_mut().expect("the cool light").set_mask(0b101);
+    b.scene.lights_mut().last_mut().expect("the cool light").set_mask(0b101);
     // Built-in names always resolve.
     let _ = b.scene.set_light_cookie(0, Some("window"));
     let _ = b.scene.set_light_cookie(1, Some("flashlight"));
@@ -912,7 +912,7 @@ pub fn shadows() -> Scene {
     b.boxed(DVec3::new(-6.0, 0.0, -0.5), DVec3::new(-5.4, 0.9, 0.1), wall);
     // Behind the objects as the camera sees them: their shadows fall towards it.
     let spot = DVec3::new(-1.0, 5.5, -5.0);
-    b.scene.lights.push(Light::Spot(SpotLight {
+    b.scene.lights_mut().push(Light::Spot(SpotLight {
         position: spot,
         direction: (DVec3::new(0.5, 0.0, 0.5) - spot).normalize().as_vec3(),
         color: Vec3::new(1.0, 0.9, 0.75),

@@ -521,7 +521,7 @@ impl Material {
 }
 
 /// One mesh placed in the world with one material.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Object {
     pub mesh: usize,
     pub material: usize,
@@ -709,7 +709,10 @@ pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
     pub objects: Vec<Object>,
-    pub lights: Vec<Light>,
+    /// Shared and copied on write ([`Scene::lights_mut`]): a renderer keeps the last frame's
+    /// list, so the same list again (`Arc::ptr_eq`) tells it no light changed without reading
+    /// one, and a change through `lights_mut` always makes a new list.
+    pub lights: std::sync::Arc<Vec<Light>>,
     pub sun: Option<Sun>,
     pub ambient: Vec3,
     pub background: Vec3,
@@ -730,7 +733,7 @@ impl Scene {
             meshes: Vec::new(),
             materials: Vec::new(),
             objects: Vec::new(),
-            lights: Vec::new(),
+            lights: Default::default(),
             sun: None,
             ambient: Vec3::splat(0.03),
             background: Vec3::new(0.01, 0.012, 0.02),
@@ -740,17 +743,25 @@ impl Scene {
         }
     }
 
+    /// The lights to change: the list itself when nothing else holds it, else a copy of it
+    /// that replaces the shared one (so a renderer holding the last frame's sees a new list).
+    pub fn lights_mut(&mut self) -> &mut Vec<Light> {
+        std::sync::Arc::make_mut(&mut self.lights)
+    }
+
+    /// Replaces the lights.
+    pub fn set_lights(&mut self, lights: Vec<Light>) {
+        self.lights = std::sync::Arc::new(lights);
+    }
+
     /// Rejects values that would make the frame meaningless, naming the first bad one.
     pub fn validate(&self) -> Result<(), String> {
-        self.camera.validate()?;
-        for (i, o) in self.objects.iter().enumerate() {
-            if o.mesh >= self.meshes.len() || o.material >= self.materials.len() {
-                return Err(format!("object {i} refers to a missing mesh or material"));
-            }
-            if !o.transform.is_finite() {
-                return Err(format!("object {i} has a non-finite transform"));
-            }
-        }
+        self.validate_except_lights()?;
+        self.validate_lights()
+    }
+
+    /// [`Scene::validate`]'s checks of the lights (and the cookies they name).
+    pub fn validate_lights(&self) -> Result<(), String> {
         for (i, l) in self.lights.iter().enumerate() {
             l.validate().map_err(|e| format!("light {i}: {e}"))?;
             if let Some(c) = l.cookie() {
@@ -767,6 +778,21 @@ impl Scene {
                         if point { "a cube" } else { "a 2D image" }
                     ));
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// [`Scene::validate`] but for the lights: a renderer that checked this very light list
+    /// (and cookies) before does not read every light again.
+    pub fn validate_except_lights(&self) -> Result<(), String> {
+        self.camera.validate()?;
+        for (i, o) in self.objects.iter().enumerate() {
+            if o.mesh >= self.meshes.len() || o.material >= self.materials.len() {
+                return Err(format!("object {i} refers to a missing mesh or material"));
+            }
+            if !o.transform.is_finite() {
+                return Err(format!("object {i} has a non-finite transform"));
             }
         }
         for (i, o) in self.objects.iter().enumerate() {
@@ -864,7 +890,7 @@ impl Scene {
             return Err(format!("no light {light} (the scene has {})", self.lights.len()));
         };
         let Some(spec) = spec else {
-            self.lights[light].set_cookie(None);
+            self.lights_mut()[light].set_cookie(None);
             return Ok(());
         };
         let cube = matches!(l, Light::Point(_));
@@ -877,7 +903,7 @@ impl Scene {
                 self.cookies.len() - 1
             }
         };
-        self.lights[light].set_cookie(Some(index as u32));
+        self.lights_mut()[light].set_cookie(Some(index as u32));
         Ok(())
     }
 

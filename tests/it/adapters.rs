@@ -35,7 +35,7 @@ fn gl() -> &'static Gpu {
 
 fn demo(lights: usize) -> Scene {
     let mut s = scene("demo");
-    s.lights.truncate(lights);
+    s.lights_mut().truncate(lights);
     s
 }
 

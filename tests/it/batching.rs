@@ -385,7 +385,7 @@ fn log_accumulation_stays_unbatched() {
     // changes, so its frames keep a draw per light (and `culling.rs`'s log test its one step).
     let gpu = gpu();
     let mut scene = scene("demo");
-    scene.lights.truncate(200);
+    scene.lights_mut().truncate(200);
     let s = Settings {
         culling: CullingMode::StencilTwoPass,
         accumulation: lampshade::renderer::AccumFormat::Rgba8Log,

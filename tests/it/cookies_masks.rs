@@ -50,7 +50,7 @@ fn probes(r: &Renderer, step: u32) -> Vec<PixelProbe> {
 
 fn without_light(scene: &Scene, k: usize) -> Scene {
     let mut s = scene.clone();
-    s.lights.remove(k);
+    s.lights_mut().remove(k);
     s
 }
 
@@ -64,10 +64,10 @@ fn a_mask_excludes_exactly_the_objects_it_names() {
     // light 2 (cool) lights layers 0 and 2, not the box on layer 1. Cookies off, so the masks
     // alone decide.
     let mut masked = scene("cookies");
-    masked.lights.iter_mut().for_each(|l| l.set_cookie(None));
+    masked.lights_mut().iter_mut().for_each(|l| l.set_cookie(None));
     assert_eq!((masked.lights[1].mask(), masked.lights[2].mask()), (0b011, 0b101));
     let mut unmasked = masked.clone();
-    unmasked.lights.iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
+    unmasked.lights_mut().iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
     let s = exact();
     let m = rendered(&masked, &s);
     assert!(m.layout().has(Attr::Layer), "masks that split the layers and no layer channel");
@@ -119,7 +119,7 @@ fn a_mask_excludes_exactly_the_objects_it_names() {
     let b = render(&blended, &s, W, H);
     let unmasked_blended = {
         let mut u = blended.clone();
-        u.lights.iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
+        u.lights_mut().iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
         render(&u, &s, W, H)
     };
     let step = max_channel_difference(&a.image, &b.image);
@@ -190,7 +190,7 @@ fn uv_error(scene: &Scene, light: &Light, v: DVec3, p: DVec3) -> f64 {
 fn the_cookie_projection_matches_its_f64_twin() {
     let scene = scene("cookies");
     let mut plain = scene.clone();
-    plain.lights.iter_mut().for_each(|l| l.set_cookie(None));
+    plain.lights_mut().iter_mut().for_each(|l| l.set_cookie(None));
     let r = rendered(&scene, &exact());
     let clamp = lampshade::reference::Clamps::of(&r);
     let rot = scene.camera.rotation();
@@ -219,10 +219,10 @@ fn the_cookie_projection_matches_its_f64_twin() {
             let e = uv_error(&scene, light, v, pos) * image.size as f64 * image.max_step() + 4.0 / 16_777_216.0;
             // Times the light's whole uncookied contribution at the pixel.
             let mut only = plain.clone();
-            only.lights = vec![plain.lights[i]];
+            only.lights = std::sync::Arc::new(vec![plain.lights[i]]);
             let (d, s) = lampshade::reference::shade(&only, &p, &lampshade::reference::Clamps::none(1));
             let (d0, s0) = lampshade::reference::shade(
-                &Scene { lights: vec![], ..only.clone() },
+                &Scene { lights: std::sync::Arc::new(vec![]), ..only.clone() },
                 &p,
                 &lampshade::reference::Clamps::none(0),
             );
@@ -265,12 +265,12 @@ fn lights_without_cookie_or_mask_are_untouched_by_the_others() {
     // with zero intensity: each adds exactly +0.0, so the plain light's frame must be the same
     // bits in the accumulation buffers (f32: the clamps do not enter).
     let mut base = scene("cookies");
-    base.lights[2].set_mask(ALL_LAYERS);
-    base.lights[2].set_cookie(None);
+    base.lights_mut()[2].set_mask(ALL_LAYERS);
+    base.lights_mut()[2].set_cookie(None);
     let mut alone = base.clone();
-    alone.lights = vec![base.lights[2]];
+    alone.lights = std::sync::Arc::new(vec![base.lights[2]]);
     let mut with_dark = base.clone();
-    for l in &mut with_dark.lights[..2] {
+    for l in &mut with_dark.lights_mut()[..2] {
         match l {
             Light::Point(p) => p.intensity = 0.0,
             Light::Spot(s) => s.intensity = 0.0,
@@ -343,7 +343,7 @@ fn a_layout_without_a_spare_channel_for_the_layer_is_a_clear_error() {
         l.validate().unwrap();
         assert!(l.has(Attr::Layer), "{c:?}");
         let mut plain = scene.clone();
-        plain.lights.iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
+        plain.lights_mut().iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
         let without = c.layout_for(&plain, None).unwrap();
         let extra = l.bytes_per_pixel() - without.bytes_per_pixel();
         assert_eq!(extra, 0, "{c:?}: the layer costs {extra} B/px");
@@ -356,7 +356,7 @@ fn a_layout_without_a_spare_channel_for_the_layer_is_a_clear_error() {
     let l = LayoutChoice::Fit.layout_for(&matte, None).unwrap();
     l.validate().unwrap();
     let mut plain = matte.clone();
-    plain.lights.iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
+    plain.lights_mut().iter_mut().for_each(|l| l.set_mask(ALL_LAYERS));
     assert_eq!(l.bytes_per_pixel(), LayoutChoice::Fit.layout_for(&plain, None).unwrap().bytes_per_pixel());
 }
 
@@ -403,7 +403,7 @@ fn bad_cookie_files_are_clear_errors() {
     // A 2D cookie on a point light (by index) is refused by validation.
     let mut wrong = scene.clone();
     let spot_cookie = wrong.lights[0].cookie();
-    wrong.lights[1].set_cookie(spot_cookie);
+    wrong.lights_mut()[1].set_cookie(spot_cookie);
     assert!(wrong.validate().unwrap_err().contains("a point light takes a cube"));
 }
 

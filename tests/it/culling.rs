@@ -28,7 +28,7 @@ pub fn case_frame(name: &str, s: &Settings) -> std::sync::Arc<Frame> {
     let make = || {
         let mut scene = scene(name);
         if name == "demo" {
-            scene.lights.truncate(200);
+            scene.lights_mut().truncate(200);
         }
         scene
     };
@@ -148,7 +148,7 @@ fn without_depth_clamp_far_crossing_lights_fall_back_to_fullscreen() {
 fn stencil_replace_survives_more_than_255_lights() {
     // The stencil is cleared every 255 lights; light 256 reuses reference value 1.
     let mut scene = scene("demo");
-    scene.lights.truncate(600);
+    scene.lights_mut().truncate(600);
     let a = render(&scene, &settings(CullingMode::Volume), W, H);
     let b = render(&scene, &settings(CullingMode::StencilReplace), W, H);
     assert!(max_channel_difference(&a.image, &b.image) <= MAX_CHANNEL_STEP);
@@ -212,7 +212,7 @@ fn the_stencil_modes_agree_light_by_light_on_the_full_demo() {
 fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
     for name in cases {
         let mut scene = scene(name);
-        scene.lights.truncate(200);
+        scene.lights_mut().truncate(200);
         let s = |culling| Settings { culling, ..base.clone() };
         let reference = render(&scene, &s(CullingMode::Fullscreen), W, H);
         assert_finite(&reference, name);
@@ -276,7 +276,7 @@ fn tessellation_changes_the_work_not_the_picture() {
     }
     let shaded = |name: &str, sphere_subdivisions, cone_sides| {
         let mut scene = scene(name);
-        scene.lights.truncate(200);
+        scene.lights_mut().truncate(200);
         let s = Settings { sphere_subdivisions, cone_sides, ..settings(CullingMode::Volume) };
         render(&scene, &s, W, H).stats.shaded_fragments.unwrap()
     };

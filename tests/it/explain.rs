@@ -66,7 +66,7 @@ fn the_explanation_adds_up_to_the_pixel_in_every_mode_on_the_hard_cases() {
         let s = scene(name);
         let (w, h) = hard_case_size(name);
         let mut dark = s.clone();
-        dark.lights.clear();
+        dark.lights_mut().clear();
         let (_, (d0, s0)) = rendered(&dark, &settings(CullingMode::Fullscreen), w, h);
         // The pixels where the lights add the most (in the full-screen frame), and two fixed.
         let (_, (d1, _)) = rendered(&s, &settings(CullingMode::Fullscreen), w, h);
@@ -111,7 +111,7 @@ fn the_explanation_adds_up_in_the_lights_shadows() {
     let (w, h) = (160, 90);
     let shadowed = |culling| Settings { shadows: ShadowMode::All, ..settings(culling) };
     let mut dark = s.clone();
-    dark.lights.clear();
+    dark.lights_mut().clear();
     let (_, (d0, s0)) = rendered(&dark, &shadowed(CullingMode::Fullscreen), w, h);
     let (_, (lit, _)) =
         rendered(&s, &Settings { shadows: ShadowMode::None, ..settings(CullingMode::Fullscreen) }, w, h);
@@ -216,7 +216,7 @@ fn the_explanation_adds_up_on_the_light_prepass() {
             (r, b)
         };
         let mut dark = s.clone();
-        dark.lights.clear();
+        dark.lights_mut().clear();
         let (_, b0) = buffer(&dark, CullingMode::Fullscreen);
         let (_, b1) = buffer(&s, CullingMode::Fullscreen);
         let mut order: Vec<usize> = (0..(w * h) as usize).collect();

@@ -115,7 +115,7 @@ fn corner_lights(reaching: bool) -> Scene {
         for k in 0..8 {
             let corner = DVec3::new([-1.0, 1.0][k & 1], [-1.0, 1.0][(k >> 1) & 1], [-1.0, 1.0][k >> 2]);
             let position = corner.normalize() * (3f64.sqrt() + 0.92);
-            s.lights.push(Light::Point(PointLight {
+            s.lights_mut().push(Light::Point(PointLight {
                 position,
                 color: Vec3::ONE,
                 intensity: 60.0,

@@ -1252,7 +1252,7 @@ fn unlit_and_metal_materials_import_as_their_models() {
     assert_eq!(s.brdfs(None), vec![Brdf::BlinnPhong, Brdf::Metal, Brdf::Unlit]);
     // The unlit box shows its base colour whatever the lights do.
     let mut dark = s.clone();
-    dark.lights.clear();
+    dark.lights_mut().clear();
     dark.sun = None;
     let (a, b) = (render(&s, &Settings::default(), W, H).image, render(&dark, &Settings::default(), W, H).image);
     let ids =

@@ -81,7 +81,7 @@ fn the_comparison_rejects_broken_frames_and_accepts_another_cpus() {
         }
         if *scene_name != "classify" {
             let mut s = scene(scene_name);
-            s.lights.clear();
+            s.lights_mut().clear();
             let unlit = render(&s, &Settings::default(), W, H);
             let err = check_snapshot(&refs, &out, name, &unlit.image, CROSS_CPU);
             assert!(err.is_err(), "{name}: a frame without its lights passed the image test");

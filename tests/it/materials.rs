@@ -191,11 +191,11 @@ fn unlit_ignores_lights() {
     // lambert sphere beside it does change (the lights do reach there).
     let lit = scene("materials");
     let mut dark = lit.clone();
-    dark.lights.clear();
+    dark.lights_mut().clear();
     dark.sun = None;
     dark.ambient = Vec3::splat(0.3);
     let mut bright = lit.clone();
-    for l in &mut bright.lights {
+    for l in bright.lights_mut() {
         if let Light::Point(p) = l {
             p.intensity *= 4.0;
         }
@@ -230,7 +230,7 @@ fn one_sphere(m: Material) -> Scene {
     s.sun = None;
     s.ambient = Vec3::ZERO;
     let c = sphere.transform.transform_point3(DVec3::ZERO);
-    s.lights = vec![Light::Point(PointLight {
+    s.lights = std::sync::Arc::new(vec![Light::Point(PointLight {
         position: c + DVec3::new(1.0, 2.5, 3.0),
         color: Vec3::ONE,
         intensity: 2.0,
@@ -238,7 +238,7 @@ fn one_sphere(m: Material) -> Scene {
         cast_shadows: true,
         cookie: None,
         mask: lampshade::scene::ALL_LAYERS,
-    })];
+    })]);
     s
 }
 

@@ -196,7 +196,7 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
     assert!((measured as f64 - cpu).abs() < 1e-3, "histogram mean {measured} on the GPU, {cpu} on the CPU");
     assert_eq!(adapted, measured, "the first frame starts at its own luminance");
 
-    for l in &mut sc.lights {
+    for l in sc.lights_mut() {
         match l {
             lampshade::scene::Light::Point(p) => p.intensity *= 8.0,
             lampshade::scene::Light::Spot(p) => p.intensity *= 8.0,
@@ -454,7 +454,7 @@ fn thick_fog_turns_geometry_into_the_sky_beside_it() {
 fn distortion_moves_only_pixels_under_a_distorting_surface() {
     let (w, h) = (192u32, 108u32);
     let mut sc = scene("glass");
-    sc.lights.truncate(64);
+    sc.lights_mut().truncate(64);
     let base = Settings { tonemap: Tonemap::None, exposure: 0.5, ..quiet() };
     let with = Settings { distortion: true, ..base.clone() };
     let mut r = renderer(&base);

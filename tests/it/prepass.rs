@@ -55,7 +55,7 @@ fn modes_match_fullscreen(base: &Settings, cases: &[&str], what: &str) {
     let mut failures = Vec::new();
     for name in cases {
         let mut scene = scene(name);
-        scene.lights.truncate(200);
+        scene.lights_mut().truncate(200);
         let s = |culling| prepass(Settings { culling, ..base.clone() });
         let reference = render(&scene, &s(CullingMode::Fullscreen), W, H);
         assert_finite(&reference, name);

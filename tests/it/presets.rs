@@ -530,7 +530,7 @@ fn the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun() {
     // with lights of other colours the sun's highlight would be tinted there and not in pass 3
     // (the pre-pass's own approximation, tested in `prepass`).
     let mut scene = scene("courtyard");
-    scene.lights.clear();
+    scene.lights_mut().clear();
     let floor = scene.objects[0].material;
     scene.materials[floor].lightmap = None;
     let albedo = scene.materials[floor].diffuse.max_element();

@@ -13,7 +13,7 @@ const H: u32 = 108;
 fn one_renderer_switches_modes_layouts_and_depth_live() {
     let gpu = gpu();
     let mut scene = scene("demo");
-    scene.lights.truncate(300);
+    scene.lights_mut().truncate(300);
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &Settings::default()).unwrap();
     for layout in LayoutChoice::ALL {
         for reversed_z in [false, true] {
@@ -195,7 +195,7 @@ fn bad_values_are_errors_not_panics() {
     bad.camera.near = -1.0;
     assert!(r.render(&bad, &s, &out.view, 8, 8).is_err());
     let mut bad = scene("spot");
-    if let lampshade::scene::Light::Spot(l) = &mut bad.lights[0] {
+    if let lampshade::scene::Light::Spot(l) = &mut bad.lights_mut()[0] {
         l.radius = f32::NAN;
     }
     assert!(r.render(&bad, &s, &out.view, 8, 8).unwrap_err().to_string().contains("light 0"));
@@ -270,7 +270,7 @@ fn lights_at_pixels(gpu: &lampshade::Gpu, r: &Renderer) -> Vec<Vec<usize>> {
 
 fn demo_with(lights: usize) -> lampshade::Scene {
     let mut s = scene("demo");
-    s.lights.truncate(lights);
+    s.lights_mut().truncate(lights);
     s
 }
 
@@ -544,7 +544,7 @@ fn passes_are_built_by_the_first_frame_that_draws_them() {
         (h.render_pipelines.read(), h.compute_pipelines.read())
     };
     let mut scene = scene("demo");
-    scene.lights.truncate(64);
+    scene.lights_mut().truncate(64);
     assert!(!scene.any_blended(), "the plain frame must have no blended surface to shade forward");
     let out = Offscreen::new(&gpu, W, H);
     let plain = Settings { culling: CullingMode::Volume, ..Settings::default() };
@@ -580,7 +580,7 @@ fn a_change_of_shader_features_alone_keeps_the_targets_and_the_exposure() {
     let bright = scene("classify");
     let mut dim = bright.clone();
     dim.ambient *= 0.3;
-    for l in dim.lights.iter_mut() {
+    for l in dim.lights_mut().iter_mut() {
         match l {
             lampshade::scene::Light::Point(p) => p.intensity *= 0.3,
             lampshade::scene::Light::Spot(p) => p.intensity *= 0.3,
@@ -590,7 +590,7 @@ fn a_change_of_shader_features_alone_keeps_the_targets_and_the_exposure() {
         sun.intensity *= 0.3;
     }
     let mut dim_with_spot = dim.clone();
-    dim_with_spot.lights.push(lampshade::scene::Light::Spot(lampshade::scene::SpotLight {
+    dim_with_spot.lights_mut().push(lampshade::scene::Light::Spot(lampshade::scene::SpotLight {
         position: glam::DVec3::new(0.0, -10_000.0, 0.0),
         direction: glam::Vec3::NEG_Y,
         color: glam::Vec3::ONE,
@@ -848,5 +848,62 @@ fn reading_the_depth_buffer_instead_of_its_copy_changes_nothing_but_the_bytes() 
         let f = render(&demo, &s, W, H);
         assert!(f.stats.depth_read.contains(why), "{:?}: {}", s.culling, f.stats.depth_read);
         assert_eq!(f.stats.gbuffer_bytes_per_pixel, 24, "{}", f.stats.depth_read);
+    }
+}
+
+/// A frame whose inputs are the frame before's (the same light list, camera, objects, materials,
+/// settings and size) takes that frame's CPU part and upload as they were, and draws the same
+/// picture; any change (a light moved through `lights_mut`, the camera, a setting, the size)
+/// computes and uploads again, and gives a fresh renderer's picture of the changed frame, in
+/// every list mode (whose lists the reused frame does not write again) and a drawn one.
+#[test]
+fn a_frame_with_the_last_ones_inputs_reuses_its_cpu_part_and_any_change_does_not() {
+    let gpu = gpu();
+    let mut scene = with_lights("demo", 300);
+    for culling in [CullingMode::Zbin, CullingMode::Clustered, CullingMode::Tiled, CullingMode::StencilReplace] {
+        let s = Settings { culling, ..unshadowed() };
+        let name = culling.name();
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
+        let frame = |r: &mut Renderer, scene: &lampshade::Scene, s: &Settings, (w, h): (u32, u32)| {
+            render_image(gpu, r, scene, s, w, h).unwrap()
+        };
+        let (first, a) = frame(&mut r, &scene, &s, (W, H));
+        let (again, b) = frame(&mut r, &scene, &s, (W, H));
+        assert!(!a.cpu_reused && b.cpu_reused, "{name}: {} then {}", a.cpu_reused, b.cpu_reused);
+        assert_eq!(b.cpu_ms.records, 0.0, "{name}");
+        assert_eq!(max_channel_difference(&first, &again), 0, "{name}: the reused frame differs");
+        assert_eq!(
+            (a.shaded_fragments, a.tiles.as_ref().map(|t| t.entries)),
+            (b.shaded_fragments, b.tiles.map(|t| t.entries))
+        );
+        // A light moved: copied on write, so the renderer sees another list.
+        let mut moved = scene.clone();
+        if let lampshade::scene::Light::Point(p) = &mut moved.lights_mut()[0] {
+            p.position.x += 3.0;
+        }
+        let mut camera = scene.clone();
+        camera.camera.yaw += 0.05;
+        let exposure = Settings { exposure: 1.5, ..s.clone() };
+        for (what, changed, settings, size) in [
+            ("a light", &moved, &s, (W, H)),
+            ("the camera", &camera, &s, (W, H)),
+            ("the exposure", &scene, &exposure, (W, H)),
+            ("the size", &scene, &s, (W + 8, H)),
+        ] {
+            let (image, st) = frame(&mut r, changed, settings, size);
+            assert!(!st.cpu_reused, "{name}: {what} changed, the CPU part reused");
+            let fresh = render(changed, settings, size.0, size.1);
+            assert_eq!(max_channel_difference(&image, &fresh.image), 0, "{name}: {what} changed: not a fresh frame");
+            // And back to the first frame's inputs: computed again, its picture again.
+            let (back, st) = frame(&mut r, &scene, &s, (W, H));
+            assert!(!st.cpu_reused && max_channel_difference(&back, &first) == 0, "{name}: back from {what}");
+        }
+        // Changed in place, the light list is copied while the renderer holds it.
+        let held = scene.lights.clone();
+        scene.lights_mut()[1] = scene.lights[2];
+        assert!(!std::sync::Arc::ptr_eq(&held, &scene.lights));
+        let (image, st) = frame(&mut r, &scene, &s, (W, H));
+        assert!(!st.cpu_reused, "{name}: a light edited in place, the CPU part reused");
+        assert_eq!(max_channel_difference(&image, &render(&scene, &s, W, H).image), 0, "{name}: in place");
     }
 }

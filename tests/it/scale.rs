@@ -97,11 +97,11 @@ fn demo_with_sixteen_thousand_lights_matches_the_reference_in_every_mode() {
 /// wall and the floor in front of it).
 fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
     let mut scene = builtin::classify();
-    scene.lights.clear();
+    scene.lights_mut().clear();
     scene.sun = None;
     scene.ambient = Vec3::ZERO;
     // 40 times the old clamp's share at 50,000 lights (65504 / 50001 = 1.31 per light).
-    scene.lights.push(Light::Point(PointLight {
+    scene.lights_mut().push(Light::Point(PointLight {
         position: DVec3::new(2.5, 1.5, 1.0),
         color: Vec3::ONE,
         intensity: 50.0,
@@ -112,7 +112,7 @@ fn isolated_among(crowd: usize, crowd_intensity: f32) -> Scene {
     }));
     for i in 0..crowd {
         let a = i as f64 * 0.618;
-        scene.lights.push(Light::Point(PointLight {
+        scene.lights_mut().push(Light::Point(PointLight {
             position: DVec3::new(-3.0 + 0.4 * a.sin(), 1.0 + 0.4 * a.cos(), 5.5),
             color: Vec3::new(1.0, 0.8, 0.6),
             intensity: crowd_intensity,
@@ -203,9 +203,9 @@ fn fifty_thousand_bright_overlapping_lights_stay_finite() {
 fn lists_longer_than_lavapipes_loop_limit_lose_no_light() {
     let crowd_of = |n: usize| {
         let mut scene = isolated_among(0, 1.0);
-        scene.lights.clear();
+        scene.lights_mut().clear();
         for _ in 0..n {
-            scene.lights.push(Light::Point(PointLight {
+            scene.lights_mut().push(Light::Point(PointLight {
                 position: DVec3::new(-3.0, 1.0, 5.5),
                 color: Vec3::ONE,
                 intensity: 0.00002,
@@ -254,7 +254,7 @@ fn forward_lists_longer_than_lavapipes_loop_limit_lose_no_light() {
     let crowd_of = |n: usize| {
         let mut scene =
             builtin::build("glass", BuiltinOptions { lights: Some(0), ..Default::default() }).expect("built-in scene");
-        scene.lights.clear();
+        scene.lights_mut().clear();
         scene.sun = None;
         scene.ambient = Vec3::ZERO;
         scene.background = Vec3::ZERO;
@@ -262,7 +262,7 @@ fn forward_lists_longer_than_lavapipes_loop_limit_lose_no_light() {
             m.emissive = Vec3::ZERO;
         }
         for _ in 0..n {
-            scene.lights.push(Light::Point(PointLight {
+            scene.lights_mut().push(Light::Point(PointLight {
                 position: DVec3::new(0.0, 2.0, 25.0),
                 color: Vec3::ONE,
                 intensity: 0.0002,

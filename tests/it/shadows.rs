@@ -81,7 +81,7 @@ fn fine(shadows: ShadowMode) -> Settings {
 /// and no ambient light: each pixel's diffuse light is the kept lights' alone.
 fn only(keep: impl Fn(usize, &Light) -> bool, sun: bool) -> Scene {
     let mut s = scene("shadows");
-    s.lights = s.lights.iter().enumerate().filter(|(i, l)| keep(*i, l)).map(|(_, l)| *l).collect();
+    s.set_lights(s.lights.iter().enumerate().filter(|(i, l)| keep(*i, l)).map(|(_, l)| *l).collect());
     if !sun {
         s.sun = None;
     }
@@ -349,14 +349,14 @@ fn a_plane_lit_at_a_grazing_angle_shows_no_acne_with_the_default_bias() {
         s.objects.truncate(1); // the floor
         s.ambient = Vec3::ZERO;
         if sun {
-            s.lights.clear();
+            s.lights_mut().clear();
             // 80 degrees from the floor's normal.
             let a = 80f32.to_radians();
             s.sun.as_mut().expect("sun").direction = Vec3::new(a.sin(), -a.cos(), 0.0);
         } else {
             s.sun = None;
-            s.lights.retain(|l| matches!(l, Light::Spot(_)));
-            if let Light::Spot(sp) = &mut s.lights[0] {
+            s.lights_mut().retain(|l| matches!(l, Light::Spot(_)));
+            if let Light::Spot(sp) = &mut s.lights_mut()[0] {
                 // Low over the floor, pointing across it: N.L from 0.05 to 0.3 where it lands.
                 sp.position = DVec3::new(-6.0, 0.6, 0.0);
                 sp.direction = Vec3::new(1.0, -0.12, 0.0).normalize();
@@ -479,7 +479,7 @@ fn a_thin_wall_leaks_no_light() {
     let t = glam::DMat4::from_translation(DVec3::new(-4.51, 1.5, 0.0))
         * glam::DMat4::from_scale(DVec3::new(0.02, 3.0, 20.0));
     s.objects.push(lampshade::scene::Object { mesh: 0, material: wall, transform: t, layer: 0 });
-    if let Light::Point(p) = &mut s.lights[0] {
+    if let Light::Point(p) = &mut s.lights_mut()[0] {
         p.position = DVec3::new(-3.5, 1.2, 0.0);
         p.radius = 5.0;
     }
@@ -561,7 +561,7 @@ fn a_point_lights_cube_shows_no_seams_at_face_edges() {
     {
         let mut s = only(|_, l| matches!(l, Light::Point(_)), false);
         s.objects.truncate(1);
-        if let Light::Point(p) = &mut s.lights[0] {
+        if let Light::Point(p) = &mut s.lights_mut()[0] {
             p.position = DVec3::new(0.0, 1.5, 0.0);
             p.radius = 9.0;
         }
@@ -644,7 +644,7 @@ fn casting_lights_shaded_apart_give_the_fullscreen_picture() {
     // then a list can hold casters at both ends and other lights between them, which the
     // casters' loop walks past and the light pass draws in three runs.
     let mut spread = scene("demo");
-    spread.lights.rotate_right(2);
+    spread.lights_mut().rotate_right(2);
     assert!(matches!(spread.lights[0], Light::Spot(_)) && matches!(spread.lights[1027], Light::Spot(_)));
     for (name, s) in [("demo", scene("demo")), ("demo, spots at both ends", spread)] {
         assert!(ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots)).casters_apart);
@@ -813,12 +813,12 @@ fn fallbacks_are_counted_in_the_stats() {
         sp.position = DVec3::new(0.0, 5.0, 80.0);
         sp.radius = 3.0;
     }
-    s.lights.push(off);
+    s.lights_mut().push(off);
     // And 40 point lights on screen: with a 0.25 MiB atlas (256 texels) the sun's cascades take
     // 3 x 64², so at most 10 of them (6 x 32² each) fit.
     for k in 0..40 {
         let a = k as f64 * 0.157;
-        s.lights.push(Light::Point(lampshade::scene::PointLight {
+        s.lights_mut().push(Light::Point(lampshade::scene::PointLight {
             position: DVec3::new(3.0 * a.cos(), 1.0, 3.0 * a.sin()),
             color: Vec3::ONE,
             intensity: 0.1,
@@ -1012,7 +1012,7 @@ fn the_shadow_view_shows_casters_past_the_loop_limit() {
         mask: lampshade::scene::ALL_LAYERS,
         cast_shadows: false,
     });
-    crowded.lights = std::iter::repeat_n(idle, 66_000).chain(base.lights.iter().cloned()).collect();
+    crowded.set_lights(std::iter::repeat_n(idle, 66_000).chain(base.lights.iter().cloned()).collect());
     for cube in CUBES {
         let s = Settings {
             shadows: ShadowMode::All,

@@ -30,11 +30,11 @@ fn case(name: &str) -> (Scene, u32, u32) {
     let mut s = scene(name);
     if name == "demo" {
         // Fewer lights keep the full-screen reference (and the ideal) quick at test size.
-        s.lights.truncate(200);
+        s.lights_mut().truncate(200);
     }
     if name == "railings" {
         // Half among the bars, half before the far wall (they alternate).
-        s.lights.truncate(256);
+        s.lights_mut().truncate(256);
     }
     let (w, h) = if CASES.contains(&name) { (W, H) } else { hard_case_size(name) };
     (s, w, h)
@@ -122,7 +122,7 @@ fn every_point_inside_a_light_lies_in_a_cell_whose_list_holds_it() {
     for name in ["demo", "spot", "inside", "near", "street", "spot-extremes", "grazing", "railings"] {
         let mut scene = scene(name);
         if name == "railings" {
-            scene.lights.truncate(256);
+            scene.lights_mut().truncate(256);
         }
         let (w, h) = (160, 90);
         for mode in MODES {
@@ -453,7 +453,7 @@ fn the_light_planes_give_the_storage_buffers_picture() {
     let planes = builtin::build("demo", BuiltinOptions { lights: Some(4092), time: 0.0 }).expect("demo");
     assert_eq!(planes.lights.len(), 4096, "demo's spots and 4,092 point lights");
     let mut storage = planes.clone();
-    storage.lights.push(Light::Point(PointLight {
+    storage.lights_mut().push(Light::Point(PointLight {
         position: planes.camera.position - planes.camera.forward() * 5.0,
         color: glam::Vec3::ONE,
         intensity: 1.0,

@@ -1166,7 +1166,7 @@ mod tests {
         let radii = SphereRadii::of(&mesh);
         let rot = scene.camera.rotation();
         let (mut taken, mut worst, mut flipped, mut skipped) = (0, 0f32, 0, 0);
-        for l in &scene.lights {
+        for l in scene.lights.iter() {
             let light = LightRecord::in_view_rotated(&scene.camera, rot, l, 0.0);
             if VolumeKind::of(&light) != VolumeKind::Sphere {
                 continue;

@@ -31,6 +31,9 @@ pub struct FrameInputs<'a> {
     pub shadowed: &'a [(u32, u32)],
     /// This renderer's buffers the passes write and read back (the pass set is shared).
     pub scratch: &'a super::scratch::Scratch,
+    /// The CPU's part is the frame before's, taken as it was (`Prepared::reused`): what the
+    /// passes uploaded from it is on the GPU still, unless a buffer was made anew.
+    pub reused: bool,
 }
 
 impl FrameInputs<'_> {

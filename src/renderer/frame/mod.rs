@@ -35,14 +35,18 @@ pub struct Shape {
 }
 
 impl Shape {
-    /// The frame's shape, or why `settings` cannot draw `scene` at `size`.
-    pub fn of(scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<Shape> {
+    /// The frame's shape, or why `settings` cannot draw `scene` at `size`; the lights are left
+    /// unread when `lights_checked` (this very light list passed `Scene::validate_lights`).
+    pub fn of_checked(scene: &Scene, settings: &Settings, size: (u32, u32), lights_checked: bool) -> Result<Shape> {
         let (width, height) = size;
         if width == 0 || height == 0 {
             bail!("cannot render a {width}x{height} frame");
         }
         settings.validate().map_err(anyhow::Error::msg)?;
-        scene.validate().map_err(anyhow::Error::msg)?;
+        scene.validate_except_lights().map_err(anyhow::Error::msg)?;
+        if !lights_checked {
+            scene.validate_lights().map_err(anyhow::Error::msg)?;
+        }
         let final_view = settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view);
         let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
         if forward_path && !final_view {
@@ -103,6 +107,82 @@ pub struct Prepared {
     pub path_lists: ForwardPathLists,
     pub shadows: ShadowPlan,
     pub cpu_ms: CpuMs,
+    /// What it was computed from.
+    pub key: FrameKey,
+    /// Taken as it was from the frame before, whose upload the GPU still holds
+    /// ([`FrameKey::matches`]): nothing was computed or written for it.
+    pub reused: bool,
+}
+
+/// What a frame's CPU part ([`Renderer::prepare`]) is computed from. A frame whose inputs
+/// match the last frame's takes that frame's records, plans and shadow plan as they are, and
+/// what they uploaded stays on the GPU: its CPU work and upload then grow with the objects and
+/// materials compared here, not with the lights. The lights are compared by identity:
+/// `Scene::lights` is shared and copied on write, and the key holds the last frame's list, so
+/// a list changed since is always another allocation. The rest is compared by value.
+pub struct FrameKey {
+    lights: std::sync::Arc<Vec<crate::scene::Light>>,
+    camera: crate::scene::Camera,
+    objects: Vec<crate::scene::Object>,
+    materials: Vec<crate::scene::Material>,
+    sun: Option<crate::scene::Sun>,
+    ambient: glam::Vec3,
+    background: glam::Vec3,
+    cookies: Vec<u64>,
+    fingerprint: super::scene_gpu::SceneFingerprint,
+    settings: Settings,
+    size: (u32, u32),
+    pipeline: super::kit::pipeline::PipelineKey,
+}
+
+impl FrameKey {
+    fn of(scene: &Scene, settings: &Settings, size: (u32, u32), pipeline: &super::kit::pipeline::PipelineKey) -> Self {
+        Self {
+            lights: scene.lights.clone(),
+            camera: scene.camera,
+            objects: scene.objects.clone(),
+            materials: scene.materials.clone(),
+            sun: scene.sun,
+            ambient: scene.ambient,
+            background: scene.background,
+            cookies: scene.cookies.iter().map(|c| c.id()).collect(),
+            fingerprint: super::scene_gpu::SceneFingerprint::of(scene),
+            settings: settings.clone(),
+            size,
+            pipeline: pipeline.clone(),
+        }
+    }
+
+    /// Whether a frame of `scene` with `settings` at `size` through `pipeline` has these inputs.
+    pub fn matches(
+        &self,
+        scene: &Scene,
+        settings: &Settings,
+        size: (u32, u32),
+        pipeline: &super::kit::pipeline::PipelineKey,
+    ) -> bool {
+        std::sync::Arc::ptr_eq(&self.lights, &scene.lights)
+            && self.camera == scene.camera
+            && self.size == size
+            && self.sun == scene.sun
+            && self.ambient == scene.ambient
+            && self.background == scene.background
+            && self.settings == *settings
+            && self.objects == scene.objects
+            && self.materials == scene.materials
+            && self.cookies.iter().copied().eq(scene.cookies.iter().map(|c| c.id()))
+            && self.pipeline == *pipeline
+            && self.fingerprint == super::scene_gpu::SceneFingerprint::of(scene)
+    }
+}
+
+/// What a frame kept for the next one beyond `LastFrame`'s own figures: its key, and the parts
+/// of its [`Prepared`] the probe does not read.
+pub struct Reusable {
+    pub key: FrameKey,
+    pub camera: super::records::CameraRecord,
+    pub objects: Vec<super::records::ObjectRecord>,
+    pub path_lists: ForwardPathLists,
 }
 
 impl Renderer {
@@ -111,8 +191,24 @@ impl Renderer {
     pub(super) fn prepare(&mut self, scene: &Scene, settings: &Settings, shape: &Shape) -> Result<Prepared> {
         let Some(gpu_scene) = &self.scene else { bail!("internal: scene missing after configure") };
         let size = shape.size;
-        let key = self.passes.key().clone();
         let whole = cputime::Clock::start();
+        // The same inputs as the frame before: its CPU part as it is (taken, so a frame that
+        // fails after this leaves nothing to reuse; `keep` puts it back).
+        let pipeline = self.passes.key();
+        if let Some(r) = self.last.reusable.take_if(|r| r.key.matches(scene, settings, size, pipeline)) {
+            let last = &mut self.last;
+            let records = FrameRecords {
+                camera: r.camera,
+                lights: std::mem::take(&mut last.lights),
+                objects: r.objects,
+                proj: last.proj,
+            };
+            let (plan, shadows) = (std::mem::take(&mut last.plan), std::mem::take(&mut last.shadows));
+            self.queries.ensure_lights(&self.device, plan.lights.len());
+            let cpu_ms = CpuMs { records: 0.0, plan: whole.ms(), upload: 0.0, wall: whole.wall_ms() };
+            return Ok(Prepared { records, plan, path_lists: r.path_lists, shadows, cpu_ms, key: r.key, reused: true });
+        }
+        let key = self.passes.key().clone();
         let clock = cputime::Clock::start();
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
         let mut records = FrameRecords::reusing(scene, settings, size, key.accum_format, spare_lights);
@@ -196,7 +292,8 @@ impl Renderer {
         self.frame.ensure_shadow_indirection(&self.device, &self.queue, bgl, shadow_plan.indirection_side);
         let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
         self.queries.ensure_lights(&self.device, plan.lights.len());
-        Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms })
+        let key = FrameKey::of(scene, settings, size, &key);
+        Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms, key, reused: false })
     }
 
     /// What the frame measures, by what `settings` ask for and the frame draws.
@@ -241,6 +338,7 @@ impl Renderer {
             depth_clamp: self.passes.key().depth_clamp,
             shadowed: &prepared.shadows.lights,
             scratch: &self.scratch,
+            reused: prepared.reused,
         })
     }
 }

@@ -971,7 +971,7 @@ mod tests {
             .map(|n| build(n, BuiltinOptions { lights: Some(40), time: 0.0 }).expect("built-in scene"))
             .collect();
         let mut varied = scenes[0].clone();
-        for (i, l) in varied.lights.iter_mut().enumerate() {
+        for (i, l) in varied.lights_mut().iter_mut().enumerate() {
             if let Light::Spot(s) = l {
                 // Exactly at the rule's angle: a single tile.
                 s.outer_angle = CUBE_SPOT_ANGLE.to_radians();
@@ -983,7 +983,7 @@ mod tests {
         }
         scenes.push(varied);
         let mut wide = scenes[1].clone();
-        for l in wide.lights.iter_mut() {
+        for l in wide.lights_mut().iter_mut() {
             if let Light::Spot(s) = l {
                 s.outer_angle = CUBE_SPOT_ANGLE.to_radians() * 1.001;
             }
@@ -1053,7 +1053,7 @@ mod tests {
         assert_eq!(code(Some(&shadows), M::Spots, ind), (true, true, None));
         // A light's own flag off takes its lookup out; no sun, no cascades.
         let mut flagged = shadows.clone();
-        for l in flagged.lights.iter_mut().filter(|l| matches!(l, Light::Point(_))) {
+        for l in flagged.lights_mut().iter_mut().filter(|l| matches!(l, Light::Point(_))) {
             l.set_cast_shadows(false);
         }
         flagged.sun = None;
@@ -1066,7 +1066,7 @@ mod tests {
         assert!(!c.1 && c.2.is_none(), "{c:?}");
         let mut wide = scene("spot");
         assert!(code(Some(&wide), M::Spots, un).1);
-        for l in wide.lights.iter_mut() {
+        for l in wide.lights_mut().iter_mut() {
             if let Light::Spot(s) = l {
                 s.outer_angle = (CUBE_SPOT_ANGLE + 1.0).to_radians();
             }

@@ -197,7 +197,7 @@ impl Importer<'_> {
             .collect();
         let intensity = normalising_intensity(&sample_vertices(&self.scene, IRRADIANCE_SAMPLES), &placed);
         for (position, radius, color) in placed {
-            self.scene.lights.push(Light::Point(PointLight {
+            self.scene.lights_mut().push(Light::Point(PointLight {
                 position,
                 color,
                 intensity,

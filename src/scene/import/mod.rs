@@ -324,7 +324,7 @@ impl Importer<'_> {
                 self.light(&light, world);
                 if self.scene.lights.len() > before {
                     if let Some(mask) = extras.mask {
-                        self.scene.lights[before].set_mask(mask);
+                        self.scene.lights_mut()[before].set_mask(mask);
                     }
                     if let Some(cookie) = &extras.cookie {
                         // Relative paths from the file's directory; built-in names as they are.
@@ -454,7 +454,7 @@ impl Importer<'_> {
         };
         match l.validate() {
             Ok(()) => {
-                self.scene.lights.push(l);
+                self.scene.lights_mut().push(l);
                 self.stats.lights_from_file += 1;
             }
             Err(e) => self.warnings.push(format!("{label}: {e}; skipped")),

@@ -330,18 +330,23 @@ impl TiledPass {
             Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
             None => (entries, n as u64 + 1 + mask_words + summary_words + bound_words),
         };
-        self.fit_buffers(device, &mut state.0, list_words, count_words);
+        let made = self.fit_buffers(device, &mut state.0, list_words, count_words);
         let Some(b) = &state.0 else { return (0.0, 0.0) };
         let clock = crate::renderer::cputime::Clock::start();
         queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
-        if let Some(d) = &cpu_lists {
-            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
-        }
-        if let Some(j) = gpu_job {
-            queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans));
-        }
-        if let Some(z) = zbins {
-            queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&z.data));
+        // The lists and spans the CPU built, unless the buffer holds this very frame's already
+        // (the frame before had the same inputs, and nothing wrote the lists since: the GPU
+        // writes only the counts, and its own lists before the spans).
+        if made || !f.reused {
+            if let Some(d) = &cpu_lists {
+                queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
+            }
+            if let Some(j) = gpu_job {
+                queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans));
+            }
+            if let Some(z) = zbins {
+                queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&z.data));
+            }
         }
         let upload_ms = (clock.ms(), clock.wall_ms());
         encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
@@ -379,10 +384,17 @@ impl TiledPass {
 
     /// Makes `slot` hold buffers of at least `list_words` list words and `count_words` count
     /// words, creating them (and their bind group and read-backs) when it does not.
-    fn fit_buffers(&self, device: &wgpu::Device, slot: &mut Option<Buffers>, list_words: u64, count_words: u64) {
+    /// Makes the buffers anew when they are missing or too small; returns whether it did.
+    fn fit_buffers(
+        &self,
+        device: &wgpu::Device,
+        slot: &mut Option<Buffers>,
+        list_words: u64,
+        count_words: u64,
+    ) -> bool {
         let fits = |b: &Buffers| b.lists.size() >= list_words * 4 && b.counts.size() >= count_words * 4;
         if slot.as_ref().is_some_and(fits) {
-            return;
+            return false;
         }
         use wgpu::BufferUsages as U;
         // Rounded up to a power of two to grow less often, but never past what one binding may
@@ -412,6 +424,7 @@ impl TiledPass {
         let lists_read = buffer(device, "tile lists readback", lists.size(), U::COPY_DST | U::MAP_READ);
         let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
         *slot = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
+        true
     }
 
     /// Records the passes over the lists in `b`: the GPU's cluster building (`gpu_lists`) or

@@ -257,6 +257,40 @@ fn fs_tiled_counted(in: TiledVarying) -> LightTargets {
     return tiled_shade(in.clip, in.chunk, true);
 }
 
+// One listed light `i` at surface `s`, the step the tile and cluster walk and the z-bin walk
+// share: counted when `counted` (every visited pair counts as evaluated, whether or not the
+// light reaches), then skipped unless its sphere holds the point. The reach test comes first:
+// most listed lights miss most of a cell's pixels, and the lanes they miss are masked off for
+// the rest of the iteration (on lavapipe the loop body runs for 8 lanes together); its 1e-4
+// margin over `shade_light`'s own (d < radius) skips only lights that add exactly zero. A
+// casting light is put aside when casters are shaded apart (returns true: the caller keeps its
+// place for the casters' loop); any other is added to `d` and `sp` under its own clamp
+// (`overlap.rs`: what can overlap its pixels).
+fn list_light_step(
+    s: Surface,
+    view: vec3<f32>,
+    i: u32,
+    counted: bool,
+    d: ptr<function, vec3<f32>>,
+    sp: ptr<function, vec3<f32>>,
+) -> bool {
+    if counted {
+        atomicAdd(&tile_counts[1u + i], 1u);
+    }
+    let l = light_at(i);
+    let to_light = l.position - s.position;
+    if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
+        return false;
+    }
+    if LS_CASTERS_APART && l.shadow.x != LS_NO_SHADOW {
+        return true;
+    }
+    let r = shade_light_view(s, view, l, !LS_CASTERS_APART);
+    *d += min(r.diffuse, vec3<f32>(l.clamp));
+    *sp += min(r.specular, vec3<f32>(l.clamp));
+    return false;
+}
+
 fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
     let p = vec2<i32>(frag.xy);
     let s = gbuffer_load(p);
@@ -283,27 +317,9 @@ fn tiled_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
             if !all {
                 i = tile_lists[first + k];
             }
-            // Every listed pair counts as shaded (visited), whether or not the light reaches.
-            if counted {
-                atomicAdd(&tile_counts[1u + i], 1u);
-            }
-            // The reach test first: most listed lights miss most of a cluster's pixels, and
-            // the lanes they miss are masked off for the rest of the iteration (on lavapipe
-            // the loop body runs for the 8 lanes together). The test keeps a 1e-4 margin over
-            // `shade_light`'s own (d < radius), so it skips only lights that add exactly zero.
-            let l = light_at(i);
-            let to_light = l.position - s.position;
-            if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
-                continue;
-            }
-            // Each light's own clamp (`overlap.rs`): what can overlap its pixels.
-            if LS_CASTERS_APART && l.shadow.x != LS_NO_SHADOW {
+            if list_light_step(s, view, i, counted, &d, &sp) {
                 casters = vec2<u32>(min(casters.x, k), k + 1u);
-                continue;
             }
-            let r = shade_light_view(s, view, l, !LS_CASTERS_APART);
-            d += min(r.diffuse, vec3<f32>(l.clamp));
-            sp += min(r.specular, vec3<f32>(l.clamp));
         }
         for (var k = casters.x; LS_CASTERS_APART && k < casters.y; k++) {
             var i = k;

@@ -167,22 +167,9 @@ fn zbin_shade(frag: vec4<f32>, chunk: u32, counted: bool) -> LightTargets {
             while m != 0u {
                 let j = (w << 5u) | countTrailingZeros(m);
                 m &= m - 1u;
-                let i = tile_lists[tile_params.order_base + j];
-                if counted {
-                    atomicAdd(&tile_counts[1u + i], 1u);
-                }
-                let l = light_at(i);
-                let to_light = l.position - s.position;
-                if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
-                    continue;
-                }
-                if LS_CASTERS_APART && l.shadow.x != LS_NO_SHADOW {
+                if list_light_step(s, view, tile_lists[tile_params.order_base + j], counted, &d, &sp) {
                     casters = vec2<u32>(min(casters.x, j), j + 1u);
-                    continue;
                 }
-                let lit = shade_light_view(s, view, l, !LS_CASTERS_APART);
-                d += min(lit.diffuse, vec3<f32>(l.clamp));
-                sp += min(lit.specular, vec3<f32>(l.clamp));
             }
           }
         }

@@ -358,7 +358,11 @@ impl Renderer {
     fn shader_features(&mut self, scene: &Scene, settings: &Settings) -> program::ShaderFeatures {
         if let Some(s) = &self.lights_seen {
             if s.same_list(scene) && s.sun == scene.sun && s.settings == *settings {
-                return s.features;
+                // The materials' part is read afresh: it is not the lights'.
+                return program::ShaderFeatures {
+                    colour_maps: program::ShaderFeatures::samples_colour_maps(scene),
+                    ..s.features
+                };
             }
         }
         let features = program::ShaderFeatures::of(Some(scene), settings, &self.caps.quirks);

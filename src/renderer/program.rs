@@ -19,6 +19,8 @@ pub fn wgsl_constants() -> String {
     u("MAT_UV_TRANSFORMED", records::MAT_UV_TRANSFORMED);
     u("MAT_METAL_BY_PIXEL", records::MAT_METAL_BY_PIXEL);
     u("MAT_LIGHTMAP", records::MAT_LIGHTMAP);
+    u("MAT_BASE_MAP", records::MAT_BASE_MAP);
+    u("MAT_EMISSIVE_MAP", records::MAT_EMISSIVE_MAP);
     u("NO_COOKIE", records::NO_COOKIE);
     u("COOKIE_ROW", records::COOKIE_ROW);
     for b in crate::scene::Brdf::ALL {
@@ -92,6 +94,10 @@ pub struct ShaderFeatures {
     /// (`MaterialBranch::Branch`, seed 002's "reasonably coherent dynamic branching"), not by
     /// computing every model's terms and selecting one.
     pub brdf_branch: bool,
+    /// Some material samples a base-colour or emissive map. Without, the geometry passes
+    /// sample neither (the maps would be the white defaults): lavapipe runs a sample inside a
+    /// branch no lane takes anyway, so a per-object flag alone does not save it.
+    pub colour_maps: bool,
 }
 
 impl ShaderFeatures {
@@ -110,6 +116,7 @@ impl ShaderFeatures {
         light_planes: true,
         paired_loops: true,
         brdf_branch: true,
+        colour_maps: true,
     };
 
     /// What `scene` can need under `settings`; with no scene, what the settings allow (no
@@ -128,7 +135,13 @@ impl ShaderFeatures {
             paired_loops: quirks.loop_limit.is_some()
                 && scene.is_some_and(|s| s.lights.len() > plan::FORWARD_LOOP_LIGHTS as usize),
             brdf_branch: settings.material_branch == crate::renderer::settings::MaterialBranch::Branch,
+            colour_maps: scene.is_some_and(Self::samples_colour_maps),
         }
+    }
+
+    /// Whether some material of `scene` has a base-colour or emissive map.
+    pub fn samples_colour_maps(scene: &crate::scene::Scene) -> bool {
+        scene.materials.iter().any(|m| m.textures.base_color.is_some() || m.textures.emissive.is_some())
     }
 
     /// The lookups compiled in, by name (the stats and the viewer's shadow figures): `sun
@@ -165,6 +178,9 @@ impl ShaderFeatures {
         if self.brdf_branch {
             v.push("branch on the material".to_string());
         }
+        if self.colour_maps {
+            v.push("colour maps".to_string());
+        }
         v
     }
 
@@ -179,6 +195,7 @@ impl ShaderFeatures {
              const LS_SHADOW_KERNEL: u32 = {}u;\nconst LS_COOKIES: bool = {};\n\
              const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
              const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n\
+             const LS_COLOUR_MAPS: bool = {};\n\
              const LS_SHADOW_DEPTH_STEP: f32 = {:?};\n",
             sh.sun,
             sh.tiles,
@@ -189,6 +206,7 @@ impl ShaderFeatures {
             self.light_planes,
             self.paired_loops,
             self.brdf_branch,
+            self.colour_maps,
             sh.format.step()
         )
     }

@@ -29,6 +29,12 @@ pub const MAT_METAL_BY_PIXEL: u32 = 64;
 /// The object's material has a lightmap (`scene::Lightmap`; its scale in
 /// `ObjectRecord::lightmap`).
 pub const MAT_LIGHTMAP: u32 = 128;
+/// The object samples a base-colour map; without it the map is the white default and is not
+/// sampled (a sample costs lavapipe's G-buffer pass about a quarter of its time on a one-surface
+/// scene, and white reads back as exactly 1.0).
+pub const MAT_BASE_MAP: u32 = 256;
+/// The object samples an emissive map (without it, as `MAT_BASE_MAP`: not sampled).
+pub const MAT_EMISSIVE_MAP: u32 = 512;
 /// Where the lightmap crossfade starts, as a share of `Settings::lightmap_distance` (fully
 /// baked at the distance itself).
 pub const LIGHTMAP_FADE_START: f32 = 0.8;
@@ -457,6 +463,12 @@ impl ObjectRecord {
         }
         if m.textures.metallic_roughness.is_some() {
             flags |= MAT_METAL_ROUGH;
+        }
+        if m.textures.base_color.is_some() {
+            flags |= MAT_BASE_MAP;
+        }
+        if m.textures.emissive.is_some() {
+            flags |= MAT_EMISSIVE_MAP;
         }
         let u = &m.uvs;
         for (k, t) in [u.base_color, u.normal, u.emissive, u.metallic_roughness].iter().enumerate() {

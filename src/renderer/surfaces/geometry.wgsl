@@ -84,7 +84,12 @@ fn sample_map(tex: texture_2d<f32>, in: GeometryOut, o: GpuObject, slot: u32) ->
 fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> f32 {
     let o = objects[in.object];
     let flags = o.info.x;
-    let base = sample_map(base_color_tex, in, o, 0u);
+    // A map the material lacks is the white default: not sampled (exactly 1.0 either way), nor
+    // compiled in when no material of the scene has one (`ShaderFeatures::colour_maps`).
+    var base = vec4<f32>(1.0);
+    if LS_COLOUR_MAPS && (flags & LS_MAT_BASE_MAP) != 0u {
+        base = sample_map(base_color_tex, in, o, 0u);
+    }
     (*s).albedo = o.albedo_spec.rgb * base.rgb;
     (*s).spec_level = o.albedo_spec.a;
     (*s).spec_exp = o.emissive_exp.a;
@@ -116,7 +121,11 @@ fn material_surface(in: GeometryOut, front: bool, s: ptr<function, Surface>) -> 
     }
     // Back faces (double-sided materials) are lit from their own side.
     (*s).normal = select(-n, n, front);
-    (*s).emissive = o.emissive_exp.rgb * sample_map(emissive_tex, in, o, 2u).rgb;
+    var emissive = o.emissive_exp.rgb;
+    if LS_COLOUR_MAPS && (flags & LS_MAT_EMISSIVE_MAP) != 0u {
+        emissive *= sample_map(emissive_tex, in, o, 2u).rgb;
+    }
+    (*s).emissive = emissive;
     (*s).position = in.view_pos;
     (*s).depth = in.clip.z;
     (*s).valid = true;

@@ -187,6 +187,7 @@ impl Renderer {
             let bpp = format.block_copy_size(None).unwrap_or(4) as usize;
             let bytes = gpu.read_texture(&t.gbuffer.textures[i], t.gbuffer.aspect(i))?;
             let mut out = Vec::with_capacity(bytes.len() / bpp);
+            let inv_proj = self.last.proj.inverse();
             for (k, c) in bytes.chunks_exact(bpp).enumerate() {
                 let d = texel(format, c)?[0];
                 let (x, y) = ((k as u32 % t.width) as f64, (k as u32 / t.width) as f64);
@@ -197,7 +198,7 @@ impl Renderer {
                         d as f64,
                         1.0,
                     );
-                    let v = self.last.inv_proj * ndc;
+                    let v = inv_proj * ndc;
                     (v.truncate() / v.w).as_vec3()
                 }));
             }
@@ -293,7 +294,7 @@ impl Renderer {
                 d as f64,
                 1.0,
             );
-            let v = self.last.inv_proj * ndc;
+            let v = self.last.proj.inverse() * ndc;
             ((v.truncate() / v.w).as_vec3(), d != far_depth)
         } else {
             let p = if layout.world { -(rot * v3(Attr::Position)) } else { v3(Attr::Position) };

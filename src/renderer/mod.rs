@@ -151,7 +151,6 @@ struct LastFrame {
     lights: Vec<LightRecord>,
     /// The most ambient + sun could add to a channel (`overlap::clamps`).
     ambient_clamp: f32,
-    inv_proj: DMat4,
     /// World to view rotation (world-space G-buffer layouts are turned back with it).
     view_rotation: glam::DMat3,
     plan: FramePlan,
@@ -162,7 +161,7 @@ struct LastFrame {
     path: RenderPath,
     /// The culling mode it was drawn with.
     mode: CullingMode,
-    /// The projection it was drawn with.
+    /// The projection it was drawn with (the probe unprojects depth with its inverse).
     proj: DMat4,
     /// What the next frame may take as it is when its inputs are the same (`prepare`).
     reusable: Option<frame::Reusable>,
@@ -553,7 +552,6 @@ impl Renderer {
     fn keep(&mut self, scene: &Scene, settings: &Settings, prepared: frame::Prepared) {
         let frame::Prepared { records, plan, path_lists, shadows, key, reused, .. } = prepared;
         let last = LastFrame {
-            inv_proj: records.proj.inverse(),
             view_rotation: scene.camera.rotation(),
             lights: records.lights,
             ambient_clamp: records.camera.light_clamp,

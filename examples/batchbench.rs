@@ -113,6 +113,8 @@ fn cpu(gpu: &lampshade::Gpu) {
                     forward_lights: settings.forward_lights,
                     light_batching,
                     cluster_build: settings.cluster_build,
+                    grid: Default::default(),
+                    object_cap: (0, Default::default()),
                     loop_limit: None,
                     near_fullscreen: false,
                     front_to_back: false,

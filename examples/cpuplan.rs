@@ -105,6 +105,8 @@ fn main() {
                 forward_lights: settings.forward_lights,
                 light_batching: true,
                 cluster_build: settings.cluster_build,
+                grid: Default::default(),
+                object_cap: (0, Default::default()),
                 loop_limit: None,
                 near_fullscreen: false,
                 front_to_back: false,

@@ -10,7 +10,7 @@
 
 use super::presets::{Preset, CUSTOM};
 use super::settings::{
-    name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, ClusterBuilder, CullingMode, DebugView, DepthFormat,
+    name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, CapOrder, ClusterBuilder, CullingMode, DebugView, DepthFormat,
     DepthRead, DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, Settings,
     ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
@@ -258,6 +258,114 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.cluster_build),
         put: |s, v| {
             s.cluster_build = choice("cluster list builder", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "max-lights",
+        what: "lights per camera",
+        help: "Keep at most this many lights per frame, by the cap order (0 = every light)",
+        values: Values::Whole { min: 0, max: 1 << 24 },
+        cli: true,
+        get: |s| s.max_lights.to_string(),
+        put: |s, v| {
+            s.max_lights = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "light-distance",
+        what: "light distance cut-off",
+        help: "Drop lights whose sphere lies wholly beyond this distance from the camera (0 = none)",
+        values: Values::Float { min: 0.0, max: 1e12, open: (false, false), slider: (0.0, 200.0) },
+        cli: true,
+        get: |s| s.light_distance.to_string(),
+        put: |s, v| {
+            s.light_distance = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "lights-per-cluster",
+        what: "lights per cluster",
+        help: "Keep at most this many lights in each cluster's list, by the cap order (clustered; 0 = every light)",
+        values: Values::Whole { min: 0, max: 1 << 24 },
+        cli: true,
+        get: |s| s.lights_per_cluster.to_string(),
+        put: |s, v| {
+            s.lights_per_cluster = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "lights-per-object",
+        what: "lights per object",
+        help: "Keep at most this many lights in each object's list, by the cap order (forward paths; 0 = every light)",
+        values: Values::Whole { min: 0, max: 1 << 24 },
+        cli: true,
+        get: |s| s.lights_per_object.to_string(),
+        put: |s, v| {
+            s.lights_per_object = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "cap-order",
+        what: "cap order",
+        help: "Which lights a cap keeps: the first in scene order, the nearest, or the brightest",
+        values: Values::Choice(names::<CapOrder>),
+        cli: true,
+        get: |s| name_of(&s.cap_order),
+        put: |s, v| {
+            s.cap_order = choice("cap order", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "cluster-tile",
+        what: "cluster tile",
+        help: "The clustered grid's tile side in pixels (0 = 32, or what cluster-budget gives)",
+        values: Values::Whole { min: 0, max: 4096 },
+        cli: true,
+        get: |s| s.cluster_tile.to_string(),
+        put: |s, v| {
+            s.cluster_tile = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "cluster-budget",
+        what: "cluster budget",
+        help: "Cells of the clustered grid: tiles as Bevy's FixedZ rule gives them for this total over cluster-slices (0 = none)",
+        values: Values::Whole { min: 0, max: 1 << 22 },
+        cli: true,
+        get: |s| s.cluster_budget.to_string(),
+        put: |s, v| {
+            s.cluster_budget = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "cluster-slices",
+        what: "cluster slices",
+        help: "Depth slices of the clustered grid (0 = 64)",
+        values: Values::Whole { min: 0, max: 1024 },
+        cli: true,
+        get: |s| s.cluster_slices.to_string(),
+        put: |s, v| {
+            s.cluster_slices = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "first-slice-depth",
+        what: "first slice depth",
+        help: "The clustered grid's first slice ends at this view depth, the rest exponential to the farthest light (0 = all exponential over the lights' depths)",
+        values: Values::Float { min: 0.0, max: 1e9, open: (false, false), slider: (0.0, 50.0) },
+        cli: true,
+        get: |s| s.first_slice_depth.to_string(),
+        put: |s, v| {
+            s.first_slice_depth = number(v)? as f32;
             Ok(())
         },
     },

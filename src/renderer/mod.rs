@@ -14,6 +14,7 @@
 //!   passes and shaders;
 //! - `stats`, `inspect` — what is read back: counts, times, pixels.
 
+pub mod caps;
 pub mod cputime;
 pub mod culling;
 pub mod explain;
@@ -177,6 +178,9 @@ impl LastFrame {
     }
 }
 
+/// The camera caps' last list: (the scene's list, the indices kept, the kept lights).
+type CappedLights = (Arc<Vec<crate::scene::Light>>, Vec<u32>, Arc<Vec<crate::scene::Light>>);
+
 pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
@@ -210,6 +214,8 @@ pub struct Renderer {
     last: LastFrame,
     /// The light list the last frame checked, and its shader features.
     lights_seen: Option<LightsSeen>,
+    /// The camera caps' last list: (the scene's list, the indices kept, the kept lights).
+    capped_lights: Option<CappedLights>,
     /// The allocations of the frame before last's light records and plans, for this frame's
     /// (`FrameRecords::reusing`, `FramePlan::reusing`).
     spare: (Vec<LightRecord>, Vec<plan::LightPlan>),
@@ -264,6 +270,7 @@ impl Renderer {
             targets: None,
             last: LastFrame::default(),
             lights_seen: None,
+            capped_lights: None,
             spare: Default::default(),
             long_list_warnings: Vec::new(),
             lut: None,
@@ -486,6 +493,23 @@ impl Renderer {
         // The frame's own wgpu errors (validation, out of memory) are caught here, on this
         // thread, and become its error: no other renderer's frame, and no error the viewer's UI
         // made, is blamed on it.
+        // The camera caps: the frame is drawn with the lights they keep, as an engine sends
+        // only those to the GPU.
+        let cut = caps::camera_cut(
+            scene,
+            settings.max_lights,
+            settings.light_distance,
+            settings.cap_order,
+            width as f64 / height.max(1) as f64,
+        );
+        let capped;
+        let scene = match cut.as_ref().and_then(|c| c.kept.as_deref()) {
+            Some(kept) => {
+                capped = self.capped_scene(scene, kept);
+                &capped
+            }
+            None => scene,
+        };
         let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory]
             .map(|filter| self.device.push_error_scope(filter));
         let encoded = self.encode_frame(scene, settings, target, (width, height));
@@ -494,7 +518,15 @@ impl Renderer {
         if let Some(e) = caught.first() {
             bail!("wgpu error: {}", crate::gpu::describe(e));
         }
-        let stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        let mut stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        if cut.is_some() || settings.lights_per_cluster > 0 || settings.lights_per_object > 0 {
+            let mut cut = cut.unwrap_or_default();
+            if let Some(culling::tiled::ClusterBuild::Cpu(lists)) = &prepared.plan.clusters {
+                cut.cluster_entries_dropped = lists.capped;
+            }
+            cut.object_entries_dropped = prepared.path_lists.capped;
+            stats.caps = Some(cut);
+        }
         for f in &stats.adapter.fallbacks {
             if !self.said.contains(f) {
                 log::warn!("on {}: {f}", self.caps.adapter);
@@ -503,6 +535,23 @@ impl Renderer {
         }
         self.keep(scene, settings, prepared);
         Ok(stats)
+    }
+
+    /// `scene` with only the lights `kept`, built again only when the scene's lights or the
+    /// kept set changed (a still frame under a camera cap keeps its list's identity, so the
+    /// frame's CPU part is reused as without the cap). The rest of the scene is copied each
+    /// frame.
+    fn capped_scene(&mut self, scene: &Scene, kept: &[u32]) -> Scene {
+        let lights = match &self.capped_lights {
+            Some((source, k, lights)) if Arc::ptr_eq(source, &scene.lights) && k == kept => lights.clone(),
+            _ => {
+                let lights: Arc<Vec<crate::scene::Light>> =
+                    Arc::new(kept.iter().map(|&i| scene.lights[i as usize]).collect());
+                self.capped_lights = Some((scene.lights.clone(), kept.to_vec(), lights.clone()));
+                lights
+            }
+        };
+        Scene { lights, ..scene.clone() }
     }
 
     /// The frame's steps up to its submission.

@@ -73,7 +73,10 @@ knob_names!(
     ShadowFilter => "shadow filter",
     ShadowCube => "shadow cube layout",
     ShadowFormat => "shadow map format",
+    CapOrder => "cap order",
 );
+
+pub use super::caps::CapOrder;
 
 pub use super::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode};
 
@@ -699,6 +702,27 @@ pub struct Settings {
     /// Where point lights' (and wide spots') six shadow faces live: tiles of the atlas
     /// (`unrolled`) or layers of a cube-array texture (`array`).
     pub shadow_cube: ShadowCube,
+    /// Engine-style caps (`caps`): lights kept per camera (0: every light).
+    pub max_lights: u32,
+    /// Lights whose sphere lies wholly farther than this from the camera are dropped (0: none).
+    pub light_distance: f32,
+    /// Lights kept per cluster of the clustered mode's lists (0: every light).
+    pub lights_per_cluster: u32,
+    /// Lights kept per object in the forward paths' lists (0: every light).
+    pub lights_per_object: u32,
+    /// Which lights a cap keeps: the first in scene order, the nearest, or the brightest.
+    pub cap_order: CapOrder,
+    /// The clustered grid's tile side in pixels (0: the default, or what `cluster_budget` gives).
+    pub cluster_tile: u32,
+    /// The clustered grid's cell budget (0: none): the tiles Bevy's `ClusterConfig::FixedZ`
+    /// gives for this many cells over `cluster_slices` slices, made square.
+    pub cluster_budget: u32,
+    /// The clustered grid's depth slices (0: the default).
+    pub cluster_slices: u32,
+    /// The clustered grid's first slice runs from the eye to this view depth, the rest
+    /// exponentially to the farthest light (Bevy's `ClusterZConfig`); 0 spreads every slice
+    /// exponentially over the depths the lights reach.
+    pub first_slice_depth: f32,
 }
 
 impl Default for Settings {
@@ -765,6 +789,15 @@ impl Default for Settings {
             shadow_split_lambda: 0.7,
             cluster_build: ClusterBuilder::Cpu,
             shadow_cube: ShadowCube::Unrolled,
+            max_lights: 0,
+            light_distance: 0.0,
+            lights_per_cluster: 0,
+            lights_per_object: 0,
+            cap_order: CapOrder::default(),
+            cluster_tile: 0,
+            cluster_budget: 0,
+            cluster_slices: 0,
+            first_slice_depth: 0.0,
         }
     }
 }

@@ -433,6 +433,9 @@ pub struct FrameStats {
     pub path: crate::renderer::RenderPath,
     /// The light pre-pass's own figures (`None` on the other paths).
     pub prepass: Option<PrepassStats>,
+    /// What the engine-style caps dropped (`caps`); `None` with no cap set.
+    #[serde(default)]
+    pub caps: Option<crate::renderer::caps::CapStats>,
 }
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,

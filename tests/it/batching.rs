@@ -213,6 +213,8 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         forward_lights: settings.forward_lights,
         light_batching: true,
         cluster_build: settings.cluster_build,
+        grid: Default::default(),
+        object_cap: (0, Default::default()),
         loop_limit: None,
         near_fullscreen: false,
         front_to_back: false,

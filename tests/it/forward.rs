@@ -173,6 +173,8 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
             cluster_build: lampshade::renderer::settings::ClusterBuilder::Cpu,
+            grid: Default::default(),
+            object_cap: (0, Default::default()),
             loop_limit: None,
             near_fullscreen: false,
             front_to_back: false,

@@ -111,6 +111,10 @@ pub struct PlanView {
     pub light_batching: bool,
     /// Who builds the clustered lists.
     pub cluster_build: crate::renderer::settings::ClusterBuilder,
+    /// The clustered grid and per-cluster cap asked for.
+    pub grid: super::tiled::GridChoice,
+    /// Lights kept per object on the forward paths, and by which order (0: all).
+    pub object_cap: (u32, crate::renderer::caps::CapOrder),
     /// The adapter's shader loop limit (`Quirks::loop_limit`): a GPU list build that would run
     /// past it is done on the CPU instead.
     pub loop_limit: Option<u64>,
@@ -742,6 +746,10 @@ impl FramePlan {
                 crate::renderer::settings::ClusterBuilder::Cpu => {
                     ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
                 }
+                // The GPU lays out the default grid, without a cap.
+                crate::renderer::settings::ClusterBuilder::Gpu if !view.grid.is_default() => {
+                    ClusterBuild::Cpu(cluster_lists(&records.lights, &lights, view))
+                }
                 crate::renderer::settings::ClusterBuilder::Gpu => {
                     // A light the GPU could not assign within the adapter's loop limit (gallivm's):
                     // the CPU builds this frame's lists (the stats' `lists_on_gpu` says so).
@@ -1086,6 +1094,8 @@ mod tests {
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
+            grid: Default::default(),
+            object_cap: (0, Default::default()),
             loop_limit: None,
             near_fullscreen: false,
             front_to_back: false,
@@ -1305,6 +1315,8 @@ pub struct ForwardPathLists {
     pub pair_base: u32,
     /// Each drawn object's list: (object, first entry in the frame's light lists, count).
     pub spans: Vec<(usize, u32, u32)>,
+    /// Entries the per-object cap left out (`Settings::lights_per_object`).
+    pub capped: u64,
 }
 
 /// A light's screen rectangle in pixels (x, y, width, height; y down), widened by a pixel
@@ -1343,6 +1355,7 @@ pub fn forward_path_lists(
     size: (u32, u32),
     lists: &mut Vec<u32>,
     (pairs, all): (bool, bool),
+    (cap, order): (u32, crate::renderer::caps::CapOrder),
 ) -> Result<ForwardPathLists, String> {
     let mut out = ForwardPathLists::default();
     let screen = [0, 0, size.0.max(1), size.1.max(1)];
@@ -1355,11 +1368,35 @@ pub fn forward_path_lists(
         let (centre, radius) = world_sphere(o, bounds);
         let first = lists.len() as u32;
         for (k, l) in scene.lights.iter().enumerate() {
-            let Some(scissor) = scissors.get(k).copied().flatten() else { continue };
+            if scissors.get(k).copied().flatten().is_none() {
+                continue;
+            }
             if all || (l.position() - centre).length() < radius + l.radius() as f64 {
                 lists.push(k as u32);
-                if pairs {
-                    pair_list.push(ForwardPair { draw, light: k as u32, scissor });
+            }
+        }
+        if cap > 0 && lists.len() - first as usize > cap as usize {
+            // The per-object cap (`caps`): the object's `cap` nearest or brightest lights, or
+            // its first, measured at its bounding sphere's centre.
+            let at = |i: u32| {
+                let l = &scene.lights[i as usize];
+                (l.position().as_vec3(), l.radius(), crate::renderer::caps::peak(l))
+            };
+            let kept = crate::renderer::caps::keep_nearest_or_brightest(
+                &lists[first as usize..],
+                cap as usize,
+                order,
+                centre.as_vec3(),
+                at,
+            );
+            out.capped += (lists.len() - first as usize - kept.len()) as u64;
+            lists.truncate(first as usize);
+            lists.extend(kept);
+        }
+        if pairs {
+            for &k in &lists[first as usize..] {
+                if let Some(scissor) = scissors.get(k as usize).copied().flatten() {
+                    pair_list.push(ForwardPair { draw, light: k, scissor });
                 }
             }
         }

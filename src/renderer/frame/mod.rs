@@ -226,6 +226,8 @@ impl Renderer {
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
             cluster_build: settings.cluster_build,
+            grid: crate::renderer::culling::tiled::GridChoice::of(settings),
+            object_cap: (settings.lights_per_object, settings.cap_order),
             loop_limit: self.caps.quirks.loop_limit,
             near_fullscreen: settings.near_lights == NearLights::Fullscreen,
             front_to_back: settings.draw_order == DrawOrder::FrontToBack,
@@ -248,6 +250,7 @@ impl Renderer {
                     settings.path == RenderPath::ForwardMultipass,
                     settings.forward_lights == crate::renderer::ForwardLights::All,
                 ),
+                view.object_cap,
             )
             .map_err(anyhow::Error::msg)?
         } else {

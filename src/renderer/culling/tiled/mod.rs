@@ -87,6 +87,9 @@ pub struct ClusterGrid {
     pub bias: f32,
     pub near: f32,
     pub far: f32,
+    /// 0, or the view depth the first slice ends at: slice 0 then runs from the eye to it and
+    /// the others exponentially from it to `far` ([`ClusterGrid::first_slice`]).
+    pub first: f32,
 }
 
 impl ClusterGrid {
@@ -107,6 +110,28 @@ impl ClusterGrid {
             bias: -near.ln() * scale,
             near,
             far,
+            first: 0.0,
+        }
+    }
+
+    /// Bevy's slices (`ClusterZConfig`, after the Doom 2016 slicing, Sousa and Geffroy's
+    /// SIGGRAPH 2016 talk): slice 0 from the eye to view depth `first`, slices 1 .. `slices`
+    /// exponential from `first` to `far`. The shader's mapping is the same formula, floor(ln d x
+    /// scale + bias) clamped: with scale = (slices - 1) / ln(far / first) and bias = 1 - ln(first)
+    /// x scale, depth `first` maps to 1 and every depth before it clamps to slice 0.
+    pub fn first_slice(size: (u32, u32), first: f32, far: f32, tile: u32, slices: u32) -> Self {
+        let far = far.max(first * 1.0001);
+        let scale = if slices > 1 { (slices - 1) as f32 / (far / first).ln() } else { 0.0 };
+        Self {
+            tile,
+            tiles_x: size.0.div_ceil(tile),
+            tiles_y: size.1.div_ceil(tile),
+            slices,
+            scale,
+            bias: if slices > 1 { 1.0 - first.ln() * scale } else { 0.0 },
+            near: first,
+            far,
+            first,
         }
     }
 
@@ -122,6 +147,15 @@ impl ClusterGrid {
 
     /// The near and far view depth of slice `k`.
     pub fn slice_depths(&self, k: u32) -> (f32, f32) {
+        if self.first > 0.0 {
+            // Slice 0 holds every depth before `first`; with one slice, every depth.
+            if self.slices <= 1 {
+                return (0.0, f32::INFINITY);
+            }
+            if k == 0 {
+                return (0.0, self.first);
+            }
+        }
         let d = |k: u32| ((k as f32 - self.bias) / self.scale).exp();
         (d(k), d(k + 1))
     }
@@ -140,6 +174,8 @@ pub struct ClusterLists {
     pub grid: Option<ClusterGrid>,
     pub entries: u64,
     pub longest: u32,
+    /// Entries the per-cluster cap left out (`Settings::lights_per_cluster`).
+    pub capped: u64,
 }
 
 impl ClusterLists {
@@ -327,7 +363,9 @@ fn cluster_lists_on(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView
             || fill(halves[1].clone(), far, split_cell, far_data),
         );
     }
-    ClusterLists { data, grid: Some(grid), entries: entries as u64, longest }
+    let mut lists = ClusterLists { data, grid: Some(grid), entries: entries as u64, longest, capped: 0 };
+    cap_cells(&mut lists, lights, &bounds, view.grid.cap, view.grid.order);
+    lists
 }
 
 /// Runs `a` and `b`, on two threads if `parallel` and the machine has more than one core. The
@@ -386,11 +424,12 @@ impl Span {
         if ax1 < -1.0 || ay1 < -1.0 || ax0 >= w + 1.0 || ay0 >= h + 1.0 {
             return None;
         }
-        // Every grid's tile is `CLUSTER_TILE` (`ClusterGrid::new`): a shift, not the integer
-        // division by a run-time field.
-        debug_assert_eq!(grid.tile, CLUSTER_TILE);
+        // The default grid's tile is `CLUSTER_TILE` (`ClusterGrid::new`): a shift, not the
+        // integer division by a run-time field; other grids (`GridChoice`) divide.
         // (a - 1 is exact for a >= 1; the far side adds its pixel in integers, as a + 1 may round.)
-        let tile = |v: u32, max: u32| v.min(max - 1) / CLUSTER_TILE;
+        let t = grid.tile;
+        let tile =
+            |v: u32, max: u32| if t == CLUSTER_TILE { v.min(max - 1) / CLUSTER_TILE } else { v.min(max - 1) / t };
         let (x0, y0) = ((ax0 - 1.0) as u32, (ay0 - 1.0) as u32);
         let (x1, y1) = ((ax1 as u32).saturating_add(1), (ay1 as u32).saturating_add(1));
         Some(Span {
@@ -480,7 +519,109 @@ pub fn fitted_grid(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView)
         }
     }
     let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
-    ClusterGrid::new(view.size, near, far.max(near))
+    let g = &view.grid;
+    let tile = g.tile(view.size);
+    let slices = if g.slices > 0 { g.slices } else { SLICES };
+    if g.first_slice_depth > 0.0 {
+        ClusterGrid::first_slice(view.size, g.first_slice_depth, far.max(near), tile, slices)
+    } else {
+        ClusterGrid::with_cells(view.size, near, far.max(near), tile, slices)
+    }
+}
+
+/// The clustered grid and the per-cluster cap a frame asks for (`Settings::cluster_tile`,
+/// `cluster_budget`, `cluster_slices`, `first_slice_depth`, `lights_per_cluster`,
+/// `cap_order`); the default is [`CLUSTER_TILE`]-pixel tiles, [`SLICES`] slices, no cap.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GridChoice {
+    pub tile: u32,
+    pub budget: u32,
+    pub slices: u32,
+    pub first_slice_depth: f32,
+    pub cap: u32,
+    pub order: crate::renderer::caps::CapOrder,
+}
+
+impl GridChoice {
+    pub fn of(s: &crate::renderer::Settings) -> Self {
+        Self {
+            tile: s.cluster_tile,
+            budget: s.cluster_budget,
+            slices: s.cluster_slices,
+            first_slice_depth: s.first_slice_depth,
+            cap: s.lights_per_cluster,
+            order: s.cap_order,
+        }
+    }
+
+    /// The tile side at `size`.
+    pub fn tile(&self, size: (u32, u32)) -> u32 {
+        if self.tile > 0 {
+            self.tile
+        } else if self.budget > 0 {
+            let slices = if self.slices > 0 { self.slices } else { SLICES };
+            crate::renderer::caps::budget_tile(self.budget, slices, size)
+        } else {
+            CLUSTER_TILE
+        }
+    }
+
+    /// The default grid without a cap: what the GPU list build lays out.
+    pub fn is_default(&self) -> bool {
+        *self == Self { order: self.order, ..Self::default() }
+    }
+}
+
+/// Keeps at most `cap` lights in each cell of `lists` ([`crate::renderer::caps`]), chosen by
+/// `order` against the cell's centre (the middle of its tile's frustum piece at the middle of
+/// its slice), in light order; counts the entries left out in `ClusterLists::capped`.
+fn cap_cells(
+    lists: &mut ClusterLists,
+    lights: &[LightRecord],
+    bounds: &CellBounds,
+    cap: u32,
+    order: crate::renderer::caps::CapOrder,
+) {
+    let Some(grid) = lists.grid else { return };
+    if cap == 0 || lists.longest <= cap {
+        return;
+    }
+    let cells = grid.cells();
+    let per_slice = (grid.tiles_x * grid.tiles_y) as usize;
+    let header = 2 * cells;
+    let mut data = vec![0u32; header];
+    data.reserve(lists.data.len() - header);
+    let (mut longest, mut capped) = (0u32, 0u64);
+    let luminance = crate::scene::luminance_weights();
+    let at = |i: u32| {
+        let l = &lights[i as usize];
+        (Vec3::from(l.position), l.radius, Vec3::from(l.color).dot(luminance) as f64)
+    };
+    for c in 0..cells {
+        let list = lists.list(c);
+        let first = data.len() as u32;
+        if list.len() > cap as usize {
+            let (k, rest) = (c / per_slice, c % per_slice);
+            let (ty, tx) = (rest / grid.tiles_x as usize, rest % grid.tiles_x as usize);
+            let (d0, d1) = bounds.slices[k];
+            let d = if d1.is_finite() { 0.5 * (d0 + d1) } else { d0.max(grid.far) };
+            let (cx, cy) = (bounds.columns[tx], bounds.rows[ty]);
+            let centre = Vec3::new(d * 0.5 * (cx.0 + cx.1), d * 0.5 * (cy.0 + cy.1), -d);
+            let kept = crate::renderer::caps::keep_nearest_or_brightest(list, cap as usize, order, centre, at);
+            capped += (list.len() - kept.len()) as u64;
+            data.extend_from_slice(&kept);
+        } else {
+            data.extend_from_slice(list);
+        }
+        let n = data.len() as u32 - first;
+        data[2 * c] = first;
+        data[2 * c + 1] = n;
+        longest = longest.max(n);
+    }
+    lists.entries = (data.len() - header) as u64;
+    lists.data = data;
+    lists.longest = longest;
+    lists.capped = capped;
 }
 
 /// What the GPU needs to build the clustered lists itself ([`ClusterBuild::Gpu`]): the grid,
@@ -649,8 +790,17 @@ mod tests {
     #[test]
     fn lists_past_one_binding_give_way_longest_first_to_walking_every_light() {
         // 4 cells (2 x 2 tiles, 1 slice) holding 3, 0, 4 and 2 lights.
-        let grid =
-            ClusterGrid { tile: 32, tiles_x: 2, tiles_y: 2, slices: 1, scale: 1.0, bias: 0.0, near: 0.1, far: 10.0 };
+        let grid = ClusterGrid {
+            tile: 32,
+            tiles_x: 2,
+            tiles_y: 2,
+            slices: 1,
+            scale: 1.0,
+            bias: 0.0,
+            near: 0.1,
+            far: 10.0,
+            first: 0.0,
+        };
         let lists: [&[u32]; 4] = [&[0, 2, 5], &[], &[1, 2, 3, 4], &[6, 7]];
         let mut data = vec![0u32; 8];
         for (c, l) in lists.iter().enumerate() {
@@ -658,7 +808,7 @@ mod tests {
             data[2 * c + 1] = l.len() as u32;
             data.extend_from_slice(l);
         }
-        let c = ClusterLists { data: data.clone(), grid: Some(grid), entries: 9, longest: 4 };
+        let c = ClusterLists { data: data.clone(), grid: Some(grid), entries: 9, longest: 4, capped: 0 };
         assert_eq!(&*c.fitted(data.len()), &data[..], "lists that fit are uploaded as they are");
         // Room for the header and 5 entries: the shortest lists fit (cells 1, 3 and 0: 0, 2
         // and 3 entries); the longest (cell 2's 4) walks every light.
@@ -684,6 +834,8 @@ mod tests {
             forward_lights: ForwardLights::Tiled,
             light_batching: true,
             cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
+            grid: Default::default(),
+            object_cap: (0, Default::default()),
             loop_limit: None,
             near_fullscreen: false,
             front_to_back: false,

@@ -318,6 +318,25 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     for &p in presets {
         v.push(c("presets", p.name(), p.settings(&base), o.lights));
     }
+    // The shortcuts engines ship (`renderer::caps::ENGINES`), each against the same frame
+    // uncapped: clustered deferred, and the forward path for the engines that shade forward.
+    v.push(c(
+        ENGINES_GROUP,
+        "clustered uncapped".into(),
+        Settings { culling: CullingMode::Clustered, ..base.clone() },
+        o.lights,
+    ));
+    v.push(c(
+        ENGINES_GROUP,
+        "forward uncapped".into(),
+        Settings { path: crate::renderer::RenderPath::Forward, ..base.clone() },
+        o.lights,
+    ));
+    for e in crate::renderer::caps::ENGINES {
+        if let Ok(s) = crate::renderer::caps::engine_settings(e, &base) {
+            v.push(c(ENGINES_GROUP, e.name.into(), s, o.lights));
+        }
+    }
     v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
     // The calibration pass at every scene and size the sweep renders, timed in the same
     // interleaved rounds: the unit of ρ_fs and of the fixed passes' cost.
@@ -376,9 +395,13 @@ pub const PATH_LIGHT_COUNTS: [usize; 3] = [64, 256, 1024];
 /// The project's glTF room, the `path` group's second scene.
 pub const ROOM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf");
 
+/// The group of the engines' presets.
+pub const ENGINES_GROUP: &str = "engines";
+
 /// The configuration groups, for `--only`.
 pub const GROUPS: &[&str] = &[
     "culling",
+    ENGINES_GROUP,
     "presets",
     "near",
     "materials",

@@ -180,6 +180,9 @@ pub struct Row {
     pub path: PathFigures,
     /// The shadow maps' figures (every row, NaN/0 without shadows).
     pub shadow: ShadowFigures,
+    /// What the engine-style caps dropped and what that cost in light (the `engines` group;
+    /// empty elsewhere).
+    pub caps: CapFigures,
     /// The ledger: the frame's ten costliest lights (index, ms) by the cost model its counted
     /// frame used (`cost_source`), costliest first; empty where the frame has no per-light
     /// costs (the forward paths).
@@ -268,6 +271,35 @@ impl ShadowFigures {
             fallback_off_screen: sh.fallback_off_screen,
             cube: sh.cube.name(),
             cube_side: sh.cube_side.max(sh.indirection_side),
+        }
+    }
+}
+
+/// An `engines` row's caps: what they dropped, and what the frame lost against brute force.
+#[derive(Clone, Debug, Serialize)]
+pub struct CapFigures {
+    /// Where the engine's figures come from (`caps::ENGINES`).
+    pub source: String,
+    /// Lights the camera caps dropped, and list entries the per-cluster and per-object caps
+    /// left out.
+    pub dropped_lights: u64,
+    pub dropped_entries: u64,
+    /// Pixels lacking light beyond the accumulation's rounding against brute force over every
+    /// light (NaN on the forward paths, which keep no G-buffer for it).
+    pub missed_pixels: f64,
+    /// Light-pixel pairs the dropped lights add (NaN where a per-cluster cap dropped entries:
+    /// brute force over whole lights cannot count those).
+    pub dropped_pairs: f64,
+}
+
+impl Default for CapFigures {
+    fn default() -> Self {
+        Self {
+            source: String::new(),
+            dropped_lights: 0,
+            dropped_entries: 0,
+            missed_pixels: f64::NAN,
+            dropped_pairs: f64::NAN,
         }
     }
 }
@@ -389,6 +421,7 @@ mod tests {
             lists_ms: f64::NAN,
             units: Units::default(),
             path: Default::default(),
+            caps: Default::default(),
             shadow: Default::default(),
             costliest: Vec::new(),
             cost_source: String::new(),

@@ -161,11 +161,12 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          coverage_fragments,shaded_fragments,ideal_fragments,efficiency,gbuffer_bytes_per_pixel,flip_mean,max_abs_light_error,psnr_db,pareto,\
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
          shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side,\
-         lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share\n",
+         lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share,\
+         cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -223,7 +224,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.units.rho_fs,
             r.units.gbuffer_fs,
             r.units.compose_fs,
-            r.units.culling_share
+            r.units.culling_share,
+            r.caps.dropped_lights,
+            r.caps.dropped_entries,
+            r.caps.missed_pixels,
+            r.caps.dropped_pairs
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -317,11 +322,56 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
         );
     }
     s += &units_markdown(rows);
+    s += &engines_markdown(rows);
     s += &paths_markdown(rows);
     s += &shadows_markdown(rows);
     s += &costliest_markdown(&run.rows);
     s += &ledger_markdown(&run.ledger);
     s += &skipped_markdown(&run.skipped);
+    s
+}
+
+/// The `engines` rows: each engine's caps against the same frame uncapped, in time and in
+/// light lost, with the source of its figures.
+pub fn engines_markdown(rows: &[Row]) -> String {
+    let mine: Vec<&Row> = rows.iter().filter(|r| r.group == super::configs::ENGINES_GROUP).collect();
+    if mine.is_empty() {
+        return String::new();
+    }
+    let fmt = |v: f64, d: usize| if v.is_finite() { format!("{v:.d$}") } else { "-".into() };
+    let mut s = String::from(
+        "\n### The shortcuts engines ship\n\n\
+         Each engine's caps over Lampshade's clustered deferred frame (or its forward path, for the \
+         engines that shade forward), against the same frame uncapped. FLIP is against the \
+         reference; missed pixels lack light beyond the accumulation's rounding against brute force \
+         over every light (the G-buffer paths); dropped pairs are the light-pixel pairs the dropped \
+         lights add (`-` where a per-cluster cap dropped list entries rather than lights).\n\n\
+         | engine | lights | size | total ms | x uncapped | FLIP mean | missed pixels | dropped lights | dropped entries | dropped pairs | source |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in &mine {
+        let forward = r.path.path == crate::renderer::RenderPath::Forward.name();
+        let base = mine.iter().find(|b| {
+            b.label == if forward { "forward uncapped" } else { "clustered uncapped" }
+                && (b.scene.as_str(), b.lights, b.width, b.height) == (r.scene.as_str(), r.lights, r.width, r.height)
+        });
+        let ratio = base.map_or(f64::NAN, |b| r.total_ms / b.total_ms);
+        s += &format!(
+            "| {} | {} | {}x{} | {:.2} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.label,
+            r.lights,
+            r.width,
+            r.height,
+            r.total_ms,
+            fmt(ratio, 2),
+            fmt(r.flip_mean as f64, 5),
+            fmt(r.caps.missed_pixels, 0),
+            r.caps.dropped_lights,
+            r.caps.dropped_entries,
+            fmt(r.caps.dropped_pairs, 0),
+            r.caps.source
+        );
+    }
     s
 }
 

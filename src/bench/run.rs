@@ -231,6 +231,11 @@ fn measure<'c>(
         // colour with the albedo in): their error is FLIP's, on the final picture.
         (max_err, psnr) = (f32::NAN, f64::NAN);
     }
+    let caps = if cfg.group == super::configs::ENGINES_GROUP {
+        cap_figures(gpu, cfg, scene, renderer, &stats)?
+    } else {
+        CapFigures::default()
+    };
     Ok(Row {
         group: cfg.group.into(),
         label: cfg.label.clone(),
@@ -277,9 +282,38 @@ fn measure<'c>(
         limit_ratio: f64::NAN,
         path: figures,
         shadow: ShadowFigures::of(&stats, times),
+        caps,
         costliest: costliest(&stats),
         cost_source: stats.cost_model.as_ref().map_or(String::new(), |m| m.source.clone()),
     })
+}
+
+/// An `engines` row's [`CapFigures`]: from its counted frame's stats, and on the G-buffer
+/// paths from [`crate::oracle::cap_loss`] (which draws the frame again, uncapped and capped).
+fn cap_figures(
+    gpu: &Gpu,
+    cfg: &Config,
+    scene: &crate::Scene,
+    renderer: &mut Renderer,
+    stats: &FrameStats,
+) -> Result<CapFigures> {
+    let source = crate::renderer::caps::ENGINES
+        .iter()
+        .find(|e| e.name == cfg.label)
+        .map_or_else(|| "no caps".to_string(), |e| e.source.to_string());
+    let c = stats.caps.clone().unwrap_or_default();
+    let mut f = CapFigures {
+        source,
+        dropped_lights: (c.dropped_by_count + c.dropped_by_distance) as u64,
+        dropped_entries: c.cluster_entries_dropped + c.object_entries_dropped,
+        ..CapFigures::default()
+    };
+    if !crate::oracle::FORWARD_PATHS.contains(&cfg.settings.path) {
+        let loss = crate::oracle::cap_loss(gpu, renderer, scene, &cfg.settings, cfg.size)?;
+        f.missed_pixels = loss.missed_pixels as f64;
+        f.dropped_pairs = loss.dropped_pairs.map_or(f64::NAN, |n| n as f64);
+    }
+    Ok(f)
 }
 
 /// The `path` figures of a rendered frame: passes, target bytes per pixel, list entries.
@@ -399,6 +433,7 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         limit_ratio: f64::NAN,
         path: PathFigures { path: cfg.settings.path.name(), error, ..Default::default() },
         shadow: ShadowFigures::default(),
+        caps: Default::default(),
         costliest: Vec::new(),
         cost_source: String::new(),
     }

@@ -412,6 +412,62 @@ fn compare_into(
     r
 }
 
+/// What a frame under engine-style caps (`renderer::caps`) lost against brute force over every
+/// light of the scene: the pixels that lack light beyond the accumulation's rounding (the
+/// oracle's missed pixels), and, when the caps dropped whole lights from the frame (the camera
+/// caps), the light-pixel pairs those lights add (brute force over them alone counts them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CapLoss {
+    pub missed_pixels: usize,
+    pub extra_pixels: usize,
+    pub dropped_pairs: Option<u64>,
+}
+
+/// [`CapLoss`] of `scene` drawn with `settings` (a G-buffer path) at `size`, on `renderer`.
+pub fn cap_loss(
+    gpu: &Gpu,
+    renderer: &mut Renderer,
+    scene: &crate::scene::Scene,
+    settings: &Settings,
+    (w, h): (u32, u32),
+) -> Result<CapLoss> {
+    if FORWARD_PATHS.contains(&settings.path) {
+        anyhow::bail!("the forward paths keep no G-buffer for brute force");
+    }
+    let base = Settings { count_fragments: false, count_ideal: false, timestamps: false, ..settings.clone() };
+    let uncapped =
+        Settings { max_lights: 0, light_distance: 0.0, lights_per_cluster: 0, lights_per_object: 0, ..base.clone() };
+    let mut dark_scene = scene.clone();
+    dark_scene.lights_mut().clear();
+    render_image(gpu, renderer, &dark_scene, &uncapped, w, h)?;
+    let dark = accumulated(gpu, renderer)?;
+    render_image(gpu, renderer, scene, &uncapped, w, h)?;
+    let all = renderer.brute_force(gpu)?;
+    let (_, stats) = render_image(gpu, renderer, scene, &base, w, h)?;
+    let lit = accumulated(gpu, renderer)?;
+    let one_target = renderer.one_target() && settings.path == RenderPath::Deferred;
+    let r = compare_into(&lit, &dark, &all, settings.accumulation, (settings.path, one_target), None);
+    let caps = stats.caps.unwrap_or_default();
+    let dropped_pairs = match caps.kept {
+        // Entries a per-cluster cap left out drop a light at some pixels only: brute force over
+        // whole lights cannot count them.
+        _ if caps.cluster_entries_dropped > 0 => None,
+        Some(kept) => {
+            let mut dropped = scene.clone();
+            let mut is_kept = vec![false; scene.lights.len()];
+            for &i in &kept {
+                is_kept[i as usize] = true;
+            }
+            let lights = scene.lights.iter().zip(&is_kept).filter(|(_, &k)| !k).map(|(l, _)| *l).collect();
+            dropped.set_lights(lights);
+            render_image(gpu, renderer, &dropped, &uncapped, w, h)?;
+            Some(renderer.brute_force(gpu)?.adding.iter().map(|&n| n as u64).sum())
+        }
+        None => Some(0),
+    };
+    Ok(CapLoss { missed_pixels: r.missed, extra_pixels: r.extra, dropped_pairs })
+}
+
 /// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights
 /// and boxes that still fail that mode.
 pub fn check_and_shrink(

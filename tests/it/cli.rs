@@ -442,6 +442,19 @@ fn bench_runs_every_group(file: &str, extra: &[&str], fixed: bool) {
             mode.name()
         );
     }
+    // The engines group: a row per engine's preset, each with its source.
+    let engines = md
+        .split("### The shortcuts engines ship")
+        .nth(1)
+        .unwrap_or_else(|| panic!("{file}: no engines section:\n{md}"));
+    for e in lampshade::renderer::caps::ENGINES {
+        let row = engines.lines().find(|l| l.starts_with(&format!("| {} |", e.name)));
+        assert!(
+            row.is_some_and(|l| l.ends_with(&format!("| {} |", e.source))),
+            "{file}: no row for {}:\n{engines}",
+            e.name
+        );
+    }
     let rows = bench_rows(&dir.join("bench.csv"));
     for group in lampshade::bench::GROUPS {
         let expected = !(fixed && *group == "lights");

@@ -55,6 +55,10 @@ pub enum Command {
     /// pixel and a difference image per mode (the forward paths: their light lists against
     /// themselves unculled). Exits 1 when any frame misses or adds light.
     Check(CheckArgs),
+    /// Which path and culling mode is fastest for a scene, and up to how many lights each
+    /// stays fastest: predicted from a cost model fitted on short calibration frames, then
+    /// measured; prints prediction against measurement, writes advise.md, advise.json and a plot.
+    Advise(AdviseArgs),
     /// List the graphics adapters found and what each supports (paths, layouts, culling modes,
     /// knobs), from each adapter's capability table.
     Adapters(AdaptersArgs),
@@ -193,6 +197,31 @@ pub struct CheckArgs {
     /// The renderer's knobs (as `render`'s). `--culling` checks that mode alone, `--path` that
     /// path alone; by default every mode on the deferred path and the light pre-pass, and the
     /// forward paths' light lists against themselves unculled.
+    #[command(flatten)]
+    pub knobs: KnobArgs,
+}
+
+#[derive(clap::Args)]
+pub struct AdviseArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb).
+    pub scene: String,
+    /// The light counts to advise at: a built-in scene that takes a count is built with each;
+    /// any other scene keeps that many of its lights, evenly strided (default: the scene's own
+    /// count, or 64, 256, 1024 and 4096 for a scene that takes a count).
+    #[arg(long, num_args = 1.., value_delimiter = ',')]
+    pub lights: Vec<usize>,
+    /// Image size, WxH.
+    #[arg(long, value_parser = image_size, default_value = "640x360")]
+    pub size: (u32, u32),
+    /// Timed frames per measurement (their median is taken).
+    #[arg(long, default_value_t = 3)]
+    pub frames: usize,
+    /// Write advise.md, advise.json and advise.png here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// The renderer's knobs (as `render`'s), applied under every candidate's path and mode.
     #[command(flatten)]
     pub knobs: KnobArgs,
 }

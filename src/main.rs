@@ -354,6 +354,70 @@ fn open_scene(
     result
 }
 
+/// `lampshade advise`: the advisor (`bench::advise`) on a scene.
+fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
+    use lampshade::bench::advise;
+    let mut settings = Settings { shadows: lampshade::renderer::ShadowMode::None, ..Settings::default() };
+    args.knobs.apply(&mut settings).map_err(anyhow::Error::msg)?;
+    settings.validate().map_err(anyhow::Error::msg)?;
+    if args.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let takes = builtin::TAKES_LIGHT_COUNT.contains(&args.scene.as_str());
+    let import = lampshade::scene::import::ImportOptions::default();
+    let most = args.lights.iter().copied().max();
+    let (scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights: most, time: 0.0 }, &import)?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    let counts: Vec<usize> = if !args.lights.is_empty() {
+        args.lights.clone()
+    } else if takes {
+        vec![64, 256, 1024, 4096]
+    } else {
+        vec![scene.lights.len()]
+    };
+    if counts.contains(&0) {
+        bail!("--lights: a light count must be at least 1");
+    }
+    if !takes && counts.iter().any(|&n| n > scene.lights.len()) {
+        bail!("--lights: '{}' has {} lights; it can be advised at that many or fewer", args.scene, scene.lights.len());
+    }
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let name = args.scene.clone();
+    let scene_at: Box<dyn FnMut(usize) -> Result<lampshade::Scene>> = Box::new(move |n| {
+        if takes {
+            builtin::build(&name, BuiltinOptions { lights: Some(n), time: 0.0 }).map_err(anyhow::Error::msg)
+        } else {
+            Ok(advise::strided(&scene, n))
+        }
+    });
+    let candidates = advise::candidates(&settings);
+    let mut frames = advise::GpuFrames::new(&gpu, candidates.clone(), scene_at, args.size, args.frames);
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} {elapsed} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let a = advise::advise(&mut frames, &args.scene, args.size, &candidates, &counts, &mut |done, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })?;
+    bar.finish_and_clear();
+    let md = advise::markdown(&a);
+    print!("{md}");
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        std::fs::write(dir.join("advise.md"), &md).with_context(|| format!("writing {}", dir.display()))?;
+        std::fs::write(dir.join("advise.json"), serde_json::to_string_pretty(&a)?)
+            .with_context(|| format!("writing {}", dir.display()))?;
+        lampshade::bench::plot_advice(&a, &dir.join("advise.png"))?;
+        eprintln!("wrote {}/advise.md, advise.json, advise.png", dir.display());
+    }
+    Ok(())
+}
+
 /// `lampshade bake`: seed 004's lightmaps for a scene, to a folder `render --baked` reads.
 fn bake(args: lampshade::cli::BakeArgs) -> Result<()> {
     let (mut scene, warnings) = open_scene(&args.scene, BuiltinOptions::default(), &Default::default())?;
@@ -454,13 +518,17 @@ fn adapters(args: AdaptersArgs) -> Result<()> {
 fn main() {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
-    if matches!(cli.command, Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_) | Command::Check(_))) {
+    if matches!(
+        cli.command,
+        Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_) | Command::Check(_) | Command::Advise(_))
+    ) {
         lampshade::gpu::quiet_headless_device_select();
     }
     let result = match cli.command {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
         Some(Command::Check(args)) => check(args),
+        Some(Command::Advise(args)) => advise(args),
         Some(Command::Adapters(args)) => adapters(args),
         Some(Command::Bake(args)) => bake(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),

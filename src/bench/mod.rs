@@ -10,6 +10,7 @@
 //! - [`report`]: the CSV and markdown tables, the limits and the Pareto front;
 //! - [`plot`]: the charts.
 
+pub mod advise;
 mod configs;
 mod ledger;
 mod plot;

@@ -374,3 +374,98 @@ pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
     root.present()?;
     Ok(())
 }
+
+/// The advisor's plot: frame time against light count (log-log), one colour per candidate, its
+/// measured times as points joined by solid lines and its predicted line dashed; each
+/// crossover marked with a vertical line, predicted dashed and measured solid.
+pub fn plot_advice(a: &super::advise::Advice, path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+        .map_err(|_| anyhow::anyhow!("cannot load the plot font"))?;
+    let root = BitMapBackend::new(path, (1000, 620)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (title, body) = root.split_vertically(50);
+    title.titled(
+        &format!("{} at {}x{}: predicted (dashed) and measured (solid) GPU ms per frame", a.scene, a.size.0, a.size.1),
+        ("sans-serif", 20),
+    )?;
+    let counts: Vec<f64> = a.counts.iter().map(|&n| n as f64).collect();
+    let (Some(&n_lo), Some(&n_hi)) = (counts.first(), counts.last()) else {
+        root.present()?;
+        return Ok(());
+    };
+    let (x_lo, x_hi) = (n_lo / 1.5, n_hi * 1.5);
+    let times: Vec<f64> =
+        a.predicted.iter().chain(&a.measured).flatten().copied().filter(|v| v.is_finite() && *v > 0.0).collect();
+    let (t_lo, t_hi) = times.iter().fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+    let (t_lo, t_hi) = if t_lo.is_finite() { (t_lo / 1.5, t_hi * 1.5) } else { (1.0, 10.0) };
+    let x_ticks = crate::plot_layout::log_ticks(x_lo, x_hi);
+    let t_ticks = crate::plot_layout::log_ticks(t_lo, t_hi);
+    let (x_dec, t_dec) = (crate::plot_layout::tick_decimals(&x_ticks), crate::plot_layout::tick_decimals(&t_ticks));
+    let mut chart = ChartBuilder::on(&body)
+        .margin(14)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d((x_lo..x_hi).log_scale(), (t_lo..t_hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("lights")
+        .y_desc("GPU ms per frame (median)")
+        .label_style(("sans-serif", 13))
+        .disable_mesh()
+        .x_labels(0)
+        .y_labels(0)
+        .x_label_formatter(&|_| String::new())
+        .y_label_formatter(&|_| String::new())
+        .draw()?;
+    draw_ticks(&mut chart, &body, (&x_ticks, x_dec), (&t_ticks, t_dec), (x_lo, x_hi), (t_lo, t_hi))?;
+    // Every other segment of a finely split line (log x and y).
+    let dashed = |from: (f64, f64), to: (f64, f64)| -> Vec<[(f64, f64); 2]> {
+        (0..24)
+            .step_by(2)
+            .map(|k| {
+                let at = |f: f64| (from.0 * (to.0 / from.0).powf(f), from.1 * (to.1 / from.1).powf(f));
+                [at(k as f64 / 24.0), at((k + 1) as f64 / 24.0)]
+            })
+            .collect()
+    };
+    for (c, name) in a.candidates.iter().enumerate() {
+        let color = PALETTE[c % PALETTE.len()];
+        let measured: Vec<(f64, f64)> = counts
+            .iter()
+            .zip(&a.measured[c])
+            .filter(|(_, t)| t.is_finite() && **t > 0.0)
+            .map(|(&n, &t)| (n, t))
+            .collect();
+        chart.draw_series(LineSeries::new(measured.clone(), color.stroke_width(2)))?;
+        chart
+            .draw_series(measured.iter().map(|&p| Circle::new(p, 4, color.filled())))?
+            .label(name.as_str())
+            .legend(move |(lx, ly)| Rectangle::new([(lx, ly - 4), (lx + 14, ly + 4)], color.filled()));
+        if let Some(f) = &a.fits[c] {
+            let (p0, p1) = ((x_lo, f.predict(x_lo)), (x_hi, f.predict(x_hi)));
+            if p0.1 > 0.0 && p1.1 > 0.0 {
+                for d in dashed(p0, p1) {
+                    chart.draw_series(LineSeries::new(d, color.stroke_width(1)))?;
+                }
+            }
+        }
+    }
+    for (n, _, _) in &a.predicted_crossovers {
+        for d in dashed((*n, t_lo), (*n, t_hi)) {
+            chart.draw_series(LineSeries::new(d, BLACK.stroke_width(1)))?;
+        }
+    }
+    for (n, _, _) in &a.measured_crossovers {
+        chart.draw_series(LineSeries::new([(*n, t_lo), (*n, t_hi)], BLACK.stroke_width(2)))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    root.present()?;
+    Ok(())
+}

@@ -1,0 +1,551 @@
+//! `lampshade advise`: which path and culling mode is fastest for this scene, and up to how
+//! many lights each stays fastest, predicted from a short calibration and then measured.
+//!
+//! **The model.** A frame of candidate c with n lights costs
+//!
+//! ```text
+//! T_c(n) = fixed_c + draws_c(n) · t_draw,c + pairs_c(n) · t_pair,c
+//! ```
+//!
+//! the light ledger's model (`renderer::explain::cost`) over the whole frame: `fixed` holds the
+//! G-buffer (or the forward depth pre-pass), compose, and a list mode's full-screen pass;
+//! `draws` are the frame's light draws and `pairs` the light-pixel pairs it evaluated. The
+//! coefficients are fitted (`CostModel::fit`, least squares) on calibration frames at light
+//! counts below every count asked about. Draws and pairs both grow with the lights, so frames
+//! that only vary the count cannot tell a draw's cost from its pairs'; half of the calibration
+//! frames therefore halve every light's radius (a quarter of the pairs for the same draws).
+//! The draws and pairs at the scene's own radii are fitted as lines in n (a scene's lights
+//! drawn from one distribution add pairs in proportion). So each T_c is a line in n, the
+//! predicted best at n is the lowest line, and a crossover (where one candidate stops being
+//! fastest) is where two lines meet.
+//!
+//! **Then it measures**: every candidate at every count asked, timed as the bench times (the
+//! median of the frames' GPU time), and prints prediction against measurement. A measured
+//! crossover lies between two measured counts where the best changes; it is placed where the
+//! two candidates' measured times, joined by straight lines, cross.
+
+use super::run::median;
+use crate::gpu::Gpu;
+use crate::headless::render_image;
+use crate::renderer::explain::cost::{CostModel, Sample};
+use crate::renderer::{CullingMode, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
+use crate::Scene;
+use anyhow::Result;
+use serde::Serialize;
+
+/// One path and culling mode the advisor weighs.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    pub name: String,
+    pub settings: Settings,
+}
+
+/// The candidates: deferred shading with seed 000's and seed 001's volume methods, tiled,
+/// clustered and z-binned lists, and forward single-pass with its tile lists (seed 002's
+/// comparison).
+pub fn candidates(base: &Settings) -> Vec<Candidate> {
+    let mut v: Vec<Candidate> = [
+        CullingMode::Volume,
+        CullingMode::StencilTwoPass,
+        CullingMode::Tiled,
+        CullingMode::Clustered,
+        CullingMode::Zbin,
+    ]
+    .into_iter()
+    .map(|culling| Candidate {
+        name: format!("deferred {}", culling.name()),
+        settings: Settings { path: RenderPath::Deferred, culling, ..base.clone() },
+    })
+    .collect();
+    v.push(Candidate { name: "forward".into(), settings: Settings { path: RenderPath::Forward, ..base.clone() } });
+    v
+}
+
+/// One frame: its light count and radius scale, light draws, evaluated pairs and GPU ms.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Point {
+    pub lights: usize,
+    pub radius_scale: f64,
+    pub draws: f64,
+    pub pairs: f64,
+    pub ms: f64,
+}
+
+/// What renders the advisor's frames: the GPU ([`GpuFrames`]), or a synthetic source in tests.
+pub trait Frames {
+    /// Candidate `c`'s frame with `lights` lights, every radius times `radius_scale`.
+    fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point>;
+}
+
+/// A candidate's fitted model: its cost model and its draws and pairs as lines in n.
+#[derive(Clone, Debug, Serialize)]
+pub struct Fit {
+    pub model: CostModel,
+    /// (at zero lights, per light).
+    pub draws: (f64, f64),
+    pub pairs: (f64, f64),
+}
+
+impl Fit {
+    /// Fits candidate frames `points` (at least two light counts at the scene's radii).
+    pub fn of(points: &[Point], source: &str) -> Option<Self> {
+        let samples: Vec<Sample> =
+            points.iter().map(|p| Sample { draws: p.draws, ideal: p.pairs, wasted: 0.0, ms: p.ms }).collect();
+        // Frames whose times show no cost per light (noise over a pass that does not grow at
+        // these counts) fit no positive coefficients: the frame is then its mean, flat.
+        let model = CostModel::fit(&samples, source).unwrap_or_else(|| CostModel {
+            fixed_ms: samples.iter().map(|s| s.ms).sum::<f64>() / samples.len().max(1) as f64,
+            draw_ms: 0.0,
+            pair_ns: 0.0,
+            source: format!("{source} (flat: no cost per light measurable)"),
+        });
+        let own: Vec<&Point> = points.iter().filter(|p| p.radius_scale == 1.0).collect();
+        let line = |f: &dyn Fn(&Point) -> f64| line(&own.iter().map(|p| (p.lights as f64, f(p))).collect::<Vec<_>>());
+        Some(Self { model, draws: line(&|p| p.draws), pairs: line(&|p| p.pairs) })
+    }
+
+    /// The predicted frame time at `n` lights: (at zero lights, per light) of the line T(n).
+    pub fn time_line(&self) -> (f64, f64) {
+        let m = &self.model;
+        let at0 = m.fixed_ms + self.draws.0 * m.draw_ms + self.pairs.0 * m.pair_ns * 1e-6;
+        let per = self.draws.1 * m.draw_ms + self.pairs.1 * m.pair_ns * 1e-6;
+        (at0, per)
+    }
+
+    pub fn predict(&self, n: f64) -> f64 {
+        let (a, b) = self.time_line();
+        a + b * n
+    }
+}
+
+/// Least-squares line y = a + b x through `xy` (the mean, flat, with one distinct x), the
+/// slope held at zero or above and the intercept at zero or above (no frame has fewer than no
+/// draws or pairs).
+fn line(xy: &[(f64, f64)]) -> (f64, f64) {
+    let n = xy.len().max(1) as f64;
+    let (mx, my) = (xy.iter().map(|p| p.0).sum::<f64>() / n, xy.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxx: f64 = xy.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = xy.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    if sxx <= 0.0 {
+        return (my.max(0.0), 0.0);
+    }
+    let b = (sxy / sxx).max(0.0);
+    let a = my - b * mx;
+    if a < 0.0 {
+        // Through the origin.
+        let b0 = xy.iter().map(|p| p.0 * p.1).sum::<f64>() / xy.iter().map(|p| p.0 * p.0).sum::<f64>().max(1e-300);
+        return (0.0, b0.max(0.0));
+    }
+    (a, b)
+}
+
+/// The calibration frames for counts `asked`, (lights, radius scale): a quarter and a half of
+/// the fewest asked, and an eighth of the most asked when that lies further up (so the lines
+/// are fitted over a span of counts, not extrapolated from the smallest alone), at the scene's
+/// radii; the last two again at half the radii. None is a count asked about, and each costs at
+/// most an eighth of the largest frame measured.
+pub fn calibration_counts(asked: &[usize]) -> Vec<(usize, f64)> {
+    let least = asked.iter().copied().min().unwrap_or(1).max(1);
+    let most = asked.iter().copied().max().unwrap_or(1).max(1);
+    let mut v: Vec<usize> = vec![(least / 4).max(1), (least / 2).max(1)];
+    if most / 8 > least / 2 && !asked.contains(&(most / 8)) {
+        v.push(most / 8);
+    }
+    v.dedup();
+    if v.len() < 2 && least > 1 {
+        v = vec![1, least - 1];
+    }
+    let halves: Vec<(usize, f64)> = v.iter().rev().take(2).rev().map(|&n| (n, 0.5)).collect();
+    v.into_iter().map(|n| (n, 1.0)).chain(halves).collect()
+}
+
+/// Where the lower envelope of the lines `lines` (candidate, (a, b)) changes candidate between
+/// `lo` and `hi` lights: (n, the candidate fastest below n, the one fastest above).
+pub fn crossovers(lines: &[(usize, (f64, f64))], lo: f64, hi: f64) -> Vec<(f64, usize, usize)> {
+    let best =
+        |n: f64| lines.iter().min_by(|x, y| (x.1 .0 + x.1 .1 * n).total_cmp(&(y.1 .0 + y.1 .1 * n))).map(|x| x.0);
+    let mut out = Vec::new();
+    let Some(mut current) = best(lo) else { return out };
+    let mut n = lo;
+    // Walk the envelope: from the current line, the nearest crossing ahead with a line that
+    // is lower past it.
+    while n < hi {
+        let (a, b) = lines.iter().find(|x| x.0 == current).map(|x| x.1).unwrap_or_default();
+        let next = lines
+            .iter()
+            .filter(|x| x.0 != current && x.1 .1 < b)
+            .map(|x| ((x.1 .0 - a) / (b - x.1 .1), x.0))
+            .filter(|(m, _)| *m > n && *m < hi)
+            .min_by(|p, q| p.0.total_cmp(&q.0));
+        let Some((m, c)) = next else { break };
+        out.push((m, current, c));
+        current = c;
+        n = m;
+    }
+    out
+}
+
+/// Where measured times cross: between consecutive counts where the measured best changes,
+/// where the two candidates' times, joined by straight lines in n, meet.
+pub fn measured_crossovers(counts: &[usize], ms: &[Vec<f64>]) -> Vec<(f64, usize, usize)> {
+    let best =
+        |k: usize| (0..ms.len()).filter(|&c| ms[c][k].is_finite()).min_by(|&a, &b| ms[a][k].total_cmp(&ms[b][k]));
+    let mut out = Vec::new();
+    for k in 1..counts.len() {
+        let (Some(a), Some(b)) = (best(k - 1), best(k)) else { continue };
+        if a == b {
+            continue;
+        }
+        let (n0, n1) = (counts[k - 1] as f64, counts[k] as f64);
+        let d0 = ms[a][k - 1] - ms[b][k - 1];
+        let d1 = ms[a][k] - ms[b][k];
+        let t = if (d0 - d1).abs() > 0.0 { d0 / (d0 - d1) } else { 0.5 };
+        out.push((n0 + t.clamp(0.0, 1.0) * (n1 - n0), a, b));
+    }
+    out
+}
+
+/// The advisor's answer.
+#[derive(Clone, Debug, Serialize)]
+pub struct Advice {
+    pub scene: String,
+    pub size: (u32, u32),
+    pub candidates: Vec<String>,
+    /// The calibration frames: (lights, radius scale).
+    pub calibration: Vec<(usize, f64)>,
+    pub counts: Vec<usize>,
+    /// Per candidate: its calibration frames, and its fit (`None` when they could not be
+    /// fitted or drawn).
+    pub points: Vec<Vec<Point>>,
+    pub fits: Vec<Option<Fit>>,
+    /// Per candidate, per count: predicted and measured ms (NaN where not drawn).
+    pub predicted: Vec<Vec<f64>>,
+    pub measured: Vec<Vec<f64>>,
+    /// Why a candidate's frames were not drawn, if so.
+    pub refused: Vec<Option<String>>,
+    pub predicted_crossovers: Vec<(f64, usize, usize)>,
+    pub measured_crossovers: Vec<(f64, usize, usize)>,
+}
+
+impl Advice {
+    /// The predicted and the measured best candidate at count index `k`.
+    pub fn best(&self, k: usize) -> (Option<usize>, Option<usize>) {
+        let pick = |t: &Vec<Vec<f64>>| {
+            (0..t.len()).filter(|&c| t[c][k].is_finite()).min_by(|&a, &b| t[a][k].total_cmp(&t[b][k]))
+        };
+        (pick(&self.predicted), pick(&self.measured))
+    }
+}
+
+/// Runs the advisor over `frames`: calibrates every candidate, predicts, then measures at
+/// `counts`. `progress(done, total, what)` is called before each frame.
+pub fn advise(
+    frames: &mut dyn Frames,
+    scene: &str,
+    size: (u32, u32),
+    candidates: &[Candidate],
+    counts: &[usize],
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Result<Advice> {
+    let mut counts = counts.to_vec();
+    counts.sort_unstable();
+    counts.dedup();
+    let calibration = calibration_counts(&counts);
+    let total = candidates.len() * (calibration.len() + counts.len());
+    let mut done = 0;
+    let (mut fits, mut refused, mut all_points) = (Vec::new(), Vec::new(), Vec::new());
+    for (c, cand) in candidates.iter().enumerate() {
+        let mut points = Vec::new();
+        let mut why = None;
+        for &(n, k) in &calibration {
+            progress(done, total, &format!("calibrating {} at {n} lights, radii x{k}", cand.name));
+            done += 1;
+            match frames.frame(c, n, k) {
+                Ok(p) => points.push(p),
+                Err(e) => why = Some(format!("{e:#}")),
+            }
+        }
+        fits.push(if why.is_none() { Fit::of(&points, "calibration frames") } else { None });
+        refused.push(why);
+        all_points.push(points);
+    }
+    let predicted: Vec<Vec<f64>> = fits
+        .iter()
+        .map(|f| counts.iter().map(|&n| f.as_ref().map_or(f64::NAN, |f| f.predict(n as f64))).collect())
+        .collect();
+    let mut measured = vec![vec![f64::NAN; counts.len()]; candidates.len()];
+    for (c, cand) in candidates.iter().enumerate() {
+        for (k, &n) in counts.iter().enumerate() {
+            progress(done, total, &format!("measuring {} at {n} lights", cand.name));
+            done += 1;
+            if refused[c].is_some() {
+                continue;
+            }
+            match frames.frame(c, n, 1.0) {
+                Ok(p) => measured[c][k] = p.ms,
+                Err(e) => refused[c] = Some(format!("{e:#}")),
+            }
+        }
+    }
+    progress(total, total, "done");
+    let lines: Vec<(usize, (f64, f64))> =
+        fits.iter().enumerate().filter_map(|(c, f)| Some((c, f.as_ref()?.time_line()))).collect();
+    let (lo, hi) = (counts.first().copied().unwrap_or(1) as f64, counts.last().copied().unwrap_or(1) as f64);
+    Ok(Advice {
+        scene: scene.into(),
+        size,
+        candidates: candidates.iter().map(|c| c.name.clone()).collect(),
+        calibration,
+        predicted_crossovers: crossovers(&lines, lo, hi),
+        measured_crossovers: measured_crossovers(&counts, &measured),
+        counts,
+        points: all_points,
+        fits,
+        predicted,
+        measured,
+        refused,
+    })
+}
+
+/// The GPU's frames: the scene at each light count (`scene_at`), each candidate on its own
+/// renderer, timed as the bench times (a warm-up frame, then the median of `timed` frames'
+/// GPU ms) and counted once for its draws and pairs.
+pub struct GpuFrames<'a> {
+    pub gpu: &'a Gpu,
+    pub candidates: Vec<Candidate>,
+    pub scene_at: Box<dyn FnMut(usize) -> Result<Scene> + 'a>,
+    pub size: (u32, u32),
+    pub timed: usize,
+    renderers: Vec<Option<Renderer>>,
+    scenes: Vec<((usize, u64), Scene)>,
+}
+
+impl<'a> GpuFrames<'a> {
+    pub fn new(
+        gpu: &'a Gpu,
+        candidates: Vec<Candidate>,
+        scene_at: Box<dyn FnMut(usize) -> Result<Scene> + 'a>,
+        size: (u32, u32),
+        timed: usize,
+    ) -> Self {
+        let renderers = candidates.iter().map(|_| None).collect();
+        Self { gpu, candidates, scene_at, size, timed: timed.max(1), renderers, scenes: Vec::new() }
+    }
+}
+
+impl Frames for GpuFrames<'_> {
+    fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
+        let key = (lights, radius_scale.to_bits());
+        if !self.scenes.iter().any(|(k, _)| *k == key) {
+            let mut s = (self.scene_at)(lights)?;
+            if radius_scale != 1.0 {
+                super::configs::scale_light_radii(&mut s, radius_scale);
+            }
+            self.scenes.push((key, s));
+        }
+        let scene = &self.scenes.iter().find(|(k, _)| *k == key).expect("just added").1;
+        let base = &self.candidates[c].settings;
+        let timed = Settings { count_fragments: false, count_ideal: false, timestamps: true, ..base.clone() };
+        let counted = Settings { count_fragments: true, count_ideal: false, timestamps: false, ..base.clone() };
+        if self.renderers[c].is_none() {
+            self.renderers[c] = Some(Renderer::new(self.gpu, OUTPUT_FORMAT, &timed)?);
+        }
+        let r = self.renderers[c].as_mut().expect("just made");
+        let (w, h) = self.size;
+        // A new light list makes the frame's CPU part run again; each timed frame then draws
+        // the same frame, as the bench's.
+        render_image(self.gpu, r, scene, &timed, w, h)?;
+        let mut times = Vec::new();
+        let mut draws = 0.0;
+        for _ in 0..self.timed {
+            let (_, stats) = render_image(self.gpu, r, scene, &timed, w, h)?;
+            times.push(stats.gpu_ms.total.unwrap_or(f64::NAN));
+            draws = stats.draw_calls as f64;
+        }
+        let (_, stats) = render_image(self.gpu, r, scene, &counted, w, h)?;
+        // The pairs: each light's evaluated samples summed (the forward path's lights share
+        // each object's fragments), else the frame's shaded fragments.
+        let per_light: Option<u64> = stats.per_light.iter().map(|l| l.shaded).sum();
+        let pairs = per_light.filter(|_| !stats.per_light.is_empty()).or(stats.shaded_fragments).unwrap_or(0);
+        Ok(Point { lights, radius_scale, draws, pairs: pairs as f64, ms: median(times) })
+    }
+}
+
+/// `scene` with `n` of its lights, evenly strided (all of them when it has no more).
+pub fn strided(scene: &Scene, n: usize) -> Scene {
+    let len = scene.lights.len();
+    let mut s = scene.clone();
+    if n < len {
+        s.set_lights((0..n).map(|k| scene.lights[k * len / n]).collect());
+    }
+    s
+}
+
+/// The advice as Markdown: the model per candidate, prediction against measurement per count,
+/// the best of each, and the crossovers.
+pub fn markdown(a: &Advice) -> String {
+    let fmt = |v: f64| if v.is_finite() { format!("{v:.2}") } else { "-".into() };
+    let name = |c: usize| a.candidates.get(c).cloned().unwrap_or_default();
+    let mut s = format!(
+        "## Advice for `{}` at {}x{}\n\nCalibrated on frames at (lights, radius scale) {:?} (below every count asked), then measured. \
+         T(n) = fixed + draws(n) x t_draw + pairs(n) x t_pair, each candidate's coefficients fitted on its \
+         calibration frames (GPU ms, medians).\n\n\
+         | candidate | fixed ms | t_draw ms | t_pair ns | draws per light | pairs per light | refused |\n|---|---|---|---|---|---|---|\n",
+        a.scene, a.size.0, a.size.1, a.calibration
+    );
+    for (c, f) in a.fits.iter().enumerate() {
+        match f {
+            Some(f) => {
+                s += &format!(
+                    "| {} | {:.2} | {:.4} | {:.2} | {:.2} | {:.0} | {} |\n",
+                    name(c),
+                    f.model.fixed_ms,
+                    f.model.draw_ms,
+                    f.model.pair_ns,
+                    f.draws.1,
+                    f.pairs.1,
+                    a.refused[c].as_deref().unwrap_or("")
+                )
+            }
+            None => {
+                s += &format!("| {} | - | - | - | - | - | {} |\n", name(c), a.refused[c].as_deref().unwrap_or("no fit"))
+            }
+        }
+    }
+    s += "\n| lights | candidate | predicted ms | measured ms | predicted / measured |\n|---|---|---|---|---|\n";
+    for (k, &n) in a.counts.iter().enumerate() {
+        for c in 0..a.candidates.len() {
+            let (p, m) = (a.predicted[c][k], a.measured[c][k]);
+            s += &format!("| {n} | {} | {} | {} | {} |\n", name(c), fmt(p), fmt(m), fmt(p / m));
+        }
+    }
+    s += "\n| lights | predicted best | measured best | agree | the predicted best's measured ms / the best's |\n|---|---|---|---|---|\n";
+    for (k, &n) in a.counts.iter().enumerate() {
+        let (p, m) = a.best(k);
+        let n_of = |c: Option<usize>| c.map_or("-".to_string(), name);
+        let ratio = match (p, m) {
+            (Some(p), Some(m)) => a.measured[p][k] / a.measured[m][k],
+            _ => f64::NAN,
+        };
+        s += &format!("| {n} | {} | {} | {} | {} |\n", n_of(p), n_of(m), if p == m { "yes" } else { "no" }, fmt(ratio));
+    }
+    let cross = |v: &[(f64, usize, usize)]| {
+        if v.is_empty() {
+            "none in the range asked".to_string()
+        } else {
+            v.iter()
+                .map(|(n, x, y)| format!("{} stops being fastest at {n:.0} lights ({} from there)", name(*x), name(*y)))
+                .collect::<Vec<_>>()
+                .join("; ")
+        }
+    };
+    s += &format!(
+        "\nPredicted crossovers: {}.\n\nMeasured crossovers: {}.\n",
+        cross(&a.predicted_crossovers),
+        cross(&a.measured_crossovers)
+    );
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Frames from known costs: per candidate a fixed part, a draw cost and a pair cost, draws
+    /// proportional to the lights and pairs to the lights times the radius squared, the time
+    /// disturbed by a fixed pattern of up to ±`noise` (no randomness in the suite).
+    struct Synthetic {
+        costs: Vec<(f64, f64, f64, f64, f64)>,
+        noise: f64,
+        k: u64,
+    }
+
+    impl Synthetic {
+        fn truth(&self, c: usize, lights: f64) -> f64 {
+            let (fixed, draw_ms, pair_ns, draws_per, pairs_per) = self.costs[c];
+            fixed + draws_per * lights * draw_ms + pairs_per * lights * pair_ns * 1e-6
+        }
+    }
+
+    impl Frames for Synthetic {
+        fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
+            let (fixed, draw_ms, pair_ns, draws_per, pairs_per) = self.costs[c];
+            let (draws, pairs) = (draws_per * lights as f64, pairs_per * lights as f64 * radius_scale * radius_scale);
+            self.k += 1;
+            let noise = 1.0 + self.noise * [1.0, -1.0, 0.5, -0.5, 0.0][(self.k % 5) as usize];
+            Ok(Point {
+                lights,
+                radius_scale,
+                draws,
+                pairs,
+                ms: (fixed + draws * draw_ms + pairs * pair_ns * 1e-6) * noise,
+            })
+        }
+    }
+
+    /// A volume-like candidate (a draw per light at 0.3 ms, 40,000 pairs per light at 17 ns)
+    /// and a list-like one (no draws, a full-screen fixed part, cheaper pairs).
+    const COSTS: [(f64, f64, f64, f64, f64); 2] = [(30.0, 0.3, 17.0, 1.0, 40_000.0), (45.0, 0.0, 12.0, 0.0, 25_000.0)];
+    const COUNTS: [usize; 4] = [64, 256, 1024, 4096];
+
+    fn run(noise: f64) -> (Advice, Synthetic) {
+        let mut f = Synthetic { costs: COSTS.to_vec(), noise, k: 0 };
+        let cands: Vec<Candidate> = ["volume-like", "list-like"]
+            .iter()
+            .map(|n| Candidate { name: n.to_string(), settings: Settings::default() })
+            .collect();
+        let a = advise(&mut f, "synthetic", (1280, 720), &cands, &COUNTS, &mut |_, _, _| {}).unwrap();
+        (a, f)
+    }
+
+    #[test]
+    fn the_model_recovers_known_draw_and_pair_costs_within_5_percent() {
+        // Frames disturbed by ±1%: every coefficient within 5%.
+        let (a, _) = run(0.01);
+        for (c, &cost) in COSTS.iter().enumerate() {
+            let m = &a.fits[c].as_ref().unwrap().model;
+            assert!(near_all(m, cost), "candidate {c}: {m:?} against {cost:?}");
+        }
+        // The exact lines cross where 30 + 0.98 n = 45 + 0.3 n: n = 22, below the range asked,
+        // so the list-like candidate is fastest throughout, predicted and measured.
+        for k in 0..a.counts.len() {
+            assert_eq!(a.best(k), (Some(1), Some(1)));
+        }
+        // Without the halved radii the draw cost cannot be told from the pairs', even from
+        // undisturbed frames.
+        let mut f = Synthetic { costs: COSTS.to_vec(), noise: 0.0, k: 0 };
+        let only_counts: Vec<Point> = [16, 32, 512].iter().map(|&n| f.frame(0, n, 1.0).unwrap()).collect();
+        let m = Fit::of(&only_counts, "counts only").map(|f| f.model);
+        assert!(m.as_ref().is_none_or(|m| !near_all(m, COSTS[0])), "{m:?}");
+    }
+
+    #[test]
+    fn predictions_at_the_counts_asked_stay_within_5_percent_of_the_truth_under_2_percent_noise() {
+        let (a, f) = run(0.02);
+        for c in 0..COSTS.len() {
+            for (k, &n) in a.counts.iter().enumerate() {
+                let (p, t) = (a.predicted[c][k], f.truth(c, n as f64));
+                assert!((p - t).abs() <= 0.05 * t, "candidate {c} at {n}: predicted {p}, truly {t}");
+            }
+        }
+    }
+
+    fn near_all(m: &CostModel, (fixed, draw_ms, pair_ns, _, _): (f64, f64, f64, f64, f64)) -> bool {
+        let near = |got: f64, want: f64| (got - want).abs() <= 0.05 * want.max(1e-9);
+        near(m.fixed_ms, fixed) && near(m.draw_ms, draw_ms) && near(m.pair_ns, pair_ns)
+    }
+
+    #[test]
+    fn crossovers_follow_the_lower_envelope() {
+        // y = 10 + n, y = 40 + 0.5 n, y = 100 + 0.1 n: 1 -> 2 at n = 60, 2 -> 3 at n = 150.
+        let lines = [(0, (10.0, 1.0)), (1, (40.0, 0.5)), (2, (100.0, 0.1))];
+        let x = crossovers(&lines, 1.0, 1000.0);
+        assert_eq!(x.len(), 2);
+        assert!((x[0].0 - 60.0).abs() < 1e-9 && (x[0].1, x[0].2) == (0, 1));
+        assert!((x[1].0 - 150.0).abs() < 1e-9 && (x[1].1, x[1].2) == (1, 2));
+        let m = measured_crossovers(&[10, 100], &[vec![20.0, 110.0], vec![45.0, 90.0]]);
+        // d0 = -25, d1 = 20: t = 25/45 of the way from 10 to 100.
+        assert_eq!(m.len(), 1);
+        assert!((m[0].0 - 60.0).abs() < 1e-9);
+    }
+}

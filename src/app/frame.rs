@@ -318,6 +318,7 @@ impl App {
             probe: self.probe.as_ref(),
             explanation: self.explanation.as_ref(),
             check: self.check.as_ref(),
+            advice: self.advice.as_ref(),
             adapter: &g.adapter,
             caps: &g.gpu.caps,
             status: self.status.as_ref(),
@@ -424,6 +425,7 @@ impl App {
                 }
                 Command::ResetCamera => self.state.camera = None,
                 Command::CheckCulling => self.check_culling(),
+                Command::Advise => self.start_advice(),
                 Command::SceneChanged => {
                     if !crate::scene::import::is_gltf_path(&self.state.scene) {
                         self.reset_scene_edits();
@@ -515,6 +517,16 @@ impl App {
                         }
                         Some(Err(e)) => bail!("frame {}: the culling check failed: {e}", self.frame),
                         None => bail!("frame {}: no scene to check", self.frame),
+                    }
+                }
+                Action::Advise => {
+                    self.start_advice();
+                    let Some(job) = self.advice.as_mut() else { bail!("frame {}: no scene to advise on", self.frame) };
+                    job.wait();
+                    match job.answer() {
+                        Some(Ok(a)) => println!("frame {}: {}", self.frame, super::advice::summary(&a)),
+                        Some(Err(e)) => bail!("frame {}: the advisor failed: {e}", self.frame),
+                        None => bail!("frame {}: the advisor gave no answer", self.frame),
                     }
                 }
                 Action::Quit => event_loop.exit(),

@@ -6,6 +6,7 @@
 //! that texture and is drawn into the window after the scene, in the same frame. Panel edits
 //! reach the renderer on the next frame.
 
+mod advice;
 pub mod camera;
 mod frame;
 pub mod gfx;
@@ -192,6 +193,8 @@ struct App {
     check: Option<Result<ui::CullingCheck, String>>,
     /// The renderer the culling check draws with (its frames are not the viewport's).
     check_renderer: Option<crate::renderer::Renderer>,
+    /// The advisor, running on its own thread or finished.
+    advice: Option<advice::AdviceJob>,
     scene: Option<Scene>,
     /// From the last frame's layout.
     viewport_rect: Option<egui::Rect>,
@@ -235,6 +238,7 @@ impl App {
             explanation: None,
             check: None,
             check_renderer: None,
+            advice: None,
             scene: None,
             viewport_rect: None,
             hover_pixel: None,
@@ -413,7 +417,12 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
-            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Quit => {}
+            Action::Screenshot(_)
+            | Action::Memory
+            | Action::Overlaps
+            | Action::Check
+            | Action::Advise
+            | Action::Quit => {}
         }
     }
 
@@ -539,6 +548,20 @@ impl App {
             Some(Err(e)) => self.say(format!("culling check failed: {e}"), true),
             None => {}
         }
+    }
+
+    /// Starts the advisor (`lampshade advise`) on the current scene, camera and settings at the
+    /// viewport's size (at most 320x180), unless it is already running; its window opens.
+    fn start_advice(&mut self) {
+        if self.advice.as_ref().is_some_and(|j| j.running()) {
+            return;
+        }
+        let (Some(scene), Some(g)) = (&self.scene, &self.gfx) else { return };
+        let size = advice::size((g.viewport.width, g.viewport.height));
+        let settings = self.state.frame_settings();
+        self.advice = Some(advice::AdviceJob::start(scene.clone(), settings, size));
+        self.state.panels.advice = true;
+        self.say(format!("advising on {} lights at {}x{}", scene.lights.len(), size.0, size.1), false);
     }
 
     fn reset_scene_edits(&mut self) {

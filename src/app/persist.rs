@@ -110,7 +110,15 @@ mod tests {
         assert_eq!(load(&p), (Persisted::default(), None));
         let s = Persisted {
             window: [900, 500],
-            panels: Panels { left: true, right: false, gbuffer: false, shadows: true, explain: false, check: false },
+            panels: Panels {
+                left: true,
+                right: false,
+                gbuffer: false,
+                shadows: true,
+                explain: false,
+                check: false,
+                advice: false,
+            },
             resolution_scale: 0.25,
             culling: CullingMode::StencilInvert,
             layout: LayoutChoice::Seed000,

@@ -89,13 +89,18 @@ pub enum Action {
     Overlaps,
     /// The culling check against brute force at the current camera (its window opens).
     Check,
+    /// The advisor on the current scene and camera; the script waits for its answer.
+    Advise,
     Quit,
 }
 
 impl Action {
     /// Runs after the frame is drawn.
     pub fn is_post(&self) -> bool {
-        matches!(self, Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Quit)
+        matches!(
+            self,
+            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Advise | Action::Quit
+        )
     }
 }
 
@@ -266,6 +271,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "check" => {
             want(0)?;
             Action::Check
+        }
+        "advise" => {
+            want(0)?;
+            Action::Advise
         }
         "quit" => {
             want(0)?;

@@ -204,11 +204,14 @@ pub struct Panels {
     pub explain: bool,
     /// The culling check's window (opens when a check runs).
     pub check: bool,
+    /// The advisor's window (opens when it starts).
+    #[serde(default)]
+    pub advice: bool,
 }
 
 impl Default for Panels {
     fn default() -> Self {
-        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false, check: false }
+        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false, check: false, advice: false }
     }
 }
 

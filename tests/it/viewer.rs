@@ -1144,3 +1144,30 @@ fn the_culling_check_runs_in_the_window_on_each_g_buffer_path() {
     let shot = load(&dir, "check.png");
     assert!(lit_share(&shot) > 0.05, "the window is dark");
 }
+
+/// The Scene tab's "which path and mode?" (script action `advise`): the advisor runs on its
+/// own thread and device on the current scene and camera, the script waits for its answer, and
+/// its window shows prediction against measurement at a sixteenth, a quarter and all of the
+/// lights.
+#[test]
+fn the_advisor_runs_beside_the_window_and_answers_in_it() {
+    need_display!();
+    let dir = out_dir("advise");
+    let script = dir.join("advise.script");
+    std::fs::write(&script, "5 advise\n8 screenshot advice.png\n10 quit\n").expect("script");
+    let out = view("demo", &script, &["--no-state", "--lights", "64"], &dir);
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "stdout:\n{stdout}\nstderr:\n{stderr}");
+    let line = stdout.lines().find(|l| l.contains("advice at")).unwrap_or_else(|| panic!("no advice:\n{stdout}"));
+    // demo's 64 lights and its 4 spots: a sixteenth, a quarter and all 68.
+    let names: Vec<String> =
+        lampshade::bench::advise::candidates(&Default::default()).into_iter().map(|c| c.name).collect();
+    for n in [4, 17, 68] {
+        let part = line.split(&format!("{n} lights: ")).nth(1).unwrap_or_else(|| panic!("no {n} lights in {line}"));
+        assert!(names.iter().any(|c| part.starts_with(c.as_str())), "{n} lights: no measured best in {line}");
+        assert!(part.contains("(predicted "), "{line}");
+    }
+    let json = json(&dir, "advice-viewport.json");
+    assert_eq!(json["viewer"]["panels"]["advice"].as_bool(), Some(true), "the advice's window is not open");
+    assert!(lit_share(&load(&dir, "advice.png")) > 0.05, "the window is dark");
+}

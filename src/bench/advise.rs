@@ -20,7 +20,9 @@
 //! fastest) is where two lines meet.
 //!
 //! **Then it measures**: every candidate at every count asked, timed as the bench times (the
-//! median of the frames' GPU time), and prints prediction against measurement. A measured
+//! median of the frames' GPU time), candidate by candidate right after its own calibration
+//! (its prediction is fixed before its first measured frame), and prints prediction against
+//! measurement. A measured
 //! crossover lies between two measured counts where the best changes; it is placed where the
 //! two candidates' measured times, joined by straight lines, cross.
 
@@ -254,6 +256,10 @@ pub fn advise(
     let total = candidates.len() * (calibration.len() + counts.len());
     let mut done = 0;
     let (mut fits, mut refused, mut all_points) = (Vec::new(), Vec::new(), Vec::new());
+    let mut predicted = vec![vec![f64::NAN; counts.len()]; candidates.len()];
+    let mut measured = vec![vec![f64::NAN; counts.len()]; candidates.len()];
+    // Candidate by candidate: its calibration, its fit and prediction, then its measurement,
+    // so that a candidate's prediction and its measurement are made under the same load.
     for (c, cand) in candidates.iter().enumerate() {
         let mut points = Vec::new();
         let mut why = None;
@@ -265,27 +271,24 @@ pub fn advise(
                 Err(e) => why = Some(format!("{e:#}")),
             }
         }
-        fits.push(if why.is_none() { Fit::of(&points, "calibration frames") } else { None });
-        refused.push(why);
-        all_points.push(points);
-    }
-    let predicted: Vec<Vec<f64>> = fits
-        .iter()
-        .map(|f| counts.iter().map(|&n| f.as_ref().map_or(f64::NAN, |f| f.predict(n as f64))).collect())
-        .collect();
-    let mut measured = vec![vec![f64::NAN; counts.len()]; candidates.len()];
-    for (c, cand) in candidates.iter().enumerate() {
+        let fit = if why.is_none() { Fit::of(&points, "calibration frames") } else { None };
+        for (k, &n) in counts.iter().enumerate() {
+            predicted[c][k] = fit.as_ref().map_or(f64::NAN, |f| f.predict(n as f64));
+        }
         for (k, &n) in counts.iter().enumerate() {
             progress(done, total, &format!("measuring {} at {n} lights", cand.name));
             done += 1;
-            if refused[c].is_some() {
+            if why.is_some() {
                 continue;
             }
             match frames.frame(c, n, 1.0) {
                 Ok(p) => measured[c][k] = p.ms,
-                Err(e) => refused[c] = Some(format!("{e:#}")),
+                Err(e) => why = Some(format!("{e:#}")),
             }
         }
+        fits.push(fit);
+        refused.push(why);
+        all_points.push(points);
     }
     progress(total, total, "done");
     let lines: Vec<(usize, (f64, f64))> =
@@ -352,9 +355,12 @@ impl Frames for GpuFrames<'_> {
         }
         let r = self.renderers[c].as_mut().expect("just made");
         let (w, h) = self.size;
-        // A new light list makes the frame's CPU part run again; each timed frame then draws
-        // the same frame, as the bench's.
-        render_image(self.gpu, r, scene, &timed, w, h)?;
+        // Two frames first (the first of a new scene or size builds what it needs, lavapipe
+        // compiles shaders on first use); each timed frame then draws the same frame, as the
+        // bench's.
+        for _ in 0..2 {
+            render_image(self.gpu, r, scene, &timed, w, h)?;
+        }
         let mut times = Vec::new();
         let mut draws = 0.0;
         for _ in 0..self.timed {

@@ -56,6 +56,20 @@ impl Shape {
                 settings.debug_view.name()
             );
         }
+        // A clustered grid the knobs make finer than its lists can be held for (the cells'
+        // (first, count) headers alone past 32 MiB).
+        let grid = crate::renderer::culling::tiled::GridChoice::of(settings);
+        let tile = grid.tile(size).max(1);
+        let slices = if grid.slices > 0 { grid.slices } else { crate::renderer::culling::tiled::SLICES };
+        let cells = width.div_ceil(tile) as u64 * height.div_ceil(tile) as u64 * slices as u64;
+        let clustered = matches!(settings.culling, CullingMode::Clustered | CullingMode::Auto) && !forward_path;
+        if clustered && cells > crate::renderer::culling::tiled::MAX_GRID_CELLS {
+            bail!(
+                "a clustered grid of {tile}-pixel tiles and {slices} slices at {width}x{height} has {cells} cells (most {}); \
+                 use a larger --cluster-tile or fewer --cluster-slices",
+                crate::renderer::culling::tiled::MAX_GRID_CELLS
+            );
+        }
         let n = scene.lights.len();
         if n > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE {
             let listed = matches!(settings.culling, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Auto);

@@ -20,6 +20,10 @@ pub const CLUSTER_TILE: u32 = 32;
 /// Exponential depth slices between the nearest and the farthest depth the frame's lights
 /// reach (`clustered`).
 pub const SLICES: u32 = 64;
+/// The most cells a clustered grid the knobs ask for may have (`frame::Shape` refuses finer
+/// ones): 4M cells, whose (first, count) headers take 32 MiB. The default grid at 7680x4320
+/// has 2.1M.
+pub const MAX_GRID_CELLS: u64 = 1 << 22;
 /// From this many lights the CPU's cluster lists (`cluster_lists`, the CPU builder) are split
 /// over two threads; below it a thread costs more than it saves.
 pub const PARALLEL_MIN_LIGHTS: usize = 1024;

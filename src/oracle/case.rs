@@ -33,6 +33,11 @@ pub struct CaseSettings {
     pub reversed_z: bool,
     pub accumulation: AccumFormat,
     pub shadows: ShadowMode,
+    /// The clustered grid, when not the default: (tile pixels, slices, first slice depth; 0 for
+    /// exponential slices over the lights' depths). Engines' grids (`renderer::caps`) change
+    /// the lists, never the light.
+    #[serde(default)]
+    pub grid: Option<(u32, u32, f32)>,
 }
 
 impl CaseSettings {
@@ -44,6 +49,9 @@ impl CaseSettings {
             reversed_z: self.reversed_z,
             accumulation: self.accumulation,
             shadows: self.shadows,
+            cluster_tile: self.grid.map_or(0, |g| g.0),
+            cluster_slices: self.grid.map_or(0, |g| g.1),
+            first_slice_depth: self.grid.map_or(0.0, |g| g.2),
             count_fragments: false,
             count_ideal: false,
             timestamps: false,
@@ -207,7 +215,9 @@ impl Default for Limits {
 /// - far from the origin (everything moved 10^6);
 /// - the G-buffer layout, the depth format, reversed Z, the accumulation format (all five; the
 ///   8-bit and 11-bit ones less often, their bounds being coarser than many lights) and shadows,
-///   shared by [`SETTINGS_BLOCK`] cases in a row.
+///   shared by [`SETTINGS_BLOCK`] cases in a row;
+/// - half the cases, a clustered grid as an engine lays it out (tile, slices, a first slice
+///   from the eye to a depth, as Bevy's).
 pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let mut r = Rng::new(seed, index);
     let mut aims = Vec::new();
@@ -233,6 +243,15 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
                 AccumFormat::Rgba8Unorm,
             ]),
             shadows: r.pick(&[ShadowMode::None, ShadowMode::Spots, ShadowMode::All]),
+            // From a stream of its own, per case (a grid compiles nothing), so the rest of the
+            // case is what it was before grids were drawn.
+            grid: {
+                let mut g = Rng::new(seed ^ 0x6121_D5EE, index);
+                g.chance(0.5).then(|| {
+                    let first = if g.chance(0.5) { g.log(1e-3, 1e3) as f32 } else { 0.0 };
+                    (g.pick(&[8, 16, 32, 64, 80, 128]), g.pick(&[1, 3, 24, 64]), first)
+                })
+            },
         }
     };
     // Masks that leave some layers out need a layout with a channel for the layer (the others

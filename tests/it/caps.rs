@@ -157,6 +157,8 @@ fn a_grid_changes_the_lists_and_not_the_picture() {
         &[("cluster-budget", "4096"), ("cluster-slices", "24"), ("first-slice-depth", "5")][..],
         &[("cluster-tile", "32"), ("cluster-slices", "1")][..],
         &[("cluster-tile", "8"), ("cluster-slices", "3"), ("first-slice-depth", "11.9")][..],
+        // Every light wholly before the first slice's end (they reach 8-15 units deep).
+        &[("cluster-slices", "24"), ("first-slice-depth", "20")][..],
     ] {
         let mut s = plain.clone();
         for (k, v) in knobs {

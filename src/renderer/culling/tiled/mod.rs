@@ -413,7 +413,10 @@ impl Span {
         // The sphere's depths from the plan (`plan::light_depths` of this record), not the
         // record: one walk over the records fewer.
         debug_assert_eq!(p.depths, super::plan::light_depths(l));
-        let (d0, d1) = (p.depths.0.max(grid.near), p.depths.1.min(grid.far));
+        // The depths the grid's slices hold: from its near depth, or from the eye when slice 0
+        // runs from it (`ClusterGrid::first_slice`).
+        let nearest = if grid.first > 0.0 { 0.0 } else { grid.near };
+        let (d0, d1) = (p.depths.0.max(nearest), p.depths.1.min(grid.far));
         if d0.is_nan() || d1.is_nan() || d0 > d1 {
             return None;
         }

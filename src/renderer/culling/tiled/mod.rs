@@ -516,16 +516,8 @@ fn light_cells(
 /// near to far (no light reaches a point nearer or farther, so the end slices' lists, which
 /// such points fall into, hold every light that reaches them).
 pub fn fitted_grid(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ClusterGrid {
-    let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
     debug_assert_eq!(lights.len(), plans.len());
-    for p in plans {
-        // `depths` is empty (inf, -inf) for a radius that is not positive.
-        if p.screen_rect.is_some() && p.depths.0 < p.depths.1 {
-            zmin = zmin.min(p.depths.0);
-            zmax = zmax.max(p.depths.1);
-        }
-    }
-    let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
+    let (near, far) = fitted_depths(plans, view);
     let g = &view.grid;
     let tile = g.tile(view.size);
     let slices = if g.slices > 0 { g.slices } else { SLICES };
@@ -534,6 +526,21 @@ pub fn fitted_grid(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView)
     } else {
         ClusterGrid::with_cells(view.size, near, far.max(near), tile, slices)
     }
+}
+
+/// The view depths the frame's lights reach on screen, within the view's near and far planes
+/// (the view's planes when none does).
+pub fn fitted_depths(plans: &[LightPlan], view: &PlanView) -> (f32, f32) {
+    let (mut zmin, mut zmax) = (f32::INFINITY, 0.0f32);
+    for p in plans {
+        // `depths` is empty (inf, -inf) for a radius that is not positive.
+        if p.screen_rect.is_some() && p.depths.0 < p.depths.1 {
+            zmin = zmin.min(p.depths.0);
+            zmax = zmax.max(p.depths.1);
+        }
+    }
+    let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
+    (near, far.max(near))
 }
 
 /// The clustered grid and the per-cluster cap a frame asks for (`Settings::cluster_tile`,

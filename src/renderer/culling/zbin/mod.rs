@@ -25,7 +25,7 @@
 //! bindings and shading skeleton), and `zbin.wgsl`.
 
 use crate::renderer::culling::plan::{LightPlan, PlanView};
-use crate::renderer::culling::tiled::{fitted_grid, ClusterGrid};
+use crate::renderer::culling::tiled::{fitted_depths, ClusterGrid};
 use crate::renderer::records::LightRecord;
 
 /// Depth bins, exponential between the nearest and the farthest depth the frame's lights
@@ -160,8 +160,9 @@ fn pixel_rect(p: &LightPlan, size: (u32, u32)) -> Option<(u32, u32, u32, u32)> {
 /// the shading pass's chunk.
 pub fn zbin_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) -> ZBinJob {
     debug_assert_eq!(lights.len(), plans.len());
-    let fitted = fitted_grid(lights, plans, view);
-    let depth_grid = ClusterGrid::with_cells(view.size, fitted.near, fitted.far, TILE_SIZES[0], BINS);
+    // The depths the lights reach (the clustered grid's knobs are not z-binning's).
+    let (near, far) = fitted_depths(plans, view);
+    let depth_grid = ClusterGrid::with_cells(view.size, near, far, TILE_SIZES[0], BINS);
     // Each light's bins [k0, k1) and pixel rectangle; lights reaching no visible point of the
     // grid's depths are left out.
     let mut spans: Vec<Spanned> = Vec::with_capacity(lights.len());
@@ -181,7 +182,7 @@ pub fn zbin_job(lights: &[LightRecord], plans: &[LightPlan], view: &PlanView) ->
         .into_iter()
         .find(|&t| view.size.0.div_ceil(t) as u64 * view.size.1.div_ceil(t) as u64 * words as u64 <= MASK_MAX_WORDS)
         .unwrap_or(TILE_SIZES[TILE_SIZES.len() - 1]);
-    let grid = ClusterGrid::with_cells(view.size, fitted.near, fitted.far, tile, BINS);
+    let grid = ClusterGrid::with_cells(view.size, near, far, tile, BINS);
     // Counting sort by first bin (stable: light order within a bin).
     let mut starts = vec![0u32; BINS as usize + 1];
     for s in &spans {

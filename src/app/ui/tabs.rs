@@ -218,12 +218,98 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
         ambient_and_sun(ui, st, scene);
     }
     ui.separator();
+    egui::CollapsingHeader::new(RichText::new("Engine caps").strong()).id_salt("engine-caps").show(ui, |ui| {
+        engine_caps(ui, st, f, out);
+    });
+    ui.separator();
     // The shadow knobs (also in the shadow-atlas window, top bar "shadows").
     ui.label(RichText::new("Shadows").strong());
     super::shadow_atlas::shadow_knobs(ui, st, "scene");
     ui.separator();
     ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
     post_panel(ui, st, f);
+}
+
+/// The engine-style caps (`renderer::caps`): an engine's preset at once, each cap and the
+/// clustered grid, and what the last frame's caps dropped.
+fn engine_caps(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("as");
+        for e in crate::renderer::caps::ENGINES {
+            if ui.small_button(e.name).on_hover_text(e.source).clicked() {
+                for (k, v) in e.knobs {
+                    if let Err(err) = st.settings.set(k, v) {
+                        out.commands.push(Command::Status(Status { text: err, error: true }));
+                    }
+                }
+            }
+        }
+        if ui.small_button("none").on_hover_text("every cap off, the default grid").clicked() {
+            for k in [
+                "max-lights",
+                "light-distance",
+                "lights-per-cluster",
+                "lights-per-object",
+                "cluster-tile",
+                "cluster-budget",
+                "cluster-slices",
+                "first-slice-depth",
+            ] {
+                let _ = st.settings.set(k, "0");
+            }
+        }
+    });
+    let s = &mut st.settings;
+    egui::Grid::new("caps-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
+        let whole = |ui: &mut egui::Ui, v: &mut u32, what: &str| {
+            ui.add(egui::DragValue::new(v).range(0..=1 << 20).speed(1.0)).on_hover_text(what);
+        };
+        ui.label("lights per camera");
+        whole(ui, &mut s.max_lights, "keep at most this many lights, by the cap order (0: all)");
+        ui.end_row();
+        ui.label("light distance");
+        ui.add(egui::DragValue::new(&mut s.light_distance).range(0.0..=1e9).speed(0.5))
+            .on_hover_text("drop lights whose sphere lies wholly beyond this distance (0: none)");
+        ui.end_row();
+        ui.label("lights per cluster");
+        whole(ui, &mut s.lights_per_cluster, "clustered: keep at most this many lights per cell (0: all)");
+        ui.end_row();
+        ui.label("lights per object");
+        whole(ui, &mut s.lights_per_object, "forward paths: keep at most this many lights per object (0: all)");
+        ui.end_row();
+        ui.label("cap order");
+        egui::ComboBox::from_id_salt("cap-order").selected_text(s.cap_order.name()).show_ui(ui, |ui| {
+            for &o in <crate::renderer::settings::CapOrder as clap::ValueEnum>::value_variants() {
+                ui.selectable_value(&mut s.cap_order, o, o.name()).on_hover_text(knob_help(&o));
+            }
+        });
+        ui.end_row();
+        ui.label("cluster grid");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut s.cluster_tile).range(0..=512).prefix("tile "))
+                .on_hover_text("tile side in pixels (0: 32, or what the budget gives)");
+            ui.add(egui::DragValue::new(&mut s.cluster_budget).range(0..=1 << 20).prefix("cells "))
+                .on_hover_text("a cell budget laid out as Bevy's FixedZ (0: none)");
+            ui.add(egui::DragValue::new(&mut s.cluster_slices).range(0..=1024).prefix("slices "))
+                .on_hover_text("depth slices (0: 64)");
+            ui.add(egui::DragValue::new(&mut s.first_slice_depth).range(0.0..=1e6).prefix("first "))
+                .on_hover_text("the first slice ends at this depth, the rest exponential (0: all exponential)");
+        });
+        ui.end_row();
+    });
+    if let Some(c) = f.stats.and_then(|s| s.caps.as_ref()) {
+        ui.label(
+            RichText::new(format!(
+                "last frame: {} lights dropped ({} by count, {} by distance), {} cluster and {} object list entries",
+                c.dropped_by_count + c.dropped_by_distance,
+                c.dropped_by_count,
+                c.dropped_by_distance,
+                c.cluster_entries_dropped,
+                c.object_entries_dropped
+            ))
+            .weak(),
+        );
+    }
 }
 
 /// The post chain's knobs: bloom, auto-exposure, the tone curve and the grading LUT.

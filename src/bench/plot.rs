@@ -340,15 +340,7 @@ pub fn plot_scaling(rows: &[Row], path: &Path) -> Result<()> {
             let color = if is_limit { BLACK } else { palette[i % palette.len()] };
             let style = color.stroke_width(if is_limit { 1 } else { 2 });
             if is_limit {
-                // Dashed: every other segment of a finely split line (log x).
-                let mut dashes = Vec::new();
-                for w in line.windows(2) {
-                    let ((x0, y0), (x1, y1)) = (w[0], w[1]);
-                    for k in (0..20).step_by(2) {
-                        let at = |f: f64| (x0 * (x1 / x0).powf(f), y0 * (y1 / y0).powf(f));
-                        dashes.push([at(k as f64 / 20.0), at((k + 1) as f64 / 20.0)]);
-                    }
-                }
+                let dashes: Vec<[(f64, f64); 2]> = line.windows(2).flat_map(|w| log_dashes(w[0], w[1], 20)).collect();
                 for d in dashes {
                     chart.draw_series(LineSeries::new(d, style))?;
                 }
@@ -419,16 +411,7 @@ pub fn plot_advice(a: &super::advise::Advice, path: &Path) -> Result<()> {
         .y_label_formatter(&|_| String::new())
         .draw()?;
     draw_ticks(&mut chart, &body, (&x_ticks, x_dec), (&t_ticks, t_dec), (x_lo, x_hi), (t_lo, t_hi))?;
-    // Every other segment of a finely split line (log x and y).
-    let dashed = |from: (f64, f64), to: (f64, f64)| -> Vec<[(f64, f64); 2]> {
-        (0..24)
-            .step_by(2)
-            .map(|k| {
-                let at = |f: f64| (from.0 * (to.0 / from.0).powf(f), from.1 * (to.1 / from.1).powf(f));
-                [at(k as f64 / 24.0), at((k + 1) as f64 / 24.0)]
-            })
-            .collect()
-    };
+    let dashed = |from: (f64, f64), to: (f64, f64)| log_dashes(from, to, 24);
     for (c, name) in a.candidates.iter().enumerate() {
         let color = PALETTE[c % PALETTE.len()];
         let measured: Vec<(f64, f64)> = counts
@@ -468,4 +451,11 @@ pub fn plot_advice(a: &super::advise::Advice, path: &Path) -> Result<()> {
         .draw()?;
     root.present()?;
     Ok(())
+}
+
+/// A dashed line from `from` to `to` on log-log axes: every other of `pieces` segments, equal in
+/// length on the axes.
+fn log_dashes(from: (f64, f64), to: (f64, f64), pieces: usize) -> Vec<[(f64, f64); 2]> {
+    let at = |f: f64| (from.0 * (to.0 / from.0).powf(f), from.1 * (to.1 / from.1).powf(f));
+    (0..pieces).step_by(2).map(|k| [at(k as f64 / pieces as f64), at((k + 1) as f64 / pieces as f64)]).collect()
 }

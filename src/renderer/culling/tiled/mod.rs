@@ -126,17 +126,8 @@ impl ClusterGrid {
     pub fn first_slice(size: (u32, u32), first: f32, far: f32, tile: u32, slices: u32) -> Self {
         let far = far.max(first * 1.0001);
         let scale = if slices > 1 { (slices - 1) as f32 / (far / first).ln() } else { 0.0 };
-        Self {
-            tile,
-            tiles_x: size.0.div_ceil(tile),
-            tiles_y: size.1.div_ceil(tile),
-            slices,
-            scale,
-            bias: if slices > 1 { 1.0 - first.ln() * scale } else { 0.0 },
-            near: first,
-            far,
-            first,
-        }
+        let bias = if slices > 1 { 1.0 - first.ln() * scale } else { 0.0 };
+        Self { scale, bias, first, ..Self::with_cells(size, first, far, tile, slices) }
     }
 
     pub fn cells(&self) -> usize {

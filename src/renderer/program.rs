@@ -4,7 +4,7 @@
 //! light loops and the post chain share `kit/common.wgsl`'s functions.
 
 use super::kit::gbuffer::GBufferLayout;
-use super::kit::{bindings, log_accum};
+use super::kit::{self, bindings, log_accum};
 use super::settings::{self, DebugView, Settings};
 use super::{plan, post, records, shadows, tiles};
 
@@ -196,7 +196,8 @@ impl ShaderFeatures {
              const LS_CASTERS_APART: bool = {};\nconst LS_LIGHT_PLANES: bool = {};\n\
              const LS_PAIRED_LOOPS: bool = {};\nconst LS_BRDF_BRANCH: bool = {};\n\
              const LS_COLOUR_MAPS: bool = {};\n\
-             const LS_SHADOW_DEPTH_STEP: f32 = {:?};\n",
+             const LS_SHADOW_DEPTH_STEP: f32 = {:?};\n\
+             const LS_VOLUME_BIAS_UNITS: f32 = {:?};\nconst LS_VOLUME_BIAS_SLOPE: f32 = {:?};\n",
             sh.sun,
             sh.tiles,
             sh.cubes.is_some(),
@@ -207,7 +208,9 @@ impl ShaderFeatures {
             self.paired_loops,
             self.brdf_branch,
             self.colour_maps,
-            sh.format.step()
+            sh.format.step(),
+            kit::VOLUME_BIAS_UNITS as f32,
+            kit::VOLUME_BIAS_SLOPE
         )
     }
 }

@@ -6,7 +6,9 @@
 
 use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
+use crate::renderer::kit::{
+    biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL,
+};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
@@ -84,7 +86,10 @@ impl LightPass {
                 };
                 Some(MethodPipelines {
                     method: s,
-                    mark: s.mark.clone().map(|d| pipe(mark_label, Vs::Volume, "fs_no_color", d, Out::NoColor)),
+                    mark: s.mark.clone().map(|d| {
+                        let fs = if biased_in_fragment(&d) { "fs_mark_both_faces" } else { "fs_no_color" };
+                        pipe(mark_label, Vs::Volume, fs, d, Out::NoColor)
+                    }),
                     shade: shades(label, vs, &s.shade),
                     shade_crossing_near: s.shade_crossing_near.as_ref().map(|d| shades(near_label, Vs::Volume, d)),
                 })

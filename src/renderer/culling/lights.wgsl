@@ -180,6 +180,23 @@ fn vs_fullscreen_plain(@builtin(vertex_index) vi: u32) -> @builtin(position) vec
 fn fs_no_color() {
 }
 
+// Seed 001's marking draw rasterises both faces in one pipeline, so one fixed-function bias
+// cannot draw front faces nearer and back faces farther (`kit::volume_depth_bias`): each face
+// is biased here by the same constant and slope, the constant's unit the depth resolution at
+// the fragment (2^(e-23) for float depth of exponent e, at least 24-bit's 2^-24).
+fn biased_volume_depth(pos: vec4<f32>, front: bool) -> f32 {
+    let slope = max(abs(dpdx(pos.z)), abs(dpdy(pos.z)));
+    let unit = max(ldexp(1.0, frexp(pos.z).exp - 24), ldexp(1.0, -24));
+    let bias = LS_VOLUME_BIAS_UNITS * unit + LS_VOLUME_BIAS_SLOPE * slope;
+    let farther = select(1.0, -1.0, camera.far_depth == 0.0);
+    return clamp(pos.z + select(farther, -farther, front) * bias, 0.0, 1.0);
+}
+
+@fragment
+fn fs_mark_both_faces(@builtin(position) pos: vec4<f32>, @builtin(front_facing) front: bool) -> @builtin(frag_depth) f32 {
+    return biased_volume_depth(pos, front);
+}
+
 // Counts the ideal: samples whose G-buffer point lies inside the light's true shape.
 @fragment
 fn fs_ideal(in: LightVarying) {
@@ -221,6 +238,16 @@ fn fs_waste(in: LightVarying) -> @location(0) vec4<f32> {
 @fragment
 fn fs_waste_mark() -> @location(0) vec4<f32> {
     return vec4<f32>(0.0);
+}
+
+struct WasteMark {
+    @location(0) colour: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_waste_mark_both_faces(@builtin(position) pos: vec4<f32>, @builtin(front_facing) front: bool) -> WasteMark {
+    return WasteMark(vec4<f32>(0.0), biased_volume_depth(pos, front));
 }
 
 // Debug: light complexity, +1 where a light touches the pixel (additive).

@@ -10,7 +10,9 @@
 
 use crate::renderer::culling::methods::{self, Reference, METHODS};
 use crate::renderer::frame::inputs::FrameInputs;
-use crate::renderer::kit::{face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL};
+use crate::renderer::kit::{
+    biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL,
+};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
 /// One method's draws for the view: its mark (adding nothing), its shading draw, and the
@@ -38,7 +40,10 @@ impl WastePass {
                 let s = row.draws.as_ref()?;
                 let vs = if s.fullscreen { Vs::Fullscreen } else { Vs::Volume };
                 Some(MethodPipes {
-                    mark: s.mark.clone().map(|d| pipe("waste view: mark", Vs::Volume, "fs_waste_mark", d, out)),
+                    mark: s.mark.clone().map(|d| {
+                        let fs = if biased_in_fragment(&d) { "fs_waste_mark_both_faces" } else { "fs_waste_mark" };
+                        pipe("waste view: mark", Vs::Volume, fs, d, out)
+                    }),
                     shade: pipe("waste view", vs, "fs_waste", s.shade.clone(), out),
                     shade_crossing_near: s
                         .shade_crossing_near

@@ -136,6 +136,58 @@ impl Faces {
     }
 }
 
+/// The depth bias of a volume draw, in units of the depth buffer's resolution at the
+/// fragment (Vulkan's `r`: 2^-24 for 24-bit depth, 2^(e-23) for 32-bit float depth whose
+/// exponent is e, so 2^-24 over [0.5, 1)).
+///
+/// A culling draw compares the volume's depth, rounded, with the G-buffer's stored depth, and
+/// the lighting and brute force both shade the point that stored depth gives. So the only error
+/// to cover is the volume fragment's own: the view-space vertex (`centre + p R`, covered by the
+/// mesh's `VOLUME_MARGIN`), then in depth units the projection's row (two products and a sum,
+/// at most 2 units), the perspective divide (1), and the rasteriser's plane interpolation at the
+/// pixel centre (three terms, 3), plus the conversion to the format for the compare (0.5
+/// for 24-bit): 6.5, rounded up to [`VOLUME_BIAS_UNITS`] = 8. On standard depth with a small near
+/// plane one unit spans a long way at distance (2CylinderEngine's near 0.05: 3.3 units of view
+/// distance at 1,660), so a point inside a light's sphere near its rim as seen from the eye can
+/// lie behind the back face by less than that error and fail the test while brute force lights
+/// it.
+pub const VOLUME_BIAS_UNITS: i32 = 8;
+
+/// The slope-scaled part of the volume bias, times the face's largest screen depth slope
+/// (depth per pixel): snapping vertices to the rasteriser's sub-pixel grid moves the face's
+/// plane by at most half a grid step in x and in y, 2^-bits pixel in all, and Vulkan guarantees
+/// at least 4 sub-pixel bits (`subPixelPrecisionBits`).
+pub const VOLUME_BIAS_SLOPE: f32 = 1.0 / 16.0;
+
+/// The bias that makes a volume draw's depth test admit, never lose, the points its volume
+/// holds: front faces drawn nearer, back faces farther (so LessEqual on front faces and
+/// GreaterEqual on back faces pass more; Less on back faces fails more, which is what marks in
+/// seed 002's REPLACE). Farther is larger depth on standard depth, smaller under reversed Z.
+/// Culling may only skip work: a point the bias admits that lies outside the light's shape gets
+/// the shader's zero (distance over radius at least 1). A draw of both faces gets none here (one
+/// bias per pipeline): `MARK_BOTH_FACES` biases each face in the fragment instead.
+pub fn volume_depth_bias(state: &DrawState, reversed: bool) -> wgpu::DepthBiasState {
+    let farther = if reversed { -1 } else { 1 };
+    let sign = match state.faces {
+        _ if state.depth == Cmp::Always => 0,
+        Faces::Front => -farther,
+        Faces::Back => farther,
+        Faces::Both => 0,
+    };
+    wgpu::DepthBiasState {
+        constant: sign * VOLUME_BIAS_UNITS,
+        slope_scale: sign as f32 * VOLUME_BIAS_SLOPE,
+        clamp: 0.0,
+    }
+}
+
+/// Whether a volume draw biases its depth in the fragment stage: a draw of both faces with a
+/// depth test (seed 001's INVERT mark), drawn with `fs_mark_both_faces` (`fs_waste_mark_both_faces`
+/// in the waste view), each face biased as `volume_depth_bias` biases single-faced draws.
+pub fn biased_in_fragment(state: &DrawState) -> bool {
+    state.faces == Faces::Both && state.depth != Cmp::Always
+}
+
 /// One draw's raster state as the seeds' tables give it: faces drawn, depth test (standard
 /// depth; never written), stencil.
 #[derive(Clone, Debug)]

@@ -227,6 +227,10 @@ impl Shared {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x4],
         })];
+        let bias = match p.vs {
+            Vs::Volume => super::volume_depth_bias(&p.state, key.reversed_z),
+            _ => Default::default(),
+        };
         let (entry, buffers): (&str, &[Option<wgpu::VertexBufferLayout>]) = match p.vs {
             Vs::Fullscreen => ("vs_fullscreen", &[]),
             Vs::FullscreenPlain => ("vs_fullscreen_plain", &[]),
@@ -251,7 +255,7 @@ impl Shared {
                 depth_write_enabled: Some(false),
                 depth_compare: Some(self.z(p.state.depth)),
                 stencil: p.state.stencil,
-                bias: Default::default(),
+                bias,
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {

@@ -134,7 +134,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = image_size)]
     pub size: Option<(u32, u32)>,
     /// Number of point lights: the demo's (default 1024), or those added to a glTF file that has
-    /// none (default 64, on a dome around the model; see docs/gltf.md).
+    /// none (default 64, over the model's surface; see docs/gltf.md).
     #[arg(long)]
     pub lights: Option<usize>,
     /// Animation time in seconds (default 0, or the settings file's).

@@ -549,6 +549,100 @@ fn a_file_without_lights_gets_a_lit_and_framed_first_picture() {
     }
 }
 
+/// A generated model of boxes (centre, size, turn about y): `Mesh::cube` scaled and placed.
+fn boxes(name: &str, parts: &[([f64; 3], [f64; 3], f64)]) -> Scene {
+    use lampshade::scene::{Camera, Material, Mesh, Object};
+    let mut s = Scene::new(name, Camera::looking_at(glam::DVec3::Z, glam::DVec3::ZERO));
+    s.meshes.push(Mesh::cube());
+    s.materials.push(Material::diffuse(glam::Vec3::splat(0.5)));
+    for &(c, size, turn) in parts {
+        let transform = glam::DMat4::from_scale_rotation_translation(
+            glam::DVec3::from(size),
+            glam::DQuat::from_rotation_y(turn),
+            glam::DVec3::from(c),
+        );
+        s.objects.push(Object { mesh: 0, material: 0, transform, layer: 0 });
+    }
+    s
+}
+
+#[test]
+fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_models_of_fragments() {
+    use import::lighting;
+    // A small object (two 10 cm boxes), a room (a 6 x 5 m floor, three 3 m walls and a
+    // table) and a city-sized flat model (a 1 km ground with 49 blocks 20 to 116 m tall).
+    let room = [
+        ([0.0, -0.05, 0.0], [6.0, 0.1, 5.0], 0.0),
+        ([0.0, 1.5, -2.5], [6.0, 3.0, 0.1], 0.0),
+        ([-3.0, 1.5, 0.0], [0.1, 3.0, 5.0], 0.0),
+        ([3.0, 1.5, 0.0], [0.1, 3.0, 5.0], 0.0),
+        ([0.0, 0.4, 0.0], [1.2, 0.8, 0.8], 0.3),
+    ];
+    let mut city = vec![([0.0, -0.5, 0.0], [1000.0, 1.0, 1000.0], 0.0)];
+    for k in 0..49 {
+        let (i, j) = ((k % 7) as f64 - 3.0, (k / 7) as f64 - 3.0);
+        let tall = 20.0 + (k * 37 % 13) as f64 * 8.0;
+        city.push(([i * 130.0, tall * 0.5, j * 130.0], [60.0, tall, 60.0], 0.1 * (k % 5) as f64));
+    }
+    for (name, parts) in [
+        ("small", vec![([0.0, 0.05, 0.0], [0.1, 0.1, 0.1], 0.0), ([0.0, 0.14, 0.0], [0.08, 0.08, 0.08], 0.7)]),
+        ("room", room.to_vec()),
+        ("city", city),
+    ] {
+        let mut s = boxes(name, &parts);
+        let (lo, hi) = s.bounds().unwrap();
+        let vertices = lighting::sample_vertices(&s, lighting::IRRADIANCE_SAMPLES);
+        s.camera = lighting::framing(lo, hi, &vertices.iter().map(|&(p, _)| p).collect::<Vec<_>>());
+        assert_eq!(lighting::add_surface_lights(&mut s, import::DEFAULT_ADDED_LIGHTS), import::DEFAULT_ADDED_LIGHTS);
+        // The stated brightness: the median sampled vertex among those reached gets the target
+        // irradiance, and the lights reach nearly all of the surface.
+        let placed: Vec<_> = s
+            .lights
+            .iter()
+            .map(|l| match l {
+                lampshade::scene::Light::Point(p) => (p.position, p.radius as f64, p.color * p.intensity),
+                _ => unreachable!(),
+            })
+            .collect();
+        let mut e: Vec<f64> =
+            vertices.iter().map(|&(p, n)| lighting::irradiance(p, n, &placed)).filter(|&e| e > 0.0).collect();
+        e.sort_by(f64::total_cmp);
+        let median = e[e.len() / 2];
+        let surface = lighting::sample_surface(&s, 4096);
+        let reached = surface.iter().filter(|&&(p, n)| lighting::irradiance(p, n, &placed) > 0.0).count() as f64
+            / surface.len() as f64;
+        // The stated fragment count: a light's sphere reaches about 3.4 of its cell's area
+        // (`RIM_REACH`, `HEIGHT_OVER_RADIUS`), so on a surface seen face-on the lights shade
+        // 3.4 times the model's pixels; `volume` culling shades a sphere's whole disc on screen,
+        // so oblique surfaces, whose cells look smaller than their lights' discs, and lights
+        // over hidden surfaces (the backs of blocks) take it to at most 20 here (8.8 to 16.2
+        // measured; lights reaching past the model's centre shade 30 to 60).
+        let counted = Settings { count_fragments: true, ..Settings::default() };
+        let frame = render(&s, &counted, 320, 180);
+        let depth = render(
+            &s,
+            &Settings { debug_view: lampshade::renderer::DebugView::Depth, ..Settings::default() },
+            320,
+            180,
+        );
+        let model = depth.image.pixels().filter(|p| p.0[..3] != [0, 0, 0]).count() as f64;
+        let shaded = frame.stats.shaded_fragments.unwrap() as f64;
+        let _ = frame.image.save(root().join(format!("target/gltf-tests/rig-{name}.png")));
+        eprintln!(
+            "{name}: median {median:.4}, {:.1}% of the surface reached, {shaded} fragments over {model} model pixels: {:.2}",
+            reached * 100.0,
+            shaded / model
+        );
+        assert!(
+            (median - lighting::TARGET_IRRADIANCE).abs() < 1e-3 * lighting::TARGET_IRRADIANCE,
+            "{name}: median {median}"
+        );
+        assert!(reached >= 0.95, "{name}: the lights reach {:.1}% of the surface", reached * 100.0);
+        assert!(model > 320.0 * 180.0 * 0.1, "{name}: the model covers {model} pixels");
+        assert!(shaded <= 20.0 * model, "{name}: {shaded} fragments shaded over {model} model pixels");
+    }
+}
+
 #[test]
 fn occlusion_and_specular_maps_are_warned_about_not_dropped() {
     let dir = room_copy("unused-maps");
@@ -1059,8 +1153,12 @@ fn a_draco_compressed_engine_renders_like_the_uncompressed_one() {
     let (t, u) = (draco.stats.triangles, plain.stats.triangles);
     assert!(t.abs_diff(u) * 1000 <= u, "{t} triangles with area against {u} uncompressed");
     assert_eq!(draco.scene.objects.len(), plain.scene.objects.len());
+    // Under the same lights: the default lights follow the triangles' order and areas, which
+    // Draco's encoder changes.
+    let mut draco_scene = draco.scene.clone();
+    draco_scene.lights = plain.scene.lights.clone();
     let a = render(&plain.scene, &Settings::default(), W, H).image;
-    let b = render(&draco.scene, &Settings::default(), W, H).image;
+    let b = render(&draco_scene, &Settings::default(), W, H).image;
     let (fl, _) = flip(&a, &b).unwrap();
     let far = a.pixels().zip(b.pixels()).filter(|(p, q)| (0..3).any(|k| p[k].abs_diff(q[k]) > 16)).count();
     // Draco quantizes positions and normals (lossy): close, not equal (measured: FLIP 0.0086,

@@ -507,7 +507,7 @@ impl Importer<'_> {
         self.scene.viewpoints = views;
 
         if self.scene.lights.is_empty() && self.scene.sun.is_none() {
-            self.add_default_lights(lo, hi);
+            self.add_default_lights();
         }
         self.stats.meshes = self.scene.meshes.len();
         self.stats.objects = self.scene.objects.len();

@@ -593,8 +593,9 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
         let (lo, hi) = s.bounds().unwrap();
         let vertices = lighting::sample_vertices(&s, lighting::IRRADIANCE_SAMPLES);
         s.camera = lighting::framing(lo, hi, &vertices.iter().map(|&(p, _)| p).collect::<Vec<_>>());
+        let samples = lighting::irradiance_samples(&lighting::rig_samples(&s, import::DEFAULT_ADDED_LIGHTS));
         assert_eq!(lighting::add_surface_lights(&mut s, import::DEFAULT_ADDED_LIGHTS), import::DEFAULT_ADDED_LIGHTS);
-        // The stated brightness: the median sampled vertex among those reached gets the target
+        // The stated brightness: the median area sample among those reached gets the target
         // irradiance, and the lights reach nearly all of the surface.
         let placed: Vec<_> = s
             .lights
@@ -605,7 +606,7 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
             })
             .collect();
         let mut e: Vec<f64> =
-            vertices.iter().map(|&(p, n)| lighting::irradiance(p, n, &placed)).filter(|&e| e > 0.0).collect();
+            samples.iter().map(|&(p, n)| lighting::irradiance(p, n, &placed)).filter(|&e| e > 0.0).collect();
         e.sort_by(f64::total_cmp);
         let median = e[e.len() / 2];
         let surface = lighting::sample_surface(&s, 4096);

@@ -217,7 +217,8 @@ impl Default for Limits {
 ///   8-bit and 11-bit ones less often, their bounds being coarser than many lights) and shadows,
 ///   shared by [`SETTINGS_BLOCK`] cases in a row;
 /// - half the cases, a clustered grid as an engine lays it out (tile, slices, a first slice
-///   from the eye to a depth, as Bevy's).
+///   from the eye to a depth, as Bevy's);
+/// - a quarter of the cases, lights reaching a few depth steps behind a surface ([`rim_lights`]).
 pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let mut r = Rng::new(seed, index);
     let mut aims = Vec::new();
@@ -259,7 +260,7 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let masks = matches!(settings.layout, LayoutChoice::Compact | LayoutChoice::Fit | LayoutChoice::Reference);
     // The world: a scale so cases are not all room-sized.
     let scale = r.log(0.01, 100.0);
-    let camera = {
+    let mut camera = {
         let pitch = if r.chance(0.125) {
             aims.push("camera straight down or up".to_string());
             r.pick(&[-1.0, 1.0]) * std::f64::consts::FRAC_PI_2
@@ -377,6 +378,16 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
             lights.push(light);
         }
     }
+    // From a stream of its own, so the rest of the case is what it was before these were drawn.
+    let mut g = Rng::new(seed ^ 0x21A5_0DE9, index);
+    if g.chance(0.25) {
+        let rim = rim_lights(&mut g, &mut camera, &boxes, &settings, (limits.width, limits.height));
+        if !rim.is_empty() {
+            aims.push(format!("{} lights poking a few depth steps behind a surface", rim.len()));
+            lights.truncate(limits.max_lights.max(1).saturating_sub(rim.len()));
+            lights.extend(rim);
+        }
+    }
     let inside = lights.iter().filter(|l| l.position().distance(camera.position) < l.radius() as f64).count();
     if inside > 0 {
         aims.push(format!("camera inside {inside} volumes"));
@@ -400,4 +411,77 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         cookies,
         settings,
     }
+}
+
+/// Up to four point lights whose spheres reach 0.1 to 4 depth steps behind the surface seen
+/// through a random pixel: a volume's back face there lies behind the surface by about the
+/// rounding of the volume's depth, and the surface points near the ray are at 0.75 to 0.97 of
+/// the radius from the light, where it still adds light. The depth step is the depth buffer's
+/// resolution at the hit (2^-24 for 24-bit depth, 2^(e-23) for float depth of exponent e) over
+/// the projection's depth slope there, n f / ((f - n) z^2), in view depth. For a step to span
+/// a visible share of a light, the near plane moves in to between 1/3,000 and 1/100,000 of the
+/// first hit's depth (where it was farther): 2CylinderEngine's is 1/34,000.
+fn rim_lights(
+    g: &mut Rng,
+    camera: &mut Camera,
+    boxes: &[BoxSpec],
+    settings: &CaseSettings,
+    (width, height): (u32, u32),
+) -> Vec<Light> {
+    let (forward, right) = (camera.forward(), camera.right());
+    let up = right.cross(forward);
+    let tan_y = (camera.fov_y * 0.5).tan();
+    let tan_x = tan_y * width as f64 / height.max(1) as f64;
+    let mut out = Vec::new();
+    for _ in 0..1 + g.below(4) {
+        let dir = (forward + right * g.range(-0.9, 0.9) * tan_x + up * g.range(-0.9, 0.9) * tan_y).normalize();
+        let hit = boxes.iter().filter_map(|b| ray_box(camera.position, dir, b)).fold(f64::INFINITY, f64::min);
+        let z = hit * dir.dot(forward);
+        if out.is_empty() && hit.is_finite() && z > 0.0 {
+            camera.near = camera.near.min(z / g.log(3e3, 1e5));
+        }
+        let (n, f) = (camera.near, camera.far);
+        if !hit.is_finite() || z <= n || z >= f {
+            continue;
+        }
+        let depth = if settings.reversed_z { n * (f - z) / ((f - n) * z) } else { f * (z - n) / ((f - n) * z) };
+        let unit = match settings.depth_format {
+            DepthFormat::Depth24PlusStencil8 => 2f64.powi(-24),
+            DepthFormat::Depth32FloatStencil8 => 2f64.powi(depth.max(1e-30).log2().floor() as i32 - 23),
+        };
+        let step = unit * (f - n) * z * z / (n * f) / dir.dot(forward);
+        let poke = step * g.log(0.1, 4.0);
+        let radius = poke / g.range(0.03, 0.25);
+        let color = Vec3::new(g.range(0.5, 1.0) as f32, g.range(0.5, 1.0) as f32, g.range(0.5, 1.0) as f32);
+        out.push(Light::Point(PointLight {
+            position: camera.position + dir * (hit + poke - radius),
+            color,
+            intensity: g.log(1.0, 20.0) as f32,
+            radius: radius as f32,
+            cookie: None,
+            mask: ALL_LAYERS,
+            cast_shadows: g.chance(0.5),
+        }));
+    }
+    out
+}
+
+/// Where the ray `origin + t dir` (t > 0) enters box `b`, if it does.
+fn ray_box(origin: DVec3, dir: DVec3, b: &BoxSpec) -> Option<f64> {
+    let turn = DQuat::from_rotation_y(-b.yaw);
+    let (o, d) = (turn * (origin - DVec3::from_array(b.center)), turn * dir);
+    let half = DVec3::from_array(b.size) * 0.5;
+    let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+    for k in 0..3 {
+        if d[k].abs() < 1e-300 {
+            if o[k].abs() > half[k] {
+                return None;
+            }
+            continue;
+        }
+        let (a, c) = ((-half[k] - o[k]) / d[k], (half[k] - o[k]) / d[k]);
+        t0 = t0.max(a.min(c));
+        t1 = t1.min(a.max(c));
+    }
+    (t0 <= t1 && t0 > 0.0).then_some(t0)
 }

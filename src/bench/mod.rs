@@ -288,9 +288,10 @@ pub struct CapFigures {
     /// Pixels lacking light beyond the accumulation's rounding against brute force over every
     /// light (NaN on the forward paths, which keep no G-buffer for it).
     pub missed_pixels: f64,
-    /// Light-pixel pairs the dropped lights add (NaN where a per-cluster cap dropped entries:
-    /// brute force over whole lights cannot count those).
+    /// Light-pixel pairs the lights the camera caps dropped add, by brute force over them.
     pub dropped_pairs: f64,
+    /// Light-pixel pairs the per-cluster cap's dropped entries reach (`oracle::CapLoss`).
+    pub entry_pairs: f64,
 }
 
 impl Default for CapFigures {
@@ -301,6 +302,7 @@ impl Default for CapFigures {
             dropped_entries: 0,
             missed_pixels: f64::NAN,
             dropped_pairs: f64::NAN,
+            entry_pairs: f64::NAN,
         }
     }
 }

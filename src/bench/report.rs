@@ -162,11 +162,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
          shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side,\
          lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share,\
-         cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs\n",
+         cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs,cap_entry_pairs\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -228,7 +228,8 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.caps.dropped_lights,
             r.caps.dropped_entries,
             r.caps.missed_pixels,
-            r.caps.dropped_pairs
+            r.caps.dropped_pairs,
+            r.caps.entry_pairs
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -345,9 +346,11 @@ pub fn engines_markdown(rows: &[Row]) -> String {
          engines that shade forward), against the same frame uncapped. FLIP is against the \
          reference; missed pixels lack light beyond the accumulation's rounding against brute force \
          over every light (the G-buffer paths); dropped pairs are the light-pixel pairs the dropped \
-         lights add (`-` where a per-cluster cap dropped list entries rather than lights).\n\n\
-         | engine | lights | size | total ms | x uncapped | FLIP mean | missed pixels | dropped lights | dropped entries | dropped pairs | source |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|\n",
+         lights add, by brute force over them; entry pairs are those the per-cluster cap's dropped \
+         entries reach (listed for the pixel's cell without the cap, not with it, the light's \
+         shape holding the pixel's point).\n\n\
+         | engine | lights | size | total ms | x uncapped | FLIP mean | missed pixels | dropped lights | dropped entries | dropped pairs | entry pairs | source |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in &mine {
         let forward = r.path.path == crate::renderer::RenderPath::Forward.name();
@@ -357,7 +360,7 @@ pub fn engines_markdown(rows: &[Row]) -> String {
         });
         let ratio = base.map_or(f64::NAN, |b| r.total_ms / b.total_ms);
         s += &format!(
-            "| {} | {} | {}x{} | {:.2} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {}x{} | {:.2} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.label,
             r.lights,
             r.width,
@@ -369,6 +372,7 @@ pub fn engines_markdown(rows: &[Row]) -> String {
             r.caps.dropped_lights,
             r.caps.dropped_entries,
             fmt(r.caps.dropped_pairs, 0),
+            fmt(r.caps.entry_pairs, 0),
             r.caps.source
         );
     }

@@ -312,6 +312,7 @@ fn cap_figures(
         let loss = crate::oracle::cap_loss(gpu, renderer, scene, &cfg.settings, cfg.size)?;
         f.missed_pixels = loss.missed_pixels as f64;
         f.dropped_pairs = loss.dropped_pairs.map_or(f64::NAN, |n| n as f64);
+        f.entry_pairs = loss.entry_pairs.map_or(f64::NAN, |n| n as f64);
     }
     Ok(f)
 }

@@ -420,7 +420,32 @@ fn compare_into(
 pub struct CapLoss {
     pub missed_pixels: usize,
     pub extra_pixels: usize,
+    /// Light–pixel pairs the lights the camera caps dropped add, by brute force over them.
     pub dropped_pairs: Option<u64>,
+    /// Light–pixel pairs the per-cluster cap's dropped entries reach: listed for the pixel's cell
+    /// without the cap and not with it, the light's shape holding the pixel's point
+    /// ([`listed_reached_pairs`] of the frame without the cluster cap, less the frame's).
+    pub entry_pairs: Option<u64>,
+}
+
+/// Light–pixel pairs of the last frame whose light is listed for the pixel's tile or cluster
+/// and whose shape holds the pixel's point (`inspect::inside_light`); None for a frame without
+/// lists. The cell is the CPU's (`TileLists::cell`), which can differ from the GPU's by one slice
+/// where a point lies on a boundary within the logarithm's rounding.
+pub fn listed_reached_pairs(gpu: &Gpu, renderer: &Renderer) -> Result<Option<u64>> {
+    let (Some(lists), Some((w, _))) = (renderer.tile_lists(gpu)?, renderer.size()) else { return Ok(None) };
+    let positions = renderer.view_positions(gpu)?;
+    let lights = renderer.light_records();
+    let mut cells: std::collections::HashMap<usize, Vec<u32>> = std::collections::HashMap::new();
+    let mut pairs = 0u64;
+    for (k, p) in positions.iter().enumerate() {
+        let Some(p) = p else { continue };
+        let c = lists.cell(k as u32 % w, k as u32 / w, -p.z);
+        let list = cells.entry(c).or_insert_with(|| lists.list(c));
+        let inside = |&i: &u32| lights.get(i as usize).is_some_and(|l| crate::renderer::inspect::inside_light(l, *p));
+        pairs += list.iter().filter(|i| inside(i)).count() as u64;
+    }
+    Ok(Some(pairs))
 }
 
 /// [`CapLoss`] of `scene` drawn with `settings` (a G-buffer path) at `size`, on `renderer`.
@@ -443,15 +468,25 @@ pub fn cap_loss(
     let dark = accumulated(gpu, renderer)?;
     render_image(gpu, renderer, scene, &uncapped, w, h)?;
     let all = renderer.brute_force(gpu)?;
+    // The per-cluster cap's pairs: the frame without that cap alone (the same kept lights and
+    // grid), then the capped frame, each counted over its lists.
+    let entries_listed = match settings.lights_per_cluster {
+        0 => None,
+        _ => {
+            render_image(gpu, renderer, scene, &Settings { lights_per_cluster: 0, ..base.clone() }, w, h)?;
+            listed_reached_pairs(gpu, renderer)?
+        }
+    };
     let (_, stats) = render_image(gpu, renderer, scene, &base, w, h)?;
+    let entry_pairs = match entries_listed {
+        Some(all) => listed_reached_pairs(gpu, renderer)?.map(|kept| all.saturating_sub(kept)),
+        None => Some(0),
+    };
     let lit = accumulated(gpu, renderer)?;
     let one_target = renderer.one_target() && settings.path == RenderPath::Deferred;
     let r = compare_into(&lit, &dark, &all, settings.accumulation, (settings.path, one_target), None);
     let caps = stats.caps.unwrap_or_default();
     let dropped_pairs = match caps.kept {
-        // Entries a per-cluster cap left out drop a light at some pixels only: brute force over
-        // whole lights cannot count them.
-        _ if caps.cluster_entries_dropped > 0 => None,
         Some(kept) => {
             let mut dropped = scene.clone();
             let mut is_kept = vec![false; scene.lights.len()];
@@ -465,7 +500,7 @@ pub fn cap_loss(
         }
         None => Some(0),
     };
-    Ok(CapLoss { missed_pixels: r.missed, extra_pixels: r.extra, dropped_pairs })
+    Ok(CapLoss { missed_pixels: r.missed, extra_pixels: r.extra, dropped_pairs, entry_pairs })
 }
 
 /// Checks a case and, when a mode fails, shrinks it ([`shrink::shrink`]) to the fewest lights

@@ -309,7 +309,20 @@ fn the_cluster_cap_keeps_what_it_states_per_cell_and_the_frame_loses_exactly_the
             .collect();
         hold(&lit, &dark, &expected, &all.adding, &what);
         assert!(lost_pairs > 0, "{what}: no dropped pair reached a pixel");
+        // The pairs the bench reports: the dropped entries' pairs whose light reaches the
+        // pixel's point, at least the pairs that add light (N.L and the falloff's zero at the
+        // rim make some reached pairs add nothing).
+        let loss = lampshade::oracle::cap_loss(gpu, &mut r, &scene, &s, (W, H)).unwrap();
+        let entry = loss.entry_pairs.expect("entry pairs");
+        assert!(entry >= lost_pairs, "{what}: {entry} reached pairs dropped, {lost_pairs} adding");
+        assert_eq!(loss.dropped_pairs, Some(0), "{what}: no whole light dropped");
     }
+    // The count's other half: over the uncapped lists, every pair whose light's shape holds
+    // the pixel's point is listed, as many as the GPU's ideal count (`fs_ideal`) finds.
+    let counted = Settings { count_ideal: true, ..plain.clone() };
+    let stats = draw(&mut r, &scene, &counted);
+    let listed = lampshade::oracle::listed_reached_pairs(gpu, &r).unwrap().expect("lists");
+    assert_eq!(Some(listed), stats.ideal_fragments, "reached pairs over the uncapped lists against the ideal count");
 }
 
 #[test]

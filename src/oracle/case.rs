@@ -378,10 +378,12 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
             lights.push(light);
         }
     }
-    // From a stream of its own, so the rest of the case is what it was before these were drawn.
+    // From a stream of its own, so the other draws are what they were before these were: such a
+    // case differs only in its near plane and its last lights.
     let mut g = Rng::new(seed ^ 0x21A5_0DE9, index);
     if g.chance(0.25) {
-        let rim = rim_lights(&mut g, &mut camera, &boxes, &settings, (limits.width, limits.height));
+        let most = limits.max_lights.clamp(1, 4);
+        let rim = rim_lights(&mut g, &mut camera, &boxes, (&settings, dim, most), (limits.width, limits.height));
         if !rim.is_empty() {
             aims.push(format!("{} lights poking a few depth steps behind a surface", rim.len()));
             lights.truncate(limits.max_lights.max(1).saturating_sub(rim.len()));
@@ -413,19 +415,19 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     }
 }
 
-/// Up to four point lights whose spheres reach 0.1 to 4 depth steps behind the surface seen
+/// Up to `most` point lights whose spheres reach 0.1 to 4 depth steps behind the surface seen
 /// through a random pixel: a volume's back face there lies behind the surface by about the
 /// rounding of the volume's depth, and the surface points near the ray are at 0.75 to 0.97 of
 /// the radius from the light, where it still adds light. The depth step is the depth buffer's
 /// resolution at the hit (2^-24 for 24-bit depth, 2^(e-23) for float depth of exponent e) over
 /// the projection's depth slope there, n f / ((f - n) z^2), in view depth. For a step to span
 /// a visible share of a light, the near plane moves in to between 1/3,000 and 1/100,000 of the
-/// first hit's depth (where it was farther): 2CylinderEngine's is 1/34,000.
+/// first surface hit's depth (where it was farther): 2CylinderEngine's is 1/34,000.
 fn rim_lights(
     g: &mut Rng,
     camera: &mut Camera,
     boxes: &[BoxSpec],
-    settings: &CaseSettings,
+    (settings, dim, most): (&CaseSettings, f32, usize),
     (width, height): (u32, u32),
 ) -> Vec<Light> {
     let (forward, right) = (camera.forward(), camera.right());
@@ -433,15 +435,20 @@ fn rim_lights(
     let tan_y = (camera.fov_y * 0.5).tan();
     let tan_x = tan_y * width as f64 / height.max(1) as f64;
     let mut out = Vec::new();
-    for _ in 0..1 + g.below(4) {
+    let mut moved = false;
+    for _ in 0..1 + g.below(most) {
         let dir = (forward + right * g.range(-0.9, 0.9) * tan_x + up * g.range(-0.9, 0.9) * tan_y).normalize();
         let hit = boxes.iter().filter_map(|b| ray_box(camera.position, dir, b)).fold(f64::INFINITY, f64::min);
         let z = hit * dir.dot(forward);
-        if out.is_empty() && hit.is_finite() && z > 0.0 {
+        if !hit.is_finite() || z <= 0.0 || z >= camera.far {
+            continue;
+        }
+        if !moved {
             camera.near = camera.near.min(z / g.log(3e3, 1e5));
+            moved = true;
         }
         let (n, f) = (camera.near, camera.far);
-        if !hit.is_finite() || z <= n || z >= f {
+        if z <= n {
             continue;
         }
         let depth = if settings.reversed_z { n * (f - z) / ((f - n) * z) } else { f * (z - n) / ((f - n) * z) };
@@ -456,7 +463,7 @@ fn rim_lights(
         out.push(Light::Point(PointLight {
             position: camera.position + dir * (hit + poke - radius),
             color,
-            intensity: g.log(1.0, 20.0) as f32,
+            intensity: g.log(1.0, 20.0) as f32 * dim,
             radius: radius as f32,
             cookie: None,
             mask: ALL_LAYERS,

@@ -470,17 +470,19 @@ pub fn cap_loss(
     let all = renderer.brute_force(gpu)?;
     // The per-cluster cap's pairs: the frame without that cap alone (the same kept lights and
     // grid), then the capped frame, each counted over its lists.
-    let entries_listed = match settings.lights_per_cluster {
+    let listed_without_cap = match settings.lights_per_cluster {
         0 => None,
         _ => {
             render_image(gpu, renderer, scene, &Settings { lights_per_cluster: 0, ..base.clone() }, w, h)?;
-            listed_reached_pairs(gpu, renderer)?
+            Some(listed_reached_pairs(gpu, renderer)?)
         }
     };
     let (_, stats) = render_image(gpu, renderer, scene, &base, w, h)?;
-    let entry_pairs = match entries_listed {
-        Some(all) => listed_reached_pairs(gpu, renderer)?.map(|kept| all.saturating_sub(kept)),
+    let entry_pairs = match listed_without_cap {
+        // No cap: nothing dropped. A cap on a frame without lists: nothing to count.
         None => Some(0),
+        Some(None) => None,
+        Some(Some(uncapped)) => listed_reached_pairs(gpu, renderer)?.map(|kept| uncapped.saturating_sub(kept)),
     };
     let lit = accumulated(gpu, renderer)?;
     let one_target = renderer.one_target() && settings.path == RenderPath::Deferred;

@@ -296,6 +296,17 @@ fn bad_input_is_a_clear_error() {
         (vec!["render", "spot", "--out", p, "--size", "big"], "WxH"),
         (vec!["render", "spot", "--out", p, "--culling", "magic"], "magic"),
         (vec!["render", "spot", "--out", p, "--light", "7"], "has 1 lights"),
+        (
+            vec![
+                "render",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/assets/room/room.gltf"),
+                "--out",
+                p,
+                "--lights",
+                "100000000000",
+            ],
+            "more than the 1000000",
+        ),
         (vec!["render", "spot", "--out", p, "--settings", "/no/such/file.json"], "reading settings"),
         (vec!["render", "spot", "--out", p, "--settings", bad_settings.to_str().unwrap()], "sideways"),
         (vec!["render", "spot", "--size", "8x8", "--out", "/no/such/dir/x.png"], "writing"),

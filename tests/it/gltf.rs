@@ -593,10 +593,15 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
         let (lo, hi) = s.bounds().unwrap();
         let vertices = lighting::sample_vertices(&s, lighting::IRRADIANCE_SAMPLES);
         s.camera = lighting::framing(lo, hi, &vertices.iter().map(|&(p, _)| p).collect::<Vec<_>>());
-        let samples = lighting::irradiance_samples(&lighting::rig_samples(&s, import::DEFAULT_ADDED_LIGHTS));
+        // Samples of the surface of their own (another count, so other points than those the
+        // intensity was set over).
+        let samples = lighting::sample_surface(&s, 10_007);
         assert_eq!(lighting::add_surface_lights(&mut s, import::DEFAULT_ADDED_LIGHTS), import::DEFAULT_ADDED_LIGHTS);
-        // The stated brightness: the median area sample among those reached gets the target
-        // irradiance, and the lights reach nearly all of the surface.
+        // The stated brightness: the median reached area sample gets the target irradiance,
+        // held here on samples of its own. Both medians are sample medians: the share of these
+        // samples below the target is a half within three binomial spreads of each,
+        // 3 (0.5 / sqrt(4096) + 0.5 / sqrt(10007)) = 0.038, whatever the distribution. And the
+        // lights reach nearly all of the surface.
         let placed: Vec<_> = s
             .lights
             .iter()
@@ -609,6 +614,8 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
             samples.iter().map(|&(p, n)| lighting::irradiance(p, n, &placed)).filter(|&e| e > 0.0).collect();
         e.sort_by(f64::total_cmp);
         let median = e[e.len() / 2];
+        let below = e.iter().filter(|&&x| x < lighting::TARGET_IRRADIANCE).count() as f64 / e.len() as f64;
+        let spread = 3.0 * (0.5 / (lighting::IRRADIANCE_SAMPLES as f64).sqrt() + 0.5 / (samples.len() as f64).sqrt());
         let surface = lighting::sample_surface(&s, 4096);
         let reached = surface.iter().filter(|&&(p, n)| lighting::irradiance(p, n, &placed) > 0.0).count() as f64
             / surface.len() as f64;
@@ -630,13 +637,15 @@ fn the_rig_lights_a_generated_model_of_each_size_class_to_the_target_with_a_few_
         let shaded = frame.stats.shaded_fragments.unwrap() as f64;
         let _ = frame.image.save(root().join(format!("target/gltf-tests/rig-{name}.png")));
         eprintln!(
-            "{name}: median {median:.4}, {:.1}% of the surface reached, {shaded} fragments over {model} model pixels: {:.2}",
+            "{name}: median {median:.4}, {:.1}% below the target, {:.1}% of the surface reached, {shaded} fragments over {model} model pixels: {:.2}",
+            below * 100.0,
             reached * 100.0,
             shaded / model
         );
         assert!(
-            (median - lighting::TARGET_IRRADIANCE).abs() < 1e-3 * lighting::TARGET_IRRADIANCE,
-            "{name}: median {median}"
+            (below - 0.5).abs() <= spread,
+            "{name}: {:.1}% of the samples below the target (median {median})",
+            below * 100.0
         );
         assert!(reached >= 0.95, "{name}: the lights reach {:.1}% of the surface", reached * 100.0);
         assert!(model > 320.0 * 180.0 * 0.1, "{name}: the model covers {model} pixels");

@@ -147,10 +147,14 @@ impl Faces {
 /// at most 2 units), the perspective divide (1), and the rasteriser's plane interpolation at the
 /// pixel centre (three terms, 3), plus the conversion to the format for the compare (0.5
 /// for 24-bit): 6.5, rounded up to [`VOLUME_BIAS_UNITS`] = 8. On standard depth with a small near
-/// plane one unit spans a long way at distance (2CylinderEngine's near 0.05: 3.3 units of view
-/// distance at 1,660), so a point inside a light's sphere near its rim as seen from the eye can
+/// plane one unit spans a long way at distance (a near plane of 0.05: 3.5 units of view
+/// distance at 1,700), so a point inside a light's sphere near its rim as seen from the eye can
 /// lie behind the back face by less than that error and fail the test while brute force lights
-/// it.
+/// it. The count holds where the depth is at least 0.5 (and everywhere under reversed Z, whose
+/// rounding is relative): on standard float depth nearer than twice the near plane the unit
+/// shrinks while the six units of rounding stay near 6 x 2^-24 absolute, a view distance of at
+/// most 6 x 2^-24 (2n)^2 / n = 1.4e-6 n there, which the mesh's `VOLUME_MARGIN` (0.2% of the
+/// radius) covers for every light whose radius exceeds a thousandth of the near plane.
 pub const VOLUME_BIAS_UNITS: i32 = 8;
 
 /// The slope-scaled part of the volume bias, times the face's largest screen depth slope

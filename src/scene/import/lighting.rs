@@ -17,7 +17,7 @@
 //! [`TARGET_IRRADIANCE`]: the picture's brightness does not depend on the model's size, its
 //! tessellation or the light count ([`irradiance_samples`]). Against the dome of lights it
 //! replaced (normalised over vertices), the mean picture brightness of five files and the
-//! room's two lightless models lies from 11% below to 6% above (docs/gltf.md). With
+//! room's two lightless models lies from 11% below to 4% above (docs/gltf.md). With
 //! [`FILL_AMBIENT`] and the fill sun (0.6 cos θ), a surface at the median
 //! gets about 0.4 + 0.6 cos θ + 0.1, around 0.8: under ACES at exposure 1 an 18% grey then
 //! reads about 130 of 255.
@@ -52,7 +52,7 @@ pub const RIM_REACH: f64 = 1.3;
 /// out. Measured on third-party files, t = 0.5 lost up to half the model's pixels that the
 /// point lights reach (light too grazing at the rims of curved cells).
 pub const HEIGHT_OVER_RADIUS: f64 = 1.0;
-/// The diffuse irradiance the default lights give the median sampled vertex.
+/// The diffuse irradiance the default lights give the median area sample they reach.
 pub const TARGET_IRRADIANCE: f64 = 0.4;
 /// Ambient light of a file without lights (a built-in scene's is 0.03): with the ambient
 /// specular term it is what a metal shows away from its highlights.
@@ -317,7 +317,10 @@ pub const RIG_TINT: f32 = 0.15;
 /// The area-weighted surface samples ([`sample_surface`]) that `count` rig lights are placed
 /// from: [`SAMPLES_PER_LIGHT`] a light, at least [`IRRADIANCE_SAMPLES`].
 pub fn rig_samples(scene: &Scene, count: usize) -> Vec<(DVec3, DVec3)> {
-    sample_surface(scene, (count * SAMPLES_PER_LIGHT).clamp(IRRADIANCE_SAMPLES, MAX_SURFACE_SAMPLES.max(count)))
+    sample_surface(
+        scene,
+        count.saturating_mul(SAMPLES_PER_LIGHT).clamp(IRRADIANCE_SAMPLES, MAX_SURFACE_SAMPLES.max(count)),
+    )
 }
 
 /// What the rig's intensity is normalised over: at most [`IRRADIANCE_SAMPLES`] of the

@@ -149,6 +149,9 @@ pub fn load_bytes(
     progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<Imported> {
     let start = std::time::Instant::now();
+    if options.lights > crate::scene::builtin::MAX_LIGHTS {
+        bail!("--lights {} is more than the {} Lampshade supports", options.lights, crate::scene::builtin::MAX_LIGHTS);
+    }
     progress(Progress { stage: "parsing", done: 0, total: 1 });
     check_glb_header(bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| anyhow!("not a valid glTF file: {e}"))?;

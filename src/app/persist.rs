@@ -99,7 +99,8 @@ mod tests {
     use super::*;
 
     fn scratch(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("lampshade-persist-{}-{name}", std::process::id()));
+        // Under target/, emptied first: one directory a test, reused by every run.
+        let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/persist-tests").join(name);
         let _ = std::fs::remove_dir_all(&d);
         d.join("viewer.json")
     }

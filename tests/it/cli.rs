@@ -10,7 +10,13 @@ fn lampshade(args: &[&str]) -> std::process::Output {
 }
 
 fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("lampshade-cli-{}", std::process::id()));
+    // Under target/, emptied once a run so no test reads an earlier run's files (the files'
+    // names are each test's own).
+    static EMPTIED: std::sync::Once = std::sync::Once::new();
+    let d = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/cli-tests");
+    EMPTIED.call_once(|| {
+        let _ = std::fs::remove_dir_all(&d);
+    });
     std::fs::create_dir_all(&d).unwrap();
     d.join(name)
 }

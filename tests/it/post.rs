@@ -238,7 +238,9 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
 /// scripts) and from the renderer when the file turns bad after it was set; never a panic.
 #[test]
 fn a_malformed_cube_file_is_an_error_not_a_panic() {
-    let dir = std::env::temp_dir().join(format!("lampshade-lut-{}", std::process::id()));
+    // Under target/, emptied first: every file here is written by this test.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/post-tests/cube");
+    let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let good = dir.join("good.cube");
     let mut text = String::from("LUT_3D_SIZE 2\n");

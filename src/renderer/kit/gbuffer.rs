@@ -850,6 +850,23 @@ impl GBufferLayout {
         Ok(())
     }
 
+    /// For a layout that stores the position (view space, or seed 000's world-space view
+    /// vector) and no depth: whether the position's
+    /// target is half precision (`Some(true)`: fp16, `Some(false)`: f32). The G-buffer pass then
+    /// writes the stored position's projected depth (`frag_depth`), so the volume methods' depth
+    /// tests and the lighting see one point. The rasteriser's depth and the perspective-correct
+    /// position differ by the vertices' snapping times the surface's depth slope, unbounded on a
+    /// grazing surface: with the rasteriser's depth, the culling oracle found lights missed on
+    /// the `reference`, `seed000` and `seed002` layouts. Writing depth turns off early depth
+    /// testing in these layouts' G-buffer pass.
+    pub fn position_depth(&self) -> Option<bool> {
+        if self.has(Attr::Depth) {
+            return None;
+        }
+        let t = self.targets.iter().find(|t| t.channels.iter().flatten().any(|s| s.attr == Attr::Position))?;
+        Some(t.format == wgpu::TextureFormat::Rgba16Float)
+    }
+
     /// WGSL: bindings of the targets for reading (group `group`), the `GBufferOut` struct,
     /// `gbuffer_store(Surface) -> GBufferOut` and `gbuffer_load(vec2<i32>) -> Surface`. With
     /// `ambient`, `GBufferOut` also has the two light accumulation targets after the layout's
@@ -880,6 +897,13 @@ impl GBufferLayout {
         for (i, t) in self.targets.iter().enumerate().filter(|(_, t)| !is_depth_buffer(t)) {
             let _ = writeln!(w, "    @location({location}) t{i}: vec4<{}>,", scalar(t.format));
             location += 1;
+        }
+        // A stored position is the point the lighting shades: the depth the volumes test against
+        // is that point's, projected after the target's rounding, not the rasteriser's plane,
+        // which can lie far from it along the ray on a grazing surface (`position_depth`).
+        let position_depth = self.position_depth();
+        if position_depth.is_some() {
+            let _ = writeln!(w, "    @builtin(frag_depth) depth: f32,");
         }
         if ambient {
             let n = location;
@@ -916,6 +940,18 @@ impl GBufferLayout {
                     let _ = writeln!(w, "    o.t{i}.{} = {val};", comps[c]);
                 }
             }
+        }
+        if let Some(half) = position_depth {
+            let p = if half {
+                "vec3<f32>(unpack2x16float(pack2x16float(a.position.xy)), unpack2x16float(pack2x16float(vec2<f32>(a.position.z, 0.0))).x)"
+            } else {
+                "a.position"
+            };
+            // As `gbuffer_load` reads it back: seed 000's world-space view vector turned to view space.
+            let p =
+                if self.world { format!("-(camera.view_rotation * vec4<f32>({p}, 0.0)).xyz") } else { p.to_string() };
+            let _ = writeln!(w, "    let stored_clip = camera.proj * vec4<f32>({p}, 1.0);");
+            let _ = writeln!(w, "    o.depth = clamp(stored_clip.z / stored_clip.w, 0.0, 1.0);");
         }
         if ambient {
             let _ = writeln!(w, "    let stored = as_stored(s);");

@@ -13,7 +13,7 @@ use glam::{DVec3, Vec3};
 use lampshade::headless::render_image;
 use lampshade::renderer::{DebugView, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::import::{self, lighting, ImportOptions};
-use lampshade::scene::{Light, PointLight, Scene};
+use lampshade::scene::{Light, Scene};
 
 /// The dome the surface rig replaced: (position, radius) of `count` lights for bounds lo..hi.
 fn dome(lo: DVec3, hi: DVec3, count: usize) -> Vec<(DVec3, f64)> {
@@ -45,22 +45,7 @@ fn with_dome(scene: &Scene) -> Scene {
         dome(lo, hi, colours.len()).into_iter().zip(colours).map(|((p, r), c)| (p, r, c)).collect();
     let intensity =
         lighting::normalising_intensity(&lighting::sample_vertices(&s, lighting::IRRADIANCE_SAMPLES), &placed);
-    s.set_lights(
-        placed
-            .into_iter()
-            .map(|(position, radius, color)| {
-                Light::Point(PointLight {
-                    position,
-                    color,
-                    intensity,
-                    radius: radius as f32,
-                    cast_shadows: true,
-                    cookie: None,
-                    mask: lampshade::scene::ALL_LAYERS,
-                })
-            })
-            .collect(),
-    );
+    s.set_lights(placed.into_iter().map(|l| lighting::default_light(l, intensity)).collect());
     s
 }
 

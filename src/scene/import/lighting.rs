@@ -345,18 +345,22 @@ pub fn add_surface_lights(scene: &mut Scene, count: usize) -> usize {
         surface_rig(&samples, count, extent).into_iter().enumerate().map(|(k, (p, r))| (p, r, rig_colour(k))).collect();
     let intensity = normalising_intensity(&irradiance_samples(&samples), &placed);
     let added = placed.len();
-    for (position, radius, color) in placed {
-        scene.lights_mut().push(Light::Point(PointLight {
-            position,
-            color,
-            intensity,
-            radius: radius as f32,
-            cast_shadows: true,
-            cookie: None,
-            mask: crate::scene::ALL_LAYERS,
-        }));
-    }
+    scene.lights_mut().extend(placed.into_iter().map(|l| default_light(l, intensity)));
     added
+}
+
+/// A default light: point light `(position, radius, colour)` at `intensity`, casting shadows,
+/// on every layer.
+pub fn default_light((position, radius, color): (DVec3, f64, Vec3), intensity: f32) -> Light {
+    Light::Point(PointLight {
+        position,
+        color,
+        intensity,
+        radius: radius as f32,
+        cast_shadows: true,
+        cookie: None,
+        mask: crate::scene::ALL_LAYERS,
+    })
 }
 
 impl Importer<'_> {

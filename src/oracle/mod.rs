@@ -582,14 +582,15 @@ pub fn renderer(gpu: &Gpu) -> Result<Renderer> {
     Renderer::new(gpu, OUTPUT_FORMAT, &Settings { count_fragments: false, timestamps: false, ..Settings::default() })
 }
 
-/// Pass sets a [`Runner`]'s device keeps: a settings block draws each of the four paths with a
-/// few shader-feature variants (shadows, cookies, masks, light planes).
-pub const RUNNER_SETS: usize = 8;
+/// Pass sets a [`Runner`]'s device keeps: a settings block of 50 cases draws each path with
+/// 30 or so shader-feature and material variants (shadows, cookies, masks, light planes, one
+/// reflectance model or several), each a pass set of its own.
+pub const RUNNER_SETS: usize = 32;
 
-/// Runs case after case on one device with bounded memory. Each pass set's compiled pipelines
-/// hold 60-160 MiB on lavapipe and the device's pool keeps 32 by default, besides the 8 a
-/// renderer keeps for its recent configurations: cases from many settings blocks grew a run to
-/// 6.0 GB after 150 cases (2.3 GB after one block of 50). So the runner keeps
+/// Runs case after case on one device with bounded memory. A pass set's pipelines compile on
+/// their first draw (`kit::OnFirstUse`), about 23 a case, and hold a few MiB each on lavapipe.
+/// Measured on stream 4, cases 8900-9049 (three settings blocks, 64x36): keeping 8 sets, 172
+/// sets were built, 117 s, 0.75 GB peak; keeping 32, 85 built, 86 s, 2.3 GB. The runner keeps
 /// [`RUNNER_SETS`] in the pool and starts a new renderer, dropping the old one's sets, when the
 /// settings change.
 pub struct Runner {

@@ -166,7 +166,7 @@ impl SceneGpu {
 
     /// Draws `list`'s objects with their material bind groups (group 1), switching among
     /// `pipelines` as the list asks.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, list: &[Draw], pipelines: &[wgpu::RenderPipeline]) {
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, list: &[Draw], pipelines: &[crate::renderer::kit::RenderPipe]) {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         let (mut pipe, mut mat) = (usize::MAX, usize::MAX);

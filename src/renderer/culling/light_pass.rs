@@ -20,22 +20,22 @@ pub const SPAN: Span = Span("lights");
 /// One method's pipelines.
 struct MethodPipelines {
     method: &'static StencilMethod,
-    mark: Option<wgpu::RenderPipeline>,
+    mark: Option<crate::renderer::kit::RenderPipe>,
     /// Shading with the lights' shadow lookups (`fs_light`), and, with
     /// `ShadowCode::casters_apart`, without them (`fs_light_plain`) for lights that cast none
     /// this frame: `[plain, with lookups]`, the same pipeline twice otherwise.
-    shade: [wgpu::RenderPipeline; 2],
-    shade_crossing_near: Option<[wgpu::RenderPipeline; 2]>,
+    shade: [crate::renderer::kit::RenderPipe; 2],
+    shade_crossing_near: Option<[crate::renderer::kit::RenderPipe; 2]>,
 }
 
 pub struct LightPass {
-    ambient: wgpu::RenderPipeline,
+    ambient: crate::renderer::kit::RenderPipe,
     /// The G-buffer pass wrote ambient + sun: the accumulation is loaded, not started here.
     ambient_in_gbuffer: bool,
     /// By [`METHODS`]' order; `None` for the methods the light pass does not draw.
     methods: Vec<Option<MethodPipelines>>,
     /// Zeroes the stencil (REPLACE, every 255 batches).
-    stencil_clear: wgpu::RenderPipeline,
+    stencil_clear: crate::renderer::kit::RenderPipe,
     /// `ShadowCode::casters_apart`: lights that cast no shadow this frame draw with
     /// `fs_light_plain`.
     casters_apart: bool,

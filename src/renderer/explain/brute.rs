@@ -22,7 +22,7 @@ pub const ITERATIONS_PER_LIGHT: u64 = 17;
 const WORDS: usize = 3;
 
 pub struct BrutePass {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: crate::renderer::kit::ComputePipe,
     bgl: wgpu::BindGroupLayout,
 }
 

@@ -44,7 +44,7 @@ const WORKGROUP: u32 = 64;
 const WORDS: usize = 4;
 
 pub struct ExplainPass {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: crate::renderer::kit::ComputePipe,
     bgl: wgpu::BindGroupLayout,
 }
 
@@ -62,22 +62,14 @@ pub(super) fn compute_pipeline(
     shared: &Shared,
     label: &str,
     entry: &str,
-) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+) -> (crate::renderer::kit::ComputePipe, wgpu::BindGroupLayout) {
     let bgl = bindings::EXPLAIN.layout(device);
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),
         bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
         immediate_size: 0,
     });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(label),
-        layout: Some(&layout),
-        module: &shared.module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    (pipeline, bgl)
+    (crate::renderer::kit::compute_pipe(device, label, Some(&layout), &shared.module, entry), bgl)
 }
 
 /// What the frame's culling did with a light at the pixel.

@@ -18,16 +18,16 @@ use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 /// One method's draws for the view: its mark (adding nothing), its shading draw, and the
 /// shading draw of lights whose volume crosses the near plane.
 struct MethodPipes {
-    mark: Option<wgpu::RenderPipeline>,
-    shade: wgpu::RenderPipeline,
-    shade_crossing_near: Option<wgpu::RenderPipeline>,
+    mark: Option<crate::renderer::kit::RenderPipe>,
+    shade: crate::renderer::kit::RenderPipe,
+    shade_crossing_near: Option<crate::renderer::kit::RenderPipe>,
 }
 
 pub struct WastePass {
     /// By [`METHODS`]' order; `None` for the methods the light pass does not draw.
     methods: Vec<Option<MethodPipes>>,
     /// Zeroes the stencil (REPLACE, every 255 lights).
-    stencil_clear: wgpu::RenderPipeline,
+    stencil_clear: crate::renderer::kit::RenderPipe,
 }
 
 impl WastePass {

@@ -310,11 +310,10 @@ pub const MAX: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
-/// A pass built the first time a frame uses it. On lavapipe every pipeline is compiled to
-/// machine code by LLVM when it is created, 2 to 9 MiB of heap each for the shading passes
-/// (measured: a full set of passes took about 160 MiB), and the renderer keeps the passes of
-/// recent configurations: a frame that never draws the light pre-pass, the tiled/clustered
-/// shading, blended surfaces or the post chain should not pay for them.
+/// A pass set up the first time a frame uses it (its layouts and bind group layouts; its
+/// pipelines compile later still, on their first draw: [`OnFirstUse`]). The renderer keeps the
+/// passes of recent configurations: a frame that never draws the light pre-pass, the
+/// tiled/clustered shading, blended surfaces or the post chain should not pay for them.
 pub struct Lazy<T> {
     cell: OnceLock<T>,
     device: wgpu::Device,
@@ -355,5 +354,142 @@ impl<T> std::ops::Deref for Lazy<T> {
     /// needs first, inside an error scope).
     fn deref(&self) -> &T {
         self.cell.get_or_init(|| (self.build)(&self.device, &self.shared))
+    }
+}
+
+/// One pipeline, compiled the first time a frame draws with it: a pass holds every variant it
+/// may draw (six per surface pass for the topologies and sidedness, the views, the
+/// multisampled copies), a frame draws a few. On lavapipe a compile is tens of milliseconds of
+/// CPU (`spirv_to_nir` and its passes run even when Mesa's shader cache holds the machine code)
+/// and 2 to 9 MiB of heap. Built when their pass was, the culling oracle's pipelines came to 74
+/// a case, 85% of its CPU time; built on first draw, 23 (stream 4, cases 8900-8949: 3,691
+/// pipelines and 113 s before, 1,163 and 35 s after). It dereferences to the pipeline, so a draw
+/// passes `&pipe` where it passed `&pipeline`. A validation error in the compile reaches the
+/// frame's error scope (`Renderer::render` pushes one around the frame) or, outside a frame,
+/// the device's error sink (`gpu::DeviceErrors`), never a panic.
+/// Clones share the one pipeline.
+pub struct OnFirstUse<T>(Arc<FirstUse<T>>);
+
+struct FirstUse<T> {
+    cell: OnceLock<T>,
+    build: Box<dyn Fn() -> T + Send + Sync>,
+}
+
+impl<T> Clone for OnFirstUse<T> {
+    fn clone(&self) -> Self {
+        Self(self.0.clone())
+    }
+}
+
+/// A render pipeline built on first use.
+pub type RenderPipe = OnFirstUse<wgpu::RenderPipeline>;
+/// A compute pipeline built on first use.
+pub type ComputePipe = OnFirstUse<wgpu::ComputePipeline>;
+
+impl<T> OnFirstUse<T> {
+    pub fn new(build: impl Fn() -> T + Send + Sync + 'static) -> Self {
+        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build) }))
+    }
+
+    /// Whether a draw has built it.
+    pub fn is_built(&self) -> bool {
+        self.0.cell.get().is_some()
+    }
+}
+
+impl<T> std::ops::Deref for OnFirstUse<T> {
+    type Target = T;
+
+    fn deref(&self) -> &T {
+        self.0.cell.get_or_init(|| (self.0.build)())
+    }
+}
+
+/// A render pipeline from an owned descriptor, built on first use.
+pub fn render_pipe(device: &wgpu::Device, d: RenderPipeDesc) -> RenderPipe {
+    let device = device.clone();
+    OnFirstUse::new(move || d.create(&device))
+}
+
+/// A compute pipeline (`entry` of `module` with `layout`), built on first use.
+pub fn compute_pipe(
+    device: &wgpu::Device,
+    label: &str,
+    layout: Option<&wgpu::PipelineLayout>,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> ComputePipe {
+    let (device, label, layout, module, entry) =
+        (device.clone(), label.to_owned(), layout.cloned(), module.clone(), entry.to_owned());
+    OnFirstUse::new(move || {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&label),
+            layout: layout.as_ref(),
+            module: &module,
+            entry_point: Some(&entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
+}
+
+/// A vertex buffer layout that owns its attributes.
+#[derive(Clone)]
+pub struct VertexBuffer {
+    pub stride: u64,
+    pub step_mode: wgpu::VertexStepMode,
+    pub attributes: Vec<wgpu::VertexAttribute>,
+}
+
+/// `wgpu::RenderPipelineDescriptor` with its borrows owned, so the compile can wait for the
+/// first draw ([`render_pipe`]).
+#[derive(Clone)]
+pub struct RenderPipeDesc {
+    pub label: String,
+    pub layout: wgpu::PipelineLayout,
+    pub module: wgpu::ShaderModule,
+    pub vs: String,
+    pub buffers: Vec<VertexBuffer>,
+    pub primitive: wgpu::PrimitiveState,
+    pub depth_stencil: Option<wgpu::DepthStencilState>,
+    pub multisample: wgpu::MultisampleState,
+    /// The fragment stage and its targets; `None`: depth only.
+    pub fragment: Option<(String, Vec<Option<wgpu::ColorTargetState>>)>,
+}
+
+impl RenderPipeDesc {
+    fn create(&self, device: &wgpu::Device) -> wgpu::RenderPipeline {
+        let buffers: Vec<Option<wgpu::VertexBufferLayout>> = self
+            .buffers
+            .iter()
+            .map(|b| {
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: b.stride,
+                    step_mode: b.step_mode,
+                    attributes: &b.attributes,
+                })
+            })
+            .collect();
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&self.label),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(&self.vs),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            primitive: self.primitive,
+            depth_stencil: self.depth_stencil.clone(),
+            multisample: self.multisample,
+            fragment: self.fragment.as_ref().map(|(fs, targets)| wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
     }
 }

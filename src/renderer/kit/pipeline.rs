@@ -3,7 +3,7 @@
 //! per-light draw against the G-buffer's depth.
 
 use super::gbuffer::{GBufferLayout, GBufferTargets};
-use super::{bindings, log_accum, z, LightPipe, Out, Vs, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use super::{bindings, log_accum, z, LightPipe, Out, RenderPipe, RenderPipeDesc, Vs, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::program::ShaderFeatures;
 use wgpu::CompareFunction as Cmp;
 
@@ -66,28 +66,21 @@ pub fn screen_pipeline(
     layout: &wgpu::PipelineLayout,
     (vs, fs): (&str, &str),
     targets: &[Option<wgpu::ColorTargetState>],
-) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(vs),
-            compilation_options: Default::default(),
-            buffers: &[],
+) -> RenderPipe {
+    super::render_pipe(
+        device,
+        RenderPipeDesc {
+            label: label.to_owned(),
+            layout: layout.clone(),
+            module: module.clone(),
+            vs: vs.to_owned(),
+            buffers: Vec::new(),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some((fs.to_owned(), targets.to_vec())),
         },
-        primitive: Default::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fs),
-            compilation_options: Default::default(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// What every pass's pipelines are built from.
@@ -183,7 +176,7 @@ impl Shared {
         layout: &wgpu::PipelineLayout,
         fs: &str,
         format: wgpu::TextureFormat,
-    ) -> wgpu::RenderPipeline {
+    ) -> RenderPipe {
         self.screen_pipeline(device, label, layout, ("vs_compose", fs), &[Some(format.into())])
     }
 
@@ -196,14 +189,14 @@ impl Shared {
         layout: &wgpu::PipelineLayout,
         (vs, fs): (&str, &str),
         targets: &[Option<wgpu::ColorTargetState>],
-    ) -> wgpu::RenderPipeline {
+    ) -> RenderPipe {
         screen_pipeline(device, &self.module, label, layout, (vs, fs), targets)
     }
 
     /// A pipeline of the per-light passes (lights, debug views, measurement): a volume or a
     /// full-screen triangle against the G-buffer's depth, with the draw's faces, depth and
     /// stencil state.
-    pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> wgpu::RenderPipeline {
+    pub fn light_pipeline(&self, device: &wgpu::Device, p: LightPipe) -> RenderPipe {
         let key = &self.key;
         let accum = |blend: Option<wgpu::BlendState>, write_mask| {
             let t = wgpu::ColorTargetState { format: key.accum_format, blend, write_mask };
@@ -222,51 +215,44 @@ impl Shared {
                 write_mask: wgpu::ColorWrites::ALL,
             })],
         };
-        let volume_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 16,
+        let volume_buffers = vec![super::VertexBuffer {
+            stride: 16,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4],
-        })];
+            attributes: wgpu::vertex_attr_array![0 => Float32x4].to_vec(),
+        }];
         let bias = match p.vs {
             Vs::Volume => super::volume_depth_bias(&p.state, key.reversed_z),
             _ => Default::default(),
         };
-        let (entry, buffers): (&str, &[Option<wgpu::VertexBufferLayout>]) = match p.vs {
-            Vs::Fullscreen => ("vs_fullscreen", &[]),
-            Vs::FullscreenPlain => ("vs_fullscreen_plain", &[]),
-            Vs::Volume => ("vs_volume", &volume_buffers),
+        let (entry, buffers) = match p.vs {
+            Vs::Fullscreen => ("vs_fullscreen", Vec::new()),
+            Vs::FullscreenPlain => ("vs_fullscreen_plain", Vec::new()),
+            Vs::Volume => ("vs_volume", volume_buffers),
         };
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(p.label),
-            layout: Some(&self.light_layout),
-            vertex: wgpu::VertexState {
-                module: &self.module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
+        super::render_pipe(
+            device,
+            RenderPipeDesc {
+                label: p.label.to_owned(),
+                layout: self.light_layout.clone(),
+                module: self.module.clone(),
+                vs: entry.to_owned(),
                 buffers,
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: p.state.faces.cull_mode(),
+                    unclipped_depth: key.depth_clamp && matches!(p.vs, Vs::Volume),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: key.depth_format,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(self.z(p.state.depth)),
+                    stencil: p.state.stencil,
+                    bias,
+                }),
+                multisample: Default::default(),
+                fragment: Some((p.fs.to_owned(), targets)),
             },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: p.state.faces.cull_mode(),
-                unclipped_depth: key.depth_clamp && matches!(p.vs, Vs::Volume),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: key.depth_format,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(self.z(p.state.depth)),
-                stencil: p.state.stencil,
-                bias,
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &self.module,
-                entry_point: Some(p.fs),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+        )
     }
 }
 
@@ -294,47 +280,39 @@ pub fn scene_pipeline(
     key: &PipelineKey,
     p: ScenePipe<'_>,
     targets: &[Option<wgpu::ColorTargetState>],
-) -> wgpu::RenderPipeline {
+) -> RenderPipe {
     use crate::scene::Topology;
-    let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
-    })];
     let triangles = p.topology == Topology::Triangles;
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(p.label),
-        layout: Some(p.layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(p.vs),
-            compilation_options: Default::default(),
-            buffers: &vertex_buffers,
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: match p.topology {
-                Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
-                Topology::Lines => wgpu::PrimitiveTopology::LineList,
-                Topology::Points => wgpu::PrimitiveTopology::PointList,
+    super::render_pipe(
+        device,
+        RenderPipeDesc {
+            label: p.label.to_owned(),
+            layout: p.layout.clone(),
+            module: module.clone(),
+            vs: p.vs.to_owned(),
+            buffers: vec![super::VertexBuffer {
+                stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2].to_vec(),
+            }],
+            primitive: wgpu::PrimitiveState {
+                topology: match p.topology {
+                    Topology::Triangles => wgpu::PrimitiveTopology::TriangleList,
+                    Topology::Lines => wgpu::PrimitiveTopology::LineList,
+                    Topology::Points => wgpu::PrimitiveTopology::PointList,
+                },
+                cull_mode: if p.double_sided || !triangles { None } else { Some(wgpu::Face::Back) },
+                ..Default::default()
             },
-            cull_mode: if p.double_sided || !triangles { None } else { Some(wgpu::Face::Back) },
-            ..Default::default()
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: key.depth_format,
+                depth_write_enabled: Some(p.depth.0),
+                depth_compare: Some(z(key.reversed_z, p.depth.1)),
+                stencil: p.depth.2,
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: p.samples, ..Default::default() },
+            fragment: p.fs.map(|fs| (fs.to_owned(), targets.to_vec())),
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: key.depth_format,
-            depth_write_enabled: Some(p.depth.0),
-            depth_compare: Some(z(key.reversed_z, p.depth.1)),
-            stencil: p.depth.2,
-            bias: Default::default(),
-        }),
-        multisample: wgpu::MultisampleState { count: p.samples, ..Default::default() },
-        fragment: p.fs.map(|fs| wgpu::FragmentState {
-            module,
-            entry_point: Some(fs),
-            compilation_options: Default::default(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }

@@ -113,15 +113,15 @@ pub fn post_reads_gbuffer(s: &Settings, chain: bool) -> bool {
 
 /// The pipelines of one sample count, by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`] each.
 struct Pipelines {
-    depth: [wgpu::RenderPipeline; 6],
+    depth: [crate::renderer::kit::RenderPipe; 6],
     /// Single-pass shading after the depth pre-pass (LessEqual, no depth write).
-    single: [wgpu::RenderPipeline; 6],
+    single: [crate::renderer::kit::RenderPipe; 6],
     /// Single-pass shading without it (Less, depth written).
-    single_no_prepass: [wgpu::RenderPipeline; 6],
-    base: [wgpu::RenderPipeline; 6],
-    pair: [wgpu::RenderPipeline; 6],
+    single_no_prepass: [crate::renderer::kit::RenderPipe; 6],
+    base: [crate::renderer::kit::RenderPipe; 6],
+    pair: [crate::renderer::kit::RenderPipe; 6],
     /// Blended surfaces (`fs_forward`), one- and two-sided: multisampled frames only.
-    blended: [wgpu::RenderPipeline; 2],
+    blended: [crate::renderer::kit::RenderPipe; 2],
 }
 
 struct Msaa {
@@ -298,7 +298,7 @@ impl ForwardPathsPass {
         depth: (bool, Cmp, wgpu::StencilState),
         targets: &[Option<wgpu::ColorTargetState>],
         samples: u32,
-    ) -> wgpu::RenderPipeline {
+    ) -> crate::renderer::kit::RenderPipe {
         let p = ScenePipe { label, layout: &self.layout, vs, fs, topology, double_sided, depth, samples };
         scene_pipeline(device, &self.module, &self.key, p, targets)
     }
@@ -316,7 +316,7 @@ impl ForwardPathsPass {
         depth: (bool, Cmp, wgpu::StencilState),
         targets: &[Option<wgpu::ColorTargetState>],
         samples: u32,
-    ) -> [wgpu::RenderPipeline; 6] {
+    ) -> [crate::renderer::kit::RenderPipe; 6] {
         let (opaque, masked) = match fs {
             Some((o, m)) => (Some(o), Some(m)),
             None => (None, depth_fs_masked.then_some("fs_forward_depth_masked")),
@@ -625,7 +625,7 @@ impl ForwardPathsPass {
         pass: &mut wgpu::RenderPass<'_>,
         f: &FrameInputs<'_>,
         list: &[Draw],
-        pipelines: &[wgpu::RenderPipeline],
+        pipelines: &[crate::renderer::kit::RenderPipe],
         counted: &mut Vec<Counted>,
         what: impl Fn(usize) -> Counted,
     ) -> std::ops::Range<u32> {

@@ -18,9 +18,9 @@ use wgpu::CompareFunction as Cmp;
 
 pub struct PrepassFinalPass {
     /// By `gbuffer::topology_pipeline_index`, as the G-buffer pass's.
-    pipelines: [wgpu::RenderPipeline; 6],
+    pipelines: [crate::renderer::kit::RenderPipe; 6],
     /// Multisampled (`--msaa 4`): the depth-only draws that prime pass 3's samples.
-    prime: Option<[wgpu::RenderPipeline; 6]>,
+    prime: Option<[crate::renderer::kit::RenderPipe; 6]>,
 }
 
 impl PrepassFinalPass {

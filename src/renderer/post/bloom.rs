@@ -14,10 +14,10 @@ use crate::renderer::stats::Span;
 pub const SPAN: Span = Span("bloom");
 
 pub struct BloomPass {
-    bright: wgpu::RenderPipeline,
-    down: wgpu::RenderPipeline,
-    up: wgpu::RenderPipeline,
-    combine: wgpu::RenderPipeline,
+    bright: crate::renderer::kit::RenderPipe,
+    down: crate::renderer::kit::RenderPipe,
+    up: crate::renderer::kit::RenderPipe,
+    combine: crate::renderer::kit::RenderPipe,
 }
 
 impl BloomPass {

@@ -21,7 +21,7 @@ const SPAN: Span = Span("distortion");
 
 pub struct DistortionPass {
     /// One- and two-sided.
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: [crate::renderer::kit::RenderPipe; 2],
 }
 
 impl DistortionPass {

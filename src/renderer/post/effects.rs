@@ -106,7 +106,11 @@ pub fn runs(name: &str, s: &Settings) -> bool {
 
 /// Each effect's pipelines: into the chain's next image, into the output, and its view's.
 pub struct EffectsPass {
-    pipelines: Vec<(wgpu::RenderPipeline, wgpu::RenderPipeline, Option<wgpu::RenderPipeline>)>,
+    pipelines: Vec<(
+        crate::renderer::kit::RenderPipe,
+        crate::renderer::kit::RenderPipe,
+        Option<crate::renderer::kit::RenderPipe>,
+    )>,
 }
 
 impl EffectsPass {
@@ -171,7 +175,7 @@ fn draw(
     f: &FrameInputs<'_>,
     e: &Effect,
     label: &str,
-    pipeline: &wgpu::RenderPipeline,
+    pipeline: &crate::renderer::kit::RenderPipe,
     (group, target): (&wgpu::BindGroup, &wgpu::TextureView),
 ) {
     // An effect whose buffer is drawn first: the span began with those draws.

@@ -12,21 +12,14 @@ use crate::renderer::stats::Span;
 pub const SPAN: Span = Span("exposure");
 
 pub struct ExposurePass {
-    histogram: wgpu::ComputePipeline,
-    adapt: wgpu::ComputePipeline,
+    histogram: crate::renderer::kit::ComputePipe,
+    adapt: crate::renderer::kit::ComputePipe,
 }
 
 impl ExposurePass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let pipe = |label, entry| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(&shared.post_layout),
-                module: &shared.module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            crate::renderer::kit::compute_pipe(device, label, Some(&shared.post_layout), &shared.module, entry)
         };
         Self { histogram: pipe("luminance histogram", "cs_histogram"), adapt: pipe("adapt exposure", "cs_adapt") }
     }

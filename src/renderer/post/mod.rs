@@ -586,7 +586,7 @@ pub fn post_draw(
     encoder: &mut wgpu::CommandEncoder,
     f: &FrameInputs<'_>,
     label: &str,
-    pipeline: &wgpu::RenderPipeline,
+    pipeline: &crate::renderer::kit::RenderPipe,
     view: &wgpu::TextureView,
     group: &wgpu::BindGroup,
     timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,

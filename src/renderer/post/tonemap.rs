@@ -12,10 +12,10 @@ use crate::renderer::stats::Span;
 pub const SPAN: Span = Span("tonemap");
 
 pub struct TonemapPass {
-    to_output: wgpu::RenderPipeline,
-    to_post: wgpu::RenderPipeline,
-    view_bloom: wgpu::RenderPipeline,
-    view_histogram: wgpu::RenderPipeline,
+    to_output: crate::renderer::kit::RenderPipe,
+    to_post: crate::renderer::kit::RenderPipe,
+    view_bloom: crate::renderer::kit::RenderPipe,
+    view_histogram: crate::renderer::kit::RenderPipe,
 }
 
 impl TonemapPass {

@@ -14,8 +14,8 @@ const WORKGROUP: u32 = 8;
 const BLOCK: u32 = 4;
 
 pub struct AtlasViewPass {
-    range: wgpu::ComputePipeline,
-    view: wgpu::RenderPipeline,
+    range: crate::renderer::kit::ComputePipe,
+    view: crate::renderer::kit::RenderPipe,
     atlas_bgl: wgpu::BindGroupLayout,
     range_bgl: wgpu::BindGroupLayout,
 }
@@ -65,14 +65,13 @@ impl AtlasViewPass {
             bind_group_layouts: &[Some(&atlas_bgl), Some(&range_bgl)],
             immediate_size: 0,
         });
-        let range = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("atlas depth range"),
-            layout: Some(&layout),
-            module: &shared.module,
-            entry_point: Some("cs_atlas_range"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let range = crate::renderer::kit::compute_pipe(
+            device,
+            "atlas depth range",
+            Some(&layout),
+            &shared.module,
+            "cs_atlas_range",
+        );
         let view = shared.fullscreen_pipeline(device, "atlas view", &layout, "fs_atlas_view", shared.key.output_format);
         Self { range, view, atlas_bgl, range_bgl }
     }

@@ -13,7 +13,7 @@ use crate::renderer::stats::Span;
 pub const SPAN: Span = Span("shadows");
 
 pub struct ShadowPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: crate::renderer::kit::RenderPipe,
     caster_bgl: wgpu::BindGroupLayout,
 }
 
@@ -25,39 +25,31 @@ impl ShadowPass {
             bind_group_layouts: &[Some(&caster_bgl)],
             immediate_size: 0,
         });
-        let vertex_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        })];
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("shadow casters"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &shared.module,
-                entry_point: Some("vs_shadow"),
-                compilation_options: Default::default(),
-                buffers: &vertex_buffers,
+        let pipeline = crate::renderer::kit::render_pipe(
+            device,
+            crate::renderer::kit::RenderPipeDesc {
+                label: "shadow casters".to_owned(),
+                layout,
+                module: shared.module.clone(),
+                vs: "vs_shadow".to_owned(),
+                buffers: vec![crate::renderer::kit::VertexBuffer {
+                    stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: wgpu::vertex_attr_array![0 => Float32x3].to_vec(),
+                }],
+                // Both faces cast: a thin wall or an open mesh stops light from either side.
+                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: shared.key.features.shadows.format.texture(),
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(("fs_shadow".to_owned(), Vec::new())),
             },
-            // Both faces cast: a thin wall or an open mesh stops light from either side.
-            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: shared.key.features.shadows.format.texture(),
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shared.module,
-                entry_point: Some("fs_shadow"),
-                compilation_options: Default::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         Self { pipeline, caster_bgl }
     }
 

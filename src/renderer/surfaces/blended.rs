@@ -19,11 +19,11 @@ use crate::renderer::targets::attachment;
 
 pub struct ForwardPass {
     /// One- and two-sided.
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: [crate::renderer::kit::RenderPipe; 2],
     /// The light pre-pass's opaque objects it cannot light (`DrawLists::forward_opaque`): the
     /// same shading written over pass 3's colour, one- and two-sided, then alpha-masked (which
     /// discard below the cutoff as pass 1 did); built for the light pre-pass only.
-    opaque: Option<[wgpu::RenderPipeline; 4]>,
+    opaque: Option<[crate::renderer::kit::RenderPipe; 4]>,
     /// Depth peeling's pipelines (`BlendedMode::Peeled`).
     peel: Option<Peel>,
 }
@@ -37,10 +37,10 @@ pub struct ForwardPass {
 /// ([`ForwardStats::unpeeled`](crate::renderer::stats::ForwardStats)) when the frame counts.
 struct Peel {
     /// Depth only, then colour at equal depth; one- and two-sided each.
-    depth: [wgpu::RenderPipeline; 2],
-    colour: [wgpu::RenderPipeline; 2],
+    depth: [crate::renderer::kit::RenderPipe; 2],
+    colour: [crate::renderer::kit::RenderPipe; 2],
     /// The layers over the scene colour.
-    over: wgpu::RenderPipeline,
+    over: crate::renderer::kit::RenderPipe,
 }
 
 /// The format the peeled layers are composited in.

@@ -15,11 +15,11 @@ use crate::renderer::targets::{attachment, Targets};
 
 pub struct ComposePass {
     /// The lit picture only (`fs_compose`): the frame's own compose.
-    compose: wgpu::RenderPipeline,
+    compose: crate::renderer::kit::RenderPipe,
     /// The lit picture or any debug view (`fs_compose_view`).
-    compose_view: wgpu::RenderPipeline,
-    compose_hdr: wgpu::RenderPipeline,
-    tonemap: wgpu::RenderPipeline,
+    compose_view: crate::renderer::kit::RenderPipe,
+    compose_hdr: crate::renderer::kit::RenderPipe,
+    tonemap: crate::renderer::kit::RenderPipe,
 }
 
 /// Where and how to compose: the target, its size, the view and its parameter slot.

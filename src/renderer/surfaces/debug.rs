@@ -10,9 +10,9 @@ use crate::renderer::settings::DebugView;
 
 pub struct DebugPass {
     /// Seed 000's diagram: the two-pass mark, the volume test alone, the two-pass shade.
-    classify: [wgpu::RenderPipeline; 3],
-    complexity: wgpu::RenderPipeline,
-    complexity_fullscreen: wgpu::RenderPipeline,
+    classify: [crate::renderer::kit::RenderPipe; 3],
+    complexity: crate::renderer::kit::RenderPipe,
+    complexity_fullscreen: crate::renderer::kit::RenderPipe,
 }
 
 impl DebugPass {

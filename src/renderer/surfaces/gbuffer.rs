@@ -54,7 +54,7 @@ pub(crate) fn surface_pipeline(
     shared: &Shared,
     pipe: SurfacePipe<'_>,
     targets: &[Option<wgpu::ColorTargetState>],
-) -> wgpu::RenderPipeline {
+) -> crate::renderer::kit::RenderPipe {
     let SurfacePipe { label, fs, double_sided, depth_write, topology, samples } = pipe;
     let compare = if depth_write { Cmp::Less } else { Cmp::LessEqual };
     let p = ScenePipe {
@@ -72,7 +72,7 @@ pub(crate) fn surface_pipeline(
 
 pub struct GBufferPass {
     /// By [`pipeline_index`], then lines and points ([`topology_pipeline_index`]).
-    pub pipelines: [wgpu::RenderPipeline; 6],
+    pub pipelines: [crate::renderer::kit::RenderPipe; 6],
     /// The pass also writes the accumulation targets (ambient + sun).
     ambient_in_gbuffer: bool,
 }

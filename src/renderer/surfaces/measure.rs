@@ -18,10 +18,10 @@ use crate::renderer::volumes::VolumeKind;
 use wgpu::CompareFunction as Cmp;
 
 pub struct MeasurePass {
-    ideal: wgpu::RenderPipeline,
-    ideal_volume: wgpu::RenderPipeline,
-    coverage: wgpu::RenderPipeline,
-    coverage_fullscreen: wgpu::RenderPipeline,
+    ideal: crate::renderer::kit::RenderPipe,
+    ideal_volume: crate::renderer::kit::RenderPipe,
+    coverage: crate::renderer::kit::RenderPipe,
+    coverage_fullscreen: crate::renderer::kit::RenderPipe,
 }
 
 impl MeasurePass {

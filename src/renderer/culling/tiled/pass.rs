@@ -137,23 +137,23 @@ impl TileLists {
 
 pub struct TiledPass {
     bgl: wgpu::BindGroupLayout,
-    build: wgpu::ComputePipeline,
+    build: crate::renderer::kit::ComputePipe,
     /// The GPU's clustered lists: count, scan, fill, sort.
-    cluster: [wgpu::ComputePipeline; 4],
+    cluster: [crate::renderer::kit::ComputePipe; 4],
     /// `fs_tiled`.
-    shade: wgpu::RenderPipeline,
+    shade: crate::renderer::kit::RenderPipe,
     /// `fs_tiled_counted`, for frames that count each light's pairs (the ledger): built by the
     /// first such frame, so a configuration that never counts compiles no counter, from
     /// `counted_from` (the module, the layout and the targets).
-    counted: std::sync::OnceLock<wgpu::RenderPipeline>,
+    counted: std::sync::OnceLock<crate::renderer::kit::RenderPipe>,
     counted_from: (wgpu::ShaderModule, wgpu::PipelineLayout, [Option<wgpu::ColorTargetState>; 2]),
-    count_view: wgpu::RenderPipeline,
+    count_view: crate::renderer::kit::RenderPipe,
     /// The ledger's waste view (`fs_tile_waste`) of frames the tiled pass shades.
-    waste_view: wgpu::RenderPipeline,
+    waste_view: crate::renderer::kit::RenderPipe,
     /// Z-binned frames' mask building (`cs_zbin_mask`) and shading (`fs_zbin`, and
     /// `fs_zbin_counted`), built by the first such frame.
-    zbin: std::sync::OnceLock<([wgpu::ComputePipeline; 2], wgpu::RenderPipeline)>,
-    zbin_counted: std::sync::OnceLock<wgpu::RenderPipeline>,
+    zbin: std::sync::OnceLock<([crate::renderer::kit::ComputePipe; 2], crate::renderer::kit::RenderPipe)>,
+    zbin_counted: std::sync::OnceLock<crate::renderer::kit::RenderPipe>,
 }
 
 /// A renderer's tile lists: the buffers (grown as frames need) and what the last frame left to
@@ -185,16 +185,8 @@ impl TiledPass {
             bind_group_layouts: &[Some(&shared.frame_bgl), Some(&shared.gbuffer_bgl), Some(&bgl)],
             immediate_size: 0,
         });
-        let compute = |label, entry| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: Some(&layout),
-                module: &shared.module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let compute =
+            |label, entry| crate::renderer::kit::compute_pipe(device, label, Some(&layout), &shared.module, entry);
         let build = compute("tile lists", "cs_tile_lists");
         let cluster = [
             compute("cluster count", "cs_cluster_count"),
@@ -243,19 +235,10 @@ impl TiledPass {
         &self,
         device: &wgpu::Device,
         counted: bool,
-    ) -> (&[wgpu::ComputePipeline; 2], &wgpu::RenderPipeline) {
+    ) -> (&[crate::renderer::kit::ComputePipe; 2], &crate::renderer::kit::RenderPipe) {
         let (module, layout, targets) = &self.counted_from;
         let (mask, shade) = self.zbin.get_or_init(|| {
-            let compute = |label, entry| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(layout),
-                    module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            };
+            let compute = |label, entry| crate::renderer::kit::compute_pipe(device, label, Some(layout), module, entry);
             let mask = [compute("z-bin tile bounds", "cs_zbin_bounds"), compute("z-bin masks", "cs_zbin_mask")];
             let stages = ("vs_tiled", "fs_zbin");
             (mask, crate::renderer::kit::screen_pipeline(device, module, "z-bin shade", layout, stages, targets))
@@ -435,8 +418,12 @@ impl TiledPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         b: &Buffers,
-        (method, gpu_lists, view): (Method, bool, Option<&wgpu::RenderPipeline>),
-        (shade, params, zbin): (&wgpu::RenderPipeline, &TileParams, Option<(&[wgpu::ComputePipeline; 2], &ZBinJob)>),
+        (method, gpu_lists, view): (Method, bool, Option<&crate::renderer::kit::RenderPipe>),
+        (shade, params, zbin): (
+            &crate::renderer::kit::RenderPipe,
+            &TileParams,
+            Option<(&[crate::renderer::kit::ComputePipe; 2], &ZBinJob)>,
+        ),
         cells: u64,
     ) {
         let n = f.plan.lights.len();

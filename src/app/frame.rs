@@ -475,10 +475,14 @@ impl App {
                     self.save_viewport(&vp)?;
                     println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
                 }
-                Action::Memory => match crate::memory::resident_bytes() {
-                    Some(b) => println!("frame {}: resident {b} bytes", self.frame),
-                    None => println!("frame {}: resident memory unavailable on this system", self.frame),
-                },
+                Action::Memory => {
+                    match crate::memory::resident_bytes() {
+                        Some(b) => println!("frame {}: resident {b} bytes", self.frame),
+                        None => println!("frame {}: resident memory unavailable on this system", self.frame),
+                    }
+                    let compiled = crate::renderer::kit::pipelines_compiled();
+                    println!("frame {}: pipelines compiled {compiled}", self.frame);
+                }
                 Action::Overlaps => {
                     let found = ui::overlaps(&self.regions);
                     if !found.is_empty() {

@@ -36,7 +36,8 @@
 //! screenshot PATH        after drawing: the whole window to PATH, the viewport image to
 //!                        PATH-stem + "-viewport.png" and its settings to PATH-stem + "-viewport.json"
 //! memory                 after drawing: print the frame number and the resident memory
-//!                        (`frame N: resident BYTES bytes`) to stdout, for soak runs
+//!                        (`frame N: resident BYTES bytes`), then the pipelines compiled so
+//!                        far (`frame N: pipelines compiled P`) to stdout, for soak runs
 //! overlaps               after drawing: end the run with an error naming them when two
 //!                        widgets of the drawn UI overlap (`ui::overlaps`)
 //! quit                   after drawing: exit with status 0

@@ -401,8 +401,19 @@ impl<T> std::ops::Deref for OnFirstUse<T> {
     type Target = T;
 
     fn deref(&self) -> &T {
-        self.0.cell.get_or_init(|| (self.0.build)())
+        self.0.cell.get_or_init(|| {
+            COMPILED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            (self.0.build)()
+        })
     }
+}
+
+static COMPILED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Pipelines this process has compiled ([`OnFirstUse`]): a soak tells the memory they take,
+/// one-off, from a leak (`memory::without_compiles`).
+pub fn pipelines_compiled() -> u64 {
+    COMPILED.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// A render pipeline from an owned descriptor, built on first use.

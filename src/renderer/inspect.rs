@@ -510,12 +510,14 @@ impl Renderer {
             bail!("cannot draw the shadow atlas into a 0-pixel image");
         }
         self.passes.atlas_view.prepare()?;
-        let mut encoder =
-            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas view") });
-        let empty = self.last.shadows.draws.is_empty();
-        let scratch = (&self.frame, &self.scratch.atlas_view);
-        self.passes.atlas_view.encode(&self.device, &self.queue, &mut encoder, scratch, target, side, empty);
-        self.queue.submit([encoder.finish()]);
-        self.scratch.atlas_view.read(gpu)
+        crate::renderer::scoped(&self.device, || {
+            let mut encoder =
+                self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas view") });
+            let empty = self.last.shadows.draws.is_empty();
+            let scratch = (&self.frame, &self.scratch.atlas_view);
+            self.passes.atlas_view.encode(&self.device, &self.queue, &mut encoder, scratch, target, side, empty);
+            self.queue.submit([encoder.finish()]);
+            self.scratch.atlas_view.read(gpu)
+        })
     }
 }

@@ -230,8 +230,27 @@ pub struct Renderer {
     pub cost_models: Vec<(CullingMode, explain::cost::CostModel)>,
 }
 
-/// Builds a configuration's passes, turning validation errors (a bad layout, a shader that
-/// fails to compile) into an error instead of a panic.
+/// Runs `steps`, which encode and submit GPU work, inside error scopes: validation, out of
+/// memory, and internal (a driver that fails to compile a pipeline reports it so). A pipeline
+/// compiles on its first draw (`kit::OnFirstUse`), inside whichever call draws with it first,
+/// so every call that draws runs in these scopes; an error caught turns into the call's error,
+/// the innermost scope's (the compile's own message) first. A pipeline that failed to compile
+/// stays invalid in its pass set, and each later draw with it fails here too.
+pub fn scoped<R>(device: &wgpu::Device, steps: impl FnOnce() -> Result<R>) -> Result<R> {
+    let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal]
+        .map(|filter| device.push_error_scope(filter));
+    let out = steps();
+    let caught: Vec<wgpu::Error> = scopes.into_iter().rev().filter_map(|s| pollster::block_on(s.pop())).collect();
+    let out = out?;
+    if let Some(e) = caught.first() {
+        bail!("wgpu error: {}", crate::gpu::describe(e));
+    }
+    Ok(out)
+}
+
+/// Builds a configuration's shader module and layouts, turning validation errors (a bad
+/// layout, a module that fails naga's validation) into an error instead of a panic; the
+/// pipelines compile later, each on its first draw ([`scoped`]).
 fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let p = Passes::new(device, key);
@@ -510,14 +529,8 @@ impl Renderer {
             }
             None => scene,
         };
-        let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory]
-            .map(|filter| self.device.push_error_scope(filter));
-        let encoded = self.encode_frame(scene, settings, target, (width, height));
-        let caught: Vec<wgpu::Error> = scopes.into_iter().rev().filter_map(|s| pollster::block_on(s.pop())).collect();
-        let (shape, prepared, drawn) = encoded?;
-        if let Some(e) = caught.first() {
-            bail!("wgpu error: {}", crate::gpu::describe(e));
-        }
+        let device = self.device.clone();
+        let (shape, prepared, drawn) = scoped(&device, || self.encode_frame(scene, settings, target, (width, height)))?;
         let mut stats = self.report(scene, settings, &shape, &prepared, drawn)?;
         if cut.is_some() || settings.lights_per_cluster > 0 || settings.lights_per_object > 0 {
             let mut cut = cut.unwrap_or_default();
@@ -627,14 +640,16 @@ impl Renderer {
             bail!("cannot compose a {width}x{height} view");
         }
         self.last.gbuffer(&format!("{} view", view.name()))?;
-        // Built in an error scope here if no frame has (a frame that failed after configure).
+        // Set up here if no frame has (a frame that failed after configure).
         self.passes.compose.prepare()?;
-        let mut encoder =
-            self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
-        let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };
-        self.passes.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, None);
-        self.queue.submit([encoder.finish()]);
-        Ok(())
+        scoped(&self.device, || {
+            let mut encoder =
+                self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
+            let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };
+            self.passes.compose.encode(&mut encoder, &self.queue, targets, &self.frame, &to, None);
+            self.queue.submit([encoder.finish()]);
+            Ok(())
+        })
     }
 
     /// The last frame's debug target, its red channel per pixel: the counts of the complexity,

@@ -192,6 +192,36 @@ fn a_wgpu_validation_error_becomes_an_error_where_it_was_made() {
     r.render(&scene, &s, &out.view, W, H).expect("the next frame draws");
 }
 
+/// A pipeline compiles on its first draw (`kit::OnFirstUse`). A compile that fails is the error
+/// of the call that drew with it first (`renderer::scoped`, as every drawing call of the
+/// renderer runs), not a panic and not left in the device's error sink, and each later draw with
+/// it fails the same way.
+#[test]
+fn a_pipeline_that_fails_to_compile_on_first_draw_is_that_calls_error() {
+    let gpu = Gpu::headless().expect("a device of its own");
+    let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("one entry point"),
+        source: wgpu::ShaderSource::Wgsl("@compute @workgroup_size(1) fn present() {}".into()),
+    });
+    let pipe = lampshade::renderer::kit::compute_pipe(&gpu.device, "names a missing entry", None, &module, "absent");
+    let draw = || -> anyhow::Result<()> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipe);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        Ok(())
+    };
+    assert!(gpu.errors.check().is_ok(), "nothing compiled before the first draw");
+    let e = lampshade::renderer::scoped(&gpu.device, &draw).expect_err("the first draw's error").to_string();
+    assert!(e.starts_with("wgpu error:") && e.contains("absent"), "{e}");
+    assert!(gpu.errors.check().is_ok(), "the compile's error is the call's, not left for the caller");
+    lampshade::renderer::scoped(&gpu.device, &draw).expect_err("the invalid pipeline stays invalid");
+    assert!(gpu.errors.check().is_ok());
+}
+
 /// wgpu's GL backend renders the default frame, and under every path every culling mode (tiled
 /// under the deferred path only, below) to that path's own full-screen picture, within
 /// culling's one step as on Vulkan (tests/it/culling.rs, tests/it/paths.rs).

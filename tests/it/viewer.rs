@@ -1108,7 +1108,7 @@ fn judge_memory_lines(stdout: &str, expected: u64, warmup: u64, what: &str) -> b
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
     let counts: Vec<u64> = compiled.iter().map(|c| c.1).collect();
     eprintln!("viewer resident MiB by frame{what}: {mib:?}\npipelines compiled by then: {counts:?}");
-    if let Err(e) = lampshade::memory::judge_soak(&lampshade::memory::without_compiles(&samples, &compiled), warmup) {
+    if let Err(e) = lampshade::memory::judge_soak_compiling(&samples, &compiled, warmup) {
         panic!("the viewer's memory{what}, compile steps taken out: {e}");
     }
     true

@@ -60,7 +60,11 @@ pub fn chunk_lights(limit: Option<u64>, lights: usize) -> usize {
 impl Renderer {
     /// Brute force over the last frame's G-buffer (deferred path or light pre-pass): every
     /// light of the frame at every pixel, in f32.
-    pub fn brute_force(&self, _gpu: &Gpu) -> Result<BruteForce> {
+    pub fn brute_force(&self, gpu: &Gpu) -> Result<BruteForce> {
+        crate::renderer::scoped(&self.device, || self.brute_force_unscoped(gpu))
+    }
+
+    fn brute_force_unscoped(&self, _gpu: &Gpu) -> Result<BruteForce> {
         if !matches!(self.last.path, RenderPath::Deferred | RenderPath::LightPrepass) {
             bail!(
                 "brute force shades a G-buffer: the last frame drew the {} path, which keeps none",

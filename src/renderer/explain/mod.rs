@@ -306,7 +306,7 @@ impl Renderer {
         let probe: PixelProbe = self.probe(gpu, x, y)?;
         let Some(t) = &self.targets else { bail!("nothing rendered yet") };
         let n = self.last.lights.len();
-        let raw = self.explain_raw(x, y, n)?;
+        let raw = crate::renderer::scoped(&self.device, || self.explain_raw(x, y, n))?;
         let lists = if self.last.plan.lights.iter().any(|p| p.method.listed()) { self.tile_lists(gpu)? } else { None };
         let depth = -probe.position.z;
         let (cell, list): (Option<Cell>, Option<Vec<u32>>) = match (&lists, probe.valid) {

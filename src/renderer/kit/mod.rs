@@ -331,8 +331,9 @@ impl<T> Lazy<T> {
         self.cell.get()
     }
 
-    /// Builds the pass now if it is not built, turning a validation error (a shader that fails
-    /// to compile for this configuration) into an error instead of a panic.
+    /// Sets the pass up now if it is not, turning a validation error (a bad layout) into an
+    /// error instead of a panic. Its pipelines compile on their first draw, inside the drawing
+    /// call's error scopes (`renderer::scoped`).
     pub fn prepare(&self) -> anyhow::Result<()> {
         if self.cell.get().is_some() {
             return Ok(());
@@ -364,9 +365,9 @@ impl<T> std::ops::Deref for Lazy<T> {
 /// and 2 to 9 MiB of heap. Built when their pass was, the culling oracle's pipelines came to 74
 /// a case, 85% of its CPU time; built on first draw, 23 (stream 4, cases 8900-8949: 3,691
 /// pipelines and 113 s before, 1,163 and 35 s after). It dereferences to the pipeline, so a draw
-/// passes `&pipe` where it passed `&pipeline`. A validation error in the compile reaches the
-/// frame's error scope (`Renderer::render` pushes one around the frame) or, outside a frame,
-/// the device's error sink (`gpu::DeviceErrors`), never a panic.
+/// passes `&pipe` where it passed `&pipeline`. Every call that draws runs inside error scopes
+/// (`renderer::scoped`: the frame, the thumbnails, the explanation, brute force, the atlas
+/// view), so an error in the compile becomes that call's error, never a panic.
 /// Clones share the one pipeline.
 pub struct OnFirstUse<T>(Arc<FirstUse<T>>);
 
@@ -389,11 +390,6 @@ pub type ComputePipe = OnFirstUse<wgpu::ComputePipeline>;
 impl<T> OnFirstUse<T> {
     pub fn new(build: impl Fn() -> T + Send + Sync + 'static) -> Self {
         Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build) }))
-    }
-
-    /// Whether a draw has built it.
-    pub fn is_built(&self) -> bool {
-        self.0.cell.get().is_some()
     }
 }
 

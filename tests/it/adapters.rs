@@ -215,10 +215,10 @@ fn a_pipeline_that_fails_to_compile_on_first_draw_is_that_calls_error() {
         Ok(())
     };
     assert!(gpu.errors.check().is_ok(), "nothing compiled before the first draw");
-    let e = lampshade::renderer::scoped(&gpu.device, &draw).expect_err("the first draw's error").to_string();
+    let e = lampshade::renderer::scoped(&gpu.device, draw).expect_err("the first draw's error").to_string();
     assert!(e.starts_with("wgpu error:") && e.contains("absent"), "{e}");
     assert!(gpu.errors.check().is_ok(), "the compile's error is the call's, not left for the caller");
-    lampshade::renderer::scoped(&gpu.device, &draw).expect_err("the invalid pipeline stays invalid");
+    lampshade::renderer::scoped(&gpu.device, draw).expect_err("the invalid pipeline stays invalid");
     assert!(gpu.errors.check().is_ok());
 }
 

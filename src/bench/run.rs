@@ -155,7 +155,14 @@ fn prepare<'c>(
                 continue;
             }
         };
-        if let Err(e) = render_image(gpu, &mut renderer, &scene, &cfg.settings, cfg.size.0, cfg.size.1) {
+        // The warm-up frame, then the counted frame `measure` draws: a pipeline compiles on its
+        // first draw, so the counting pipelines compile here, and a configuration whose counting
+        // this adapter cannot build is skipped like one it cannot draw.
+        let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
+        let (w, h) = cfg.size;
+        let warm = render_image(gpu, &mut renderer, &scene, &cfg.settings, w, h)
+            .and_then(|_| render_image(gpu, &mut renderer, &scene, &counted, w, h));
+        if let Err(e) = warm {
             if cfg.group == "path" {
                 // A path this build cannot render is a row saying why: the path comparison
                 // shows every path.

@@ -334,8 +334,8 @@ impl ForwardPathsPass {
         ]
     }
 
-    fn build(&self, device: &wgpu::Device, samples: u32) -> Result<Pipelines> {
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    /// The pipelines for `samples`, each compiled on its first draw (`kit::OnFirstUse`).
+    fn build(&self, device: &wgpu::Device, samples: u32) -> Pipelines {
         let replace =
             [Some(wgpu::ColorTargetState { format: HDR_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL })];
         let add = [Some(wgpu::ColorTargetState {
@@ -367,7 +367,7 @@ impl ForwardPathsPass {
         let mine = crate::renderer::kit::face(Cmp::Equal, Op::Keep, Op::Keep, Op::Keep);
         let owned = (false, Cmp::LessEqual, crate::renderer::kit::stencil(mine, mine));
         let single = Some(("fs_forward_single", "fs_forward_single_masked"));
-        let p = Pipelines {
+        Pipelines {
             depth: self.stage(device, "forward depth", "vs_forward", None, true, written.clone(), &[], samples),
             single: self.stage(
                 device,
@@ -422,11 +422,7 @@ impl ForwardPathsPass {
                     samples,
                 )
             }),
-        };
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            bail!("building the forward paths' pipelines failed: {e}");
         }
-        Ok(p)
     }
 
     fn pipelines(&self, device: &wgpu::Device, samples: u32) -> Result<Arc<Pipelines>> {
@@ -434,7 +430,7 @@ impl ForwardPathsPass {
         if let Some(p) = map.get(&samples) {
             return Ok(p.clone());
         }
-        let p = Arc::new(self.build(device, samples)?);
+        let p = Arc::new(self.build(device, samples));
         map.insert(samples, p.clone());
         Ok(p)
     }

@@ -56,6 +56,30 @@ pub fn rounding_bound(format: AccumFormat, value: f32, k: u32) -> f32 {
     }
 }
 
+/// How far the light pass and brute force may differ at a pixel, per light adding there, from
+/// flushing denormals alone: Vulkan lets any shader instruction flush a denormal input or
+/// result to zero. A light's contribution is its colour x intensity (the one factor above 1,
+/// applied last) times factors in [0, 1] (attenuation, N.L, the specular lobe and level, the
+/// shadow, the cookie, a metal's albedo); once an intermediate product falls below
+/// `f32::MIN_POSITIVE` and is flushed, what it would have given is below `MIN_POSITIVE` x the
+/// light's largest colour x intensity channel. The two shaders order the products differently,
+/// so either may flush where the other does not. The light pre-pass's mono specular adds up to
+/// three more flushed terms (the luminance-weighted channels, weights below 1). So
+/// `MIN_POSITIVE x (brightest + 3)`, `brightest` the largest channel of any light's colour x
+/// intensity in the scene; it matters only near 1e-37, where a case of stream 4 (17100) lost a
+/// 1.8e-37 contribution under a light of intensity 17.6.
+pub fn flush_bound(lights: &[crate::scene::Light]) -> f32 {
+    use crate::scene::Light;
+    let brightest = lights
+        .iter()
+        .map(|l| match l {
+            Light::Point(p) => (p.color * p.intensity).max_element(),
+            Light::Spot(s) => (s.color * s.intensity).max_element(),
+        })
+        .fold(0.0f32, f32::max);
+    f32::MIN_POSITIVE * (brightest + 3.0)
+}
+
 /// The largest value a channel of `format` holds: past it the target saturates, which is not
 /// the culling's doing (such pixels are counted apart).
 pub fn range_max(format: AccumFormat) -> f32 {
@@ -239,7 +263,9 @@ pub fn check_scene(
             let lit = accumulated(gpu, renderer)?;
             let one_target = renderer.one_target() && path == RenderPath::Deferred;
             let mut difference = differences.then(|| vec![0.0; bf.adding.len()]);
-            let mut result = compare_into(&lit, &dark, bf, format, (path, one_target), difference.as_deref_mut());
+            let flush = flush_bound(&scene.lights);
+            let mut result =
+                compare_into(&lit, &dark, bf, (format, flush), (path, one_target), difference.as_deref_mut());
             result.path = path.name();
             result.mode = mode.name();
             if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {
@@ -329,7 +355,7 @@ fn compare(
     format: AccumFormat,
     path: (RenderPath, bool),
 ) -> ModeResult {
-    compare_into(lit, dark, bf, format, path, None)
+    compare_into(lit, dark, bf, (format, 0.0), path, None)
 }
 
 /// [`compare`], writing each pixel's [`Difference`] into `difference` when given.
@@ -337,7 +363,7 @@ fn compare_into(
     lit: &Light,
     dark: &Light,
     bf: &crate::renderer::explain::brute::BruteForce,
-    format: AccumFormat,
+    (format, flush): (AccumFormat, f32),
     (path, one_target): (RenderPath, bool),
     mut difference: Option<&mut [f32]>,
 ) -> ModeResult {
@@ -379,7 +405,7 @@ fn compare_into(
                 saturated = true;
                 continue;
             }
-            let bound = rounding_bound(format, acc.max(rest + reference), k);
+            let bound = rounding_bound(format, acc.max(rest + reference), k) + k as f32 * flush;
             let difference = reference - (acc - rest);
             let ratio = difference.abs() / bound;
             if ratio > pixel_worst.abs() {
@@ -486,7 +512,8 @@ pub fn cap_loss(
     };
     let lit = accumulated(gpu, renderer)?;
     let one_target = renderer.one_target() && settings.path == RenderPath::Deferred;
-    let r = compare_into(&lit, &dark, &all, settings.accumulation, (settings.path, one_target), None);
+    let flush = flush_bound(&scene.lights);
+    let r = compare_into(&lit, &dark, &all, (settings.accumulation, flush), (settings.path, one_target), None);
     let caps = stats.caps.unwrap_or_default();
     let dropped_pairs = match caps.kept {
         Some(kept) => {

@@ -224,11 +224,6 @@ impl TiledPass {
         }
     }
 
-    /// Whether a z-binned frame has built its pipelines.
-    pub fn zbin_built(&self) -> bool {
-        self.zbin.get().is_some()
-    }
-
     /// The z-binned frame's mask pass and shading pipeline (`counted`: the one counting each
     /// light's pairs), built on first use.
     fn zbin_pipelines(

@@ -221,11 +221,7 @@ impl Renderer {
     pub fn volume_planes(&self, i: usize) -> Option<Vec<(Vec3, Vec3)>> {
         let raw = self.last.lights.get(i)?;
         let mesh = self.volumes.mesh(VolumeKind::of(raw));
-        let pts: Vec<Vec3> = mesh
-            .vertices
-            .iter()
-            .map(|v| volumes::place(*v, raw.position.into(), raw.radius, raw.direction.into(), raw.tan_outer))
-            .collect();
+        let pts: Vec<Vec3> = mesh.vertices.iter().map(|v| volumes::place_light(*v, raw)).collect();
         Some(
             mesh.indices
                 .chunks(3)
@@ -397,7 +393,7 @@ pub fn volume_wireframe_with(
         .vertices
         .iter()
         .map(|v| {
-            let p = volumes::place(*v, raw.position.into(), raw.radius, raw.direction.into(), raw.tan_outer);
+            let p = volumes::place_light(*v, &raw);
             if -p.z < near {
                 return None;
             }

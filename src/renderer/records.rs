@@ -178,8 +178,12 @@ gpu_record! {
         pub mask: u32,
         /// The cookie's face side in texels.
         pub cookie_size: u32,
-        pub cookie_pad0: u32,
-        pub cookie_pad1: u32,
+        /// The tangent of the half-angle of a spot's bounding cone (`volume_tan`): its outer
+        /// angle widened by the rounding of the shader's cone test. 0 for point lights.
+        pub volume_tan: f32,
+        /// How far the bounding volume is grown all round: the stored position's error where
+        /// the layout stores it (`stored_position_pads`); 0 otherwise.
+        pub volume_pad: f32,
         /// X, the light's first shadow tile in `shadow_tiles` (a spot's one, a point
         /// light's six faces in a row), or `NO_SHADOW` (unshadowed; filled by `shadows::plan`);
         /// y, its tile count (1 or 6); z, w unused.
@@ -388,8 +392,8 @@ impl LightRecord {
                 cookie: NO_COOKIE,
                 mask: p.mask,
                 cookie_size: 0,
-                cookie_pad0: 0,
-                cookie_pad1: 0,
+                volume_tan: 0.0,
+                volume_pad: 0.0,
             },
             Light::Spot(s) => Self {
                 position: to_view(s.position).as_vec3().into(),
@@ -401,16 +405,61 @@ impl LightRecord {
                 cos_outer: s.outer_angle.cos(),
                 cos_inner: s.inner_angle.cos(),
                 tan_outer: s.outer_angle.tan(),
+                volume_tan: volume_tan(f64::from(s.outer_angle.cos())),
                 clamp: f32::MAX,
                 shadow: UNSHADOWED,
                 cookie_up: (rot * crate::scene::cookie::spot_up(s.direction.as_dvec3())).as_vec3().into(),
                 cookie: NO_COOKIE,
                 mask: s.mask,
                 cookie_size: 0,
-                cookie_pad0: 0,
-                cookie_pad1: 0,
+                volume_pad: 0.0,
             },
         }
+    }
+}
+
+/// Rounding of the shaders' spot test `dot(light_to_surface, direction) >= cos_outer`
+/// (`spot_attenuation`, `inside_light`), in units of `f32::EPSILON`: the unit vector to the
+/// surface is a difference over its length (WGSL allows 2.5 ULP for the division and 2 for the
+/// inverse square root beneath the length: with the sum of squares about 4 ε per component), the
+/// direction is an f64 unit vector rounded to f32 (1 ε) and the dot product rounds three
+/// products and two sums (1.5 ε): 6.5 ε, which 16 more than doubles. (The cone is widened from
+/// the f32 `cos_outer` the shaders compare with.)
+pub const SPOT_TEST_ROUNDING: f64 = 16.0;
+
+/// The tangent of a spot's bounding-cone half-angle for outer cosine `cos_outer`: the angle
+/// whose cosine is `cos_outer` less [`SPOT_TEST_ROUNDING`], every direction the shaders' f32
+/// test may find inside. At small angles the widening is what matters: a spot of outer angle 0
+/// lights every point whose computed cosine rounds to 1, up to 2^-12 rad off its axis and more
+/// with the rounding above, while a cone of tangent 0 covers no pixel. From about 2 degrees to
+/// 89.9 the mesh's own 0.2% margin (`volumes::VOLUME_MARGIN`) already exceeds it.
+pub fn volume_tan(cos_outer: f64) -> f32 {
+    let c = (cos_outer - SPOT_TEST_ROUNDING * f32::EPSILON as f64).max(-1.0);
+    (c.acos().tan()) as f32
+}
+
+/// Grows each light's bounding volume (`volume_pad`) by how far a layout that stores the
+/// position (`GBufferLayout::position_rounding`, `rounding`: seed 000's and 002's fp16, the
+/// reference's f32) may shade a point off the pixel's ray. The stored point s is the surface
+/// point t on the pixel's ray (unit direction r) plus an error d, |d| <= sqrt(3) rounding |t|
+/// (`stored_position_error`). The depth the volumes are tested against is s's, so a volume
+/// that admits the pixel for s must hold q, the point of the ray at s's depth:
+/// q - s = (d_z / r_z) r - d, so |q - s| <= |d| (1 + 1 / |r_z|), and 1 / |r_z| is at most the
+/// frustum corner's sqrt(1 + tan^2(fov_x / 2) + tan^2(fov_y / 2)) (`proj`). A lit s lies within
+/// the light's radius, so |t| <= (|light| + radius)(1 + sqrt(3) rounding); 1.01 covers that and
+/// the f32 arithmetic here. At a 0.5-degree field of view seed 000's fp16 view vector is off by
+/// about a ninth of the view's height, and a light of radius 3e-4 lit pixels its volume did not
+/// cover.
+pub fn stored_position_pads(lights: &mut [LightRecord], rounding: f64, proj: &DMat4) {
+    if rounding == 0.0 {
+        return;
+    }
+    let (tx, ty) = (1.0 / proj.x_axis.x, 1.0 / proj.y_axis.y);
+    let off_ray = 1.0 + (1.0 + tx * tx + ty * ty).sqrt();
+    let k = 3f64.sqrt() * rounding * off_ray * 1.01;
+    for l in lights {
+        let reach = glam::Vec3::from(l.position).length() as f64 + l.radius as f64;
+        l.volume_pad = (k * reach) as f32;
     }
 }
 
@@ -1085,8 +1134,8 @@ mod tests {
             cookie: NO_COOKIE,
             mask: 0xdead_0000 | k,
             cookie_size: 0,
-            cookie_pad0: 0,
-            cookie_pad1: 0,
+            volume_tan: 0.0,
+            volume_pad: 0.0,
             shadow: if k == 1 { UNSHADOWED } else { [7 * k, 6, 0, 0] },
         }
     }

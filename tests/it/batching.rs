@@ -4,7 +4,7 @@
 //! (no two lights of a batch meet, every drawn light in exactly one batch).
 
 use crate::common::*;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use lampshade::compare::max_channel_difference;
 use lampshade::headless::render_image;
 use lampshade::renderer::batches::{footprint, Footprint};
@@ -330,9 +330,8 @@ fn a_lights_footprint_holds_every_pixel_its_volume_can_rasterise() {
         for (i, p) in plan.lights.iter().enumerate() {
             let l = &records.lights[i];
             let f = footprint(p, l, &volumes, &view);
-            let (pos, dir) = (Vec3::from(l.position), Vec3::from(l.direction));
             for v in &volumes.mesh(p.volume).vertices {
-                let c = view.proj * volumes::place(*v, pos, l.radius, dir, l.tan_outer).extend(1.0);
+                let c = view.proj * volumes::place_light(*v, l).extend(1.0);
                 if c.w <= view.near {
                     continue;
                 }

@@ -61,7 +61,10 @@ fn the_regression_cases_miss_no_light() {
         let c: case::Case = serde_json::from_str(&std::fs::read_to_string(&p).expect("read")).expect("a case");
         let result = runner.check(&gpu, &c, &oracle::Scope::default()).expect("check");
         assert!(result.failures().next().is_none(), "{}:\n{}", p.display(), report(&result));
-        assert!(result.modes.iter().all(|m| m.refused.is_none()), "{}: refused", p.display());
+        // A path may refuse the case's settings before any culling (the light pre-pass takes no
+        // Rg11b10Ufloat accumulation); no culling mode may refuse.
+        assert!(result.modes.iter().all(|m| m.refused.is_none() || m.path_refused), "{}: refused", p.display());
+        assert!(result.modes.iter().any(|m| m.refused.is_none()), "{}: every frame refused", p.display());
         assert_eq!(result.modes.len(), 20, "{}", p.display());
     }
 }

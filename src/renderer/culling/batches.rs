@@ -52,7 +52,7 @@ use super::plan::{LightPlan, Method, PlanView};
 use super::volumes::{self, VolumeKind, Volumes};
 use crate::renderer::records::LightRecord;
 use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 
 /// Side in pixels of the occupancy grid's cells.
 pub const CELL: u32 = 8;
@@ -62,7 +62,8 @@ pub const CELL: u32 = 8;
 pub struct Batch {
     pub method: Method,
     pub volume: VolumeKind,
-    /// The batch's lights cross the near plane (REPLACE shades them with another pipeline).
+    /// The batch's lights cross the near plane (shaded unmarked with another pipeline:
+    /// `methods::CROSSING_NEAR`).
     pub crosses_near: bool,
     /// The batch's entries in [`LightBatches::list`]: `first..first + count`.
     pub first: u32,
@@ -140,12 +141,11 @@ pub fn footprint(plan: &LightPlan, light: &LightRecord, volumes: &Volumes, view:
     if !view.depth_clamp {
         return Footprint::Empty;
     }
-    let (pos, dir) = (Vec3::from(light.position), Vec3::from(light.direction));
     let mut outside = [true; 4];
     let (mut all_behind, mut all_ahead) = (true, true);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
     for v in &volumes.mesh(plan.volume).vertices {
-        let c = view.proj * volumes::place(*v, pos, light.radius, dir, light.tan_outer).extend(1.0);
+        let c = view.proj * volumes::place_light(*v, light).extend(1.0);
         for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
             outside[k] &= d < 0.0;
         }
@@ -246,8 +246,8 @@ impl LightBatches {
                 method: super::methods::order(p.method),
                 // Full-screen draws use no mesh: one batch whatever the light's kind.
                 volume: if p.method == Method::Fullscreen { 0 } else { p.volume as u8 },
-                // Only REPLACE shades near-crossing lights with another pipeline.
-                crosses_near: p.method == Method::StencilReplace && p.crosses_near,
+                // The stencil methods shade near-crossing lights with another pipeline, unmarked.
+                crosses_near: p.crosses_near && super::methods::row(p.method).marks(),
             };
             let foot = if p.method == Method::Fullscreen {
                 Footprint::Rect([0, 0, w.max(1) - 1, h.max(1) - 1])

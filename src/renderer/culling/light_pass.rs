@@ -204,7 +204,10 @@ impl LightPass {
                 let Some(m) = self.pipelines(batch.method) else { continue };
                 let (indices, base) = f.volumes.range(batch.volume);
                 let instances = batch.instances();
-                if let Some(mark) = &m.mark {
+                // Lights crossing the near plane are shaded by their outline alone, unmarked
+                // (`methods::CROSSING_NEAR`).
+                let near = m.shade_crossing_near.as_ref().filter(|_| batch.crosses_near);
+                if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
                     // The marking draw's triangles, binned where each light's rectangle falls.
                     room_for!(batches.lights_of(batch).iter().map(|&l| cost(l as usize, 1)).sum::<u64>());
                     if m.method.reference == Reference::PerLight {
@@ -225,10 +228,7 @@ impl LightPass {
                         pass.set_stencil_reference(0);
                     }
                 }
-                let shade = match &m.shade_crossing_near {
-                    Some(near) if batch.crosses_near => near,
-                    _ => &m.shade,
-                };
+                let shade = near.unwrap_or(&m.shade);
                 // Runs of the batch's lights that cast or not, in order, each with its pipeline
                 // (without `casters_apart` both are the same: one run).
                 let draw = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>, casts: bool| {

@@ -40,15 +40,18 @@ fn basis(n: vec3<f32>) -> mat3x3<f32> {
     return mat3x3<f32>(t, u, n);
 }
 
-// Places the unit bounding mesh on a light. w = 0: unit sphere (already circumscribing);
-// w = 1: unit cone, apex at the origin, axis +z, base at z = 1 circumscribing radius 1.
+// Places the unit bounding mesh on a light, grown all round by `volume_pad`, as
+// `volumes::place` does on the CPU. w = 0: unit sphere (already circumscribing); w = 1: unit
+// cone, apex at the origin, axis +z, base at z = 1 circumscribing radius 1.
 fn volume_position(p: vec4<f32>, l: GpuLight) -> vec3<f32> {
     if p.w < 0.5 {
-        return l.position + p.xyz * l.radius;
+        return l.position + p.xyz * (l.radius + l.volume_pad);
     }
     let b = basis(l.direction);
-    let r = l.radius * l.tan_outer;
-    return l.position + b[0] * (p.x * r) + b[1] * (p.y * r) + b[2] * (p.z * l.radius);
+    let back = l.volume_pad * (1.0 + 1.0 / l.volume_tan);
+    let length = l.radius + l.volume_pad + back;
+    let r = length * l.volume_tan;
+    return l.position - l.direction * back + b[0] * (p.x * r) + b[1] * (p.y * r) + b[2] * (p.z * length);
 }
 
 // Light draws are instanced: instance i draws light draw_lights[i] (instance_index counts from

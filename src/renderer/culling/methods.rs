@@ -26,8 +26,8 @@ pub struct StencilMethod {
     pub mark: Option<DrawState>,
     /// Drawn with the lighting shader.
     pub shade: DrawState,
-    /// Replaces `shade` for lights whose volume crosses the near plane (its front faces are
-    /// clipped away there).
+    /// Replaces `shade`, with no mark drawn, for lights whose volume crosses the near plane:
+    /// [`CROSSING_NEAR`] for every stencil method.
     pub shade_crossing_near: Option<DrawState>,
     /// The stencil reference: zero, or a value per batch of lights whose pixels never meet
     /// (1..=255, cleared every 255 batches; see `batches.rs`).
@@ -51,10 +51,31 @@ pub const FULLSCREEN: StencilMethod = StencilMethod {
     fullscreen: true,
 };
 
+/// The stencil methods' draw for a light whose volume crosses the near plane: the plain volume's
+/// (back faces, GreaterEqual, the volume bias), no mark before it.
+///
+/// Such a volume's faces are clipped: at the near plane, or with depth clamp (no near or far
+/// clipping) at the side planes where they pass behind the eye (w <= 0). A vertex the clipper
+/// makes on an edge from A to B carries rounding of order 2^-24 (|A| + |B|) in each clip
+/// coordinate, and its depth z/w divides that by its own w, which goes to zero at the eye plane
+/// (and is n at the near plane: with far vertices at distance D the depth error grows as D/n).
+/// The depth interpolated across the clipped face inherits it, beyond what the volume bias
+/// (`kit::VOLUME_BIAS_UNITS`) covers. The marks are where that lost light: a spot whose cone
+/// passed behind the camera at a 170-degree field of view had its clipped front faces drawn
+/// behind surfaces they lay in front of (some 480 float steps at a near plane of 2.8e-7), so
+/// two-pass and INVERT marked those pixels outside. And where a front face lies wholly in front
+/// of the near plane, depth clamp draws it at exactly the near depth, which a surface on the near
+/// plane ties: INVERT's Less then inverts for it. The front faces' test only removes points in
+/// front of the volume, so dropping it only adds work; the back faces' GreaterEqual is what
+/// `auto` and `volume` draw these lights with. Their clipped depth has no derived bound either:
+/// seed 004's rule (`NearLights::Fullscreen`) does not rest on it. Seed 002 also shades such
+/// lights by their back faces (with the depth test off after its mark).
+pub const CROSSING_NEAR: DrawState = DrawState { faces: Faces::Back, depth: Cmp::GreaterEqual, stencil: NO_STENCIL };
+
 /// Back faces at or behind the scene point: the point is in front of the volume's far side.
 pub const VOLUME: StencilMethod = StencilMethod {
     mark: None,
-    shade: DrawState { faces: Faces::Back, depth: Cmp::GreaterEqual, stencil: NO_STENCIL },
+    shade: CROSSING_NEAR,
     shade_crossing_near: None,
     reference: Reference::Zero,
     fullscreen: false,
@@ -77,7 +98,7 @@ pub const STENCIL_TWO_PASS: StencilMethod = StencilMethod {
             face(Cmp::Equal, Op::Zero, Op::Zero, Op::Zero),
         ),
     },
-    shade_crossing_near: None,
+    shade_crossing_near: Some(CROSSING_NEAR),
     reference: Reference::Zero,
     fullscreen: false,
 };
@@ -102,16 +123,17 @@ pub const STENCIL_INVERT: StencilMethod = StencilMethod {
             face(Cmp::NotEqual, Op::Keep, Op::Keep, Op::Zero),
         ),
     },
-    shade_crossing_near: None,
+    shade_crossing_near: Some(CROSSING_NEAR),
     reference: Reference::Zero,
     fullscreen: false,
 };
 
 /// Seed 002 with REPLACE. Mark: back faces, Z Less, so Z fails (REPLACE X) exactly where the
 /// scene point is at or in front of the far side. Shade: front faces, Z LessEqual, stencil
-/// Equal X: the point is also at or behind the near side, i.e. inside. Where no front face
-/// exists (camera inside, volume crossing the near plane) the shade draws back faces with the
-/// depth test off instead; stencil Equal X alone is then exact. X = 1..255 differs per light
+/// Equal X: the point is also at or behind the near side, i.e. inside. Where the volume crosses
+/// the near plane (no front face where the camera is inside) the seed shades back faces with
+/// the depth test off after the mark; here, as in every stencil method, they are drawn as plain
+/// volumes, unmarked ([`CROSSING_NEAR`]). X = 1..255 differs per light
 /// (per batch: a batch's lights never reach the same pixel), so the stencil is cleared only once
 /// every 255 batches.
 pub const STENCIL_REPLACE: StencilMethod = StencilMethod {
@@ -124,7 +146,7 @@ pub const STENCIL_REPLACE: StencilMethod = StencilMethod {
         ),
     }),
     shade: DrawState { faces: Faces::Front, depth: Cmp::LessEqual, stencil: EQUAL_REFERENCE },
-    shade_crossing_near: Some(DrawState { faces: Faces::Back, depth: Cmp::Always, stencil: EQUAL_REFERENCE }),
+    shade_crossing_near: Some(CROSSING_NEAR),
     reference: Reference::PerLight,
     fullscreen: false,
 };
@@ -189,7 +211,7 @@ pub const METHODS: [MethodRow; 9] = [
         method: Method::StencilTwoPass,
         mode: Some(CullingMode::StencilTwoPass),
         draws: Some(STENCIL_TWO_PASS),
-        labels: ["two-pass shade", "two-pass mark", ""],
+        labels: ["two-pass shade", "two-pass mark", "two-pass shade (crossing near)"],
         draws_per_light: 2,
         covers: Covers::Volume,
     },
@@ -197,7 +219,7 @@ pub const METHODS: [MethodRow; 9] = [
         method: Method::StencilInvert,
         mode: Some(CullingMode::StencilInvert),
         draws: Some(STENCIL_INVERT),
-        labels: ["invert shade", "invert mark", ""],
+        labels: ["invert shade", "invert mark", "invert shade (crossing near)"],
         draws_per_light: 2,
         covers: Covers::Volume,
     },
@@ -205,7 +227,7 @@ pub const METHODS: [MethodRow; 9] = [
         method: Method::StencilReplace,
         mode: Some(CullingMode::StencilReplace),
         draws: Some(STENCIL_REPLACE),
-        labels: ["replace shade (front faces)", "replace mark", "replace shade (back faces)"],
+        labels: ["replace shade (front faces)", "replace mark", "replace shade (crossing near)"],
         draws_per_light: 2,
         covers: Covers::Volume,
     },

@@ -167,10 +167,8 @@ pub fn plan_light(light: &LightRecord, volumes: &Volumes, view: &PlanView) -> Li
 fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -> LightPlan {
     let volume = VolumeKind::of(light);
     let pos = Vec3::from(light.position);
-    let dir = Vec3::from(light.direction);
     let (near, far) = (view.near, view.far);
-    let placed: Vec<Vec3> =
-        mesh.vertices.iter().map(|v| volumes::place(*v, pos, light.radius, dir, light.tan_outer)).collect();
+    let placed: Vec<Vec3> = mesh.vertices.iter().map(|v| volumes::place_light(*v, light)).collect();
     let mut crosses_near = false;
     let mut crosses_far = false;
     // Clip-space side planes: a convex volume with every vertex outside one of them is outside
@@ -179,7 +177,12 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
     let (mut all_before_near, mut all_beyond_far) = (true, true);
     for p in &placed {
         let dist = -p.z;
-        crosses_near |= dist <= near * 1.01;
+        // The vertex shader places the vertex with its own f32 rounding: at most a few steps of
+        // the terms summed (`volumes::place`: the light's position and three offsets), here and
+        // there, 16 steps of their magnitudes. A vertex within that of the near plane may be
+        // clipped by it.
+        let slack = 16.0 * f32::EPSILON * (pos.length() + (*p - pos).length());
+        crosses_near |= dist <= near * 1.01 + slack;
         crosses_far |= dist >= far * 0.99;
         all_before_near &= dist < near;
         all_beyond_far &= dist > far;
@@ -447,10 +450,9 @@ pub fn plan_sphere_ahead(
 /// The NDC box of `light`'s bounding mesh's vertices under projection `p`, as the hull path
 /// projects them.
 fn projected_vertex_box(light: &LightRecord, mesh: &volumes::VolumeMesh, p: &Mat4) -> (DVec2, DVec2) {
-    let pos = Vec3::from(light.position);
     let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
     for v in &mesh.vertices {
-        let q = *p * volumes::place(*v, pos, light.radius, Vec3::from(light.direction), light.tan_outer).extend(1.0);
+        let q = *p * volumes::place_light(*v, light).extend(1.0);
         let n = Vec2::new(q.x, q.y) / q.w;
         lo = lo.min(n);
         hi = hi.max(n);
@@ -1074,7 +1076,8 @@ mod tests {
         ];
         let total = (size.0 * size.1) as f32;
         for (mesh, pos, radius, dir, tan, what) in cases {
-            let placed: Vec<Vec3> = mesh.vertices.iter().map(|v| volumes::place(*v, pos, radius, dir, tan)).collect();
+            let placed: Vec<Vec3> =
+                mesh.vertices.iter().map(|v| volumes::place(*v, pos, radius, dir, tan, 0.0)).collect();
             let share = screen_area(&clipped_footprint(&placed, &mesh.indices, proj, near)) / 4.0;
             let counted = pixels_hit(&placed, &mesh.indices, proj, near, size) as f32 / total;
             println!("{what}: footprint {share:.5}, rays {counted:.5}");
@@ -1150,7 +1153,7 @@ mod tests {
                 let Some(fast) = plan_sphere_ahead(&light, radii, &mesh, &view) else { continue };
                 taken += 1;
                 let placed: Vec<Vec3> =
-                    mesh.vertices.iter().map(|v| volumes::place(*v, pos, radius, Vec3::NEG_Z, 0.0)).collect();
+                    mesh.vertices.iter().map(|v| volumes::place(*v, pos, radius, Vec3::NEG_Z, 0.0, 0.0)).collect();
                 let counted = pixels_hit(&placed, &mesh.indices, view.proj, view.near, size) as f32 / total;
                 let hull = plan_hull(&light, &mesh, &view);
                 println!(

@@ -23,14 +23,26 @@ pub fn basis(n: Vec3) -> (Vec3, Vec3) {
     (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
 }
 
-/// Places a unit-mesh vertex on a light (view space), as `volume_position` in the shader.
-pub fn place(v: Vec4, position: Vec3, radius: f32, direction: Vec3, tan_outer: f32) -> Vec3 {
+/// Places a unit-mesh vertex on light `l`'s bounding volume (view space), as `volume_position`
+/// in the shader.
+pub fn place_light(v: Vec4, l: &LightRecord) -> Vec3 {
+    place(v, l.position.into(), l.radius, l.direction.into(), l.volume_tan, l.volume_pad)
+}
+
+/// Places a unit-mesh vertex on a light (view space), grown all round by `pad`. A sphere's
+/// radius grows by `pad`. A cone of tangent t moves its apex back by b = pad (1 + 1/t) and
+/// reaches radius + pad + b: a point within `pad` of one inside the old cone lies at most `pad`
+/// further along the axis and `pad` further out, and (z + b) t >= z t + pad holds from
+/// z = -pad on.
+pub fn place(v: Vec4, position: Vec3, radius: f32, direction: Vec3, volume_tan: f32, pad: f32) -> Vec3 {
     if v.w < 0.5 {
-        return position + v.truncate() * radius;
+        return position + v.truncate() * (radius + pad);
     }
     let (t, u) = basis(direction);
-    let r = radius * tan_outer;
-    position + t * (v.x * r) + u * (v.y * r) + direction * (v.z * radius)
+    let back = pad * (1.0 + 1.0 / volume_tan);
+    let length = radius + pad + back;
+    let r = length * volume_tan;
+    position - direction * back + t * (v.x * r) + u * (v.y * r) + direction * (v.z * length)
 }
 
 /// A unit mesh: positions with w = 0 (sphere) or 1 (cone), and triangle indices.
@@ -117,9 +129,10 @@ impl VolumeMesh {
     }
 
     /// A pyramid with `sides` sides: apex at the origin, axis +z, flat base at z = 1 whose
-    /// polygon circumscribes the unit circle. Scaled per light by (R tan(outer), R), it contains
-    /// the spot's true shape: every point within distance R of the apex and angle `outer` of the
-    /// axis has z <= R and radial distance <= z tan(outer).
+    /// polygon circumscribes the unit circle. Scaled per light by (R t, R), t its
+    /// `LightRecord::volume_tan` (the outer angle widened by the shader test's rounding), it
+    /// contains the spot's shape as the shaders test it: every point within distance R of the
+    /// apex and that angle of the axis has z <= R and radial distance <= z t.
     pub fn cone(sides: u32) -> Self {
         let r = VOLUME_MARGIN / (std::f32::consts::PI / sides as f32).cos();
         let mut vertices = vec![Vec4::new(0.0, 0.0, 0.0, 1.0)];
@@ -329,6 +342,81 @@ mod tests {
                     });
                     assert!(inside, "{sides} sides, angle {a_deg}: point {p} of the spot lies outside its cone mesh");
                 }
+            }
+        }
+    }
+
+    /// Whether `q` lies inside mesh `m` placed by `place` (every face's outward side tested).
+    fn inside_placed(m: &VolumeMesh, placed: &[Vec3], q: Vec3) -> bool {
+        m.indices.chunks(3).all(|tri| {
+            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| placed[i as usize]);
+            let n = (b - a).cross(c - a);
+            n.dot(q - a) <= 1e-5 * n.length() * (1.0 + a.length())
+        })
+    }
+
+    #[test]
+    fn a_padded_volume_holds_every_point_within_its_pad_of_the_light() {
+        // Points of the light's shape (distance <= radius, angle <= outer) moved by the pad in
+        // every direction stay inside the placed mesh; without the pad some leave it.
+        let (pos, dir, radius, pad) = (Vec3::new(0.3, -0.2, -4.0), Vec3::new(0.6, 0.0, -0.8), 2.0f32, 0.05f32);
+        let sphere = VolumeMesh::sphere(1);
+        let cone = VolumeMesh::cone(12);
+        let (t, u) = basis(dir);
+        for (m, outer) in [(&sphere, None), (&cone, Some(0.0f32)), (&cone, Some(0.3)), (&cone, Some(1.4))] {
+            let tan = outer.map_or(0.0, |a| crate::renderer::records::volume_tan(f64::from(a.cos())));
+            let placed = |pad| m.vertices.iter().map(|v| place(*v, pos, radius, dir, tan, pad)).collect::<Vec<_>>();
+            let (grown, bare) = (placed(pad), placed(0.0));
+            let mut left_bare = 0;
+            for d in directions(300) {
+                let off = match outer {
+                    None => d,
+                    // A direction of the cone at up to its outer angle.
+                    Some(a) => {
+                        let ang = (d.z * 0.5 + 0.5) * a;
+                        let side = (t * d.x + u * d.y).normalize_or(t);
+                        dir * ang.cos() + side * ang.sin()
+                    }
+                };
+                for k in [0.0f32, 0.01, 0.5, 1.0] {
+                    let p = pos + off * (radius * k);
+                    for e in directions(40) {
+                        let q = p + e * pad;
+                        assert!(
+                            inside_placed(m, &grown, q),
+                            "outer {outer:?}: {q} within {pad} of the light lies outside"
+                        );
+                        left_bare += usize::from(!inside_placed(m, &bare, q));
+                    }
+                }
+            }
+            assert!(left_bare > 0, "outer {outer:?}: the unpadded volume held every point");
+        }
+    }
+
+    #[test]
+    fn the_widened_cone_holds_every_direction_the_f32_spot_test_admits() {
+        // The shaders' test, dot(normalize(v), direction) >= cos_outer in f32, against
+        // directions just outside the outer angle: those it admits lie within the widened cone.
+        for outer in [0.0f32, 1e-4, 1e-3, 0.02, 0.5, 1.5] {
+            let cos_outer = outer.cos();
+            let half = crate::renderer::records::volume_tan(f64::from(cos_outer)).atan() as f64;
+            assert!(half >= f64::from(outer));
+            let dir = Vec3::new(0.48, -0.6, 0.64).normalize();
+            let (t, _) = basis(dir);
+            let mut admitted_past_outer = 0;
+            for i in 0..2000 {
+                let ang = f64::from(outer) + (i as f64) * 1e-6;
+                let v = (dir.as_dvec3() * ang.cos() + t.as_dvec3() * ang.sin()) * (1.0 + i as f64 * 0.37);
+                let c = v.as_vec3().normalize().dot(dir);
+                if c >= cos_outer {
+                    assert!(ang <= half, "outer {outer}: admitted at {ang}, the cone reaches {half}");
+                    admitted_past_outer += usize::from(ang > f64::from(outer));
+                }
+            }
+            if outer == 0.0 {
+                // The case the widening exists for: the f32 test admits directions off the axis.
+                assert!(admitted_past_outer > 0);
             }
         }
     }

@@ -254,15 +254,16 @@ fn ray_interval(faces: &[(Vec3, Vec3)], dir: Vec3) -> Option<(f32, f32)> {
 }
 
 /// What the culling method `method` does at a surface `t_s` along the pixel's ray, for the
-/// volume's interval `interval` along it. A relative 1e-4 of slack at the faces: the
-/// rasteriser's depth and the mesh's may differ by rounding there.
-fn volume_culling(method: Method, interval: Option<(f32, f32)>, t_s: f32) -> Culling {
+/// volume's interval `interval` along it; the stencil methods draw a volume crossing the near
+/// plane (`crosses_near`) as a plain volume (`methods::CROSSING_NEAR`). A relative 1e-4 of slack at the faces: the rasteriser's depth and
+/// the mesh's may differ by rounding there.
+fn volume_culling(method: Method, interval: Option<(f32, f32)>, t_s: f32, crosses_near: bool) -> Culling {
     let Some((t_in, t_out)) = interval else { return Culling::VolumeMissed };
     let eps = 1e-4 * t_s.max(1e-6);
     if t_s > t_out + eps {
         return Culling::BehindVolume;
     }
-    if method == Method::Volume {
+    if method == Method::Volume || crosses_near {
         return Culling::VolumeDepthPassed;
     }
     if t_s + eps < t_in {
@@ -334,7 +335,7 @@ impl Renderer {
                     _ => Culling::NotInList,
                 },
                 m => match self.volume_planes(i) {
-                    Some(faces) if probe.valid => volume_culling(m, ray_interval(&faces, dir), t_s),
+                    Some(faces) if probe.valid => volume_culling(m, ray_interval(&faces, dir), t_s, plan.crosses_near),
                     _ => Culling::VolumeMissed,
                 },
             };
@@ -546,12 +547,17 @@ mod tests {
             (5.0, C::VolumeDepthPassed, C::InsideVolume),
             (7.0, C::BehindVolume, C::BehindVolume),
         ] {
-            assert_eq!(volume_culling(Method::Volume, Some(hit), t_s), volume, "volume at {t_s}");
+            assert_eq!(volume_culling(Method::Volume, Some(hit), t_s, false), volume, "volume at {t_s}");
             for m in [Method::StencilTwoPass, Method::StencilInvert, Method::StencilReplace] {
-                assert_eq!(volume_culling(m, Some(hit), t_s), stencil, "{m:?} at {t_s}");
+                assert_eq!(volume_culling(m, Some(hit), t_s, false), stencil, "{m:?} at {t_s}");
+            }
+            // Crossing the near plane, every method draws a plain volume.
+            for m in [Method::Volume, Method::StencilTwoPass, Method::StencilInvert, Method::StencilReplace] {
+                assert_eq!(volume_culling(m, Some(hit), t_s, true), volume, "{m:?} at {t_s}, crossing near");
             }
         }
-        assert_eq!(volume_culling(Method::Volume, None, 5.0), C::VolumeMissed);
+        assert_eq!(volume_culling(Method::Volume, None, 5.0, false), C::VolumeMissed);
+        assert_eq!(volume_culling(Method::Volume, None, 5.0, true), C::VolumeMissed);
         assert!(C::VolumeDepthPassed.admitted() && C::InsideVolume.admitted() && !C::BehindVolume.admitted());
     }
 

@@ -79,7 +79,8 @@ impl WastePass {
             let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
             let li = i as u32..i as u32 + 1;
             let (range, base) = f.volumes.range(plan.volume);
-            if let Some(mark) = &m.mark {
+            let near = m.shade_crossing_near.as_ref().filter(|_| plan.crosses_near);
+            if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
                 if draws.reference == Reference::PerLight {
                     if reference == 255 {
                         pass.set_pipeline(&self.stencil_clear);
@@ -95,10 +96,7 @@ impl WastePass {
                     pass.set_stencil_reference(0);
                 }
             }
-            let shade = match &m.shade_crossing_near {
-                Some(near) if plan.crosses_near => near,
-                _ => &m.shade,
-            };
+            let shade = near.unwrap_or(&m.shade);
             pass.set_pipeline(shade);
             if draws.fullscreen {
                 pass.draw(0..3, li);

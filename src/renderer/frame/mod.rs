@@ -226,6 +226,7 @@ impl Renderer {
         let clock = cputime::Clock::start();
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
         let mut records = FrameRecords::reusing(scene, settings, size, key.accum_format, spare_lights);
+        super::records::stored_position_pads(&mut records.lights, key.layout.position_rounding(), &records.proj);
         let records_ms = clock.ms();
         let view = PlanView {
             proj: records.proj.as_mat4(),

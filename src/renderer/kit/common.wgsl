@@ -51,8 +51,10 @@ struct GpuLight {
     mask: u32,
     // The cookie's face side in texels.
     cookie_size: u32,
-    cookie_pad0: u32,
-    cookie_pad1: u32,
+    // The tangent of the bounding cone's half-angle (`LightRecord::volume_tan`).
+    volume_tan: f32,
+    // How far the bounding volume is grown all round (`LightRecord::volume_pad`).
+    volume_pad: f32,
     // X, the first shadow tile (LS_NO_SHADOW: unshadowed); y, the tile count (1, or
     // 6 cube faces).
     shadow: vec4<u32>,

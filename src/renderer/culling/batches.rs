@@ -34,6 +34,9 @@
 //!        left by earlier batches never equal it: a light's test sees only its own marks (no
 //!        other light of its batch reaches its pixels).
 //!
+//!   Lights crossing the near plane are drawn unmarked, as plain volumes, and leave the stencil
+//!   as they found it (`methods::CROSSING_NEAR`; batched apart by their `Key`).
+//!
 //!   So every light shades exactly the samples it shades unbatched.
 //! - **Light order kept**: batches are formed in light order, and a light joins its key's last
 //!   batch only if that batch comes after every batch holding an earlier light whose footprint

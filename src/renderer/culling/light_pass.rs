@@ -204,7 +204,7 @@ impl LightPass {
                 let Some(m) = self.pipelines(batch.method) else { continue };
                 let (indices, base) = f.volumes.range(batch.volume);
                 let instances = batch.instances();
-                // Lights crossing the near plane are shaded by their outline alone, unmarked
+                // Lights crossing the near plane are drawn as plain volumes, unmarked
                 // (`methods::CROSSING_NEAR`).
                 let near = m.shade_crossing_near.as_ref().filter(|_| batch.crosses_near);
                 if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {

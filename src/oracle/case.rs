@@ -38,6 +38,15 @@ pub struct CaseSettings {
     /// the lists, never the light.
     #[serde(default)]
     pub grid: Option<(u32, u32, f32)>,
+    /// Light volumes drawn with depth clamp (`Settings::depth_clamp`, where the adapter has
+    /// it); off, as on an adapter without `DEPTH_CLIP_CONTROL`, volumes crossing the far plane
+    /// are drawn full-screen and the near plane clips.
+    #[serde(default = "depth_clamp_on")]
+    pub depth_clamp: bool,
+}
+
+fn depth_clamp_on() -> bool {
+    true
 }
 
 impl CaseSettings {
@@ -55,6 +64,7 @@ impl CaseSettings {
             count_fragments: false,
             count_ideal: false,
             timestamps: false,
+            depth_clamp: self.depth_clamp,
             ..Settings::default()
         }
     }
@@ -253,6 +263,9 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
                     (g.pick(&[8, 16, 32, 64, 80, 128]), g.pick(&[1, 3, 24, 64]), first)
                 })
             },
+            // Per settings block, from a stream of its own (the rest of the case as before):
+            // a quarter of the blocks draw without depth clamp.
+            depth_clamp: Rng::new(seed ^ 0xDC1A_3F07, index / SETTINGS_BLOCK).chance(0.75),
         }
     };
     // Masks that leave some layers out need a layout with a channel for the layer (the others

@@ -19,7 +19,7 @@ fn report(r: &oracle::CaseResult) -> String {
 }
 
 /// The fast subset: 30 cases from each of 10 settings blocks of stream 20261129 (so 10
-/// combinations of layout, depth format, reversed Z, accumulation and shadows), at 48x27, up
+/// combinations of layout, depth format, reversed Z, accumulation, shadows and depth clamp), at 48x27, up
 /// to 64 lights, every mode on every path. `cargo run --release --example oracle` runs the
 /// long ones.
 #[test]
@@ -28,9 +28,11 @@ fn generated_cases_miss_no_light_in_any_mode() {
     let mut runner = oracle::Runner::new(&gpu);
     let limits = case::Limits { width: 48, height: 27, max_lights: 64 };
     let (mut failures, mut frames, mut refused) = (Vec::new(), 0, Vec::new());
+    let mut unclamped = 0;
     for block in 0..10 {
         for j in 0..30 {
             let c = case::generate(20261129, block * case::SETTINGS_BLOCK + j, limits);
+            unclamped += usize::from(!c.settings.depth_clamp);
             let result = runner.check(&gpu, &c, &oracle::Scope::default()).expect("check");
             frames += result.modes.len();
             // A path refusing the case's settings (the pre-pass with Rg11b10Ufloat) is not a
@@ -44,6 +46,8 @@ fn generated_cases_miss_no_light_in_any_mode() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(refused.is_empty(), "frames refused: {refused:?}");
     assert_eq!(frames, 300 * 20);
+    // The subset draws volumes without depth clamp too (whole blocks of 30).
+    assert!(unclamped > 0 && unclamped % 30 == 0 && unclamped < 300, "{unclamped} cases without depth clamp");
 }
 
 /// Every regression file in `tests/data/oracle/`: shrunk cases that a broken culling once

@@ -289,20 +289,24 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
     }
     // Seed 004's near-plane rule (lights crossing the near plane drawn full-screen) against
     // `auto` and plain volumes, on `street` (a street-level camera among 64 lights, several
-    // crossing the near plane); `--quick` keeps the rule under `auto`.
-    let near: &[(CullingMode, NearLights)] = if q {
-        &[(CullingMode::Auto, NearLights::Fullscreen)]
+    // crossing the near plane); `--quick` keeps the rule under `auto`. The last row is `auto`
+    // without depth clamp, where the plan draws near-crossing volumes full-screen whatever the
+    // rule (their faces clipped at the near plane have no depth bound).
+    let near: &[(CullingMode, NearLights, bool)] = if q {
+        &[(CullingMode::Auto, NearLights::Fullscreen, true)]
     } else {
         &[
-            (CullingMode::Auto, NearLights::Volume),
-            (CullingMode::Auto, NearLights::Fullscreen),
-            (CullingMode::Volume, NearLights::Volume),
-            (CullingMode::Volume, NearLights::Fullscreen),
+            (CullingMode::Auto, NearLights::Volume, true),
+            (CullingMode::Auto, NearLights::Fullscreen, true),
+            (CullingMode::Volume, NearLights::Volume, true),
+            (CullingMode::Volume, NearLights::Fullscreen, true),
+            (CullingMode::Auto, NearLights::Volume, false),
         ]
     };
-    for &(mode, near_lights) in near {
-        let label = format!("street {} near {}", mode.name(), near_lights.name());
-        let settings = Settings { culling: mode, near_lights, ..base.clone() };
+    for &(mode, near_lights, depth_clamp) in near {
+        let clamp = if depth_clamp { "" } else { ", no depth clamp" };
+        let label = format!("street {} near {}{clamp}", mode.name(), near_lights.name());
+        let settings = Settings { culling: mode, near_lights, depth_clamp, ..base.clone() };
         v.push(Config { scene: Some("street"), ..c("near", label, settings, 64) });
     }
     // Seed 002's material IDs: every model computed and one selected, or a branch on the ID

@@ -231,7 +231,8 @@ pub const MAX_PEEL_LAYERS: u32 = 16;
 pub enum NearLights {
     /// By the culling mode's method, as every other light (a plain volume under `auto`: its
     /// back faces, GreaterEqual, shade every pixel a full-screen draw would that the volume
-    /// holds).
+    /// holds). Without depth clamp such a light is drawn full-screen under either rule: the near
+    /// plane clips its faces, and their clipped depth has no bound (`methods::CROSSING_NEAR`).
     #[default]
     Volume,
     /// Full-screen (seed 004: "Point/Spot lights that cross the near plane are rendered as

@@ -145,6 +145,38 @@ fn without_depth_clamp_far_crossing_lights_fall_back_to_fullscreen() {
 }
 
 #[test]
+fn without_depth_clamp_near_crossing_lights_fall_back_to_fullscreen() {
+    // The near plane clips such a volume's faces, and the clipper's new vertices carry their
+    // edge's rounding against a w of only `near`: no volume method's depth test is safe, so the
+    // plan draws the light full-screen. With depth clamp (where the adapter has it) the near
+    // plane does not clip and the mode's own method stays.
+    for name in ["inside", "near"] {
+        let scene = scene(name);
+        let reference = render(&scene, &settings(CullingMode::Fullscreen), W, H);
+        for mode in CullingMode::ALL {
+            let clamped = render(&scene, &settings(mode), W, H);
+            let f = render(&scene, &Settings { depth_clamp: false, ..settings(mode) }, W, H);
+            assert!(!f.stats.depth_clamp);
+            let l = &f.stats.per_light[0];
+            assert!(l.crosses_near, "{name}: the light should cross the near plane");
+            let (expected, with_clamp) = match mode {
+                CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin => {
+                    (mode.method().unwrap(), mode.method().unwrap())
+                }
+                CullingMode::Fullscreen => (Method::Fullscreen, Method::Fullscreen),
+                CullingMode::Auto => (Method::Fullscreen, Method::Volume),
+                _ => (Method::Fullscreen, mode.method().unwrap()),
+            };
+            assert_eq!(l.method, expected, "{name}/{}", mode.name());
+            if clamped.stats.depth_clamp {
+                assert_eq!(clamped.stats.per_light[0].method, with_clamp, "{name}/{} with depth clamp", mode.name());
+            }
+            assert!(max_channel_difference(&reference.image, &f.image) <= MAX_CHANNEL_STEP, "{name}/{}", mode.name());
+        }
+    }
+}
+
+#[test]
 fn stencil_replace_survives_more_than_255_lights() {
     // The stencil is cleared every 255 lights; light 256 reuses reference value 1.
     let mut scene = scene("demo");

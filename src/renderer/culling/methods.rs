@@ -68,8 +68,13 @@ pub const FULLSCREEN: StencilMethod = StencilMethod {
 /// plane ties: INVERT's Less then inverts for it. The front faces' test only removes points in
 /// front of the volume, so dropping it only adds work; the back faces' GreaterEqual is what
 /// `auto` and `volume` draw these lights with. Their clipped depth has no derived bound either:
-/// seed 004's rule (`NearLights::Fullscreen`) does not rest on it. Seed 002 also shades such
-/// lights by their back faces (with the depth test off after its mark).
+/// seed 004's rule (`NearLights::Fullscreen`) does not rest on it. Without depth clamp the plan
+/// takes that rule whatever the setting: at w = n the error divides by the near distance itself,
+/// and a spot of radius 103 at a near plane of 1.1e-5 (fov 170 degrees) had its clipped back
+/// faces drawn in front of surfaces they lay behind. With depth clamp the near plane does not
+/// clip; only edges passing behind the eye are clipped, at the side planes, where no case has
+/// yet lost light. Seed 002 also shades such lights by their back faces (with the depth test
+/// off after its mark).
 pub const CROSSING_NEAR: DrawState = DrawState { faces: Faces::Back, depth: Cmp::GreaterEqual, stencil: NO_STENCIL };
 
 /// Back faces at or behind the scene point: the point is in front of the volume's far side.

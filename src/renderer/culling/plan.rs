@@ -119,7 +119,7 @@ pub struct PlanView {
     /// past it is done on the CPU instead.
     pub loop_limit: Option<u64>,
     /// Seed 004's rule (`NearLights::Fullscreen`): a light whose volume crosses the near plane
-    /// is drawn full-screen instead of by its volume method.
+    /// is drawn full-screen instead of by its volume method (without depth clamp, always).
     pub near_fullscreen: bool,
     /// Opaque draws nearest first (`DrawOrder::FrontToBack`) instead of by material.
     pub front_to_back: bool,
@@ -140,7 +140,8 @@ pub struct PlanView {
 /// - a sphere that holds the whole view frustum (its eight corners): full-screen, which shades
 ///   exactly the fragments a volume would (every visible point is inside) without rasterising
 ///   faces;
-/// - a volume crossing the near plane: the plain volume (back faces, GreaterEqual). Its front
+/// - a volume crossing the near plane: the plain volume (back faces, GreaterEqual); without
+///   depth clamp full-screen, in every volume mode (see `choose`). Its front
 ///   faces are clipped where the two-pass marking draw would mark, so marking saves it nothing:
 ///   on `street` the volume shades exactly the fragments two-pass does, light by light
 ///   (`tests/it/hard_cases.rs`), and skipping the marking draw took auto from 4-6% behind the
@@ -248,7 +249,12 @@ fn choose(view: &PlanView, f: Facts) -> Method {
     let method = choose_method(view, &f);
     let volume =
         matches!(method, Method::Volume | Method::StencilTwoPass | Method::StencilInvert | Method::StencilReplace);
-    if view.near_fullscreen && f.crosses_near && volume {
+    // Without depth clamp a near-crossing volume's faces are clipped at the near plane, and a
+    // vertex the clipper makes there carries the rounding of its edge's endpoints (a few f32
+    // steps of their clip-space coordinates) against a w of only `near`: the back face's
+    // rasterised depth has no bound in terms of the volume's margin, so no volume method's depth
+    // test is safe for that light. Drawn full-screen, as seed 004 draws every such light.
+    if (view.near_fullscreen || !view.depth_clamp) && f.crosses_near && volume {
         Method::Fullscreen
     } else {
         method

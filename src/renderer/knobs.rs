@@ -529,7 +529,7 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "depth-clamp",
         what: "depth clamp",
-        help: "Depth clamp on light volumes (off: volumes crossing the far plane go full-screen)",
+        help: "Depth clamp on light volumes (off: volumes crossing the near or far plane go full-screen)",
         values: Values::Switch,
         cli: true,
         get: |s| switch_name(s.depth_clamp),

@@ -184,7 +184,7 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
         // clipped by it.
         let slack = 16.0 * f32::EPSILON * (pos.length() + (*p - pos).length());
         crosses_near |= dist <= near * 1.01 + slack;
-        crosses_far |= dist >= far * 0.99;
+        crosses_far |= dist >= far * 0.99 || may_clip_far(&view.proj, dist, slack);
         all_before_near &= dist < near;
         all_beyond_far &= dist > far;
         let c = view.proj * p.extend(1.0);
@@ -233,6 +233,20 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
         Some((lo, hi))
     };
     LightPlan { method, volume, crosses_near, crosses_far, screen_share, screen_rect, depths: light_depths(light) }
+}
+
+/// Whether the clipper's far test may clip a vertex at view depth `dist` placed with rounding
+/// `slack` (see [`plan_hull`]). The test is z <= w on the f32 clip coordinates, z = a z_view + b
+/// and w = -z_view. On standard depth w - z = n (f - d) / (f - n) exactly; with a near plane tiny
+/// against the distance that is smaller than the rounding of z and w (a few steps of |a d| + |b|
+/// and of d, here and on the GPU: 8 steps; the placement's `slack` through a and w), and the
+/// vertex may be clipped far short of the far plane: a near plane of 2.3e-6 against a far of 32
+/// clipped faces 25 away. Reversed depth puts the far plane at z = 0, where z's rounding is a
+/// few steps of n: within the 1% margin the callers also test.
+fn may_clip_far(proj: &Mat4, dist: f32, slack: f32) -> bool {
+    let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+    let z = b - a * dist;
+    dist - z <= 8.0 * f32::EPSILON * ((a * dist).abs() + b.abs() + dist) + slack * (a.abs() + 1.0)
 }
 
 /// What decides a light's method (see [`plan_light`]).
@@ -355,8 +369,11 @@ pub fn plan_sphere_ahead(
     let z = -c.z;
     let outer = (light.radius * radii.outer) as f64;
     let (near, far) = (view.near as f64, view.far as f64);
-    if z + outer >= far * 0.99 {
-        // Beyond or across the far plane: the hull path decides (rare).
+    let deepest = (z + outer) as f32;
+    let slack = 16.0 * f32::EPSILON * (c.length() as f32 + outer as f32);
+    if z + outer >= far * 0.99 || may_clip_far(p, deepest, slack) {
+        // Beyond or across the far plane, or where its f32 clip test may clip: the hull path
+        // decides (rare).
         return None;
     }
     let off = |method| LightPlan {
@@ -1089,6 +1106,29 @@ mod tests {
             println!("{what}: footprint {share:.5}, rays {counted:.5}");
             // Only pixels on the footprint's outline can differ (pixel centres against area).
             assert!((share - counted).abs() <= 0.002, "{what}: footprint {share}, rays {counted}");
+        }
+    }
+
+    #[test]
+    fn a_tiny_near_plane_brings_the_f32_far_clip_in_front_of_the_far_plane() {
+        // The oracle's case: standard depth, near 2.3e-6, far 32; a light whose volume reaches
+        // 26 deep, well inside the 1% margin, may still be clipped by the f32 far test.
+        let mut cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
+        cam.far = 31.7;
+        let mesh = VolumeMesh::sphere(1);
+        let light = point(Vec3::new(0.0, 0.0, -17.7), 7.86);
+        for (near, crosses) in [(2.25e-6, true), (0.1, false)] {
+            cam.near = near;
+            let view = view_of(&cam, (64, 36), CullingMode::StencilTwoPass);
+            let hull = plan_hull(&light, &mesh, &view);
+            assert_eq!(hull.crosses_far, crosses, "near {near}");
+            if crosses {
+                let fast = plan_sphere_ahead(&light, SphereRadii::of(&mesh), &mesh, &view);
+                assert!(fast.is_none(), "the analytic plan must leave it to the hull");
+            }
+            let unclamped = PlanView { depth_clamp: false, ..view };
+            let expected = if crosses { Method::Fullscreen } else { Method::StencilTwoPass };
+            assert_eq!(plan_hull(&light, &mesh, &unclamped).method, expected, "near {near}");
         }
     }
 

@@ -186,7 +186,9 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
         crosses_near |= dist <= near * 1.01 + slack;
         crosses_far |= dist >= far * 0.99 || may_clip_far(&view.proj, dist, slack);
         all_before_near &= dist < near;
-        all_beyond_far &= dist > far;
+        // Beyond the far plane only where the f32 clip test surely clips what lies there: with
+        // a tiny near plane it keeps geometry far beyond it, and the light still reaches that.
+        all_beyond_far &= dist > far && !may_keep_depth(&view.proj, dist, slack);
         let c = view.proj * p.extend(1.0);
         for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
             outside[k] &= d < 0.0;
@@ -247,6 +249,24 @@ fn may_clip_far(proj: &Mat4, dist: f32, slack: f32) -> bool {
     let (a, b) = (proj.z_axis.z, proj.w_axis.z);
     let z = b - a * dist;
     dist - z <= 8.0 * f32::EPSILON * ((a * dist).abs() + b.abs() + dist) + slack * (a.abs() + 1.0)
+}
+
+/// Whether the clipper's f32 depth tests, 0 <= z and z <= w, may keep a point of the scene at
+/// view depth `dist`, with the rounding [`may_clip_far`] allows (8 steps of |a d| + |b| in z,
+/// of d in w, and the vertex's placement `slack` through both). The exact z - w is
+/// n (d - f) / (f - n) beyond the far plane on standard depth: with n / f under about 16 f32
+/// steps that is below the rounding at every depth, and the clipper may keep surfaces at any
+/// distance behind the far plane (a near plane of 6e-9 against a far of 0.018 kept a floor 0.42
+/// away, lit by a spot whose volume lay wholly beyond the far plane). The bound is linear in d,
+/// as z - w is, so a convex volume whose every vertex fails it holds no point the clip keeps.
+/// Computed in f64 from the projection's f32 terms, so the test adds no rounding of its own.
+fn may_keep_depth(proj: &Mat4, dist: f32, slack: f32) -> bool {
+    let (a, b, d) = (proj.z_axis.z as f64, proj.w_axis.z as f64, dist as f64);
+    let z = b - a * d;
+    let eps = f32::EPSILON as f64;
+    let z_rounding = 8.0 * eps * ((a * d).abs() + b.abs()) + slack as f64 * a.abs();
+    let w_rounding = 8.0 * eps * d + slack as f64;
+    z >= -z_rounding && z - d <= z_rounding + w_rounding
 }
 
 /// What decides a light's method (see [`plan_light`]).
@@ -1129,6 +1149,25 @@ mod tests {
             let unclamped = PlanView { depth_clamp: false, ..view };
             let expected = if crosses { Method::Fullscreen } else { Method::StencilTwoPass };
             assert_eq!(plan_hull(&light, &mesh, &unclamped).method, expected, "near {near}");
+        }
+    }
+
+    #[test]
+    fn a_tiny_near_plane_lets_the_f32_far_clip_keep_what_lies_beyond_the_far_plane() {
+        // The oracle's case: standard depth, near 6e-9, far 0.018; a light wholly beyond the far
+        // plane still lit a floor the clipper kept 0.42 away. Planned off screen, it was left
+        // out of the forward paths' lists.
+        let mut cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
+        cam.far = 0.018;
+        let mesh = VolumeMesh::sphere(1);
+        let light = point(Vec3::new(0.0, 0.0, -0.1), 0.05);
+        for (near, reversed, kept) in [(6e-9, false, true), (1e-3, false, false), (6e-9, true, false)] {
+            cam.near = near;
+            let mut view = view_of(&cam, (64, 36), CullingMode::Auto);
+            view.proj = cam.projection(64.0 / 36.0, reversed).as_mat4();
+            let plan = plan_hull(&light, &mesh, &view);
+            assert_eq!(plan.screen_rect.is_some(), kept, "near {near}, reversed {reversed}");
+            assert_eq!(plan.method == Method::Skipped, !kept, "near {near}, reversed {reversed}");
         }
     }
 

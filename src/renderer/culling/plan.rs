@@ -185,10 +185,12 @@ fn plan_hull(light: &LightRecord, mesh: &volumes::VolumeMesh, view: &PlanView) -
         let slack = 16.0 * f32::EPSILON * (pos.length() + (*p - pos).length());
         crosses_near |= dist <= near * 1.01 + slack;
         crosses_far |= dist >= far * 0.99 || may_clip_far(&view.proj, dist, slack);
-        all_before_near &= dist < near;
-        // Beyond the far plane only where the f32 clip test surely clips what lies there: with
-        // a tiny near plane it keeps geometry far beyond it, and the light still reaches that.
-        all_beyond_far &= dist > far && !may_keep_depth(&view.proj, dist, slack);
+        // Before the near plane or beyond the far plane only where the f32 clip test surely
+        // clips what lies there: with a tiny near plane it keeps geometry far behind the far
+        // plane, and the light still reaches that.
+        let clipped = !may_keep_depth(&view.proj, dist, slack);
+        all_before_near &= dist < near && clipped;
+        all_beyond_far &= dist > far && clipped;
         let c = view.proj * p.extend(1.0);
         for (k, d) in [c.w - c.x, c.w + c.x, c.w - c.y, c.w + c.y].into_iter().enumerate() {
             outside[k] &= d < 0.0;
@@ -412,11 +414,13 @@ pub fn plan_sphere_ahead(
         holds_frustum: false,
         pixels,
     };
-    // Wholly behind the near plane, or wholly outside a side plane of the frustum (the centre
-    // farther than the radius through the vertices: every vertex is outside, as the hull path
-    // tests them).
+    // Wholly behind the near plane where the f32 clip surely clips (its deepest point: the
+    // closer to the plane, the likelier kept), or wholly outside a side plane of the frustum
+    // (the centre farther than the radius through the vertices: every vertex is outside, as the
+    // hull path tests them).
     let outside = |a: f64, s: f64| (s * a.abs() - z) / (s * s + 1.0).sqrt() > outer;
-    if z + outer < near || outside(c.x, xs) || outside(c.y, ys) {
+    let before_near = z + outer < near && !may_keep_depth(p, deepest, slack);
+    if before_near || outside(c.x, xs) || outside(c.y, ys) {
         return Some(off(choose(view, facts(true, 0.0))));
     }
     // Every vertex beyond the near plane, with the hull path's 1% margin.
@@ -1168,6 +1172,29 @@ mod tests {
             let plan = plan_hull(&light, &mesh, &view);
             assert_eq!(plan.screen_rect.is_some(), kept, "near {near}, reversed {reversed}");
             assert_eq!(plan.method == Method::Skipped, !kept, "near {near}, reversed {reversed}");
+        }
+    }
+
+    #[test]
+    fn a_volume_within_the_f32_near_clips_rounding_stays_on_screen() {
+        // Wholly in front of the near plane but within z's rounding there (a step of 10 is
+        // 9.5e-7), the volume may light what the clip keeps; a centimetre in front, not.
+        let mut cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
+        let mesh = VolumeMesh::sphere(1);
+        cam.near = 10.0;
+        cam.far = 1000.0;
+        for reversed in [false, true] {
+            let mut view = view_of(&cam, (64, 36), CullingMode::Auto);
+            view.proj = cam.projection(64.0 / 36.0, reversed).as_mat4();
+            for (depth, radius, kept) in [(10.0 - 3e-6, 1e-6, true), (10.0 - 1e-2, 1e-3, false)] {
+                let light = point(Vec3::new(0.0, 0.0, -depth), radius);
+                let plan = plan_hull(&light, &mesh, &view);
+                assert_eq!(plan.screen_rect.is_some(), kept, "depth {depth}, reversed {reversed}");
+                // The analytic plan, where it decides, agrees (it leaves the first to the hull).
+                if let Some(fast) = plan_sphere_ahead(&light, SphereRadii::of(&mesh), &mesh, &view) {
+                    assert_eq!(fast.screen_rect.is_some(), kept, "depth {depth}, reversed {reversed}");
+                }
+            }
         }
     }
 

@@ -93,29 +93,7 @@ impl AdapterChoice {
     }
 }
 
-/// A wgpu error in words: its kind and the causes below it (wgpu's `Display` says only
-/// "Validation Error"; the causes name the call and what was wrong).
-pub fn describe(e: &wgpu::Error) -> String {
-    let mut causes = Vec::new();
-    let mut next = std::error::Error::source(e);
-    while let Some(c) = next {
-        let t = c.to_string();
-        if !t.trim().is_empty() && !causes.contains(&t) {
-            causes.push(t);
-        }
-        next = c.source();
-    }
-    let kind = match e {
-        wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory",
-        wgpu::Error::Validation { .. } => "validation error",
-        wgpu::Error::Internal { .. } => "internal error",
-    };
-    if causes.is_empty() {
-        kind.to_string()
-    } else {
-        format!("{kind}: {}", causes.join(": "))
-    }
-}
+pub use crate::renderer::kit::describe;
 
 /// The device's errors that no error scope caught (validation, out of memory): those outside a
 /// frame (a frame catches its own, `Renderer::render`), kept for the commands and the viewer to
@@ -155,7 +133,7 @@ pub struct Gpu {
     /// Errors wgpu reported outside an error scope.
     pub errors: DeviceErrors,
     /// Pass sets of dropped renderers, for the next renderer on this device.
-    pub passes: Arc<crate::renderer::PassPool>,
+    pub passes: Arc<crate::renderer::kit::pool::PassPool>,
 }
 
 /// What a device on `adapter` is made with: the optional features it has (less those

@@ -184,7 +184,7 @@ fn render(args: RenderArgs) -> Result<()> {
     );
     let probe = match args.probe {
         Some((x, y)) => {
-            let e = renderer.explain(&gpu, x, y).with_context(|| format!("--probe {x},{y}"))?;
+            let e = renderer.last_frame().explain(&gpu, x, y).with_context(|| format!("--probe {x},{y}"))?;
             print!("{}", lampshade::renderer::explain::table(&e));
             Some(e)
         }

@@ -224,7 +224,7 @@ impl App {
         if !self.state.panels.shadows || !rendered {
             return;
         }
-        let (atlas_side, _) = g.renderer.shadow_atlas_tiles();
+        let (atlas_side, _) = g.renderer.last_frame().shadow_atlas_tiles();
         let side = atlas_side.clamp(ATLAS_IMAGE.0, ATLAS_IMAGE.1);
         let views = g.gpu.caps.has_downlevel(wgpu::DownlevelFlags::VIEW_FORMATS);
         let img = g.atlas.get_or_insert_with(|| {
@@ -232,7 +232,7 @@ impl App {
             Image::new(&g.gpu.device, &mut g.egui_renderer, "shadow atlas", (side, side), nearest, views)
         });
         img.resize(&g.gpu.device, &mut g.egui_renderer, side, side, wgpu::FilterMode::Nearest);
-        g.atlas_range = match g.renderer.draw_shadow_atlas(&g.gpu, &img.target, side) {
+        g.atlas_range = match g.renderer.last_frame().draw_shadow_atlas(&g.gpu, &img.target, side) {
             Ok(r) => {
                 img.publish(&g.gpu);
                 r
@@ -249,7 +249,7 @@ impl App {
         let Some(g) = self.gfx.as_ref() else { return };
         self.probe = match (self.hover_pixel, rendered) {
             (Some([x, y]), true) if x < g.viewport.width && y < g.viewport.height => {
-                g.renderer.probe(&g.gpu, x, y).ok()
+                g.renderer.last_frame().probe(&g.gpu, x, y).ok()
             }
             (Some(_), _) => self.probe.take(),
             (None, _) => None,
@@ -297,11 +297,11 @@ impl App {
         self.injected = std::mem::take(&mut self.injected_next);
         let thumb_ids: HashMap<DebugView, egui::TextureId> = g.thumbs.iter().map(|(v, i)| (*v, i.id)).collect();
         let layout = g.renderer.layout();
-        let (atlas_side, atlas_tiles) = g.renderer.shadow_atlas_tiles();
+        let (atlas_side, atlas_tiles) = g.renderer.last_frame().shadow_atlas_tiles();
         let atlas = self.state.panels.shadows.then(|| ui::AtlasInfo {
             image: g.atlas.as_ref().map(|i| i.id),
             side: atlas_side,
-            format: g.renderer.shadow_plan().stats.format.texture(),
+            format: g.renderer.last_frame().shadow_plan().stats.format.texture(),
             tiles: &atlas_tiles,
             range: g.atlas_range,
         });

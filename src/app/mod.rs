@@ -480,12 +480,13 @@ impl App {
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .map(|(i, _)| i);
         let touching = || -> Option<usize> {
-            let probe = g.renderer.probe(&g.gpu, (px[0] as u32).min(w - 1), (px[1] as u32).min(h - 1)).ok()?;
+            let probe =
+                g.renderer.last_frame().probe(&g.gpu, (px[0] as u32).min(w - 1), (px[1] as u32).min(h - 1)).ok()?;
             probe.lights.iter().copied().min_by(|a, b| scene.lights[*a].radius().total_cmp(&scene.lights[*b].radius()))
         };
         let chosen = nearest.or_else(touching);
         let (x, y) = ((px[0] as u32).min(w - 1), (px[1] as u32).min(h - 1));
-        self.explanation = Some(g.renderer.explain(&g.gpu, x, y).map_err(|e| format!("{e:#}")));
+        self.explanation = Some(g.renderer.last_frame().explain(&g.gpu, x, y).map_err(|e| format!("{e:#}")));
         self.state.panels.explain = true;
         self.state.selected_light = chosen;
         if chosen.is_some() {
@@ -647,7 +648,7 @@ impl App {
     fn atlas_shot(&self) -> Option<AtlasShot> {
         let (g, r) = (self.gfx.as_ref()?, self.atlas_rect?);
         let ppp = g.egui_ctx.pixels_per_point();
-        let (side, tiles) = g.renderer.shadow_atlas_tiles();
+        let (side, tiles) = g.renderer.last_frame().shadow_atlas_tiles();
         Some(AtlasShot {
             image: [r.min.x * ppp, r.min.y * ppp, r.width() * ppp, r.height() * ppp],
             visible: ui::atlas_visible(self.state.atlas_view),

@@ -60,7 +60,7 @@ impl Tab {
 }
 
 // One name per value (clap's, which is serde's), as for the renderer's knobs.
-crate::renderer::settings::knob_names!(Scope => "scope", Wireframes => "wireframes", WireColour => "wire colour", Tab => "tab");
+crate::renderer::options::knob_names!(Scope => "scope", Wireframes => "wireframes", WireColour => "wire colour", Tab => "tab");
 
 /// What the user changed on one light; position and direction keep following the animation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

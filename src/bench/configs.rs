@@ -89,7 +89,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         }
     }
     // Seed 004's depth read: the depth buffer itself in place of the R32F copy (the base's
-    // volume culling allows it; `kit::gbuffer::depth_read_refusal`).
+    // volume culling allows it; `key::depth_read_refusal`).
     let settings = Settings { depth_read: crate::renderer::DepthRead::Buffer, ..base.clone() };
     v.push(c("depth", "depth read buffer".into(), settings, o.lights));
     for (t, name) in CUTOFFS {
@@ -337,7 +337,7 @@ pub fn configs(o: &BenchOptions) -> Vec<Config> {
         o.lights,
     ));
     for e in crate::renderer::caps::ENGINES {
-        if let Ok(s) = crate::renderer::caps::engine_settings(e, &base) {
+        if let Ok(s) = crate::renderer::presets::engine_settings(e, &base) {
             v.push(c(ENGINES_GROUP, e.name.into(), s, o.lights));
         }
     }

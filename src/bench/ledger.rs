@@ -19,7 +19,7 @@
 
 use super::*;
 use crate::renderer::explain::cost::{self, CostModel, Sample};
-use crate::renderer::stats::LightStats;
+use crate::renderer::LightStats;
 
 /// The modes the ledger group checks: every mode whose lights all go one way (`auto` mixes
 /// methods per light; its lights' costs come from the modes it mixes).

@@ -42,7 +42,7 @@ pub(crate) fn reference(gpu: &Gpu, scene: &crate::Scene, size: (u32, u32), shado
     };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings)?;
     let (image, _) = render_image(gpu, &mut r, scene, &settings, size.0, size.1)?;
-    let (d, s) = r.read_accumulation(gpu)?;
+    let (d, s) = r.last_frame().read_accumulation(gpu)?;
     let light: Vec<f32> = d.into_iter().chain(s).collect();
     let peak = light.iter().copied().filter(|v| v.is_finite()).fold(0.0, f32::max);
     Ok(Reference { image, light, peak })
@@ -213,14 +213,14 @@ fn measure<'c>(
     let pick = |f: &dyn Fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
     let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
     let (image, stats) = render_image(gpu, renderer, scene, &counted, w, h)?;
-    let (d, s) = renderer.read_accumulation(gpu)?;
+    let (d, s) = renderer.last_frame().read_accumulation(gpu)?;
     let figures = path_figures(gpu, &cfg.settings, renderer, &stats)?;
     // The forward paths have no light accumulation: their error is FLIP's alone.
     let accumulated = stats.forward_path.is_none();
     // FLIP compares output images; a frame through the post chain is not the reference's
     // picture by design, so its row has none (NaN). The light error and PSNR are of the
     // accumulation, before post, in every row.
-    let chain = crate::renderer::post::chain_active(&cfg.settings);
+    let chain = crate::renderer::post::chain_active(cfg.settings.debug_view, &cfg.settings.post_options());
     let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
     let mut max_err = 0f32;
     let mut sq = 0f64;

@@ -188,7 +188,7 @@ struct Light {
 }
 
 fn accumulated(gpu: &Gpu, r: &Renderer) -> Result<Light> {
-    let (diffuse, specular) = r.read_accumulation(gpu)?;
+    let (diffuse, specular) = r.last_frame().read_accumulation(gpu)?;
     Ok(Light { diffuse, specular })
 }
 
@@ -257,11 +257,11 @@ pub fn check_scene(
                 continue;
             }
             if reference.is_none() {
-                reference = Some(renderer.brute_force(gpu)?);
+                reference = Some(renderer.last_frame().brute_force(gpu)?);
             }
             let Some(bf) = &reference else { continue };
             let lit = accumulated(gpu, renderer)?;
-            let one_target = renderer.one_target() && path == RenderPath::Deferred;
+            let one_target = renderer.last_frame().one_target() && path == RenderPath::Deferred;
             let mut difference = differences.then(|| vec![0.0; bf.adding.len()]);
             let flush = flush_bound(&scene.lights);
             let mut result =
@@ -269,7 +269,7 @@ pub fn check_scene(
             result.path = path.name();
             result.mode = mode.name();
             if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {
-                if let Ok(e) = renderer.explain(gpu, worst.x, worst.y) {
+                if let Ok(e) = renderer.last_frame().explain(gpu, worst.x, worst.y) {
                     worst.missed_lights = e.lights.iter().filter(|l| l.missed).map(|l| l.index).collect();
                 }
             }
@@ -300,6 +300,7 @@ fn check_forward(
     let mut hdr = |forward_lights| -> Result<Vec<f32>> {
         render_image(gpu, renderer, scene, &Settings { forward_lights, ..base.clone() }, w, h)?;
         renderer
+            .last_frame()
             .read_post_image(gpu, PostImage::Hdr)?
             .ok_or_else(|| anyhow::anyhow!("the forward frame kept no HDR colour"))
     };
@@ -459,9 +460,11 @@ pub struct CapLoss {
 /// lists. The cell is the CPU's (`TileLists::cell`), which can differ from the GPU's by one slice
 /// where a point lies on a boundary within the logarithm's rounding.
 pub fn listed_reached_pairs(gpu: &Gpu, renderer: &Renderer) -> Result<Option<u64>> {
-    let (Some(lists), Some((w, _))) = (renderer.tile_lists(gpu)?, renderer.size()) else { return Ok(None) };
-    let positions = renderer.view_positions(gpu)?;
-    let lights = renderer.light_records();
+    let (Some(lists), Some((w, _))) = (renderer.last_frame().tile_lists(gpu)?, renderer.size()) else {
+        return Ok(None);
+    };
+    let positions = renderer.last_frame().view_positions(gpu)?;
+    let lights = renderer.last_frame().light_records();
     let mut cells: std::collections::HashMap<usize, Vec<u32>> = std::collections::HashMap::new();
     let mut pairs = 0u64;
     for (k, p) in positions.iter().enumerate() {
@@ -493,7 +496,7 @@ pub fn cap_loss(
     render_image(gpu, renderer, &dark_scene, &uncapped, w, h)?;
     let dark = accumulated(gpu, renderer)?;
     render_image(gpu, renderer, scene, &uncapped, w, h)?;
-    let all = renderer.brute_force(gpu)?;
+    let all = renderer.last_frame().brute_force(gpu)?;
     // The per-cluster cap's pairs: the frame without that cap alone (the same kept lights and
     // grid), then the capped frame, each counted over its lists.
     let listed_without_cap = match settings.lights_per_cluster {
@@ -511,7 +514,7 @@ pub fn cap_loss(
         Some(Some(uncapped)) => listed_reached_pairs(gpu, renderer)?.map(|kept| uncapped.saturating_sub(kept)),
     };
     let lit = accumulated(gpu, renderer)?;
-    let one_target = renderer.one_target() && settings.path == RenderPath::Deferred;
+    let one_target = renderer.last_frame().one_target() && settings.path == RenderPath::Deferred;
     let flush = flush_bound(&scene.lights);
     let r = compare_into(&lit, &dark, &all, (settings.accumulation, flush), (settings.path, one_target), None);
     let caps = stats.caps.unwrap_or_default();
@@ -525,7 +528,7 @@ pub fn cap_loss(
             let lights = scene.lights.iter().zip(&is_kept).filter(|(_, &k)| !k).map(|(l, _)| *l).collect();
             dropped.set_lights(lights);
             render_image(gpu, renderer, &dropped, &uncapped, w, h)?;
-            Some(renderer.brute_force(gpu)?.adding.iter().map(|&n| n as u64).sum())
+            Some(renderer.last_frame().brute_force(gpu)?.adding.iter().map(|&n| n as u64).sum())
         }
         None => Some(0),
     };

@@ -30,7 +30,7 @@ pub enum Preset {
     Seed004,
 }
 
-super::settings::knob_names!(Preset => "preset");
+super::options::knob_names!(Preset => "preset");
 
 /// The knobs a preset leaves as they are: what the user looks at and counts, not the pipeline.
 pub const INSTRUMENTS: [&str; 5] = ["debug-view", "counts", "ideal", "timestamps", "exposure"];
@@ -328,4 +328,13 @@ mod tests {
             }
         }
     }
+}
+
+/// `base` with engine `e`'s knobs applied (`caps::ENGINES`: each engine's caps as knob values).
+pub fn engine_settings(e: &super::caps::Engine, base: &Settings) -> Result<Settings, String> {
+    let mut s = base.clone();
+    for (k, v) in e.knobs {
+        s.set(k, v)?;
+    }
+    Ok(s)
 }

@@ -3,6 +3,7 @@
 //! G-buffer layout, then each technique's WGSL file. One module, because the surfaces, the
 //! light loops and the post chain share `kit/common.wgsl`'s functions.
 
+pub use super::kit::features::ShaderFeatures;
 use super::kit::gbuffer::GBufferLayout;
 use super::kit::{self, bindings, log_accum};
 use super::settings::{self, DebugView, Settings};
@@ -67,39 +68,6 @@ pub fn wgsl_constants() -> String {
     s
 }
 
-/// The lookups a configuration's shaders compile in, from what the scene can need.
-/// On lavapipe a fragment shader runs both sides of every branch under a lane mask, so a
-/// lookup no light takes still costs every light at every pixel: with the shadow kernels and
-/// the cookie compiled into `shade_light`, the clustered pass at 16,384 lights took 4.8× as
-/// long as without them (`--shadows none` included, before this). A GPU that branches skips
-/// them at run time; here they are left out when compiling. Each is a WGSL constant that the
-/// shader's branches test (`LS_SUN_SHADOW`, `LS_TILE_SHADOWS`, `LS_CUBE_SHADOWS`,
-/// `LS_CUBE_ARRAY`, `LS_CUBE_INDIRECT`, `LS_SHADOW_KERNEL`, `LS_COOKIES`), so the compiler drops what is off;
-/// `LS_CASTERS_APART` (`ShadowCode::casters_apart`) moves the few casting lights of a tile or
-/// cluster list into a loop of their own. Named in the stats' `shader_lookups`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ShaderFeatures {
-    pub shadows: shadows::ShadowCode,
-    /// Some light projects a cookie.
-    pub cookies: bool,
-    /// The per-pixel light loops read the lights from the light planes (`records::planes_hold`:
-    /// at most `records::UNIFORM_LIGHTS` lights, no cookies), not the storage buffer.
-    pub light_planes: bool,
-    /// The forward loops (`fs_forward`, `forward_single`) take two lights an iteration: the
-    /// scene has more lights than lavapipe's loop limit lets a loop walk one at a time
-    /// (`plan::FORWARD_LOOP_LIGHTS`), so some list may be longer. Other scenes compile the
-    /// plain loops.
-    pub paired_loops: bool,
-    /// The reflectance models are picked by branching on the material ID
-    /// (`MaterialBranch::Branch`, seed 002's "reasonably coherent dynamic branching"), not by
-    /// computing every model's terms and selecting one.
-    pub brdf_branch: bool,
-    /// Some material samples a base-colour or emissive map. Without, the geometry passes
-    /// sample neither (the maps would be the white defaults): lavapipe runs a sample inside a
-    /// branch no lane takes anyway, so a per-object flag alone does not save it.
-    pub colour_maps: bool,
-}
-
 impl ShaderFeatures {
     /// The lookups on (the unrolled cubes, the 3x3 kernel), for checking the source: naga
     /// validates every branch, taken or not.
@@ -129,7 +97,7 @@ impl ShaderFeatures {
         quirks: &crate::renderer::kit::caps::Quirks,
     ) -> ShaderFeatures {
         ShaderFeatures {
-            shadows: shadows::ShadowCode::of(scene, settings),
+            shadows: shadows::ShadowCode::of(scene, &settings.shadow_options()),
             cookies: scene.is_some_and(|s| s.lights.iter().any(|l| l.cookie().is_some())),
             light_planes: quirks.uniform_gathers && scene.is_some_and(|s| records::planes_hold(&s.lights)),
             paired_loops: quirks.loop_limit.is_some()

@@ -39,11 +39,7 @@ pub const MAT_EMISSIVE_MAP: u32 = 512;
 /// baked at the distance itself).
 pub const LIGHTMAP_FADE_START: f32 = 0.8;
 
-/// The most lights the light planes hold (`bindings::Kind::LightPlane`): 4,096 vec4s a plane,
-/// WebGPU's 64 KiB uniform binding.
-pub const UNIFORM_LIGHTS: usize = 4096;
-/// Bytes of one light plane.
-pub const LIGHT_PLANE_BYTES: u64 = (UNIFORM_LIGHTS * 16) as u64;
+pub use super::kit::bindings::{LIGHT_PLANE_BYTES, UNIFORM_LIGHTS};
 /// The planes a light record is split into.
 pub const LIGHT_PLANE_COUNT: usize = 4;
 /// The first shadow tile as stored in plane 3 (24 bits): `NO_SHADOW` is stored as this.

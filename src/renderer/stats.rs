@@ -5,108 +5,11 @@
 //! same kind of query around a full-screen draw that discards every sample whose G-buffer point
 //! lies outside the light's true radius and cone.
 
-use super::culling::methods::{self, Covers};
-use super::plan::{LightPlan, Method};
-use super::settings::ForwardLights;
-use super::{CullingMode, RenderPath};
 use crate::gpu::Gpu;
-use crate::scene::Scene;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
-use std::borrow::Cow;
 
 pub const LIGHTS_PER_QUERY_SET: usize = wgpu::QUERY_SET_MAX_QUERIES as usize;
-
-/// What llvmpipe (lavapipe's rasteriser) may bin into one scene, in bytes, before our estimate
-/// says a new render pass must start: half its `LP_SCENE_MAX_SIZE` of 36 MiB, for margin.
-///
-/// Why: llvmpipe bins every command into 64x64-pixel tiles and flushes ("rasterises") the
-/// scene when its storage is full. An occlusion query's begin and end commands are binned
-/// into *every* tile (2 x 240 commands at 1280x720, about 8.5 KiB per light), so thousands of
-/// counted lights fill a scene by themselves. If the scene fills exactly while a query's begin
-/// command is being binned, llvmpipe has already listed the query as active: the flushed
-/// scene's tiles that did not get the begin command "end" the query at their tile end
-/// (`lp_rast_tile_end`) with a start of 0, adding every sample the tile passed in the whole
-/// scene. That was the `sphere-wall` report (light 3132, off screen, ideal 0, counted 3,315,608
-/// fragments at 1280x720 with 4,096 lights; never at 640x360, 60 tiles, or 1,024 lights, where
-/// the scene never fills); with this repository's `sphere-wall` it was light 2555, off screen,
-/// counting 1,020,508 in `stencil-two-pass` (its volume: 0). The workaround keeps every scene
-/// small: the lights are split into render passes whose estimated binned size stays under this
-/// budget ([`light_pass_ranges`]). Observed: after the split no light is miscounted (every
-/// off-screen light counts 0, two-pass never exceeds its volume, `tests/it/scale.rs`), so a render
-/// pass boundary starts a new llvmpipe scene here.
-pub const LLVMPIPE_SCENE_BUDGET: u64 = 18 << 20;
-
-/// Bytes llvmpipe bins per command (its command blocks hold 29 in about 512 bytes).
-const LP_COMMAND: u64 = 512 / 29 + 1;
-/// Bytes of one binned triangle's record (planes and interpolation inputs; under 512).
-const LP_TRIANGLE: u64 = 512;
-/// llvmpipe's tile size in pixels.
-const LP_TILE: u32 = 64;
-
-/// Estimated bytes llvmpipe bins for one light's counted draws: its query's begin and end in
-/// every tile, and for each of `draws` draws of `triangles` triangles every triangle in every
-/// tile its screen rectangle touches (a triangle is binned only where its bounds fall; a
-/// full-screen light's rectangle is the screen), with its record.
-pub fn binned_bytes(plan: &LightPlan, size: (u32, u32), draws: u64, triangles: u64) -> u64 {
-    let (w, h) = (size.0.max(1), size.1.max(1));
-    let tiles = (w.div_ceil(LP_TILE) * h.div_ceil(LP_TILE)) as u64;
-    let rect_tiles = match (plan.method, plan.screen_rect) {
-        _ if methods::row(plan.method).covers == Covers::Screen => tiles,
-        (_, None) => 0,
-        (_, Some((lo, hi))) => {
-            let t = |x: f32, n: u32| (((x + 1.0) * 0.5 * n as f32).clamp(0.0, n as f32 - 1.0) as u32) / LP_TILE;
-            let (x0, x1, y0, y1) = (t(lo.x, w), t(hi.x, w), t(-hi.y, h), t(-lo.y, h));
-            (((x1.saturating_sub(x0) + 2) * (y1.saturating_sub(y0) + 2)) as u64).min(tiles)
-        }
-    };
-    2 * tiles * LP_COMMAND + draws * triangles * (rect_tiles * LP_COMMAND + LP_TRIANGLE)
-}
-
-/// Splits lights `0..n` into ranges, one per render pass, such that no range crosses a query
-/// set (of [`LIGHTS_PER_QUERY_SET`]) and each range's summed `cost` (bytes llvmpipe bins,
-/// [`binned_bytes`]) stays under [`LLVMPIPE_SCENE_BUDGET`] (a light costing more is alone).
-pub fn pass_ranges(n: usize, cost: impl Fn(usize) -> u64) -> Vec<std::ops::Range<usize>> {
-    let mut ranges = Vec::new();
-    let (mut start, mut bytes) = (0, 0u64);
-    for i in 0..n {
-        let c = cost(i);
-        if i > start && (i % LIGHTS_PER_QUERY_SET == 0 || bytes + c > LLVMPIPE_SCENE_BUDGET) {
-            ranges.push(start..i);
-            (start, bytes) = (i, 0);
-        }
-        bytes += c;
-    }
-    ranges.push(start..n);
-    ranges
-}
-
-/// The light accumulation's ranges: by query set only when no fragment is counted (a scene
-/// that fills without queries is harmless), else kept under the budget (see
-/// [`LLVMPIPE_SCENE_BUDGET`]). `triangles` is the sphere's and the cone's triangle count.
-pub fn light_pass_ranges(
-    plans: &[LightPlan],
-    size: (u32, u32),
-    counts: bool,
-    triangles: (u64, u64),
-) -> Vec<std::ops::Range<usize>> {
-    pass_ranges(plans.len(), |i| {
-        let p = &plans[i];
-        if !counts {
-            return 0;
-        }
-        let t = match p.volume {
-            super::volumes::VolumeKind::Sphere => triangles.0,
-            super::volumes::VolumeKind::Cone => triangles.1,
-        };
-        let row = methods::row(p.method);
-        match row.covers {
-            Covers::Screen => binned_bytes(p, size, row.draws_per_light as u64, 1),
-            Covers::Volume => binned_bytes(p, size, row.draws_per_light as u64, t),
-            Covers::Nothing => binned_bytes(p, size, 0, 0),
-        }
-    })
-}
 
 /// A timed span of the frame, named where its pass is declared (`surfaces::gbuffer::SPAN`, a row
 /// of `post::effects::EFFECTS`, …): a timestamp at its beginning and one at its end, at slots of
@@ -153,8 +56,8 @@ impl Span {
 const TIMESTAMPS: u32 = 2 * MAX_SPANS;
 
 /// The forward pass's occlusion queries: one per peeled layer, and one for what is behind the
-/// last ([`crate::renderer::settings::MAX_PEEL_LAYERS`] + 1), within its 256-byte block.
-const FORWARD_QUERIES: u32 = crate::renderer::settings::MAX_PEEL_LAYERS + 1;
+/// last ([`crate::renderer::options::MAX_PEEL_LAYERS`] + 1), within its 256-byte block.
+const FORWARD_QUERIES: u32 = crate::renderer::options::MAX_PEEL_LAYERS + 1;
 const _: () = assert!(FORWARD_QUERIES * 8 <= 256);
 
 /// Byte offset of the light pre-pass's two occlusion counts (pass 1, pass 3) in the resolve
@@ -221,240 +124,6 @@ pub struct CpuMs {
 impl CpuMs {
     pub fn total(&self) -> f64 {
         self.records + self.plan + self.upload
-    }
-}
-
-/// The forward pass's work: its light lists (from the plan) and the fragments it shaded.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct ForwardStats {
-    /// Which lists the pass walked (`Settings::forward_lights`).
-    pub lights: ForwardLights,
-    /// Blended objects drawn.
-    pub objects: usize,
-    /// Entries of the objects' lists, summed, and the longest.
-    pub object_list_entries: u64,
-    pub longest_object_list: u32,
-    /// Screen tiles (`tiled` only), their lists' entries summed, and the longest.
-    pub tiles: u64,
-    pub tile_list_entries: u64,
-    pub longest_tile_list: u32,
-    /// Samples the forward pass shaded (passed the depth test; occlusion query), when counting;
-    /// peeled, every layer's together (the light pre-pass's forward-shaded opaque objects, which
-    /// the unpeeled count includes, left out).
-    pub fragments: Option<u64>,
-    /// Layers depth peeling peeled (`--blended peeled`), and the blended samples behind the
-    /// last one, which it dropped (when counting).
-    pub peel_layers: Option<u32>,
-    pub unpeeled: Option<u64>,
-}
-
-/// The tiled pass's lists (`tiled`, `clustered`, or the `tile-lights` view's): cells (tiles, or
-/// tiles x slices), their entries summed and the longest (read back when counting).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct TileStats {
-    pub method: Method,
-    /// Tile size in pixels and depth slices (1 when tiled).
-    pub tile_size: u32,
-    pub slices: u32,
-    pub cells: u64,
-    pub entries: u64,
-    pub longest: u32,
-    /// Tiles the GPU list buffer had no room for (shaded with every light).
-    pub overflowed: u64,
-}
-
-/// The light pre-pass's figures (`--path light-prepass`): its intermediate targets' bytes per
-/// pixel and the draws and fragments of its geometry passes (1: normals + exponent, 3: final;
-/// pass 2's are the frame's `draw_calls` and `shaded_fragments`).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct PrepassStats {
-    /// Pass 1's normal + exponent target (Rgba8Unorm).
-    pub normal_exp_bytes_per_pixel: u32,
-    /// The depth copy pass 1 writes beside it (`gbuffer::prepass_layout`; R32Float, or R32Uint
-    /// holding its bits where R32Float is not renderable).
-    pub depth_copy_bytes_per_pixel: u32,
-    /// The light buffer: format and bytes (Rgba16Float 8, seed 004's log Rgba8 4).
-    pub light_buffer_format: String,
-    pub light_buffer_bytes_per_pixel: u32,
-    /// Pass 3's HDR scene colour (Rgba16Float).
-    pub hdr_bytes_per_pixel: u32,
-    /// Samples per pixel of pass 3 and the forward pass (`--msaa`).
-    pub samples: u32,
-    /// Their multisampled colour and depth (samples x (8 + depth's bytes), stencil not
-    /// counted); 0 single-sampled.
-    pub msaa_bytes_per_pixel: u32,
-    /// Object draws of pass 1 and of pass 3.
-    pub base_draw_calls: u64,
-    pub final_draw_calls: u64,
-    /// `--msaa 4`: the depth-only draws priming pass 3's samples with pass 1's list (pass 1's
-    /// depth has one sample a pixel); 0 single-sampled, where pass 3 tests pass 1's depth.
-    pub prime_draw_calls: u64,
-    /// Samples that passed pass 1's and pass 3's depth tests (occlusion queries), when counting.
-    pub base_fragments: Option<u64>,
-    pub final_fragments: Option<u64>,
-}
-
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-pub struct LightStats {
-    pub index: usize,
-    /// "point" or "spot", borrowed: an allocated name per light made the per-light stats cost
-    /// 1.1-1.3 ms of CPU a frame at 16,384 lights (0.16-0.62 ms borrowed; docs/measurements.md).
-    pub kind: Cow<'static, str>,
-    pub method: Method,
-    pub crosses_near: bool,
-    pub crosses_far: bool,
-    pub screen_share: f32,
-    /// Samples that reached the lighting shader.
-    pub shaded: Option<u64>,
-    /// Samples whose G-buffer point lies inside the light's true shape.
-    pub ideal: Option<u64>,
-    /// Rasterised coverage of the light's bounding volume (its back faces, or the screen for
-    /// full-screen lights): fragment-shader invocations from pipeline statistics, counted with
-    /// the ideal.
-    pub coverage: Option<u64>,
-    /// Its shadow maps this frame (`ShadowPlan::light_share`): tiles (atlas tiles or cube-array
-    /// faces), their texels, and the caster draws into them; 0 when it casts no shadow.
-    #[serde(default)]
-    pub shadow_tiles: u32,
-    #[serde(default)]
-    pub shadow_texels: u64,
-    #[serde(default)]
-    pub caster_draws: u64,
-    /// Its shadow maps' drawing time (ms): the render passes of its tiles in a ledger frame
-    /// (counted, with timestamps), each timed on its own; `None` otherwise or when it casts none.
-    #[serde(default)]
-    pub shadow_ms: Option<f64>,
-    /// Evaluated pairs that the light's true shape does not hold: `shaded - ideal`, when
-    /// both were counted (the culling's false positives for this light).
-    #[serde(default)]
-    pub wasted: Option<u64>,
-    /// Its cost in the light pass by the frame's [`CostModel`](crate::renderer::explain::cost::CostModel)
-    /// (ms): its draws and its evaluated pairs.
-    #[serde(default)]
-    pub cost_ms: Option<f64>,
-    /// Its share of the light pass's measured time (ms): the measured pass times its cost over
-    /// the model's whole pass (fixed part + every light's cost). The shares and the fixed part's
-    /// add up to the measured pass by construction; the model only weighs them.
-    #[serde(default)]
-    pub share_ms: Option<f64>,
-}
-
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct FrameStats {
-    /// The adapter, its capability table and the fallbacks this frame took.
-    pub adapter: crate::renderer::kit::caps::CapsReport,
-    pub size: [u32; 2],
-    pub culling: CullingMode,
-    pub lights: usize,
-    pub gpu_ms: GpuMs,
-    /// The CPU's part of the frame: records, plan, upload.
-    pub cpu_ms: CpuMs,
-    /// The CPU's part (records, plans, clamps, shadow plan) and its upload were the frame
-    /// before's, taken as they were: its inputs were the same (`frame::FrameKey`).
-    #[serde(default)]
-    pub cpu_reused: bool,
-    pub shaded_fragments: Option<u64>,
-    pub ideal_fragments: Option<u64>,
-    /// Rasterised coverage of the shading draws (pipeline statistics), where supported.
-    pub coverage_fragments: Option<u64>,
-    /// ideal / shaded.
-    pub efficiency: Option<f64>,
-    /// shaded - ideal, summed over the lights (when both were counted).
-    pub wasted_fragments: Option<u64>,
-    /// The model the per-light `cost_ms` come from, and its sum over the lights with the
-    /// fixed part apart (`light_cost_ms` + `cost_model.fixed_ms` against `gpu_ms.lighting`).
-    pub cost_model: Option<crate::renderer::explain::cost::CostModel>,
-    pub light_cost_ms: Option<f64>,
-    /// The forward pass of blended surfaces, when the frame drew one.
-    pub forward: Option<ForwardStats>,
-    /// The tiled pass's light lists, when the frame (or the `tile-lights` view) built them.
-    pub tiles: Option<TileStats>,
-    pub gbuffer_layout: String,
-    /// Colour targets of the G-buffer (the depth-stencil buffer is named apart).
-    pub gbuffer_bytes_per_pixel: u32,
-    /// Samples that passed the G-buffer pass's depth test (deferred shading; the light
-    /// pre-pass's pass 1): the fragments it wrote, overdraw included, which the draw order
-    /// (`--draw-order`) changes. `None` without counting and on the forward paths.
-    pub gbuffer_fragments: Option<u64>,
-    pub depth_stencil_format: String,
-    /// Where the passes after the G-buffer read depth: "depth buffer", or the copy and why
-    /// (`kit::gbuffer::depth_read_refusal`), or none (a layout storing positions; the forward
-    /// paths).
-    pub depth_read: String,
-    pub depth_clamp: bool,
-    /// Ambient + sun were written by the G-buffer pass (`Settings::ambient_in_gbuffer`, where
-    /// the device allows), not by a full-screen pass of their own.
-    pub ambient_in_gbuffer: bool,
-    /// Format of the light accumulation targets.
-    pub accumulation_format: String,
-    /// Bytes per pixel of the accumulation targets: two (diffuse, specular), or one (the light
-    /// pre-pass's light buffer, seed 000's RT1).
-    pub accumulation_bytes_per_pixel: u32,
-    /// `Settings::light_cutoff` this frame was drawn with.
-    pub light_cutoff: f32,
-    /// Triangles of the point lights' bounding sphere and of the spots' pyramid.
-    pub sphere_triangles: u32,
-    pub cone_triangles: u32,
-    /// The bounding meshes the frame drew ("sphere", "cone"): only the kinds its lights need.
-    pub volume_meshes: Vec<String>,
-    /// Draws the light pass issued for lights: marking and shading draws and REPLACE's stencil
-    /// clears (not the ambient + sun draw). With `count_fragments` each light's shading is a
-    /// draw of its own (its occlusion query), so counted frames issue more.
-    pub draw_calls: u64,
-    /// Instanced draws (batches) the lights were grouped into (`batches.rs`); one per drawn
-    /// light with `light_batching` off.
-    pub light_batches: u64,
-    /// The GPU built light lists this frame (tiled, zbin's masks, or clustered with
-    /// `--cluster-build gpu`).
-    #[serde(default)]
-    pub lists_on_gpu: bool,
-    /// Which post-chain passes ran (`None`: the frame was tonemapped by compose, no chain).
-    pub post: Option<PostStats>,
-    /// One entry per light when the frame counted or asked for them
-    /// (`Settings::per_light_stats`); empty otherwise, and `per_light_stats` says which.
-    pub per_light: Vec<LightStats>,
-    /// Whether `per_light` was built this frame.
-    #[serde(default)]
-    pub per_light_stats: bool,
-    /// The shadow and cookie lookups compiled into this frame's shaders, by name
-    /// (`program::ShaderFeatures::names`): only those some light of the scene can need.
-    #[serde(default)]
-    pub shader_lookups: Vec<String>,
-    /// The shadow atlas and who casts (`None` with `--shadows none`).
-    #[serde(default)]
-    pub shadow: Option<crate::renderer::shadows::ShadowStats>,
-    /// The forward paths' passes, targets and lists (`None` on the other paths).
-    pub forward_path: Option<super::paths::forward_pass::ForwardPathStats>,
-    /// The render path the frame was drawn with.
-    pub path: crate::renderer::RenderPath,
-    /// The light pre-pass's own figures (`None` on the other paths).
-    pub prepass: Option<PrepassStats>,
-    /// What the engine-style caps dropped (`caps`); `None` with no cap set.
-    #[serde(default)]
-    pub caps: Option<crate::renderer::caps::CapStats>,
-}
-
-/// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
-/// with auto-exposure, the exposure state after the frame is read by `Renderer::exposure_state`.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct PostStats {
-    pub bloom: bool,
-    pub auto_exposure: bool,
-    pub tonemap: crate::renderer::post::Tonemap,
-    /// The effects after tone mapping that ran, by name, in the chain's order
-    /// (`post::effects::EFFECTS`).
-    pub effects: Vec<String>,
-}
-
-impl PostStats {
-    /// Whether effect `name` ran.
-    pub fn ran(&self, name: &str) -> bool {
-        self.effects.iter().any(|e| e == name)
     }
 }
 
@@ -620,162 +289,93 @@ impl Queries {
         }
     }
 
-    /// Reads the frame's queries back into `stats`. Long (about 150 lines) because it fills each
-    /// measured figure in turn (the spans, the forward and pre-pass counts, each light's counts),
-    /// each a few lines that read its slots.
-    #[allow(clippy::too_many_arguments)]
+    /// Reads the frame's queries back: `None` when nothing was measured (or the queries only
+    /// say 0 or 1, wgpu's GL backend: the counts they would give are left out, not reported
+    /// wrong). `forward`: occlusion queries of the forward pass read (its peeled layers).
     pub fn read(
         &self,
         device: &wgpu::Device,
-        stats: &mut FrameStats,
-        plans: &[LightPlan],
-        scene: &Scene,
         counts: bool,
         ideal: bool,
         times: bool,
         forward: u32,
-    ) -> Result<()> {
-        stats.per_light = plans
-            .iter()
-            .enumerate()
-            .map(|(i, p)| LightStats {
-                index: i,
-                kind: match scene.lights[i] {
-                    crate::scene::Light::Point(_) => "point".into(),
-                    crate::scene::Light::Spot(_) => "spot".into(),
-                },
-                method: p.method,
-                crosses_near: p.crosses_near,
-                crosses_far: p.crosses_far,
-                screen_share: p.screen_share,
-                shaded: None,
-                ideal: None,
-                coverage: None,
-                ..Default::default()
-            })
-            .collect();
-        // Occlusion queries that only say 0 or 1 (wgpu's GL backend) count nothing: the counts
-        // they would give are left out, not reported wrong.
+    ) -> Result<Readback> {
         let forward = if self.exact { forward } else { 0 };
         let (counts, ideal) = (counts && self.exact, ideal && self.exact);
+        let mut out = Readback {
+            words: Vec::new(),
+            period_ns: self.period_ns,
+            capacity: self.capacity,
+            counts,
+            ideal,
+            times: times && self.timestamps.is_some(),
+            forward,
+            coverage: self.coverage_supported,
+        };
         if !(counts || ideal || times || forward > 0) {
-            return Ok(());
+            return Ok(out);
         }
         let Some(readback) = &self.readback else {
-            return Ok(());
+            return Ok(out);
         };
-        let words: Vec<u64> = crate::renderer::kit::read_back(device, readback, readback.size())?;
-        {
-            let words = &words[..];
-            let (occ_off, ideal_off, cov_off, _) = Self::offsets(self.capacity);
-            if times && self.timestamps.is_some() {
-                let ms = |a: usize, b: usize| {
-                    let (t0, t1) = (words[a], words[b]);
-                    (t1 >= t0 && t0 != 0).then(|| (t1 - t0) as f64 * self.period_ns as f64 / 1e6)
-                };
-                // From one timestamp to another (`Span::begin`, `Span::end`), and a span's own.
-                let between = |a: Option<u32>, b: Option<u32>| ms(a? as usize, b? as usize);
-                let span = |s: Span| between(s.begin(), s.end());
-                use crate::renderer::paths::prepass_pass as prepass;
-                use crate::renderer::surfaces::{blended as forward, compose, gbuffer};
-                use crate::renderer::{culling, post, shadows};
-                let (gbuffer, compose) = (gbuffer::SPAN, compose::SPAN);
-                stats.gpu_ms.gbuffer = span(gbuffer);
-                stats.gpu_ms.lighting = span(culling::light_pass::SPAN);
-                stats.gpu_ms.compose = span(compose);
-                stats.gpu_ms.lists = span(culling::tiled::pass::SPAN).filter(|_| stats.lists_on_gpu);
-                if stats.prepass.is_some() {
-                    // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
-                    // what follows it (forward pass, tonemap or post chain) is the compose span.
-                    stats.gpu_ms.prepass_final = span(prepass::SPAN);
-                    stats.gpu_ms.compose = between(prepass::SPAN.end(), compose.end());
-                }
-                if stats.forward.is_some() {
-                    stats.gpu_ms.forward = span(forward::SPAN);
-                    // The forward pass runs between the HDR compose and the tonemap.
-                    if let (Some(c), Some(f)) = (stats.gpu_ms.compose, stats.gpu_ms.forward) {
-                        stats.gpu_ms.compose = Some((c - f).max(0.0));
-                    }
-                }
-                stats.gpu_ms.total = between(gbuffer.begin(), compose.end());
-                if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
-                    sh.gpu_ms = span(shadows::pass::SPAN);
-                    stats.gpu_ms.shadows = sh.gpu_ms;
-                }
-                if let Some(fp) = stats.forward_path.as_mut() {
-                    // The forward paths: each pass's own span; no light pass, and the G-buffer
-                    // only when the post chain needed it (one of the passes then).
-                    for p in &mut fp.passes {
-                        p.gpu_ms = p.span.and_then(span);
-                    }
-                    stats.gpu_ms.lighting = None;
-                    stats.gpu_ms.gbuffer = None;
-                    stats.gpu_ms.total =
-                        fp.passes.first().and_then(|p| p.span).and_then(|s| between(s.begin(), compose.end()));
-                }
-                if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
-                    stats.gpu_ms.total = Some(t + s);
-                }
-                if let Some(p) = &stats.post {
-                    // The chain runs inside the compose span (HDR compose … its last pass).
-                    let g = &mut stats.gpu_ms;
-                    g.bloom = span(post::bloom::SPAN).filter(|_| p.bloom);
-                    g.exposure = span(post::exposure::SPAN).filter(|_| p.auto_exposure);
-                    g.tonemap = span(post::tonemap::SPAN);
-                    g.effects = post::effects::EFFECTS
-                        .iter()
-                        .filter(|e| p.ran(e.name))
-                        .filter_map(|e| Some((e.name.to_string(), span(Span(e.name))?)))
-                        .collect();
-                    let chain: f64 = [g.bloom, g.exposure, g.tonemap].iter().flatten().sum::<f64>()
-                        + g.effects.values().sum::<f64>();
-                    g.compose = g.compose.map(|c| (c - chain).max(0.0));
-                }
-            }
-            if let Some(f) = stats.forward.as_mut().filter(|_| forward > 0) {
-                let at = (FORWARD_QUERY_OFFSET / 8) as usize;
-                let layers = f.peel_layers.map_or(1, |n| n as usize);
-                f.fragments = Some(words[at..at + layers].iter().sum());
-                if f.peel_layers.is_some() {
-                    f.unpeeled = Some(words[at + layers]);
-                }
-            }
-            if counts && matches!(stats.path, RenderPath::Deferred | RenderPath::LightPrepass) {
-                stats.gbuffer_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);
-            }
-            if let Some(p) = stats.prepass.as_mut().filter(|_| counts) {
-                p.base_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize]);
-                p.final_fragments = Some(words[(PREPASS_QUERY_OFFSET / 8) as usize + 1]);
-            }
-            let block = LIGHTS_PER_QUERY_SET;
-            let at = |base: u64, i: usize| {
-                let b = i / block;
-                words[(base / 8) as usize + b * block + i % block]
-            };
-            for (i, l) in stats.per_light.iter_mut().enumerate() {
-                if counts {
-                    l.shaded = Some(at(occ_off, i));
-                }
-                if ideal {
-                    l.ideal = Some(at(ideal_off, i));
-                    if self.coverage_supported {
-                        l.coverage = Some(at(cov_off, i));
-                    }
-                }
-            }
-        }
-        if counts {
-            stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
-        }
-        if ideal && self.coverage_supported {
-            stats.coverage_fragments = Some(stats.per_light.iter().filter_map(|l| l.coverage).sum());
-        }
-        if ideal {
-            stats.ideal_fragments = Some(stats.per_light.iter().filter_map(|l| l.ideal).sum());
-        }
-        if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
-            stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
-        }
-        Ok(())
+        out.words = crate::renderer::kit::read_back(device, readback, readback.size())?;
+        Ok(out)
+    }
+}
+
+/// A frame's queries as read back ([`Queries::read`]): each figure's slots, for the report.
+pub struct Readback {
+    words: Vec<u64>,
+    period_ns: f32,
+    capacity: usize,
+    /// Each light's shaded fragments were counted (exactly).
+    pub counts: bool,
+    /// Each light's ideal (and coverage, where the adapter has pipeline statistics).
+    pub ideal: bool,
+    /// The spans were timed.
+    pub times: bool,
+    /// Occlusion queries of the forward pass read.
+    pub forward: u32,
+    /// The adapter counts coverage (pipeline statistics).
+    pub coverage: bool,
+}
+
+impl Readback {
+    /// Whether anything was read.
+    pub fn any(&self) -> bool {
+        !self.words.is_empty()
+    }
+
+    /// Milliseconds from timestamp `a` to timestamp `b` (`Span::begin`, `Span::end`).
+    pub fn between(&self, a: Option<u32>, b: Option<u32>) -> Option<f64> {
+        let (t0, t1) = (*self.words.get(a? as usize)?, *self.words.get(b? as usize)?);
+        (self.times && t1 >= t0 && t0 != 0).then(|| (t1 - t0) as f64 * self.period_ns as f64 / 1e6)
+    }
+
+    /// A span's own milliseconds.
+    pub fn span(&self, s: Span) -> Option<f64> {
+        self.between(s.begin(), s.end())
+    }
+
+    /// The forward pass's occlusion counts: query `i` (a peeled layer, or what is behind the
+    /// last).
+    pub fn forward(&self, i: usize) -> u64 {
+        self.words[(FORWARD_QUERY_OFFSET / 8) as usize + i]
+    }
+
+    /// The light pre-pass's counts: pass 1 (`0`, also the G-buffer's) and pass 3 (`1`).
+    pub fn prepass(&self, i: usize) -> u64 {
+        self.words[(PREPASS_QUERY_OFFSET / 8) as usize + i]
+    }
+
+    /// Light `i`'s counts: (shaded, ideal, coverage).
+    pub fn light(&self, i: usize) -> (u64, u64, u64) {
+        let (occ_off, ideal_off, cov_off, _) = Queries::offsets(self.capacity);
+        let block = LIGHTS_PER_QUERY_SET;
+        let at = |base: u64| {
+            let b = i / block;
+            self.words[(base / 8) as usize + b * block + i % block]
+        };
+        (at(occ_off), at(ideal_off), at(cov_off))
     }
 }

@@ -4,7 +4,7 @@
 
 use super::kit::{self, gbuffer, PipelineKey};
 use super::knobs::{Values, KNOBS};
-use super::{post, DepthFormat, Renderer, Settings, OUTPUT_FORMAT};
+use super::{post, DepthFormat, Settings, OUTPUT_FORMAT};
 use anyhow::Result;
 
 /// Whether `caps`' adapter can give `settings`: the other ways it takes (`fallbacks`), or why
@@ -13,7 +13,7 @@ use anyhow::Result;
 pub fn support(caps: &kit::caps::Caps, settings: &Settings) -> Result<Vec<String>> {
     settings.validate().map_err(anyhow::Error::msg)?;
     let features = super::program::ShaderFeatures::of(None, settings, &caps.quirks);
-    let key = Renderer::key(None, settings, settings.layout.layout(), caps, (OUTPUT_FORMAT, features))?;
+    let key = super::key::pipeline_key(None, settings, settings.layout.layout(), caps, (OUTPUT_FORMAT, features))?;
     Ok(fallbacks(caps, &key, settings, true))
 }
 

@@ -9,7 +9,7 @@
 //!   (cosine-weighted rays, `rays` of them, blocked by any opaque triangle within
 //!   `occlusion_distance`): `ambient x AO`, the "baked indirect lighting";
 //! - the sun, `colour x intensity x max(N.L, 0)` where a ray towards it is not blocked (the
-//!   project's CPU ray check, `reference::Occluders`).
+//!   project's CPU ray check, `scene::occluders::Occluders`).
 //!
 //! These are the renderer's own terms for a Lambert surface (`ambient_diffuse`, `sun_light`),
 //! so on an unoccluded, unshadowed surface the baked and the realtime lighting agree up to the
@@ -81,7 +81,7 @@ pub fn bake(scene: &Scene, options: &BakeOptions, mut progress: impl FnMut(usize
     if !(options.occlusion_distance.is_finite() && options.occlusion_distance > 0.0) {
         bail!("bake: the occlusion distance must be a positive number");
     }
-    let occluders = crate::reference::Occluders::of(scene);
+    let occluders = super::occluders::Occluders::of(scene);
     let (w, h) = (3 * options.texels, 2 * options.texels);
     let mut baked = Baked { scene: scene.name.clone(), options: *options, objects: Vec::new(), skipped: Vec::new() };
     let total = scene.objects.len();
@@ -153,7 +153,7 @@ pub fn bake(scene: &Scene, options: &BakeOptions, mut progress: impl FnMut(usize
 }
 
 /// Irradiance (RGB) and occlusion (A) at `p` with normal `n`.
-fn irradiance(scene: &Scene, occluders: &crate::reference::Occluders, o: &BakeOptions, p: DVec3, n: DVec3) -> [f64; 4] {
+fn irradiance(scene: &Scene, occluders: &super::occluders::Occluders, o: &BakeOptions, p: DVec3, n: DVec3) -> [f64; 4] {
     // Off the surface by more than the f64 hit test's tolerance, as the shadow tests' rays.
     let from = p + n * 1e-4 * (1.0 + p.length());
     let (t1, t2) = {
@@ -325,7 +325,7 @@ mod tests {
     fn the_bake_holds_ambient_through_occlusion_and_the_sun_through_visibility() {
         let scene = yard();
         let o = BakeOptions { texels: 16, rays: 256, occlusion_distance: 4.0 };
-        let occ = crate::reference::Occluders::of(&scene);
+        let occ = crate::scene::occluders::Occluders::of(&scene);
         let up = DVec3::Y;
         let open = DVec3::new(7.0, 0.0, 7.0);
         // Open floor: the whole sky, and the sun at N.L = cos 45 degrees.

@@ -132,7 +132,10 @@ fn the_gl_profile_takes_each_fallback_or_refuses_with_the_named_capability() {
     let out_full = lampshade::headless::Offscreen::new(gpu(), W, H);
     unmasked.render(&scene, &s, &out_full.view, W, H).expect("frame");
     for (x, y) in [(W / 2, H / 2), (W / 4, H - 4), (3, 3)] {
-        let (a, b) = (ok.probe(gl_profile(), x, y).expect("probe"), unmasked.probe(gpu(), x, y).expect("probe"));
+        let (a, b) = (
+            ok.last_frame().probe(gl_profile(), x, y).expect("probe"),
+            unmasked.last_frame().probe(gpu(), x, y).expect("probe"),
+        );
         assert_eq!((a.valid, a.position), (b.valid, b.position), "pixel {x},{y}");
     }
 

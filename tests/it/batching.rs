@@ -27,7 +27,7 @@ struct Run {
 fn run(r: &mut Renderer, scene: &Scene, s: &Settings, (w, h): (u32, u32)) -> Run {
     let gpu = gpu();
     let (image, stats) = render_image(gpu, r, scene, s, w, h).expect("render");
-    let (d, sp) = r.read_accumulation(gpu).expect("accumulation");
+    let (d, sp) = r.last_frame().read_accumulation(gpu).expect("accumulation");
     Run { image, stats, light: d.into_iter().chain(sp).collect() }
 }
 

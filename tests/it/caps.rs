@@ -67,13 +67,13 @@ fn draw(r: &mut Renderer, scene: &Scene, s: &Settings) -> lampshade::FrameStats 
 
 /// The accumulated light of `r`'s last frame: (diffuse, specular) RGBA per pixel.
 fn light(r: &Renderer) -> (Vec<f32>, Vec<f32>) {
-    r.read_accumulation(gpu()).expect("accumulation")
+    r.last_frame().read_accumulation(gpu()).expect("accumulation")
 }
 
 /// Brute force over `scene` drawn with `s` (every light of the scene at every pixel).
 fn brute(r: &mut Renderer, scene: &Scene, s: &Settings) -> BruteForce {
     draw(r, scene, s);
-    r.brute_force(gpu()).expect("brute force")
+    r.last_frame().brute_force(gpu()).expect("brute force")
 }
 
 /// Holds a frame's light (its accumulation minus the lightless frame's) against `expected`
@@ -131,9 +131,9 @@ fn a_cap_that_is_not_reached_changes_no_pixel() {
         }
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &plain).unwrap();
         let (a, _) = render_image(gpu, &mut r, &scene, &plain, W, H).unwrap();
-        let hdr_a = r.read_post_image(gpu, PostImage::Hdr).unwrap();
+        let hdr_a = r.last_frame().read_post_image(gpu, PostImage::Hdr).unwrap();
         let (b, stats) = render_image(gpu, &mut r, &scene, &capped, W, H).unwrap();
-        let hdr_b = r.read_post_image(gpu, PostImage::Hdr).unwrap();
+        let hdr_b = r.last_frame().read_post_image(gpu, PostImage::Hdr).unwrap();
         let what = format!("{}/{} {knobs:?}", path.name(), culling.name());
         let caps = caps_of(&stats);
         assert!(!caps.reached(), "{what}: {caps:?}");
@@ -152,7 +152,7 @@ fn a_grid_changes_the_lists_and_not_the_picture() {
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &plain).unwrap();
     draw(&mut r, &scene, &plain);
     let reference = light(&r);
-    let default_lists = r.tile_lists(gpu).unwrap().expect("lists").data;
+    let default_lists = r.last_frame().tile_lists(gpu).unwrap().expect("lists").data;
     for knobs in [
         &[("cluster-budget", "4096"), ("cluster-slices", "24"), ("first-slice-depth", "5")][..],
         &[("cluster-tile", "32"), ("cluster-slices", "1")][..],
@@ -165,7 +165,7 @@ fn a_grid_changes_the_lists_and_not_the_picture() {
             s.set(k, v).unwrap();
         }
         draw(&mut r, &scene, &s);
-        let lists = r.tile_lists(gpu).unwrap().expect("lists");
+        let lists = r.last_frame().tile_lists(gpu).unwrap().expect("lists");
         assert_ne!(lists.data, default_lists, "{knobs:?}: the grid was not used");
         let got = light(&r);
         let off = got.0.iter().zip(&reference.0).chain(got.1.iter().zip(&reference.1)).filter(|(a, b)| a != b).count();
@@ -264,17 +264,18 @@ fn the_cluster_cap_keeps_what_it_states_per_cell_and_the_frame_loses_exactly_the
         })
         .collect();
     let all = brute(&mut r, &scene, &plain);
-    let full = r.tile_lists(gpu).unwrap().expect("lists");
+    let full = r.last_frame().tile_lists(gpu).unwrap().expect("lists");
     for order in [CapOrder::Scene, CapOrder::Nearest, CapOrder::Brightest] {
         let what = format!("lights-per-cluster 3, {order:?}");
         let s = Settings { lights_per_cluster: 3, cap_order: order, ..plain.clone() };
         let stats = draw(&mut r, &scene, &s);
         let lit = light(&r);
-        let lists = r.tile_lists(gpu).unwrap().expect("lists");
+        let lists = r.last_frame().tile_lists(gpu).unwrap().expect("lists");
         // The dropped entries' reached pairs, entry by entry: a pixel's tile's uncapped entries
         // that its capped list lacks, whose light's shape holds the pixel's point.
-        let records = r.light_records().to_vec();
+        let records = r.last_frame().light_records().to_vec();
         let reached_dropped: u64 = r
+            .last_frame()
             .view_positions(gpu)
             .unwrap()
             .iter()
@@ -384,7 +385,9 @@ fn the_object_cap_keeps_what_it_states_per_object_on_the_forward_path() {
     let gpu = gpu();
     let plain = Settings { path: RenderPath::Forward, ..base(CullingMode::Clustered) };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &plain).unwrap();
-    let hdr = |r: &Renderer| r.read_post_image(gpu, PostImage::Hdr).unwrap().expect("the forward frame's HDR colour");
+    let hdr = |r: &Renderer| {
+        r.last_frame().read_post_image(gpu, PostImage::Hdr).unwrap().expect("the forward frame's HDR colour")
+    };
     for order in [CapOrder::Scene, CapOrder::Nearest, CapOrder::Brightest] {
         let what = format!("lights-per-object 2, {order:?}");
         let stats = draw(&mut r, &scene, &Settings { lights_per_object: 2, cap_order: order, ..plain.clone() });

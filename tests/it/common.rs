@@ -88,7 +88,7 @@ pub fn render(scene: &Scene, settings: &Settings, w: u32, h: u32) -> Frame {
     let gpu = gpu();
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings).expect("renderer");
     let (image, stats) = render_image(gpu, &mut r, scene, settings, w, h).expect("render");
-    let (diffuse, specular) = r.read_accumulation(gpu).expect("accumulation readback");
+    let (diffuse, specular) = r.last_frame().read_accumulation(gpu).expect("accumulation readback");
     Frame { image, stats, diffuse, specular }
 }
 

@@ -39,7 +39,7 @@ fn probes(r: &Renderer, step: u32) -> Vec<PixelProbe> {
     let mut out = Vec::new();
     for y in (step / 2..H).step_by(step as usize) {
         for x in (step / 2..W).step_by(step as usize) {
-            let p = r.probe(gpu(), x, y).unwrap();
+            let p = r.last_frame().probe(gpu(), x, y).unwrap();
             if p.valid {
                 out.push(p);
             }
@@ -79,12 +79,12 @@ fn a_mask_excludes_exactly_the_objects_it_names() {
     let mut differs = [0usize; 3];
     for p in probes(&m, 4) {
         let (x, y) = (p.x, p.y);
-        let pu = u.probe(gpu(), x, y).unwrap();
+        let pu = u.last_frame().probe(gpu(), x, y).unwrap();
         // What the pixel must receive: every light but the one whose mask leaves its layer out.
         let expected = match p.layer {
             0 => pu.clone(),
-            1 => no_cool.probe(gpu(), x, y).unwrap(),
-            2 => no_warm.probe(gpu(), x, y).unwrap(),
+            1 => no_cool.last_frame().probe(gpu(), x, y).unwrap(),
+            2 => no_warm.last_frame().probe(gpu(), x, y).unwrap(),
             l => panic!("({x},{y}) is on layer {l}: the scene has layers 0, 1, 2"),
         };
         assert_eq!(pu.layer, 0, "the unmasked frame stores no layer");

@@ -198,9 +198,9 @@ fn stencil_modes_shade_exactly_the_points_inside_the_bounding_mesh() {
             let s = settings(mode);
             let mut r = lampshade::Renderer::new(gpu, lampshade::renderer::OUTPUT_FORMAT, &s).unwrap();
             let (_, stats) = lampshade::headless::render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
-            let points = r.view_positions(gpu).unwrap();
+            let points = r.last_frame().view_positions(gpu).unwrap();
             for (i, l) in stats.per_light.iter().enumerate() {
-                let planes = r.volume_planes(i).unwrap();
+                let planes = r.last_frame().volume_planes(i).unwrap();
                 let inside =
                     points.iter().flatten().filter(|p| planes.iter().all(|(a, n)| n.dot(**p - *a) <= 0.0)).count()
                         as u64;

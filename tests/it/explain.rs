@@ -18,7 +18,7 @@ fn rendered(scene: &Scene, st: &Settings, w: u32, h: u32) -> (Renderer, (Vec<f32
     let gpu = gpu();
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, st).expect("renderer");
     render_image(gpu, &mut r, scene, st, w, h).expect("render");
-    let acc = r.read_accumulation(gpu).expect("accumulation");
+    let acc = r.last_frame().read_accumulation(gpu).expect("accumulation");
     (r, acc)
 }
 
@@ -78,7 +78,7 @@ fn the_explanation_adds_up_to_the_pixel_in_every_mode_on_the_hard_cases() {
         for mode in CullingMode::ALL {
             let (r, _) = rendered(&s, &settings(mode), w, h);
             for &(x, y) in &pixels {
-                let e = r.explain(gpu, x, y).expect("explain");
+                let e = r.last_frame().explain(gpu, x, y).expect("explain");
                 let what = format!("{name}, {}, pixel {x},{y}", mode.name());
                 assert_eq!(
                     e.missed,
@@ -123,7 +123,7 @@ fn the_explanation_adds_up_in_the_lights_shadows() {
     for mode in [CullingMode::Volume, CullingMode::StencilReplace, CullingMode::Tiled, CullingMode::Clustered] {
         let (r, _) = rendered(&s, &shadowed(mode), w, h);
         for &(x, y) in &pixels {
-            let e = r.explain(gpu, x, y).expect("explain");
+            let e = r.last_frame().explain(gpu, x, y).expect("explain");
             let what = format!("shadows, {}, pixel {x},{y}", mode.name());
             let table = lampshade::renderer::explain::table(&e);
             assert_eq!(e.missed, 0, "{what}: the culling left out light:\n{table}");
@@ -149,7 +149,7 @@ fn a_light_behind_a_wall_is_wasted_by_the_volume_method_and_rejected_by_the_othe
     let mut pixels = Vec::new();
     for y in (0..h).step_by(6) {
         for x in (0..w).step_by(6) {
-            let e = r.explain(gpu, x, y).expect("explain");
+            let e = r.last_frame().explain(gpu, x, y).expect("explain");
             if e.lights.iter().any(|l| l.index == 0 && l.culling != Culling::VolumeMissed) {
                 pixels.push((x, y));
             }
@@ -166,7 +166,7 @@ fn a_light_behind_a_wall_is_wasted_by_the_volume_method_and_rejected_by_the_othe
     ] {
         let (r, _) = rendered(&s, &settings(mode), w, h);
         for &(x, y) in &pixels {
-            let e = r.explain(gpu, x, y).expect("explain");
+            let e = r.last_frame().explain(gpu, x, y).expect("explain");
             let what = format!("{}, pixel {x},{y}", mode.name());
             let Some(l) = e.lights.iter().find(|l| l.index == 0) else {
                 panic!("{what}: the hidden light is not listed")
@@ -187,11 +187,11 @@ fn explaining_a_frame_without_a_deferred_gbuffer_is_a_clear_error() {
     for path in [lampshade::renderer::RenderPath::Forward, lampshade::renderer::RenderPath::ForwardMultipass] {
         let st = Settings { path, ..settings(CullingMode::Volume) };
         let (r, _) = rendered(&s, &st, 64, 36);
-        let err = r.explain(gpu, 10, 10).expect_err("explained a non-deferred frame");
+        let err = r.last_frame().explain(gpu, 10, 10).expect_err("explained a non-deferred frame");
         assert!(err.to_string().contains(&path.name()), "{err}");
     }
     let (r, _) = rendered(&s, &settings(CullingMode::Volume), 64, 36);
-    assert!(r.explain(gpu, 64, 10).is_err(), "a pixel outside the frame");
+    assert!(r.last_frame().explain(gpu, 64, 10).is_err(), "a pixel outside the frame");
 }
 
 /// The light pre-pass (seed 003): the explanation adds up to its light buffer as it adds up to
@@ -212,7 +212,7 @@ fn the_explanation_adds_up_on_the_light_prepass() {
         let st = |mode| Settings { path: RenderPath::LightPrepass, ..settings(mode) };
         let buffer = |scene: &Scene, mode| {
             let (r, _) = rendered(scene, &st(mode), w, h);
-            let b = r.read_light_buffer(gpu).expect("light buffer");
+            let b = r.last_frame().read_light_buffer(gpu).expect("light buffer");
             (r, b)
         };
         let mut dark = s.clone();
@@ -227,7 +227,7 @@ fn the_explanation_adds_up_on_the_light_prepass() {
         for mode in CullingMode::ALL {
             let (r, _) = buffer(&s, mode);
             for &(x, y) in &pixels {
-                let e = r.explain(gpu, x, y).expect("explain");
+                let e = r.last_frame().explain(gpu, x, y).expect("explain");
                 let what = format!("{name}, {}, light pre-pass, pixel {x},{y}", mode.name());
                 let table = lampshade::renderer::explain::table(&e);
                 assert!(e.prepass, "{what}");
@@ -276,8 +276,8 @@ fn the_ledgers_pairs_are_the_lists_pixels_light_by_light() {
         let st = Settings { culling: mode, count_fragments: true, count_ideal: true, ..settings(mode) };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &st).expect("renderer");
         let stats = render_image(gpu, &mut r, &scene, &st, w, h).expect("render").1;
-        let lists = r.tile_lists(gpu).expect("lists").expect("the frame built lists");
-        let points = r.view_positions(gpu).expect("positions");
+        let lists = r.last_frame().tile_lists(gpu).expect("lists").expect("the frame built lists");
+        let points = r.last_frame().view_positions(gpu).expect("positions");
         let mut expected = vec![0u64; scene.lights.len()];
         for (k, p) in points.iter().enumerate() {
             let Some(p) = p else { continue };
@@ -317,7 +317,7 @@ fn the_ledger_off_changes_no_pixel_and_counts_nothing() {
         let (_, a) = rendered(&scene, &on, 160, 90);
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &off).expect("renderer");
         let stats = render_image(gpu, &mut r, &scene, &off, 160, 90).expect("render").1;
-        let b = r.read_accumulation(gpu).expect("accumulation");
+        let b = r.last_frame().read_accumulation(gpu).expect("accumulation");
         assert!(a == b, "{}: the counted frame's light differs from the uncounted one's", mode.name());
         assert_eq!(stats.shaded_fragments, None, "{}", mode.name());
         assert_eq!(stats.per_light.len(), scene.lights.len());
@@ -348,7 +348,7 @@ fn the_ledger_off_compiles_no_counter() {
     for path in [RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass] {
         render_image(&own, &mut r, &scene, &Settings { path, ..off.clone() }, 96, 54).expect("render");
     }
-    assert_eq!(r.ledger_objects(), Vec::<&str>::new(), "frames without the ledger made its objects");
+    assert_eq!(r.last_frame().ledger_objects(), Vec::<&str>::new(), "frames without the ledger made its objects");
     let on = Settings { count_fragments: true, count_ideal: true, ..off.clone() };
     render_image(&own, &mut r, &scene, &on, 96, 54).expect("render");
     let forward = Settings { path: RenderPath::Forward, ..on.clone() };
@@ -362,7 +362,7 @@ fn the_ledger_off_compiles_no_counter() {
         54,
     )
     .expect("render");
-    let made = r.ledger_objects();
+    let made = r.last_frame().ledger_objects();
     assert!(made.len() == 4, "counted frames made {made:?}");
 }
 
@@ -393,7 +393,7 @@ fn the_waste_view_adds_up_to_the_ledgers_wasted_pairs_in_every_mode() {
             let wasted = stats.wasted_fragments.unwrap_or_else(|| panic!("{what}: no waste counted"));
             let view = Settings { debug_view: DebugView::Waste, ..settings(mode) };
             render_image(gpu, &mut r, s, &view, w, h).expect("render the view");
-            let counts = r.read_debug_view(gpu).expect("debug target");
+            let counts = r.last_frame().read_debug_view(gpu).expect("debug target");
             let shown: f64 = counts.iter().map(|&c| c as f64).sum();
             assert_eq!(shown, wasted as f64, "{what}: the view's counts against the ledger's wasted pairs");
             if *name == "demo" && mode != CullingMode::Auto {
@@ -403,7 +403,7 @@ fn the_waste_view_adds_up_to_the_ledgers_wasted_pairs_in_every_mode() {
             let worst = stats.per_light.iter().max_by_key(|l| l.wasted).expect("lights");
             let one = Settings { selected_light: Some(worst.index), ..view.clone() };
             render_image(gpu, &mut r, s, &one, w, h).expect("render the view");
-            let shown: f64 = r.read_debug_view(gpu).expect("debug target").iter().map(|&c| c as f64).sum();
+            let shown: f64 = r.last_frame().read_debug_view(gpu).expect("debug target").iter().map(|&c| c as f64).sum();
             assert_eq!(shown, worst.wasted.unwrap() as f64, "{what}: light {}'s waste", worst.index);
         }
     }

@@ -177,7 +177,7 @@ fn blended_surfaces_are_drawn_back_to_front() {
     let gpu = gpu();
     let mut r = lampshade::Renderer::new(gpu, lampshade::renderer::OUTPUT_FORMAT, &Settings::default()).unwrap();
     lampshade::headless::render_image(gpu, &mut r, &scene, &Settings::default(), W, H).unwrap();
-    let order = r.forward_order();
+    let order = r.last_frame().forward_order();
     assert_eq!(order.len(), 2, "two glass panes");
     let depth = |i: usize| {
         let o = &scene.objects[i];

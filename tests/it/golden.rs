@@ -109,7 +109,7 @@ fn render(scene_name: &str, knobs: &[(String, String)]) -> Result<(image::RgbaIm
     let gpu = gpu();
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).map_err(|e| format!("{e:#}"))?;
     let (image, _) = render_image(gpu, &mut r, &scene, &settings, W, H).map_err(|e| format!("{e:#}"))?;
-    let (diffuse, specular) = r.read_accumulation(gpu).map_err(|e| format!("{e:#}"))?;
+    let (diffuse, specular) = r.last_frame().read_accumulation(gpu).map_err(|e| format!("{e:#}"))?;
     let mut h = DefaultHasher::new();
     for v in diffuse.iter().chain(&specular) {
         v.to_bits().hash(&mut h);

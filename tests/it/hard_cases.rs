@@ -66,7 +66,7 @@ fn gpu_lighting_matches_f64_at_sampled_pixels() {
         let mut checked = 0;
         for k in 0..48u32 {
             let (x, y) = ((k * 37 + 5) % w, (k * 23 + 3) % h);
-            let p = r.probe(gpu, x, y).unwrap();
+            let p = r.last_frame().probe(gpu, x, y).unwrap();
             if !p.valid {
                 continue;
             }
@@ -157,7 +157,7 @@ fn normals_stay_within_each_layouts_encoding_bound() {
             let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
             render_image(gpu, &mut r, &scene, &s, w, h).unwrap();
             let layout = r.layout().clone();
-            let probes: Vec<_> = pixels.iter().map(|&(x, y)| r.probe(gpu, x, y).unwrap()).collect();
+            let probes: Vec<_> = pixels.iter().map(|&(x, y)| r.last_frame().probe(gpu, x, y).unwrap()).collect();
             let view = Settings { debug_view: lampshade::renderer::DebugView::Normal, ..s.clone() };
             let (image, _) = render_image(gpu, &mut r, &scene, &view, w, h).unwrap();
             let srgb = |v: f32| if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };

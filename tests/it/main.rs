@@ -33,5 +33,6 @@ mod shader_contract;
 mod shadows;
 mod soak;
 mod suite;
+mod tidy;
 mod tiled;
 mod viewer;

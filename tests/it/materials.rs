@@ -61,7 +61,7 @@ fn srgb8(c: f32) -> i32 {
 }
 
 fn probe_at(r: &Renderer, x: u32, y: u32) -> PixelProbe {
-    r.probe(gpu(), x, y).unwrap()
+    r.last_frame().probe(gpu(), x, y).unwrap()
 }
 
 #[test]

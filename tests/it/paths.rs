@@ -45,7 +45,7 @@ fn render_hdr(scene: &Scene, settings: &Settings, (w, h): (u32, u32)) -> Hdr {
     let s = Settings { bloom: settings.path == RenderPath::Deferred || settings.bloom, ..settings.clone() };
     let mut renderer = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
     let (image, stats) = render_image(gpu, &mut renderer, scene, &s, w, h).expect("render");
-    let hdr = renderer.read_post_image(gpu, PostImage::Hdr).expect("readback").expect("an HDR image");
+    let hdr = renderer.last_frame().read_post_image(gpu, PostImage::Hdr).expect("readback").expect("an HDR image");
     Hdr { image, stats, hdr, renderer }
 }
 
@@ -105,8 +105,8 @@ const F32_ABS: f64 = 1e-4;
 /// light adds an exact zero. Returns (count, their colour x intensity summed (largest channel)
 /// plus the sun and the ambient); background pixels have none.
 fn reaching_lights(r: &Renderer, scene: &Scene) -> Vec<(u32, f64)> {
-    let points = r.view_positions(gpu()).expect("view positions");
-    let lights = r.light_records();
+    let points = r.last_frame().view_positions(gpu()).expect("view positions");
+    let lights = r.last_frame().light_records();
     let base =
         scene.sun.map_or(0.0, |s| (s.color.max_element() * s.intensity) as f64) + scene.ambient.max_element() as f64;
     points
@@ -334,7 +334,7 @@ fn msaa_changes_only_geometric_edges_and_brings_them_closer_to_a_supersampled_re
         let scene = scene(name);
         // The edge mask from the deferred path's depth, 4 x 4 depth samples per pixel.
         let deferred = render_hdr(&scene, &Settings { count_ideal: false, ..Settings::default() }, (4 * w, 4 * h));
-        let points = deferred.renderer.view_positions(gpu()).expect("view positions");
+        let points = deferred.renderer.last_frame().view_positions(gpu()).expect("view positions");
         let edges = edge_mask(&points, w, h, 4);
         let edge_pixels = edges.iter().filter(|e| **e).count();
         assert!(edge_pixels > 0 && edge_pixels < (w * h) as usize / 2, "{name}: {edge_pixels} edge pixels");
@@ -408,7 +408,7 @@ fn the_light_prepass_msaa_brings_its_edges_closer_to_a_supersampled_reference() 
     for name in ["demo", "street"] {
         let scene = scene(name);
         let deferred = render_hdr(&scene, &Settings { count_ideal: false, ..Settings::default() }, (4 * w, 4 * h));
-        let points = deferred.renderer.view_positions(gpu()).expect("view positions");
+        let points = deferred.renderer.last_frame().view_positions(gpu()).expect("view positions");
         let edges = edge_mask(&points, w, h, 4);
         let prepass = Settings { path: RenderPath::LightPrepass, count_ideal: false, ..Settings::default() };
         let one = render_hdr(&scene, &prepass, (w, h));
@@ -449,7 +449,7 @@ fn the_forward_paths_count_each_lights_samples() {
     let deferred = Settings { count_fragments: false, ..unshadowed() };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &deferred).expect("renderer");
     render_image(gpu, &mut r, &scene, &deferred, w, h).expect("render");
-    let covered = r.view_positions(gpu).expect("positions").iter().filter(|p| p.is_some()).count() as u64;
+    let covered = r.last_frame().view_positions(gpu).expect("positions").iter().filter(|p| p.is_some()).count() as u64;
     let mut per_path = Vec::new();
     for path in FORWARD {
         let counted = Settings { path, count_fragments: true, depth_prepass: true, ..unshadowed() };

@@ -22,8 +22,9 @@ fn frame(
     h: u32,
 ) -> (image::RgbaImage, Vec<f32>, Option<Vec<f32>>) {
     let (img, _) = render_image(gpu(), r, scene, s, w, h).expect("render");
-    let hdr = r.read_post_image(gpu(), PostImage::Hdr).expect("hdr readback").expect("the chain ran");
-    let bloomed = if s.bloom { r.read_post_image(gpu(), PostImage::Bloomed).expect("readback") } else { None };
+    let hdr = r.last_frame().read_post_image(gpu(), PostImage::Hdr).expect("hdr readback").expect("the chain ran");
+    let bloomed =
+        if s.bloom { r.last_frame().read_post_image(gpu(), PostImage::Bloomed).expect("readback") } else { None };
     (img, hdr, bloomed)
 }
 
@@ -63,7 +64,7 @@ fn every_effect_off_is_todays_frame_and_the_identity_lut_is_within_one_step() {
     for name in ["demo", "glass"] {
         let sc = scene(name);
         let off = quiet();
-        assert!(!post::chain_active(&off));
+        assert!(!post::chain_active(off.debug_view, &off.post_options()));
         let (today, stats) = render_image(gpu(), &mut renderer(&off), &sc, &off, 160, 90).unwrap();
         assert!(stats.post.is_none(), "{name}: no chain with every effect off");
         let id = Settings { lut: Some("identity".into()), ..off.clone() };
@@ -191,7 +192,7 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
     let s = Settings { auto_exposure: true, adaptation_speed: speed, target_luminance: 0.18, ..quiet() };
     let mut r = renderer(&s);
     let (_, hdr, _) = frame(&mut r, &sc, &s, 160, 90);
-    let (adapted, measured) = r.exposure_state(gpu()).unwrap().expect("state");
+    let (adapted, measured) = r.last_frame().exposure_state(gpu()).unwrap().expect("state");
     let cpu = histogram_mean(&hdr);
     assert!((measured as f64 - cpu).abs() < 1e-3, "histogram mean {measured} on the GPU, {cpu} on the CPU");
     assert_eq!(adapted, measured, "the first frame starts at its own luminance");
@@ -208,7 +209,7 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
     sc.ambient *= 8.0;
     let rate = post::adapt_rate(speed) as f64;
     let (_, hdr, _) = frame(&mut r, &sc, &s, 160, 90);
-    let (mut a, m) = r.exposure_state(gpu()).unwrap().expect("state");
+    let (mut a, m) = r.last_frame().exposure_state(gpu()).unwrap().expect("state");
     let target = histogram_mean(&hdr);
     assert!((m as f64 - target).abs() < 1e-3, "{m} against {target}");
     let gap0 = target - adapted as f64;
@@ -219,7 +220,7 @@ fn auto_exposure_converges_to_the_target_without_oscillating() {
     for n in 1..=frames {
         if n > 1 {
             frame(&mut r, &sc, &s, 160, 90);
-            a = r.exposure_state(gpu()).unwrap().expect("state").0;
+            a = r.last_frame().exposure_state(gpu()).unwrap().expect("state").0;
         }
         let a = a as f64;
         let expected = target - gap0 * (1.0 - rate).powi(n as i32);
@@ -302,7 +303,7 @@ fn before_after(
     let (a, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
     let (b, stats) = render_image(gpu(), &mut r, &sc, &with, w, h).unwrap();
     assert!(stats.post.is_some());
-    let points = r.view_positions(gpu()).unwrap();
+    let points = r.last_frame().view_positions(gpu()).unwrap();
     (sc, a, b, points, with)
 }
 
@@ -428,7 +429,7 @@ fn thick_fog_turns_geometry_into_the_sky_beside_it() {
     let mut r = renderer(&s);
     let (img, stats) = render_image(gpu(), &mut r, &sc, &s, 160, 90).unwrap();
     assert!(stats.post.is_some());
-    let points = r.view_positions(gpu()).unwrap();
+    let points = r.last_frame().view_positions(gpu()).unwrap();
     let sky: Vec<[u8; 3]> =
         img.pixels().zip(&points).filter(|(_, p)| p.is_none()).map(|(q, _)| [q[0], q[1], q[2]]).collect();
     assert!(sky.len() > 100, "too little sky ({} pixels)", sky.len());
@@ -462,8 +463,8 @@ fn distortion_moves_only_pixels_under_a_distorting_surface() {
     let mut r = renderer(&base);
     let (plain, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
     let (bent, _) = render_image(gpu(), &mut r, &sc, &with, w, h).unwrap();
-    let buffer = r.read_post_image(gpu(), PostImage::Distortion).unwrap().expect("the chain ran");
-    let points = r.view_positions(gpu()).unwrap();
+    let buffer = r.last_frame().read_post_image(gpu(), PostImage::Distortion).unwrap().expect("the chain ran");
+    let points = r.last_frame().view_positions(gpu()).unwrap();
     let (mut changed, mut under, mut in_front) = (0, 0, 0);
     for y in 0..h {
         for x in 0..w {

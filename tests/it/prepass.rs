@@ -112,9 +112,10 @@ fn every_light_buffer_encoding_holds_the_light() {
         let exact_s = prepass(Settings { accumulation: AccumFormat::Rgba32Float, ..Settings::default() });
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &exact_s).unwrap();
         render_image(gpu, &mut r, &scene, &exact_s, W, H).unwrap();
-        let exact = r.read_light_buffer(gpu).unwrap();
-        let lights = r.light_records().to_vec();
+        let exact = r.last_frame().read_light_buffer(gpu).unwrap();
+        let lights = r.last_frame().light_records().to_vec();
         let touching: Vec<u32> = r
+            .last_frame()
             .view_positions(gpu)
             .unwrap()
             .iter()
@@ -131,7 +132,7 @@ fn every_light_buffer_encoding_holds_the_light() {
             let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
             let (_, stats) = render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
             assert_eq!(stats.prepass.as_ref().unwrap().light_buffer_bytes_per_pixel, bytes);
-            let got = r.read_light_buffer(gpu).unwrap();
+            let got = r.last_frame().read_light_buffer(gpu).unwrap();
             let (mut checked, mut worst) = (0, 0f32);
             for (px, blends) in touching.iter().enumerate() {
                 for c in 0..4 {
@@ -200,11 +201,11 @@ fn difference_from_deferred_stays_within_the_derived_bound() {
         let pre_s = prepass(Settings { accumulation: AccumFormat::Rgba32Float, ..base });
         let mut pre = Renderer::new(gpu, OUTPUT_FORMAT, &pre_s).unwrap();
         render_image(gpu, &mut pre, &scene, &pre_s, w, h).unwrap();
-        let hdr = pre.read_post_image(gpu, PostImage::Hdr).unwrap().expect("the pre-pass's HDR colour");
+        let hdr = pre.last_frame().read_post_image(gpu, PostImage::Hdr).unwrap().expect("the pre-pass's HDR colour");
         let mut checked = 0;
         for k in 0..96u32 {
             let (x, y) = ((k * 37 + 5) % w, (k * 23 + 3) % h);
-            let p = deferred.probe(gpu, x, y).unwrap();
+            let p = deferred.last_frame().probe(gpu, x, y).unwrap();
             if !p.valid {
                 continue;
             }
@@ -349,12 +350,12 @@ fn msaa_changes_only_pixels_on_geometric_edges() {
         let one = prepass(Settings { count_ideal: false, ..Settings::default() });
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &one).unwrap();
         let (a, _) = render_image(gpu, &mut r, scene, &one, W, H).unwrap();
-        let mut mask = edge_mask(&r.view_positions(gpu).unwrap(), W, H);
+        let mut mask = edge_mask(&r.last_frame().view_positions(gpu).unwrap(), W, H);
         // Geometry thinner than a pixel can miss every pixel centre and still cover samples: the
         // depth at twice the resolution sees it too (a pixel is an edge where any of its four).
         let mut fine = Renderer::new(gpu, OUTPUT_FORMAT, &one).unwrap();
         render_image(gpu, &mut fine, scene, &one, 2 * W, 2 * H).unwrap();
-        let fine_mask = edge_mask(&fine.view_positions(gpu).unwrap(), 2 * W, 2 * H);
+        let fine_mask = edge_mask(&fine.last_frame().view_positions(gpu).unwrap(), 2 * W, 2 * H);
         for (i, m) in mask.iter_mut().enumerate() {
             let (x, y) = (i as u32 % W, i as u32 / W);
             *m |= (0..4).any(|k| fine_mask[((2 * y + k / 2) * 2 * W + 2 * x + k % 2) as usize]);
@@ -422,11 +423,11 @@ fn the_probe_reads_the_pre_pass_buffers() {
     let s = prepass(Settings::default());
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
     render_image(gpu, &mut r, &scene("demo"), &s, W, H).unwrap();
-    let buffer = r.read_light_buffer(gpu).unwrap();
-    let hdr = r.read_post_image(gpu, PostImage::Hdr).unwrap().unwrap();
+    let buffer = r.last_frame().read_light_buffer(gpu).unwrap();
+    let hdr = r.last_frame().read_post_image(gpu, PostImage::Hdr).unwrap().unwrap();
     let mut lit = 0;
     for (x, y) in [(80, 60), (40, 70), (120, 80), (10, 85)] {
-        let p = r.probe(gpu, x, y).unwrap();
+        let p = r.last_frame().probe(gpu, x, y).unwrap();
         let i = ((y * W + x) * 4) as usize;
         assert_eq!(p.diffuse_light.to_array(), [buffer[i], buffer[i + 1], buffer[i + 2]]);
         assert_eq!(p.specular_light.to_array(), [buffer[i + 3]; 3]);

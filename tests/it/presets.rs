@@ -36,7 +36,7 @@ fn every_preset_renders_demo_the_room_and_every_hard_case_finite_and_lit() {
         for (name, scene) in &scenes {
             let (w, h) = if name == "overflow" { hard_case_size(name) } else { (W, H) };
             let (image, stats) = render_image(gpu, &mut r, scene, &s, w, h).unwrap();
-            let (diffuse, specular) = r.read_accumulation(gpu).unwrap();
+            let (diffuse, specular) = r.last_frame().read_accumulation(gpu).unwrap();
             let f = Frame { image, stats, diffuse, specular };
             let what = format!("{} on {name}", p.name());
             assert_finite(&f, &what);
@@ -127,7 +127,7 @@ fn front_to_back_order_draws_the_same_picture_with_fewer_gbuffer_fragments() {
             if p.0.iter().zip(b.get_pixel(x, y).0).all(|(u, v)| u.abs_diff(v) <= 1) {
                 continue;
             }
-            let (pa, pb) = (ra.probe(gpu, x, y).unwrap(), rb.probe(gpu, x, y).unwrap());
+            let (pa, pb) = (ra.last_frame().probe(gpu, x, y).unwrap(), rb.last_frame().probe(gpu, x, y).unwrap());
             assert!(
                 pa.valid && pb.valid && pa.position.z == pb.position.z,
                 "{name} pixel ({x}, {y}): the draw order changed it, and not at a depth tie ({} vs {})",
@@ -195,7 +195,7 @@ fn additive_blended_surfaces_need_no_order_and_only_add_light() {
     let frame = |scene: &lampshade::Scene| {
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
         let (image, _) = render_image(gpu, &mut r, scene, &s, W, H).unwrap();
-        (image, r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap())
+        (image, r.last_frame().read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap())
     };
     let ((image, a), (_, b), (base, _)) = (frame(&glass), frame(&reversed), frame(&without));
     let (a, b) = (a.expect("the HDR colour"), b.expect("the HDR colour"));
@@ -344,7 +344,11 @@ pub fn check_peeling(gpu: &lampshade::gpu::Gpu, name: &str, base: &Settings) {
         let s = Settings { count_ideal: false, ..s.clone() };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
         let (_, stats) = render_image(gpu, &mut r, scene, &s, w, h).unwrap();
-        let hdr = r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("the HDR colour");
+        let hdr = r
+            .last_frame()
+            .read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr)
+            .unwrap()
+            .expect("the HDR colour");
         (hdr, stats)
     };
     let counted = gpu.caps.occlusion == lampshade::renderer::kit::caps::Occlusion::Exact;
@@ -438,7 +442,7 @@ fn lightmaps_crossfade_from_realtime_near_to_baked_far_monotone_in_distance() {
         let s = Settings { count_ideal: false, ..Settings::default() };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
         render_image(gpu, &mut r, &scene, &s, w, h).unwrap();
-        r.view_positions(gpu).unwrap()
+        r.last_frame().view_positions(gpu).unwrap()
     };
     for path in paths {
         // Bloom, above every value: the frame keeps its HDR colour, the colour itself unchanged.
@@ -447,7 +451,7 @@ fn lightmaps_crossfade_from_realtime_near_to_baked_far_monotone_in_distance() {
             let s = Settings { lightmap_distance: distance, ..base.clone() };
             let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
             render_image(gpu, &mut r, scene, &s, w, h).unwrap();
-            r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
+            r.last_frame().read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
         };
         let lum = |c: &[f32]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
         let (near, far, mid) = (frame(&scene, 1e5), frame(&scene, 1e-3), frame(&scene, 18.0));
@@ -549,7 +553,7 @@ fn the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun() {
     let frame = |s: &Settings| {
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).unwrap();
         render_image(gpu, &mut r, &scene, s, w, h).unwrap();
-        r.read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
+        r.last_frame().read_post_image(gpu, lampshade::renderer::post::PostImage::Hdr).unwrap().expect("HDR colour")
     };
     let baked = frame(&Settings { lightmap_distance: 1e-3, ..base.clone() });
     let off = frame(&Settings { lightmaps: false, ..base.clone() });

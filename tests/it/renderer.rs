@@ -57,7 +57,7 @@ fn the_probe_decodes_what_the_scene_put_there() {
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
         render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
         // Bottom centre: the floor (albedo 0.5, normal +Y in world), in front of the light.
-        let p = r.probe(gpu, W / 2, H - 2).unwrap();
+        let p = r.last_frame().probe(gpu, W / 2, H - 2).unwrap();
         assert!(p.valid);
         assert!((p.albedo - glam::Vec3::splat(0.5)).abs().max_element() < 0.01, "{layout:?}: albedo {}", p.albedo);
         let up_view = (scene.camera.rotation() * glam::DVec3::Y).as_vec3();
@@ -66,15 +66,15 @@ fn the_probe_decodes_what_the_scene_put_there() {
         let world = scene.camera.position + scene.camera.rotation().transpose() * p.position.as_dvec3();
         assert!(world.y.abs() < 0.02, "{layout:?}: reconstructed floor point at y = {}", world.y);
         // Top right: sky.
-        assert!(!r.probe(gpu, W - 1, 0).unwrap().valid, "top right is sky");
-        assert!(r.probe(gpu, W, 0).is_err(), "a pixel outside the frame must be an error");
+        assert!(!r.last_frame().probe(gpu, W - 1, 0).unwrap().valid, "top right is sky");
+        assert!(r.last_frame().probe(gpu, W, 0).is_err(), "a pixel outside the frame must be an error");
     }
     // A pixel the light shades lists it; the lit value is what the light buffers hold.
     let s = Settings::default();
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).unwrap();
     render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
     let lit = (0..H).flat_map(|y| (0..W).map(move |x| (x, y))).step_by(97).find_map(|(x, y)| {
-        let p = r.probe(gpu, x, y).ok()?;
+        let p = r.last_frame().probe(gpu, x, y).ok()?;
         (!p.lights.is_empty()).then_some(p)
     });
     let p = lit.expect("some pixel is touched by the light");
@@ -106,7 +106,7 @@ fn seed002s_packed_channels_decode_as_derived() {
         let mut v = Vec::new();
         for y in (3..H).step_by(9) {
             for x in (3..W).step_by(9) {
-                v.push(r.probe(gpu, x, y).unwrap());
+                v.push(r.last_frame().probe(gpu, x, y).unwrap());
             }
         }
         v
@@ -244,7 +244,7 @@ fn light_complexity_counts_the_lights_touching_each_pixel() {
     let mut seen = std::collections::BTreeSet::new();
     for k in 0..64u32 {
         let (x, y) = ((k * 29 + 7) % W, (k * 13 + 5) % H);
-        let p = r.probe(gpu, x, y).unwrap();
+        let p = r.last_frame().probe(gpu, x, y).unwrap();
         let shown = img.get_pixel(x, y).0;
         let grey_background = shown[0] == shown[1] && shown[1] == shown[2];
         assert_eq!(p.lights.is_empty(), grey_background, "({x},{y}): lights {:?}, pixel {shown:?}", p.lights);
@@ -257,8 +257,8 @@ fn light_complexity_counts_the_lights_touching_each_pixel() {
 /// whose last frame drew `scene` with no cut-off.
 fn lights_at_pixels(gpu: &lampshade::Gpu, r: &Renderer) -> Vec<Vec<usize>> {
     use lampshade::renderer::inspect::inside_light;
-    let points = r.view_positions(gpu).unwrap();
-    let lights = r.light_records();
+    let points = r.last_frame().view_positions(gpu).unwrap();
+    let lights = r.last_frame().light_records();
     points
         .iter()
         .map(|p| match p {
@@ -285,9 +285,10 @@ fn the_light_cutoff_trades_fragments_for_an_error_below_threshold_times_peak() {
         let base = Settings { accumulation: AccumFormat::Rgba32Float, count_ideal: true, ..Settings::default() };
         let mut r0 = Renderer::new(gpu, OUTPUT_FORMAT, &base).unwrap();
         let (_, exact_stats) = render_image(gpu, &mut r0, &scene, &base, W, H).unwrap();
-        let (d0, s0) = r0.read_accumulation(gpu).unwrap();
+        let (d0, s0) = r0.last_frame().read_accumulation(gpu).unwrap();
         let touching = lights_at_pixels(gpu, &r0);
-        let colours: Vec<glam::Vec3> = r0.light_records().iter().map(|l| glam::Vec3::from(l.color)).collect();
+        let colours: Vec<glam::Vec3> =
+            r0.last_frame().light_records().iter().map(|l| glam::Vec3::from(l.color)).collect();
         let mut last_shaded = exact_stats.shaded_fragments.unwrap();
         for t in [1.0 / 256.0, 1.0 / 64.0, 1.0 / 16.0] {
             let s = Settings { light_cutoff: t, ..base.clone() };
@@ -331,7 +332,7 @@ fn log_accumulation_stays_within_its_derived_bound() {
         let exact = Settings { accumulation: AccumFormat::Rgba32Float, ..Settings::default() };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &exact).unwrap();
         render_image(gpu, &mut r, &scene, &exact, W, H).unwrap();
-        let (d, s) = r.read_accumulation(gpu).unwrap();
+        let (d, s) = r.last_frame().read_accumulation(gpu).unwrap();
         let touching = lights_at_pixels(gpu, &r);
         let log = render(&scene, &Settings { accumulation: AccumFormat::Rgba8Log, ..Settings::default() }, W, H);
         assert_finite(&log, name);
@@ -491,7 +492,7 @@ fn seed000_stores_world_space_normals_and_view_vectors() {
     let (mut checked, mut floor) = (0, 0);
     for k in 0..40u32 {
         let (x, y) = ((k * 37 + 5) % W, H / 2 + (k * 23 + 3) % (H / 2));
-        let (p, c) = (seed.probe(gpu, x, y).unwrap(), compact.probe(gpu, x, y).unwrap());
+        let (p, c) = (seed.last_frame().probe(gpu, x, y).unwrap(), compact.last_frame().probe(gpu, x, y).unwrap());
         if !p.valid || !c.valid {
             continue;
         }
@@ -645,10 +646,10 @@ fn renderers_share_pass_sets_and_keep_their_own_scratch() {
     let s = |culling| Settings { culling, ..Settings::default() };
     let frame = |r: &mut Renderer, s: &Settings, (w, h): (u32, u32)| {
         let (image, stats) = render_image(&gpu, r, &spot, s, w, h).expect("render");
-        let (d, sp) = r.read_accumulation(&gpu).expect("accumulation");
+        let (d, sp) = r.last_frame().read_accumulation(&gpu).expect("accumulation");
         (image, stats, d, sp)
     };
-    let lists = |r: &Renderer| r.tile_lists(&gpu).expect("tile lists").map(|l| l.data);
+    let lists = |r: &Renderer| r.last_frame().tile_lists(&gpu).expect("tile lists").map(|l| l.data);
     let shaded = |st: &lampshade::renderer::FrameStats| st.per_light.iter().map(|l| l.shaded).collect::<Vec<_>>();
     for mode in [CullingMode::StencilReplace, CullingMode::Tiled, CullingMode::Clustered] {
         let mut first = Renderer::new(&gpu, OUTPUT_FORMAT, &s(mode)).expect("renderer");
@@ -759,7 +760,7 @@ fn seed000_accumulates_the_lit_colour_in_its_one_rt1() {
         let clamp = lampshade::reference::Clamps::of(&r);
         for k in 0..48u32 {
             let (x, y) = ((k * 37 + 5) % W, (k * 23 + 3) % H);
-            let p = r.probe(gpu, x, y).unwrap();
+            let p = r.last_frame().probe(gpu, x, y).unwrap();
             if !p.valid {
                 continue;
             }
@@ -814,7 +815,8 @@ fn reading_the_depth_buffer_instead_of_its_copy_changes_nothing_but_the_bytes() 
         assert_eq!(bs.depth_read, "depth buffer (its depth aspect; no copy)", "{what}");
         let differ = copy.pixels().zip(buffer.pixels()).filter(|(a, b)| a != b).count();
         assert_eq!(differ, 0, "{what}: {differ} pixels differ");
-        let (accum_c, accum_b) = (rc.read_accumulation(gpu).unwrap(), rb.read_accumulation(gpu).unwrap());
+        let (accum_c, accum_b) =
+            (rc.last_frame().read_accumulation(gpu).unwrap(), rb.last_frame().read_accumulation(gpu).unwrap());
         let same_bits = |a: &[f32], b: &[f32]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
         assert!(same_bits(&accum_c.0, &accum_b.0) && same_bits(&accum_c.1, &accum_b.1), "{what}: the light differs");
         assert_eq!(
@@ -824,7 +826,7 @@ fn reading_the_depth_buffer_instead_of_its_copy_changes_nothing_but_the_bytes() 
         );
         if path == RenderPath::Deferred {
             assert_eq!(cs.gbuffer_bytes_per_pixel - bs.gbuffer_bytes_per_pixel, 4, "{what}");
-            let (pc, pb) = (rc.view_positions(gpu).unwrap(), rb.view_positions(gpu).unwrap());
+            let (pc, pb) = (rc.last_frame().view_positions(gpu).unwrap(), rb.last_frame().view_positions(gpu).unwrap());
             assert!(pc.iter().flatten().count() > (W * H / 2) as usize, "{what}: too few surface pixels");
             assert!(pc == pb, "{what}: the reconstructed positions differ");
         } else {
@@ -832,7 +834,7 @@ fn reading_the_depth_buffer_instead_of_its_copy_changes_nothing_but_the_bytes() 
             assert_eq!((depth_copy(&cs), depth_copy(&bs)), (4, 0), "{what}");
         }
         for (x, y) in [(W / 2, H / 2), (W / 4, H * 3 / 4), (W - 3, H - 2)] {
-            let (a, b) = (rc.probe(gpu, x, y).unwrap(), rb.probe(gpu, x, y).unwrap());
+            let (a, b) = (rc.last_frame().probe(gpu, x, y).unwrap(), rb.last_frame().probe(gpu, x, y).unwrap());
             assert_eq!((a.valid, a.position, a.normal), (b.valid, b.position, b.normal), "{what}: probe at ({x}, {y})");
         }
     }

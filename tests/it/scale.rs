@@ -143,14 +143,14 @@ fn an_isolated_light_among_fifty_thousand_keeps_its_unclamped_value() {
     };
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &settings).unwrap();
     render_image(gpu, &mut r, &scene, &settings, w, h).unwrap();
-    let (ambient, clamps) = r.light_clamps();
+    let (ambient, clamps) = r.last_frame().light_clamps();
     println!("clamps: ambient {ambient}, isolated light {}, a crowded one {}", clamps[0], clamps[1]);
     let unclamped = Clamps::none(scene.lights.len());
     let mut checked = 0;
     let mut brightest = 0f64;
     for y in 0..h {
         for x in w / 2..w {
-            let p = r.probe(gpu, x, y).unwrap();
+            let p = r.last_frame().probe(gpu, x, y).unwrap();
             if !p.valid {
                 continue;
             }
@@ -289,7 +289,7 @@ fn forward_lists_longer_than_lavapipes_loop_limit_lose_no_light() {
         let run = |scene: &Scene| {
             let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
             let (_, stats) = render_image(gpu, &mut r, scene, &s, w, h).expect("render");
-            let hdr = r.read_post_image(gpu, PostImage::Hdr).expect("readback").expect("the HDR colour");
+            let hdr = r.last_frame().read_post_image(gpu, PostImage::Hdr).expect("readback").expect("the HDR colour");
             (stats, hdr)
         };
         let ((half_stats, a), (stats, b)) = (run(&half), run(&full));
@@ -341,8 +341,8 @@ fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
     // The z-binned frame again, for its masks: those the GPU built lie inside the rectangles'.
     let s = Settings { culling: CullingMode::Zbin, ..Settings::default() };
     render_image(gpu, &mut r, &scene, &s, 64, 48).expect("zbin frame");
-    let job = r.zbin_job().expect("the frame's job");
-    let lists = r.tile_lists(gpu).expect("read back").expect("the frame's masks");
+    let job = r.last_frame().zbin_job().expect("the frame's job");
+    let lists = r.last_frame().tile_lists(gpu).expect("read back").expect("the frame's masks");
     assert!(job.visible > 5_000, "only {} lights in view", job.visible);
     let rect = job.rect_masks();
     assert_eq!(lists.masks.len(), rect.len());

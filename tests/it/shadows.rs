@@ -36,11 +36,11 @@ fn lit(scene: &Scene, settings: &Settings) -> Lit {
     let gpu = gpu();
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings).expect("renderer");
     let (image, stats) = render_image(gpu, &mut r, scene, settings, W, H).expect("render");
-    let (d, _) = r.read_accumulation(gpu).expect("accumulation");
-    let plan = r.shadow_plan();
+    let (d, _) = r.last_frame().read_accumulation(gpu).expect("accumulation");
+    let plan = r.last_frame().shadow_plan();
     Lit {
         diffuse: d.chunks_exact(4).map(|c| c[0].max(c[1]).max(c[2])).collect(),
-        points: r.view_positions(gpu).expect("positions"),
+        points: r.last_frame().view_positions(gpu).expect("positions"),
         tiles: plan.tiles.clone(),
         lights: plan.lights.clone(),
         sun: plan.params.sun,
@@ -647,8 +647,10 @@ fn casting_lights_shaded_apart_give_the_fullscreen_picture() {
     spread.lights_mut().rotate_right(2);
     assert!(matches!(spread.lights[0], Light::Spot(_)) && matches!(spread.lights[1027], Light::Spot(_)));
     for (name, s) in [("demo", scene("demo")), ("demo, spots at both ends", spread)] {
-        assert!(ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots)).casters_apart);
-        assert!(!ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::All)).casters_apart);
+        assert!(
+            ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::Spots).shadow_options()).casters_apart
+        );
+        assert!(!ShadowCode::of(Some(&s), &st(CullingMode::Clustered, ShadowMode::All).shadow_options()).casters_apart);
         let reference = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Spots), W, H);
         let sun_only = render(&s, &st(CullingMode::Fullscreen, ShadowMode::Sun), W, H);
         let spot_shadows = max_channel_difference(&reference.image, &sun_only.image);
@@ -974,7 +976,7 @@ fn the_atlas_panel_lists_only_tiles_that_are_in_the_atlas() {
         let st = Settings { shadow_cube: cube, ..settings(ShadowMode::All) };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &st).expect("renderer");
         render_image(gpu, &mut r, &s, &st, W, H).expect("render");
-        let (side, tiles) = r.shadow_atlas_tiles();
+        let (side, tiles) = r.last_frame().shadow_atlas_tiles();
         let faces = tiles.iter().filter(|t| t.owner == TileOwner::Cube(point)).count();
         let expected = if cube == ShadowCube::Unrolled { 6 } else { 0 };
         assert_eq!(faces, expected, "{}: the point light's faces listed in the atlas", cube_name(cube));
@@ -1023,13 +1025,17 @@ fn the_shadow_view_shows_casters_past_the_loop_limit() {
         };
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
         let (own, _) = render_image(gpu, &mut r, &base, &s, w, h).expect("render");
-        let casters = r.shadow_plan().casters.clone();
+        let casters = r.last_frame().shadow_plan().casters.clone();
         assert!(casters.len() >= 2, "{cube:?}: {} casters", casters.len());
         // The view shows shadow somewhere (not all lit).
         let dark = own.pixels().filter(|p| p[0] < 128).count();
         assert!(dark > 50, "{cube:?}: {dark} shadowed pixels in the shadow view");
         let (many, _) = render_image(gpu, &mut r, &crowded, &s, w, h).expect("render");
-        assert_eq!(r.shadow_plan().casters, casters.iter().map(|c| c + 66_000).collect::<Vec<_>>(), "{cube:?}");
+        assert_eq!(
+            r.last_frame().shadow_plan().casters,
+            casters.iter().map(|c| c + 66_000).collect::<Vec<_>>(),
+            "{cube:?}"
+        );
         let diff = max_channel_difference(&own, &many);
         assert_eq!(diff, 0, "{cube:?}: the shadow view changed by {diff} with the casters past index 65,535");
     }

@@ -92,7 +92,10 @@ fn soak_in_this_process() {
         let settings = settings_for(i);
         renderer.render(&scene, &settings, &out.view, W, H).unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
         renderer.compose_view(DebugView::Normal, &thumb.view, 64, 36).unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
-        renderer.probe(gpu, (i as u32 * 7) % W, (i as u32 * 3) % H).unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
+        renderer
+            .last_frame()
+            .probe(gpu, (i as u32 * 7) % W, (i as u32 * 3) % H)
+            .unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
         if i + 1 == WARMUP {
             after_warmup = resident_bytes().unwrap_or(0);
         }

@@ -128,9 +128,9 @@ fn every_point_inside_a_light_lies_in_a_cell_whose_list_holds_it() {
         for mode in MODES {
             let s = Settings { count_ideal: false, ..settings(mode) };
             let (r, _, stats) = render_with(&scene, &s, w, h);
-            let lists = r.tile_lists(gpu).unwrap().expect("the frame's lists");
-            let points = r.view_positions(gpu).unwrap();
-            let lights = r.light_records();
+            let lists = r.last_frame().tile_lists(gpu).unwrap().expect("the frame's lists");
+            let points = r.last_frame().view_positions(gpu).unwrap();
+            let lights = r.last_frame().light_records();
             // Pairs per light: at least (`pairs`) and at most (`pairs_hi`) what the lists give
             // (a point within a twentieth of a slice or bin of a boundary may fall on either
             // side in f32 on the GPU and from the f64 point here: both cells are tried, and
@@ -166,7 +166,7 @@ fn every_point_inside_a_light_lies_in_a_cell_whose_list_holds_it() {
                 // The masks' bits: the GPU's lie inside the lights' rectangles (the CPU's
                 // reference; the depth bounds take tiles out), the test above holds that none
                 // a light reaches is missing, and a tile's entries are its bits.
-                let job = r.zbin_job().expect("a z-binned frame's job");
+                let job = r.last_frame().zbin_job().expect("a z-binned frame's job");
                 let rect = job.rect_masks();
                 assert_eq!(lists.masks.len(), rect.len());
                 let outside = lists.masks.iter().zip(&rect).any(|(g, c)| g & !c != 0);
@@ -288,14 +288,14 @@ fn the_tile_lights_view_shows_each_pixels_list_length() {
     for mode in [CullingMode::Tiled, CullingMode::Clustered, CullingMode::Zbin, CullingMode::Volume] {
         let s = Settings { debug_view: DebugView::TileLights, count_ideal: false, ..settings(mode) };
         let (r, image, stats) = render_with(&scene, &s, w, h);
-        let lists = r.tile_lists(gpu).unwrap().expect("lists for the view");
+        let lists = r.last_frame().tile_lists(gpu).unwrap().expect("lists for the view");
         let expected_mode = match mode {
             CullingMode::Clustered => 1,
             CullingMode::Zbin => 2,
             _ => 0,
         };
         assert_eq!(lists.params.mode, expected_mode, "{}", mode.name());
-        let points = r.view_positions(gpu).unwrap();
+        let points = r.last_frame().view_positions(gpu).unwrap();
         let mut lengths = std::collections::BTreeSet::new();
         for (k, p) in points.iter().enumerate() {
             let (x, y) = (k as u32 % w, k as u32 / w);
@@ -360,7 +360,7 @@ fn the_cluster_slice_view_shows_each_tiles_list_at_the_chosen_depth() {
             ..settings(CullingMode::Clustered)
         };
         let (r, image, _) = render_with(&scene, &s, w, h);
-        let lists = r.tile_lists(gpu).unwrap().expect("lists for the view");
+        let lists = r.last_frame().tile_lists(gpu).unwrap().expect("lists for the view");
         assert_eq!(lists.params.mode, 1);
         let mut total = 0usize;
         for y in 0..h {
@@ -403,7 +403,7 @@ fn the_gpu_builds_the_cpus_clustered_lists_and_the_same_picture() {
         let built = |b: ClusterBuilder| {
             let s = Settings { cluster_build: b, count_ideal: false, ..settings(CullingMode::Clustered) };
             let (r, image, stats) = render_with(&scene, &s, w, h);
-            (r.tile_lists(gpu).unwrap().expect("the frame's lists"), image, stats)
+            (r.last_frame().tile_lists(gpu).unwrap().expect("the frame's lists"), image, stats)
         };
         let (cpu, cpu_image, cpu_stats) = built(ClusterBuilder::Cpu);
         let (on_gpu, gpu_image, gpu_stats) = built(ClusterBuilder::Gpu);
@@ -483,11 +483,13 @@ fn the_light_planes_give_the_storage_buffers_picture() {
         let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).expect("renderer");
         let (image, stats) = render_image(gpu, &mut r, scene, s, w, h).expect("render");
         let values = match s.path {
-            RenderPath::Forward | RenderPath::ForwardMultipass => {
-                r.read_post_image(gpu, PostImage::Hdr).expect("readback").expect("the forward paths' HDR colour")
-            }
+            RenderPath::Forward | RenderPath::ForwardMultipass => r
+                .last_frame()
+                .read_post_image(gpu, PostImage::Hdr)
+                .expect("readback")
+                .expect("the forward paths' HDR colour"),
             _ => {
-                let (d, sp) = r.read_accumulation(gpu).expect("accumulation readback");
+                let (d, sp) = r.last_frame().read_accumulation(gpu).expect("accumulation readback");
                 d.into_iter().chain(sp).collect()
             }
         };

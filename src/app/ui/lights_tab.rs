@@ -297,7 +297,7 @@ fn ledger_summary(ui: &mut egui::Ui, stats: Option<&FrameStats>) {
 
 /// A bar of light `ls`'s evaluated pairs, to scale against `widest`: green the part in its
 /// true shape (ideal), red the wasted rest; grey when the ideal was not counted.
-fn pair_bar(ui: &mut egui::Ui, ls: &crate::renderer::stats::LightStats, widest: u64) {
+fn pair_bar(ui: &mut egui::Ui, ls: &crate::renderer::LightStats, widest: u64) {
     let (r, resp) = ui.allocate_exact_size(Vec2::new(120.0, 10.0), Sense::hover());
     let p = ui.painter();
     p.rect_stroke(r, 1.0, Stroke::new(0.5, Color32::DARK_GRAY), egui::StrokeKind::Inside);

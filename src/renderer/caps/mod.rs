@@ -22,27 +22,10 @@
 //! picture, bit for bit (`tests/it/caps.rs`). A cap that is reached drops exactly what it states
 //! in [`CapStats`].
 
+pub use crate::renderer::options::caps::CapOrder;
 use crate::scene::{Camera, Light, Scene};
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
-
-/// Which lights a cap keeps when more than it allows compete.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum CapOrder {
-    /// The first in the scene's order (an engine that fills its buffer as it walks its lights:
-    /// three.js's tiles, Bevy's uniform buffers, PlayCanvas).
-    #[default]
-    Scene,
-    /// The nearest: to the eye (per camera), to the cell's or the object's centre (per cluster,
-    /// per object). Filament sorts its lights by distance to the camera.
-    Nearest,
-    /// The brightest: per camera, the most screen-space irradiance (peak luminance times the
-    /// solid angle of the light's sphere seen from the eye); per cluster or object, the most
-    /// irradiance at the cell's or object's centre. Unity ranks a renderer's lights by
-    /// brightness at the object.
-    Brightest,
-}
 
 /// What the caps dropped in one frame.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -277,15 +260,6 @@ pub const ENGINES: &[Engine] = &[
     },
 ];
 
-/// `settings` with engine `e`'s knobs applied.
-pub fn engine_settings(e: &Engine, base: &crate::renderer::Settings) -> Result<crate::renderer::Settings, String> {
-    let mut s = base.clone();
-    for (k, v) in e.knobs {
-        s.set(k, v)?;
-    }
-    Ok(s)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -315,7 +289,7 @@ mod tests {
     #[test]
     fn every_engine_preset_is_made_of_knobs_that_exist() {
         for e in ENGINES {
-            let s = engine_settings(e, &crate::renderer::Settings::default()).unwrap();
+            let s = crate::renderer::presets::engine_settings(e, &crate::renderer::Settings::default()).unwrap();
             s.validate().unwrap();
         }
     }

@@ -4,13 +4,14 @@
 //!
 //! Each culling method's draws are its row of [`METHODS`] (`culling/methods.rs`).
 
+use super::binning::{binned_bytes, LLVMPIPE_SCENE_BUDGET};
 use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{
     biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL,
 };
 use crate::renderer::plan::Method;
-use crate::renderer::stats::{binned_bytes, Span, LIGHTS_PER_QUERY_SET, LLVMPIPE_SCENE_BUDGET};
+use crate::renderer::stats::{Span, LIGHTS_PER_QUERY_SET};
 use wgpu::{CompareFunction as Cmp, StencilOperation as Op};
 
 /// The lighting's timing (`gpu_ms.lighting`): from the first light draw to the last, or to
@@ -156,7 +157,7 @@ impl LightPass {
     /// already in the stencil and its lights' pixels are disjoint, so each light shades what it
     /// shades in the batched draw. Counting also starts a new render pass (stencil and
     /// accumulation kept) before any draw or query that would take llvmpipe's binned scene past
-    /// `stats::LLVMPIPE_SCENE_BUDGET` (see there: a scene that fills while a query begins
+    /// `binning::LLVMPIPE_SCENE_BUDGET` (see there: a scene that fills while a query begins
     /// miscounts it), and the light pass's end time is then written by an empty pass of its own.
     /// Returns the light draws issued (marks, shades and stencil clears; not the ambient + sun
     /// draw).
@@ -269,7 +270,7 @@ impl LightPass {
 }
 
 /// Estimated bytes llvmpipe bins for light `i`'s `draws` draws (its query included): its
-/// method's triangles over its screen rectangle (`stats::binned_bytes`).
+/// method's triangles over its screen rectangle (`binning::binned_bytes`).
 fn light_binned_bytes(f: &FrameInputs<'_>, i: usize, draws: u64) -> u64 {
     let p = &f.plan.lights[i];
     let size = (f.targets.width, f.targets.height);

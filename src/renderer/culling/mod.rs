@@ -14,10 +14,12 @@
 //!   bitmask), shaded by the same pass (`zbin.wgsl`).
 
 pub mod batches;
+pub mod binning;
 pub mod light_pass;
 pub mod methods;
 pub mod overlap;
 pub mod plan;
+pub mod stats;
 pub mod tiled;
 pub mod volumes;
 pub mod zbin;

@@ -4,10 +4,11 @@
 //! lights reach it.
 
 use super::batches::LightBatches;
+use super::stats::ForwardStats;
 use super::volumes::{self, VolumeKind, Volumes};
+use crate::renderer::options::culling::{CullingMode, ForwardLights};
+pub use crate::renderer::options::culling::{FORWARD_LIST_MAX, FORWARD_LOOP_LIGHTS};
 use crate::renderer::records::{CameraRecord, FrameRecords, LightRecord};
-use crate::renderer::settings::{CullingMode, ForwardLights};
-use crate::renderer::stats::ForwardStats;
 use crate::scene::{AlphaMode, Scene};
 use glam::{DVec2, DVec3, Mat4, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
@@ -833,20 +834,6 @@ impl FramePlan {
 /// Most u32 entries the forward pass's light lists (object and tile lists together) may hold:
 /// 128 MiB, the storage-buffer binding size WebGPU guarantees.
 pub const MAX_FORWARD_LIST_ENTRIES: usize = (128 << 20) / 4;
-
-/// The longest light list the forward loops (`fs_forward` for blended surfaces,
-/// `forward_single` for the forward path) walk a light an iteration: gallivm (lavapipe) ends a
-/// shader invocation's loops once they have run 65,535 iterations between them, silently, and
-/// 65,000 leave room for the invocation's other loops (the tiled and clustered passes split
-/// their lists instead, `tiles::SHADE_CHUNK`). Scenes with more lights compile loops that take
-/// two lights an iteration (`ShaderFeatures::paired_loops`; they cost `glass`'s blended pass a
-/// few percent, 389 and 393 ms against 367-385, so other scenes keep the plain loops).
-pub const FORWARD_LOOP_LIGHTS: u32 = 65_000;
-
-/// The longest list the paired loops walk whole. Longer lists (a scene of more than 130,000
-/// lights reaching one object, which only `zbin` and `clustered` take) are warned of
-/// ([`long_forward_list_warnings`]), not split.
-pub const FORWARD_LIST_MAX: u32 = 2 * FORWARD_LOOP_LIGHTS;
 
 /// The warnings for a frame whose forward loops may walk a list longer than
 /// [`FORWARD_LIST_MAX`]: the longest list of the forward path's objects (`path`), or of the

@@ -37,8 +37,8 @@
 //! adapter they give the order of the lights, not their milliseconds.
 
 use crate::renderer::culling::methods;
+use crate::renderer::culling::stats::LightStats;
 use crate::renderer::plan::Method;
-use crate::renderer::stats::LightStats;
 use crate::renderer::tiles;
 use serde::{Deserialize, Serialize};
 

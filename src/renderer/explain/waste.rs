@@ -72,7 +72,7 @@ impl WastePass {
         let mut pass = f.debug_view_pass(encoder, "waste view");
         let mut reference = 0u32;
         for (i, plan) in f.plan.lights.iter().enumerate() {
-            if f.settings.selected_light.is_some_and(|k| k != i) {
+            if f.options.frame.selected_light.is_some_and(|k| k != i) {
                 continue;
             }
             let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };

@@ -1,9 +1,9 @@
 //! What the frame's passes read.
 
+use crate::renderer::options::Options;
 use crate::renderer::plan::FramePlan;
 use crate::renderer::records::{self, FrameBuffers};
 use crate::renderer::scene_gpu::SceneGpu;
-use crate::renderer::settings::Settings;
 use crate::renderer::stats::{Queries, Span};
 use crate::renderer::targets::Targets;
 use crate::renderer::volumes::Volumes;
@@ -16,7 +16,7 @@ pub struct FrameInputs<'a> {
     pub volumes: &'a Volumes,
     pub plan: &'a FramePlan,
     pub queries: &'a Queries,
-    pub settings: &'a Settings,
+    pub options: &'a Options,
     /// Count each light's shaded fragments (occlusion queries).
     pub counts: bool,
     /// Count the ideal and the coverage (measurement passes).
@@ -96,7 +96,7 @@ impl FrameInputs<'_> {
 
     /// Depth value of the far plane (1, or 0 with reversed Z).
     pub fn far_depth(&self) -> f64 {
-        if self.settings.reversed_z {
+        if self.options.frame.reversed_z {
             0.0
         } else {
             1.0

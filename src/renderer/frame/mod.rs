@@ -4,6 +4,7 @@
 //! passes read; [`passes`] every pass, built for one configuration.
 
 pub mod inputs;
+pub mod last;
 pub mod passes;
 pub mod scratch;
 
@@ -58,7 +59,7 @@ impl Shape {
         }
         // A clustered grid the knobs make finer than its lists can be held for (the cells'
         // (first, count) headers alone past 32 MiB).
-        let grid = crate::renderer::culling::tiled::GridChoice::of(settings);
+        let grid = crate::renderer::culling::tiled::GridChoice::of(&settings.culling_options(), settings.cap_order);
         let tile = grid.tile(size).max(1);
         let slices = if grid.slices > 0 { grid.slices } else { crate::renderer::culling::tiled::SLICES };
         let cells = width.div_ceil(tile) as u64 * height.div_ceil(tile) as u64 * slices as u64;
@@ -85,14 +86,14 @@ impl Shape {
         }
         let prepass = settings.path == RenderPath::LightPrepass;
         if prepass {
-            super::paths::prepass_pass::check(settings)?;
+            super::paths::prepass_pass::check(&settings.frame_options())?;
         }
         Ok(Shape {
             size,
             forward_path,
             prepass_lit: prepass && final_view,
             blended: final_view && scene.any_blended(),
-            chain: post::chain_active(settings),
+            chain: post::chain_active(settings.debug_view, &settings.post_options()),
         })
     }
 
@@ -121,6 +122,8 @@ pub struct Prepared {
     pub path_lists: ForwardPathLists,
     pub shadows: ShadowPlan,
     pub cpu_ms: CpuMs,
+    /// Each technique's options, from the frame's settings.
+    pub options: crate::renderer::options::Options,
     /// What it was computed from.
     pub key: FrameKey,
     /// Taken as it was from the frame before, whose upload the GPU still holds
@@ -220,7 +223,16 @@ impl Renderer {
             let (plan, shadows) = (std::mem::take(&mut last.plan), std::mem::take(&mut last.shadows));
             self.queries.ensure_lights(&self.device, plan.lights.len());
             let cpu_ms = CpuMs { records: 0.0, plan: whole.ms(), upload: 0.0, wall: whole.wall_ms() };
-            return Ok(Prepared { records, plan, path_lists: r.path_lists, shadows, cpu_ms, key: r.key, reused: true });
+            return Ok(Prepared {
+                records,
+                plan,
+                path_lists: r.path_lists,
+                shadows,
+                cpu_ms,
+                options: settings.options(),
+                key: r.key,
+                reused: true,
+            });
         }
         let key = self.passes.key().clone();
         let clock = cputime::Clock::start();
@@ -241,7 +253,7 @@ impl Renderer {
             // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
             light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
             cluster_build: settings.cluster_build,
-            grid: crate::renderer::culling::tiled::GridChoice::of(settings),
+            grid: crate::renderer::culling::tiled::GridChoice::of(&settings.culling_options(), settings.cap_order),
             object_cap: (settings.lights_per_object, settings.cap_order),
             loop_limit: self.caps.quirks.loop_limit,
             near_fullscreen: settings.near_lights == NearLights::Fullscreen,
@@ -279,7 +291,7 @@ impl Renderer {
         let shadow_plan = shadows::plan(
             scene,
             &shadows::ShadowInputs {
-                settings,
+                options: &settings.shadow_options(),
                 bounds: &gpu_scene.bounds,
                 footprints: plan.lights.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
                 size,
@@ -311,7 +323,16 @@ impl Renderer {
         let cpu_ms = CpuMs { records: records_ms, plan: plan_ms, upload: clock.ms(), wall: whole.wall_ms() };
         self.queries.ensure_lights(&self.device, plan.lights.len());
         let key = FrameKey::of(scene, settings, size, &key);
-        Ok(Prepared { records, plan, path_lists, shadows: shadow_plan, cpu_ms, key, reused: false })
+        Ok(Prepared {
+            records,
+            plan,
+            path_lists,
+            shadows: shadow_plan,
+            cpu_ms,
+            options: settings.options(),
+            key,
+            reused: false,
+        })
     }
 
     /// What the frame measures, by what `settings` ask for and the frame draws.
@@ -348,7 +369,7 @@ impl Renderer {
             volumes: &self.volumes,
             plan: &prepared.plan,
             queries: &self.queries,
-            settings,
+            options: &prepared.options,
             counts: m.counts,
             ideal: m.ideal,
             times: m.times,

@@ -67,8 +67,8 @@ const fn light_plane(slot: u32, name: &'static str) -> Binding {
     Binding { slot, name, wgsl_type: "array<vec4<u32>, 4096>", kind: Kind::LightPlane }
 }
 
-// `light_plane`'s WGSL array length is [`crate::renderer::records::UNIFORM_LIGHTS`].
-const _: () = assert!(crate::renderer::records::UNIFORM_LIGHTS == 4096);
+// `light_plane`'s WGSL array length is [`UNIFORM_LIGHTS`].
+const _: () = assert!(UNIFORM_LIGHTS == 4096);
 
 /// The light planes' slots in [`FRAME`], plane by plane.
 pub const LIGHT_PLANES: [u32; 4] = [6, 7, 8, 9];
@@ -298,7 +298,7 @@ impl Group {
                     Kind::LightPlane => wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(crate::renderer::records::LIGHT_PLANE_BYTES),
+                        min_binding_size: wgpu::BufferSize::new(LIGHT_PLANE_BYTES),
                     },
                     Kind::Texture { filterable } => wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable },
@@ -344,3 +344,10 @@ impl Group {
             .collect()
     }
 }
+
+/// The most lights the light planes hold (`bindings::Kind::LightPlane`): 4,096 vec4s a plane,
+/// WebGPU's 64 KiB uniform binding.
+pub const UNIFORM_LIGHTS: usize = 4096;
+
+/// Bytes of one light plane.
+pub const LIGHT_PLANE_BYTES: u64 = (UNIFORM_LIGHTS * 16) as u64;

@@ -582,44 +582,6 @@ pub(crate) fn is_float(format: wgpu::TextureFormat) -> bool {
     )
 }
 
-/// Why a frame drawn with `settings` on `caps`' adapter with depth format `depth_format` keeps
-/// the R32Float depth copy; `None` when it reads the depth buffer instead. The passes that read
-/// the G-buffer while the depth-stencil buffer is attached (the light pass, the measurement
-/// passes) must attach it read-only, depth and stencil both, so:
-/// - `--depth-read copy` asks for the copy;
-/// - the adapter must allow a read-only depth-stencil attachment (wgpu's GL backend does not);
-/// - the buffer must hold what the copy holds: Depth32Float does, bit for bit; a 24-bit buffer
-///   holds depth to 2^-24, which the copy's f32 does not lose, so it keeps the copy;
-/// - the light pass must not write the stencil: not the stencil methods, not `auto` (it picks a
-///   stencil method per light), not the stencil and complexity views (they draw stencil marks).
-pub fn depth_read_refusal(
-    settings: &crate::renderer::Settings,
-    caps: &super::caps::Caps,
-    depth_format: wgpu::TextureFormat,
-) -> Option<String> {
-    use crate::renderer::{CullingMode as M, DebugView, DepthRead};
-    if settings.depth_read == DepthRead::Copy {
-        return Some("--depth-read copy".into());
-    }
-    if !caps.has_downlevel(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL) {
-        return Some("the adapter has no read-only depth-stencil attachments".into());
-    }
-    if depth_format != wgpu::TextureFormat::Depth32FloatStencil8 {
-        return Some(format!("{depth_format:?} holds depth to 2^-24; the f32 copy keeps what it rounds away"));
-    }
-    if matches!(settings.culling, M::StencilTwoPass | M::StencilInvert | M::StencilReplace | M::Auto) {
-        let what = if settings.culling == M::Auto { "auto picks stencil methods per light, which" } else { "it" };
-        return Some(format!(
-            "culling {}: {what} writes the stencil beside the depth the lights read",
-            settings.culling.name()
-        ));
-    }
-    if matches!(settings.debug_view, DebugView::Stencil | DebugView::Complexity) {
-        return Some(format!("the {} view draws stencil marks", settings.debug_view.name()));
-    }
-    None
-}
-
 /// Whether target `t` is the depth buffer itself, read through its depth aspect (format
 /// `Depth32Float`, [`GBufferLayout::reading_depth_buffer`]): bound for reading like the other
 /// targets, but not rendered by the G-buffer pass.
@@ -706,7 +668,7 @@ impl GBufferLayout {
     /// aspect) instead of the R32Float copy the G-buffer pass writes: the copy's target stays in
     /// the table, bound at the same slot and read by the same code, but is no longer rendered.
     /// Exact: the copy holds the fragment's depth as the 32-bit float buffer stores it. Only for
-    /// a frame [`depth_read_refusal`] allows.
+    /// a frame `key::depth_read_refusal` allows.
     pub fn reading_depth_buffer(mut self) -> Self {
         for t in &mut self.targets {
             let depth_only = t.channels.iter().all(|c| matches!(c, Some(Slot { attr: Attr::Depth, .. })));

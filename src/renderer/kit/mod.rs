@@ -13,8 +13,10 @@
 
 pub mod bindings;
 pub mod caps;
+pub mod features;
 pub mod gbuffer;
 pub mod pipeline;
+pub mod pool;
 
 pub use pipeline::{ambient_fits, scene_pipeline, screen_pipeline, PipelineKey, ScenePipe, Shared};
 use std::sync::{Arc, OnceLock};
@@ -498,5 +500,47 @@ impl RenderPipeDesc {
             multiview_mask: None,
             cache: None,
         })
+    }
+}
+
+/// Runs `steps`, which encode and submit GPU work, inside error scopes: validation, out of
+/// memory, and internal (a driver that fails to compile a pipeline reports it so). A pipeline
+/// compiles on its first draw ([`OnFirstUse`]), inside whichever call draws with it first,
+/// so every call that draws runs in these scopes; an error caught turns into the call's error,
+/// the innermost scope's (the compile's own message) first. A pipeline that failed to compile
+/// stays invalid in its pass set, and each later draw with it fails here too.
+pub fn scoped<R>(device: &wgpu::Device, steps: impl FnOnce() -> anyhow::Result<R>) -> anyhow::Result<R> {
+    let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal]
+        .map(|filter| device.push_error_scope(filter));
+    let out = steps();
+    let caught: Vec<wgpu::Error> = scopes.into_iter().rev().filter_map(|s| pollster::block_on(s.pop())).collect();
+    let out = out?;
+    if let Some(e) = caught.first() {
+        anyhow::bail!("wgpu error: {}", describe(e));
+    }
+    Ok(out)
+}
+
+/// A wgpu error in words: its kind and the causes below it (wgpu's `Display` says only
+/// "Validation Error"; the causes name the call and what was wrong).
+pub fn describe(e: &wgpu::Error) -> String {
+    let mut causes = Vec::new();
+    let mut next = std::error::Error::source(e);
+    while let Some(c) = next {
+        let t = c.to_string();
+        if !t.trim().is_empty() && !causes.contains(&t) {
+            causes.push(t);
+        }
+        next = c.source();
+    }
+    let kind = match e {
+        wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory",
+        wgpu::Error::Validation { .. } => "validation error",
+        wgpu::Error::Internal { .. } => "internal error",
+    };
+    if causes.is_empty() {
+        kind.to_string()
+    } else {
+        format!("{kind}: {}", causes.join(": "))
     }
 }

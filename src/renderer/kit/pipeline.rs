@@ -2,9 +2,9 @@
 //! the two pipeline shapes most passes are: a full-screen triangle into one target, and a
 //! per-light draw against the G-buffer's depth.
 
+use super::features::ShaderFeatures;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
 use super::{bindings, log_accum, z, LightPipe, Out, RenderPipe, RenderPipeDesc, Vs, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
-use crate::renderer::program::ShaderFeatures;
 use wgpu::CompareFunction as Cmp;
 
 /// Key of everything the pipelines depend on.

@@ -10,7 +10,7 @@ use anyhow::Result;
 
 pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<Drawn> {
     let (p, f) = (c.passes, c.f);
-    let gbuffer_for_post = post_reads_gbuffer(f.settings, c.shape.chain);
+    let gbuffer_for_post = post_reads_gbuffer(f.options.frame.debug_view, &f.options.post, c.shape.chain);
     if gbuffer_for_post {
         c.group(encoder, "gbuffer (for the post chain)", |e| p.gbuffer.encode(e, f));
     }
@@ -20,7 +20,7 @@ pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<
         blended: c.shape.blended,
         gbuffer_for_post,
     };
-    let name = if f.settings.path == RenderPath::Forward { "forward" } else { "forward multi-pass" };
+    let name = if f.options.frame.path == RenderPath::Forward { "forward" } else { "forward multi-pass" };
     let stats = c.group(encoder, name, |e| p.forward_paths.encode(c.device, e, f, &frame, &p.forward))?;
     finish(c, encoder);
     Ok(Drawn { draw_calls: stats.draw_calls(), forward_path: Some(stats), ..Default::default() })

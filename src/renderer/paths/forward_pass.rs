@@ -17,8 +17,9 @@
 
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, ADDITIVE, HDR_FORMAT};
+use crate::renderer::options::post::PostOptions;
+use crate::renderer::options::{DebugView, RenderPath};
 use crate::renderer::plan::{Draw, ForwardPathLists};
-use crate::renderer::settings::{RenderPath, Settings};
 use crate::renderer::stats::Span;
 
 /// The forward paths' passes' timings: the depth pass (pre-pass or multi-pass's), the shading
@@ -105,10 +106,10 @@ impl ForwardPathStats {
 
 /// Whether the post chain as `s` sets it reads the G-buffer (depth, normals): fog, depth of
 /// field, edge AA, distortion (its foreground test) and their views. The forward paths then run the G-buffer pass for it alone.
-pub fn post_reads_gbuffer(s: &Settings, chain: bool) -> bool {
-    use crate::renderer::post::Aa;
-    use crate::renderer::settings::DebugView as V;
-    chain && (s.fog || s.dof || s.distortion || s.aa == Aa::Edge || matches!(s.debug_view, V::Edges | V::Coc))
+pub fn post_reads_gbuffer(view: DebugView, s: &PostOptions, chain: bool) -> bool {
+    use crate::renderer::options::post::Aa;
+    use DebugView as V;
+    chain && (s.fog || s.dof || s.distortion || s.aa == Aa::Edge || matches!(view, V::Edges | V::Coc))
 }
 
 /// The pipelines of one sample count, by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`] each.
@@ -478,7 +479,7 @@ impl ForwardPathsPass {
         pf: &PathFrame<'_>,
         blended_pass: &crate::renderer::surfaces::blended::ForwardPass,
     ) -> Result<ForwardPathStats> {
-        let s = f.settings;
+        let (s, surfaces) = (&f.options.frame, &f.options.surfaces);
         let samples = s.msaa.samples();
         let Some((hdr_view, _)) = &f.targets.hdr else { bail!("internal: the forward paths need the HDR colour") };
         let pipes = self.pipelines(device, samples)?;
@@ -501,7 +502,7 @@ impl ForwardPathsPass {
             far: f.far_depth() as f32,
         };
         let multipass = s.path == RenderPath::ForwardMultipass;
-        let prepass = multipass || s.depth_prepass;
+        let prepass = multipass || surfaces.depth_prepass;
         let mut stats = self.path_stats(f, pf, samples, prepass);
         if s.count_fragments {
             f.scratch.forward.queries(device);
@@ -574,7 +575,7 @@ impl ForwardPathsPass {
             + self.key.depth_format.block_copy_size(Some(wgpu::TextureAspect::StencilOnly)).unwrap_or(0);
         let hdr_bytes = HDR_FORMAT.block_copy_size(None).unwrap_or(8);
         let mut stats = ForwardPathStats {
-            path: f.settings.path,
+            path: f.options.frame.path,
             samples,
             depth_prepass: prepass,
             objects: lists.objects,
@@ -609,7 +610,7 @@ impl ForwardPathsPass {
     /// Occlusion query `index` of the path's set when the frame counts fragments.
     /// (`encode` makes the renderer's query set before the passes when the frame counts.)
     fn query<'f>(f: &'f FrameInputs<'_>, index: u32) -> Option<(&'f wgpu::QuerySet, u32)> {
-        let queries = f.scratch.forward.queries.get().filter(|_| f.settings.count_fragments)?;
+        let queries = f.scratch.forward.queries.get().filter(|_| f.options.frame.count_fragments)?;
         Some((&queries.set, index))
     }
 

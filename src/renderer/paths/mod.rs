@@ -17,7 +17,6 @@ pub mod prepass_pass;
 
 use super::frame::{Prepared, Shape};
 use super::paths::forward_pass::ForwardPathStats;
-use super::stats::PrepassStats;
 use super::surfaces::compose::ComposeTarget;
 use super::surfaces::compose::SPAN as COMPOSE;
 use super::{post, RenderPath};
@@ -25,6 +24,7 @@ use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::frame::passes::Passes;
 use crate::scene::Scene;
 use anyhow::Result;
+use prepass_pass::PrepassStats;
 
 /// What a path records from: the device, the passes, the frame's inputs and where it ends.
 pub struct PathInputs<'a> {
@@ -108,7 +108,7 @@ pub fn surfaces_and_lights(
     let draw_calls = c.group(encoder, lights, |e| p.lights.encode(e, f));
     let cpu_ms = tiled(c, encoder);
     c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
-    if f.settings.debug_view == crate::renderer::DebugView::Waste && f.plan.tiled.is_none() {
+    if f.options.frame.debug_view == crate::renderer::DebugView::Waste && f.plan.tiled.is_none() {
         c.group(encoder, "waste view", |e| p.waste.encode(e, f));
     }
     (draw_calls, cpu_ms)
@@ -117,8 +117,7 @@ pub fn surfaces_and_lights(
 /// Compose straight into the output: the lit picture from the G-buffer and light buffers, or
 /// the debug view the settings name.
 pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
-    let settings = c.f.settings;
-    let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: settings.debug_view, slot: 0 };
+    let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: c.f.options.frame.debug_view, slot: 0 };
     let stamps = c.f.timestamps(Some(COMPOSE), Some(COMPOSE));
     c.group(encoder, "compose", |e| c.passes.compose.encode(e, c.queue, c.f.targets, c.f.frame, &to, stamps));
 }

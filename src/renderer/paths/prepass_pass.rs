@@ -14,6 +14,7 @@ use crate::renderer::surfaces::gbuffer::topology_pipeline_index;
 pub const SPAN: Span = Span("prepass final");
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
+use serde::{Deserialize, Serialize};
 use wgpu::CompareFunction as Cmp;
 
 pub struct PrepassFinalPass {
@@ -163,8 +164,8 @@ impl PrepassFinalPass {
 /// (`Brdf::prepass_lit`) and objects on a layer the lights' culling masks tell apart from the
 /// buffer's (`Scene::shared_layers`), opaque or alpha-masked, are shaded forward after pass 3
 /// (`DrawLists::forward_opaque`, seed 004).
-pub fn check(settings: &crate::renderer::Settings) -> anyhow::Result<()> {
-    use crate::renderer::{AccumFormat, DebugView};
+pub fn check(settings: &crate::renderer::options::FrameOptions) -> anyhow::Result<()> {
+    use crate::renderer::options::{AccumFormat, DebugView};
     if settings.accumulation == AccumFormat::Rg11b10Ufloat {
         anyhow::bail!(
             "the light-prepass path keeps its mono specular in the light buffer's alpha, which rg11b10-ufloat \
@@ -184,15 +185,11 @@ pub fn check(settings: &crate::renderer::Settings) -> anyhow::Result<()> {
 /// The light pre-pass's figures for a frame drawn with `key`: bytes per pixel of its targets
 /// and the object draws of pass 1 (`base`), pass 3 (`finals`; 0 when a debug view replaced it)
 /// and the multisampled prime (`primed`).
-pub fn stats(
-    key: &crate::renderer::kit::PipelineKey,
-    base: u64,
-    (finals, primed): (u64, u64),
-) -> crate::renderer::stats::PrepassStats {
+pub fn stats(key: &crate::renderer::kit::PipelineKey, base: u64, (finals, primed): (u64, u64)) -> PrepassStats {
     let bytes = |f: wgpu::TextureFormat| f.block_copy_size(None).unwrap_or(0);
     // Rendered targets only: a depth read from the depth buffer costs no bytes of its own.
     let target = |name: &str| key.layout.rendered().find(|t| t.name == name).map_or(0, |t| bytes(t.format));
-    crate::renderer::stats::PrepassStats {
+    PrepassStats {
         normal_exp_bytes_per_pixel: target("normal+exp"),
         depth_copy_bytes_per_pixel: target("depth"),
         light_buffer_format: format!("{:?}", key.accum_format),
@@ -212,4 +209,36 @@ pub fn stats(
         base_fragments: None,
         final_fragments: None,
     }
+}
+
+/// The light pre-pass's figures (`--path light-prepass`): its intermediate targets' bytes per
+/// pixel and the draws and fragments of its geometry passes (1: normals + exponent, 3: final;
+/// pass 2's are the frame's `draw_calls` and `shaded_fragments`).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PrepassStats {
+    /// Pass 1's normal + exponent target (Rgba8Unorm).
+    pub normal_exp_bytes_per_pixel: u32,
+    /// The depth copy pass 1 writes beside it (`gbuffer::prepass_layout`; R32Float, or R32Uint
+    /// holding its bits where R32Float is not renderable).
+    pub depth_copy_bytes_per_pixel: u32,
+    /// The light buffer: format and bytes (Rgba16Float 8, seed 004's log Rgba8 4).
+    pub light_buffer_format: String,
+    pub light_buffer_bytes_per_pixel: u32,
+    /// Pass 3's HDR scene colour (Rgba16Float).
+    pub hdr_bytes_per_pixel: u32,
+    /// Samples per pixel of pass 3 and the forward pass (`--msaa`).
+    pub samples: u32,
+    /// Their multisampled colour and depth (samples x (8 + depth's bytes), stencil not
+    /// counted); 0 single-sampled.
+    pub msaa_bytes_per_pixel: u32,
+    /// Object draws of pass 1 and of pass 3.
+    pub base_draw_calls: u64,
+    pub final_draw_calls: u64,
+    /// `--msaa 4`: the depth-only draws priming pass 3's samples with pass 1's list (pass 1's
+    /// depth has one sample a pixel); 0 single-sampled, where pass 3 tests pass 1's depth.
+    pub prime_draw_calls: u64,
+    /// Samples that passed pass 1's and pass 3's depth tests (occlusion queries), when counting.
+    pub base_fragments: Option<u64>,
+    pub final_fragments: Option<u64>,
 }

@@ -34,7 +34,7 @@ impl BloomPass {
 
     /// Records the chain when bloom is on; the result is `post.bloomed`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, post: &PostTargets) {
-        if !f.settings.bloom && f.settings.debug_view != crate::renderer::DebugView::Bloom {
+        if !f.options.post.bloom && f.options.frame.debug_view != crate::renderer::DebugView::Bloom {
             return;
         }
         post_draw(

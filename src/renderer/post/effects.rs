@@ -5,7 +5,7 @@
 //! run before tone mapping), seed 003's fifth pass "color grading, depth of field, vignetting".
 //! Grading first, on the tone-mapped colour LUTs are made for; then seed 002's distortion,
 //! edge smoothing and fog; then seed 003's depth of field and vignette.
-//! Adding one is a row here, its function there, its option in `Settings` and its knob row.
+//! Adding one is a row here, its function there, its option in `Settings` and `PostOptions`, and its knob row.
 //!
 //! - **grading** (seed 003's fifth pass): the tonemapped colour through a 3D LUT
 //!   (`--lut FILE.cube`, or `identity`), trilinear, in the sRGB encoding LUTs are made for.
@@ -33,8 +33,9 @@
 use super::post_draw;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
+use crate::renderer::options::post::PostOptions;
+use crate::renderer::options::DebugView;
 use crate::renderer::post::Aa;
-use crate::renderer::settings::{DebugView, Settings};
 use crate::renderer::stats::Span;
 
 /// One effect after tone mapping.
@@ -46,7 +47,7 @@ pub struct Effect {
     /// Its fragment function in `post.wgsl`.
     pub fs: &'static str,
     /// Whether it runs (in the lit view; the other views stop before it).
-    pub on: fn(&Settings) -> bool,
+    pub on: fn(&PostOptions) -> bool,
     /// Its own debug view and the fragment function that draws it.
     pub view: Option<(DebugView, &'static str)>,
     /// Its second texture is drawn right before it (the distortion buffer,
@@ -100,7 +101,7 @@ pub const EFFECTS: &[Effect] = &[
 ];
 
 /// Whether effect `name` runs under `s`.
-pub fn runs(name: &str, s: &Settings) -> bool {
+pub fn runs(name: &str, s: &PostOptions) -> bool {
     EFFECTS.iter().any(|e| e.name == name && (e.on)(s))
 }
 

@@ -33,7 +33,7 @@ impl ExposurePass {
         post: &PostTargets,
         group: &wgpu::BindGroup,
     ) {
-        if !f.settings.auto_exposure && f.settings.debug_view != crate::renderer::DebugView::Histogram {
+        if !f.options.post.auto_exposure && f.options.frame.debug_view != crate::renderer::DebugView::Histogram {
             return;
         }
         let timestamp_writes = f.compute_timestamps(SPAN);

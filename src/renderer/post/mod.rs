@@ -20,8 +20,9 @@ pub mod exposure;
 pub mod tonemap;
 
 use super::kit::texture;
+use super::options::post::PostOptions;
+pub use super::options::post::{Aa, Tonemap};
 use super::records::PostParams;
-use super::settings::Settings;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;
@@ -72,24 +73,6 @@ pub fn post_format(caps: &crate::renderer::kit::caps::Caps) -> wgpu::TextureForm
     } else {
         wgpu::TextureFormat::Rgba16Float
     }
-}
-
-/// The tone curve. The values are shared with WGSL as generated constants (`LS_TONEMAP_*`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum Tonemap {
-    /// ACES filmic, Krzysztof Narkowicz's 2015 fit (the curve compose always used).
-    #[default]
-    Aces = 0,
-    /// Reinhard et al. 2002, "Photographic Tone Reproduction", eq. 3: x / (1 + x) per channel.
-    Reinhard = 1,
-    /// Troy Sobotka's AgX, in Benjamin Wrensch's minimal polynomial fit (iolite, 2023).
-    Agx = 2,
-    /// Khronos PBR Neutral (KhronosGroup/ToneMapping, PBR_Neutral, 2024).
-    PbrNeutral = 3,
-    /// No curve: clamped to 0 ..= 1.
-    None = 4,
 }
 
 impl Tonemap {
@@ -160,21 +143,6 @@ impl Tonemap {
     }
 }
 
-/// Anti-aliasing, the chain's last pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum Aa {
-    #[default]
-    Off = 0,
-    /// Seed 002's "intelligent blur": pixels on G-buffer edges (second difference of 1/depth,
-    /// normals turning) blended with their four neighbours by the edge's strength.
-    Edge = 1,
-    /// FXAA (Lottes 2009–2011), its minimal console form: luma contrast test, then a blend
-    /// along the edge direction found from the diagonal lumas.
-    Fxaa = 2,
-}
-
 /// Largest circle of confusion, in pixels (diameter).
 pub const MAX_COC: f32 = 16.0;
 
@@ -194,8 +162,8 @@ pub fn fog_amount(p: [f64; 3], up: [f64; 3], density: f64, falloff: f64) -> f64 
 
 /// Whether the frame goes through the post chain: any effect on, or a curve other than the
 /// ACES that compose applies itself.
-pub fn chain_active(s: &Settings) -> bool {
-    match s.debug_view {
+pub fn chain_active(view: super::DebugView, s: &PostOptions) -> bool {
+    match view {
         super::DebugView::Lit => {
             s.bloom
                 || s.auto_exposure
@@ -491,19 +459,19 @@ pub fn encode_chain(
     target: &wgpu::TextureView,
     end: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) {
-    let s = f.settings;
+    let (s, view) = (&f.options.post, f.options.frame.debug_view);
     p.bloom.encode(encoder, f, pt);
     let hdr = if s.bloom { &pt.from_bloomed } else { &pt.from_hdr };
     p.exposure.encode(encoder, f, pt, hdr);
     use super::DebugView as V;
-    match s.debug_view {
+    match view {
         // The bloom view reads the chain's finest level (the combine's group), the histogram
         // view the picture.
         V::Bloom => p.tonemap.encode_view(encoder, f, &pt.combine, target),
         V::Histogram => p.tonemap.encode_view(encoder, f, hdr, target),
         V::Edges | V::Coc => {
             p.tonemap.encode(encoder, f, hdr, &pt.toned_view, false);
-            p.effects.encode_view(encoder, f, s.debug_view, &pt.from_toned, target);
+            p.effects.encode_view(encoder, f, view, &pt.from_toned, target);
         }
         _ => {
             // After tone mapping: the effects that are on, alternating between two images;
@@ -537,7 +505,7 @@ pub fn encode_chain(
 }
 
 /// The chain's parameters for this frame.
-pub fn params(s: &Settings, lut: Option<&Lut>) -> PostParams {
+pub fn params(s: &PostOptions, lut: Option<&Lut>) -> PostParams {
     let (lut_size, lut_min, lut_max) = match lut {
         Some(l) => (
             l.size,
@@ -686,5 +654,25 @@ mod tests {
             let r = adapt_rate(speed);
             assert!(r > 0.0 && r <= 1.0, "{speed}: {r}");
         }
+    }
+}
+
+/// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
+/// with auto-exposure, the exposure state after the frame is read by `Renderer::exposure_state`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct PostStats {
+    pub bloom: bool,
+    pub auto_exposure: bool,
+    pub tonemap: crate::renderer::post::Tonemap,
+    /// The effects after tone mapping that ran, by name, in the chain's order
+    /// (`post::effects::EFFECTS`).
+    pub effects: Vec<String>,
+}
+
+impl PostStats {
+    /// Whether effect `name` ran.
+    pub fn ran(&self, name: &str) -> bool {
+        self.effects.iter().any(|e| e == name)
     }
 }

@@ -38,7 +38,7 @@ impl TonemapPass {
         group: &wgpu::BindGroup,
         target: &wgpu::TextureView,
     ) {
-        let pipeline = if f.settings.debug_view == crate::renderer::DebugView::Bloom {
+        let pipeline = if f.options.frame.debug_view == crate::renderer::DebugView::Bloom {
             &self.view_bloom
         } else {
             &self.view_histogram

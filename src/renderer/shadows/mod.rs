@@ -40,40 +40,11 @@ pub mod atlas_view;
 pub mod pass;
 
 use super::records::{ShadowParams, ShadowTile, NO_SHADOW};
+pub use crate::renderer::kit::features::ShadowCode;
+pub use crate::renderer::options::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, ShadowOptions};
 use crate::scene::{Light, Scene};
 use glam::{DMat3, DMat4, DVec3};
 use serde::{Deserialize, Serialize};
-
-/// Which lights cast shadows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShadowMode {
-    /// No shadows.
-    None,
-    /// The sun only.
-    Sun,
-    /// The sun and spot lights (the default: the lights a scene has few of
-    /// and that throw the shadows a viewer looks for; point lights cost six faces each).
-    #[default]
-    Spots,
-    /// The sun, spots and point lights.
-    All,
-}
-
-/// The shadow lookup's filter. Its value + 1 is its reach: how many texels from the lookup
-/// point it reads depths (the normal offset adds it, see `shadow_tile_factor` in common.wgsl).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum ShadowFilter {
-    /// One hardware comparison sample: 2x2 texels, bilinearly weighted.
-    Pcf2x2 = 0,
-    /// 3x3 hardware samples one texel apart (a 4x4-texel footprint).
-    #[default]
-    Pcf3x3 = 1,
-    /// 16 hardware samples on a Poisson disc of radius 2 texels.
-    Poisson16 = 2,
-}
 
 impl ShadowFilter {
     /// Texels from the lookup point whose depths the kernel reads: the hardware's 2x2 reaches 1,
@@ -81,25 +52,6 @@ impl ShadowFilter {
     pub fn reach(self) -> u32 {
         self as u32 + 1
     }
-}
-
-/// The depth format of the shadow atlas and the cube array (seed 002: "Use D16 or D24X8 format
-/// for shadow maps"). The maps store linear depth -z / far in [0, 1]; a format's step (its
-/// quantisation near 1, [`ShadowFormat::step`]) is added to the depth bias: the stored depth
-/// rounds by up to half a step, and the reference the hardware compares with may be converted
-/// to the format's precision, by up to half a step more.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShadowFormat {
-    /// Depth32Float, 4 bytes a texel.
-    #[default]
-    Depth32,
-    /// wgpu's Depth24Plus (D24X8 where the adapter has it, else a 32-bit float), 4 bytes a
-    /// texel as budgeted.
-    Depth24,
-    /// Depth16Unorm, 2 bytes a texel: twice the texels for a budget (the side doubles when the
-    /// budget allows a power of two more).
-    Depth16,
 }
 
 impl ShadowFormat {
@@ -128,26 +80,6 @@ impl ShadowFormat {
             ShadowFormat::Depth16 => 1.0 / 65535.0,
         }
     }
-}
-
-/// Where point lights' (and wide spots') six faces live.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShadowCube {
-    /// Seed 002's "virtual shadow depth cube": six tiles of the 2D atlas, each with a
-    /// [`BORDER`], the face picked in the shader.
-    #[default]
-    Unrolled,
-    /// One Depth32Float cube-array texture, six layers a light, all cubes one size, sampled by
-    /// direction (`texture_depth_cube_array`; seamless hardware filtering, no border). Needs
-    /// the adapter's `DownlevelFlags::CUBE_ARRAY_TEXTURES`.
-    Array,
-    /// The unrolled tiles, the face and its coordinates read from seed 002's "G16R16 cubemap
-    /// [that] efficiently maps XYZ->ST" instead of picked in the shader: one shared cube
-    /// texture whose texels hold their own face and face coordinates (`indirection_texels`),
-    /// sampled nearest by the light-to-point direction. Within [`indirection_error`] texels
-    /// of the face-pick's lookup point; the depth bias widens by that much.
-    Indirect,
 }
 
 /// The indirection cube's side for an atlas of `side` texels: the largest tile a cube face can
@@ -244,35 +176,8 @@ pub fn sun_casts(scene: &Scene) -> Option<crate::scene::Sun> {
     scene.sun.filter(|s| s.intensity > 0.0)
 }
 
-/// The shadow lookups a configuration's shaders compile in (`program::ShaderFeatures`): the
-/// lookups some light (or the sun) of `scene` can need under `st`, whatever the frame's budget
-/// and view then grant. With no scene (a renderer not yet handed one), the lookups the settings
-/// allow.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ShadowCode {
-    /// The sun's cascades (`ls_sun_shadow`).
-    pub sun: bool,
-    /// One perspective tile a light (narrow spots).
-    pub tiles: bool,
-    /// Cubes (point lights, wide spots), where `st.shadow_cube` puts them.
-    pub cubes: Option<ShadowCube>,
-    /// The one kernel compiled in (`st.shadow_filter`).
-    pub filter: ShadowFilter,
-    /// The maps' depth format (`st.shadow_format`): the shadow pass's pipeline and the depth
-    /// bias's format step (`LS_SHADOW_DEPTH_STEP`).
-    pub format: ShadowFormat,
-    /// Only the lights that cast this frame run the light lookups: the light pass draws the
-    /// others with a pipeline compiled without them (`fs_light_plain`), and the tiled and
-    /// clustered passes shade a list's casting lights in a loop of their own after the others
-    /// (`LS_CASTERS_APART`). Set when lights can cast and at most half of the scene's lights
-    /// may (`demo`'s 4 spots of 1,028 lights). lavapipe runs a branch's body whether or not a
-    /// lane takes it, so in one shader every light pays for the lookup; with most lights
-    /// casting, the second loop and pipelines would cost more than they save.
-    pub casters_apart: bool,
-}
-
 impl ShadowCode {
-    pub fn of(scene: Option<&Scene>, st: &super::Settings) -> ShadowCode {
+    pub fn of(scene: Option<&Scene>, st: &ShadowOptions) -> ShadowCode {
         let mode = st.shadows;
         // The kernel only matters to a lookup: with none compiled in, the default, so that
         // changing `--shadow-filter` then compiles nothing new.
@@ -570,7 +475,7 @@ fn sphere_meets(tile: &ShadowTile, c: DVec3, r: f64) -> bool {
 
 /// What the planner reads besides the scene.
 pub struct ShadowInputs<'a> {
-    pub settings: &'a super::Settings,
+    pub options: &'a ShadowOptions,
     /// Each mesh's bounding sphere (model space).
     pub bounds: &'a [(DVec3, f64)],
     /// Each light's screen share and whether its volume is on screen (`plan::LightPlan`).
@@ -592,7 +497,7 @@ pub struct ShadowInputs<'a> {
 ///    granted, each with the casters its frustum meets ([`place`]);
 /// 4. with `--shadow-cube array`, the cube lights' faces in the cube array ([`place_cubes`]).
 pub fn plan(scene: &Scene, inp: &ShadowInputs<'_>) -> ShadowPlan {
-    let st = inp.settings;
+    let st = inp.options;
     let side = atlas_side(st.shadow_budget_mb, st.shadow_format.bytes(), inp.max_texture.max(1));
     let mut out = ShadowPlan {
         side,
@@ -687,7 +592,7 @@ fn requests(
     side: u32,
     out: &mut ShadowPlan,
 ) -> (Vec<Request>, Vec<(usize, u32)>) {
-    let (st, cam) = (inp.settings, &scene.camera);
+    let (st, cam) = (inp.options, &scene.camera);
     let rot = cam.rotation();
     let mut requests: Vec<Request> = Vec::new();
     let quarter = (side / 4).max(MIN_TILE.min(side));
@@ -824,10 +729,10 @@ fn place_cubes(
     casters: &[(u32, DVec3, f64)],
 ) {
     let (cam, rot) = (&scene.camera, scene.camera.rotation());
-    let budget = (inp.settings.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
+    let budget = (inp.options.shadow_budget_mb.max(0.0) as f64 * 1024.0 * 1024.0) as u64;
     let left = budget.saturating_sub(out.stats.atlas_bytes);
     let wants: Vec<u32> = cubes.iter().map(|c| c.1).collect();
-    let texel = inp.settings.shadow_format.bytes();
+    let texel = inp.options.shadow_format.bytes();
     let (cube_side, kept) = cube_array_fit(&wants, left, texel, inp.max_texture.max(1), inp.max_layers);
     out.stats.fallback_budget += (cubes.len() - kept) as u32;
     for (c, &(i, _)) in cubes.iter().take(kept).enumerate() {
@@ -903,7 +808,7 @@ fn with_casters(mut out: ShadowPlan) -> ShadowPlan {
 /// per cascade (its size set later), or none when nothing casts.
 fn sun_cascades(
     scene: &Scene,
-    st: &super::Settings,
+    st: &ShadowOptions,
     casters: &[(u32, DVec3, f64)],
     to_sun: DVec3,
     proj: DMat4,
@@ -999,7 +904,7 @@ mod tests {
                         shadow_budget_mb: 256.0,
                         ..Default::default()
                     };
-                    let code = ShadowCode::of(Some(scene), &st);
+                    let code = ShadowCode::of(Some(scene), &st.shadow_options());
                     let plan = test_plan(scene, &bounds, &st);
                     let what = format!("{} {mode:?} {cube:?}: {code:?}", scene.name);
                     let mut granted = (plan.params.sun[0] != NO_SHADOW, false, None);
@@ -1038,7 +943,7 @@ mod tests {
         let scene = |name: &str| build(name, BuiltinOptions::default()).expect("built-in scene");
         let code = |scene: Option<&Scene>, shadows, cube| {
             let st = super::super::Settings { shadows, shadow_cube: cube, ..Default::default() };
-            let c = ShadowCode::of(scene, &st);
+            let c = ShadowCode::of(scene, &st.shadow_options());
             (c.sun, c.tiles, c.cubes)
         };
         let (un, ar) = (ShadowCube::Unrolled, ShadowCube::Array);
@@ -1126,7 +1031,7 @@ mod tests {
         plan(
             scene,
             &ShadowInputs {
-                settings: st,
+                options: &st.shadow_options(),
                 bounds,
                 footprints: vec![(0.01, true); scene.lights.len()],
                 size: (640, 360),

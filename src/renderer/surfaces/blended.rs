@@ -34,7 +34,7 @@ pub struct ForwardPass {
 /// the layers before (front to back, premultiplied); a last pass lays the layers over the scene
 /// colour. `layers` passes composite each pixel's nearest `layers` fragments exactly in depth
 /// order, interpenetrating objects included; fragments behind them are dropped, and counted
-/// ([`ForwardStats::unpeeled`](crate::renderer::stats::ForwardStats)) when the frame counts.
+/// ([`ForwardStats::unpeeled`](crate::renderer::culling::stats::ForwardStats)) when the frame counts.
 struct Peel {
     /// Depth only, then colour at equal depth; one- and two-sided each.
     depth: [crate::renderer::kit::RenderPipe; 2],
@@ -299,7 +299,7 @@ impl ForwardPass {
         let peel = self.peel.as_ref().filter(|_| f.targets.msaa.is_none());
         let opaque = self.opaque.as_ref().filter(|_| !f.plan.draws.forward_opaque.is_empty());
         if let (Some(peel), None) = (peel, opaque) {
-            peel.encode(encoder, f, hdr_view, f.settings.peel_layers, true);
+            peel.encode(encoder, f, hdr_view, f.options.surfaces.peel_layers, true);
             return;
         }
         // Multisampled (the light pre-pass's `--msaa 4`): over its samples, resolved again.
@@ -336,7 +336,7 @@ impl ForwardPass {
         }
         drop(pass);
         if let Some(peel) = peel {
-            peel.encode(encoder, f, hdr_view, f.settings.peel_layers, false);
+            peel.encode(encoder, f, hdr_view, f.options.surfaces.peel_layers, false);
         }
     }
 }

@@ -53,14 +53,14 @@ impl DebugPass {
     /// Records the stencil diagram or the complexity heatmap into the debug target, for all
     /// lights or the selected one; nothing for the other views.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
-        let view = f.settings.debug_view;
+        let view = f.options.frame.debug_view;
         if !matches!(view, DebugView::Stencil | DebugView::Complexity) {
             return;
         }
         let mut pass = f.debug_view_pass(encoder, "debug view");
         let n = f.plan.lights.len();
         // Frames the tiled pass shades have no batches: their lights are drawn one by one below.
-        if view == DebugView::Complexity && f.settings.selected_light.is_none() && f.plan.tiled.is_none() {
+        if view == DebugView::Complexity && f.options.frame.selected_light.is_none() && f.plan.tiled.is_none() {
             // Additive and stencil-free: the frame's batches draw it (`batches.rs`), full-screen
             // batches full-screen, the others as plain volumes. Either way the shader keeps only
             // the points inside the light's true shape, which the volume holds; skipped lights
@@ -77,7 +77,7 @@ impl DebugPass {
             }
             return;
         }
-        let selected: Vec<usize> = match f.settings.selected_light {
+        let selected: Vec<usize> = match f.options.frame.selected_light {
             Some(k) if k < n => vec![k],
             Some(_) => Vec::new(),
             None => (0..n).collect(),

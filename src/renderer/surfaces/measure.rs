@@ -10,10 +10,11 @@
 //! full-screen, so `fullscreen` mode counts the ideal without any volume, and
 //! `every_culling_mode_gives_the_fullscreen_picture` holds the two counts equal, light by light.
 
+use crate::renderer::culling::binning::{binned_bytes, pass_ranges};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
-use crate::renderer::stats::{binned_bytes, pass_ranges, LIGHTS_PER_QUERY_SET};
+use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
 use crate::renderer::volumes::VolumeKind;
 use wgpu::CompareFunction as Cmp;
 
@@ -55,7 +56,7 @@ impl MeasurePass {
         let t = f.targets;
         let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
-        // Render passes small enough for llvmpipe (`stats::LLVMPIPE_SCENE_BUDGET`): every
+        // Render passes small enough for llvmpipe (`culling::binning::LLVMPIPE_SCENE_BUDGET`): every
         // light's full-screen draw and its query are binned into every tile.
         let size = (t.width, t.height);
         let ideal_ranges = pass_ranges(n, |_| full_screen(size));

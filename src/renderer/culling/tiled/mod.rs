@@ -9,9 +9,11 @@ pub mod pass;
 
 use crate::renderer::culling::methods::Covers;
 use crate::renderer::culling::plan::{LightPlan, Method, PlanView};
+use crate::renderer::options::caps::CapOrder;
+use crate::renderer::options::culling::CullingMode;
 use crate::renderer::records::LightRecord;
-use crate::renderer::settings::CullingMode;
 use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 
 /// Size in pixels of the `tiled` mode's tiles (Andersson 2011: 16x16, one compute workgroup).
 pub const TILE: u32 = 16;
@@ -544,18 +546,18 @@ pub struct GridChoice {
     pub slices: u32,
     pub first_slice_depth: f32,
     pub cap: u32,
-    pub order: crate::renderer::caps::CapOrder,
+    pub order: CapOrder,
 }
 
 impl GridChoice {
-    pub fn of(s: &crate::renderer::Settings) -> Self {
+    pub fn of(s: &crate::renderer::options::culling::CullingOptions, order: CapOrder) -> Self {
         Self {
             tile: s.cluster_tile,
             budget: s.cluster_budget,
             slices: s.cluster_slices,
             first_slice_depth: s.first_slice_depth,
             cap: s.lights_per_cluster,
-            order: s.cap_order,
+            order,
         }
     }
 
@@ -1074,4 +1076,20 @@ mod tests {
         }
         assert!(checked > 200, "too few points inside lights ({checked})");
     }
+}
+
+/// The tiled pass's lists (`tiled`, `clustered`, or the `tile-lights` view's): cells (tiles, or
+/// tiles x slices), their entries summed and the longest (read back when counting).
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct TileStats {
+    pub method: Method,
+    /// Tile size in pixels and depth slices (1 when tiled).
+    pub tile_size: u32,
+    pub slices: u32,
+    pub cells: u64,
+    pub entries: u64,
+    pub longest: u32,
+    /// Tiles the GPU list buffer had no room for (shaded with every light).
+    pub overflowed: u64,
 }

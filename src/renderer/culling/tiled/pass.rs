@@ -18,6 +18,7 @@
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since
 //! passes record through `&self`.
 
+use super::TileStats;
 use crate::renderer::culling::zbin::ZBinJob;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
@@ -25,7 +26,7 @@ use crate::renderer::kit::{log_accum, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::plan::Method;
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
-use crate::renderer::stats::{FrameStats, Span, TileStats};
+use crate::renderer::stats::Span;
 use crate::renderer::targets::attachment;
 use crate::renderer::tiles::{ClusterBuild, ALL_LIGHTS, TILE};
 use anyhow::Result;
@@ -264,7 +265,7 @@ impl TiledPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
     ) -> (f64, f64) {
-        let view = match f.settings.debug_view {
+        let view = match f.options.frame.debug_view {
             DebugView::TileLights => Some(&self.count_view),
             DebugView::Waste if f.plan.tiled.is_some() => Some(&self.waste_view),
             _ => None,
@@ -526,20 +527,20 @@ impl TiledScratch {
         Ok(Some(TileLists { params: p.params, data, masks }))
     }
 
-    /// After the frame's submission: the per-light pair counts as `shaded` (replacing the
-    /// empty occlusion counts of lights the light pass did not draw), and the list sizes.
-    pub fn read(&self, device: &wgpu::Device, stats: &mut FrameStats, tiled: Option<Method>) -> Result<()> {
-        let Ok(state) = self.state.lock() else { return Ok(()) };
-        let (Some(b), Some(p)) = (&state.0, state.1) else { return Ok(()) };
+    /// After the frame's submission: the list sizes and, where the frame counted them, each
+    /// light's pairs (light `i`'s at `pairs[i]`); `None` when the frame built no lists.
+    pub fn read(&self, device: &wgpu::Device) -> Result<Option<(TileStats, Option<Vec<u64>>)>> {
+        let Ok(state) = self.state.lock() else { return Ok(None) };
+        let (Some(b), Some(p)) = (&state.0, state.1) else { return Ok(None) };
         if !p.counted {
-            stats.tiles = Some(TileStats {
+            let t = TileStats {
                 method: p.method,
                 tile_size: p.tile_size,
                 slices: p.slices,
                 cells: p.cells,
                 ..Default::default()
-            });
-            return Ok(());
+            };
+            return Ok(Some((t, None)));
         }
         let zbinned = p.method == Method::Zbin;
         let headers: Vec<u32> = match zbinned {
@@ -572,19 +573,8 @@ impl TiledScratch {
             t.entries += len as u64;
             t.longest = t.longest.max(len);
         }
-        stats.tiles = Some(t);
-        if tiled.is_some() {
-            for l in &mut stats.per_light {
-                l.shaded = counts.get(1 + l.index).map(|&c| c as u64);
-                l.coverage = None;
-            }
-            stats.shaded_fragments = Some(stats.per_light.iter().filter_map(|l| l.shaded).sum());
-            stats.coverage_fragments = None;
-            if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
-                stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
-            }
-        }
-        Ok(())
+        let pairs = counts.get(1..).unwrap_or_default().iter().take(p.lights).map(|&c| c as u64).collect();
+        Ok(Some((t, Some(pairs))))
     }
 }
 
@@ -611,8 +601,8 @@ fn grid(
         slice_bias: 0.0,
         near: 0.0,
         far: 0.0,
-        view_depth: f.settings.tile_view_depth,
-        selected: f.settings.selected_light.map_or(u32::MAX, |k| k as u32),
+        view_depth: f.options.culling.tile_view_depth,
+        selected: f.options.frame.selected_light.map_or(u32::MAX, |k| k as u32),
         words: 0,
         mask_base: 0,
         order_base: 0,

@@ -1,0 +1,493 @@
+//! The house checks its own floors, as rustc's `src/tools/tidy` and rust-analyzer's
+//! `files_are_tidy` do: this reads `src/` (not the compiled crate) and fails, naming the file
+//! and line, when
+//! - a technique room (every folder of `src/renderer/` but `kit/` and `frame/`) imports
+//!   `Renderer` or `Settings`, by any path: a `use`, an inline `crate::…::Renderer`,
+//!   `super::super::…`, a glob or a re-export;
+//! - `kit/` imports a technique room;
+//! - the file-level import graph has a strongly connected set of more than
+//!   [`MAX_CYCLE_FILES`] files, or one that spans more than one entry of `src/` (a top-level
+//!   file is an entry of its own).
+//!
+//! The graph: a node per file under `src/` that defines something (a file that only declares
+//! modules and re-exports is not a node); an edge from a file to the file that defines an item
+//! it names, in a `use` (a `pub use` too) or in a path anywhere in its code. Names are resolved
+//! as rustc resolves them: through each module's items, child modules, imports and glob
+//! imports, with re-exports followed to the item's source. Test modules (`#[cfg(test)]`) are
+//! left out: they may import what they test.
+//!
+//! `LAMPSHADE_TIDY_SRC=/path/to/other/src cargo test --test it tidy:: -- --nocapture` prints
+//! the report for another checkout's sources.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use syn::visit::Visit;
+
+/// The largest strongly connected set of files allowed (Bevy's `bevy_pbr` has none over 7).
+pub const MAX_CYCLE_FILES: usize = 10;
+/// Folders of `src/renderer/` that are not technique rooms: the kit every room builds on, and
+/// the frame's assembly above them.
+const NOT_ROOMS: &[&str] = &["kit", "frame"];
+/// What a technique room never imports.
+const HUB_TYPES: &[&str] = &["Renderer", "Settings"];
+
+type ModId = usize;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Target {
+    Module(ModId),
+    /// An item: the module whose file defines it, and its name there.
+    Item(ModId, usize),
+}
+
+#[derive(Default)]
+struct Module {
+    /// The file, relative to `src/`.
+    file: String,
+    parent: Option<ModId>,
+    children: BTreeMap<String, ModId>,
+    /// Names defined here (types, functions, constants, statics, traits, macros).
+    items: BTreeSet<String>,
+    /// `use` bindings: (name bound, path, line, a `pub use` re-export).
+    uses: Vec<(String, Vec<String>, usize, bool)>,
+    /// `use path::*`: (path, line).
+    globs: Vec<(Vec<String>, usize)>,
+    /// Paths named in code: (path, line).
+    paths: Vec<(Vec<String>, usize)>,
+}
+
+/// One import of one file, resolved: which file and item it reaches.
+#[derive(Clone, Debug)]
+pub struct Import {
+    pub from: String,
+    pub line: usize,
+    pub to: String,
+    pub item: String,
+    /// A `pub use`: routes others' imports to the source (followed through, not an edge of
+    /// the graph), yet still an import for the rooms' rule.
+    pub reexport: bool,
+}
+
+pub struct Tree {
+    modules: Vec<Module>,
+    names: Vec<String>,
+    /// Files that define something (graph nodes).
+    pub nodes: BTreeSet<String>,
+}
+
+fn is_cfg_test(attrs: &[syn::Attribute]) -> bool {
+    attrs.iter().any(|a| {
+        a.path().is_ident("cfg") && a.parse_args::<syn::Meta>().map(|m| m.path().is_ident("test")).unwrap_or(false)
+    })
+}
+
+fn line_of(span: proc_macro2::Span) -> usize {
+    span.start().line
+}
+
+fn flatten_use(tree: &syn::UseTree, prefix: &mut Vec<String>, line: usize, public: bool, m: &mut Module) {
+    match tree {
+        syn::UseTree::Path(p) => {
+            prefix.push(p.ident.to_string());
+            flatten_use(&p.tree, prefix, line, public, m);
+            prefix.pop();
+        }
+        syn::UseTree::Name(n) => {
+            let name = n.ident.to_string();
+            if name == "self" {
+                if let Some(last) = prefix.last() {
+                    m.uses.push((last.clone(), prefix.clone(), line, public));
+                }
+            } else {
+                let mut p = prefix.clone();
+                p.push(name.clone());
+                m.uses.push((name, p, line, public));
+            }
+        }
+        syn::UseTree::Rename(r) => {
+            let mut p = prefix.clone();
+            if r.ident != "self" {
+                p.push(r.ident.to_string());
+            }
+            m.uses.push((r.rename.to_string(), p, line, public));
+        }
+        syn::UseTree::Glob(_) => m.globs.push((prefix.clone(), line)),
+        syn::UseTree::Group(g) => {
+            for t in &g.items {
+                flatten_use(t, prefix, line, public, m);
+            }
+        }
+    }
+}
+
+/// Collects every path named in an item's code.
+struct Paths<'a> {
+    out: &'a mut Vec<(Vec<String>, usize)>,
+}
+
+impl<'ast> Visit<'ast> for Paths<'_> {
+    fn visit_path(&mut self, p: &'ast syn::Path) {
+        if p.leading_colon.is_none() {
+            let segs: Vec<String> = p.segments.iter().map(|s| s.ident.to_string()).collect();
+            let line = p.segments.first().map(|s| line_of(s.ident.span())).unwrap_or(0);
+            self.out.push((segs, line));
+        }
+        syn::visit::visit_path(self, p);
+    }
+    fn visit_item_mod(&mut self, _: &'ast syn::ItemMod) {}
+    fn visit_item_use(&mut self, _: &'ast syn::ItemUse) {}
+}
+
+impl Tree {
+    /// Reads the module tree from `src/lib.rs` down.
+    pub fn read(src: &Path) -> Result<Tree, String> {
+        let mut t = Tree { modules: Vec::new(), names: Vec::new(), nodes: BTreeSet::new() };
+        t.modules.push(Module { file: "lib.rs".into(), ..Default::default() });
+        let file = parse(&src.join("lib.rs"))?;
+        let defines = t.fill(src, 0, &file.items, Path::new(""))?;
+        if defines {
+            t.nodes.insert("lib.rs".into());
+        }
+        Ok(t)
+    }
+
+    fn add_child(&mut self, parent: ModId, name: &str, file: String) -> ModId {
+        let id = self.modules.len();
+        self.modules.push(Module { file, parent: Some(parent), ..Default::default() });
+        self.modules[parent].children.insert(name.to_string(), id);
+        id
+    }
+
+    /// Fills module `id` from its items; `dir` is where its child modules' files live.
+    /// Returns whether the items define anything (beyond modules and imports).
+    fn fill(&mut self, src: &Path, id: ModId, items: &[syn::Item], dir: &Path) -> Result<bool, String> {
+        let mut defines = false;
+        for item in items {
+            let ident = match item {
+                syn::Item::Const(i) => Some(&i.ident),
+                syn::Item::Enum(i) => Some(&i.ident),
+                syn::Item::Fn(i) => Some(&i.sig.ident),
+                syn::Item::Static(i) => Some(&i.ident),
+                syn::Item::Struct(i) => Some(&i.ident),
+                syn::Item::Trait(i) => Some(&i.ident),
+                syn::Item::Type(i) => Some(&i.ident),
+                syn::Item::Union(i) => Some(&i.ident),
+                syn::Item::Macro(i) => i.ident.as_ref(),
+                _ => None,
+            };
+            let attrs: &[syn::Attribute] = match item {
+                syn::Item::Mod(i) => &i.attrs,
+                syn::Item::Use(i) => &i.attrs,
+                syn::Item::Impl(i) => &i.attrs,
+                syn::Item::Fn(i) => &i.attrs,
+                _ => &[],
+            };
+            if is_cfg_test(attrs) {
+                continue;
+            }
+            if let Some(ident) = ident {
+                self.modules[id].items.insert(ident.to_string());
+                defines = true;
+            }
+            match item {
+                syn::Item::Use(u) => {
+                    let line = line_of(u.use_token.span);
+                    let mut prefix = Vec::new();
+                    let public = !matches!(u.vis, syn::Visibility::Inherited);
+                    flatten_use(&u.tree, &mut prefix, line, public, &mut self.modules[id]);
+                }
+                syn::Item::Mod(m) => {
+                    let name = m.ident.to_string();
+                    if let Some((_, content)) = &m.content {
+                        let file = self.modules[id].file.clone();
+                        let child = self.add_child(id, &name, file);
+                        defines |= self.fill(src, child, content, &dir.join(&name))?;
+                    } else {
+                        let (rel, child_dir) = if src.join(dir).join(format!("{name}.rs")).exists() {
+                            (dir.join(format!("{name}.rs")), dir.join(&name))
+                        } else {
+                            (dir.join(&name).join("mod.rs"), dir.join(&name))
+                        };
+                        let rel_s = rel.to_string_lossy().replace('\\', "/");
+                        let child = self.add_child(id, &name, rel_s.clone());
+                        let file = parse(&src.join(&rel))?;
+                        if self.fill(src, child, &file.items, &child_dir)? {
+                            self.nodes.insert(rel_s);
+                        }
+                    }
+                }
+                syn::Item::Macro(_) | syn::Item::Verbatim(_) | syn::Item::ExternCrate(_) => {}
+                other => {
+                    if matches!(other, syn::Item::Impl(_)) {
+                        defines = true;
+                    }
+                    Paths { out: &mut self.modules[id].paths }.visit_item(other);
+                }
+            }
+        }
+        Ok(defines)
+    }
+
+    fn name_id(&mut self, name: &str) -> usize {
+        if let Some(i) = self.names.iter().position(|n| n == name) {
+            return i;
+        }
+        self.names.push(name.to_string());
+        self.names.len() - 1
+    }
+
+    /// `name` as module `m` sees it.
+    fn resolve_in(&mut self, m: ModId, name: &str, seen: &mut Vec<(ModId, String)>) -> Option<Target> {
+        if seen.iter().any(|(s, n)| *s == m && n == name) || seen.len() > 64 {
+            return None;
+        }
+        seen.push((m, name.to_string()));
+        if let Some(&c) = self.modules[m].children.get(name) {
+            return Some(Target::Module(c));
+        }
+        if self.modules[m].items.contains(name) {
+            let n = self.name_id(name);
+            return Some(Target::Item(m, n));
+        }
+        let uses: Vec<Vec<String>> =
+            self.modules[m].uses.iter().filter(|(n, ..)| n == name).map(|(_, p, ..)| p.clone()).collect();
+        for path in uses {
+            if let Some(t) = self.resolve_path(m, &path, seen) {
+                return Some(t);
+            }
+        }
+        let globs: Vec<Vec<String>> = self.modules[m].globs.iter().map(|(p, _)| p.clone()).collect();
+        for path in globs {
+            if let Some(Target::Module(g)) = self.resolve_path(m, &path, seen) {
+                if let Some(t) = self.resolve_in(g, name, seen) {
+                    return Some(t);
+                }
+            }
+        }
+        None
+    }
+
+    /// A path as module `m` names it; `None` for what lies outside the crate (or a local name).
+    fn resolve_path(&mut self, m: ModId, path: &[String], seen: &mut Vec<(ModId, String)>) -> Option<Target> {
+        let first = path.first()?;
+        let mut cur = match first.as_str() {
+            "crate" | "lampshade" => Target::Module(0),
+            "self" => Target::Module(m),
+            "super" => Target::Module(self.modules[m].parent?),
+            "Self" => return None,
+            name => self.resolve_in(m, name, seen)?,
+        };
+        for seg in &path[1..] {
+            match cur {
+                Target::Item(..) => return Some(cur),
+                Target::Module(x) => {
+                    cur = match seg.as_str() {
+                        "super" => Target::Module(self.modules[x].parent?),
+                        "self" => Target::Module(x),
+                        s => self.resolve_in(x, s, seen)?,
+                    };
+                }
+            }
+        }
+        Some(cur)
+    }
+
+    /// Every import of every node file, resolved to the item's defining file.
+    pub fn imports(&mut self) -> Vec<Import> {
+        let mut out = Vec::new();
+        for m in 0..self.modules.len() {
+            let from = self.modules[m].file.clone();
+            if !self.nodes.contains(&from) {
+                continue;
+            }
+            let mut named: Vec<(Vec<String>, usize, bool)> =
+                self.modules[m].uses.iter().map(|(_, p, l, public)| (p.clone(), *l, *public)).collect();
+            named.extend(self.modules[m].paths.iter().map(|(p, l)| (p.clone(), *l, false)));
+            for (path, line, reexport) in named {
+                // A single name is resolved through this module's scope (its imports and
+                // globs); a longer path segment by segment.
+                if let Some(Target::Item(d, n)) = self.resolve_path(m, &path, &mut Vec::new()) {
+                    let to = self.modules[d].file.clone();
+                    if to != from {
+                        out.push(Import { from: from.clone(), line, to, item: self.names[n].clone(), reexport });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+fn parse(path: &Path) -> Result<syn::File, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    syn::parse_file(&text).map_err(|e| format!("{}:{}: {e}", path.display(), e.span().start().line))
+}
+
+/// Tarjan's strongly connected components over the file graph, largest first.
+pub fn strongly_connected(nodes: &BTreeSet<String>, imports: &[Import]) -> Vec<Vec<String>> {
+    let names: Vec<&String> = nodes.iter().collect();
+    let index_of: HashMap<&String, usize> = names.iter().enumerate().map(|(i, n)| (*n, i)).collect();
+    let mut adj = vec![BTreeSet::new(); names.len()];
+    for i in imports.iter().filter(|i| !i.reexport) {
+        if let (Some(&a), Some(&b)) = (index_of.get(&i.from), index_of.get(&i.to)) {
+            adj[a].insert(b);
+        }
+    }
+    struct T<'a> {
+        adj: &'a [BTreeSet<usize>],
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        on: Vec<bool>,
+        stack: Vec<usize>,
+        next: usize,
+        out: Vec<Vec<usize>>,
+    }
+    fn visit(t: &mut T, v: usize) {
+        t.index[v] = Some(t.next);
+        t.low[v] = t.next;
+        t.next += 1;
+        t.stack.push(v);
+        t.on[v] = true;
+        let succ: Vec<usize> = t.adj[v].iter().copied().collect();
+        for w in succ {
+            match t.index[w] {
+                None => {
+                    visit(t, w);
+                    t.low[v] = t.low[v].min(t.low[w]);
+                }
+                Some(iw) if t.on[w] => t.low[v] = t.low[v].min(iw),
+                _ => {}
+            }
+        }
+        if Some(t.low[v]) == t.index[v] {
+            let mut set = Vec::new();
+            while let Some(w) = t.stack.pop() {
+                t.on[w] = false;
+                set.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            t.out.push(set);
+        }
+    }
+    let n = names.len();
+    let mut t = T {
+        adj: &adj,
+        index: vec![None; n],
+        low: vec![0; n],
+        on: vec![false; n],
+        stack: Vec::new(),
+        next: 0,
+        out: Vec::new(),
+    };
+    for v in 0..n {
+        if t.index[v].is_none() {
+            visit(&mut t, v);
+        }
+    }
+    let mut sets: Vec<Vec<String>> = t
+        .out
+        .into_iter()
+        .filter(|s| s.len() > 1)
+        .map(|s| {
+            let mut v: Vec<String> = s.into_iter().map(|i| names[i].clone()).collect();
+            v.sort();
+            v
+        })
+        .collect();
+    sets.sort_by(|a, b| b.len().cmp(&a.len()).then(a.cmp(b)));
+    sets
+}
+
+/// The entry of `src/` a file sits under: its first folder, or the file itself at the top.
+fn entry(file: &str) -> &str {
+    file.split('/').next().unwrap_or(file)
+}
+
+/// The technique room a file sits in, if any.
+fn room(file: &str) -> Option<&str> {
+    let mut parts = file.split('/');
+    if parts.next()? != "renderer" {
+        return None;
+    }
+    let second = parts.next()?;
+    // A file directly in `renderer/` is not in a room.
+    parts.next()?;
+    (!NOT_ROOMS.contains(&second)).then_some(second)
+}
+
+/// Every violation of the house's rules, one line each (`file:line: what`), and the report
+/// (each strongly connected set).
+pub fn check(src: &Path) -> Result<(Vec<String>, String), String> {
+    let mut tree = Tree::read(src)?;
+    let imports = tree.imports();
+    let mut bad = Vec::new();
+    let mut seen = BTreeSet::new();
+    for i in &imports {
+        if room(&i.from).is_some() && HUB_TYPES.contains(&i.item.as_str()) && !room(&i.to).is_some() {
+            if seen.insert((i.from.clone(), i.line, i.item.clone())) {
+                bad.push(format!("src/{}:{}: the technique room imports `{}` ({})", i.from, i.line, i.item, i.to));
+            }
+        }
+        if i.from.starts_with("renderer/kit/") {
+            if let Some(r) = room(&i.to) {
+                if seen.insert((i.from.clone(), i.line, i.to.clone())) {
+                    bad.push(format!(
+                        "src/{}:{}: kit/ imports the technique room `{r}` (`{}` in {})",
+                        i.from, i.line, i.item, i.to
+                    ));
+                }
+            }
+        }
+    }
+    let sets = strongly_connected(&tree.nodes, &imports);
+    let mut report = format!("{} files, {} imports resolved\n", tree.nodes.len(), imports.len());
+    for set in &sets {
+        let entries: BTreeSet<&str> = set.iter().map(|f| entry(f)).collect();
+        report += &format!(
+            "strongly connected set of {} files ({}):\n",
+            set.len(),
+            entries.iter().copied().collect::<Vec<_>>().join(", ")
+        );
+        let members: BTreeSet<&String> = set.iter().collect();
+        for f in set {
+            // One import that keeps the file on the cycle.
+            let why = imports.iter().find(|i| !i.reexport && &i.from == f && members.contains(&i.to));
+            match why {
+                Some(i) => report += &format!("  src/{}:{} -> {} ({})\n", f, i.line, i.to, i.item),
+                None => report += &format!("  src/{f}\n"),
+            }
+        }
+        if set.len() > MAX_CYCLE_FILES || entries.len() > 1 {
+            for f in set {
+                let why = imports.iter().find(|i| !i.reexport && &i.from == f && members.contains(&i.to));
+                let line = why.map(|i| i.line).unwrap_or(0);
+                let to = why.map(|i| i.to.as_str()).unwrap_or("?");
+                bad.push(format!(
+                    "src/{f}:{line}: on an import cycle of {} files across {} (imports {to}); at most {MAX_CYCLE_FILES}, under one entry of src/",
+                    set.len(),
+                    entries.iter().copied().collect::<Vec<_>>().join(", ")
+                ));
+            }
+        }
+    }
+    Ok((bad, report))
+}
+
+fn src_dir() -> PathBuf {
+    match std::env::var_os("LAMPSHADE_TIDY_SRC") {
+        Some(s) => PathBuf::from(s),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+    }
+}
+
+#[test]
+fn the_import_graph_runs_one_way() {
+    let (bad, report) = match check(&src_dir()) {
+        Ok(r) => r,
+        Err(e) => panic!("reading src/: {e}"),
+    };
+    println!("{report}");
+    assert!(bad.is_empty(), "{} violations:\n{}", bad.len(), bad.join("\n"));
+}

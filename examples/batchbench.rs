@@ -102,7 +102,8 @@ fn cpu(gpu: &lampshade::Gpu) {
             let mut times = Vec::new();
             let mut batches = 0;
             for _ in 0..9 {
-                let mut records = FrameRecords::new(&scene, &settings, (1280, 720), wgpu::TextureFormat::Rgba16Float);
+                let mut records =
+                    FrameRecords::new(&scene, &settings.options(), (1280, 720), wgpu::TextureFormat::Rgba16Float);
                 let view = PlanView {
                     proj: records.proj.as_mat4(),
                     near: scene.camera.near as f32,

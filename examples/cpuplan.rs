@@ -129,7 +129,8 @@ fn main() {
                 evict(frame);
                 let c = lampshade::renderer::cputime::Clock::start();
                 let t = std::time::Instant::now();
-                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                let mut records =
+                    FrameRecords::new(scene, &settings.options(), (w, h), wgpu::TextureFormat::Rgba16Float);
                 let view = plan_view(scene, &records);
                 let plan = FramePlan::new(scene, &mut records, &bounds, &volumes, &view);
                 let clamps = overlap::clamps(&plan.lights, (w, h), wgpu::TextureFormat::Rgba16Float);
@@ -164,7 +165,8 @@ fn main() {
                 let scene = &scenes[frame % scenes.len()];
                 evict(frame);
                 let c = Clock::start();
-                let mut records = FrameRecords::new(scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+                let mut records =
+                    FrameRecords::new(scene, &settings.options(), (w, h), wgpu::TextureFormat::Rgba16Float);
                 add("records", c.ms());
                 let view = plan_view(scene, &records);
                 let c = Clock::start();

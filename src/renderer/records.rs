@@ -3,7 +3,9 @@
 //! that `tests/it/shader_contract.rs` can hold every record against its WGSL twin (member names,
 //! offsets and size, parsed from the final shader source with naga).
 
-use super::settings::{self, Settings};
+use super::options::culling::cutoff_radius;
+use super::options::Options;
+use super::shadows::cube::indirection_texels;
 use crate::renderer::kit::texture;
 use crate::scene::{AlphaMode, Camera, Light, Scene};
 use glam::{DMat4, Vec4};
@@ -353,8 +355,6 @@ pub fn layouts() -> Vec<RecordLayout> {
     ]
 }
 
-pub use super::overlap::light_clamp;
-
 pub(crate) fn mat(m: DMat4) -> [[f32; 4]; 4] {
     m.as_mat4().to_cols_array_2d()
 }
@@ -374,7 +374,7 @@ impl LightRecord {
         match light {
             Light::Point(p) => Self {
                 position: to_view(p.position).as_vec3().into(),
-                radius: settings::cutoff_radius(p.radius, cutoff),
+                radius: cutoff_radius(p.radius, cutoff),
                 falloff: p.radius,
                 color: (p.color * p.intensity).into(),
                 kind: LIGHT_KIND_POINT,
@@ -393,7 +393,7 @@ impl LightRecord {
             },
             Light::Spot(s) => Self {
                 position: to_view(s.position).as_vec3().into(),
-                radius: settings::cutoff_radius(s.radius, cutoff),
+                radius: cutoff_radius(s.radius, cutoff),
                 falloff: s.radius,
                 color: (s.color * s.intensity).into(),
                 kind: LIGHT_KIND_SPOT,
@@ -461,10 +461,10 @@ pub fn stored_position_pads(lights: &mut [LightRecord], rounding: f64, proj: &DM
 }
 
 impl CameraRecord {
-    pub fn new(scene: &Scene, settings: &Settings, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
+    pub fn new(scene: &Scene, o: &Options, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
         let (width, height) = size;
         let cam = &scene.camera;
-        let proj = cam.projection(width as f64 / height as f64, settings.reversed_z);
+        let proj = cam.projection(width as f64 / height as f64, o.frame.reversed_z);
         let rot = cam.rotation();
         let sun = scene.sun.map(|s| {
             let d = (rot * (-s.direction.as_dvec3())).normalize().as_vec3();
@@ -480,14 +480,14 @@ impl CameraRecord {
             sun_dir: sun_dir.into(),
             sun_color: sun_color.into(),
             background: scene.background.extend(1.0).into(),
-            exposure: settings.exposure,
-            far_depth: if settings.reversed_z { 0.0 } else { 1.0 },
+            exposure: o.post.exposure,
+            far_depth: if o.frame.reversed_z { 0.0 } else { 1.0 },
             light_clamp: light_clamp(accum, scene.lights.len()),
             pad0: 0.0,
             forward_tiles: [0; 4],
             lightmap_fade: {
-                let on = settings.lightmaps && crate::scene::lightmap::any(scene);
-                let d = settings.lightmap_distance;
+                let on = o.surfaces.lightmaps && crate::scene::lightmap::any(scene);
+                let d = o.surfaces.lightmap_distance;
                 [d * LIGHTMAP_FADE_START, d, if on { 1.0 } else { 0.0 }, 0.0]
             },
         }
@@ -561,8 +561,8 @@ pub struct FrameRecords {
 }
 
 impl FrameRecords {
-    pub fn new(scene: &Scene, settings: &Settings, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
-        Self::reusing(scene, settings, size, accum, Vec::new())
+    pub fn new(scene: &Scene, o: &Options, size: (u32, u32), accum: wgpu::TextureFormat) -> Self {
+        Self::reusing(scene, o, size, accum, Vec::new())
     }
 
     /// [`FrameRecords::new`] with the light records written into `lights` (emptied first; its
@@ -571,7 +571,7 @@ impl FrameRecords {
     /// allocator had returned the last one to the system (416 page faults, about 0.35 ms).
     pub fn reusing(
         scene: &Scene,
-        settings: &Settings,
+        o: &Options,
         size: (u32, u32),
         accum: wgpu::TextureFormat,
         mut lights: Vec<LightRecord>,
@@ -582,7 +582,7 @@ impl FrameRecords {
         let rot = cam.rotation();
         let starts = cookie_starts(scene);
         lights.extend(scene.lights.iter().map(|l| {
-            let mut r = LightRecord::in_view_rotated(cam, rot, l, settings.light_cutoff);
+            let mut r = LightRecord::in_view_rotated(cam, rot, l, o.culling.light_cutoff);
             if let Some((start, image)) =
                 l.cookie().and_then(|c| Some((*starts.get(c as usize)?, scene.cookies.get(c as usize)?)))
             {
@@ -592,10 +592,14 @@ impl FrameRecords {
             r
         }));
         Self {
-            camera: CameraRecord::new(scene, settings, size, accum),
+            camera: CameraRecord::new(scene, o, size, accum),
             lights,
-            objects: scene.objects.iter().map(|o| ObjectRecord::new(scene, o, view, settings.brdf.brdf())).collect(),
-            proj: cam.projection(size.0 as f64 / size.1 as f64, settings.reversed_z),
+            objects: scene
+                .objects
+                .iter()
+                .map(|ob| ObjectRecord::new(scene, ob, view, o.surfaces.brdf.brdf()))
+                .collect(),
+            proj: cam.projection(size.0 as f64 / size.1 as f64, o.frame.reversed_z),
         }
     }
 }
@@ -781,7 +785,7 @@ fn shadow_indirection(
     if let (Some(queue), true) = (queue, side > 0) {
         queue.write_texture(
             t.as_image_copy(),
-            &super::shadows::indirection_texels(n),
+            &indirection_texels(n),
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * n), rows_per_image: Some(n) },
             size,
         );
@@ -1113,6 +1117,7 @@ impl FrameBuffers {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::renderer::Settings;
 
     fn light(k: u32) -> LightRecord {
         let f = |x: u32| x as f32 + 0.25 * k as f32;
@@ -1184,10 +1189,10 @@ mod tests {
         };
         let settings = Settings::default();
         let fmt = wgpu::TextureFormat::Rgba16Float;
-        let fresh = FrameRecords::new(&scene, &settings, (640, 360), fmt);
+        let fresh = FrameRecords::new(&scene, &settings.options(), (640, 360), fmt);
         // A spare holding more, different records (the frame before last's, of a larger scene).
         let spare: Vec<LightRecord> = (0..1000).map(light).collect();
-        let reused = FrameRecords::reusing(&scene, &settings, (640, 360), fmt, spare);
+        let reused = FrameRecords::reusing(&scene, &settings.options(), (640, 360), fmt, spare);
         assert_eq!(reused.lights.len(), scene.lights.len());
         assert!(bytemuck::cast_slice::<_, u8>(&reused.lights) == bytemuck::cast_slice::<_, u8>(&fresh.lights));
         assert!(reused.lights.capacity() >= 1000, "the spare's allocation was not kept");
@@ -1205,5 +1210,24 @@ mod tests {
         assert!(light_planes(&[l]).is_none(), "a kind over 15");
         l.kind = 1;
         assert!(light_planes(&[l]).is_some());
+    }
+}
+
+/// The largest finite value of an accumulation format whose sums must stay finite, `None` for
+/// formats that cannot overflow in practice (Rgba32Float; Rgba8Log saturates at a finite value).
+pub fn format_max(format: wgpu::TextureFormat) -> Option<f32> {
+    match format {
+        wgpu::TextureFormat::Rgba16Float => Some(FP16_MAX),
+        wgpu::TextureFormat::Rg11b10Ufloat => Some(RG11B10_MAX),
+        _ => None,
+    }
+}
+
+/// The most one term may add to a channel when at most `overlap` lights meet at a tile it
+/// covers (see the module's proof); `f32::MAX` for formats without overflow.
+pub fn light_clamp(format: wgpu::TextureFormat, overlap: usize) -> f32 {
+    match format_max(format) {
+        Some(max) => max / (3.0 * (overlap as f32 + 1.0)),
+        None => f32::MAX,
     }
 }

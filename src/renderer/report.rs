@@ -106,7 +106,7 @@ impl Renderer {
             (l.shadow_tiles, l.shadow_texels, l.caster_draws) = prepared.shadows.light_share(l.index);
         }
         for (owner, ms) in self.scratch.shadows.read(&self.device, self.queue.get_timestamp_period())? {
-            use super::shadows::pass::Owner;
+            use super::shadows::scratch::Owner;
             match owner {
                 Owner::Light(i) => {
                     if let Some(l) = stats.per_light.get_mut(i) {

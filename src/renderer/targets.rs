@@ -35,7 +35,7 @@ pub struct Targets {
     /// The light pre-pass's multisampled pass 3 (`--msaa 4`): its colour and depth samples.
     pub msaa: Option<MsaaTargets>,
     /// Depth peeling's depth buffers and layers (`BlendedMode::Peeled` frames with an HDR colour).
-    pub peel: Option<crate::renderer::surfaces::blended::PeelTargets>,
+    pub peel: Option<crate::renderer::surfaces::peel::PeelTargets>,
 }
 
 /// Multisampled HDR colour and depth-stencil (the light pre-pass's pass 3 and forward pass),
@@ -139,7 +139,7 @@ impl Targets {
         let post =
             hdr.as_ref().filter(|_| post).map(|(view, _)| super::post::PostTargets::new(device, shared, size, view));
         let peel = (hdr.is_some() && key.peeled_blended)
-            .then(|| crate::renderer::surfaces::blended::PeelTargets::new(device, shared, &depth_texture, size));
+            .then(|| crate::renderer::surfaces::peel::PeelTargets::new(device, shared, &depth_texture, size));
         let msaa = (hdr.is_some() && key.samples > 1)
             .then(|| MsaaTargets::new(device, HDR_FORMAT, key.depth_format, size, key.samples));
         Self {

@@ -202,7 +202,7 @@ fn stencil_replace_batches_survive_more_than_255_batches_and_several_query_block
 /// The plan of `scene` at `size` in `mode`, as `Renderer::render` makes it.
 fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -> (FramePlan, FrameRecords, PlanView) {
     let settings = Settings { culling: mode, ..Settings::default() };
-    let mut records = FrameRecords::new(scene, &settings, size, wgpu::TextureFormat::Rgba16Float);
+    let mut records = FrameRecords::new(scene, &settings.options(), size, wgpu::TextureFormat::Rgba16Float);
     let view = PlanView {
         proj: records.proj.as_mat4(),
         near: scene.camera.near as f32,

@@ -161,7 +161,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
     let (w, h) = (203u32, 117u32);
     for cutoff in [0.0, 1.0 / 16.0] {
         let settings = Settings { light_cutoff: cutoff, ..Settings::default() };
-        let mut records = FrameRecords::new(&scene, &settings, (w, h), wgpu::TextureFormat::Rgba16Float);
+        let mut records = FrameRecords::new(&scene, &settings.options(), (w, h), wgpu::TextureFormat::Rgba16Float);
         let proj = records.proj.as_mat4();
         let view = PlanView {
             proj,

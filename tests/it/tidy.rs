@@ -1,7 +1,7 @@
 //! The house checks its own floors, as rustc's `src/tools/tidy` and rust-analyzer's
 //! `files_are_tidy` do: this reads `src/` (not the compiled crate) and fails, naming the file
 //! and line, when
-//! - a technique room (every folder of `src/renderer/` but `kit/` and `frame/`) imports
+//! - a technique room (every folder of `src/renderer/` but `kit/`, `options/` and `frame/`) imports
 //!   `Renderer` or `Settings`, by any path: a `use`, an inline `crate::…::Renderer`,
 //!   `super::super::…`, a glob or a re-export;
 //! - `kit/` imports a technique room;
@@ -25,9 +25,10 @@ use syn::visit::Visit;
 
 /// The largest strongly connected set of files allowed (Bevy's `bevy_pbr` has none over 7).
 pub const MAX_CYCLE_FILES: usize = 10;
-/// Folders of `src/renderer/` that are not technique rooms: the kit every room builds on, and
+/// Folders of `src/renderer/` that are not technique rooms: the kit and the options every room
+/// builds on, and
 /// the frame's assembly above them.
-const NOT_ROOMS: &[&str] = &["kit", "frame"];
+const NOT_ROOMS: &[&str] = &["kit", "frame", "options"];
 /// What a technique room never imports.
 const HUB_TYPES: &[&str] = &["Renderer", "Settings"];
 

@@ -2,7 +2,10 @@
 //! light count and candidate, the best of each, and the crossovers (as `lampshade advise`
 //! prints them).
 
-use super::*;
+use super::common::FrameInfo;
+use crate::app::state::UiState;
+use egui::Color32;
+use egui::RichText;
 
 pub(super) fn advice_window(ctx: &egui::Context, st: &mut UiState, f: &FrameInfo) {
     let Some(job) = f.advice else { return };

@@ -3,17 +3,12 @@
 //! image: grey within the rounding bound, red where the mode lacks light, blue where it has
 //! more (as `lampshade check` writes them).
 
-use super::*;
-use crate::oracle::ModeResult;
-
-/// The last check: a row a (path, mode) and each row's difference image.
-pub struct CullingCheck {
-    /// The frame size the check rendered at.
-    pub size: [u32; 2],
-    pub rows: Vec<ModeResult>,
-    pub images: Vec<egui::TextureHandle>,
-    pub seconds: f64,
-}
+use super::common::CullingCheck;
+use super::common::FrameInfo;
+use crate::app::state::UiState;
+use egui::Color32;
+use egui::RichText;
+use egui::Vec2;
 
 impl CullingCheck {
     /// Frames that miss or add light.

@@ -1,20 +1,27 @@
 //! The right panel: the frame's figures (lights drawn, fragments, efficiency, GPU ms per pass), their history plot, the culling modes and views.
 
-use super::*;
+use super::common::culling_help;
+use super::common::fmt_count;
+use super::common::fmt_ms;
+use super::common::method_name;
+use super::common::FrameInfo;
+use super::common::HISTORY;
+use super::common::{History, Sample};
+use crate::app::state::Scope;
+use crate::app::state::UiState;
+use crate::app::state::WireColour;
+use crate::app::state::Wireframes;
 use crate::renderer::post::effects::EFFECTS;
-
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Sample {
-    pub gpu_total: Option<f64>,
-    pub lighting: Option<f64>,
-    pub shaded: Option<u64>,
-    pub ideal: Option<u64>,
-}
-
-#[derive(Default)]
-pub struct History {
-    pub samples: VecDeque<Sample>,
-}
+use crate::renderer::CullingMode;
+use crate::renderer::DebugView;
+use crate::renderer::RenderPath;
+use egui::Color32;
+use egui::Pos2;
+use egui::RichText;
+use egui::Sense;
+use egui::Stroke;
+use egui::Vec2;
+use std::collections::BTreeMap;
 
 impl History {
     pub fn push(&mut self, s: Sample) {
@@ -34,7 +41,7 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.label(RichText::new("Light culling").strong());
         egui::Grid::new("modes").num_columns(2).spacing([8.0, 2.0]).show(ui, |ui| {
             for (i, m) in CullingMode::ALL.into_iter().enumerate() {
-                match super::refused(f, &st.settings, "culling", m.name()) {
+                match super::common::refused(f, &st.settings, "culling", m.name()) {
                     Some(why) => {
                         let checked = st.settings.culling == m;
                         ui.add_enabled(false, egui::RadioButton::new(checked, m.name())).on_disabled_hover_text(why);

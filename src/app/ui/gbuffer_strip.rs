@@ -1,15 +1,20 @@
 //! The G-buffer strip: a thumbnail per target (and the light, stencil and complexity views).
 
-use super::*;
-
-/// One thumbnail: a view that shows one buffer of the frame readably.
-pub struct Thumb {
-    pub view: DebugView,
-    pub label: &'static str,
-    /// The buffer it shows, e.g. "albedo+spec".
-    pub buffer: String,
-    pub format: String,
-}
+use super::common::FrameInfo;
+use super::common::Thumb;
+use crate::app::state::UiState;
+use crate::renderer::kit::gbuffer::Attr;
+use crate::renderer::kit::gbuffer::GBufferLayout;
+use crate::renderer::DebugView;
+use crate::renderer::LayoutChoice;
+use crate::renderer::RenderPath;
+use egui::Color32;
+use egui::Pos2;
+use egui::Rect;
+use egui::RichText;
+use egui::Sense;
+use egui::Stroke;
+use egui::Vec2;
 
 /// The thumbnail strip for a layout: each G-buffer target by the views that decode its
 /// attributes (each view once), the light accumulation, then depth-stencil: stencil diagram
@@ -73,8 +78,8 @@ pub(super) fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) 
                 ui,
                 |ui| {
                     for l in LayoutChoice::ALL {
-                        let why = super::refused(f, &st.settings, "layout", l.name());
-                        super::offer(ui, why, &mut st.settings.layout, l, l.name());
+                        let why = super::common::refused(f, &st.settings, "layout", l.name());
+                        super::common::offer(ui, why, &mut st.settings.layout, l, l.name());
                     }
                 },
             );

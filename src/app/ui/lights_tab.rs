@@ -1,6 +1,27 @@
 //! The lights tab: the light list with per-light figures, and the selected light's editor.
 
-use super::*;
+use super::common::colour32;
+use super::common::fmt_count;
+use super::common::fmt_ms;
+use super::common::fmt_opt;
+use super::common::method_name;
+use super::common::reject;
+use super::common::Command;
+use super::common::FrameInfo;
+use super::common::Status;
+use super::common::UiOut;
+use crate::app::state;
+use crate::app::state::UiState;
+use crate::renderer::FrameStats;
+use crate::scene::Light;
+use crate::scene::Scene;
+use egui::Color32;
+use egui::Rect;
+use egui::RichText;
+use egui::Sense;
+use egui::Stroke;
+use egui::Vec2;
+use glam::Vec3;
 
 pub(super) fn light_label(i: usize, l: &Light) -> String {
     match l {

@@ -4,17 +4,7 @@
 //! rectangle it drew in ([`Region`]); regions that share a parent must not overlap, and a
 //! region must lie inside its parent.
 
-use egui::Rect;
-
-/// A part of the window, as drawn this frame: where its widgets may appear (a scroll area's
-/// visible rectangle, a panel's outer rectangle).
-#[derive(Clone, Debug)]
-pub struct Region {
-    pub name: &'static str,
-    /// The region it is part of (`None`: the window).
-    pub parent: Option<&'static str>,
-    pub rect: Rect,
-}
+use super::common::Region;
 
 /// What overlaps: sibling regions whose intersection is over a pixel in both directions
 /// (touching edges and rounding do not count), and regions reaching over a pixel out of their
@@ -40,7 +30,7 @@ pub fn overlaps(regions: &[Region]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use egui::pos2;
+    use egui::{pos2, Rect};
 
     fn region(name: &'static str, parent: Option<&'static str>, x0: f32, y0: f32, x1: f32, y1: f32) -> Region {
         Region { name, parent, rect: Rect::from_min_max(pos2(x0, y0), pos2(x1, y1)) }

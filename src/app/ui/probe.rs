@@ -1,7 +1,10 @@
 //! The pixel probe: the G-buffer values, lit value and lights of the pixel under the pointer.
 
-use super::*;
+use super::common::FrameInfo;
 use crate::renderer::explain::LightWhy;
+use egui::Color32;
+use egui::RichText;
+use glam::Vec3;
 
 pub(super) fn v3(v: Vec3) -> String {
     format!("{:.3} {:.3} {:.3}", v.x, v.y, v.z)

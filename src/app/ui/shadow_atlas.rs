@@ -6,11 +6,30 @@
 //! selection). Scroll zooms about the pointer, drag pans, double-click fits. Beside it the
 //! frame's `ShadowStats` and the shadow knobs.
 
-use super::*;
+use super::common::colour32;
+use super::common::fmt_count;
+use super::common::AtlasInfo;
+use super::common::Command;
+use super::common::FrameInfo;
+use super::common::Status;
+use super::common::UiOut;
+use crate::app::state;
+use crate::app::state::Tab;
+use crate::app::state::UiState;
 use crate::renderer::inspect::{AtlasTile, TileOwner};
 use crate::renderer::knobs;
 use crate::renderer::shadows::{kind_casts, ShadowStats};
 use crate::renderer::{ShadowFilter, ShadowFormat, ShadowMode};
+use crate::scene::Light;
+use crate::scene::Scene;
+use egui::Color32;
+use egui::Pos2;
+use egui::Rect;
+use egui::RichText;
+use egui::Sense;
+use egui::Stroke;
+use egui::Vec2;
+use glam::Vec3;
 use state::AtlasView;
 
 /// The selected light's outline.
@@ -32,19 +51,6 @@ pub fn cascade_colour(i: u32) -> Color32 {
     let tints =
         [Vec3::new(1.0, 0.25, 0.25), Vec3::new(0.25, 1.0, 0.25), Vec3::new(0.3, 0.45, 1.0), Vec3::new(1.0, 1.0, 0.25)];
     colour32(tints[(i as usize).min(3)])
-}
-
-/// What the panel shows of the last frame (read only).
-pub struct AtlasInfo<'a> {
-    /// The atlas image (`None` until first drawn).
-    pub image: Option<egui::TextureId>,
-    /// Side of the atlas in texels.
-    pub side: u32,
-    /// Its depth format (`--shadow-format`).
-    pub format: wgpu::TextureFormat,
-    pub tiles: &'a [AtlasTile],
-    /// Least and greatest stored depth (fractions of each tile's far distance).
-    pub range: Option<(f32, f32)>,
 }
 
 /// One outline of the panel.

@@ -1,8 +1,30 @@
 //! The left panel: its tabs (scene, materials, camera, help; lights in `lights_tab`) and the pixel probe below them.
 
-use super::*;
+use super::common::reject;
+use super::common::Command;
+use super::common::FrameInfo;
+use super::common::Region;
+use super::common::Status;
+use super::common::UiOut;
+use super::common::MIN_TAB_HEIGHT;
+use super::common::PIXEL_PANEL;
+use super::lights_tab::lights_tab;
+use super::probe::pixel_panel;
+use crate::app::camera;
+use crate::app::state::Tab;
+use crate::app::state::UiState;
+use crate::app::state::MAX_LIGHTS;
+use crate::app::state::MAX_SCALE;
+use crate::app::state::MIN_SCALE;
 use crate::renderer::knobs;
+use crate::renderer::settings::AccumFormat;
 use crate::renderer::settings::{CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS};
+use crate::renderer::LayoutChoice;
+use crate::scene::Scene;
+use crate::scene::Sun;
+use egui::Rect;
+use egui::RichText;
+use glam::Vec3;
 
 pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     // The pixel inspector stays in view at the bottom while the tabs scroll above it, when the
@@ -166,16 +188,16 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
         ui.label("accumulation");
         egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(ui, |ui| {
             for a in AccumFormat::ALL {
-                let why = super::refused(f, &st.settings, "accumulation", a.name());
-                super::offer(ui, why, &mut st.settings.accumulation, a, a.name());
+                let why = super::common::refused(f, &st.settings, "accumulation", a.name());
+                super::common::offer(ui, why, &mut st.settings.accumulation, a, a.name());
             }
         });
         ui.end_row();
         ui.label("G-buffer");
         egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
             for l in LayoutChoice::ALL {
-                let why = super::refused(f, &st.settings, "layout", l.name());
-                super::offer(ui, why, &mut st.settings.layout, l, l.name());
+                let why = super::common::refused(f, &st.settings, "layout", l.name());
+                super::common::offer(ui, why, &mut st.settings.layout, l, l.name());
             }
         });
         ui.end_row();
@@ -184,8 +206,8 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
             use crate::renderer::settings::{BlendedMode, MAX_PEEL_LAYERS};
             egui::ComboBox::from_id_salt("blended").selected_text(st.settings.blended.name()).show_ui(ui, |ui| {
                 for &b in <BlendedMode as clap::ValueEnum>::value_variants() {
-                    let why = super::refused(f, &st.settings, "blended", b.name());
-                    super::offer(ui, why, &mut st.settings.blended, b, b.name()).on_hover_text(knob_help(&b));
+                    let why = super::common::refused(f, &st.settings, "blended", b.name());
+                    super::common::offer(ui, why, &mut st.settings.blended, b, b.name()).on_hover_text(knob_help(&b));
                 }
             });
             if st.settings.blended == BlendedMode::Peeled {
@@ -331,7 +353,7 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         );
         ui.end_row();
         ui.label("auto-exposure");
-        match super::refused(f, s, "auto-exposure", "on") {
+        match super::common::refused(f, s, "auto-exposure", "on") {
             Some(why) if !s.auto_exposure => {
                 ui.add_enabled(false, egui::Checkbox::new(&mut false, "on")).on_disabled_hover_text(why);
             }

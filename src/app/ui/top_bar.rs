@@ -1,6 +1,18 @@
 //! The top bar (scene, culling mode, view, panels) and the status line.
 
-use super::*;
+use super::common::culling_help;
+use super::common::Command;
+use super::common::FrameInfo;
+use super::common::Region;
+use super::common::Status;
+use super::common::UiOut;
+use crate::app::state::Tab;
+use crate::app::state::UiState;
+use crate::renderer::CullingMode;
+use crate::renderer::DebugView;
+use crate::scene::builtin;
+use egui::Color32;
+use egui::RichText;
 
 pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     let r = egui::Panel::top("top").show(ui, |ui| {
@@ -57,8 +69,9 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 ui,
                 |ui| {
                     for m in CullingMode::ALL {
-                        let why = super::refused(f, &st.settings, "culling", m.name());
-                        super::offer(ui, why, &mut st.settings.culling, m, m.name()).on_hover_text(culling_help(m));
+                        let why = super::common::refused(f, &st.settings, "culling", m.name());
+                        super::common::offer(ui, why, &mut st.settings.culling, m, m.name())
+                            .on_hover_text(culling_help(m));
                     }
                 },
             );
@@ -68,10 +81,10 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
             egui::ComboBox::from_id_salt("preset").selected_text(&current).width(80.0).show_ui(ui, |ui| {
                 for p in crate::renderer::presets::Preset::ALL {
                     let name = p.name();
-                    let why = super::refused(f, &st.settings, "preset", &name);
+                    let why = super::common::refused(f, &st.settings, "preset", &name);
                     let help = crate::renderer::settings::help_of(&p);
                     let mut chosen = current.clone();
-                    let r = super::offer(ui, why, &mut chosen, name.clone(), &name).on_hover_text(help);
+                    let r = super::common::offer(ui, why, &mut chosen, name.clone(), &name).on_hover_text(help);
                     if r.clicked() && chosen != current {
                         if let Err(e) = st.settings.set("preset", &name) {
                             out.commands.push(Command::Status(Status { text: e, error: true }));

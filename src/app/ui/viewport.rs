@@ -1,6 +1,19 @@
 //! The viewport: the rendered frame, the wireframe overlay, hover, click and drag.
 
-use super::*;
+use super::common::colour32;
+use super::common::efficiency_colour;
+use super::common::FrameInfo;
+use super::common::UiOut;
+use crate::app::state::UiState;
+use crate::app::state::WireColour;
+use crate::renderer::DebugView;
+use egui::Color32;
+use egui::Pos2;
+use egui::Rect;
+use egui::Sense;
+use egui::Stroke;
+use egui::Vec2;
+use glam::Vec3;
 
 pub(super) fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     // Snapped to whole pixels: at resolution scale 1 the frame maps 1:1 onto the window only if

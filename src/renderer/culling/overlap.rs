@@ -25,7 +25,7 @@
 //! the same per-light values, read back with [`Renderer::light_clamps`](super::Renderer::light_clamps).
 
 use super::plan::LightPlan;
-use crate::renderer::records::{FP16_MAX, RG11B10_MAX};
+pub use crate::renderer::records::{format_max, light_clamp};
 
 /// Tile size in pixels of the overlap count.
 pub const OVERLAP_TILE: u32 = 16;
@@ -36,25 +36,6 @@ thread_local! {
 
 /// `clamps`' tile rectangle of a light that covers no tile (no rectangle has x0 > x1).
 const NO_TILES: [u32; 4] = [1, 0, 0, 0];
-
-/// The largest finite value of an accumulation format whose sums must stay finite, `None` for
-/// formats that cannot overflow in practice (Rgba32Float; Rgba8Log saturates at a finite value).
-pub fn format_max(format: wgpu::TextureFormat) -> Option<f32> {
-    match format {
-        wgpu::TextureFormat::Rgba16Float => Some(FP16_MAX),
-        wgpu::TextureFormat::Rg11b10Ufloat => Some(RG11B10_MAX),
-        _ => None,
-    }
-}
-
-/// The most one term may add to a channel when at most `overlap` lights meet at a tile it
-/// covers (see the module's proof); `f32::MAX` for formats without overflow.
-pub fn light_clamp(format: wgpu::TextureFormat, overlap: usize) -> f32 {
-    match format_max(format) {
-        Some(max) => max / (3.0 * (overlap as f32 + 1.0)),
-        None => f32::MAX,
-    }
-}
 
 /// Each light's clamp and the ambient + sun term's, for `plans` on a `size` screen.
 #[derive(Clone, Debug, Default, PartialEq)]

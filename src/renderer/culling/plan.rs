@@ -935,7 +935,7 @@ fn plan_draws(
             // Lines and points go into the G-buffer whatever their alpha mode (the importer
             // warns about blended ones).
             let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
-            let p = crate::renderer::surfaces::gbuffer::topology_pipeline_index(topology, masked, m.double_sided);
+            let p = crate::renderer::kit::pipeline::topology_pipeline_index(topology, masked, m.double_sided);
             draws.gbuffer.push((i, p, o.material));
             continue;
         }
@@ -978,7 +978,7 @@ fn plan_draws(
                     let masked = matches!(m.alpha_mode, AlphaMode::Mask { .. });
                     draws.gbuffer.push((
                         i,
-                        crate::renderer::surfaces::gbuffer::pipeline_index(masked, m.double_sided),
+                        crate::renderer::kit::pipeline::pipeline_index(masked, m.double_sided),
                         o.material,
                     ));
                     draws.forward_opaque.push((i, m.double_sided as usize + 2 * masked as usize, o.material));
@@ -991,7 +991,7 @@ fn plan_draws(
                 let masked = matches!(mode, AlphaMode::Mask { .. });
                 draws.gbuffer.push((
                     i,
-                    crate::renderer::surfaces::gbuffer::pipeline_index(masked, m.double_sided),
+                    crate::renderer::kit::pipeline::pipeline_index(masked, m.double_sided),
                     o.material,
                 ));
             }

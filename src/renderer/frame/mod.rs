@@ -237,7 +237,7 @@ impl Renderer {
         let key = self.passes.key().clone();
         let clock = cputime::Clock::start();
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
-        let mut records = FrameRecords::reusing(scene, settings, size, key.accum_format, spare_lights);
+        let mut records = FrameRecords::reusing(scene, &settings.options(), size, key.accum_format, spare_lights);
         super::records::stored_position_pads(&mut records.lights, key.layout.position_rounding(), &records.proj);
         let records_ms = clock.ms();
         let view = PlanView {

@@ -50,6 +50,17 @@ pub struct Passes {
 }
 
 impl Passes {
+    /// The post chain's passes.
+    pub fn chain(&self) -> crate::renderer::post::ChainPasses<'_> {
+        crate::renderer::post::ChainPasses {
+            bloom: &self.bloom,
+            exposure: &self.exposure,
+            tonemap: &self.tonemap,
+            effects: &self.effects,
+            distortion: &self.distortion,
+        }
+    }
+
     /// The shader module and layouts only; no pipeline is compiled here. The passes every frame
     /// may use (G-buffer, lights, debug, compose, the forward paths', measure, shadows) are built
     /// by the first frame ([`Passes::prepare`]), the others by the first frame that needs them,

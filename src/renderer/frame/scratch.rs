@@ -3,15 +3,15 @@
 //! set holds only what is built for a configuration (pipelines, layouts), so every renderer on a
 //! device shares the sets of its configurations (`PassPool`) while each writes its own scratch.
 
-use crate::renderer::culling::tiled::pass::TiledScratch;
-use crate::renderer::paths::forward_pass::ForwardScratch;
-use crate::renderer::shadows::atlas_view::AtlasScratch;
+use crate::renderer::culling::tiled::scratch::TiledScratch;
+use crate::renderer::paths::forward_scratch::ForwardScratch;
+use crate::renderer::shadows::scratch::{AtlasScratch, ShadowTimes};
 
 #[derive(Default)]
 pub struct Scratch {
     pub tiled: TiledScratch,
     /// The ledger's per-light shadow timing.
-    pub shadows: crate::renderer::shadows::pass::ShadowTimes,
+    pub shadows: ShadowTimes,
     pub forward: ForwardScratch,
     pub atlas_view: AtlasScratch,
 }

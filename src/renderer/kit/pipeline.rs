@@ -5,6 +5,7 @@
 use super::features::ShaderFeatures;
 use super::gbuffer::{GBufferLayout, GBufferTargets};
 use super::{bindings, log_accum, z, LightPipe, Out, RenderPipe, RenderPipeDesc, Vs, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use crate::scene::Topology;
 use wgpu::CompareFunction as Cmp;
 
 /// Key of everything the pipelines depend on.
@@ -315,4 +316,21 @@ pub fn scene_pipeline(
             fragment: p.fs.map(|fs| (fs.to_owned(), targets.to_vec())),
         },
     )
+}
+
+/// Index into the G-buffer pass's pipelines (`surfaces::gbuffer::GBufferPass::pipelines`):
+/// opaque or masked, one- or two-sided.
+pub fn pipeline_index(masked: bool, double_sided: bool) -> usize {
+    masked as usize * 2 + double_sided as usize
+}
+
+/// Index into the G-buffer pass's pipelines of a mesh of `topology`: lines and points have one
+/// pipeline each (no faces to cull; the masked fragment shader, whose cutoff is 0 for opaque
+/// materials).
+pub fn topology_pipeline_index(topology: Topology, masked: bool, double_sided: bool) -> usize {
+    match topology {
+        Topology::Triangles => pipeline_index(masked, double_sided),
+        Topology::Lines => 4,
+        Topology::Points => 5,
+    }
 }

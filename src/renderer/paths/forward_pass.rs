@@ -15,6 +15,7 @@
 //! The pipelines are built on a path's first frame (not with every configuration's passes: the
 //! deferred path never needs them).
 
+use super::forward_scratch::{Counted, ForwardScratch, Msaa, Queries};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::options::post::PostOptions;
@@ -112,7 +113,7 @@ pub fn post_reads_gbuffer(view: DebugView, s: &PostOptions, chain: bool) -> bool
     chain && (s.fog || s.dof || s.distortion || s.aa == Aa::Edge || matches!(view, V::Edges | V::Coc))
 }
 
-/// The pipelines of one sample count, by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`] each.
+/// The pipelines of one sample count, by [`crate::renderer::kit::pipeline::topology_pipeline_index`] each.
 struct Pipelines {
     depth: [crate::renderer::kit::RenderPipe; 6],
     /// Single-pass shading after the depth pre-pass (LessEqual, no depth write).
@@ -125,12 +126,6 @@ struct Pipelines {
     blended: [crate::renderer::kit::RenderPipe; 2],
 }
 
-struct Msaa {
-    size: (u32, u32),
-    color: wgpu::TextureView,
-    depth: wgpu::TextureView,
-}
-
 pub struct ForwardPathsPass {
     key: crate::renderer::kit::PipelineKey,
     module: wgpu::ShaderModule,
@@ -138,61 +133,11 @@ pub struct ForwardPathsPass {
     pipelines: Mutex<HashMap<u32, Arc<Pipelines>>>,
 }
 
-/// A renderer's forward-path buffers: the occlusion queries of the path's passes with their
-/// resolve and read-back buffers (made on the first forward frame), and the multisampled
-/// targets of the last size.
-#[derive(Default)]
-pub struct ForwardScratch {
-    queries: std::sync::OnceLock<Queries>,
-    /// The per-draw queries of counted frames ([`MAX_DRAW_QUERIES`]), made on the first.
-    draws: std::sync::OnceLock<Queries>,
-    /// What the last counted frame's draw queries counted, in query order.
-    counted: Mutex<Vec<Counted>>,
-    msaa: Mutex<Option<Arc<Msaa>>>,
-}
-
-/// What one draw query of a counted frame covers: a single-pass object (each light of its
-/// list evaluated at every sample it shades) or a multi-pass (object, light) pair.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Counted {
-    Object(usize),
-    Pair(usize),
-}
-
 /// A counted frame's per-draw queries: their set (`None`: the passes are counted whole, or
 /// not at all) and what each query covers, in query order.
 struct DrawCounts<'a> {
     set: Option<&'a wgpu::QuerySet>,
     counted: Vec<Counted>,
-}
-
-struct Queries {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-}
-
-impl Queries {
-    fn new(device: &wgpu::Device, label: &str, count: u32) -> Self {
-        let buffer = |what: &str, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(&format!("{label} {what}")),
-                size: count as u64 * 8,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        use wgpu::BufferUsages as B;
-        Queries {
-            set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some(label),
-                ty: wgpu::QueryType::Occlusion,
-                count,
-            }),
-            resolve: buffer("resolve", B::QUERY_RESOLVE | B::COPY_SRC),
-            readback: buffer("readback", B::COPY_DST | B::MAP_READ),
-        }
-    }
 }
 
 impl ForwardScratch {
@@ -304,7 +249,7 @@ impl ForwardPathsPass {
         scene_pipeline(device, &self.module, &self.key, p, targets)
     }
 
-    /// The six pipelines of one stage (by [`crate::renderer::surfaces::gbuffer::topology_pipeline_index`]): opaque and masked
+    /// The six pipelines of one stage (by [`crate::renderer::kit::pipeline::topology_pipeline_index`]): opaque and masked
     /// triangles, one- and two-sided, then lines and points (masked shader, two-sided).
     #[allow(clippy::too_many_arguments)]
     fn stage(

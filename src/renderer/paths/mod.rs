@@ -12,6 +12,7 @@
 pub mod deferred;
 pub mod forward;
 pub mod forward_pass;
+pub mod forward_scratch;
 pub mod light_prepass;
 pub mod prepass_pass;
 
@@ -128,7 +129,7 @@ pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
 pub fn finish(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
     if let Some(pt) = c.f.targets.post.as_ref().filter(|_| c.shape.chain) {
         let stamps = c.f.timestamps(None, Some(COMPOSE));
-        c.group(encoder, "post chain", |e| post::encode_chain(e, c.f, c.passes, pt, c.target, stamps));
+        c.group(encoder, "post chain", |e| post::encode_chain(e, c.f, &c.passes.chain(), pt, c.target, stamps));
     } else {
         c.group(encoder, "tonemap", |e| c.passes.compose.encode_tonemap(e, c.f, c.target));
     }

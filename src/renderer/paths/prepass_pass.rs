@@ -6,9 +6,9 @@
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
 use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::kit::pipeline::topology_pipeline_index;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
-use crate::renderer::surfaces::gbuffer::topology_pipeline_index;
 
 /// Pass 3's timing (`gpu_ms.prepass_final`).
 pub const SPAN: Span = Span("prepass final");

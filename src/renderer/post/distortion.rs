@@ -7,14 +7,12 @@
 //! bends more); .a gets 1 / view depth, the greatest (the nearest surface) kept (max
 //! blending). The second half is the chain's `distortion` effect (`fs_distort`, `effects`).
 
+pub use super::targets::DISTORTION_FORMAT as FORMAT;
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};
 use crate::renderer::targets::attachment;
-
-/// The distortion buffer's format.
-pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The buffer's draws open the effect's span (`gpu_ms` "distortion" covers both halves).
 const SPAN: Span = Span("distortion");

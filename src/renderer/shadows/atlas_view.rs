@@ -4,6 +4,7 @@
 //! on demand, after a frame, into a texture the caller keeps (the viewer registers it with
 //! egui once and has it redrawn in place).
 
+use super::scratch::AtlasScratch;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;
 use crate::renderer::records::FrameBuffers;
@@ -18,13 +19,6 @@ pub struct AtlasViewPass {
     view: crate::renderer::kit::RenderPipe,
     atlas_bgl: wgpu::BindGroupLayout,
     range_bgl: wgpu::BindGroupLayout,
-}
-
-/// A renderer's range buffers (made on first use): `atlas_range` (least and greatest depth
-/// bits, the image's side, a pad) and its copy for the CPU.
-#[derive(Default)]
-pub struct AtlasScratch {
-    buffers: std::sync::OnceLock<(wgpu::Buffer, wgpu::Buffer)>,
 }
 
 impl AtlasScratch {

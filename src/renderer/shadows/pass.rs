@@ -3,6 +3,7 @@
 //! before the G-buffer pass (which already adds the sun's light through the atlas). With
 //! `--shadow-cube array`, cube faces go to the layers of the cube array instead.
 
+use super::scratch::{Owner, ShadowTimes, Timers};
 use super::{ShadowPlan, TileDraw};
 use crate::renderer::frame::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
@@ -200,29 +201,6 @@ fn begin_pass<'e>(
         occlusion_query_set: None,
         multiview_mask: None,
     })
-}
-
-/// Whose tiles a timed shadow render pass draws.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Owner {
-    /// The sun's cascades.
-    Sun,
-    Light(usize),
-}
-
-struct Timers {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    capacity: u32,
-}
-
-/// A renderer's per-light shadow timing (the ledger's frames): the timestamp queries, grown as
-/// frames need, and the last frame's owner of each pair.
-#[derive(Default)]
-pub struct ShadowTimes {
-    timers: std::sync::Mutex<Option<std::sync::Arc<Timers>>>,
-    owners: std::sync::Mutex<Vec<(Owner, u32)>>,
 }
 
 impl ShadowTimes {

@@ -8,25 +8,10 @@ use crate::renderer::stats::Span;
 /// The G-buffer pass's timing (`gpu_ms.gbuffer`; its beginning starts `gpu_ms.total`).
 pub const SPAN: Span = Span("gbuffer");
 use crate::renderer::kit::gbuffer::Attr;
+pub use crate::renderer::kit::pipeline::{pipeline_index, topology_pipeline_index};
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
 use wgpu::CompareFunction as Cmp;
-
-/// Index into [`GBufferPass::pipelines`]: opaque or masked, one- or two-sided.
-pub fn pipeline_index(masked: bool, double_sided: bool) -> usize {
-    masked as usize * 2 + double_sided as usize
-}
-
-/// Index into [`GBufferPass::pipelines`] of a mesh of `topology`: lines and points have one
-/// pipeline each (no faces to cull; the masked fragment shader, whose cutoff is 0 for opaque
-/// materials).
-pub fn topology_pipeline_index(topology: Topology, masked: bool, double_sided: bool) -> usize {
-    match topology {
-        Topology::Triangles => pipeline_index(masked, double_sided),
-        Topology::Lines => 4,
-        Topology::Points => 5,
-    }
-}
 
 /// What varies between the surface pipelines (scene vertices, frame + material groups): the
 /// G-buffer's and the forward pass's for blended surfaces.

@@ -13,3 +13,4 @@ pub mod compose;
 pub mod debug;
 pub mod gbuffer;
 pub mod measure;
+pub mod peel;

@@ -6,6 +6,7 @@
 //! is `culling::tiled::pass`.
 
 pub mod pass;
+pub mod scratch;
 
 use crate::renderer::culling::methods::Covers;
 use crate::renderer::culling::plan::{LightPlan, Method, PlanView};

@@ -18,6 +18,7 @@
 //! Buffers live here (they depend on the frame's size and light count), behind a mutex since
 //! passes record through `&self`.
 
+use super::scratch::{Buffers, Pending, TiledScratch};
 use super::TileStats;
 use crate::renderer::culling::zbin::ZBinJob;
 use crate::renderer::frame::inputs::FrameInputs;
@@ -30,7 +31,6 @@ use crate::renderer::stats::Span;
 use crate::renderer::targets::attachment;
 use crate::renderer::tiles::{ClusterBuild, ALL_LIGHTS, TILE};
 use anyhow::Result;
-use std::sync::Mutex;
 
 /// The GPU building the light lists (`gpu_ms.lists`, inside the lighting's span).
 pub const SPAN: Span = Span("light lists");
@@ -40,32 +40,6 @@ pub const SPAN: Span = Span("light lists");
 pub const ENTRIES_PER_TILE: u32 = 1024;
 /// Most u32 entries the list buffer holds: 128 MiB, WebGPU's guaranteed binding size.
 pub const MAX_ENTRIES: u64 = (128 << 20) / 4;
-
-struct Buffers {
-    params: wgpu::Buffer,
-    lists: wgpu::Buffer,
-    counts: wgpu::Buffer,
-    group: wgpu::BindGroup,
-    /// Readback of the headers and of the counters.
-    lists_read: wgpu::Buffer,
-    counts_read: wgpu::Buffer,
-}
-
-/// What the last frame left to read back.
-#[derive(Clone, Copy)]
-struct Pending {
-    method: Method,
-    cells: u64,
-    lights: usize,
-    counted: bool,
-    tile_size: u32,
-    slices: u32,
-    params: TileParams,
-    /// u32 words of the list buffer in use.
-    words: u64,
-    /// Z-binned: u32 words of the masks (after the per-light counters in the counts buffer).
-    mask_words: u64,
-}
 
 /// The last frame's lists as the GPU held them (for tests and inspection): the parameters,
 /// then a (first, count) pair per cell followed by the entries.
@@ -155,13 +129,6 @@ pub struct TiledPass {
     /// `fs_zbin_counted`), built by the first such frame.
     zbin: std::sync::OnceLock<([crate::renderer::kit::ComputePipe; 2], crate::renderer::kit::RenderPipe)>,
     zbin_counted: std::sync::OnceLock<crate::renderer::kit::RenderPipe>,
-}
-
-/// A renderer's tile lists: the buffers (grown as frames need) and what the last frame left to
-/// read back.
-#[derive(Default)]
-pub struct TiledScratch {
-    state: Mutex<(Option<Buffers>, Option<Pending>)>,
 }
 
 fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {

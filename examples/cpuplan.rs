@@ -113,8 +113,9 @@ fn main() {
                 sort_blended: true,
                 prepass_models: None,
             };
+            let shadow_options = settings.shadow_options();
             let shadow_inputs = |plans: &[plan::LightPlan], records: &FrameRecords| shadows::ShadowInputs {
-                settings: &settings,
+                options: &shadow_options,
                 bounds: &bounds,
                 footprints: plans.iter().map(|l| (l.screen_share, l.screen_rect.is_some())).collect(),
                 size: (w, h),

@@ -51,7 +51,7 @@ struct Frame {
 fn render(gpu: &Gpu, scene: &Scene, settings: &Settings, w: u32, h: u32) -> Result<Frame> {
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings)?;
     let (image, _) = render_image(gpu, &mut r, scene, settings, w, h)?;
-    let (d, s) = r.read_accumulation(gpu)?;
+    let (d, s) = r.last_frame().read_accumulation(gpu)?;
     let non_finite = d.iter().chain(s.iter()).filter(|v| !v.is_finite()).count();
     Ok(Frame { image, non_finite })
 }

@@ -1,5 +1,5 @@
 //! The lighting model again, on the CPU in f64: checks the GPU shader's arithmetic at sampled
-//! pixels, from the same G-buffer inputs the shader read (see `Renderer::probe`). It mirrors
+//! pixels, from the same G-buffer inputs the shader read (see `Last::probe`). It mirrors
 //! `shade_light` and `fs_ambient` in the WGSL line for line; lights come from the scene in f64.
 //! Each reflectance model (`Brdf`, the pixel's material ID) has its twin here: `brdf_light`,
 //! `ambient_diffuse`, `ambient_specular`.
@@ -164,7 +164,7 @@ impl Clamps {
         Self { ambient: f64::INFINITY, lights: vec![f64::INFINITY; lights] }
     }
 
-    /// The clamps the renderer's last frame applied (`Renderer::light_clamps`).
+    /// The clamps the renderer's last frame applied (`Last::light_clamps`).
     pub fn of(renderer: &crate::renderer::Renderer) -> Self {
         let (ambient, lights) = renderer.last_frame().light_clamps();
         Self { ambient: ambient as f64, lights: lights.into_iter().map(f64::from).collect() }

@@ -207,7 +207,7 @@ impl App {
                     Image::new(&g.gpu.device, &mut g.egui_renderer, "thumbnail", (tw, th), linear, views)
                 });
                 img.resize(&g.gpu.device, &mut g.egui_renderer, tw, th, wgpu::FilterMode::Linear);
-                match g.renderer.compose_view(v, &img.target, tw, th) {
+                match g.renderer.last_frame().compose_view(v, &img.target, tw, th) {
                     Ok(()) => img.publish(&g.gpu),
                     Err(e) => log::warn!("thumbnail {v:?}: {e:#}"),
                 }

@@ -187,7 +187,7 @@ struct App {
     history: History,
     status: Option<Status>,
     probe: Option<PixelProbe>,
-    /// Why each light lit the last clicked pixel (`Renderer::explain`), or why it cannot say.
+    /// Why each light lit the last clicked pixel (`Last::explain`), or why it cannot say.
     explanation: Option<Result<crate::renderer::explain::Explanation, String>>,
     /// The last culling check (`oracle`), or why it could not run.
     check: Option<Result<ui::CullingCheck, String>>,

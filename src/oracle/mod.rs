@@ -1,5 +1,5 @@
 //! The culling oracle: each culling mode's light, pixel by pixel, against brute force (every
-//! light evaluated at every pixel in f32, `Renderer::brute_force`), on cases drawn by a seeded
+//! light evaluated at every pixel in f32, `Last::brute_force`), on cases drawn by a seeded
 //! generator ([`case::generate`]) or read from a file. Culling may only skip work: a pixel
 //! where brute force adds more light than the mode did, by more than the accumulation's
 //! rounding, is a missed pair; more light than brute force is extra light.

@@ -34,6 +34,10 @@ pub fn wgsl_constants() -> String {
         u(&format!("TONEMAP_{}", t.wgsl_name()), t as u32);
     }
     u("HIST_BINS", post::HIST_BINS);
+    u("MAX_EFFECTS", post::effects::MAX_EFFECTS as u32);
+    for (i, e) in post::effects::EFFECTS.iter().enumerate() {
+        u(&format!("EFFECT_{}", e.name.to_uppercase().replace('-', "_")), i as u32);
+    }
     u("NO_SHADOW", records::NO_SHADOW);
     u("SHADOW_TABLE_WIDTH", records::SHADOW_TABLE_WIDTH);
     u("TILE_CHUNK", tiles::SHADE_CHUNK);
@@ -227,6 +231,61 @@ pub fn shader_source_for(
         .map(String::from),
     );
     parts.join("\n")
+}
+
+/// The last light list a frame checked, by identity with the cookies it names
+/// (`Scene::lights` is copied on write), and the shader features it needed with the sun and
+/// settings then: a frame with the same list reads no light to validate it
+/// (`Shape::of_checked`) or to pick its shaders' lookups (`ShaderFeatures::of`).
+struct LightsSeen {
+    lights: std::sync::Arc<Vec<crate::scene::Light>>,
+    cookies: Vec<u64>,
+    sun: Option<crate::scene::Sun>,
+    settings: Settings,
+    features: ShaderFeatures,
+}
+
+/// The shader features of the last frame's light list ([`LightsSeen`]).
+#[derive(Default)]
+pub struct FeatureCache {
+    seen: Option<LightsSeen>,
+}
+
+impl FeatureCache {
+    /// Whether `scene`'s lights are the list the last frame checked.
+    pub fn same_list(&self, scene: &crate::scene::Scene) -> bool {
+        self.seen.as_ref().is_some_and(|s| {
+            std::sync::Arc::ptr_eq(&s.lights, &scene.lights)
+                && s.cookies.iter().copied().eq(scene.cookies.iter().map(|c| c.id()))
+        })
+    }
+
+    /// The shader features of a frame of `scene` with `settings` (`ShaderFeatures::of`), read
+    /// from the lights only when they are another list than the last frame's (or the sun or
+    /// settings changed). Called once the frame's lights passed validation: the list is kept as
+    /// checked.
+    pub fn of(
+        &mut self,
+        scene: &crate::scene::Scene,
+        settings: &Settings,
+        quirks: &crate::renderer::kit::caps::Quirks,
+    ) -> ShaderFeatures {
+        if let Some(s) = self.seen.as_ref().filter(|_| self.same_list(scene)) {
+            if s.sun == scene.sun && s.settings == *settings {
+                // The materials' part is read afresh: it is not the lights'.
+                return ShaderFeatures { colour_maps: ShaderFeatures::samples_colour_maps(scene), ..s.features };
+            }
+        }
+        let features = ShaderFeatures::of(Some(scene), settings, quirks);
+        self.seen = Some(LightsSeen {
+            lights: scene.lights.clone(),
+            cookies: scene.cookies.iter().map(|c| c.id()).collect(),
+            sun: scene.sun,
+            settings: settings.clone(),
+            features,
+        });
+        features
+    }
 }
 
 #[cfg(test)]

@@ -303,6 +303,10 @@ gpu_record! {
     }
 }
 
+/// Effects after tone mapping the chain holds at most (`post::effects::EFFECTS`):
+/// `PostParams::effect` has a slot each.
+pub const MAX_EFFECTS: usize = 12;
+
 gpu_record! {
     /// The post chain's parameters (`post_params` in the shaders; `post::params`).
     pub struct PostParams as "PostParams" {
@@ -338,6 +342,9 @@ gpu_record! {
         pub aa: u32,
         pub pad2: u32,
         pub pad3: u32,
+        /// Each effect's own parameters, by its row in `post::effects::EFFECTS`
+        /// (`LS_EFFECT_<NAME>`).
+        pub effect: [[f32; 4]; MAX_EFFECTS],
     }
 }
 

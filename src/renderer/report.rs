@@ -28,7 +28,7 @@ impl Renderer {
         prepared: &Prepared,
         drawn: Drawn,
     ) -> Result<FrameStats> {
-        let key = self.passes.key();
+        let key = self.sets.current.key();
         let plan = &prepared.plan;
         let (forward_path, lit) = (shape.forward_path, settings.debug_view == DebugView::Lit);
         let post_options = settings.post_options();
@@ -407,4 +407,22 @@ fn fill_from_queries(stats: &mut FrameStats, plans: &[LightPlan], scene: &Scene,
     if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
         stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
     }
+}
+
+/// The engine caps' figures of a frame: the camera caps' cut, and the entries the per-cluster
+/// and per-object caps left out (`None` when no cap is set).
+pub(super) fn cap_stats(
+    cut: Option<crate::renderer::caps::CapStats>,
+    settings: &Settings,
+    prepared: &Prepared,
+) -> Option<crate::renderer::caps::CapStats> {
+    if cut.is_none() && settings.lights_per_cluster == 0 && settings.lights_per_object == 0 {
+        return None;
+    }
+    let mut cut = cut.unwrap_or_default();
+    if let Some(tiles::ClusterBuild::Cpu(lists)) = &prepared.plan.clusters {
+        cut.cluster_entries_dropped = lists.capped;
+    }
+    cut.object_entries_dropped = prepared.path_lists.capped;
+    Some(cut)
 }

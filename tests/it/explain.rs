@@ -1,4 +1,4 @@
-//! Why each light lit a pixel (`Renderer::explain`, `render --probe X,Y`): the explanation
+//! Why each light lit a pixel (`Last::explain`, `render --probe X,Y`): the explanation
 //! adds up to the pixel in every culling mode on the hard cases, drops no light, and names the
 //! stage that rejected a light hidden behind a wall.
 

@@ -174,15 +174,15 @@ fn thumbnails_recompose_the_last_frame() {
     render_image(gpu, &mut r, &scene, &s, W, H).unwrap();
     // Full-size albedo through compose_view equals a frame rendered with that debug view.
     let out = Offscreen::new(gpu, W, H);
-    r.compose_view(DebugView::Albedo, &out.view, W, H).unwrap();
+    r.last_frame().compose_view(DebugView::Albedo, &out.view, W, H).unwrap();
     let via_thumbnail = out.read(gpu).unwrap();
     let direct = render(&scene, &Settings { debug_view: DebugView::Albedo, ..s.clone() }, W, H);
     assert_eq!(max_channel_difference(&via_thumbnail, &direct.image), 0);
     // A quarter-size thumbnail is not blank.
     let small = Offscreen::new(gpu, W / 4, H / 4);
-    r.compose_view(DebugView::Normal, &small.view, W / 4, H / 4).unwrap();
+    r.last_frame().compose_view(DebugView::Normal, &small.view, W / 4, H / 4).unwrap();
     assert!(lit_share(&small.read(gpu).unwrap()) > 0.3);
-    assert!(r.compose_view(DebugView::Normal, &small.view, 0, 4).is_err());
+    assert!(r.last_frame().compose_view(DebugView::Normal, &small.view, 0, 4).is_err());
 }
 
 #[test]

@@ -91,7 +91,10 @@ fn soak_in_this_process() {
         let scene = builtin::build("demo", options).expect("demo");
         let settings = settings_for(i);
         renderer.render(&scene, &settings, &out.view, W, H).unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
-        renderer.compose_view(DebugView::Normal, &thumb.view, 64, 36).unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
+        renderer
+            .last_frame()
+            .compose_view(DebugView::Normal, &thumb.view, 64, 36)
+            .unwrap_or_else(|e| panic!("frame {i}: {e:#}"));
         renderer
             .last_frame()
             .probe(gpu, (i as u32 * 7) % W, (i as u32 * 3) % H)

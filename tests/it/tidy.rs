@@ -1,10 +1,11 @@
 //! The house checks its own floors, as rustc's `src/tools/tidy` and rust-analyzer's
 //! `files_are_tidy` do: this reads `src/` (not the compiled crate) and fails, naming the file
 //! and line, when
-//! - a technique room (every folder of `src/renderer/` but `kit/`, `options/` and `frame/`) imports
+//! - a technique room (every folder of `src/renderer/` but `kit/`, `options/`, `inputs/` and
+//!   `frame/`) imports
 //!   `Renderer` or `Settings`, by any path: a `use`, an inline `crate::…::Renderer`,
 //!   `super::super::…`, a glob or a re-export;
-//! - `kit/` imports a technique room;
+//! - `kit/` imports a technique room, or anything of the renderer but `kit/` and `options/`;
 //! - the file-level import graph has a strongly connected set of more than
 //!   [`MAX_CYCLE_FILES`] files, or one that spans more than one entry of `src/` (a top-level
 //!   file is an entry of its own).
@@ -25,10 +26,9 @@ use syn::visit::Visit;
 
 /// The largest strongly connected set of files allowed (Bevy's `bevy_pbr` has none over 7).
 pub const MAX_CYCLE_FILES: usize = 10;
-/// Folders of `src/renderer/` that are not technique rooms: the kit and the options every room
-/// builds on, and
-/// the frame's assembly above them.
-const NOT_ROOMS: &[&str] = &["kit", "frame", "options"];
+/// Folders of `src/renderer/` that are not technique rooms: the kit, the options and the
+/// frame's inputs every room builds on, and the frame's assembly above them.
+const NOT_ROOMS: &[&str] = &["kit", "options", "inputs", "frame"];
 /// What a technique room never imports.
 const HUB_TYPES: &[&str] = &["Renderer", "Settings"];
 
@@ -431,15 +431,16 @@ pub fn check(src: &Path) -> Result<(Vec<String>, String), String> {
                 bad.push(format!("src/{}:{}: the technique room imports `{}` ({})", i.from, i.line, i.item, i.to));
             }
         }
-        if i.from.starts_with("renderer/kit/") {
-            if let Some(r) = room(&i.to) {
-                if seen.insert((i.from.clone(), i.line, i.to.clone())) {
-                    bad.push(format!(
-                        "src/{}:{}: kit/ imports the technique room `{r}` (`{}` in {})",
-                        i.from, i.line, i.item, i.to
-                    ));
-                }
-            }
+        // kit/ sits at the bottom: beside `options/`, nothing of the renderer above it.
+        let above_kit = i.to.starts_with("renderer/")
+            && !i.to.starts_with("renderer/kit/")
+            && !i.to.starts_with("renderer/options/");
+        if i.from.starts_with("renderer/kit/") && above_kit && seen.insert((i.from.clone(), i.line, i.to.clone())) {
+            let what = match room(&i.to) {
+                Some(r) => format!("the technique room `{r}`"),
+                None => "what sits above it".to_string(),
+            };
+            bad.push(format!("src/{}:{}: kit/ imports {what} (`{}` in {})", i.from, i.line, i.item, i.to));
         }
     }
     let sets = strongly_connected(&tree.nodes, &imports);
@@ -491,4 +492,255 @@ fn the_import_graph_runs_one_way() {
     };
     println!("{report}");
     assert!(bad.is_empty(), "{} violations:\n{}", bad.len(), bad.join("\n"));
+}
+
+/// A small `src/` of the same shape, with `files` (path, text) added or replacing the base's:
+/// a renderer with a kit, a technique room and the hub types, and a scene.
+fn planted(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lampshade-tidy-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut all: Vec<(String, String)> = [
+        ("lib.rs", "pub mod renderer;\npub mod scene;\n"),
+        (
+            "renderer/mod.rs",
+            "pub mod culling;\npub mod kit;\npub mod settings;\npub use settings::Settings;\n\
+             use crate::scene::Scene;\npub struct Renderer;\nimpl Renderer {\n    pub fn draw(&self, _: &Scene, _: &Settings) { culling::cull(); }\n}\n",
+        ),
+        ("renderer/settings.rs", "pub struct Settings;\n"),
+        ("renderer/kit/mod.rs", "pub fn helper() {}\n"),
+        ("renderer/culling/mod.rs", "use crate::renderer::kit::helper;\npub fn cull() {\n    helper();\n}\n"),
+        ("scene/mod.rs", "pub struct Scene;\n"),
+    ]
+    .iter()
+    .map(|(p, t)| (p.to_string(), t.to_string()))
+    .collect();
+    for (p, t) in files {
+        all.retain(|(q, _)| q != p);
+        all.push((p.to_string(), t.to_string()));
+    }
+    for (p, t) in &all {
+        let path = dir.join(p);
+        std::fs::create_dir_all(path.parent().expect("a file's folder")).expect("the planted folder");
+        std::fs::write(&path, t).expect("a planted file");
+    }
+    dir
+}
+
+fn violations(name: &str, files: &[(&str, &str)]) -> Vec<String> {
+    let dir = planted(name, files);
+    let out = check(&dir).unwrap_or_else(|e| panic!("{name}: {e}")).0;
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
+#[test]
+fn the_planted_tree_is_clean_without_a_planted_violation() {
+    assert_eq!(violations("clean", &[]), Vec::<String>::new());
+}
+
+#[test]
+fn a_room_importing_settings_or_renderer_by_any_path_is_named_with_its_line() {
+    let cases = [
+        ("use", "use crate::renderer::settings::Settings;\npub fn cull(_: &Settings) {}\n", "Settings"),
+        ("re-exported", "use crate::renderer::Settings;\npub fn cull(_: &Settings) {}\n", "Settings"),
+        ("inline", "pub fn cull() {}\n\npub fn f(_: &crate::renderer::Renderer) {}\n", "Renderer"),
+        ("super", "pub fn cull() {}\npub fn f(_: &super::Renderer) {}\n", "Renderer"),
+        ("glob", "use crate::renderer::*;\npub fn cull() {}\npub fn f(_: &Settings) {}\n", "Settings"),
+        ("pub use", "pub use crate::renderer::Renderer as Hub;\npub fn cull() {}\n", "Renderer"),
+    ];
+    for (name, text, item) in cases {
+        let v = violations(name, &[("renderer/culling/mod.rs", text)]);
+        assert!(
+            v.iter().any(|l| l.starts_with("src/renderer/culling/mod.rs:") && l.contains(&format!("`{item}`"))),
+            "{name}: {v:?}"
+        );
+        let line = v[0].split(':').nth(1).and_then(|n| n.parse::<usize>().ok());
+        assert!(line.is_some_and(|n| n >= 1 && n <= text.lines().count()), "{name}: a line of the file: {v:?}");
+    }
+}
+
+#[test]
+fn kit_importing_a_technique_is_named() {
+    let v = violations(
+        "kit",
+        &[("renderer/kit/mod.rs", "pub fn helper() {}\npub fn both() {\n    crate::renderer::culling::cull();\n}\n")],
+    );
+    assert!(v.iter().any(|l| l.starts_with("src/renderer/kit/mod.rs:3:") && l.contains("`culling`")), "{v:?}");
+    let settings = "pub fn helper() {}\npub fn f(_: &crate::renderer::settings::Settings) {}\n";
+    let v = violations("kit-settings", &[("renderer/kit/mod.rs", settings)]);
+    assert!(v.iter().any(|l| l.starts_with("src/renderer/kit/mod.rs:2:") && l.contains("above it")), "{v:?}");
+}
+
+#[test]
+fn a_cycle_of_more_than_ten_files_or_across_two_entries_is_named() {
+    // Eleven files in a ring under one entry.
+    let n = MAX_CYCLE_FILES + 1;
+    let mut files: Vec<(String, String)> = (0..n)
+        .map(|i| {
+            (
+                format!("renderer/ring/r{i}.rs"),
+                format!("pub fn f{i}() {{\n    super::r{}::f{}();\n}}\n", (i + 1) % n, (i + 1) % n),
+            )
+        })
+        .collect();
+    let mods: String = (0..n).map(|i| format!("pub mod r{i};\n")).collect();
+    files.push(("renderer/ring/mod.rs".into(), mods));
+    files.push((
+        "renderer/mod.rs".into(),
+        "pub mod culling;\npub mod kit;\npub mod ring;\npub mod settings;\npub struct Renderer;\n".into(),
+    ));
+    let borrowed: Vec<(&str, &str)> = files.iter().map(|(p, t)| (p.as_str(), t.as_str())).collect();
+    let v = violations("ring", &borrowed);
+    assert_eq!(v.len(), n, "each file of the ring: {v:?}");
+    assert!(v.iter().all(|l| l.contains(&format!("cycle of {n} files"))), "{v:?}");
+    // Ten files stay within the rule.
+    let ten: Vec<(String, String)> = (0..10)
+        .map(|i| {
+            (
+                format!("renderer/ring/r{i}.rs"),
+                format!("pub fn f{i}() {{\n    super::r{}::f{}();\n}}\n", (i + 1) % 10, (i + 1) % 10),
+            )
+        })
+        .chain([("renderer/ring/mod.rs".to_string(), (0..10).map(|i| format!("pub mod r{i};\n")).collect())])
+        .chain([(
+            "renderer/mod.rs".to_string(),
+            "pub mod culling;\npub mod kit;\npub mod ring;\npub mod settings;\npub struct Renderer;\n".to_string(),
+        )])
+        .collect();
+    let borrowed: Vec<(&str, &str)> = ten.iter().map(|(p, t)| (p.as_str(), t.as_str())).collect();
+    assert_eq!(violations("ten", &borrowed), Vec::<String>::new());
+    // Two files, two entries: the scene reaching up into the renderer.
+    let v = violations(
+        "entries",
+        &[
+            ("scene/mod.rs", "pub struct Scene;\npub fn up() {\n    crate::renderer::kit::helper();\n}\n"),
+            ("renderer/kit/mod.rs", "pub fn helper() {\n    let _ = crate::scene::Scene;\n}\n"),
+        ],
+    );
+    assert!(v.iter().any(|l| l.starts_with("src/scene/mod.rs:3:") && l.contains("across renderer, scene")), "{v:?}");
+}
+
+/// Every name a Rust path in `docs/architecture.md` ends in (a backticked `a::b::name` or
+/// `name()`), defined somewhere under `src/` or `tests/`: a function, method, field, type,
+/// constant or module of that name (a method or field of the type the path names, where it
+/// names one).
+#[derive(Default)]
+struct Names {
+    /// Free items and modules by name.
+    items: BTreeSet<String>,
+    /// Methods, associated items and fields by their type's name.
+    members: BTreeMap<String, BTreeSet<String>>,
+}
+
+impl<'ast> Visit<'ast> for Names {
+    fn visit_item(&mut self, item: &'ast syn::Item) {
+        let name = match item {
+            syn::Item::Const(i) => Some(i.ident.to_string()),
+            syn::Item::Enum(i) => Some(i.ident.to_string()),
+            syn::Item::Fn(i) => Some(i.sig.ident.to_string()),
+            syn::Item::Static(i) => Some(i.ident.to_string()),
+            syn::Item::Trait(i) => Some(i.ident.to_string()),
+            syn::Item::Type(i) => Some(i.ident.to_string()),
+            syn::Item::Mod(i) => Some(i.ident.to_string()),
+            syn::Item::Macro(i) => i.ident.as_ref().map(|i| i.to_string()),
+            syn::Item::Struct(s) => {
+                let fields = s.fields.iter().filter_map(|f| f.ident.as_ref().map(|i| i.to_string()));
+                self.members.entry(s.ident.to_string()).or_default().extend(fields);
+                Some(s.ident.to_string())
+            }
+            syn::Item::Impl(i) => {
+                if let syn::Type::Path(p) = &*i.self_ty {
+                    if let Some(ty) = p.path.segments.last() {
+                        let names = i.items.iter().filter_map(|it| match it {
+                            syn::ImplItem::Fn(f) => Some(f.sig.ident.to_string()),
+                            syn::ImplItem::Const(c) => Some(c.ident.to_string()),
+                            _ => None,
+                        });
+                        self.members.entry(ty.ident.to_string()).or_default().extend(names);
+                    }
+                }
+                None
+            }
+            _ => None,
+        };
+        self.items.extend(name);
+        syn::visit::visit_item(self, item);
+    }
+}
+
+fn read_names(dir: &Path, names: &mut Names) -> Result<(), String> {
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            read_names(&path, names)?;
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            names.visit_file(&parse(&path)?);
+            if let Some(stem) = path.file_stem() {
+                names.items.insert(stem.to_string_lossy().into_owned());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The Rust paths a markdown text names in backticks: `a::b::c` or `name()` (generic
+/// arguments and call parentheses dropped).
+fn named_paths(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, span) in text.split('`').enumerate() {
+        if i % 2 == 0 {
+            continue;
+        }
+        let called = span.ends_with("()");
+        let path = span.trim_end_matches("()");
+        let is_path = !path.is_empty()
+            && path.split("::").all(|s| !s.is_empty() && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'));
+        if is_path && (called || path.contains("::")) {
+            out.push(path.to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn every_function_the_architecture_names_still_exists() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("docs/architecture.md")).expect("docs/architecture.md");
+    let mut names = Names::default();
+    for dir in ["src", "tests"] {
+        if let Err(e) = read_names(&root.join(dir), &mut names) {
+            panic!("{e}");
+        }
+    }
+    assert!(named_paths(&doc).len() > 20, "the architecture names its functions");
+    let missing = missing_names(&doc, &names);
+    assert!(missing.is_empty(), "docs/architecture.md names what no longer exists: {missing:?}");
+}
+
+/// The paths `doc` names that `names` lacks.
+fn missing_names(doc: &str, names: &Names) -> Vec<String> {
+    named_paths(doc)
+        .into_iter()
+        .filter(|p| {
+            let segs: Vec<&str> = p.split("::").collect();
+            let last = segs[segs.len() - 1];
+            // `Type::member`: a method, associated constant or field of that type.
+            let ty = segs.len().checked_sub(2).map(|k| segs[k]).filter(|s| s.starts_with(char::is_uppercase));
+            match ty {
+                Some(ty) => !names.members.get(ty).is_some_and(|m| m.contains(last)),
+                None => !names.items.contains(last),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_renamed_function_fails_the_architecture_check() {
+    let doc = "`Renderer::render` draws, `Renderer::draw` too; `frame::prepare()` and `paths::record`.";
+    assert_eq!(named_paths(doc), ["Renderer::render", "Renderer::draw", "frame::prepare", "paths::record"]);
+    let mut names = Names::default();
+    let code = "struct Renderer; impl Renderer { fn draw(&self) {} } mod frame {} fn record() {}";
+    names.visit_file(&syn::parse_file(code).expect("parses"));
+    assert_eq!(missing_names(doc, &names), ["Renderer::render", "frame::prepare"]);
 }

@@ -156,7 +156,7 @@ pub(crate) fn method_name(m: Method) -> String {
     serde_json::to_value(m).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_else(|| format!("{m:?}"))
 }
 
-/// The culling mode's one-line description: its doc comment in `settings.rs`.
+/// The culling mode's one-line description: its doc comment in `options/culling.rs`.
 pub(crate) fn culling_help(m: CullingMode) -> String {
     crate::renderer::settings::help_of(&m)
 }

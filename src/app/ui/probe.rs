@@ -71,7 +71,7 @@ fn culling_colour(l: &LightWhy) -> Color32 {
     }
 }
 
-/// Why each light lit the last clicked pixel (`Renderer::explain`; `render --probe X,Y` gives
+/// Why each light lit the last clicked pixel (`Last::explain`; `render --probe X,Y` gives
 /// the same): one row a light, the culling's verdict as a short coloured word, the shader
 /// test that zeroed it, what it adds. As of the click: the frame may have changed since.
 pub(super) fn explanation_panel(ui: &mut egui::Ui, f: &FrameInfo) {

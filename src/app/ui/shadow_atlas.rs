@@ -1,5 +1,5 @@
 //! The shadow-atlas panel, a window beside the viewport. The last frame's atlas as
-//! an image (`Renderer::draw_shadow_atlas`: linear depth stretched over the range present),
+//! an image (`Last::draw_shadow_atlas`: linear depth stretched over the range present),
 //! every tile outlined (the sun's cascades in the `cascades` view's colours, spots violet, cube
 //! faces cyan), the selected light's tiles highlighted; hover a tile for its light, face or
 //! cascade, resolution and texel size; click one to select its light (the light editor's

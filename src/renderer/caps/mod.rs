@@ -26,6 +26,7 @@ pub use crate::renderer::options::caps::CapOrder;
 use crate::scene::{Camera, Light, Scene};
 use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// What the caps dropped in one frame.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -259,6 +260,33 @@ pub const ENGINES: &[Engine] = &[
         knobs: &[("culling", "clustered"), ("max-lights", "255"), ("cap-order", "scene")],
     },
 ];
+
+/// The camera caps' last list: the scene's list, the indices kept, the kept lights.
+type CappedLights = (Arc<Vec<Light>>, Vec<u32>, Arc<Vec<Light>>);
+
+/// A scene with only the lights the camera caps keep, kept for the next frame.
+#[derive(Default)]
+pub struct CappedScene {
+    last: Option<CappedLights>,
+}
+
+impl CappedScene {
+    /// `scene` with only the lights `kept`, built again only when the scene's lights or the
+    /// kept set changed (a still frame under a camera cap keeps its list's identity, so the
+    /// frame's CPU part is reused as without the cap). The rest of the scene is copied each
+    /// frame.
+    pub fn scene(&mut self, scene: &Scene, kept: &[u32]) -> Scene {
+        let lights = match &self.last {
+            Some((source, k, lights)) if Arc::ptr_eq(source, &scene.lights) && k == kept => lights.clone(),
+            _ => {
+                let lights: Arc<Vec<Light>> = Arc::new(kept.iter().map(|&i| scene.lights[i as usize]).collect());
+                self.last = Some((scene.lights.clone(), kept.to_vec(), lights.clone()));
+                lights
+            }
+        };
+        Scene { lights, ..scene.clone() }
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -6,7 +6,7 @@
 
 use super::binning::{binned_bytes, LLVMPIPE_SCENE_BUDGET};
 use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{
     biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL,
 };

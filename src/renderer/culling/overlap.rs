@@ -22,7 +22,7 @@
 //! <= 0.678 max + 0.120 max (n <= 1,000,000, the most lights Lampshade takes) < max. So no pixel's
 //! accumulated diffuse or specular light reaches the format's maximum (fp16's infinity lies
 //! beyond it), whatever the light count. The f64 reference (`crate::reference::shade`) applies
-//! the same per-light values, read back with [`Renderer::light_clamps`](super::Renderer::light_clamps).
+//! the same per-light values, read back with `Last::light_clamps`.
 
 use super::plan::LightPlan;
 pub use crate::renderer::records::{format_max, light_clamp};

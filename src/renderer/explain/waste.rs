@@ -9,7 +9,7 @@
 //! lists get the same count from their lists (`fs_tile_waste`, in the tiled pass).
 
 use crate::renderer::culling::methods::{self, Reference, METHODS};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{
     biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL,
 };

@@ -3,15 +3,17 @@
 //! this, never the renderer's internals.
 
 use super::passes::Passes;
-use super::scratch::Scratch;
 use crate::renderer::culling::plan::FramePlan;
 use crate::renderer::culling::volumes::Volumes;
+use crate::renderer::inputs::scratch::Scratch;
 use crate::renderer::kit::caps::Caps;
 use crate::renderer::options::culling::CullingMode;
 use crate::renderer::options::RenderPath;
 use crate::renderer::records::{FrameBuffers, LightRecord};
+use crate::renderer::settings::Settings;
 use crate::renderer::shadows::ShadowPlan;
 use crate::renderer::targets::Targets;
+use crate::scene::Scene;
 use anyhow::{bail, Result};
 use glam::DMat4;
 use std::sync::Arc;
@@ -40,6 +42,22 @@ pub struct LastFrame {
 }
 
 impl LastFrame {
+    /// What the probe, the wireframes and the panels read of a frame just drawn.
+    pub fn new(scene: &Scene, settings: &Settings, prepared: super::Prepared) -> Self {
+        let super::Prepared { records, plan, path_lists, shadows, key, .. } = prepared;
+        LastFrame {
+            view_rotation: scene.camera.rotation(),
+            lights: records.lights,
+            ambient_clamp: records.camera.light_clamp,
+            plan,
+            shadows,
+            path: settings.path,
+            mode: settings.culling,
+            proj: records.proj,
+            reusable: Some(super::Reusable { key, camera: records.camera, objects: records.objects, path_lists }),
+        }
+    }
+
     /// An error when the last frame left no G-buffer (`what` is what was asked for).
     pub fn gbuffer(&self, what: &str) -> Result<()> {
         if matches!(self.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
@@ -49,7 +67,7 @@ impl LastFrame {
     }
 }
 
-/// The last frame as the renderer hands it out (`Renderer::last_frame`): its device, its pass
+/// The last frame as the renderer hands it out: its device, its pass
 /// set, its targets and buffers, and what it kept. Read-only: a tool records and submits its
 /// own work, and never changes what the next frame draws.
 pub struct Last<'a> {

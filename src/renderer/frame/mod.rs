@@ -3,22 +3,25 @@
 //! culling plan, the fp16 clamps, the shadow plan, and their upload. [`inputs`] is what the
 //! passes read; [`passes`] every pass, built for one configuration.
 
-pub mod inputs;
 pub mod last;
 pub mod passes;
-pub mod scratch;
 
+use super::key;
+use super::kit::gbuffer;
 use super::plan::{self, ForwardPathLists, FramePlan, PlanView};
 use super::records::{FrameLists, FrameRecords};
+use super::scene_gpu::{SceneFingerprint, SceneGpu};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
+use super::targets::Targets;
+use super::volumes::Volumes;
 use super::{
     cputime, overlap, post, AccumFormat, BlendedMode, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings,
 };
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::settings::CullingMode;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
-use inputs::FrameInputs;
 use passes::Needs;
 
 /// What a frame draws, decided from its settings and scene before anything is built.
@@ -203,6 +206,71 @@ pub struct Reusable {
 }
 
 impl Renderer {
+    /// Uploads the scene's meshes and textures. Call once per scene (`render` calls it when it
+    /// is handed a different scene); `render` uploads camera, objects and lights every frame.
+    pub fn load_scene(&mut self, scene: &Scene) -> Result<()> {
+        let material_bgl = &self.sets.current.shared.material_bgl;
+        self.scene = Some(SceneGpu::upload(&self.device, &self.queue, scene, material_bgl, &self.defaults)?);
+        Ok(())
+    }
+
+    /// Brings passes, volume meshes, the scene's upload and the targets up to what this frame
+    /// asks for.
+    pub(in crate::renderer) fn configure(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        size: (u32, u32),
+        hdr: bool,
+        post: bool,
+    ) -> Result<()> {
+        let tessellation = (settings.sphere_subdivisions, settings.cone_sides);
+        if tessellation != self.volumes.tessellation {
+            self.volumes = Volumes::new(&self.device, tessellation);
+        }
+        let layout = if settings.path == RenderPath::LightPrepass {
+            // One layer for the whole buffer (the thin buffer has no channel for it); objects on
+            // layers the lights tell apart from it are shaded forward (`Scene::shared_layers`).
+            gbuffer::GBufferLayout { uniform_layer: Some(scene.shared_layers().0), ..gbuffer::prepass_layout() }
+        } else {
+            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
+        };
+        let features = self.features.of(scene, settings, &self.caps.quirks);
+        let key = key::pipeline_key(Some(scene), settings, layout, &self.caps, (self.output_format, features))?;
+        if let Some(only_features) = self.sets.switch(&self.device, key)? {
+            let shared = &self.sets.current.shared;
+            self.frame.rebind(&self.device, &shared.frame_bgl);
+            // The targets depend on the layout, formats and samples, not on which lookups the
+            // shaders compile in (and wgpu gives identical bind-group layouts one identity), so
+            // a change of shader features alone (a light's shadow flag, the sun, the first
+            // cookie) keeps them, and with them the auto-exposure's adaptation and the LUT.
+            if !only_features {
+                self.targets = None;
+            }
+            if let Some(gpu_scene) = &mut self.scene {
+                gpu_scene.rebind_materials(&self.device, scene, &shared.material_bgl, &self.defaults);
+            }
+        }
+        if self.defaults.set_anisotropy(&self.device, settings.anisotropy as u16) {
+            if let Some(gpu_scene) = &mut self.scene {
+                gpu_scene.rebind_materials(&self.device, scene, &self.sets.current.shared.material_bgl, &self.defaults);
+            }
+        }
+        if self.scene.as_ref().is_none_or(|g| g.fingerprint != SceneFingerprint::of(scene)) {
+            self.load_scene(scene)?;
+        }
+        if !self.targets.as_ref().is_some_and(|t| t.fit(&self.sets.current.shared, size, hdr, post)) {
+            self.targets =
+                Some(Targets::new(&self.device, &self.sets.current.shared, size, hdr, post, &self.frame.compose));
+            self.lut = Default::default();
+        }
+        // The post chain's parameters, and its LUT when the setting names another one.
+        if let Some(pt) = self.targets.as_ref().and_then(|t| t.post.as_ref()) {
+            self.lut.upload(&self.queue, pt, &settings.post_options())?;
+        }
+        Ok(())
+    }
+
     /// Builds the frame's records and plans and uploads them. The renderer is configured for
     /// the frame (`configure`).
     pub(super) fn prepare(&mut self, scene: &Scene, settings: &Settings, shape: &Shape) -> Result<Prepared> {
@@ -211,7 +279,7 @@ impl Renderer {
         let whole = cputime::Clock::start();
         // The same inputs as the frame before: its CPU part as it is (taken, so a frame that
         // fails after this leaves nothing to reuse; `keep` puts it back).
-        let pipeline = self.passes.key();
+        let pipeline = self.sets.current.key();
         if let Some(r) = self.last.reusable.take_if(|r| r.key.matches(scene, settings, size, pipeline)) {
             let last = &mut self.last;
             let records = FrameRecords {
@@ -234,7 +302,7 @@ impl Renderer {
                 reused: true,
             });
         }
-        let key = self.passes.key().clone();
+        let key = self.sets.current.key().clone();
         let clock = cputime::Clock::start();
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
         let mut records = FrameRecords::reusing(scene, &settings.options(), size, key.accum_format, spare_lights);
@@ -309,7 +377,7 @@ impl Renderer {
         let plan_ms = clock.ms();
         let clock = cputime::Clock::start();
         let lists = FrameLists { forward: &plan.light_lists, draw: &plan.batches.list };
-        let bgl = &self.passes.shared.frame_bgl;
+        let bgl = &self.sets.current.shared.frame_bgl;
         self.frame.upload(&self.device, &self.queue, bgl, &records, lists, scene);
         if key.features.light_planes {
             self.frame.upload_light_planes(&self.queue, &records.lights)?;
@@ -374,7 +442,7 @@ impl Renderer {
             ideal: m.ideal,
             times: m.times,
             forward_counts: m.forward > 0,
-            depth_clamp: self.passes.key().depth_clamp,
+            depth_clamp: self.sets.current.key().depth_clamp,
             shadowed: &prepared.shadows.lights,
             scratch: &self.scratch,
             reused: prepared.reused,

@@ -1,6 +1,8 @@
 //! Every pass of the frame, by technique, built lazily for one configuration.
 
+use crate::renderer::kit::pool::PassPool;
 use crate::renderer::kit::{Lazy, PipelineKey, Shared};
+use anyhow::{bail, Result};
 use std::sync::Arc;
 
 /// What a frame draws with, beyond the passes every frame uses (G-buffer, lights, debug,
@@ -129,5 +131,69 @@ impl Passes {
             self.effects.prepare()?;
         }
         Ok(())
+    }
+}
+
+/// Pass sets kept for configurations other than the current one (layout, accumulation, depth
+/// format and convention, depth clamp).
+pub const PIPELINE_CACHE: usize = 8;
+
+/// Builds a configuration's shader module and layouts, turning validation errors (a bad
+/// layout, a module that fails naga's validation) into an error instead of a panic; the
+/// pipelines compile later, each on its first draw (`kit::scoped`).
+fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let p = Passes::new(device, key);
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        bail!("building the pipelines failed: {e}");
+    }
+    Ok(p)
+}
+
+/// A renderer's pass sets: the current configuration's, shared with the device's other
+/// renderers, and those of recent other configurations.
+pub struct PassSets {
+    pub current: Arc<Passes>,
+    /// Passes of recent other configurations, least recently used first: kept alive here even
+    /// when the device's pool has let them go.
+    pub cache: Vec<Arc<Passes>>,
+    /// The device's pass sets.
+    pool: Arc<PassPool>,
+    /// A frame has been configured with `current`. The set `new` chooses before it sees a scene
+    /// (so with the shader features the settings allow) is not kept in this renderer's cache
+    /// when the first scene needs other ones.
+    used: bool,
+}
+
+impl PassSets {
+    pub fn new(device: &wgpu::Device, pool: &Arc<PassPool>, key: PipelineKey) -> Result<Self> {
+        let current = pool.get(key.clone(), || build_passes(device, key))?;
+        Ok(Self { current, cache: Vec::new(), pool: pool.clone(), used: false })
+    }
+
+    /// Makes the set for `key` current. `None` when it already was; else whether only the
+    /// shader features differ from the set drawn with before (the targets then stay).
+    pub fn switch(&mut self, device: &wgpu::Device, key: PipelineKey) -> Result<Option<bool>> {
+        let was_used = std::mem::replace(&mut self.used, true);
+        if key == *self.current.key() {
+            return Ok(None);
+        }
+        let only_features =
+            was_used && PipelineKey { features: self.current.key().features, ..key.clone() } == *self.current.key();
+        // Switching back to a configuration seen recently reuses its passes instead of
+        // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
+        let next = match self.cache.iter().position(|p| *p.key() == key) {
+            Some(i) => self.cache.remove(i),
+            None => self.pool.get(key.clone(), || build_passes(device, key))?,
+        };
+        let previous = std::mem::replace(&mut self.current, next);
+        // The set `new` chose before it saw a scene stays in the pool only.
+        if was_used {
+            self.cache.push(previous);
+        }
+        if self.cache.len() > PIPELINE_CACHE {
+            self.cache.remove(0);
+        }
+        Ok(Some(only_features))
     }
 }

@@ -16,7 +16,7 @@
 //! deferred path never needs them).
 
 use super::forward_scratch::{Counted, ForwardScratch, Msaa, Queries};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::options::post::PostOptions;
 use crate::renderer::options::{DebugView, RenderPath};

@@ -5,7 +5,7 @@
 //! G-buffer and light passes built for `gbuffer::prepass_layout` (`PipelineKey::prepass`).
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::pipeline::topology_pipeline_index;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;

@@ -5,7 +5,7 @@
 //! bright pass's light (see `post::bloom_energy_bound`).
 
 use super::post_draw;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::post::{PostTargets, BLOOM_LEVELS};
 use crate::renderer::stats::Span;

@@ -8,7 +8,7 @@
 //! blending). The second half is the chain's `distortion` effect (`fs_distort`, `effects`).
 
 pub use super::targets::DISTORTION_FORMAT as FORMAT;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};

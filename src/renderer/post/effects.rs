@@ -31,7 +31,7 @@
 //!   distance from the centre, 1 - strength at the corners).
 
 use super::post_draw;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::options::post::PostOptions;
 use crate::renderer::options::DebugView;
@@ -53,7 +53,17 @@ pub struct Effect {
     /// Its second texture is drawn right before it (the distortion buffer,
     /// `post::distortion`), and that draw opens the effect's span.
     pub buffer_first: bool,
+    /// Its parameters, as its fragment function reads them: `post_params.effect[i]` for the
+    /// row's index `i`, named `LS_EFFECT_<NAME>` in the shaders (`program::wgsl_constants`). The
+    /// effects whose parameters have fields of their own in `PostParams` leave it zero.
+    pub params: fn(&PostOptions) -> [f32; 4],
 }
+
+pub use crate::renderer::records::MAX_EFFECTS;
+const _: () = assert!(EFFECTS.len() <= MAX_EFFECTS);
+
+/// No parameters of its own in `PostParams::effect`.
+const NONE: fn(&PostOptions) -> [f32; 4] = |_| [0.0; 4];
 
 /// The effects after tone mapping, in the chain's order.
 pub const EFFECTS: &[Effect] = &[
@@ -64,6 +74,7 @@ pub const EFFECTS: &[Effect] = &[
         on: |s| s.lut.is_some(),
         view: None,
         buffer_first: false,
+        params: NONE,
     },
     Effect {
         name: "distortion",
@@ -72,6 +83,7 @@ pub const EFFECTS: &[Effect] = &[
         on: |s| s.distortion,
         view: None,
         buffer_first: true,
+        params: NONE,
     },
     Effect {
         name: "aa",
@@ -80,8 +92,9 @@ pub const EFFECTS: &[Effect] = &[
         on: |s| s.aa != Aa::Off,
         view: Some((DebugView::Edges, "fs_view_edges")),
         buffer_first: false,
+        params: NONE,
     },
-    Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None, buffer_first: false },
+    Effect { name: "fog", title: "fog", fs: "fs_fog", on: |s| s.fog, view: None, buffer_first: false, params: NONE },
     Effect {
         name: "dof",
         title: "depth of field",
@@ -89,6 +102,7 @@ pub const EFFECTS: &[Effect] = &[
         on: |s| s.dof,
         view: Some((DebugView::Coc, "fs_view_coc")),
         buffer_first: false,
+        params: NONE,
     },
     Effect {
         name: "vignette",
@@ -97,6 +111,7 @@ pub const EFFECTS: &[Effect] = &[
         on: |s| s.vignette > 0.0,
         view: None,
         buffer_first: false,
+        params: NONE,
     },
 ];
 

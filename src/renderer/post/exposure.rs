@@ -3,7 +3,7 @@
 //! moves the adapted value one fixed time step (`post::FRAME_DT`) towards it; the tonemap pass
 //! multiplies the exposure by target / adapted. Stepped per frame, so runs are deterministic.
 
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::post::PostTargets;
 use crate::renderer::stats::Span;

@@ -24,7 +24,7 @@ use super::kit::Lazy;
 use super::options::post::PostOptions;
 pub use super::options::post::{Aa, Tonemap};
 use super::records::PostParams;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use effects::EFFECTS;
 use serde::{Deserialize, Serialize};
 pub use targets::{PostTargets, BLOOM_LEVELS, HIST_BINS, MAX_LUT_SIZE, STATE_WORDS};
@@ -152,15 +152,7 @@ pub fn fog_amount(p: [f64; 3], up: [f64; 3], density: f64, falloff: f64) -> f64 
 pub fn chain_active(view: super::DebugView, s: &PostOptions) -> bool {
     match view {
         super::DebugView::Lit => {
-            s.bloom
-                || s.auto_exposure
-                || s.lut.is_some()
-                || s.tonemap != Tonemap::Aces
-                || s.fog
-                || s.dof
-                || s.vignette > 0.0
-                || s.aa != Aa::Off
-                || s.distortion
+            s.bloom || s.auto_exposure || s.tonemap != Tonemap::Aces || EFFECTS.iter().any(|e| (e.on)(s))
         }
         v => post_view(v),
     }
@@ -307,7 +299,7 @@ pub fn bloom_energy_bound() -> f64 {
     (1.0 + 2f64.powi(-24)).powi(50) - 1.0
 }
 
-/// An image of the chain that `Renderer::read_post_image` reads back.
+/// An image of the chain that `Last::read_post_image` reads back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PostImage {
     /// The HDR scene colour the chain starts from (after the forward pass).
@@ -333,7 +325,7 @@ pub struct ChainPasses<'a> {
 /// last that runs writes `target`, and `end` (the compose span's end stamp) closes the frame.
 pub fn encode_chain(
     encoder: &mut wgpu::CommandEncoder,
-    f: &crate::renderer::frame::inputs::FrameInputs<'_>,
+    f: &crate::renderer::inputs::FrameInputs<'_>,
     p: &ChainPasses<'_>,
     pt: &PostTargets,
     target: &wgpu::TextureView,
@@ -417,6 +409,7 @@ pub fn params(s: &PostOptions, lut: Option<&Lut>) -> PostParams {
         aa: s.aa as u32,
         pad2: 0,
         pad3: 0,
+        effect: std::array::from_fn(|i| EFFECTS.get(i).map_or([0.0; 4], |e| (e.params)(s))),
     }
 }
 
@@ -452,6 +445,32 @@ pub fn post_draw(
     pass.set_bind_group(1, &f.targets.gbuffer_group, &[]);
     pass.set_bind_group(2, group, &[]);
     pass.draw(0..3, 0..1);
+}
+
+/// The grading LUT the post targets hold, by its `lut` setting (`None`: none uploaded), keyed
+/// by the file's modification time too, so an edited file is read again.
+#[derive(Default)]
+pub struct LutCache {
+    held: Option<((String, Option<std::time::SystemTime>), Lut)>,
+}
+
+impl LutCache {
+    /// Writes the chain's parameters into `pt`, and the LUT `o` names when it is another one
+    /// than the targets hold.
+    pub fn upload(&mut self, queue: &wgpu::Queue, pt: &PostTargets, o: &PostOptions) -> anyhow::Result<()> {
+        if let Some(name) = &o.lut {
+            let key = (name.clone(), std::fs::metadata(name).and_then(|m| m.modified()).ok());
+            if self.held.as_ref().is_none_or(|(k, _)| *k != key) {
+                let lut = Lut::load(name).map_err(anyhow::Error::msg)?;
+                let data: Vec<[f32; 4]> = lut.table.iter().map(|e| [e[0], e[1], e[2], 0.0]).collect();
+                queue.write_buffer(&pt.lut, 0, bytemuck::cast_slice(&data));
+                self.held = Some((key, lut));
+            }
+        }
+        let lut = o.lut.as_ref().and(self.held.as_ref().map(|(_, l)| l));
+        queue.write_buffer(&pt.params, 0, bytemuck::bytes_of(&params(o, lut)));
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -538,7 +557,7 @@ mod tests {
 }
 
 /// The post chain of a frame: which effects ran (the tonemap always runs in the chain) and,
-/// with auto-exposure, the exposure state after the frame is read by `Renderer::exposure_state`.
+/// with auto-exposure, the exposure state after the frame is read by `Last::exposure_state`.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct PostStats {

@@ -25,6 +25,7 @@ struct PostParams {
     aa: u32,
     pad2: u32,
     pad3: u32,
+    effect: array<vec4<f32>, LS_MAX_EFFECTS>,
 };
 
 fn post_luminance(c: vec3<f32>) -> f32 {

@@ -4,7 +4,7 @@
 //! `post.toned`.
 
 use super::post_draw;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
 

@@ -1,6 +1,6 @@
 //! The viewer's shadow-atlas panel: the last frame's shadow atlas (any depth format) as an
 //! image of the output format, its linear depth stretched over the range actually present
-//! (`atlas_view.wgsl` beside it). Not part of the frame: `Renderer::draw_shadow_atlas` runs it
+//! (`atlas_view.wgsl` beside it). Not part of the frame: `Last::draw_shadow_atlas` runs it
 //! on demand, after a frame, into a texture the caller keeps (the viewer registers it with
 //! egui once and has it redrawn in place).
 

@@ -5,7 +5,7 @@
 
 use super::scratch::{Owner, ShadowTimes, Timers};
 use super::{ShadowPlan, TileDraw};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;

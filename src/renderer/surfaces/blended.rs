@@ -8,7 +8,7 @@
 
 pub use super::peel::PeelTargets;
 use super::peel::{PEELED_FORMAT, PEEL_DEPTH};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::pipeline::{scene_pipeline, ScenePipe};
 use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;

@@ -2,7 +2,7 @@
 //! of the debug views. Scenes with blended surfaces compose into the HDR scene colour instead,
 //! the forward pass draws over it, and `tonemap` finishes the frame.
 
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::records::{ComposeParams, FrameBuffers};
 use crate::renderer::settings::DebugView;

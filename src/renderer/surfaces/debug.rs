@@ -3,7 +3,7 @@
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
 use crate::renderer::culling::methods::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;

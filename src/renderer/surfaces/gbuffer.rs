@@ -1,7 +1,7 @@
 //! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{self, scene_pipeline, ScenePipe, Shared};
 use crate::renderer::stats::Span;
 

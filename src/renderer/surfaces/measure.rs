@@ -11,7 +11,7 @@
 //! `every_culling_mode_gives_the_fullscreen_picture` holds the two counts equal, light by light.
 
 use crate::renderer::culling::binning::{binned_bytes, pass_ranges};
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::LIGHTS_PER_QUERY_SET;

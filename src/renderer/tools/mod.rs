@@ -1,4 +1,4 @@
-//! The diagnostic tools over the last frame (`Renderer::last_frame`): each takes what the frame kept, never the renderer's internals.
+//! The diagnostic tools over the last frame: each takes what the frame kept, never the renderer's internals.
 
 mod brute;
 mod explain;

@@ -7,7 +7,9 @@ use crate::renderer::frame::last::Last;
 use crate::renderer::inspect;
 use crate::renderer::kit;
 use crate::renderer::options::log_accum_decode;
+use crate::renderer::options::DebugView;
 use crate::renderer::records::LightRecord;
+use crate::renderer::surfaces::compose::ComposeTarget;
 use crate::renderer::{culling, post, shadows};
 use anyhow::{bail, Result};
 
@@ -176,5 +178,26 @@ impl<'a> Last<'a> {
             return Ok((light, zeros));
         }
         Ok((light, to_f32(gpu.read_texture(&t.specular, wgpu::TextureAspect::All)?)?))
+    }
+
+    /// Re-runs only the compose pass of the last frame with another view, into `target` of the
+    /// output format at any size (the G-buffer is point-sampled): the viewer's thumbnails.
+    /// The stencil and complexity views show what the last frame computed for them.
+    pub fn compose_view(&self, view: DebugView, target: &wgpu::TextureView, width: u32, height: u32) -> Result<()> {
+        let Some(targets) = &self.targets else { bail!("nothing rendered yet") };
+        if width == 0 || height == 0 {
+            bail!("cannot compose a {width}x{height} view");
+        }
+        self.last.gbuffer(&format!("{} view", view.name()))?;
+        // Set up here if no frame has (a frame that failed after configure).
+        self.passes.compose.prepare()?;
+        crate::renderer::kit::scoped(self.device, || {
+            let mut encoder =
+                self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
+            let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };
+            self.passes.compose.encode(&mut encoder, self.queue, targets, self.frame, &to, None);
+            self.queue.submit([encoder.finish()]);
+            Ok(())
+        })
     }
 }

@@ -21,7 +21,7 @@
 use super::scratch::{Buffers, Pending, TiledScratch};
 use super::TileStats;
 use crate::renderer::culling::zbin::ZBinJob;
-use crate::renderer::frame::inputs::FrameInputs;
+use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::{log_accum, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::plan::Method;

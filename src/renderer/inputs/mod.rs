@@ -1,4 +1,7 @@
-//! What the frame's passes read.
+//! What the frame's passes read: the targets, the scene's and the frame's buffers, the plan,
+//! each technique's options, and this renderer's scratch (`scratch.rs`).
+
+pub mod scratch;
 
 use crate::renderer::options::Options;
 use crate::renderer::plan::FramePlan;
@@ -30,7 +33,7 @@ pub struct FrameInputs<'a> {
     /// `records::NO_SHADOW` first: unshadowed).
     pub shadowed: &'a [(u32, u32)],
     /// This renderer's buffers the passes write and read back (the pass set is shared).
-    pub scratch: &'a super::scratch::Scratch,
+    pub scratch: &'a scratch::Scratch,
     /// The CPU's part is the frame before's, taken as it was (`Prepared::reused`): what the
     /// passes uploaded from it is on the GPU still, unless a buffer was made anew.
     pub reused: bool,

@@ -8,7 +8,7 @@ use super::script::{Action, SCRIPT_DT};
 use super::state::{self, Wireframes};
 use super::ui::{self, Command, Sample, Thumb, UiOut};
 use super::{camera, App};
-use crate::renderer::{volume_wireframe_with, DebugView, RenderPath, Settings};
+use crate::renderer::{volume_wireframe_with, DebugView, Settings};
 use anyhow::{anyhow, bail, Result};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -190,7 +190,7 @@ impl App {
     /// from it at thumbnail size.
     fn render_thumbnails(&mut self, settings: &Settings, rendered: bool) -> Vec<Thumb> {
         let Some(g) = self.gfx.as_mut() else { return Vec::new() };
-        if matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+        if !settings.path.keeps_gbuffer() {
             // No G-buffer to show (the strip says so).
             return Vec::new();
         }

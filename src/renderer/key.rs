@@ -35,7 +35,7 @@ pub fn pipeline_key(
     let samples = if prepass && settings.msaa == Msaa::X4 { 4 } else { 1 };
     // `--msaa 4` multisamples the light pre-pass's pass 3 and the forward paths: their HDR
     // colour and depth.
-    let forward = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+    let forward = !settings.path.keeps_gbuffer();
     if settings.msaa == Msaa::X4 && (prepass || forward) && !caps.multisample_x4(kit::HDR_FORMAT) {
         return Err(caps.refuse("--msaa 4", &format!("4-sample {:?} targets", kit::HDR_FORMAT), "use --msaa 1"));
     }

@@ -253,7 +253,7 @@ impl Renderer {
         c.group(&mut encoder, "measure", |e| p.measure.encode(e, &f));
         let (n, m) = (prepared.plan.lights.len(), self.measured(settings, &shape, &prepared));
         // The geometry passes' counts: the G-buffer pass (deferred shading) or passes 1 and 3.
-        let geometry = if drawn.prepass.is_some() { 2 } else { u32::from(settings.path == RenderPath::Deferred) };
+        let geometry = if drawn.prepass.is_some() { 2 } else { u32::from(settings.path.keeps_gbuffer()) };
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, geometry);
         self.queue.submit([encoder.finish()]);
         Ok((shape, prepared, drawn))

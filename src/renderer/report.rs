@@ -7,12 +7,11 @@ use super::frame::{Prepared, Shape};
 use super::paths::prepass_pass::PrepassStats;
 use super::paths::Drawn;
 use super::plan::LightPlan;
-use super::plan::Method;
 use super::post::effects::EFFECTS;
 use super::post::PostStats;
 use super::stats::{CpuMs, GpuMs, Readback, Span};
+use super::CullingMode;
 use super::{tiles, DebugView, Renderer, Settings, ShadowMode};
-use super::{CullingMode, RenderPath};
 use crate::scene::Scene;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
@@ -75,10 +74,7 @@ impl Renderer {
             draw_calls: drawn.draw_calls,
             light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
             forward_path: drawn.forward_path,
-            lists_on_gpu: !forward_path
-                && (plan.tiled == Some(Method::Tiled)
-                    || matches!(plan.clusters, Some(tiles::ClusterBuild::Gpu(_))) && plan.tiled.is_some()
-                    || plan.tiled == Some(Method::Zbin) && plan.zbins.as_ref().is_some_and(|z| z.visible > 0)),
+            lists_on_gpu: !forward_path && tiles::lists_on_gpu(plan),
             post: shape.chain.then_some(PostStats {
                 bloom: settings.bloom,
                 auto_exposure: settings.auto_exposure,
@@ -376,7 +372,7 @@ fn fill_from_queries(stats: &mut FrameStats, plans: &[LightPlan], scene: &Scene,
             f.unpeeled = Some(q.forward(layers));
         }
     }
-    if counts && matches!(stats.path, RenderPath::Deferred | RenderPath::LightPrepass) {
+    if counts && stats.path.keeps_gbuffer() {
         stats.gbuffer_fragments = Some(q.prepass(0));
     }
     if let Some(p) = stats.prepass.as_mut().filter(|_| counts) {

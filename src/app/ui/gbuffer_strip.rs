@@ -70,7 +70,7 @@ pub(super) fn gbuffer_strip(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) 
         if st.settings.path == RenderPath::LightPrepass {
             // The light pre-pass writes its own thin buffer whatever the layout setting says.
             ui.label("light pre-pass: normal + exponent");
-        } else if matches!(st.settings.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+        } else if !st.settings.path.keeps_gbuffer() {
             ui.label(format!("{}: no G-buffer (depth and the HDR colour only)", st.settings.path.name()));
             return;
         } else {

@@ -195,7 +195,7 @@ impl MethodRow {
 }
 
 /// Every method, in the order the light pass draws its batches.
-pub const METHODS: [MethodRow; 9] = [
+pub const METHODS: &[MethodRow] = &[
     MethodRow {
         method: Method::Fullscreen,
         mode: Some(CullingMode::Fullscreen),
@@ -310,7 +310,7 @@ mod tests {
         }
         // A method drawn in the light pass covers something and names its pipelines; the
         // stencil methods mark first and draw twice per light.
-        for r in &METHODS {
+        for r in METHODS {
             assert_eq!(r.draws.is_some(), r.covers != Covers::Nothing, "{:?}", r.method);
             assert_eq!(r.draws.is_some(), !r.labels[0].is_empty(), "{:?}", r.method);
             assert_eq!(r.marks(), r.draws_per_light == 2, "{:?}", r.method);

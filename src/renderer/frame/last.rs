@@ -60,7 +60,7 @@ impl LastFrame {
 
     /// An error when the last frame left no G-buffer (`what` is what was asked for).
     pub fn gbuffer(&self, what: &str) -> Result<()> {
-        if matches!(self.path, RenderPath::Forward | RenderPath::ForwardMultipass) {
+        if !self.path.keeps_gbuffer() {
             bail!("the {} path keeps no G-buffer: no {what} (use --path deferred or light-prepass)", self.path.name());
         }
         Ok(())

@@ -52,7 +52,7 @@ impl Shape {
             scene.validate_lights().map_err(anyhow::Error::msg)?;
         }
         let final_view = settings.debug_view == DebugView::Lit || post::post_view(settings.debug_view);
-        let forward_path = matches!(settings.path, RenderPath::Forward | RenderPath::ForwardMultipass);
+        let forward_path = !settings.path.keeps_gbuffer();
         if forward_path && !final_view {
             bail!(
                 "the {} path has no G-buffer or light buffers to show the {} view; use --path deferred",

@@ -112,6 +112,15 @@ pub enum RenderPath {
 }
 
 impl RenderPath {
+    /// Whether the path draws a G-buffer that the passes after it read (and the probe, the
+    /// explanation and brute force read back): the deferred paths, not the forward ones.
+    pub fn keeps_gbuffer(self) -> bool {
+        match self {
+            RenderPath::Deferred | RenderPath::LightPrepass => true,
+            RenderPath::Forward | RenderPath::ForwardMultipass => false,
+        }
+    }
+
     pub const ALL: [RenderPath; 4] =
         [RenderPath::Deferred, RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass];
 

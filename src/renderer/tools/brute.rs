@@ -3,7 +3,6 @@
 use crate::gpu::Gpu;
 use crate::renderer::explain::brute::*;
 use crate::renderer::frame::last::Last;
-use crate::renderer::options::RenderPath;
 use anyhow::{bail, Result};
 
 impl<'a> Last<'a> {
@@ -14,7 +13,7 @@ impl<'a> Last<'a> {
     }
 
     fn brute_force_unscoped(&self, _gpu: &Gpu) -> Result<BruteForce> {
-        if !matches!(self.last.path, RenderPath::Deferred | RenderPath::LightPrepass) {
+        if !self.last.path.keeps_gbuffer() {
             bail!(
                 "brute force shades a G-buffer: the last frame drew the {} path, which keeps none",
                 self.last.path.name()

@@ -4,7 +4,6 @@ use crate::gpu::Gpu;
 use crate::renderer::explain::*;
 use crate::renderer::frame::last::Last;
 use crate::renderer::inspect::PixelProbe;
-use crate::renderer::options::RenderPath;
 use crate::renderer::plan::Method;
 use crate::renderer::records::LIGHT_KIND_SPOT;
 use anyhow::{bail, Result};
@@ -13,7 +12,7 @@ use glam::{Vec2, Vec3};
 impl<'a> Last<'a> {
     /// Why each light did or did not light pixel (`x`, `y`) of the last frame (deferred path).
     pub fn explain(&self, gpu: &Gpu, x: u32, y: u32) -> Result<Explanation> {
-        if !matches!(self.last.path, RenderPath::Deferred | RenderPath::LightPrepass) {
+        if !self.last.path.keeps_gbuffer() {
             bail!(
                 "light explanations cover the deferred path and the light pre-pass (the last frame drew {}): \
                  the forward paths keep no G-buffer to shade the pixel from",

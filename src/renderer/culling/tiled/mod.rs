@@ -9,7 +9,7 @@ pub mod pass;
 pub mod scratch;
 
 use crate::renderer::culling::methods::Covers;
-use crate::renderer::culling::plan::{LightPlan, Method, PlanView};
+use crate::renderer::culling::plan::{FramePlan, LightPlan, Method, PlanView};
 use crate::renderer::options::caps::CapOrder;
 use crate::renderer::options::culling::CullingMode;
 use crate::renderer::records::LightRecord;
@@ -535,6 +535,17 @@ pub fn fitted_depths(plans: &[LightPlan], view: &PlanView) -> (f32, f32) {
     }
     let (near, far) = if zmin < zmax { (zmin.max(view.near), zmax.min(view.far)) } else { (view.near, view.far) };
     (near, far.max(near))
+}
+
+/// Whether the frame's shading lists are built on the GPU: `tiled`'s always, `clustered`'s
+/// when the GPU builds them, `zbin`'s masks when some light is visible.
+pub fn lists_on_gpu(plan: &FramePlan) -> bool {
+    match plan.tiled {
+        Some(Method::Tiled) => true,
+        Some(_) if matches!(plan.clusters, Some(ClusterBuild::Gpu(_))) => true,
+        Some(Method::Zbin) => plan.zbins.as_ref().is_some_and(|z| z.visible > 0),
+        _ => false,
+    }
 }
 
 /// The clustered grid and the per-cluster cap a frame asks for (`Settings::cluster_tile`,

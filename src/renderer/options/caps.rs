@@ -20,13 +20,11 @@ pub enum CapOrder {
     Brightest,
 }
 
-/// The engine light caps' options (the camera caps: how many lights, how far, kept in which order).
+/// The engine light caps' options: how many lights, how far, kept in which order. Each field
+/// is `Settings`' of the same name, which documents it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CapsOptions {
-    /// Engine-style caps (`caps`): lights kept per camera (0: every light).
     pub max_lights: u32,
-    /// Lights whose sphere lies wholly farther than this from the camera are dropped (0: none).
     pub light_distance: f32,
-    /// Which lights a cap keeps: the first in scene order, the nearest, or the brightest.
     pub cap_order: CapOrder,
 }

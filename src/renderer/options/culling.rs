@@ -145,42 +145,22 @@ pub const FORWARD_LOOP_LIGHTS: u32 = 65_000;
 pub const FORWARD_LIST_MAX: u32 = 2 * FORWARD_LOOP_LIGHTS;
 
 /// The light culling's options: the mode, the bounding volumes, the lists' grids and caps.
+/// Each field is `Settings`' of the same name, which documents it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CullingOptions {
     pub culling: CullingMode,
-    /// How lights crossing the near plane are drawn (seed 004's rule: full-screen).
     pub near_lights: NearLights,
-    /// Cut each light off where its attenuation falls below this fraction of its peak (see
-    /// [`cutoff_radius`]); 0 draws and shades the exact radius.
     pub light_cutoff: f32,
-    /// The `tile-lights` view of a clustered frame: 0 shows each pixel's own cluster; a view
-    /// depth d > 0 shows the slice of clusters at d across the whole screen.
     pub tile_view_depth: f32,
-    /// Subdivisions of the icosphere bounding point lights (0 ..= 4).
     pub sphere_subdivisions: u32,
-    /// Sides of the pyramid bounding spot lights (3 ..= 64).
     pub cone_sides: u32,
-    /// Which lights the forward pass evaluates per blended fragment.
     pub forward_lights: ForwardLights,
-    /// Draw lights in instanced batches (`renderer::batches`): one draw per volume kind for
-    /// plain volumes and full-screen lights, shared mark and shade draws for stencil-culled
-    /// lights whose screen rectangles do not overlap. Off: a draw (or two) per light.
     pub light_batching: bool,
-    /// Who builds the clustered mode's lists.
     pub cluster_build: ClusterBuilder,
-    /// Lights kept per cluster of the clustered mode's lists (0: every light).
     pub lights_per_cluster: u32,
-    /// Lights kept per object in the forward paths' lists (0: every light).
     pub lights_per_object: u32,
-    /// The clustered grid's tile side in pixels (0: the default, or what `cluster_budget` gives).
     pub cluster_tile: u32,
-    /// The clustered grid's cell budget (0: none): the tiles Bevy's `ClusterConfig::FixedZ`
-    /// gives for this many cells over `cluster_slices` slices, made square.
     pub cluster_budget: u32,
-    /// The clustered grid's depth slices (0: the default).
     pub cluster_slices: u32,
-    /// The clustered grid's first slice runs from the eye to this view depth, the rest
-    /// exponentially to the farthest light (Bevy's `ClusterZConfig`); 0 spreads every slice
-    /// exponentially over the depths the lights reach.
     pub first_slice_depth: f32,
 }

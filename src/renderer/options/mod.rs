@@ -440,38 +440,21 @@ knob_names!(
 );
 
 /// What every pass of a frame may read: the path, the view, the formats and what is measured.
+/// Each field is `Settings`' of the same name, which documents it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameOptions {
-    /// The rendering pipeline (deferred shading, light pre-pass, forward single-/multi-pass).
     pub path: RenderPath,
-    /// Samples per pixel where the path can multisample; deferred refuses 4.
     pub msaa: Msaa,
     pub debug_view: DebugView,
-    /// Restrict the stencil and complexity views to one light.
     pub selected_light: Option<usize>,
-    /// Store depth reversed (near = 1): better precision far away. The seeds' compare
-    /// functions are written for standard depth and flipped when this is on.
     pub reversed_z: bool,
-    /// Read back per-light occlusion counts (shaded fragments).
     pub count_fragments: bool,
-    /// Also count the ideal: G-buffer points inside each light's true shape (costs a
-    /// full-screen pass per light).
     pub count_ideal: bool,
-    /// Build the stats' per-light table (`FrameStats::per_light`: each light's kind, method,
-    /// screen share, shadow share and cost) in a frame that counts nothing. A counting frame
-    /// always builds it (its counts are per light); a frame that neither counts nor asks pays
-    /// nothing per light for its stats.
     pub per_light_stats: bool,
-    /// Read back GPU timestamps.
     pub timestamps: bool,
-    /// Format of the light accumulation targets.
     pub accumulation: AccumFormat,
-    /// Use depth clamp on light volumes when the adapter has it. Off, lights whose volume
-    /// crosses the far plane fall back to full-screen draws (the path for adapters without it).
     pub depth_clamp: bool,
-    /// Format of the depth-stencil buffer.
     pub depth_format: DepthFormat,
-    /// Where the passes after the G-buffer read depth: its copy or the depth buffer.
     pub depth_read: DepthRead,
     pub layout: LayoutChoice,
 }

@@ -72,32 +72,18 @@ pub enum ShadowCube {
     Indirect,
 }
 
-/// The shadows' options: who casts, the atlas's budget and format, the biases, filter, cascades and cube layout.
+/// The shadows' options: who casts, the atlas's budget and format, the biases, filter,
+/// cascades and cube layout. Each field is `Settings`' of the same name, which documents it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShadowOptions {
-    /// Which lights cast shadows (`renderer::shadows`): none, the sun, the sun and
-    /// spots, or every light. A light's own `cast_shadows` flag can only turn it off.
     pub shadows: ShadowMode,
-    /// The shadow atlas's byte budget in MiB (one Depth32Float texture; its side is the largest
-    /// power of two that fits, up to the device's limit). With `shadow_cube` = `array` the atlas
-    /// and the cube array share it (`shadows::cube_array_fit`).
     pub shadow_budget_mb: f32,
-    /// Constant depth bias, in shadow-map texels (projected to world units at the receiver).
     pub shadow_bias: f32,
-    /// Slope-scaled depth bias: texels x tan(angle between the normal and the light).
     pub shadow_slope_bias: f32,
-    /// Normal offset: the lookup point moves this many texels along the surface normal beyond
-    /// the filter's own reach (`ShadowFilter::reach`).
     pub shadow_normal_offset: f32,
-    /// The filter kernel of the shadow lookup.
     pub shadow_filter: ShadowFilter,
-    /// The shadow maps' depth format (seed 002: D16 or D24).
     pub shadow_format: ShadowFormat,
-    /// Sun cascades (1 ..= 4) over the view frustum.
     pub shadow_cascades: u32,
-    /// Cascade splits: lambda x logarithmic + (1 - lambda) x uniform.
     pub shadow_split_lambda: f32,
-    /// Where point lights' (and wide spots') six shadow faces live: tiles of the atlas
-    /// (`unrolled`) or layers of a cube-array texture (`array`).
     pub shadow_cube: ShadowCube,
 }

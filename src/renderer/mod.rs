@@ -197,8 +197,16 @@ impl Renderer {
             None => scene,
         };
         let device = self.device.clone();
-        let (shape, prepared, drawn) = scoped(&device, || self.encode_frame(scene, settings, target, (width, height)))?;
+        let (shape, prepared, drawn, pipelines) =
+            scoped(&device, || self.encode_frame(scene, settings, target, (width, height)))?;
         let mut stats = self.report(scene, settings, &shape, &prepared, drawn)?;
+        // Every pass declares what it draws with (`inputs::pass::Pass::declare`); a pipeline
+        // compiled while recording is a pass drawing with one it did not declare.
+        debug_assert_eq!(pipelines.while_recording, 0, "a pass drew with a pipeline it did not declare");
+        if pipelines.while_recording > 0 {
+            log::warn!("{} pipeline(s) compiled while the frame recorded: a pass's declaration is short", pipelines.while_recording);
+        }
+        stats.pipelines = pipelines;
         stats.caps = report::cap_stats(cut, settings, &prepared);
         for f in &stats.adapter.fallbacks {
             if !self.said.contains(f) {
@@ -217,46 +225,72 @@ impl Renderer {
         Ok(stats)
     }
 
-    /// The frame's steps up to its submission.
+    /// The frame's steps up to its submission: its shape, the targets it draws into, the CPU's
+    /// part, then the passes (`paths::steps`): each declares its pipelines, the declared set
+    /// is built, and only then are the passes recorded.
     fn encode_frame(
         &mut self,
         scene: &Scene,
         settings: &Settings,
         target: &wgpu::TextureView,
         (width, height): (u32, u32),
-    ) -> Result<(frame::Shape, frame::Prepared, paths::Drawn)> {
+    ) -> Result<(frame::Shape, frame::Prepared, inputs::pass::PassReport, report::Pipelines)> {
         let checked = self.features.same_list(scene);
         let shape = frame::Shape::of_checked(scene, settings, (width, height), checked)?;
         self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
         // The CPU's part: records, the culling plan, clamps, the shadow plan, their upload.
         let prepared = self.prepare(scene, settings, &shape)?;
         self.sets.current.prepare(shape.needs(&prepared.plan, settings))?;
-        let f = self.inputs(settings, &shape, &prepared)?;
+        let f = self.inputs(settings, &shape, &prepared, target)?;
         let p = &self.sets.current;
+        let steps = paths::steps(p, &f);
+        let declared = paths::declare(&steps, &f);
+        let built = declared.build();
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        let c = paths::PathInputs {
-            device: &self.device,
-            queue: &self.queue,
-            passes: p,
-            f: &f,
-            shape: &shape,
-            prepared: &prepared,
-            scene,
-            target,
-            debug_groups: self.debug_groups,
+        let before = kit::pipelines_compiled_here();
+        let mut drawn = paths::record(&steps, &f, &mut encoder, self.debug_groups)?;
+        let pipelines = report::Pipelines {
+            declared: declared.len(),
+            built,
+            while_recording: (kit::pipelines_compiled_here() - before) as usize,
         };
-        // 0. Shadows: each casting light's depth into its tiles of the atlas, on every path.
-        c.group(&mut encoder, "shadows", |e| p.shadows.encode(&self.device, e, &f, &prepared.shadows));
-        // 1-3. The path's own passes, into `target`.
-        let drawn = paths::record(settings.path, &c, &mut encoder)?;
-        // 4. Measurement only, outside the frame's timestamps: the ideal count and coverage.
-        c.group(&mut encoder, "measure", |e| p.measure.encode(e, &f));
+        if settings.path == RenderPath::LightPrepass && drawn.prepass.is_none() {
+            // A buffer view: pass 3 did not run.
+            let base = prepared.plan.draws.gbuffer.len() as u64;
+            drawn.prepass = Some(paths::prepass_pass::stats(p.key(), base, (0, 0)));
+        }
         let (n, m) = (prepared.plan.lights.len(), self.measured(settings, &shape, &prepared));
         // The geometry passes' counts: the G-buffer pass (deferred shading) or passes 1 and 3.
         let geometry = if drawn.prepass.is_some() { 2 } else { u32::from(settings.path.keeps_gbuffer()) };
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, geometry);
         self.queue.submit([encoder.finish()]);
-        Ok((shape, prepared, drawn))
+        Ok((shape, prepared, drawn, pipelines))
+    }
+
+    /// Builds, on this thread, every pipeline a frame of `scene` with `settings` at `size`
+    /// declares, without recording it: that frame then compiles nothing while it records.
+    /// Returns (declared, built now).
+    pub fn build_pipelines(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<(usize, usize)> {
+        let device = self.device.clone();
+        let target = kit::texture_2d(
+            &device,
+            "pipelines only",
+            (self.output_format, &[]),
+            size,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&Default::default());
+        scoped(&device, || {
+            let shape = frame::Shape::of_checked(scene, settings, size, false)?;
+            self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
+            let prepared = self.prepare(scene, settings, &shape)?;
+            self.sets.current.prepare(shape.needs(&prepared.plan, settings))?;
+            let f = self.inputs(settings, &shape, &prepared, &target)?;
+            let steps = paths::steps(&self.sets.current, &f);
+            let declared = paths::declare(&steps, &f);
+            Ok((declared.len(), declared.build()))
+        })
     }
 
     /// Size of the last frame.

@@ -5,7 +5,7 @@ use super::culling::stats::{ForwardStats, LightStats};
 use super::culling::tiled::TileStats;
 use super::frame::{Prepared, Shape};
 use super::paths::prepass_pass::PrepassStats;
-use super::paths::Drawn;
+use super::inputs::pass::PassReport;
 use super::plan::LightPlan;
 use super::post::effects::EFFECTS;
 use super::post::PostStats;
@@ -25,14 +25,14 @@ impl Renderer {
         settings: &Settings,
         shape: &Shape,
         prepared: &Prepared,
-        drawn: Drawn,
+        drawn: PassReport,
     ) -> Result<FrameStats> {
         let key = self.sets.current.key();
         let plan = &prepared.plan;
         let (forward_path, lit) = (shape.forward_path, settings.debug_view == DebugView::Lit);
         let post_options = settings.post_options();
         let mut cpu_ms = prepared.cpu_ms;
-        (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + drawn.cpu_ms.0, cpu_ms.wall + drawn.cpu_ms.1);
+        (cpu_ms.upload, cpu_ms.wall) = (cpu_ms.upload + drawn.upload_ms.0, cpu_ms.wall + drawn.upload_ms.1);
         let mut stats = FrameStats {
             adapter: self.caps.report(super::support::fallbacks(&self.caps, key, settings, shape.chain)),
             size: [shape.size.0, shape.size.1],
@@ -71,7 +71,7 @@ impl Renderer {
                     .then_some(settings.peel_layers),
                 ..f
             }),
-            draw_calls: drawn.draw_calls,
+            draw_calls: drawn.light_draws,
             light_batches: if forward_path { 0 } else { plan.batches.batches.len() as u64 },
             forward_path: drawn.forward_path,
             lists_on_gpu: !forward_path && tiles::lists_on_gpu(plan),
@@ -278,6 +278,9 @@ pub struct FrameStats {
     /// What the engine-style caps dropped (`caps`); `None` with no cap set.
     #[serde(default)]
     pub caps: Option<crate::renderer::caps::CapStats>,
+    /// The frame's pipelines: declared by its passes, built before it recorded, and compiled
+    /// while it recorded (a pipeline no pass declared; none when the declarations are whole).
+    pub pipelines: Pipelines,
 }
 
 /// The frame's queries, read back, turned into its figures: the spans, the forward and
@@ -421,4 +424,16 @@ pub(super) fn cap_stats(
     }
     cut.object_entries_dropped = prepared.path_lists.capped;
     Some(cut)
+}
+
+/// The pipelines of one frame (`FrameStats::pipelines`).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(default)]
+pub struct Pipelines {
+    /// Declared by the frame's passes (`inputs::pass::Pass::declare`).
+    pub declared: usize,
+    /// Of those, compiled by this frame before it recorded (the rest were built already).
+    pub built: usize,
+    /// Compiled while the frame recorded: a draw with a pipeline its pass did not declare.
+    pub while_recording: usize,
 }

@@ -23,6 +23,7 @@ mod hard_cases;
 mod images;
 mod materials;
 mod oracle;
+mod passes;
 mod paths;
 mod post;
 mod prepass;

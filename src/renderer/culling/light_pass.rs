@@ -6,9 +6,10 @@
 
 use super::binning::{binned_bytes, LLVMPIPE_SCENE_BUDGET};
 use crate::renderer::culling::methods::{self, Covers, Reference, StencilMethod, METHODS};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{
-    biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL,
+    biased_in_fragment, face, stencil, Declared, DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL,
 };
 use crate::renderer::plan::Method;
 use crate::renderer::stats::{Span, LIGHTS_PER_QUERY_SET};
@@ -161,7 +162,7 @@ impl LightPass {
     /// miscounts it), and the light pass's end time is then written by an empty pass of its own.
     /// Returns the light draws issued (marks, shades and stencil clears; not the ambient + sun
     /// draw).
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> u64 {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> u64 {
         let n = f.plan.lights.len();
         let chunk = LIGHTS_PER_QUERY_SET;
         let blocks = n.div_ceil(chunk).max(1);
@@ -266,6 +267,46 @@ impl LightPass {
             }
         }
         draws
+    }
+}
+
+impl Pass for LightPass {
+    /// Walks the batches as [`Self::record`] draws them: ambient + sun unless the G-buffer
+    /// pass wrote them, each batch's mark (unless it crosses the near plane) and its shading
+    /// pipelines by which of its lights cast, and the stencil clear once REPLACE's references
+    /// wrap past 255.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if !self.ambient_in_gbuffer {
+            out.add(&self.ambient);
+        }
+        let batches = &f.plan.batches;
+        let mut references = 0u32;
+        for batch in &batches.batches {
+            let Some(m) = self.pipelines(batch.method) else { continue };
+            let near = m.shade_crossing_near.as_ref().filter(|_| batch.crosses_near);
+            if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
+                if m.method.reference == Reference::PerLight {
+                    if references == 255 {
+                        out.add(&self.stencil_clear);
+                        references = 0;
+                    }
+                    references += 1;
+                }
+                out.add(mark);
+            }
+            let shade = near.unwrap_or(&m.shade);
+            if f.counts || self.casters_apart {
+                for &light in batches.lights_of(batch) {
+                    out.add(&shade[f.casts(light) as usize]);
+                }
+            } else {
+                out.add(&shade[1]);
+            }
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        Ok(PassReport { light_draws: self.record(encoder, f), ..Default::default() })
     }
 }
 

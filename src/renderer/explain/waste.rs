@@ -9,7 +9,9 @@
 //! lists get the same count from their lists (`fs_tile_waste`, in the tiled pass).
 
 use crate::renderer::culling::methods::{self, Reference, METHODS};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{
     biased_in_fragment, face, stencil, DrawState, Faces, LightPipe, Out, Shared, Vs, ADDITIVE, NO_STENCIL,
 };
@@ -68,7 +70,7 @@ impl WastePass {
 
     /// Records the view into the debug target: every light the light pass drew (or the selected
     /// one), one at a time with its method's draws.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let mut pass = f.debug_view_pass(encoder, "waste view");
         let mut reference = 0u32;
         for (i, plan) in f.plan.lights.iter().enumerate() {
@@ -104,5 +106,35 @@ impl WastePass {
                 pass.draw_indexed(range, base, li);
             }
         }
+    }
+}
+
+impl Pass for WastePass {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        let mut reference = 0u32;
+        for (i, plan) in f.plan.lights.iter().enumerate() {
+            if f.options.frame.selected_light.is_some_and(|k| k != i) {
+                continue;
+            }
+            let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };
+            let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
+            let near = m.shade_crossing_near.as_ref().filter(|_| plan.crosses_near);
+            if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
+                if draws.reference == Reference::PerLight {
+                    if reference == 255 {
+                        out.add(&self.stencil_clear);
+                        reference = 0;
+                    }
+                    reference += 1;
+                }
+                out.add(mark);
+            }
+            out.add(near.unwrap_or(&m.shade));
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
     }
 }

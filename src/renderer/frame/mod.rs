@@ -18,25 +18,12 @@ use super::volumes::Volumes;
 use super::{
     cputime, overlap, post, AccumFormat, BlendedMode, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings,
 };
+pub use crate::renderer::inputs::Shape;
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::settings::CullingMode;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
 use passes::Needs;
-
-/// What a frame draws, decided from its settings and scene before anything is built.
-pub struct Shape {
-    pub size: (u32, u32),
-    /// A forward path (single- or multi-pass): no G-buffer unless the post chain reads one.
-    pub forward_path: bool,
-    /// The light pre-pass's lit pass 3 runs (the lit picture or a post view, not a buffer view).
-    pub prepass_lit: bool,
-    /// Blended surfaces are shaded forward over the HDR picture, in the final view only (the
-    /// debug views show the G-buffer and its lighting, which hold no transparent surface).
-    pub blended: bool,
-    /// The post chain runs.
-    pub chain: bool,
-}
 
 impl Shape {
     /// The frame's shape, or why `settings` cannot draw `scene` at `size`; the lights are left
@@ -98,12 +85,6 @@ impl Shape {
             blended: final_view && scene.any_blended(),
             chain: post::chain_active(settings.debug_view, &settings.post_options()),
         })
-    }
-
-    /// The frame draws into the HDR scene colour: the forward paths and the light pre-pass's
-    /// pass 3 shade into it, blended surfaces are shaded over it, and the tonemap finishes it.
-    pub fn hdr(&self) -> bool {
-        self.blended || self.forward_path || self.prepass_lit
     }
 
     /// The passes beyond those every frame uses.
@@ -423,14 +404,22 @@ impl Renderer {
     pub(super) fn inputs<'a>(
         &'a self,
         settings: &'a Settings,
-        shape: &Shape,
+        shape: &'a Shape,
         prepared: &'a Prepared,
+        output: &'a wgpu::TextureView,
     ) -> Result<FrameInputs<'a>> {
         let (Some(targets), Some(scene)) = (&self.targets, &self.scene) else {
             bail!("internal: targets or scene missing after configure");
         };
         let m = self.measured(settings, shape, prepared);
         Ok(FrameInputs {
+            device: &self.device,
+            queue: &self.queue,
+            shape,
+            output,
+            background: prepared.records.camera.background,
+            path_lists: &prepared.path_lists,
+            shadows: &prepared.shadows,
             targets,
             scene,
             frame: &self.frame,

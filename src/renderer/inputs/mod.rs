@@ -1,18 +1,54 @@
 //! What the frame's passes read: the targets, the scene's and the frame's buffers, the plan,
 //! each technique's options, and this renderer's scratch (`scratch.rs`).
 
+pub mod pass;
 pub mod scratch;
 
 use crate::renderer::options::Options;
-use crate::renderer::plan::FramePlan;
+use crate::renderer::plan::{ForwardPathLists, FramePlan};
 use crate::renderer::records::{self, FrameBuffers};
 use crate::renderer::scene_gpu::SceneGpu;
+use crate::renderer::shadows::ShadowPlan;
 use crate::renderer::stats::{Queries, Span};
 use crate::renderer::targets::Targets;
 use crate::renderer::volumes::Volumes;
 
+/// What a frame draws, decided from its settings and scene before anything is built
+/// (`Shape::of_checked`, in `frame/`).
+pub struct Shape {
+    pub size: (u32, u32),
+    /// A forward path (single- or multi-pass): no G-buffer unless the post chain reads one.
+    pub forward_path: bool,
+    /// The light pre-pass's lit pass 3 runs (the lit picture or a post view, not a buffer view).
+    pub prepass_lit: bool,
+    /// Blended surfaces are shaded forward over the HDR picture, in the final view only (the
+    /// debug views show the G-buffer and its lighting, which hold no transparent surface).
+    pub blended: bool,
+    /// The post chain runs.
+    pub chain: bool,
+}
+
+impl Shape {
+    /// The frame draws into the HDR scene colour: the forward paths and the light pre-pass's
+    /// pass 3 shade into it, blended surfaces are shaded over it, and the tonemap finishes it.
+    pub fn hdr(&self) -> bool {
+        self.blended || self.forward_path || self.prepass_lit
+    }
+}
+
 /// What the frame's passes read: targets, scene, frame buffers, plan and what to measure.
 pub struct FrameInputs<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub shape: &'a Shape,
+    /// The frame's output, of the renderer's output format and the frame's size.
+    pub output: &'a wgpu::TextureView,
+    /// The scene's background colour (linear RGB, alpha 1).
+    pub background: [f32; 4],
+    /// The forward paths' object lists (and multi-pass's pairs); empty on the other paths.
+    pub path_lists: &'a ForwardPathLists,
+    /// Which lights cast into which tiles of the shadow atlas this frame.
+    pub shadows: &'a ShadowPlan,
     pub targets: &'a Targets,
     pub scene: &'a SceneGpu,
     pub frame: &'a FrameBuffers,

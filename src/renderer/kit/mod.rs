@@ -399,14 +399,94 @@ impl<T> std::ops::Deref for OnFirstUse<T> {
     type Target = T;
 
     fn deref(&self) -> &T {
-        self.0.cell.get_or_init(|| {
-            COMPILED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            (self.0.build)()
-        })
+        self.0.cell.get_or_init(|| self.0.compile())
+    }
+}
+
+impl<T> FirstUse<T> {
+    fn compile(&self) -> T {
+        COMPILED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        COMPILED_HERE.with(|c| c.set(c.get() + 1));
+        (self.build)()
     }
 }
 
 static COMPILED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+thread_local! {
+    /// Pipelines compiled on this thread: a frame's recording tells from it whether a pipeline
+    /// it drew with had not been declared (and so was compiled inside the recording).
+    static COMPILED_HERE: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Pipelines compiled on the calling thread so far.
+pub fn pipelines_compiled_here() -> u64 {
+    COMPILED_HERE.with(|c| c.get())
+}
+
+/// A pipeline a pass declares, built ahead of its first draw on whichever thread calls
+/// [`Compile::build`].
+pub trait Compile: Send + Sync {
+    /// Compiles it unless it is compiled; whether this call compiled it.
+    fn build(&self) -> bool;
+    /// Whether it is compiled.
+    fn is_built(&self) -> bool;
+}
+
+impl<T: Send + Sync> Compile for FirstUse<T> {
+    fn build(&self) -> bool {
+        let mut now = false;
+        self.cell.get_or_init(|| {
+            now = true;
+            self.compile()
+        });
+        now
+    }
+
+    fn is_built(&self) -> bool {
+        self.cell.get().is_some()
+    }
+}
+
+/// The pipelines a frame declared (`inputs::pass::Pass::declare`), each once.
+#[derive(Clone, Default)]
+pub struct Declared(Vec<Arc<dyn Compile>>);
+
+impl Declared {
+    /// Adds `pipe` unless it is declared already.
+    pub fn add<T: Send + Sync + 'static>(&mut self, pipe: &OnFirstUse<T>) {
+        let p: Arc<dyn Compile> = pipe.0.clone();
+        if !self.0.iter().any(|q| std::ptr::addr_eq(Arc::as_ptr(q), Arc::as_ptr(&p))) {
+            self.0.push(p);
+        }
+    }
+
+    /// Adds each of `pipes`.
+    pub fn add_all<'a, T: Send + Sync + 'static>(&mut self, pipes: impl IntoIterator<Item = &'a OnFirstUse<T>>) {
+        for p in pipes {
+            self.add(p);
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Those not compiled yet.
+    pub fn missing(&self) -> usize {
+        self.0.iter().filter(|p| !p.is_built()).count()
+    }
+
+    /// Compiles those not compiled yet, on this thread; how many it compiled. A compile's error
+    /// reaches the caller's error scopes (`scoped`).
+    pub fn build(&self) -> usize {
+        self.0.iter().filter(|p| p.build()).count()
+    }
+}
 
 /// Pipelines this process has compiled ([`OnFirstUse`]): a soak tells the memory they take,
 /// one-off, from a leak (`memory::without_compiles`).

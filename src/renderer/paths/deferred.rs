@@ -7,17 +7,18 @@
 //!    blended surfaces or the post chain, compose in HDR, shade the blended surfaces forward
 //!    over it back to front (deferred shading cannot do transparency), then finish.
 
-use super::{compose, finish, surfaces_and_lights, Drawn, PathInputs};
+use super::{finish, step, surfaces_and_lights, Step};
+use crate::renderer::frame::passes::Passes;
+use crate::renderer::inputs::FrameInputs;
+use crate::renderer::surfaces::compose::ComposeHdr;
 
-pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
-    let (p, f) = (c.passes, c.f);
-    let (draw_calls, cpu_ms) = surfaces_and_lights(c, encoder, ("gbuffer", "lights"));
-    if (c.shape.chain && f.targets.post.is_some()) || c.shape.blended {
-        c.group(encoder, "compose (HDR)", |e| p.compose.encode_hdr(e, c.queue, f));
-        c.group(encoder, "blended surfaces", |e| p.forward.encode(e, f));
-        finish(c, encoder);
+pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
+    surfaces_and_lights(p, f, ("gbuffer", "lights"), s);
+    if (f.shape.chain && f.targets.post.is_some()) || f.shape.blended {
+        s.push(step("compose (HDR)", ComposeHdr(&p.compose)));
+        s.push(step("blended surfaces", &*p.forward));
+        finish(p, f, s);
     } else {
-        compose(c, encoder);
+        s.push(step("compose", &*p.compose));
     }
-    Drawn { draw_calls, cpu_ms, ..Default::default() }
 }

@@ -16,7 +16,9 @@
 //! deferred path never needs them).
 
 use super::forward_scratch::{Counted, ForwardScratch, Msaa, Queries};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, ADDITIVE, HDR_FORMAT};
 use crate::renderer::options::post::PostOptions;
 use crate::renderer::options::{DebugView, RenderPath};
@@ -30,7 +32,6 @@ pub const SHADE: Span = Span("forward shading");
 pub const PAIRS: Span = Span("forward pairs");
 use crate::scene::Topology;
 use anyhow::{bail, Result};
-use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use wgpu::CompareFunction as Cmp;
@@ -44,66 +45,7 @@ const QUERIES: u32 = 3;
 /// passes are counted whole and the lights are not.
 pub const MAX_DRAW_QUERIES: u32 = 4096;
 
-/// One pass of a forward path as the frame's stats report it.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct PathPass {
-    pub name: String,
-    pub draw_calls: u64,
-    /// Samples that passed the depth test (occlusion query; with MSAA, samples, not pixels),
-    /// when counting.
-    pub fragments: Option<u64>,
-    pub gpu_ms: Option<f64>,
-    /// The pass's timing.
-    #[serde(skip)]
-    pub span: Option<Span>,
-    #[serde(skip)]
-    query: Option<u32>,
-    /// Counted draw by draw instead (the per-light counts): its draws' queries in the frame's
-    /// draw-query set, summed into `fragments`.
-    #[serde(skip)]
-    draw_queries: Option<std::ops::Range<u32>>,
-}
-
-/// An intermediate target of a forward path and its bytes per pixel (all samples).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct PathTarget {
-    pub name: String,
-    pub bytes_per_pixel: u32,
-}
-
-/// What a forward path's frame did: its passes, its targets, its lists.
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct ForwardPathStats {
-    pub path: RenderPath,
-    pub samples: u32,
-    pub depth_prepass: bool,
-    pub passes: Vec<PathPass>,
-    pub targets: Vec<PathTarget>,
-    /// Opaque and masked objects drawn, their light lists' entries summed, the longest.
-    pub objects: usize,
-    pub list_entries: u64,
-    pub longest_list: u32,
-    /// Multi-pass: (object, light) pairs drawn.
-    pub pairs: u64,
-    /// The post chain reads depth and normals (fog, depth of field, edge AA): the G-buffer pass
-    /// ran for it alone (`gbuffer` in `frame::passes::Passes`).
-    pub gbuffer_for_post: bool,
-}
-
-impl ForwardPathStats {
-    /// Bytes per pixel of every intermediate target, summed.
-    pub fn bytes_per_pixel(&self) -> u32 {
-        self.targets.iter().map(|t| t.bytes_per_pixel).sum()
-    }
-
-    /// Draw calls of every pass, summed.
-    pub fn draw_calls(&self) -> u64 {
-        self.passes.iter().map(|p| p.draw_calls).sum()
-    }
-}
+pub use crate::renderer::inputs::pass::{ForwardPathStats, PathPass, PathTarget};
 
 /// Whether the post chain as `s` sets it reads the G-buffer (depth, normals): fog, depth of
 /// field, edge AA, distortion (its foreground test) and their views. The forward paths then run the G-buffer pass for it alone.
@@ -381,10 +323,10 @@ impl ForwardPathsPass {
         Ok(p)
     }
 
-    fn msaa_targets(&self, device: &wgpu::Device, scratch: &ForwardScratch, size: (u32, u32)) -> Result<Arc<Msaa>> {
+    fn msaa_targets(&self, device: &wgpu::Device, scratch: &ForwardScratch, size: (u32, u32)) -> Result<()> {
         let mut slot = scratch.msaa.lock().map_err(|_| anyhow::anyhow!("MSAA targets lock poisoned"))?;
-        if let Some(m) = slot.as_ref().filter(|m| m.size == size) {
-            return Ok(m.clone());
+        if slot.as_ref().is_some_and(|m| m.size == size) {
+            return Ok(());
         }
         let make = |label, format| {
             crate::renderer::kit::texture_2d(
@@ -402,8 +344,8 @@ impl ForwardPathsPass {
             color: make("hdr colour (4x MSAA)", HDR_FORMAT),
             depth: make("depth (4x MSAA)", self.key.depth_format),
         });
-        *slot = Some(m.clone());
-        Ok(m)
+        *slot = Some(m);
+        Ok(())
     }
 
     /// Records the path's passes into the HDR scene colour (resolved there with MSAA), the
@@ -416,22 +358,25 @@ impl ForwardPathsPass {
     /// 3. multi-pass: one additive draw per (object, light) pair, scissored to the light's
     ///    screen rectangle;
     /// 4. blended surfaces, back to front; multisampled with MSAA (and resolved).
-    pub fn encode(
+    fn record(
         &self,
-        device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         pf: &PathFrame<'_>,
         blended_pass: &crate::renderer::surfaces::blended::ForwardPass,
     ) -> Result<ForwardPathStats> {
+        let device = f.device;
         let (s, surfaces) = (&f.options.frame, &f.options.surfaces);
         let samples = s.msaa.samples();
         let Some((hdr_view, _)) = &f.targets.hdr else { bail!("internal: the forward paths need the HDR colour") };
         let pipes = self.pipelines(device, samples)?;
-        let msaa = if samples > 1 {
-            Some(self.msaa_targets(device, &f.scratch.forward, (f.targets.width, f.targets.height))?)
-        } else {
-            None
+        let msaa = match samples > 1 {
+            true => {
+                let slot = f.scratch.forward.msaa.lock().map_err(|_| anyhow::anyhow!("MSAA targets lock poisoned"))?;
+                let made = slot.clone().filter(|m| m.size == (f.targets.width, f.targets.height));
+                Some(made.ok_or_else(|| anyhow::anyhow!("internal: the MSAA targets were not made before recording"))?)
+            }
+            false => None,
         };
         let (color, depth) = match &msaa {
             Some(m) => (&m.color, &m.depth),
@@ -494,7 +439,7 @@ impl ForwardPathsPass {
                     pass.end_occlusion_query();
                 }
             } else {
-                blended_pass.encode(encoder, f);
+                blended_pass.encode(encoder, f)?;
             }
         }
         if s.count_fragments {
@@ -744,6 +689,81 @@ impl ForwardPathsPass {
         let mut p = end(pass, query, "lights (object, light) pairs", lists.pairs.len() as u64, PAIRS);
         p.draw_queries = per_draw.map(|_| first..counted.len() as u32);
         stats.passes.push(p);
+    }
+}
+
+/// A forward path's passes, with the blended surfaces' pass that ends them single-sampled.
+pub struct ForwardPaths<'a> {
+    pub paths: &'a ForwardPathsPass,
+    pub blended: &'a crate::renderer::surfaces::blended::ForwardPass,
+}
+
+impl ForwardPaths<'_> {
+    /// What the frame hands the path besides [`FrameInputs`].
+    fn frame<'f>(f: &'f FrameInputs<'_>) -> PathFrame<'f> {
+        PathFrame {
+            lists: f.path_lists,
+            background: f.background,
+            blended: f.shape.blended,
+            gbuffer_for_post: post_reads_gbuffer(f.options.frame.debug_view, &f.options.post, f.shape.chain),
+        }
+    }
+}
+
+impl Pass for ForwardPaths<'_> {
+    /// The multisampled targets (`--msaa 4`) and the fragment-count queries.
+    fn prepare(&self, f: &FrameInputs<'_>) -> Result<()> {
+        let s = &f.options.frame;
+        if s.msaa.samples() > 1 {
+            self.paths.msaa_targets(f.device, &f.scratch.forward, (f.targets.width, f.targets.height))?;
+        }
+        if s.count_fragments {
+            f.scratch.forward.queries(f.device);
+            let draws = if s.path == RenderPath::ForwardMultipass { f.path_lists.pairs.len() } else { f.plan.draws.gbuffer.len() };
+            if draws as u32 <= MAX_DRAW_QUERIES {
+                f.scratch.forward.draw_queries(f.device);
+            }
+        }
+        Ok(())
+    }
+
+    /// Steps 1-4 as [`ForwardPathsPass::record`] takes them: the depth pass's, the shading's
+    /// and the pairs' pipelines of the objects drawn, then the blended surfaces'.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        let s = &f.options.frame;
+        let Ok(pipes) = self.paths.pipelines(f.device, s.msaa.samples()) else { return };
+        if f.targets.hdr.is_none() {
+            return;
+        }
+        let multipass = s.path == RenderPath::ForwardMultipass;
+        let prepass = multipass || f.options.surfaces.depth_prepass;
+        let of = |pipes: &[crate::renderer::kit::RenderPipe], list: &[Draw]| {
+            list.iter().filter_map(|d| pipes.get(d.1)).cloned().collect::<Vec<_>>()
+        };
+        let opaque = &f.plan.draws.gbuffer;
+        if prepass {
+            out.add_all(&of(&pipes.depth, opaque));
+        }
+        let shading = match (multipass, prepass) {
+            (true, _) => &pipes.base,
+            (false, true) => &pipes.single,
+            (false, false) => &pipes.single_no_prepass,
+        };
+        out.add_all(&of(shading, opaque));
+        if multipass {
+            out.add_all(f.path_lists.pairs.iter().filter_map(|p| pipes.pair.get(p.draw.1)));
+        }
+        if f.shape.blended {
+            match s.msaa.samples() > 1 {
+                true => out.add_all(&of(&pipes.blended, &f.plan.draws.forward)),
+                false => self.blended.declare(f, out),
+            }
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> Result<PassReport> {
+        let stats = self.paths.record(encoder, f, &Self::frame(f), self.blended)?;
+        Ok(PassReport { light_draws: stats.draw_calls(), forward_path: Some(stats), ..Default::default() })
     }
 }
 

@@ -6,24 +6,17 @@
 //!    colour; then blended surfaces forward and the tonemap or the post chain, as deferred
 //!    shading does. A debug view composes the buffers instead.
 
-use super::{compose, finish, surfaces_and_lights, Drawn, PathInputs};
-use crate::renderer::paths::prepass_pass;
+use super::{finish, step, surfaces_and_lights, Step};
+use crate::renderer::frame::passes::Passes;
+use crate::renderer::inputs::FrameInputs;
 
-pub fn record(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Drawn {
-    let (p, f) = (c.passes, c.f);
-    let (draw_calls, cpu_ms) =
-        surfaces_and_lights(c, encoder, ("normals and exponent", "lights into the light buffer"));
-    let finals = if c.shape.prepass_lit {
-        let bg = c.scene.background.as_dvec3();
-        let background = wgpu::Color { r: bg.x, g: bg.y, b: bg.z, a: 1.0 };
-        let finals = c.group(encoder, "geometry with the light buffer", |e| p.prepass.encode(e, f, background));
-        c.group(encoder, "blended surfaces", |e| p.forward.encode(e, f));
-        finish(c, encoder);
-        finals
+pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
+    surfaces_and_lights(p, f, ("normals and exponent", "lights into the light buffer"), s);
+    if f.shape.prepass_lit {
+        s.push(step("geometry with the light buffer", &*p.prepass));
+        s.push(step("blended surfaces", &*p.forward));
+        finish(p, f, s);
     } else {
-        compose(c, encoder);
-        (0, 0)
-    };
-    let stats = prepass_pass::stats(p.key(), c.prepared.plan.draws.gbuffer.len() as u64, finals);
-    Drawn { draw_calls, cpu_ms, prepass: Some(stats), ..Default::default() }
+        s.push(step("compose", &*p.compose));
+    }
 }

@@ -1,13 +1,15 @@
-//! The rendering paths, a function each. A path records its own passes between the shadows
-//! (which every path draws first) and the measurement passes (which every path ends with):
+//! The rendering paths, a list of steps each ([`steps`]). A path's own passes come between the
+//! shadows (which every path draws first) and the measurement passes (which every path ends
+//! with); every step is a [`Pass`], so the frame declares the pipelines of all of them, builds
+//! those, and only then records ([`record`]):
 //! - [`deferred`]: deferred shading (Hargreaves & Harris, *Deferred Shading*, GDC 2004; seeds
 //!   000-002): a G-buffer, lights as volumes over it, compose;
 //! - [`light_prepass`]: deferred lighting (seeds 003, 004): normals + exponent, lights into a
 //!   light buffer, the geometry again with its maps;
 //! - [`forward`]: forward single- and multi-pass (seed 002): each object with its lights.
 //!
-//! The tail they share: the tiled/clustered shading after the drawn lights ([`tiled`]),
-//! compose to the output ([`compose`]), and tone mapping or the post chain ([`finish`]).
+//! The steps they share: the surfaces and lights ([`surfaces_and_lights`]), compose to the
+//! output, and tone mapping or the post chain ([`finish`]).
 
 pub mod deferred;
 pub mod forward;
@@ -16,121 +18,100 @@ pub mod forward_scratch;
 pub mod light_prepass;
 pub mod prepass_pass;
 
-use super::frame::{Prepared, Shape};
-use super::paths::forward_pass::ForwardPathStats;
-use super::surfaces::compose::ComposeTarget;
-use super::surfaces::compose::SPAN as COMPOSE;
-use super::{post, RenderPath};
 use crate::renderer::frame::passes::Passes;
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
-use crate::scene::Scene;
+use crate::renderer::kit::Declared;
+use crate::renderer::options::{DebugView, RenderPath};
 use anyhow::Result;
-use prepass_pass::PrepassStats;
 
-/// What a path records from: the device, the passes, the frame's inputs and where it ends.
-pub struct PathInputs<'a> {
-    pub device: &'a wgpu::Device,
-    pub queue: &'a wgpu::Queue,
-    pub passes: &'a Passes,
-    pub f: &'a FrameInputs<'a>,
-    pub shape: &'a Shape,
-    pub prepared: &'a Prepared,
-    pub scene: &'a Scene,
-    /// The output view, of the renderer's output format and the frame's size.
-    pub target: &'a wgpu::TextureView,
-    /// Group the frame's steps for captures ([`PathInputs::group`]).
-    pub debug_groups: bool,
+/// One step of the frame: a pass, and the debug group a capture shows it in.
+pub struct Step<'a> {
+    pub group: &'static str,
+    pub pass: Box<dyn Pass + 'a>,
 }
 
-/// What a path's passes report for the frame's statistics.
-#[derive(Default)]
-pub struct Drawn {
-    /// Light draw calls (the forward paths': their draws).
-    pub draw_calls: u64,
-    pub forward_path: Option<ForwardPathStats>,
-    pub prepass: Option<PrepassStats>,
-    /// CPU time the tiled/clustered lists cost while recording: (upload, wall) in ms.
-    pub cpu_ms: (f64, f64),
+pub fn step<'a>(group: &'static str, pass: impl Pass + 'a) -> Step<'a> {
+    Step { group, pass: Box::new(pass) }
 }
 
-/// Records `path`'s passes.
-pub fn record(path: RenderPath, c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> Result<Drawn> {
-    match path {
-        RenderPath::Deferred => Ok(deferred::record(c, encoder)),
-        RenderPath::LightPrepass => Ok(light_prepass::record(c, encoder)),
-        // The same steps; the pass draws a list per object or a pair per (object, light).
-        RenderPath::Forward | RenderPath::ForwardMultipass => forward::record(c, encoder),
+/// The frame's steps: the shadows (each casting light's depth into its tiles of the atlas, on
+/// every path), the path's own passes into the output, then the measurement passes (outside
+/// the frame's timestamps: the ideal count and coverage).
+pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>) -> Vec<Step<'a>> {
+    let mut s = vec![step("shadows", &*p.shadows)];
+    match f.options.frame.path {
+        RenderPath::Deferred => deferred::steps(p, f, &mut s),
+        RenderPath::LightPrepass => light_prepass::steps(p, f, &mut s),
+        RenderPath::Forward | RenderPath::ForwardMultipass => forward::steps(p, f, &mut s),
     }
+    s.push(step("measure", &*p.measure));
+    s
 }
 
-impl PathInputs<'_> {
-    /// Records `steps` inside a debug group `name`: a capture (RenderDoc, PIX, Xcode) shows the
-    /// frame as these named steps, each holding its labelled passes (where the adapter takes
-    /// encoder debug groups: `Gpu::encoder_debug_groups`).
-    pub fn group<R>(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        name: &str,
-        steps: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
-    ) -> R {
-        if !self.debug_groups {
-            return steps(encoder);
+/// The pipelines `steps` draw with.
+pub fn declare(steps: &[Step<'_>], f: &FrameInputs<'_>) -> Declared {
+    let mut out = Declared::default();
+    for s in steps {
+        s.pass.declare(f, &mut out);
+    }
+    out
+}
+
+/// Makes each step's buffers and targets, then records the steps, each inside its debug group
+/// when `debug_groups` (a capture in RenderDoc, PIX or Xcode then shows the frame as these
+/// named steps, each holding its labelled passes; `Gpu::encoder_debug_groups`).
+pub fn record(
+    steps: &[Step<'_>],
+    f: &FrameInputs<'_>,
+    encoder: &mut wgpu::CommandEncoder,
+    debug_groups: bool,
+) -> Result<PassReport> {
+    for s in steps {
+        s.pass.prepare(f)?;
+    }
+    let mut report = PassReport::default();
+    for s in steps {
+        if debug_groups {
+            encoder.push_debug_group(s.group);
         }
-        encoder.push_debug_group(name);
-        let out = steps(encoder);
-        encoder.pop_debug_group();
-        out
-    }
-}
-
-/// Tiled / clustered shading: per-tile or per-cluster light lists, one full-screen shading
-/// (when the plan has such lights). Returns the CPU ms it took (upload, wall).
-fn tiled(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) -> (f64, f64) {
-    match c.passes.tiled.get() {
-        Some(t) => c.group(encoder, "tiled and clustered lights", |e| t.encode(c.device, c.queue, e, c.f)),
-        None => {
-            c.f.scratch.tiled.clear();
-            (0.0, 0.0)
+        report.add(s.pass.encode(encoder, f)?);
+        if debug_groups {
+            encoder.pop_debug_group();
         }
     }
+    Ok(report)
 }
 
 /// The first half both deferred paths share: the surface pass (the G-buffer, or the light
 /// pre-pass's normals and exponent), every light with its culling method, the tiled and
-/// clustered lights, and the stencil and complexity views; `labels` name the first two for a
-/// capture. Returns the light draws and the CPU ms the tiled lists' upload took.
-pub fn surfaces_and_lights(
-    c: &PathInputs<'_>,
-    encoder: &mut wgpu::CommandEncoder,
-    (surfaces, lights): (&str, &str),
-) -> (u64, (f64, f64)) {
-    let (p, f) = (c.passes, c.f);
-    c.group(encoder, surfaces, |e| p.gbuffer.encode(e, f));
-    let draw_calls = c.group(encoder, lights, |e| p.lights.encode(e, f));
-    let cpu_ms = tiled(c, encoder);
-    c.group(encoder, "stencil and complexity views", |e| p.debug.encode(e, f));
-    if f.options.frame.debug_view == crate::renderer::DebugView::Waste && f.plan.tiled.is_none() {
-        c.group(encoder, "waste view", |e| p.waste.encode(e, f));
+/// clustered lights (lists, shading, the tile-lights view), and the stencil, complexity and
+/// waste views; `labels` name the first two for a capture.
+pub fn surfaces_and_lights<'a>(
+    p: &'a Passes,
+    f: &FrameInputs<'_>,
+    (surfaces, lights): (&'static str, &'static str),
+    s: &mut Vec<Step<'a>>,
+) {
+    s.push(step(surfaces, &*p.gbuffer));
+    s.push(step(lights, &*p.lights));
+    match p.tiled.get() {
+        Some(t) => s.push(step("tiled and clustered lights", t)),
+        None => f.scratch.tiled.clear(),
     }
-    (draw_calls, cpu_ms)
-}
-
-/// Compose straight into the output: the lit picture from the G-buffer and light buffers, or
-/// the debug view the settings name.
-pub fn compose(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
-    let to = ComposeTarget { view: c.target, size: c.shape.size, debug_view: c.f.options.frame.debug_view, slot: 0 };
-    let stamps = c.f.timestamps(Some(COMPOSE), Some(COMPOSE));
-    c.group(encoder, "compose", |e| c.passes.compose.encode(e, c.queue, c.f.targets, c.f.frame, &to, stamps));
+    s.push(step("stencil and complexity views", &*p.debug));
+    if f.options.frame.debug_view == DebugView::Waste && f.plan.tiled.is_none() {
+        s.push(step("waste view", &*p.waste));
+    }
 }
 
 /// From the HDR scene colour to the output: the post chain (seed 002's order: bloom,
 /// auto-exposure, tone mapping, grading, fog, depth of field, vignette, anti-aliasing; each
 /// skips itself when off, the last one writes the output) or the tonemap alone.
-pub fn finish(c: &PathInputs<'_>, encoder: &mut wgpu::CommandEncoder) {
-    if let Some(pt) = c.f.targets.post.as_ref().filter(|_| c.shape.chain) {
-        let stamps = c.f.timestamps(None, Some(COMPOSE));
-        c.group(encoder, "post chain", |e| post::encode_chain(e, c.f, &c.passes.chain(), pt, c.target, stamps));
+pub fn finish<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
+    if f.targets.post.is_some() && f.shape.chain {
+        s.push(step("post chain", super::post::Chain(p.chain())));
     } else {
-        c.group(encoder, "tonemap", |e| c.passes.compose.encode_tonemap(e, c.f, c.target));
+        s.push(step("tonemap", super::surfaces::compose::Tonemap(&p.compose)));
     }
 }

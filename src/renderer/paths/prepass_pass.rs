@@ -5,7 +5,9 @@
 //! G-buffer and light passes built for `gbuffer::prepass_layout` (`PipelineKey::prepass`).
 //! Timed as `gpu_ms.prepass_final` (`SPAN`).
 
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::pipeline::topology_pipeline_index;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
@@ -14,7 +16,6 @@ use crate::renderer::stats::Span;
 pub const SPAN: Span = Span("prepass final");
 use crate::renderer::targets::attachment;
 use crate::scene::Topology;
-use serde::{Deserialize, Serialize};
 use wgpu::CompareFunction as Cmp;
 
 pub struct PrepassFinalPass {
@@ -22,6 +23,7 @@ pub struct PrepassFinalPass {
     pipelines: [crate::renderer::kit::RenderPipe; 6],
     /// Multisampled (`--msaa 4`): the depth-only draws that prime pass 3's samples.
     prime: Option<[crate::renderer::kit::RenderPipe; 6]>,
+    key: crate::renderer::kit::PipelineKey,
 }
 
 impl PrepassFinalPass {
@@ -78,17 +80,14 @@ impl PrepassFinalPass {
                 prime("pre-pass prime (points)", masked, true, Topology::Points),
             ]
         });
-        Self { pipelines, prime }
+        Self { pipelines, prime, key: shared.key.clone() }
     }
 
-    /// Clears the HDR scene colour to `background` and draws the G-buffer list again over it.
-    /// Returns the draws issued: pass 3's and, multisampled, the prime's.
-    pub fn encode(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameInputs<'_>,
-        background: wgpu::Color,
-    ) -> (u64, u64) {
+    /// Clears the HDR scene colour to the background and draws the G-buffer list again over
+    /// it. Returns the draws issued: pass 3's and, multisampled, the prime's.
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> (u64, u64) {
+        let [r, g, b, a] = f.background.map(f64::from);
+        let background = wgpu::Color { r, g, b, a };
         let Some((hdr_view, _)) = &f.targets.hdr else { return (0, 0) };
         // The stencil aspect of the multisampled depth: cleared, never read.
         let stencil_ops = f
@@ -155,6 +154,24 @@ impl PrepassFinalPass {
     }
 }
 
+impl Pass for PrepassFinalPass {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if f.targets.hdr.is_none() {
+            return;
+        }
+        if let (Some(_), Some(prime)) = (&f.targets.msaa, &self.prime) {
+            out.add_all(f.plan.draws.gbuffer.iter().filter_map(|d| prime.get(d.1)));
+        }
+        out.add_all(f.plan.draws.prepass_final().iter().filter_map(|d| self.pipelines.get(d.1)));
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        let finals = self.record(encoder, f);
+        let prepass = stats(&self.key, f.plan.draws.gbuffer.len() as u64, finals);
+        Ok(PassReport { prepass: Some(prepass), ..Default::default() })
+    }
+}
+
 /// What the light pre-pass cannot draw, refused before the frame with what to use instead
 /// (never a silent wrong picture):
 /// - an accumulation format without alpha (`rg11b10-ufloat`): no channel for the mono specular;
@@ -211,34 +228,4 @@ pub fn stats(key: &crate::renderer::kit::PipelineKey, base: u64, (finals, primed
     }
 }
 
-/// The light pre-pass's figures (`--path light-prepass`): its intermediate targets' bytes per
-/// pixel and the draws and fragments of its geometry passes (1: normals + exponent, 3: final;
-/// pass 2's are the frame's `draw_calls` and `shaded_fragments`).
-#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
-#[serde(default)]
-pub struct PrepassStats {
-    /// Pass 1's normal + exponent target (Rgba8Unorm).
-    pub normal_exp_bytes_per_pixel: u32,
-    /// The depth copy pass 1 writes beside it (`gbuffer::prepass_layout`; R32Float, or R32Uint
-    /// holding its bits where R32Float is not renderable).
-    pub depth_copy_bytes_per_pixel: u32,
-    /// The light buffer: format and bytes (Rgba16Float 8, seed 004's log Rgba8 4).
-    pub light_buffer_format: String,
-    pub light_buffer_bytes_per_pixel: u32,
-    /// Pass 3's HDR scene colour (Rgba16Float).
-    pub hdr_bytes_per_pixel: u32,
-    /// Samples per pixel of pass 3 and the forward pass (`--msaa`).
-    pub samples: u32,
-    /// Their multisampled colour and depth (samples x (8 + depth's bytes), stencil not
-    /// counted); 0 single-sampled.
-    pub msaa_bytes_per_pixel: u32,
-    /// Object draws of pass 1 and of pass 3.
-    pub base_draw_calls: u64,
-    pub final_draw_calls: u64,
-    /// `--msaa 4`: the depth-only draws priming pass 3's samples with pass 1's list (pass 1's
-    /// depth has one sample a pixel); 0 single-sampled, where pass 3 tests pass 1's depth.
-    pub prime_draw_calls: u64,
-    /// Samples that passed pass 1's and pass 3's depth tests (occlusion queries), when counting.
-    pub base_fragments: Option<u64>,
-    pub final_fragments: Option<u64>,
-}
+pub use crate::renderer::inputs::pass::PrepassStats;

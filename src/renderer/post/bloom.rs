@@ -6,7 +6,7 @@
 
 use super::post_draw;
 use crate::renderer::inputs::FrameInputs;
-use crate::renderer::kit::Shared;
+use crate::renderer::kit::{Declared, Shared};
 use crate::renderer::post::{PostTargets, BLOOM_LEVELS};
 use crate::renderer::stats::Span;
 
@@ -32,9 +32,20 @@ impl BloomPass {
         }
     }
 
+    fn runs(f: &FrameInputs<'_>) -> bool {
+        f.options.post.bloom || f.options.frame.debug_view == crate::renderer::DebugView::Bloom
+    }
+
+    /// What [`Self::encode`] draws with.
+    pub fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if Self::runs(f) {
+            out.add_all([&self.bright, &self.down, &self.up, &self.combine]);
+        }
+    }
+
     /// Records the chain when bloom is on; the result is `post.bloomed`.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, post: &PostTargets) {
-        if !f.options.post.bloom && f.options.frame.debug_view != crate::renderer::DebugView::Bloom {
+        if !Self::runs(f) {
             return;
         }
         post_draw(

@@ -9,7 +9,7 @@
 
 pub use super::targets::DISTORTION_FORMAT as FORMAT;
 use crate::renderer::inputs::FrameInputs;
-use crate::renderer::kit::Shared;
+use crate::renderer::kit::{Declared, Shared};
 use crate::renderer::stats::Span;
 use crate::renderer::surfaces::gbuffer::{surface_pipeline, SurfacePipe};
 use crate::renderer::targets::attachment;
@@ -39,6 +39,11 @@ impl DistortionPass {
             surface_pipeline(device, shared, SurfacePipe::triangles(label, "fs_distortion", two_sided, false), &targets)
         };
         Self { pipelines: [p("distortion", false), p("distortion (two-sided)", true)] }
+    }
+
+    /// What [`Self::encode`] draws with.
+    pub fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        out.add_all(f.plan.draws.distorting.iter().filter_map(|d| self.pipelines.get(d.1)));
     }
 
     /// Clears the buffer and draws the distorting objects into it, against the frame's opaque

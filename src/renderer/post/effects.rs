@@ -148,6 +148,18 @@ impl EffectsPass {
         Self { pipelines }
     }
 
+    /// Effect `i`'s pipeline into the output (`last`) or into the chain's next image.
+    pub fn pipeline(&self, i: usize, last: bool) -> Option<&crate::renderer::kit::RenderPipe> {
+        self.pipelines.get(i).map(|(to_post, to_output, _)| if last { to_output } else { to_post })
+    }
+
+    /// The pipeline of the effect whose view `debug_view` is.
+    pub fn view_pipeline(&self, debug_view: DebugView) -> Option<&crate::renderer::kit::RenderPipe> {
+        EFFECTS.iter().zip(&self.pipelines).find_map(|(e, (_, _, pipeline))| {
+            e.view.filter(|(v, _)| *v == debug_view).and(pipeline.as_ref())
+        })
+    }
+
     /// Records effect `i` of [`EFFECTS`] from `group`'s source into `view` (`last`: the output).
     pub fn encode(
         &self,

@@ -4,7 +4,7 @@
 //! multiplies the exposure by target / adapted. Stepped per frame, so runs are deterministic.
 
 use crate::renderer::inputs::FrameInputs;
-use crate::renderer::kit::Shared;
+use crate::renderer::kit::{Declared, Shared};
 use crate::renderer::post::PostTargets;
 use crate::renderer::stats::Span;
 
@@ -24,6 +24,17 @@ impl ExposurePass {
         Self { histogram: pipe("luminance histogram", "cs_histogram"), adapt: pipe("adapt exposure", "cs_adapt") }
     }
 
+    fn runs(f: &FrameInputs<'_>) -> bool {
+        f.options.post.auto_exposure || f.options.frame.debug_view == crate::renderer::DebugView::Histogram
+    }
+
+    /// What [`Self::encode`] dispatches with.
+    pub fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if Self::runs(f) {
+            out.add_all([&self.histogram, &self.adapt]);
+        }
+    }
+
     /// Records the histogram of `group`'s source image and the adaptation, when auto-exposure
     /// is on.
     pub fn encode(
@@ -33,7 +44,7 @@ impl ExposurePass {
         post: &PostTargets,
         group: &wgpu::BindGroup,
     ) {
-        if !f.options.post.auto_exposure && f.options.frame.debug_view != crate::renderer::DebugView::Histogram {
+        if !Self::runs(f) {
             return;
         }
         let timestamp_writes = f.compute_timestamps(SPAN);

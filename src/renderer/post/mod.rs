@@ -24,7 +24,9 @@ use super::kit::Lazy;
 use super::options::post::PostOptions;
 pub use super::options::post::{Aa, Tonemap};
 use super::records::PostParams;
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use super::kit::Declared;
 use effects::EFFECTS;
 use serde::{Deserialize, Serialize};
 pub use targets::{PostTargets, BLOOM_LEVELS, HIST_BINS, MAX_LUT_SIZE, STATE_WORDS};
@@ -317,6 +319,47 @@ pub struct ChainPasses<'a> {
     pub tonemap: &'a Lazy<tonemap::TonemapPass>,
     pub effects: &'a Lazy<effects::EffectsPass>,
     pub distortion: &'a Lazy<distortion::DistortionPass>,
+}
+
+/// The chain as one step of the frame, into the frame's output.
+pub struct Chain<'a>(pub ChainPasses<'a>);
+
+impl Pass for Chain<'_> {
+    /// As [`encode_chain`] takes the chain: bloom, exposure, then the view's pipeline, or the
+    /// tonemap and each effect that is on (the last into the output), the distortion buffer's
+    /// draws before its effect.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        let p = &self.0;
+        let (s, view) = (&f.options.post, f.options.frame.debug_view);
+        p.bloom.declare(f, out);
+        p.exposure.declare(f, out);
+        use super::DebugView as V;
+        match view {
+            V::Bloom | V::Histogram => out.add(p.tonemap.view_pipeline(f)),
+            V::Edges | V::Coc => {
+                out.add(p.tonemap.pipeline(false));
+                out.add_all(p.effects.view_pipeline(view));
+            }
+            _ => {
+                let on: Vec<usize> = (0..EFFECTS.len()).filter(|&i| (EFFECTS[i].on)(s)).collect();
+                out.add(p.tonemap.pipeline(on.is_empty()));
+                for (k, &i) in on.iter().enumerate() {
+                    if EFFECTS[i].buffer_first {
+                        p.distortion.declare(f, out);
+                    }
+                    out.add_all(p.effects.pipeline(i, k + 1 == on.len()));
+                }
+            }
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        if let Some(pt) = f.targets.post.as_ref() {
+            let stamps = f.timestamps(None, Some(crate::renderer::surfaces::compose::SPAN));
+            encode_chain(encoder, f, &self.0, pt, f.output, stamps);
+        }
+        Ok(PassReport::default())
+    }
 }
 
 /// Records the chain after the HDR compose and the forward pass, in the seeds' order: bloom,

@@ -30,6 +30,24 @@ impl TonemapPass {
         }
     }
 
+    /// The bloom or histogram debug view's pipeline.
+    pub fn view_pipeline(&self, f: &FrameInputs<'_>) -> &crate::renderer::kit::RenderPipe {
+        if f.options.frame.debug_view == crate::renderer::DebugView::Bloom {
+            &self.view_bloom
+        } else {
+            &self.view_histogram
+        }
+    }
+
+    /// The tonemap's pipeline into the output (`last`) or into the chain's next image.
+    pub fn pipeline(&self, last: bool) -> &crate::renderer::kit::RenderPipe {
+        if last {
+            &self.to_output
+        } else {
+            &self.to_post
+        }
+    }
+
     /// Records the bloom or histogram debug view into the output.
     pub fn encode_view(
         &self,
@@ -38,11 +56,7 @@ impl TonemapPass {
         group: &wgpu::BindGroup,
         target: &wgpu::TextureView,
     ) {
-        let pipeline = if f.options.frame.debug_view == crate::renderer::DebugView::Bloom {
-            &self.view_bloom
-        } else {
-            &self.view_histogram
-        };
+        let pipeline = self.view_pipeline(f);
         let stamps = f.timestamps(Some(SPAN), Some(SPAN));
         post_draw(encoder, f, "post view", pipeline, target, group, stamps);
     }
@@ -56,7 +70,7 @@ impl TonemapPass {
         view: &wgpu::TextureView,
         last: bool,
     ) {
-        let pipeline = if last { &self.to_output } else { &self.to_post };
+        let pipeline = self.pipeline(last);
         let stamps = f.timestamps(Some(SPAN), Some(SPAN));
         post_draw(encoder, f, "post tonemap", pipeline, view, group, stamps);
     }

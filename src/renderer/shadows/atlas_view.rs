@@ -75,6 +75,16 @@ impl AtlasViewPass {
     /// `empty`: the last frame drew no tile, so the atlas holds nothing of it (a stand-in or an
     /// older frame's depths): the image is cleared to the "nothing cast" colour and the range
     /// left empty.
+    /// What [`Self::encode`] draws and dispatches with (`empty`: it only clears).
+    pub fn declared(&self, empty: bool) -> crate::renderer::kit::Declared {
+        let mut out = crate::renderer::kit::Declared::default();
+        if !empty {
+            out.add(&self.range);
+            out.add(&self.view);
+        }
+        out
+    }
+
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &self,

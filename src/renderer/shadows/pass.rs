@@ -5,7 +5,9 @@
 
 use super::scratch::{Owner, ShadowTimes, Timers};
 use super::{ShadowPlan, TileDraw};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
@@ -59,20 +61,15 @@ impl ShadowPass {
     /// layer; nothing when no tile. The pass's timestamps span all of them. A frame that counts
     /// (the ledger) with timestamps draws each light's tiles (and the sun's) in render passes of
     /// their own instead, each timed ([`Self::encode_timed`]).
-    pub fn encode(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameInputs<'_>,
-        plan: &ShadowPlan,
-    ) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+        let plan = f.shadows;
         f.scratch.shadows.clear();
         if plan.tiles.is_empty() {
             return;
         }
-        let group = f.frame.caster_group(device, &self.caster_bgl);
-        if f.counts && f.times && f.queries.timestamps.is_some() {
-            self.encode_timed(device, encoder, f, plan, &group);
+        let group = f.frame.caster_group(f.device, &self.caster_bgl);
+        if timed(f) {
+            self.encode_timed(encoder, f, plan, &group);
             return;
         }
         let atlas: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_none()).collect();
@@ -131,30 +128,15 @@ impl ShadowPass {
     /// only split into more passes (each loads what the last stored).
     fn encode_timed(
         &self,
-        device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         plan: &ShadowPlan,
         group: &wgpu::BindGroup,
     ) {
-        let mut owner = vec![Owner::Sun; plan.draws.len()];
-        for (i, &(first, count)) in plan.lights.iter().enumerate() {
-            if first != super::NO_SHADOW {
-                for o in owner.iter_mut().skip(first as usize).take(count as usize) {
-                    *o = Owner::Light(i);
-                }
-            }
-        }
-        // Runs of draws with one owner and one target (the atlas, or one cube face).
-        let mut runs: Vec<(Owner, Option<u32>, Vec<&TileDraw>)> = Vec::new();
-        for (d, &o) in plan.draws.iter().zip(&owner) {
-            match runs.last_mut() {
-                Some((ro, layer, draws)) if *ro == o && *layer == d.layer && d.layer.is_none() => draws.push(d),
-                _ => runs.push((o, d.layer, vec![d])),
-            }
-        }
+        let runs = owner_runs(plan);
         drop(begin_pass(encoder, &f.frame.shadow_view, true, f.timestamps(Some(SPAN), None)));
-        let timers = f.scratch.shadows.timers(device, runs.len() as u32 * 2);
+        // Made by `prepare`, before the frame records.
+        let Some(timers) = f.scratch.shadows.timers_for(runs.len() as u32 * 2) else { return };
         let mut owners = Vec::with_capacity(runs.len());
         for (k, (o, layer, draws)) in runs.iter().enumerate() {
             let view = match layer {
@@ -179,6 +161,52 @@ impl ShadowPass {
         encoder.copy_buffer_to_buffer(&timers.resolve, 0, &timers.readback, 0, n as u64 * 8);
         f.scratch.shadows.pending(owners);
     }
+}
+
+impl Pass for ShadowPass {
+    /// The ledger's timestamp queries, when the frame times each light's shadows.
+    fn prepare(&self, f: &FrameInputs<'_>) -> anyhow::Result<()> {
+        if !f.shadows.tiles.is_empty() && timed(f) {
+            f.scratch.shadows.make_timers(f.device, owner_runs(f.shadows).len() as u32 * 2);
+        }
+        Ok(())
+    }
+
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if !f.shadows.tiles.is_empty() && !f.shadows.draws.is_empty() {
+            out.add(&self.pipeline);
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
+    }
+}
+
+/// The frame times each light's shadow draws apart (the ledger: counting with timestamps).
+fn timed(f: &FrameInputs<'_>) -> bool {
+    f.counts && f.times && f.queries.timestamps.is_some()
+}
+
+/// The plan's draws in runs of one owner and one target (the atlas, or one cube face).
+fn owner_runs(plan: &ShadowPlan) -> Vec<(Owner, Option<u32>, Vec<&TileDraw>)> {
+    let mut owner = vec![Owner::Sun; plan.draws.len()];
+    for (i, &(first, count)) in plan.lights.iter().enumerate() {
+        if first != super::NO_SHADOW {
+            for o in owner.iter_mut().skip(first as usize).take(count as usize) {
+                *o = Owner::Light(i);
+            }
+        }
+    }
+    let mut runs: Vec<(Owner, Option<u32>, Vec<&TileDraw>)> = Vec::new();
+    for (d, &o) in plan.draws.iter().zip(&owner) {
+        match runs.last_mut() {
+            Some((ro, layer, draws)) if *ro == o && *layer == d.layer && d.layer.is_none() => draws.push(d),
+            _ => runs.push((o, d.layer, vec![d])),
+        }
+    }
+    runs
 }
 
 /// A render pass into shadow depth `view`, cleared to the far depth or loaded, timed by `writes`.
@@ -221,14 +249,17 @@ impl ShadowTimes {
         }
     }
 
-    /// Timestamp queries for at least `count` writes.
-    fn timers(&self, device: &wgpu::Device, count: u32) -> std::sync::Arc<Timers> {
-        let mut slot = match self.timers.lock() {
-            Ok(s) => s,
-            Err(p) => p.into_inner(),
-        };
-        if let Some(t) = slot.as_ref().filter(|t| t.capacity >= count) {
-            return t.clone();
+    /// The timestamp queries, if they hold `count` writes.
+    fn timers_for(&self, count: u32) -> Option<std::sync::Arc<Timers>> {
+        let slot = self.timers.lock().unwrap_or_else(|p| p.into_inner());
+        slot.as_ref().filter(|t| t.capacity >= count).cloned()
+    }
+
+    /// Makes timestamp queries for at least `count` writes, unless those held are enough.
+    fn make_timers(&self, device: &wgpu::Device, count: u32) {
+        let mut slot = self.timers.lock().unwrap_or_else(|p| p.into_inner());
+        if slot.as_ref().is_some_and(|t| t.capacity >= count) {
+            return;
         }
         // wgpu's largest query set; a frame's passes stay far below it (two per casting light).
         let capacity = count.next_power_of_two().clamp(16, wgpu::QUERY_SET_MAX_QUERIES);
@@ -251,8 +282,7 @@ impl ShadowTimes {
             readback: buffer("shadow times readback", B::COPY_DST | B::MAP_READ),
             capacity,
         });
-        *slot = Some(t.clone());
-        t
+        *slot = Some(t);
     }
 
     /// Each owner's shadow ms in the last frame (its passes summed); empty when the frame did

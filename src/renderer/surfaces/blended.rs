@@ -8,7 +8,9 @@
 
 pub use super::peel::PeelTargets;
 use super::peel::{PEELED_FORMAT, PEEL_DEPTH};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::pipeline::{scene_pipeline, ScenePipe};
 use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
@@ -241,7 +243,7 @@ impl ForwardPass {
         }
     }
 
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
         // Peeling is single-sampled (`Settings::validate` refuses it with MSAA): this pass then
         // draws only the light pre-pass's opaque objects (if any), and the layers follow.
@@ -287,5 +289,49 @@ impl ForwardPass {
         if let Some(peel) = peel {
             peel.encode(encoder, f, hdr_view, f.options.surfaces.peel_layers, false);
         }
+    }
+}
+
+impl Peel {
+    /// What [`Peel::encode`] draws with: the depth and colour layers, the lay-over.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if f.targets.peel.is_none() {
+            return;
+        }
+        let used = |pipes: &[crate::renderer::kit::RenderPipe]| {
+            f.plan.draws.forward.iter().filter_map(|d| pipes.get(d.1)).cloned().collect::<Vec<_>>()
+        };
+        let layers = f.options.surfaces.peel_layers;
+        if layers > 0 || f.forward_counts {
+            out.add_all(&used(&self.depth));
+        }
+        if layers > 0 {
+            out.add_all(&used(&self.colour));
+        }
+        out.add(&self.over);
+    }
+}
+
+impl Pass for ForwardPass {
+    /// As [`ForwardPass::record`] draws: the light pre-pass's opaque forward objects, then the
+    /// blended surfaces, directly or peeled.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if f.targets.hdr.is_none() {
+            return;
+        }
+        let peel = self.peel.as_ref().filter(|_| f.targets.msaa.is_none());
+        let opaque = self.opaque.as_ref().filter(|_| !f.plan.draws.forward_opaque.is_empty());
+        if let Some(opaque) = opaque {
+            out.add_all(f.plan.draws.forward_opaque.iter().filter_map(|d| opaque.get(d.1)));
+        }
+        match peel {
+            Some(peel) => peel.declare(f, out),
+            None => out.add_all(f.plan.draws.forward.iter().filter_map(|d| self.pipelines.get(d.1))),
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
     }
 }

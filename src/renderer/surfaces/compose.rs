@@ -2,7 +2,9 @@
 //! of the debug views. Scenes with blended surfaces compose into the HDR scene colour instead,
 //! the forward pass draws over it, and `tonemap` finishes the frame.
 
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{Shared, HDR_FORMAT};
 use crate::renderer::records::{ComposeParams, FrameBuffers};
 use crate::renderer::settings::DebugView;
@@ -43,8 +45,18 @@ impl ComposePass {
         }
     }
 
-    /// Records the compose into `to` (scaled from the G-buffer's size).
-    pub fn encode(
+    /// The pipeline that composes `view`.
+    pub fn pipeline(&self, view: DebugView) -> &crate::renderer::kit::RenderPipe {
+        if view == DebugView::Lit {
+            &self.compose
+        } else {
+            &self.compose_view
+        }
+    }
+
+    /// Records the compose into `to` (scaled from the G-buffer's size); its pipeline
+    /// ([`ComposePass::pipeline`]) built before.
+    pub fn encode_to(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         queue: &wgpu::Queue,
@@ -63,7 +75,7 @@ impl ComposePass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(if to.debug_view == DebugView::Lit { &self.compose } else { &self.compose_view });
+        pass.set_pipeline(self.pipeline(to.debug_view));
         pass.set_bind_group(0, &frame.group, &[]);
         pass.set_bind_group(1, &targets.gbuffer_group, &[]);
         pass.set_bind_group(2, &targets.compose_group, &[offset]);
@@ -71,7 +83,7 @@ impl ComposePass {
     }
 
     /// Composes the lit frame into the HDR scene colour (the start of the compose timing).
-    pub fn encode_hdr(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, f: &FrameInputs<'_>) {
+    fn encode_hdr(&self, encoder: &mut wgpu::CommandEncoder, queue: &wgpu::Queue, f: &FrameInputs<'_>) {
         let Some((hdr_view, _)) = &f.targets.hdr else { return };
         let offset =
             f.frame.compose_slot(queue, 0, ComposeParams { view: DebugView::Lit as u32, pad0: 0, scale: [1.0; 2] });
@@ -92,7 +104,7 @@ impl ComposePass {
 
     /// Exposure and tonemapping of the HDR scene colour into `target` (the end of the compose
     /// timing).
-    pub fn encode_tonemap(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, target: &wgpu::TextureView) {
+    fn encode_tonemap(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>, target: &wgpu::TextureView) {
         let Some((_, hdr_group)) = &f.targets.hdr else { return };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tonemap"),
@@ -108,5 +120,53 @@ impl ComposePass {
         pass.set_bind_group(2, &f.targets.compose_group, &[0]);
         pass.set_bind_group(3, hdr_group, &[]);
         pass.draw(0..3, 0..1);
+    }
+}
+
+/// The frame's compose straight into the output: the lit picture from the G-buffer and light
+/// buffers, or the debug view the settings name.
+impl Pass for ComposePass {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        out.add(self.pipeline(f.options.frame.debug_view));
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        let to = ComposeTarget { view: f.output, size: f.shape.size, debug_view: f.options.frame.debug_view, slot: 0 };
+        let stamps = f.timestamps(Some(SPAN), Some(SPAN));
+        self.encode_to(encoder, f.queue, f.targets, f.frame, &to, stamps);
+        Ok(PassReport::default())
+    }
+}
+
+/// The lit frame composed into the HDR scene colour, for blended surfaces and the post chain
+/// to finish.
+pub struct ComposeHdr<'a>(pub &'a ComposePass);
+
+impl Pass for ComposeHdr<'_> {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if f.targets.hdr.is_some() {
+            out.add(&self.0.compose_hdr);
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.0.encode_hdr(encoder, f.queue, f);
+        Ok(PassReport::default())
+    }
+}
+
+/// Exposure and tone mapping of the HDR scene colour into the output, when no post chain runs.
+pub struct Tonemap<'a>(pub &'a ComposePass);
+
+impl Pass for Tonemap<'_> {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if f.targets.hdr.is_some() {
+            out.add(&self.0.tonemap);
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.0.encode_tonemap(encoder, f, f.output);
+        Ok(PassReport::default())
     }
 }

@@ -3,7 +3,9 @@
 //! drawn with the two-pass method's own states, and the light-complexity heatmap.
 
 use crate::renderer::culling::methods::{FULLSCREEN, STENCIL_TWO_PASS, VOLUME};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{LightPipe, Out, Shared, Vs, ADDITIVE, MAX};
 use crate::renderer::plan::Method;
 use crate::renderer::settings::DebugView;
@@ -52,7 +54,7 @@ impl DebugPass {
 
     /// Records the stencil diagram or the complexity heatmap into the debug target, for all
     /// lights or the selected one; nothing for the other views.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let view = f.options.frame.debug_view;
         if !matches!(view, DebugView::Stencil | DebugView::Complexity) {
             return;
@@ -102,5 +104,38 @@ impl DebugPass {
                 pass.draw_indexed(range.clone(), base, li.clone());
             }
         }
+    }
+}
+
+impl Pass for DebugPass {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        let view = f.options.frame.debug_view;
+        let n = f.plan.lights.len();
+        match view {
+            DebugView::Complexity if f.options.frame.selected_light.is_none() && f.plan.tiled.is_none() => {
+                for batch in &f.plan.batches.batches {
+                    out.add(if batch.method == Method::Fullscreen { &self.complexity_fullscreen } else { &self.complexity });
+                }
+            }
+            DebugView::Complexity => {
+                let lights = match f.options.frame.selected_light {
+                    Some(k) => f.plan.lights.get(k..k + 1).unwrap_or_default(),
+                    None => &f.plan.lights[..],
+                };
+                for plan in lights {
+                    let full = plan.crosses_far && !f.depth_clamp;
+                    out.add(if full { &self.complexity_fullscreen } else { &self.complexity });
+                }
+            }
+            DebugView::Stencil if f.options.frame.selected_light.is_none_or(|k| k < n) && n > 0 => {
+                out.add_all(&self.classify);
+            }
+            _ => {}
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
     }
 }

@@ -1,7 +1,9 @@
 //! Seed 000's first pass: every attribute the lights need, in one pass with multiple render
 //! targets (the layout decides which targets), for the opaque and alpha-masked surfaces.
 
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{self, scene_pipeline, ScenePipe, Shared};
 use crate::renderer::stats::Span;
 
@@ -102,7 +104,7 @@ impl GBufferPass {
     /// Clears the G-buffer (the depth copy to the far plane, the rest to zero), depth and
     /// stencil, and draws the frame's G-buffer list; with `ambient_in_gbuffer`, also clears the
     /// light accumulation to no light and writes ambient + sun into it where a surface is drawn.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let t = f.targets;
         let far_depth = f.far_depth();
         let mut color: Vec<Option<wgpu::RenderPassColorAttachment>> = t
@@ -150,5 +152,16 @@ impl GBufferPass {
         if f.counts {
             pass.end_occlusion_query();
         }
+    }
+}
+
+impl Pass for GBufferPass {
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        out.add_all(f.plan.draws.gbuffer.iter().filter_map(|d| self.pipelines.get(d.1)));
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
     }
 }

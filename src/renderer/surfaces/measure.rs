@@ -11,7 +11,9 @@
 //! `every_culling_mode_gives_the_fullscreen_picture` holds the two counts equal, light by light.
 
 use crate::renderer::culling::binning::{binned_bytes, pass_ranges};
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{DrawState, Faces, LightPipe, Out, Shared, Vs, NO_STENCIL};
 use crate::renderer::plan::Method;
 use crate::renderer::stats::LIGHTS_PER_QUERY_SET;
@@ -49,7 +51,7 @@ impl MeasurePass {
         }
     }
 
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         if !f.ideal {
             return;
         }
@@ -131,6 +133,37 @@ impl MeasurePass {
                 pass.end_pipeline_statistics_query();
             }
         }
+    }
+}
+
+impl Pass for MeasurePass {
+    /// Per light, as [`MeasurePass::record`] draws it: the ideal count full-screen or as its
+    /// volume, and its coverage where the frame has the block's statistics queries.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        if !f.ideal {
+            return;
+        }
+        for (i, plan) in f.plan.lights.iter().enumerate() {
+            let fullscreen =
+                plan.method == Method::Fullscreen || plan.method.listed() && plan.crosses_far && !f.depth_clamp;
+            match plan.method {
+                _ if fullscreen => out.add(&self.ideal),
+                Method::Skipped => {}
+                _ => out.add(&self.ideal_volume),
+            }
+            if f.queries.coverage.get(i / LIGHTS_PER_QUERY_SET).is_some() {
+                match plan.method {
+                    Method::Fullscreen => out.add(&self.coverage_fullscreen),
+                    Method::Skipped => {}
+                    _ => out.add(&self.coverage),
+                }
+            }
+        }
+    }
+
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        self.record(encoder, f);
+        Ok(PassReport::default())
     }
 }
 

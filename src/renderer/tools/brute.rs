@@ -40,6 +40,10 @@ impl<'a> Last<'a> {
             mapped_at_creation: false,
         });
         let chunk = chunk_lights(self.caps.quirks.loop_limit, n);
+        // Its one pipeline, built before recording.
+        let mut declared = crate::renderer::kit::Declared::default();
+        declared.add(&pass.pipeline);
+        declared.build();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("brute force") });
         encoder.clear_buffer(&out, 0, None);
         let mut first = 0;

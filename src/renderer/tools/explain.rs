@@ -161,6 +161,10 @@ impl<'a> Last<'a> {
                 wgpu::BindGroupEntry { binding: 71, resource: out.as_entire_binding() },
             ],
         });
+        // Its one pipeline, built before recording.
+        let mut declared = crate::renderer::kit::Declared::default();
+        declared.add(&pass.pipeline);
+        declared.build();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("explain") });
         {
             let mut cpass = encoder

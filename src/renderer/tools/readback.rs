@@ -195,7 +195,11 @@ impl<'a> Last<'a> {
             let mut encoder =
                 self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("compose view") });
             let to = ComposeTarget { view: target, size: (width, height), debug_view: view, slot: view as u64 + 1 };
-            self.passes.compose.encode(&mut encoder, self.queue, targets, self.frame, &to, None);
+            // Its pipeline built before it records.
+            let mut declared = crate::renderer::kit::Declared::default();
+            declared.add(self.passes.compose.pipeline(view));
+            declared.build();
+            self.passes.compose.encode_to(&mut encoder, self.queue, targets, self.frame, &to, None);
             self.queue.submit([encoder.finish()]);
             Ok(())
         })

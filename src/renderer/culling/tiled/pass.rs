@@ -21,9 +21,10 @@
 use super::scratch::{Buffers, Pending, TiledScratch};
 use super::TileStats;
 use crate::renderer::culling::zbin::ZBinJob;
+use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
-use crate::renderer::kit::{log_accum, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
+use crate::renderer::kit::{log_accum, Declared, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
 use crate::renderer::plan::Method;
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
@@ -216,32 +217,48 @@ impl TiledPass {
         (mask, shade)
     }
 
-    /// Records the tiled pass when the frame's plan shades with it (lists, then one
-    /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
-    /// when shown. `queue` uploads the parameters and the clustered lists (or the lights' spans
-    /// the GPU builds them from); returns the ms that upload took, CPU over all threads and wall
-    /// clock (`cputime`; part of the frame's `cpu_ms.upload` and `cpu_ms.wall`). The steps:
-    /// 1. the grid and the lists' sizes ([`grid`]);
-    /// 2. buffers that hold them, grown when they do not ([`Self::fit_buffers`]);
-    /// 3. the upload: parameters, and the CPU-built lists or the spans the GPU lists from;
-    /// 4. the passes ([`Self::record`]): the GPU's list building, the shading, the view.
-    pub fn encode(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameInputs<'_>,
-    ) -> (f64, f64) {
-        let view = match f.options.frame.debug_view {
+    /// The `tile-lights` view's pipeline, or the waste view's over the tiled lists, when shown.
+    fn view(&self, f: &FrameInputs<'_>) -> Option<&crate::renderer::kit::RenderPipe> {
+        match f.options.frame.debug_view {
             DebugView::TileLights => Some(&self.count_view),
             DebugView::Waste if f.plan.tiled.is_some() => Some(&self.waste_view),
             _ => None,
-        };
-        let Ok(mut state) = f.scratch.tiled.state.lock() else { return (0.0, 0.0) };
-        state.1 = None;
-        if f.plan.tiled.is_none() && view.is_none() {
-            return (0.0, 0.0);
         }
+    }
+
+    /// The shading pipeline: z-binned or tiled/clustered, counting each light's pairs or not.
+    fn shade(&self, f: &FrameInputs<'_>, zbin: bool) -> &crate::renderer::kit::RenderPipe {
+        match f.counts {
+            _ if zbin => self.zbin_pipelines(f.device, f.counts).1,
+            true => self.counted.get_or_init(|| {
+                let (module, layout, targets) = &self.counted_from;
+                let stages = ("vs_tiled", "fs_tiled_counted");
+                crate::renderer::kit::screen_pipeline(f.device, module, "tiled shade, counted", layout, stages, targets)
+            }),
+            false => &self.shade,
+        }
+    }
+}
+
+/// What the tiled pass records for one frame, worked out from its inputs alone (so
+/// `prepare`, `declare` and `encode` agree): the grid ([`grid`]), the lists' sizes, and where
+/// they come from.
+struct Frame<'f> {
+    method: Method,
+    clusters: Option<&'f ClusterBuild>,
+    zbins: Option<&'f ZBinJob>,
+    /// CPU-built lists as they fit one binding (`ClusterLists::fitted`).
+    cpu_lists: Option<std::borrow::Cow<'f, [u32]>>,
+    params: TileParams,
+    entries: u64,
+    cells: u64,
+    mask_words: u64,
+    list_words: u64,
+    count_words: u64,
+}
+
+impl<'f> Frame<'f> {
+    fn of(f: &'f FrameInputs<'_>) -> Frame<'f> {
         let method = match (f.plan.tiled, &f.plan.clusters, &f.plan.zbins) {
             (Some(Method::Clustered), Some(_), _) => Method::Clustered,
             (Some(Method::Zbin), _, Some(_)) => Method::Zbin,
@@ -250,7 +267,6 @@ impl TiledPass {
         let n = f.plan.lights.len();
         let clusters = f.plan.clusters.as_ref().filter(|_| method == Method::Clustered);
         let zbins = f.plan.zbins.as_ref().filter(|_| method == Method::Zbin);
-        // CPU-built lists as they fit one binding (`ClusterLists::fitted`).
         let cpu_lists = match clusters {
             Some(ClusterBuild::Cpu(c)) => Some(c.fitted(MAX_ENTRIES as usize)),
             _ => None,
@@ -261,10 +277,6 @@ impl TiledPass {
             Some(_) => (params.tiles_x * params.tiles_y) as u64,
             None => (params.tiles_x * params.tiles_y * params.slices) as u64,
         };
-        let gpu_job = match clusters {
-            Some(ClusterBuild::Gpu(j)) => Some(j),
-            _ => None,
-        };
         // GPU-built clusters: the lights' spans after the lists, a counter per cluster after
         // the lights' counts.
         // Z-binned: the masks after the lights' counts, then two words a tile (depth bounds).
@@ -272,75 +284,130 @@ impl TiledPass {
         // Each tile's summary (a bit per mask word holding a bit) and its depth bounds.
         let summary_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words.div_ceil(32) as u64);
         let bound_words = zbins.map_or(0, |z| 2 * (z.grid.tiles_x * z.grid.tiles_y) as u64);
-        let (list_words, count_words) = match gpu_job {
-            Some(_) => (entries + 4 * n as u64, n as u64 + 1 + cells),
-            None => (entries, n as u64 + 1 + mask_words + summary_words + bound_words),
+        let (list_words, count_words) = match clusters {
+            Some(ClusterBuild::Gpu(_)) => (entries + 4 * n as u64, n as u64 + 1 + cells),
+            _ => (entries, n as u64 + 1 + mask_words + summary_words + bound_words),
         };
-        let made = self.fit_buffers(device, &mut state.0, list_words, count_words);
-        let Some(b) = &state.0 else { return (0.0, 0.0) };
+        Frame { method, clusters, zbins, cpu_lists, params, entries, cells, mask_words, list_words, count_words }
+    }
+
+    fn gpu_job(&self) -> Option<&'f crate::renderer::tiles::ClusterJob> {
+        match self.clusters {
+            Some(ClusterBuild::Gpu(j)) => Some(j),
+            _ => None,
+        }
+    }
+}
+
+impl Pass for TiledPass {
+    /// The lists' buffers, grown to this frame's lists.
+    fn prepare(&self, f: &FrameInputs<'_>) -> Result<()> {
+        if f.plan.tiled.is_none() && self.view(f).is_none() {
+            return Ok(());
+        }
+        let fr = Frame::of(f);
+        let mut state = f.scratch.tiled.state.lock().map_err(|_| anyhow::anyhow!("tile lists lock poisoned"))?;
+        self.fit_buffers(f.device, &mut state.0, fr.list_words, fr.count_words);
+        Ok(())
+    }
+
+    /// The view's pipeline; the GPU's cluster building (with lights), the tile building
+    /// (tiled), the z-bin masks (with visible lights); the shading when the plan shades with
+    /// the lists.
+    fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
+        let view = self.view(f);
+        if f.plan.tiled.is_none() && view.is_none() {
+            return;
+        }
+        out.add_all(view);
+        let fr = Frame::of(f);
+        if fr.gpu_job().is_some() && !f.plan.lights.is_empty() {
+            out.add_all(&self.cluster);
+        }
+        if fr.method == Method::Tiled {
+            out.add(&self.build);
+        }
+        if fr.zbins.is_some_and(|z| z.visible > 0) {
+            out.add_all(self.zbin_pipelines(f.device, f.counts).0);
+        }
+        if f.plan.tiled.is_some() {
+            out.add(self.shade(f, fr.zbins.is_some()));
+        }
+    }
+
+    /// Records the tiled pass when the frame's plan shades with it (lists, then one
+    /// full-screen shading pass that ends the lighting's timestamps) and the `tile-lists` view
+    /// when shown. It uploads the parameters and the clustered lists (or the lights' spans
+    /// the GPU builds them from) into the buffers `prepare` made, and reports the ms that
+    /// upload took, CPU over all threads and wall clock (`cputime`; part of the frame's
+    /// `cpu_ms.upload` and `cpu_ms.wall`). The steps:
+    /// 1. the grid and the lists' sizes ([`Frame::of`]);
+    /// 2. the upload: parameters, and the CPU-built lists or the spans the GPU lists from;
+    /// 3. the passes ([`TiledPass::record`]): the GPU's list building, the shading, the view.
+    fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
+        let view = self.view(f);
+        let Ok(mut state) = f.scratch.tiled.state.lock() else { return Ok(PassReport::default()) };
+        state.1 = None;
+        if f.plan.tiled.is_none() && view.is_none() {
+            return Ok(PassReport::default());
+        }
+        let fr = Frame::of(f);
+        let (n, queue) = (f.plan.lights.len(), f.queue);
+        let Some(b) = state.0.as_mut().filter(|b| b.lists.size() >= fr.list_words * 4) else {
+            return Ok(PassReport::default());
+        };
+        let made = std::mem::replace(&mut b.fresh, false);
+        let b = &*b;
         let clock = crate::renderer::cputime::Clock::start();
-        queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&params));
+        queue.write_buffer(&b.params, 0, bytemuck::bytes_of(&fr.params));
         // The lists and spans the CPU built, unless the buffer holds this very frame's already
         // (the frame before had the same inputs, and nothing wrote the lists since: the GPU
         // writes only the counts, and its own lists before the spans).
         if made || !f.reused {
-            if let Some(d) = &cpu_lists {
+            if let Some(d) = &fr.cpu_lists {
                 queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(d));
             }
-            if let Some(j) = gpu_job {
-                queue.write_buffer(&b.lists, entries * 4, bytemuck::cast_slice(&j.spans));
+            if let Some(j) = fr.gpu_job() {
+                queue.write_buffer(&b.lists, fr.entries * 4, bytemuck::cast_slice(&j.spans));
             }
-            if let Some(z) = zbins {
+            if let Some(z) = fr.zbins {
                 queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&z.data));
             }
         }
         let upload_ms = (clock.ms(), clock.wall_ms());
-        encoder.clear_buffer(&b.counts, 0, Some(count_words * 4));
-        let zbin = zbins.map(|z| (self.zbin_pipelines(device, f.counts), z));
-        let shade = match f.counts {
-            _ if zbin.is_some() => zbin.map(|((_, shade), _)| shade).unwrap_or(&self.shade),
-            true => self.counted.get_or_init(|| {
-                let (module, layout, targets) = &self.counted_from;
-                let stages = ("vs_tiled", "fs_tiled_counted");
-                crate::renderer::kit::screen_pipeline(device, module, "tiled shade, counted", layout, stages, targets)
-            }),
-            false => &self.shade,
-        };
-        let zbin = zbin.map(|((mask, _), z)| (mask, z));
-        self.record(encoder, f, b, (method, gpu_job.is_some(), view), (shade, &params, zbin), cells);
+        encoder.clear_buffer(&b.counts, 0, Some(fr.count_words * 4));
+        let shade = self.shade(f, fr.zbins.is_some());
+        let zbin = fr.zbins.map(|z| (self.zbin_pipelines(f.device, f.counts).0, z));
+        let (method, cells) = (fr.method, fr.cells);
+        self.record(encoder, f, b, (method, fr.gpu_job().is_some(), view), (shade, &fr.params, zbin), cells);
         if f.counts {
-            if zbins.is_none() {
+            if fr.zbins.is_none() {
                 encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
             }
-            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, count_words * 4);
+            encoder.copy_buffer_to_buffer(&b.counts, 0, &b.counts_read, 0, fr.count_words * 4);
         }
         state.1 = Some(Pending {
             method,
             cells,
             lights: n,
             counted: f.counts,
-            tile_size: params.tile_size,
-            slices: params.slices,
-            params,
-            words: entries,
-            mask_words,
+            tile_size: fr.params.tile_size,
+            slices: fr.params.slices,
+            params: fr.params,
+            words: fr.entries,
+            mask_words: fr.mask_words,
         });
-        upload_ms
+        Ok(PassReport { upload_ms, ..Default::default() })
     }
+}
 
-    /// Makes `slot` hold buffers of at least `list_words` list words and `count_words` count
-    /// words, creating them (and their bind group and read-backs) when it does not.
-    /// Makes the buffers anew when they are missing or too small; returns whether it did.
-    fn fit_buffers(
-        &self,
-        device: &wgpu::Device,
-        slot: &mut Option<Buffers>,
-        list_words: u64,
-        count_words: u64,
-    ) -> bool {
+impl TiledPass {
+    /// Makes the buffers anew when they are missing or too small (`list_words` list words and
+    /// `count_words` count words), with their bind group and read-backs.
+    fn fit_buffers(&self, device: &wgpu::Device, slot: &mut Option<Buffers>, list_words: u64, count_words: u64) {
         let fits = |b: &Buffers| b.lists.size() >= list_words * 4 && b.counts.size() >= count_words * 4;
         if slot.as_ref().is_some_and(fits) {
-            return false;
+            return;
         }
         use wgpu::BufferUsages as U;
         // Rounded up to a power of two to grow less often, but never past what one binding may
@@ -369,8 +436,7 @@ impl TiledPass {
         });
         let lists_read = buffer(device, "tile lists readback", lists.size(), U::COPY_DST | U::MAP_READ);
         let counts_read = buffer(device, "tile counts readback", counts.size(), U::COPY_DST | U::MAP_READ);
-        *slot = Some(Buffers { params, lists, counts, group, lists_read, counts_read });
-        true
+        *slot = Some(Buffers { params, lists, counts, group, lists_read, counts_read, fresh: true });
     }
 
     /// Records the passes over the lists in `b`: the GPU's cluster building (`gpu_lists`) or

@@ -12,6 +12,8 @@ pub(crate) struct Buffers {
     /// Readback of the headers and of the counters.
     pub(crate) lists_read: wgpu::Buffer,
     pub(crate) counts_read: wgpu::Buffer,
+    /// Made for this frame (by the pass's `prepare`): nothing uploaded into them yet.
+    pub(crate) fresh: bool,
 }
 
 /// What the last frame left to read back.

@@ -1,0 +1,72 @@
+//! The pass contract (`inputs::pass::Pass`): every pass of the frame declares the pipelines its
+//! recording draws with, the frame builds them before it records, and a configuration's whole
+//! set can be built ahead of its first frame (`Renderer::build_pipelines`), on any thread.
+//! Each test runs on a device of its own, so no other test's frames have built its pipelines.
+
+use crate::common::*;
+use lampshade::headless::render_image;
+use lampshade::renderer::{
+    CullingMode, DebugView, Msaa, RenderPath, Renderer, Settings, ShadowMode, OUTPUT_FORMAT,
+};
+use lampshade::{Gpu, Scene};
+
+/// Configurations that between them draw with every pass: each path, each culling mode, the
+/// debug views with passes of their own, blended surfaces, the post chain, shadows, MSAA and the
+/// ledger's counting.
+fn configurations() -> Vec<(&'static str, Scene, Settings)> {
+    let base = Settings { count_ideal: false, ..Settings::default() };
+    let mut v = Vec::new();
+    for culling in [
+        CullingMode::StencilTwoPass,
+        CullingMode::StencilInvert,
+        CullingMode::StencilReplace,
+        CullingMode::Volume,
+        CullingMode::Fullscreen,
+        CullingMode::Tiled,
+        CullingMode::Clustered,
+        CullingMode::Zbin,
+        CullingMode::Auto,
+    ] {
+        v.push(("demo", scene("demo"), Settings { culling, ..base.clone() }));
+    }
+    for path in [RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass] {
+        v.push(("demo", scene("demo"), Settings { path, ..base.clone() }));
+        v.push(("glass", scene("glass"), Settings { path, msaa: Msaa::X4, ..base.clone() }));
+    }
+    for debug_view in [DebugView::Stencil, DebugView::Complexity, DebugView::TileLights, DebugView::Waste] {
+        v.push(("demo", scene("demo"), Settings { debug_view, ..base.clone() }));
+    }
+    v.push(("glass", scene("glass"), Settings { bloom: true, vignette: 0.5, fog: true, ..base.clone() }));
+    v.push(("street", scene("street"), Settings { shadows: ShadowMode::All, ..base.clone() }));
+    v.push(("demo", scene("demo"), Settings { count_fragments: true, count_ideal: true, ..base.clone() }));
+    v
+}
+
+#[test]
+fn a_configurations_declared_pipelines_built_ahead_leave_its_first_frame_nothing_to_compile() {
+    let gpu = Gpu::headless().expect("a second device on the adapter");
+    for (name, scene, settings) in configurations() {
+        let what = format!("{name}, {} path, {}, {} view", settings.path.name(), settings.culling.name(), settings.debug_view.name());
+        let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
+        let (declared, _built) = r.build_pipelines(&scene, &settings, (96, 54)).expect("build the declared pipelines");
+        assert!(declared > 0, "{what}: nothing declared");
+        let (_, stats) = render_image(&gpu, &mut r, &scene, &settings, 96, 54).expect("render");
+        let p = stats.pipelines;
+        assert_eq!(p.declared, declared, "{what}: the frame declared another set than was built ahead");
+        assert_eq!((p.built, p.while_recording), (0, 0), "{what}: the first frame compiled pipelines");
+    }
+}
+
+#[test]
+fn the_declared_set_builds_on_another_thread_and_is_what_the_frame_draws() {
+    let gpu = Gpu::headless().expect("a second device on the adapter");
+    let (scene, settings) = (scene("demo"), Settings { culling: CullingMode::Tiled, count_ideal: false, ..Settings::default() });
+    let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
+    // Declared and built on a worker; the frame on this thread then compiles nothing.
+    let (declared, built) = std::thread::scope(|s| {
+        s.spawn(|| r.build_pipelines(&scene, &settings, (96, 54)).expect("build")).join().expect("the worker")
+    });
+    assert_eq!(built, declared, "a fresh device had none of them built");
+    let (_, stats) = render_image(&gpu, &mut r, &scene, &settings, 96, 54).expect("render");
+    assert_eq!((stats.pipelines.built, stats.pipelines.while_recording), (0, 0));
+}

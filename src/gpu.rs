@@ -134,6 +134,8 @@ pub struct Gpu {
     pub errors: DeviceErrors,
     /// Pass sets of dropped renderers, for the next renderer on this device.
     pub passes: Arc<crate::renderer::kit::pool::PassPool>,
+    /// Material textures, shared by the renderers on this device that draw the same images.
+    pub uploads: Arc<crate::renderer::kit::uploads::Uploads>,
 }
 
 /// What a device on `adapter` is made with: the optional features it has (less those
@@ -307,9 +309,10 @@ impl Gpu {
             queue,
             features,
             info,
+            passes: Arc::new(crate::renderer::kit::pool::PassPool::new(caps.quirks.pipeline_bytes())),
             caps: Arc::new(caps),
             errors,
-            passes: Default::default(),
+            uploads: Default::default(),
         })
     }
 

@@ -144,6 +144,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
 }
 
 /// Everything that needs the window and the device.
+/// The viewer's pass pool budget (`kit::pool`): its one renderer keeps its recent
+/// configurations itself, so the pool keeps about as much again (a few pass sets on lavapipe).
+const VIEWER_POOL_BYTES: u64 = 256 << 20;
+
 struct Gfx {
     surface: Surface,
     gpu: Gpu,
@@ -288,7 +292,7 @@ impl App {
         let surface = instance.create_surface(window.clone()).context("creating the window surface")?;
         let gpu = Gpu::for_surface(instance, &surface, &self.args.adapter.choice())?;
         // One renderer draws the viewer's frames: it keeps its recent configurations itself.
-        gpu.passes.keep_at_most(crate::renderer::PIPELINE_CACHE);
+        gpu.passes.keep_bytes_at_most(VIEWER_POOL_BYTES);
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
         let settings = self.state.frame_settings();
         let renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;

@@ -91,10 +91,14 @@ impl LedgerRow {
 
 /// Runs the group: a row per mode of [`ledger_modes`] (the reference's budget keeps
 /// `fullscreen` out where its frame would take minutes).
-pub fn ledger(gpu: &Gpu, o: &BenchOptions, progress: &mut dyn FnMut(&str)) -> Result<Vec<LedgerRow>> {
+pub fn ledger(
+    gpu: &Gpu,
+    o: &BenchOptions,
+    files: &mut super::run::SceneFiles,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<LedgerRow>> {
     let lights = (!o.fixed_lights).then_some(o.lights);
-    let options = crate::scene::import::ImportOptions::default();
-    let (scene, _) = crate::scene::open(&o.scene, BuiltinOptions { lights, time: o.time }, &options, &mut |_| {})?;
+    let scene = files.open(&o.scene, BuiltinOptions { lights, time: o.time })?;
     let pairs = scene.lights.len() as f64 * o.size.0 as f64 * o.size.1 as f64;
     // Each light's ideal pairs (its true shape over the G-buffer: the same in every mode),
     // counted once.

@@ -66,7 +66,9 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     let frames = o.frames.max(1);
     // Steps: prepare each configuration, `frames` timed rounds, then count and compare each.
     let steps = list.len() * 2 + frames;
-    let (mut prepared, failed, skipped) = prepare(gpu, o, &list, &mut |k, label| progress(k, steps, label))?;
+    let mut files = SceneFiles::default();
+    let (mut prepared, failed, skipped) =
+        prepare(gpu, o, &list, &mut files, &mut |k, label| progress(k, steps, label))?;
     // Timed rounds, interleaved: each round renders every configuration once, so background
     // load on a shared machine falls on all of them alike and the ratios stay comparable.
     for round in 0..frames {
@@ -81,7 +83,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     // The ledger group fits the per-light cost model per mode; the counted frames below
     // charge their lights by it.
     let ledger = match o.groups.is_empty() || o.groups.iter().any(|g| g == super::LEDGER_GROUP) {
-        true => super::ledger(gpu, o, &mut |label| progress(list.len() + frames, steps, label))?,
+        true => super::ledger(gpu, o, &mut files, &mut |label| progress(list.len() + frames, steps, label))?,
         false => Vec::new(),
     };
     let models = super::fitted_models(&ledger);
@@ -117,6 +119,7 @@ fn prepare<'c>(
     gpu: &Gpu,
     o: &'c BenchOptions,
     list: &'c [Config],
+    files: &mut SceneFiles,
     progress: &mut dyn FnMut(usize, &str),
 ) -> Result<(Vec<Ready<'c>>, Vec<(&'c Config, usize, String)>, Vec<Skipped>)> {
     // Prepare every configuration (scene, renderer, a warm-up frame for shader JIT). A file is
@@ -132,9 +135,7 @@ fn prepare<'c>(
         let mut scene = match scenes.entry((name, cfg.lights, cfg.radius_scale.to_bits())) {
             std::collections::hash_map::Entry::Occupied(e) => e.get().clone(),
             std::collections::hash_map::Entry::Vacant(e) => {
-                let options = crate::scene::import::ImportOptions::default();
-                let (mut scene, _) =
-                    crate::scene::open(name, BuiltinOptions { lights, time: o.time }, &options, &mut |_| {})?;
+                let mut scene = files.open(name, BuiltinOptions { lights, time: o.time })?;
                 scale_light_radii(&mut scene, cfg.radius_scale);
                 e.insert(scene).clone()
             }
@@ -175,6 +176,39 @@ fn prepare<'c>(
         prepared.push((cfg, scene, renderer, Vec::<FrameStats>::new()));
     }
     Ok((prepared, failed, skipped))
+}
+
+/// The bench's scenes: each glTF file is read once, and every light count's scene is a copy of
+/// it with its lights added, so they all share its images (on the CPU, and on the device, where
+/// renderers share uploads by image).
+#[derive(Default)]
+pub struct SceneFiles {
+    /// Each file as read, and whether it takes a light count (it has no lights of its own).
+    files: HashMap<String, (crate::Scene, bool)>,
+}
+
+impl SceneFiles {
+    /// Scene `name` (built-in, or a glTF file with `lights` point lights added when it has
+    /// none: the importer's default count when `None`).
+    pub fn open(&mut self, name: &str, builtin: BuiltinOptions) -> Result<crate::Scene> {
+        use crate::scene::import::{self, lighting, ImportOptions};
+        if !import::is_gltf_path(name) {
+            return Ok(crate::scene::open(name, builtin, &ImportOptions::default(), &mut |_| {})?.0);
+        }
+        let (file, takes_lights) = match self.files.entry(name.to_string()) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => {
+                let options = ImportOptions { lights: 0, ..ImportOptions::default() };
+                let imported = import::load(std::path::Path::new(name), &options, &mut |_| {})?;
+                e.insert((imported.scene, imported.stats.default_lights))
+            }
+        };
+        let mut scene = file.clone();
+        if *takes_lights {
+            lighting::add_surface_lights(&mut scene, builtin.lights.unwrap_or(ImportOptions::default().lights));
+        }
+        Ok(scene)
+    }
 }
 
 /// The frame's ten costliest lights (index, ms), costliest first, by its stats' cost model.

@@ -612,25 +612,27 @@ pub fn renderer(gpu: &Gpu) -> Result<Renderer> {
     Renderer::new(gpu, OUTPUT_FORMAT, &Settings { count_fragments: false, timestamps: false, ..Settings::default() })
 }
 
-/// Pass sets a [`Runner`]'s device keeps: a settings block of 50 cases draws each path with
-/// 30 or so shader-feature and material variants (shadows, cookies, masks, light planes, one
-/// reflectance model or several), each a pass set of its own.
-pub const RUNNER_SETS: usize = 32;
+/// The pass pool budget of a [`Runner`]'s device: a settings block of 50 cases draws each path
+/// with 30 or so shader-feature and material variants (shadows, cookies, masks, light planes,
+/// one reflectance model or several), each a pass set of its own; 32 sets of 23 pipelines at
+/// lavapipe's estimate (`Quirks::pipeline_bytes`).
+pub const RUNNER_POOL_BYTES: u64 = 32 * (23 * (3 << 20) + crate::renderer::kit::pool::SET_BYTES);
 
-/// Runs case after case on one device with bounded memory. A pass set's pipelines compile on
-/// their first draw (`kit::OnFirstUse`), about 23 a case, and hold a few MiB each on lavapipe.
+/// Runs case after case on one device with bounded memory. A pass set's pipelines compile when
+/// a frame first declares them (`kit::Declared`), about 23 a case, and hold a few MiB each on
+/// lavapipe.
 /// Measured on stream 4, cases 8900-9049 (three settings blocks, 64x36): keeping 8 sets, 172
 /// sets were built, 117 s, 0.75 GB peak; keeping 32, 85 built, 86 s, 2.3 GB. The runner keeps
-/// [`RUNNER_SETS`] in the pool and starts a new renderer, dropping the old one's sets, when the
+/// [`RUNNER_POOL_BYTES`] in the pool and starts a new renderer, dropping the old one's sets, when the
 /// settings change.
 pub struct Runner {
     renderer: Option<(case::CaseSettings, Renderer)>,
 }
 
 impl Runner {
-    /// Limits `gpu`'s pass pool to [`RUNNER_SETS`]: give the runner a device of its own.
+    /// Limits `gpu`'s pass pool to [`RUNNER_POOL_BYTES`]: give the runner a device of its own.
     pub fn new(gpu: &Gpu) -> Self {
-        gpu.passes.keep_at_most(RUNNER_SETS);
+        gpu.passes.keep_bytes_at_most(RUNNER_POOL_BYTES);
         Self { renderer: None }
     }
 

@@ -94,6 +94,8 @@ pub struct Renderer {
     long_list_warnings: Vec<String>,
     /// The grading LUT the post targets hold.
     lut: post::LutCache,
+    /// The device's material textures, shared with its other renderers.
+    uploads: Arc<kit::uploads::Uploads>,
     /// The per-light cost model of the stats (`explain::cost`): a fitted one, by mode (tiled
     /// and clustered: the list modes; every other: the drawn ones), or the built-in constants.
     pub cost_models: Vec<(CullingMode, explain::cost::CostModel)>,
@@ -149,6 +151,7 @@ impl Renderer {
             long_list_warnings: Vec::new(),
             lut: Default::default(),
             cost_models: Vec::new(),
+            uploads: gpu.uploads.clone(),
             device,
         })
     }
@@ -204,7 +207,10 @@ impl Renderer {
         // compiled while recording is a pass drawing with one it did not declare.
         debug_assert_eq!(pipelines.while_recording, 0, "a pass drew with a pipeline it did not declare");
         if pipelines.while_recording > 0 {
-            log::warn!("{} pipeline(s) compiled while the frame recorded: a pass's declaration is short", pipelines.while_recording);
+            log::warn!(
+                "{} pipeline(s) compiled while the frame recorded: a pass's declaration is short",
+                pipelines.while_recording
+            );
         }
         stats.pipelines = pipelines;
         stats.caps = report::cap_stats(cut, settings, &prepared);
@@ -245,7 +251,7 @@ impl Renderer {
         let p = &self.sets.current;
         let steps = paths::steps(p, &f);
         let declared = paths::declare(&steps, &f);
-        let built = declared.build();
+        let built = p.build(&declared);
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let before = kit::pipelines_compiled_here();
         let mut drawn = paths::record(&steps, &f, &mut encoder, self.debug_groups)?;
@@ -289,7 +295,7 @@ impl Renderer {
             let f = self.inputs(settings, &shape, &prepared, &target)?;
             let steps = paths::steps(&self.sets.current, &f);
             let declared = paths::declare(&steps, &f);
-            Ok((declared.len(), declared.build()))
+            Ok((declared.len(), self.sets.current.build(&declared)))
         })
     }
 

@@ -4,8 +4,8 @@
 use super::culling::stats::{ForwardStats, LightStats};
 use super::culling::tiled::TileStats;
 use super::frame::{Prepared, Shape};
-use super::paths::prepass_pass::PrepassStats;
 use super::inputs::pass::PassReport;
+use super::paths::prepass_pass::PrepassStats;
 use super::plan::LightPlan;
 use super::post::effects::EFFECTS;
 use super::post::PostStats;

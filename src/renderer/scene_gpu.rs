@@ -113,7 +113,7 @@ impl SceneGpu {
         queue: &wgpu::Queue,
         scene: &Scene,
         material_bgl: &wgpu::BindGroupLayout,
-        defaults: &MaterialDefaults,
+        (defaults, uploads): (&MaterialDefaults, &crate::renderer::kit::uploads::Uploads),
     ) -> Result<Self> {
         scene.validate().map_err(anyhow::Error::msg)?;
         let mut vertices = Vec::new();
@@ -135,7 +135,8 @@ impl SceneGpu {
         if let Some(t) = scene.textures.iter().find(|t| t.width > limit || t.height > limit) {
             bail!("texture {} is {}x{}, larger than this GPU's limit of {limit}", t.name, t.width, t.height);
         }
-        let textures: Vec<wgpu::Texture> = scene.textures.iter().map(|t| materials::upload(device, queue, t)).collect();
+        let textures: Vec<wgpu::Texture> =
+            scene.textures.iter().map(|t| uploads.texture(t, || materials::upload(device, queue, t))).collect();
         let views: Vec<wgpu::TextureView> = textures.iter().map(|t| t.create_view(&Default::default())).collect();
         let material_groups =
             materials::bind_groups(device, material_bgl, scene, &views, &defaults.textures, &defaults.sampler);

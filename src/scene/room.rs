@@ -320,44 +320,84 @@ pub fn write(dir: &Path) -> Result<()> {
 /// A load test: `n` UV spheres (3,968 triangles each) in a grid, each with its own material and
 /// 256x256 base-colour texture, as (file name, bytes) for `stress.gltf`.
 pub fn stress(n: usize) -> Result<Vec<(String, Vec<u8>)>> {
+    grid("stress", n, false, 256)
+}
+
+/// A memory test: `n` boxes in a grid, each with its own material and `side` x `side`
+/// base-colour, normal and metal-roughness maps, as (file name, bytes) for `heavy.gltf`
+/// (`cargo run --example heavy_gltf -- DIR`).
+pub fn heavy(n: usize, side: u32) -> Result<Vec<(String, Vec<u8>)>> {
+    grid("heavy", n, true, side)
+}
+
+/// `n` objects in a grid, each with its own material: spheres with a `side`-pixel base colour,
+/// or (`heavy`) boxes with base-colour, normal and metal-roughness maps of that size.
+fn grid(name: &str, n: usize, heavy: bool, side: u32) -> Result<Vec<(String, Vec<u8>)>> {
     let mut w = Writer::default();
-    let side = (n as f64).sqrt().ceil() as usize;
+    let columns = (n as f64).sqrt().ceil() as usize;
     let mut materials = Vec::new();
     let mut images = Vec::new();
     let mut nodes = Vec::new();
+    let cell = (side / 8).max(1);
     for i in 0..n {
-        let (x, z) = ((i % side) as f32 * 2.5, (i / side) as f32 * 2.5);
-        let mesh = w.mesh(&format!("sphere {i}"), &sphere([x, 1.0, -z], 1.0, 32, 64), i);
+        let (x, z) = ((i % columns) as f32 * 2.5, (i / columns) as f32 * 2.5);
+        let geometry = match heavy {
+            true => cuboid([x - 1.0, 0.0, -z - 1.0], [x + 1.0, 2.0, -z + 1.0]),
+            false => sphere([x, 1.0, -z], 1.0, 32, 64),
+        };
+        let mesh = w.mesh(&format!("{name} {i}"), &geometry, i);
         nodes.push(json!({ "mesh": mesh }));
         let hue = crate::scene::builtin::hue(i as f32 / n as f32);
-        let img = image::RgbaImage::from_fn(256, 256, |px, py| {
-            let k = if (px / 32 + py / 32) % 2 == 0 { 1.0 } else { 0.5 };
-            let c = hue * k * 255.0;
+        let checker = |px: u32, py: u32| (px / cell + py / cell) % 2 == 0;
+        let img = image::RgbaImage::from_fn(side, side, |px, py| {
+            let c = hue * if checker(px, py) { 1.0 } else { 0.5 } * 255.0;
             image::Rgba([c.x as u8, c.y as u8, c.z as u8, 255])
         });
         images.push(png(&img)?);
-        materials.push(json!({ "pbrMetallicRoughness": {
-            "baseColorTexture": { "index": i }, "metallicFactor": 0.0, "roughnessFactor": 0.5 } }));
+        if !heavy {
+            materials.push(json!({ "pbrMetallicRoughness": {
+                "baseColorTexture": { "index": i }, "metallicFactor": 0.0, "roughnessFactor": 0.5 } }));
+            continue;
+        }
+        // Bevelled tiles: the normal tilts across each checker cell's edges.
+        let normal = image::RgbaImage::from_fn(side, side, |px, py| {
+            let t = |p: u32| ((p % cell) as f32 / cell as f32 - 0.5) * 0.6;
+            let (nx, ny) = (t(px), t(py));
+            let nz = (1.0 - nx * nx - ny * ny).sqrt();
+            let e = |v: f32| ((v * 0.5 + 0.5) * 255.0) as u8;
+            image::Rgba([e(nx), e(ny), e(nz), 255])
+        });
+        let metal_rough = image::RgbaImage::from_fn(side, side, |px, py| {
+            let metal = if checker(px, py) { 255 } else { 0 };
+            image::Rgba([0, (64 + (px + py) % 160) as u8, metal, 255])
+        });
+        images.push(png(&normal)?);
+        images.push(png(&metal_rough)?);
+        let t = 3 * i;
+        materials.push(json!({
+            "pbrMetallicRoughness": { "baseColorTexture": { "index": t }, "metallicRoughnessTexture": { "index": t + 2 } },
+            "normalTexture": { "index": t + 1 } }));
     }
-    let mut files = Vec::new();
-    let image_json: Vec<Value> = (0..n).map(|i| json!({ "uri": format!("stress_{i}.png") })).collect();
+    let count = images.len();
+    let image_json: Vec<Value> = (0..count).map(|i| json!({ "uri": format!("{name}_{i}.png") })).collect();
     let doc = json!({
-        "asset": { "version": "2.0", "generator": "lampshade room::stress" },
+        "asset": { "version": "2.0", "generator": format!("lampshade room::{name}") },
         "scene": 0,
         "scenes": [{ "nodes": (0..nodes.len()).collect::<Vec<_>>() }],
         "nodes": nodes,
         "meshes": w.meshes,
         "materials": materials,
-        "textures": (0..n).map(|i| json!({ "source": i })).collect::<Vec<_>>(),
+        "textures": (0..count).map(|i| json!({ "source": i })).collect::<Vec<_>>(),
         "images": image_json,
         "accessors": w.accessors,
         "bufferViews": w.views,
-        "buffers": [{ "uri": "stress.bin", "byteLength": w.bin.len() }],
+        "buffers": [{ "uri": format!("{name}.bin"), "byteLength": w.bin.len() }],
     });
-    files.push(("stress.gltf".to_string(), serde_json::to_vec(&doc)?));
-    files.push(("stress.bin".to_string(), w.bin));
+    let mut files = Vec::new();
+    files.push((format!("{name}.gltf"), serde_json::to_vec(&doc)?));
+    files.push((format!("{name}.bin"), w.bin));
     for (i, b) in images.into_iter().enumerate() {
-        files.push((format!("stress_{i}.png"), b));
+        files.push((format!("{name}_{i}.png"), b));
     }
     Ok(files)
 }

@@ -5,9 +5,7 @@
 
 use crate::common::*;
 use lampshade::headless::render_image;
-use lampshade::renderer::{
-    CullingMode, DebugView, Msaa, RenderPath, Renderer, Settings, ShadowMode, OUTPUT_FORMAT,
-};
+use lampshade::renderer::{CullingMode, DebugView, Msaa, RenderPath, Renderer, Settings, ShadowMode, OUTPUT_FORMAT};
 use lampshade::{Gpu, Scene};
 
 /// Configurations that between them draw with every pass: each path, each culling mode, the
@@ -46,7 +44,12 @@ fn configurations() -> Vec<(&'static str, Scene, Settings)> {
 fn a_configurations_declared_pipelines_built_ahead_leave_its_first_frame_nothing_to_compile() {
     let gpu = Gpu::headless().expect("a second device on the adapter");
     for (name, scene, settings) in configurations() {
-        let what = format!("{name}, {} path, {}, {} view", settings.path.name(), settings.culling.name(), settings.debug_view.name());
+        let what = format!(
+            "{name}, {} path, {}, {} view",
+            settings.path.name(),
+            settings.culling.name(),
+            settings.debug_view.name()
+        );
         let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
         let (declared, _built) = r.build_pipelines(&scene, &settings, (96, 54)).expect("build the declared pipelines");
         assert!(declared > 0, "{what}: nothing declared");
@@ -60,7 +63,8 @@ fn a_configurations_declared_pipelines_built_ahead_leave_its_first_frame_nothing
 #[test]
 fn the_declared_set_builds_on_another_thread_and_is_what_the_frame_draws() {
     let gpu = Gpu::headless().expect("a second device on the adapter");
-    let (scene, settings) = (scene("demo"), Settings { culling: CullingMode::Tiled, count_ideal: false, ..Settings::default() });
+    let (scene, settings) =
+        (scene("demo"), Settings { culling: CullingMode::Tiled, count_ideal: false, ..Settings::default() });
     let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
     // Declared and built on a worker; the frame on this thread then compiles nothing.
     let (declared, built) = std::thread::scope(|s| {

@@ -18,8 +18,8 @@ use super::volumes::Volumes;
 use super::{
     cputime, overlap, post, AccumFormat, BlendedMode, DebugView, DrawOrder, NearLights, RenderPath, Renderer, Settings,
 };
-pub use crate::renderer::inputs::Shape;
 use crate::renderer::inputs::FrameInputs;
+pub use crate::renderer::inputs::Shape;
 use crate::renderer::settings::CullingMode;
 use crate::scene::Scene;
 use anyhow::{bail, Result};
@@ -191,7 +191,8 @@ impl Renderer {
     /// is handed a different scene); `render` uploads camera, objects and lights every frame.
     pub fn load_scene(&mut self, scene: &Scene) -> Result<()> {
         let material_bgl = &self.sets.current.shared.material_bgl;
-        self.scene = Some(SceneGpu::upload(&self.device, &self.queue, scene, material_bgl, &self.defaults)?);
+        self.scene =
+            Some(SceneGpu::upload(&self.device, &self.queue, scene, material_bgl, (&self.defaults, &self.uploads))?);
         Ok(())
     }
 

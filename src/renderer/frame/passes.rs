@@ -1,8 +1,9 @@
 //! Every pass of the frame, by technique, built lazily for one configuration.
 
-use crate::renderer::kit::pool::PassPool;
-use crate::renderer::kit::{Lazy, PipelineKey, Shared};
+use crate::renderer::kit::pool::{PassPool, PoolSet};
+use crate::renderer::kit::{Declared, Lazy, PipelineKey, Shared};
 use anyhow::{bail, Result};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 /// What a frame draws with, beyond the passes every frame uses (G-buffer, lights, debug,
@@ -49,6 +50,19 @@ pub struct Passes {
     /// Every light at every pixel, the culling oracle's reference (`explain::brute`; not part of
     /// the frame).
     pub brute: Lazy<crate::renderer::explain::brute::BrutePass>,
+    /// Pipelines of this set compiled so far ([`Passes::build`]): the pool's estimate of the
+    /// set's memory.
+    compiled: AtomicU64,
+}
+
+impl PoolSet for Passes {
+    fn compiled(&self) -> u64 {
+        self.compiled.load(Ordering::Relaxed)
+    }
+
+    fn into_any(self: Arc<Self>) -> Arc<dyn std::any::Any + Send + Sync> {
+        self
+    }
 }
 
 impl Passes {
@@ -97,8 +111,17 @@ impl Passes {
             explain: Lazy::new(device, &shared, crate::renderer::explain::ExplainPass::new),
             waste: Lazy::new(device, &shared, crate::renderer::explain::waste::WastePass::new),
             brute: Lazy::new(device, &shared, crate::renderer::explain::brute::BrutePass::new),
+            compiled: AtomicU64::new(0),
             shared,
         }
+    }
+
+    /// Compiles the pipelines of `declared` not compiled yet (declared by this set's passes),
+    /// on this thread; how many it compiled.
+    pub fn build(&self, declared: &Declared) -> usize {
+        let n = declared.build();
+        self.compiled.fetch_add(n as u64, Ordering::Relaxed);
+        n
     }
 
     pub fn key(&self) -> &PipelineKey {

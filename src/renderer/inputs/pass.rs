@@ -124,7 +124,6 @@ impl ForwardPathStats {
     }
 }
 
-
 /// The light pre-pass's figures (`--path light-prepass`): its intermediate targets' bytes per
 /// pixel and the draws and fragments of its geometry passes (1: normals + exponent, 3: final;
 /// pass 2's are the frame's `draw_calls` and `shaded_fragments`).

@@ -121,6 +121,19 @@ impl Quirks {
         }
     }
 
+    /// Host memory a compiled pipeline holds, an estimate for the pass pool's budget
+    /// (`kit::pool`). gallivm JIT-compiles each pipeline's shaders to machine code on the host:
+    /// the culling oracle's runner, 23 pipelines a pass set, peaked at 0.75 GB keeping 8 sets
+    /// and 2.3 GB keeping 32, 2.8 MiB a pipeline (taken as 3 MiB). Other drivers keep their
+    /// compiled code on the GPU or in small host allocations: 256 KiB.
+    pub fn pipeline_bytes(&self) -> u64 {
+        if self.uniform_gathers {
+            3 << 20
+        } else {
+            256 << 10
+        }
+    }
+
     /// The fewest layers a cube array is made with.
     pub fn min_cube_layers(&self) -> u32 {
         if self.cube_guess_by_layers {

@@ -17,6 +17,7 @@ pub mod features;
 pub mod gbuffer;
 pub mod pipeline;
 pub mod pool;
+pub mod uploads;
 
 pub use pipeline::{ambient_fits, scene_pipeline, screen_pipeline, PipelineKey, ScenePipe, Shared};
 use std::sync::{Arc, OnceLock};

@@ -3,57 +3,84 @@
 //! On lavapipe a pass set's first frame costs 0.7-1.8 s of pipeline compilation at 192x108, a
 //! frame on built pipelines 10-150 ms, so a process that creates many renderers (the bench, one
 //! per configuration, all alive at once; the test suite, on several threads) compiles each
-//! configuration once. A set holds only pipelines and layouts, built once each (`kit::Lazy`);
-//! what a frame writes and reads back is each renderer's own, so renderers share sets freely.
-//! The pool keeps the [`POOL_SETS`] most recently used; a set dropped from it lives on while a
-//! renderer draws with it.
+//! configuration once. A set holds only pipelines and layouts, built once each (`kit::Lazy`,
+//! `kit::Declared`); what a frame writes and reads back is each renderer's own, so renderers
+//! share sets freely. The pool keeps the most recently used sets while their estimated host
+//! memory stays within its budget ([`POOL_BYTES`] unless set): a set's estimate is its compiled
+//! pipelines times the adapter's bytes per pipeline (`caps::Quirks::pipeline_bytes`) plus
+//! [`SET_BYTES`]. A set dropped from the pool lives on while a renderer draws with it.
 //!
 //! The device (`gpu.rs`) holds the pool without knowing what a pass set is: the sets are kept
-//! as `Any` and handed back as the type the renderer built them as.
+//! as [`PoolSet`] and handed back as the type the renderer built them as.
 
 use super::PipelineKey;
 use anyhow::{anyhow, Result};
 use std::any::Any;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-/// Pass sets a device keeps for its renderers.
-pub const POOL_SETS: usize = 32;
+/// The pool's default budget: estimated host memory of the sets it keeps.
+pub const POOL_BYTES: u64 = 2 << 30;
+/// A set's own share of the estimate, beyond its pipelines (its shader module and layouts).
+pub const SET_BYTES: u64 = 1 << 20;
 
-type Set = (PipelineKey, Arc<dyn Any + Send + Sync>);
+/// What the pool keeps: a pass set that tells how many of its pipelines are compiled.
+pub trait PoolSet: Any + Send + Sync {
+    fn compiled(&self) -> u64;
+    fn into_any(self: Arc<Self>) -> Arc<dyn Any + Send + Sync>;
+}
 
-#[derive(Default)]
+type Set = (PipelineKey, Arc<dyn PoolSet>);
+
 pub struct PassPool {
     sets: Mutex<Vec<Set>>,
-    /// Sets kept at most; 0: [`POOL_SETS`].
-    capacity: AtomicUsize,
+    /// The budget in bytes; 0: [`POOL_BYTES`].
+    budget: AtomicU64,
+    /// Host memory a compiled pipeline holds on this adapter (an estimate).
+    pipeline_bytes: u64,
 }
 
 impl PassPool {
-    /// Keeps at most `sets` sets from now on (a process with one long-lived renderer, the
-    /// viewer, keeps few: each set's compiled pipelines hold up to 160 MiB on lavapipe).
-    pub fn keep_at_most(&self, sets: usize) {
-        self.capacity.store(sets.max(1), Ordering::Relaxed);
+    pub fn new(pipeline_bytes: u64) -> Self {
+        Self { sets: Mutex::default(), budget: AtomicU64::new(0), pipeline_bytes }
     }
 
-    /// The set built for `key`, built now by `build` (and kept) if the pool has none.
-    pub fn get<T: Any + Send + Sync>(&self, key: PipelineKey, build: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
-        let mut sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(i) = sets.iter().rposition(|(k, _)| *k == key) {
-            // Most recently used last.
-            let set = sets.remove(i);
-            sets.push(set.clone());
-            return set.1.downcast::<T>().map_err(|_| anyhow!("the device's pass set for this key is of another type"));
-        }
-        let set = Arc::new(build()?);
-        sets.push((key, set.clone()));
-        let capacity = match self.capacity.load(Ordering::Relaxed) {
-            0 => POOL_SETS,
+    /// Keeps sets of at most `bytes` estimated host memory from now on (a process with one
+    /// long-lived renderer, the viewer, keeps little: that renderer keeps its recent
+    /// configurations itself).
+    pub fn keep_bytes_at_most(&self, bytes: u64) {
+        self.budget.store(bytes.max(1), Ordering::Relaxed);
+    }
+
+    fn budget(&self) -> u64 {
+        match self.budget.load(Ordering::Relaxed) {
+            0 => POOL_BYTES,
             n => n,
+        }
+    }
+
+    /// A set's estimated host memory.
+    fn set_bytes(&self, set: &dyn PoolSet) -> u64 {
+        SET_BYTES + set.compiled() * self.pipeline_bytes
+    }
+
+    /// The set built for `key`, built now by `build` (and kept) if the pool has none. Sets
+    /// used least recently are let go while the kept ones' estimate is over the budget (the
+    /// one handed back always stays).
+    pub fn get<T: PoolSet>(&self, key: PipelineKey, build: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
+        let mut sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
+        let set = match sets.iter().rposition(|(k, _)| *k == key) {
+            // Most recently used last.
+            Some(i) => sets.remove(i).1,
+            None => Arc::new(build()?) as Arc<dyn PoolSet>,
         };
-        let excess = sets.len().saturating_sub(capacity);
-        sets.drain(..excess);
-        Ok(set)
+        sets.push((key, set.clone()));
+        let mut total: u64 = sets.iter().map(|(_, s)| self.set_bytes(s.as_ref())).sum();
+        while sets.len() > 1 && total > self.budget() {
+            let (_, dropped) = sets.remove(0);
+            total -= self.set_bytes(dropped.as_ref());
+        }
+        set.into_any().downcast::<T>().map_err(|_| anyhow!("the device's pass set for this key is of another type"))
     }
 
     /// Sets held now.
@@ -63,5 +90,11 @@ impl PassPool {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// The estimated host memory of the sets held now.
+    pub fn bytes(&self) -> u64 {
+        let sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
+        sets.iter().map(|(_, s)| self.set_bytes(s.as_ref())).sum()
     }
 }

@@ -719,7 +719,11 @@ impl Pass for ForwardPaths<'_> {
         }
         if s.count_fragments {
             f.scratch.forward.queries(f.device);
-            let draws = if s.path == RenderPath::ForwardMultipass { f.path_lists.pairs.len() } else { f.plan.draws.gbuffer.len() };
+            let draws = if s.path == RenderPath::ForwardMultipass {
+                f.path_lists.pairs.len()
+            } else {
+                f.plan.draws.gbuffer.len()
+            };
             if draws as u32 <= MAX_DRAW_QUERIES {
                 f.scratch.forward.draw_queries(f.device);
             }

@@ -7,8 +7,8 @@
 
 use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
-use crate::renderer::kit::Declared;
 use crate::renderer::kit::pipeline::topology_pipeline_index;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::{scene_pipeline, ScenePipe, Shared, HDR_FORMAT};
 use crate::renderer::stats::Span;
 

@@ -155,9 +155,10 @@ impl EffectsPass {
 
     /// The pipeline of the effect whose view `debug_view` is.
     pub fn view_pipeline(&self, debug_view: DebugView) -> Option<&crate::renderer::kit::RenderPipe> {
-        EFFECTS.iter().zip(&self.pipelines).find_map(|(e, (_, _, pipeline))| {
-            e.view.filter(|(v, _)| *v == debug_view).and(pipeline.as_ref())
-        })
+        EFFECTS
+            .iter()
+            .zip(&self.pipelines)
+            .find_map(|(e, (_, _, pipeline))| e.view.filter(|(v, _)| *v == debug_view).and(pipeline.as_ref()))
     }
 
     /// Records effect `i` of [`EFFECTS`] from `group`'s source into `view` (`last`: the output).

@@ -20,13 +20,13 @@ pub mod exposure;
 pub mod tonemap;
 
 pub mod targets;
+use super::kit::Declared;
 use super::kit::Lazy;
 use super::options::post::PostOptions;
 pub use super::options::post::{Aa, Tonemap};
 use super::records::PostParams;
 use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
-use super::kit::Declared;
 use effects::EFFECTS;
 use serde::{Deserialize, Serialize};
 pub use targets::{PostTargets, BLOOM_LEVELS, HIST_BINS, MAX_LUT_SIZE, STATE_WORDS};

@@ -7,8 +7,8 @@ use super::scratch::{Owner, ShadowTimes, Timers};
 use super::{ShadowPlan, TileDraw};
 use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
-use crate::renderer::kit::Declared;
 use crate::renderer::kit::bindings;
+use crate::renderer::kit::Declared;
 use crate::renderer::kit::Shared;
 use crate::renderer::stats::Span;
 

@@ -114,7 +114,11 @@ impl Pass for DebugPass {
         match view {
             DebugView::Complexity if f.options.frame.selected_light.is_none() && f.plan.tiled.is_none() => {
                 for batch in &f.plan.batches.batches {
-                    out.add(if batch.method == Method::Fullscreen { &self.complexity_fullscreen } else { &self.complexity });
+                    out.add(if batch.method == Method::Fullscreen {
+                        &self.complexity_fullscreen
+                    } else {
+                        &self.complexity
+                    });
                 }
             }
             DebugView::Complexity => {

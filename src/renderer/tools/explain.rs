@@ -164,7 +164,7 @@ impl<'a> Last<'a> {
         // Its one pipeline, built before recording.
         let mut declared = crate::renderer::kit::Declared::default();
         declared.add(&pass.pipeline);
-        declared.build();
+        self.passes.build(&declared);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("explain") });
         {
             let mut cpass = encoder

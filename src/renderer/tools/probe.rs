@@ -262,7 +262,7 @@ impl<'a> Last<'a> {
             let mut encoder =
                 self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("atlas view") });
             let empty = self.last.shadows.draws.is_empty();
-            self.passes.atlas_view.declared(empty).build();
+            self.passes.build(&self.passes.atlas_view.declared(empty));
             let scratch = (self.frame, &self.scratch.atlas_view);
             self.passes.atlas_view.encode(self.device, self.queue, &mut encoder, scratch, target, side, empty);
             self.queue.submit([encoder.finish()]);

@@ -198,7 +198,7 @@ impl<'a> Last<'a> {
             // Its pipeline built before it records.
             let mut declared = crate::renderer::kit::Declared::default();
             declared.add(self.passes.compose.pipeline(view));
-            declared.build();
+            self.passes.build(&declared);
             self.passes.compose.encode_to(&mut encoder, self.queue, targets, self.frame, &to, None);
             self.queue.submit([encoder.finish()]);
             Ok(())

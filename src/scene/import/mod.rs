@@ -100,6 +100,9 @@ pub struct ImportStats {
     pub textures: usize,
     pub lights_from_file: usize,
     pub lights_added: usize,
+    /// The file has neither lights nor a sun: the sun, ambient and `ImportOptions::lights`
+    /// point lights were added (`lighting::add_surface_lights` adds another count to a copy).
+    pub default_lights: bool,
     pub cameras: usize,
     /// Zero-area triangles removed.
     pub dropped_triangles: usize,
@@ -511,6 +514,7 @@ impl Importer<'_> {
 
         if self.scene.lights.is_empty() && self.scene.sun.is_none() {
             self.add_default_lights();
+            self.stats.default_lights = true;
         }
         self.stats.meshes = self.scene.meshes.len();
         self.stats.objects = self.scene.objects.len();

@@ -68,69 +68,85 @@ impl WastePass {
         }
     }
 
+    /// Each light the view draws (every light the light pass drew, or the selected one), in
+    /// order, with its method's draws, REPLACE's references counted as the light pass counts
+    /// them: what [`Self::record`] draws and [`Pass::declare`] declares.
+    fn walk<'s>(&'s self, f: &FrameInputs<'_>, mut visit: impl FnMut(LightDraws<'s>)) {
+        let mut reference = 0u32;
+        for (i, plan) in f.plan.lights.iter().enumerate() {
+            if f.options.frame.selected_light.is_some_and(|k| k != i) {
+                continue;
+            }
+            let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };
+            let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
+            let near = m.shade_crossing_near.as_ref().filter(|_| plan.crosses_near);
+            let mut clear = false;
+            let mark = m.mark.as_ref().filter(|_| near.is_none()).map(|mark| {
+                if draws.reference != Reference::PerLight {
+                    return (mark, None);
+                }
+                if reference == 255 {
+                    clear = true;
+                    reference = 0;
+                }
+                reference += 1;
+                (mark, Some(reference))
+            });
+            visit(LightDraws { light: i, clear, mark, shade: near.unwrap_or(&m.shade), fullscreen: draws.fullscreen });
+        }
+    }
+
     /// Records the view into the debug target: every light the light pass drew (or the selected
     /// one), one at a time with its method's draws.
     fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
         let mut pass = f.debug_view_pass(encoder, "waste view");
-        let mut reference = 0u32;
-        for (i, plan) in f.plan.lights.iter().enumerate() {
-            if f.options.frame.selected_light.is_some_and(|k| k != i) {
-                continue;
+        self.walk(f, |d| {
+            let li = d.light as u32..d.light as u32 + 1;
+            let (range, base) = f.volumes.range(f.plan.lights[d.light].volume);
+            if d.clear {
+                pass.set_pipeline(&self.stencil_clear);
+                pass.draw(0..3, 0..1);
             }
-            let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };
-            let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
-            let li = i as u32..i as u32 + 1;
-            let (range, base) = f.volumes.range(plan.volume);
-            let near = m.shade_crossing_near.as_ref().filter(|_| plan.crosses_near);
-            if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
-                if draws.reference == Reference::PerLight {
-                    if reference == 255 {
-                        pass.set_pipeline(&self.stencil_clear);
-                        pass.draw(0..3, 0..1);
-                        reference = 0;
-                    }
-                    reference += 1;
-                    pass.set_stencil_reference(reference);
+            if let Some((mark, reference)) = d.mark {
+                if let Some(r) = reference {
+                    pass.set_stencil_reference(r);
                 }
                 pass.set_pipeline(mark);
                 pass.draw_indexed(range.clone(), base, li.clone());
-                if draws.reference == Reference::Zero {
+                if reference.is_none() {
                     pass.set_stencil_reference(0);
                 }
             }
-            let shade = near.unwrap_or(&m.shade);
-            pass.set_pipeline(shade);
-            if draws.fullscreen {
+            pass.set_pipeline(d.shade);
+            if d.fullscreen {
                 pass.draw(0..3, li);
             } else {
                 pass.draw_indexed(range, base, li);
             }
-        }
+        });
     }
+}
+
+/// One light's draws in the waste view.
+struct LightDraws<'s> {
+    light: usize,
+    /// The stencil is cleared first (REPLACE's references wrapped past 255).
+    clear: bool,
+    /// The marking draw, with REPLACE's reference (`None`: reference zero).
+    mark: Option<(&'s crate::renderer::kit::RenderPipe, Option<u32>)>,
+    shade: &'s crate::renderer::kit::RenderPipe,
+    fullscreen: bool,
 }
 
 impl Pass for WastePass {
     fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
-        let mut reference = 0u32;
-        for (i, plan) in f.plan.lights.iter().enumerate() {
-            if f.options.frame.selected_light.is_some_and(|k| k != i) {
-                continue;
+        self.walk(f, |d| {
+            if d.clear {
+                out.add(&self.stencil_clear);
             }
-            let Some(Some(m)) = self.methods.get(methods::order(plan.method) as usize) else { continue };
-            let Some(draws) = methods::row(plan.method).draws.as_ref() else { continue };
-            let near = m.shade_crossing_near.as_ref().filter(|_| plan.crosses_near);
-            if let Some(mark) = m.mark.as_ref().filter(|_| near.is_none()) {
-                if draws.reference == Reference::PerLight {
-                    if reference == 255 {
-                        out.add(&self.stencil_clear);
-                        reference = 0;
-                    }
-                    reference += 1;
-                }
-                out.add(mark);
-            }
-            out.add(near.unwrap_or(&m.shade));
-        }
+            out.add_all(d.mark.map(|(mark, _)| mark));
+            out.add(d.shade);
+        });
     }
 
     fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {

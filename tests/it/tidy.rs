@@ -8,7 +8,12 @@
 //! - `kit/` imports a technique room, or anything of the renderer but `kit/` and `options/`;
 //! - the file-level import graph has a strongly connected set of more than
 //!   [`MAX_CYCLE_FILES`] files, or one that spans more than one entry of `src/` (a top-level
-//!   file is an entry of its own).
+//!   file is an entry of its own);
+//! - a function is longer than [`MAX_FN_LINES`] without a table's reason (`// table: <why>` as
+//!   its body's first line), or more than [`MAX_TABLES`] functions are tables;
+//! - a `.rs` file under `src/renderer/` is longer than [`MAX_FILE_LINES`] besides its
+//!   `#[cfg(test)]` items without naming its reason (`// tidy-filelength: <why>` among its first
+//!   lines), or more than [`MAX_LONG_FILES`] files do.
 //!
 //! The graph: a node per file under `src/` that defines something (a file that only declares
 //! modules and re-exports is not a node); an edge from a file to the file that defines an item
@@ -819,7 +824,9 @@ pub fn long_files(src: &Path) -> Result<Vec<String>, String> {
             (true, false) => bad.push(format!(
                 "{at}; at most {MAX_FILE_LINES} under src/renderer/, or `{FILE_LENGTH_MARK} <why>` in its first lines"
             )),
-            (false, true) => bad.push(format!("{at}: within {MAX_FILE_LINES}, so its `{FILE_LENGTH_MARK}` is not needed")),
+            (false, true) => {
+                bad.push(format!("{at}: within {MAX_FILE_LINES}, so its `{FILE_LENGTH_MARK}` is not needed"))
+            }
             (true, true) => named.push(at),
             (false, false) => {}
         }
@@ -920,7 +927,11 @@ fn a_renderer_file_of_901_lines_is_named_with_its_length() {
         ("file-named", file_of(1000, "//! A table.\n// tidy-filelength: one table, row by row\n")),
         ("file-tests", tests),
     ] {
-        assert_eq!(planted_with(name, &[("renderer/culling/long.rs", &text)], long_files), Vec::<String>::new(), "{name}");
+        assert_eq!(
+            planted_with(name, &[("renderer/culling/long.rs", &text)], long_files),
+            Vec::<String>::new(),
+            "{name}"
+        );
     }
     // Outside the renderer no file length is held.
     let scene = file_of(1000, "pub struct Scene;\n");

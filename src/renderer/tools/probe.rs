@@ -180,14 +180,12 @@ impl<'a> Last<'a> {
 /// emission from its scale of the albedo).
 type Channels = std::collections::HashMap<(Attr, u8), f32>;
 
+/// A target's texel as read: (the target's name, its format, the value).
+type RawTexel = (String, String, [f32; 4]);
+
 /// Pixel (`x`, `y`)'s channels in `gbuffer`'s targets ([`Channels`]), and each target's raw
-/// texel: (name, format, value).
-fn read_channels(
-    gpu: &Gpu,
-    gbuffer: &GBufferTargets,
-    x: u32,
-    y: u32,
-) -> Result<(Channels, Vec<(String, String, [f32; 4])>)> {
+/// texel.
+fn read_channels(gpu: &Gpu, gbuffer: &GBufferTargets, x: u32, y: u32) -> Result<(Channels, Vec<RawTexel>)> {
     let mut comps: Channels = Default::default();
     let mut raw = Vec::new();
     let layout = &gbuffer.layout;

@@ -5,7 +5,8 @@ use clap::Parser;
 use lampshade::cli::{image_size, AdaptersArgs, BenchArgs, CheckArgs, Cli, Command, RenderArgs};
 use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
-use lampshade::Gpu;
+use lampshade::settings_file::SceneKeys;
+use lampshade::{Gpu, Scene};
 
 fn bench(args: BenchArgs) -> Result<()> {
     use lampshade::bench;
@@ -126,41 +127,8 @@ fn render(args: RenderArgs) -> Result<()> {
     // settings file's `count_ideal`), never implied by `--stats` (whose JSON says whether it ran).
     settings.count_ideal |= args.ideal;
     settings.validate().map_err(anyhow::Error::msg)?;
-    let import = lampshade::scene::import::ImportOptions::default();
-    let (mut scene, warnings) = open_scene(&scene_name, BuiltinOptions { lights, time }, &import)?;
-    for w in &warnings {
-        eprintln!("warning: {scene_name}: {w}");
-    }
-    if let Some(k) = args.viewpoint {
-        let Some((_, camera)) = scene.viewpoints.get(k) else {
-            bail!("--viewpoint {k}: '{scene_name}' offers {} viewpoint(s)", scene.viewpoints.len());
-        };
-        scene.camera = *camera;
-    }
-    if let Some(dir) = &args.baked {
-        let baked = lampshade::scene::lightmap::load(dir, &scene)?;
-        lampshade::scene::lightmap::apply(&mut scene, &baked);
-    }
-    keys.apply_to(&mut scene).with_context(|| format!("settings file: scene '{scene_name}'"))?;
-    if let Some(camera) = keys.camera {
-        camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
-        scene.camera = camera;
-    }
-    // The ledger's counters: asked for, or by default up to LEDGER_DEFAULT_MAX lights.
-    settings.count_fragments = match args.ledger {
-        Some(on) => on,
-        None if scene.lights.len() > lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX => {
-            if settings.count_fragments {
-                eprintln!(
-                    "note: {} lights: the light ledger is off above {} unless asked (--ledger on)",
-                    scene.lights.len(),
-                    lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX
-                );
-            }
-            false
-        }
-        None => settings.count_fragments,
-    };
+    let scene = render_scene(&args, &keys, &scene_name, BuiltinOptions { lights, time })?;
+    settings.count_fragments = ledger_on(args.ledger, &settings, scene.lights.len());
     if let Some(k) = settings.selected_light {
         if k >= scene.lights.len() {
             bail!("--light {k}: scene '{scene_name}' has {} lights", scene.lights.len());
@@ -223,6 +191,51 @@ fn render(args: RenderArgs) -> Result<()> {
             .with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
+}
+
+/// `render`'s scene: the built-in scene or file, at the viewpoint asked for, with its baked
+/// light maps and the settings file's scene keys and camera.
+fn render_scene(args: &RenderArgs, keys: &SceneKeys, scene_name: &str, builtin: BuiltinOptions) -> Result<Scene> {
+    let import = lampshade::scene::import::ImportOptions::default();
+    let (mut scene, warnings) = open_scene(scene_name, builtin, &import)?;
+    for w in &warnings {
+        eprintln!("warning: {scene_name}: {w}");
+    }
+    if let Some(k) = args.viewpoint {
+        let Some((_, camera)) = scene.viewpoints.get(k) else {
+            bail!("--viewpoint {k}: '{scene_name}' offers {} viewpoint(s)", scene.viewpoints.len());
+        };
+        scene.camera = *camera;
+    }
+    if let Some(dir) = &args.baked {
+        let baked = lampshade::scene::lightmap::load(dir, &scene)?;
+        lampshade::scene::lightmap::apply(&mut scene, &baked);
+    }
+    keys.apply_to(&mut scene).with_context(|| format!("settings file: scene '{scene_name}'"))?;
+    if let Some(camera) = keys.camera {
+        camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
+        scene.camera = camera;
+    }
+    Ok(scene)
+}
+
+/// Whether `render` counts the ledger's fragments: as `asked`, or by default up to
+/// `LEDGER_DEFAULT_MAX` lights (saying so when the settings asked for it above that).
+fn ledger_on(asked: Option<bool>, settings: &Settings, lights: usize) -> bool {
+    match asked {
+        Some(on) => on,
+        None if lights > lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX => {
+            if settings.count_fragments {
+                eprintln!(
+                    "note: {} lights: the light ledger is off above {} unless asked (--ledger on)",
+                    lights,
+                    lampshade::renderer::explain::cost::LEDGER_DEFAULT_MAX
+                );
+            }
+            false
+        }
+        None => settings.count_fragments,
+    }
 }
 
 /// `lampshade check`: every culling mode against brute force at the scene's cameras and at

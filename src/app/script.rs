@@ -147,9 +147,10 @@ fn count<T: std::str::FromStr>(v: &str, what: &str) -> Result<T, String> {
     v.parse().map_err(|_| format!("{what} '{v}' is not a whole number"))
 }
 
-/// One script line's action. Long (about 130 lines) because it is one arm per action of the
-/// language in the module doc, in that order, each parsing its own arguments.
+/// One script line's action: one arm per action of the language in the module doc, in that
+/// order, each parsing its own arguments.
 fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
+    // table: one arm per action of the script language, in the module doc's order
     let (name, args) = words.split_first().ok_or("missing action")?;
     let want = |n: usize| -> Result<(), String> {
         if args.len() != n {

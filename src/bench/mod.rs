@@ -5,20 +5,26 @@
 //! surfaces composited in depth order per pixel by 16 layers of depth peeling).
 //! Output: `bench.csv`, `bench.md` and `bench.png` (time against error, Pareto front marked).
 //!
-//! - [`configs`]: the configurations each group sweeps;
+//! - [`options`]: the bench's options and a configuration;
+//! - [`groups`]: each group's configurations, a table per group;
+//! - [`configs`]: the sweep, every group's table in order, and its calibration rows;
 //! - [`run`]: rendering them, with the reference each is measured against;
 //! - [`report`]: the CSV and markdown tables, the limits and the Pareto front;
 //! - [`plot`]: the charts.
 
 pub mod advise;
 mod configs;
+mod groups;
 mod ledger;
+mod options;
 mod plot;
 mod report;
 mod run;
 
 pub use configs::*;
+pub use groups::*;
 pub use ledger::*;
+pub use options::*;
 pub use plot::*;
 pub use report::*;
 pub use run::*;
@@ -26,62 +32,15 @@ pub use run::*;
 use crate::compare::flip;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
-use crate::renderer::post::{Aa, Tonemap};
-use crate::renderer::presets::Preset;
-use crate::renderer::settings::{MaterialBranch, NearLights};
 use crate::renderer::{
-    AccumFormat, CullingMode, DepthFormat, ForwardLights, FrameStats, LayoutChoice, RenderPath, Renderer, Settings,
-    ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, OUTPUT_FORMAT,
+    AccumFormat, CullingMode, FrameStats, LayoutChoice, RenderPath, Renderer, Settings, ShadowFilter, ShadowMode,
+    OUTPUT_FORMAT,
 };
 use crate::scene::builtin::BuiltinOptions;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::path::Path;
-
-#[derive(Clone, Debug)]
-pub struct BenchOptions {
-    pub scene: String,
-    pub quick: bool,
-    /// Frames timed per configuration (the median is reported).
-    pub frames: usize,
-    pub size: (u32, u32),
-    pub lights: usize,
-    pub time: f64,
-    /// Run only the configurations of these groups (all when empty).
-    pub groups: Vec<String>,
-    /// The scene brings a fixed set of lights (a glTF file with lights, a built-in scene that
-    /// takes no count): `lights` is not varied and the `lights` group is left out.
-    pub fixed_lights: bool,
-}
-
-impl BenchOptions {
-    pub fn new(scene: &str, quick: bool) -> Self {
-        if quick {
-            Self {
-                scene: scene.into(),
-                quick,
-                frames: 3,
-                size: (320, 180),
-                lights: 256,
-                time: 0.0,
-                groups: Vec::new(),
-                fixed_lights: false,
-            }
-        } else {
-            Self {
-                scene: scene.into(),
-                quick,
-                frames: 10,
-                size: (1280, 720),
-                lights: 1024,
-                time: 0.0,
-                groups: Vec::new(),
-                fixed_lights: false,
-            }
-        }
-    }
-}
 
 /// A configuration the bench did not run, and why: the scene cannot take it (a G-buffer layout
 /// with no channel for the material ID a multi-material scene needs, say) or the adapter cannot
@@ -101,23 +60,6 @@ pub struct BenchRun {
     pub skipped: Vec<Skipped>,
     /// The `ledger` group: the per-light cost model checked per mode.
     pub ledger: Vec<LedgerRow>,
-}
-
-/// One configuration: what it varies, and the settings, light count, size and scene it runs with.
-#[derive(Clone, Debug)]
-pub struct Config {
-    pub group: &'static str,
-    pub label: String,
-    pub settings: Settings,
-    pub lights: usize,
-    pub size: (u32, u32),
-    /// Another built-in scene than the bench's (the depth group's `far-origin` rows).
-    pub scene: Option<&'static str>,
-    /// Every light's radius times this (the `radius` group; 1 elsewhere).
-    pub radius_scale: f64,
-    /// The calibration pass ([`CALIBRATION`]): the scene's lights are replaced by one point
-    /// light that reaches every pixel, shaded `fullscreen`.
-    pub calibration: bool,
 }
 
 #[derive(Clone, Debug, Serialize)]

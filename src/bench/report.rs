@@ -335,7 +335,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
 /// The `engines` rows: each engine's caps against the same frame uncapped, in time and in
 /// light lost, with the source of its figures.
 pub fn engines_markdown(rows: &[Row]) -> String {
-    let mine: Vec<&Row> = rows.iter().filter(|r| r.group == super::configs::ENGINES_GROUP).collect();
+    let mine: Vec<&Row> = rows.iter().filter(|r| r.group == super::groups::ENGINES_GROUP).collect();
     if mine.is_empty() {
         return String::new();
     }

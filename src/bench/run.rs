@@ -272,7 +272,7 @@ fn measure<'c>(
         // colour with the albedo in): their error is FLIP's, on the final picture.
         (max_err, psnr) = (f32::NAN, f64::NAN);
     }
-    let caps = if cfg.group == super::configs::ENGINES_GROUP {
+    let caps = if cfg.group == super::groups::ENGINES_GROUP {
         cap_figures(gpu, cfg, scene, renderer, &stats)?
     } else {
         CapFigures::default()

@@ -232,107 +232,14 @@ impl Default for Limits {
 pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
     let mut r = Rng::new(seed, index);
     let mut aims = Vec::new();
-    // The settings come from a stream of their own, the same for SETTINGS_BLOCK cases in a row:
-    // each combination compiles its own pipelines (tens of ms each on lavapipe), which a block
-    // then reuses.
-    let settings = {
-        let mut r = Rng::new(seed ^ 0x5E77_1465, index / SETTINGS_BLOCK);
-        CaseSettings {
-            layout: r.pick(&LayoutChoice::ALL),
-            depth_format: r.pick(&DepthFormat::ALL),
-            reversed_z: r.chance(0.5),
-            // Every format; the float ones twice as often, as the 8-bit and 11-bit formats'
-            // bounds are coarser than many lights (a light below its bound cannot be told
-            // missed).
-            accumulation: r.pick(&[
-                AccumFormat::Rgba16Float,
-                AccumFormat::Rgba16Float,
-                AccumFormat::Rgba32Float,
-                AccumFormat::Rgba32Float,
-                AccumFormat::Rg11b10Ufloat,
-                AccumFormat::Rgba8Log,
-                AccumFormat::Rgba8Unorm,
-            ]),
-            shadows: r.pick(&[ShadowMode::None, ShadowMode::Spots, ShadowMode::All]),
-            // From a stream of its own, per case (a grid compiles nothing), so the rest of the
-            // case is what it was before grids were drawn.
-            grid: {
-                let mut g = Rng::new(seed ^ 0x6121_D5EE, index);
-                g.chance(0.5).then(|| {
-                    let first = if g.chance(0.5) { g.log(1e-3, 1e3) as f32 } else { 0.0 };
-                    (g.pick(&[8, 16, 32, 64, 80, 128]), g.pick(&[1, 3, 24, 64]), first)
-                })
-            },
-            // Per settings block, from a stream of its own (the rest of the case as before):
-            // a quarter of the blocks draw without depth clamp.
-            depth_clamp: Rng::new(seed ^ 0xDC1A_3F07, index / SETTINGS_BLOCK).chance(0.75),
-        }
-    };
+    let settings = case_settings(seed, index);
     // Masks that leave some layers out need a layout with a channel for the layer (the others
     // refuse such scenes, with a clear error, which a test covers).
     let masks = matches!(settings.layout, LayoutChoice::Compact | LayoutChoice::Fit | LayoutChoice::Reference);
     // The world: a scale so cases are not all room-sized.
     let scale = r.log(0.01, 100.0);
-    let mut camera = {
-        let pitch = if r.chance(0.125) {
-            aims.push("camera straight down or up".to_string());
-            r.pick(&[-1.0, 1.0]) * std::f64::consts::FRAC_PI_2
-        } else {
-            r.range(-1.0, 1.0) * std::f64::consts::FRAC_PI_2
-        };
-        let fov_deg = if r.chance(0.2) { r.pick(&[0.5, 1.0, 150.0, 170.0]) } else { r.range(20.0, 120.0) };
-        let near = if r.chance(0.3) { r.log(1e-4, 10.0) } else { scale * r.log(1e-3, 0.1) };
-        let far = near * r.log(10.0, 1e6);
-        let position = DVec3::new(r.range(-1.0, 1.0), r.range(0.1, 2.0), r.range(-1.0, 1.0)) * scale;
-        Camera { position, yaw: r.range(-3.2, 3.2), pitch, fov_y: fov_deg.to_radians(), near, far }
-    };
-    let forward = camera.forward();
-    // Boxes: a floor below the camera, walls ahead, blocks, thin walls, degenerate boxes.
-    let mut boxes = Vec::new();
-    let grey = |r: &mut Rng| [r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32];
-    let layers = if masks && r.chance(0.3) { 4 } else { 1 };
-    boxes.push(BoxSpec {
-        center: [camera.position.x, -0.5 * scale, camera.position.z],
-        size: [40.0 * scale, scale, 40.0 * scale],
-        yaw: 0.0,
-        layer: 0,
-        color: grey(&mut r),
-        specular: r.pick(&[0.0, 0.5]) as f32,
-    });
-    let blocks = 1 + r.below(8);
-    for _ in 0..blocks {
-        let depth = r.log(camera.near.max(1e-3 * scale), 20.0 * scale);
-        let side = r.range(-0.6, 0.6) * depth;
-        let center = camera.position + forward * depth + camera.right() * side + DVec3::Y * r.range(-0.5, 0.5) * depth;
-        let mut size = [r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale];
-        let kind = r.below(6);
-        if kind == 0 {
-            size[r.below(3)] = 1e-3 * scale;
-            aims.push("a thin wall".into());
-        } else if kind == 1 {
-            size[r.below(3)] = 0.0;
-            aims.push("a degenerate box".into());
-        }
-        boxes.push(BoxSpec {
-            center: center.to_array(),
-            size,
-            yaw: r.range(0.0, 3.2),
-            layer: r.below(layers) as u8,
-            color: grey(&mut r),
-            specular: r.pick(&[0.0, 0.3, 1.0]) as f32,
-        });
-    }
-    // Lights.
-    let count = (r.log(1.0, limits.max_lights as f64 + 1.0) as usize).clamp(1, limits.max_lights.max(1));
-    let mut lights: Vec<Light> = Vec::with_capacity(count);
-    let spots = r.pick(&[0.0, 0.5, 1.0]);
-    let cookies: Vec<String> = if r.chance(0.2) {
-        aims.push("cookies".into());
-        vec!["window".into(), "flashlight".into()]
-    } else {
-        Vec::new()
-    };
-    let range_lo = if r.chance(0.2) { 1e-4 } else { 1e-2 * scale };
+    let mut camera = random_camera(&mut r, scale, &mut aims);
+    let (boxes, layers) = random_boxes(&mut r, &camera, scale, masks, &mut aims);
     // The 8-bit formats saturate at 1 (linear) and about 8 (log): their lights are dimmer, so
     // that most pixels stay inside the range where a missed light shows.
     let dim = match settings.accumulation {
@@ -340,57 +247,8 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         AccumFormat::Rgba8Log => 0.1,
         _ => 1.0,
     };
-    while lights.len() < count {
-        let radius = r.log(range_lo, 1e4_f64.min(100.0 * scale.max(1.0))) as f32;
-        let position = match r.below(6) {
-            0 => {
-                // At the camera, or within the near plane of it: the camera inside the volume.
-                camera.position + r.direction() * camera.near * r.range(0.0, 2.0)
-            }
-            1 => camera.position - forward * r.log(1e-3, 10.0) * scale,
-            2 | 3 => {
-                // On, just in front of or just behind a box's face (its +Y or -Z face).
-                let b = &boxes[r.below(boxes.len())];
-                let c = DVec3::from_array(b.center);
-                let face = if r.chance(0.5) { DVec3::Y * b.size[1] * 0.5 } else { DVec3::Z * b.size[2] * 0.5 };
-                let dir = face.normalize_or(DVec3::Y);
-                let eps = r.pick(&[0.0, 1e-4, -1e-4, 1e-2, -1e-2]) * scale;
-                c + face + dir * eps + DVec3::new(r.range(-0.4, 0.4) * b.size[0], 0.0, 0.0)
-            }
-            _ => camera.position + r.direction() * r.log(1e-3, 30.0) * scale,
-        };
-        let color = Vec3::new(r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32);
-        let intensity = r.log(0.1, 20.0) as f32 * dim;
-        let mask = if layers > 1 && r.chance(0.5) { (r.next_u64() as u32) | 1 << r.below(4) } else { ALL_LAYERS };
-        let light = if r.chance(spots) {
-            let outer = if r.chance(0.2) { r.pick(&[0.0, 89.9]) } else { r.range(0.5, 89.9) };
-            let inner = outer * r.range(0.0, 1.0);
-            let direction = if r.chance(0.3) { (-forward).as_vec3() } else { r.direction().as_vec3() };
-            Light::Spot(SpotLight {
-                position,
-                direction,
-                color,
-                intensity,
-                radius,
-                inner_angle: (inner as f32).to_radians(),
-                outer_angle: (outer as f32).to_radians(),
-                cast_shadows: true,
-                cookie: None,
-                mask,
-            })
-        } else {
-            Light::Point(PointLight { position, color, intensity, radius, cookie: None, mask, cast_shadows: true })
-        };
-        let mut light = light;
-        if !cookies.is_empty() && r.chance(0.5) {
-            light.set_cookie(Some(r.below(cookies.len()) as u32));
-        }
-        // Some lights stacked at one point.
-        let copies = if r.chance(0.05) { 1 + r.below(16) } else { 1 };
-        for _ in 0..copies.min(count - lights.len()) {
-            lights.push(light);
-        }
-    }
+    let world = World { camera: &camera, boxes: &boxes, scale, layers };
+    let (mut lights, cookies) = random_lights(&mut r, &world, dim, limits.max_lights, &mut aims);
     // From a stream of its own, so the other draws are what they were before these were: such a
     // case differs only in its near plane and its last lights.
     let mut g = Rng::new(seed ^ 0x21A5_0DE9, index);
@@ -425,6 +283,198 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         lights,
         cookies,
         settings,
+    }
+}
+
+/// Case `index`'s settings. They come from a stream of their own, the same for
+/// [`SETTINGS_BLOCK`] cases in a row: each combination compiles its own pipelines (tens of ms
+/// each on lavapipe), which a block then reuses.
+fn case_settings(seed: u64, index: u64) -> CaseSettings {
+    let mut r = Rng::new(seed ^ 0x5E77_1465, index / SETTINGS_BLOCK);
+    CaseSettings {
+        layout: r.pick(&LayoutChoice::ALL),
+        depth_format: r.pick(&DepthFormat::ALL),
+        reversed_z: r.chance(0.5),
+        // Every format; the float ones twice as often, as the 8-bit and 11-bit formats'
+        // bounds are coarser than many lights (a light below its bound cannot be told
+        // missed).
+        accumulation: r.pick(&[
+            AccumFormat::Rgba16Float,
+            AccumFormat::Rgba16Float,
+            AccumFormat::Rgba32Float,
+            AccumFormat::Rgba32Float,
+            AccumFormat::Rg11b10Ufloat,
+            AccumFormat::Rgba8Log,
+            AccumFormat::Rgba8Unorm,
+        ]),
+        shadows: r.pick(&[ShadowMode::None, ShadowMode::Spots, ShadowMode::All]),
+        // From a stream of its own, per case (a grid compiles nothing), so the rest of the
+        // case is what it was before grids were drawn.
+        grid: {
+            let mut g = Rng::new(seed ^ 0x6121_D5EE, index);
+            g.chance(0.5).then(|| {
+                let first = if g.chance(0.5) { g.log(1e-3, 1e3) as f32 } else { 0.0 };
+                (g.pick(&[8, 16, 32, 64, 80, 128]), g.pick(&[1, 3, 24, 64]), first)
+            })
+        },
+        // Per settings block, from a stream of its own (the rest of the case as before):
+        // a quarter of the blocks draw without depth clamp.
+        depth_clamp: Rng::new(seed ^ 0xDC1A_3F07, index / SETTINGS_BLOCK).chance(0.75),
+    }
+}
+
+/// The camera: straight down or up now and then, fields of view from 0.5 to 170 degrees, near
+/// planes from 1e-4, far planes up to 10^6 times the near.
+fn random_camera(r: &mut Rng, scale: f64, aims: &mut Vec<String>) -> Camera {
+    let pitch = if r.chance(0.125) {
+        aims.push("camera straight down or up".to_string());
+        r.pick(&[-1.0, 1.0]) * std::f64::consts::FRAC_PI_2
+    } else {
+        r.range(-1.0, 1.0) * std::f64::consts::FRAC_PI_2
+    };
+    let fov_deg = if r.chance(0.2) { r.pick(&[0.5, 1.0, 150.0, 170.0]) } else { r.range(20.0, 120.0) };
+    let near = if r.chance(0.3) { r.log(1e-4, 10.0) } else { scale * r.log(1e-3, 0.1) };
+    let far = near * r.log(10.0, 1e6);
+    let position = DVec3::new(r.range(-1.0, 1.0), r.range(0.1, 2.0), r.range(-1.0, 1.0)) * scale;
+    Camera { position, yaw: r.range(-3.2, 3.2), pitch, fov_y: fov_deg.to_radians(), near, far }
+}
+
+/// The boxes: a floor below the camera, walls ahead, blocks, thin walls, degenerate boxes, on
+/// up to 4 layers where `masks` (the layout has a channel for the layer); and the layer count.
+fn random_boxes(
+    r: &mut Rng,
+    camera: &Camera,
+    scale: f64,
+    masks: bool,
+    aims: &mut Vec<String>,
+) -> (Vec<BoxSpec>, usize) {
+    let forward = camera.forward();
+    let mut boxes = Vec::new();
+    let grey = |r: &mut Rng| [r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32, r.range(0.2, 0.9) as f32];
+    let layers = if masks && r.chance(0.3) { 4 } else { 1 };
+    boxes.push(BoxSpec {
+        center: [camera.position.x, -0.5 * scale, camera.position.z],
+        size: [40.0 * scale, scale, 40.0 * scale],
+        yaw: 0.0,
+        layer: 0,
+        color: grey(r),
+        specular: r.pick(&[0.0, 0.5]) as f32,
+    });
+    let blocks = 1 + r.below(8);
+    for _ in 0..blocks {
+        let depth = r.log(camera.near.max(1e-3 * scale), 20.0 * scale);
+        let side = r.range(-0.6, 0.6) * depth;
+        let center = camera.position + forward * depth + camera.right() * side + DVec3::Y * r.range(-0.5, 0.5) * depth;
+        let mut size = [r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale, r.log(0.05, 4.0) * scale];
+        let kind = r.below(6);
+        if kind == 0 {
+            size[r.below(3)] = 1e-3 * scale;
+            aims.push("a thin wall".into());
+        } else if kind == 1 {
+            size[r.below(3)] = 0.0;
+            aims.push("a degenerate box".into());
+        }
+        boxes.push(BoxSpec {
+            center: center.to_array(),
+            size,
+            yaw: r.range(0.0, 3.2),
+            layer: r.below(layers) as u8,
+            color: grey(r),
+            specular: r.pick(&[0.0, 0.3, 1.0]) as f32,
+        });
+    }
+    (boxes, layers)
+}
+
+/// What a case's lights are placed among: the camera, the boxes, the world's scale and how
+/// many layers the boxes are on.
+struct World<'a> {
+    camera: &'a Camera,
+    boxes: &'a [BoxSpec],
+    scale: f64,
+    layers: usize,
+}
+
+/// The lights (1 to `max_lights`, log-distributed; a share of them spots, some stacked at one
+/// point, masks leaving layers out where there are layers, intensities times `dim`) and the
+/// cookies they may use.
+fn random_lights(
+    r: &mut Rng,
+    world: &World,
+    dim: f32,
+    max_lights: usize,
+    aims: &mut Vec<String>,
+) -> (Vec<Light>, Vec<String>) {
+    let count = (r.log(1.0, max_lights as f64 + 1.0) as usize).clamp(1, max_lights.max(1));
+    let mut lights: Vec<Light> = Vec::with_capacity(count);
+    let spots = r.pick(&[0.0, 0.5, 1.0]);
+    let cookies: Vec<String> = if r.chance(0.2) {
+        aims.push("cookies".into());
+        vec!["window".into(), "flashlight".into()]
+    } else {
+        Vec::new()
+    };
+    let range_lo = if r.chance(0.2) { 1e-4 } else { 1e-2 * world.scale };
+    let forward = world.camera.forward();
+    while lights.len() < count {
+        let radius = r.log(range_lo, 1e4_f64.min(100.0 * world.scale.max(1.0))) as f32;
+        let position = light_position(r, world);
+        let color = Vec3::new(r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32, r.range(0.2, 1.0) as f32);
+        let intensity = r.log(0.1, 20.0) as f32 * dim;
+        let layers = world.layers;
+        let mask = if layers > 1 && r.chance(0.5) { (r.next_u64() as u32) | 1 << r.below(4) } else { ALL_LAYERS };
+        let light = if r.chance(spots) {
+            let outer = if r.chance(0.2) { r.pick(&[0.0, 89.9]) } else { r.range(0.5, 89.9) };
+            let inner = outer * r.range(0.0, 1.0);
+            let direction = if r.chance(0.3) { (-forward).as_vec3() } else { r.direction().as_vec3() };
+            Light::Spot(SpotLight {
+                position,
+                direction,
+                color,
+                intensity,
+                radius,
+                inner_angle: (inner as f32).to_radians(),
+                outer_angle: (outer as f32).to_radians(),
+                cast_shadows: true,
+                cookie: None,
+                mask,
+            })
+        } else {
+            Light::Point(PointLight { position, color, intensity, radius, cookie: None, mask, cast_shadows: true })
+        };
+        let mut light = light;
+        if !cookies.is_empty() && r.chance(0.5) {
+            light.set_cookie(Some(r.below(cookies.len()) as u32));
+        }
+        // Some lights stacked at one point.
+        let copies = if r.chance(0.05) { 1 + r.below(16) } else { 1 };
+        for _ in 0..copies.min(count - lights.len()) {
+            lights.push(light);
+        }
+    }
+    (lights, cookies)
+}
+
+/// Where a light goes: at the camera, behind it, on or just off a box's face, or anywhere
+/// around the camera.
+fn light_position(r: &mut Rng, world: &World) -> DVec3 {
+    let (camera, scale) = (world.camera, world.scale);
+    match r.below(6) {
+        0 => {
+            // At the camera, or within the near plane of it: the camera inside the volume.
+            camera.position + r.direction() * camera.near * r.range(0.0, 2.0)
+        }
+        1 => camera.position - camera.forward() * r.log(1e-3, 10.0) * scale,
+        2 | 3 => {
+            // On, just in front of or just behind a box's face (its +Y or -Z face).
+            let b = &world.boxes[r.below(world.boxes.len())];
+            let c = DVec3::from_array(b.center);
+            let face = if r.chance(0.5) { DVec3::Y * b.size[1] * 0.5 } else { DVec3::Z * b.size[2] * 0.5 };
+            let dir = face.normalize_or(DVec3::Y);
+            let eps = r.pick(&[0.0, 1e-4, -1e-4, 1e-2, -1e-2]) * scale;
+            c + face + dir * eps + DVec3::new(r.range(-0.4, 0.4) * b.size[0], 0.0, 0.0)
+        }
+        _ => camera.position + r.direction() * r.log(1e-3, 30.0) * scale,
     }
 }
 

@@ -5,6 +5,7 @@ use super::culling::stats::{ForwardStats, LightStats};
 use super::culling::tiled::TileStats;
 use super::frame::{Prepared, Shape};
 use super::inputs::pass::PassReport;
+use super::kit::PipelineKey;
 use super::paths::prepass_pass::PrepassStats;
 use super::plan::LightPlan;
 use super::post::effects::EFFECTS;
@@ -41,22 +42,7 @@ impl Renderer {
             gbuffer_layout: key.layout.name.to_string(),
             gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
             depth_stencil_format: format!("{:?}", key.depth_format),
-            depth_read: if forward_path {
-                "none: the forward paths keep no G-buffer".into()
-            } else if key.layout.reads_depth_buffer() {
-                "depth buffer (its depth aspect; no copy)".into()
-            } else if let Some(copy) = key
-                .layout
-                .targets
-                .iter()
-                .find(|t| t.channels.iter().flatten().any(|s| s.attr == super::kit::gbuffer::Attr::Depth))
-            {
-                let why = super::key::depth_read_refusal(settings, &self.caps, key.depth_format)
-                    .unwrap_or_else(|| "the layout".into());
-                format!("{:?} copy ({why})", copy.format)
-            } else {
-                "none: the layout stores positions".into()
-            },
+            depth_read: self.depth_read(settings, key, forward_path),
             depth_clamp: key.depth_clamp,
             ambient_in_gbuffer: key.ambient_in_gbuffer,
             accumulation_format: format!("{:?}", key.accum_format),
@@ -101,21 +87,7 @@ impl Renderer {
         for l in &mut stats.per_light {
             (l.shadow_tiles, l.shadow_texels, l.caster_draws) = prepared.shadows.light_share(l.index);
         }
-        for (owner, ms) in self.scratch.shadows.read(&self.device, self.queue.get_timestamp_period())? {
-            use super::shadows::scratch::Owner;
-            match owner {
-                Owner::Light(i) => {
-                    if let Some(l) = stats.per_light.get_mut(i) {
-                        l.shadow_ms = Some(ms);
-                    }
-                }
-                Owner::Sun => {
-                    if let Some(sh) = stats.shadow.as_mut() {
-                        sh.sun_ms = Some(ms);
-                    }
-                }
-            }
-        }
+        self.read_shadow_times(&mut stats)?;
         if let Some(fp) = stats.forward_path.as_mut() {
             self.scratch.forward.read(&self.device, fp, settings.count_fragments)?;
             let lists = (&prepared.path_lists, &plan.light_lists[..]);
@@ -147,6 +119,47 @@ impl Renderer {
         }
         self.ledger(&mut stats, plan.tiled.is_some());
         Ok(stats)
+    }
+
+    /// How the light passes read depth, in words: the depth buffer itself, a copy (and why
+    /// not the buffer), or none.
+    fn depth_read(&self, settings: &Settings, key: &PipelineKey, forward_path: bool) -> String {
+        if forward_path {
+            "none: the forward paths keep no G-buffer".into()
+        } else if key.layout.reads_depth_buffer() {
+            "depth buffer (its depth aspect; no copy)".into()
+        } else if let Some(copy) = key
+            .layout
+            .targets
+            .iter()
+            .find(|t| t.channels.iter().flatten().any(|s| s.attr == super::kit::gbuffer::Attr::Depth))
+        {
+            let why = super::key::depth_read_refusal(settings, &self.caps, key.depth_format)
+                .unwrap_or_else(|| "the layout".into());
+            format!("{:?} copy ({why})", copy.format)
+        } else {
+            "none: the layout stores positions".into()
+        }
+    }
+
+    /// Each shadowed light's and the sun's shadow time, from the shadow pass's timestamps.
+    fn read_shadow_times(&self, stats: &mut FrameStats) -> Result<()> {
+        for (owner, ms) in self.scratch.shadows.read(&self.device, self.queue.get_timestamp_period())? {
+            use super::shadows::scratch::Owner;
+            match owner {
+                Owner::Light(i) => {
+                    if let Some(l) = stats.per_light.get_mut(i) {
+                        l.shadow_ms = Some(ms);
+                    }
+                }
+                Owner::Sun => {
+                    if let Some(sh) = stats.shadow.as_mut() {
+                        sh.sun_ms = Some(ms);
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The ledger's per-frame figures from the counts read back: each light's wasted pairs
@@ -283,9 +296,8 @@ pub struct FrameStats {
     pub pipelines: Pipelines,
 }
 
-/// The frame's queries, read back, turned into its figures: the spans, the forward and
-/// pre-pass counts, each light's counts. Long because it fills each measured figure in turn,
-/// each a few lines that read its slots.
+/// The frame's queries, read back, turned into its figures: the spans ([`fill_gpu_ms`]), the
+/// forward and pre-pass counts, each light's counts.
 fn fill_from_queries(stats: &mut FrameStats, plans: &[LightPlan], scene: &Scene, q: &Readback) {
     stats.per_light = plans
         .iter()
@@ -311,62 +323,7 @@ fn fill_from_queries(stats: &mut FrameStats, plans: &[LightPlan], scene: &Scene,
     }
     let (counts, ideal) = (q.counts, q.ideal);
     if q.times {
-        let span = |s: Span| q.span(s);
-        let between = |a: Option<u32>, b: Option<u32>| q.between(a, b);
-        use crate::renderer::paths::prepass_pass as prepass;
-        use crate::renderer::surfaces::{blended as forward, compose, gbuffer};
-        use crate::renderer::{culling, post, shadows};
-        let (gbuffer, compose) = (gbuffer::SPAN, compose::SPAN);
-        stats.gpu_ms.gbuffer = span(gbuffer);
-        stats.gpu_ms.lighting = span(culling::light_pass::SPAN);
-        stats.gpu_ms.compose = span(compose);
-        stats.gpu_ms.lists = span(culling::tiled::pass::SPAN).filter(|_| stats.lists_on_gpu);
-        if stats.prepass.is_some() {
-            // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
-            // what follows it (forward pass, tonemap or post chain) is the compose span.
-            stats.gpu_ms.prepass_final = span(prepass::SPAN);
-            stats.gpu_ms.compose = between(prepass::SPAN.end(), compose.end());
-        }
-        if stats.forward.is_some() {
-            stats.gpu_ms.forward = span(forward::SPAN);
-            // The forward pass runs between the HDR compose and the tonemap.
-            if let (Some(c), Some(f)) = (stats.gpu_ms.compose, stats.gpu_ms.forward) {
-                stats.gpu_ms.compose = Some((c - f).max(0.0));
-            }
-        }
-        stats.gpu_ms.total = between(gbuffer.begin(), compose.end());
-        if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
-            sh.gpu_ms = span(shadows::pass::SPAN);
-            stats.gpu_ms.shadows = sh.gpu_ms;
-        }
-        if let Some(fp) = stats.forward_path.as_mut() {
-            // The forward paths: each pass's own span; no light pass, and the G-buffer
-            // only when the post chain needed it (one of the passes then).
-            for p in &mut fp.passes {
-                p.gpu_ms = p.span.and_then(span);
-            }
-            stats.gpu_ms.lighting = None;
-            stats.gpu_ms.gbuffer = None;
-            stats.gpu_ms.total = fp.passes.first().and_then(|p| p.span).and_then(|s| between(s.begin(), compose.end()));
-        }
-        if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
-            stats.gpu_ms.total = Some(t + s);
-        }
-        if let Some(p) = &stats.post {
-            // The chain runs inside the compose span (HDR compose … its last pass).
-            let g = &mut stats.gpu_ms;
-            g.bloom = span(post::bloom::SPAN).filter(|_| p.bloom);
-            g.exposure = span(post::exposure::SPAN).filter(|_| p.auto_exposure);
-            g.tonemap = span(post::tonemap::SPAN);
-            g.effects = post::effects::EFFECTS
-                .iter()
-                .filter(|e| p.ran(e.name))
-                .filter_map(|e| Some((e.name.to_string(), span(Span(e.name))?)))
-                .collect();
-            let chain: f64 =
-                [g.bloom, g.exposure, g.tonemap].iter().flatten().sum::<f64>() + g.effects.values().sum::<f64>();
-            g.compose = g.compose.map(|c| (c - chain).max(0.0));
-        }
+        fill_gpu_ms(stats, q);
     }
     if let Some(f) = stats.forward.as_mut().filter(|_| q.forward > 0) {
         let layers = f.peel_layers.map_or(1, |n| n as usize);
@@ -405,6 +362,67 @@ fn fill_from_queries(stats: &mut FrameStats, plans: &[LightPlan], scene: &Scene,
     }
     if let (Some(s), Some(i)) = (stats.shaded_fragments, stats.ideal_fragments) {
         stats.efficiency = Some(if s == 0 { 1.0 } else { i as f64 / s as f64 });
+    }
+}
+
+/// The frame's GPU times from its timestamps: each pass's span, the light pre-pass's and the
+/// forward pass's shares of the compose span, the forward paths' passes, the post chain's.
+fn fill_gpu_ms(stats: &mut FrameStats, q: &Readback) {
+    let span = |s: Span| q.span(s);
+    let between = |a: Option<u32>, b: Option<u32>| q.between(a, b);
+    use crate::renderer::paths::prepass_pass as prepass;
+    use crate::renderer::surfaces::{blended as forward, compose, gbuffer};
+    use crate::renderer::{culling, post, shadows};
+    let (gbuffer, compose) = (gbuffer::SPAN, compose::SPAN);
+    stats.gpu_ms.gbuffer = span(gbuffer);
+    stats.gpu_ms.lighting = span(culling::light_pass::SPAN);
+    stats.gpu_ms.compose = span(compose);
+    stats.gpu_ms.lists = span(culling::tiled::pass::SPAN).filter(|_| stats.lists_on_gpu);
+    if stats.prepass.is_some() {
+        // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
+        // what follows it (forward pass, tonemap or post chain) is the compose span.
+        stats.gpu_ms.prepass_final = span(prepass::SPAN);
+        stats.gpu_ms.compose = between(prepass::SPAN.end(), compose.end());
+    }
+    if stats.forward.is_some() {
+        stats.gpu_ms.forward = span(forward::SPAN);
+        // The forward pass runs between the HDR compose and the tonemap.
+        if let (Some(c), Some(f)) = (stats.gpu_ms.compose, stats.gpu_ms.forward) {
+            stats.gpu_ms.compose = Some((c - f).max(0.0));
+        }
+    }
+    stats.gpu_ms.total = between(gbuffer.begin(), compose.end());
+    if let Some(sh) = stats.shadow.as_mut().filter(|s| s.tiles > 0) {
+        sh.gpu_ms = span(shadows::pass::SPAN);
+        stats.gpu_ms.shadows = sh.gpu_ms;
+    }
+    if let Some(fp) = stats.forward_path.as_mut() {
+        // The forward paths: each pass's own span; no light pass, and the G-buffer
+        // only when the post chain needed it (one of the passes then).
+        for p in &mut fp.passes {
+            p.gpu_ms = p.span.and_then(span);
+        }
+        stats.gpu_ms.lighting = None;
+        stats.gpu_ms.gbuffer = None;
+        stats.gpu_ms.total = fp.passes.first().and_then(|p| p.span).and_then(|s| between(s.begin(), compose.end()));
+    }
+    if let (Some(t), Some(s)) = (stats.gpu_ms.total, stats.gpu_ms.shadows) {
+        stats.gpu_ms.total = Some(t + s);
+    }
+    if let Some(p) = &stats.post {
+        // The chain runs inside the compose span (HDR compose … its last pass).
+        let g = &mut stats.gpu_ms;
+        g.bloom = span(post::bloom::SPAN).filter(|_| p.bloom);
+        g.exposure = span(post::exposure::SPAN).filter(|_| p.auto_exposure);
+        g.tonemap = span(post::tonemap::SPAN);
+        g.effects = post::effects::EFFECTS
+            .iter()
+            .filter(|e| p.ran(e.name))
+            .filter_map(|e| Some((e.name.to_string(), span(Span(e.name))?)))
+            .collect();
+        let chain: f64 =
+            [g.bloom, g.exposure, g.tonemap].iter().flatten().sum::<f64>() + g.effects.values().sum::<f64>();
+        g.compose = g.compose.map(|c| (c - chain).max(0.0));
     }
 }
 

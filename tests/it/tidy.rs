@@ -8,7 +8,12 @@
 //! - `kit/` imports a technique room, or anything of the renderer but `kit/` and `options/`;
 //! - the file-level import graph has a strongly connected set of more than
 //!   [`MAX_CYCLE_FILES`] files, or one that spans more than one entry of `src/` (a top-level
-//!   file is an entry of its own).
+//!   file is an entry of its own);
+//! - a function is longer than [`MAX_FN_LINES`] without a table's reason (`// table: <why>` as
+//!   its body's first line), or more than [`MAX_TABLES`] functions are tables;
+//! - a `.rs` file under `src/renderer/` is longer than [`MAX_FILE_LINES`] besides its
+//!   `#[cfg(test)]` items without naming its reason (`// tidy-filelength: <why>` among its first
+//!   lines), or more than [`MAX_LONG_FILES`] files do.
 //!
 //! The graph: a node per file under `src/` that defines something (a file that only declares
 //! modules and re-exports is not a node); an edge from a file to the file that defines an item
@@ -618,6 +623,328 @@ fn a_cycle_of_more_than_ten_files_or_across_two_entries_is_named() {
         ],
     );
     assert!(v.iter().any(|l| l.starts_with("src/scene/mod.rs:3:") && l.contains("across renderer, scene")), "{v:?}");
+}
+
+// Sizes: no function past `MAX_FN_LINES` lines, no renderer file past `MAX_FILE_LINES`.
+
+/// The longest function allowed, in lines from its signature's first line to its closing brace.
+pub const MAX_FN_LINES: usize = 120;
+/// Functions over [`MAX_FN_LINES`] allowed in the whole of `src/`, each a table that says why.
+pub const MAX_TABLES: usize = 4;
+/// What a function over the limit carries as the first line of its body, followed by the reason.
+const TABLE_MARK: &str = "// table:";
+/// The longest `.rs` file allowed under `src/renderer/`, its `#[cfg(test)]` items left out.
+pub const MAX_FILE_LINES: usize = 900;
+/// Renderer files over [`MAX_FILE_LINES`] allowed, each naming its reason.
+pub const MAX_LONG_FILES: usize = 3;
+/// What a file over the limit carries among its first lines (the comments and blank lines
+/// before its first item), followed by the reason, as rustc's tidy reads
+/// `// ignore-tidy-filelength`.
+const FILE_LENGTH_MARK: &str = "// tidy-filelength:";
+
+/// Every `.rs` file under `dir`, relative to it, in order.
+fn rust_files(dir: &Path, rel: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
+    let entries = std::fs::read_dir(dir.join(rel)).map_err(|e| format!("{}: {e}", dir.join(rel).display()))?;
+    let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+    paths.sort();
+    for path in paths {
+        let name = rel.join(path.file_name().expect("an entry's name"));
+        if path.is_dir() {
+            rust_files(dir, &name, out)?;
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(name);
+        }
+    }
+    Ok(())
+}
+
+/// One function's extent: its name (`Type::method` inside an `impl` or a trait), the lines of
+/// its signature's start and its closing brace, and whether its body opens with [`TABLE_MARK`]
+/// and a reason.
+struct FnSpan {
+    name: String,
+    first: usize,
+    last: usize,
+    table: bool,
+}
+
+/// Collects every function with a body in a file: free, in an `impl`, in a trait, in a nested
+/// module or inside another function. `#[cfg(test)]` items (the test modules) are left out.
+struct Functions<'a> {
+    lines: &'a [&'a str],
+    owner: Vec<String>,
+    out: Vec<FnSpan>,
+}
+
+impl Functions<'_> {
+    fn add(&mut self, ident: &syn::Ident, sig: &syn::Signature, block: &syn::Block) {
+        use syn::spanned::Spanned;
+        let first = sig.span().start().line;
+        let open = block.brace_token.span.open().start().line;
+        // `lines` is 0-based: the line after the opening brace's is `lines[open]`.
+        let table = self
+            .lines
+            .get(open)
+            .and_then(|l| l.trim_start().strip_prefix(TABLE_MARK))
+            .is_some_and(|reason| !reason.trim().is_empty());
+        let name = match self.owner.last() {
+            Some(owner) => format!("{owner}::{ident}"),
+            None => ident.to_string(),
+        };
+        self.out.push(FnSpan { name, first, last: block.brace_token.span.close().start().line, table });
+    }
+}
+
+impl<'ast> Visit<'ast> for Functions<'_> {
+    fn visit_item(&mut self, item: &'ast syn::Item) {
+        let attrs: &[syn::Attribute] = match item {
+            syn::Item::Mod(i) => &i.attrs,
+            syn::Item::Fn(i) => &i.attrs,
+            syn::Item::Impl(i) => &i.attrs,
+            syn::Item::Trait(i) => &i.attrs,
+            _ => &[],
+        };
+        if !is_cfg_test(attrs) {
+            syn::visit::visit_item(self, item);
+        }
+    }
+    fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
+        self.add(&f.sig.ident, &f.sig, &f.block);
+        syn::visit::visit_item_fn(self, f);
+    }
+    fn visit_item_impl(&mut self, i: &'ast syn::ItemImpl) {
+        let owner = match &*i.self_ty {
+            syn::Type::Path(p) => p.path.segments.last().map(|s| s.ident.to_string()),
+            _ => None,
+        };
+        self.owner.push(owner.unwrap_or_else(|| "impl".into()));
+        syn::visit::visit_item_impl(self, i);
+        self.owner.pop();
+    }
+    fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
+        if !is_cfg_test(&f.attrs) {
+            self.add(&f.sig.ident, &f.sig, &f.block);
+            syn::visit::visit_impl_item_fn(self, f);
+        }
+    }
+    fn visit_item_trait(&mut self, t: &'ast syn::ItemTrait) {
+        self.owner.push(t.ident.to_string());
+        syn::visit::visit_item_trait(self, t);
+        self.owner.pop();
+    }
+    fn visit_trait_item_fn(&mut self, f: &'ast syn::TraitItemFn) {
+        if let Some(block) = &f.default {
+            self.add(&f.sig.ident, &f.sig, block);
+        }
+        syn::visit::visit_trait_item_fn(self, f);
+    }
+}
+
+/// Every function of `src/` over [`MAX_FN_LINES`] without a table's reason, every table that
+/// is within the limit (its mark unneeded), and more than [`MAX_TABLES`] tables: one line each,
+/// `file:line: what`, naming the function and its length. `#[cfg(test)]` items are not
+/// counted: a test may be as long as what it sets up.
+pub fn long_functions(src: &Path) -> Result<Vec<String>, String> {
+    let mut files = Vec::new();
+    rust_files(src, Path::new(""), &mut files)?;
+    let mut bad = Vec::new();
+    let mut tables = Vec::new();
+    for rel in files {
+        let text = std::fs::read_to_string(src.join(&rel)).map_err(|e| format!("{}: {e}", rel.display()))?;
+        let file = parse(&src.join(&rel))?;
+        let lines: Vec<&str> = text.lines().collect();
+        let mut found = Functions { lines: &lines, owner: Vec::new(), out: Vec::new() };
+        found.visit_file(&file);
+        let rel = rel.to_string_lossy().replace('\\', "/");
+        for f in found.out {
+            let length = f.last + 1 - f.first;
+            let at = format!("src/{rel}:{}: `{}` is {length} lines", f.first, f.name);
+            match (length > MAX_FN_LINES, f.table) {
+                (true, false) => bad.push(format!(
+                    "{at}; at most {MAX_FN_LINES}, or a table with `{TABLE_MARK} <why>` as its body's first line"
+                )),
+                (false, true) => bad.push(format!("{at}: within {MAX_FN_LINES}, so its `{TABLE_MARK}` is not needed")),
+                (true, true) => tables.push(at),
+                (false, false) => {}
+            }
+        }
+    }
+    if tables.len() > MAX_TABLES {
+        for t in &tables {
+            bad.push(format!("{t}: one of {} tables over {MAX_FN_LINES} lines; at most {MAX_TABLES}", tables.len()));
+        }
+    }
+    Ok(bad)
+}
+
+/// A file's lines that count against [`MAX_FILE_LINES`]: all but its `#[cfg(test)]` items'
+/// (from the attribute to the closing brace).
+fn counted_lines(text: &str, file: &syn::File) -> usize {
+    use syn::spanned::Spanned;
+    let tests: usize = file
+        .items
+        .iter()
+        .filter_map(|item| {
+            let attrs: &[syn::Attribute] = match item {
+                syn::Item::Mod(i) => &i.attrs,
+                syn::Item::Fn(i) => &i.attrs,
+                syn::Item::Impl(i) => &i.attrs,
+                syn::Item::Use(i) => &i.attrs,
+                _ => return None,
+            };
+            let first = attrs.iter().find(|a| is_cfg_test(std::slice::from_ref(a)))?;
+            Some(item.span().end().line + 1 - first.span().start().line)
+        })
+        .sum();
+    text.lines().count() - tests
+}
+
+/// Whether a file's first lines (the comments and blank lines before its first item) carry
+/// [`FILE_LENGTH_MARK`] and a reason.
+fn names_its_length(text: &str) -> bool {
+    text.lines()
+        .map(str::trim_start)
+        .take_while(|l| l.is_empty() || l.starts_with("//"))
+        .any(|l| l.strip_prefix(FILE_LENGTH_MARK).is_some_and(|reason| !reason.trim().is_empty()))
+}
+
+/// Every `.rs` file under `src/renderer/` over [`MAX_FILE_LINES`] (its `#[cfg(test)]` items
+/// left out) that does not name its reason, every reason not needed, and more than
+/// [`MAX_LONG_FILES`] reasons: one line each, naming the file and its length.
+pub fn long_files(src: &Path) -> Result<Vec<String>, String> {
+    let mut files = Vec::new();
+    rust_files(src, Path::new("renderer"), &mut files)?;
+    let mut bad = Vec::new();
+    let mut named = Vec::new();
+    for rel in files {
+        let text = std::fs::read_to_string(src.join(&rel)).map_err(|e| format!("{}: {e}", rel.display()))?;
+        let length = counted_lines(&text, &parse(&src.join(&rel))?);
+        let at = format!("src/{}:1: {length} lines besides its tests", rel.to_string_lossy().replace('\\', "/"));
+        match (length > MAX_FILE_LINES, names_its_length(&text)) {
+            (true, false) => bad.push(format!(
+                "{at}; at most {MAX_FILE_LINES} under src/renderer/, or `{FILE_LENGTH_MARK} <why>` in its first lines"
+            )),
+            (false, true) => {
+                bad.push(format!("{at}: within {MAX_FILE_LINES}, so its `{FILE_LENGTH_MARK}` is not needed"))
+            }
+            (true, true) => named.push(at),
+            (false, false) => {}
+        }
+    }
+    if named.len() > MAX_LONG_FILES {
+        for f in &named {
+            bad.push(format!("{f}: one of {} long files; at most {MAX_LONG_FILES}", named.len()));
+        }
+    }
+    Ok(bad)
+}
+
+#[test]
+fn no_function_is_longer_than_its_limit_but_a_few_tables() {
+    let bad = long_functions(&src_dir()).unwrap_or_else(|e| panic!("reading src/: {e}"));
+    assert!(bad.is_empty(), "{} functions:\n{}", bad.len(), bad.join("\n"));
+}
+
+#[test]
+fn no_renderer_file_is_longer_than_its_limit_but_a_few_named() {
+    let bad = long_files(&src_dir()).unwrap_or_else(|e| panic!("reading src/: {e}"));
+    assert!(bad.is_empty(), "{} files:\n{}", bad.len(), bad.join("\n"));
+}
+
+/// What `check` finds in the planted tree with `files` added.
+fn planted_with(name: &str, files: &[(&str, &str)], check: fn(&Path) -> Result<Vec<String>, String>) -> Vec<String> {
+    let dir = planted(name, files);
+    let out = check(&dir).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    out
+}
+
+/// A function of `lines` lines from `fn` to its closing brace, its body opening with `first`.
+fn function_of(name: &str, lines: usize, first: &str) -> String {
+    let mut body = format!("/// A doc line, not counted.\npub fn {name}() {{\n{first}");
+    let filler = lines - 2 - first.lines().count();
+    body += &"    let _ = 0;\n".repeat(filler);
+    body + "}\n"
+}
+
+#[test]
+fn a_function_of_121_lines_is_named_with_its_length() {
+    assert_eq!(planted_with("sizes-clean", &[], long_functions), Vec::<String>::new());
+    let long = format!("pub fn helper() {{}}\n{}", function_of("sweep", 121, ""));
+    let v = planted_with("fn-121", &[("renderer/kit/mod.rs", &long)], long_functions);
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(v[0].starts_with("src/renderer/kit/mod.rs:3: `sweep` is 121 lines"), "{v:?}");
+    let method = format!("pub struct T;\nimpl T {{\n{}}}\n", function_of("read", 121, "").replace('\n', "\n    "));
+    let v = planted_with("method-121", &[("scene/mod.rs", &method)], long_functions);
+    assert!(v.len() == 1 && v[0].contains("`T::read` is 121 lines"), "{v:?}");
+    let exact = format!("pub fn helper() {{}}\n{}", function_of("sweep", 120, ""));
+    assert_eq!(planted_with("fn-120", &[("renderer/kit/mod.rs", &exact)], long_functions), Vec::<String>::new());
+    // A test module's functions are not counted.
+    let tests = format!("pub fn helper() {{}}\n#[cfg(test)]\nmod tests {{\n{}}}\n", function_of("t", 200, ""));
+    assert_eq!(planted_with("fn-test", &[("renderer/kit/mod.rs", &tests)], long_functions), Vec::<String>::new());
+}
+
+#[test]
+fn a_long_function_passes_as_one_of_four_tables_with_a_reason() {
+    let table = |name: &str| function_of(name, 130, "    // table: the sweep's rows, one a line\n");
+    let one = format!("pub fn helper() {{}}\n{}", table("sweep"));
+    assert_eq!(planted_with("table", &[("renderer/kit/mod.rs", &one)], long_functions), Vec::<String>::new());
+    // The mark without a reason, or not on the body's first line, does not count.
+    let bare = function_of("sweep", 130, "    // table:\n");
+    let v = planted_with("table-bare", &[("scene/mod.rs", &format!("pub struct Scene;\n{bare}"))], long_functions);
+    assert!(v.len() == 1 && v[0].contains("`sweep` is 130 lines"), "{v:?}");
+    let late = function_of("sweep", 130, "    let _ = 1;\n    // table: the rows\n");
+    let v = planted_with("table-late", &[("scene/mod.rs", &format!("pub struct Scene;\n{late}"))], long_functions);
+    assert!(v.len() == 1 && v[0].contains("`sweep` is 130 lines"), "{v:?}");
+    // A mark on a function within the limit is not needed.
+    let short = function_of("sweep", 20, "    // table: the rows\n");
+    let v = planted_with("table-short", &[("scene/mod.rs", &format!("pub struct Scene;\n{short}"))], long_functions);
+    assert!(v.len() == 1 && v[0].contains("`sweep` is 20 lines") && v[0].contains("not needed"), "{v:?}");
+    // Five tables are one too many: each is named.
+    let five: String = (0..5).map(|i| table(&format!("t{i}"))).collect();
+    let v = planted_with("tables-5", &[("scene/mod.rs", &format!("pub struct Scene;\n{five}"))], long_functions);
+    assert!(v.len() == 5 && v.iter().all(|l| l.contains("one of 5 tables")), "{v:?}");
+}
+
+/// A renderer file of `lines` lines: `head`, then constants.
+fn file_of(lines: usize, head: &str) -> String {
+    let mut text = head.to_string();
+    for i in 0..lines - head.lines().count() {
+        text += &format!("pub const C{i}: u32 = {i};\n");
+    }
+    text
+}
+
+#[test]
+fn a_renderer_file_of_901_lines_is_named_with_its_length() {
+    assert_eq!(planted_with("files-clean", &[], long_files), Vec::<String>::new());
+    let v = planted_with("file-901", &[("renderer/culling/long.rs", &file_of(901, ""))], long_files);
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(v[0].starts_with("src/renderer/culling/long.rs:1: 901 lines"), "{v:?}");
+    let tests = file_of(890, "") + "#[cfg(test)]\nmod tests {\n" + &"    // a test's line\n".repeat(60) + "}\n";
+    for (name, text) in [
+        ("file-900", file_of(900, "")),
+        ("file-named", file_of(1000, "//! A table.\n// tidy-filelength: one table, row by row\n")),
+        ("file-tests", tests),
+    ] {
+        assert_eq!(
+            planted_with(name, &[("renderer/culling/long.rs", &text)], long_files),
+            Vec::<String>::new(),
+            "{name}"
+        );
+    }
+    // Outside the renderer no file length is held.
+    let scene = file_of(1000, "pub struct Scene;\n");
+    assert_eq!(planted_with("file-scene", &[("scene/mod.rs", &scene)], long_files), Vec::<String>::new());
+    // A reason on a file within the limit is not needed; more than three reasons are too many.
+    let short = file_of(100, "// tidy-filelength: a table\n");
+    let v = planted_with("file-short", &[("renderer/culling/long.rs", &short)], long_files);
+    assert!(v.len() == 1 && v[0].contains("not needed"), "{v:?}");
+    let named = file_of(950, "// tidy-filelength: a table\n");
+    let four: Vec<(String, &str)> = (0..4).map(|i| (format!("renderer/culling/long{i}.rs"), named.as_str())).collect();
+    let borrowed: Vec<(&str, &str)> = four.iter().map(|(p, t)| (p.as_str(), *t)).collect();
+    let v = planted_with("files-4", &borrowed, long_files);
+    assert!(v.len() == 4 && v.iter().all(|l| l.contains("one of 4 long files")), "{v:?}");
 }
 
 /// Every name a Rust path in `docs/architecture.md` ends in (a backticked `a::b::name` or

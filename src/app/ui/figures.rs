@@ -14,6 +14,7 @@ use crate::app::state::Wireframes;
 use crate::renderer::post::effects::EFFECTS;
 use crate::renderer::CullingMode;
 use crate::renderer::DebugView;
+use crate::renderer::FrameStats;
 use crate::renderer::RenderPath;
 use egui::Color32;
 use egui::Pos2;
@@ -153,8 +154,8 @@ pub(super) fn right_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     });
 }
 
-/// The right panel's figures of the last frame. Long (about 130 lines) because it is one row
-/// per figure, in the order the panel shows them.
+/// The right panel's figures of the last frame: one row per figure, in the order the panel
+/// shows them (each path's and pass's own rows in [`pass_rows`]).
 pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
     let Some(s) = f.stats else {
         ui.label("no frame yet");
@@ -166,12 +167,6 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         *methods.entry(method_name(l.method)).or_default() += 1;
     }
     egui::Grid::new("figures").num_columns(2).striped(true).spacing([12.0, 2.0]).show(ui, |ui| {
-        let row = |ui: &mut egui::Ui, k: &str, v: String| {
-            ui.label(k);
-            // Truncated: an exact-size panel must never be pushed wider by its content.
-            ui.add(egui::Label::new(RichText::new(v).monospace()).truncate());
-            ui.end_row();
-        };
         row(
             ui,
             "lights shading",
@@ -197,91 +192,101 @@ pub(super) fn figures(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo) {
         row(ui, "GPU shadows", fmt_ms(s.gpu_ms.shadows));
         row(ui, "GPU lighting", fmt_ms(s.gpu_ms.lighting));
         row(ui, "GPU compose", fmt_ms(s.gpu_ms.compose));
-        if let Some(p) = &s.prepass {
-            // The light pre-pass: pass 1 is the g-buffer row, pass 2 the lighting row.
-            row(ui, "GPU pass 3 (final)", fmt_ms(s.gpu_ms.prepass_final));
-            row(ui, "pass 1 / 3 draws", format!("{} / {}", p.base_draw_calls, p.final_draw_calls));
-            let frags = |v: Option<u64>| v.map_or("-".into(), fmt_count);
-            row(ui, "pass 1 / 3 fragments", format!("{} / {}", frags(p.base_fragments), frags(p.final_fragments)));
-            row(
-                ui,
-                "B/pixel",
-                format!(
-                    "normal+exp {}, depth copy {}, light buffer {} ({}), HDR {}",
-                    p.normal_exp_bytes_per_pixel,
-                    p.depth_copy_bytes_per_pixel,
-                    p.light_buffer_bytes_per_pixel,
-                    p.light_buffer_format,
-                    p.hdr_bytes_per_pixel
-                ),
-            );
-            if p.samples > 1 {
-                row(ui, "pass 3 MSAA", format!("{} samples, {} B/pixel", p.samples, p.msaa_bytes_per_pixel));
-            }
-        }
-        if let Some(fw) = &s.forward {
-            // Blended surfaces: the forward pass, its fragments and the lights per fragment it
-            // may walk (the longest list).
-            row(ui, "GPU forward", fmt_ms(s.gpu_ms.forward));
-            row(ui, "forward fragments", fw.fragments.map_or("-".into(), fmt_count));
-            let longest =
-                if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
-            row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
-            if let Some(n) = fw.peel_layers {
-                // Depth peeling: samples behind the last layer are dropped.
-                let dropped = fw.unpeeled.map_or("-".into(), fmt_count);
-                row(ui, "peeled layers", format!("{n} · {dropped} dropped"));
-            }
-        }
-        if let Some(fp) = &s.forward_path {
-            // The forward paths: each pass's draws, samples shaded and time, the
-            // intermediate targets' bytes per pixel and the object light lists.
-            row(ui, "path", format!("{} (x{} samples)", fp.path.name(), fp.samples));
-            for p in &fp.passes {
-                let frags = p.fragments.map_or("-".into(), fmt_count);
-                row(
-                    ui,
-                    &format!("GPU {}", p.name),
-                    format!("{} · {} draws · {frags} frag", fmt_ms(p.gpu_ms), p.draw_calls),
-                );
-            }
-            row(ui, "target bytes/pixel", format!("{}", fp.bytes_per_pixel()));
-            row(
-                ui,
-                "object light lists",
-                format!("{} entries (longest {})", fmt_count(fp.list_entries), fp.longest_list),
-            );
-        }
-        if let Some(t) = &s.tiles {
-            // The tiled pass's lists: cells, summed and longest length (read back when counting).
-            let cells = if t.slices > 1 {
-                format!("{} clusters ({} px x {} slices)", fmt_count(t.cells), t.tile_size, t.slices)
-            } else {
-                format!("{} tiles ({} px)", fmt_count(t.cells), t.tile_size)
-            };
-            row(ui, "light lists", cells);
-            if t.entries > 0 || s.shaded_fragments.is_some() {
-                let over = if t.overflowed > 0 { format!(", {} full", t.overflowed) } else { String::new() };
-                row(ui, "list entries", format!("{} (longest {}){over}", fmt_count(t.entries), t.longest));
-            }
-        }
-        if let Some(post) = &s.post {
-            // The post chain's passes, each when it ran.
-            if post.bloom {
-                row(ui, "GPU bloom", fmt_ms(s.gpu_ms.bloom));
-            }
-            if post.auto_exposure {
-                row(ui, "GPU auto-exposure", fmt_ms(s.gpu_ms.exposure));
-            }
-            row(ui, "GPU tonemap", format!("{} ({})", fmt_ms(s.gpu_ms.tonemap), post.tonemap.name()));
-            for e in EFFECTS.iter().filter(|e| post.ran(e.name)) {
-                row(ui, &format!("GPU {}", e.title), fmt_ms(s.gpu_ms.effect(e.name)));
-            }
-        }
+        pass_rows(ui, s);
         row(ui, "GPU total", fmt_ms(s.gpu_ms.total));
         let c = &s.cpu_ms;
         row(ui, "CPU records / plan / upload", format!("{:.2} / {:.2} / {:.2} ms", c.records, c.plan, c.upload));
     });
+}
+
+/// One row of the figures' grid: a name and its value.
+fn row(ui: &mut egui::Ui, k: &str, v: String) {
+    ui.label(k);
+    // Truncated: an exact-size panel must never be pushed wider by its content.
+    ui.add(egui::Label::new(RichText::new(v).monospace()).truncate());
+    ui.end_row();
+}
+
+/// The figures' rows of what this frame ran: the light pre-pass's passes, the forward pass,
+/// the forward paths' passes, the tiled pass's lists, the post chain's passes.
+fn pass_rows(ui: &mut egui::Ui, s: &FrameStats) {
+    if let Some(p) = &s.prepass {
+        // The light pre-pass: pass 1 is the g-buffer row, pass 2 the lighting row.
+        row(ui, "GPU pass 3 (final)", fmt_ms(s.gpu_ms.prepass_final));
+        row(ui, "pass 1 / 3 draws", format!("{} / {}", p.base_draw_calls, p.final_draw_calls));
+        let frags = |v: Option<u64>| v.map_or("-".into(), fmt_count);
+        row(ui, "pass 1 / 3 fragments", format!("{} / {}", frags(p.base_fragments), frags(p.final_fragments)));
+        row(
+            ui,
+            "B/pixel",
+            format!(
+                "normal+exp {}, depth copy {}, light buffer {} ({}), HDR {}",
+                p.normal_exp_bytes_per_pixel,
+                p.depth_copy_bytes_per_pixel,
+                p.light_buffer_bytes_per_pixel,
+                p.light_buffer_format,
+                p.hdr_bytes_per_pixel
+            ),
+        );
+        if p.samples > 1 {
+            row(ui, "pass 3 MSAA", format!("{} samples, {} B/pixel", p.samples, p.msaa_bytes_per_pixel));
+        }
+    }
+    if let Some(fw) = &s.forward {
+        // Blended surfaces: the forward pass, its fragments and the lights per fragment it
+        // may walk (the longest list).
+        row(ui, "GPU forward", fmt_ms(s.gpu_ms.forward));
+        row(ui, "forward fragments", fw.fragments.map_or("-".into(), fmt_count));
+        let longest =
+            if fw.tiles > 0 { fw.longest_tile_list.min(fw.longest_object_list) } else { fw.longest_object_list };
+        row(ui, "forward lights", format!("{} ≤ {longest}/fragment", fw.lights.name()));
+        if let Some(n) = fw.peel_layers {
+            // Depth peeling: samples behind the last layer are dropped.
+            let dropped = fw.unpeeled.map_or("-".into(), fmt_count);
+            row(ui, "peeled layers", format!("{n} · {dropped} dropped"));
+        }
+    }
+    if let Some(fp) = &s.forward_path {
+        // The forward paths: each pass's draws, samples shaded and time, the
+        // intermediate targets' bytes per pixel and the object light lists.
+        row(ui, "path", format!("{} (x{} samples)", fp.path.name(), fp.samples));
+        for p in &fp.passes {
+            let frags = p.fragments.map_or("-".into(), fmt_count);
+            row(
+                ui,
+                &format!("GPU {}", p.name),
+                format!("{} · {} draws · {frags} frag", fmt_ms(p.gpu_ms), p.draw_calls),
+            );
+        }
+        row(ui, "target bytes/pixel", format!("{}", fp.bytes_per_pixel()));
+        row(ui, "object light lists", format!("{} entries (longest {})", fmt_count(fp.list_entries), fp.longest_list));
+    }
+    if let Some(t) = &s.tiles {
+        // The tiled pass's lists: cells, summed and longest length (read back when counting).
+        let cells = if t.slices > 1 {
+            format!("{} clusters ({} px x {} slices)", fmt_count(t.cells), t.tile_size, t.slices)
+        } else {
+            format!("{} tiles ({} px)", fmt_count(t.cells), t.tile_size)
+        };
+        row(ui, "light lists", cells);
+        if t.entries > 0 || s.shaded_fragments.is_some() {
+            let over = if t.overflowed > 0 { format!(", {} full", t.overflowed) } else { String::new() };
+            row(ui, "list entries", format!("{} (longest {}){over}", fmt_count(t.entries), t.longest));
+        }
+    }
+    if let Some(post) = &s.post {
+        // The post chain's passes, each when it ran.
+        if post.bloom {
+            row(ui, "GPU bloom", fmt_ms(s.gpu_ms.bloom));
+        }
+        if post.auto_exposure {
+            row(ui, "GPU auto-exposure", fmt_ms(s.gpu_ms.exposure));
+        }
+        row(ui, "GPU tonemap", format!("{} ({})", fmt_ms(s.gpu_ms.tonemap), post.tonemap.name()));
+        for e in EFFECTS.iter().filter(|e| post.ran(e.name)) {
+            row(ui, &format!("GPU {}", e.title), fmt_ms(s.gpu_ms.effect(e.name)));
+        }
+    }
 }
 
 /// The legend of the `material-id` view: each reflectance model's colour (`Brdf::debug_color`,

@@ -193,31 +193,7 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
     if st.settings.shadows == ShadowMode::None {
         ui.label(RichText::new("shadows are off: pick sun, spots or all below").color(Color32::from_rgb(255, 170, 80)));
     }
-    ui.horizontal(|ui| {
-        ui.label(format!("{0}x{0} {1:?}", a.side, a.format));
-        if let Some(s) = stats {
-            ui.label(format!("{:.1} MiB, {:.0}% used", s.atlas_bytes as f64 / 1048576.0, s.atlas_used * 100.0));
-            if s.cube_bytes > 0 {
-                ui.label(format!(
-                    "+ cube array {0}x{0} x{1}: {2:.1} MiB",
-                    s.cube_side,
-                    s.cube_layers,
-                    s.cube_bytes as f64 / 1048576.0
-                ));
-            }
-            if s.indirection_bytes > 0 {
-                ui.label(format!(
-                    "+ indirection cube {0}x{0}: {1:.1} MiB",
-                    s.indirection_side,
-                    s.indirection_bytes as f64 / 1048576.0
-                ))
-                .on_hover_text(
-                    "seed 002's G16R16 cube: the face and face coordinates of every direction, read \
-                         nearest; lookups within about half a texel of the face pick's (frame.md)",
-                );
-            }
-        }
-    });
+    atlas_sizes(ui, a, stats);
     // Contrast, stated: what grey means in this frame's image.
     match a.range {
         Some((lo, hi)) => ui.label(
@@ -253,37 +229,7 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
     for t in panel_tiles(a.tiles, a.side, image, view, st.selected_light) {
         painter.rect_stroke(t.rect, 0.0, Stroke::new(t.width, t.colour), egui::StrokeKind::Inside);
     }
-    // Zoom about the pointer, pan by dragging, fit on double-click.
-    if let Some(p) = resp.hover_pos() {
-        // Taken, so the window's own scroll area does not scroll too.
-        let scroll = ui.input_mut(|i| std::mem::take(&mut i.smooth_scroll_delta.y));
-        if scroll != 0.0 {
-            let before = to_atlas(p, image, a.side, view);
-            let zoom = (view.zoom * (scroll / 200.0).exp()).clamp(1.0, MAX_ZOOM);
-            let mut next = AtlasView { zoom, ..view };
-            let after = to_atlas(p, image, a.side, next);
-            let s = a.side.max(1) as f32;
-            let c = visible(view);
-            next.centre =
-                [(c[0] + c[2]) / 2.0 + (before[0] - after[0]) / s, (c[1] + c[3]) / 2.0 + (before[1] - after[1]) / s];
-            st.atlas_view = next;
-        }
-    }
-    if resp.dragged() {
-        let d = resp.drag_delta();
-        let c = visible(view);
-        let span = (c[2] - c[0], c[3] - c[1]);
-        st.atlas_view.centre = [
-            (c[0] + c[2]) / 2.0 - d.x / image.width().max(1.0) * span.0,
-            (c[1] + c[3]) / 2.0 - d.y / image.height().max(1.0) * span.1,
-        ];
-    }
-    if resp.double_clicked() {
-        st.atlas_view = AtlasView::default();
-    }
-    // The centre kept where `visible` puts it.
-    let c = visible(st.atlas_view);
-    st.atlas_view.centre = [(c[0] + c[2]) / 2.0, (c[1] + c[3]) / 2.0];
+    navigate(ui, &mut st.atlas_view, &resp, image, a.side);
     let cascades = stats.map_or(0, |s| s.sun_cascades);
     if let Some(p) = resp.hover_pos() {
         if let Some(k) = tile_at(a.tiles, a.side, image, view, p) {
@@ -309,6 +255,72 @@ fn atlas_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
     egui::CollapsingHeader::new("Shadow settings").id_salt("atlas-knobs").default_open(true).show(ui, |ui| {
         shadow_knobs(ui, st, "atlas");
     });
+}
+
+/// The atlas's size and format, its memory and use, and the cube array's and indirection
+/// cube's where there are.
+fn atlas_sizes(ui: &mut egui::Ui, a: &AtlasInfo, stats: Option<&ShadowStats>) {
+    ui.horizontal(|ui| {
+        ui.label(format!("{0}x{0} {1:?}", a.side, a.format));
+        if let Some(s) = stats {
+            ui.label(format!("{:.1} MiB, {:.0}% used", s.atlas_bytes as f64 / 1048576.0, s.atlas_used * 100.0));
+            if s.cube_bytes > 0 {
+                ui.label(format!(
+                    "+ cube array {0}x{0} x{1}: {2:.1} MiB",
+                    s.cube_side,
+                    s.cube_layers,
+                    s.cube_bytes as f64 / 1048576.0
+                ));
+            }
+            if s.indirection_bytes > 0 {
+                ui.label(format!(
+                    "+ indirection cube {0}x{0}: {1:.1} MiB",
+                    s.indirection_side,
+                    s.indirection_bytes as f64 / 1048576.0
+                ))
+                .on_hover_text(
+                    "seed 002's G16R16 cube: the face and face coordinates of every direction, read \
+                         nearest; lookups within about half a texel of the face pick's (frame.md)",
+                );
+            }
+        }
+    });
+}
+
+/// The image's navigation: zoom about the pointer, pan by dragging, fit on double-click; the
+/// centre kept where `visible` puts it.
+fn navigate(ui: &mut egui::Ui, atlas_view: &mut AtlasView, resp: &egui::Response, image: Rect, side: u32) {
+    let view = *atlas_view;
+    if let Some(p) = resp.hover_pos() {
+        // Taken, so the window's own scroll area does not scroll too.
+        let scroll = ui.input_mut(|i| std::mem::take(&mut i.smooth_scroll_delta.y));
+        if scroll != 0.0 {
+            let before = to_atlas(p, image, side, view);
+            let zoom = (view.zoom * (scroll / 200.0).exp()).clamp(1.0, MAX_ZOOM);
+            let mut next = AtlasView { zoom, ..view };
+            let after = to_atlas(p, image, side, next);
+            let s = side.max(1) as f32;
+            let c = visible(view);
+            next.centre =
+                [(c[0] + c[2]) / 2.0 + (before[0] - after[0]) / s, (c[1] + c[3]) / 2.0 + (before[1] - after[1]) / s];
+            *atlas_view = next;
+        }
+    }
+    if resp.dragged() {
+        let d = resp.drag_delta();
+        let c = visible(view);
+        let span = (c[2] - c[0], c[3] - c[1]);
+        atlas_view.centre = [
+            (c[0] + c[2]) / 2.0 - d.x / image.width().max(1.0) * span.0,
+            (c[1] + c[3]) / 2.0 - d.y / image.height().max(1.0) * span.1,
+        ];
+    }
+    if resp.double_clicked() {
+        *atlas_view = AtlasView::default();
+    }
+    // The centre kept where `visible` puts it.
+    let c = visible(*atlas_view);
+    atlas_view.centre = [(c[0] + c[2]) / 2.0, (c[1] + c[3]) / 2.0];
 }
 
 fn legend(ui: &mut egui::Ui, cascades: u32) {

@@ -76,163 +76,12 @@ pub(super) fn left_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out
     }
 }
 
+/// The scene tab: the scene's and the frame's knobs in one grid ([`scene_rows`],
+/// [`pipeline_rows`]), then ambient and sun, the engine caps, shadows and post.
 pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
     egui::Grid::new("scene-grid").num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
-        ui.label("lights");
-        if st.scene == "demo" {
-            let mut n = st.lights.unwrap_or(1024);
-            let r = ui
-                .add(egui::DragValue::new(&mut n).range(0..=MAX_LIGHTS).speed(4.0))
-                .on_hover_text("point lights in the demo (0..100000)");
-            if r.changed() {
-                st.lights = Some(n);
-            }
-        } else {
-            ui.label(format!("{} (fixed)", f.scene.map_or(0, |s| s.lights.len())));
-        }
-        ui.end_row();
-        ui.label("animate");
-        ui.checkbox(&mut st.animate, "lights move (Space)");
-        ui.end_row();
-        ui.label("culling");
-        if ui
-            .button("check against brute force")
-            .on_hover_text(
-                "every culling mode of this path at this camera against every light evaluated at every pixel: \
-                 pixels that miss light or get extra, with a difference image (lampshade check)",
-            )
-            .clicked()
-        {
-            out.commands.push(Command::CheckCulling);
-        }
-        ui.end_row();
-        ui.label("advise");
-        if ui
-            .button("which path and mode?")
-            .on_hover_text(
-                "every path and culling mode at this camera, at a sixteenth, a quarter and all of the lights: \
-                 a cost model fitted on short calibration frames predicts the fastest, then each is measured \
-                 (lampshade advise); runs beside the viewer",
-            )
-            .clicked()
-        {
-            out.commands.push(Command::Advise);
-        }
-        ui.end_row();
-        ui.label("time");
-        ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).max_decimals(2).suffix(" s"));
-            ui.add(egui::DragValue::new(&mut st.time_speed).range(-100.0..=100.0).speed(0.05).prefix("x"));
-        });
-        ui.end_row();
-        ui.label("resolution");
-        ui.add(egui::Slider::new(&mut st.resolution_scale, MIN_SCALE..=MAX_SCALE).fixed_decimals(2))
-            .on_hover_text("share of the viewport's pixels the scene renders at");
-        ui.end_row();
-        ui.label("exposure");
-        ui.add(
-            egui::Slider::new(&mut st.settings.exposure, slider("exposure"))
-                .clamping(egui::SliderClamping::Edits)
-                .logarithmic(true),
-        );
-        ui.end_row();
-        ui.label("radius x");
-        ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true))
-            .on_hover_text("every light's radius");
-        ui.end_row();
-        ui.label("intensity x");
-        ui.add(egui::Slider::new(&mut st.intensity_scale, 0.0..=20.0)).on_hover_text("every light's intensity");
-        ui.end_row();
-        ui.label("depth");
-        egui::ComboBox::from_id_salt("depth-format").selected_text(st.settings.depth_format.name()).show_ui(ui, |ui| {
-            for d in crate::renderer::DepthFormat::ALL {
-                ui.selectable_value(&mut st.settings.depth_format, d, d.name());
-            }
-        });
-        ui.end_row();
-        ui.label("depth read");
-        ui.horizontal(|ui| {
-            use crate::renderer::DepthRead;
-            egui::ComboBox::from_id_salt("depth-read").selected_text(st.settings.depth_read.name()).show_ui(ui, |ui| {
-                for &d in <DepthRead as clap::ValueEnum>::value_variants() {
-                    ui.selectable_value(&mut st.settings.depth_read, d, d.name()).on_hover_text(knob_help(&d));
-                }
-            });
-            // What the frame did, in short; the buffer, or the copy and why, on hover.
-            if let Some(s) = f.stats {
-                let short = if s.depth_read.starts_with("depth buffer") { "no copy" } else { "copy kept" };
-                ui.label(RichText::new(short).weak()).on_hover_text(&s.depth_read);
-            }
-        });
-        ui.end_row();
-        ui.label("light cut-off");
-        ui.add(
-            egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff"))
-                .clamping(egui::SliderClamping::Edits)
-                .fixed_decimals(4),
-        )
-        .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
-        ui.end_row();
-        ui.label("sphere / cone");
-        ui.horizontal(|ui| {
-            ui.add(
-                egui::DragValue::new(&mut st.settings.sphere_subdivisions)
-                    .range(0..=MAX_SPHERE_SUBDIVISIONS)
-                    .prefix("subdiv "),
-            );
-            ui.add(egui::DragValue::new(&mut st.settings.cone_sides).range(CONE_SIDES_RANGE).suffix(" sides"));
-        })
-        .response
-        .on_hover_text("tessellation of the light volumes");
-        ui.end_row();
-        ui.label("accumulation");
-        egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(ui, |ui| {
-            for a in AccumFormat::ALL {
-                let why = super::common::refused(f, &st.settings, "accumulation", a.name());
-                super::common::offer(ui, why, &mut st.settings.accumulation, a, a.name());
-            }
-        });
-        ui.end_row();
-        ui.label("G-buffer");
-        egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
-            for l in LayoutChoice::ALL {
-                let why = super::common::refused(f, &st.settings, "layout", l.name());
-                super::common::offer(ui, why, &mut st.settings.layout, l, l.name());
-            }
-        });
-        ui.end_row();
-        ui.label("blended");
-        ui.horizontal(|ui| {
-            use crate::renderer::settings::{BlendedMode, MAX_PEEL_LAYERS};
-            egui::ComboBox::from_id_salt("blended").selected_text(st.settings.blended.name()).show_ui(ui, |ui| {
-                for &b in <BlendedMode as clap::ValueEnum>::value_variants() {
-                    let why = super::common::refused(f, &st.settings, "blended", b.name());
-                    super::common::offer(ui, why, &mut st.settings.blended, b, b.name()).on_hover_text(knob_help(&b));
-                }
-            });
-            if st.settings.blended == BlendedMode::Peeled {
-                ui.add(egui::DragValue::new(&mut st.settings.peel_layers).range(1..=MAX_PEEL_LAYERS).suffix(" layers"))
-                    .on_hover_text("each pixel's nearest N blended fragments, in depth order; any behind them dropped");
-            }
-        });
-        ui.end_row();
-        if f.scene.is_some_and(crate::scene::lightmap::any) {
-            // Seed 004's lightmaps (`courtyard`, or a file's): realtime near, baked far.
-            ui.label("lightmaps");
-            ui.horizontal(|ui| {
-                ui.checkbox(&mut st.settings.lightmaps, "on");
-                ui.add_enabled(
-                    st.settings.lightmaps,
-                    egui::Slider::new(&mut st.settings.lightmap_distance, slider("lightmap-distance"))
-                        .logarithmic(true)
-                        .text("baked from"),
-                )
-                .on_hover_text(
-                    "view distance from which lightmapped surfaces are fully baked; the crossfade starts at 0.8 of it",
-                );
-            });
-            ui.end_row();
-        }
+        scene_rows(ui, st, f, out);
+        pipeline_rows(ui, st, f);
     });
     ui.separator();
     ui.label(RichText::new("Ambient and sun").strong());
@@ -250,6 +99,170 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
     ui.separator();
     ui.label(RichText::new("Post (bloom → exposure → tone map → grading → fog → DOF → vignette → AA)").strong());
     post_panel(ui, st, f);
+}
+
+/// The scene grid's rows of the scene: its lights, the checks against brute force and the
+/// advice, time, resolution, exposure, the lights' radius and intensity.
+fn scene_rows(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut) {
+    ui.label("lights");
+    if st.scene == "demo" {
+        let mut n = st.lights.unwrap_or(1024);
+        let r = ui
+            .add(egui::DragValue::new(&mut n).range(0..=MAX_LIGHTS).speed(4.0))
+            .on_hover_text("point lights in the demo (0..100000)");
+        if r.changed() {
+            st.lights = Some(n);
+        }
+    } else {
+        ui.label(format!("{} (fixed)", f.scene.map_or(0, |s| s.lights.len())));
+    }
+    ui.end_row();
+    ui.label("animate");
+    ui.checkbox(&mut st.animate, "lights move (Space)");
+    ui.end_row();
+    ui.label("culling");
+    if ui
+        .button("check against brute force")
+        .on_hover_text(
+            "every culling mode of this path at this camera against every light evaluated at every pixel: \
+             pixels that miss light or get extra, with a difference image (lampshade check)",
+        )
+        .clicked()
+    {
+        out.commands.push(Command::CheckCulling);
+    }
+    ui.end_row();
+    ui.label("advise");
+    if ui
+        .button("which path and mode?")
+        .on_hover_text(
+            "every path and culling mode at this camera, at a sixteenth, a quarter and all of the lights: \
+             a cost model fitted on short calibration frames predicts the fastest, then each is measured \
+             (lampshade advise); runs beside the viewer",
+        )
+        .clicked()
+    {
+        out.commands.push(Command::Advise);
+    }
+    ui.end_row();
+    ui.label("time");
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut st.time).range(-1e6..=1e6).speed(0.05).max_decimals(2).suffix(" s"));
+        ui.add(egui::DragValue::new(&mut st.time_speed).range(-100.0..=100.0).speed(0.05).prefix("x"));
+    });
+    ui.end_row();
+    ui.label("resolution");
+    ui.add(egui::Slider::new(&mut st.resolution_scale, MIN_SCALE..=MAX_SCALE).fixed_decimals(2))
+        .on_hover_text("share of the viewport's pixels the scene renders at");
+    ui.end_row();
+    ui.label("exposure");
+    ui.add(
+        egui::Slider::new(&mut st.settings.exposure, slider("exposure"))
+            .clamping(egui::SliderClamping::Edits)
+            .logarithmic(true),
+    );
+    ui.end_row();
+    ui.label("radius x");
+    ui.add(egui::Slider::new(&mut st.radius_scale, 0.05..=8.0).logarithmic(true)).on_hover_text("every light's radius");
+    ui.end_row();
+    ui.label("intensity x");
+    ui.add(egui::Slider::new(&mut st.intensity_scale, 0.0..=20.0)).on_hover_text("every light's intensity");
+    ui.end_row();
+}
+
+/// The scene grid's rows of how the frame is drawn and stored: depth format and read, light
+/// cut-off, volume tessellation, accumulation, G-buffer layout, blended surfaces, lightmaps.
+fn pipeline_rows(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    ui.label("depth");
+    egui::ComboBox::from_id_salt("depth-format").selected_text(st.settings.depth_format.name()).show_ui(ui, |ui| {
+        for d in crate::renderer::DepthFormat::ALL {
+            ui.selectable_value(&mut st.settings.depth_format, d, d.name());
+        }
+    });
+    ui.end_row();
+    ui.label("depth read");
+    ui.horizontal(|ui| {
+        use crate::renderer::DepthRead;
+        egui::ComboBox::from_id_salt("depth-read").selected_text(st.settings.depth_read.name()).show_ui(ui, |ui| {
+            for &d in <DepthRead as clap::ValueEnum>::value_variants() {
+                ui.selectable_value(&mut st.settings.depth_read, d, d.name()).on_hover_text(knob_help(&d));
+            }
+        });
+        // What the frame did, in short; the buffer, or the copy and why, on hover.
+        if let Some(s) = f.stats {
+            let short = if s.depth_read.starts_with("depth buffer") { "no copy" } else { "copy kept" };
+            ui.label(RichText::new(short).weak()).on_hover_text(&s.depth_read);
+        }
+    });
+    ui.end_row();
+    ui.label("light cut-off");
+    ui.add(
+        egui::Slider::new(&mut st.settings.light_cutoff, slider("light-cutoff"))
+            .clamping(egui::SliderClamping::Edits)
+            .fixed_decimals(4),
+    )
+    .on_hover_text("cut each light off where it falls below this fraction of its peak (0 = exact radius)");
+    ui.end_row();
+    ui.label("sphere / cone");
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::DragValue::new(&mut st.settings.sphere_subdivisions)
+                .range(0..=MAX_SPHERE_SUBDIVISIONS)
+                .prefix("subdiv "),
+        );
+        ui.add(egui::DragValue::new(&mut st.settings.cone_sides).range(CONE_SIDES_RANGE).suffix(" sides"));
+    })
+    .response
+    .on_hover_text("tessellation of the light volumes");
+    ui.end_row();
+    ui.label("accumulation");
+    egui::ComboBox::from_id_salt("accum").selected_text(st.settings.accumulation.name()).show_ui(ui, |ui| {
+        for a in AccumFormat::ALL {
+            let why = super::common::refused(f, &st.settings, "accumulation", a.name());
+            super::common::offer(ui, why, &mut st.settings.accumulation, a, a.name());
+        }
+    });
+    ui.end_row();
+    ui.label("G-buffer");
+    egui::ComboBox::from_id_salt("layout-left").selected_text(st.settings.layout.name()).show_ui(ui, |ui| {
+        for l in LayoutChoice::ALL {
+            let why = super::common::refused(f, &st.settings, "layout", l.name());
+            super::common::offer(ui, why, &mut st.settings.layout, l, l.name());
+        }
+    });
+    ui.end_row();
+    ui.label("blended");
+    ui.horizontal(|ui| {
+        use crate::renderer::settings::{BlendedMode, MAX_PEEL_LAYERS};
+        egui::ComboBox::from_id_salt("blended").selected_text(st.settings.blended.name()).show_ui(ui, |ui| {
+            for &b in <BlendedMode as clap::ValueEnum>::value_variants() {
+                let why = super::common::refused(f, &st.settings, "blended", b.name());
+                super::common::offer(ui, why, &mut st.settings.blended, b, b.name()).on_hover_text(knob_help(&b));
+            }
+        });
+        if st.settings.blended == BlendedMode::Peeled {
+            ui.add(egui::DragValue::new(&mut st.settings.peel_layers).range(1..=MAX_PEEL_LAYERS).suffix(" layers"))
+                .on_hover_text("each pixel's nearest N blended fragments, in depth order; any behind them dropped");
+        }
+    });
+    ui.end_row();
+    if f.scene.is_some_and(crate::scene::lightmap::any) {
+        // Seed 004's lightmaps (`courtyard`, or a file's): realtime near, baked far.
+        ui.label("lightmaps");
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut st.settings.lightmaps, "on");
+            ui.add_enabled(
+                st.settings.lightmaps,
+                egui::Slider::new(&mut st.settings.lightmap_distance, slider("lightmap-distance"))
+                    .logarithmic(true)
+                    .text("baked from"),
+            )
+            .on_hover_text(
+                "view distance from which lightmapped surfaces are fully baked; the crossfade starts at 0.8 of it",
+            );
+        });
+        ui.end_row();
+    }
 }
 
 /// The engine-style caps (`renderer::caps`): an engine's preset at once, each cap and the

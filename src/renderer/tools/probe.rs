@@ -3,7 +3,7 @@
 use crate::gpu::Gpu;
 use crate::renderer::frame::last::Last;
 use crate::renderer::inspect::*;
-use crate::renderer::kit::gbuffer::{Attr, NormalEncoding};
+use crate::renderer::kit::gbuffer::{Attr, GBufferTargets, NormalEncoding};
 use crate::renderer::volumes::{self, VolumeKind};
 use crate::scene::Brdf;
 use anyhow::{bail, Result};
@@ -76,35 +76,7 @@ impl<'a> Last<'a> {
             bail!("pixel ({x}, {y}) is outside the {}x{} frame", t.width, t.height);
         }
         let layout = &t.gbuffer.layout;
-        let mut comps: std::collections::HashMap<(Attr, u8), f32> = Default::default();
-        let mut raw = Vec::new();
-        for (i, (desc, tex)) in layout.targets.iter().zip(&t.gbuffer.textures).enumerate() {
-            let v = read_texel_aspect(gpu, tex, t.gbuffer.aspect(i), x, y)?;
-            raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
-            // Signed attributes are remapped in normalised channels only (as the WGSL does).
-            let float = crate::renderer::kit::gbuffer::is_float(desc.format);
-            for (c, slot) in desc.channels.iter().enumerate() {
-                if let Some(s) = slot {
-                    let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
-                    // Packed channels, as `gbuffer_load` unpacks them.
-                    match s.attr {
-                        Attr::MaterialExp => {
-                            comps.insert((Attr::Material, 0), val.floor() / 255.0);
-                            comps.insert((Attr::SpecExp, 0), val.fract() * (256.0 / 255.0));
-                        }
-                        _ => {
-                            comps.insert((s.attr, s.comp), val);
-                        }
-                    }
-                }
-            }
-        }
-        if let Some(&e) = comps.get(&(Attr::EmissiveScale, 0)) {
-            for c in 0..3 {
-                let a = comps.get(&(Attr::Albedo, c)).copied().unwrap_or(0.0);
-                comps.insert((Attr::Emissive, c), e * a);
-            }
-        }
+        let (comps, raw) = read_channels(gpu, &t.gbuffer, x, y)?;
         let get = |a: Attr, c: u8, default: f32| comps.get(&(a, c)).copied().unwrap_or(default);
         let v3 = |a: Attr| Vec3::new(get(a, 0, 0.0), get(a, 1, 0.0), get(a, 2, 0.0));
         let normal = match layout.normal {
@@ -201,6 +173,50 @@ impl<'a> Last<'a> {
             layer,
         })
     }
+}
+
+/// A pixel's G-buffer channels by (attribute, component), decoded as `gbuffer_load` decodes
+/// them (signed attributes remapped from normalised channels, packed channels unpacked, the
+/// emission from its scale of the albedo).
+type Channels = std::collections::HashMap<(Attr, u8), f32>;
+
+/// A target's texel as read: (the target's name, its format, the value).
+type RawTexel = (String, String, [f32; 4]);
+
+/// Pixel (`x`, `y`)'s channels in `gbuffer`'s targets ([`Channels`]), and each target's raw
+/// texel.
+fn read_channels(gpu: &Gpu, gbuffer: &GBufferTargets, x: u32, y: u32) -> Result<(Channels, Vec<RawTexel>)> {
+    let mut comps: Channels = Default::default();
+    let mut raw = Vec::new();
+    let layout = &gbuffer.layout;
+    for (i, (desc, tex)) in layout.targets.iter().zip(&gbuffer.textures).enumerate() {
+        let v = read_texel_aspect(gpu, tex, gbuffer.aspect(i), x, y)?;
+        raw.push((desc.name.to_string(), format!("{:?}", desc.format), v));
+        // Signed attributes are remapped in normalised channels only (as the WGSL does).
+        let float = crate::renderer::kit::gbuffer::is_float(desc.format);
+        for (c, slot) in desc.channels.iter().enumerate() {
+            if let Some(s) = slot {
+                let val = if s.attr.signed() && !float { v[c] * 2.0 - 1.0 } else { v[c] };
+                // Packed channels, as `gbuffer_load` unpacks them.
+                match s.attr {
+                    Attr::MaterialExp => {
+                        comps.insert((Attr::Material, 0), val.floor() / 255.0);
+                        comps.insert((Attr::SpecExp, 0), val.fract() * (256.0 / 255.0));
+                    }
+                    _ => {
+                        comps.insert((s.attr, s.comp), val);
+                    }
+                }
+            }
+        }
+    }
+    if let Some(&e) = comps.get(&(Attr::EmissiveScale, 0)) {
+        for c in 0..3 {
+            let a = comps.get(&(Attr::Albedo, c)).copied().unwrap_or(0.0);
+            comps.insert((Attr::Emissive, c), e * a);
+        }
+    }
+    Ok((comps, raw))
 }
 
 impl<'a> Last<'a> {

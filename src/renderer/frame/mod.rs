@@ -256,61 +256,19 @@ impl Renderer {
     /// Builds the frame's records and plans and uploads them. The renderer is configured for
     /// the frame (`configure`).
     pub(super) fn prepare(&mut self, scene: &Scene, settings: &Settings, shape: &Shape) -> Result<Prepared> {
-        let Some(gpu_scene) = &self.scene else { bail!("internal: scene missing after configure") };
         let size = shape.size;
         let whole = cputime::Clock::start();
-        // The same inputs as the frame before: its CPU part as it is (taken, so a frame that
-        // fails after this leaves nothing to reuse; `keep` puts it back).
-        let pipeline = self.sets.current.key();
-        if let Some(r) = self.last.reusable.take_if(|r| r.key.matches(scene, settings, size, pipeline)) {
-            let last = &mut self.last;
-            let records = FrameRecords {
-                camera: r.camera,
-                lights: std::mem::take(&mut last.lights),
-                objects: r.objects,
-                proj: last.proj,
-            };
-            let (plan, shadows) = (std::mem::take(&mut last.plan), std::mem::take(&mut last.shadows));
-            self.queries.ensure_lights(&self.device, plan.lights.len());
-            let cpu_ms = CpuMs { records: 0.0, plan: whole.ms(), upload: 0.0, wall: whole.wall_ms() };
-            return Ok(Prepared {
-                records,
-                plan,
-                path_lists: r.path_lists,
-                shadows,
-                cpu_ms,
-                options: settings.options(),
-                key: r.key,
-                reused: true,
-            });
+        if let Some(last) = self.reuse_last(scene, settings, size, &whole) {
+            return Ok(last);
         }
+        let Some(gpu_scene) = &self.scene else { bail!("internal: scene missing after configure") };
         let key = self.sets.current.key().clone();
         let clock = cputime::Clock::start();
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
         let mut records = FrameRecords::reusing(scene, &settings.options(), size, key.accum_format, spare_lights);
         super::records::stored_position_pads(&mut records.lights, key.layout.position_rounding(), &records.proj);
         let records_ms = clock.ms();
-        let view = PlanView {
-            proj: records.proj.as_mat4(),
-            near: scene.camera.near as f32,
-            far: scene.camera.far as f32,
-            size,
-            mode: settings.culling,
-            depth_clamp: key.depth_clamp,
-            forward_lights: settings.forward_lights,
-            // Seed 004's log encoding rounds every blend to 8 bits, so its sum depends on the
-            // order lights are blended in far more than fp16's: batching reorders them (up to 3
-            // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
-            light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
-            cluster_build: settings.cluster_build,
-            grid: crate::renderer::culling::tiled::GridChoice::of(&settings.culling_options(), settings.cap_order),
-            object_cap: (settings.lights_per_object, settings.cap_order),
-            loop_limit: self.caps.quirks.loop_limit,
-            near_fullscreen: settings.near_lights == NearLights::Fullscreen,
-            front_to_back: settings.draw_order == DrawOrder::FrontToBack,
-            sort_blended: settings.blended == BlendedMode::Alpha,
-            prepass_models: (settings.path == RenderPath::LightPrepass).then(|| settings.brdf.brdf()),
-        };
+        let view = plan_view(scene, settings, &records, (&key, self.caps.quirks.loop_limit), size);
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
         // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
@@ -385,6 +343,39 @@ impl Renderer {
         })
     }
 
+    /// The frame before's CPU part as it is, when this frame has the same inputs (taken, so a
+    /// frame that fails after this leaves nothing to reuse; `keep` puts it back).
+    fn reuse_last(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        size: (u32, u32),
+        whole: &cputime::Clock,
+    ) -> Option<Prepared> {
+        let pipeline = self.sets.current.key();
+        let r = self.last.reusable.take_if(|r| r.key.matches(scene, settings, size, pipeline))?;
+        let last = &mut self.last;
+        let records = FrameRecords {
+            camera: r.camera,
+            lights: std::mem::take(&mut last.lights),
+            objects: r.objects,
+            proj: last.proj,
+        };
+        let (plan, shadows) = (std::mem::take(&mut last.plan), std::mem::take(&mut last.shadows));
+        self.queries.ensure_lights(&self.device, plan.lights.len());
+        let cpu_ms = CpuMs { records: 0.0, plan: whole.ms(), upload: 0.0, wall: whole.wall_ms() };
+        Some(Prepared {
+            records,
+            plan,
+            path_lists: r.path_lists,
+            shadows,
+            cpu_ms,
+            options: settings.options(),
+            key: r.key,
+            reused: true,
+        })
+    }
+
     /// What the frame measures, by what `settings` ask for and the frame draws.
     pub(super) fn measured(&self, settings: &Settings, shape: &Shape, prepared: &Prepared) -> Measured {
         let lit = !prepared.plan.lights.is_empty();
@@ -437,6 +428,38 @@ impl Renderer {
             scratch: &self.scratch,
             reused: prepared.reused,
         })
+    }
+}
+
+/// What the culling plan needs of the frame beyond the scene: the camera's projection, the
+/// culling knobs and the adapter's loop limit.
+fn plan_view(
+    scene: &Scene,
+    settings: &Settings,
+    records: &FrameRecords,
+    (key, loop_limit): (&super::kit::pipeline::PipelineKey, Option<u64>),
+    size: (u32, u32),
+) -> PlanView {
+    PlanView {
+        proj: records.proj.as_mat4(),
+        near: scene.camera.near as f32,
+        far: scene.camera.far as f32,
+        size,
+        mode: settings.culling,
+        depth_clamp: key.depth_clamp,
+        forward_lights: settings.forward_lights,
+        // Seed 004's log encoding rounds every blend to 8 bits, so its sum depends on the
+        // order lights are blended in far more than fp16's: batching reorders them (up to 3
+        // 8-bit steps on demo with stencil-two-pass), so those frames stay unbatched.
+        light_batching: settings.light_batching && settings.accumulation != AccumFormat::Rgba8Log,
+        cluster_build: settings.cluster_build,
+        grid: crate::renderer::culling::tiled::GridChoice::of(&settings.culling_options(), settings.cap_order),
+        object_cap: (settings.lights_per_object, settings.cap_order),
+        loop_limit: loop_limit,
+        near_fullscreen: settings.near_lights == NearLights::Fullscreen,
+        front_to_back: settings.draw_order == DrawOrder::FrontToBack,
+        sort_blended: settings.blended == BlendedMode::Alpha,
+        prepass_models: (settings.path == RenderPath::LightPrepass).then(|| settings.brdf.brdf()),
     }
 }
 

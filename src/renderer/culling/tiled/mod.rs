@@ -803,7 +803,6 @@ mod tests {
             ..bytemuck::Zeroable::zeroed()
         }
     }
-    use crate::renderer::settings::ForwardLights;
     use crate::scene::Camera;
 
     #[test]
@@ -843,24 +842,7 @@ mod tests {
 
     fn view(size: (u32, u32)) -> PlanView {
         let cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
-        PlanView {
-            proj: cam.projection(size.0 as f64 / size.1 as f64, false).as_mat4(),
-            near: cam.near as f32,
-            far: cam.far as f32,
-            size,
-            mode: CullingMode::Clustered,
-            depth_clamp: true,
-            forward_lights: ForwardLights::Tiled,
-            light_batching: true,
-            cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
-            grid: Default::default(),
-            object_cap: (0, Default::default()),
-            loop_limit: None,
-            near_fullscreen: false,
-            front_to_back: false,
-            sort_blended: true,
-            prepass_models: None,
-        }
+        PlanView::for_test(&cam, size, CullingMode::Clustered)
     }
 
     #[test]

@@ -635,6 +635,17 @@ impl FramePlan {
     }
 }
 
+/// xorshift64 from `seed`: the culling tests' fixed pseudo-random sequence.
+#[cfg(test)]
+pub(crate) fn xorshift64(mut seed: u64) -> impl FnMut() -> u64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    }
+}
+
 #[cfg(test)]
 impl PlanView {
     /// The view the tests plan against: `cam`'s projection over `size` in `mode`, the rest as a
@@ -903,13 +914,8 @@ mod tests {
     /// ellipses cut near a corner are left to the polygon.
     #[test]
     fn the_closed_form_share_of_a_partly_visible_ellipse_is_its_clipped_area() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = xorshift64(0x2545_f491_4f6c_dd1d);
+        let mut rnd = || (next() >> 11) as f64 / (1u64 << 53) as f64;
         const N: usize = 4096;
         let widen = {
             let step = std::f64::consts::TAU / N as f64;

@@ -897,13 +897,8 @@ mod tests {
             let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / CLUSTER_TILE;
             Some(((tile(x0, size.0), tile(x1, size.0)), (tile(y0, size.1), tile(y1, size.1))))
         };
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::renderer::culling::plan::xorshift64(0x9e37_79b9_7f4a_7c15);
+        let mut rnd = || (next() >> 40) as f32 / (1u64 << 24) as f32;
         let mut corners: Vec<f32> = (0..4000).map(|_| 5.0 * rnd() - 2.5).collect();
         // Exactly on pixel edges and the screen's edges, beyond it, huge, NaN.
         corners.extend((0..=64).map(|k| -1.0 + k as f32 / 32.0));

@@ -57,6 +57,21 @@ pub(super) fn offer<T: PartialEq>(
     }
 }
 
+/// A choice box of every value of knob type `T` (its one name, its doc comment as the tooltip),
+/// selecting into `value`.
+pub(super) fn knob_choice<T: clap::ValueEnum + Copy + PartialEq>(
+    ui: &mut egui::Ui,
+    id: impl std::hash::Hash + std::fmt::Debug,
+    value: &mut T,
+) {
+    use crate::renderer::settings::{help_of, name_of};
+    egui::ComboBox::from_id_salt(id).selected_text(name_of(value)).show_ui(ui, |ui| {
+        for &v in T::value_variants() {
+            ui.selectable_value(value, v, name_of(&v)).on_hover_text(help_of(&v));
+        }
+    });
+}
+
 /// A status line message: what the last action did, or why it was rejected.
 #[derive(Clone, Debug)]
 pub struct Status {

@@ -19,7 +19,7 @@ use crate::app::state::UiState;
 use crate::renderer::inspect::{AtlasTile, TileOwner};
 use crate::renderer::knobs;
 use crate::renderer::shadows::{kind_casts, ShadowStats};
-use crate::renderer::{ShadowFilter, ShadowFormat, ShadowMode};
+use crate::renderer::ShadowMode;
 use crate::scene::Light;
 use crate::scene::Scene;
 use egui::Color32;
@@ -419,27 +419,13 @@ pub(super) fn shadow_knobs(ui: &mut egui::Ui, st: &mut UiState, salt: &str) {
     let s = &mut st.settings;
     egui::Grid::new((salt, "shadow-knobs")).num_columns(2).spacing([8.0, 4.0]).show(ui, |ui| {
         ui.label("casters");
-        egui::ComboBox::from_id_salt((salt, "shadows")).selected_text(s.shadows.name()).show_ui(ui, |ui| {
-            for m in [ShadowMode::None, ShadowMode::Sun, ShadowMode::Spots, ShadowMode::All] {
-                ui.selectable_value(&mut s.shadows, m, m.name()).on_hover_text(crate::renderer::settings::help_of(&m));
-            }
-        });
+        super::common::knob_choice(ui, (salt, "shadows"), &mut s.shadows);
         ui.end_row();
         ui.label("filter");
-        egui::ComboBox::from_id_salt((salt, "filter")).selected_text(s.shadow_filter.name()).show_ui(ui, |ui| {
-            for k in [ShadowFilter::Pcf2x2, ShadowFilter::Pcf3x3, ShadowFilter::Poisson16] {
-                ui.selectable_value(&mut s.shadow_filter, k, k.name())
-                    .on_hover_text(crate::renderer::settings::help_of(&k));
-            }
-        });
+        super::common::knob_choice(ui, (salt, "filter"), &mut s.shadow_filter);
         ui.end_row();
         ui.label("format");
-        egui::ComboBox::from_id_salt((salt, "format")).selected_text(s.shadow_format.name()).show_ui(ui, |ui| {
-            for f in [ShadowFormat::Depth32, ShadowFormat::Depth24, ShadowFormat::Depth16] {
-                ui.selectable_value(&mut s.shadow_format, f, f.name())
-                    .on_hover_text(crate::renderer::settings::help_of(&f));
-            }
-        });
+        super::common::knob_choice(ui, (salt, "format"), &mut s.shadow_format);
         ui.end_row();
         for (label, name, value) in [
             ("budget", "shadow-budget", &mut s.shadow_budget_mb),

@@ -313,11 +313,7 @@ fn engine_caps(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiO
         whole(ui, &mut s.lights_per_object, "forward paths: keep at most this many lights per object (0: all)");
         ui.end_row();
         ui.label("cap order");
-        egui::ComboBox::from_id_salt("cap-order").selected_text(s.cap_order.name()).show_ui(ui, |ui| {
-            for &o in <crate::renderer::settings::CapOrder as clap::ValueEnum>::value_variants() {
-                ui.selectable_value(&mut s.cap_order, o, o.name()).on_hover_text(knob_help(&o));
-            }
-        });
+        super::common::knob_choice(ui, "cap-order", &mut s.cap_order);
         ui.end_row();
         ui.label("cluster grid");
         ui.horizontal(|ui| {
@@ -393,11 +389,7 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         .on_hover_text("adaptation speed (fixed 1/60 s per frame)");
         ui.end_row();
         ui.label("tonemap");
-        egui::ComboBox::from_id_salt("tonemap").selected_text(s.tonemap.name()).show_ui(ui, |ui| {
-            for t in crate::renderer::post::Tonemap::ALL {
-                ui.selectable_value(&mut s.tonemap, t, t.name()).on_hover_text(knob_help(&t));
-            }
-        });
+        super::common::knob_choice(ui, "tonemap", &mut s.tonemap);
         ui.end_row();
         ui.label("distortion");
         ui.checkbox(&mut s.distortion, "on")
@@ -439,12 +431,7 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.add(egui::Slider::new(&mut s.vignette, slider("vignette")).clamping(egui::SliderClamping::Edits));
         ui.end_row();
         ui.label("anti-aliasing");
-        egui::ComboBox::from_id_salt("aa").selected_text(s.aa.name()).show_ui(ui, |ui| {
-            for a in [crate::renderer::post::Aa::Off, crate::renderer::post::Aa::Edge, crate::renderer::post::Aa::Fxaa]
-            {
-                ui.selectable_value(&mut s.aa, a, a.name()).on_hover_text(knob_help(&a));
-            }
-        });
+        super::common::knob_choice(ui, "aa", &mut s.aa);
         ui.end_row();
         ui.label("grading LUT");
         let id = ui.scope_id().with("lut-path");

@@ -635,6 +635,43 @@ impl FramePlan {
     }
 }
 
+/// xorshift64 from `seed`: the culling tests' fixed pseudo-random sequence.
+#[cfg(test)]
+pub(crate) fn xorshift64(mut seed: u64) -> impl FnMut() -> u64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    }
+}
+
+#[cfg(test)]
+impl PlanView {
+    /// The view the tests plan against: `cam`'s projection over `size` in `mode`, the rest as a
+    /// default frame has it.
+    pub(crate) fn for_test(cam: &crate::scene::Camera, size: (u32, u32), mode: CullingMode) -> PlanView {
+        PlanView {
+            proj: cam.projection(size.0 as f64 / size.1 as f64, false).as_mat4(),
+            near: cam.near as f32,
+            far: cam.far as f32,
+            size,
+            mode,
+            depth_clamp: true,
+            forward_lights: ForwardLights::Tiled,
+            light_batching: true,
+            cluster_build: crate::renderer::options::culling::ClusterBuilder::Cpu,
+            grid: Default::default(),
+            object_cap: (0, Default::default()),
+            loop_limit: None,
+            near_fullscreen: false,
+            front_to_back: false,
+            sort_blended: true,
+            prepass_models: None,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::footprint::clip_to_screen;
@@ -720,7 +757,7 @@ mod tests {
         let light = point(Vec3::new(0.0, 0.0, -17.7), 7.86);
         for (near, crosses) in [(2.25e-6, true), (0.1, false)] {
             cam.near = near;
-            let view = view_of(&cam, (64, 36), CullingMode::StencilTwoPass);
+            let view = PlanView::for_test(&cam, (64, 36), CullingMode::StencilTwoPass);
             let hull = plan_hull(&light, &mesh, &view);
             assert_eq!(hull.crosses_far, crosses, "near {near}");
             if crosses {
@@ -744,7 +781,7 @@ mod tests {
         let light = point(Vec3::new(0.0, 0.0, -0.1), 0.05);
         for (near, reversed, kept) in [(6e-9, false, true), (1e-3, false, false), (6e-9, true, false)] {
             cam.near = near;
-            let mut view = view_of(&cam, (64, 36), CullingMode::Auto);
+            let mut view = PlanView::for_test(&cam, (64, 36), CullingMode::Auto);
             view.proj = cam.projection(64.0 / 36.0, reversed).as_mat4();
             let plan = plan_hull(&light, &mesh, &view);
             assert_eq!(plan.screen_rect.is_some(), kept, "near {near}, reversed {reversed}");
@@ -761,7 +798,7 @@ mod tests {
         cam.near = 10.0;
         cam.far = 1000.0;
         for reversed in [false, true] {
-            let mut view = view_of(&cam, (64, 36), CullingMode::Auto);
+            let mut view = PlanView::for_test(&cam, (64, 36), CullingMode::Auto);
             view.proj = cam.projection(64.0 / 36.0, reversed).as_mat4();
             for (depth, radius, kept) in [(10.0 - 3e-6, 1e-6, true), (10.0 - 1e-2, 1e-3, false)] {
                 let light = point(Vec3::new(0.0, 0.0, -depth), radius);
@@ -772,27 +809,6 @@ mod tests {
                     assert_eq!(fast.screen_rect.is_some(), kept, "depth {depth}, reversed {reversed}");
                 }
             }
-        }
-    }
-
-    fn view_of(cam: &Camera, size: (u32, u32), mode: CullingMode) -> PlanView {
-        PlanView {
-            proj: cam.projection(size.0 as f64 / size.1 as f64, false).as_mat4(),
-            near: cam.near as f32,
-            far: cam.far as f32,
-            size,
-            mode,
-            depth_clamp: true,
-            forward_lights: ForwardLights::Tiled,
-            light_batching: true,
-            cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
-            grid: Default::default(),
-            object_cap: (0, Default::default()),
-            loop_limit: None,
-            near_fullscreen: false,
-            front_to_back: false,
-            sort_blended: true,
-            prepass_models: None,
         }
     }
 
@@ -820,7 +836,7 @@ mod tests {
         // per-pixel ray count of the mesh, as the hull is held above (same bound).
         let size = (320u32, 180u32);
         let cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
-        let view = view_of(&cam, size, CullingMode::Auto);
+        let view = PlanView::for_test(&cam, size, CullingMode::Auto);
         let total = (size.0 * size.1) as f32;
         let mut taken = 0;
         for subdivisions in 0..=2 {
@@ -863,7 +879,7 @@ mod tests {
     fn the_analytic_plan_agrees_with_the_hull_on_demo_with_sixteen_thousand_lights() {
         let scene = crate::scene::builtin::demo(16_384, 0.0);
         let size = (1280u32, 720u32);
-        let view = view_of(&scene.camera, size, CullingMode::Auto);
+        let view = PlanView::for_test(&scene.camera, size, CullingMode::Auto);
         let mesh = VolumeMesh::sphere(1);
         let radii = SphereRadii::of(&mesh);
         let rot = scene.camera.rotation();
@@ -898,13 +914,8 @@ mod tests {
     /// ellipses cut near a corner are left to the polygon.
     #[test]
     fn the_closed_form_share_of_a_partly_visible_ellipse_is_its_clipped_area() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = xorshift64(0x2545_f491_4f6c_dd1d);
+        let mut rnd = || (next() >> 11) as f64 / (1u64 << 53) as f64;
         const N: usize = 4096;
         let widen = {
             let step = std::f64::consts::TAU / N as f64;

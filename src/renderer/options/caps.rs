@@ -20,11 +20,5 @@ pub enum CapOrder {
     Brightest,
 }
 
-/// The engine light caps' options: how many lights, how far, kept in which order. Each field
-/// is `Settings`' of the same name, which documents it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CapsOptions {
-    pub max_lights: u32,
-    pub light_distance: f32,
-    pub cap_order: CapOrder,
-}
+/// Declared with the other options types from the fields of `fields.rs`.
+pub use super::CapsOptions;

@@ -144,23 +144,5 @@ pub const FORWARD_LOOP_LIGHTS: u32 = 65_000;
 /// ([`long_forward_list_warnings`]), not split.
 pub const FORWARD_LIST_MAX: u32 = 2 * FORWARD_LOOP_LIGHTS;
 
-/// The light culling's options: the mode, the bounding volumes, the lists' grids and caps.
-/// Each field is `Settings`' of the same name, which documents it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CullingOptions {
-    pub culling: CullingMode,
-    pub near_lights: NearLights,
-    pub light_cutoff: f32,
-    pub tile_view_depth: f32,
-    pub sphere_subdivisions: u32,
-    pub cone_sides: u32,
-    pub forward_lights: ForwardLights,
-    pub light_batching: bool,
-    pub cluster_build: ClusterBuilder,
-    pub lights_per_cluster: u32,
-    pub lights_per_object: u32,
-    pub cluster_tile: u32,
-    pub cluster_budget: u32,
-    pub cluster_slices: u32,
-    pub first_slice_depth: f32,
-}
+/// Declared with the other options types from the fields of `fields.rs`.
+pub use super::CullingOptions;

@@ -6,6 +6,8 @@
 //!
 //! Imports nothing of the renderer but `kit/`.
 
+mod fields;
+
 pub mod caps;
 pub mod culling;
 pub mod post;
@@ -19,6 +21,8 @@ use caps::CapOrder;
 use culling::{ClusterBuilder, CullingMode, ForwardLights, NearLights};
 use post::{Aa, Tonemap};
 use shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode};
+
+pub(crate) use fields::{by_technique, settings_fields};
 
 /// The one name of a knob's value, used by the CLI, settings files, scripts, the viewer and the
 /// bench: clap's `ValueEnum` name, which is the kebab-case name serde writes (the
@@ -439,34 +443,51 @@ knob_names!(
     CapOrder => "cap order",
 );
 
-/// What every pass of a frame may read: the path, the view, the formats and what is measured.
-/// Each field is `Settings`' of the same name, which documents it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameOptions {
-    pub path: RenderPath,
-    pub msaa: Msaa,
-    pub debug_view: DebugView,
-    pub selected_light: Option<usize>,
-    pub reversed_z: bool,
-    pub count_fragments: bool,
-    pub count_ideal: bool,
-    pub per_light_stats: bool,
-    pub timestamps: bool,
-    pub accumulation: AccumFormat,
-    pub depth_clamp: bool,
-    pub depth_format: DepthFormat,
-    pub depth_read: DepthRead,
-    pub layout: LayoutChoice,
+/// Declares each technique's options type from the lists of [`by_technique`]. Each field is
+/// `Settings`' of the same name.
+macro_rules! options_types {
+    (frame $frame:tt culling $culling:tt caps $caps:tt shadows $shadows:tt post $post:tt surfaces $surfaces:tt) => {
+        options_types!(@one $frame
+            /// What every pass of a frame may read: the path, the view, the formats and what is
+            /// measured.
+            FrameOptions);
+        options_types!(@one $culling
+            /// The light culling's options: the mode, the bounding volumes, the lists' grids and caps.
+            CullingOptions);
+        options_types!(@one $caps
+            /// The engine light caps' options: how many lights, how far, kept in which order.
+            CapsOptions);
+        options_types!(@one $shadows
+            /// The shadows' options: who casts, the atlas's budget and format, the biases,
+            /// filter, cascades and cube layout.
+            ShadowOptions);
+        options_types!(@one $post
+            /// The post chain's options: exposure and tone curve, bloom, grading, fog, depth of
+            /// field, vignette, anti-aliasing, distortion.
+            PostOptions);
+        options_types!(@one $surfaces
+            /// The surfaces' options: how they are drawn, sorted, blended, lightmapped and shaded.
+            SurfaceOptions);
+    };
+    (@one { $($(#[$m:meta])* $f:ident: $t:ty,)* } $(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Debug, PartialEq)]
+        pub struct $name {
+            $($(#[$m])* pub $f: $t,)*
+        }
+    };
 }
+
+settings_fields!(by_technique @sort options_types {} {} {} {} {} {});
 
 /// Every technique's options for one frame, built from `Settings` (`Settings::options`). The
 /// frame's passes get it through `FrameInputs`; each reads `frame` and its own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     pub frame: FrameOptions,
-    pub culling: culling::CullingOptions,
-    pub caps: caps::CapsOptions,
-    pub shadows: shadows::ShadowOptions,
-    pub post: post::PostOptions,
-    pub surfaces: surfaces::SurfaceOptions,
+    pub culling: CullingOptions,
+    pub caps: CapsOptions,
+    pub shadows: ShadowOptions,
+    pub post: PostOptions,
+    pub surfaces: SurfaceOptions,
 }

@@ -35,27 +35,5 @@ pub enum Aa {
     Fxaa = 2,
 }
 
-/// The post chain's options: exposure and tone curve, bloom, grading, fog, depth of field,
-/// vignette, anti-aliasing, distortion. Each field is `Settings`' of the same name, which
-/// documents it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PostOptions {
-    pub exposure: f32,
-    pub tonemap: Tonemap,
-    pub auto_exposure: bool,
-    pub adaptation_speed: f32,
-    pub target_luminance: f32,
-    pub bloom: bool,
-    pub bloom_threshold: f32,
-    pub bloom_intensity: f32,
-    pub lut: Option<String>,
-    pub fog: bool,
-    pub fog_density: f32,
-    pub fog_height_falloff: f32,
-    pub dof: bool,
-    pub focus_distance: f32,
-    pub aperture: f32,
-    pub vignette: f32,
-    pub aa: Aa,
-    pub distortion: bool,
-}
+/// Declared with the other options types from the fields of `fields.rs`.
+pub use super::PostOptions;

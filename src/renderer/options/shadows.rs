@@ -72,18 +72,5 @@ pub enum ShadowCube {
     Indirect,
 }
 
-/// The shadows' options: who casts, the atlas's budget and format, the biases, filter,
-/// cascades and cube layout. Each field is `Settings`' of the same name, which documents it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ShadowOptions {
-    pub shadows: ShadowMode,
-    pub shadow_budget_mb: f32,
-    pub shadow_bias: f32,
-    pub shadow_slope_bias: f32,
-    pub shadow_normal_offset: f32,
-    pub shadow_filter: ShadowFilter,
-    pub shadow_format: ShadowFormat,
-    pub shadow_cascades: u32,
-    pub shadow_split_lambda: f32,
-    pub shadow_cube: ShadowCube,
-}
+/// Declared with the other options types from the fields of `fields.rs`.
+pub use super::ShadowOptions;

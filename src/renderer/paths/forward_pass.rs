@@ -433,7 +433,7 @@ impl ForwardPathsPass {
                 let blended = crate::renderer::surfaces::blended::SPAN;
                 let query = f.forward_counts.then_some((&f.queries.forward, 0));
                 let (label, colour) = ("forward (blended, multisampled)", [at.color(false, true)]);
-                let mut pass = begin(encoder, f, label, &colour, at.depth(false), blended, query);
+                let mut pass = begin(encoder, f, label, &colour, at.depth(false), blended, query.into());
                 f.scene.draw(&mut pass, &f.plan.draws.forward, &pipes.blended);
                 if query.is_some() {
                     pass.end_occlusion_query();
@@ -551,7 +551,7 @@ impl ForwardPathsPass {
     ) {
         let opaque = &f.plan.draws.gbuffer;
         let query = Self::query(f, 0);
-        let mut pass = begin(encoder, f, "forward depth", &[], at.depth(true), DEPTH, query);
+        let mut pass = begin(encoder, f, "forward depth", &[], at.depth(true), DEPTH, query.into());
         f.scene.draw(&mut pass, opaque, &pipes.depth);
         stats.passes.push(end(pass, query, "depth", opaque.len() as u64, DEPTH));
     }
@@ -580,7 +580,7 @@ impl ForwardPathsPass {
         if let Some(set) = counts.set.filter(|_| !multipass) {
             // Counted object by object (the lights' counts: each object's samples, once for
             // every light of its list), drawn in the order below.
-            let mut pass = begin_with(encoder, f, label, &colour, at.depth(!prepass), SHADE, Some(set));
+            let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, Occlusion::Set(set));
             let order: Vec<Draw> = if prepass { opaque.iter().rev().copied().collect() } else { opaque.clone() };
             let queries = self.draw_counted(&mut pass, f, &order, pipelines, &mut counts.counted, Counted::Object);
             drop(pass);
@@ -594,7 +594,7 @@ impl ForwardPathsPass {
             return;
         }
         let query = Self::query(f, 1);
-        let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, query);
+        let mut pass = begin(encoder, f, label, &colour, at.depth(!prepass), SHADE, query.into());
         let pipelines = match (multipass, prepass) {
             (true, _) => &pipes.base,
             (false, true) => &pipes.single,
@@ -653,8 +653,8 @@ impl ForwardPathsPass {
         // Counted pair by pair (the lights' counts), or the pass whole.
         let query = Self::query(f, 2).filter(|_| per_draw.is_none());
         let mut pass = match per_draw {
-            Some(set) => begin_with(encoder, f, label, &colour, at.depth(false), PAIRS, Some(set)),
-            None => begin(encoder, f, label, &colour, at.depth(false), PAIRS, query),
+            Some(set) => begin(encoder, f, label, &colour, at.depth(false), PAIRS, Occlusion::Set(set)),
+            None => begin(encoder, f, label, &colour, at.depth(false), PAIRS, query.into()),
         };
         let first = counted.len() as u32;
         pass.set_vertex_buffer(0, f.scene.vertices.slice(..));
@@ -814,8 +814,25 @@ impl<'a> Attachments<'a> {
     }
 }
 
-/// Begins one of the forward passes with the frame's bind group, timed as `span`, with
-/// occlusion query `query` (set, index) begun when given (the caller ends it).
+/// The occlusion queries a forward pass is begun with.
+#[derive(Clone, Copy)]
+enum Occlusion<'q> {
+    /// No query set: the pass counts nothing.
+    Off,
+    /// The query set, no query begun: the pass queries its draws.
+    Set(&'q wgpu::QuerySet),
+    /// Query `.1` of set `.0` begun with the pass (the caller ends it, see [`end`]).
+    Begin(&'q wgpu::QuerySet, u32),
+}
+
+impl<'q> From<Option<(&'q wgpu::QuerySet, u32)>> for Occlusion<'q> {
+    fn from(query: Option<(&'q wgpu::QuerySet, u32)>) -> Self {
+        query.map_or(Occlusion::Off, |(set, i)| Occlusion::Begin(set, i))
+    }
+}
+
+/// Begins one of the forward passes with the frame's bind group, timed as `span`, with the
+/// occlusion queries of `occlusion`.
 fn begin<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     f: &FrameInputs<'_>,
@@ -823,25 +840,12 @@ fn begin<'e>(
     color: &[Option<wgpu::RenderPassColorAttachment<'_>>],
     depth: wgpu::RenderPassDepthStencilAttachment<'_>,
     span: Span,
-    query: Option<(&wgpu::QuerySet, u32)>,
+    occlusion: Occlusion<'_>,
 ) -> wgpu::RenderPass<'e> {
-    let mut pass = begin_with(encoder, f, label, color, depth, span, query.map(|(set, _)| set));
-    if let Some((_, i)) = query {
-        pass.begin_occlusion_query(i);
-    }
-    pass
-}
-
-/// [`begin`] with occlusion query set `set` and no query begun: the pass queries its draws.
-fn begin_with<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    f: &FrameInputs<'_>,
-    label: &str,
-    color: &[Option<wgpu::RenderPassColorAttachment<'_>>],
-    depth: wgpu::RenderPassDepthStencilAttachment<'_>,
-    span: Span,
-    set: Option<&wgpu::QuerySet>,
-) -> wgpu::RenderPass<'e> {
+    let set = match occlusion {
+        Occlusion::Off => None,
+        Occlusion::Set(set) | Occlusion::Begin(set, _) => Some(set),
+    };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: color,
@@ -851,6 +855,9 @@ fn begin_with<'e>(
         multiview_mask: None,
     });
     pass.set_bind_group(0, &f.frame.group, &[]);
+    if let Occlusion::Begin(_, i) = occlusion {
+        pass.begin_occlusion_query(i);
+    }
     pass
 }
 

@@ -803,7 +803,6 @@ mod tests {
             ..bytemuck::Zeroable::zeroed()
         }
     }
-    use crate::renderer::settings::ForwardLights;
     use crate::scene::Camera;
 
     #[test]
@@ -843,24 +842,7 @@ mod tests {
 
     fn view(size: (u32, u32)) -> PlanView {
         let cam = Camera::looking_at(glam::DVec3::ZERO, glam::DVec3::NEG_Z);
-        PlanView {
-            proj: cam.projection(size.0 as f64 / size.1 as f64, false).as_mat4(),
-            near: cam.near as f32,
-            far: cam.far as f32,
-            size,
-            mode: CullingMode::Clustered,
-            depth_clamp: true,
-            forward_lights: ForwardLights::Tiled,
-            light_batching: true,
-            cluster_build: crate::renderer::settings::ClusterBuilder::Cpu,
-            grid: Default::default(),
-            object_cap: (0, Default::default()),
-            loop_limit: None,
-            near_fullscreen: false,
-            front_to_back: false,
-            sort_blended: true,
-            prepass_models: None,
-        }
+        PlanView::for_test(&cam, size, CullingMode::Clustered)
     }
 
     #[test]
@@ -915,13 +897,8 @@ mod tests {
             let tile = |v: f32, max: u32| (v.max(0.0) as u32).min(max - 1) / CLUSTER_TILE;
             Some(((tile(x0, size.0), tile(x1, size.0)), (tile(y0, size.1), tile(y1, size.1))))
         };
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::renderer::culling::plan::xorshift64(0x9e37_79b9_7f4a_7c15);
+        let mut rnd = || (next() >> 40) as f32 / (1u64 << 24) as f32;
         let mut corners: Vec<f32> = (0..4000).map(|_| 5.0 * rnd() - 2.5).collect();
         // Exactly on pixel edges and the screen's edges, beyond it, huge, NaN.
         corners.extend((0..=64).map(|k| -1.0 + k as f32 / 32.0));

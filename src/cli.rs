@@ -93,7 +93,7 @@ pub struct AdapterArgs {
     /// Mask the adapter's capability table to another adapter class's (gl: wgpu's GL backend
     /// on Mesa), to see what that class would render.
     #[arg(long, value_enum)]
-    pub restrict: Option<crate::renderer::kit::caps::Profile>,
+    pub restrict: Option<crate::renderer::kit::adapter::Profile>,
 }
 
 impl AdapterArgs {

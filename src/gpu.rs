@@ -5,7 +5,7 @@
 //! adapter has them and each missing one is logged once, so a run on a weaker driver says what
 //! it cannot measure instead of failing.
 
-use crate::renderer::kit::caps::{feature_name, AdapterName, Caps, Profile};
+use crate::renderer::kit::adapter::{feature_name, AdapterCaps, AdapterName, Profile};
 use anyhow::{anyhow, bail, Context, Result};
 use std::sync::{Arc, Mutex};
 
@@ -129,7 +129,7 @@ pub struct Gpu {
     pub features: wgpu::Features,
     pub info: wgpu::AdapterInfo,
     /// What the adapter can do, as every choice asks it.
-    pub caps: Arc<Caps>,
+    pub caps: Arc<AdapterCaps>,
     /// Errors wgpu reported outside an error scope.
     pub errors: DeviceErrors,
     /// Pass sets of dropped renderers, for the next renderer on this device.
@@ -165,9 +165,9 @@ fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Feature
 }
 
 /// The capability table a device on `adapter` would have.
-pub fn caps_of(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> Caps {
+pub fn caps_of(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> AdapterCaps {
     let (features, limits, _) = request(adapter, restrict);
-    Caps::read(adapter, features, limits, restrict)
+    AdapterCaps::read(adapter, features, limits, restrict)
 }
 
 /// The adapters `choice`'s backends offer, in the order `--adapter INDEX` counts them.
@@ -295,7 +295,7 @@ impl Gpu {
         let errors = DeviceErrors::default();
         let sink = errors.clone();
         device.on_uncaptured_error(Arc::new(move |e| sink.push(e)));
-        let caps = Caps::read(&adapter, features, limits, choice.restrict);
+        let caps = AdapterCaps::read(&adapter, features, limits, choice.restrict);
         if info.backend == wgpu::Backend::Gl {
             log::warn!(
                 "adapter {}: wgpu's GL backend; docs/adapters.md lists what it renders differently",

@@ -1,7 +1,7 @@
 //! The pipeline configuration a frame's settings ask for (`PipelineKey`), or why the adapter
 //! cannot give it: asks only the capability table, so `support` answers without a device.
 
-use super::kit::caps::Caps;
+use super::kit::adapter::AdapterCaps;
 use super::kit::{self, gbuffer, PipelineKey};
 use super::options::culling::CullingMode as M;
 use super::options::{BlendedMode, DebugView, DepthRead, Msaa, RenderPath};
@@ -17,7 +17,7 @@ pub fn pipeline_key(
     scene: Option<&Scene>,
     settings: &Settings,
     layout: gbuffer::GBufferLayout,
-    caps: &Caps,
+    caps: &AdapterCaps,
     (output_format, features): (wgpu::TextureFormat, program::ShaderFeatures),
 ) -> Result<PipelineKey> {
     // The light pre-pass's pass 1 writes its own thin buffer, whatever `--layout` says.
@@ -97,7 +97,11 @@ pub fn pipeline_key(
 ///   holds depth to 2^-24, which the copy's f32 does not lose, so it keeps the copy;
 /// - the light pass must not write the stencil: not the stencil methods, not `auto` (it picks a
 ///   stencil method per light), not the stencil and complexity views (they draw stencil marks).
-pub fn depth_read_refusal(settings: &Settings, caps: &Caps, depth_format: wgpu::TextureFormat) -> Option<String> {
+pub fn depth_read_refusal(
+    settings: &Settings,
+    caps: &AdapterCaps,
+    depth_format: wgpu::TextureFormat,
+) -> Option<String> {
     if settings.depth_read == DepthRead::Copy {
         return Some("--depth-read copy".into());
     }

@@ -65,7 +65,7 @@ pub struct Renderer {
     queue: wgpu::Queue,
     output_format: wgpu::TextureFormat,
     /// What the adapter can do: every choice asks it.
-    caps: Arc<kit::caps::Caps>,
+    caps: Arc<kit::adapter::AdapterCaps>,
     limits: wgpu::Limits,
     /// The fallbacks already logged (each is said once).
     said: Vec<String>,

@@ -98,7 +98,7 @@ impl ShaderFeatures {
     pub fn of(
         scene: Option<&crate::scene::Scene>,
         settings: &Settings,
-        quirks: &crate::renderer::kit::caps::Quirks,
+        quirks: &crate::renderer::kit::adapter::Quirks,
     ) -> ShaderFeatures {
         ShaderFeatures {
             shadows: shadows::ShadowCode::of(scene, &settings.shadow_options()),
@@ -268,7 +268,7 @@ impl FeatureCache {
         &mut self,
         scene: &crate::scene::Scene,
         settings: &Settings,
-        quirks: &crate::renderer::kit::caps::Quirks,
+        quirks: &crate::renderer::kit::adapter::Quirks,
     ) -> ShaderFeatures {
         if let Some(s) = self.seen.as_ref().filter(|_| self.same_list(scene)) {
             if s.sun == scene.sun && s.settings == *settings {
@@ -294,7 +294,7 @@ mod tests {
 
     #[test]
     fn the_cookie_feature_is_set_only_for_scenes_with_cookies() {
-        use crate::renderer::kit::caps::{Quirks, GALLIVM_LOOP_LIMIT};
+        use crate::renderer::kit::adapter::{Quirks, GALLIVM_LOOP_LIMIT};
         use crate::scene::builtin::{build, BuiltinOptions};
         let st = Settings::default();
         let lavapipe = Quirks { loop_limit: Some(GALLIVM_LOOP_LIMIT), uniform_gathers: true, ..Quirks::NONE };

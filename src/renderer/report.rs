@@ -201,7 +201,7 @@ impl Renderer {
 #[serde(default)]
 pub struct FrameStats {
     /// The adapter, its capability table and the fallbacks this frame took.
-    pub adapter: crate::renderer::kit::caps::CapsReport,
+    pub adapter: crate::renderer::kit::adapter::CapsReport,
     pub size: [u32; 2],
     pub culling: CullingMode,
     pub lights: usize,

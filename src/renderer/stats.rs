@@ -149,7 +149,7 @@ pub struct Queries {
     /// tests, not the fragments shaded.
     pub coverage: Vec<wgpu::QuerySet>,
     coverage_supported: bool,
-    /// The occlusion queries count samples (`Caps::occlusion`).
+    /// The occlusion queries count samples (`AdapterCaps::occlusion`).
     exact: bool,
     resolve: Option<wgpu::Buffer>,
     readback: Option<wgpu::Buffer>,
@@ -184,7 +184,7 @@ impl Queries {
             ideal: Vec::new(),
             coverage: Vec::new(),
             coverage_supported: gpu.has(wgpu::Features::PIPELINE_STATISTICS_QUERY),
-            exact: gpu.caps.occlusion == crate::renderer::kit::caps::Occlusion::Exact,
+            exact: gpu.caps.occlusion == crate::renderer::kit::adapter::Occlusion::Exact,
             resolve: None,
             readback: None,
             capacity: 0,

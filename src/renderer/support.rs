@@ -1,4 +1,4 @@
-//! What an adapter can give: each choice asked of the capability table (`kit::caps`) before
+//! What an adapter can give: each choice asked of the capability table (`kit::adapter`) before
 //! any pipeline is built, for `lampshade adapters`, the viewer's choice boxes and the frame's
 //! stats (`adapter.fallbacks`).
 
@@ -10,7 +10,7 @@ use anyhow::Result;
 /// Whether `caps`' adapter can give `settings`: the other ways it takes (`fallbacks`), or why
 /// it cannot. Asks only the table, so `lampshade adapters` and the viewer's choice boxes call it
 /// for choices not yet made.
-pub fn support(caps: &kit::caps::Caps, settings: &Settings) -> Result<Vec<String>> {
+pub fn support(caps: &kit::adapter::AdapterCaps, settings: &Settings) -> Result<Vec<String>> {
     settings.validate().map_err(anyhow::Error::msg)?;
     let features = super::program::ShaderFeatures::of(None, settings, &caps.quirks);
     let key = super::key::pipeline_key(None, settings, settings.layout.layout(), caps, (OUTPUT_FORMAT, features))?;
@@ -19,8 +19,13 @@ pub fn support(caps: &kit::caps::Caps, settings: &Settings) -> Result<Vec<String
 
 /// The other ways configuration `key` takes for what `caps`' adapter lacks, in words (the
 /// stats' `adapter.fallbacks`; `chain`: the post chain runs).
-pub(super) fn fallbacks(caps: &kit::caps::Caps, key: &PipelineKey, settings: &Settings, chain: bool) -> Vec<String> {
-    use kit::caps::Occlusion;
+pub(super) fn fallbacks(
+    caps: &kit::adapter::AdapterCaps,
+    key: &PipelineKey,
+    settings: &Settings,
+    chain: bool,
+) -> Vec<String> {
+    use kit::adapter::Occlusion;
     let mut v = Vec::new();
     if key.layout.targets.iter().any(|t| gbuffer::is_bits(t.format)) {
         v.push("the depth copy is R32Uint holding depth's bits (R32Float is not renderable; exact)".to_string());
@@ -72,7 +77,7 @@ fn as_outcome<S: serde::Serializer>(o: &Result<Vec<String>, String>, s: S) -> Re
 /// Every value of every choice and switch knob (paths, layouts, culling modes, formats, …)
 /// from the default settings, asked of `caps`. Values the settings' own rules reject alone (a
 /// knob that needs another set first) are left out.
-pub fn choices(caps: &kit::caps::Caps) -> Vec<Choice> {
+pub fn choices(caps: &kit::adapter::AdapterCaps) -> Vec<Choice> {
     let base = Settings::default();
     let base_fallbacks = support(caps, &base).unwrap_or_default();
     let mut out = Vec::new();
@@ -93,7 +98,7 @@ pub fn choices(caps: &kit::caps::Caps) -> Vec<Choice> {
 
 /// Why `caps`' adapter cannot give knob `name` = `value` on top of `settings`, if it cannot
 /// (the viewer's tooltip on a greyed-out choice).
-pub fn refusal(caps: &kit::caps::Caps, settings: &Settings, name: &str, value: &str) -> Option<String> {
+pub fn refusal(caps: &kit::adapter::AdapterCaps, settings: &Settings, name: &str, value: &str) -> Option<String> {
     let mut s = settings.clone();
     s.set(name, value).ok()?;
     support(caps, &s).err().map(|e| format!("{e:#}"))

@@ -8,7 +8,7 @@ use crate::common::*;
 use lampshade::compare::{flip, max_channel_difference};
 use lampshade::gpu::{AdapterChoice, Backend};
 use lampshade::headless::render_image;
-use lampshade::renderer::kit::caps::{Occlusion, Profile, FORMATS};
+use lampshade::renderer::kit::adapter::{Occlusion, Profile, FORMATS};
 use lampshade::renderer::{support, CullingMode, RenderPath, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::{Gpu, Scene};
 use std::sync::OnceLock;

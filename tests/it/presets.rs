@@ -351,7 +351,7 @@ pub fn check_peeling(gpu: &lampshade::gpu::Gpu, name: &str, base: &Settings) {
             .expect("the HDR colour");
         (hdr, stats)
     };
-    let counted = gpu.caps.occlusion == lampshade::renderer::kit::caps::Occlusion::Exact;
+    let counted = gpu.caps.occlusion == lampshade::renderer::kit::adapter::Occlusion::Exact;
     let bound = 4.0 * 2f32.powi(-10);
     let (background, _) = frame(&clear, &Settings { blended: BlendedMode::Peeled, ..base.clone() });
     // Every pixel's reference, or None where the five points disagree.

@@ -101,7 +101,7 @@ pub struct FrameInfo<'a> {
     pub advice: Option<&'a crate::app::advice::AdviceJob>,
     pub adapter: &'a str,
     /// What the adapter can do: choices it cannot give are greyed out with the reason.
-    pub caps: &'a crate::renderer::kit::caps::Caps,
+    pub caps: &'a crate::renderer::kit::adapter::AdapterCaps,
     pub status: Option<&'a Status>,
     /// The loaded file's warnings, in full (the status line shows the first; hovering it, all).
     pub warnings: &'a [String],

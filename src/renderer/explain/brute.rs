@@ -60,7 +60,7 @@ mod tests {
 
     #[test]
     fn a_chunk_stays_inside_the_loop_limit() {
-        let limit = crate::renderer::kit::caps::GALLIVM_LOOP_LIMIT;
+        let limit = crate::renderer::kit::adapter::GALLIVM_LOOP_LIMIT;
         let chunk = chunk_lights(Some(limit), 100_000) as u64;
         assert!(chunk * ITERATIONS_PER_LIGHT <= crate::renderer::culling::tiled::gpu_loop_budget(limit));
         assert!((chunk + 1) * ITERATIONS_PER_LIGHT > crate::renderer::culling::tiled::gpu_loop_budget(limit));

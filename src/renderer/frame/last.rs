@@ -6,7 +6,7 @@ use super::passes::Passes;
 use crate::renderer::culling::plan::FramePlan;
 use crate::renderer::culling::volumes::Volumes;
 use crate::renderer::inputs::scratch::Scratch;
-use crate::renderer::kit::caps::Caps;
+use crate::renderer::kit::adapter::AdapterCaps;
 use crate::renderer::options::culling::CullingMode;
 use crate::renderer::options::RenderPath;
 use crate::renderer::records::{FrameBuffers, LightRecord};
@@ -73,7 +73,7 @@ impl LastFrame {
 pub struct Last<'a> {
     pub device: &'a wgpu::Device,
     pub queue: &'a wgpu::Queue,
-    pub caps: &'a Caps,
+    pub caps: &'a AdapterCaps,
     /// The pass set the last frame drew with.
     pub passes: &'a Passes,
     /// Pass sets of recent other configurations this renderer keeps.

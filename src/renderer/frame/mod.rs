@@ -90,7 +90,7 @@ impl Shape {
     /// The passes beyond those every frame uses.
     pub fn needs(&self, plan: &FramePlan, settings: &Settings) -> Needs {
         Needs {
-            forward: self.forward_path || self.blended || self.prepass_lit || self.chain,
+            blended: self.forward_path || self.blended || self.prepass_lit || self.chain,
             prepass: self.prepass_lit,
             tiled: !self.forward_path && (plan.tiled.is_some() || settings.debug_view == DebugView::TileLights),
             post: self.chain,

@@ -10,8 +10,9 @@ use std::sync::Arc;
 /// compose, the forward paths' passes, measure, shadows).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Needs {
-    /// Blended surfaces, a forward path, or the post chain (which runs after the forward pass).
-    pub forward: bool,
+    /// The blended surfaces' pass: blended surfaces, a forward path (which ends with it), or the
+    /// post chain (which runs after it).
+    pub blended: bool,
     /// The light pre-pass's lit pass 3.
     pub prepass: bool,
     /// Tiled or clustered shading, or the tile-lights view.
@@ -27,7 +28,7 @@ pub struct Passes {
     pub lights: Lazy<crate::renderer::culling::light_pass::LightPass>,
     pub debug: Lazy<crate::renderer::surfaces::debug::DebugPass>,
     pub compose: Lazy<crate::renderer::surfaces::compose::ComposePass>,
-    pub forward: Lazy<crate::renderer::surfaces::blended::ForwardPass>,
+    pub blended: Lazy<crate::renderer::surfaces::blended::BlendedPass>,
     pub forward_paths: Lazy<crate::renderer::paths::forward_pass::ForwardPathsPass>,
     pub measure: Lazy<crate::renderer::surfaces::measure::MeasurePass>,
     pub prepass: Lazy<crate::renderer::paths::prepass_pass::PrepassFinalPass>,
@@ -96,7 +97,7 @@ impl Passes {
             lights: Lazy::new(device, &shared, crate::renderer::culling::light_pass::LightPass::new),
             debug: Lazy::new(device, &shared, crate::renderer::surfaces::debug::DebugPass::new),
             compose: Lazy::new(device, &shared, crate::renderer::surfaces::compose::ComposePass::new),
-            forward: Lazy::new(device, &shared, crate::renderer::surfaces::blended::ForwardPass::new),
+            blended: Lazy::new(device, &shared, crate::renderer::surfaces::blended::BlendedPass::new),
             forward_paths: Lazy::new(device, &shared, crate::renderer::paths::forward_pass::ForwardPathsPass::new),
             measure: Lazy::new(device, &shared, crate::renderer::surfaces::measure::MeasurePass::new),
             prepass: Lazy::new(device, &shared, crate::renderer::paths::prepass_pass::PrepassFinalPass::new),
@@ -138,8 +139,8 @@ impl Passes {
         self.forward_paths.prepare()?;
         self.measure.prepare()?;
         self.shadows.prepare()?;
-        if needs.forward {
-            self.forward.prepare()?;
+        if needs.blended {
+            self.blended.prepare()?;
         }
         if needs.prepass {
             self.prepass.prepare()?;

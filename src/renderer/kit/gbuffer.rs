@@ -239,7 +239,7 @@ impl GBufferLayout {
     /// The layout as `caps`' adapter can render it: a depth copy in R32Float becomes R32Uint
     /// holding depth's bits (written with `bitcast<u32>`, read back with `bitcast<f32>`: exact)
     /// where R32Float is not renderable (wgpu's GL backend).
-    pub fn for_caps(mut self, caps: &super::caps::Caps) -> Self {
+    pub fn for_caps(mut self, caps: &super::adapter::AdapterCaps) -> Self {
         use wgpu::TextureFormat as F;
         for t in &mut self.targets {
             let depth_only = t.channels.iter().all(|c| matches!(c, Some(Slot { attr: Attr::Depth, .. })));
@@ -276,7 +276,7 @@ impl GBufferLayout {
     }
 
     /// Checks that the adapter can render every target's format.
-    pub fn check_caps(&self, caps: &super::caps::Caps) -> anyhow::Result<()> {
+    pub fn check_caps(&self, caps: &super::adapter::AdapterCaps) -> anyhow::Result<()> {
         for t in self.rendered() {
             if !caps.renderable(t.format) {
                 return Err(caps.refuse(

@@ -11,8 +11,8 @@
 //! Depth and stencil states are written as the seeds give them (standard depth: near = 0);
 //! [`z`] flips the compare functions when reversed Z is on.
 
+pub mod adapter;
 pub mod bindings;
-pub mod caps;
 pub mod features;
 pub mod gbuffer;
 pub mod pipeline;

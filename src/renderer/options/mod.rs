@@ -363,7 +363,7 @@ impl AccumFormat {
     ];
 
     /// The texture format, or why the adapter cannot blend into it.
-    pub fn format(self, caps: &super::kit::caps::Caps) -> anyhow::Result<wgpu::TextureFormat> {
+    pub fn format(self, caps: &super::kit::adapter::AdapterCaps) -> anyhow::Result<wgpu::TextureFormat> {
         let format = match self {
             AccumFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
             AccumFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,

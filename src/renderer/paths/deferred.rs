@@ -16,7 +16,7 @@ pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
     surfaces_and_lights(p, f, ("gbuffer", "lights"), s);
     if (f.shape.chain && f.targets.post.is_some()) || f.shape.blended {
         s.push(step("compose (HDR)", ComposeHdr(&p.compose)));
-        s.push(step("blended surfaces", &*p.forward));
+        s.push(step("blended surfaces", &*p.blended));
         finish(p, f, s);
     } else {
         s.push(step("compose", &*p.compose));

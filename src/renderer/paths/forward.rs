@@ -14,6 +14,6 @@ pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
         s.push(step("gbuffer (for the post chain)", &*p.gbuffer));
     }
     let name = if f.options.frame.path == RenderPath::Forward { "forward" } else { "forward multi-pass" };
-    s.push(step(name, ForwardPaths { paths: &p.forward_paths, blended: &p.forward }));
+    s.push(step(name, ForwardPaths { paths: &p.forward_paths, blended: &p.blended }));
     finish(p, f, s);
 }

@@ -363,7 +363,7 @@ impl ForwardPathsPass {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
         pf: &PathFrame<'_>,
-        blended_pass: &crate::renderer::surfaces::blended::ForwardPass,
+        blended_pass: &crate::renderer::surfaces::blended::BlendedPass,
     ) -> Result<ForwardPathStats> {
         let device = f.device;
         let (s, surfaces) = (&f.options.frame, &f.options.surfaces);
@@ -695,7 +695,7 @@ impl ForwardPathsPass {
 /// A forward path's passes, with the blended surfaces' pass that ends them single-sampled.
 pub struct ForwardPaths<'a> {
     pub paths: &'a ForwardPathsPass,
-    pub blended: &'a crate::renderer::surfaces::blended::ForwardPass,
+    pub blended: &'a crate::renderer::surfaces::blended::BlendedPass,
 }
 
 impl ForwardPaths<'_> {

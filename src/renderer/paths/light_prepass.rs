@@ -14,7 +14,7 @@ pub fn steps<'a>(p: &'a Passes, f: &FrameInputs<'_>, s: &mut Vec<Step<'a>>) {
     surfaces_and_lights(p, f, ("normals and exponent", "lights into the light buffer"), s);
     if f.shape.prepass_lit {
         s.push(step("geometry with the light buffer", &*p.prepass));
-        s.push(step("blended surfaces", &*p.forward));
+        s.push(step("blended surfaces", &*p.blended));
         finish(p, f, s);
     } else {
         s.push(step("compose", &*p.compose));

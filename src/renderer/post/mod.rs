@@ -56,7 +56,7 @@ pub const POST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// most 0.286 x 0.0049 = 0.0014, 0.36 of an 8-bit step: below one step, so the 8-bit outputs of
 /// the two chains differ by at most one step. The effects after tone mapping are not part of
 /// this bound (FXAA's and the edge filter's thresholds may decide differently on the two).
-pub fn post_format(caps: &crate::renderer::kit::caps::Caps) -> wgpu::TextureFormat {
+pub fn post_format(caps: &crate::renderer::kit::adapter::AdapterCaps) -> wgpu::TextureFormat {
     if caps.renderable(POST_FORMAT) {
         POST_FORMAT
     } else {

@@ -21,7 +21,7 @@ use wgpu::CompareFunction as Cmp;
 pub const SPAN: Span = Span("forward");
 use crate::renderer::targets::attachment;
 
-pub struct ForwardPass {
+pub struct BlendedPass {
     /// One- and two-sided.
     pipelines: [crate::renderer::kit::RenderPipe; 2],
     /// The light pre-pass's opaque objects it cannot light (`DrawLists::forward_opaque`): the
@@ -206,7 +206,7 @@ impl Peel {
     }
 }
 
-impl ForwardPass {
+impl BlendedPass {
     pub fn new(device: &wgpu::Device, shared: &Shared) -> Self {
         let blended = [Some(wgpu::ColorTargetState {
             format: HDR_FORMAT,
@@ -312,8 +312,8 @@ impl Peel {
     }
 }
 
-impl Pass for ForwardPass {
-    /// As [`ForwardPass::record`] draws: the light pre-pass's opaque forward objects, then the
+impl Pass for BlendedPass {
+    /// As [`BlendedPass::record`] draws: the light pre-pass's opaque forward objects, then the
     /// blended surfaces, directly or peeled.
     fn declare(&self, f: &FrameInputs<'_>, out: &mut Declared) {
         if f.targets.hdr.is_none() {

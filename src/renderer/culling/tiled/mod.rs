@@ -658,7 +658,7 @@ pub struct ClusterJob {
 
 /// The loop iterations a GPU list build may ask of one invocation under a loop limit: lavapipe
 /// ends a shader invocation's loops once they have run 65,535 iterations between them
-/// (gallivm's shared loop limiter, `kit::caps::GALLIVM_LOOP_LIMIT`, silently), so a light whose
+/// (gallivm's shared loop limiter, `kit::adapter::GALLIVM_LOOP_LIMIT`, silently), so a light whose
 /// span takes more would be left out of the cells past it (`inside` at 2560x1440 shaded
 /// nothing). Frames with such a light build their lists on the CPU (`plan::FramePlan::new`);
 /// adapters without a loop limit always build them on the GPU when asked.
@@ -667,7 +667,7 @@ pub const GPU_LOOP_BUDGET: u64 = 65_000;
 /// [`GPU_LOOP_BUDGET`] under loop limit `limit`: the same room (535 iterations) left for the
 /// invocation's other loops.
 pub fn gpu_loop_budget(limit: u64) -> u64 {
-    limit.saturating_sub(crate::renderer::kit::caps::GALLIVM_LOOP_LIMIT - GPU_LOOP_BUDGET)
+    limit.saturating_sub(crate::renderer::kit::adapter::GALLIVM_LOOP_LIMIT - GPU_LOOP_BUDGET)
 }
 
 /// The spans of every light (on one thread, as `plan::FramePlan::reusing` plans the lights).

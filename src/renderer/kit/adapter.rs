@@ -218,7 +218,7 @@ pub fn backend_name(b: wgpu::Backend) -> &'static str {
 
 /// The capability table.
 #[derive(Clone, Debug)]
-pub struct Caps {
+pub struct AdapterCaps {
     pub adapter: AdapterName,
     /// The adapter class the table was masked to, if any.
     pub profile: Option<Profile>,
@@ -244,7 +244,7 @@ pub struct Row {
     pub without: &'static str,
 }
 
-impl Caps {
+impl AdapterCaps {
     /// The table of `adapter`, whose device was made with `features`, masked to `profile`.
     pub fn read(adapter: &wgpu::Adapter, features: F, limits: wgpu::Limits, profile: Option<Profile>) -> Self {
         let info = adapter.get_info();
@@ -422,7 +422,7 @@ impl Caps {
     }
 }
 
-/// [`Caps`] as the stats JSON (`adapter`) and `lampshade adapters --json` write it.
+/// [`AdapterCaps`] as the stats JSON (`adapter`) and `lampshade adapters --json` write it.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct CapsReport {
@@ -430,7 +430,7 @@ pub struct CapsReport {
     #[serde(flatten)]
     pub adapter: AdapterName,
     pub profile: Option<Profile>,
-    /// [`Caps::rows`] by name.
+    /// [`AdapterCaps::rows`] by name.
     pub capabilities: std::collections::BTreeMap<String, bool>,
     /// Of [`FORMATS`], those the adapter renders to and blends into.
     pub renderable: Vec<String>,

@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// The pool's default budget: estimated host memory of the sets it keeps.
-pub const POOL_BYTES: u64 = 2 << 30;
+pub const POOL_BYTES: u64 = 512 << 20;
 /// A set's own share of the estimate, beyond its pipelines (its shader module and layouts).
 pub const SET_BYTES: u64 = 1 << 20;
 

@@ -273,32 +273,6 @@ impl Renderer {
         Ok((shape, prepared, drawn, pipelines))
     }
 
-    /// Builds, on this thread, every pipeline a frame of `scene` with `settings` at `size`
-    /// declares, without recording it: that frame then compiles nothing while it records.
-    /// Returns (declared, built now).
-    pub fn build_pipelines(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<(usize, usize)> {
-        let device = self.device.clone();
-        let target = kit::texture_2d(
-            &device,
-            "pipelines only",
-            (self.output_format, &[]),
-            size,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
-        scoped(&device, || {
-            let shape = frame::Shape::of_checked(scene, settings, size, false)?;
-            self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
-            let prepared = self.prepare(scene, settings, &shape)?;
-            self.sets.current.prepare(shape.needs(&prepared.plan, settings))?;
-            let f = self.inputs(settings, &shape, &prepared, &target)?;
-            let steps = paths::steps(&self.sets.current, &f);
-            let declared = paths::declare(&steps, &f);
-            Ok((declared.len(), self.sets.current.build(&declared)))
-        })
-    }
-
     /// Size of the last frame.
     pub fn size(&self) -> Option<(u32, u32)> {
         self.targets.as_ref().map(|t| (t.width, t.height))

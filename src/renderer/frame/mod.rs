@@ -376,6 +376,32 @@ impl Renderer {
         })
     }
 
+    /// Builds, on this thread, every pipeline a frame of `scene` with `settings` at `size`
+    /// declares, without recording it: that frame then compiles nothing while it records.
+    /// Returns (declared, built now).
+    pub fn build_pipelines(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<(usize, usize)> {
+        let device = self.device.clone();
+        let target = super::kit::texture_2d(
+            &device,
+            "pipelines only",
+            (self.output_format, &[]),
+            size,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&Default::default());
+        super::kit::scoped(&device, || {
+            let shape = Shape::of_checked(scene, settings, size, false)?;
+            self.configure(scene, settings, shape.size, shape.hdr(), shape.chain)?;
+            let prepared = self.prepare(scene, settings, &shape)?;
+            self.sets.current.prepare(shape.needs(&prepared.plan, settings))?;
+            let f = self.inputs(settings, &shape, &prepared, &target)?;
+            let steps = super::paths::steps(&self.sets.current, &f);
+            let declared = super::paths::declare(&steps, &f);
+            Ok((declared.len(), self.sets.current.build(&declared)))
+        })
+    }
+
     /// What the frame measures, by what `settings` ask for and the frame draws.
     pub(super) fn measured(&self, settings: &Settings, shape: &Shape, prepared: &Prepared) -> Measured {
         let lit = !prepared.plan.lights.is_empty();

@@ -2,7 +2,7 @@
 //! written down as plain data (so a failing case is a file the suite replays), and the seeded
 //! generator that draws them from the space the culling bugs of the field live in.
 
-use crate::renderer::{AccumFormat, DepthFormat, LayoutChoice, Settings, ShadowMode};
+use crate::renderer::{AccumFormat, DepthFormat, DepthRead, LayoutChoice, Settings, ShadowMode};
 use crate::scene::{Camera, Light, Material, Mesh, Object, PointLight, Scene, SpotLight, ALL_LAYERS};
 use glam::{DMat4, DQuat, DVec3, Vec3};
 use serde::{Deserialize, Serialize};
@@ -43,6 +43,10 @@ pub struct CaseSettings {
     /// are drawn full-screen and the near plane clips.
     #[serde(default = "depth_clamp_on")]
     pub depth_clamp: bool,
+    /// Where the lights read depth: the G-buffer's copy, or the depth buffer itself (24-bit
+    /// included), where the culling mode lets them (`key::depth_read_refusal`).
+    #[serde(default)]
+    pub depth_read: DepthRead,
 }
 
 fn depth_clamp_on() -> bool {
@@ -65,6 +69,7 @@ impl CaseSettings {
             count_ideal: false,
             timestamps: false,
             depth_clamp: self.depth_clamp,
+            depth_read: self.depth_read,
             ..Settings::default()
         }
     }
@@ -320,6 +325,11 @@ fn case_settings(seed: u64, index: u64) -> CaseSettings {
         // Per settings block, from a stream of its own (the rest of the case as before):
         // a quarter of the blocks draw without depth clamp.
         depth_clamp: Rng::new(seed ^ 0xDC1A_3F07, index / SETTINGS_BLOCK).chance(0.75),
+        // Per settings block, from a stream of its own: half the blocks read the depth buffer.
+        depth_read: match Rng::new(seed ^ 0xDE97_4EAD, index / SETTINGS_BLOCK).chance(0.5) {
+            true => DepthRead::Buffer,
+            false => DepthRead::Copy,
+        },
     }
 }
 

@@ -25,7 +25,7 @@ pub fn pipeline_key(
     let layout = if prepass && layout.name != gbuffer::PREPASS_LAYOUT { gbuffer::prepass_layout() } else { layout };
     let layout = layout.for_caps(caps);
     let depth_format = settings.depth_format.format(caps.features);
-    let layout = match depth_read_refusal(settings, caps, depth_format) {
+    let layout = match depth_read_refusal(settings, caps) {
         None => layout.reading_depth_buffer(),
         Some(_) => layout,
     };
@@ -87,29 +87,24 @@ pub fn pipeline_key(
         peeled_blended: settings.blended == BlendedMode::Peeled,
     })
 }
-/// Why a frame drawn with `settings` on `caps`' adapter with depth format `depth_format` keeps
+/// Why a frame drawn with `settings` on `caps`' adapter keeps
 /// the R32Float depth copy; `None` when it reads the depth buffer instead. The passes that read
 /// the G-buffer while the depth-stencil buffer is attached (the light pass, the measurement
 /// passes) must attach it read-only, depth and stencil both, so:
 /// - `--depth-read copy` asks for the copy;
 /// - the adapter must allow a read-only depth-stencil attachment (wgpu's GL backend does not);
-/// - the buffer must hold what the copy holds: Depth32Float does, bit for bit; a 24-bit buffer
-///   holds depth to 2^-24, which the copy's f32 does not lose, so it keeps the copy;
+/// - any depth format will do: a 24-bit buffer holds depth to 2^-24 where the copy keeps the
+///   fragment's f32, but the volumes' depth tests compare with the buffer itself, so the lights
+///   and brute force then shade the very depth the tests saw (`kit::VOLUME_BIAS_UNITS` covers
+///   the copy's half unit of difference, which reading the buffer removes);
 /// - the light pass must not write the stencil: not the stencil methods, not `auto` (it picks a
 ///   stencil method per light), not the stencil and complexity views (they draw stencil marks).
-pub fn depth_read_refusal(
-    settings: &Settings,
-    caps: &AdapterCaps,
-    depth_format: wgpu::TextureFormat,
-) -> Option<String> {
+pub fn depth_read_refusal(settings: &Settings, caps: &AdapterCaps) -> Option<String> {
     if settings.depth_read == DepthRead::Copy {
         return Some("--depth-read copy".into());
     }
     if !caps.has_downlevel(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL) {
         return Some("the adapter has no read-only depth-stencil attachments".into());
-    }
-    if depth_format != wgpu::TextureFormat::Depth32FloatStencil8 {
-        return Some(format!("{depth_format:?} holds depth to 2^-24; the f32 copy keeps what it rounds away"));
     }
     if matches!(settings.culling, M::StencilTwoPass | M::StencilInvert | M::StencilReplace | M::Auto) {
         let what = if settings.culling == M::Auto { "auto picks stencil methods per light, which" } else { "it" };

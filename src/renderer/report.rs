@@ -134,8 +134,7 @@ impl Renderer {
             .iter()
             .find(|t| t.channels.iter().flatten().any(|s| s.attr == super::kit::gbuffer::Attr::Depth))
         {
-            let why = super::key::depth_read_refusal(settings, &self.caps, key.depth_format)
-                .unwrap_or_else(|| "the layout".into());
+            let why = super::key::depth_read_refusal(settings, &self.caps).unwrap_or_else(|| "the layout".into());
             format!("{:?} copy ({why})", copy.format)
         } else {
             "none: the layout stores positions".into()

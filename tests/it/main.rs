@@ -27,6 +27,7 @@ mod passes;
 mod paths;
 mod post;
 mod prepass;
+mod preset_rows;
 pub mod presets;
 mod renderer;
 mod scale;

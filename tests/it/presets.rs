@@ -13,7 +13,7 @@ use lampshade::renderer::{DrawOrder, Method, NearLights, RenderPath, Renderer, S
 const W: u32 = 96;
 const H: u32 = 54;
 
-fn room() -> lampshade::Scene {
+pub fn room() -> lampshade::Scene {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/room/room.gltf");
     let opts = lampshade::scene::import::ImportOptions::default();
     lampshade::scene::import::load(&path, &opts, &mut |_| {}).expect("assets/room/room.gltf loads").scene

@@ -380,6 +380,26 @@ impl Renderer {
     /// declares, without recording it: that frame then compiles nothing while it records.
     /// Returns (declared, built now).
     pub fn build_pipelines(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<(usize, usize)> {
+        let declared = self.declared(scene, settings, size)?;
+        // Inside error scopes: a compile's error is this call's error.
+        let built = super::kit::scoped(&self.device.clone(), || Ok(self.sets.current.build(&declared)))?;
+        Ok((declared.len(), built))
+    }
+
+    /// What each pipeline a frame of `scene` with `settings` at `size` declares is, in the
+    /// order its passes declare them; nothing is compiled or recorded.
+    pub fn describe_pipelines(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        size: (u32, u32),
+    ) -> Result<Vec<super::kit::description::PipelineDescription>> {
+        Ok(self.declared(scene, settings, size)?.descriptions())
+    }
+
+    /// The pipelines a frame of `scene` with `settings` at `size` declares, the renderer
+    /// configured for it.
+    fn declared(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<super::kit::Declared> {
         let device = self.device.clone();
         let target = super::kit::texture_2d(
             &device,
@@ -397,8 +417,7 @@ impl Renderer {
             self.sets.current.prepare(shape.needs(&prepared.plan, settings))?;
             let f = self.inputs(settings, &shape, &prepared, &target)?;
             let steps = super::paths::steps(&self.sets.current, &f);
-            let declared = super::paths::declare(&steps, &f);
-            Ok((declared.len(), self.sets.current.build(&declared)))
+            Ok(super::paths::declare(&steps, &f))
         })
     }
 

@@ -13,6 +13,7 @@
 
 pub mod adapter;
 pub mod bindings;
+pub mod description;
 pub mod features;
 pub mod gbuffer;
 pub mod pipeline;
@@ -377,6 +378,8 @@ pub struct OnFirstUse<T>(Arc<FirstUse<T>>);
 struct FirstUse<T> {
     cell: OnceLock<T>,
     build: Box<dyn Fn() -> T + Send + Sync>,
+    /// What the pipeline is, where its maker said (`render_pipe`, `compute_pipe`).
+    description: Option<description::PipelineDescription>,
 }
 
 impl<T> Clone for OnFirstUse<T> {
@@ -392,7 +395,15 @@ pub type ComputePipe = OnFirstUse<wgpu::ComputePipeline>;
 
 impl<T> OnFirstUse<T> {
     pub fn new(build: impl Fn() -> T + Send + Sync + 'static) -> Self {
-        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build) }))
+        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build), description: None }))
+    }
+
+    /// [`OnFirstUse::new`] with what the pipeline is.
+    pub fn described(
+        description: description::PipelineDescription,
+        build: impl Fn() -> T + Send + Sync + 'static,
+    ) -> Self {
+        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build), description: Some(description) }))
     }
 }
 
@@ -432,6 +443,8 @@ pub trait Compile: Send + Sync {
     fn build(&self) -> bool;
     /// Whether it is compiled.
     fn is_built(&self) -> bool;
+    /// What it is, where its maker said.
+    fn description(&self) -> Option<&description::PipelineDescription>;
 }
 
 impl<T: Send + Sync> Compile for FirstUse<T> {
@@ -446,6 +459,10 @@ impl<T: Send + Sync> Compile for FirstUse<T> {
 
     fn is_built(&self) -> bool {
         self.cell.get().is_some()
+    }
+
+    fn description(&self) -> Option<&description::PipelineDescription> {
+        self.description.as_ref()
     }
 }
 
@@ -482,6 +499,11 @@ impl Declared {
         self.0.iter().filter(|p| !p.is_built()).count()
     }
 
+    /// What each declared pipeline is (those whose maker said), in the order declared.
+    pub fn descriptions(&self) -> Vec<description::PipelineDescription> {
+        self.0.iter().filter_map(|p| p.description().cloned()).collect()
+    }
+
     /// Compiles those not compiled yet, on this thread; how many it compiled. A compile's error
     /// reaches the caller's error scopes (`scoped`).
     pub fn build(&self) -> usize {
@@ -498,7 +520,16 @@ pub fn pipelines_compiled() -> u64 {
 /// A render pipeline from an owned descriptor, built on first use.
 pub fn render_pipe(device: &wgpu::Device, d: RenderPipeDesc) -> RenderPipe {
     let device = device.clone();
-    OnFirstUse::new(move || d.create(&device))
+    let description = description::PipelineDescription::Render(description::RenderDescription {
+        label: d.label.clone(),
+        vertex: d.vs.clone(),
+        fragment: d.fragment.as_ref().map(|f| f.0.clone()),
+        targets: d.fragment.as_ref().map(|f| f.1.clone()).unwrap_or_default(),
+        primitive: d.primitive,
+        depth_stencil: d.depth_stencil.clone(),
+        samples: d.multisample.count,
+    });
+    OnFirstUse::described(description, move || d.create(&device))
 }
 
 /// A compute pipeline (`entry` of `module` with `layout`), built on first use.
@@ -511,7 +542,8 @@ pub fn compute_pipe(
 ) -> ComputePipe {
     let (device, label, layout, module, entry) =
         (device.clone(), label.to_owned(), layout.cloned(), module.clone(), entry.to_owned());
-    OnFirstUse::new(move || {
+    let description = description::PipelineDescription::Compute { label: label.clone(), entry: entry.clone() };
+    OnFirstUse::described(description, move || {
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(&label),
             layout: layout.as_ref(),

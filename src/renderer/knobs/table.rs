@@ -65,6 +65,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "gbuffer-depth-prepass",
+        what: "G-buffer depth pre-pass",
+        help: "Deferred and light pre-pass: a depth-only pass before the G-buffer pass, which then writes only the kept surfaces",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.gbuffer_depth_prepass),
+        put: |s, v| {
+            s.gbuffer_depth_prepass = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "culling",
         what: "culling mode",
         help: "How light volumes are culled",
@@ -105,8 +117,8 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "depth-read",
         what: "depth read",
-        help: "Where the passes after the G-buffer read depth: its R32F copy, or the depth buffer itself (seed \
-               004; 32-bit depth and stencil-free culling modes only, else the copy, and the stats say why)",
+        help: "Where the passes after the G-buffer read depth: its R32F copy, or the depth buffer itself (seeds \
+               003 and 004; stencil-free culling modes only, else the copy, and the stats say why)",
         values: Values::Choice(names::<DepthRead>),
         cli: true,
         get: |s| name_of(&s.depth_read),

@@ -19,6 +19,10 @@ macro_rules! settings_fields {
             /// The forward single-pass path draws depth first, so each pixel is shaded once (seed
             /// 002's "Z-cull"); off: shaded as drawn, overdraw included.
             [surfaces] depth_prepass: bool = true,
+            /// The G-buffer pass (deferred shading, the light pre-pass's pass 1) is preceded by a
+            /// depth-only pass over the same draws (seed 002: "Do an initial front-to-back-sorted
+            /// z-only pass"), and writes only the surfaces that pass kept.
+            [surfaces] gbuffer_depth_prepass: bool = false,
             [culling] culling: CullingMode = CullingMode::default(),
             /// How lights crossing the near plane are drawn (seed 004's rule: full-screen).
             [culling] near_lights: NearLights = NearLights::default(),

@@ -21,6 +21,7 @@ impl GBufferLayout {
         }
         self.wgsl_out(&mut w, ambient);
         self.wgsl_store(&mut w, ambient);
+        self.wgsl_depth_only(&mut w);
         self.wgsl_load(&mut w);
         w
     }
@@ -83,8 +84,8 @@ impl GBufferLayout {
                 }
             }
         }
-        if let Some(half) = self.position_depth() {
-            self.wgsl_store_depth(w, half);
+        if self.position_depth().is_some() {
+            let _ = writeln!(w, "    o.depth = stored_depth(a);");
         }
         if ambient {
             self.wgsl_store_ambient(w);
@@ -112,8 +113,37 @@ impl GBufferLayout {
         }
     }
 
-    /// The fragment's depth: the stored position (rounded to fp16 where `half`) projected.
+    /// The G-buffer depth pre-pass's fragment stages (`surfaces::gbuffer`): the masked
+    /// surfaces' cutoff and, where a stored position sets the G-buffer pass's depth, that same
+    /// depth (`stored_depth`), so the pass after it finds at each pixel exactly the depth it
+    /// writes itself. `fs_geometry_depth` exists only then (the others draw without a fragment
+    /// stage).
+    fn wgsl_depth_only(&self, w: &mut String) {
+        let cutoff = "if alpha < objects[in.object].material.y {\n        discard;\n    }\n";
+        let Some(half) = self.position_depth() else {
+            let _ = writeln!(
+                w,
+                "@fragment\nfn fs_geometry_depth_masked(in: GeometryOut, @builtin(front_facing) front: bool) {{"
+            );
+            let _ =
+                writeln!(w, "    var s: Surface;\n    let alpha = material_surface(in, front, &s);\n    {cutoff}}}");
+            return;
+        };
+        self.wgsl_store_depth(w, half);
+        for (entry, masked) in [("fs_geometry_depth", false), ("fs_geometry_depth_masked", true)] {
+            let _ = writeln!(w, "@fragment\nfn {entry}(in: GeometryOut, @builtin(front_facing) front: bool) -> @builtin(frag_depth) f32 {{");
+            let _ = writeln!(w, "    var s: Surface;\n    let alpha = material_surface(in, front, &s);");
+            if masked {
+                let _ = write!(w, "    {cutoff}");
+            }
+            let _ = writeln!(w, "    return stored_depth(attributes_of(s));\n}}");
+        }
+    }
+
+    /// `stored_depth`: the fragment's depth, the stored position (rounded to fp16 where
+    /// `half`) projected.
     fn wgsl_store_depth(&self, w: &mut String, half: bool) {
+        let _ = writeln!(w, "fn stored_depth(a: Attributes) -> f32 {{");
         let p = if half {
             "vec3<f32>(unpack2x16float(pack2x16float(a.position.xy)), unpack2x16float(pack2x16float(vec2<f32>(a.position.z, 0.0))).x)"
         } else {
@@ -122,7 +152,7 @@ impl GBufferLayout {
         // As `gbuffer_load` reads it back: seed 000's world-space view vector turned to view space.
         let p = if self.world { format!("-(camera.view_rotation * vec4<f32>({p}, 0.0)).xyz") } else { p.to_string() };
         let _ = writeln!(w, "    let stored_clip = camera.proj * vec4<f32>({p}, 1.0);");
-        let _ = writeln!(w, "    o.depth = clamp(stored_clip.z / stored_clip.w, 0.0, 1.0);");
+        let _ = writeln!(w, "    return clamp(stored_clip.z / stored_clip.w, 0.0, 1.0);\n}}");
     }
 
     /// The accumulation targets' starting value: ambient + sun (and the emission, for a layout

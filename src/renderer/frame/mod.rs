@@ -455,6 +455,8 @@ impl Renderer {
             shadowed: &prepared.shadows.lights,
             scratch: &self.scratch,
             reused: prepared.reused,
+            progress: self.progress.as_ref(),
+            debug_groups: self.debug_groups,
         })
     }
 }

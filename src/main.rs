@@ -136,7 +136,11 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     let gpu = Gpu::open(&args.adapter.choice())?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+    let bar = costly_shadows(&scene, &settings, &mut renderer)?;
     let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
+    if let Some(bar) = bar {
+        bar.finish();
+    }
     // An error outside the frame's own (the read-back): the image is not to be trusted.
     gpu.errors.check()?;
     image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
@@ -217,6 +221,33 @@ fn render_scene(args: &RenderArgs, keys: &SceneKeys, scene_name: &str, builtin: 
         scene.camera = camera;
     }
     Ok(scene)
+}
+
+/// Before a frame whose shadows ask for costly work (`ShadowCost::costly`, whether a preset,
+/// a settings file or a flag turned them on): says what they ask for on stderr, and returns the
+/// progress bar the renderer moves as the GPU finishes the shadow-map passes.
+fn costly_shadows(
+    scene: &Scene,
+    settings: &Settings,
+    renderer: &mut Renderer,
+) -> Result<Option<indicatif::ProgressBar>> {
+    let cost = lampshade::renderer::shadows::ShadowCost::of(scene, &settings.shadow_options());
+    if !cost.costly() {
+        return Ok(None);
+    }
+    eprintln!("{}", cost.warning());
+    let bar = indicatif::ProgressBar::new(cost.passes);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .map_err(|e| anyhow::anyhow!("{e}"))?,
+    );
+    let sink = bar.clone();
+    renderer.set_progress(Some(std::sync::Arc::new(move |what: &str, done: u64, total: u64| {
+        sink.set_length(total);
+        sink.set_position(done);
+        sink.set_message(what.to_string());
+    })));
+    Ok(Some(bar))
 }
 
 /// Whether `render` counts the ledger's fragments: as `asked`, or by default up to

@@ -22,6 +22,8 @@ pub enum Values {
     /// A finite number between `min` and `max`, each end excluded when `open` says so; the
     /// viewer's slider spans `slider`, the part of the range a user moves through.
     Float { min: f64, max: f64, open: (bool, bool), slider: (f64, f64) },
+    /// `auto` (the renderer picks the value each frame) or a number as `Float` takes it.
+    FloatOrAuto { min: f64, max: f64, open: (bool, bool), slider: (f64, f64) },
     /// A whole number in `min ..= max`.
     Whole { min: u32, max: u32 },
     /// on / off (also true/false, 1/0, yes/no).
@@ -36,6 +38,9 @@ impl Values {
         match *self {
             Values::Float { min, max, open, .. } => {
                 format!("{min} {}..{} {max}", if open.0 { "<" } else { "" }, if open.1 { "<" } else { "=" })
+            }
+            Values::FloatOrAuto { min, max, open, slider } => {
+                format!("auto or {}", Values::Float { min, max, open, slider }.describe())
             }
             Values::Whole { min, max } => format!("{min} ..= {max}"),
             Values::Choice(_) | Values::Switch | Values::File => String::new(),
@@ -113,13 +118,19 @@ impl Knob {
     pub fn check(&self, s: &Settings) -> Result<(), String> {
         let value = (self.get)(s);
         let bad = |why: String| Err(format!("{} {value} {why}", self.what));
-        match self.values {
+        let values = match self.values {
+            Values::FloatOrAuto { .. } if value == "auto" => return Ok(()),
+            Values::FloatOrAuto { min, max, open, slider } => Values::Float { min, max, open, slider },
+            v => v,
+        };
+        match values {
+            Values::FloatOrAuto { .. } => {}
             Values::Float { min, max, open, .. } => {
                 let x: f64 = value.parse().unwrap_or(f64::NAN);
                 let above = if open.0 { x > min } else { x >= min };
                 let below = if open.1 { x < max } else { x <= max };
                 if !(x.is_finite() && above && below) {
-                    return bad(format!("must be a finite number in {}", self.values.describe()));
+                    return bad(format!("must be a finite number in {}", values.describe()));
                 }
             }
             Values::Whole { min, max } => {
@@ -136,7 +147,9 @@ impl Knob {
     /// The viewer's slider span (`None` for other kinds).
     pub fn slider(&self) -> Option<std::ops::RangeInclusive<f32>> {
         match self.values {
-            Values::Float { slider, .. } => Some(slider.0 as f32..=slider.1 as f32),
+            Values::Float { slider, .. } | Values::FloatOrAuto { slider, .. } => {
+                Some(slider.0 as f32..=slider.1 as f32)
+            }
             _ => None,
         }
     }
@@ -155,6 +168,7 @@ impl Knob {
             Values::Choice(f) => f(),
             Values::Switch => vec!["on".into(), "off".into()],
             Values::File => vec!["identity".into(), "none".into()],
+            Values::FloatOrAuto { .. } => vec!["auto".into()],
             _ => Vec::new(),
         }
     }

@@ -99,6 +99,8 @@ pub struct Renderer {
     /// The per-light cost model of the stats (`explain::cost`): a fitted one, by mode (tiled
     /// and clustered: the list modes; every other: the drawn ones), or the built-in constants.
     pub cost_models: Vec<(CullingMode, explain::cost::CostModel)>,
+    /// Where a costly frame reports its progress (`set_progress`).
+    progress: Option<inputs::Progress>,
 }
 
 pub use kit::scoped;
@@ -151,9 +153,18 @@ impl Renderer {
             long_list_warnings: Vec::new(),
             lut: Default::default(),
             cost_models: Vec::new(),
+            progress: None,
             uploads: gpu.uploads.clone(),
             device,
         })
+    }
+
+    /// Reports a costly frame's progress to `progress`: a frame whose shadow passes draw more
+    /// than `shadows::COSTLY_TRIANGLES` caster triangles submits them in parts, waiting for each,
+    /// and reports the shadow-map passes done. `None` (the default): every frame is one
+    /// submission.
+    pub fn set_progress(&mut self, progress: Option<inputs::Progress>) {
+        self.progress = progress;
     }
 
     pub fn depth_format(&self) -> wgpu::TextureFormat {

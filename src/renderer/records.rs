@@ -331,14 +331,17 @@ gpu_record! {
         /// The histogram's log2 luminance range.
         pub log_min: f32,
         pub log_max: f32,
-        pub pad1: f32,
+        /// Depth of field's auto focus where the screen's centre pixel is background: the
+        /// framed scene's view distance (`post::focus_fallback`).
+        pub focus_fallback: f32,
         /// The LUT's input domain (xyz).
         pub lut_min: [f32; 4],
         pub lut_max: [f32; 4],
         /// Fog: density and height falloff.
         pub fog_density: f32,
         pub fog_falloff: f32,
-        /// Depth of field: focus distance and the CoC in pixels at infinity.
+        /// Depth of field: the fixed focus distance (0: auto, the view depth at the screen's
+        /// centre) and the CoC in pixels at infinity.
         pub focus_distance: f32,
         pub aperture: f32,
         /// Vignette strength (0: off), and the anti-aliasing (an `Aa`).

@@ -11,7 +11,7 @@ pub use super::options::culling::{
     cutoff_radius, ClusterBuilder, CullingMode, ForwardLights, NearLights, CONE_SIDES_RANGE, DEFAULT_CONE_SIDES,
     DEFAULT_SPHERE_SUBDIVISIONS, MAX_LIGHTS_EVERY_MODE, MAX_SPHERE_SUBDIVISIONS,
 };
-pub use super::options::post::{Aa, Tonemap};
+pub use super::options::post::{Aa, Focus, Tonemap};
 pub use super::options::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode};
 pub use super::options::*;
 
@@ -140,6 +140,38 @@ mod tests {
         let e = bad(Settings { msaa: Msaa::X4, ..Settings::default() });
         assert!(e.contains("deferred path cannot multisample"), "{e}");
         Settings { msaa: Msaa::X4, path: RenderPath::Forward, ..Settings::default() }.validate().unwrap();
+    }
+
+    /// The focus is `auto` or a distance in every way a user writes it: the knob (CLI, scripts),
+    /// settings files (a number, as files wrote it when the knob was one, or `"auto"`), and
+    /// both round-trip; a bad one is an error that says what the knob takes.
+    #[test]
+    fn the_focus_is_auto_or_a_distance_and_old_numeric_files_still_load() {
+        let d = Settings::default();
+        assert_eq!(d.focus_distance, Focus::Auto);
+        assert_eq!(d.get("focus-distance").unwrap(), "auto");
+        let mut s = d.clone();
+        s.set("focus-distance", "12.5").unwrap();
+        assert_eq!(s.focus_distance, Focus::Distance(12.5));
+        s.set("focus-distance", "auto").unwrap();
+        assert_eq!(s.focus_distance, Focus::Auto);
+        for bad in ["0", "-3", "nonsense", "inf", "1e8"] {
+            let e = s.set("focus-distance", bad).unwrap_err();
+            assert!(e.contains("focus") || e.contains("auto or"), "{bad}: {e}");
+            assert_eq!(s.focus_distance, Focus::Auto, "{bad} changed the setting");
+        }
+        let old: Settings = serde_json::from_str(r#"{"dof":true,"focus_distance":8}"#).unwrap();
+        assert_eq!(old.focus_distance, Focus::Distance(8.0));
+        let named: Settings = serde_json::from_str(r#"{"focus_distance":"auto"}"#).unwrap();
+        assert_eq!(named.focus_distance, Focus::Auto);
+        assert!(serde_json::from_str::<Settings>(r#"{"focus_distance":"near"}"#).is_err());
+        let bad = Settings { focus_distance: Focus::Distance(-1.0), ..Settings::default() };
+        assert!(bad.validate().unwrap_err().contains("focus distance -1"));
+        for f in [Focus::Auto, Focus::Distance(3.25)] {
+            let s = Settings { focus_distance: f, ..Settings::default() };
+            let text = serde_json::to_string(&s).unwrap();
+            assert_eq!(serde_json::from_str::<Settings>(&text).unwrap(), s, "{text}");
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@ use crate::common;
 use crate::common::{gpu, scene};
 use lampshade::headless::render_image;
 use lampshade::renderer::post::{self, PostImage, Tonemap};
+use lampshade::renderer::settings::Focus;
 use lampshade::renderer::{Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::Scene;
 
@@ -364,7 +365,7 @@ fn depth_of_field_leaves_in_focus_pixels_unchanged() {
         |s| {
             s.dof = true;
             s.aperture = 12.0;
-            s.focus_distance = 20.0;
+            s.focus_distance = Focus::Distance(20.0);
         },
         160,
         90,
@@ -373,7 +374,7 @@ fn depth_of_field_leaves_in_focus_pixels_unchanged() {
     for ((p, q), point) in sharp.pixels().zip(blurred.pixels()).zip(&points) {
         let coc = point.map_or(0.0, |v| {
             let z = -v.z as f64;
-            (s.aperture as f64 * (z - s.focus_distance as f64).abs() / z).min(post::MAX_COC as f64)
+            (s.aperture as f64 * (z - 20.0).abs() / z).min(post::MAX_COC as f64)
         });
         // Away from the boundary, by more than f32 rounding of the same formula.
         if coc < 0.49 {
@@ -386,6 +387,80 @@ fn depth_of_field_leaves_in_focus_pixels_unchanged() {
     eprintln!("dof: {in_focus} surface pixels in focus unchanged, {changed_out_of_focus} out of focus blurred");
     assert!(in_focus > 100, "only {in_focus} surface pixels in focus");
     assert!(changed_out_of_focus > 1000, "only {changed_out_of_focus} out-of-focus pixels blurred");
+}
+
+/// `sc` scaled by `k` about the origin: its objects, its camera (position, near and far planes)
+/// and its lights (positions and radii); the picture is the same up to the lights' falloff.
+fn scaled(mut sc: Scene, k: f64) -> Scene {
+    let scale = glam::DMat4::from_scale(glam::DVec3::splat(k));
+    for o in &mut sc.objects {
+        o.transform = scale * o.transform;
+    }
+    sc.camera.position *= k;
+    sc.camera.near *= k;
+    sc.camera.far *= k;
+    for l in sc.lights_mut() {
+        match l {
+            lampshade::scene::Light::Point(p) => {
+                p.position *= k;
+                p.radius *= k as f32;
+            }
+            lampshade::scene::Light::Spot(s) => {
+                s.position *= k;
+                s.radius *= k as f32;
+            }
+        }
+    }
+    sc
+}
+
+/// Auto focus (the default) focuses where the camera looks, at any scene scale: on `demo`
+/// scaled by 0.1 and by 10, with depth of field on (aperture 8), every pixel of the 9x9 window
+/// round the screen's centre whose circle of confusion at the centre pixel's view depth
+/// (computed here on the CPU from the read-back view positions) is under half a pixel equals
+/// the frame without depth of field bit for bit (such a pixel is copied, so the bound is 0;
+/// 0.49 leaves f32 rounding of the same formula), and there are a dozen or more of them (the
+/// centre sits on the floor, whose depth changes fast from row to row); while at the old fixed
+/// focus of 10 units no pixel of the window is in focus, the centre pixel's CoC is over 2 px
+/// and most of the window is blurred.
+#[test]
+fn auto_focus_keeps_the_screen_centre_sharp_at_any_scene_scale() {
+    let (w, h) = (160u32, 90u32);
+    let coc = |z: f64, focus: f64| (8.0 * (z - focus).abs() / z).min(post::MAX_COC as f64);
+    for k in [0.1, 10.0] {
+        let sc = scaled(scene("demo"), k);
+        let base = Settings { tonemap: Tonemap::None, exposure: 0.5, ..quiet() };
+        let auto = Settings { dof: true, aperture: 8.0, ..base.clone() };
+        assert_eq!(auto.focus_distance, Focus::Auto, "auto is the default");
+        let fixed = Settings { focus_distance: Focus::Distance(10.0), ..auto.clone() };
+        let mut r = renderer(&base);
+        let (sharp, _) = render_image(gpu(), &mut r, &sc, &base, w, h).unwrap();
+        let (blurred, _) = render_image(gpu(), &mut r, &sc, &fixed, w, h).unwrap();
+        let (focused, stats) = render_image(gpu(), &mut r, &sc, &auto, w, h).unwrap();
+        assert!(stats.post.is_some_and(|p| p.ran("dof")), "x{k}: depth of field ran");
+        let points = r.last_frame().view_positions(gpu()).unwrap();
+        let centre = points[((h / 2) * w + w / 2) as usize].expect("a surface at the screen's centre");
+        let z0 = -centre.z as f64;
+        assert!(coc(z0, 10.0) > 2.0, "x{k}: focus 10 leaves the centre (depth {z0}) sharp; the test proves nothing");
+        let (mut in_focus, mut in_focus_fixed, mut blurred_by_fixed) = (0, 0, 0);
+        for y in h / 2 - 4..=h / 2 + 4 {
+            for x in w / 2 - 4..=w / 2 + 4 {
+                let Some(v) = points[(y * w + x) as usize] else { continue };
+                if coc(-v.z as f64, z0) < 0.49 {
+                    assert_eq!(sharp.get_pixel(x, y), focused.get_pixel(x, y), "x{k}: ({x}, {y}) in focus changed");
+                    in_focus += 1;
+                }
+                in_focus_fixed += (coc(-v.z as f64, 10.0) < 0.49) as usize;
+                blurred_by_fixed += (sharp.get_pixel(x, y) != blurred.get_pixel(x, y)) as usize;
+            }
+        }
+        eprintln!(
+            "x{k}: centre depth {z0:.3}, {in_focus}/81 in focus unchanged, focus 10 changed {blurred_by_fixed}/81"
+        );
+        assert!(in_focus >= 12, "x{k}: only {in_focus} of the 81 centre pixels in focus");
+        assert_eq!(in_focus_fixed, 0, "x{k}: focus 10 has centre pixels in focus");
+        assert!(blurred_by_fixed >= 40, "x{k}: focus 10 changed only {blurred_by_fixed} of the 81 centre pixels");
+    }
 }
 
 /// Edge AA (seed 002) and FXAA change only pixels on their edge mask (the `edges` view, which

@@ -18,6 +18,7 @@ use crate::app::state::MAX_SCALE;
 use crate::app::state::MIN_SCALE;
 use crate::renderer::knobs;
 use crate::renderer::settings::AccumFormat;
+use crate::renderer::settings::Focus;
 use crate::renderer::settings::{CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS};
 use crate::renderer::LayoutChoice;
 use crate::scene::Scene;
@@ -415,11 +416,7 @@ fn post_panel(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         ui.checkbox(&mut s.dof, "on");
         ui.end_row();
         ui.label("focus distance");
-        ui.add(
-            egui::Slider::new(&mut s.focus_distance, slider("focus-distance"))
-                .clamping(egui::SliderClamping::Edits)
-                .logarithmic(true),
-        );
+        focus_distance(ui, &mut s.focus_distance);
         ui.end_row();
         ui.label("aperture");
         ui.add(
@@ -664,6 +661,26 @@ pub(super) fn help_tab(ui: &mut egui::Ui) {
 /// A knob's slider span. Sliders using it clamp only what the user drags or types
 /// (`SliderClamping::Edits`): a value set beyond the span by the CLI, a script or a settings
 /// file (the knob's own range is wider) stays as it is, never silently clamped by drawing.
+/// Depth of field's focus: `auto` (the surface at the screen's centre) or, unticked, a slider
+/// for a fixed distance, starting from the last one set (10 the first time).
+fn focus_distance(ui: &mut egui::Ui, focus: &mut Focus) {
+    let id = ui.scope_id().with("manual-focus");
+    let mut last: f32 = ui.data_mut(|d| d.get_temp(id)).unwrap_or(10.0);
+    ui.horizontal(|ui| {
+        let mut auto = *focus == Focus::Auto;
+        if ui.checkbox(&mut auto, "auto").on_hover_text("focus on the surface at the screen's centre").changed() {
+            *focus = if auto { Focus::Auto } else { Focus::Distance(last) };
+        }
+        if let Focus::Distance(d) = focus {
+            ui.add(
+                egui::Slider::new(d, slider("focus-distance")).clamping(egui::SliderClamping::Edits).logarithmic(true),
+            );
+            last = *d;
+        }
+    });
+    ui.data_mut(|d| d.insert_temp(id, last));
+}
+
 pub(super) fn slider(name: &str) -> std::ops::RangeInclusive<f32> {
     // The names are this file's literals; `every_slider_knob_has_a_span` checks them.
     knobs::find(name).and_then(|k| k.slider()).unwrap_or(0.0..=1.0)

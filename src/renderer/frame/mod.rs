@@ -248,7 +248,9 @@ impl Renderer {
         }
         // The post chain's parameters, and its LUT when the setting names another one.
         if let Some(pt) = self.targets.as_ref().and_then(|t| t.post.as_ref()) {
-            self.lut.upload(&self.queue, pt, &settings.post_options())?;
+            let fallback =
+                self.scene.as_ref().map_or(scene.camera.far as f32, |g| post::focus_fallback(scene, &g.bounds));
+            self.lut.upload(&self.queue, pt, &settings.post_options(), fallback)?;
         }
         Ok(())
     }
@@ -472,6 +474,8 @@ impl Renderer {
             shadowed: &prepared.shadows.lights,
             scratch: &self.scratch,
             reused: prepared.reused,
+            progress: self.progress.as_ref(),
+            debug_groups: self.debug_groups,
         })
     }
 }

@@ -13,6 +13,11 @@ use crate::renderer::stats::{Queries, Span};
 use crate::renderer::targets::Targets;
 use crate::renderer::volumes::Volumes;
 
+/// Where a long frame reports its progress: (what, units done, units in all), called as the GPU
+/// finishes each part (`FrameInputs::flush`). `Renderer::set_progress` sets it; `None`, the
+/// default, keeps every frame one submission.
+pub type Progress = std::sync::Arc<dyn Fn(&str, u64, u64) + Send + Sync>;
+
 /// What a frame draws, decided from its settings and scene before anything is built
 /// (`Shape::of_checked`, in `frame/`).
 pub struct Shape {
@@ -73,9 +78,40 @@ pub struct FrameInputs<'a> {
     /// The CPU's part is the frame before's, taken as it was (`Prepared::reused`): what the
     /// passes uploaded from it is on the GPU still, unless a buffer was made anew.
     pub reused: bool,
+    /// Where a long step reports its progress (`None`: the frame is one submission).
+    pub progress: Option<&'a Progress>,
+    /// The steps are recorded inside debug groups (`paths::record`), which `flush` closes and
+    /// reopens around its cut.
+    pub debug_groups: bool,
 }
 
 impl FrameInputs<'_> {
+    /// Cuts the frame's recording in step `group`: submits what `encoder` holds, waits for the
+    /// GPU to finish it, reports `done` of `total` units of `what` to `progress` (a step reports
+    /// only with a sink), and goes on in a fresh encoder. The queue keeps the order, so the
+    /// frame draws what it would in one submission; the wait is the progress's price, paid only
+    /// by a frame with a sink whose step chose to report.
+    pub fn flush(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        group: &str,
+        (what, done, total): (&str, u64, u64),
+    ) -> anyhow::Result<()> {
+        let Some(progress) = self.progress else { return Ok(()) };
+        let next = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        let mut done_part = std::mem::replace(encoder, next);
+        if self.debug_groups {
+            done_part.pop_debug_group();
+            encoder.push_debug_group(group);
+        }
+        self.queue.submit([done_part.finish()]);
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| anyhow::anyhow!("device poll failed: {e}"))?;
+        progress(what, done, total);
+        Ok(())
+    }
+
     /// Whether light `i` casts a shadow this frame.
     pub fn casts(&self, i: u32) -> bool {
         self.shadowed.get(i as usize).is_some_and(|&(first, _)| first != records::NO_SHADOW)

@@ -5,7 +5,7 @@ use super::{choice, names, number, parse_switch, switch_name, whole, Knob, Value
 use crate::renderer::presets::{Preset, CUSTOM};
 use crate::renderer::settings::{
     name_of, Aa, AccumFormat, BlendedMode, BrdfOverride, CapOrder, ClusterBuilder, CullingMode, DebugView, DepthFormat,
-    DepthRead, DrawOrder, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, ShadowCube,
+    DepthRead, DrawOrder, Focus, ForwardLights, LayoutChoice, MaterialBranch, Msaa, NearLights, RenderPath, ShadowCube,
     ShadowFilter, ShadowFormat, ShadowMode, Tonemap, CONE_SIDES_RANGE, MAX_SPHERE_SUBDIVISIONS,
 };
 
@@ -635,12 +635,13 @@ pub const KNOBS: &[Knob] = &[
     Knob {
         name: "focus-distance",
         what: "focus distance",
-        help: "View distance in focus",
-        values: Values::Float { min: 0.0, max: 1e7, open: (true, false), slider: (0.5, 100.0) },
+        help: "What is in focus: auto (the surface at the screen's centre; the scene's distance where that is \
+               sky) or a view distance",
+        values: Values::FloatOrAuto { min: 0.0, max: 1e7, open: (true, false), slider: (0.5, 100.0) },
         cli: true,
-        get: |s| s.focus_distance.to_string(),
+        get: |s| s.focus_distance.name(),
         put: |s, v| {
-            s.focus_distance = number(v)? as f32;
+            s.focus_distance = Focus::parse(v)?;
             Ok(())
         },
     },

@@ -128,8 +128,9 @@ macro_rules! settings_fields {
             [post] fog_height_falloff: f32 = 0.1,
             /// Depth of field: a gather blur by each pixel's circle of confusion.
             [post] dof: bool = false,
-            /// View distance that is in focus.
-            [post] focus_distance: f32 = 10.0,
+            /// What is in focus: `auto` (the surface at the screen's centre, read on the GPU; see
+            /// [`Focus::Auto`]) or a fixed view distance.
+            [post] focus_distance: Focus = Focus::Auto,
             /// Circle of confusion diameter in pixels at infinite distance: CoC = aperture x |z - focus| / z,
             /// at most `post::MAX_COC` px.
             [post] aperture: f32 = 8.0,

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 pub use super::kit::gbuffer::LayoutChoice;
 use caps::CapOrder;
 use culling::{ClusterBuilder, CullingMode, ForwardLights, NearLights};
-use post::{Aa, Tonemap};
+use post::{Aa, Focus, Tonemap};
 use shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode};
 
 pub(crate) use fields::{by_technique, settings_fields};
@@ -257,8 +257,9 @@ pub enum DebugView {
     /// The anti-aliasing's edge mask (the edge blur's G-buffer discontinuities, or FXAA's luma
     /// contrast test; `edge` when anti-aliasing is off): white where it may change a pixel.
     Edges = 14,
-    /// Depth of field's circle of confusion: dark green where in focus (under half a pixel,
-    /// copied unchanged), grey growing to white at `post::MAX_COC` px.
+    /// Depth of field's circle of confusion at the frame's focus (the same `Focus` the blur
+    /// uses, auto included): dark green where in focus (under half a pixel, copied unchanged),
+    /// grey growing to white at `post::MAX_COC` px.
     Coc = 15,
     /// The shadow factor, the least of the sun's and of every casting light's that
     /// reaches the pixel: white lit, black shadowed; dark blue where no surface is drawn.

@@ -23,7 +23,8 @@
 //!   background colour, by `post::fog_amount`'s formula from the G-buffer's view-space point.
 //!   Background pixels are left as they are.
 //! - **dof**, depth of field (seed 003): each pixel's circle of confusion from its view depth,
-//!   CoC = aperture × |z − focus| / z px (at most `post::MAX_COC`), and a gather over a 32-tap
+//!   CoC = aperture × |z − focus| / z px (at most `post::MAX_COC`; focus: `Focus`, by default
+//!   the view depth at the screen's centre, read on the GPU), and a gather over a 32-tap
 //!   disc of that diameter, taking only neighbours whose own CoC reaches the pixel (a sharp
 //!   foreground does not smear over what is behind it). A CoC under half a pixel copies the
 //!   pixel. Its view: the CoC.

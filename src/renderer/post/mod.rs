@@ -420,7 +420,7 @@ pub fn encode_chain(
 }
 
 /// The chain's parameters for this frame.
-pub fn params(s: &PostOptions, lut: Option<&Lut>) -> PostParams {
+pub fn params(s: &PostOptions, lut: Option<&Lut>, focus_fallback: f32) -> PostParams {
     let (lut_size, lut_min, lut_max) = match lut {
         Some(l) => (
             l.size,
@@ -441,12 +441,13 @@ pub fn params(s: &PostOptions, lut: Option<&Lut>) -> PostParams {
         adapt_rate: adapt_rate(s.adaptation_speed),
         log_min: HIST_LOG_MIN,
         log_max: HIST_LOG_MAX,
-        pad1: 0.0,
+        focus_fallback,
         lut_min,
         lut_max,
         fog_density: s.fog_density,
         fog_falloff: s.fog_height_falloff,
-        focus_distance: s.focus_distance,
+        // 0: auto (a fixed distance is > 0, `Settings::validate`).
+        focus_distance: s.focus_distance.distance().unwrap_or(0.0),
         aperture: s.aperture,
         vignette: s.vignette,
         aa: s.aa as u32,
@@ -454,6 +455,31 @@ pub fn params(s: &PostOptions, lut: Option<&Lut>) -> PostParams {
         pad3: 0,
         effect: std::array::from_fn(|i| EFFECTS.get(i).map_or([0.0; 4], |e| (e.params)(s))),
     }
+}
+
+/// Depth of field's auto focus where the screen's centre pixel is background (sky): the framed
+/// scene's view distance. The scene's bounds are the objects' bounding spheres (`bounds`: each
+/// mesh's, model space) moved and scaled by their transforms; the focus is the view depth of
+/// their box's centre, or the box's half-diagonal where that centre is not in front of the
+/// camera (the camera inside the scene, or past its middle), kept within the camera's near and
+/// far planes. An empty scene focuses at the far plane. O(objects), once a frame, on the CPU.
+pub fn focus_fallback(scene: &crate::scene::Scene, bounds: &[(glam::DVec3, f64)]) -> f32 {
+    let cam = &scene.camera;
+    let (mut lo, mut hi) = (glam::DVec3::splat(f64::INFINITY), glam::DVec3::splat(f64::NEG_INFINITY));
+    for o in &scene.objects {
+        let Some(&(centre, radius)) = bounds.get(o.mesh) else { continue };
+        let c = o.transform.transform_point3(centre);
+        let scale = o.transform.x_axis.length().max(o.transform.y_axis.length()).max(o.transform.z_axis.length());
+        let r = glam::DVec3::splat(radius * scale);
+        lo = lo.min(c - r);
+        hi = hi.max(c + r);
+    }
+    if !(lo.x <= hi.x) || !lo.is_finite() || !hi.is_finite() {
+        return cam.far as f32;
+    }
+    let depth = (0.5 * (lo + hi) - cam.position).dot(cam.forward());
+    let d = if depth > cam.near { depth } else { 0.5 * (hi - lo).length() };
+    d.clamp(cam.near, cam.far) as f32
 }
 
 /// The fraction of the way auto-exposure moves per frame at `speed` (per second): the exact
@@ -498,9 +524,15 @@ pub struct LutCache {
 }
 
 impl LutCache {
-    /// Writes the chain's parameters into `pt`, and the LUT `o` names when it is another one
-    /// than the targets hold.
-    pub fn upload(&mut self, queue: &wgpu::Queue, pt: &PostTargets, o: &PostOptions) -> anyhow::Result<()> {
+    /// Writes the chain's parameters into `pt` (`focus_fallback`: [`focus_fallback`] of the
+    /// frame), and the LUT `o` names when it is another one than the targets hold.
+    pub fn upload(
+        &mut self,
+        queue: &wgpu::Queue,
+        pt: &PostTargets,
+        o: &PostOptions,
+        focus_fallback: f32,
+    ) -> anyhow::Result<()> {
         if let Some(name) = &o.lut {
             let key = (name.clone(), std::fs::metadata(name).and_then(|m| m.modified()).ok());
             if self.held.as_ref().is_none_or(|(k, _)| *k != key) {
@@ -511,7 +543,7 @@ impl LutCache {
             }
         }
         let lut = o.lut.as_ref().and(self.held.as_ref().map(|(_, l)| l));
-        queue.write_buffer(&pt.params, 0, bytemuck::bytes_of(&params(o, lut)));
+        queue.write_buffer(&pt.params, 0, bytemuck::bytes_of(&params(o, lut, focus_fallback)));
         Ok(())
     }
 }
@@ -519,6 +551,35 @@ impl LutCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Where the screen's centre is sky, auto focus falls back to the framed scene's distance:
+    /// the view depth of its bounds' centre, their half-diagonal with the camera inside them,
+    /// the far plane for an empty scene; always within the near and far planes.
+    #[test]
+    fn the_auto_focus_fallback_is_the_framed_scenes_distance() {
+        use crate::scene::{Camera, Object, Scene};
+        use glam::{DMat4, DVec3};
+        let camera = Camera::looking_at(DVec3::ZERO, DVec3::NEG_Z);
+        let mut sc = Scene::new("t", camera);
+        assert_eq!(focus_fallback(&sc, &[]), camera.far as f32, "empty: the far plane");
+        // A unit sphere (model space) scaled by 2, 30 units ahead and 5 to the side.
+        let bounds = [(DVec3::ZERO, 1.0)];
+        let at = |p: DVec3| Object {
+            mesh: 0,
+            material: 0,
+            transform: DMat4::from_translation(p) * DMat4::from_scale(DVec3::splat(2.0)),
+            layer: 0,
+        };
+        sc.objects = vec![at(DVec3::new(5.0, 0.0, -30.0))];
+        assert!((focus_fallback(&sc, &bounds) - 30.0).abs() < 1e-4, "{}", focus_fallback(&sc, &bounds));
+        // Two objects around the camera: the bounds' centre is not ahead, so their half-diagonal.
+        sc.objects = vec![at(DVec3::new(0.0, 0.0, 10.0)), at(DVec3::new(0.0, 0.0, -10.0))];
+        let half = 0.5 * DVec3::new(4.0, 4.0, 24.0).length();
+        assert!((focus_fallback(&sc, &bounds) as f64 - half).abs() < 1e-4);
+        // Far away: the far plane.
+        sc.objects = vec![at(DVec3::new(0.0, 0.0, -1e6))];
+        assert_eq!(focus_fallback(&sc, &bounds), camera.far as f32);
+    }
 
     #[test]
     fn every_tonemap_maps_zero_to_zero_and_is_monotonic() {

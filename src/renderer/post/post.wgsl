@@ -14,7 +14,7 @@ struct PostParams {
     adapt_rate: f32,
     log_min: f32,
     log_max: f32,
-    pad1: f32,
+    focus_fallback: f32,
     lut_min: vec4<f32>,
     lut_max: vec4<f32>,
     fog_density: f32,
@@ -368,22 +368,40 @@ fn fs_fog(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(mix(c, fog, fog_amount(s.position)), 1.0);
 }
 
-// Circle of confusion (diameter, px) of a pixel: 0 for the background (not blurred).
-fn coc_at(p: vec2<i32>) -> f32 {
+// The view distance in focus (renderer::options::post::Focus): the fixed distance, or with
+// auto focus (focus_distance 0) the view depth of the surface at the screen's centre pixel
+// (size / 2, read from the depth this pass already binds: no read-back, no stall), or where
+// that pixel is background, the framed scene's distance the CPU computed
+// (renderer::post::focus_fallback). Every pixel reads the same texel, so the frame has one focus.
+fn dof_focus() -> f32 {
+    if post_params.focus_distance > 0.0 {
+        return post_params.focus_distance;
+    }
+    let s = gbuffer_load(vec2<i32>(textureDimensions(post_src) / 2u));
+    if !s.valid {
+        return post_params.focus_fallback;
+    }
+    return max(-s.position.z, 1e-6);
+}
+
+// Circle of confusion (diameter, px) of a pixel focused at `focus`: 0 for the background (not
+// blurred).
+fn coc_at(p: vec2<i32>, focus: f32) -> f32 {
     let size = vec2<i32>(textureDimensions(post_src));
     let s = gbuffer_load(clamp(p, vec2<i32>(0), size - 1));
     if !s.valid {
         return 0.0;
     }
     let z = max(-s.position.z, 1e-6);
-    return min(post_params.aperture * abs(z - post_params.focus_distance) / z, LS_MAX_COC);
+    return min(post_params.aperture * abs(z - focus) / z, LS_MAX_COC);
 }
 
 @fragment
 fn fs_dof(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(floor(frag.xy));
     let c = textureLoad(post_src, p, 0).rgb;
-    let coc = coc_at(p);
+    let focus = dof_focus();
+    let coc = coc_at(p, focus);
     if coc < 0.5 {
         return vec4<f32>(c, 1.0);
     }
@@ -395,7 +413,7 @@ fn fs_dof(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let r = 0.5 * coc * sqrt((f32(i) + 0.5) / 32.0);
         let a = f32(i) * 2.39996323;
         let q = p + vec2<i32>(round(r * vec2<f32>(cos(a), sin(a))));
-        let reach = 0.5 * coc_at(q);
+        let reach = 0.5 * coc_at(q, focus);
         if reach >= r {
             sum += post_src_at(q);
             weight += 1.0;
@@ -406,7 +424,7 @@ fn fs_dof(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_view_coc(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let coc = coc_at(vec2<i32>(floor(frag.xy)));
+    let coc = coc_at(vec2<i32>(floor(frag.xy)), dof_focus());
     let t = coc / LS_MAX_COC;
     return vec4<f32>(select(vec3<f32>(t), vec3<f32>(0.0, 0.25, 0.0), coc < 0.5), 1.0);
 }

@@ -37,6 +37,7 @@
 //!   around the bounding sphere of its slice, deep enough to hold every object.
 
 pub mod atlas_view;
+pub mod cost;
 pub mod cube;
 pub mod pass;
 pub mod scratch;
@@ -45,6 +46,7 @@ use super::records::{ShadowParams, ShadowTile, NO_SHADOW};
 pub use crate::renderer::kit::features::ShadowCode;
 pub use crate::renderer::options::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, ShadowOptions};
 use crate::scene::{Light, Scene};
+pub use cost::{ShadowCost, COSTLY_TRIANGLES};
 pub use cube::{
     indirection_decode, indirection_error, indirection_side, indirection_texels, MAX_INDIRECTION, MIN_TILE,
 };

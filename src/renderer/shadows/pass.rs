@@ -61,16 +61,20 @@ impl ShadowPass {
     /// layer; nothing when no tile. The pass's timestamps span all of them. A frame that counts
     /// (the ledger) with timestamps draws each light's tiles (and the sun's) in render passes of
     /// their own instead, each timed ([`Self::encode_timed`]).
-    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) {
+    ///
+    /// A costly frame with a progress sink (`Chunks`) splits the same draws into parts of about
+    /// a fiftieth of the caster triangles, each submitted and waited for (`FrameInputs::flush`),
+    /// reporting the shadow-map passes drawn.
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<()> {
         let plan = f.shadows;
         f.scratch.shadows.clear();
         if plan.tiles.is_empty() {
-            return;
+            return Ok(());
         }
         let group = f.frame.caster_group(f.device, &self.caster_bgl);
+        let mut chunks = Chunks::of(f, plan);
         if timed(f) {
-            self.encode_timed(encoder, f, plan, &group);
-            return;
+            return self.encode_timed(encoder, f, plan, &group, &mut chunks);
         }
         let atlas: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_none()).collect();
         let faces: Vec<&TileDraw> = plan.draws.iter().filter(|d| d.layer.is_some()).collect();
@@ -83,13 +87,23 @@ impl ShadowPass {
             let Some(view) = d.layer.and_then(|l| f.frame.shadow_cube_layers.get(l as usize)) else { continue };
             targets.push((view, vec![d]));
         }
-        let last = targets.len().saturating_sub(1);
-        for (k, (view, draws)) in targets.into_iter().enumerate() {
+        // Each target's draws in parts (one part without a progress sink): the first clears.
+        let parts: Vec<(&wgpu::TextureView, bool, &[&TileDraw])> = targets
+            .iter()
+            .flat_map(|(view, draws)| {
+                chunks.split(f, draws).into_iter().enumerate().map(move |(i, d)| (*view, i == 0, d))
+            })
+            .collect();
+        let last = parts.len().saturating_sub(1);
+        for (k, (view, clear, draws)) in parts.into_iter().enumerate() {
             let begin = (k == 0).then_some(SPAN);
             let end = (k == last).then_some(SPAN);
-            let mut pass = begin_pass(encoder, view, true, f.timestamps(begin, end));
-            self.draw_tiles(&mut pass, f, plan, &group, &draws);
+            let mut pass = begin_pass(encoder, view, clear, f.timestamps(begin, end));
+            self.draw_tiles(&mut pass, f, plan, &group, draws);
+            drop(pass);
+            chunks.drawn(encoder, f, draws)?;
         }
+        Ok(())
     }
 
     /// Draws `draws`' casters into `pass`, each tile through its viewport.
@@ -132,11 +146,12 @@ impl ShadowPass {
         f: &FrameInputs<'_>,
         plan: &ShadowPlan,
         group: &wgpu::BindGroup,
-    ) {
+        chunks: &mut Chunks,
+    ) -> anyhow::Result<()> {
         let runs = owner_runs(plan);
         drop(begin_pass(encoder, &f.frame.shadow_view, true, f.timestamps(Some(SPAN), None)));
         // Made by `prepare`, before the frame records.
-        let Some(timers) = f.scratch.shadows.timers_for(runs.len() as u32 * 2) else { return };
+        let Some(timers) = f.scratch.shadows.timers_for(runs.len() as u32 * 2) else { return Ok(()) };
         let mut owners = Vec::with_capacity(runs.len());
         for (k, (o, layer, draws)) in runs.iter().enumerate() {
             let view = match layer {
@@ -153,14 +168,77 @@ impl ShadowPass {
             };
             let mut pass = begin_pass(encoder, view, layer.is_some(), Some(writes));
             self.draw_tiles(&mut pass, f, plan, group, draws);
+            drop(pass);
             owners.push((*o, k as u32));
+            chunks.drawn(encoder, f, draws)?;
         }
         drop(begin_pass(encoder, &f.frame.shadow_view, false, f.timestamps(None, Some(SPAN))));
         let n = runs.len() as u32 * 2;
         encoder.resolve_query_set(&timers.set, 0..n, &timers.resolve, 0);
         encoder.copy_buffer_to_buffer(&timers.resolve, 0, &timers.readback, 0, n as u64 * 8);
         f.scratch.shadows.pending(owners);
+        Ok(())
     }
+}
+
+/// How a costly frame's shadow draws are cut into parts for its progress: `None` without a
+/// progress sink or under `COSTLY_TRIANGLES` (one part, one submission, as always).
+struct Chunks {
+    /// Caster triangles a part holds, at least.
+    part: Option<u64>,
+    /// Triangles and passes (tiles and faces) drawn since the last cut, and in all.
+    since: u64,
+    drawn: u64,
+    total: u64,
+}
+
+impl Chunks {
+    fn of(f: &FrameInputs<'_>, plan: &ShadowPlan) -> Chunks {
+        let triangles: u64 = plan.draws.iter().map(|d| triangles(f, d)).sum();
+        let costly = f.progress.is_some() && triangles > super::COSTLY_TRIANGLES;
+        let part = costly.then_some(triangles.div_ceil(50).max(1));
+        Chunks { part, since: 0, drawn: 0, total: plan.draws.len() as u64 }
+    }
+
+    /// `draws` in parts of at least `part` triangles (each part one render pass).
+    fn split<'d>(&self, f: &FrameInputs<'_>, draws: &'d [&'d TileDraw]) -> Vec<&'d [&'d TileDraw]> {
+        let Some(part) = self.part else { return vec![draws] };
+        let mut out = Vec::new();
+        let (mut start, mut sum) = (0, 0);
+        for (i, d) in draws.iter().enumerate() {
+            sum += triangles(f, d);
+            if sum >= part {
+                out.push(&draws[start..=i]);
+                (start, sum) = (i + 1, 0);
+            }
+        }
+        if start < draws.len() {
+            out.push(&draws[start..]);
+        }
+        out
+    }
+
+    /// Counts `draws` as drawn, and cuts the frame when the part is full.
+    fn drawn(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        draws: &[&TileDraw],
+    ) -> anyhow::Result<()> {
+        let Some(part) = self.part else { return Ok(()) };
+        self.since += draws.iter().map(|d| triangles(f, d)).sum::<u64>();
+        self.drawn += draws.len() as u64;
+        if self.since >= part || self.drawn == self.total {
+            self.since = 0;
+            f.flush(encoder, "shadows", ("shadow-map passes", self.drawn, self.total))?;
+        }
+        Ok(())
+    }
+}
+
+/// Caster triangles of one tile's draws.
+fn triangles(f: &FrameInputs<'_>, d: &TileDraw) -> u64 {
+    d.objects.iter().filter_map(|&o| f.scene.draws.get(o as usize)).map(|(r, _)| r.len() as u64 / 3).sum()
 }
 
 impl Pass for ShadowPass {
@@ -179,7 +257,7 @@ impl Pass for ShadowPass {
     }
 
     fn encode(&self, encoder: &mut wgpu::CommandEncoder, f: &FrameInputs<'_>) -> anyhow::Result<PassReport> {
-        self.record(encoder, f);
+        self.record(encoder, f)?;
         Ok(PassReport::default())
     }
 }

@@ -338,8 +338,13 @@ impl Gpu {
         crate::renderer::kit::read_back(&self.device, buffer, buffer.size())
     }
 
-    /// Copies a 2-D texture (one aspect, mip 0) to the CPU, tightly packed rows.
+    /// Copies a 2-D texture (one aspect, mip 0) to the CPU, tightly packed rows. A depth aspect
+    /// WebGPU does not copy (Depth24Plus's) comes back as f32 texels ([`Gpu::read_depth`]), as
+    /// Depth32Float's does.
     pub fn read_texture(&self, texture: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<Vec<u8>> {
+        if aspect == wgpu::TextureAspect::DepthOnly && texture.format().block_copy_size(Some(aspect)).is_none() {
+            return self.read_depth(texture);
+        }
         let size = texture.size();
         let bpp = texture
             .format()
@@ -373,5 +378,108 @@ impl Gpu {
             out.extend_from_slice(&row[..unpadded as usize]);
         }
         Ok(out)
+    }
+
+    /// A depth texture's depth as f32 texels, tightly packed rows, for a format whose depth
+    /// WebGPU does not copy (Depth24Plus): a full-screen draw loads each texel (`textureLoad` of
+    /// a `texture_depth_2d`, the stored value exactly as the depth test and the lights read it)
+    /// into an R32Float target, which is then copied.
+    pub fn read_depth(&self, texture: &wgpu::Texture) -> Result<Vec<u8>> {
+        const SHADER: &str = "@group(0) @binding(0) var depth: texture_depth_2d;
+@vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(p * 2.0 - 1.0, 0.0, 1.0);
+}
+@fragment fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(textureLoad(depth, vec2<i32>(p.xy), 0), 0.0, 0.0, 1.0);
+}";
+        if !texture.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
+            return Err(anyhow!("the {:?} depth texture cannot be read: it is not bound for reading", texture.format()));
+        }
+        let device = &self.device;
+        let size = texture.size();
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("depth read"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("depth read"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("depth read"),
+            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("depth read"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            })),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::TextureFormat::R32Float.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("depth read"),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
+        });
+        let target = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth read"),
+            size: wgpu::Extent3d { width: size.width, height: size.height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let target_view = target.create_view(&Default::default());
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("depth read"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        self.queue.submit([encoder.finish()]);
+        self.read_texture(&target, wgpu::TextureAspect::All)
     }
 }

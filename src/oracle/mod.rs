@@ -241,31 +241,49 @@ pub fn check_scene(
             debug_view: Settings::default().debug_view,
             ..base.clone()
         };
-        // The lightless frame, then brute force over the first mode's G-buffer (every mode
-        // draws the same G-buffer: the culling comes after it).
+        // The lightless frame, then brute force over the first mode's G-buffer: every mode
+        // draws the same G-buffer (the culling comes after it) from the same depth, except
+        // that a mode which writes the stencil reads the depth copy where `--depth-read buffer`
+        // lets the others read the depth buffer (`key::depth_read_refusal`), whose 24-bit depth
+        // the copy does not round. So each depth source has its own lightless frame and brute
+        // force, made the first time a mode reads it.
         if let Err(e) = render_image(gpu, renderer, &dark_scene, &base, w, h) {
             let path_refused = |m| ModeResult { path_refused: true, ..refused(path, m, &e) };
             modes.extend(scope.modes.iter().map(|&m| (path_refused(m), None)));
             continue;
         }
-        let dark = accumulated(gpu, renderer)?;
-        let mut reference = None;
+        let base_source = renderer.last_frame().reads_depth_buffer();
+        // (reads the depth buffer, lightless frame's light, brute force)
+        let mut sources: Vec<(bool, Light, Option<crate::renderer::explain::brute::BruteForce>)> =
+            vec![(base_source, accumulated(gpu, renderer)?, None)];
         for &mode in &scope.modes {
             let settings = Settings { culling: mode, ..base.clone() };
             if let Err(e) = render_image(gpu, renderer, scene, &settings, w, h) {
                 modes.push((refused(path, mode, &e), None));
                 continue;
             }
-            if reference.is_none() {
-                reference = Some(renderer.last_frame().brute_force(gpu)?);
+            let source = renderer.last_frame().reads_depth_buffer();
+            let at = match sources.iter().position(|s| s.0 == source) {
+                Some(i) => i,
+                None => {
+                    // The lightless frame of this mode's depth source, then this mode again.
+                    render_image(gpu, renderer, &dark_scene, &settings, w, h)?;
+                    sources.push((source, accumulated(gpu, renderer)?, None));
+                    render_image(gpu, renderer, scene, &settings, w, h)?;
+                    sources.len() - 1
+                }
+            };
+            if sources[at].2.is_none() {
+                sources[at].2 = Some(renderer.last_frame().brute_force(gpu)?);
             }
-            let Some(bf) = &reference else { continue };
+            let (_, dark, reference) = &sources[at];
+            let Some(bf) = reference else { continue };
             let lit = accumulated(gpu, renderer)?;
             let one_target = renderer.last_frame().one_target() && path == RenderPath::Deferred;
             let mut difference = differences.then(|| vec![0.0; bf.adding.len()]);
             let flush = flush_bound(&scene.lights);
             let mut result =
-                compare_into(&lit, &dark, bf, (format, flush), (path, one_target), difference.as_deref_mut());
+                compare_into(&lit, dark, bf, (format, flush), (path, one_target), difference.as_deref_mut());
             result.path = path.name();
             result.mode = mode.name();
             if let Some(worst) = result.worst.as_mut().filter(|_| result.missed > 0) {

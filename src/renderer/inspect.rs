@@ -117,6 +117,8 @@ pub(crate) fn read_texel_aspect(
     y: u32,
 ) -> Result<[f32; 4]> {
     let format = texture.format().aspect_specific_format(aspect).unwrap_or(texture.format());
+    // A depth aspect comes back as f32 texels whatever its format (`Gpu::read_texture`).
+    let format = if aspect == wgpu::TextureAspect::DepthOnly { wgpu::TextureFormat::Depth32Float } else { format };
     let bpp = format.block_copy_size(None).unwrap_or(16);
     if texture.format().is_depth_stencil_format() {
         let bytes = gpu.read_texture(texture, aspect)?;

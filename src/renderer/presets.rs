@@ -45,7 +45,116 @@ pub struct Row {
     pub value: &'static str,
     /// The seed's words, quoted as the seed writes them.
     pub seed: &'static str,
+    /// The [`DEPARTURES`] the setting takes from its seed's words, by id.
+    pub departs: &'static [&'static str],
 }
+
+/// Where the project does on purpose other than a seed line says, and the measured reason.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Departure {
+    pub id: &'static str,
+    pub seeds: &'static str,
+    /// The seed's words, quoted as the seed writes them.
+    pub line: &'static str,
+    pub does: &'static str,
+    /// The reason, with the oracle case, test or measurement behind it.
+    pub why: &'static str,
+}
+
+/// Every deliberate departure from a seed line the presets keep (`docs/presets.md`).
+pub const DEPARTURES: &[Departure] = &[
+    Departure {
+        id: "D1",
+        seeds: "000, 001, 002",
+        line: "Each light volume is rendered it two passes",
+        does: "a light whose volume crosses the near plane is drawn by every stencil method as a plain volume (back faces, GreaterEqual), unmarked",
+        why: "oracle stream 4: case 14373 (416 pixels missed by two-pass, 446 by INVERT: the clipped front face), 20938 (5), 15135 and 13145 (1 each); the plain volume shades the same fragments for those lights (`auto_shades_like_the_best_fixed_mode_with_the_camera_among_lights`); `tests/data/oracle/crossing-near-*.json`",
+    },
+    Departure {
+        id: "D2",
+        seeds: "001",
+        line: "Then we render the light geometry with back face culling off and no pixel shader.",
+        does: "the INVERT mark has a fragment stage (`fs_mark_both_faces`) that biases each face's depth, front nearer and back farther: one pipeline takes only one fixed-function bias",
+        why: "`volume-rim-standard-depth.json` (lights behind a wall 1,700 away, near plane 0.05): unbiased, 71 pixels missed on the deferred path and 78 on the pre-pass; found by `lampshade check` on 2CylinderEngine",
+    },
+    Departure {
+        id: "D3",
+        seeds: "000, 001, 002",
+        line: "Z function = Less/Equal",
+        does: "every depth-tested volume draw is biased by 8 units of depth resolution and 1/16 of its slope (front faces nearer, back faces farther), derived from the volume fragment's rounding (`kit::VOLUME_BIAS_UNITS`)",
+        why: "oracle stream 9, cases 0-99: unbiased, 4 cases (278 pixels) missed; biased, none",
+    },
+    Departure {
+        id: "D4",
+        seeds: "002",
+        line: "Depth Func = ALWAY, Stencil Func = EQUAL,",
+        does: "REPLACE's shading draw tests depth: front faces, LessEqual, stencil Equal X, after the back-face Less mark",
+        why: "the mark alone sets exactly the pixels the plain volume's back faces pass, so shading with the depth test off shades the volume's set: 2,973,545 fragments against 1,190,990 on `demo` at 1280x720; held by `culling::stencil_modes_shade_exactly_the_points_inside_the_bounding_mesh`",
+    },
+    Departure {
+        id: "D5",
+        seeds: "004",
+        line: "No real anti-aliasing support.",
+        does: "`--msaa 4` multisamples the light pre-pass's pass 3 and its forward pass (passes 1 and 2 stay single-sample) after a depth-only draw primes the samples; the presets leave it off",
+        why: "edge error against a 4x4-supersampled frame: `demo` 207.5 to 174.0, `street` 76.8 to 73.8 (`paths::` MSAA test; docs/measurements.md)",
+    },
+    Departure {
+        id: "D6",
+        seeds: "002",
+        line: "Take advantage of early Z- and Stencil culling",
+        does: "on the layouts that store a position (`seed000`, `seed002`) the G-buffer pass writes the stored position's depth (`frag_depth`), so neither it nor the z-only pass before it has early Z: the z-only pass saves the target writes of hidden surfaces, not their shading",
+        why: "oracle stream 4, cases 8372 and 8851 (3 and 1 pixels missed on exactly those layouts: the rasteriser's plane lies far from the stored point on a grazing surface); `rim-position-layout-*.json`",
+    },
+    Departure {
+        id: "D7",
+        seeds: "002",
+        line: "Stencil Z-FAIL = REPLACE (with value X)",
+        does: "X is per batch of lights whose screen rectangles never meet, not per light; the stencil is cleared once every 255 batches",
+        why: "on `demo` 390 draws in 195 batches instead of 2,056 draws, lighting 5-20% faster (`examples/batchbench`), the same sums bit for bit (`batching::`); also seed 002's own \"Avoid frequent stencil reference / op changes\"",
+    },
+    Departure {
+        id: "D8",
+        seeds: "000",
+        line: "they are rendered as low-poly spheres",
+        does: "the low-poly sphere circumscribes the light's sphere (scaled by 1/inradius, 0.2% margin)",
+        why: "inscribed spheres miss light: 29 of 100 oracle cases fail (the oracle's deliberate-break table)",
+    },
+    Departure {
+        id: "D9",
+        seeds: "002",
+        line: "Free bilinear filtering offsets extra per-pixel work",
+        does: "the indirection cube is sampled nearest, and its two 16-bit coordinates are stored in the bytes of an Rgba8Unorm texel (Rg16Unorm needs a native-only feature)",
+        why: "derived, not measured: filtering across cube faces blends two faces' coordinates along every edge; the nearest texel's error, at most 0.59 texels, is added to the slope bias (`shadows::indirection_error`)",
+    },
+    Departure {
+        id: "D10",
+        seeds: "002",
+        line: "Render to shadow map at 2x pixels per clock",
+        does: "shadow maps are written through a fragment shader (linear depth; distance for the cube array's faces), not depth only",
+        why: "a design reason, not a measurement: linear depth keeps the biases in texels at every tile size, and the cube array needs a depth that is the same on every face",
+    },
+    Departure {
+        id: "D11",
+        seeds: "004",
+        line: "Directional lights and Point/Spot lights that cross the near plane are rendered as fullscreen quads.",
+        does: "on an adapter without depth clamp, lights crossing the far plane are drawn full-screen too",
+        why: "oracle stream 4, cases 55695 (5 pixels) and 80311 (623 and 629 pixels in two-pass and INVERT): the clipped volume's faces miss its points",
+    },
+    Departure {
+        id: "D12",
+        seeds: "000",
+        line: "RT2: RGB – world-space normal, Alpha – nothing",
+        does: "`seed000` keeps the specular exponent in RT2's alpha (and the material ID in RT3's when the scene has several models)",
+        why: "every material has an exponent and the channel costs no byte; not a measurement",
+    },
+    Departure {
+        id: "D13",
+        seeds: "004",
+        line: "Lightmaps are also applied in the final pass.",
+        does: "the light pass fades the sun by the crossfade weight at every pixel, and the final pass adds the bake, or the faded share of the sun back on surfaces without a lightmap",
+        why: "the light buffer cannot tell lightmapped pixels; held by `presets::the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun`",
+    },
+];
 
 /// Something the seed names that no knob gives yet.
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -57,7 +166,10 @@ pub struct Missing {
 /// A [`Row`] as a constant expression (so a table of them is `'static`).
 macro_rules! row {
     ($knob:expr, $value:expr, $seed:expr) => {
-        Row { knob: $knob, value: $value, seed: $seed }
+        Row { knob: $knob, value: $value, seed: $seed, departs: &[] }
+    };
+    ($knob:expr, $value:expr, $seed:expr; $($d:expr),+) => {
+        Row { knob: $knob, value: $value, seed: $seed, departs: &[$($d),+] }
     };
 }
 
@@ -82,12 +194,12 @@ impl Preset {
             Preset::Default => &[],
             Preset::Seed000 => &[
                 row!("path", "deferred", "All lighting function inputs are rendered into several buffers (in a single pass, using multiple render targets) which are then sampled by the light shader."),
-                row!("layout", "seed000", "In the demo, I'm using four fp16 textures with this layout"),
+                row!("layout", "seed000", "In the demo, I'm using four fp16 textures with this layout"; "D12"),
                 row!("accumulation", "rgba16-float", "RT1: RGB – light accumulation, Alpha – nothing"),
                 row!("ambient-in-gbuffer", "on", "RT1 starts off with light contribution from main ambient and directional sources (sun)."),
-                row!("culling", "stencil-two-pass", "Each light volume is rendered it two passes"),
+                row!("culling", "stencil-two-pass", "Each light volume is rendered it two passes"; "D1", "D3"),
                 row!("light-batching", "off", "Each light volume is rendered it two passes"),
-                row!("sphere-subdivisions", "1", "they are rendered as low-poly spheres"),
+                row!("sphere-subdivisions", "1", "they are rendered as low-poly spheres"; "D8"),
                 row!("reversed-z", "off", "Z function = Less/Equal"),
                 row!("brdf", "phong", "Standard Phong function is used in the demo."),
                 row!("shadows", "none", "It is also possible for each light to cast a shadow. I will explore this topic in the future articles."),
@@ -97,7 +209,7 @@ impl Preset {
             Preset::Seed001 => &[
                 row!("path", "deferred", "reconstructs a view space position from the depth stored in the g-buffer"),
                 row!("layout", "lambert8", "reconstructs the view space normal from two channels (using Lambert azimuthal equal-area projection"),
-                row!("culling", "stencil-invert", "setting the stencil depthfail operation for both front and back faces to D3D11_STENCIL_OP_INVERT"),
+                row!("culling", "stencil-invert", "setting the stencil depthfail operation for both front and back faces to D3D11_STENCIL_OP_INVERT"; "D1", "D2", "D3"),
                 row!("light-batching", "off", "The next stage is to render the cone again with the following depth stencil state."),
                 row!("brdf", "blinn-phong", "calculates diffuse and specular light colour, taking into account distance and spotlight attenuation"),
                 row!("shadows", "none", "calculates diffuse and specular light colour, taking into account distance and spotlight attenuation"),
@@ -106,17 +218,18 @@ impl Preset {
                 row!("path", "deferred", "For Each Light: framebuffer += brdf( G-buffer, light )"),
                 row!("layout", "seed002", "Position.x Position.y Position.z Emissive"),
                 row!("accumulation", "rgba16-float", "16-bit floating point enables HDR"),
-                row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"),
+                row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"; "D1", "D3", "D4", "D7"),
                 row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
                 row!("material-branch", "branch", "Reasonably coherent dynamic branching"),
                 row!("ambient-in-gbuffer", "off", "Keep MRT usage to 3 or fewer render targets … Directional Light = Quad"),
-                row!("gbuffer-depth-prepass", "on", "Do an initial front-to-back-sorted z-only pass."),
+                row!("gbuffer-depth-prepass", "on", "Do an initial front-to-back-sorted z-only pass."; "D6"),
+                row!("lightmaps", "off", "Keep MRT usage to 3 or fewer render targets"),
                 row!("draw-order", "front-to-back", "Do an initial front-to-back-sorted z-only pass."),
                 row!("anisotropy", "8", "Use aniso filtering during G-buffer pass (no level given)"),
                 row!("shadows", "all", "Shadow maps work very well with deferred shading"),
-                row!("shadow-cube", "indirect", "Unrolls a shadow cube map into a 2D depth texture … G16R16 cubemap efficiently maps XYZ->ST"),
+                row!("shadow-cube", "indirect", "Unrolls a shadow cube map into a 2D depth texture … G16R16 cubemap efficiently maps XYZ->ST"; "D9"),
                 row!("shadow-filter", "pcf2x2", "Enable bilinear filtering to get 4-sample PCF"),
-                row!("shadow-format", "depth24", "Use D16 or D24X8 format for shadow maps"),
+                row!("shadow-format", "depth24", "Use D16 or D24X8 format for shadow maps"; "D10"),
                 row!("bloom", "on", "Glow"),
                 row!("auto-exposure", "on", "Auto-Exposure"),
                 row!("distortion", "on", "Distortion"),
@@ -140,10 +253,10 @@ impl Preset {
                 row!("path", "light-prepass", "Base Pass … Lighting pass … Final pass: objects are rendered again."),
                 row!("accumulation", "rgba8-log", "Lighting values are encoded using logarithmic encoding"),
                 row!("culling", "volume", "Point and Spot lights that do not cross camera's near plane are rendered as 3D shapes, with Z buffer test against scene enabled."),
-                row!("near-lights", "fullscreen", "Directional lights and Point/Spot lights that cross the near plane are rendered as fullscreen quads."),
+                row!("near-lights", "fullscreen", "Directional lights and Point/Spot lights that cross the near plane are rendered as fullscreen quads."; "D11"),
                 row!("brdf", "scene", "Lighting model is fixed to Blinn-Phong. … Objects with shaders that can't handle Deferred Lighting are rendered after this process is done, using RenderTech-ForwardRendering path."),
                 row!("shadows", "all", "All lights can have Shadows."),
-                row!("lightmaps", "on", "Lightmaps are also applied in the final pass. Close to the camera, realtime lighting is used, and only baked indirect lighting is added."),
+                row!("lightmaps", "on", "Lightmaps are also applied in the final pass. Close to the camera, realtime lighting is used, and only baked indirect lighting is added."; "D13"),
                 row!("aa", "off", "No real anti-aliasing support."),
                 row!("depth-read", "buffer", "If platform & hardware supports reading Z buffer as a texture, then depth is not explicitly rendered."),
             ],
@@ -231,9 +344,16 @@ impl Preset {
             let seed = p.seed().unwrap_or_default();
             out.push_str(&format!("### `{}` (seed {seed})\n\n", p.name()));
             out.push_str(&format!("{}\n\n", super::settings::help_of(&p)));
-            out.push_str("| knob | value | the seed's line |\n|---|---|---|\n");
+            out.push_str("| knob | value | the seed's line | departs |\n|---|---|---|---|\n");
             for r in p.rows() {
-                out.push_str(&format!("| `{}` | `{}` | {} |\n", r.knob, r.value, r.seed.replace('|', "\\|")));
+                let departs: Vec<String> = r.departs.iter().map(|d| format!("[{d}](#departures)")).collect();
+                out.push_str(&format!(
+                    "| `{}` | `{}` | {} | {} |\n",
+                    r.knob,
+                    r.value,
+                    r.seed.replace('|', "\\|"),
+                    departs.join(", ")
+                ));
             }
             if !p.missing().is_empty() {
                 out.push_str("\nNot yet given by any knob:\n\n");
@@ -242,6 +362,19 @@ impl Preset {
                 }
             }
             out.push('\n');
+        }
+        out.push_str("### Departures\n\n");
+        out.push_str("| | seeds | the seed's line | what Lampshade does | why (measured) |\n|---|---|---|---|---|\n");
+        for d in DEPARTURES {
+            let cell = |s: &str| s.replace('|', "\\|");
+            out.push_str(&format!(
+                "| {} | {} | {} | {} | {} |\n",
+                d.id,
+                d.seeds,
+                cell(d.line),
+                cell(d.does),
+                cell(d.why)
+            ));
         }
         out
     }
@@ -314,6 +447,11 @@ mod tests {
             let text = &texts.iter().find(|(n, _)| n.starts_with(number)).expect("the seed's file").1;
             let text = norm(text);
             let quotes = p.rows().iter().map(|r| r.seed).chain(p.missing().iter().map(|m| m.seed));
+            for r in p.rows() {
+                for id in r.departs {
+                    assert!(DEPARTURES.iter().any(|d| d.id == *id), "{p:?} {}: no departure {id}", r.knob);
+                }
+            }
             for q in quotes {
                 // A quote may elide with " … " and end with a note in parentheses.
                 let q = q.split(" (no ").next().unwrap_or(q);
@@ -327,6 +465,15 @@ mod tests {
                     }
                 }
             }
+        }
+        // A departure's line stands in one of the seeds it names.
+        for d in DEPARTURES {
+            let line = norm(d.line.trim_end_matches('.'));
+            let said = texts
+                .iter()
+                .filter(|(n, _)| d.seeds.split(", ").any(|k| n.starts_with(k)))
+                .any(|(_, t)| norm(t).contains(&line));
+            assert!(said, "departure {}: no seed of {} says \"{}\"", d.id, d.seeds, d.line);
         }
     }
 }

@@ -43,8 +43,9 @@ impl Settings {
         super::knobs::KNOBS.iter().try_for_each(|k| k.check(self))?;
         if self.msaa != Msaa::X1 && !self.path.can_multisample() {
             return Err(format!(
-                "the {} path cannot multisample (seed 002: a G-buffer of samples, lit per sample); \
-                 use --msaa 1, or the light-prepass or forward paths",
+                "the {} path cannot multisample (seed 002: \"Deferred shading is incompatible with MSAA\" … \
+                 \"G-Buffer cannot be resolved\"); use --msaa 1 with --aa edge (seed 002's \"Intelligent Blur\") \
+                 or fxaa, or the light-prepass or forward paths",
                 self.path.name()
             ));
         }

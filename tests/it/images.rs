@@ -178,3 +178,32 @@ fn cross_cpu_variation() {
         }
     }
 }
+
+/// One stored picture per seed preset, on `demo` with 16 lights (its spots among them),
+/// under the cross-CPU tolerance: a preset whose settings drift changes its picture, the
+/// values its seed leaves open included (an anisotropy level, a vignette's strength).
+#[test]
+fn presets_match_their_references() {
+    let (refs, out) = dirs();
+    std::fs::create_dir_all(&refs).unwrap();
+    let scene = preset_scene();
+    assert!(scene.lights.len() == 16, "{} lights", scene.lights.len());
+    let mut failures = Vec::new();
+    for p in lampshade::renderer::presets::Preset::SEEDS {
+        let name = format!("preset-{}", p.name());
+        let s = Settings { count_ideal: false, ..p.apply(&Settings::default()).expect("the preset applies") };
+        let f = render(&scene, &s, W, H);
+        assert_finite(&f, &name);
+        match check_snapshot(&refs, &out, &name, &f.image, CROSS_CPU) {
+            Ok(s) => assert!(s.created || s.flip.is_some(), "{name}: nothing was compared"),
+            Err(e) => failures.push(format!("{e:#}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The presets' pictures' scene: `demo` with 16 lights in all, its spots and point lights.
+fn preset_scene() -> lampshade::Scene {
+    let spots = with_lights("demo", 16).lights.len().saturating_sub(16);
+    with_lights("demo", 16 - spots)
+}

@@ -398,6 +398,22 @@ fn sun_as_quad(s: &Seen) -> Result<(), String> {
     })
 }
 
+fn three_targets_on_lightmaps(s: &Seen) -> Result<(), String> {
+    // "Keep MRT usage to 3 or fewer render targets": on the lightmapped courtyard too, where
+    // lightmaps on the deferred path start the accumulation in the G-buffer pass.
+    let courtyard = scene("courtyard");
+    let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &s.settings).expect("renderer");
+    let pipes = r.describe_pipelines(&courtyard, &s.settings, (W, H)).map_err(|e| format!("{e:#}"))?;
+    let most = pipes
+        .iter()
+        .filter_map(|p| p.render())
+        .filter(|p| fs(p) == "fs_geometry" || fs(p) == "fs_geometry_masked")
+        .map(|p| p.colour_targets().count())
+        .max()
+        .unwrap_or(0);
+    ensure(most > 0 && most <= 3, || format!("the courtyard's G-buffer pass binds {most} targets"))
+}
+
 fn zonly_first(s: &Seen) -> Result<(), String> {
     // "Do an initial front-to-back-sorted z-only pass.": depth-only pipelines that write depth,
     // then the G-buffer shaded only where that depth is (LessEqual, not written).
@@ -609,6 +625,7 @@ fn checks(p: Preset) -> Vec<(&'static str, Check)> {
                 )
             }),
             ("gbuffer-depth-prepass", zonly_first),
+            ("lightmaps", three_targets_on_lightmaps),
             ("draw-order", front_to_back),
             ("anisotropy", anisotropic),
             ("shadows", all_shadows),

@@ -67,10 +67,9 @@ fn every_preset_renders_demo_the_room_and_every_hard_case_finite_and_lit() {
                     // linear (seed 003) or log-encoded (seed 004).
                     let light = if p == Preset::Seed003 { "Bgra8Unorm" } else { "Rgba8Unorm" };
                     assert_eq!(pp.normal_exp_bytes_per_pixel, 4, "{what}");
-                    // Seed 004 reads the depth buffer: "depth is not explicitly rendered"; seed
-                    // 003 keeps the R32F copy.
-                    let copy = if p == Preset::Seed004 { 0 } else { 4 };
-                    assert_eq!(pp.depth_copy_bytes_per_pixel, copy, "{what}: {}", st.depth_read);
+                    // Both read the depth buffer: seed 004's "depth is not explicitly rendered",
+                    // seed 003's "24-bit z-buffer" as an input texture.
+                    assert_eq!(pp.depth_copy_bytes_per_pixel, 0, "{what}: {}", st.depth_read);
                     assert_eq!(
                         (pp.light_buffer_format.as_str(), pp.light_buffer_bytes_per_pixel),
                         (light, 4),

@@ -128,8 +128,8 @@ impl RenderPath {
     pub const ALL: [RenderPath; 4] =
         [RenderPath::Deferred, RenderPath::LightPrepass, RenderPath::Forward, RenderPath::ForwardMultipass];
 
-    /// Whether the path can multisample: deferred shading cannot (seed 002: a G-buffer of
-    /// samples costs samples x its bytes, and lighting per sample).
+    /// Whether the path can multisample: deferred shading cannot (seed 002: "Deferred shading
+    /// is incompatible with MSAA" … "G-Buffer cannot be resolved").
     pub fn can_multisample(self) -> bool {
         self != RenderPath::Deferred
     }

@@ -186,7 +186,7 @@ pub fn check(settings: &crate::renderer::options::FrameOptions) -> anyhow::Resul
     if settings.accumulation == AccumFormat::Rg11b10Ufloat {
         anyhow::bail!(
             "the light-prepass path keeps its mono specular in the light buffer's alpha, which rg11b10-ufloat \
-             lacks; use --accumulation rgba16-float (seed 003), rgba8-log (seed 004) or rgba32-float"
+             lacks; use --accumulation rgba8-unorm (seed 003), rgba8-log (seed 004), rgba16-float or rgba32-float"
         );
     }
     if matches!(settings.debug_view, DebugView::Albedo | DebugView::Emissive | DebugView::MaterialId) {

@@ -122,6 +122,11 @@ impl<'a> Last<'a> {
         Ok(Some(out))
     }
 
+    /// Whether the last frame's lights read depth from the depth buffer itself, not its copy.
+    pub fn reads_depth_buffer(&self) -> bool {
+        self.targets.as_ref().is_some_and(|t| t.gbuffer.layout.reads_depth_buffer())
+    }
+
     /// Whether the last frame accumulated into one target (seed 000's RT1 of lit colour, or the
     /// light pre-pass's light buffer).
     pub fn one_target(&self) -> bool {

@@ -394,7 +394,10 @@ impl Gpu {
     return vec4<f32>(textureLoad(depth, vec2<i32>(p.xy), 0), 0.0, 0.0, 1.0);
 }";
         if !texture.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING) {
-            return Err(anyhow!("the {:?} depth texture cannot be read: it is not bound for reading", texture.format()));
+            return Err(anyhow!(
+                "the {:?} depth texture cannot be read: it is not bound for reading",
+                texture.format()
+            ));
         }
         let device = &self.device;
         let size = texture.size();
@@ -440,10 +443,8 @@ impl Gpu {
             multiview_mask: None,
             cache: None,
         });
-        let view = texture.create_view(&wgpu::TextureViewDescriptor {
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
+        let view = texture
+            .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("depth read"),
             layout: &layout,
@@ -468,7 +469,10 @@ impl Gpu {
                     view: &target_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::BLACK), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,

@@ -574,3 +574,42 @@ fn the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun() {
     }
     println!("floor without a lightmap: worst difference {worst:.2} of its bound");
 }
+
+#[test]
+fn a_24_bit_depth_buffer_read_as_a_texture_gives_the_points_its_copy_gives_within_a_step() {
+    // Seed 003's lights read "the 24-bit z-buffer" itself (`--preset seed003`). The positions
+    // the probe and the tests reconstruct come from the same buffer (read back through a draw:
+    // WebGPU copies no Depth24Plus texel) and must agree with the f32 copy's within the
+    // buffer's rounding: depth d = f/(f - n) (1 - n/z) is stored as a 24-bit step, off by at
+    // most one step 2^-24 (rounded or truncated), and read back as an f32 off by at most half
+    // an ulp below 1, 2^-25: 1.5 x 2^-24 in d, so the view depth moves by at most
+    // 1.5 x 2^-24 (f - n) z^2 / (f n), plus the f32 reconstruction's own 2^-22 |z|.
+    let gpu = gpu();
+    let scene = scene("demo");
+    let seed003 = preset(Preset::Seed003);
+    assert_eq!(seed003.depth_format, lampshade::renderer::DepthFormat::Depth24PlusStencil8);
+    let copy = Settings { depth_read: lampshade::renderer::DepthRead::Copy, ..seed003.clone() };
+    let positions = |s: &Settings| {
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).unwrap();
+        let (_, stats) = render_image(gpu, &mut r, &scene, s, W, H).unwrap();
+        (r.last_frame().view_positions(gpu).expect("the positions read back"), stats)
+    };
+    let ((buffer, sb), (copied, sc)) = (positions(&seed003), positions(&copy));
+    assert!(sb.depth_read.starts_with("depth buffer"), "{}", sb.depth_read);
+    assert!(!sc.depth_read.starts_with("depth buffer"), "{}", sc.depth_read);
+    let (n, f) = (scene.camera.near, scene.camera.far);
+    let (mut compared, mut worst, mut differ) = (0, 0f64, 0);
+    for (a, b) in buffer.iter().zip(&copied) {
+        assert_eq!(a.is_some(), b.is_some(), "a pixel is background in one frame only");
+        let (Some(a), Some(b)) = (a, b) else { continue };
+        let z = -(b.z as f64);
+        let bound = 1.5 * 2f64.powi(-24) * (f - n) * z * z / (f * n) + 2f64.powi(-22) * z;
+        let d = (a.z as f64 - b.z as f64).abs();
+        assert!(d <= bound, "view depth {z}: {} from the buffer, {} from the copy (bound {bound})", a.z, b.z);
+        worst = worst.max(d / bound);
+        differ += usize::from(d > 0.0);
+        compared += 1;
+    }
+    assert!(compared > (W * H / 2) as usize && differ > 0, "{compared} pixels compared, {differ} differ");
+    println!("24-bit depth read: {compared} pixels, {differ} differ from the copy, worst {worst:.2} of the bound");
+}

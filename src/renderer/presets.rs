@@ -154,6 +154,13 @@ pub const DEPARTURES: &[Departure] = &[
         does: "the light pass fades the sun by the crossfade weight at every pixel, and the final pass adds the bake, or the faded share of the sun back on surfaces without a lightmap",
         why: "the light buffer cannot tell lightmapped pixels; held by `presets::the_light_prepass_gives_surfaces_without_a_lightmap_their_whole_sun`",
     },
+    Departure {
+        id: "D14",
+        seeds: "002",
+        line: "Don't switch z-test direction mid-frame",
+        does: "lights crossing the near plane are drawn as plain volumes, back faces with GreaterEqual (D1), between the REPLACE marks' Less and shading draws' LessEqual",
+        why: "a volume that holds the camera has no front face to mark with; the back faces' GreaterEqual is the test that bounds it (the oracle cases of D1)",
+    },
 ];
 
 /// Something the seed names that no knob gives yet.
@@ -218,7 +225,7 @@ impl Preset {
                 row!("path", "deferred", "For Each Light: framebuffer += brdf( G-buffer, light )"),
                 row!("layout", "seed002", "Position.x Position.y Position.z Emissive"),
                 row!("accumulation", "rgba16-float", "16-bit floating point enables HDR"),
-                row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"; "D1", "D3", "D4", "D7"),
+                row!("culling", "stencil-replace", "Stencil Z-FAIL = REPLACE (with value X)"; "D1", "D3", "D4", "D7", "D14"),
                 row!("brdf", "scene", "Store multiple BRDFs in light shader, choose per-pixel"),
                 row!("material-branch", "branch", "Reasonably coherent dynamic branching"),
                 row!("ambient-in-gbuffer", "off", "Keep MRT usage to 3 or fewer render targets … Directional Light = Quad"),

@@ -73,8 +73,8 @@ pub const FULLSCREEN: StencilMethod = StencilMethod {
 /// and a spot of radius 103 at a near plane of 1.1e-5 (fov 170 degrees) had its clipped back
 /// faces drawn in front of surfaces they lay behind. With depth clamp the near plane does not
 /// clip; only edges passing behind the eye are clipped, at the side planes, where no case has
-/// yet lost light. Seed 002 also shades such lights by their back faces (with the depth test
-/// off after its mark).
+/// yet lost light. Seed 002 names no faces for its shading draw; the first design here shaded
+/// such lights by their back faces with the depth test off after the mark.
 pub const CROSSING_NEAR: DrawState = DrawState { faces: Faces::Back, depth: Cmp::GreaterEqual, stencil: NO_STENCIL };
 
 /// Back faces at or behind the scene point: the point is in front of the volume's far side.

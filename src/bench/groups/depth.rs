@@ -1,4 +1,5 @@
-//! The `depth` group: depth format x depth convention, and the depth read.
+//! The `depth` group: depth format x depth convention, the depth read, and the G-buffer's
+//! z-only pass in each draw order.
 
 use super::sweep::Sweep;
 use crate::bench::options::Config;
@@ -30,5 +31,24 @@ pub fn rows(s: &Sweep) -> Vec<Config> {
     // volume culling allows it; `key::depth_read_refusal`).
     let settings = Settings { depth_read: crate::renderer::DepthRead::Buffer, ..base.clone() };
     v.push(s.row("depth", "depth read buffer".into(), settings, o.lights));
+    // Seed 003's 24-bit z-buffer read as a texture.
+    let settings = Settings {
+        depth_read: crate::renderer::DepthRead::Buffer,
+        depth_format: DepthFormat::Depth24PlusStencil8,
+        ..base.clone()
+    };
+    v.push(s.row("depth", "depth read buffer depth24".into(), settings, o.lights));
+    // Seed 002's z-only pass before the G-buffer, in each draw order.
+    for draw_order in [crate::renderer::DrawOrder::Material, crate::renderer::DrawOrder::FrontToBack] {
+        for gbuffer_depth_prepass in [false, true] {
+            let label = format!(
+                "g-buffer z-only pass {} ({})",
+                if gbuffer_depth_prepass { "on" } else { "off" },
+                crate::renderer::settings::name_of(&draw_order)
+            );
+            let settings = Settings { gbuffer_depth_prepass, draw_order, ..base.clone() };
+            v.push(s.row("depth", label, settings, o.lights));
+        }
+    }
     v
 }

@@ -78,13 +78,16 @@ impl ShadowCost {
 
     /// What `lampshade render` prints before a costly frame: the request and what it costs.
     pub fn warning(&self) -> String {
+        let over = match self.work() > COSTLY_TRIANGLES {
+            true => format!("over {COSTLY_TRIANGLES}, about 2 s on a CPU rasterizer"),
+            false => format!("{} passes, over {COSTLY_PASSES}", self.passes),
+        };
         format!(
-            "note: {}: up to {} shadow-map triangles in all, over {} (about 2 s on a CPU rasterizer); \
+            "note: {}: up to {} shadow-map triangles in all ({over}); \
              lights off screen or past the shadow budget (--shadow-budget) cast none, \
              --shadows none or spots turns them off",
             self.describe(),
             self.work(),
-            COSTLY_TRIANGLES
         )
     }
 

@@ -215,6 +215,10 @@ pub struct AdviseArgs {
     /// Image size, WxH.
     #[arg(long, value_parser = image_size, default_value = "640x360")]
     pub size: (u32, u32),
+    /// Advise for the file's viewpoint K (its cameras in order, then a framing view) instead of
+    /// the scene's camera.
+    #[arg(long)]
+    pub viewpoint: Option<usize>,
     /// Timed frames per measurement (their median is taken).
     #[arg(long, default_value_t = 3)]
     pub frames: usize,

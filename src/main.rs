@@ -410,10 +410,23 @@ fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
     let takes = builtin::TAKES_LIGHT_COUNT.contains(&args.scene.as_str());
     let import = lampshade::scene::import::ImportOptions::default();
     let most = args.lights.iter().copied().max();
-    let (scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights: most, time: 0.0 }, &import)?;
+    let (mut scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights: most, time: 0.0 }, &import)?;
     for w in &warnings {
         eprintln!("warning: {}: {w}", args.scene);
     }
+    // The viewpoint's camera, for every count (a built-in scene is built again per count).
+    let mut label = args.scene.clone();
+    let camera = match args.viewpoint {
+        None => None,
+        Some(k) => {
+            let Some((name, camera)) = scene.viewpoints.get(k) else {
+                bail!("--viewpoint {k}: '{}' offers {} viewpoint(s)", args.scene, scene.viewpoints.len());
+            };
+            label = format!("{} (viewpoint {k}: {name})", args.scene);
+            scene.camera = *camera;
+            Some(*camera)
+        }
+    };
     let counts: Vec<usize> = if !args.lights.is_empty() {
         args.lights.clone()
     } else if takes {
@@ -430,11 +443,15 @@ fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
     let gpu = Gpu::open(&args.adapter.choice())?;
     let name = args.scene.clone();
     let scene_at: Box<dyn FnMut(usize) -> Result<lampshade::Scene>> = Box::new(move |n| {
-        if takes {
-            builtin::build(&name, BuiltinOptions { lights: Some(n), time: 0.0 }).map_err(anyhow::Error::msg)
+        let mut s = if takes {
+            builtin::build(&name, BuiltinOptions { lights: Some(n), time: 0.0 }).map_err(anyhow::Error::msg)?
         } else {
-            Ok(advise::strided(&scene, n))
+            advise::strided(&scene, n)
+        };
+        if let Some(camera) = camera {
+            s.camera = camera;
         }
+        Ok(s)
     });
     let candidates = advise::candidates(&settings);
     let mut frames = advise::GpuFrames::new(&gpu, candidates.clone(), scene_at, args.size, args.frames);
@@ -443,7 +460,7 @@ fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} {elapsed} {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let a = advise::advise(&mut frames, &args.scene, args.size, &candidates, &counts, &mut |done, total, what| {
+    let a = advise::advise(&mut frames, &label, args.size, &candidates, &counts, &mut |done, total, what| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
         bar.set_message(what.to_string());

@@ -3,6 +3,9 @@
 
 use std::process::Command;
 
+/// A third-party file with a camera of its own (`assimp-testmodels`, installed by `.ci/run`).
+const CAMERAS: &str = "/usr/share/assimp/models/glTF2/cameras/Cameras.gltf";
+
 fn lampshade(args: &[&str]) -> std::process::Output {
     let dir = std::env::temp_dir().join("lampshade-cli-xdg");
     let _ = std::fs::create_dir_all(&dir);
@@ -331,6 +334,7 @@ fn bad_input_is_a_clear_error() {
         (vec!["advise", "spot", "--lights", "9"], "it can be advised at that many or fewer"),
         (vec!["advise", "demo", "--frames", "0"], "at least 1"),
         (vec!["advise", "nowhere"], "unknown scene"),
+        (vec!["advise", CAMERAS, "--viewpoint", "7"], "offers 2 viewpoint"),
         (vec!["view", "--no-state", "--exposure=0"], "exposure 0 must be"),
         (vec!["render", "/no/such/model.gltf", "--out", p], "/no/such/model.gltf: cannot open"),
         (vec!["render", bad_gltf.to_str().unwrap(), "--out", p], "not a valid glTF"),
@@ -539,4 +543,27 @@ fn check_holds_every_mode_against_brute_force_on_a_users_file() {
         assert!(!out.status.success() && err.contains(says), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn advise_takes_a_viewpoint_and_advises_for_its_camera() {
+    // `advise --viewpoint K` on a file with a camera of its own: the advice names the viewpoint,
+    // and its calibration frames are drawn from that camera. The pairs each light adds to a
+    // frame depend only on what the camera sees, so the file's camera (viewpoint 0) and the
+    // framing view (1) give other pairs per light.
+    let pairs = |k: &str| {
+        let dir = tmp(&format!("advise-viewpoint-{k}"));
+        let d = dir.to_str().unwrap();
+        let out = lampshade(&["advise", CAMERAS, "--viewpoint", k, "--size", "160x90", "--frames", "1", "--out", d]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("advise.json")).unwrap()).unwrap();
+        let scene = json["scene"].as_str().unwrap_or_default().to_string();
+        assert!(scene.contains(&format!("viewpoint {k}")), "the advice does not name its viewpoint: {scene}");
+        let fits = json["fits"].as_array().expect("the fits").clone();
+        fits.iter().map(|f| f["pairs"].to_string()).collect::<Vec<_>>()
+    };
+    let (file_camera, framing) = (pairs("0"), pairs("1"));
+    assert!(!file_camera.is_empty());
+    assert_ne!(file_camera, framing, "the two viewpoints' frames add the same pairs: the camera was not used");
 }

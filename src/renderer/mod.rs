@@ -160,8 +160,9 @@ impl Renderer {
     }
 
     /// Reports a costly frame's progress to `progress`: a frame whose shadow passes draw more
-    /// than `shadows::COSTLY_TRIANGLES` caster triangles submits them in parts, waiting for each,
-    /// and reports the shadow-map passes done. `None` (the default): every frame is one
+    /// than `shadows::COSTLY_TRIANGLES` caster triangles, or are more than
+    /// `shadows::COSTLY_PASSES`, submits them in parts, waiting for each, and reports the
+    /// shadow-map passes done. `None` (the default): every frame is one
     /// submission.
     pub fn set_progress(&mut self, progress: Option<inputs::Progress>) {
         self.progress = progress;

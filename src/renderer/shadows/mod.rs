@@ -46,7 +46,7 @@ use super::records::{ShadowParams, ShadowTile, NO_SHADOW};
 pub use crate::renderer::kit::features::ShadowCode;
 pub use crate::renderer::options::shadows::{ShadowCube, ShadowFilter, ShadowFormat, ShadowMode, ShadowOptions};
 use crate::scene::{Light, Scene};
-pub use cost::{ShadowCost, COSTLY_TRIANGLES};
+pub use cost::{ShadowCost, COSTLY_PASSES, COSTLY_TRIANGLES};
 pub use cube::{
     indirection_decode, indirection_error, indirection_side, indirection_texels, MAX_INDIRECTION, MIN_TILE,
 };

@@ -182,7 +182,8 @@ impl ShadowPass {
 }
 
 /// How a costly frame's shadow draws are cut into parts for its progress: `None` without a
-/// progress sink or under `COSTLY_TRIANGLES` (one part, one submission, as always).
+/// progress sink or under both `COSTLY_TRIANGLES` and `COSTLY_PASSES` (one part, one
+/// submission, as always).
 struct Chunks {
     /// Caster triangles a part holds, at least.
     part: Option<u64>,
@@ -195,7 +196,8 @@ struct Chunks {
 impl Chunks {
     fn of(f: &FrameInputs<'_>, plan: &ShadowPlan) -> Chunks {
         let triangles: u64 = plan.draws.iter().map(|d| triangles(f, d)).sum();
-        let costly = f.progress.is_some() && triangles > super::COSTLY_TRIANGLES;
+        let passes = plan.draws.len() as u64;
+        let costly = f.progress.is_some() && (triangles > super::COSTLY_TRIANGLES || passes > super::COSTLY_PASSES);
         let part = costly.then_some(triangles.div_ceil(50).max(1));
         Chunks { part, since: 0, drawn: 0, total: plan.draws.len() as u64 }
     }

@@ -136,6 +136,9 @@ pub struct Gpu {
     pub passes: Arc<crate::renderer::kit::pool::PassPool>,
     /// Material textures, shared by the renderers on this device that draw the same images.
     pub uploads: Arc<crate::renderer::kit::uploads::Uploads>,
+    /// The pipeline that reads back depth WebGPU does not copy ([`Gpu::read_depth`]), made by
+    /// its first use.
+    depth_reader: std::sync::OnceLock<(wgpu::BindGroupLayout, wgpu::RenderPipeline)>,
 }
 
 /// What a device on `adapter` is made with: the optional features it has (less those
@@ -313,6 +316,7 @@ impl Gpu {
             caps: Arc::new(caps),
             errors,
             uploads: Default::default(),
+            depth_reader: Default::default(),
         })
     }
 
@@ -401,53 +405,56 @@ impl Gpu {
         }
         let device = &self.device;
         let size = texture.size();
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("depth read"),
-            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("depth read"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            }],
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("depth read"),
-            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        let (layout, pipeline) = self.depth_reader.get_or_init(|| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("depth read"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            })),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::TextureFormat::R32Float.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("depth read"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                }],
+            });
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("depth read"),
+                layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("depth read"),
+                    bind_group_layouts: &[Some(&layout)],
+                    immediate_size: 0,
+                })),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::TextureFormat::R32Float.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            (layout, pipeline)
         });
         let view = texture
             .create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("depth read"),
-            layout: &layout,
+            layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) }],
         });
         let target = device.create_texture(&wgpu::TextureDescriptor {
@@ -479,7 +486,7 @@ impl Gpu {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.draw(0..3, 0..1);
         }

@@ -248,8 +248,13 @@ impl Renderer {
         }
         // The post chain's parameters, and its LUT when the setting names another one.
         if let Some(pt) = self.targets.as_ref().and_then(|t| t.post.as_ref()) {
-            let fallback =
-                self.scene.as_ref().map_or(scene.camera.far as f32, |g| post::focus_fallback(scene, &g.bounds));
+            // The auto focus's fallback walks the objects: only for a frame that focuses.
+            let focuses = settings.focus_distance == super::options::post::Focus::Auto
+                && (settings.dof || settings.debug_view == super::options::DebugView::Coc);
+            let fallback = match (&self.scene, focuses) {
+                (Some(g), true) => post::focus_fallback(scene, &g.bounds),
+                _ => scene.camera.far as f32,
+            };
             self.lut.upload(&self.queue, pt, &settings.post_options(), fallback)?;
         }
         Ok(())

@@ -256,17 +256,21 @@ fn rgba16_accumulation(s: &Seen) -> Result<(), String> {
     )
 }
 
+/// The G-buffer pass binds exactly `n` colour targets, every one Rgba16Float.
+fn fp16_targets(s: &Seen, n: usize) -> Result<(), String> {
+    let g = gbuffer(s);
+    let fp16 = |p: &&RenderDescription| {
+        let f = format_of(p);
+        f.len() == n && f.iter().all(|f| *f == wgpu::TextureFormat::Rgba16Float)
+    };
+    ensure(!g.is_empty() && g.iter().all(fp16), || {
+        format!("the G-buffer pass binds {:?}", g.iter().map(|p| format_of(p)).collect::<Vec<_>>())
+    })
+}
+
 fn seed000_layout(s: &Seen) -> Result<(), String> {
     // "four fp16 textures with this layout": RT0, RT2 and RT3 and RT1, the accumulation.
-    let g = gbuffer(s);
-    ensure(
-        !g.is_empty()
-            && g.iter().all(|p| {
-                let f = format_of(p);
-                f.len() == 4 && f.iter().all(|f| *f == wgpu::TextureFormat::Rgba16Float)
-            }),
-        || format!("the G-buffer pass binds {:?}", g.iter().map(|p| format_of(p)).collect::<Vec<_>>()),
-    )
+    fp16_targets(s, 4)
 }
 
 fn ambient_in_rt1(s: &Seen) -> Result<(), String> {
@@ -377,15 +381,7 @@ fn lambert_normals(s: &Seen) -> Result<(), String> {
 
 fn seed002_layout(s: &Seen) -> Result<(), String> {
     // "Three 16-bit Float MRTs": Position + Emissive, Diffuse + Specular, Normal + Free.
-    let g = gbuffer(s);
-    ensure(
-        !g.is_empty()
-            && g.iter().all(|p| {
-                let f = format_of(p);
-                f.len() == 3 && f.iter().all(|f| *f == wgpu::TextureFormat::Rgba16Float)
-            }),
-        || format!("the G-buffer pass binds {:?}", g.iter().map(|p| format_of(p)).collect::<Vec<_>>()),
-    )
+    fp16_targets(s, 3)
 }
 
 fn sun_as_quad(s: &Seen) -> Result<(), String> {

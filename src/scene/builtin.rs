@@ -63,8 +63,8 @@ pub const TAKES_LIGHT_COUNT: &[&str] =
     &["demo", "overflow", "glass", "street", "sphere-wall", "many-lights", "railings"];
 
 /// The most lights `--lights` gives a built-in scene. Past
-/// [`crate::renderer::settings::MAX_LIGHTS_EVERY_MODE`] only the `zbin` and `clustered` modes
-/// take them (the others refuse with a message).
+/// [`crate::renderer::settings::MAX_LIGHTS_EVERY_MODE`] only the list modes (`zbin`,
+/// `clustered`, `tiled`) take them (the others refuse with a message).
 pub const MAX_LIGHTS: usize = 1_000_000;
 
 /// Builds a built-in scene by name, or says which names exist.

@@ -195,7 +195,8 @@ fn fifty_thousand_bright_overlapping_lights_stay_finite() {
 /// them (gallivm's loop limiter, shared by every loop of the shader), silently. `n` identical
 /// lights at one spot: the tiled and clustered passes walk lists of `n` at every pixel they
 /// reach, in draws of `tiles::SHADE_CHUNK` entries. 70,000 lights must give twice the light of
-/// 35,000 there. Bound, derived: with an Rgba32Float accumulation each frame's value is a
+/// 35,000 there. The tiled lists of 70,000 are built in two of the compute pass's batches
+/// (`tiles::GPU_LIST_MAX_LIGHTS`). Bound, derived: with an Rgba32Float accumulation each frame's value is a
 /// sequential f32 sum of equal terms, relative error at most (terms - 1) x 2^-24, plus one
 /// rounding per chunk added into the target; (35,000 + 70,000 + 3) x 2^-24 = 0.63%. Lost
 /// lights are 6.4% at this count (the ratio was 1.872 = 65,535 / 35,000 before the chunks).
@@ -227,9 +228,22 @@ fn lists_longer_than_lavapipes_loop_limit_lose_no_light() {
             count_ideal: false,
             ..unshadowed()
         };
-        let (a, b) = (render(&half, &s, 160, 90), render(&full, &s, 160, 90));
+        let a = render(&half, &s, 160, 90);
+        let gpu = gpu();
+        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
+        render_image(gpu, &mut r, &full, &s, 160, 90).expect("render");
+        let (diffuse, _) = r.last_frame().read_accumulation(gpu).expect("accumulation readback");
+        // The tiled lists hold the whole crowd, built in two batches past the compute pass's
+        // mask, rather than falling back to walking every light.
+        if culling == CullingMode::Tiled {
+            let lists = r.last_frame().tile_lists(gpu).expect("read back").expect("the frame's lists");
+            let cells = (lists.params.tiles_x * lists.params.tiles_y) as usize;
+            let counts: Vec<u32> = lists.data[..2 * cells].chunks(2).map(|c| c[1]).collect();
+            assert!(!counts.contains(&lampshade::renderer::tiles::ALL_LIGHTS), "a tile walks every light");
+            assert_eq!(counts.iter().max(), Some(&70_000));
+        }
         let lit: Vec<(f32, f32)> =
-            a.diffuse.iter().zip(&b.diffuse).filter(|(p, _)| **p > 1e-4).map(|(p, q)| (*p, *q)).collect();
+            a.diffuse.iter().zip(&diffuse).filter(|(p, _)| **p > 1e-4).map(|(p, q)| (*p, *q)).collect();
         assert!(lit.len() > 500, "{}: only {} lit channels", culling.name(), lit.len());
         let worst = lit.iter().map(|(p, q)| (q / (2.0 * p) - 1.0).abs()).fold(0f32, f32::max);
         assert!(worst <= bound, "{}: 70,000 lights give {worst} off twice 35,000's (bound {bound})", culling.name());
@@ -317,12 +331,12 @@ fn forward_lists_longer_than_lavapipes_loop_limit_lose_no_light() {
     }
 }
 
-/// Bevy's `many_lights` layout (`many-lights`) at 100,000 lights: `zbin` and `clustered` held
-/// against brute force (every light at every pixel, `oracle::check_scene`) at a small size,
-/// none missing or adding light, and the z-binned frame's GPU masks inside the lights'
-/// rectangles. A
-/// million lights: `zbin`, `clustered` and `auto` (which takes `zbin`) draw them, every
-/// other mode and the forward paths refuse with a message.
+/// Bevy's `many_lights` layout (`many-lights`) at 100,000 lights: the list modes (`zbin`,
+/// `clustered`, `tiled`, whose lists take two batches here) held against brute force (every
+/// light at every pixel, `oracle::check_scene`) at a small size, none missing or adding light,
+/// and the z-binned frame's GPU masks inside the lights' rectangles. A million lights: the list
+/// modes and `auto` (which takes `zbin`) draw them on the G-buffer paths, every other mode and
+/// the forward paths refuse with a message.
 #[test]
 fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
     use lampshade::oracle;
@@ -330,11 +344,13 @@ fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
     let gpu = gpu();
     let scene = with_lights("many-lights", 100_000);
     let mut r = oracle::renderer(gpu).expect("renderer");
-    let scope =
-        oracle::Scope { paths: vec![RenderPath::Deferred], modes: vec![CullingMode::Zbin, CullingMode::Clustered] };
+    let scope = oracle::Scope {
+        paths: vec![RenderPath::Deferred],
+        modes: vec![CullingMode::Zbin, CullingMode::Clustered, CullingMode::Tiled],
+    };
     let results =
         oracle::check_scene(gpu, &mut r, &scene, &Settings::default(), (64, 48), &scope, false).expect("check");
-    assert_eq!(results.len(), 2);
+    assert_eq!(results.len(), 3);
     for (m, _) in &results {
         assert!(m.refused.is_none() && !m.failed(), "{}/{}: {m:?}", m.path, m.mode);
     }
@@ -353,7 +369,7 @@ fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
         for mode in CullingMode::ALL {
             let s = Settings { culling: mode, path, ..Settings::default() };
             let taken = !matches!(path, RenderPath::Forward | RenderPath::ForwardMultipass)
-                && matches!(mode, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Auto);
+                && matches!(mode, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Tiled | CullingMode::Auto);
             // A million lights take seconds of CPU planning a frame: the modes that take them
             // are drawn on the deferred path only (the pre-pass plans them the same way).
             if taken && path != RenderPath::Deferred {
@@ -363,7 +379,11 @@ fn a_hundred_thousand_lights_miss_none_and_a_million_are_taken_or_refused() {
             match (taken, out) {
                 (true, Ok((image, stats))) => {
                     assert!(lit_share(&image) > 0.3, "{}/{}: dark", path.name(), mode.name());
-                    let method = if mode == CullingMode::Clustered { Method::Clustered } else { Method::Zbin };
+                    let method = match mode {
+                        CullingMode::Clustered => Method::Clustered,
+                        CullingMode::Tiled => Method::Tiled,
+                        _ => Method::Zbin,
+                    };
                     assert!(stats.per_light.iter().all(|l| l.method == method), "{}/{}", path.name(), mode.name());
                 }
                 (false, Err(e)) => {

@@ -63,10 +63,13 @@ impl Shape {
         }
         let n = scene.lights.len();
         if n > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE {
-            let listed = matches!(settings.culling, CullingMode::Zbin | CullingMode::Clustered | CullingMode::Auto);
+            let listed = matches!(
+                settings.culling,
+                CullingMode::Zbin | CullingMode::Clustered | CullingMode::Tiled | CullingMode::Auto
+            );
             if forward_path || !listed {
                 bail!(
-                    "{n} lights: past {} only --culling zbin or clustered (or auto, which then takes zbin) on the \
+                    "{n} lights: past {} only --culling zbin, clustered or tiled (or auto, which then takes zbin) on the \
                      deferred path or the light pre-pass take them; {} on the {} path draws or lists per light",
                     crate::renderer::settings::MAX_LIGHTS_EVERY_MODE,
                     settings.culling.name(),

@@ -105,10 +105,10 @@ impl CullingMode {
 
 /// The most lights every culling mode and path takes: the longest list the forward paths' loops
 /// walk whole ([`FORWARD_LIST_MAX`](FORWARD_LIST_MAX)), so 100,000 lights
-/// from `--lights` and a scene's own on top are taken by every mode. Past it only `zbin` and
-/// `clustered` on the G-buffer paths do (up to [`crate::scene::builtin::MAX_LIGHTS`]), and
-/// `auto` shades with `zbin`: the per-light modes draw a volume a light (up to a million draws),
-/// and `tiled` keeps a bit for 65,536 lights per tile and walks every light past them.
+/// from `--lights` and a scene's own on top are taken by every mode. Past it only the list modes
+/// (`zbin`, `clustered`, `tiled`) on the G-buffer paths do (up to
+/// [`crate::scene::builtin::MAX_LIGHTS`]), and `auto` shades with `zbin`: the per-light modes
+/// draw a volume a light (up to a million draws).
 pub const MAX_LIGHTS_EVERY_MODE: usize = FORWARD_LIST_MAX as usize;
 
 /// The radius a light is drawn (and shaded) to under a cut-off `threshold` (a fraction of the

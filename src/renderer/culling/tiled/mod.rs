@@ -34,8 +34,9 @@ pub const PARALLEL_MIN_LIGHTS: usize = 1024;
 /// the tile is shaded with all lights, the right picture at a higher cost.
 pub const ALL_LIGHTS: u32 = u32::MAX;
 
-/// Lights the tiled compute pass keeps a bit for (2048 words of workgroup memory); a tile of a
-/// frame with more lights is shaded with every light (`ALL_LIGHTS`).
+/// Lights the tiled compute pass keeps a bit for at once (2048 words of workgroup memory): a
+/// frame with more lights builds each tile's list in batches of this many, counted in a first
+/// sweep and tested again and written in a second (`tiled.wgsl`, `cs_tile_lists`).
 pub const GPU_LIST_MAX_LIGHTS: u32 = 65536;
 /// List entries one draw of the tiled or clustered shading pass walks per pixel: lists longer
 /// than this are walked in draws of this many entries each, added together (one instance per

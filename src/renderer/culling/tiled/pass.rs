@@ -25,7 +25,7 @@ use crate::renderer::inputs::pass::{Pass, PassReport};
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::bindings;
 use crate::renderer::kit::{log_accum, Declared, Shared, ADDITIVE, DEBUG_FORMAT, MULTIPLY};
-use crate::renderer::plan::Method;
+use crate::renderer::plan::{LightPlan, Method};
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
 use crate::renderer::stats::Span;
@@ -671,11 +671,34 @@ fn grid(
         header + capacity
     } else {
         let cells = (params.tiles_x * params.tiles_y) as u64;
-        let capacity = (cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64)).min(MAX_ENTRIES - 2 * cells);
+        let room = tile_room(&f.plan.lights, (w, h)).max(cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64));
+        let capacity = room.min(MAX_ENTRIES - 2 * cells);
         params.capacity = capacity as u32;
         2 * cells + capacity
     };
     (params, entries)
+}
+
+/// The entries the tiled mode's lists are given room for, from the CPU's plans: the tiles each
+/// light's screen rectangle touches, widened by a tile on every side (the compute pass tests a
+/// light's sphere against each tile's frustum planes and box, which can let in a tile just past
+/// the rectangle's corner). A sizing estimate, not a bound: a tile past the room walks every
+/// light, the same picture at a higher cost, and the stats count it as overflowed.
+pub fn tile_room(plans: &[LightPlan], (w, h): (u32, u32)) -> u64 {
+    let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
+    // Pixel edge to tile, one tile wider, within the grid (a NaN or infinite corner saturates).
+    let tile = |px: f32, grow: f32, last: u32| ((px / TILE as f32).floor() + grow).clamp(0.0, last as f32) as u64;
+    plans
+        .iter()
+        .filter_map(|p| p.screen_rect)
+        .map(|(lo, hi)| {
+            let (x0, x1) = ((lo.x + 1.0) * 0.5 * w as f32, (hi.x + 1.0) * 0.5 * w as f32);
+            let (y0, y1) = ((1.0 - hi.y) * 0.5 * h as f32, (1.0 - lo.y) * 0.5 * h as f32);
+            let across = tile(x1, 1.0, tx - 1).saturating_sub(tile(x0, -1.0, tx - 1)) + 1;
+            let down = tile(y1, 1.0, ty - 1).saturating_sub(tile(y0, -1.0, ty - 1)) + 1;
+            across * down
+        })
+        .sum()
 }
 
 /// The three bind groups every tiled pass reads (frame, G-buffer, tiles), for render and

@@ -34,12 +34,12 @@ struct TileParams {
 };
 
 // Generated from Rust: LS_TILE_ALL, a list count meaning "every light" (`tiles::ALL_LIGHTS`);
-// LS_TILE_MAX_LIGHTS, the lights the compute pass keeps a bit for (`tiles::GPU_LIST_MAX_LIGHTS`).
+// LS_TILE_MAX_LIGHTS, the lights the compute pass keeps a bit for at once, a batch
+// (`tiles::GPU_LIST_MAX_LIGHTS`).
 
 var<workgroup> wg_min: atomic<u32>;
 var<workgroup> wg_max: atomic<u32>;
 var<workgroup> wg_valid: atomic<u32>;
-var<workgroup> wg_total: atomic<u32>;
 var<workgroup> wg_mask: array<atomic<u32>, 2048>;
 var<workgroup> wg_scan: array<u32, 256>;
 
@@ -102,8 +102,71 @@ fn light_meets_tile(l: GpuLight, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: 
     return dot(e, e) <= r * r * 1.0001;
 }
 
+// Marks in `wg_mask` the lights of batch `b` (lights b x LS_TILE_MAX_LIGHTS onwards, as many
+// as the mask holds bits for) that meet the tile; returns the mask words the batch fills.
+// Called by every invocation of the workgroup (it holds barriers).
+fn tile_mark(li: u32, b: u32, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: f32) -> u32 {
+    let first = b * LS_TILE_MAX_LIGHTS;
+    let count = min(tile_params.light_count - first, LS_TILE_MAX_LIGHTS);
+    let words = (count + 31u) / 32u;
+    for (var w = li; w < words; w += 256u) {
+        atomicStore(&wg_mask[w], 0u);
+    }
+    workgroupBarrier();
+    for (var i = li; i < count; i += 256u) {
+        if light_meets_tile(light_at(first + i), lo, hi, dmin, dmax) {
+            atomicOr(&wg_mask[i / 32u], 1u << (i % 32u));
+        }
+    }
+    workgroupBarrier();
+    return words;
+}
+
+// The set bits of the mask's first `words` words, summed over the workgroup (every
+// invocation gets the sum; it holds barriers).
+fn tile_mask_count(li: u32, words: u32) -> u32 {
+    var mine = 0u;
+    for (var w = li; w < words; w += 256u) {
+        mine += countOneBits(atomicLoad(&wg_mask[w]));
+    }
+    wg_inclusive_scan(li, mine);
+    if li == 255u {
+        wg_sum = wg_scan[255];
+    }
+    return workgroupUniformLoad(&wg_sum);
+}
+
+// Writes the marked lights of batch `b` (the mask's first `words` words) at `tile_lists[at]`
+// onwards, in light order: word by word, each round of 256 words placed by a prefix sum.
+fn tile_write(li: u32, b: u32, words: u32, at: u32) {
+    var done = 0u;
+    for (var round = 0u; round < words; round += 256u) {
+        let w = round + li;
+        var bits = 0u;
+        if w < words {
+            bits = atomicLoad(&wg_mask[w]);
+        }
+        let c = countOneBits(bits);
+        wg_inclusive_scan(li, c);
+        var k = at + done + wg_scan[li] - c;
+        let round_total = wg_scan[255];
+        workgroupBarrier();
+        while bits != 0u {
+            let bit = firstTrailingBit(bits);
+            tile_lists[k] = b * LS_TILE_MAX_LIGHTS + w * 32u + bit;
+            k += 1u;
+            bits &= bits - 1u;
+        }
+        done += round_total;
+    }
+}
+
 // One workgroup per 16x16 tile: the tile's depth bounds over its valid G-buffer pixels, a bit
-// per light that meets the tile, then the set bits written out in light order.
+// per light that meets the tile, then the set bits written out in light order. The mask holds
+// LS_TILE_MAX_LIGHTS bits (its 2048 words are most of the 32 KiB of workgroup memory WebGPU
+// guarantees); past that many lights the tile's lights are found in batches of that many, in two
+// sweeps: the first counts them, so that the tile's list is one allocation, the second tests
+// each batch again and writes it after the last. A frame within one batch tests once.
 @compute @workgroup_size(16, 16, 1)
 fn cs_tile_lists(
     @builtin(workgroup_id) wg: vec3<u32>,
@@ -111,15 +174,11 @@ fn cs_tile_lists(
     @builtin(global_invocation_id) gid: vec3<u32>,
 ) {
     let n = tile_params.light_count;
-    let words = (min(n, LS_TILE_MAX_LIGHTS) + 31u) / 32u;
+    let batches = (n + LS_TILE_MAX_LIGHTS - 1u) / LS_TILE_MAX_LIGHTS;
     if li == 0u {
         atomicStore(&wg_min, 0x7f7fffffu);
         atomicStore(&wg_max, 0u);
         atomicStore(&wg_valid, 0u);
-        atomicStore(&wg_total, 0u);
-    }
-    for (var w = li; w < words; w += 256u) {
-        atomicStore(&wg_mask[w], 0u);
     }
     workgroupBarrier();
     let size = vec2<u32>(camera.screen.xy);
@@ -139,17 +198,10 @@ fn cs_tile_lists(
         wg_count = atomicLoad(&wg_valid);
     }
     let valid = workgroupUniformLoad(&wg_count);
-    if valid == 0u {
+    if valid == 0u || batches == 0u {
         if li == 0u {
             tile_lists[2u * tile] = 0u;
             tile_lists[2u * tile + 1u] = 0u;
-        }
-        return;
-    }
-    if n > LS_TILE_MAX_LIGHTS {
-        if li == 0u {
-            tile_lists[2u * tile] = 0u;
-            tile_lists[2u * tile + 1u] = LS_TILE_ALL;
         }
         return;
     }
@@ -159,25 +211,16 @@ fn cs_tile_lists(
     let dmax = bitcast<f32>(atomicLoad(&wg_max)) * (1.0 + 1e-4);
     let lo = vec2<f32>(wg.xy * tile_params.tile_size) - 1.0;
     let hi = vec2<f32>((wg.xy + 1u) * tile_params.tile_size) + 1.0;
-    for (var i = li; i < n; i += 256u) {
-        if light_meets_tile(light_at(i), lo, hi, dmin, dmax) {
-            atomicOr(&wg_mask[i / 32u], 1u << (i % 32u));
-        }
+    var total = 0u;
+    var words = 0u;
+    for (var b = 0u; b < batches; b++) {
+        words = tile_mark(li, b, lo, hi, dmin, dmax);
+        total += tile_mask_count(li, words);
     }
-    workgroupBarrier();
-    var mine = 0u;
-    for (var w = li; w < words; w += 256u) {
-        mine += countOneBits(atomicLoad(&wg_mask[w]));
-    }
-    atomicAdd(&wg_total, mine);
-    workgroupBarrier();
     if li == 0u {
-        let t = atomicLoad(&wg_total);
-        wg_sum = t;
-        wg_base = atomicAdd(&tile_counts[0], t);
+        wg_base = atomicAdd(&tile_counts[0], total);
     }
     let base = workgroupUniformLoad(&wg_base);
-    let total = workgroupUniformLoad(&wg_sum);
     let header = 2u * tile_params.tiles_x * tile_params.tiles_y;
     if base + total > tile_params.capacity {
         // Out of room: this tile walks every light (the right picture, at a higher cost).
@@ -191,26 +234,16 @@ fn cs_tile_lists(
         tile_lists[2u * tile] = header + base;
         tile_lists[2u * tile + 1u] = total;
     }
-    // Written in light order: word by word, each round of 256 words placed by a prefix sum.
+    if batches == 1u {
+        tile_write(li, 0u, words, header + base);
+        return;
+    }
     var done = 0u;
-    for (var round = 0u; round < words; round += 256u) {
-        let w = round + li;
-        var bits = 0u;
-        if w < words {
-            bits = atomicLoad(&wg_mask[w]);
-        }
-        let c = countOneBits(bits);
-        wg_inclusive_scan(li, c);
-        var at = header + base + done + wg_scan[li] - c;
-        let round_total = wg_scan[255];
-        workgroupBarrier();
-        while bits != 0u {
-            let b = firstTrailingBit(bits);
-            tile_lists[at] = w * 32u + b;
-            at += 1u;
-            bits &= bits - 1u;
-        }
-        done += round_total;
+    for (var b = 0u; b < batches; b++) {
+        let w = tile_mark(li, b, lo, hi, dmin, dmax);
+        let c = tile_mask_count(li, w);
+        tile_write(li, b, w, header + base + done);
+        done += c;
     }
 }
 

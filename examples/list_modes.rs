@@ -7,9 +7,9 @@
 //! set, the stats, the picture's readback; not the driver's threads). The scene does not move,
 //! so from the second frame on a frame reuses the first one's CPU part (`FrameStats::cpu_reused`);
 //! `LIST_MODES_ANIMATE=1` hands each frame a new light list (the same lights), so every frame
-//! computes its part as a moving scene's would. Nothing counted, so the frame is the one a user gets. `tiled` is left
-//! out past 65,536 lights (its compute pass keeps a bit for that many and walks every light
-//! past them).
+//! computes its part as a moving scene's would. Nothing counted, so the frame is the one a user gets.
+//! `LIST_MODES_IDEAL=1` also prints the frame's ideal pairs (the pixel-light pairs whose light
+//! reaches the pixel, counted in one more frame) and each mode's lighting ns per ideal pair.
 
 use lampshade::renderer::{CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{build, BuiltinOptions};
@@ -52,10 +52,20 @@ fn main() {
     let animate = std::env::var("LIST_MODES_ANIMATE").is_ok_and(|v| v == "1");
     let mut scene = scene;
     println!("{name}, {} lights, {w}x{h}, medians of {} frames", scene.lights.len(), frames.saturating_sub(2));
-    for mode in [CullingMode::Clustered, CullingMode::Zbin, CullingMode::Tiled] {
-        if mode == CullingMode::Tiled && scene.lights.len() > 65_536 {
-            continue;
+    // The ideal pairs, from one counted frame (clustered: the per-light ideal counts of a list
+    // mode's frame), when asked.
+    let mut ideal = None;
+    if std::env::var("LIST_MODES_IDEAL").is_ok_and(|v| v == "1") {
+        let s = Settings { culling: CullingMode::Clustered, count_ideal: true, ..Settings::default() };
+        let counted = Renderer::new(&gpu, OUTPUT_FORMAT, &s)
+            .and_then(|mut r| lampshade::headless::render_image(&gpu, &mut r, &scene, &s, w, h));
+        match counted {
+            Ok((_, st)) => ideal = st.ideal_fragments,
+            Err(e) => eprintln!("the counted frame: {e:#}"),
         }
+        println!("ideal pairs {}", ideal.map_or("-".into(), |i| i.to_string()));
+    }
+    for mode in [CullingMode::Clustered, CullingMode::Zbin, CullingMode::Tiled] {
         let s = Settings {
             culling: mode,
             timestamps: true,
@@ -86,10 +96,11 @@ fn main() {
         });
         match run {
             Ok((gpu_ms, plan_ms, cpu_ms, call_ms, records_ms, upload_ms)) => println!(
-                "{:10} lighting {:8.2} ms  plan (CPU) {:7.3} ms  records + plan + upload (CPU) {:7.3} ms \
+                "{:10} lighting {:8.2} ms{}  plan (CPU) {:7.3} ms  records + plan + upload (CPU) {:7.3} ms \
                  ({:.3} + {:.3} + {:.3})  the frame call (CPU) {:7.3} ms",
                 mode.name(),
-                median(gpu_ms),
+                median(gpu_ms.clone()),
+                ideal.map_or(String::new(), |i| format!(" ({:.3} ns per ideal pair)", median(gpu_ms) * 1e6 / i as f64)),
                 median(plan_ms.clone()),
                 median(cpu_ms),
                 median(records_ms),

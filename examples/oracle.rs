@@ -22,6 +22,13 @@ struct Args {
     /// The most lights a case holds.
     #[arg(long, default_value_t = 256)]
     max_lights: usize,
+    /// The fewest lights a case holds (the counts are log-distributed between the two). The
+    /// family past the tiled pass's batch: `--min-lights 65537 --max-lights 130000`.
+    #[arg(long, default_value_t = 1)]
+    min_lights: usize,
+    /// Only these culling modes (comma-separated; default every mode).
+    #[arg(long, value_delimiter = ',')]
+    modes: Vec<String>,
     /// Frame size, WxH.
     #[arg(long, default_value = "64x36")]
     size: String,
@@ -102,8 +109,21 @@ fn main() {
         }
         std::process::exit(failed as i32);
     }
-    let limits = case::Limits { width: w, height: h, max_lights: args.max_lights.max(1) };
-    let scope = oracle::Scope::default();
+    let limits = case::Limits { width: w, height: h, max_lights: args.max_lights.max(1), min_lights: args.min_lights };
+    let mut scope = oracle::Scope::default();
+    if !args.modes.is_empty() {
+        scope.modes.clear();
+        for name in &args.modes {
+            match lampshade::renderer::CullingMode::ALL.iter().find(|m| m.name() == *name) {
+                Some(&m) => scope.modes.push(m),
+                None => {
+                    let names: Vec<String> = lampshade::renderer::CullingMode::ALL.iter().map(|m| m.name()).collect();
+                    eprintln!("--modes: no culling mode {name:?} (one of {})", names.join(", "));
+                    std::process::exit(2);
+                }
+            }
+        }
+    }
     let bar = indicatif::ProgressBar::new(args.cases);
     let start = std::time::Instant::now();
     let mut s = Summary { seed: args.seed, first: args.first, ..Default::default() };

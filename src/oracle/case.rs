@@ -207,13 +207,16 @@ pub const SETTINGS_BLOCK: u64 = 50;
 pub struct Limits {
     pub width: u32,
     pub height: u32,
-    /// The most lights a case holds (the counts are log-distributed from 1).
+    /// The most lights a case holds (the counts are log-distributed from `min_lights`).
     pub max_lights: usize,
+    /// The fewest: 1 in the default stream; 65,537 in the family past the tiled pass's
+    /// 65,536-light batch (`tiles::GPU_LIST_MAX_LIGHTS`).
+    pub min_lights: usize,
 }
 
 impl Default for Limits {
     fn default() -> Self {
-        Self { width: 64, height: 36, max_lights: 256 }
+        Self { width: 64, height: 36, max_lights: 256, min_lights: 1 }
     }
 }
 
@@ -253,7 +256,7 @@ pub fn generate(seed: u64, index: u64, limits: Limits) -> Case {
         _ => 1.0,
     };
     let world = World { camera: &camera, boxes: &boxes, scale, layers };
-    let (mut lights, cookies) = random_lights(&mut r, &world, dim, limits.max_lights, &mut aims);
+    let (mut lights, cookies) = random_lights(&mut r, &world, dim, (limits.min_lights, limits.max_lights), &mut aims);
     // From a stream of its own, so the other draws are what they were before these were: such a
     // case differs only in its near plane and its last lights.
     let mut g = Rng::new(seed ^ 0x21A5_0DE9, index);
@@ -405,17 +408,21 @@ struct World<'a> {
     layers: usize,
 }
 
-/// The lights (1 to `max_lights`, log-distributed; a share of them spots, some stacked at one
-/// point, masks leaving layers out where there are layers, intensities times `dim`) and the
-/// cookies they may use.
+/// The lights (`min` to `max`, log-distributed; a share of them spots, some stacked at one
+/// point, masks leaving layers out where there are layers, intensities times `dim`, and past 256
+/// lights times 256 / their count, so that a crowd's sum stays inside the accumulation's range
+/// where a missed light shows) and the cookies they may use.
 fn random_lights(
     r: &mut Rng,
     world: &World,
     dim: f32,
-    max_lights: usize,
+    (min, max): (usize, usize),
     aims: &mut Vec<String>,
 ) -> (Vec<Light>, Vec<String>) {
-    let count = (r.log(1.0, max_lights as f64 + 1.0) as usize).clamp(1, max_lights.max(1));
+    let max = max.max(1);
+    let min = min.clamp(1, max);
+    let count = (r.log(min as f64, max as f64 + 1.0) as usize).clamp(min, max);
+    let dim = dim * (256.0 / count as f32).min(1.0);
     let mut lights: Vec<Light> = Vec::with_capacity(count);
     let spots = r.pick(&[0.0, 0.5, 1.0]);
     let cookies: Vec<String> = if r.chance(0.2) {

@@ -26,7 +26,7 @@ fn report(r: &oracle::CaseResult) -> String {
 fn generated_cases_miss_no_light_in_any_mode() {
     let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
     let mut runner = oracle::Runner::new(&gpu);
-    let limits = case::Limits { width: 48, height: 27, max_lights: 64 };
+    let limits = case::Limits { width: 48, height: 27, max_lights: 64, min_lights: 1 };
     let (mut failures, mut frames, mut refused) = (Vec::new(), 0, Vec::new());
     let mut unclamped = 0;
     for block in 0..10 {

@@ -249,6 +249,8 @@ struct Frame<'f> {
     zbins: Option<&'f ZBinJob>,
     /// CPU-built lists as they fit one binding (`ClusterLists::fitted`).
     cpu_lists: Option<std::borrow::Cow<'f, [u32]>>,
+    /// Tiled: the lights' rectangles of tiles ([`tile_rects`]), after the lists.
+    rects: Option<Vec<u32>>,
     params: TileParams,
     entries: u64,
     cells: u64,
@@ -271,7 +273,8 @@ impl<'f> Frame<'f> {
             Some(ClusterBuild::Cpu(c)) => Some(c.fitted(MAX_ENTRIES as usize)),
             _ => None,
         };
-        let (params, entries) = grid(f, clusters, cpu_lists.as_deref(), zbins);
+        let rects = (method == Method::Tiled).then(|| tile_rects(&f.plan.lights, (f.targets.width, f.targets.height)));
+        let (params, entries) = grid(f, clusters, cpu_lists.as_deref(), zbins, rects.as_deref());
         // Z-binned: the stats' cells are the masks' tiles (a tile's entries, its mask's bits).
         let cells = match zbins {
             Some(_) => (params.tiles_x * params.tiles_y) as u64,
@@ -284,11 +287,12 @@ impl<'f> Frame<'f> {
         // Each tile's summary (a bit per mask word holding a bit) and its depth bounds.
         let summary_words = zbins.map_or(0, |z| (z.grid.tiles_x * z.grid.tiles_y) as u64 * z.words.div_ceil(32) as u64);
         let bound_words = zbins.map_or(0, |z| 2 * (z.grid.tiles_x * z.grid.tiles_y) as u64);
-        let (list_words, count_words) = match clusters {
-            Some(ClusterBuild::Gpu(_)) => (entries + 4 * n as u64, n as u64 + 1 + cells),
+        let (list_words, count_words) = match (clusters, &rects) {
+            (Some(ClusterBuild::Gpu(_)), _) => (entries + 4 * n as u64, n as u64 + 1 + cells),
+            (_, Some(r)) => (entries + r.len() as u64, n as u64 + 1),
             _ => (entries, n as u64 + 1 + mask_words + summary_words + bound_words),
         };
-        Frame { method, clusters, zbins, cpu_lists, params, entries, cells, mask_words, list_words, count_words }
+        Frame { method, clusters, zbins, cpu_lists, rects, params, entries, cells, mask_words, list_words, count_words }
     }
 
     fn gpu_job(&self) -> Option<&'f crate::renderer::tiles::ClusterJob> {
@@ -372,6 +376,9 @@ impl Pass for TiledPass {
             }
             if let Some(z) = fr.zbins {
                 queue.write_buffer(&b.lists, 0, bytemuck::cast_slice(&z.data));
+            }
+            if let Some(r) = fr.rects.as_ref().filter(|r| !r.is_empty()) {
+                queue.write_buffer(&b.lists, fr.entries * 4, bytemuck::cast_slice(r));
             }
         }
         let upload_ms = (clock.ms(), clock.wall_ms());
@@ -613,12 +620,14 @@ impl TiledScratch {
 
 /// The grid the frame's lists are built over (tiles of the screen, or clusters when `clusters`
 /// builds them) and the words its lists take: a header of two words per cell, then at most
-/// `capacity` entries (`cpu_lists`: the CPU-built lists, which set it).
+/// `capacity` entries (`cpu_lists`: the CPU-built lists, which set it; tiled, `rects`: the
+/// lights' rectangles of tiles, which bound it and follow it).
 fn grid(
     f: &FrameInputs<'_>,
     clusters: Option<&ClusterBuild>,
     cpu_lists: Option<&[u32]>,
     zbins: Option<&ZBinJob>,
+    rects: Option<&[u32]>,
 ) -> (TileParams, u64) {
     let (w, h) = (f.targets.width, f.targets.height);
     let n = f.plan.lights.len();
@@ -670,35 +679,40 @@ fn grid(
         params.capacity = capacity as u32;
         header + capacity
     } else {
+        // Room for what the rectangles allow, within one binding with the rectangles after.
         let cells = (params.tiles_x * params.tiles_y) as u64;
-        let room = tile_room(&f.plan.lights, (w, h)).max(cells * (n as u64).clamp(1, ENTRIES_PER_TILE as u64));
-        let capacity = room.min(MAX_ENTRIES - 2 * cells);
+        let room = tile_room(rects.unwrap_or_default());
+        let capacity = room.min(MAX_ENTRIES.saturating_sub(2 * cells + 2 * n as u64));
         params.capacity = capacity as u32;
+        params.rect_base = (2 * cells + capacity) as u32;
         2 * cells + capacity
     };
     (params, entries)
 }
 
-/// The entries the tiled mode's lists are given room for, from the CPU's plans: the tiles each
-/// light's screen rectangle touches, widened by a tile on every side (the compute pass tests a
-/// light's sphere against each tile's frustum planes and box, which can let in a tile just past
-/// the rectangle's corner). A sizing estimate, not a bound: a tile past the room walks every
-/// light, the same picture at a higher cost, and the stats count it as overflowed.
-pub fn tile_room(plans: &[LightPlan], (w, h): (u32, u32)) -> u64 {
-    let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
-    // Pixel edge to tile, one tile wider, within the grid (a NaN or infinite corner saturates).
-    let tile = |px: f32, grow: f32, last: u32| ((px / TILE as f32).floor() + grow).clamp(0.0, last as f32) as u64;
-    plans
-        .iter()
-        .filter_map(|p| p.screen_rect)
-        .map(|(lo, hi)| {
-            let (x0, x1) = ((lo.x + 1.0) * 0.5 * w as f32, (hi.x + 1.0) * 0.5 * w as f32);
-            let (y0, y1) = ((1.0 - hi.y) * 0.5 * h as f32, (1.0 - lo.y) * 0.5 * h as f32);
-            let across = tile(x1, 1.0, tx - 1).saturating_sub(tile(x0, -1.0, tx - 1)) + 1;
-            let down = tile(y1, 1.0, ty - 1).saturating_sub(tile(y0, -1.0, ty - 1)) + 1;
-            across * down
-        })
-        .sum()
+/// Each light's rectangle of tiles, as the tiled compute pass reads it before testing the
+/// light against a tile (`x0 | x1 << 16`, `y0 | y1 << 16`, inclusive): the tiles of its pixel
+/// rectangle (`zbin::pixel_rect`, which bounds every visible point it reaches, widened by a
+/// pixel), or none (`x0` past `x1`) for a light reaching no visible point.
+pub fn tile_rects(plans: &[LightPlan], size: (u32, u32)) -> Vec<u32> {
+    let mut out = Vec::with_capacity(2 * plans.len());
+    for p in plans {
+        match crate::renderer::culling::zbin::pixel_rect(p, size) {
+            Some((x0, x1, y0, y1)) => {
+                out.push(x0 / TILE | (x1 / TILE) << 16);
+                out.push(y0 / TILE | (y1 / TILE) << 16);
+            }
+            None => out.extend([0xffff, 0xffff]),
+        }
+    }
+    out
+}
+
+/// The entries the tiled mode's lists can hold at most: the tiles of each light's rectangle
+/// ([`tile_rects`]), since the compute pass lists a light only in those.
+pub fn tile_room(rects: &[u32]) -> u64 {
+    let span = |w: u32| ((w >> 16) + 1).saturating_sub(w & 0xffff) as u64;
+    rects.chunks_exact(2).map(|r| span(r[0]) * span(r[1])).sum()
 }
 
 /// The three bind groups every tiled pass reads (frame, G-buffer, tiles), for render and

@@ -103,9 +103,11 @@ fn light_meets_tile(l: GpuLight, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: 
 }
 
 // Marks in `wg_mask` the lights of batch `b` (lights b x LS_TILE_MAX_LIGHTS onwards, as many
-// as the mask holds bits for) that meet the tile; returns the mask words the batch fills.
-// Called by every invocation of the workgroup (it holds barriers).
-fn tile_mark(li: u32, b: u32, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: f32) -> u32 {
+// as the mask holds bits for) that meet tile `t`; returns the mask words the batch fills. A light
+// whose rectangle of tiles (two words from `tile_params.rect_base`, `x0 | x1 << 16` and
+// `y0 | y1 << 16`: the tiles of the pixels it can reach a visible point at) leaves the tile out
+// is not tested. Called by every invocation of the workgroup (it holds barriers).
+fn tile_mark(li: u32, b: u32, t: vec2<u32>, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: f32) -> u32 {
     let first = b * LS_TILE_MAX_LIGHTS;
     let count = min(tile_params.light_count - first, LS_TILE_MAX_LIGHTS);
     let words = (count + 31u) / 32u;
@@ -114,6 +116,11 @@ fn tile_mark(li: u32, b: u32, lo: vec2<f32>, hi: vec2<f32>, dmin: f32, dmax: f32
     }
     workgroupBarrier();
     for (var i = li; i < count; i += 256u) {
+        let rx = tile_lists[tile_params.rect_base + 2u * (first + i)];
+        let ry = tile_lists[tile_params.rect_base + 2u * (first + i) + 1u];
+        if t.x < (rx & 0xffffu) || t.x > (rx >> 16u) || t.y < (ry & 0xffffu) || t.y > (ry >> 16u) {
+            continue;
+        }
         if light_meets_tile(light_at(first + i), lo, hi, dmin, dmax) {
             atomicOr(&wg_mask[i / 32u], 1u << (i % 32u));
         }
@@ -214,7 +221,7 @@ fn cs_tile_lists(
     var total = 0u;
     var words = 0u;
     for (var b = 0u; b < batches; b++) {
-        words = tile_mark(li, b, lo, hi, dmin, dmax);
+        words = tile_mark(li, b, wg.xy, lo, hi, dmin, dmax);
         total += tile_mask_count(li, words);
     }
     if li == 0u {
@@ -240,7 +247,7 @@ fn cs_tile_lists(
     }
     var done = 0u;
     for (var b = 0u; b < batches; b++) {
-        let w = tile_mark(li, b, lo, hi, dmin, dmax);
+        let w = tile_mark(li, b, wg.xy, lo, hi, dmin, dmax);
         let c = tile_mask_count(li, w);
         tile_write(li, b, w, header + base + done);
         done += c;

@@ -137,7 +137,7 @@ type Spanned = (u32, u32, u32, (u32, u32, u32, u32));
 
 /// Light `p`'s pixel rectangle (x0, x1, y0, y1, inclusive, y down), widened by a pixel and
 /// clamped to the screen, as the clustered spans take it (`tiles::Span`); `None` off screen.
-fn pixel_rect(p: &LightPlan, size: (u32, u32)) -> Option<(u32, u32, u32, u32)> {
+pub fn pixel_rect(p: &LightPlan, size: (u32, u32)) -> Option<(u32, u32, u32, u32)> {
     let (lo, hi) = p.screen_rect?;
     let (w, h) = (size.0 as f32, size.1 as f32);
     let (ax0, ax1) = ((lo.x + 1.0) * 0.5 * w, (hi.x + 1.0) * 0.5 * w);

@@ -283,8 +283,9 @@ pub struct BenchArgs {
     /// Only these groups (comma-separated): culling, engines (the shortcuts engines ship: their caps
     /// and grids, each against the same frame uncapped), presets, near, materials, layout,
     /// accumulation, depth, cutoff, tessellation, resolution, lights, radius, ambient, forward,
-    /// post, shadows, path; and ledger (the per-light cost model fitted and checked by removing
-    /// lights, per culling mode).
+    /// post, shadows, path; ledger (the per-light cost model fitted and checked by removing
+    /// lights, per culling mode); and gbuffer (the G-buffer span split: an empty scene's clears,
+    /// one triangle, the scene with and without timestamps and debug groups, a bare wgpu pass).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }

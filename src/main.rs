@@ -50,8 +50,13 @@ fn bench(args: BenchArgs) -> Result<()> {
         );
     }
     for g in &args.only {
-        if !bench::GROUPS.contains(&g.as_str()) && g != bench::LEDGER_GROUP {
-            bail!("--only {g}: groups are {}, {}", bench::GROUPS.join(", "), bench::LEDGER_GROUP);
+        if !bench::GROUPS.contains(&g.as_str()) && g != bench::LEDGER_GROUP && g != bench::GBUFFER_GROUP {
+            bail!(
+                "--only {g}: groups are {}, {}, {}",
+                bench::GROUPS.join(", "),
+                bench::LEDGER_GROUP,
+                bench::GBUFFER_GROUP
+            );
         }
     }
     o.groups = args.only.clone();

@@ -14,6 +14,7 @@
 
 pub mod advise;
 mod configs;
+mod gbuffer_split;
 mod groups;
 mod ledger;
 mod options;
@@ -22,6 +23,7 @@ mod report;
 mod run;
 
 pub use configs::*;
+pub use gbuffer_split::{split_markdown, SplitRow, GBUFFER_GROUP};
 pub use groups::*;
 pub use ledger::*;
 pub use options::*;
@@ -60,6 +62,8 @@ pub struct BenchRun {
     pub skipped: Vec<Skipped>,
     /// The `ledger` group: the per-light cost model checked per mode.
     pub ledger: Vec<LedgerRow>,
+    /// The `gbuffer` group: the G-buffer span split into what a frame pays before it draws.
+    pub gbuffer_split: Vec<SplitRow>,
 }
 
 #[derive(Clone, Debug, Serialize)]

@@ -328,6 +328,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
     s += &shadows_markdown(rows);
     s += &costliest_markdown(&run.rows);
     s += &ledger_markdown(&run.ledger);
+    s += &super::split_markdown(&run.gbuffer_split);
     s += &skipped_markdown(&run.skipped);
     s
 }

@@ -86,6 +86,12 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
         true => super::ledger(gpu, o, &mut files, &mut |label| progress(list.len() + frames, steps, label))?,
         false => Vec::new(),
     };
+    let gbuffer_split = match o.groups.is_empty() || o.groups.iter().any(|g| g == super::GBUFFER_GROUP) {
+        true => super::gbuffer_split::gbuffer_split(gpu, o, &mut files, &mut |label| {
+            progress(list.len() + frames, steps, label)
+        })?,
+        false => Vec::new(),
+    };
     let models = super::fitted_models(&ledger);
     let mut refs: HashMap<RefKey, Reference> = HashMap::new();
     let mut rows = Vec::new();
@@ -102,7 +108,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     mark_pareto(&mut rows);
     add_limits(&mut rows);
     add_units(&mut rows);
-    Ok(BenchRun { rows, skipped, ledger })
+    Ok(BenchRun { rows, skipped, ledger, gbuffer_split })
 }
 
 /// A configuration ready to time: its scene, its renderer (warm), its timed frames' stats.

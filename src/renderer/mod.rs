@@ -176,6 +176,12 @@ impl Renderer {
         self.sets.current.key().depth_clamp
     }
 
+    /// Pushes the frame's steps as debug groups (`on`, where the adapter takes them:
+    /// `Gpu::encoder_debug_groups`) or not (the bench's G-buffer split times both).
+    pub fn set_debug_groups(&mut self, on: bool) {
+        self.debug_groups = on && !self.caps.quirks.no_encoder_debug_groups;
+    }
+
     pub fn layout(&self) -> &gbuffer::GBufferLayout {
         &self.sets.current.key().layout
     }

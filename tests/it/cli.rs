@@ -249,6 +249,44 @@ fn bench_takes_a_gltf_file_and_a_light_count_for_it() {
     assert!(counts.contains(&"16") && counts.contains(&"64"), "{counts:?}");
 }
 
+/// `bench --only gbuffer`: the G-buffer span split into its cases, each timed (lavapipe has
+/// timestamps) but the untimed frame's, which has the wall clock alone.
+#[test]
+fn bench_splits_the_gbuffer_span_into_clears_a_triangle_the_scene_and_a_bare_pass() {
+    let out_dir = tmp("bench-gbuffer-split");
+    let args = ["bench", "demo", "--only", "gbuffer", "--quick", "--size", "64x36", "--out", out_dir.to_str().unwrap()];
+    let out = lampshade(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let md = std::fs::read_to_string(out_dir.join("bench.md")).unwrap();
+    let section = md.split("## The G-buffer span, split").nth(1).expect("the split's section");
+    let row = |label: &str| -> Vec<String> {
+        let line = section
+            .lines()
+            .find(|l| l.starts_with(&format!("| {label} |")))
+            .unwrap_or_else(|| panic!("{label}: {section}"));
+        line.split('|').map(|c| c.trim().to_string()).filter(|c| !c.is_empty()).collect()
+    };
+    // A measured figure: "ms ± se" with both finite and the span positive.
+    let measured = |cell: &str| {
+        let (v, se) = cell.split_once(" ± ").unwrap_or_else(|| panic!("{cell}"));
+        let (v, se): (f64, f64) = (v.parse().unwrap(), se.parse().unwrap());
+        assert!(v > 0.0 && v.is_finite() && se >= 0.0 && se.is_finite(), "{cell}");
+    };
+    for label in [
+        "empty scene (G-buffer: the clears alone)",
+        "one triangle",
+        "the scene",
+        "bare wgpu pass, the same targets cleared",
+    ] {
+        let r = row(label);
+        measured(&r[1]);
+        measured(&r[3]);
+    }
+    let untimed = row("the scene, no timestamps");
+    assert_eq!((untimed[1].as_str(), untimed[2].as_str()), ("-", "-"), "{untimed:?}");
+    measured(&untimed[3]);
+}
+
 #[test]
 fn a_light_count_a_scene_does_not_take_is_a_warning() {
     let png = tmp("unused-lights.png");

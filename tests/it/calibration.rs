@@ -181,3 +181,23 @@ fn calibrate_measures_and_writes_a_calibration_that_reads_back() {
     let out = lampshade(&["calibrate", "--lights", "0"], &home);
     assert!(!out.status.success() && text(&out).1.contains("--lights"), "{:?}", text(&out));
 }
+
+#[test]
+fn the_viewer_calibrates_when_asked_and_draws_with_it() {
+    if !["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var(v).is_ok_and(|s| !s.is_empty())) {
+        eprintln!("SKIPPED the_viewer_calibrates_when_asked_and_draws_with_it: no DISPLAY (run under xvfb-run)");
+        return;
+    }
+    let home = cache_home("viewer");
+    let script = home.join("calibrate.script");
+    std::fs::write(&script, "2 calibrate\n4 quit\n").unwrap();
+    let out = lampshade(
+        &["view", "demo", "--lights", "64", "--size", "640x400", "--script", script.to_str().unwrap()],
+        &home,
+    );
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success() && !stderr.contains("panicked"), "the viewer failed:\n{stdout}\n{stderr}");
+    let c = lampshade::calibration::read(&cache_file(&home)).expect("the viewer's calibration reads back");
+    // Measured on the window's adapter, and taken by its renderer.
+    assert!(stdout.contains(&format!("frame 2: calibration: {}", c.describe())), "{stdout}");
+}

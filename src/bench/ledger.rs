@@ -213,8 +213,7 @@ fn mode_row(
         fit_features.push(features(&render_image(gpu, &mut r, s, &counted, w, h)?.1.per_light, keep, ideal));
     }
     // The ten costliest by the calibration's model for now; the fitted one reorders them below.
-    let listed = settings.culling.method().filter(|m| m.listed());
-    let builtin = CostModel::of(&o.costs, listed, w as f64 * h as f64);
+    let builtin = CostModel::of(&o.costs, settings.culling.method().filter(|m| m.listed()), (w * h) as f64);
     let mut by_cost: Vec<usize> = (0..n).collect();
     let cost_of = |m: &CostModel, i: usize| m.light_ms(&full.per_light[i]).unwrap_or(0.0);
     by_cost.sort_by(|&a, &b| cost_of(&builtin, b).total_cmp(&cost_of(&builtin, a)));

@@ -158,3 +158,30 @@ pub fn today() -> String {
     let y = yoe + era * 400 + if m <= 2 { 1 } else { 0 };
     format!("{y:04}-{m:02}-{d:02}")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cpu_adapters_key_names_its_cpu_and_every_key_has_a_file_of_its_own() {
+        let info = |device_type| wgpu::AdapterInfo {
+            name: "llvmpipe (LLVM 15.0.6, 256 bits)".into(),
+            driver: "llvmpipe".into(),
+            driver_info: "Mesa 22.3.6".into(),
+            ..wgpu::AdapterInfo::new(device_type, wgpu::Backend::Vulkan)
+        };
+        let gpu = key(&info(wgpu::DeviceType::DiscreteGpu));
+        assert_eq!(gpu, "llvmpipe (LLVM 15.0.6, 256 bits) / llvmpipe / Mesa 22.3.6");
+        let cpu = key(&info(wgpu::DeviceType::Cpu));
+        let (model, cores) = super::cpu();
+        assert_eq!(cpu, format!("{gpu} / {model} / {cores} cores"));
+        assert!(cores >= 1);
+        let dir = Path::new("/cache");
+        assert_ne!(cache_file(dir, &cpu), cache_file(dir, &gpu));
+        // Keys whose letters and digits agree still get two files.
+        assert_ne!(cache_file(dir, "a b"), cache_file(dir, "a-b"));
+        assert!(cache_file(dir, &cpu).starts_with(dir));
+        assert_eq!(today().len(), 10);
+    }
+}

@@ -127,6 +127,7 @@ mod tests {
             culling: CullingMode::StencilInvert,
             layout: LayoutChoice::Seed000,
             scene: "model.glb".into(),
+            calibration_answered: true,
         };
         save(&p, &s).unwrap();
         assert_eq!(load(&p), (s, None));

@@ -223,3 +223,64 @@ pub fn markdown(r: &CalibrationRun) -> String {
     }
     s + "\n"
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Exact frames from known constants at 640x360: the per-light frames `40 ms + 0.02 ms a
+    /// draw + 30 ns a footprint pixel`, each list mode `fixed + its pairs (a share of the
+    /// footprint) x its pair cost`.
+    #[test]
+    fn the_fit_recovers_the_constants_of_exact_frames() {
+        let size = (640, 360);
+        let mpx = 640.0 * 360.0 / 1e6;
+        let frame = |n: usize, r: f64| {
+            let footprint = n as f64 * 1000.0 * r * r;
+            Point {
+                lights: n,
+                radius_scale: r,
+                light_draws: n as f64,
+                footprint,
+                listed: footprint,
+                ..Point::default()
+            }
+        };
+        let at = points_of(&[256, 1024, 2048]);
+        let per_light: Vec<Point> = at
+            .iter()
+            .map(|&(n, r)| frame(n, r))
+            .map(|p| Point { ms: 40.0 + p.light_draws * 0.02 + p.footprint * 30e-6, ..p })
+            .collect();
+        // (name, fixed ms, pair ns, pairs per footprint pixel).
+        let lists = [("clustered", 52.0, 20.0, 0.6), ("tiled", 140.0, 9.0, 1.1), ("zbin", 70.0, 27.0, 0.65)];
+        let mut measured = vec![("volume".to_string(), per_light)];
+        for (name, fixed, pair_ns, ppf) in lists {
+            let v = at
+                .iter()
+                .map(|&(n, r)| {
+                    let p = frame(n, r);
+                    let pairs = p.listed * ppf;
+                    Point { light_draws: 0.0, footprint: 0.0, pairs, ms: fixed + pairs * pair_ns * 1e-6, ..p }
+                })
+                .collect();
+            measured.push((name.to_string(), v));
+        }
+        let run = fit("key", "test", size, measured);
+        let c = run.calibration.costs;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs().max(1.0);
+        assert!(close(c.draw_ms, 0.02) && close(c.fragment_ns, 30.0), "{c:?}");
+        for (name, fixed, pair_ns, ppf) in lists {
+            let l = match name {
+                "clustered" => c.clustered,
+                "tiled" => c.tiled.expect("tiled fitted"),
+                _ => c.zbin.expect("zbin fitted"),
+            };
+            assert!(close(l.fixed_ms_per_mpx, (fixed - 40.0) / mpx), "{name}: {l:?}");
+            assert!(close(l.pair_ns, pair_ns) && close(l.pairs_per_footprint, ppf), "{name}: {l:?}");
+        }
+        assert!(run.notes.is_empty(), "{:?}", run.notes);
+        assert_eq!(run.calibration.key, "key");
+        assert!(markdown(&run).contains("| tiled |"));
+    }
+}

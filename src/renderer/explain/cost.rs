@@ -32,9 +32,11 @@
 //! [`CostModel::fit`] solves least squares over frames that each shade a different subset of
 //! the lights (`lampshade bench --only ledger` times them), and the bench then checks the model
 //! on frames it was not fitted on: the whole set (the sum) and the set less each of the ten
-//! costliest lights (the removals). Without a fit, [`CostModel::builtin`] gives the constants
-//! `auto` decides with, measured on idle lavapipe on this project's 2-core machine; on another
-//! adapter they give the order of the lights, not their milliseconds.
+//! costliest lights (the removals). Without a fit, [`CostModel::of`] gives the constants `auto`
+//! decides with: the renderer's calibration (`lampshade calibrate`, measured on the adapter that
+//! runs), or the built-in ones ([`CostModel::builtin`]), measured on idle lavapipe on this
+//! project's 2-core machine, which on another adapter give the order of the lights, not their
+//! milliseconds.
 
 use crate::renderer::culling::methods;
 use crate::renderer::culling::stats::LightStats;

@@ -7,11 +7,14 @@ use crate::bench::calibrate::{self, CalibrateOptions};
 use crate::renderer::options::calibration::Calibration;
 use std::sync::{Arc, Mutex};
 
+/// A finished calibration: the constants and the file they were written to, or why not.
+pub type Answer = Result<(Calibration, String), String>;
+
 /// A running or finished calibration.
 pub struct CalibrationJob {
     /// (points done, points in all, what is being drawn).
     pub progress: Arc<Mutex<(usize, usize, String)>>,
-    result: Arc<Mutex<Option<Result<(Calibration, String), String>>>>,
+    result: Arc<Mutex<Option<Answer>>>,
     handle: Option<std::thread::JoinHandle<()>>,
 }
 
@@ -45,7 +48,7 @@ impl CalibrationJob {
     }
 
     /// The calibration and its file once the thread has finished (`None` while it runs).
-    pub fn answer(&self) -> Option<Result<(Calibration, String), String>> {
+    pub fn answer(&self) -> Option<Answer> {
         self.result.lock().ok().and_then(|g| g.clone())
     }
 

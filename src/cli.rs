@@ -59,6 +59,10 @@ pub enum Command {
     /// stays fastest: predicted from a cost model fitted on short calibration frames, then
     /// measured; prints prediction against measurement, writes advise.md, advise.json and a plot.
     Advise(AdviseArgs),
+    /// Measure the cost model's constants on this adapter (per draw, per fragment, per listed
+    /// pair, each list mode's full-screen passes) in under a minute, and keep them in the
+    /// user's cache folder, where `render`, `advise`, `bench` and the viewer read them.
+    Calibrate(CalibrateArgs),
     /// List the graphics adapters found and what each supports (paths, layouts, culling modes,
     /// knobs), from each adapter's capability table.
     Adapters(AdaptersArgs),
@@ -168,6 +172,8 @@ pub struct RenderArgs {
     /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
 }
 
 #[derive(clap::Args)]
@@ -225,9 +231,38 @@ pub struct AdviseArgs {
     /// Write advise.md, advise.json and advise.png here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
     /// The renderer's knobs (as `render`'s), applied under every candidate's path and mode.
     #[command(flatten)]
     pub knobs: KnobArgs,
+}
+
+/// Which calibration a command weighs with.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct CalibrationArgs {
+    /// The cost model's constants from FILE (as `calibrate --out` writes) instead of the
+    /// cache's for this adapter (also: the environment variable LAMPSHADE_CALIBRATION).
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct CalibrateArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
+    /// Frame size, WxH.
+    #[arg(long, value_parser = image_size, default_value = "640x360")]
+    pub size: (u32, u32),
+    /// The light counts of `demo` measured (the two largest also at half the radii).
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "256,1024,2048")]
+    pub lights: Vec<usize>,
+    /// Timed frames per point (their median is taken).
+    #[arg(long, default_value_t = 5)]
+    pub frames: usize,
+    /// Write the calibration to FILE instead of the cache folder.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -288,6 +323,8 @@ pub struct BenchArgs {
     /// one triangle, the scene with and without timestamps and debug groups, a bare wgpu pass).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
 }
 
 #[derive(clap::Args, Clone, Debug)]
@@ -328,6 +365,8 @@ pub struct ViewArgs {
     /// Neither read nor write the saved state.
     #[arg(long)]
     pub no_state: bool,
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
 }
 
 /// What `lampshade` with no subcommand runs: the same defaults as `lampshade view`.
@@ -345,6 +384,7 @@ impl Default for ViewArgs {
             screenshot_dir: PathBuf::from("."),
             state: None,
             no_state: false,
+            calibration: CalibrationArgs::default(),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! culling. No window, no UI: the viewer (`app`, feature `viewer`) sits on top.
 
 pub mod bench;
+pub mod calibration;
 pub mod cli;
 pub mod compare;
 pub mod gpu;

@@ -62,6 +62,8 @@ fn bench(args: BenchArgs) -> Result<()> {
     o.groups = args.only.clone();
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let gpu = Gpu::open(&args.adapter.choice())?;
+    o.costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
+    eprintln!("calibration: {}", o.costs.describe());
     let bar = indicatif::ProgressBar::new((bench::configs(&o).len() * 2 + o.frames.max(1)) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
@@ -141,6 +143,7 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     let gpu = Gpu::open(&args.adapter.choice())?;
     let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+    renderer.set_calibration(lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?);
     let bar = costly_shadows(&scene, &settings, &mut renderer)?;
     let (image, stats) = lampshade::headless::render_image(&gpu, &mut renderer, &scene, &settings, w, h)?;
     if let Some(bar) = bar {
@@ -150,13 +153,19 @@ fn render(args: RenderArgs) -> Result<()> {
     gpu.errors.check()?;
     image.save(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     println!(
-        "{}: {} lights, {}, shaded {} fragments, ideal {}, gpu {} ms -> {}",
+        "{}: {} lights, {}{}, shaded {} fragments, ideal {}, gpu {} ms, calibration: {} -> {}",
         scene_name,
         stats.lights,
         settings.culling.name(),
+        stats
+            .tiles
+            .as_ref()
+            .filter(|_| settings.culling == lampshade::CullingMode::Auto)
+            .map_or(String::new(), |t| format!(" ({})", t.method.name())),
         stats.shaded_fragments.map_or("-".into(), |v| v.to_string()),
         stats.ideal_fragments.map_or("not counted (--ideal)".into(), |v| v.to_string()),
         stats.gpu_ms.total.map_or("-".into(), |v| format!("{v:.2}")),
+        stats.calibration,
         args.out.display()
     );
     let probe = match args.probe {
@@ -187,6 +196,7 @@ fn render(args: RenderArgs) -> Result<()> {
             "wasted_fragments": stats.wasted_fragments,
             "light_cost_ms": stats.light_cost_ms,
             "cost_model": stats.cost_model,
+            "calibration": stats.calibration,
             "coverage_fragments": stats.coverage_fragments,
             "efficiency": stats.efficiency,
             "gbuffer_bytes_per_pixel": stats.gbuffer_bytes_per_pixel,
@@ -460,6 +470,8 @@ fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
     });
     let candidates = advise::candidates(&settings);
     let mut frames = advise::GpuFrames::new(&gpu, candidates.clone(), scene_at, args.size, args.frames);
+    frames.calibration = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
+    eprintln!("calibration: {}", frames.calibration.describe());
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} {elapsed} {msg}")
@@ -481,6 +493,54 @@ fn advise(args: lampshade::cli::AdviseArgs) -> Result<()> {
         lampshade::bench::plot_advice(&a, &dir.join("advise.png"))?;
         eprintln!("wrote {}/advise.md, advise.json, advise.png", dir.display());
     }
+    Ok(())
+}
+
+/// `lampshade calibrate`: the cost model's constants measured on this adapter
+/// (`bench::calibrate`), kept in the cache folder (`lampshade::calibration`) or `--out`.
+fn calibrate(args: lampshade::cli::CalibrateArgs) -> Result<()> {
+    use lampshade::bench::calibrate::{self, CalibrateOptions};
+    let o =
+        CalibrateOptions { scene: "demo".into(), size: args.size, counts: args.lights.clone(), frames: args.frames };
+    if o.frames == 0 || o.frames > 1000 {
+        bail!("--frames {} must be between 1 and 1000", o.frames);
+    }
+    if o.counts.iter().any(|&n| n == 0 || n > lampshade::renderer::settings::MAX_LIGHTS_EVERY_MODE) {
+        bail!("--lights: each count must be between 1 and {}", lampshade::renderer::settings::MAX_LIGHTS_EVERY_MODE);
+    }
+    // Where it goes, checked before a minute of frames.
+    let dir = match &args.out {
+        Some(_) => None,
+        None => Some(lampshade::calibration::cache_dir().context(
+            "no cache folder: neither XDG_CACHE_HOME nor HOME is set to an absolute path (or give --out FILE)",
+        )?),
+    };
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let key = lampshade::calibration::key(&gpu.info);
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("[{bar:30}] {pos}/{len} {elapsed} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let start = std::time::Instant::now();
+    let run = calibrate::calibrate(&gpu, &key, &o, &mut |done, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })?;
+    bar.finish_and_clear();
+    gpu.errors.check()?;
+    print!("{}", calibrate::markdown(&run));
+    let path = match (&args.out, dir) {
+        (Some(file), _) => {
+            std::fs::write(file, serde_json::to_string_pretty(&run.calibration)?)
+                .with_context(|| format!("writing {}", file.display()))?;
+            file.clone()
+        }
+        (None, Some(dir)) => lampshade::calibration::write(&dir, &run.calibration)?,
+        (None, None) => bail!("no place to write the calibration"),
+    };
+    println!("measured in {:.1} s -> {}", start.elapsed().as_secs_f64(), path.display());
     Ok(())
 }
 
@@ -586,7 +646,14 @@ fn main() {
     let cli = Cli::parse();
     if matches!(
         cli.command,
-        Some(Command::Render(_) | Command::Bench(_) | Command::Adapters(_) | Command::Check(_) | Command::Advise(_))
+        Some(
+            Command::Render(_)
+                | Command::Bench(_)
+                | Command::Adapters(_)
+                | Command::Check(_)
+                | Command::Advise(_)
+                | Command::Calibrate(_)
+        )
     ) {
         lampshade::gpu::quiet_headless_device_select();
     }
@@ -595,6 +662,7 @@ fn main() {
         Some(Command::Bench(args)) => bench(args),
         Some(Command::Check(args)) => check(args),
         Some(Command::Advise(args)) => advise(args),
+        Some(Command::Calibrate(args)) => calibrate(args),
         Some(Command::Adapters(args)) => adapters(args),
         Some(Command::Bake(args)) => bake(args),
         Some(Command::MakeAssets { out }) => lampshade::scene::room::write(&out),

@@ -36,8 +36,9 @@ impl App {
         if self.gfx.is_none() {
             return Ok(());
         }
-        // 3. The scene into the viewport texture, at the viewport's size times the scale.
-        let rendered = self.render_viewport(&settings);
+        // 3. The scene into the viewport texture, at the viewport's size times the scale; none
+        //    while a calibration measures (the viewport holds its last frame).
+        let rendered = !self.finish_calibration() && self.render_viewport(&settings);
         // 4. Thumbnails: the compose pass of this frame again, once per view.
         let tiles = self.render_thumbnails(&settings, rendered);
         // 4b. The shadow atlas as an image, while its panel is open.
@@ -319,6 +320,8 @@ impl App {
             explanation: self.explanation.as_ref(),
             check: self.check.as_ref(),
             advice: self.advice.as_ref(),
+            calibration: g.renderer.calibration().describe(),
+            offer_calibration: self.offer_calibration,
             adapter: &g.adapter,
             caps: &g.gpu.caps,
             status: self.status.as_ref(),
@@ -426,6 +429,11 @@ impl App {
                 Command::ResetCamera => self.state.camera = None,
                 Command::CheckCulling => self.check_culling(),
                 Command::Advise => self.start_advice(),
+                Command::Calibrate => self.start_calibration(Default::default()),
+                Command::DeclineCalibration => {
+                    self.offer_calibration = false;
+                    self.calibration_answered = true;
+                }
                 Command::SceneChanged => {
                     if !crate::scene::import::is_gltf_path(&self.state.scene) {
                         self.reset_scene_edits();
@@ -532,6 +540,22 @@ impl App {
                         Some(Err(e)) => bail!("frame {}: the advisor failed: {e}", self.frame),
                         None => bail!("frame {}: the advisor gave no answer", self.frame),
                     }
+                }
+                Action::Calibrate => {
+                    let small = crate::bench::calibrate::CalibrateOptions {
+                        size: (96, 54),
+                        counts: vec![256, 512],
+                        frames: 1,
+                        ..Default::default()
+                    };
+                    self.start_calibration(small);
+                    if let Some(job) = self.calibrating.as_mut() {
+                        job.wait();
+                    }
+                    if let Some(Err(e)) = self.calibrating.as_ref().and_then(|j| j.answer()) {
+                        bail!("frame {}: the calibration failed: {e}", self.frame);
+                    }
+                    self.finish_calibration();
                 }
                 Action::Quit => event_loop.exit(),
                 _ => {}

@@ -7,6 +7,7 @@
 //! reach the renderer on the next frame.
 
 mod advice;
+mod calibrating;
 pub mod camera;
 mod frame;
 pub mod gfx;
@@ -122,6 +123,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let mut app = App::new(args, state, cache, script);
     app.size = size;
+    app.calibration_answered = saved.calibration_answered;
     app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
     event_loop.run_app(&mut app).context("the event loop failed")?;
     if let Some(p) = &state_path {
@@ -132,6 +134,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
             culling: app.state.settings.culling,
             layout: app.state.settings.layout,
             scene: app.state.scene.clone(),
+            calibration_answered: app.calibration_answered,
         };
         if let Err(e) = persist::save(p, &saved) {
             eprintln!("warning: could not save the viewer's state: {e:#}");
@@ -199,6 +202,13 @@ struct App {
     check_renderer: Option<crate::renderer::Renderer>,
     /// The advisor, running on its own thread or finished.
     advice: Option<advice::AdviceJob>,
+    /// A calibration running on its own thread; the viewport holds its last frame meanwhile.
+    calibrating: Option<calibrating::CalibrationJob>,
+    /// The offer to calibrate is shown (the cache has none for this adapter, and the saved
+    /// state has no answer yet).
+    offer_calibration: bool,
+    /// The offer was answered (either way): saved, so it is made once.
+    calibration_answered: bool,
     scene: Option<Scene>,
     /// From the last frame's layout.
     viewport_rect: Option<egui::Rect>,
@@ -243,6 +253,9 @@ impl App {
             check: None,
             check_renderer: None,
             advice: None,
+            calibrating: None,
+            offer_calibration: false,
+            calibration_answered: false,
             scene: None,
             viewport_rect: None,
             hover_pixel: None,
@@ -295,7 +308,14 @@ impl App {
         gpu.passes.keep_bytes_at_most(VIEWER_POOL_BYTES);
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
         let settings = self.state.frame_settings();
-        let renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+        let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+        // The cache's calibration for this adapter (or the file asked for); a file asked for
+        // that cannot be read is said on the status line, and the defaults are used.
+        match crate::calibration::resolve(&gpu.info, self.args.calibration.calibration.as_deref()) {
+            Ok(c) => renderer.set_calibration(c),
+            Err(e) => self.say(format!("{e:#}; using the built-in defaults"), true),
+        }
+        self.offer_calibration = !self.calibration_answered && !self.scripted() && renderer.calibration().is_builtin();
         let egui_ctx = egui::Context::default();
         ui::style(&egui_ctx);
         let max_side = gpu.device.limits().max_texture_dimension_2d as usize;
@@ -426,6 +446,7 @@ impl App {
             | Action::Overlaps
             | Action::Check
             | Action::Advise
+            | Action::Calibrate
             | Action::Quit => {}
         }
     }
@@ -567,6 +588,51 @@ impl App {
         self.advice = Some(advice::AdviceJob::start(scene.clone(), settings, size));
         self.state.panels.advice = true;
         self.say(format!("advising on {} lights at {}x{}", scene.lights.len(), size.0, size.1), false);
+    }
+
+    /// Starts a calibration on the viewer's adapter (unless one runs): `options`, written to the
+    /// cache; the viewport holds its last frame until it ends ([`App::finish_calibration`]).
+    fn start_calibration(&mut self, options: crate::bench::calibrate::CalibrateOptions) {
+        self.offer_calibration = false;
+        self.calibration_answered = true;
+        if self.calibrating.is_some() {
+            return;
+        }
+        self.calibrating = Some(calibrating::CalibrationJob::start(self.args.adapter.choice(), options));
+    }
+
+    /// Once the calibration has ended: its constants are the renderer's from the next frame
+    /// (when measured on this window's adapter), and the status line says so. Returns whether
+    /// one is still running.
+    fn finish_calibration(&mut self) -> bool {
+        let Some(answer) = self.calibrating.as_ref().map(|j| j.answer()) else { return false };
+        let Some(answer) = answer else {
+            if let Some(text) = self.calibrating.as_ref().map(|j| j.status()) {
+                self.status = Some(Status { text, error: false });
+            }
+            return true;
+        };
+        self.calibrating = None;
+        match answer {
+            Ok((c, path)) => {
+                let Some(g) = self.gfx.as_mut() else { return false };
+                if c.key == crate::calibration::key(&g.gpu.info) {
+                    let text = format!("calibration: {} -> {path}", c.describe());
+                    g.renderer.set_calibration(c);
+                    if self.scripted() {
+                        println!("frame {}: {text}", self.frame);
+                    }
+                    self.say(text, false);
+                } else {
+                    self.say(
+                        format!("calibrated another adapter ({}) -> {path}; this window keeps its constants", c.key),
+                        true,
+                    );
+                }
+            }
+            Err(e) => self.say(format!("calibration failed: {e}"), true),
+        }
+        false
     }
 
     fn reset_scene_edits(&mut self) {

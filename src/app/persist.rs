@@ -25,6 +25,8 @@ pub struct Persisted {
     pub layout: LayoutChoice,
     /// The last built-in scene or glTF file shown.
     pub scene: String,
+    /// The offer to calibrate (`lampshade calibrate`) was answered, either way: it is made once.
+    pub calibration_answered: bool,
 }
 
 impl Default for Persisted {
@@ -36,6 +38,7 @@ impl Default for Persisted {
             culling: CullingMode::default(),
             layout: LayoutChoice::default(),
             scene: "demo".into(),
+            calibration_answered: false,
         }
     }
 }
@@ -124,6 +127,7 @@ mod tests {
             culling: CullingMode::StencilInvert,
             layout: LayoutChoice::Seed000,
             scene: "model.glb".into(),
+            calibration_answered: true,
         };
         save(&p, &s).unwrap();
         assert_eq!(load(&p), (s, None));

@@ -40,6 +40,9 @@
 //!                        far (`frame N: pipelines compiled P`) to stdout, for soak runs
 //! overlaps               after drawing: end the run with an error naming them when two
 //!                        widgets of the drawn UI overlap (`ui::overlaps`)
+//! calibrate              after drawing: measure the cost model's constants at a small size
+//!                        (`lampshade calibrate`), write them to the cache and use them; the
+//!                        script waits, and prints `frame N: calibration: …`
 //! quit                   after drawing: exit with status 0
 //! ```
 //!
@@ -92,6 +95,8 @@ pub enum Action {
     Check,
     /// The advisor on the current scene and camera; the script waits for its answer.
     Advise,
+    /// A small calibration, written to the cache and used; the script waits for it.
+    Calibrate,
     Quit,
 }
 
@@ -100,7 +105,13 @@ impl Action {
     pub fn is_post(&self) -> bool {
         matches!(
             self,
-            Action::Screenshot(_) | Action::Memory | Action::Overlaps | Action::Check | Action::Advise | Action::Quit
+            Action::Screenshot(_)
+                | Action::Memory
+                | Action::Overlaps
+                | Action::Check
+                | Action::Advise
+                | Action::Calibrate
+                | Action::Quit
         )
     }
 }
@@ -277,6 +288,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "advise" => {
             want(0)?;
             Action::Advise
+        }
+        "calibrate" => {
+            want(0)?;
+            Action::Calibrate
         }
         "quit" => {
             want(0)?;

@@ -71,6 +71,12 @@ pub struct Point {
     pub draws: f64,
     pub pairs: f64,
     pub ms: f64,
+    /// `auto`'s frame-rule terms of the frame's lights as drawn (`tiles::light_terms`): their
+    /// draws, their drawn footprint in pixels, and their footprint as a list mode lists it
+    /// (what `lampshade calibrate` fits the rule's constants on).
+    pub light_draws: f64,
+    pub footprint: f64,
+    pub listed: f64,
 }
 
 /// What renders the advisor's frames: the GPU ([`GpuFrames`]), or a synthetic source in tests.
@@ -319,6 +325,8 @@ pub struct GpuFrames<'a> {
     pub scene_at: Box<dyn FnMut(usize) -> Result<Scene> + 'a>,
     pub size: (u32, u32),
     pub timed: usize,
+    /// The calibration each candidate's renderer weighs with (the defaults unless set).
+    pub calibration: crate::renderer::options::calibration::Calibration,
     renderers: Vec<Option<Renderer>>,
     scenes: Vec<((usize, u64), Scene)>,
 }
@@ -332,7 +340,16 @@ impl<'a> GpuFrames<'a> {
         timed: usize,
     ) -> Self {
         let renderers = candidates.iter().map(|_| None).collect();
-        Self { gpu, candidates, scene_at, size, timed: timed.max(1), renderers, scenes: Vec::new() }
+        Self {
+            gpu,
+            candidates,
+            scene_at,
+            size,
+            timed: timed.max(1),
+            calibration: Default::default(),
+            renderers,
+            scenes: Vec::new(),
+        }
     }
 }
 
@@ -351,7 +368,9 @@ impl Frames for GpuFrames<'_> {
         let timed = Settings { count_fragments: false, count_ideal: false, timestamps: true, ..base.clone() };
         let counted = Settings { count_fragments: true, count_ideal: false, timestamps: false, ..base.clone() };
         if self.renderers[c].is_none() {
-            self.renderers[c] = Some(Renderer::new(self.gpu, OUTPUT_FORMAT, &timed)?);
+            let mut r = Renderer::new(self.gpu, OUTPUT_FORMAT, &timed)?;
+            r.set_calibration(self.calibration.clone());
+            self.renderers[c] = Some(r);
         }
         let r = self.renderers[c].as_mut().expect("just made");
         let (w, h) = self.size;
@@ -373,7 +392,24 @@ impl Frames for GpuFrames<'_> {
         // each object's fragments), else the frame's shaded fragments.
         let per_light: Option<u64> = stats.per_light.iter().map(|l| l.shaded).sum();
         let pairs = per_light.filter(|_| !stats.per_light.is_empty()).or(stats.shaded_fragments).unwrap_or(0);
-        Ok(Point { lights, radius_scale, draws, pairs: pairs as f64, ms: median(times) })
+        let pixels = w as f64 * h as f64;
+        let (mut light_draws, mut footprint, mut listed) = (0.0, 0.0, 0.0);
+        for l in &stats.per_light {
+            let (d, f, s) = crate::renderer::tiles::light_terms(l.method, l.screen_share, pixels);
+            light_draws += d;
+            footprint += f;
+            listed += s;
+        }
+        Ok(Point {
+            lights,
+            radius_scale,
+            draws,
+            pairs: pairs as f64,
+            ms: median(times),
+            light_draws,
+            footprint,
+            listed,
+        })
     }
 }
 
@@ -485,6 +521,7 @@ mod tests {
                 draws,
                 pairs,
                 ms: (fixed + draws * draw_ms + pairs * pair_ns * 1e-6) * noise,
+                ..Point::default()
             })
         }
     }

@@ -107,6 +107,7 @@ mod tests {
             time: 0.0,
             groups: vec!["culling".into()],
             fixed_lights: false,
+            costs: Default::default(),
         };
         configs(&o).into_iter().filter(|c| c.group == "culling").map(|c| c.label).collect()
     }

@@ -173,6 +173,7 @@ fn mode_row(
 ) -> Result<LedgerRow> {
     let (w, h) = o.size;
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings)?;
+    r.set_calibration(o.costs.clone());
     let counted = Settings { count_fragments: true, ..settings.clone() };
     let lighting = |stats: &FrameStats| stats.gpu_ms.lighting.unwrap_or(f64::NAN);
     // Warm (shader compiles), then the whole set counted.
@@ -211,8 +212,8 @@ fn mode_row(
         render_image(gpu, &mut r, s, settings, w, h)?;
         fit_features.push(features(&render_image(gpu, &mut r, s, &counted, w, h)?.1.per_light, keep, ideal));
     }
-    // The ten costliest by the built-in model for now; the fitted one reorders them below.
-    let builtin = CostModel::builtin(settings.culling.method().is_some_and(|m| m.listed()), w as f64 * h as f64);
+    // The ten costliest by the calibration's model for now; the fitted one reorders them below.
+    let builtin = CostModel::of(&o.costs, settings.culling.method().filter(|m| m.listed()), (w * h) as f64);
     let mut by_cost: Vec<usize> = (0..n).collect();
     let cost_of = |m: &CostModel, i: usize| m.light_ms(&full.per_light[i]).unwrap_or(0.0);
     by_cost.sort_by(|&a, &b| cost_of(&builtin, b).total_cmp(&cost_of(&builtin, a)));

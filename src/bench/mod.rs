@@ -13,6 +13,7 @@
 //! - [`plot`]: the charts.
 
 pub mod advise;
+pub mod calibrate;
 mod configs;
 mod gbuffer_split;
 mod groups;

@@ -16,6 +16,9 @@ pub struct BenchOptions {
     /// The scene brings a fixed set of lights (a glTF file with lights, a built-in scene that
     /// takes no count): `lights` is not varied and the `lights` group is left out.
     pub fixed_lights: bool,
+    /// The cost model's constants `auto` and the ledger's estimates weigh with (the built-in
+    /// defaults unless the CLI read a calibration).
+    pub costs: crate::renderer::options::calibration::Calibration,
 }
 
 impl BenchOptions {
@@ -30,6 +33,7 @@ impl BenchOptions {
                 time: 0.0,
                 groups: Vec::new(),
                 fixed_lights: false,
+                costs: Default::default(),
             }
         } else {
             Self {
@@ -41,6 +45,7 @@ impl BenchOptions {
                 time: 0.0,
                 groups: Vec::new(),
                 fixed_lights: false,
+                costs: Default::default(),
             }
         }
     }

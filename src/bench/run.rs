@@ -156,7 +156,10 @@ fn prepare<'c>(
             reason: format!("{e:#}"),
         };
         let mut renderer = match Renderer::new(gpu, OUTPUT_FORMAT, &cfg.settings) {
-            Ok(r) => r,
+            Ok(mut r) => {
+                r.set_calibration(o.costs.clone());
+                r
+            }
             Err(e) => {
                 skipped.push(skip(e));
                 continue;

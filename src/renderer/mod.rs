@@ -99,6 +99,9 @@ pub struct Renderer {
     /// The per-light cost model of the stats (`explain::cost`): a fitted one, by mode (tiled
     /// and clustered: the list modes; every other: the drawn ones), or the built-in constants.
     pub cost_models: Vec<(CullingMode, explain::cost::CostModel)>,
+    /// The cost model's constants `auto` and the ledger weigh with: the built-in defaults
+    /// unless given a calibration (`set_calibration`).
+    calibration: options::calibration::Calibration,
     /// Where a costly frame reports its progress (`set_progress`).
     progress: Option<inputs::Progress>,
 }
@@ -153,6 +156,7 @@ impl Renderer {
             long_list_warnings: Vec::new(),
             lut: Default::default(),
             cost_models: Vec::new(),
+            calibration: Default::default(),
             progress: None,
             uploads: gpu.uploads.clone(),
             device,
@@ -166,6 +170,19 @@ impl Renderer {
     /// submission.
     pub fn set_progress(&mut self, progress: Option<inputs::Progress>) {
         self.progress = progress;
+    }
+
+    /// The cost model's constants `auto`'s frame rule and the ledger's estimates use from the
+    /// next frame on (a frame kept for reuse is planned again).
+    pub fn set_calibration(&mut self, calibration: options::calibration::Calibration) {
+        if calibration != self.calibration {
+            self.last.reusable = None;
+        }
+        self.calibration = calibration;
+    }
+
+    pub fn calibration(&self) -> &options::calibration::Calibration {
+        &self.calibration
     }
 
     pub fn depth_format(&self) -> wgpu::TextureFormat {

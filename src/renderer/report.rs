@@ -39,6 +39,7 @@ impl Renderer {
             size: [shape.size.0, shape.size.1],
             culling: settings.culling,
             lights: plan.lights.len(),
+            calibration: self.calibration.describe(),
             gbuffer_layout: key.layout.name.to_string(),
             gbuffer_bytes_per_pixel: key.layout.bytes_per_pixel(),
             depth_stencil_format: format!("{:?}", key.depth_format),
@@ -117,7 +118,7 @@ impl Renderer {
                 }
             }
         }
-        self.ledger(&mut stats, plan.tiled.is_some());
+        self.ledger(&mut stats, plan.tiled);
         Ok(stats)
     }
 
@@ -164,7 +165,7 @@ impl Renderer {
     /// The ledger's per-frame figures from the counts read back: each light's wasted pairs
     /// and its cost by the model for the frame's mode (`listed`: shaded from tile or cluster
     /// lists).
-    fn ledger(&self, stats: &mut FrameStats, listed: bool) {
+    fn ledger(&self, stats: &mut FrameStats, listed: Option<super::plan::Method>) {
         for l in &mut stats.per_light {
             l.wasted = l.shaded.zip(l.ideal).map(|(s, i)| s.saturating_sub(i));
         }
@@ -179,7 +180,7 @@ impl Renderer {
             .iter()
             .find(|(m, _)| *m == stats.culling)
             .map(|(_, c)| c.clone())
-            .unwrap_or_else(|| super::explain::cost::CostModel::builtin(listed, pixels));
+            .unwrap_or_else(|| super::explain::cost::CostModel::of(&self.calibration, listed, pixels));
         let mut sum = 0.0;
         for l in &mut stats.per_light {
             l.cost_ms = model.light_ms(l);
@@ -222,6 +223,9 @@ pub struct FrameStats {
     /// The model the per-light `cost_ms` come from, and its sum over the lights with the
     /// fixed part apart (`light_cost_ms` + `cost_model.fixed_ms` against `gpu_ms.lighting`).
     pub cost_model: Option<crate::renderer::explain::cost::CostModel>,
+    /// The cost model's constants `auto` and the ledger weighed with: "built-in defaults" or
+    /// "<adapter key>, measured <date>" (`Calibration::describe`).
+    pub calibration: String,
     pub light_cost_ms: Option<f64>,
     /// The forward pass of blended surfaces, when the frame drew one.
     pub forward: Option<ForwardStats>,

@@ -220,6 +220,7 @@ fn plan(scene: &Scene, volumes: &Volumes, mode: CullingMode, size: (u32, u32)) -
         front_to_back: false,
         sort_blended: true,
         prepass_models: None,
+        costs: Default::default(),
     };
     let plan = FramePlan::new(scene, &mut records, &[], volumes, &view);
     (plan, records, view)

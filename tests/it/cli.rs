@@ -9,7 +9,13 @@ const CAMERAS: &str = "/usr/share/assimp/models/glTF2/cameras/Cameras.gltf";
 fn lampshade(args: &[&str]) -> std::process::Output {
     let dir = std::env::temp_dir().join("lampshade-cli-xdg");
     let _ = std::fs::create_dir_all(&dir);
-    Command::new(env!("CARGO_BIN_EXE_lampshade")).args(args).env("XDG_RUNTIME_DIR", &dir).output().expect("spawn")
+    Command::new(env!("CARGO_BIN_EXE_lampshade"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", &dir)
+        .env("XDG_CACHE_HOME", crate::common::empty_cache_home())
+        .env_remove(lampshade::calibration::ENV)
+        .output()
+        .expect("spawn")
 }
 
 fn tmp(name: &str) -> std::path::PathBuf {
@@ -154,6 +160,8 @@ fn a_headless_render_needs_no_runtime_dir_and_prints_no_display_errors() {
     let out = Command::new(env!("CARGO_BIN_EXE_lampshade"))
         .args(["render", "spot", "--size", "32x32", "--out", png.to_str().unwrap()])
         .env_remove("XDG_RUNTIME_DIR")
+        .env("XDG_CACHE_HOME", crate::common::empty_cache_home())
+        .env_remove(lampshade::calibration::ENV)
         .env_remove("NODEVICE_SELECT")
         .env_remove("WGPU_BACKEND")
         .output()

@@ -126,3 +126,18 @@ pub fn frame_of(key: &str, make: impl FnOnce() -> Scene, settings: &Settings, w:
     };
     cell.get_or_init(|| Arc::new(render(&make(), settings, w, h))).clone()
 }
+
+/// An empty folder for the user's cache (`XDG_CACHE_HOME`) of every test that starts the
+/// `lampshade` binary: the CLI and the viewer read their calibration from there, so no test
+/// depends on whether someone ran `lampshade calibrate` (the calibration tests plant theirs in
+/// folders of their own).
+pub fn empty_cache_home() -> std::path::PathBuf {
+    static DIR: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("empty-cache-home");
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).expect("creating the empty cache folder");
+        d
+    })
+    .clone()
+}

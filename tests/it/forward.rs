@@ -180,6 +180,7 @@ fn every_point_a_light_reaches_is_in_a_tile_that_lists_it() {
             front_to_back: false,
             sort_blended: true,
             prepass_models: None,
+            costs: Default::default(),
         };
         let bounds: Vec<(glam::DVec3, f64)> = scene
             .meshes

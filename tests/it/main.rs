@@ -10,6 +10,7 @@ mod common;
 
 mod adapters;
 mod batching;
+mod calibration;
 mod caps;
 mod cli;
 mod cookies_masks;

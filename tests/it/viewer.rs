@@ -95,6 +95,8 @@ fn lampshade(args: &[&str], cwd: &Path) -> Output {
         .args(args)
         .current_dir(cwd)
         .env("XDG_RUNTIME_DIR", runtime_dir())
+        .env("XDG_CACHE_HOME", crate::common::empty_cache_home())
+        .env_remove(lampshade::calibration::ENV)
         .env("RUST_BACKTRACE", "1")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -99,6 +99,10 @@ pub struct FrameInfo<'a> {
     pub check: Option<&'a Result<CullingCheck, String>>,
     /// The advisor, running or finished.
     pub advice: Option<&'a crate::app::advice::AdviceJob>,
+    /// The calibration the renderer weighs with (`Calibration::describe`).
+    pub calibration: String,
+    /// Offer to calibrate (a dismissable note on the status line).
+    pub offer_calibration: bool,
     pub adapter: &'a str,
     /// What the adapter can do: choices it cannot give are greyed out with the reason.
     pub caps: &'a crate::renderer::kit::adapter::AdapterCaps,
@@ -127,6 +131,10 @@ pub enum Command {
     CheckCulling,
     /// Start the advisor on the current scene and camera.
     Advise,
+    /// Measure the cost model's constants on this adapter (the offer taken).
+    Calibrate,
+    /// The offer to calibrate declined.
+    DeclineCalibration,
     ResetCamera,
     SceneChanged,
     Status(Status),

@@ -146,6 +146,22 @@ pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, out: &m
             if f.scripted {
                 ui.label(RichText::new("scripted run").color(Color32::LIGHT_BLUE));
             }
+            // The key is long: the line names the date, the hover the whole.
+            let short = f.calibration.rsplit_once(", ").map_or(f.calibration.as_str(), |(_, date)| date);
+            ui.label(format!("calibration: {short}")).on_hover_text(format!(
+                "calibration: {}\nThe cost model's constants auto and the estimates weigh with (`lampshade calibrate`)",
+                f.calibration
+            ));
+            if f.offer_calibration {
+                ui.separator();
+                ui.label("Measure this adapter's costs (about 20 s, the frame held)?");
+                if ui.button("Calibrate").clicked() {
+                    out.commands.push(Command::Calibrate);
+                }
+                if ui.button("Not now").clicked() {
+                    out.commands.push(Command::DeclineCalibration);
+                }
+            }
             ui.separator();
             if let Some(s) = f.status {
                 let c = if s.error { Color32::from_rgb(255, 110, 90) } else { Color32::from_gray(200) };

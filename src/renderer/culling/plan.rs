@@ -141,6 +141,9 @@ pub struct PlanView {
     /// Blinn-Phong light buffer cannot carry (toon) are shaded forward after pass 3; `Some`
     /// holds the model forced on every object (`--brdf`), if any.
     pub prepass_models: Option<Option<crate::scene::Brdf>>,
+    /// The cost model's constants `auto`'s frame rule weighs (`tiles::frame_costs`): the
+    /// renderer's calibration.
+    pub costs: crate::renderer::options::calibration::CostConstants,
 }
 
 /// Which mesh bounds the light, where it sits against the near and far planes, and how much of
@@ -668,6 +671,7 @@ impl PlanView {
             front_to_back: false,
             sort_blended: true,
             prepass_models: None,
+            costs: Default::default(),
         }
     }
 }

@@ -32,14 +32,16 @@
 //! [`CostModel::fit`] solves least squares over frames that each shade a different subset of
 //! the lights (`lampshade bench --only ledger` times them), and the bench then checks the model
 //! on frames it was not fitted on: the whole set (the sum) and the set less each of the ten
-//! costliest lights (the removals). Without a fit, [`CostModel::builtin`] gives the constants
-//! `auto` decides with, measured on idle lavapipe on this project's 2-core machine; on another
-//! adapter they give the order of the lights, not their milliseconds.
+//! costliest lights (the removals). Without a fit, [`CostModel::of`] gives the constants `auto`
+//! decides with: the renderer's calibration (`lampshade calibrate`, measured on the adapter that
+//! runs), or the built-in ones ([`CostModel::builtin`]), measured on idle lavapipe on this
+//! project's 2-core machine, which on another adapter give the order of the lights, not their
+//! milliseconds.
 
 use crate::renderer::culling::methods;
 use crate::renderer::culling::stats::LightStats;
+use crate::renderer::options::calibration::Calibration;
 use crate::renderer::plan::Method;
-use crate::renderer::tiles;
 use serde::{Deserialize, Serialize};
 
 /// Above this many lights `render` leaves the ledger off unless asked (`--ledger on`): its
@@ -76,15 +78,34 @@ impl Sample {
 }
 
 impl CostModel {
-    /// The constants of `auto`'s frame rule (`culling::tiled::{DRAW_MS, FRAGMENT_NS, PAIR_NS}`):
-    /// a drawn light's fragment against a listed pair in `tiled` and `clustered`; the fixed
-    /// part is the list modes' full-screen pass at `pixels`.
+    /// The built-in constants of `auto`'s frame rule (`CostConstants::BUILTIN`): a drawn
+    /// light's fragment against a listed pair in the list modes; the fixed part is the list
+    /// modes' full-screen pass at `pixels`.
     pub fn builtin(listed: bool, pixels: f64) -> Self {
+        Self::of(&Calibration::builtin(), listed.then_some(Method::Clustered), pixels)
+    }
+
+    /// The constants `auto`'s frame rule weighs with in `calibration`, for a frame shaded by
+    /// the list mode `listed` (its own costs where the calibration has them, else
+    /// `clustered`'s) or drawn light by light (`None`).
+    pub fn of(calibration: &Calibration, listed: Option<Method>, pixels: f64) -> Self {
+        let c = &calibration.costs;
+        let list = match listed {
+            None => None,
+            Some(Method::Tiled) => Some(c.tiled.unwrap_or(c.clustered)),
+            Some(Method::Zbin) => Some(c.zbin.unwrap_or(c.clustered)),
+            Some(_) => Some(c.clustered),
+        };
+        let source = if calibration.is_builtin() {
+            "lavapipe constants (auto's)".to_string()
+        } else {
+            format!("calibration ({})", calibration.describe())
+        };
         Self {
-            fixed_ms: if listed { tiles::CLUSTERED_FIXED_MS_PER_MPX * pixels / 1e6 } else { 0.0 },
-            draw_ms: tiles::DRAW_MS,
-            pair_ns: if listed { tiles::PAIR_NS } else { tiles::FRAGMENT_NS },
-            source: "lavapipe constants (auto's)".into(),
+            fixed_ms: list.map_or(0.0, |l| l.fixed_ms_per_mpx * pixels / 1e6),
+            draw_ms: c.draw_ms,
+            pair_ns: list.map_or(c.fragment_ns, |l| l.pair_ns),
+            source,
         }
     }
 

@@ -278,7 +278,8 @@ impl Renderer {
         let mut records = FrameRecords::reusing(scene, &settings.options(), size, key.accum_format, spare_lights);
         super::records::stored_position_pads(&mut records.lights, key.layout.position_rounding(), &records.proj);
         let records_ms = clock.ms();
-        let view = plan_view(scene, settings, &records, (&key, self.caps.quirks.loop_limit), size);
+        let view =
+            plan_view(scene, settings, &records, (&key, self.caps.quirks.loop_limit), size, self.calibration.costs);
         let clock = cputime::Clock::start();
         let mut plan = FramePlan::reusing(scene, &mut records, &gpu_scene.bounds, &self.volumes, &view, spare_plans);
         // The forward paths' object lists (and multi-pass's pairs) follow the frame's lists.
@@ -496,6 +497,7 @@ fn plan_view(
     records: &FrameRecords,
     (key, loop_limit): (&super::kit::pipeline::PipelineKey, Option<u64>),
     size: (u32, u32),
+    costs: crate::renderer::options::calibration::CostConstants,
 ) -> PlanView {
     PlanView {
         proj: records.proj.as_mat4(),
@@ -517,6 +519,7 @@ fn plan_view(
         front_to_back: settings.draw_order == DrawOrder::FrontToBack,
         sort_blended: settings.blended == BlendedMode::Alpha,
         prepass_models: (settings.path == RenderPath::LightPrepass).then(|| settings.brdf.brdf()),
+        costs,
     }
 }
 

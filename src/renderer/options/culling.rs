@@ -84,8 +84,8 @@ pub enum CullingMode {
     /// tile a bitmask of the lights reaching it (built on the GPU); one full-screen pass walks
     /// the tile's bits within the pixel's bin.
     Zbin,
-    /// Per light, the cheapest correct method (see `plan::plan_light`), or `clustered` for the
-    /// whole frame when that is estimated cheaper (see `tiles::frame_rule`).
+    /// Per light, the cheapest correct method (see `plan::plan_light`), or a list mode for the
+    /// whole frame when that is estimated cheaper by the calibration (see `tiles::frame_rule`).
     Auto,
 }
 

@@ -8,6 +8,7 @@
 
 mod fields;
 
+pub mod calibration;
 pub mod caps;
 pub mod culling;
 pub mod post;

@@ -10,6 +10,7 @@ pub mod scratch;
 
 use crate::renderer::culling::methods::Covers;
 use crate::renderer::culling::plan::{FramePlan, LightPlan, Method, PlanView};
+use crate::renderer::options::calibration::{CostConstants, ListCost};
 use crate::renderer::options::caps::CapOrder;
 use crate::renderer::options::culling::CullingMode;
 use crate::renderer::records::LightRecord;
@@ -707,55 +708,73 @@ impl ClusterBuild {
     }
 }
 
-/// Cost constants of `auto`'s frame rule, idle lavapipe on this project's 2-core machine.
-/// From the full bench (idle): a light draw about 30 µs ([`DRAW_MS`]), a shaded
-/// fragment 17 ns ([`FRAGMENT_NS`]), a full-screen pass at 1280x720 about 15 ms
-/// ([`CLUSTERED_FIXED_MS_PER_MPX`]: the clustered shading pass with empty lists is one).
-/// From `lampshade bench demo --only culling --frames 10` (1280x720, 1,028 lights; one run on
-/// a loaded machine where fullscreen took 6.5x its idle time, so scaled by 1/6.5): clustered's
-/// lighting 564.6 ms = ambient + its full-screen pass (about 2 x 15 x 6.5 ms) + 4.59 M
-/// light-pixel pairs, so about 80 ns a pair there and 12 ns idle ([`PAIR_NS`]); its lists held
-/// 0.55 pairs per pixel of the lights' volumes' coverage (4.59 M against 8.37 M). In that run
-/// `tiled` (1,160 ms) lost to two-pass (767 ms): its compute pass costs more than the CPU's
-/// cluster assignment, so the rule weighs `clustered`. Since the slices were fitted to the
-/// lights' depths (64 of them) the lists hold 2.64 M pairs on that frame, 0.31 per pixel of
-/// coverage ([`PAIR_PER_FOOTPRINT`]); the idle bench after that change (clustered lighting
-/// 47.3 ms) agrees with these constants' estimate (14.7 + 8.37 M x 0.31 x 12 ns = 45.8 ms).
-pub const DRAW_MS: f64 = 0.030;
-pub const FRAGMENT_NS: f64 = 17.0;
-pub const CLUSTERED_FIXED_MS_PER_MPX: f64 = 16.0;
-pub const PAIR_NS: f64 = 12.0;
-pub const PAIR_PER_FOOTPRINT: f64 = 0.31;
-/// Below this many lights `auto` keeps its per-light plan: the constants above were measured
-/// at 1,024 lights and more, and with few lights the per-light plan's draws cost little.
+/// Below this many lights `auto` keeps its per-light plan: the built-in constants
+/// (`options::calibration::CostConstants::BUILTIN`) were measured at 1,024 lights and more, and
+/// with few lights the per-light plan's draws cost little.
 pub const FRAME_RULE_MIN_LIGHTS: usize = 256;
 
-/// Estimated GPU ms of `auto`'s per-light plan and of `clustered` for the frame (per-light,
-/// clustered): draws x [`DRAW_MS`] + each drawn light's footprint x [`FRAGMENT_NS`], against
-/// a full-screen pass + the footprints x [`PAIR_PER_FOOTPRINT`] x [`PAIR_NS`].
-pub fn frame_costs(plans: &[LightPlan], size: (u32, u32)) -> (f64, f64) {
-    let pixels = (size.0 as f64) * (size.1 as f64);
-    let mut per_light = 0.0;
-    let mut clustered = CLUSTERED_FIXED_MS_PER_MPX * pixels / 1e6;
-    for p in plans {
-        let row = crate::renderer::culling::methods::row(p.method);
-        let footprint = match row.covers {
-            Covers::Screen => pixels,
-            Covers::Nothing => 0.0,
-            Covers::Volume => p.screen_share as f64 * pixels,
-        };
-        per_light += row.draws_per_light as f64 * DRAW_MS + footprint * FRAGMENT_NS * 1e-6;
-        if p.method != Method::Skipped {
-            clustered += (p.screen_share as f64 * pixels).min(pixels) * PAIR_PER_FOOTPRINT * PAIR_NS * 1e-6;
+/// One light's terms in the frame rule's costs, as [`frame_costs`] counts them: its draws and
+/// the fragments of its footprint when drawn by `method`, and its footprint as a list mode
+/// lists it (none when skipped).
+pub fn light_terms(method: Method, screen_share: f32, pixels: f64) -> (f64, f64, f64) {
+    let row = crate::renderer::culling::methods::row(method);
+    let footprint = match row.covers {
+        Covers::Screen => pixels,
+        Covers::Nothing => 0.0,
+        Covers::Volume => screen_share as f64 * pixels,
+    };
+    let listed = if method == Method::Skipped { 0.0 } else { (screen_share as f64 * pixels).min(pixels) };
+    (row.draws_per_light as f64, footprint, listed)
+}
+
+/// The estimated GPU ms of `auto`'s per-light plan and of each list mode the constants weigh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameCosts {
+    pub per_light: f64,
+    pub clustered: f64,
+    pub tiled: Option<f64>,
+    pub zbin: Option<f64>,
+}
+
+impl FrameCosts {
+    /// The cheapest list mode weighed and its cost (`clustered` on a tie).
+    pub fn cheapest_list(&self) -> (Method, f64) {
+        let mut best = (Method::Clustered, self.clustered);
+        for (m, c) in [(Method::Tiled, self.tiled), (Method::Zbin, self.zbin)] {
+            if let Some(c) = c.filter(|c| *c < best.1) {
+                best = (m, c);
+            }
         }
+        best
     }
-    (per_light, clustered)
+}
+
+/// Estimated GPU ms of `auto`'s per-light plan and of the list modes for the frame: draws x
+/// `draw_ms` + each drawn light's footprint x `fragment_ns`, against each list mode's
+/// full-screen passes + the footprints x its pairs per footprint x its `pair_ns`.
+pub fn frame_costs(plans: &[LightPlan], size: (u32, u32), costs: &CostConstants) -> FrameCosts {
+    let pixels = (size.0 as f64) * (size.1 as f64);
+    let (mut draws, mut drawn, mut listed) = (0.0, 0.0, 0.0);
+    for p in plans {
+        let (d, f, l) = light_terms(p.method, p.screen_share, pixels);
+        draws += d;
+        drawn += f;
+        listed += l;
+    }
+    let list = |c: &ListCost| c.fixed_ms_per_mpx * pixels / 1e6 + listed * c.pairs_per_footprint * c.pair_ns * 1e-6;
+    FrameCosts {
+        per_light: draws * costs.draw_ms + drawn * costs.fragment_ns * 1e-6,
+        clustered: list(&costs.clustered),
+        tiled: costs.tiled.as_ref().map(list),
+        zbin: costs.zbin.as_ref().map(list),
+    }
 }
 
 /// The frame-level rule, after the per-light plans: `tiled`, `clustered` and `zbin` shade every light
 /// from their lists; `auto` with at least [`FRAME_RULE_MIN_LIGHTS`] lights keeps its per-light
-/// plan unless [`frame_costs`] estimates `clustered` cheaper, and then shades the whole frame
-/// clustered. Returns the method of the tiled pass, if the frame uses it.
+/// plan unless [`frame_costs`] estimates a list mode cheaper (`clustered`, or `tiled` and `zbin`
+/// where the view's constants weigh them), and then shades the whole frame with the cheapest.
+/// Returns the method of the tiled pass, if the frame uses it.
 pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
     let method = match view.mode {
         CullingMode::Tiled => Method::Tiled,
@@ -764,11 +783,17 @@ pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
         // Past what every mode takes, `zbin`: O(lights) on the CPU and in memory.
         CullingMode::Auto if plans.len() > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE => Method::Zbin,
         CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
-            let (per_light, clustered) = frame_costs(plans, view.size);
-            if clustered >= per_light {
+            let mut costs = frame_costs(plans, view.size, &view.costs);
+            // `tiled` keeps a bit for GPU_LIST_MAX_LIGHTS lights per tile and walks every light
+            // past them.
+            if plans.len() > GPU_LIST_MAX_LIGHTS as usize {
+                costs.tiled = None;
+            }
+            let (list, cost) = costs.cheapest_list();
+            if cost >= costs.per_light {
                 return None;
             }
-            Method::Clustered
+            list
         }
         _ => return None,
     };
@@ -864,12 +889,12 @@ mod tests {
         assert!(few.iter().all(|p| p.method == Method::Volume));
         // 300 tiny lights: the full-screen pass costs more than their draws.
         let mut some = vec![small; 300];
-        let (per_light, clustered) = frame_costs(&some, v.size);
-        assert!(clustered > per_light, "{clustered} ms clustered, {per_light} ms per light");
+        let c = frame_costs(&some, v.size, &v.costs);
+        assert!(c.clustered > c.per_light, "{c:?}");
         assert_eq!(frame_rule(&mut some, &v), None);
         let mut many = vec![small; 4096];
-        let (per_light, clustered) = frame_costs(&many, v.size);
-        assert!(clustered < per_light, "{clustered} ms clustered, {per_light} ms per light");
+        let c = frame_costs(&many, v.size, &v.costs);
+        assert!(c.clustered < c.per_light, "{c:?}");
         assert_eq!(frame_rule(&mut many, &v), Some(Method::Clustered));
         assert!(many.iter().all(|p| p.method == Method::Clustered));
         // Fixed modes are left alone; tiled and clustered take every light.
@@ -877,6 +902,33 @@ mod tests {
         assert_eq!(frame_rule(&mut few, &v), None);
         v.mode = CullingMode::Clustered;
         assert_eq!(frame_rule(&mut few, &v), Some(Method::Clustered));
+    }
+
+    #[test]
+    fn a_calibration_that_makes_tiled_or_zbin_cheapest_makes_auto_choose_it() {
+        let small = LightPlan {
+            method: Method::Volume,
+            volume: crate::renderer::VolumeKind::Sphere,
+            crosses_near: false,
+            crosses_far: false,
+            screen_share: 0.001,
+            screen_rect: Some((Vec2::ZERO, Vec2::splat(0.05))),
+            depths: (9.0, 11.0),
+        };
+        let mut v = view((1280, 720));
+        v.mode = CullingMode::Auto;
+        assert_eq!(frame_rule(&mut vec![small; 4096], &v), Some(Method::Clustered));
+        let cheap = ListCost { fixed_ms_per_mpx: 1.0, pair_ns: 1.0, pairs_per_footprint: 0.1 };
+        v.costs.tiled = Some(cheap);
+        assert_eq!(frame_rule(&mut vec![small; 4096], &v), Some(Method::Tiled));
+        v.costs.zbin = Some(ListCost { fixed_ms_per_mpx: 0.5, ..cheap });
+        assert_eq!(frame_rule(&mut vec![small; 4096], &v), Some(Method::Zbin));
+        // Below the rule's count, the per-light plan whatever the constants.
+        assert_eq!(frame_rule(&mut vec![small; 8], &v), None);
+        // Draws costing nothing keep the per-light plan.
+        v.costs.draw_ms = 0.0;
+        v.costs.fragment_ns = 0.0;
+        assert_eq!(frame_rule(&mut vec![small; 4096], &v), None);
     }
 
     /// The spans' tiles without floors are the tiles of the floored pixel rectangle (widened by

@@ -784,8 +784,9 @@ pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
         CullingMode::Auto if plans.len() > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE => Method::Zbin,
         CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
             let mut costs = frame_costs(plans, view.size, &view.costs);
-            // `tiled` keeps a bit for GPU_LIST_MAX_LIGHTS lights per tile and walks every light
-            // past them.
+            // Past GPU_LIST_MAX_LIGHTS lights `tiled` tests every light against every tile
+            // twice (its batches' count and write sweeps): a cost per tile and light that the
+            // model's fixed and per-pair terms do not hold, so it is not weighed there.
             if plans.len() > GPU_LIST_MAX_LIGHTS as usize {
                 costs.tiled = None;
             }

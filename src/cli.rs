@@ -323,6 +323,11 @@ pub struct BenchArgs {
     /// one triangle, the scene with and without timestamps and debug groups, a bare wgpu pass).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+
+    /// The `lights` group's light counts (comma-separated; default 64 to 100,000, or 16 and
+    /// 1,024 with --quick; a glTF file's, 16 to 256)
+    #[arg(long, value_delimiter = ',')]
+    pub counts: Vec<usize>,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
 }

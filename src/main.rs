@@ -60,6 +60,10 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     o.groups = args.only.clone();
+    if let Some(&bad) = args.counts.iter().find(|&&n| n == 0 || n > lampshade::scene::builtin::MAX_LIGHTS) {
+        bail!("--counts {bad}: light counts run from 1 to {}", lampshade::scene::builtin::MAX_LIGHTS);
+    }
+    o.counts = args.counts.clone();
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let gpu = Gpu::open(&args.adapter.choice())?;
     o.costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;

@@ -106,6 +106,7 @@ mod tests {
             lights,
             time: 0.0,
             groups: vec!["culling".into()],
+            counts: Vec::new(),
             fixed_lights: false,
             costs: Default::default(),
         };

@@ -44,17 +44,6 @@ pub struct SplitRow {
     pub rounds: usize,
 }
 
-/// The median and the standard error of `v` (NaN for an empty `v`).
-fn median_se(v: &[f64]) -> (f64, f64) {
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
-    (super::run::median(v.to_vec()), (var / n).sqrt())
-}
-
 /// A render pass outside the renderer that clears targets of the G-buffer's formats and the
 /// depth-stencil buffer's, between two timestamps.
 struct BarePass {
@@ -251,8 +240,8 @@ pub fn gbuffer_split(
         .iter()
         .zip(times)
         .map(|(case, (g, total, wall))| {
-            let (gm, gse) = median_se(&g);
-            let (wm, wse) = median_se(&wall);
+            let (gm, gse) = super::run::median_se(&g);
+            let (wm, wse) = super::run::median_se(&wall);
             SplitRow {
                 label: case.label().into(),
                 gbuffer_ms: (!g.is_empty()).then_some(gm),
@@ -285,16 +274,4 @@ pub fn split_markdown(rows: &[SplitRow]) -> String {
         s += &format!("| {} | {g} | {} | {:.3} ± {:.3} |\n", r.label, ms(r.total_ms), r.wall_ms, r.wall_se_ms);
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn the_median_and_standard_error_are_those_of_the_rounds() {
-        let (m, se) = super::median_se(&[1.0, 2.0, 3.0, 4.0, 10.0]);
-        assert_eq!(m, 3.0);
-        // Mean 4, sample variance (9 + 4 + 1 + 0 + 36) / 4 = 12.5, SE sqrt(12.5 / 5).
-        assert!((se - (12.5f64 / 5.0).sqrt()).abs() < 1e-12, "{se}");
-        assert!(super::median_se(&[]).0.is_nan());
-    }
 }

@@ -101,6 +101,11 @@ pub struct Row {
     /// run; the CSV's `NAME_ms` columns).
     pub effects_ms: Vec<f64>,
     pub total_ms: f64,
+    /// The standard error of `total_ms`'s timed frames (their spread / √n).
+    pub total_se_ms: f64,
+    /// `auto`'s rows of the `culling` and `lights` groups: its regret against the best mode
+    /// at the same point ([`report::add_regret`]); blank elsewhere.
+    pub regret: Regret,
     /// Light draws of a timed (uncounted) frame, and the batches they draw.
     pub draw_calls: u64,
     pub light_batches: u64,
@@ -138,6 +143,25 @@ pub struct Row {
     pub costliest: Vec<(usize, f64)>,
     #[serde(skip)]
     pub cost_source: String,
+}
+
+/// `auto`'s regret at one point (scene, light count, size): its measured total time over the
+/// best candidate's, the fastest other culling mode at that point. Met where the two differ
+/// by less than two combined standard errors (√(se_auto² + se_best²)), so that noise alone
+/// does not count against the choice.
+#[derive(Clone, Debug, Serialize)]
+pub struct Regret {
+    pub best: String,
+    pub best_ms: f64,
+    pub best_se_ms: f64,
+    pub ratio: f64,
+    pub met: Option<bool>,
+}
+
+impl Default for Regret {
+    fn default() -> Self {
+        Self { best: String::new(), best_ms: f64::NAN, best_se_ms: f64::NAN, ratio: f64::NAN, met: None }
+    }
 }
 
 /// A row's figures in units that survive a change of hardware (NaN where the row lacks what a
@@ -355,6 +379,8 @@ mod tests {
             tonemap_ms: 0.0,
             effects_ms: Vec::new(),
             total_ms: 0.0,
+            total_se_ms: f64::NAN,
+            regret: Default::default(),
             draw_calls: 0,
             light_batches: 0,
             coverage_fragments: 0,
@@ -376,6 +402,44 @@ mod tests {
             costliest: Vec::new(),
             cost_source: String::new(),
         }
+    }
+
+    /// `auto`'s regret: against the fastest plain mode at its own point only, met within two
+    /// combined standard errors, not against variants or the limit.
+    #[test]
+    fn autos_regret_is_against_the_fastest_plain_mode_at_its_point_within_two_standard_errors() {
+        let row = |culling: &str, lights: usize, ms: f64, se: f64| Row {
+            group: "lights".into(),
+            label: format!("{culling} x{lights}"),
+            culling: culling.into(),
+            lights,
+            total_ms: ms,
+            total_se_ms: se,
+            ..blank_row()
+        };
+        let mut rows = vec![
+            // 64 lights: auto 10 ± 1 against tiled 5 ± 0.1: regret 2, not met.
+            row("auto", 64, 10.0, 1.0),
+            row("clustered", 64, 9.0, 0.5),
+            row("tiled", 64, 5.0, 0.1),
+            // A variant and the limit, faster still, are not candidates.
+            Row { label: "clustered gpu-lists x64".into(), ..row("clustered", 64, 1.0, 0.1) },
+            Row { label: "limit".into(), ..row("limit", 64, 0.5, 0.0) },
+            // 256 lights: auto 10 ± 1 against 9 ± 0.5: 1 < 2 x sqrt(1.25), met.
+            row("auto", 256, 10.0, 1.0),
+            row("zbin", 256, 9.0, 0.5),
+            // The 64 lights' tiled at another size is another point.
+            Row { width: 7, ..row("tiled", 256, 1.0, 0.1) },
+        ];
+        add_regret(&mut rows);
+        let r = &rows[0].regret;
+        assert_eq!((r.best.as_str(), r.ratio, r.met), ("tiled", 2.0, Some(false)), "{r:?}");
+        let r = &rows[5].regret;
+        assert_eq!((r.best.as_str(), r.met), ("zbin", Some(true)), "{r:?}");
+        assert!((r.ratio - 10.0 / 9.0).abs() < 1e-12);
+        assert!(rows.iter().filter(|r| r.culling != "auto").all(|r| r.regret.ratio.is_nan()));
+        let md = regret_markdown(&rows);
+        assert!(md.contains("Met at 1 of 2 points"), "{md}");
     }
 
     #[test]

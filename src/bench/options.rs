@@ -13,6 +13,8 @@ pub struct BenchOptions {
     pub time: f64,
     /// Run only the configurations of these groups (all when empty).
     pub groups: Vec<String>,
+    /// The `lights` group's light counts (its defaults when empty).
+    pub counts: Vec<usize>,
     /// The scene brings a fixed set of lights (a glTF file with lights, a built-in scene that
     /// takes no count): `lights` is not varied and the `lights` group is left out.
     pub fixed_lights: bool,
@@ -32,6 +34,7 @@ impl BenchOptions {
                 lights: 256,
                 time: 0.0,
                 groups: Vec::new(),
+                counts: Vec::new(),
                 fixed_lights: false,
                 costs: Default::default(),
             }
@@ -44,6 +47,7 @@ impl BenchOptions {
                 lights: 1024,
                 time: 0.0,
                 groups: Vec::new(),
+                counts: Vec::new(),
                 fixed_lights: false,
                 costs: Default::default(),
             }

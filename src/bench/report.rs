@@ -99,6 +99,8 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             psnr_db: f64::NAN,
             pareto: false,
             limit_ratio: 1.0,
+            total_se_ms: f64::NAN,
+            regret: Default::default(),
             draw_calls: 0,
             light_batches: 0,
             costliest: Vec::new(),
@@ -153,6 +155,72 @@ pub fn mark_pareto(rows: &mut [Row]) {
     }
 }
 
+/// Sets `auto`'s [`Regret`] on its rows of the `culling` and `lights` groups: at each point
+/// (group, scene, light count, size, radius factor), its total against the fastest row of
+/// another plain culling mode (a row labelled with its mode, with or without ` xN`; not the
+/// limit, not a variant such as `clustered gpu-lists`).
+pub fn add_regret(rows: &mut [Row]) {
+    let key = |r: &Row| (r.group.clone(), r.scene.clone(), r.lights, r.width, r.height, r.radius_scale.to_bits());
+    let plain = |r: &Row| r.label == r.culling || r.label == format!("{} x{}", r.culling, r.lights);
+    let candidates: Vec<Row> = rows
+        .iter()
+        .filter(|r| ["culling", "lights"].contains(&r.group.as_str()) && r.culling != "auto" && r.label != "limit")
+        .filter(|r| plain(r) && r.total_ms.is_finite())
+        .cloned()
+        .collect();
+    for r in rows.iter_mut().filter(|r| r.culling == "auto" && plain(r) && r.total_ms.is_finite()) {
+        let best = candidates.iter().filter(|c| key(c) == key(r)).min_by(|a, b| a.total_ms.total_cmp(&b.total_ms));
+        let Some(best) = best else { continue };
+        let noise = 2.0 * (r.total_se_ms.powi(2) + best.total_se_ms.powi(2)).sqrt();
+        r.regret = Regret {
+            best: best.culling.clone(),
+            best_ms: best.total_ms,
+            best_se_ms: best.total_se_ms,
+            ratio: r.total_ms / best.total_ms,
+            met: noise.is_finite().then_some(r.total_ms - best.total_ms < noise || r.total_ms <= best.total_ms),
+        };
+    }
+}
+
+/// `auto`'s regret per point, as a markdown section (empty without `auto` rows).
+pub fn regret_markdown(rows: &[Row]) -> String {
+    let mine: Vec<&Row> = rows.iter().filter(|r| r.regret.ratio.is_finite()).collect();
+    if mine.is_empty() {
+        return String::new();
+    }
+    let met = mine.iter().filter(|r| r.regret.met == Some(true)).count();
+    let mut s = format!(
+        "\n## `auto`'s regret\n\nIts measured total over the fastest other mode's at the same point, medians of \
+         the interleaved timed frames ± their standard error; met where the two differ by less than two combined \
+         standard errors. Met at {met} of {} points.\n\n| group | scene | lights | size | auto (chose) ms | best | best ms | regret | met |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+        mine.len()
+    );
+    for r in mine {
+        let g = &r.regret;
+        s += &format!(
+            "| {} | {} | {} | {}x{} | {:.2} ± {:.2} | {} | {:.2} ± {:.2} | {:.3} | {} |\n",
+            r.group,
+            r.scene,
+            r.lights,
+            r.width,
+            r.height,
+            r.total_ms,
+            r.total_se_ms,
+            g.best,
+            g.best_ms,
+            g.best_se_ms,
+            g.ratio,
+            match g.met {
+                Some(true) => "yes",
+                Some(false) => "no",
+                None => "-",
+            }
+        );
+    }
+    s
+}
+
 pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
     let effects: String = EFFECTS.iter().map(|e| format!("{}_ms,", e.name)).collect();
     let mut out = format!(
@@ -162,11 +230,12 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          reference,limit_ratio,path,passes,target_bytes_per_pixel,object_light_pairs,lit_fragments,error,\
          shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side,\
          lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share,\
-         cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs,cap_entry_pairs\n",
+         cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs,cap_entry_pairs,\
+         total_se_ms,regret,regret_best,regret_met\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{},{},{:.3},{:.4},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -229,7 +298,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.caps.dropped_entries,
             r.caps.missed_pixels,
             r.caps.dropped_pairs,
-            r.caps.entry_pairs
+            r.caps.entry_pairs,
+            r.total_se_ms,
+            r.regret.ratio,
+            r.regret.best,
+            r.regret.met.map_or(String::new(), |m| m.to_string())
         );
     }
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
@@ -329,6 +402,7 @@ pub fn markdown(run: &BenchRun, gpu_name: &str, o: &BenchOptions) -> String {
     s += &costliest_markdown(&run.rows);
     s += &ledger_markdown(&run.ledger);
     s += &super::split_markdown(&run.gbuffer_split);
+    s += &regret_markdown(rows);
     s += &skipped_markdown(&run.skipped);
     s
 }

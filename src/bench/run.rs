@@ -2,6 +2,18 @@
 
 use super::*;
 
+/// The median of `v` and its standard error, the sample spread over √n (NaN for no values;
+/// 0 for one).
+pub(crate) fn median_se(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (median(v.to_vec()), (var / n).sqrt())
+}
+
 pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;
@@ -107,6 +119,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions, mut progress: impl FnMut(usize, usize, &
     progress(steps, steps, "done");
     mark_pareto(&mut rows);
     add_limits(&mut rows);
+    add_regret(&mut rows);
     add_units(&mut rows);
     Ok(BenchRun { rows, skipped, ledger, gbuffer_split })
 }
@@ -315,6 +328,8 @@ fn measure<'c>(
             .map(|e| pick(&|s| s.gpu_ms.effect(e.name).or(s.gpu_ms.total.map(|_| 0.0))))
             .collect(),
         total_ms: pick(&|s| s.gpu_ms.total),
+        total_se_ms: median_se(&times.iter().filter_map(|s| s.gpu_ms.total).collect::<Vec<_>>()).1,
+        regret: Default::default(),
         lists_ms: pick(&|s| s.gpu_ms.lists),
         units: Units::default(),
         draw_calls: times.last().map_or(0, |s| s.draw_calls),
@@ -467,6 +482,8 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         tonemap_ms: f64::NAN,
         effects_ms: vec![f64::NAN; crate::renderer::post::effects::EFFECTS.len()],
         total_ms: f64::NAN,
+        total_se_ms: f64::NAN,
+        regret: Default::default(),
         lists_ms: f64::NAN,
         units: Units::default(),
         draw_calls: 0,

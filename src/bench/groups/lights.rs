@@ -21,6 +21,7 @@ pub fn rows(s: &Sweep) -> Vec<Config> {
     // cost grows much faster with the count than the demo's small lights.
     let counts: &[usize] = match (crate::scene::import::is_gltf_path(&o.scene), o.quick) {
         (_, _) if o.fixed_lights => &[],
+        _ if !o.counts.is_empty() => &o.counts,
         (true, true) => &[16, 64],
         (true, false) => &[16, 64, 256],
         (false, true) => &[16, 1024],

@@ -40,6 +40,7 @@ struct TileParams {
 var<workgroup> wg_min: atomic<u32>;
 var<workgroup> wg_max: atomic<u32>;
 var<workgroup> wg_valid: atomic<u32>;
+var<workgroup> wg_total: atomic<u32>;
 var<workgroup> wg_mask: array<atomic<u32>, 2048>;
 var<workgroup> wg_scan: array<u32, 256>;
 
@@ -111,10 +112,11 @@ fn tile_mark(li: u32, b: u32, t: vec2<u32>, lo: vec2<f32>, hi: vec2<f32>, dmin: 
     let first = b * LS_TILE_MAX_LIGHTS;
     let count = min(tile_params.light_count - first, LS_TILE_MAX_LIGHTS);
     let words = (count + 31u) / 32u;
-    for (var w = li; w < words; w += 256u) {
-        atomicStore(&wg_mask[w], 0u);
+    // A frame within one batch cleared the mask and the count with the depth bounds.
+    if tile_params.light_count > LS_TILE_MAX_LIGHTS {
+        tile_clear(li, words);
+        workgroupBarrier();
     }
-    workgroupBarrier();
     for (var i = li; i < count; i += 256u) {
         let rx = tile_lists[tile_params.rect_base + 2u * (first + i)];
         let ry = tile_lists[tile_params.rect_base + 2u * (first + i) + 1u];
@@ -129,16 +131,29 @@ fn tile_mark(li: u32, b: u32, t: vec2<u32>, lo: vec2<f32>, hi: vec2<f32>, dmin: 
     return words;
 }
 
-// The set bits of the mask's first `words` words, summed over the workgroup (every
-// invocation gets the sum; it holds barriers).
+// Clears the mask's first `words` words and the count's total (their last readers passed a
+// barrier since).
+fn tile_clear(li: u32, words: u32) {
+    if li == 0u {
+        atomicStore(&wg_total, 0u);
+    }
+    for (var w = li; w < words; w += 256u) {
+        atomicStore(&wg_mask[w], 0u);
+    }
+}
+
+// The set bits of the mask's first `words` words, summed over the workgroup after
+// `tile_mark` (every invocation gets the sum; it holds barriers: two, where a prefix sum would
+// take seventeen, and lavapipe pays for each barrier in every invocation).
 fn tile_mask_count(li: u32, words: u32) -> u32 {
     var mine = 0u;
     for (var w = li; w < words; w += 256u) {
         mine += countOneBits(atomicLoad(&wg_mask[w]));
     }
-    wg_inclusive_scan(li, mine);
-    if li == 255u {
-        wg_sum = wg_scan[255];
+    atomicAdd(&wg_total, mine);
+    workgroupBarrier();
+    if li == 0u {
+        wg_sum = atomicLoad(&wg_total);
     }
     return workgroupUniformLoad(&wg_sum);
 }
@@ -187,6 +202,9 @@ fn cs_tile_lists(
         atomicStore(&wg_max, 0u);
         atomicStore(&wg_valid, 0u);
     }
+    if batches == 1u {
+        tile_clear(li, (n + 31u) / 32u);
+    }
     workgroupBarrier();
     let size = vec2<u32>(camera.screen.xy);
     if all(gid.xy < size) {
@@ -218,40 +236,49 @@ fn cs_tile_lists(
     let dmax = bitcast<f32>(atomicLoad(&wg_max)) * (1.0 + 1e-4);
     let lo = vec2<f32>(wg.xy * tile_params.tile_size) - 1.0;
     let hi = vec2<f32>((wg.xy + 1u) * tile_params.tile_size) + 1.0;
-    var total = 0u;
-    var words = 0u;
-    for (var b = 0u; b < batches; b++) {
-        words = tile_mark(li, b, wg.xy, lo, hi, dmin, dmax);
-        total += tile_mask_count(li, words);
-    }
-    if li == 0u {
-        wg_base = atomicAdd(&tile_counts[0], total);
-    }
-    let base = workgroupUniformLoad(&wg_base);
-    let header = 2u * tile_params.tiles_x * tile_params.tiles_y;
-    if base + total > tile_params.capacity {
-        // Out of room: this tile walks every light (the right picture, at a higher cost).
-        if li == 0u {
-            tile_lists[2u * tile] = 0u;
-            tile_lists[2u * tile + 1u] = LS_TILE_ALL;
+    // One batch: marked once, counted, written, in straight-line code (lavapipe keeps more of
+    // an invocation's state across a barrier inside a loop).
+    if batches == 1u {
+        let words = tile_mark(li, 0u, wg.xy, lo, hi, dmin, dmax);
+        let total = tile_mask_count(li, words);
+        let at = tile_allot(li, tile, total);
+        if at != LS_TILE_ALL {
+            tile_write(li, 0u, words, at);
         }
         return;
     }
-    if li == 0u {
-        tile_lists[2u * tile] = header + base;
-        tile_lists[2u * tile + 1u] = total;
+    var total = 0u;
+    for (var b = 0u; b < batches; b++) {
+        total += tile_mask_count(li, tile_mark(li, b, wg.xy, lo, hi, dmin, dmax));
     }
-    if batches == 1u {
-        tile_write(li, 0u, words, header + base);
+    let at = tile_allot(li, tile, total);
+    if at == LS_TILE_ALL {
         return;
     }
     var done = 0u;
     for (var b = 0u; b < batches; b++) {
         let w = tile_mark(li, b, wg.xy, lo, hi, dmin, dmax);
         let c = tile_mask_count(li, w);
-        tile_write(li, b, w, header + base + done);
+        tile_write(li, b, w, at + done);
         done += c;
     }
+}
+
+// Room for `total` entries of tile `tile`'s list: where they start in `tile_lists`, its header
+// written; or LS_TILE_ALL when the list region is out of room (the tile then walks every light:
+// the right picture, at a higher cost). Called by every invocation (it holds a barrier).
+fn tile_allot(li: u32, tile: u32, total: u32) -> u32 {
+    if li == 0u {
+        wg_base = atomicAdd(&tile_counts[0], total);
+    }
+    let base = workgroupUniformLoad(&wg_base);
+    let header = 2u * tile_params.tiles_x * tile_params.tiles_y;
+    let full = base + total > tile_params.capacity;
+    if li == 0u {
+        tile_lists[2u * tile] = select(header + base, 0u, full);
+        tile_lists[2u * tile + 1u] = select(total, LS_TILE_ALL, full);
+    }
+    return select(header + base, LS_TILE_ALL, full);
 }
 
 // The pixel's tile (tiled) or cluster (clustered).

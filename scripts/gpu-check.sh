@@ -13,20 +13,38 @@
 #
 # Environment: GPU_CHECK_ADAPTER (default nvidia: a part of the adapter's name, so that a
 # machine without it fails loudly instead of measuring lavapipe), GPU_CHECK_SIZE (default
-# 1920x1080), GPU_CHECK_COUNTS (default "1024 16384 100000"), GPU_CHECK_FRAMES (default 5),
+# 1920x1080), GPU_CHECK_COUNTS (default "1024 16384 100000": the culling steps' counts),
+# GPU_CHECK_REGRET_COUNTS (default "64,256,1024,4096,16384": the regret steps' `lights` group),
+# GPU_CHECK_SCALE_COUNTS (default "100000": the scale rows), GPU_CHECK_FRAMES (default 5),
 # GPU_CHECK_STEPS (a bash regular expression the step names must match, default every step).
+# A lavapipe rehearsal within the budget: GPU_CHECK_ADAPTER=llvmpipe GPU_CHECK_SIZE=320x180
+# GPU_CHECK_COUNTS=1024 GPU_CHECK_REGRET_COUNTS=64,1024 GPU_CHECK_SCALE_COUNTS=16384
+# GPU_CHECK_FRAMES=5.
 #
-# Steps:
+# Steps, in the order of what matters most:
 #   adapters      `lampshade adapters`: every adapter's capability table
+#   calibrate     `lampshade calibrate`: the cost model's constants on this adapter (written to
+#                 OUT/calibration.json and the user's cache, which the later steps read)
+#   gbuffer-S     `lampshade bench S --only gbuffer`: the G-buffer span split (an empty scene's
+#                 clears, one triangle, the scene with and without timestamps and debug groups,
+#                 a bare wgpu pass clearing the same targets), for S in demo, sphere-wall
+#   regret-S      `lampshade bench S --only lights`: every mode at the regret counts, the report's
+#                 "`auto`'s regret" table, for S in demo, sphere-wall, railings, street
+#   ledger        `lampshade bench demo --only ledger --lights 60 --size 640x360 --frames 15`:
+#                 each mode's ten costliest lights removed one at a time, predicted against saved
+#   culling-S-N   `lampshade bench S --only culling --lights N`: every mode's ms and FLIP, the
+#                 culling share (`culling_share`) and the stricter limit (`limit_ratio`), for S
+#                 in demo, sphere-wall and N in GPU_CHECK_COUNTS
 #   references    the `gpucheck` example: every stored reference configuration against
 #                 lavapipe's PNG under the cross-CPU tolerance, and every culling mode against
 #                 fullscreen on nine scenes on this adapter (the culling tests' one step)
-#   culling-S-N   `lampshade bench S --only culling --lights N` at GPU_CHECK_SIZE, for
-#                 S in demo, sphere-wall and N in GPU_CHECK_COUNTS: every mode's ms and FLIP
-#   lights-S      `lampshade bench S --only lights`: the light-count sweep, every mode
+#   scale-S       `lampshade bench S --only lights --counts GPU_CHECK_SCALE_COUNTS`: the scale
+#                 rows (ns per ideal pair past 65,536 lights; no brute force above 10^5 lights:
+#                 the bench's error reference is `volume` there)
 #   shadows       `lampshade bench demo --only shadows`: budgets, kernels, cascades, formats
 #                 and the cube layouts (face pick, seed 002's indirection, cube array)
 #   references-gl the `gpucheck` comparisons again on wgpu's GL backend
+# The stochastic shading rows go after `scale` when that technique lands.
 set -u
 bin=${1:-target/release}
 out=${2:-gpu-check}
@@ -34,6 +52,8 @@ budget=${3:-480}
 adapter=${GPU_CHECK_ADAPTER:-nvidia}
 size=${GPU_CHECK_SIZE:-1920x1080}
 counts=${GPU_CHECK_COUNTS:-1024 16384 100000}
+regret_counts=${GPU_CHECK_REGRET_COUNTS:-64,256,1024,4096,16384}
+scale_counts=${GPU_CHECK_SCALE_COUNTS:-100000}
 frames=${GPU_CHECK_FRAMES:-5}
 steps=${GPU_CHECK_STEPS:-.*}
 check=$bin/gpucheck
@@ -70,21 +90,43 @@ step() {
 } >"$summary" 2>&1
 
 step adapters 30 "$bin/lampshade" adapters
-step references 120 "$check" --adapter "$adapter" --out "$out/images"
+step calibrate 60 "$bin/lampshade" calibrate --adapter "$adapter" --out "$out/calibration.json"
+cal=()
+[ -f "$out/calibration.json" ] && cal=(--calibration "$out/calibration.json")
+for scene in demo sphere-wall; do
+    step "gbuffer-$scene" 45 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only gbuffer \
+        --size "$size" --out "$out/gbuffer-$scene"
+done
+for scene in demo sphere-wall railings street; do
+    step "regret-$scene" 90 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only lights \
+        --counts "$regret_counts" --size "$size" --frames "$frames" "${cal[@]}" --out "$out/regret-$scene"
+done
+step ledger 90 "$bin/lampshade" bench demo --adapter "$adapter" --only ledger --lights 60 \
+    --size 640x360 --frames 15 "${cal[@]}" --out "$out/ledger"
 for n in $counts; do
     for scene in demo sphere-wall; do
-        step "culling-$scene-$n" 150 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only culling \
-            --size "$size" --lights "$n" --frames "$frames" --out "$out/culling-$scene-$n"
+        step "culling-$scene-$n" 90 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only culling \
+            --size "$size" --lights "$n" --frames "$frames" "${cal[@]}" --out "$out/culling-$scene-$n"
     done
 done
+step references 120 "$check" --adapter "$adapter" --out "$out/images"
 for scene in demo sphere-wall; do
-    step "lights-$scene" 150 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only lights \
-        --size "$size" --frames "$frames" --out "$out/lights-$scene"
+    step "scale-$scene" 120 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only lights \
+        --counts "$scale_counts" --size "$size" --frames "$frames" "${cal[@]}" --out "$out/scale-$scene"
 done
 step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows \
     --size "$size" --frames "$frames" --out "$out/shadows"
 # The same comparisons on wgpu's GL backend (EGL), the backend the suite checks on llvmpipe.
 step references-gl 90 "$check" --adapter "$adapter" --backend gl --out "$out/images-gl"
-tail -n 1 "$out/references.log" >>"$summary" 2>/dev/null
+# The answers the first questions want, gathered into the summary.
+{
+    tail -n 1 "$out/references.log"
+    for f in "$out"/regret-*/bench.md; do
+        [ -f "$f" ] && echo "$(basename "$(dirname "$f")"): $(grep -o 'Met at [0-9]* of [0-9]* points' "$f")"
+    done
+    for f in "$out"/gbuffer-*/bench.md; do
+        [ -f "$f" ] && echo "$(basename "$(dirname "$f")"):" && sed -n '/^| case |/,/^$/p' "$f"
+    done
+} >>"$summary" 2>/dev/null
 tar -czf "$out/gpu-check.tar.gz" -C "$out" --exclude gpu-check.tar.gz . 2>/dev/null
 echo "gpu-check: done after $(($(date +%s) - start)) s" | tee -a "$summary"

@@ -26,7 +26,6 @@
 //! crossover lies between two measured counts where the best changes; it is placed where the
 //! two candidates' measured times, joined by straight lines, cross.
 
-use super::run::median;
 use crate::gpu::Gpu;
 use crate::headless::render_image;
 use crate::renderer::explain::cost::{CostModel, Sample};
@@ -71,6 +70,8 @@ pub struct Point {
     pub draws: f64,
     pub pairs: f64,
     pub ms: f64,
+    /// The standard error of the timed frames' ms (their spread / √n; 0 for one frame).
+    pub se_ms: f64,
     /// `auto`'s frame-rule terms of the frame's lights as drawn (`tiles::light_terms`): their
     /// draws, their drawn footprint in pixels, and their footprint as a list mode lists it
     /// (what `lampshade calibrate` fits the rule's constants on).
@@ -229,13 +230,41 @@ pub struct Advice {
     /// Per candidate, per count: predicted and measured ms (NaN where not drawn).
     pub predicted: Vec<Vec<f64>>,
     pub measured: Vec<Vec<f64>>,
+    /// Per candidate, per count: the measured ms's standard error.
+    pub measured_se: Vec<Vec<f64>>,
     /// Why a candidate's frames were not drawn, if so.
     pub refused: Vec<Option<String>>,
     pub predicted_crossovers: Vec<(f64, usize, usize)>,
     pub measured_crossovers: Vec<(f64, usize, usize)>,
 }
 
+/// The predicted candidates the advisor measures before it answers.
+pub const MEASURED_TOP: usize = 3;
+
 impl Advice {
+    /// The answer at count index `k`: of the [`MEASURED_TOP`] candidates predicted fastest, the
+    /// one measured fastest (`None` when none of them was drawn).
+    pub fn answer(&self, k: usize) -> Option<usize> {
+        let mut order: Vec<usize> = (0..self.predicted.len()).filter(|&c| self.predicted[c][k].is_finite()).collect();
+        order.sort_by(|&a, &b| self.predicted[a][k].total_cmp(&self.predicted[b][k]));
+        order
+            .into_iter()
+            .take(MEASURED_TOP)
+            .filter(|&c| self.measured[c][k].is_finite())
+            .min_by(|&a, &b| self.measured[a][k].total_cmp(&self.measured[b][k]))
+    }
+
+    /// The answer's regret at count index `k`: its measured ms over the measured best's, and
+    /// whether it is met (the answer is the best, or the two differ by less than two combined
+    /// standard errors).
+    pub fn regret(&self, k: usize) -> Option<(f64, bool)> {
+        let (a, (_, b)) = (self.answer(k)?, self.best(k));
+        let b = b?;
+        let (ta, tb) = (self.measured[a][k], self.measured[b][k]);
+        let noise = 2.0 * (self.measured_se[a][k].powi(2) + self.measured_se[b][k].powi(2)).sqrt();
+        Some((ta / tb, a == b || ta - tb < noise))
+    }
+
     /// The predicted and the measured best candidate at count index `k`.
     pub fn best(&self, k: usize) -> (Option<usize>, Option<usize>) {
         let pick = |t: &Vec<Vec<f64>>| {
@@ -264,6 +293,7 @@ pub fn advise(
     let (mut fits, mut refused, mut all_points) = (Vec::new(), Vec::new(), Vec::new());
     let mut predicted = vec![vec![f64::NAN; counts.len()]; candidates.len()];
     let mut measured = vec![vec![f64::NAN; counts.len()]; candidates.len()];
+    let mut measured_se = vec![vec![f64::NAN; counts.len()]; candidates.len()];
     // Candidate by candidate: its calibration, its fit and prediction, then its measurement,
     // so that a candidate's prediction and its measurement are made under the same load.
     for (c, cand) in candidates.iter().enumerate() {
@@ -288,7 +318,7 @@ pub fn advise(
                 continue;
             }
             match frames.frame(c, n, 1.0) {
-                Ok(p) => measured[c][k] = p.ms,
+                Ok(p) => (measured[c][k], measured_se[c][k]) = (p.ms, p.se_ms),
                 Err(e) => why = Some(format!("{e:#}")),
             }
         }
@@ -312,6 +342,7 @@ pub fn advise(
         fits,
         predicted,
         measured,
+        measured_se,
         refused,
     })
 }
@@ -400,16 +431,8 @@ impl Frames for GpuFrames<'_> {
             footprint += f;
             listed += s;
         }
-        Ok(Point {
-            lights,
-            radius_scale,
-            draws,
-            pairs: pairs as f64,
-            ms: median(times),
-            light_draws,
-            footprint,
-            listed,
-        })
+        let (ms, se_ms) = super::run::median_se(&times);
+        Ok(Point { lights, radius_scale, draws, pairs: pairs as f64, ms, se_ms, light_draws, footprint, listed })
     }
 }
 
@@ -461,7 +484,15 @@ pub fn markdown(a: &Advice) -> String {
             s += &format!("| {n} | {} | {} | {} | {} |\n", name(c), fmt(p), fmt(m), fmt(p / m));
         }
     }
-    s += "\n| lights | predicted best | measured best | agree | the predicted best's measured ms / the best's |\n|---|---|---|---|---|\n";
+    let met = (0..a.counts.len()).filter(|&k| a.regret(k).is_some_and(|r| r.1)).count();
+    s += &format!(
+        "\nThe answer at each count: of the {MEASURED_TOP} candidates predicted fastest, the one measured fastest. \
+         Its regret is its measured ms over the measured best's, met where it is the best or the two differ by \
+         less than two combined standard errors: met at {met} of {} counts.\n\n\
+         | lights | predicted best | answer | measured best | agree | the predicted best's measured ms / the best's | regret | met |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        a.counts.len()
+    );
     for (k, &n) in a.counts.iter().enumerate() {
         let (p, m) = a.best(k);
         let n_of = |c: Option<usize>| c.map_or("-".to_string(), name);
@@ -469,7 +500,16 @@ pub fn markdown(a: &Advice) -> String {
             (Some(p), Some(m)) => a.measured[p][k] / a.measured[m][k],
             _ => f64::NAN,
         };
-        s += &format!("| {n} | {} | {} | {} | {} |\n", n_of(p), n_of(m), if p == m { "yes" } else { "no" }, fmt(ratio));
+        let (regret, met) =
+            a.regret(k).map_or(("-".to_string(), "-"), |(r, m)| (format!("{r:.3}"), if m { "yes" } else { "no" }));
+        s += &format!(
+            "| {n} | {} | {} | {} | {} | {} | {regret} | {met} |\n",
+            n_of(p),
+            n_of(a.answer(k)),
+            n_of(m),
+            if p == m { "yes" } else { "no" },
+            fmt(ratio)
+        );
     }
     let cross = |v: &[(f64, usize, usize)]| {
         if v.is_empty() {
@@ -576,6 +616,37 @@ mod tests {
     fn near_all(m: &CostModel, (fixed, draw_ms, pair_ns, _, _): (f64, f64, f64, f64, f64)) -> bool {
         let near = |got: f64, want: f64| (got - want).abs() <= 0.05 * want.max(1e-9);
         near(m.fixed_ms, fixed) && near(m.draw_ms, draw_ms) && near(m.pair_ns, pair_ns)
+    }
+
+    /// The answer is the fastest measured of the three predicted fastest, and its regret is met
+    /// within two combined standard errors of the measured best.
+    #[test]
+    fn the_answer_is_the_fastest_measured_of_the_top_three_predicted_and_its_regret_is_judged_by_noise() {
+        let names = ["a", "b", "c", "d"];
+        // One count. Predicted: a < b < c < d. Measured: d fastest (10), then b (11), c, a.
+        let advice = |se: f64| Advice {
+            scene: "s".into(),
+            size: (1, 1),
+            candidates: names.iter().map(|n| n.to_string()).collect(),
+            calibration: Vec::new(),
+            counts: vec![64],
+            points: vec![Vec::new(); 4],
+            fits: vec![None; 4],
+            predicted: vec![vec![1.0], vec![2.0], vec![3.0], vec![4.0]],
+            measured: vec![vec![14.0], vec![11.0], vec![12.0], vec![10.0]],
+            measured_se: vec![vec![se]; 4],
+            refused: vec![None; 4],
+            predicted_crossovers: Vec::new(),
+            measured_crossovers: Vec::new(),
+        };
+        // d is not among the top three predicted: the answer is b, 1.1 x the best.
+        let a = advice(0.1);
+        assert_eq!((a.answer(0), a.best(0)), (Some(1), (Some(0), Some(3))));
+        let (regret, met) = a.regret(0).expect("a regret");
+        assert!((regret - 1.1).abs() < 1e-12 && !met, "{regret} {met}");
+        // With 0.4 ms standard errors, 1 ms < 2 x sqrt(0.32) = 1.13 ms: met.
+        assert_eq!(advice(0.4).regret(0).map(|r| r.1), Some(true));
+        assert!(markdown(&a).contains("met at 0 of 1 counts"), "{}", markdown(&a));
     }
 
     #[test]

@@ -106,6 +106,9 @@ pub struct Row {
     /// `auto`'s rows of the `culling` and `lights` groups: its regret against the best mode
     /// at the same point ([`report::add_regret`]); blank elsewhere.
     pub regret: Regret,
+    /// `auto`'s rows: the list mode it shaded the frame with, or `per-light` (its per-light
+    /// plan); empty elsewhere.
+    pub auto_chose: String,
     /// Light draws of a timed (uncounted) frame, and the batches they draw.
     pub draw_calls: u64,
     pub light_batches: u64,
@@ -145,12 +148,18 @@ pub struct Row {
     pub cost_source: String,
 }
 
-/// `auto`'s regret at one point (scene, light count, size): its measured total time over the
-/// best candidate's, the fastest other culling mode at that point. Met where the two differ
-/// by less than two combined standard errors (√(se_auto² + se_best²)), so that noise alone
-/// does not count against the choice.
+/// `auto`'s regret at one point (scene, light count, size): the measured total time of the
+/// configuration it chose over the best candidate's, the fastest other culling mode at that
+/// point. Where it chose a list mode, the configuration chosen is that mode's own row (the same
+/// frame; `auto`'s own row is timed beside it); where it kept its per-light plan, `auto`'s
+/// row. Met where the chosen is the best or the two differ by less than two combined standard
+/// errors (√(se_chosen² + se_best²)), so that noise alone does not count against the choice.
 #[derive(Clone, Debug, Serialize)]
 pub struct Regret {
+    /// The configuration chosen: a list mode's name, or `auto` (its per-light plan).
+    pub chosen: String,
+    pub chosen_ms: f64,
+    pub chosen_se_ms: f64,
     pub best: String,
     pub best_ms: f64,
     pub best_se_ms: f64,
@@ -160,7 +169,16 @@ pub struct Regret {
 
 impl Default for Regret {
     fn default() -> Self {
-        Self { best: String::new(), best_ms: f64::NAN, best_se_ms: f64::NAN, ratio: f64::NAN, met: None }
+        Self {
+            chosen: String::new(),
+            chosen_ms: f64::NAN,
+            chosen_se_ms: f64::NAN,
+            best: String::new(),
+            best_ms: f64::NAN,
+            best_se_ms: f64::NAN,
+            ratio: f64::NAN,
+            met: None,
+        }
     }
 }
 
@@ -381,6 +399,7 @@ mod tests {
             total_ms: 0.0,
             total_se_ms: f64::NAN,
             regret: Default::default(),
+            auto_chose: String::new(),
             draw_calls: 0,
             light_batches: 0,
             coverage_fragments: 0,
@@ -419,15 +438,18 @@ mod tests {
             ..blank_row()
         };
         let mut rows = vec![
-            // 64 lights: auto 10 ± 1 against tiled 5 ± 0.1: regret 2, not met.
-            row("auto", 64, 10.0, 1.0),
+            // 64 lights: auto (its per-light plan) 10 ± 1 against tiled 5 ± 0.1: regret 2, not
+            // met.
+            Row { auto_chose: "per-light".into(), ..row("auto", 64, 10.0, 1.0) },
             row("clustered", 64, 9.0, 0.5),
             row("tiled", 64, 5.0, 0.1),
             // A variant and the limit, faster still, are not candidates.
             Row { label: "clustered gpu-lists x64".into(), ..row("clustered", 64, 1.0, 0.1) },
             Row { label: "limit".into(), ..row("limit", 64, 0.5, 0.0) },
-            // 256 lights: auto 10 ± 1 against 9 ± 0.5: 1 < 2 x sqrt(1.25), met.
-            row("auto", 256, 10.0, 1.0),
+            // 256 lights: auto chose clustered, 10 ± 1 against zbin's 9 ± 0.5: 1 < 2 x
+            // sqrt(1.25), met. Its own row, timed beside, is not what it chose.
+            Row { auto_chose: "clustered".into(), ..row("auto", 256, 30.0, 1.0) },
+            row("clustered", 256, 10.0, 1.0),
             row("zbin", 256, 9.0, 0.5),
             // The 64 lights' tiled at another size is another point.
             Row { width: 7, ..row("tiled", 256, 1.0, 0.1) },
@@ -436,7 +458,7 @@ mod tests {
         let r = &rows[0].regret;
         assert_eq!((r.best.as_str(), r.ratio, r.met), ("tiled", 2.0, Some(false)), "{r:?}");
         let r = &rows[5].regret;
-        assert_eq!((r.best.as_str(), r.met), ("zbin", Some(true)), "{r:?}");
+        assert_eq!((r.chosen.as_str(), r.best.as_str(), r.met), ("clustered", "zbin", Some(true)), "{r:?}");
         assert!((r.ratio - 10.0 / 9.0).abs() < 1e-12);
         assert!(rows.iter().filter(|r| r.culling != "auto").all(|r| r.regret.ratio.is_nan()));
         let md = regret_markdown(&rows);

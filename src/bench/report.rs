@@ -101,6 +101,7 @@ pub fn add_limits(rows: &mut Vec<Row>) {
             limit_ratio: 1.0,
             total_se_ms: f64::NAN,
             regret: Default::default(),
+            auto_chose: String::new(),
             draw_calls: 0,
             light_batches: 0,
             costliest: Vec::new(),
@@ -175,13 +176,22 @@ pub fn add_regret(rows: &mut [Row]) {
     for r in rows.iter_mut().filter(|r| r.culling == "auto" && plain(r) && r.total_ms.is_finite()) {
         let best = candidates.iter().filter(|c| key(c) == key(r)).min_by(|a, b| a.total_ms.total_cmp(&b.total_ms));
         let Some(best) = best else { continue };
-        let noise = 2.0 * (r.total_se_ms.powi(2) + best.total_se_ms.powi(2)).sqrt();
+        // The configuration chosen: the list mode's own row, or auto's (its per-light plan).
+        let own = candidates.iter().find(|c| key(c) == key(r) && c.culling == r.auto_chose);
+        let (chosen, ms, se) = match own {
+            Some(c) => (c.culling.clone(), c.total_ms, c.total_se_ms),
+            None => ("auto".to_string(), r.total_ms, r.total_se_ms),
+        };
+        let noise = 2.0 * (se.powi(2) + best.total_se_ms.powi(2)).sqrt();
         r.regret = Regret {
+            met: noise.is_finite().then_some(chosen == best.culling || ms - best.total_ms < noise),
+            chosen,
+            chosen_ms: ms,
+            chosen_se_ms: se,
             best: best.culling.clone(),
             best_ms: best.total_ms,
             best_se_ms: best.total_se_ms,
-            ratio: r.total_ms / best.total_ms,
-            met: noise.is_finite().then_some(r.total_ms - best.total_ms < noise || r.total_ms <= best.total_ms),
+            ratio: ms / best.total_ms,
         };
     }
 }
@@ -194,16 +204,18 @@ pub fn regret_markdown(rows: &[Row]) -> String {
     }
     let met = mine.iter().filter(|r| r.regret.met == Some(true)).count();
     let mut s = format!(
-        "\n## `auto`'s regret\n\nIts measured total over the fastest other mode's at the same point, medians of \
-         the interleaved timed frames ± their standard error; met where the two differ by less than two combined \
-         standard errors. Met at {met} of {} points.\n\n| group | scene | lights | size | auto (chose) ms | best | best ms | regret | met |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+        "\n## `auto`'s regret\n\nThe measured total of the configuration `auto` chose (a list mode's own row, or \
+         `auto`'s row where it kept its per-light plan) over the fastest mode's at the same point, medians of the \
+         interleaved timed frames ± their standard error; met where the chosen is the fastest or the two differ by \
+         less than two combined standard errors. `auto`'s own row is beside it. Met at {met} of {} points.\n\n\
+         | group | scene | lights | size | auto ms | chose | chosen ms | best | best ms | regret | met |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
         mine.len()
     );
     for r in mine {
         let g = &r.regret;
         s += &format!(
-            "| {} | {} | {} | {}x{} | {:.2} ± {:.2} | {} | {:.2} ± {:.2} | {:.3} | {} |\n",
+            "| {} | {} | {} | {}x{} | {:.2} ± {:.2} | {} | {:.2} ± {:.2} | {} | {:.2} ± {:.2} | {:.3} | {} |\n",
             r.group,
             r.scene,
             r.lights,
@@ -211,6 +223,9 @@ pub fn regret_markdown(rows: &[Row]) -> String {
             r.height,
             r.total_ms,
             r.total_se_ms,
+            g.chosen,
+            g.chosen_ms,
+            g.chosen_se_ms,
             g.best,
             g.best_ms,
             g.best_se_ms,
@@ -235,11 +250,11 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
          shadow_ms,shadow_bytes,shadow_casting,shadow_fallback_budget,shadow_fallback_off_screen,shadow_cube,shadow_cube_side,\
          lists_ms,ns_per_pair,ns_per_ideal,rho_fs,gbuffer_fs,compose_fs,culling_share,\
          cap_dropped_lights,cap_dropped_entries,cap_missed_pixels,cap_dropped_pairs,cap_entry_pairs,\
-         total_se_ms,regret,regret_best,regret_met\n",
+         total_se_ms,auto_chose,regret,regret_best,regret_met\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{},{},{:.3},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{}{:.3},{},{},{},{},{},{:.4},{},{:.6},{:.6},{:.2},{},{},{:.3},{},{},{},{},{},\"{}\",{:.3},{},{},{},{},{},{},{:.3},{:.4},{:.4},{:.3},{:.3},{:.3},{:.4},{},{},{},{},{},{:.3},{},{:.4},{},{}\n",
             r.group,
             r.label,
             r.scene,
@@ -304,6 +319,7 @@ pub fn write_csv(rows: &[Row], path: &Path) -> Result<()> {
             r.caps.dropped_pairs,
             r.caps.entry_pairs,
             r.total_se_ms,
+            r.auto_chose,
             r.regret.ratio,
             r.regret.best,
             r.regret.met.map_or(String::new(), |m| m.to_string())

@@ -330,6 +330,10 @@ fn measure<'c>(
         total_ms: pick(&|s| s.gpu_ms.total),
         total_se_ms: median_se(&times.iter().filter_map(|s| s.gpu_ms.total).collect::<Vec<_>>()).1,
         regret: Default::default(),
+        auto_chose: match cfg.settings.culling {
+            crate::renderer::CullingMode::Auto => stats.tiles.as_ref().map_or("per-light".into(), |t| t.method.name()),
+            _ => String::new(),
+        },
         lists_ms: pick(&|s| s.gpu_ms.lists),
         units: Units::default(),
         draw_calls: times.last().map_or(0, |s| s.draw_calls),
@@ -484,6 +488,7 @@ pub(crate) fn failed_row(cfg: &Config, scene: &str, lights: usize, error: String
         total_ms: f64::NAN,
         total_se_ms: f64::NAN,
         regret: Default::default(),
+        auto_chose: String::new(),
         lists_ms: f64::NAN,
         units: Units::default(),
         draw_calls: 0,

@@ -244,8 +244,7 @@ fn mode_row(
         render_image(gpu, &mut r, s, settings, w, h)?;
     }
     // Timed rounds, interleaved: the subsets, the whole set, the set less each light, and the
-    // whole set counted.
-    // At least five rounds for a median with a spread, except in the quick sweep.
+    // whole set counted; at least five for a median with a spread, except in the quick sweep.
     let rounds = if o.quick { o.frames.max(1) } else { o.frames.max(5) };
     let mut fit_times = vec![Vec::new(); scenes.len()];
     let (mut whole, mut with_counts) = (Vec::new(), Vec::new());
@@ -263,8 +262,7 @@ fn mode_row(
     let samples: Vec<Sample> =
         fit_features.iter().zip(&fit_times).map(|(f, t)| Sample { ms: median(t.clone()), ..*f }).collect();
     let model = CostModel::fit(&samples, format!("fitted on {} frames of {rounds} rounds", samples.len()));
-    let measured_ms = median(whole.clone());
-    let spread = super::run::median_se(&whole).1 * (whole.len() as f64).sqrt();
+    let (measured_ms, spread) = (median(whole.clone()), super::run::median_se(&whole).1 * (whole.len() as f64).sqrt());
     let predicted_ms = model.as_ref().map_or(f64::NAN, |m| m.predict(&features(&full.per_light, &everyone, ideal)));
     let mut costliest: Vec<CostlyLight> = removed
         .iter()

@@ -115,6 +115,7 @@ fn cpu(gpu: &lampshade::Gpu) {
                     light_batching,
                     cluster_build: settings.cluster_build,
                     grid: Default::default(),
+                    costs: Default::default(),
                     object_cap: (0, Default::default()),
                     loop_limit: None,
                     near_fullscreen: false,

@@ -106,6 +106,7 @@ fn main() {
                 light_batching: true,
                 cluster_build: settings.cluster_build,
                 grid: Default::default(),
+                costs: Default::default(),
                 object_cap: (0, Default::default()),
                 loop_limit: None,
                 near_fullscreen: false,

@@ -872,9 +872,9 @@ mod tests {
         PlanView::for_test(&cam, size, CullingMode::Clustered)
     }
 
-    #[test]
-    fn auto_keeps_its_per_light_plan_for_few_lights_and_shades_many_clustered() {
-        let small = LightPlan {
+    /// A tiny light drawn as a sphere volume, 10 units ahead.
+    fn small_volume_light() -> LightPlan {
+        LightPlan {
             method: Method::Volume,
             volume: crate::renderer::VolumeKind::Sphere,
             crosses_near: false,
@@ -882,7 +882,12 @@ mod tests {
             screen_share: 0.001,
             screen_rect: Some((Vec2::ZERO, Vec2::splat(0.05))),
             depths: (9.0, 11.0),
-        };
+        }
+    }
+
+    #[test]
+    fn auto_keeps_its_per_light_plan_for_few_lights_and_shades_many_clustered() {
+        let small = small_volume_light();
         let mut v = view((1280, 720));
         v.mode = CullingMode::Auto;
         let mut few = vec![small; 8];
@@ -907,15 +912,7 @@ mod tests {
 
     #[test]
     fn a_calibration_that_makes_tiled_or_zbin_cheapest_makes_auto_choose_it() {
-        let small = LightPlan {
-            method: Method::Volume,
-            volume: crate::renderer::VolumeKind::Sphere,
-            crosses_near: false,
-            crosses_far: false,
-            screen_share: 0.001,
-            screen_rect: Some((Vec2::ZERO, Vec2::splat(0.05))),
-            depths: (9.0, 11.0),
-        };
+        let small = small_volume_light();
         let mut v = view((1280, 720));
         v.mode = CullingMode::Auto;
         assert_eq!(frame_rule(&mut vec![small; 4096], &v), Some(Method::Clustered));

@@ -205,6 +205,9 @@ pub struct CheckArgs {
     /// forward paths' light lists against themselves unculled.
     #[command(flatten)]
     pub knobs: KnobArgs,
+    /// The calibration `auto` decides with (so the check holds the choices `render` makes).
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
 }
 
 #[derive(clap::Args)]
@@ -225,8 +228,9 @@ pub struct AdviseArgs {
     /// the scene's camera.
     #[arg(long)]
     pub viewpoint: Option<usize>,
-    /// Timed frames per measurement (their median is taken).
-    #[arg(long, default_value_t = 3)]
+    /// Timed frames per calibration point, and interleaved rounds per measurement (one frame
+    /// of each candidate a round); medians are taken, with their standard errors.
+    #[arg(long, default_value_t = 5)]
     pub frames: usize,
     /// Write advise.md, advise.json and advise.png here.
     #[arg(long)]
@@ -254,8 +258,9 @@ pub struct CalibrateArgs {
     /// Frame size, WxH.
     #[arg(long, value_parser = image_size, default_value = "640x360")]
     pub size: (u32, u32),
-    /// The light counts of `demo` measured (the two largest also at half the radii).
-    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "256,1024,2048")]
+    /// The light counts of `demo` measured (the two largest also at half the radii); `auto`
+    /// weighs the list modes from the fewest of them up.
+    #[arg(long, num_args = 1.., value_delimiter = ',', default_value = "64,256,1024,2048")]
     pub lights: Vec<usize>,
     /// Timed frames per point (their median is taken).
     #[arg(long, default_value_t = 5)]

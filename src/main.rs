@@ -330,6 +330,7 @@ fn check(args: CheckArgs) -> Result<()> {
     let (w, h) = args.size;
     let gpu = Gpu::open(&args.adapter.choice())?;
     let mut renderer = oracle::renderer(&gpu)?;
+    renderer.set_calibration(lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?);
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }

@@ -46,7 +46,7 @@ impl AdviceJob {
                 let name = scene.name.clone();
                 let scene_at: Box<dyn FnMut(usize) -> anyhow::Result<Scene>> =
                     Box::new(move |n| Ok(advise::strided(&scene, n)));
-                let mut frames = advise::GpuFrames::new(&gpu, candidates.clone(), scene_at, size, 3);
+                let mut frames = advise::GpuFrames::new(&gpu, candidates.clone(), scene_at, size, 5);
                 advise::advise(&mut frames, &name, size, &candidates, &counts, &mut |done, total, what| {
                     if let Ok(mut g) = p.lock() {
                         *g = (done, total, what.to_string());

@@ -19,12 +19,14 @@
 //! predicted best at n is the lowest line, and a crossover (where one candidate stops being
 //! fastest) is where two lines meet.
 //!
-//! **Then it measures**: every candidate at every count asked, timed as the bench times (the
-//! median of the frames' GPU time), candidate by candidate right after its own calibration
-//! (its prediction is fixed before its first measured frame), and prints prediction against
-//! measurement. A measured
-//! crossover lies between two measured counts where the best changes; it is placed where the
-//! two candidates' measured times, joined by straight lines, cross.
+//! **Then it measures**: every candidate at every count asked, once every prediction is fixed.
+//! At each count the candidates are timed in interleaved rounds (one frame of each in turn,
+//! round after round), so that a change in the machine's load falls on all of them alike; each
+//! time is the median of the rounds' GPU times with its standard error. It prints prediction
+//! against measurement, and answers with the fastest measured of the three predicted fastest,
+//! judged by its regret against the measured best of all. A measured crossover lies between two
+//! measured counts where the best changes; it is placed where the two candidates' measured
+//! times, joined by straight lines, cross.
 
 use crate::gpu::Gpu;
 use crate::headless::render_image;
@@ -84,6 +86,14 @@ pub struct Point {
 pub trait Frames {
     /// Candidate `c`'s frame with `lights` lights, every radius times `radius_scale`.
     fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point>;
+
+    /// Candidates `cs`' frames with `lights` lights and radii times `radius_scale`, timed in
+    /// interleaved rounds (one frame of each in turn, round after round): per candidate, its
+    /// frame with the median of its rounds and that median's standard error. The default takes
+    /// each candidate's [`frame`](Self::frame) in turn, for a source without drift.
+    fn interleaved(&mut self, cs: &[usize], lights: usize, radius_scale: f64) -> Vec<Result<Point>> {
+        cs.iter().map(|&c| self.frame(c, lights, radius_scale)).collect()
+    }
 }
 
 /// A candidate's fitted model: its cost model and its draws and pairs as lines in n.
@@ -106,6 +116,7 @@ impl Fit {
             fixed_ms: samples.iter().map(|s| s.ms).sum::<f64>() / samples.len().max(1) as f64,
             draw_ms: 0.0,
             pair_ns: 0.0,
+            reject_ns: None,
             source: format!("{source} (flat: no cost per light measurable)"),
         });
         let own: Vec<&Point> = points.iter().filter(|p| p.radius_scale == 1.0).collect();
@@ -288,14 +299,13 @@ pub fn advise(
     counts.sort_unstable();
     counts.dedup();
     let calibration = calibration_counts(&counts);
-    let total = candidates.len() * (calibration.len() + counts.len());
+    let total = candidates.len() * calibration.len() + counts.len();
     let mut done = 0;
     let (mut fits, mut refused, mut all_points) = (Vec::new(), Vec::new(), Vec::new());
     let mut predicted = vec![vec![f64::NAN; counts.len()]; candidates.len()];
     let mut measured = vec![vec![f64::NAN; counts.len()]; candidates.len()];
     let mut measured_se = vec![vec![f64::NAN; counts.len()]; candidates.len()];
-    // Candidate by candidate: its calibration, its fit and prediction, then its measurement,
-    // so that a candidate's prediction and its measurement are made under the same load.
+    // Candidate by candidate: its calibration, its fit and its prediction.
     for (c, cand) in candidates.iter().enumerate() {
         let mut points = Vec::new();
         let mut why = None;
@@ -311,20 +321,21 @@ pub fn advise(
         for (k, &n) in counts.iter().enumerate() {
             predicted[c][k] = fit.as_ref().map_or(f64::NAN, |f| f.predict(n as f64));
         }
-        for (k, &n) in counts.iter().enumerate() {
-            progress(done, total, &format!("measuring {} at {n} lights", cand.name));
-            done += 1;
-            if why.is_some() {
-                continue;
-            }
-            match frames.frame(c, n, 1.0) {
-                Ok(p) => (measured[c][k], measured_se[c][k]) = (p.ms, p.se_ms),
-                Err(e) => why = Some(format!("{e:#}")),
-            }
-        }
         fits.push(fit);
         refused.push(why);
         all_points.push(points);
+    }
+    // Then every count, the candidates that drew interleaved round by round.
+    for (k, &n) in counts.iter().enumerate() {
+        progress(done, total, &format!("measuring every candidate at {n} lights, interleaved"));
+        done += 1;
+        let live: Vec<usize> = (0..candidates.len()).filter(|&c| refused[c].is_none()).collect();
+        for (&c, r) in live.iter().zip(frames.interleaved(&live, n, 1.0)) {
+            match r {
+                Ok(p) => (measured[c][k], measured_se[c][k]) = (p.ms, p.se_ms),
+                Err(e) => refused[c] = Some(format!("{e:#}")),
+            }
+        }
     }
     progress(total, total, "done");
     let lines: Vec<(usize, (f64, f64))> =
@@ -384,40 +395,50 @@ impl<'a> GpuFrames<'a> {
     }
 }
 
-impl Frames for GpuFrames<'_> {
-    fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
+impl GpuFrames<'_> {
+    /// The scene at `lights` lights with its radii scaled, made once.
+    fn scene(&mut self, lights: usize, radius_scale: f64) -> Result<usize> {
         let key = (lights, radius_scale.to_bits());
-        if !self.scenes.iter().any(|(k, _)| *k == key) {
-            let mut s = (self.scene_at)(lights)?;
-            if radius_scale != 1.0 {
-                super::configs::scale_light_radii(&mut s, radius_scale);
-            }
-            self.scenes.push((key, s));
+        if let Some(i) = self.scenes.iter().position(|(k, _)| *k == key) {
+            return Ok(i);
         }
-        let scene = &self.scenes.iter().find(|(k, _)| *k == key).expect("just added").1;
+        let mut s = (self.scene_at)(lights)?;
+        if radius_scale != 1.0 {
+            super::configs::scale_light_radii(&mut s, radius_scale);
+        }
+        self.scenes.push((key, s));
+        Ok(self.scenes.len() - 1)
+    }
+
+    /// Candidate `c`'s timed settings, and its renderer made once.
+    fn timed_settings(&mut self, c: usize) -> Result<Settings> {
         let base = &self.candidates[c].settings;
         let timed = Settings { count_fragments: false, count_ideal: false, timestamps: true, ..base.clone() };
-        let counted = Settings { count_fragments: true, count_ideal: false, timestamps: false, ..base.clone() };
         if self.renderers[c].is_none() {
             let mut r = Renderer::new(self.gpu, OUTPUT_FORMAT, &timed)?;
             r.set_calibration(self.calibration.clone());
             self.renderers[c] = Some(r);
         }
-        let r = self.renderers[c].as_mut().expect("just made");
+        Ok(timed)
+    }
+
+    /// One frame of candidate `c` on scene `s`: its GPU ms and its draw calls.
+    fn time(&mut self, c: usize, s: usize, settings: &Settings) -> Result<(f64, f64)> {
         let (w, h) = self.size;
-        // Two frames first (the first of a new scene or size builds what it needs, lavapipe
-        // compiles shaders on first use); each timed frame then draws the same frame, as the
-        // bench's.
-        for _ in 0..2 {
-            render_image(self.gpu, r, scene, &timed, w, h)?;
-        }
-        let mut times = Vec::new();
-        let mut draws = 0.0;
-        for _ in 0..self.timed {
-            let (_, stats) = render_image(self.gpu, r, scene, &timed, w, h)?;
-            times.push(stats.gpu_ms.total.unwrap_or(f64::NAN));
-            draws = stats.draw_calls as f64;
-        }
+        let r = self.renderers[c].as_mut().ok_or_else(|| anyhow::anyhow!("no renderer for candidate {c}"))?;
+        let (_, stats) = render_image(self.gpu, r, &self.scenes[s].1, settings, w, h)?;
+        Ok((stats.gpu_ms.total.unwrap_or(f64::NAN), stats.draw_calls as f64))
+    }
+}
+
+impl GpuFrames<'_> {
+    /// Candidate `c`'s frame on scene `s` counted for its draws and pairs, with the timed
+    /// frames `times` (their median and its standard error).
+    fn counted(&mut self, c: usize, s: usize, timed: &Settings, times: &[f64], draws: f64) -> Result<Point> {
+        let counted = Settings { count_fragments: true, count_ideal: false, timestamps: false, ..timed.clone() };
+        let (w, h) = self.size;
+        let ((lights, radius_scale), scene) = (self.scenes[s].0, &self.scenes[s].1);
+        let r = self.renderers[c].as_mut().ok_or_else(|| anyhow::anyhow!("no renderer for candidate {c}"))?;
         let (_, stats) = render_image(self.gpu, r, scene, &counted, w, h)?;
         // The pairs: each light's evaluated samples summed (the forward path's lights share
         // each object's fragments), else the frame's shaded fragments.
@@ -431,8 +452,64 @@ impl Frames for GpuFrames<'_> {
             footprint += f;
             listed += s;
         }
-        let (ms, se_ms) = super::run::median_se(&times);
+        let (ms, se_ms) = super::run::median_se(times);
+        let radius_scale = f64::from_bits(radius_scale);
         Ok(Point { lights, radius_scale, draws, pairs: pairs as f64, ms, se_ms, light_draws, footprint, listed })
+    }
+}
+
+impl Frames for GpuFrames<'_> {
+    fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
+        let s = self.scene(lights, radius_scale)?;
+        let timed = self.timed_settings(c)?;
+        // Two frames first (the first of a new scene or size builds what it needs, lavapipe
+        // compiles shaders on first use); each timed frame then draws the same frame, as the
+        // bench's.
+        for _ in 0..2 {
+            self.time(c, s, &timed)?;
+        }
+        let mut times = Vec::new();
+        let mut draws = 0.0;
+        for _ in 0..self.timed {
+            let (ms, d) = self.time(c, s, &timed)?;
+            times.push(ms);
+            draws = d;
+        }
+        self.counted(c, s, &timed, &times, draws)
+    }
+
+    /// Each candidate warmed by two frames, then `timed` rounds of one frame of each in turn,
+    /// then each counted.
+    fn interleaved(&mut self, cs: &[usize], lights: usize, radius_scale: f64) -> Vec<Result<Point>> {
+        let s = match self.scene(lights, radius_scale) {
+            Ok(s) => s,
+            Err(e) => return cs.iter().map(|_| Err(anyhow::anyhow!("{e:#}"))).collect(),
+        };
+        let mut settings: Vec<Result<Settings>> = Vec::new();
+        for &c in cs {
+            let warmed = self.timed_settings(c).and_then(|t| {
+                for _ in 0..2 {
+                    self.time(c, s, &t)?;
+                }
+                Ok(t)
+            });
+            settings.push(warmed);
+        }
+        let mut times = vec![Vec::new(); cs.len()];
+        let mut draws = vec![0.0; cs.len()];
+        for _ in 0..self.timed {
+            for (i, &c) in cs.iter().enumerate() {
+                let Ok(t) = &settings[i] else { continue };
+                match self.time(c, s, &t.clone()) {
+                    Ok((ms, d)) => {
+                        times[i].push(ms);
+                        draws[i] = d;
+                    }
+                    Err(e) => settings[i] = Err(e),
+                }
+            }
+        }
+        cs.iter().enumerate().zip(settings).map(|((i, &c), t)| self.counted(c, s, &t?, &times[i], draws[i])).collect()
     }
 }
 
@@ -647,6 +724,32 @@ mod tests {
         // With 0.4 ms standard errors, 1 ms < 2 x sqrt(0.32) = 1.13 ms: met.
         assert_eq!(advice(0.4).regret(0).map(|r| r.1), Some(true));
         assert!(markdown(&a).contains("met at 0 of 1 counts"), "{}", markdown(&a));
+    }
+
+    /// A machine whose load grows through the run: two candidates of the same true cost are
+    /// measured, count by count, next to each other, so the drift falls on both alike. Measured
+    /// candidate by candidate after each one's calibration, the second would read 15% slower.
+    #[test]
+    fn candidates_are_measured_side_by_side_so_a_drifting_load_falls_on_all_alike() {
+        struct Drift {
+            inner: Synthetic,
+            frames: f64,
+        }
+        impl Frames for Drift {
+            fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
+                let p = self.inner.frame(c, lights, radius_scale)?;
+                self.frames += 1.0;
+                Ok(Point { ms: p.ms * (1.0 + 0.02 * self.frames), ..p })
+            }
+        }
+        let mut f = Drift { inner: Synthetic { costs: vec![COSTS[0]; 2], noise: 0.0, k: 0 }, frames: 0.0 };
+        let cands: Vec<Candidate> =
+            ["a", "b"].iter().map(|n| Candidate { name: n.to_string(), settings: Settings::default() }).collect();
+        let a = advise(&mut f, "drift", (1280, 720), &cands, &COUNTS, &mut |_, _, _| {}).unwrap();
+        for k in 0..COUNTS.len() {
+            let ratio = a.measured[1][k] / a.measured[0][k];
+            assert!((1.0..1.05).contains(&ratio), "at {}: b / a = {ratio}", COUNTS[k]);
+        }
     }
 
     #[test]

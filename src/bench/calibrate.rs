@@ -4,9 +4,11 @@
 //! **The frames.** `demo` at a few light counts, and the two largest again with every radius
 //! halved (a quarter of the pairs for the same draws, so a draw's cost and a fragment's come
 //! apart), under the per-light mode `volume` (a draw a light) and the list modes `clustered`,
-//! `tiled` and `zbin`; each timed as `advise` times its frames
-//! (`advise::GpuFrames`: two warm-up frames, the median of the timed frames' GPU ms, then one
-//! counted frame for the pairs). The whole frame is timed: the G-buffer and compose are common
+//! `tiled` and `zbin`; at each point the four modes are timed in interleaved rounds, as `advise`
+//! measures (`advise::GpuFrames::interleaved`: two warm-up frames each, then rounds of one frame
+//! of each mode in turn, the median of each mode's rounds; then one counted frame each for the
+//! pairs), so that a drift in the machine's load falls on every mode alike instead of on the
+//! mode measured last. The whole frame is timed: the G-buffer and compose are common
 //! to every mode and fall into each fit's fixed part.
 //!
 //! **The fits** (least squares, `CostModel::fit`):
@@ -45,7 +47,7 @@ pub struct CalibrateOptions {
 
 impl Default for CalibrateOptions {
     fn default() -> Self {
-        Self { scene: "demo".into(), size: (640, 360), counts: vec![256, 1024, 2048], frames: 5 }
+        Self { scene: "demo".into(), size: (640, 360), counts: vec![64, 256, 1024, 2048], frames: 5 }
     }
 }
 
@@ -99,15 +101,14 @@ pub fn calibrate(
     });
     let mut frames = GpuFrames::new(gpu, candidates.clone(), scene_at, o.size, o.frames);
     let points = points_of(&o.counts);
-    let total = candidates.len() * points.len();
-    let mut measured = Vec::new();
-    for (c, cand) in candidates.iter().enumerate() {
-        let mut v = Vec::new();
-        for (k, &(n, r)) in points.iter().enumerate() {
-            progress(c * points.len() + k, total, &format!("{} at {n} lights, radii x{r}", cand.name));
-            v.push(frames.frame(c, n, r)?);
+    let total = points.len();
+    let mut measured: Vec<(String, Vec<Point>)> = candidates.iter().map(|c| (c.name.clone(), Vec::new())).collect();
+    let all: Vec<usize> = (0..candidates.len()).collect();
+    for (k, &(n, r)) in points.iter().enumerate() {
+        progress(k, total, &format!("every mode at {n} lights, radii x{r}, interleaved"));
+        for ((_, v), p) in measured.iter_mut().zip(frames.interleaved(&all, n, r)) {
+            v.push(p?);
         }
-        measured.push((cand.name.clone(), v));
     }
     progress(total, total, "fitting");
     let how = format!(
@@ -166,6 +167,10 @@ pub fn fit(key: &str, how: &str, size: (u32, u32), measured: Vec<(String, Vec<Po
         }
         fits.push((name.clone(), model));
     }
+    // The rule weighs the list modes only where the constants were measured, not below.
+    if let Some(n) = measured.iter().flat_map(|(_, v)| v.iter().map(|p| p.lights)).min() {
+        costs.min_lights = n;
+    }
     let calibration = Calibration {
         version: CALIBRATION_VERSION,
         key: key.to_string(),
@@ -195,7 +200,8 @@ pub fn markdown(r: &CalibrationRun) -> String {
     s += &format!("| drawn fragment (ns) | {:.2} | {:.2} |\n", c.fragment_ns, b.fragment_ns);
     s += &format!("| clustered | {} | {} |\n", list(Some(c.clustered)), list(Some(b.clustered)));
     s += &format!("| tiled | {} | {} |\n", list(c.tiled), list(b.tiled));
-    s += &format!("| zbin | {} | {} |\n\n", list(c.zbin), list(b.zbin));
+    s += &format!("| zbin | {} | {} |\n", list(c.zbin), list(b.zbin));
+    s += &format!("| the rule weighs list modes from (lights) | {} | {} |\n\n", c.min_lights, b.min_lights);
     s += "| fit | fixed ms | draw ms | pair ns |\n|---|---|---|---|\n";
     for (name, m) in &r.fits {
         match m {
@@ -281,6 +287,7 @@ mod tests {
         }
         assert!(run.notes.is_empty(), "{:?}", run.notes);
         assert_eq!(run.calibration.key, "key");
+        assert_eq!(c.min_lights, 256, "the fewest lights measured");
         assert!(markdown(&run).contains("| tiled |"));
     }
 }

@@ -6,7 +6,10 @@
 //!    light by evaluated pairs; the half and the quarter with the fewest pairs, and with the
 //!    most; the half with the least and with the most wasted share), each counted for its own
 //!    draws and pairs, then timed (not the empty set: a frame without lights skips passes,
-//!    the lists, so it is not on the model's line);
+//!    the lists, so it is not on the model's line). `fullscreen` runs first: its pair cost is
+//!    a rejected pair's (nearly all its pairs are), and the drawn modes price their wasted
+//!    pairs at it (`CostModel::fit_with_reject`). Their one-rate fit is kept beside it, and
+//!    each removal shows both predictions;
 //! 2. **the sum**: the model's fixed part plus every light's cost against the whole set's
 //!    measured light pass, a frame the fit never saw (goal: within ±10%, or within the pass's
 //!    own round-to-round spread where that is larger, on adapters whose timing noise is
@@ -46,6 +49,9 @@ pub struct CostlyLight {
     pub wasted: Option<u64>,
     /// Its cost in the fitted model (ms).
     pub predicted_ms: f64,
+    /// Its cost in the one-rate fit (every evaluated pair at one cost), where the model
+    /// prices rejected pairs apart (ms).
+    pub one_rate_ms: Option<f64>,
     /// The measured saving without it (ms), and that saving's standard error.
     pub measured_ms: f64,
     pub noise_ms: f64,
@@ -70,11 +76,15 @@ pub struct LedgerRow {
     pub lights: usize,
     pub size: (u32, u32),
     pub model: Option<CostModel>,
+    /// The one-rate fit beside a model that prices rejected pairs apart.
+    pub one_rate: Option<CostModel>,
     /// The fit's frames: (draws, pairs, measured ms).
     pub samples: Vec<Sample>,
     /// The whole set: the model's fixed part + the lights' costs, against the measured pass.
     pub predicted_ms: f64,
     pub measured_ms: f64,
+    /// The whole set by the one-rate fit, where the model prices rejected pairs apart.
+    pub one_rate_predicted_ms: Option<f64>,
     /// The whole set's light pass, its round-to-round spread (the rounds' standard deviation).
     pub measured_spread_ms: f64,
     pub costliest: Vec<CostlyLight>,
@@ -131,6 +141,8 @@ pub fn ledger(
         })?
     };
     let mut rows = Vec::new();
+    // A rejected pair's cost: `fullscreen`'s pair cost, once its row has run.
+    let mut reject_ns: Option<f64> = None;
     for mode in ledger_modes() {
         if mode == CullingMode::Fullscreen && pairs > REFERENCE_FULLSCREEN_BUDGET {
             continue;
@@ -144,21 +156,29 @@ pub fn ledger(
             shadows: ShadowMode::None,
             ..Settings::default()
         };
-        rows.push(mode_row(gpu, o, &scene, &ideal, &settings).unwrap_or_else(|e| LedgerRow {
+        let drawn = mode != CullingMode::Fullscreen && !mode.method().is_some_and(|m| m.listed());
+        let reject = reject_ns.filter(|_| drawn);
+        let row = mode_row(gpu, o, &scene, &ideal, &settings, reject).unwrap_or_else(|e| LedgerRow {
             mode: mode.name(),
             culling: mode,
             lights: scene.lights.len(),
             size: o.size,
             model: None,
+            one_rate: None,
             samples: Vec::new(),
             predicted_ms: f64::NAN,
             measured_ms: f64::NAN,
+            one_rate_predicted_ms: None,
             measured_spread_ms: f64::NAN,
             costliest: Vec::new(),
             counted_ms: f64::NAN,
             uncounted_ms: f64::NAN,
             error: Some(format!("{e:#}")),
-        }));
+        });
+        if mode == CullingMode::Fullscreen {
+            reject_ns = row.model.as_ref().map(|m| m.pair_ns);
+        }
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -190,6 +210,7 @@ fn mode_row(
     scene: &crate::Scene,
     ideal: &[u64],
     settings: &Settings,
+    reject_ns: Option<f64>,
 ) -> Result<LedgerRow> {
     let (w, h) = o.size;
     let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings)?;
@@ -261,30 +282,24 @@ fn mode_row(
     }
     let samples: Vec<Sample> =
         fit_features.iter().zip(&fit_times).map(|(f, t)| Sample { ms: median(t.clone()), ..*f }).collect();
-    let model = CostModel::fit(&samples, format!("fitted on {} frames of {rounds} rounds", samples.len()));
+    let source = format!("fitted on {} frames of {rounds} rounds", samples.len());
+    let one_rate = CostModel::fit(&samples, source.clone());
+    let (model, one_rate) = match reject_ns {
+        Some(reject) => (
+            CostModel::fit_with_reject(&samples, reject, format!("{source}, rejected pairs at fullscreen's pair cost")),
+            one_rate,
+        ),
+        None => (one_rate, None),
+    };
     let (measured_ms, spread) = (median(whole.clone()), super::run::median_se(&whole).1 * (whole.len() as f64).sqrt());
-    let predicted_ms = model.as_ref().map_or(f64::NAN, |m| m.predict(&features(&full.per_light, &everyone, ideal)));
+    let whole_features = features(&full.per_light, &everyone, ideal);
+    let predicted_ms = model.as_ref().map_or(f64::NAN, |m| m.predict(&whole_features));
     let mut costliest: Vec<CostlyLight> = removed
         .iter()
         .zip(&less)
         .map(|(&k, t)| {
-            let l = &full.per_light[k];
-            let diffs: Vec<f64> = whole.iter().zip(t).map(|(a, b)| a - b).collect();
-            let measured = median(diffs.clone());
-            let mad = median(diffs.iter().map(|v| (v - measured).abs()).collect());
-            CostlyLight {
-                index: k,
-                kind: l.kind.to_string(),
-                draws: cost::light_draws(l.method),
-                pairs: l.shaded.unwrap_or(0),
-                ideal: l.ideal,
-                wasted: l.wasted,
-                predicted_ms: model.as_ref().map_or(f64::NAN, |m| cost_of(m, k)),
-                measured_ms: measured,
-                // The median's standard error, from the deviations' spread (1.4826 MAD is σ
-                // for normal noise; the median's is 1.2533 σ/√n).
-                noise_ms: 1.2533 * 1.4826 * mad / (diffs.len() as f64).sqrt(),
-            }
+            let cost = [model.as_ref(), one_rate.as_ref()].map(|m| m.map(|m| cost_of(m, k)));
+            removal(k, &full.per_light[k], &whole, t, cost)
         })
         .collect();
     costliest.sort_by(|a, b| b.predicted_ms.total_cmp(&a.predicted_ms));
@@ -293,7 +308,9 @@ fn mode_row(
         culling: settings.culling,
         lights: n,
         size: o.size,
+        one_rate_predicted_ms: one_rate.as_ref().map(|m| m.predict(&whole_features)),
         model,
+        one_rate,
         samples,
         predicted_ms,
         measured_ms,
@@ -303,6 +320,28 @@ fn mode_row(
         uncounted_ms: measured_ms,
         error: None,
     })
+}
+
+/// Light `k`'s removal (`l` its counted stats): the whole set's rounds `whole` against those
+/// without it, `less`, and its cost by the model and by the one-rate fit.
+fn removal(k: usize, l: &LightStats, whole: &[f64], less: &[f64], cost: [Option<f64>; 2]) -> CostlyLight {
+    let diffs: Vec<f64> = whole.iter().zip(less).map(|(a, b)| a - b).collect();
+    let measured = median(diffs.clone());
+    let mad = median(diffs.iter().map(|v| (v - measured).abs()).collect());
+    CostlyLight {
+        index: k,
+        kind: l.kind.to_string(),
+        draws: cost::light_draws(l.method),
+        pairs: l.shaded.unwrap_or(0),
+        ideal: l.ideal,
+        wasted: l.wasted,
+        predicted_ms: cost[0].unwrap_or(f64::NAN),
+        one_rate_ms: cost[1],
+        measured_ms: measured,
+        // The median's standard error, from the deviations' spread (1.4826 MAD is σ for normal
+        // noise; the median's is 1.2533 σ/√n).
+        noise_ms: 1.2533 * 1.4826 * mad / (diffs.len() as f64).sqrt(),
+    }
 }
 
 /// The fitted models by mode, for the other configurations' per-light costs.
@@ -336,31 +375,38 @@ pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
     }
     let mut s = String::from(
         "\n## The light ledger: each light's cost, checked\n\n\
-         Model (`renderer::explain::cost`): light pass = fixed + Σ lights (draws x draw ms + evaluated pairs x ns a pair), fitted by least squares on frames of light subsets (every fourth and every other light; the halves and quarters \
+         Model (`renderer::explain::cost`): light pass = fixed + Σ lights (draws x draw ms + evaluated pairs x ns a pair; in the drawn modes a \
+         rejected pair at `fullscreen`'s pair cost, the rej ns column), fitted by least squares on frames of light subsets (every fourth and every other light; the halves and quarters \
          with the fewest and most pairs; the halves with the least and most wasted share), \
          then held against frames it was not fitted on. Sum: fixed + the lights' costs against the whole set's light pass \
          (goal ±10%, or the pass's round-to-round spread where that is larger: the bound column says which). Removals: each \
          of the ten costliest lights taken out; measured saving = median over interleaved rounds \
          of (whole - without it), ± its standard error (goal ±20%; resolved when the saving exceeds three standard errors). \
          Ledger: the light pass with the per-light counters on, against off.\n\n\
-         | mode | lights | size | fixed ms | draw ms | ns/pair | predicted ms | measured ms | sum error | sum bound | sum holds | resolved removals within ±20% | resolved | unresolved | ledger on ms | off ms |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+         | mode | lights | size | fixed ms | draw ms | ns/pair | rej ns | predicted ms | measured ms | sum error | sum bound | sum holds | resolved removals within ±20% | resolved | unresolved | ledger on ms | off ms |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if let Some(e) = &r.error {
             s += &format!(
-                "| {} | {} | {}x{} | error: {e} | | | | | | | | | | | | |\n",
+                "| {} | {} | {}x{} | error: {e} | | | | | | | | | | | | | |\n",
                 r.mode, r.lights, r.size.0, r.size.1
             );
             continue;
         }
-        let [fixed, draw, pair] = r.model.as_ref().map_or(["-".to_string(), "-".into(), "-".into()], |m| {
-            [format!("{:.3}", m.fixed_ms), format!("{:.4}", m.draw_ms), format!("{:.2}", m.pair_ns)]
-        });
+        let [fixed, draw, pair, reject] =
+            r.model.as_ref().map_or(["-".to_string(), "-".into(), "-".into(), "-".into()], |m| {
+                [
+                    format!("{:.3}", m.fixed_ms),
+                    format!("{:.4}", m.draw_ms),
+                    format!("{:.2}", m.pair_ns),
+                    m.reject_ns.map_or("-".into(), |v| format!("{v:.2}")),
+                ]
+            });
         let resolved: Vec<&CostlyLight> = r.costliest.iter().filter(|c| c.resolved()).collect();
         let (bound, which) = r.sum_bound();
         s += &format!(
-            "| {} | {} | {}x{} | {fixed} | {draw} | {pair} | {:.2} | {:.2} | {:+.1}% | {which} ({bound:.2} ms) | {} | {}/{} | {} | {} | {:.2} | {:.2} |\n",
+            "| {} | {} | {}x{} | {fixed} | {draw} | {pair} | {reject} | {:.2} | {:.2} | {:+.1}% | {which} ({bound:.2} ms) | {} | {}/{} | {} | {} | {:.2} | {:.2} |\n",
             r.mode,
             r.lights,
             r.size.0,
@@ -384,8 +430,21 @@ pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
             .map(|f| format!("{} draws, {} pairs ({} wasted): {:.2} ms", f.draws, f.pairs(), f.wasted, f.ms))
             .collect();
         s += &format!("\n**{}**: the fit's frames: {}.\n", r.mode, frames.join("; "));
+        if let (Some(m), Some(one)) = (&r.model, &r.one_rate) {
+            s += &format!(
+                "\n**{}**: one rate for every pair: fixed {:.3} ms, draw {:.4} ms, {:.2} ns a pair (against {:.2} shaded and {:.2} rejected); the whole set {:.2} ms ({:+.1}%).\n",
+                r.mode,
+                one.fixed_ms,
+                one.draw_ms,
+                one.pair_ns,
+                m.pair_ns,
+                m.reject_ns.unwrap_or(f64::NAN),
+                r.one_rate_predicted_ms.unwrap_or(f64::NAN),
+                100.0 * (r.one_rate_predicted_ms.unwrap_or(f64::NAN) - r.measured_ms) / r.measured_ms
+            );
+        }
         s += &format!(
-            "\n**{}**: the ten costliest lights\n\n| light | kind | draws | pairs | ideal | wasted | cost ms (model) | saving ms (measured) | ± | check |\n|---|---|---|---|---|---|---|---|---|---|\n",
+            "\n**{}**: the ten costliest lights\n\n| light | kind | draws | pairs | ideal | wasted | cost ms (model) | one rate ms | saving ms (measured) | ± | check | one rate's check |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
             r.mode
         );
         for c in &r.costliest {
@@ -395,8 +454,14 @@ pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
                 (true, true) => "within",
                 (true, false) => "outside",
             };
+            let one_check = match (c.one_rate_ms, c.resolved()) {
+                (None, _) => "-",
+                (Some(_), false) => "unresolved",
+                (Some(one), true) if (c.measured_ms - one).abs() <= 0.2 * one => "within",
+                (Some(_), true) => "outside",
+            };
             s += &format!(
-                "| {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {check} |\n",
+                "| {} | {} | {} | {} | {} | {} | {:.4} | {} | {:.4} | {:.4} | {check} | {one_check} |\n",
                 c.index,
                 c.kind,
                 c.draws,
@@ -404,6 +469,7 @@ pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
                 opt(c.ideal),
                 opt(c.wasted),
                 c.predicted_ms,
+                c.one_rate_ms.map_or("-".into(), |v| format!("{v:.4}")),
                 c.measured_ms,
                 c.noise_ms
             );
@@ -428,6 +494,7 @@ mod tests {
             ideal: None,
             wasted: None,
             predicted_ms: 0.5,
+            one_rate_ms: None,
             measured_ms,
             noise_ms,
         };
@@ -438,9 +505,11 @@ mod tests {
             lights: 60,
             size: (640, 360),
             model: None,
+            one_rate: None,
             samples: Vec::new(),
             predicted_ms,
             measured_ms: 10.0,
+            one_rate_predicted_ms: None,
             measured_spread_ms,
             costliest: Vec::new(),
             counted_ms: f64::NAN,

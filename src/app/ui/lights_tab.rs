@@ -301,8 +301,11 @@ fn ledger_summary(ui: &mut egui::Ui, stats: Option<&FrameStats>) {
                 fmt_ms(s.gpu_ms.lighting)
             ))
             .on_hover_text(format!(
-                "cost = draws x {:.4} ms + evaluated pairs x {:.1} ns; {}. Each row shows the light's share of the measured pass (the measured time split in proportion to the model's costs, fixed part included), or the model's ms where the frame was not timed. `lampshade bench --only ledger` fits the model on this adapter and checks it by removing lights.",
-                m.draw_ms, m.pair_ns, m.source
+                "cost = draws x {:.4} ms + evaluated pairs x {:.1} ns{}; {}. Each row shows the light's share of the measured pass (the measured time split in proportion to the model's costs, fixed part included), or the model's ms where the frame was not timed. `lampshade bench --only ledger` fits the model on this adapter and checks it by removing lights.",
+                m.draw_ms,
+                m.pair_ns,
+                m.reject_ns.map_or(String::new(), |r| format!(" (a rejected pair {r:.1} ns)")),
+                m.source
             ));
         }
         _ => {

@@ -20,13 +20,26 @@
 //! for volumes of one shape and so folds into `t_pair`); each evaluated pair costs one run of
 //! the shading loop's body.
 //!
-//! What the model leaves out, measured (docs/measurements.md, "The light ledger"): a wasted
-//! pair in `tiled` and `clustered` stops at the loop's range test before any shading, so a
-//! light whose list entries mostly miss (a spot's range sphere around a narrow cone) costs
-//! less than its pairs say. A fit with wasted pairs as a term of their own, and with a term
-//! per light for the list building, was tried: on lavapipe the timed frames could not
-//! determine the extra terms (their coefficients swung with the noise, and the sum check got
-//! worse), so the model keeps one pair cost per mode.
+//! **Rejected pairs.** A wasted pair (evaluated, outside the light's true shape) returns at the
+//! shading's range or cone test, before the BRDF: it costs less than a shaded one, so a light
+//! whose draws mostly miss (a spot's cone volume around the few pixels its cone lights) costs
+//! less than its pairs at one rate say. Where the ledger has measured it, the model splits the
+//! pairs,
+//!
+//! ```text
+//! cost_i = d_i · t_draw + e_i · t_pair + w_i · t_reject,    e_i = ideal, w_i = p_i - e_i
+//! ```
+//!
+//! with `t_reject` not fitted per mode but measured apart, where nearly every pair is one: the
+//! `fullscreen` mode's pair cost. There every light is evaluated at every pixel, so its
+//! frames are over 99% rejected pairs of the same fragment shader, timed with a large signal;
+//! the drawn modes (`volume`, the stencil modes) run that shader too, so the constant carries
+//! over to them. Its bias is the ideal share of `fullscreen`'s pairs times the excess of a
+//! shaded pair over a rejected one. A fit with the wasted pairs as a free term of every mode
+//! was tried first: on lavapipe the timed frames could not determine it (its coefficient swung
+//! with the noise, from 0 to 1,100 ns, and the sum check got worse), which is why the constant
+//! is measured where it dominates instead. The list modes keep one pair cost: their rejected
+//! pair is a loop iteration, not a fragment, and no mode of theirs isolates it.
 //!
 //! **The coefficients** come from timing, never from the frame they are charged to:
 //! [`CostModel::fit`] solves least squares over frames that each shade a different subset of
@@ -54,8 +67,12 @@ pub struct CostModel {
     pub fixed_ms: f64,
     /// One light draw (ms).
     pub draw_ms: f64,
-    /// One evaluated light-pixel pair (ns).
+    /// One evaluated light-pixel pair (ns); with `reject_ns`, one inside the light's shape.
     pub pair_ns: f64,
+    /// One rejected pair (ns), where measured apart (`fullscreen`'s pair cost): a wasted pair
+    /// then costs this instead of `pair_ns`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reject_ns: Option<f64>,
     /// Where the coefficients come from: "lavapipe constants" or the fit's frames.
     pub source: String,
 }
@@ -105,18 +122,36 @@ impl CostModel {
             fixed_ms: list.map_or(0.0, |l| l.fixed_ms_per_mpx * pixels / 1e6),
             draw_ms: c.draw_ms,
             pair_ns: list.map_or(c.fragment_ns, |l| l.pair_ns),
+            reject_ns: None,
             source,
         }
     }
 
-    /// The cost of `draws` draws and `pairs` evaluated pairs (ms).
+    /// The cost of `draws` draws and `pairs` evaluated pairs at the one pair rate (ms).
     pub fn cost_ms(&self, draws: u64, pairs: u64) -> f64 {
         draws as f64 * self.draw_ms + pairs as f64 * self.pair_ns * 1e-6
     }
 
-    /// Light `l`'s cost, when its pairs were counted.
+    /// Light `l`'s cost, when its pairs were counted: its ideal and wasted pairs apart where
+    /// the model prices rejected pairs and the frame counted the ideal ones.
     pub fn light_ms(&self, l: &LightStats) -> Option<f64> {
-        Some(self.cost_ms(light_draws(l.method), l.shaded?))
+        let shaded = l.shaded?;
+        let draws = light_draws(l.method);
+        Some(match (self.reject_ns, l.ideal) {
+            (Some(reject), Some(ideal)) => {
+                let e = ideal.min(shaded);
+                draws as f64 * self.draw_ms + (e as f64 * self.pair_ns + (shaded - e) as f64 * reject) * 1e-6
+            }
+            _ => self.cost_ms(draws, shaded),
+        })
+    }
+
+    /// [`fit`](Self::fit) with rejected pairs priced at `reject_ns`, measured apart: their
+    /// cost is taken off each frame's time, and the rest fitted on the ideal pairs.
+    pub fn fit_with_reject(samples: &[Sample], reject_ns: f64, source: impl Into<String>) -> Option<Self> {
+        let rest: Vec<Sample> =
+            samples.iter().map(|s| Sample { wasted: 0.0, ms: s.ms - s.wasted * reject_ns * 1e-6, ..*s }).collect();
+        Some(Self { reject_ns: Some(reject_ns), ..Self::fit(&rest, source)? })
     }
 
     /// Least squares over `samples`: `T = fixed + draws · draw_ms + pairs · pair_ns`, the
@@ -167,12 +202,18 @@ impl CostModel {
             }
         }
         let (_, c) = best?;
-        Some(Self { fixed_ms: c[0], draw_ms: c[1], pair_ns: c[2], source })
+        Some(Self { fixed_ms: c[0], draw_ms: c[1], pair_ns: c[2], reject_ns: None, source })
     }
 
     /// What the model predicts for a frame, fixed part included.
     pub fn predict(&self, s: &Sample) -> f64 {
-        predict(&[self.fixed_ms, self.draw_ms, self.pair_ns], s)
+        match self.reject_ns {
+            Some(reject) => {
+                predict(&[self.fixed_ms, self.draw_ms, self.pair_ns], &Sample { wasted: 0.0, ..*s })
+                    + s.wasted * reject * 1e-6
+            }
+            None => predict(&[self.fixed_ms, self.draw_ms, self.pair_ns], s),
+        }
     }
 }
 
@@ -241,7 +282,7 @@ mod tests {
     }
 
     fn model(fixed_ms: f64, draw_ms: f64, pair_ns: f64) -> CostModel {
-        CostModel { fixed_ms, draw_ms, pair_ns, source: String::new() }
+        CostModel { fixed_ms, draw_ms, pair_ns, reject_ns: None, source: String::new() }
     }
 
     #[test]
@@ -296,5 +337,30 @@ mod tests {
         let listed = LightStats { method: Method::Clustered, ..l.clone() };
         assert!((m.light_ms(&listed).unwrap() - 30.0).abs() < 1e-9);
         assert_eq!(m.light_ms(&LightStats { shaded: None, ..l }), None);
+    }
+
+    #[test]
+    fn rejected_pairs_priced_apart_are_taken_off_before_the_fit() {
+        // Frames whose wasted pairs cost 4 ns and shaded ones 40: one rate for both cannot
+        // fit them, the split recovers both.
+        let truth = CostModel { reject_ns: Some(4.0), ..model(1.0, 0.01, 40.0) };
+        let s: Vec<Sample> = [(16.0, 1e4, 9e5), (32.0, 5e4, 2e5), (8.0, 4e4, 4e5), (64.0, 2e4, 1e6), (40.0, 8e4, 5e5)]
+            .iter()
+            .map(|&(draws, ideal, wasted)| {
+                let f = Sample { draws, ideal, wasted, ms: 0.0 };
+                Sample { ms: truth.predict(&f), ..f }
+            })
+            .collect();
+        let fit = CostModel::fit_with_reject(&s, 4.0, "test").expect("separable");
+        for (got, want) in [(fit.fixed_ms, 1.0), (fit.draw_ms, 0.01), (fit.pair_ns, 40.0)] {
+            assert!((got - want).abs() < 1e-6, "{fit:?}");
+        }
+        // A light's cost splits its pairs at its ideal count, and falls back to the one rate
+        // where the ideal was not counted.
+        let l = LightStats { method: Method::Volume, shaded: Some(10_000), ideal: Some(2_000), ..Default::default() };
+        let want = 0.01 + (2_000.0 * 40.0 + 8_000.0 * 4.0) * 1e-6;
+        assert!((fit.light_ms(&l).unwrap() - want).abs() < 1e-12);
+        let uncounted = LightStats { ideal: None, ..l };
+        assert!((fit.light_ms(&uncounted).unwrap() - (0.01 + 10_000.0 * 40.0 * 1e-6)).abs() < 1e-12);
     }
 }

@@ -35,6 +35,19 @@ pub struct CostConstants {
     pub clustered: ListCost,
     pub tiled: Option<ListCost>,
     pub zbin: Option<ListCost>,
+    /// The fewest lights the constants were measured at: the frame rule weighs the list modes
+    /// from there up, and keeps the per-light plan below, where its lines would be extrapolated
+    /// (a file without it: the built-in [`BUILTIN_MIN_LIGHTS`]).
+    #[serde(default = "builtin_min_lights")]
+    pub min_lights: usize,
+}
+
+/// The built-in constants' fewest lights: they were measured at 1,024 lights and more, and with
+/// fewer than this many the per-light plan's draws cost little.
+pub const BUILTIN_MIN_LIGHTS: usize = 256;
+
+fn builtin_min_lights() -> usize {
+    BUILTIN_MIN_LIGHTS
 }
 
 /// From the full bench (idle lavapipe, 2 cores): a light draw about 30 µs, a shaded
@@ -68,6 +81,7 @@ impl CostConstants {
         },
         tiled: None,
         zbin: None,
+        min_lights: BUILTIN_MIN_LIGHTS,
     };
 
     /// Every value finite and at zero or above.
@@ -157,6 +171,11 @@ mod tests {
         assert_eq!(c.clustered, ListCost { fixed_ms_per_mpx: 16.0, pair_ns: 12.0, pairs_per_footprint: 0.31 });
         assert_eq!((c.tiled, c.zbin), (None, None));
         assert_eq!(c.validate(), Ok(()));
+        // A file written before the fewest-lights field reads with the built-in count.
+        let mut v = serde_json::to_value(c).unwrap();
+        v.as_object_mut().unwrap().remove("min_lights");
+        let old: CostConstants = serde_json::from_value(v).unwrap();
+        assert_eq!(old.min_lights, BUILTIN_MIN_LIGHTS);
         assert!(CostConstants { draw_ms: f64::NAN, ..c }.validate().is_err());
     }
 }

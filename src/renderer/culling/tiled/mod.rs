@@ -708,11 +708,6 @@ impl ClusterBuild {
     }
 }
 
-/// Below this many lights `auto` keeps its per-light plan: the built-in constants
-/// (`options::calibration::CostConstants::BUILTIN`) were measured at 1,024 lights and more, and
-/// with few lights the per-light plan's draws cost little.
-pub const FRAME_RULE_MIN_LIGHTS: usize = 256;
-
 /// One light's terms in the frame rule's costs, as [`frame_costs`] counts them: its draws and
 /// the fragments of its footprint when drawn by `method`, and its footprint as a list mode
 /// lists it (none when skipped).
@@ -771,8 +766,8 @@ pub fn frame_costs(plans: &[LightPlan], size: (u32, u32), costs: &CostConstants)
 }
 
 /// The frame-level rule, after the per-light plans: `tiled`, `clustered` and `zbin` shade every light
-/// from their lists; `auto` with at least [`FRAME_RULE_MIN_LIGHTS`] lights keeps its per-light
-/// plan unless [`frame_costs`] estimates a list mode cheaper (`clustered`, or `tiled` and `zbin`
+/// from their lists; `auto` with at least the constants' `min_lights` lights (the fewest they
+/// were measured at) keeps its per-light plan unless [`frame_costs`] estimates a list mode cheaper (`clustered`, or `tiled` and `zbin`
 /// where the view's constants weigh them), and then shades the whole frame with the cheapest.
 /// Returns the method of the tiled pass, if the frame uses it.
 pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
@@ -782,7 +777,7 @@ pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
         CullingMode::Zbin => Method::Zbin,
         // Past what every mode takes, `zbin`: O(lights) on the CPU and in memory.
         CullingMode::Auto if plans.len() > crate::renderer::settings::MAX_LIGHTS_EVERY_MODE => Method::Zbin,
-        CullingMode::Auto if plans.len() >= FRAME_RULE_MIN_LIGHTS => {
+        CullingMode::Auto if plans.len() >= view.costs.min_lights => {
             let mut costs = frame_costs(plans, view.size, &view.costs);
             // Past GPU_LIST_MAX_LIGHTS lights `tiled` tests every light against every tile
             // twice (its batches' count and write sweeps): a cost per tile and light that the

@@ -112,7 +112,7 @@ pub fn calibrate(
     }
     progress(total, total, "fitting");
     let how = format!(
-        "lampshade calibrate: {} at {}x{}, {:?} lights (the two largest also at half the radii), median of {} frames",
+        "lampshade calibrate: {} at {}x{}, {:?} lights (the two largest also at half the radii), the modes interleaved, median of {} rounds",
         o.scene, o.size.0, o.size.1, o.counts, o.frames
     );
     Ok(fit(key, &how, o.size, measured))

@@ -96,12 +96,6 @@ fn a_planted_calibration_that_makes_tiled_cheap_changes_autos_choice() {
     let (calibration, method, _) = auto_frame(&home, "planted");
     assert_eq!(calibration, format!("{}, measured 2026-01-01", key()));
     assert_eq!(method.as_deref(), Some("tiled"), "auto did not take the calibration's cheap tiled");
-    // The same constants measured only from 2,048 lights up: at 1,024 the rule does not
-    // extrapolate them, and the frame keeps its per-light plan.
-    let above = Calibration { costs: CostConstants { min_lights: 2048, ..planted.costs }, ..planted.clone() };
-    lampshade::calibration::write(&home.join("lampshade"), &above).expect("planting the calibration");
-    let (_, method, _) = auto_frame(&home, "planted-above");
-    assert_eq!(method, None, "auto weighed the list modes below the calibration's fewest lights");
     // The same file named explicitly from another (empty) cache home.
     let other = cache_home("planted-explicit");
     let png = other.join("x.png");
@@ -126,6 +120,13 @@ fn a_planted_calibration_that_makes_tiled_cheap_changes_autos_choice() {
     );
     let (stdout, stderr) = text(&out);
     assert!(out.status.success() && stdout.contains("auto (tiled)"), "{stdout}\n{stderr}");
+    // The same constants measured only from 2,048 lights up: at 1,024 the rule does not
+    // extrapolate them, and the frame keeps its per-light plan.
+    let above_home = cache_home("planted-above");
+    let above = Calibration { costs: CostConstants { min_lights: 2048, ..planted.costs }, ..planted };
+    lampshade::calibration::write(&above_home.join("lampshade"), &above).expect("planting the calibration");
+    let (_, method, _) = auto_frame(&above_home, "planted-above");
+    assert_eq!(method, None, "auto weighed the list modes below the calibration's fewest lights");
 }
 
 #[test]

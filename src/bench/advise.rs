@@ -459,23 +459,11 @@ impl GpuFrames<'_> {
 }
 
 impl Frames for GpuFrames<'_> {
+    /// Two warm-up frames (the first of a new scene or size builds what it needs, lavapipe
+    /// compiles shaders on first use), the timed frames, then one counted: one candidate's
+    /// rounds.
     fn frame(&mut self, c: usize, lights: usize, radius_scale: f64) -> Result<Point> {
-        let s = self.scene(lights, radius_scale)?;
-        let timed = self.timed_settings(c)?;
-        // Two frames first (the first of a new scene or size builds what it needs, lavapipe
-        // compiles shaders on first use); each timed frame then draws the same frame, as the
-        // bench's.
-        for _ in 0..2 {
-            self.time(c, s, &timed)?;
-        }
-        let mut times = Vec::new();
-        let mut draws = 0.0;
-        for _ in 0..self.timed {
-            let (ms, d) = self.time(c, s, &timed)?;
-            times.push(ms);
-            draws = d;
-        }
-        self.counted(c, s, &timed, &times, draws)
+        self.interleaved(&[c], lights, radius_scale).pop().unwrap_or_else(|| Err(anyhow::anyhow!("no frame")))
     }
 
     /// Each candidate warmed by two frames, then `timed` rounds of one frame of each in turn,

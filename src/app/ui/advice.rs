@@ -1,6 +1,6 @@
 //! The advisor's window: its progress while it runs, then prediction against measurement per
-//! light count and candidate, the best of each, and the crossovers (as `lampshade advise`
-//! prints them).
+//! light count and candidate, the best of each, the answer with its regret, and the crossovers
+//! (as `lampshade advise` prints them).
 
 use super::common::FrameInfo;
 use crate::app::state::UiState;
@@ -69,6 +69,24 @@ pub(super) fn advice_window(ctx: &egui::Context, st: &mut UiState, f: &FrameInfo
                         let colour =
                             if p == m { Color32::from_rgb(120, 220, 120) } else { Color32::from_rgb(255, 170, 80) };
                         ui.label(RichText::new(name).color(colour));
+                    }
+                    ui.end_row();
+                    // The answer: of the three predicted fastest, the one measured fastest, and
+                    // its regret against the measured best of all.
+                    ui.label(RichText::new("answer (regret)").strong()).on_hover_text(
+                        "of the three candidates predicted fastest, the one measured fastest; its regret is its measured ms over the measured best's, met (green) where it is the best or the two differ by less than two combined standard errors of their rounds",
+                    );
+                    for k in 0..a.counts.len() {
+                        let name = a.answer(k).and_then(|c| a.candidates.get(c).cloned()).unwrap_or_else(|| "-".into());
+                        let t = match a.regret(k) {
+                            Some((r, met)) => RichText::new(format!("{name} ({r:.2})")).color(if met {
+                                Color32::from_rgb(120, 220, 120)
+                            } else {
+                                Color32::from_rgb(255, 170, 80)
+                            }),
+                            None => RichText::new(name),
+                        };
+                        ui.label(t);
                     }
                     ui.end_row();
                 },

@@ -765,11 +765,12 @@ pub fn frame_costs(plans: &[LightPlan], size: (u32, u32), costs: &CostConstants)
     }
 }
 
-/// The frame-level rule, after the per-light plans: `tiled`, `clustered` and `zbin` shade every light
-/// from their lists; `auto` with at least the constants' `min_lights` lights (the fewest they
-/// were measured at) keeps its per-light plan unless [`frame_costs`] estimates a list mode cheaper (`clustered`, or `tiled` and `zbin`
-/// where the view's constants weigh them), and then shades the whole frame with the cheapest.
-/// Returns the method of the tiled pass, if the frame uses it.
+/// The frame-level rule, after the per-light plans: `tiled`, `clustered` and `zbin` shade every
+/// light from their lists; `auto` with at least the constants' `min_lights` lights (the fewest
+/// they were measured at) keeps its per-light plan unless [`frame_costs`] estimates a list mode
+/// cheaper (`clustered`, or `tiled` and `zbin` where the view's constants weigh them), and then
+/// shades the whole frame with the cheapest. Returns the method of the tiled pass, if the frame
+/// uses it.
 pub fn frame_rule(plans: &mut [LightPlan], view: &PlanView) -> Option<Method> {
     let method = match view.mode {
         CullingMode::Tiled => Method::Tiled,

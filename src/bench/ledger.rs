@@ -64,7 +64,12 @@ impl CostlyLight {
     }
 
     pub fn within(&self) -> bool {
-        (self.measured_ms - self.predicted_ms).abs() <= 0.2 * self.predicted_ms
+        self.within_of(self.predicted_ms)
+    }
+
+    /// Whether the measured saving is within ±20% of `predicted` (ms).
+    pub fn within_of(&self, predicted: f64) -> bool {
+        (self.measured_ms - predicted).abs() <= 0.2 * predicted
     }
 }
 
@@ -457,7 +462,7 @@ pub fn ledger_markdown(rows: &[LedgerRow]) -> String {
             let one_check = match (c.one_rate_ms, c.resolved()) {
                 (None, _) => "-",
                 (Some(_), false) => "unresolved",
-                (Some(one), true) if (c.measured_ms - one).abs() <= 0.2 * one => "within",
+                (Some(one), true) if c.within_of(one) => "within",
                 (Some(_), true) => "outside",
             };
             s += &format!(

@@ -375,6 +375,11 @@ pub struct ViewArgs {
     /// Neither read nor write the saved state.
     #[arg(long)]
     pub no_state: bool,
+    /// Write one JSON line per presented frame to FILE: its wall and GPU time, the
+    /// configuration drawn (and the one building meanwhile), and what it waited on (compile,
+    /// read-back, calibration or nothing).
+    #[arg(long, value_name = "FILE")]
+    pub frame_log: Option<PathBuf>,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
 }
@@ -394,6 +399,7 @@ impl Default for ViewArgs {
             screenshot_dir: PathBuf::from("."),
             state: None,
             no_state: false,
+            frame_log: None,
             calibration: CalibrationArgs::default(),
         }
     }

@@ -320,6 +320,25 @@ impl Gpu {
         })
     }
 
+    /// The same device, queue and pass pool, for another thread: what one thread compiles
+    /// there the other draws with (the viewer's background compiles). wgpu's handles are
+    /// shared, not copied.
+    pub fn share(&self) -> Self {
+        Self {
+            instance: self.instance.clone(),
+            adapter: self.adapter.clone(),
+            device: self.device.clone(),
+            queue: self.queue.clone(),
+            features: self.features,
+            info: self.info.clone(),
+            caps: self.caps.clone(),
+            errors: self.errors.clone(),
+            passes: self.passes.clone(),
+            uploads: self.uploads.clone(),
+            depth_reader: Default::default(),
+        }
+    }
+
     /// Whether debug groups may be pushed on a command encoder (outside a pass): not on
     /// lavapipe ([`Quirks::no_encoder_debug_groups`]; its render-pass labels work, and every
     /// pass is labelled).

@@ -28,6 +28,9 @@ const ATLAS_IMAGE: (u32, u32) = (64, 2048);
 impl App {
     pub(super) fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let dt = self.tick();
+        self.waits = Default::default();
+        self.drew = None;
+        self.render_ms = 0.0;
         // 1. Script actions and keys change the state; actions that read the drawn frame wait.
         let (post, commands) = self.input(dt);
         // 2. The frame's scene and settings.
@@ -37,14 +40,20 @@ impl App {
             return Ok(());
         }
         // 3. The scene into the viewport texture, at the viewport's size times the scale; none
-        //    while a calibration measures (the viewport holds its last frame).
-        let rendered = !self.finish_calibration() && self.render_viewport(&settings);
+        //    while a calibration measures (the viewport holds its last frame). A configuration
+        //    whose pipelines build in the background leaves the last one drawn meanwhile.
+        let calibrating = self.timed_finish_calibration();
+        let drawn = if calibrating { None } else { self.render_viewport(&settings) };
+        let rendered = drawn.is_some();
+        let settings = drawn.unwrap_or(settings);
         // 4. Thumbnails: the compose pass of this frame again, once per view.
         let tiles = self.render_thumbnails(&settings, rendered);
         // 4b. The shadow atlas as an image, while its panel is open.
         self.render_atlas(rendered);
         // 5. The pixel under the pointer, 6. the light-volume wireframes, memory now and then.
+        let probing = Instant::now();
         self.update_probe(rendered);
+        self.waits.readback_ms += probing.elapsed().as_secs_f64() * 1e3;
         let wires = self.wireframes();
         self.sample_memory();
         // 7. The panels, around the viewport texture.
@@ -52,6 +61,7 @@ impl App {
         // 8. egui into the window, after the scene; captured when a screenshot asks.
         let capture = post.iter().any(|a| matches!(a, Action::Screenshot(_)));
         let window_image = self.present(full, capture)?;
+        self.log_frame();
         // 9. What the panels and keys asked for.
         self.apply_commands(out, commands);
         // 10. Scripted screenshots, memory and quit, after the frame is drawn.
@@ -133,11 +143,22 @@ impl App {
         }
     }
 
-    /// Renders the scene into the viewport texture. A setting the adapter cannot do (an
-    /// accumulation format, say) is rejected: back to the last settings that rendered, with the
-    /// reason on the status line. Returns whether a frame was rendered.
-    fn render_viewport(&mut self, settings: &Settings) -> bool {
-        let Some(g) = self.gfx.as_mut() else { return false };
+    /// Renders the scene into the viewport texture: with `settings`, or while their pipelines
+    /// build in the background, with the last settings drawn (`compiling`). A setting the
+    /// adapter cannot do (an accumulation format, say) is rejected: back to the last settings
+    /// that rendered, with the reason on the status line. Returns the settings a frame was
+    /// rendered with, if one was.
+    fn render_viewport(&mut self, settings: &Settings) -> Option<Settings> {
+        let size = self.viewport_size()?;
+        let (draw, stand_in) = self.settings_to_draw(settings, size)?;
+        let rendered = self.render_viewport_with(&draw, size, stand_in);
+        rendered.then_some(draw)
+    }
+
+    /// The viewport's size in pixels (its rectangle times the scale), or `None` when there is
+    /// nothing to draw into (no layout yet, or the window minimised).
+    fn viewport_size(&mut self) -> Option<(u32, u32)> {
+        let g = self.gfx.as_mut()?;
         let ppp = g.egui_ctx.pixels_per_point();
         let size = self.viewport_rect.map(|r| {
             let s = self.state.resolution_scale.clamp(state::MIN_SCALE, state::MAX_SCALE) * ppp;
@@ -150,14 +171,32 @@ impl App {
         if minimised {
             // Nothing to draw into: do not spin while the window is away.
             std::thread::sleep(std::time::Duration::from_millis(50));
-            return false;
+            return None;
         }
-        let (Some((w, h)), Some(scene)) = (size, &self.scene) else { return false };
+        size
+    }
+
+    /// Renders `settings` into the viewport at `(w, h)`; whether a frame was rendered.
+    fn render_viewport_with(&mut self, settings: &Settings, (w, h): (u32, u32), stand_in: bool) -> bool {
+        let (Some(g), Some(scene)) = (self.gfx.as_mut(), &self.scene) else { return false };
         if g.viewport.resize(&g.gpu.device, &mut g.egui_renderer, w, h, wgpu::FilterMode::Linear) {
             self.have_image = false;
         }
-        match g.renderer.render(scene, settings, &g.viewport.target, w, h) {
+        let rendering = Instant::now();
+        let result = g.renderer.render(scene, settings, &g.viewport.target, w, h);
+        self.render_ms = rendering.elapsed().as_secs_f64() * 1e3;
+        match result {
             Ok(stats) => {
+                self.waits.compile_ms += stats.pipelines.build_us as f64 / 1e3;
+                self.drew = Some((super::compiling::config_name(settings), stand_in));
+                if let Some((declared, now)) = g.renderer.last_compiles().filter(|_| stats.pipelines.built > 0) {
+                    let name = super::compiling::config_name(settings);
+                    let built = super::compiling::ConfigPipelines::of(name, "frame", declared, now);
+                    super::compiling::remember(&mut self.pipelines, built);
+                }
+                if !stand_in {
+                    self.drawn = Some((settings.clone(), scene.name.clone()));
+                }
                 g.viewport.publish(&g.gpu);
                 self.history.push(Sample {
                     gpu_total: stats.gpu_ms.total,
@@ -166,7 +205,9 @@ impl App {
                     ideal: stats.ideal_fragments,
                 });
                 self.stats = Some(stats);
-                self.good_settings = Some(self.state.settings.clone());
+                if self.drawn.as_ref().is_some_and(|(s, _)| *s == self.state.frame_settings()) {
+                    self.good_settings = Some(self.state.settings.clone());
+                }
                 self.have_image = true;
                 true
             }
@@ -292,6 +333,7 @@ impl App {
     /// Lays out the panels (egui) from this frame's figures; they edit the state and return what
     /// only the application can do.
     fn run_panels(&mut self, tiles: &[Thumb], wires: &Wires) -> (egui::FullOutput, UiOut) {
+        let compiling = self.compiling_note();
         let Some(g) = self.gfx.as_mut() else { return (Default::default(), UiOut::default()) };
         let mut raw = g.egui_state.take_egui_input(&g.surface.window);
         raw.events.append(&mut self.injected);
@@ -334,6 +376,8 @@ impl App {
             memory: self.memory,
             atlas,
             atlas_default_pos,
+            compiling,
+            pipelines: &self.pipelines,
         };
         let mut out = UiOut::default();
         let state = &mut self.state;
@@ -395,7 +439,9 @@ impl App {
             // The window's own wgpu errors (egui, the images it shows): said on the status line.
             ui_error = g.gpu.errors.check().err();
             if capture && g.surface.can_capture {
+                let reading = Instant::now();
                 window_image = Some(g.surface.capture(&g.gpu, &frame));
+                self.waits.readback_ms += reading.elapsed().as_secs_f64() * 1e3;
             }
             g.surface.window.pre_present_notify();
             g.gpu.queue.present(frame);
@@ -482,6 +528,15 @@ impl App {
                     gfx::save_png(&img, &path)?;
                     self.save_viewport(&vp)?;
                     println!("frame {}: screenshot {} and {}", self.frame, path.display(), vp.display());
+                }
+                Action::Pipelines(path) => {
+                    self.write_pipelines(&path)?;
+                    println!(
+                        "frame {}: pipelines {} ({} configurations)",
+                        self.frame,
+                        path.display(),
+                        self.pipelines.len()
+                    );
                 }
                 Action::Memory => {
                     match crate::memory::resident_bytes() {

@@ -9,7 +9,9 @@
 mod advice;
 mod calibrating;
 pub mod camera;
+pub mod compiling;
 mod frame;
+mod frame_log;
 pub mod gfx;
 pub mod loading;
 pub mod persist;
@@ -41,6 +43,7 @@ pub use crate::cli::ViewArgs;
 /// Opens the viewer. Everything a user controls is checked before the window opens: the scene
 /// name, the light count, the script.
 pub fn run(args: ViewArgs) -> Result<()> {
+    let started = Instant::now();
     // The saved state, unless this run asks for none (scripted runs are reproducible: they
     // use a state file only when told which).
     let state_path = match (&args.state, args.no_state || args.script.is_some()) {
@@ -121,7 +124,12 @@ pub fn run(args: ViewArgs) -> Result<()> {
     if let Some(w) = &scene_warning {
         eprintln!("warning: {w}");
     }
+    let frame_log = args.frame_log.as_deref().map(frame_log::FrameLog::create).transpose()?;
+    let live = script.is_none();
     let mut app = App::new(args, state, cache, script);
+    app.frame_log = frame_log;
+    app.started = started;
+    app.live_compiles = live;
     app.size = size;
     app.calibration_answered = saved.calibration_answered;
     app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
@@ -159,6 +167,12 @@ struct Gfx {
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
     viewport: Image,
+    /// Asks whether a configuration's pipelines are compiled, for the viewport's renderer
+    /// (`compiling`); it draws nothing.
+    planner: Renderer,
+    /// Builds a configuration's pipelines in the background (`None`: it could not start; the
+    /// viewport then compiles what it draws itself).
+    compiler: Option<compiling::Compiler>,
     thumbs: HashMap<DebugView, Image>,
     /// The shadow-atlas panel's image (registered with egui once, redrawn in place
     /// while the panel is open) and the depth range it was stretched over.
@@ -230,6 +244,31 @@ struct App {
     atlas_rect: Option<egui::Rect>,
     /// Where each part of the window drew in the last frame (`ui::overlaps`).
     regions: Vec<ui::Region>,
+    /// The settings and scene the viewport drew last.
+    drawn: Option<(crate::renderer::Settings, String)>,
+    /// A configuration whose background build failed: drawn directly (its frame says why).
+    failed: Option<crate::renderer::Settings>,
+    /// A new configuration builds in the background while the viewport draws the last one
+    /// (scripted runs draw each change at once, compiling it, unless `compiles live`).
+    live_compiles: bool,
+    /// The worker has been asked to make its renderers (`Compiler::prime`).
+    primed: bool,
+    /// Each configuration's pipelines, built in the background or by a frame (the pipelines
+    /// panel), most recent last.
+    pipelines: Vec<compiling::ConfigPipelines>,
+    /// This frame's waits on the viewer's thread (the frame log).
+    waits: frame_log::Waits,
+    /// This frame's viewport: the configuration drawn, and whether it is the stand-in.
+    drew: Option<(String, bool)>,
+    frame_log: Option<frame_log::FrameLog>,
+    /// Milliseconds from the start to the window, device and renderers made (the first
+    /// frame log line says it).
+    init_ms: Option<f64>,
+    /// Milliseconds this frame spent in the viewport's `Renderer::render`.
+    render_ms: f64,
+    /// When the viewer started and when it last presented (the frame log's times).
+    started: Instant,
+    last_present: Instant,
 }
 
 impl App {
@@ -269,6 +308,18 @@ impl App {
             memory: None,
             atlas_rect: None,
             regions: Vec::new(),
+            drawn: None,
+            failed: None,
+            live_compiles: false,
+            primed: false,
+            pipelines: Vec::new(),
+            waits: Default::default(),
+            drew: None,
+            frame_log: None,
+            init_ms: None,
+            render_ms: 0.0,
+            started: Instant::now(),
+            last_present: Instant::now(),
         }
     }
 
@@ -309,12 +360,21 @@ impl App {
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
         let settings = self.state.frame_settings();
         let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
+        let planner = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;
         // The cache's calibration for this adapter (or the file asked for); a file asked for
         // that cannot be read is said on the status line, and the defaults are used.
         match crate::calibration::resolve(&gpu.info, self.args.calibration.calibration.as_deref()) {
             Ok(c) => renderer.set_calibration(c),
             Err(e) => self.say(format!("{e:#}; using the built-in defaults"), true),
         }
+        let warm = gpu.caps.quirks.jit_on_first_draw.then(|| self.args.adapter.choice());
+        let compiler = match compiling::Compiler::start(&gpu, warm) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                log::warn!("no background compiles: {e:#}");
+                None
+            }
+        };
         self.offer_calibration = !self.calibration_answered && !self.scripted() && renderer.calibration().is_builtin();
         let egui_ctx = egui::Context::default();
         ui::style(&egui_ctx);
@@ -341,6 +401,8 @@ impl App {
             egui_state,
             egui_renderer,
             viewport,
+            planner,
+            compiler,
             thumbs: HashMap::new(),
             atlas: None,
             atlas_range: None,
@@ -441,12 +503,14 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
+            Action::Compiles(_) | Action::CompileDelay(_) | Action::FrameLog(_) => self.apply_compile_action(action),
             Action::Screenshot(_)
             | Action::Memory
             | Action::Overlaps
             | Action::Check
             | Action::Advise
             | Action::Calibrate
+            | Action::Pipelines(_)
             | Action::Quit => {}
         }
     }
@@ -735,6 +799,7 @@ impl ApplicationHandler for App {
             if let Err(e) = self.init(event_loop) {
                 self.fail(event_loop, e);
             }
+            self.init_ms = Some(self.started.elapsed().as_secs_f64() * 1e3);
         }
     }
 

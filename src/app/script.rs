@@ -21,7 +21,7 @@
 //! set NAME VALUE         a panel value, validated as the panel does (see `UiState::set`):
 //!                        lights scale exposure time speed move-speed animate counts ideal
 //!                        costliest-first (the light list as the ledger's cost table)
-//!                        panel-left panel-right panel-gbuffer panel-shadows
+//!                        panel-left panel-right panel-gbuffer panel-shadows panel-pipelines
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer cast mask cookie
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
@@ -40,6 +40,15 @@
 //!                        far (`frame N: pipelines compiled P`) to stdout, for soak runs
 //! overlaps               after drawing: end the run with an error naming them when two
 //!                        widgets of the drawn UI overlap (`ui::overlaps`)
+//! compiles wait | live   wait: each change is drawn at once, its pipelines compiled by the
+//!                        frame that draws it (a scripted run's default); live: as in an
+//!                        interactive run, a configuration whose pipelines are not compiled
+//!                        builds in the background while the last one is drawn
+//! compile-delay MS       each background build waits MS milliseconds more before it is
+//!                        ready (a deliberately slow compile)
+//! frame-log PATH         from this frame on, write the frame log (`--frame-log`) to PATH
+//! pipelines PATH         after drawing: write the pipelines panel's rows (each
+//!                        configuration's pipelines and compile times) to PATH as JSON
 //! calibrate              after drawing: measure the cost model's constants at a small size
 //!                        (`lampshade calibrate`), write them to the cache and use them; the
 //!                        script waits, and prints `frame N: calibration: …`
@@ -97,6 +106,12 @@ pub enum Action {
     Advise,
     /// A small calibration, written to the cache and used; the script waits for it.
     Calibrate,
+    /// Background compiles on (`live`) or off (`wait`).
+    Compiles(bool),
+    CompileDelay(u64),
+    FrameLog(PathBuf),
+    /// The pipelines panel's rows as JSON.
+    Pipelines(PathBuf),
     Quit,
 }
 
@@ -111,6 +126,7 @@ impl Action {
                 | Action::Check
                 | Action::Advise
                 | Action::Calibrate
+                | Action::Pipelines(_)
                 | Action::Quit
         )
     }
@@ -288,6 +304,32 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "advise" => {
             want(0)?;
             Action::Advise
+        }
+        "compiles" => {
+            want(1)?;
+            match args[0] {
+                "wait" => Action::Compiles(false),
+                "live" => Action::Compiles(true),
+                other => return Err(format!("compiles '{other}': wait or live")),
+            }
+        }
+        "compile-delay" => {
+            want(1)?;
+            let ms: u64 = count(args[0], "delay")?;
+            if ms > 600_000 {
+                return Err(format!("compile delay {ms} ms is longer than ten minutes"));
+            }
+            Action::CompileDelay(ms)
+        }
+        "frame-log" | "pipelines" => {
+            want(1)?;
+            let p = Path::new(args[0]);
+            let p = if p.is_absolute() { p.to_path_buf() } else { base.join(p) };
+            if *name == "frame-log" {
+                Action::FrameLog(p)
+            } else {
+                Action::Pipelines(p)
+            }
         }
         "calibrate" => {
             want(0)?;

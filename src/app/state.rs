@@ -207,11 +207,23 @@ pub struct Panels {
     /// The advisor's window (opens when it starts).
     #[serde(default)]
     pub advice: bool,
+    /// The pipelines window: each configuration's pipelines with their compile times.
+    #[serde(default)]
+    pub pipelines: bool,
 }
 
 impl Default for Panels {
     fn default() -> Self {
-        Self { left: true, right: true, gbuffer: true, shadows: false, explain: false, check: false, advice: false }
+        Self {
+            left: true,
+            right: true,
+            gbuffer: true,
+            shadows: false,
+            explain: false,
+            check: false,
+            advice: false,
+            pipelines: false,
+        }
     }
 }
 
@@ -340,6 +352,7 @@ impl UiState {
             "panel-right" => self.panels.right = parse_bool(value)?,
             "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,
             "panel-shadows" => self.panels.shadows = parse_bool(value)?,
+            "panel-pipelines" => self.panels.pipelines = parse_bool(value)?,
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32

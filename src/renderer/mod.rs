@@ -60,6 +60,7 @@ use volumes::Volumes;
 /// Format of the headless output image.
 pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub use frame::passes::PIPELINE_CACHE;
+pub use frame::Readiness;
 pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
@@ -104,6 +105,8 @@ pub struct Renderer {
     calibration: options::calibration::Calibration,
     /// Where a costly frame reports its progress (`set_progress`).
     progress: Option<inputs::Progress>,
+    /// The last frame that compiled pipelines: its declared set and which it compiled.
+    last_compiles: Option<(kit::Declared, Vec<bool>)>,
 }
 
 pub use kit::scoped;
@@ -158,6 +161,7 @@ impl Renderer {
             cost_models: Vec::new(),
             calibration: Default::default(),
             progress: None,
+            last_compiles: None,
             uploads: gpu.uploads.clone(),
             device,
         })
@@ -286,7 +290,11 @@ impl Renderer {
         let p = &self.sets.current;
         let steps = paths::steps(p, &f);
         let declared = paths::declare(&steps, &f);
-        let built = p.build(&declared);
+        let clock = std::time::Instant::now();
+        let now = p.build_each(&declared);
+        let build_us = clock.elapsed().as_micros() as u64;
+        let built = now.iter().filter(|b| **b).count();
+        let compiles = (built > 0).then(|| (declared.clone(), now));
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let before = kit::pipelines_compiled_here();
         let mut drawn = paths::record(&steps, &f, &mut encoder, self.debug_groups)?;
@@ -294,6 +302,7 @@ impl Renderer {
             declared: declared.len(),
             built,
             while_recording: (kit::pipelines_compiled_here() - before) as usize,
+            build_us,
         };
         if settings.path == RenderPath::LightPrepass && drawn.prepass.is_none() {
             // A buffer view: pass 3 did not run.
@@ -305,7 +314,14 @@ impl Renderer {
         let geometry = if drawn.prepass.is_some() { 2 } else { u32::from(settings.path.keeps_gbuffer()) };
         self.queries.resolve(&mut encoder, n, m.counts, m.ideal, m.times, m.forward, geometry);
         self.queue.submit([encoder.finish()]);
+        self.last_compiles = compiles;
         Ok((shape, prepared, drawn, pipelines))
+    }
+
+    /// The declared set of the last frame that compiled pipelines itself, and for each whether
+    /// that frame compiled it.
+    pub fn last_compiles(&self) -> Option<&(kit::Declared, Vec<bool>)> {
+        self.last_compiles.as_ref()
     }
 
     /// Size of the last frame.

@@ -457,4 +457,6 @@ pub struct Pipelines {
     pub built: usize,
     /// Compiled while the frame recorded: a draw with a pipeline its pass did not declare.
     pub while_recording: usize,
+    /// Microseconds this frame spent compiling the `built` ones (on the thread that drew it).
+    pub build_us: u64,
 }

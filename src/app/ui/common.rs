@@ -122,6 +122,10 @@ pub struct FrameInfo<'a> {
     pub atlas: Option<AtlasInfo<'a>>,
     /// Where the shadow-atlas window opens first (points).
     pub atlas_default_pos: Pos2,
+    /// A configuration building in the background (`compiling N pipelines for …`).
+    pub compiling: Option<String>,
+    /// Each configuration's pipelines and compile times (the pipelines window).
+    pub pipelines: &'a [crate::app::compiling::ConfigPipelines],
 }
 
 #[derive(Clone, Debug)]

@@ -7,6 +7,7 @@ use egui::{Color32, Rect, Vec2};
 
 mod advice;
 mod common;
+mod pipelines;
 pub use common::{
     efficiency_colour, AtlasInfo, Command, CullingCheck, FrameInfo, History, Region, Sample, Status, Thumb, UiOut,
     HISTORY, MAX_WIREFRAMES,
@@ -89,6 +90,9 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
     }
     if st.panels.advice {
         advice::advice_window(ui.ctx(), st, f);
+    }
+    if st.panels.pipelines {
+        pipelines::pipelines_window(ui.ctx(), st, f);
     }
     if st.panels.explain && f.explanation.is_some() {
         let mut open = true;

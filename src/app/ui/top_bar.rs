@@ -119,6 +119,11 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 (&mut st.panels.right, "right", "culling figures, GPU times, history"),
                 (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
                 (&mut st.panels.shadows, "shadows", "the shadow atlas window: tiles, figures and shadow settings"),
+                (
+                    &mut st.panels.pipelines,
+                    "pipelines",
+                    "the pipelines window: each configuration's compiles and their times",
+                ),
             ] {
                 ui.toggle_value(on, name).on_hover_text(format!(
                     "show or hide the {what}; a window too small for a panel hides it until it grows"
@@ -163,6 +168,10 @@ pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, out: &m
                 }
             }
             ui.separator();
+            if let Some(note) = f.compiling.as_deref() {
+                ui.label(RichText::new(note).color(Color32::LIGHT_BLUE));
+                ui.separator();
+            }
             if let Some(s) = f.status {
                 let c = if s.error { Color32::from_rgb(255, 110, 90) } else { Color32::from_gray(200) };
                 let label = ui.label(RichText::new(&s.text).color(c));

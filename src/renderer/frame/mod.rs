@@ -101,6 +101,16 @@ impl Shape {
     }
 }
 
+/// Whether a frame's pipelines are compiled ([`Renderer::pipelines_ready`]).
+pub enum Readiness {
+    /// All of them: the declared set, each with its compile time.
+    Ready(super::kit::Declared),
+    /// This many of the declared set are not.
+    Missing(usize),
+    /// Its pass set is not built (its shader module, layouts and every pipeline).
+    NewSet,
+}
+
 /// The CPU's part of a frame: what the passes read, uploaded.
 pub struct Prepared {
     pub records: FrameRecords,
@@ -213,15 +223,7 @@ impl Renderer {
         if tessellation != self.volumes.tessellation {
             self.volumes = Volumes::new(&self.device, tessellation);
         }
-        let layout = if settings.path == RenderPath::LightPrepass {
-            // One layer for the whole buffer (the thin buffer has no channel for it); objects on
-            // layers the lights tell apart from it are shaded forward (`Scene::shared_layers`).
-            gbuffer::GBufferLayout { uniform_layer: Some(scene.shared_layers().0), ..gbuffer::prepass_layout() }
-        } else {
-            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
-        };
-        let features = self.features.of(scene, settings, &self.caps.quirks);
-        let key = key::pipeline_key(Some(scene), settings, layout, &self.caps, (self.output_format, features))?;
+        let key = self.frame_key(scene, settings)?;
         if let Some(only_features) = self.sets.switch(&self.device, key)? {
             let shared = &self.sets.current.shared;
             self.frame.rebind(&self.device, &shared.frame_bgl);
@@ -391,10 +393,67 @@ impl Renderer {
     /// declares, without recording it: that frame then compiles nothing while it records.
     /// Returns (declared, built now).
     pub fn build_pipelines(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<(usize, usize)> {
+        let (declared, now) = self.build_pipelines_each(scene, settings, size)?;
+        Ok((declared.len(), now.into_iter().filter(|b| *b).count()))
+    }
+
+    /// The pass set a frame of `scene` with `settings` draws with.
+    fn frame_key(&mut self, scene: &Scene, settings: &Settings) -> Result<super::kit::PipelineKey> {
+        let layout = if settings.path == RenderPath::LightPrepass {
+            // One layer for the whole buffer (the thin buffer has no channel for it); objects on
+            // layers the lights tell apart from it are shaded forward (`Scene::shared_layers`).
+            gbuffer::GBufferLayout { uniform_layer: Some(scene.shared_layers().0), ..gbuffer::prepass_layout() }
+        } else {
+            settings.layout.layout_for(scene, settings.brdf.brdf()).map_err(anyhow::Error::msg)?
+        };
+        let features = self.features.of(scene, settings, &self.caps.quirks);
+        key::pipeline_key(Some(scene), settings, layout, &self.caps, (self.output_format, features))
+    }
+
+    /// Whether a frame of `scene` with `settings` at `size` would find every pipeline it
+    /// declares compiled, asked without compiling any: a set not built yet is not made (its
+    /// shader module alone is a parse and validation of the whole program). It reconfigures
+    /// this renderer for that frame, so the viewer asks a renderer of its own that draws
+    /// nothing. `Err`: the frame cannot be drawn (its drawing says why).
+    pub fn pipelines_ready(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32)) -> Result<Readiness> {
+        Shape::of_checked(scene, settings, size, false)?;
+        let key = self.frame_key(scene, settings)?;
+        if !self.sets.has(&key) {
+            return Ok(Readiness::NewSet);
+        }
+        let declared = self.declared(scene, settings, size)?;
+        Ok(match declared.missing() {
+            0 => Readiness::Ready(declared),
+            n => Readiness::Missing(n),
+        })
+    }
+
+    /// The pipelines a frame of `scene` with `settings` at `size` declares (each with its label
+    /// and compile time), built on this thread, and for each whether this call compiled it
+    /// (see [`Renderer::build_pipelines`]).
+    pub fn build_pipelines_each(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        size: (u32, u32),
+    ) -> Result<(super::kit::Declared, Vec<bool>)> {
         let declared = self.declared(scene, settings, size)?;
         // Inside error scopes: a compile's error is this call's error.
-        let built = super::kit::scoped(&self.device.clone(), || Ok(self.sets.current.build(&declared)))?;
-        Ok((declared.len(), built))
+        let now = super::kit::scoped(&self.device.clone(), || Ok(self.sets.current.build_each(&declared)))?;
+        Ok((declared, now))
+    }
+
+    /// The pipeline the viewer's thumbnails compose with (`Last::compose_view`, every view
+    /// but the lit one) in this renderer's current pass set, built on this thread: after
+    /// [`Renderer::build_pipelines_each`], the thumbnails of that configuration compile
+    /// nothing either. Returns it declared, and whether this call compiled it.
+    pub fn build_view_pipeline(&self) -> Result<(super::kit::Declared, Vec<bool>)> {
+        let compose = &self.sets.current.compose;
+        compose.prepare()?;
+        let mut declared = super::kit::Declared::default();
+        declared.add(compose.pipeline(DebugView::Albedo));
+        let now = super::kit::scoped(&self.device, || Ok(self.sets.current.build_each(&declared)))?;
+        Ok((declared, now))
     }
 
     /// What each pipeline a frame of `scene` with `settings` at `size` declares is, in the

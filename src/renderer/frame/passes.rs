@@ -120,9 +120,15 @@ impl Passes {
     /// Compiles the pipelines of `declared` not compiled yet (declared by this set's passes),
     /// on this thread; how many it compiled.
     pub fn build(&self, declared: &Declared) -> usize {
-        let n = declared.build();
+        self.build_each(declared).into_iter().filter(|b| *b).count()
+    }
+
+    /// [`Passes::build`], saying for each declared pipeline whether this call compiled it.
+    pub fn build_each(&self, declared: &Declared) -> Vec<bool> {
+        let now = declared.build_each();
+        let n = now.iter().filter(|b| **b).count();
         self.compiled.fetch_add(n as u64, Ordering::Relaxed);
-        n
+        now
     }
 
     pub fn key(&self) -> &PipelineKey {
@@ -193,6 +199,11 @@ impl PassSets {
     pub fn new(device: &wgpu::Device, pool: &Arc<PassPool>, key: PipelineKey) -> Result<Self> {
         let current = pool.get(key.clone(), || build_passes(device, key))?;
         Ok(Self { current, cache: Vec::new(), pool: pool.clone(), used: false })
+    }
+
+    /// Whether a set for `key` is built: this renderer's, or one the device's pool knows.
+    pub fn has(&self, key: &PipelineKey) -> bool {
+        self.current.key() == key || self.cache.iter().any(|p| p.key() == key) || self.pool.has(key)
     }
 
     /// Makes the set for `key` current. `None` when it already was; else whether only the

@@ -102,6 +102,13 @@ pub struct Quirks {
     /// wgpu's GL backend guesses a texture's view dimension from its layer count, and takes a
     /// 6-layer texture for one cube: a cube array then holds at least two cubes (12 layers).
     pub cube_guess_by_layers: bool,
+    /// gallivm compiles a pipeline's shaders to machine code at its first draw under each
+    /// state, not when the pipeline is created (llvmpipe, under Vulkan and GL): 0.3-0.6 s for
+    /// a configuration's first frame on `demo` against 50-110 ms to create its pipelines.
+    /// Mesa's shader cache keeps that code on disk, so one draw on another device makes the
+    /// first draw here a cache read (the viewer's background compiles).
+    #[serde(default)]
+    pub jit_on_first_draw: bool,
 }
 
 /// gallivm's loop limit: 65,535 iterations an invocation.
@@ -118,6 +125,7 @@ impl Quirks {
             uniform_gathers: llvmpipe,
             no_encoder_debug_groups: lavapipe,
             cube_guess_by_layers: info.backend == wgpu::Backend::Gl,
+            jit_on_first_draw: llvmpipe,
         }
     }
 
@@ -149,6 +157,7 @@ impl Quirks {
         uniform_gathers: false,
         no_encoder_debug_groups: false,
         cube_guess_by_layers: false,
+        jit_on_first_draw: false,
     };
 }
 

@@ -380,6 +380,8 @@ struct FirstUse<T> {
     build: Box<dyn Fn() -> T + Send + Sync>,
     /// What the pipeline is, where its maker said (`render_pipe`, `compute_pipe`).
     description: Option<description::PipelineDescription>,
+    /// How long its compile took (wgpu's and the driver's pipeline creation), once compiled.
+    compiled_in: OnceLock<std::time::Duration>,
 }
 
 impl<T> Clone for OnFirstUse<T> {
@@ -395,7 +397,12 @@ pub type ComputePipe = OnFirstUse<wgpu::ComputePipeline>;
 
 impl<T> OnFirstUse<T> {
     pub fn new(build: impl Fn() -> T + Send + Sync + 'static) -> Self {
-        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build), description: None }))
+        Self(Arc::new(FirstUse {
+            cell: OnceLock::new(),
+            build: Box::new(build),
+            description: None,
+            compiled_in: OnceLock::new(),
+        }))
     }
 
     /// [`OnFirstUse::new`] with what the pipeline is.
@@ -403,7 +410,12 @@ impl<T> OnFirstUse<T> {
         description: description::PipelineDescription,
         build: impl Fn() -> T + Send + Sync + 'static,
     ) -> Self {
-        Self(Arc::new(FirstUse { cell: OnceLock::new(), build: Box::new(build), description: Some(description) }))
+        Self(Arc::new(FirstUse {
+            cell: OnceLock::new(),
+            build: Box::new(build),
+            description: Some(description),
+            compiled_in: OnceLock::new(),
+        }))
     }
 }
 
@@ -419,7 +431,10 @@ impl<T> FirstUse<T> {
     fn compile(&self) -> T {
         COMPILED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         COMPILED_HERE.with(|c| c.set(c.get() + 1));
-        (self.build)()
+        let start = std::time::Instant::now();
+        let pipeline = (self.build)();
+        let _ = self.compiled_in.set(start.elapsed());
+        pipeline
     }
 }
 
@@ -445,6 +460,8 @@ pub trait Compile: Send + Sync {
     fn is_built(&self) -> bool;
     /// What it is, where its maker said.
     fn description(&self) -> Option<&description::PipelineDescription>;
+    /// How long its compile took, once compiled.
+    fn compile_time(&self) -> Option<std::time::Duration>;
 }
 
 impl<T: Send + Sync> Compile for FirstUse<T> {
@@ -463,6 +480,10 @@ impl<T: Send + Sync> Compile for FirstUse<T> {
 
     fn description(&self) -> Option<&description::PipelineDescription> {
         self.description.as_ref()
+    }
+
+    fn compile_time(&self) -> Option<std::time::Duration> {
+        self.compiled_in.get().copied()
     }
 }
 
@@ -504,10 +525,22 @@ impl Declared {
         self.0.iter().filter_map(|p| p.description().cloned()).collect()
     }
 
+    /// Each declared pipeline's label (its description's; `?` where its maker gave none) and
+    /// compile time (`None`: not compiled yet), in the order declared.
+    pub fn timings(&self) -> Vec<(String, Option<std::time::Duration>)> {
+        let label = |p: &Arc<dyn Compile>| p.description().map_or_else(|| "?".to_string(), |d| d.label().to_string());
+        self.0.iter().map(|p| (label(p), p.compile_time())).collect()
+    }
+
     /// Compiles those not compiled yet, on this thread; how many it compiled. A compile's error
     /// reaches the caller's error scopes (`scoped`).
     pub fn build(&self) -> usize {
-        self.0.iter().filter(|p| p.build()).count()
+        self.build_each().into_iter().filter(|b| *b).count()
+    }
+
+    /// [`Declared::build`], saying for each pipeline whether this call compiled it.
+    pub fn build_each(&self) -> Vec<bool> {
+        self.0.iter().map(|p| p.build()).collect()
     }
 }
 

@@ -8,7 +8,9 @@
 //! share sets freely. The pool keeps the most recently used sets while their estimated host
 //! memory stays within its budget ([`POOL_BYTES`] unless set): a set's estimate is its compiled
 //! pipelines times the adapter's bytes per pipeline (`caps::Quirks::pipeline_bytes`) plus
-//! [`SET_BYTES`]. A set dropped from the pool lives on while a renderer draws with it.
+//! [`SET_BYTES`]. A set dropped from the pool lives on while a renderer holds it, and is found
+//! again by key while it does: a set one renderer built (the viewer's background compiles)
+//! reaches another that asks for its key even when the pool has let it go in between.
 //!
 //! The device (`gpu.rs`) holds the pool without knowing what a pass set is: the sets are kept
 //! as [`PoolSet`] and handed back as the type the renderer built them as.
@@ -34,6 +36,8 @@ type Set = (PipelineKey, Arc<dyn PoolSet>);
 
 pub struct PassPool {
     sets: Mutex<Vec<Set>>,
+    /// Sets let go, still held by a renderer while their handle upgrades.
+    gone: Mutex<Vec<(PipelineKey, std::sync::Weak<dyn PoolSet>)>>,
     /// The budget in bytes; 0: [`POOL_BYTES`].
     budget: AtomicU64,
     /// Host memory a compiled pipeline holds on this adapter (an estimate).
@@ -42,7 +46,7 @@ pub struct PassPool {
 
 impl PassPool {
     pub fn new(pipeline_bytes: u64) -> Self {
-        Self { sets: Mutex::default(), budget: AtomicU64::new(0), pipeline_bytes }
+        Self { sets: Mutex::default(), gone: Mutex::default(), budget: AtomicU64::new(0), pipeline_bytes }
     }
 
     /// Keeps sets of at most `bytes` estimated host memory from now on (a process with one
@@ -69,18 +73,33 @@ impl PassPool {
     /// one handed back always stays).
     pub fn get<T: PoolSet>(&self, key: PipelineKey, build: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
         let mut sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
+        let mut gone = self.gone.lock().unwrap_or_else(|e| e.into_inner());
+        gone.retain(|(_, w)| w.strong_count() > 0);
+        let held = || gone.iter().find(|(k, _)| *k == key).and_then(|(_, w)| w.upgrade());
         let set = match sets.iter().rposition(|(k, _)| *k == key) {
             // Most recently used last.
             Some(i) => sets.remove(i).1,
-            None => Arc::new(build()?) as Arc<dyn PoolSet>,
+            None => match held() {
+                Some(set) => set,
+                None => Arc::new(build()?) as Arc<dyn PoolSet>,
+            },
         };
+        gone.retain(|(k, _)| *k != key);
         sets.push((key, set.clone()));
         let mut total: u64 = sets.iter().map(|(_, s)| self.set_bytes(s.as_ref())).sum();
         while sets.len() > 1 && total > self.budget() {
-            let (_, dropped) = sets.remove(0);
+            let (k, dropped) = sets.remove(0);
             total -= self.set_bytes(dropped.as_ref());
+            gone.push((k, Arc::downgrade(&dropped)));
         }
         set.into_any().downcast::<T>().map_err(|_| anyhow!("the device's pass set for this key is of another type"))
+    }
+
+    /// Whether a set for `key` is held, by the pool or by a renderer it was handed to.
+    pub fn has(&self, key: &PipelineKey) -> bool {
+        let sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
+        let gone = self.gone.lock().unwrap_or_else(|e| e.into_inner());
+        sets.iter().any(|(k, _)| k == key) || gone.iter().any(|(k, w)| k == key && w.strong_count() > 0)
     }
 
     /// Sets held now.

@@ -131,6 +131,8 @@ pub struct Compiler {
     done: mpsc::Receiver<Done>,
     next_id: u64,
     pub pending: Option<Pending>,
+    /// Builds that finished while [`Compiler::wait_pending`] waited.
+    early: Vec<Done>,
     /// Milliseconds each build waits before it reports (a script's `compile-delay`: a
     /// deliberately slow compile, for tests).
     delay_ms: Arc<AtomicU64>,
@@ -168,19 +170,20 @@ impl Compiler {
                 }
             }
         })?;
-        Ok(Self { jobs, done, next_id: 0, pending: None, delay_ms })
+        Ok(Self { jobs, done, next_id: 0, pending: None, early: Vec::new(), delay_ms })
     }
 
     pub fn set_delay_ms(&self, ms: u64) {
         self.delay_ms.store(ms, Ordering::Relaxed);
     }
 
-    /// Has the worker make its renderers (and, where it draws to warm the driver's cache, its
-    /// second device) with the configuration drawn now, so that the first switch does not pay
-    /// for them; nothing is pending meanwhile.
+    /// Has the worker build `settings` on `scene` at `size` with nothing pending meanwhile:
+    /// the configuration a first frame drew itself, so that the worker's renderers (and its
+    /// second device) are made before the first switch.
     pub fn prime(&mut self, scene: &Scene, settings: &Settings, size: (u32, u32), calibration: &Calibration) {
+        self.next_id += 1;
         let job = Job {
-            id: 0,
+            id: self.next_id,
             scene: scene.clone(),
             settings: settings.clone(),
             size,
@@ -188,6 +191,23 @@ impl Compiler {
             calibration: calibration.clone(),
         };
         let _ = self.jobs.send(job);
+    }
+
+    /// Waits at most `timeout` for the pending build to finish (the script's `wait-compiles`);
+    /// whether it did. Its answer is then [`Compiler::poll`]'s.
+    pub fn wait_pending(&mut self, timeout: std::time::Duration) -> bool {
+        let end = Instant::now() + timeout;
+        loop {
+            let Some(id) = self.pending.as_ref().map(|p| p.id) else { return true };
+            if self.early.iter().any(|d| d.id == id) {
+                return true;
+            }
+            let left = end.saturating_duration_since(Instant::now());
+            match self.done.recv_timeout(left) {
+                Ok(d) => self.early.push(d),
+                Err(_) => return false,
+            }
+        }
     }
 
     /// Asks for `settings` on `scene` at `size` to be built, unless that is what runs.
@@ -228,7 +248,8 @@ impl Compiler {
     /// request's answer is dropped).
     pub fn poll(&mut self) -> Option<Done> {
         let mut answer = None;
-        while let Ok(d) = self.done.try_recv() {
+        let early = std::mem::take(&mut self.early);
+        for d in early.into_iter().chain(std::iter::from_fn(|| self.done.try_recv().ok())) {
             if self.pending.as_ref().is_some_and(|p| p.id == d.id) {
                 self.pending = None;
                 answer = Some(d);
@@ -345,6 +366,15 @@ pub fn choose(
     }
 }
 
+/// What the viewport draws while the first configuration builds: `wanted` without shadows,
+/// drawn with no lights (the viewport takes the lights out of the scene for it), so ambient and
+/// sun only. Its frame compiles the G-buffer and compose pipelines alone; on lavapipe the first
+/// configuration's light volumes, shadow casters and thumbnails cost a second more of compiles
+/// before a first picture.
+pub fn stand_in(wanted: &Settings) -> Settings {
+    Settings { shadows: crate::renderer::ShadowMode::None, ..wanted.clone() }
+}
+
 /// Keeps `built` in the pipelines panel's list: one row per configuration, its latest build
 /// (a configuration found ready adds a row only when it has none).
 pub fn remember(list: &mut Vec<ConfigPipelines>, built: ConfigPipelines) {
@@ -380,8 +410,9 @@ impl super::App {
             }
         }
         let same = self.drawn.as_ref().is_some_and(|(s, n)| s == wanted && *n == scene.name);
-        // Before the first frame there is nothing to keep showing: it compiles what it draws;
-        // the worker then makes its renderers with that configuration.
+        // Before the first frame there is nothing to keep showing: with live compiles, the
+        // stand-in is drawn while the first configuration builds; else the first frame compiles
+        // what it draws, and the worker then makes its renderers with that configuration.
         let first = self.drawn.is_none();
         if !first && !self.primed && self.live_compiles {
             if let (Some(c), Some((s, _))) = (g.compiler.as_mut(), &self.drawn) {
@@ -389,7 +420,7 @@ impl super::App {
                 self.primed = true;
             }
         }
-        let direct = same || first || !self.live_compiles || self.failed.as_ref() == Some(wanted);
+        let direct = same || !self.live_compiles || self.failed.as_ref() == Some(wanted);
         let Some(compiler) = g.compiler.as_mut().filter(|_| !direct) else {
             return Some((wanted.clone(), false));
         };
@@ -405,25 +436,29 @@ impl super::App {
                 }
                 Some((wanted.clone(), false))
             }
-            (Choice::Keep, _) => match &self.drawn {
-                Some((s, _)) => Some((s.clone(), false)),
-                None => Some((wanted.clone(), false)),
-            },
+            (Choice::Keep, _) => {
+                self.primed = true;
+                match &self.drawn {
+                    Some((s, _)) => Some((s.clone(), false)),
+                    None => Some((stand_in(wanted), true)),
+                }
+            }
         }
     }
 
-    /// What a background build shows on the status line: `compiling N pipelines for …`.
+    /// What a background build shows on the status line: `compiling N pipelines for …`, and
+    /// what the viewport shows meanwhile.
     pub(super) fn compiling_note(&self) -> Option<String> {
         let p = self.gfx.as_ref()?.compiler.as_ref()?.pending.as_ref()?;
         let what = match p.missing {
             Some(n) => format!("{n} pipeline{}", if n == 1 { "" } else { "s" }),
             None => "a new pass set".to_string(),
         };
-        Some(format!(
-            "compiling {what} for {} ({:.1} s); showing the last configuration",
-            p.config,
-            p.started.elapsed().as_secs_f64()
-        ))
+        let showing = match self.drawn {
+            Some(_) => "showing the last configuration",
+            None => "showing a stand-in: ambient and sun, no lights or shadows",
+        };
+        Some(format!("compiling {what} for {} ({:.1} s); {showing}", p.config, p.started.elapsed().as_secs_f64()))
     }
 
     /// Writes this frame's line to the frame log, if one is open.
@@ -453,7 +488,7 @@ impl super::App {
         }
     }
 
-    /// The script's `compiles`, `compile-delay` and `frame-log`.
+    /// The script's `compiles`, `compile-delay`, `wait-compiles` and `frame-log`.
     pub(super) fn apply_compile_action(&mut self, action: super::script::Action) {
         use super::script::Action;
         match action {
@@ -461,6 +496,13 @@ impl super::App {
             Action::CompileDelay(ms) => {
                 if let Some(c) = self.gfx.as_ref().and_then(|g| g.compiler.as_ref()) {
                     c.set_delay_ms(ms);
+                }
+            }
+            Action::WaitCompiles => {
+                if let Some(c) = self.gfx.as_mut().and_then(|g| g.compiler.as_mut()) {
+                    if !c.wait_pending(std::time::Duration::from_secs(120)) {
+                        self.say("wait-compiles: the background build did not finish in 120 s", true);
+                    }
                 }
             }
             Action::FrameLog(path) => match super::frame_log::FrameLog::create(&path) {

@@ -46,6 +46,8 @@ impl App {
         let drawn = if calibrating { None } else { self.render_viewport(&settings) };
         let rendered = drawn.is_some();
         let settings = drawn.unwrap_or(settings);
+        // No thumbnails from the stand-in (they wait for the configuration itself).
+        let rendered = rendered && !self.drew.as_ref().is_some_and(|d| d.1);
         // 4. Thumbnails: the compose pass of this frame again, once per view.
         let tiles = self.render_thumbnails(&settings, rendered);
         // 4b. The shadow atlas as an image, while its panel is open.
@@ -151,7 +153,12 @@ impl App {
     fn render_viewport(&mut self, settings: &Settings) -> Option<Settings> {
         let size = self.viewport_size()?;
         let (draw, stand_in) = self.settings_to_draw(settings, size)?;
+        // The stand-in draws the scene without its lights (put back after).
+        let lights = stand_in.then(|| self.scene.as_mut().map(|s| std::mem::take(&mut s.lights))).flatten();
         let rendered = self.render_viewport_with(&draw, size, stand_in);
+        if let (Some(lights), Some(scene)) = (lights, self.scene.as_mut()) {
+            scene.lights = lights;
+        }
         rendered.then_some(draw)
     }
 

@@ -125,7 +125,14 @@ pub fn run(args: ViewArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let frame_log = args.frame_log.as_deref().map(frame_log::FrameLog::create).transpose()?;
-    let live = script.is_none();
+    // A script's `compiles` on its first frame holds from the start (the first frame's
+    // stand-in included).
+    let live = script.as_ref().map_or(true, |s| {
+        s.actions.iter().take_while(|(f, _)| *f <= 1).fold(false, |live, (_, a)| match a {
+            Action::Compiles(on) => *on,
+            _ => live,
+        })
+    });
     let mut app = App::new(args, state, cache, script);
     app.frame_log = frame_log;
     app.started = started;
@@ -368,13 +375,20 @@ impl App {
             Err(e) => self.say(format!("{e:#}; using the built-in defaults"), true),
         }
         let warm = gpu.caps.quirks.jit_on_first_draw.then(|| self.args.adapter.choice());
-        let compiler = match compiling::Compiler::start(&gpu, warm) {
+        let mut compiler = match compiling::Compiler::start(&gpu, warm) {
             Ok(c) => Some(c),
             Err(e) => {
                 log::warn!("no background compiles: {e:#}");
                 None
             }
         };
+        // With live compiles the first frame is the stand-in: the first configuration starts
+        // building now, while the window's first frame lays the panels out.
+        if let (Some(c), true, Ok(scene)) = (compiler.as_mut(), self.live_compiles, self.cache.frame_scene(&self.state))
+        {
+            let size = window.inner_size();
+            c.request(&scene, &settings, (size.width.max(1) / 2, size.height.max(1) / 2), None, renderer.calibration());
+        }
         self.offer_calibration = !self.calibration_answered && !self.scripted() && renderer.calibration().is_builtin();
         let egui_ctx = egui::Context::default();
         ui::style(&egui_ctx);
@@ -503,7 +517,9 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
-            Action::Compiles(_) | Action::CompileDelay(_) | Action::FrameLog(_) => self.apply_compile_action(action),
+            Action::Compiles(_) | Action::CompileDelay(_) | Action::WaitCompiles | Action::FrameLog(_) => {
+                self.apply_compile_action(action)
+            }
             Action::Screenshot(_)
             | Action::Memory
             | Action::Overlaps

@@ -122,6 +122,7 @@ mod tests {
                 explain: false,
                 check: false,
                 advice: false,
+                pipelines: true,
             },
             resolution_scale: 0.25,
             culling: CullingMode::StencilInvert,

@@ -43,9 +43,12 @@
 //! compiles wait | live   wait: each change is drawn at once, its pipelines compiled by the
 //!                        frame that draws it (a scripted run's default); live: as in an
 //!                        interactive run, a configuration whose pipelines are not compiled
-//!                        builds in the background while the last one is drawn
+//!                        builds in the background while the last one is drawn (on
+//!                        frame 1, from the start: the first frame is then the stand-in)
 //! compile-delay MS       each background build waits MS milliseconds more before it is
 //!                        ready (a deliberately slow compile)
+//! wait-compiles          wait (at most 120 s) for the background build to finish; the
+//!                        frame after then draws the configuration it built
 //! frame-log PATH         from this frame on, write the frame log (`--frame-log`) to PATH
 //! pipelines PATH         after drawing: write the pipelines panel's rows (each
 //!                        configuration's pipelines and compile times) to PATH as JSON
@@ -109,6 +112,7 @@ pub enum Action {
     /// Background compiles on (`live`) or off (`wait`).
     Compiles(bool),
     CompileDelay(u64),
+    WaitCompiles,
     FrameLog(PathBuf),
     /// The pipelines panel's rows as JSON.
     Pipelines(PathBuf),
@@ -320,6 +324,10 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
                 return Err(format!("compile delay {ms} ms is longer than ten minutes"));
             }
             Action::CompileDelay(ms)
+        }
+        "wait-compiles" => {
+            want(0)?;
+            Action::WaitCompiles
         }
         "frame-log" | "pipelines" => {
             want(1)?;

@@ -8,7 +8,7 @@
 
 use image::RgbaImage;
 use lampshade::compare::{flip, max_channel_difference};
-use lampshade::renderer::Settings;
+use lampshade::renderer::{CullingMode, Renderer, Settings, OUTPUT_FORMAT};
 use lampshade::scene::builtin::{self, BuiltinOptions};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -1189,4 +1189,70 @@ fn the_advisor_runs_beside_the_window_and_answers_in_it() {
     let json = json(&dir, "advice-viewport.json");
     assert_eq!(json["viewer"]["panels"]["advice"].as_bool(), Some(true), "the advice's window is not open");
     assert!(lit_share(&load(&dir, "advice.png")) > 0.05, "the window is dark");
+}
+
+/// The frame log's lines (`--frame-log`, the script's `frame-log`).
+fn frame_log(dir: &Path, name: &str) -> Vec<serde_json::Value> {
+    let p = dir.join(name);
+    let t = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("reading {}: {e}", p.display()));
+    t.lines().map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{}: {e}: {l}", p.display()))).collect()
+}
+
+/// A switch never holds the window: with a deliberately slow compile (`compile-delay`: the
+/// background build waits 2.5 s more before it is ready), the frames drawn while `tiled`
+/// builds show the last configuration (`volume`), compile nothing themselves, and take input
+/// (a held W moves the camera); once the build is in, the next frame draws `tiled`. The first
+/// frame is the stand-in while the first configuration builds. The pipelines window's rows
+/// (`pipelines`) list every pipeline `tiled` declares, as `Renderer::describe_pipelines`
+/// names them, each with its compile time, plus the thumbnails' compose.
+#[test]
+fn a_switch_keeps_drawing_the_last_configuration_while_the_new_one_compiles() {
+    need_display!();
+    let dir = out_dir("background-compile");
+    let script = dir.join("switch.script");
+    std::fs::write(
+        &script,
+        "1 compiles live\n1 frame-log frames.jsonl\n1 set panel-pipelines on\n3 wait-compiles\n\
+         10 compile-delay 2500\n10 culling tiled\n12 hold W 6\n20 wait-compiles\n\
+         22 pipelines pipelines.json\n22 screenshot after.png\n23 quit\n",
+    )
+    .unwrap();
+    view("demo", &script, &["--size", "960x540"], &dir);
+    let log = frame_log(&dir, "frames.jsonl");
+    let line = |f: u64| log.iter().find(|l| l["frame"] == f).unwrap_or_else(|| panic!("no frame {f} in the log"));
+    let config = |l: &serde_json::Value| l["config"].as_str().unwrap_or("").to_string();
+    assert_eq!(line(1)["stand_in"], true, "the first frame is not the stand-in: {}", line(1));
+    assert!(config(line(4)).contains("volume") && line(4)["stand_in"] == false, "{}", line(4));
+    // Frames 10-19: the build of `tiled` runs (2.5 s at least), the viewport draws `volume`.
+    let during: Vec<&serde_json::Value> = (10..20).map(line).collect();
+    for l in &during {
+        assert!(config(l).contains("volume"), "a frame drew another configuration while tiled built: {l}");
+        assert!(l["building"].as_str().is_some_and(|b| b.contains("tiled")), "not building tiled: {l}");
+        assert_ne!(l["waited_on"], "compile", "a frame compiled while tiled built in the background: {l}");
+    }
+    let at = |l: &serde_json::Value| -> Vec<f64> { (0..3).map(|k| l["camera"][k].as_f64().expect("camera")).collect() };
+    let moved = at(during[0]).iter().zip(at(during[9])).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+    assert!(moved > 0.5, "W held while tiled built moved the camera {moved}: {during:?}");
+    assert!(config(line(21)).contains("tiled"), "the frame after the build did not draw tiled: {}", line(21));
+    // The pipelines window's rows for tiled: every declared pipeline with its time.
+    let rows = json(&dir, "pipelines.json");
+    let tiled = rows
+        .as_array()
+        .and_then(|r| r.iter().find(|c| c["config"].as_str().is_some_and(|n| n.contains("tiled"))))
+        .unwrap_or_else(|| panic!("no row for tiled: {rows}"));
+    assert_eq!(tiled["built_by"], "background", "{tiled}");
+    let labels: Vec<&str> =
+        tiled["pipelines"].as_array().unwrap().iter().map(|p| p["label"].as_str().unwrap()).collect();
+    for p in tiled["pipelines"].as_array().unwrap() {
+        assert!(p["ms"].as_f64().is_some_and(|ms| ms > 0.0), "a pipeline without its compile time: {p}");
+    }
+    let gpu = lampshade::Gpu::headless().expect("a device");
+    let settings =
+        Settings { culling: CullingMode::Tiled, count_ideal: false, per_light_stats: true, ..Settings::default() };
+    let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
+    let scene = builtin::build("demo", BuiltinOptions::default()).expect("demo");
+    let described = r.describe_pipelines(&scene, &settings, (320, 180)).expect("describe");
+    let mut expected: Vec<String> = described.iter().map(|d| d.label().to_string()).collect();
+    expected.push("compose (views)".into());
+    assert_eq!(labels, expected, "the window's rows are not the pipelines tiled declares");
 }

@@ -56,6 +56,12 @@ pub fn cache_dir() -> Option<PathBuf> {
 
 /// The cache file of `key` in `dir`: `calibration-<the key's letters and digits>-<hash>.json`.
 pub fn cache_file(dir: &Path, key: &str) -> PathBuf {
+    keyed_file(dir, "calibration", key, "json")
+}
+
+/// `<prefix>-<the key's letters and digits>-<hash>.<ext>` in `dir`: one file per adapter key
+/// (the calibration, the pipeline cache).
+pub fn keyed_file(dir: &Path, prefix: &str, key: &str, ext: &str) -> PathBuf {
     let mut slug = String::new();
     for c in key.chars() {
         if c.is_ascii_alphanumeric() {
@@ -67,7 +73,7 @@ pub fn cache_file(dir: &Path, key: &str) -> PathBuf {
     let slug: String = slug.trim_matches('-').chars().take(80).collect();
     // FNV-1a over the whole key: two keys whose slugs agree still get two files.
     let hash = key.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3));
-    dir.join(format!("calibration-{slug}-{hash:016x}.json"))
+    dir.join(format!("{prefix}-{slug}-{hash:016x}.{ext}"))
 }
 
 /// Reads a calibration file: an error when it cannot be read, is not one, is of another

@@ -24,6 +24,7 @@ pub const OPTIONAL_FEATURES: &[(wgpu::Features, &str)] = &[
         wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES,
         "the oct16 G-buffer layout (rendering to Rg16Unorm) is unavailable",
     ),
+    (wgpu::Features::PIPELINE_CACHE, "the viewer keeps no compiled pipelines between runs"),
 ];
 
 /// What every pass needs: the frame's shader module reads storage buffers in the vertex and

@@ -9,6 +9,7 @@ pub mod gpu;
 pub mod headless;
 pub mod memory;
 pub mod oracle;
+pub mod pipeline_cache;
 pub mod plot_layout;
 pub mod reference;
 pub mod renderer;

@@ -141,6 +141,13 @@ pub fn run(args: ViewArgs) -> Result<()> {
     app.calibration_answered = saved.calibration_answered;
     app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
     event_loop.run_app(&mut app).context("the event loop failed")?;
+    if let Some(g) = &app.gfx {
+        match crate::pipeline_cache::save(&g.gpu) {
+            Ok(Some((path, bytes))) => log::info!("pipeline cache {}: {bytes} bytes written", path.display()),
+            Ok(None) => {}
+            Err(e) => eprintln!("warning: could not save the pipeline cache: {e:#}"),
+        }
+    }
     if let Some(p) = &state_path {
         let saved = persist::Persisted {
             window: [app.size.0, app.size.1],
@@ -364,6 +371,12 @@ impl App {
         let gpu = Gpu::for_surface(instance, &surface, &self.args.adapter.choice())?;
         // One renderer draws the viewer's frames: it keeps its recent configurations itself.
         gpu.passes.keep_bytes_at_most(VIEWER_POOL_BYTES);
+        // The pipelines compiled in earlier runs on this adapter, where it keeps them.
+        match crate::pipeline_cache::load(&gpu) {
+            Ok(Some((path, bytes))) => log::info!("pipeline cache {}: {bytes} bytes", path.display()),
+            Ok(None) => {}
+            Err(e) => self.say(format!("{e:#}; compiling without the pipeline cache"), true),
+        }
         let surface = Surface::new(&gpu, window.clone(), surface, !self.scripted())?;
         let settings = self.state.frame_settings();
         let mut renderer = Renderer::new(&gpu, OUTPUT_FORMAT, &settings)?;

@@ -76,3 +76,33 @@ fn the_declared_set_builds_on_another_thread_and_is_what_the_frame_draws() {
     let (_, stats) = render_image(&gpu, &mut r, &scene, &settings, 96, 54).expect("render");
     assert_eq!((stats.pipelines.built, stats.pipelines.while_recording), (0, 0));
 }
+
+/// The viewer's pipeline cache (`pipeline_cache`): a damaged file is no error (wgpu starts an
+/// empty cache from it), a frame draws with its pipelines made through the cache, and what is
+/// saved is what the next run reads. On lavapipe the cache's data is wgpu's and Vulkan's
+/// headers alone (docs/measurements.md), so this holds the file's round trip, not its use.
+#[test]
+fn a_damaged_pipeline_cache_file_starts_empty_and_a_saved_one_reads_back() {
+    let gpu = Gpu::headless().expect("a second device on the adapter");
+    if !gpu.has(wgpu::Features::PIPELINE_CACHE) {
+        eprintln!("SKIPPED: {} has no pipeline cache", gpu.info.name);
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("pipeline-cache");
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let path = dir.join("pipelines.bin");
+    let damaged = b"not a pipeline cache".to_vec();
+    std::fs::write(&path, &damaged).expect("writing the damaged file");
+    let read = lampshade::pipeline_cache::load_from(&gpu, &path).expect("a damaged file is no error");
+    assert_eq!(read, Some(damaged.len()));
+    assert!(gpu.passes.pipeline_cache().is_some(), "no cache held for the device");
+    let (scene, settings) = (scene("demo"), Settings { count_ideal: false, ..Settings::default() });
+    let mut r = Renderer::new(&gpu, OUTPUT_FORMAT, &settings).expect("renderer");
+    let (img, _) = render_image(&gpu, &mut r, &scene, &settings, 96, 54).expect("a frame through the cache");
+    assert!(img.pixels().any(|p| p[0] > 0), "the frame drawn through the cache is black");
+    let written = lampshade::pipeline_cache::save_to(&gpu, &path).expect("saving").expect("a cache to save");
+    let file = std::fs::read(&path).expect("reading the saved file");
+    assert_eq!(file.len(), written);
+    assert_ne!(file, damaged, "the damaged file was kept");
+    assert_eq!(lampshade::pipeline_cache::load_from(&gpu, &path).expect("reading it back"), Some(written));
+}

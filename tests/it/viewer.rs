@@ -735,7 +735,8 @@ fn soak_plan(frames: u64, memory_every: u64) -> String {
         "complexity",
     ];
     let layouts = ["compact", "seed000", "packed"];
-    let mut plan = String::from("1 set scale 0.25\n1 set lights 64\n1 set shadows none\n2 key Space\n");
+    let mut plan =
+        String::from("1 compiles live\n1 set scale 0.25\n1 set lights 64\n1 set shadows none\n2 key Space\n");
     for (k, f) in (40..frames).step_by(40).enumerate() {
         plan += &format!("{f} culling {}\n", modes[k % modes.len()]);
         plan += &format!("{f} view {}\n", views[k % views.len()]);
@@ -753,6 +754,17 @@ fn soak_plan(frames: u64, memory_every: u64) -> String {
     plan
 }
 
+/// `frame F: pipelines compiled N` lines of a run's output.
+fn compile_counts(stdout: &str) -> Vec<(u64, u64)> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let (frame, n) = l.strip_prefix("frame ")?.split_once(": pipelines compiled ")?;
+            Some((frame.parse().ok()?, n.parse().ok()?))
+        })
+        .collect()
+}
+
 /// `frame F: resident B bytes` lines of a run's output.
 fn memory_samples(stdout: &str) -> Vec<(u64, u64)> {
     stdout
@@ -768,7 +780,9 @@ fn memory_samples(stdout: &str) -> Vec<(u64, u64)> {
 /// schedule with memory every 10 frames, then, for each warm-up from `first_warmup` on (every
 /// 50 frames) and each judged length, judges the samples every 50 frames with
 /// `memory::judge_soak` as recorded (a clean run must pass) and with a leak of 3 and 4 KiB a
-/// frame added from the warm-up on (it must fail). Prints, per length, the windows judged, the
+/// frame added from the warm-up on (it must fail), as the soaks are judged: with the steps of
+/// the stretches that compiled pipelines taken out (`memory::judge_soak_compiling`). Prints,
+/// per length, the windows judged, the
 /// clean ones that failed and the leaky ones that passed. The figures in docs/testing.md, "Soaks":
 ///
 /// `xvfb-run -a cargo test --test it -- --ignored --nocapture viewer::soak_lengths`
@@ -785,6 +799,7 @@ fn soak_lengths() {
         std::fs::write(&script, format!("{plan}{} quit\n", frames + 1)).unwrap();
         let out = view(scene, &script, &["--size", size], &dir);
         let samples = memory_samples(&text(&out).0);
+        let compiled = compile_counts(&text(&out).0);
         let mib: Vec<u64> = samples.iter().filter(|(f, _)| f % 50 == 0).map(|(_, b)| b >> 20).collect();
         println!("{name}: resident MiB every 50 frames {mib:?}");
         let at: std::collections::HashMap<u64, u64> = samples.iter().copied().collect();
@@ -797,9 +812,10 @@ fn soak_lengths() {
                     window.iter().map(|&(f, b)| (f, b + kib * 1024 * (f - warmup))).collect()
                 };
                 windows += 1;
-                false_alarms += lampshade::memory::judge_soak(&window, warmup).is_err() as u32;
+                let judge = |w: &[(u64, u64)]| lampshade::memory::judge_soak_compiling(w, &compiled, warmup);
+                false_alarms += judge(&window).is_err() as u32;
                 for (m, kib) in missed.iter_mut().zip([3, 4, 16]) {
-                    *m += lampshade::memory::judge_soak(&leaky(kib), warmup).is_ok() as u32;
+                    *m += judge(&leaky(kib)).is_ok() as u32;
                 }
             }
             if windows > 0 {
@@ -1104,13 +1120,7 @@ fn judge_memory_lines(stdout: &str, expected: u64, warmup: u64, what: &str) -> b
         return false;
     }
     assert_eq!(samples.len() as u64, expected, "memory lines missing from the viewer's output:\n{stdout}");
-    let compiled: Vec<(u64, u64)> = stdout
-        .lines()
-        .filter_map(|l| {
-            let (frame, n) = l.strip_prefix("frame ")?.split_once(": pipelines compiled ")?;
-            Some((frame.parse().ok()?, n.parse().ok()?))
-        })
-        .collect();
+    let compiled = compile_counts(stdout);
     assert_eq!(compiled.len() as u64, expected, "compile counts missing from the viewer's output:\n{stdout}");
     let mib: Vec<(u64, u64)> = samples.iter().map(|(f, b)| (*f, b >> 20)).collect();
     let counts: Vec<u64> = compiled.iter().map(|c| c.1).collect();

@@ -83,7 +83,7 @@ impl Passes {
     /// by the first frame ([`Passes::prepare`]), the others by the first frame that needs them,
     /// so a set whose configuration is replaced before it draws (`Renderer::new` builds one
     /// before it has seen a scene, whose shader features it guesses) compiles nothing.
-    pub fn new(device: &wgpu::Device, key: PipelineKey) -> Self {
+    pub fn new(device: &wgpu::Device, key: PipelineKey, pipeline_cache: Option<wgpu::PipelineCache>) -> Self {
         let source = crate::renderer::program::shader_source_for(
             &key.layout,
             key.accum_format,
@@ -91,7 +91,7 @@ impl Passes {
             key.prepass,
             key.features,
         );
-        let shared = Arc::new(Shared::new(device, key, source));
+        let shared = Arc::new(Shared { pipeline_cache, ..Shared::new(device, key, source) });
         Self {
             gbuffer: Lazy::new(device, &shared, crate::renderer::surfaces::gbuffer::GBufferPass::new),
             lights: Lazy::new(device, &shared, crate::renderer::culling::light_pass::LightPass::new),
@@ -125,6 +125,7 @@ impl Passes {
 
     /// [`Passes::build`], saying for each declared pipeline whether this call compiled it.
     pub fn build_each(&self, declared: &Declared) -> Vec<bool> {
+        let _cache = crate::renderer::kit::cache::scope(self.shared.pipeline_cache.clone());
         let now = declared.build_each();
         let n = now.iter().filter(|b| **b).count();
         self.compiled.fetch_add(n as u64, Ordering::Relaxed);
@@ -171,9 +172,9 @@ pub const PIPELINE_CACHE: usize = 8;
 /// Builds a configuration's shader module and layouts, turning validation errors (a bad
 /// layout, a module that fails naga's validation) into an error instead of a panic; the
 /// pipelines compile later, each on its first draw (`kit::scoped`).
-fn build_passes(device: &wgpu::Device, key: PipelineKey) -> Result<Passes> {
+fn build_passes(device: &wgpu::Device, key: PipelineKey, pool: &PassPool) -> Result<Passes> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let p = Passes::new(device, key);
+    let p = Passes::new(device, key, pool.pipeline_cache());
     if let Some(e) = pollster::block_on(scope.pop()) {
         bail!("building the pipelines failed: {e}");
     }
@@ -197,7 +198,7 @@ pub struct PassSets {
 
 impl PassSets {
     pub fn new(device: &wgpu::Device, pool: &Arc<PassPool>, key: PipelineKey) -> Result<Self> {
-        let current = pool.get(key.clone(), || build_passes(device, key))?;
+        let current = pool.get(key.clone(), || build_passes(device, key, pool))?;
         Ok(Self { current, cache: Vec::new(), pool: pool.clone(), used: false })
     }
 
@@ -219,7 +220,7 @@ impl PassSets {
         // compiling them again (and on lavapipe, leaving the old compilation's memory behind).
         let next = match self.cache.iter().position(|p| *p.key() == key) {
             Some(i) => self.cache.remove(i),
-            None => self.pool.get(key.clone(), || build_passes(device, key))?,
+            None => self.pool.get(key.clone(), || build_passes(device, key, &self.pool))?,
         };
         let previous = std::mem::replace(&mut self.current, next);
         // The set `new` chose before it saw a scene stays in the pool only.

@@ -13,6 +13,7 @@
 
 pub mod adapter;
 pub mod bindings;
+pub mod cache;
 pub mod description;
 pub mod features;
 pub mod gbuffer;
@@ -577,13 +578,14 @@ pub fn compute_pipe(
         (device.clone(), label.to_owned(), layout.cloned(), module.clone(), entry.to_owned());
     let description = description::PipelineDescription::Compute { label: label.clone(), entry: entry.clone() };
     OnFirstUse::described(description, move || {
+        let cache = cache::current();
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(&label),
             layout: layout.as_ref(),
             module: &module,
             entry_point: Some(&entry),
             compilation_options: Default::default(),
-            cache: None,
+            cache: cache.as_ref(),
         })
     })
 }
@@ -625,6 +627,7 @@ impl RenderPipeDesc {
                 })
             })
             .collect();
+        let cache = cache::current();
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&self.label),
             layout: Some(&self.layout),
@@ -644,7 +647,7 @@ impl RenderPipeDesc {
                 targets,
             }),
             multiview_mask: None,
-            cache: None,
+            cache: cache.as_ref(),
         })
     }
 }

@@ -110,6 +110,9 @@ pub struct Shared {
     pub peeled_bgl: wgpu::BindGroupLayout,
     pub peel_layout: wgpu::PipelineLayout,
     pub peeled_layout: wgpu::PipelineLayout,
+    /// The device's pipeline cache when the set was made (`kit::cache`): the set's pipelines
+    /// are compiled through it.
+    pub pipeline_cache: Option<wgpu::PipelineCache>,
 }
 
 impl Shared {
@@ -161,6 +164,7 @@ impl Shared {
             peeled_bgl,
             peel_layout,
             peeled_layout,
+            pipeline_cache: None,
         }
     }
 

@@ -42,11 +42,19 @@ pub struct PassPool {
     budget: AtomicU64,
     /// Host memory a compiled pipeline holds on this adapter (an estimate).
     pipeline_bytes: u64,
+    /// The device's pipeline cache, for the sets made from now on (`kit::cache`).
+    pipeline_cache: Mutex<Option<wgpu::PipelineCache>>,
 }
 
 impl PassPool {
     pub fn new(pipeline_bytes: u64) -> Self {
-        Self { sets: Mutex::default(), gone: Mutex::default(), budget: AtomicU64::new(0), pipeline_bytes }
+        Self {
+            sets: Mutex::default(),
+            gone: Mutex::default(),
+            budget: AtomicU64::new(0),
+            pipeline_bytes,
+            pipeline_cache: Mutex::default(),
+        }
     }
 
     /// Keeps sets of at most `bytes` estimated host memory from now on (a process with one
@@ -93,6 +101,16 @@ impl PassPool {
             gone.push((k, Arc::downgrade(&dropped)));
         }
         set.into_any().downcast::<T>().map_err(|_| anyhow!("the device's pass set for this key is of another type"))
+    }
+
+    /// Makes `cache` the one the sets made from now on compile through (`kit::cache`).
+    pub fn set_pipeline_cache(&self, cache: Option<wgpu::PipelineCache>) {
+        *self.pipeline_cache.lock().unwrap_or_else(|e| e.into_inner()) = cache;
+    }
+
+    /// The device's pipeline cache, if it has one.
+    pub fn pipeline_cache(&self) -> Option<wgpu::PipelineCache> {
+        self.pipeline_cache.lock().unwrap_or_else(|e| e.into_inner()).clone()
     }
 
     /// Whether a set for `key` is held, by the pool or by a renderer it was handed to.

@@ -2,7 +2,7 @@
 # The real-GPU check: one script, run once when a machine with a GPU is there, on release
 # builds made elsewhere (docs/measurements.md, "On a real GPU", has what it gave).
 #
-#   cargo build --release --bin lampshade --example gpucheck
+#   cargo build --release --bin lampshade --example gpucheck --example pipecache
 #   scripts/gpu-check.sh [BIN_DIR [OUT_DIR [SECONDS]]]
 #
 # BIN_DIR holds `lampshade` and `gpucheck` (default target/release, the example found in its
@@ -44,6 +44,8 @@
 #   shadows       `lampshade bench demo --only shadows`: budgets, kernels, cascades, formats
 #                 and the cube layouts (face pick, seed 002's indirection, cube array)
 #   references-gl the `gpucheck` comparisons again on wgpu's GL backend
+#   pipeline-cache the `pipecache` example twice on one cache file: four configurations'
+#                 pipelines created cold, then warm from the driver's saved pipeline cache
 # The stochastic shading rows go after `scale` when that technique lands.
 set -u
 bin=${1:-target/release}
@@ -118,9 +120,18 @@ step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows 
     --size "$size" --frames "$frames" --out "$out/shadows"
 # The same comparisons on wgpu's GL backend (EGL), the backend the suite checks on llvmpipe.
 step references-gl 90 "$check" --adapter "$adapter" --backend gl --out "$out/images-gl"
+# The pipeline cache the viewer keeps between runs: cold, then warm.
+pipecache=$bin/pipecache
+[ -x "$pipecache" ] || pipecache=$bin/examples/pipecache
+rm -f "$out/pipelines.bin"
+step pipeline-cache-cold 30 "$pipecache" "$out/pipelines.bin" "$adapter"
+step pipeline-cache-warm 30 "$pipecache" "$out/pipelines.bin" "$adapter"
 # The answers the first questions want, gathered into the summary.
 {
     tail -n 1 "$out/references.log"
+    for f in "$out"/pipeline-cache-*.log; do
+        [ -f "$f" ] && echo "$(basename "$f" .log): $(tail -n 1 "$f")"
+    done
     for f in "$out"/regret-*/bench.md; do
         [ -f "$f" ] && echo "$(basename "$(dirname "$f")"): $(grep -o 'Met at [0-9]* of [0-9]* points' "$f")"
     done

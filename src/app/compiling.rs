@@ -15,6 +15,7 @@
 //! of it). The worker runs at a lower priority, and so do the second device's threads it
 //! starts, so that the frames drawn meanwhile keep their pace.
 
+pub use super::pipeline_rows::{config_name, remember, ConfigPipelines};
 use crate::renderer::options::calibration::Calibration;
 use crate::renderer::{Readiness, Renderer, Settings, OUTPUT_FORMAT};
 use crate::scene::Scene;
@@ -23,79 +24,6 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// One pipeline of a configuration: its label, its compile time and whether this build
-/// compiled it (else it was compiled before, for another configuration or frame).
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PipelineTime {
-    pub label: String,
-    /// Milliseconds its creation took, where it is compiled.
-    pub ms: Option<f64>,
-    pub now: bool,
-}
-
-/// One configuration's build, as the pipelines panel lists it.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct ConfigPipelines {
-    pub config: String,
-    /// `background`: built on the worker while the viewport drew another configuration;
-    /// `frame`: compiled by the viewport's own frame, which waited for it.
-    pub built_by: &'static str,
-    /// Every pipeline the configuration declares, in the order its passes declare them.
-    pub pipelines: Vec<PipelineTime>,
-    /// Milliseconds of the build's pipeline creation (the sum over those it compiled).
-    pub compile_ms: f64,
-    /// Milliseconds of the warm-up draw on the second device (`None`: none was needed).
-    pub warm_ms: Option<f64>,
-    /// Milliseconds from the request to the set being ready.
-    pub wall_ms: f64,
-}
-
-impl ConfigPipelines {
-    /// From a declared set after its build; `now[i]`: this build compiled pipeline `i`.
-    pub fn of(config: String, built_by: &'static str, declared: &crate::renderer::kit::Declared, now: &[bool]) -> Self {
-        let pipelines: Vec<PipelineTime> = declared
-            .timings()
-            .into_iter()
-            .enumerate()
-            .map(|(i, (label, t))| PipelineTime {
-                label,
-                ms: t.map(|d| d.as_secs_f64() * 1e3),
-                now: now.get(i).copied().unwrap_or(false),
-            })
-            .collect();
-        let compile_ms = pipelines.iter().filter(|p| p.now).filter_map(|p| p.ms).sum();
-        Self { config, built_by, pipelines, compile_ms, warm_ms: None, wall_ms: 0.0 }
-    }
-
-    /// Adds `more`'s pipelines (another part of the same configuration) to these.
-    pub fn add(&mut self, more: ConfigPipelines) {
-        self.compile_ms += more.compile_ms;
-        self.pipelines.extend(more.pipelines);
-    }
-
-    /// Pipelines this build compiled.
-    pub fn compiled(&self) -> usize {
-        self.pipelines.iter().filter(|p| p.now).count()
-    }
-}
-
-/// A configuration's short name: path, culling, layout, shadows, view, and the post chain
-/// when it runs.
-pub fn config_name(s: &Settings) -> String {
-    let mut name = format!(
-        "{} · {} · {} · shadows {} · {}",
-        s.path.name(),
-        s.culling.name(),
-        s.layout.name(),
-        s.shadows.name(),
-        s.debug_view.name()
-    );
-    if crate::renderer::post::chain_active(s.debug_view, &s.post_options()) {
-        name.push_str(" · post");
-    }
-    name
-}
 
 struct Job {
     id: u64,
@@ -366,6 +294,18 @@ pub fn choose(
     }
 }
 
+/// Whether a run compiles in the background from its start: an interactive one does; a
+/// script does when its first frame says `compiles live` (the first frame's stand-in then
+/// included).
+pub fn live_from_start(script: Option<&super::script::Script>) -> bool {
+    script.is_none_or(|s| {
+        s.actions.iter().take_while(|(f, _)| *f <= 1).fold(false, |live, (_, a)| match a {
+            super::script::Action::Compiles(on) => *on,
+            _ => live,
+        })
+    })
+}
+
 /// What the viewport draws while the first configuration builds: `wanted` without shadows,
 /// drawn with no lights (the viewport takes the lights out of the scene for it), so ambient and
 /// sun only. Its frame compiles the G-buffer and compose pipelines alone; on lavapipe the first
@@ -373,24 +313,6 @@ pub fn choose(
 /// before a first picture.
 pub fn stand_in(wanted: &Settings) -> Settings {
     Settings { shadows: crate::renderer::ShadowMode::None, ..wanted.clone() }
-}
-
-/// Keeps `built` in the pipelines panel's list: one row per configuration, its latest build
-/// (a configuration found ready adds a row only when it has none).
-pub fn remember(list: &mut Vec<ConfigPipelines>, built: ConfigPipelines) {
-    /// Configurations the panel keeps, the oldest let go first.
-    const KEPT: usize = 64;
-    match list.iter().position(|c| c.config == built.config) {
-        Some(_) if built.built_by == "earlier" => return,
-        Some(i) => {
-            list.remove(i);
-        }
-        None => {}
-    }
-    list.push(built);
-    if list.len() > KEPT {
-        list.remove(0);
-    }
 }
 
 impl super::App {
@@ -521,6 +443,16 @@ impl super::App {
         }
         let text = serde_json::to_string_pretty(&self.pipelines)?;
         std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+    }
+
+    /// Writes the device's pipeline cache (`crate::pipeline_cache`) as the viewer closes.
+    pub(super) fn save_pipeline_cache(&self) {
+        let Some(g) = &self.gfx else { return };
+        match crate::pipeline_cache::save(&g.gpu) {
+            Ok(Some((path, bytes))) => log::info!("pipeline cache {}: {bytes} bytes written", path.display()),
+            Ok(None) => {}
+            Err(e) => eprintln!("warning: could not save the pipeline cache: {e:#}"),
+        }
     }
 
     /// [`super::App::finish_calibration`], its time counted as the frame's wait on it.

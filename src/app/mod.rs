@@ -15,6 +15,7 @@ mod frame_log;
 pub mod gfx;
 pub mod loading;
 pub mod persist;
+pub mod pipeline_rows;
 pub mod script;
 pub mod state;
 pub mod ui;
@@ -125,14 +126,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let frame_log = args.frame_log.as_deref().map(frame_log::FrameLog::create).transpose()?;
-    // A script's `compiles` on its first frame holds from the start (the first frame's
-    // stand-in included).
-    let live = script.as_ref().map_or(true, |s| {
-        s.actions.iter().take_while(|(f, _)| *f <= 1).fold(false, |live, (_, a)| match a {
-            Action::Compiles(on) => *on,
-            _ => live,
-        })
-    });
+    let live = compiling::live_from_start(script.as_ref());
     let mut app = App::new(args, state, cache, script);
     app.frame_log = frame_log;
     app.started = started;
@@ -141,13 +135,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     app.calibration_answered = saved.calibration_answered;
     app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
     event_loop.run_app(&mut app).context("the event loop failed")?;
-    if let Some(g) = &app.gfx {
-        match crate::pipeline_cache::save(&g.gpu) {
-            Ok(Some((path, bytes))) => log::info!("pipeline cache {}: {bytes} bytes written", path.display()),
-            Ok(None) => {}
-            Err(e) => eprintln!("warning: could not save the pipeline cache: {e:#}"),
-        }
-    }
+    app.save_pipeline_cache();
     if let Some(p) = &state_path {
         let saved = persist::Persisted {
             window: [app.size.0, app.size.1],

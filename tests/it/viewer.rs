@@ -828,9 +828,10 @@ fn soak_lengths() {
     }
 }
 
-/// The viewer left running: 2,250 frames in a small window at a small scale with the lights
-/// animated, switching the culling mode, the viewport's view and the G-buffer layout every 40
-/// frames (every mode, view and layout the script language has), hovering the probe and moving
+/// The viewer left running as a user runs it, with live compiles (each switch built in the
+/// background, and on llvmpipe drawn once on a second device): 2,250 frames in a small window
+/// at a small scale with the lights animated, switching the culling mode, the viewport's view
+/// and the G-buffer layout every 40 frames (every mode, view and layout the script language has), hovering the probe and moving
 /// the camera. The viewer prints its resident memory every 50 frames (`memory`), judged by
 /// `memory::judge_soak` after a warm-up of 500 frames: with its two largest rises between
 /// samples taken out (one-off steps), its robust slope must stay under 2 KiB a frame, and the
@@ -839,7 +840,9 @@ fn soak_lengths() {
 /// the judged part.
 ///
 /// The lengths are the fewest that prove a bound of 4 KiB a frame, measured on runs of this
-/// schedule with memory every 10 frames (`viewer::soak_lengths`, docs/testing.md "Soaks"):
+/// schedule with memory every 10 frames (`viewer::soak_lengths`, docs/testing.md "Soaks"; with
+/// live compiles every window of 1,450 judged frames or more caught it, and the figures below
+/// are those of each change compiled in its frame):
 /// resident memory rises at each of the first three layout switches and is flat (299-304 MiB)
 /// from frame 450 on, so the warm-up ends at 500, after which no judged window of 550 frames or
 /// more failed; a leak of 4 KiB a frame added to a recorded run was caught by every window of

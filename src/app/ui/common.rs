@@ -125,7 +125,7 @@ pub struct FrameInfo<'a> {
     /// A configuration building in the background (`compiling N pipelines for …`).
     pub compiling: Option<String>,
     /// Each configuration's pipelines and compile times (the pipelines window).
-    pub pipelines: &'a [crate::app::compiling::ConfigPipelines],
+    pub pipelines: &'a [crate::app::pipeline_rows::ConfigPipelines],
 }
 
 #[derive(Clone, Debug)]

@@ -119,11 +119,7 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 (&mut st.panels.right, "right", "culling figures, GPU times, history"),
                 (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
                 (&mut st.panels.shadows, "shadows", "the shadow atlas window: tiles, figures and shadow settings"),
-                (
-                    &mut st.panels.pipelines,
-                    "pipelines",
-                    "the pipelines window: each configuration's compiles and their times",
-                ),
+                (&mut st.panels.pipelines, "pipelines", "the pipelines window: each configuration's compiles"),
             ] {
                 ui.toggle_value(on, name).on_hover_text(format!(
                     "show or hide the {what}; a window too small for a panel hides it until it grows"

@@ -55,7 +55,8 @@ pub struct Pending {
 
 /// The worker thread and the build it runs.
 pub struct Compiler {
-    jobs: mpsc::Sender<Job>,
+    /// `None` once dropped: the worker then ends after its build.
+    jobs: Option<mpsc::Sender<Job>>,
     done: mpsc::Receiver<Done>,
     next_id: u64,
     pub pending: Option<Pending>,
@@ -98,7 +99,7 @@ impl Compiler {
                 }
             }
         })?;
-        Ok(Self { jobs, done, next_id: 0, pending: None, early: Vec::new(), delay_ms })
+        Ok(Self { jobs: Some(jobs), done, next_id: 0, pending: None, early: Vec::new(), delay_ms })
     }
 
     pub fn set_delay_ms(&self, ms: u64) {
@@ -118,7 +119,9 @@ impl Compiler {
             config: config_name(settings),
             calibration: calibration.clone(),
         };
-        let _ = self.jobs.send(job);
+        if let Some(jobs) = &self.jobs {
+            let _ = jobs.send(job);
+        }
     }
 
     /// Waits at most `timeout` for the pending build to finish (the script's `wait-compiles`);
@@ -160,7 +163,7 @@ impl Compiler {
             config: config.clone(),
             calibration: calibration.clone(),
         };
-        if self.jobs.send(job).is_ok() {
+        if self.jobs.as_ref().is_some_and(|j| j.send(job).is_ok()) {
             self.pending = Some(Pending {
                 id: self.next_id,
                 settings: settings.clone(),
@@ -189,6 +192,21 @@ impl Compiler {
     /// Whether the pending build is for `settings` on the scene named `scene`.
     pub fn building(&self, settings: &Settings, scene: &str) -> bool {
         self.pending.as_ref().is_some_and(|p| p.settings == *settings && p.scene == scene)
+    }
+}
+
+impl Drop for Compiler {
+    /// Lets the worker finish the build it runs (at most 30 s) before the device goes, so the
+    /// process does not end under a driver call on its thread.
+    fn drop(&mut self) {
+        self.jobs = None;
+        let end = Instant::now() + std::time::Duration::from_secs(30);
+        while let Some(left) = end.checked_duration_since(Instant::now()) {
+            if let Err(mpsc::RecvTimeoutError::Disconnected) = self.done.recv_timeout(left) {
+                return;
+            }
+        }
+        log::warn!("the pipeline worker was still building after 30 s; closing anyway");
     }
 }
 
@@ -332,6 +350,9 @@ impl super::App {
             }
         }
         let same = self.drawn.as_ref().is_some_and(|(s, n)| s == wanted && *n == scene.name);
+        // Another scene: the last one is gone, so there is nothing to keep drawing; its frame
+        // compiles what it needs.
+        let other_scene = self.drawn.as_ref().is_some_and(|(_, n)| *n != scene.name);
         // Before the first frame there is nothing to keep showing: with live compiles, the
         // stand-in is drawn while the first configuration builds; else the first frame compiles
         // what it draws, and the worker then makes its renderers with that configuration.
@@ -342,7 +363,7 @@ impl super::App {
                 self.primed = true;
             }
         }
-        let direct = same || !self.live_compiles || self.failed.as_ref() == Some(wanted);
+        let direct = same || other_scene || !self.live_compiles || self.failed.as_ref() == Some(wanted);
         let Some(compiler) = g.compiler.as_mut().filter(|_| !direct) else {
             return Some((wanted.clone(), false));
         };

@@ -167,9 +167,18 @@ impl App {
     fn viewport_size(&mut self) -> Option<(u32, u32)> {
         let g = self.gfx.as_mut()?;
         let ppp = g.egui_ctx.pixels_per_point();
+        let scale = self.state.resolution_scale.clamp(state::MIN_SCALE, state::MAX_SCALE);
         let size = self.viewport_rect.map(|r| {
-            let s = self.state.resolution_scale.clamp(state::MIN_SCALE, state::MAX_SCALE) * ppp;
+            let s = scale * ppp;
             (((r.width() * s).round() as u32).clamp(1, 8192), ((r.height() * s).round() as u32).clamp(1, 8192))
+        });
+        // Before the panels are first laid out, the stand-in is drawn at the window's size, so
+        // the window's first frame shows it (the next frame draws it at the viewport's).
+        let size = size.or_else(|| {
+            let w = g.surface.window.inner_size();
+            let first = self.live_compiles && self.drawn.is_none() && g.compiler.is_some();
+            let side = |n: u32| ((n as f32 * scale).round() as u32).clamp(1, 8192);
+            first.then(|| (side(w.width), side(w.height)))
         });
         let minimised = g.surface.window.is_minimized().unwrap_or(false) || {
             let s = g.surface.window.inner_size();

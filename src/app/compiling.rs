@@ -38,6 +38,8 @@ struct Job {
 /// says why it cannot).
 pub struct Done {
     pub id: u64,
+    /// The settings it built.
+    pub settings: Settings,
     pub result: Result<ConfigPipelines, String>,
 }
 
@@ -94,7 +96,7 @@ impl Compiler {
                     c.wall_ms = start.elapsed().as_secs_f64() * 1e3;
                     c
                 });
-                if done_tx.send(Done { id: job.id, result }).is_err() {
+                if done_tx.send(Done { id: job.id, settings: job.settings, result }).is_err() {
                     break;
                 }
             }
@@ -345,7 +347,7 @@ impl super::App {
                 Ok(built) => remember(&mut self.pipelines, built),
                 Err(e) => {
                     log::warn!("background compile: {e}");
-                    self.failed = Some(wanted.clone());
+                    self.failed = Some(done.settings);
                 }
             }
         }

@@ -426,6 +426,15 @@ impl super::App {
             waited_on: self.waits.main(),
             waits: self.waits,
             camera: self.scene.as_ref().map_or([0.0; 3], |s| s.camera.position.to_array()),
+            size: self.drew.as_ref().and_then(|_| Some(self.stats.as_ref()?.size)),
+            passes: self.drew.as_ref().and_then(|_| Some(self.stats.as_ref()?.gpu_ms.clone())),
+            methods: self.drew.as_ref().and_then(|_| {
+                let mut m = std::collections::BTreeMap::new();
+                for l in &self.stats.as_ref()?.per_light {
+                    *m.entry(super::ui::method_name(l.method)).or_insert(0) += 1;
+                }
+                Some(m)
+            }),
         };
         if let Err(e) = log.write(&line) {
             self.frame_log = None;

@@ -197,6 +197,9 @@ impl App {
         let (Some(g), Some(scene)) = (self.gfx.as_mut(), &self.scene) else { return false };
         if g.viewport.resize(&g.gpu.device, &mut g.egui_renderer, w, h, wgpu::FilterMode::Linear) {
             self.have_image = false;
+            if let Some(b) = g.egui_renderer.callback_resources.get::<super::blit::Blit>() {
+                g.viewport_paint = Some(b.paint(&g.gpu.device, &g.viewport.shown_view));
+            }
         }
         let rendering = Instant::now();
         let result = g.renderer.render(scene, settings, &g.viewport.target, w, h);
@@ -370,6 +373,7 @@ impl App {
             history: &self.history,
             scene: self.scene.as_ref(),
             viewport: self.have_image.then_some((g.viewport.id, [g.viewport.width, g.viewport.height])),
+            viewport_paint: g.viewport_paint.clone(),
             thumbs: &thumb_ids,
             tiles,
             depth_format: format!("{:?}", g.renderer.depth_format()),

@@ -66,6 +66,16 @@ pub struct FrameLine {
     pub waits: Waits,
     /// The camera's position (input handled while a configuration builds moves it).
     pub camera: [f64; 3],
+    /// The size the viewport's scene was rendered at this frame (the viewport's pixels times
+    /// the resolution scale), where it drew.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<[u32; 2]>,
+    /// The viewport frame's GPU time per pass, where it drew and timestamps are on.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub passes: Option<crate::renderer::GpuMs>,
+    /// How the frame's lights were drawn, by method (what `auto` chose), where it drew.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub methods: Option<std::collections::BTreeMap<String, usize>>,
 }
 
 /// An open frame log.

@@ -23,6 +23,8 @@ pub struct Image {
     pub target: wgpu::TextureView,
     /// For egui.
     pub id: egui::TextureId,
+    /// The view egui reads (also the viewport blit's: `app::blit`).
+    pub shown_view: wgpu::TextureView,
     pub width: u32,
     pub height: u32,
 }
@@ -67,8 +69,9 @@ impl Image {
     ) -> Self {
         let (texture, shown) = image_textures(device, label, width, height, views);
         let target = texture.create_view(&Default::default());
-        let id = egui.register_native_texture(device, &egui_view(&texture, shown.as_ref()), filter);
-        Self { texture, shown, target, id, width, height }
+        let shown_view = egui_view(&texture, shown.as_ref());
+        let id = egui.register_native_texture(device, &shown_view, filter);
+        Self { texture, shown, target, id, shown_view, width, height }
     }
 
     /// Brings the copy egui reads up to what was drawn (where there is one).
@@ -97,12 +100,8 @@ impl Image {
         }
         (self.texture, self.shown) = image_textures(device, "viewer image", width, height, self.shown.is_none());
         self.target = self.texture.create_view(&Default::default());
-        egui.update_egui_texture_from_wgpu_texture(
-            device,
-            &egui_view(&self.texture, self.shown.as_ref()),
-            filter,
-            self.id,
-        );
+        self.shown_view = egui_view(&self.texture, self.shown.as_ref());
+        egui.update_egui_texture_from_wgpu_texture(device, &self.shown_view, filter, self.id);
         self.width = width;
         self.height = height;
         true

@@ -7,6 +7,7 @@
 //! reach the renderer on the next frame.
 
 mod advice;
+mod blit;
 mod calibrating;
 pub mod camera;
 pub mod compiling;
@@ -169,6 +170,8 @@ struct Gfx {
     egui_state: egui_winit::State,
     egui_renderer: egui_wgpu::Renderer,
     viewport: Image,
+    /// The viewport image's own draw into the window (`None`: egui draws it as an image).
+    viewport_paint: Option<blit::Paint>,
     /// Asks whether a configuration's pipelines are compiled, for the viewport's renderer
     /// (`compiling`); it draws nothing.
     planner: Renderer,
@@ -407,6 +410,11 @@ impl App {
         let views = gpu.caps.has_downlevel(wgpu::DownlevelFlags::VIEW_FORMATS);
         let viewport =
             Image::new(&gpu.device, &mut egui_renderer, "viewport", (64, 36), wgpu::FilterMode::Linear, views);
+        let viewport_paint = blit::Blit::new(&gpu.device, surface.format()).map(|b| {
+            let paint = b.paint(&gpu.device, &viewport.shown_view);
+            egui_renderer.callback_resources.insert(b);
+            paint
+        });
         let adapter = format!("{} ({:?})", gpu.info.name, gpu.info.backend);
         self.gfx = Some(Gfx {
             surface,
@@ -416,6 +424,7 @@ impl App {
             egui_state,
             egui_renderer,
             viewport,
+            viewport_paint,
             planner,
             compiler,
             thumbs: HashMap::new(),

@@ -50,7 +50,7 @@ pub use settings::{
     AccumFormat, BlendedMode, BrdfOverride, CullingMode, DebugView, DepthFormat, DepthRead, DrawOrder, ForwardLights,
     LayoutChoice, Msaa, NearLights, RenderPath, Settings, ShadowCube, ShadowFilter, ShadowFormat, ShadowMode,
 };
-pub use stats::CpuMs;
+pub use stats::{CpuMs, GpuMs};
 use std::sync::Arc;
 pub use support::support;
 use targets::Targets;

@@ -642,8 +642,9 @@ pub fn sphere_wall(n: usize) -> Scene {
 /// on a sphere of radius 50 seen from its centre, each lighting a disc of 0.28 to 0.3 of the
 /// wall. They sit 0.1 inside the sphere, in front of the mesh's flat faces: a quad of 128 x 64
 /// cuts at most 50 (1 - cos(pi/128) cos(pi/128)) = 0.03 inside it at its centre (with 64 x 32,
-/// 0.12, and the lights at the quads' centres were behind the wall). Bevy renders it at
-/// 1024x768 with a vertical field of view of 45 degrees, as this camera has.
+/// 0.12, and the lights at the quads' centres were behind the wall). Bevy's example opens a
+/// 1920x1080 window (its scale factor held at 1) with a vertical field of view of 45 degrees,
+/// as this camera has.
 pub fn many_lights(n: usize) -> Scene {
     let mut s = lights_on_a_sphere("many-lights", n, (50.0, 49.9, 0.3), (128, 64), |_| 2.0);
     s.camera.fov_y = 45f64.to_radians();

@@ -88,6 +88,9 @@ pub struct FrameInfo<'a> {
     pub scene: Option<&'a Scene>,
     /// The viewport image and its size in pixels.
     pub viewport: Option<(egui::TextureId, [u32; 2])>,
+    /// The viewport image's own draw (`app::blit`), where the window has one: drawn instead of
+    /// egui's image of it.
+    pub viewport_paint: Option<crate::app::blit::Paint>,
     pub thumbs: &'a HashMap<DebugView, egui::TextureId>,
     pub tiles: &'a [Thumb],
     pub depth_format: String,

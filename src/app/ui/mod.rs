@@ -8,6 +8,7 @@ use egui::{Color32, Rect, Vec2};
 mod advice;
 mod common;
 mod pipelines;
+pub(crate) use common::method_name;
 pub use common::{
     efficiency_colour, AtlasInfo, Command, CullingCheck, FrameInfo, History, Region, Sample, Status, Thumb, UiOut,
     HISTORY, MAX_WIREFRAMES,

@@ -26,8 +26,8 @@ pub(super) fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: 
     out.viewport_rect = Some(rect);
     let resp = ui.allocate_rect(rect, Sense::click_and_drag());
     let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 0.0, Color32::BLACK);
     let Some((id, [w, h])) = f.viewport else {
+        painter.rect_filled(rect, 0.0, Color32::BLACK);
         painter.text(
             rect.center(),
             egui::Align2::CENTER_CENTER,
@@ -37,7 +37,18 @@ pub(super) fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: 
         );
         return;
     };
-    painter.image(id, rect, Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)), Color32::WHITE);
+    // The image is opaque and covers the rectangle: drawn by its own unblended draw where the
+    // window has one, else by egui over black (its blend would show the window's clear colour
+    // through any alpha below 1).
+    match &f.viewport_paint {
+        Some(paint) => {
+            painter.add(egui_wgpu::Callback::new_paint_callback(rect, paint.clone()));
+        }
+        None => {
+            painter.rect_filled(rect, 0.0, Color32::BLACK);
+            painter.image(id, rect, Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)), Color32::WHITE);
+        }
+    }
     let to_screen = |p: glam::Vec2| rect.min + Vec2::new(p.x / w as f32 * rect.width(), p.y / h as f32 * rect.height());
     // Light-volume wireframes, coloured by light colour or by the light's efficiency.
     if let Some(scene) = f.scene {

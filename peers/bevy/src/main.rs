@@ -46,10 +46,14 @@ struct Run {
     /// app's start; default: the last timed frame).
     screenshot: Option<PathBuf>,
     screenshot_frames: Vec<u64>,
+    /// The lights are hidden until this settled frame (`--lights-at K`), so that they enter
+    /// a running app's clustering at once, as a camera turning toward them would bring them.
+    lights_at: Option<u64>,
 }
 
 const USAGE: &str = "usage: lampshade-vs-bevy GLTF [--size WxH] [--method deferred|forward] \
-[--gpu-clustering on|off] [--warmup N] [--frames N] [--screenshot PREFIX [--screenshot-frames K,K,..]]";
+[--gpu-clustering on|off] [--warmup N] [--frames N] [--lights-at K] \
+[--screenshot PREFIX [--screenshot-frames K,K,..]]";
 
 fn parse(args: &[String]) -> Result<Run, String> {
     let mut run = Run {
@@ -61,6 +65,7 @@ fn parse(args: &[String]) -> Result<Run, String> {
         frames: 300,
         screenshot: None,
         screenshot_frames: Vec::new(),
+        lights_at: None,
     };
     let mut gltf = None;
     let mut it = args.iter();
@@ -101,6 +106,10 @@ fn parse(args: &[String]) -> Result<Run, String> {
                 if run.frames == 0 {
                     return Err("--frames must be at least 1".into());
                 }
+            }
+            "--lights-at" => {
+                let v = value("--lights-at")?;
+                run.lights_at = Some(v.parse().map_err(|_| format!("--lights-at '{v}' is not a whole number"))?);
             }
             "--screenshot" => run.screenshot = Some(PathBuf::from(value("--screenshot")?)),
             "--screenshot-frames" => {
@@ -178,7 +187,7 @@ fn main() -> AppExit {
         .insert_resource(SceneFile(file))
         .insert_resource(Clock::default())
         .add_systems(Startup, (setup, clustering))
-        .add_systems(Update, no_shadows)
+        .add_systems(Update, (no_shadows, show_lights))
         .add_systems(PostUpdate, quiet_gltf_cameras)
         .add_systems(Last, clock);
     let pending = Pending::default();
@@ -242,9 +251,22 @@ fn quiet_gltf_cameras(mut cameras: Query<&mut Camera, Without<Ours>>) {
 }
 
 /// glTF lights come without shadows already; this holds it whatever the loader's default.
-fn no_shadows(mut lights: Query<&mut PointLight, Added<PointLight>>) {
-    for mut l in &mut lights {
+/// Under `--lights-at` they are hidden as they arrive.
+fn no_shadows(mut lights: Query<(&mut PointLight, &mut Visibility), Added<PointLight>>, run: Res<Run>) {
+    for (mut l, mut v) in &mut lights {
         l.shadow_maps_enabled = false;
+        if run.lights_at.is_some() {
+            *v = Visibility::Hidden;
+        }
+    }
+}
+
+/// `--lights-at K`: the lights shown at settled frame K.
+fn show_lights(mut lights: Query<&mut Visibility, With<PointLight>>, run: Res<Run>, clock: Res<Clock>) {
+    if run.lights_at.is_some_and(|k| k == clock.frame) {
+        for mut v in &mut lights {
+            *v = Visibility::Inherited;
+        }
     }
 }
 

@@ -8,7 +8,7 @@
 #   scripts/vs-bevy.sh [--layout sphere-wall|many-lights] [--counts 64,256,1024,4096]
 #                      [--size 1280x720] [--rounds 2] [--warmup 60] [--frames 300]
 #                      [--bevy deferred-gpu,deferred-cpu,forward-gpu,forward-cpu]
-#                      [--culling auto] [--out DIR] [--no-build]
+#                      [--culling auto] [--out DIR] [--no-build] [--tables-only]
 #
 # It builds both apps in release, writes the layout's glTF at each count (sphere-wall:
 # ../shared/peers/sphere_wall.py; many-lights: peers/bevy/many_lights.py), and at each count runs
@@ -20,6 +20,8 @@
 # CPU. Each frame's wall delta is kept: Lampshade's frame log (`--frame-log`), Bevy's printed
 # line per frame.
 #
+# `--tables-only` writes the tables again from DIR's runs without running anything.
+#
 # It writes DIR/table.md (the medians of the pooled frames, their 10th to 90th percentile, the
 # ratios to the faster clustering of each Bevy method) and DIR/breakdown.md (Lampshade's GPU
 # passes per count), and prints both. DIR defaults to target/vs-bevy/LAYOUT.
@@ -29,7 +31,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 peer="$root/peers/bevy"
 
 layout=sphere-wall counts=64,256,1024,4096 size=1280x720 rounds=2 warmup=60 frames=300
-bevy=deferred-gpu,deferred-cpu,forward-gpu,forward-cpu culling=auto out="" build=1
+bevy=deferred-gpu,deferred-cpu,forward-gpu,forward-cpu culling=auto out="" build=1 run=1
 while [ $# -gt 0 ]; do
     case "$1" in
         --check)
@@ -47,7 +49,8 @@ while [ $# -gt 0 ]; do
         --culling) culling=$2; shift ;;
         --out) out=$2; shift ;;
         --no-build) build=0 ;;
-        -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
+        --tables-only) build=0 run=0 ;;
+        -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
         *) echo "vs-bevy: unknown argument '$1' (--help)" >&2; exit 2 ;;
     esac
     shift
@@ -66,7 +69,7 @@ per_run=$(( (frames + rounds - 1) / rounds ))
 out=${out:-$root/target/vs-bevy/$layout}
 
 # One X server for every run, large enough for Lampshade's window (the scene plus its bars).
-if [ -z "${DISPLAY:-}" ]; then
+if [ -z "${DISPLAY:-}" ] && [ $run = 1 ]; then
     exec xvfb-run -a -s "-screen 0 $((w + 64))x$((h + 200))x24" "$0" --layout "$layout" --counts "$counts" \
         --size "$size" --rounds "$rounds" --warmup "$warmup" --frames "$frames" --bevy "$bevy" \
         --culling "$culling" --out "$out" $([ $build = 0 ] && echo --no-build)
@@ -78,55 +81,57 @@ if [ $build = 1 ]; then
     (cd "$root" && cargo build --release --locked --bin lampshade)
     (cd "$peer" && cargo build --release --locked)
 fi
-ls_bin="$root/target/release/lampshade"
-bevy_bin="$peer/target/release/lampshade-vs-bevy"
-for b in "$ls_bin" "$bevy_bin"; do [ -x "$b" ] || { echo "vs-bevy: $b is not built" >&2; exit 1; }; done
+if [ $run = 1 ]; then
+    ls_bin="$root/target/release/lampshade"
+    bevy_bin="$peer/target/release/lampshade-vs-bevy"
+    for b in "$ls_bin" "$bevy_bin"; do [ -x "$b" ] || { echo "vs-bevy: $b is not built" >&2; exit 1; }; done
 
-gltf() { # COUNT -> the layout's glTF at that count
-    local f="$out/$layout-$1.gltf"
-    if [ ! -f "$f" ]; then
-        if [ "$layout" = sphere-wall ]; then
-            python3 "$root/../shared/peers/sphere_wall.py" "$1" "$f" >/dev/null
-        else
-            python3 "$peer/many_lights.py" "$1" "$f" >/dev/null
+    gltf() { # COUNT -> the layout's glTF at that count
+        local f="$out/$layout-$1.gltf"
+        if [ ! -f "$f" ]; then
+            if [ "$layout" = sphere-wall ]; then
+                python3 "$root/../shared/peers/sphere_wall.py" "$1" "$f" >/dev/null
+            else
+                python3 "$peer/many_lights.py" "$1" "$f" >/dev/null
+            fi
         fi
-    fi
-    echo "$f"
-}
+        echo "$f"
+    }
 
-# Lampshade's bars: a short run at --size reads the scene's size from the frame log.
-ls_script() { # FRAMES FILE
-    {
-        echo "1 set panel-left off"
-        echo "1 set panel-right off"
-        echo "1 set panel-gbuffer off"
-        echo "1 culling $culling"
-        echo "$1 quit"
-    } >"$2"
-}
-first=$(gltf "${counts%%,*}")
-ls_script 3 "$out/probe.script"
-"$ls_bin" view "$first" --size "$size" --scale 1 --no-state --script "$out/probe.script" \
-    --frame-log "$out/probe.jsonl" >"$out/probe.log" 2>&1
-bar=$(python3 -c "import json,sys; l=[json.loads(x) for x in open(sys.argv[1])]; print($h - l[-1]['size'][1])" "$out/probe.jsonl")
-ls_size="${w}x$((h + bar))"
-echo "Lampshade's window: $ls_size (its bars take $bar px), the scene at $size"
-ls_script $((warmup + per_run)) "$out/run.script"
+    # Lampshade's bars: a short run at --size reads the scene's size from the frame log.
+    ls_script() { # FRAMES FILE
+        {
+            echo "1 set panel-left off"
+            echo "1 set panel-right off"
+            echo "1 set panel-gbuffer off"
+            echo "1 culling $culling"
+            echo "$1 quit"
+        } >"$2"
+    }
+    first=$(gltf "${counts%%,*}")
+    ls_script 3 "$out/probe.script"
+    "$ls_bin" view "$first" --size "$size" --scale 1 --no-state --script "$out/probe.script" \
+        --frame-log "$out/probe.jsonl" >"$out/probe.log" 2>&1
+    bar=$(python3 -c "import json,sys; l=[json.loads(x) for x in open(sys.argv[1])]; print($h - l[-1]['size'][1])" "$out/probe.jsonl")
+    ls_size="${w}x$((h + bar))"
+    echo "Lampshade's window: $ls_size (its bars take $bar px), the scene at $size"
+    ls_script $((warmup + per_run)) "$out/run.script"
 
-for n in ${counts//,/ }; do
-    f=$(gltf "$n")
-    for r in $(seq 1 "$rounds"); do
-        echo "== $n lights, round $r of $rounds"
-        "$ls_bin" view "$f" --size "$ls_size" --scale 1 --no-state --script "$out/run.script" \
-            --frame-log "$out/lampshade-$n-$r.jsonl" >"$out/lampshade-$n-$r.log" 2>&1 \
-            || { echo "vs-bevy: Lampshade failed, see $out/lampshade-$n-$r.log" >&2; exit 1; }
-        for v in ${bevy//,/ }; do
-            "$bevy_bin" "$f" --size "$size" --method "${v%-*}" --gpu-clustering "$([ "${v#*-}" = gpu ] && echo on || echo off)" \
-                --warmup "$warmup" --frames "$per_run" >"$out/bevy-$v-$n-$r.txt" 2>"$out/bevy-$v-$n-$r.log" \
-                || { echo "vs-bevy: Bevy failed, see $out/bevy-$v-$n-$r.log" >&2; exit 1; }
+    for n in ${counts//,/ }; do
+        f=$(gltf "$n")
+        for r in $(seq 1 "$rounds"); do
+            echo "== $n lights, round $r of $rounds"
+            "$ls_bin" view "$f" --size "$ls_size" --scale 1 --no-state --script "$out/run.script" \
+                --frame-log "$out/lampshade-$n-$r.jsonl" >"$out/lampshade-$n-$r.log" 2>&1 \
+                || { echo "vs-bevy: Lampshade failed, see $out/lampshade-$n-$r.log" >&2; exit 1; }
+            for v in ${bevy//,/ }; do
+                "$bevy_bin" "$f" --size "$size" --method "${v%-*}" --gpu-clustering "$([ "${v#*-}" = gpu ] && echo on || echo off)" \
+                    --warmup "$warmup" --frames "$per_run" >"$out/bevy-$v-$n-$r.txt" 2>"$out/bevy-$v-$n-$r.log" \
+                    || { echo "vs-bevy: Bevy failed, see $out/bevy-$v-$n-$r.log" >&2; exit 1; }
+            done
         done
     done
-done
+fi
 
 python3 - "$out" "$counts" "$rounds" "$warmup" "$per_run" "$bevy" "$size" "$layout" <<'EOF'
 import json, statistics, sys, glob, os, re
@@ -139,7 +144,7 @@ def q(xs, p):
     xs = sorted(xs)
     return xs[min(len(xs) - 1, int(p * (len(xs) - 1) + 0.5))]
 
-want = [int(x) for x in size.split("x")]
+scene_size = [int(x) for x in size.split("x")]
 
 def lampshade(n):
     lines = []
@@ -149,8 +154,8 @@ def lampshade(n):
             if warmup < l["frame"] <= warmup + per_run:
                 if l["config"] is None or l["stand_in"]:
                     sys.exit(f"Lampshade frame {l['frame']} at {n} lights drew no configuration")
-                if l["size"] != want:
-                    sys.exit(f"Lampshade frame {l['frame']} at {n} lights was {l['size']}, not {want}")
+                if l["size"] != scene_size:
+                    sys.exit(f"Lampshade frame {l['frame']} at {n} lights was {l['size']}, not {scene_size}")
                 lines.append(l)
     if len(lines) != rounds * per_run:
         sys.exit(f"Lampshade at {n} lights: {len(lines)} timed frames, not {rounds * per_run}")

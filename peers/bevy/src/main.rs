@@ -42,8 +42,8 @@ struct Run {
     gpu_clustering: bool,
     warmup: u64,
     frames: u64,
-    /// Where screenshots go (`PREFIX-appK.png`) and at which app frames (counted from the
-    /// app's start; default: the last timed frame).
+    /// Where screenshots go (`PREFIX-frameK.png`) and at which frames (counted as `frame`,
+    /// from the settled scene; default: the last timed frame).
     screenshot: Option<PathBuf>,
     screenshot_frames: Vec<u64>,
     /// The lights are hidden until this settled frame (`--lights-at K`), so that they enter
@@ -336,10 +336,10 @@ fn clock(
     let last = run.warmup + run.frames;
     let shoot = match &run.screenshot_frames[..] {
         [] => clock.frame == last,
-        frames => frames.contains(&clock.app),
+        frames => clock.frame > 0 && frames.contains(&clock.frame),
     };
     if let Some(prefix) = run.screenshot.as_ref().filter(|_| shoot) {
-        let path = format!("{}-app{}.png", prefix.display(), clock.app);
+        let path = format!("{}-frame{}.png", prefix.display(), clock.frame);
         commands.spawn(Screenshot::primary_window()).observe(save_to_disk(path));
     }
     // The line of frame K is printed by the frame after (its delta ends there); a few frames

@@ -50,6 +50,10 @@ pub enum Command {
     View(ViewArgs),
     /// Sweep the knobs that trade speed for error; write CSV, markdown and a plot.
     Bench(BenchArgs),
+    /// Two configurations of one scene side by side: both pictures, FLIP's map and an amplified
+    /// difference of B against A, each side's GPU time per pass and its error against the
+    /// bench's reference, and the lights whose cost changed most (markdown and JSON).
+    Compare(CompareArgs),
     /// Hold every culling mode against brute force (every light at every pixel) on a scene, at
     /// its cameras and at cameras generated around it: missed light, extra light, the worst
     /// pixel and a difference image per mode (the forward paths: their light lists against
@@ -172,6 +176,32 @@ pub struct RenderArgs {
     /// scene, lights, time, camera and size); flags override it.
     #[arg(long)]
     pub settings: Option<PathBuf>,
+    #[command(flatten)]
+    pub calibration: CalibrationArgs,
+}
+
+#[derive(clap::Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    pub adapter: AdapterArgs,
+    /// Built-in scene name (see `lampshade scenes`) or a glTF file (.gltf, .glb).
+    pub scene: String,
+    /// Side A: a settings file (as `render --settings` reads and the viewer's F12 writes).
+    pub a: PathBuf,
+    /// Side B: a settings file.
+    pub b: PathBuf,
+    /// Writes a.png, b.png, flip.png, difference.png, compare.md and compare.json here.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH (default: the files' size, else 640x360).
+    #[arg(long, value_parser = image_size)]
+    pub size: Option<(u32, u32)>,
+    /// Number of point lights (as `render --lights`; default: the files', else the scene's).
+    #[arg(long)]
+    pub lights: Option<usize>,
+    /// Timed rounds, one frame of each side a round (their medians are reported), 1..=1000.
+    #[arg(long, default_value_t = 5)]
+    pub frames: usize,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
 }
@@ -335,6 +365,19 @@ pub struct BenchArgs {
     pub counts: Vec<usize>,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
+    /// Replay the configurations along the camera path in FILE (as the viewer records it; see
+    /// `assets/paths/`) instead of the sweep: per configuration the GPU frame time's p50, p95
+    /// and p99, the worst frame and where on the path, and the flicker (mean FLIP between
+    /// adjacent frames) beside the fastest exact mode's. Writes path.md and path.json.
+    #[arg(long, value_name = "FILE")]
+    pub camera_path: Option<PathBuf>,
+    /// With --camera-path: seconds of path time a frame (default: the file's, else 1/60).
+    #[arg(long, requires = "camera_path")]
+    pub path_step: Option<f64>,
+    /// With --camera-path: the culling modes replayed (comma-separated; default tiled,
+    /// clustered and zbin).
+    #[arg(long, value_delimiter = ',', requires = "camera_path")]
+    pub modes: Vec<crate::renderer::CullingMode>,
 }
 
 #[derive(clap::Args, Clone, Debug)]

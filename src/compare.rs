@@ -26,7 +26,10 @@ pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> Result<(FlipResult, Rgba
     }
     let err = nv_flip::flip(rgb(reference), rgb(test), nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     let mut pool = nv_flip::FlipPool::from_image(&err);
-    let result = FlipResult { mean: pool.mean(), max: pool.max_value(), p99: pool.get_percentile(0.99, false) };
+    // The largest error from the map itself: the pool's maximum starts at the smallest
+    // positive float, so two equal images would report that instead of 0.
+    let max = err.to_vec().into_iter().fold(0f32, f32::max);
+    let result = FlipResult { mean: pool.mean(), max, p99: pool.get_percentile(0.99, false) };
     let map = err.apply_color_lut(&nv_flip::magma_lut());
     let rgba: Vec<u8> = map.to_vec().chunks(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect();
     let diff =
@@ -37,6 +40,21 @@ pub fn flip(reference: &RgbaImage, test: &RgbaImage) -> Result<(FlipResult, Rgba
 /// The largest per-channel difference between two images (0..255).
 pub fn max_channel_difference(a: &RgbaImage, b: &RgbaImage) -> u8 {
     a.pixels().zip(b.pixels()).flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c]))).max().unwrap_or(0)
+}
+
+/// What [`difference_image`] multiplies each channel's difference by: a one-step difference
+/// shows as 16, and 16 steps or more saturate.
+pub const DIFFERENCE_GAIN: u8 = 16;
+
+/// `|a - b|` per channel times [`DIFFERENCE_GAIN`] (saturating), opaque: black where the
+/// images agree. Compared over the smaller of the two sizes.
+pub fn difference_image(a: &RgbaImage, b: &RgbaImage) -> RgbaImage {
+    let (w, h) = (a.width().min(b.width()), a.height().min(b.height()));
+    RgbaImage::from_fn(w, h, |x, y| {
+        let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+        let d = |c: usize| p[c].abs_diff(q[c]).saturating_mul(DIFFERENCE_GAIN);
+        image::Rgba([d(0), d(1), d(2), 255])
+    })
 }
 
 /// How far a rendering may be from a stored reference made on another machine. Lavapipe

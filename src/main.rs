@@ -10,6 +10,9 @@ use lampshade::{Gpu, Scene};
 
 fn bench(args: BenchArgs) -> Result<()> {
     use lampshade::bench;
+    if args.camera_path.is_some() {
+        return bench_path(args);
+    }
     let mut o = bench::BenchOptions::new(&args.scene, args.quick);
     if let Some(f) = args.frames {
         if f == 0 || f > 1000 {
@@ -108,6 +111,104 @@ fn bench(args: BenchArgs) -> Result<()> {
         if scaling { ", scaling.png" } else { "" },
         if paths { ", paths.png" } else { "" }
     );
+    Ok(())
+}
+
+/// `bench --camera-path`: the culling modes replayed along a camera path (`bench::run_path`).
+fn bench_path(args: BenchArgs) -> Result<()> {
+    use lampshade::bench::{path_markdown, run_path, PathConfig};
+    use lampshade::renderer::CullingMode;
+    use lampshade::scene::camera_path::CameraPath;
+    let file = args.camera_path.clone().context("--camera-path")?;
+    let path = CameraPath::load(&file)?;
+    if let Some(s) = args.path_step {
+        if !(s.is_finite() && s > 0.0 && s <= 10.0) {
+            bail!("--path-step {s} must lie in (0, 10] seconds");
+        }
+    }
+    let step = path.step(args.path_step);
+    if !args.only.is_empty() {
+        bail!("--only chooses the sweep's groups; with --camera-path, --modes chooses the culling modes");
+    }
+    let lights = lampshade::cli::requested_lights(args.lights, args.light_grid);
+    let (scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights, time: 0.0 }, &Default::default())?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    if let Some(named) = path.scene.as_deref().filter(|n| *n != args.scene) {
+        eprintln!("note: {} was recorded in {named}, replayed in {}", file.display(), args.scene);
+    }
+    let modes = match args.modes.as_slice() {
+        [] => vec![CullingMode::Tiled, CullingMode::Clustered, CullingMode::Zbin],
+        m => m.to_vec(),
+    };
+    let configs: Vec<PathConfig> = modes
+        .iter()
+        .map(|&culling| PathConfig {
+            label: culling.name(),
+            settings: Settings { culling, ..Settings::default() },
+            exact: true,
+        })
+        .collect();
+    let size = args.size.unwrap_or((480, 270));
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
+    let bar = indicatif::ProgressBar::new(path.frames(step) as u64);
+    let rows = run_path(&gpu, &scene, &path, step, size, &configs, &costs, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    gpu.errors.check()?;
+    let md = path_markdown(&rows, &args.scene, &file.display().to_string(), step, size, &gpu.info.name);
+    std::fs::write(args.out.join("path.md"), &md)?;
+    std::fs::write(args.out.join("path.json"), serde_json::to_string_pretty(&rows)?)?;
+    println!("{md}\nwrote {}/path.md, path.json", args.out.display());
+    Ok(())
+}
+
+/// Reads a settings file for `compare`.
+fn settings_file(path: &std::path::Path) -> Result<(Settings, SceneKeys)> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading settings {}", path.display()))?;
+    lampshade::settings_file::parse(&text).with_context(|| format!("parsing settings {}", path.display()))
+}
+
+/// `lampshade compare`: two settings files on one scene (`bench::compare_pair`).
+fn compare(args: lampshade::cli::CompareArgs) -> Result<()> {
+    if args.frames == 0 || args.frames > 1000 {
+        bail!("--frames {} must be between 1 and 1000", args.frames);
+    }
+    let (sa, ka) = settings_file(&args.a)?;
+    let (sb, kb) = settings_file(&args.b)?;
+    // One scene for both: the scene keys the files give must agree.
+    let keys = lampshade::settings_file::merge_scene_keys(&ka, &kb)
+        .map_err(|e| anyhow::anyhow!("{} and {}: {e}", args.a.display(), args.b.display()))?;
+    let (w, h) = match (args.size, keys.size) {
+        (Some(s), _) => s,
+        (None, Some([w, h])) => image_size(&format!("{w}x{h}")).map_err(anyhow::Error::msg)?,
+        (None, None) => (640, 360),
+    };
+    let time = keys.time.unwrap_or(0.0);
+    let lights = args.lights.or(keys.lights);
+    let (mut scene, warnings) = open_scene(&args.scene, BuiltinOptions { lights, time }, &Default::default())?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", args.scene);
+    }
+    keys.apply_to(&mut scene).with_context(|| format!("settings files: scene '{}'", args.scene))?;
+    if let Some(camera) = keys.camera {
+        camera.validate().map_err(|e| anyhow::anyhow!("settings file camera: {e}"))?;
+        scene.camera = camera;
+    }
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
+    let o = lampshade::bench::PairOptions { size: (w, h), frames: args.frames, costs };
+    let label = |p: &std::path::Path| p.file_name().map_or(p.display().to_string(), |n| n.to_string_lossy().into());
+    let report =
+        lampshade::bench::compare_pair(&gpu, &scene, &args.scene, (&sa, &sb), (&label(&args.a), &label(&args.b)), &o)?;
+    gpu.errors.check()?;
+    let md = lampshade::bench::write_pair(&args.out, &report)?;
+    println!("{md}\nwrote {}/a.png, b.png, flip.png, difference.png, compare.md, compare.json", args.out.display());
     Ok(())
 }
 
@@ -656,6 +757,7 @@ fn main() {
                 | Command::Bench(_)
                 | Command::Adapters(_)
                 | Command::Check(_)
+                | Command::Compare(_)
                 | Command::Advise(_)
                 | Command::Calibrate(_)
         )
@@ -666,6 +768,7 @@ fn main() {
         Some(Command::Render(args)) => render(args),
         Some(Command::Bench(args)) => bench(args),
         Some(Command::Check(args)) => check(args),
+        Some(Command::Compare(args)) => compare(args),
         Some(Command::Advise(args)) => advise(args),
         Some(Command::Calibrate(args)) => calibrate(args),
         Some(Command::Adapters(args)) => adapters(args),

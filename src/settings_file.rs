@@ -81,6 +81,26 @@ impl SceneKeys {
     }
 }
 
+/// The scene keys of two settings files drawn as one scene (`lampshade compare`): each key
+/// either file gives, and an error naming any key both give with different values.
+pub fn merge_scene_keys(a: &SceneKeys, b: &SceneKeys) -> Result<SceneKeys> {
+    let (va, vb) = (serde_json::to_value(a)?, serde_json::to_value(b)?);
+    let (Some(ma), Some(mb)) = (va.as_object(), vb.as_object()) else { bail!("scene keys are not an object") };
+    let mut merged = ma.clone();
+    for (k, v) in mb {
+        match ma.get(k) {
+            Some(x) if !x.is_null() && !v.is_null() && x != v => {
+                bail!("both set \"{k}\", to different values ({x} and {v}); a comparison draws one scene")
+            }
+            Some(x) if !x.is_null() => {}
+            _ => {
+                merged.insert(k.clone(), v.clone());
+            }
+        }
+    }
+    Ok(serde_json::from_value(serde_json::Value::Object(merged))?)
+}
+
 /// The key under which the viewer's F12 stores its own state.
 pub const VIEWER_KEY: &str = "viewer";
 /// The key of an optional nested object of renderer settings.

@@ -269,31 +269,8 @@ fn measure<'c>(
     let pick = |f: &dyn Fn(&FrameStats) -> Option<f64>| median(times.iter().filter_map(f).collect());
     let counted = Settings { count_fragments: true, count_ideal: true, timestamps: false, ..cfg.settings.clone() };
     let (image, stats) = render_image(gpu, renderer, scene, &counted, w, h)?;
-    let (d, s) = renderer.last_frame().read_accumulation(gpu)?;
     let figures = path_figures(gpu, &cfg.settings, renderer, &stats)?;
-    // The forward paths have no light accumulation: their error is FLIP's alone.
-    let accumulated = stats.forward_path.is_none();
-    // FLIP compares output images; a frame through the post chain is not the reference's
-    // picture by design, so its row has none (NaN). The light error and PSNR are of the
-    // accumulation, before post, in every row.
-    let chain = crate::renderer::post::chain_active(cfg.settings.debug_view, &cfg.settings.post_options());
-    let flip_mean = if chain { f32::NAN } else { flip(&reference.image, &image)?.0.mean };
-    let mut max_err = 0f32;
-    let mut sq = 0f64;
-    for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
-        let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
-        max_err = max_err.max(e);
-        sq += (e as f64).powi(2);
-    }
-    let mse = sq / reference.light.len().max(1) as f64;
-    let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
-    if cfg.settings.path != crate::renderer::RenderPath::Deferred || renderer.layout().one_accumulation {
-        // The light error compares deferred's accumulation (ambient + sun, specular times
-        // reflectance) with the reference's; the other paths hold no such buffer (the light
-        // pre-pass's is unit-reflectance light without ambient, seed 000's one RT1 the lit
-        // colour with the albedo in): their error is FLIP's, on the final picture.
-        (max_err, psnr) = (f32::NAN, f64::NAN);
-    }
+    let error = frame_error(gpu, reference, &cfg.settings, renderer, &stats, &image)?;
     let caps = if cfg.group == super::groups::ENGINES_GROUP {
         cap_figures(gpu, cfg, scene, renderer, &stats)?
     } else {
@@ -343,9 +320,9 @@ fn measure<'c>(
         ideal_fragments: stats.ideal_fragments.unwrap_or(0),
         efficiency: stats.efficiency.unwrap_or(f64::NAN),
         gbuffer_bytes_per_pixel: stats.gbuffer_bytes_per_pixel,
-        flip_mean,
-        max_abs_light_error: if accumulated { max_err } else { f32::NAN },
-        psnr_db: if accumulated { psnr } else { f64::NAN },
+        flip_mean: error.flip_mean,
+        max_abs_light_error: error.max_abs_light_error,
+        psnr_db: error.psnr_db,
         pareto: false,
         reference: reference_culling(scene.lights.len(), cfg.size).name(),
         limit_ratio: f64::NAN,
@@ -354,6 +331,62 @@ fn measure<'c>(
         caps,
         costliest: costliest(&stats),
         cost_source: stats.cost_model.as_ref().map_or(String::new(), |m| m.source.clone()),
+    })
+}
+
+/// A frame's error against its reference ([`reference`]): what the bench's rows and
+/// `lampshade compare` report.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FrameError {
+    /// FLIP mean of the output against the reference's; NaN for a frame through the post chain
+    /// (not the reference's picture by design).
+    pub flip_mean: f32,
+    /// The largest absolute difference of the light accumulation (diffuse, then specular)
+    /// from the reference's; NaN where the path holds no such buffer.
+    pub max_abs_light_error: f32,
+    /// PSNR of the light accumulation against the reference's, its peak the reference's
+    /// brightest value; NaN as the light error.
+    pub psnr_db: f64,
+}
+
+/// The error of the frame `renderer` last drew (`image`, `stats`, with `settings`) against
+/// `reference`: the accumulation is read back from the renderer.
+pub(crate) fn frame_error(
+    gpu: &Gpu,
+    reference: &Reference,
+    settings: &Settings,
+    renderer: &Renderer,
+    stats: &FrameStats,
+    image: &image::RgbaImage,
+) -> Result<FrameError> {
+    let (d, s) = renderer.last_frame().read_accumulation(gpu)?;
+    // The forward paths have no light accumulation: their error is FLIP's alone.
+    let accumulated = stats.forward_path.is_none();
+    // FLIP compares output images; a frame through the post chain is not the reference's
+    // picture by design, so its row has none (NaN). The light error and PSNR are of the
+    // accumulation, before post, in every row.
+    let chain = crate::renderer::post::chain_active(settings.debug_view, &settings.post_options());
+    let flip_mean = if chain { f32::NAN } else { flip(&reference.image, image)?.0.mean };
+    let mut max_err = 0f32;
+    let mut sq = 0f64;
+    for (a, b) in d.iter().chain(s.iter()).zip(&reference.light) {
+        let e = if a.is_finite() { (a - b).abs() } else { f32::INFINITY };
+        max_err = max_err.max(e);
+        sq += (e as f64).powi(2);
+    }
+    let mse = sq / reference.light.len().max(1) as f64;
+    let mut psnr = if mse > 0.0 { 10.0 * ((reference.peak as f64).powi(2) / mse).log10() } else { f64::INFINITY };
+    if settings.path != crate::renderer::RenderPath::Deferred || renderer.layout().one_accumulation {
+        // The light error compares deferred's accumulation (ambient + sun, specular times
+        // reflectance) with the reference's; the other paths hold no such buffer (the light
+        // pre-pass's is unit-reflectance light without ambient, seed 000's one RT1 the lit
+        // colour with the albedo in): their error is FLIP's, on the final picture.
+        (max_err, psnr) = (f32::NAN, f64::NAN);
+    }
+    Ok(FrameError {
+        flip_mean,
+        max_abs_light_error: if accumulated { max_err } else { f32::NAN },
+        psnr_db: if accumulated { psnr } else { f64::NAN },
     })
 }
 

@@ -1,6 +1,7 @@
 //! What is drawn: camera, meshes, materials and lights. Plain data, no GPU objects.
 
 pub mod builtin;
+pub mod camera_path;
 pub mod cookie;
 pub mod import;
 pub mod lightmap;

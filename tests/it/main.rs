@@ -13,6 +13,7 @@ mod batching;
 mod calibration;
 mod caps;
 mod cli;
+mod compare;
 mod cookies_masks;
 mod culling;
 mod explain;

@@ -1,4 +1,5 @@
-//! The `accumulation` group: the light accumulation target's formats.
+//! The `accumulation` group: the light accumulation target's formats, the default
+//! (Rgba16Float) among them, so the group's rows hold every format against one reference.
 
 use super::sweep::Sweep;
 use crate::bench::options::Config;
@@ -7,9 +8,15 @@ use crate::renderer::{AccumFormat, Settings};
 pub fn rows(s: &Sweep) -> Vec<Config> {
     let (o, q, base) = (s.o, s.o.quick, &s.base);
     let accumulations: &[AccumFormat] = if q {
-        &[AccumFormat::Rgba8Log]
+        &[AccumFormat::Rgba16Float, AccumFormat::Rgba8Log]
     } else {
-        &[AccumFormat::Rgba32Float, AccumFormat::Rg11b10Ufloat, AccumFormat::Rgba8Log, AccumFormat::Rgba8Unorm]
+        &[
+            AccumFormat::Rgba16Float,
+            AccumFormat::Rgba32Float,
+            AccumFormat::Rg11b10Ufloat,
+            AccumFormat::Rgba8Log,
+            AccumFormat::Rgba8Unorm,
+        ]
     };
     let mut v = Vec::new();
     for &accumulation in accumulations {

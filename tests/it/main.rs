@@ -11,6 +11,7 @@ mod common;
 mod adapters;
 mod batching;
 mod calibration;
+mod camera_paths;
 mod caps;
 mod cli;
 mod compare;

@@ -423,6 +423,10 @@ pub struct ViewArgs {
     /// read-back, calibration or nothing).
     #[arg(long, value_name = "FILE")]
     pub frame_log: Option<PathBuf>,
+    /// Replay the camera path in FILE from the first frame (as F10 replays a recorded one:
+    /// 1/60 s of path time a frame, looping; `assets/paths/` holds one per bench scene).
+    #[arg(long, value_name = "FILE")]
+    pub camera_path: Option<PathBuf>,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
 }
@@ -443,6 +447,7 @@ impl Default for ViewArgs {
             state: None,
             no_state: false,
             frame_log: None,
+            camera_path: None,
             calibration: CalibrationArgs::default(),
         }
     }

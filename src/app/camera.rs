@@ -22,6 +22,9 @@ pub const BINDINGS: &[(&str, &str)] = &[
     ("Shift", "4x faster"),
     ("Space", "animate lights"),
     ("Click", "select a light"),
+    ("F9", "record a camera path (again: stop, save)"),
+    ("F10", "replay the camera path (again: stop)"),
+    ("F11", "RenderDoc: capture the next frame"),
     ("F12", "screenshot + settings"),
     ("F1", "this help"),
 ];

@@ -43,6 +43,7 @@ impl App {
         //    while a calibration measures (the viewport holds its last frame). A configuration
         //    whose pipelines build in the background leaves the last one drawn meanwhile.
         let calibrating = self.timed_finish_calibration();
+        self.start_capture();
         let drawn = if calibrating { None } else { self.render_viewport(&settings) };
         let rendered = drawn.is_some();
         let settings = drawn.unwrap_or(settings);
@@ -50,6 +51,8 @@ impl App {
         let rendered = rendered && !self.drew.as_ref().is_some_and(|d| d.1);
         // 4. Thumbnails: the compose pass of this frame again, once per view.
         let tiles = self.render_thumbnails(&settings, rendered);
+        // 4a. Configuration B beside it, while the split view is on.
+        self.render_split(&settings, rendered);
         // 4b. The shadow atlas as an image, while its panel is open.
         self.render_atlas(rendered);
         // 5. The pixel under the pointer, 6. the light-volume wireframes, memory now and then.
@@ -63,6 +66,7 @@ impl App {
         // 8. egui into the window, after the scene; captured when a screenshot asks.
         let capture = post.iter().any(|a| matches!(a, Action::Screenshot(_)));
         let window_image = self.present(full, capture)?;
+        self.end_capture();
         self.log_frame();
         // 9. What the panels and keys asked for.
         self.apply_commands(out, commands);
@@ -102,7 +106,8 @@ impl App {
         }
         let mut commands = Vec::new();
         let egui_keys = self.gfx.as_ref().is_some_and(|g| g.egui_ctx.egui_wants_keyboard_input());
-        if !egui_keys {
+        let replaying = self.path_step();
+        if !egui_keys && !replaying {
             if let Some(mut cam) = self.camera() {
                 let held = |k: KeyCode| self.held(k);
                 if camera::apply_keys(&mut cam, &held, self.state.move_speed, dt) {
@@ -111,6 +116,7 @@ impl App {
             }
         }
         self.taps(&mut commands);
+        self.record_step(dt);
         if self.state.animate {
             self.state.time += dt * self.state.time_speed;
         }
@@ -398,6 +404,11 @@ impl App {
             atlas_default_pos,
             compiling,
             pipelines: &self.pipelines,
+            split: g.split.as_ref().filter(|_| self.state.split.on).map(|s| ui::SplitInfo {
+                b: s.stats.is_some().then_some(s.image.id),
+                overlay: s.overlay.as_ref().map(|t| t.id()),
+                figures: &s.figures,
+            }),
         };
         let mut out = UiOut::default();
         let state = &mut self.state;

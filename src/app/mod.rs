@@ -17,7 +17,9 @@ pub mod gfx;
 pub mod loading;
 pub mod persist;
 pub mod pipeline_rows;
+mod replay;
 pub mod script;
+pub mod split;
 pub mod state;
 pub mod ui;
 
@@ -128,10 +130,17 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let frame_log = args.frame_log.as_deref().map(frame_log::FrameLog::create).transpose()?;
     let live = compiling::live_from_start(script.as_ref());
+    let camera_path = match &args.camera_path {
+        Some(f) => Some((crate::scene::camera_path::CameraPath::load(f)?, f.clone())),
+        None => None,
+    };
     let mut app = App::new(args, state, cache, script);
     app.frame_log = frame_log;
     app.started = started;
     app.live_compiles = live;
+    if let Some((path, file)) = camera_path {
+        app.start_replay(path, Some(file));
+    }
     app.size = size;
     app.calibration_answered = saved.calibration_answered;
     app.status = state_warning.or(scene_warning).map(|text| Status { text, error: true });
@@ -184,6 +193,8 @@ struct Gfx {
     atlas: Option<Image>,
     atlas_range: Option<(f32, f32)>,
     adapter: String,
+    /// Configuration B's renderer and images while the split view is on.
+    split: Option<split::SplitGfx>,
 }
 
 /// Keys, held and tapped, from the keyboard and from the script.
@@ -274,6 +285,13 @@ struct App {
     /// When the viewer started and when it last presented (the frame log's times).
     started: Instant,
     last_present: Instant,
+    /// A camera path being recorded (F9), replayed (F10), and the last one recorded or given.
+    recorder: Option<crate::scene::camera_path::Recorder>,
+    replay: Option<replay::Replay>,
+    last_path: Option<(crate::scene::camera_path::CameraPath, Option<PathBuf>)>,
+    /// F11 asked RenderDoc for the next frame; a capture is open during this frame.
+    capture_next: bool,
+    capturing: bool,
 }
 
 impl App {
@@ -325,6 +343,11 @@ impl App {
             render_ms: 0.0,
             started: Instant::now(),
             last_present: Instant::now(),
+            recorder: None,
+            replay: None,
+            last_path: None,
+            capture_next: false,
+            capturing: false,
         }
     }
 
@@ -431,6 +454,7 @@ impl App {
             atlas: None,
             atlas_range: None,
             adapter,
+            split: None,
         });
         Ok(())
     }
@@ -527,6 +551,24 @@ impl App {
                     g.surface.window.focus_window();
                 }
             }
+            Action::CompareSet(name, value) => {
+                let a = self.state.frame_settings();
+                match self.state.split.set(&a, &name, &value) {
+                    Ok(()) => self.say(format!("B: {name} = {value}"), false),
+                    Err(e) => self.say(format!("rejected: {e}"), true),
+                }
+            }
+            Action::CompareFile(path) => {
+                let a = self.state.frame_settings();
+                match self.state.split.load(&a, &path) {
+                    Ok(n) => self.say(format!("B: {n} knob(s) from {}", path.display()), false),
+                    Err(e) => self.say(format!("rejected: {e}"), true),
+                }
+            }
+            Action::Replay(path) => match crate::scene::camera_path::CameraPath::load(&path) {
+                Ok(p) => self.start_replay(p, Some(path)),
+                Err(e) => self.say(format!("{e:#}"), true),
+            },
             Action::Compiles(_) | Action::CompileDelay(_) | Action::WaitCompiles | Action::FrameLog(_) => {
                 self.apply_compile_action(action)
             }
@@ -551,6 +593,9 @@ impl App {
                     self.say(s, false);
                 }
                 KeyCode::F12 => commands.push(Command::Screenshot),
+                KeyCode::F9 => self.toggle_recording(),
+                KeyCode::F10 => self.toggle_replay(),
+                KeyCode::F11 => self.ask_capture(),
                 KeyCode::F1 => {
                     self.state.tab =
                         if self.state.tab == state::Tab::Help { state::Tab::Scene } else { state::Tab::Help };
@@ -761,6 +806,7 @@ impl App {
             light_shadows: self.state.light_edits.iter().map(|(k, e)| (*k, e.cast_shadows)).collect(),
             viewer: &self.state,
             shadow_atlas: self.atlas_shot(),
+            compare: self.compare_shot(png)?,
         };
         let text = serde_json::to_string_pretty(&doc)?;
         std::fs::write(&json, text).with_context(|| format!("writing {}", json.display()))?;
@@ -790,6 +836,26 @@ struct ScreenshotSettings<'a> {
     /// Where the shadow-atlas panel drew the atlas and the plan's tiles (panel open).
     #[serde(skip_serializing_if = "Option::is_none")]
     shadow_atlas: Option<AtlasShot>,
+    /// The split view's configuration B, written beside as `stem-b.png` (split view on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    compare: Option<CompareShot>,
+}
+
+/// The split view in a screenshot's settings file: B's settings and image file, the viewport's
+/// rectangle in window pixels ([x, y, width, height]), the divider, and B against A (the
+/// largest step and FLIP's mean where the view computed them).
+#[derive(serde::Serialize)]
+struct CompareShot {
+    b: crate::renderer::Settings,
+    image: PathBuf,
+    viewport: [f32; 4],
+    view: split::SplitView,
+    divider: f32,
+    max_steps: Option<u8>,
+    flip_mean: Option<f32>,
+    a_ms: Vec<(String, f64)>,
+    b_ms: Vec<(String, f64)>,
+    ledger_delta: Vec<crate::bench::LightDelta>,
 }
 
 /// The shadow-atlas panel in a screenshot's settings file: the image's rectangle in window
@@ -805,6 +871,29 @@ struct AtlasShot {
 }
 
 impl App {
+    /// B's image beside `png` (`stem-b.png`) and its figures, while the split view shows B.
+    fn compare_shot(&self, png: &Path) -> Result<Option<CompareShot>> {
+        let (Some(g), Some(r)) = (self.gfx.as_ref(), self.viewport_rect) else { return Ok(None) };
+        let Some(s) = g.split.as_ref().filter(|s| self.state.split.on && s.stats.is_some()) else { return Ok(None) };
+        let stem = png.file_stem().map_or("viewport".into(), |s| s.to_string_lossy().into_owned());
+        let image = png.with_file_name(format!("{stem}-b.png"));
+        gfx::save_png(&s.image.read(&g.gpu)?, &image)?;
+        let ppp = g.egui_ctx.pixels_per_point();
+        let a = self.state.frame_settings();
+        Ok(Some(CompareShot {
+            b: self.state.split.b_settings(&a).unwrap_or(a),
+            image,
+            viewport: [r.min.x * ppp, r.min.y * ppp, r.width() * ppp, r.height() * ppp],
+            view: self.state.split.view,
+            divider: self.state.split.divider,
+            max_steps: s.figures.max_steps,
+            flip_mean: s.figures.flip_mean,
+            a_ms: s.figures.a_ms.clone(),
+            b_ms: s.figures.b_ms.clone(),
+            ledger_delta: s.figures.ledger_delta.clone(),
+        }))
+    }
+
     fn atlas_shot(&self) -> Option<AtlasShot> {
         let (g, r) = (self.gfx.as_ref()?, self.atlas_rect?);
         let ppp = g.egui_ctx.pixels_per_point();

@@ -6,7 +6,7 @@
 //!
 //! ```text
 //! key NAME               tap a key (down this frame, up the next): W A S D E Q Z X Up Down
-//!                        Left Right Shift Space F1 F12
+//!                        Left Right Shift Space F1 F9 F10 F11 F12
 //! hold NAME FRAMES       hold a key for FRAMES frames
 //! scene NAME             switch to another built-in scene (as the scene selector does)
 //! culling MODE           fullscreen | volume | stencil-two-pass | stencil-invert | stencil-replace | auto
@@ -25,6 +25,12 @@
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale
 //!                        ambient sun radius intensity colour inner outer cast mask cookie
 //!                        (colours as linear r,g,b: `set colour 1,0.2,0`)
+//!                        compare on|off, compare-view split|difference|flip, divider U:
+//!                        the split view (configuration B right of the divider at U)
+//! compare-set NAME VALUE set knob NAME of configuration B (the split view's right side)
+//! compare-file PATH      B's knobs from a settings file (every renderer key it gives)
+//! replay PATH            replay the camera path in PATH (as F10 does a recorded one),
+//!                        1/60 s of path time a frame, from its start, looping
 //! hover U V              put the pointer over the viewport at (U, V) in [0, 1] (pixel probe)
 //! click U V              click the viewport at (U, V) (selects the light there)
 //! atlas-hover U V        put the pointer over the shadow-atlas panel's image at (U, V) in
@@ -116,6 +122,12 @@ pub enum Action {
     FrameLog(PathBuf),
     /// The pipelines panel's rows as JSON.
     Pipelines(PathBuf),
+    /// Set one of configuration B's knobs (the split view).
+    CompareSet(String, String),
+    /// Configuration B's knobs from a settings file.
+    CompareFile(PathBuf),
+    /// Replay a camera path file.
+    Replay(PathBuf),
     Quit,
 }
 
@@ -160,8 +172,15 @@ pub fn key_code(name: &str) -> Result<KeyCode, String> {
         "shift" => KeyCode::ShiftLeft,
         "space" => KeyCode::Space,
         "f1" => KeyCode::F1,
+        "f9" => KeyCode::F9,
+        "f10" => KeyCode::F10,
+        "f11" => KeyCode::F11,
         "f12" => KeyCode::F12,
-        _ => return Err(format!("unknown key '{name}' (W A S D E Q Z X Up Down Left Right Shift Space F1 F12)")),
+        _ => {
+            return Err(format!(
+                "unknown key '{name}' (W A S D E Q Z X Up Down Left Right Shift Space F1 F9 F10 F11 F12)"
+            ))
+        }
     };
     Ok(k)
 }
@@ -249,6 +268,20 @@ fn parse_action(words: &[&str], base: &Path) -> Result<Action, String> {
         "set" => {
             want(2)?;
             Action::Set(args[0].to_string(), args[1].to_string())
+        }
+        "compare-set" => {
+            want(2)?;
+            Action::CompareSet(args[0].to_string(), args[1].to_string())
+        }
+        "compare-file" | "replay" => {
+            want(1)?;
+            let p = Path::new(args[0]);
+            let p = if p.is_absolute() { p.to_path_buf() } else { base.join(p) };
+            if *name == "replay" {
+                Action::Replay(p)
+            } else {
+                Action::CompareFile(p)
+            }
         }
         "hover" | "click" => {
             want(2)?;

@@ -174,6 +174,8 @@ pub struct UiState {
     pub panels: Panels,
     /// The shadow-atlas panel's zoom and pan.
     pub atlas_view: AtlasView,
+    /// The split view: configuration B beside the panels' A (`app::split`).
+    pub split: super::split::Split,
 }
 
 /// The part of the shadow atlas its panel shows: `zoom` (1 = the whole atlas) around `centre`
@@ -257,6 +259,7 @@ impl Default for UiState {
             material_index: 0,
             open_path: String::new(),
             atlas_view: AtlasView::default(),
+            split: Default::default(),
         }
     }
 }
@@ -353,6 +356,9 @@ impl UiState {
             "panel-gbuffer" => self.panels.gbuffer = parse_bool(value)?,
             "panel-shadows" => self.panels.shadows = parse_bool(value)?,
             "panel-pipelines" => self.panels.pipelines = parse_bool(value)?,
+            "compare" => self.split.on = parse_bool(value)?,
+            "compare-view" => self.split.view = super::split::SplitView::parse(value)?,
+            "divider" => self.split.divider = in_range("divider", parse_f64(value)?, 0.0, 1.0)? as f32,
             "radius-scale" => self.radius_scale = in_range("radius scale", parse_f64(value)?, 0.01, 100.0)? as f32,
             "intensity-scale" => {
                 self.intensity_scale = in_range("intensity scale", parse_f64(value)?, 0.0, 100.0)? as f32

@@ -1270,3 +1270,5 @@ fn a_switch_keeps_drawing_the_last_configuration_while_the_new_one_compiles() {
     expected.push("compose (views)".into());
     assert_eq!(labels, expected, "the window's rows are not the pipelines tiled declares");
 }
+
+mod compare;

@@ -129,6 +129,8 @@ pub struct FrameInfo<'a> {
     pub compiling: Option<String>,
     /// Each configuration's pipelines and compile times (the pipelines window).
     pub pipelines: &'a [crate::app::pipeline_rows::ConfigPipelines],
+    /// The split view's configuration B (`None` while it is off).
+    pub split: Option<super::compare::SplitInfo<'a>>,
 }
 
 #[derive(Clone, Debug)]

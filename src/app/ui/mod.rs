@@ -6,6 +6,8 @@ use super::state::{Panels, UiState};
 use egui::{Color32, Rect, Vec2};
 
 mod advice;
+mod compare;
+pub use compare::SplitInfo;
 mod common;
 mod pipelines;
 pub(crate) use common::method_name;
@@ -94,6 +96,9 @@ pub fn draw(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &mut UiOut)
     }
     if st.panels.pipelines {
         pipelines::pipelines_window(ui.ctx(), st, f);
+    }
+    if st.split.on {
+        compare::compare_window(ui.ctx(), st, f);
     }
     if st.panels.explain && f.explanation.is_some() {
         let mut open = true;

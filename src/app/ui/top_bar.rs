@@ -120,6 +120,11 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
                 (&mut st.panels.shadows, "shadows", "the shadow atlas window: tiles, figures and shadow settings"),
                 (&mut st.panels.pipelines, "pipelines", "the pipelines window: each configuration's compiles"),
+                (
+                    &mut st.split.on,
+                    "compare",
+                    "split view: configuration B right of a divider, the difference and FLIP views",
+                ),
             ] {
                 ui.toggle_value(on, name).on_hover_text(format!(
                     "show or hide the {what}; a window too small for a panel hides it until it grows"

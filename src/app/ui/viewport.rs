@@ -49,6 +49,9 @@ pub(super) fn viewport(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: 
             painter.image(id, rect, Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)), Color32::WHITE);
         }
     }
+    if st.split.on {
+        super::compare::split_viewport(ui, rect, st, f);
+    }
     let to_screen = |p: glam::Vec2| rect.min + Vec2::new(p.x / w as f32 * rect.width(), p.y / h as f32 * rect.height());
     // Light-volume wireframes, coloured by light colour or by the light's efficiency.
     if let Some(scene) = f.scene {

@@ -46,6 +46,12 @@
 #   references-gl the `gpucheck` comparisons again on wgpu's GL backend
 #   pipeline-cache the `pipecache` example twice on one cache file: four configurations'
 #                 pipelines created cold, then warm from the driver's saved pipeline cache
+#   camera-path   `lampshade bench demo --camera-path assets/paths/demo.json`: tiled, clustered,
+#                 zbin and auto replayed along the demo's path: p50/p95/p99 frame time, the worst
+#                 frame and where, the flicker
+#   renderdoc     where `renderdoccmd` is installed: the viewer under RenderDoc, F11 on frame 5;
+#                 the capture's XML export is searched for the frame's debug groups (`shadows`,
+#                 `gbuffer`, `lights`, `compose`); where it is not, the step says so
 # The stochastic shading rows go after `scale` when that technique lands.
 set -u
 bin=${1:-target/release}
@@ -118,6 +124,30 @@ for scene in demo sphere-wall; do
 done
 step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows \
     --size "$size" --frames "$frames" --out "$out/shadows"
+step camera-path 90 "$bin/lampshade" bench demo --adapter "$adapter" --camera-path assets/paths/demo.json \
+    --modes tiled,clustered,zbin,auto --size "$size" "${cal[@]}" --out "$out/camera-path"
+# RenderDoc's capture through wgpu's hooks (F11), and whether it carries the debug groups.
+renderdoc() {
+    command -v renderdoccmd >/dev/null || {
+        echo "renderdoccmd is not installed: no capture checked"
+        return 0
+    }
+    local dir=$out/renderdoc
+    mkdir -p "$dir"
+    printf '1 set shadows none\n5 key F11\n9 quit\n' >"$dir/capture.script"
+    local run=()
+    [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null && run=(xvfb-run -a)
+    "${run[@]}" renderdoccmd capture -w -c "$dir/frame" "$bin/lampshade" view demo --adapter "$adapter" \
+        --script "$dir/capture.script" --no-state || return 1
+    local cap
+    cap=$(ls "$dir"/frame*.rdc 2>/dev/null | head -n 1)
+    [ -n "$cap" ] || { echo "no capture written"; return 1; }
+    renderdoccmd convert -f "$cap" -o "$dir/frame.zip.xml" -c zip.xml || return 1
+    unzip -p "$dir/frame.zip.xml" 2>/dev/null | grep -o -E '"(shadows|gbuffer|lights|compose)[^"]*"' | sort -u | head -n 20
+}
+export -f renderdoc
+export out bin adapter
+step renderdoc 60 bash -c renderdoc
 # The same comparisons on wgpu's GL backend (EGL), the backend the suite checks on llvmpipe.
 step references-gl 90 "$check" --adapter "$adapter" --backend gl --out "$out/images-gl"
 # The pipeline cache the viewer keeps between runs: cold, then warm.
@@ -129,6 +159,8 @@ step pipeline-cache-warm 30 "$pipecache" "$out/pipelines.bin" "$adapter"
 # The answers the first questions want, gathered into the summary.
 {
     tail -n 1 "$out/references.log"
+    [ -f "$out/renderdoc.log" ] && echo "renderdoc: $(tr '\n' ' ' <"$out/renderdoc.log" | cut -c1-300)"
+    [ -f "$out/camera-path/path.md" ] && sed -n '/^| configuration/,/^$/p' "$out/camera-path/path.md"
     for f in "$out"/pipeline-cache-*.log; do
         [ -f "$f" ] && echo "$(basename "$f" .log): $(tail -n 1 "$f")"
     done

@@ -20,6 +20,7 @@ pub mod pipeline_rows;
 mod replay;
 pub mod script;
 pub mod split;
+mod split_step;
 pub mod state;
 pub mod ui;
 
@@ -287,7 +288,7 @@ struct App {
     last_present: Instant,
     /// A camera path being recorded (F9), replayed (F10), and the last one recorded or given.
     recorder: Option<crate::scene::camera_path::Recorder>,
-    replay: Option<replay::Replay>,
+    replay: Option<crate::scene::camera_path::Replay>,
     last_path: Option<(crate::scene::camera_path::CameraPath, Option<PathBuf>)>,
     /// F11 asked RenderDoc for the next frame; a capture is open during this frame.
     capture_next: bool,

@@ -6,30 +6,8 @@
 //! wgpu's capture hooks, when RenderDoc is attached.
 
 use super::App;
-use crate::scene::camera_path::{CameraPath, Recorder};
+use crate::scene::camera_path::{CameraPath, Recorder, Replay};
 use std::path::PathBuf;
-
-/// A path being replayed: the frame drawn next.
-pub struct Replay {
-    pub path: CameraPath,
-    pub step: f64,
-    pub next: usize,
-}
-
-impl Replay {
-    pub fn new(path: CameraPath) -> Self {
-        let step = path.step(None);
-        Self { path, step, next: 0 }
-    }
-
-    /// This frame's camera; moves on a frame (back to the start after the last).
-    pub fn advance(&mut self) -> crate::scene::Camera {
-        let frames = self.path.frames(self.step);
-        let n = self.next % frames.max(1);
-        self.next = n + 1;
-        self.path.frame(n, self.step)
-    }
-}
 
 /// Whether RenderDoc's library is loaded into this process (it injects itself when it launches
 /// or attaches to the viewer), from the process's own memory map; `None` where that cannot be

@@ -178,6 +178,31 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
+/// A path being replayed, looping: frame after frame of path time, from the start.
+#[derive(Clone, Debug)]
+pub struct Replay {
+    pub path: CameraPath,
+    pub step: f64,
+    /// The frame drawn next.
+    pub next: usize,
+}
+
+impl Replay {
+    /// A replay at the path's own step ([`CameraPath::step`]).
+    pub fn new(path: CameraPath) -> Self {
+        let step = path.step(None);
+        Self { path, step, next: 0 }
+    }
+
+    /// This frame's camera; moves on a frame (back to the start after the last).
+    pub fn advance(&mut self) -> Camera {
+        let frames = self.path.frames(self.step);
+        let n = self.next % frames.max(1);
+        self.next = n + 1;
+        self.path.frame(n, self.step)
+    }
+}
+
 /// Records a path as the viewer's camera moves: a key each time the camera changes, at the
 /// path time `dt` by `dt` since the recording began (keys closer than a thousandth of a second
 /// are merged into the later one).

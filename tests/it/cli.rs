@@ -613,3 +613,102 @@ fn advise_takes_a_viewpoint_and_advises_for_its_camera() {
     assert!(!file_camera.is_empty());
     assert_ne!(file_camera, framing, "the two viewpoints' frames add the same pairs: the camera was not used");
 }
+
+/// `lampshade compare`: both pictures, the FLIP map, the difference and the tables, as files;
+/// B against A in the JSON. Two files that set the scene differently, or a missing file, are
+/// errors that say so.
+#[test]
+fn compare_writes_both_pictures_the_maps_and_the_tables_and_refuses_two_scenes() {
+    let (a, b, out) = (tmp("cmp-a.json"), tmp("cmp-b.json"), tmp("cmp-out"));
+    std::fs::write(&a, r#"{"culling": "tiled", "shadows": "none", "size": [96, 54]}"#).unwrap();
+    std::fs::write(&b, r#"{"culling": "clustered", "shadows": "none"}"#).unwrap();
+    let run = |b: &std::path::Path| {
+        lampshade(&[
+            "compare",
+            "demo",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "--lights",
+            "64",
+            "--frames",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let o = run(&b);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in ["a.png", "b.png", "flip.png", "difference.png"] {
+        let img = image::open(out.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert_eq!((img.width(), img.height()), (96, 54), "{f}: the files' size");
+    }
+    let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
+    assert!(md.contains("| lighting |") && md.contains("| FLIP mean |"), "{md}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("compare.json")).unwrap()).unwrap();
+    assert_eq!(json["a"]["settings"]["culling"], "tiled");
+    assert_eq!(json["b"]["settings"]["culling"], "clustered");
+    assert!(json["max_steps"].as_u64().is_some_and(|s| s <= 1), "{}", json["max_steps"]);
+
+    std::fs::write(&b, r#"{"culling": "clustered", "size": [64, 64]}"#).unwrap();
+    let o = run(&b);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("both set \"size\"") && !err.contains("panicked"), "{err}");
+    let o = run(&tmp("no-such-file.json"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.code() == Some(1) && err.contains("no-such-file.json") && !err.contains("panicked"), "{err}");
+}
+
+/// `bench --camera-path`: three modes replayed along the demo's path (a 0.12 s step: 101
+/// frames), each row with its p50, p95 and p99, the worst frame, the flicker and the fastest
+/// exact mode's beside it; a path too short for 100 frames is an error that says how to fix it.
+#[test]
+fn bench_replays_a_camera_path_and_reports_percentiles_and_flicker() {
+    let out = tmp("path-bench");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/paths/demo.json");
+    let args = |step: &str| {
+        vec![
+            "bench".to_string(),
+            "demo".into(),
+            "--lights".into(),
+            "64".into(),
+            "--size".into(),
+            "64x36".into(),
+            "--camera-path".into(),
+            path.to_str().unwrap().into(),
+            "--path-step".into(),
+            step.into(),
+            "--modes".into(),
+            "tiled,clustered,zbin".into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ]
+    };
+    let a = args("0.12");
+    let o = lampshade(&a.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("path.json")).unwrap()).unwrap();
+    let rows = rows.as_array().expect("rows");
+    assert_eq!(rows.len(), 3);
+    for r in rows {
+        let v = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k}: {r}"));
+        assert_eq!(r["frames"], 101, "{r}");
+        assert!(
+            v("p50_ms") > 0.0
+                && v("p50_ms") <= v("p95_ms")
+                && v("p95_ms") <= v("p99_ms")
+                && v("p99_ms") <= v("worst_ms"),
+            "{r}"
+        );
+        assert!(v("flicker") > 0.0 && v("exact_flicker") > 0.0, "the camera moves, so adjacent frames differ: {r}");
+        assert!(r["worst_frame"].as_u64().is_some_and(|f| f < 101), "{r}");
+    }
+    let md = std::fs::read_to_string(out.join("path.md")).unwrap();
+    assert!(md.contains("| tiled |") && md.contains("| zbin |") && md.contains("flicker"), "{md}");
+    let a = args("1");
+    let o = lampshade(&a.iter().map(|s| s.as_str()).collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.code() == Some(1) && err.contains("at least 100") && !err.contains("panicked"), "{err}");
+}

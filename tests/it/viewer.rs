@@ -787,6 +787,7 @@ fn memory_samples(stdout: &str) -> Vec<(u64, u64)> {
 /// clean ones that failed and the leaky ones that passed. The figures in docs/testing.md, "Soaks":
 ///
 /// `xvfb-run -a cargo test --test it -- --ignored --nocapture viewer::soak_lengths`
+/// (`LAMPSHADE_SOAK=NAME` measures that soak alone: `viewer`, `atlas panel`, `split view`)
 #[test]
 #[ignore = "a measurement, run by hand (docs/testing.md, Soaks)"]
 fn soak_lengths() {
@@ -794,7 +795,11 @@ fn soak_lengths() {
     for (name, scene, size, plan, frames, first_warmup) in [
         ("viewer", "demo", "640x400", soak_plan(3000, 10), 3000, 500),
         ("atlas panel", "shadows", ATLAS_SOAK_WINDOW, atlas_soak_plan(3000, 10), 3000, 300),
+        ("split view", "demo", ATLAS_SOAK_WINDOW, compare::split_soak_plan(3000, 10), 3000, 300),
     ] {
+        if std::env::var("LAMPSHADE_SOAK").is_ok_and(|only| only != name) {
+            continue;
+        }
         let dir = out_dir(&format!("soak-lengths-{}", name.replace(' ', "-")));
         let script = dir.join("soak.script");
         std::fs::write(&script, format!("{plan}{} quit\n", frames + 1)).unwrap();

@@ -79,6 +79,15 @@ pub struct Status {
     pub error: bool,
 }
 
+/// What the viewport needs to draw the comparison.
+pub struct SplitInfo<'a> {
+    /// B's image (`None` until B has drawn).
+    pub b: Option<egui::TextureId>,
+    /// The difference or FLIP image (`None` until computed).
+    pub overlay: Option<egui::TextureId>,
+    pub figures: &'a crate::app::split::SplitFigures,
+}
+
 /// What the UI shows this frame (read only).
 pub struct FrameInfo<'a> {
     /// Resident memory of the process and wgpu's live buffer + texture bytes.
@@ -130,7 +139,7 @@ pub struct FrameInfo<'a> {
     /// Each configuration's pipelines and compile times (the pipelines window).
     pub pipelines: &'a [crate::app::pipeline_rows::ConfigPipelines],
     /// The split view's configuration B (`None` while it is off).
-    pub split: Option<super::compare::SplitInfo<'a>>,
+    pub split: Option<SplitInfo<'a>>,
 }
 
 #[derive(Clone, Debug)]

@@ -2,19 +2,10 @@
 //! view (split, difference, FLIP), each side's GPU time per pass, B against A, and the lights
 //! whose ledger cost changed most.
 
-use super::common::FrameInfo;
-use crate::app::split::{SplitFigures, SplitView};
+use super::common::{FrameInfo, SplitInfo};
+use crate::app::split::SplitView;
 use crate::app::state::UiState;
 use egui::{Color32, Pos2, Rect, RichText, Stroke, Vec2};
-
-/// What the viewport needs to draw the comparison.
-pub struct SplitInfo<'a> {
-    /// B's image (`None` until B has drawn).
-    pub b: Option<egui::TextureId>,
-    /// The difference or FLIP image (`None` until computed).
-    pub overlay: Option<egui::TextureId>,
-    pub figures: &'a SplitFigures,
-}
 
 /// Draws the comparison over the viewport's image in `rect`: B right of the divider (which
 /// drags), or the overlay over the whole of it; labels each side.
@@ -138,10 +129,22 @@ pub(super) fn compare_window(ctx: &egui::Context, st: &mut UiState, f: &FrameInf
         if let Some(Err(e)) = &message {
             ui.label(RichText::new(e).color(Color32::LIGHT_RED));
         }
-        let Some(split) = f.split.as_ref() else {
-            ui.label(RichText::new("B draws with the next frame").weak());
-            return;
-        };
+        match f.split.as_ref() {
+            Some(split) => figures(ui, split),
+            None => {
+                ui.label(RichText::new("B draws with the next frame").weak());
+            }
+        }
+    });
+    if !open {
+        st.split.on = false;
+    }
+}
+
+/// The comparison's figures: B's error, each side's GPU ms per pass, B against A, the ledger's
+/// delta.
+fn figures(ui: &mut egui::Ui, split: &SplitInfo) {
+    {
         let fig = split.figures;
         if let Some(e) = &fig.error {
             ui.label(RichText::new(e).color(Color32::LIGHT_RED));
@@ -191,8 +194,5 @@ pub(super) fn compare_window(ctx: &egui::Context, st: &mut UiState, f: &FrameInf
                 }
             });
         }
-    });
-    if !open {
-        st.split.on = false;
     }
 }

@@ -6,14 +6,13 @@ use super::state::{Panels, UiState};
 use egui::{Color32, Rect, Vec2};
 
 mod advice;
-mod compare;
-pub use compare::SplitInfo;
 mod common;
+mod compare;
 mod pipelines;
 pub(crate) use common::method_name;
 pub use common::{
-    efficiency_colour, AtlasInfo, Command, CullingCheck, FrameInfo, History, Region, Sample, Status, Thumb, UiOut,
-    HISTORY, MAX_WIREFRAMES,
+    efficiency_colour, AtlasInfo, Command, CullingCheck, FrameInfo, History, Region, Sample, SplitInfo, Status, Thumb,
+    UiOut, HISTORY, MAX_WIREFRAMES,
 };
 use common::{GBUFFER_STRIP, LEFT_WIDTH, MIN_SIDE_WIDTH, RIGHT_WIDTH};
 mod check;

@@ -113,23 +113,7 @@ pub(super) fn top_bar(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out: &
                 st.tab = if st.tab == Tab::Help { Tab::Scene } else { Tab::Help };
             }
             ui.separator();
-            ui.label("panels");
-            for (on, name, what) in [
-                (&mut st.panels.left, "left", "scene, lights, materials, camera, help and the pixel probe"),
-                (&mut st.panels.right, "right", "culling figures, GPU times, history"),
-                (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
-                (&mut st.panels.shadows, "shadows", "the shadow atlas window: tiles, figures and shadow settings"),
-                (&mut st.panels.pipelines, "pipelines", "the pipelines window: each configuration's compiles"),
-                (
-                    &mut st.split.on,
-                    "compare",
-                    "split view: configuration B right of a divider, the difference and FLIP views",
-                ),
-            ] {
-                ui.toggle_value(on, name).on_hover_text(format!(
-                    "show or hide the {what}; a window too small for a panel hides it until it grows"
-                ));
-            }
+            panel_toggles(ui, st);
             // Last, so it wraps onto its own row rather than being drawn over the buttons.
             ui.separator();
             ui.label(RichText::new(f.adapter).weak());
@@ -183,4 +167,20 @@ pub(super) fn status_bar(ui: &mut egui::Ui, st: &UiState, f: &FrameInfo, out: &m
         });
     });
     out.regions.push(Region { name: "status bar", parent: None, rect: r.response.rect });
+}
+
+/// The top bar's panel and window toggles.
+fn panel_toggles(ui: &mut egui::Ui, st: &mut UiState) {
+    ui.label("panels");
+    for (on, name, what) in [
+        (&mut st.panels.left, "left", "scene, lights, materials, camera, help and the pixel probe"),
+        (&mut st.panels.right, "right", "culling figures, GPU times, history"),
+        (&mut st.panels.gbuffer, "g-buffer", "the G-buffer thumbnails"),
+        (&mut st.panels.shadows, "shadows", "the shadow atlas window: tiles, figures and shadow settings"),
+        (&mut st.panels.pipelines, "pipelines", "the pipelines window: each configuration's compiles"),
+        (&mut st.split.on, "compare", "split view: configuration B right of a divider, their difference and FLIP"),
+    ] {
+        ui.toggle_value(on, name)
+            .on_hover_text(format!("show or hide the {what}; a window too small for a panel hides it until it grows"));
+    }
 }

@@ -118,6 +118,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     cache.frame_scene(&state).map_err(anyhow::Error::msg)?;
     let script = args.script.as_deref().map(Script::load).transpose()?;
+    let camera_path = match &args.camera_path {
+        Some(f) => Some((crate::scene::camera_path::CameraPath::load(f)?, f.clone())),
+        None => None,
+    };
+
     // Scripted runs load files on the spot, so that what follows sees the new scene.
     cache.blocking = script.is_some();
     if script.is_some() {
@@ -131,10 +136,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
     }
     let frame_log = args.frame_log.as_deref().map(frame_log::FrameLog::create).transpose()?;
     let live = compiling::live_from_start(script.as_ref());
-    let camera_path = match &args.camera_path {
-        Some(f) => Some((crate::scene::camera_path::CameraPath::load(f)?, f.clone())),
-        None => None,
-    };
     let mut app = App::new(args, state, cache, script);
     app.frame_log = frame_log;
     app.started = started;

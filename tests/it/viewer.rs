@@ -686,13 +686,17 @@ fn bad_input_fails_with_a_message_and_no_panic() {
     let empty = dir.join("empty.script");
     std::fs::write(&empty, "# nothing to do\n").unwrap();
     let missing = dir.join("missing.script");
-    let cases: [(Vec<&str>, &str); 6] = [
+    let bad_path = dir.join("bad-path.json");
+    std::fs::write(&bad_path, r#"{"keys": [{"t": 1, "camera": {}}]}"#).unwrap();
+    let cases: [(Vec<&str>, &str); 8] = [
         (vec!["view", "nowhere"], "unknown scene 'nowhere'"),
         (vec!["view", "demo", "--script", missing.to_str().unwrap()], "reading script"),
         (vec!["view", "demo", "--script", bad_line.to_str().unwrap()], "line 2: unknown culling mode 'sometimes'"),
         (vec!["view", "demo", "--script", empty.to_str().unwrap()], "no actions"),
         (vec!["view", "demo", "--lights", "1000001"], "more than"),
         (vec!["view", "demo", "--scale", "0"], "--scale 0"),
+        (vec!["view", "demo", "--camera-path", missing.to_str().unwrap()], "reading camera path"),
+        (vec!["view", "demo", "--camera-path", bad_path.to_str().unwrap()], "not a camera path"),
     ];
     for (args, needle) in cases {
         let out = lampshade(&args, &dir);

@@ -117,9 +117,12 @@ impl CameraPath {
     }
 
     /// The camera at path time `t` (before the start: the first key; after the end: the last).
+    /// A path without keys (which `validate` refuses) stands at the origin looking down -Z.
     pub fn at(&self, t: f64) -> Camera {
         let keys = &self.keys;
-        let last = keys.len() - 1;
+        let Some(last) = keys.len().checked_sub(1) else {
+            return Camera::looking_at(DVec3::ZERO, DVec3::NEG_Z);
+        };
         if t <= 0.0 || last == 0 {
             return keys[0].camera;
         }

@@ -22,7 +22,7 @@ fn report(r: &oracle::CaseResult) -> String {
 /// combinations of layout, depth format, reversed Z, accumulation, shadows and depth clamp), at
 /// 48x27, up to 64 lights, every mode on every path. The fewest that still catch the deliberate
 /// breaks (docs/oracle.md: they fail 14 to 29 cases in 100; with the tile test at 0.9 of each
-/// radius this subset fails in tiled on both paths). `cargo run --release --example oracle`
+/// radius this subset fails in tiled on both paths, from case 56). `cargo run --release --example oracle`
 /// runs the long ones.
 #[test]
 fn generated_cases_miss_no_light_in_any_mode() {

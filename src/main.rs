@@ -116,7 +116,7 @@ fn bench(args: BenchArgs) -> Result<()> {
 
 /// `bench --camera-path`: the culling modes replayed along a camera path (`bench::run_path`).
 fn bench_path(args: BenchArgs) -> Result<()> {
-    use lampshade::bench::{path_markdown, run_path, PathConfig};
+    use lampshade::bench::{path_markdown, run_path, PathConfig, PathOptions};
     use lampshade::renderer::CullingMode;
     use lampshade::scene::camera_path::CameraPath;
     let file = args.camera_path.clone().context("--camera-path")?;
@@ -155,7 +155,8 @@ fn bench_path(args: BenchArgs) -> Result<()> {
     let gpu = Gpu::open(&args.adapter.choice())?;
     let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
     let bar = indicatif::ProgressBar::new(path.frames(step) as u64);
-    let rows = run_path(&gpu, &scene, &path, step, size, &configs, &costs, |done, total| {
+    let o = PathOptions { step, size, costs };
+    let rows = run_path(&gpu, &scene, &path, &configs, &o, |done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     })?;

@@ -1,7 +1,7 @@
 //! The frame step that draws the split view's configuration B (`app::split`) after A.
 
 use super::split::{overlay, SplitGfx, SplitView};
-use crate::renderer::{FrameStats, Settings};
+use crate::renderer::Settings;
 
 impl super::App {
     /// Draws configuration B after A (`a`, drawn this frame when `rendered`) into its image at
@@ -49,9 +49,7 @@ impl super::App {
                 let a_stats = self.stats.as_ref();
                 s.figures.a_ms = a_stats.map_or(Vec::new(), |st| crate::bench::median_passes(std::slice::from_ref(st)));
                 s.figures.b_ms = crate::bench::median_passes(std::slice::from_ref(&stats));
-                let costs = |st: &FrameStats| -> Vec<(usize, f64)> {
-                    st.per_light.iter().filter_map(|l| Some((l.index, l.cost_ms?))).collect()
-                };
+                let costs = crate::bench::light_costs;
                 s.figures.ledger_delta = crate::bench::ledger_delta(&a_stats.map_or(Vec::new(), costs), &costs(&stats));
                 s.figures.error = None;
                 s.stats = Some(stats);

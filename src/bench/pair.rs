@@ -109,8 +109,8 @@ pub fn median_passes(times: &[FrameStats]) -> Vec<(String, f64)> {
     out
 }
 
-/// Each light's cost by the ledger's model, from a counted frame's stats.
-fn light_costs(stats: &FrameStats) -> Vec<(usize, f64)> {
+/// Each light's cost by the ledger's model (index, ms), from a frame's stats.
+pub fn light_costs(stats: &FrameStats) -> Vec<(usize, f64)> {
     stats.per_light.iter().filter_map(|l| Some((l.index, l.cost_ms?))).collect()
 }
 

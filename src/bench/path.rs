@@ -58,18 +58,27 @@ pub fn quantile(v: &[f64], q: f64) -> f64 {
     s[rank - 1]
 }
 
-/// Replays `configs` along `path` at `step` seconds of path time a frame, at `size`.
-/// `progress(done, total)` is called each path frame.
+/// How a path is replayed.
+#[derive(Clone, Debug)]
+pub struct PathOptions {
+    /// Seconds of path time a frame.
+    pub step: f64,
+    pub size: (u32, u32),
+    /// The cost model's constants `auto` weighs with.
+    pub costs: crate::renderer::options::calibration::Calibration,
+}
+
+/// Replays `configs` along `path` (`o`: the step and size). `progress(done, total)` is called
+/// each path frame.
 pub fn run_path(
     gpu: &Gpu,
     scene: &crate::Scene,
     path: &CameraPath,
-    step: f64,
-    size: (u32, u32),
     configs: &[PathConfig],
-    costs: &crate::renderer::options::calibration::Calibration,
+    o: &PathOptions,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<PathRow>> {
+    let (step, size, costs) = (o.step, o.size, &o.costs);
     let frames = path.frames(step);
     if frames < MIN_BENCH_FRAMES {
         anyhow::bail!(

@@ -26,6 +26,7 @@ pub mod scene_gpu;
 pub mod settings;
 pub mod shadows;
 pub mod stats;
+pub mod stochastic;
 pub mod support;
 pub mod surfaces;
 pub mod targets;

@@ -151,6 +151,12 @@ gpu_record! {
         /// Seed 004's lightmap crossfade (`baked_weight` in the shaders): realtime up to x,
         /// fully baked from y (view distance); z = 1 when lightmaps apply this frame.
         pub lightmap_fade: [f32; 4],
+        /// The stochastic estimators (`options::stochastic`): the noise seed, RIS's candidates
+        /// M and samples K (0: exact shading), 0.
+        pub noise: [u32; 4],
+        /// Stochastic culling's attenuation threshold (0: off), the planted bias on lights of
+        /// odd index (1: none), 0, 0.
+        pub stochastic: [f32; 4],
     }
 }
 
@@ -504,6 +510,8 @@ impl CameraRecord {
                 let d = o.surfaces.lightmap_distance;
                 [d * LIGHTMAP_FADE_START, d, if on { 1.0 } else { 0.0 }, 0.0]
             },
+            noise: o.stochastic.noise_words(),
+            stochastic: o.stochastic.culling_words(),
         }
     }
 }

@@ -218,6 +218,7 @@ macro_rules! options_from_settings {
     (@one shadows $fields:tt) => { options_from_settings!(@from shadows::ShadowOptions $fields); };
     (@one post $fields:tt) => { options_from_settings!(@from post::PostOptions $fields); };
     (@one surfaces $fields:tt) => { options_from_settings!(@from surfaces::SurfaceOptions $fields); };
+    (@one stochastic $fields:tt) => { options_from_settings!(@from StochasticOptions $fields); };
     (@from $($ty:ident)::+ { $($f:ident)* }) => {
         impl From<&Settings> for super::options::$($ty)::+ {
             fn from(s: &Settings) -> Self {
@@ -227,7 +228,7 @@ macro_rules! options_from_settings {
     };
 }
 
-settings_fields!(by_technique @sort options_from_settings {} {} {} {} {} {});
+settings_fields!(by_technique @sort options_from_settings {} {} {} {} {} {} {});
 
 /// Each technique's options, built from the flat `Settings` in this one place: a technique
 /// reads its own (and the frame's), never `Settings`.
@@ -256,6 +257,10 @@ impl Settings {
         self.into()
     }
 
+    pub fn stochastic_options(&self) -> super::options::StochasticOptions {
+        self.into()
+    }
+
     /// Every technique's options.
     pub fn options(&self) -> super::options::Options {
         super::options::Options {
@@ -265,6 +270,7 @@ impl Settings {
             shadows: self.shadow_options(),
             post: self.post_options(),
             surfaces: self.surfaces_options(),
+            stochastic: self.stochastic_options(),
         }
     }
 }

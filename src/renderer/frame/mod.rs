@@ -13,6 +13,7 @@ use super::records::{FrameLists, FrameRecords};
 use super::scene_gpu::{SceneFingerprint, SceneGpu};
 use super::shadows::{self, ShadowPlan};
 use super::stats::CpuMs;
+use super::stochastic;
 use super::targets::Targets;
 use super::volumes::Volumes;
 use super::{
@@ -279,6 +280,8 @@ impl Renderer {
         let (spare_lights, spare_plans) = std::mem::take(&mut self.spare);
         let mut records = FrameRecords::reusing(scene, &settings.options(), size, key.accum_format, spare_lights);
         super::records::stored_position_pads(&mut records.lights, key.layout.position_rounding(), &records.proj);
+        // Stochastic culling's ranges for this frame, before anything culls with them.
+        stochastic::randomise_ranges(&mut records.lights, &settings.stochastic_options());
         let records_ms = clock.ms();
         let view =
             plan_view(scene, settings, &records, (&key, self.caps.quirks.loop_limit), size, self.calibration.costs);

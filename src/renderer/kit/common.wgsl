@@ -26,6 +26,11 @@ struct Camera {
     // Seed 004's lightmap crossfade: realtime up to x, fully baked from y (view distance);
     // z = 1 when lightmaps apply.
     lightmap_fade: vec4<f32>,
+    // The stochastic estimators: the noise seed, RIS's candidates M and samples K (0: exact), 0.
+    noise: vec4<u32>,
+    // Stochastic culling's attenuation threshold (0: off), the planted bias on lights of odd
+    // index (1: none), 0, 0.
+    stochastic: vec4<f32>,
 };
 
 // A light in view space. `color` is colour x intensity.
@@ -626,7 +631,11 @@ fn shade_light_view(s: Surface, V: vec3<f32>, l: GpuLight, lookups: bool) -> Lig
     let d = length(to_light);
     // A light exactly on the surface lights it head-on.
     let L = select(s.normal, to_light / d, d > 1e-6 * l.falloff);
-    let att = distance_attenuation(d, l.falloff) * spot_attenuation(l, -L);
+    // Stochastic light culling (Tokuyoshi and Harada 2016): the light's range was drawn for the
+    // frame so that it reaches distance d with probability min(1, a(d) / t), t =
+    // camera.stochastic.x; where it reaches, max(a(d), t) keeps the expectation a(d). With t = 0
+    // (off) this is a(d).
+    let att = max(distance_attenuation(d, l.falloff), camera.stochastic.x) * spot_attenuation(l, -L);
     let ndl = max(dot(s.normal, L), 0.0);
     var lit = ls_light_reaches(l, s.layer) && d < l.radius && att > 0.0 && ndl > 0.0;
     var shadow = 1.0;

@@ -1,5 +1,6 @@
 //! The knobs' table: a row per [`Settings`](crate::renderer::Settings) field, in the order
 //! `--help` and the script documentation list them.
+// tidy-filelength: one row per knob, the one list the CLI, settings files, scripts and the viewer read
 
 use super::{choice, names, number, parse_switch, switch_name, whole, Knob, Values};
 use crate::renderer::presets::{Preset, CUSTOM};
@@ -835,6 +836,78 @@ pub const KNOBS: &[Knob] = &[
         get: |s| name_of(&s.shadow_cube),
         put: |s, v| {
             s.shadow_cube = choice("shadow cube layout", v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "ris-samples",
+        what: "RIS samples",
+        help: "Reservoir-resampled lighting on the list modes: samples each pixel keeps and shades (0: every listed light exactly)",
+        values: Values::Whole { min: 0, max: 64 },
+        cli: true,
+        get: |s| s.ris_samples.to_string(),
+        put: |s, v| {
+            s.ris_samples = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "ris-candidates",
+        what: "RIS candidates",
+        help: "Lights drawn uniformly from the pixel's list for each RIS sample",
+        values: Values::Whole { min: 1, max: 256 },
+        cli: true,
+        get: |s| s.ris_candidates.to_string(),
+        put: |s, v| {
+            s.ris_candidates = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "stochastic-culling",
+        what: "stochastic light culling",
+        help: "Draw each light's range anew each frame and compensate its attenuation (every culling mode; unbiased)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.stochastic_culling),
+        put: |s, v| {
+            s.stochastic_culling = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "stochastic-threshold",
+        what: "stochastic culling threshold",
+        help: "Attenuation below which stochastic culling randomises a light",
+        values: Values::Float { min: 0.0, max: 1.0, open: (true, false), slider: (0.01, 1.0) },
+        cli: true,
+        get: |s| s.stochastic_threshold.to_string(),
+        put: |s, v| {
+            s.stochastic_threshold = number(v)? as f32;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "noise-seed",
+        what: "noise seed",
+        help: "Seed of the stochastic estimators' random numbers (the same seed, the same frame)",
+        values: Values::Whole { min: 0, max: u32::MAX - 1 },
+        cli: true,
+        get: |s| s.noise_seed.to_string(),
+        put: |s, v| {
+            s.noise_seed = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "planted-bias",
+        what: "planted bias",
+        help: "Tests only: the stochastic estimators weight lights of odd index by this factor (1: unbiased)",
+        values: Values::Float { min: 0.0, max: 2.0, open: (true, false), slider: (0.9, 1.1) },
+        cli: false,
+        get: |s| s.planted_bias.to_string(),
+        put: |s, v| {
+            s.planted_bias = number(v)? as f32;
             Ok(())
         },
     },

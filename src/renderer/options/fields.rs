@@ -6,7 +6,7 @@
 /// Calls macro `$then` with `$args` and then every field of `Settings`, in its order (which is
 /// the order settings files list the keys in), each as `[technique] name: Type = default,`
 /// after its doc comment. The technique is the options type the field belongs to: `frame`,
-/// `culling`, `caps`, `shadows`, `post` or `surfaces`. The types and defaults are resolved where
+/// `culling`, `caps`, `shadows`, `post`, `surfaces` or `stochastic`. The types and defaults are resolved where
 /// `$then` expands.
 macro_rules! settings_fields {
     ($then:ident $($args:tt)*) => {
@@ -190,16 +190,36 @@ macro_rules! settings_fields {
             /// exponentially to the farthest light (Bevy's `ClusterZConfig`); 0 spreads every slice
             /// exponentially over the depths the lights reach.
             [culling] first_slice_depth: f32 = 0.0,
+            /// Reservoir-resampled lighting (RIS; Talbot et al. 2005, Bitterli et al. 2020) on the
+            /// list modes (tiled, clustered, z-binned): the samples K each pixel keeps and shades
+            /// with its shadow, each chosen by weighted reservoir sampling from `ris_candidates`
+            /// lights drawn uniformly from the pixel's list; 0: every listed light shaded exactly.
+            [stochastic] ris_samples: u32 = 0,
+            /// The candidates M each RIS sample is drawn from (its cost: M unshadowed evaluations).
+            [stochastic] ris_candidates: u32 = 8,
+            /// Stochastic light culling (Tokuyoshi and Harada 2016), on every culling mode: each
+            /// light's range is drawn anew for the frame and its attenuation below
+            /// `stochastic_threshold` compensated, so the frame's expectation is the exact sum.
+            [stochastic] stochastic_culling: bool = false,
+            /// The attenuation below which stochastic culling randomises a light (0 < t <= 1): at
+            /// distance d the light adds with probability min(1, a(d) / t), as max(a(d), t).
+            [stochastic] stochastic_threshold: f32 = 0.25,
+            /// The seed of every random number the stochastic estimators draw: the same seed gives
+            /// the same frame, byte for byte.
+            [stochastic] noise_seed: u32 = 0,
+            /// For the unbiasedness tests only: the stochastic estimators weight the lights of odd
+            /// index by this factor (1: no bias), so a test can show that it catches a known bias.
+            [stochastic] planted_bias: f32 = 1.0,
         }
     };
 }
 
-/// Sorts the fields of [`settings_fields`] by technique and calls macro `$then` with the six
+/// Sorts the fields of [`settings_fields`] by technique and calls macro `$then` with the seven
 /// lists, each field as `name: Type,` after its doc comment:
-/// `$then! { frame { … } culling { … } caps { … } shadows { … } post { … } surfaces { … } }`.
-/// Invoked as `settings_fields!(by_technique @sort $then {} {} {} {} {} {})`.
+/// `$then! { frame { … } culling { … } caps { … } shadows { … } post { … } surfaces { … } stochastic { … } }`.
+/// Invoked as `settings_fields!(by_technique @sort $then {} {} {} {} {} {} {})`.
 macro_rules! by_technique {
-    (@sort $then:ident {$($frame:tt)*} {$($culling:tt)*} {$($caps:tt)*} {$($shadows:tt)*} {$($post:tt)*} {$($surfaces:tt)*}) => {
+    (@sort $then:ident {$($frame:tt)*} {$($culling:tt)*} {$($caps:tt)*} {$($shadows:tt)*} {$($post:tt)*} {$($surfaces:tt)*} {$($stochastic:tt)*}) => {
         $then! {
             frame { $($frame)* }
             culling { $($culling)* }
@@ -207,31 +227,36 @@ macro_rules! by_technique {
             shadows { $($shadows)* }
             post { $($post)* }
             surfaces { $($surfaces)* }
+            stochastic { $($stochastic)* }
         }
     };
-    (@sort $then:ident {$($frame:tt)*} $culling:tt $caps:tt $shadows:tt $post:tt $surfaces:tt
+    (@sort $then:ident {$($frame:tt)*} $culling:tt $caps:tt $shadows:tt $post:tt $surfaces:tt $stochastic:tt
         $(#[$m:meta])* [frame] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then {$($frame)* $(#[$m])* $f: $t,} $culling $caps $shadows $post $surfaces $($rest)* }
+        by_technique! { @sort $then {$($frame)* $(#[$m])* $f: $t,} $culling $caps $shadows $post $surfaces $stochastic $($rest)* }
     };
-    (@sort $then:ident $frame:tt {$($culling:tt)*} $caps:tt $shadows:tt $post:tt $surfaces:tt
+    (@sort $then:ident $frame:tt {$($culling:tt)*} $caps:tt $shadows:tt $post:tt $surfaces:tt $stochastic:tt
         $(#[$m:meta])* [culling] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then $frame {$($culling)* $(#[$m])* $f: $t,} $caps $shadows $post $surfaces $($rest)* }
+        by_technique! { @sort $then $frame {$($culling)* $(#[$m])* $f: $t,} $caps $shadows $post $surfaces $stochastic $($rest)* }
     };
-    (@sort $then:ident $frame:tt $culling:tt {$($caps:tt)*} $shadows:tt $post:tt $surfaces:tt
+    (@sort $then:ident $frame:tt $culling:tt {$($caps:tt)*} $shadows:tt $post:tt $surfaces:tt $stochastic:tt
         $(#[$m:meta])* [caps] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then $frame $culling {$($caps)* $(#[$m])* $f: $t,} $shadows $post $surfaces $($rest)* }
+        by_technique! { @sort $then $frame $culling {$($caps)* $(#[$m])* $f: $t,} $shadows $post $surfaces $stochastic $($rest)* }
     };
-    (@sort $then:ident $frame:tt $culling:tt $caps:tt {$($shadows:tt)*} $post:tt $surfaces:tt
+    (@sort $then:ident $frame:tt $culling:tt $caps:tt {$($shadows:tt)*} $post:tt $surfaces:tt $stochastic:tt
         $(#[$m:meta])* [shadows] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then $frame $culling $caps {$($shadows)* $(#[$m])* $f: $t,} $post $surfaces $($rest)* }
+        by_technique! { @sort $then $frame $culling $caps {$($shadows)* $(#[$m])* $f: $t,} $post $surfaces $stochastic $($rest)* }
     };
-    (@sort $then:ident $frame:tt $culling:tt $caps:tt $shadows:tt {$($post:tt)*} $surfaces:tt
+    (@sort $then:ident $frame:tt $culling:tt $caps:tt $shadows:tt {$($post:tt)*} $surfaces:tt $stochastic:tt
         $(#[$m:meta])* [post] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then $frame $culling $caps $shadows {$($post)* $(#[$m])* $f: $t,} $surfaces $($rest)* }
+        by_technique! { @sort $then $frame $culling $caps $shadows {$($post)* $(#[$m])* $f: $t,} $surfaces $stochastic $($rest)* }
     };
-    (@sort $then:ident $frame:tt $culling:tt $caps:tt $shadows:tt $post:tt {$($surfaces:tt)*}
+    (@sort $then:ident $frame:tt $culling:tt $caps:tt $shadows:tt $post:tt {$($surfaces:tt)*} $stochastic:tt
         $(#[$m:meta])* [surfaces] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
-        by_technique! { @sort $then $frame $culling $caps $shadows $post {$($surfaces)* $(#[$m])* $f: $t,} $($rest)* }
+        by_technique! { @sort $then $frame $culling $caps $shadows $post {$($surfaces)* $(#[$m])* $f: $t,} $stochastic $($rest)* }
+    };
+    (@sort $then:ident $frame:tt $culling:tt $caps:tt $shadows:tt $post:tt $surfaces:tt {$($stochastic:tt)*}
+        $(#[$m:meta])* [stochastic] $f:ident: $t:ty = $d:expr, $($rest:tt)*) => {
+        by_technique! { @sort $then $frame $culling $caps $shadows $post $surfaces {$($stochastic)* $(#[$m])* $f: $t,} $($rest)* }
     };
 }
 

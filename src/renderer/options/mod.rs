@@ -13,6 +13,7 @@ pub mod caps;
 pub mod culling;
 pub mod post;
 pub mod shadows;
+pub mod stochastic;
 pub mod surfaces;
 
 use serde::{Deserialize, Serialize};
@@ -448,7 +449,7 @@ knob_names!(
 /// Declares each technique's options type from the lists of [`by_technique`]. Each field is
 /// `Settings`' of the same name.
 macro_rules! options_types {
-    (frame $frame:tt culling $culling:tt caps $caps:tt shadows $shadows:tt post $post:tt surfaces $surfaces:tt) => {
+    (frame $frame:tt culling $culling:tt caps $caps:tt shadows $shadows:tt post $post:tt surfaces $surfaces:tt stochastic $stochastic:tt) => {
         options_types!(@one $frame
             /// What every pass of a frame may read: the path, the view, the formats and what is
             /// measured.
@@ -470,6 +471,10 @@ macro_rules! options_types {
         options_types!(@one $surfaces
             /// The surfaces' options: how they are drawn, sorted, blended, lightmapped and shaded.
             SurfaceOptions);
+        options_types!(@one $stochastic
+            /// The stochastic estimators' options: reservoir-resampled lighting on the list modes,
+            /// stochastic light culling on every mode, and the seed of their random numbers.
+            StochasticOptions);
     };
     (@one { $($(#[$m:meta])* $f:ident: $t:ty,)* } $(#[$doc:meta])* $name:ident) => {
         $(#[$doc])*
@@ -480,7 +485,7 @@ macro_rules! options_types {
     };
 }
 
-settings_fields!(by_technique @sort options_types {} {} {} {} {} {});
+settings_fields!(by_technique @sort options_types {} {} {} {} {} {} {});
 
 /// Every technique's options for one frame, built from `Settings` (`Settings::options`). The
 /// frame's passes get it through `FrameInputs`; each reads `frame` and its own.
@@ -492,4 +497,5 @@ pub struct Options {
     pub shadows: ShadowOptions,
     pub post: PostOptions,
     pub surfaces: SurfaceOptions,
+    pub stochastic: StochasticOptions,
 }

@@ -130,6 +130,8 @@ pub struct TiledPass {
     /// `fs_zbin_counted`), built by the first such frame.
     zbin: std::sync::OnceLock<([crate::renderer::kit::ComputePipe; 2], crate::renderer::kit::RenderPipe)>,
     zbin_counted: std::sync::OnceLock<crate::renderer::kit::RenderPipe>,
+    /// The reservoir-resampled shading of either (`stochastic::ris`).
+    ris: crate::renderer::stochastic::ris::RisPipes,
 }
 
 fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -190,6 +192,7 @@ impl TiledPass {
             waste_view,
             zbin: std::sync::OnceLock::new(),
             zbin_counted: std::sync::OnceLock::new(),
+            ris: Default::default(),
         }
     }
 
@@ -226,8 +229,13 @@ impl TiledPass {
         }
     }
 
-    /// The shading pipeline: z-binned or tiled/clustered, counting each light's pairs or not.
+    /// The shading pipeline: z-binned or tiled/clustered, reservoir-resampled, or exact and
+    /// counting each light's pairs or not (a resampled frame counts none).
     fn shade(&self, f: &FrameInputs<'_>, zbin: bool) -> &crate::renderer::kit::RenderPipe {
+        if f.options.stochastic.ris() {
+            let (module, layout, targets) = &self.counted_from;
+            return self.ris.get(f.device, (module, layout, targets), zbin);
+        }
         match f.counts {
             _ if zbin => self.zbin_pipelines(f.device, f.counts).1,
             true => self.counted.get_or_init(|| {
@@ -519,7 +527,12 @@ impl TiledPass {
             bind(&mut pass);
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit), or per
             // `ZBinJob::chunk` sorted lights.
-            let draws = zbin.map_or_else(|| crate::renderer::tiles::shade_chunks(n), |(_, z)| z.draws());
+            // A resampled frame visits M x K entries a pixel, in one instance.
+            let draws = match zbin {
+                _ if f.options.stochastic.ris() => 1,
+                None => crate::renderer::tiles::shade_chunks(n),
+                Some((_, z)) => z.draws(),
+            };
             pass.draw(0..3, 0..draws);
         }
         if let Some(pipeline) = view {

@@ -1,0 +1,30 @@
+//! The options of `stochastic/`.
+
+/// Declared with the other options types from the fields of `fields.rs`.
+pub use super::StochasticOptions;
+
+impl StochasticOptions {
+    /// Whether the list modes shade by reservoir resampling instead of exactly.
+    pub fn ris(&self) -> bool {
+        self.ris_samples > 0
+    }
+
+    /// Whether the frame is drawn by a stochastic estimator at all (its pixels are random
+    /// variables whose expectation is the exact frame).
+    pub fn any(&self) -> bool {
+        self.ris() || self.stochastic_culling
+    }
+
+    /// The camera record's `noise`: the seed, RIS's candidates and samples (0: exact), 0.
+    pub fn noise_words(&self) -> [u32; 4] {
+        let samples = if self.ris() { self.ris_samples } else { 0 };
+        [self.noise_seed, self.ris_candidates.max(1), samples, 0]
+    }
+
+    /// The camera record's `stochastic`: stochastic culling's threshold (0: off), the planted
+    /// bias, 0, 0.
+    pub fn culling_words(&self) -> [f32; 4] {
+        let threshold = if self.stochastic_culling { self.stochastic_threshold } else { 0.0 };
+        [threshold, self.planted_bias, 0.0, 0.0]
+    }
+}

@@ -17,6 +17,7 @@
 //! [`shrink`] reduces a failing case to the fewest lights and boxes that still fail.
 
 pub mod case;
+pub mod expectation;
 pub mod shrink;
 
 use crate::gpu::Gpu;
@@ -387,36 +388,11 @@ fn compare_into(
     mut difference: Option<&mut [f32]>,
 ) -> ModeResult {
     let mut r = ModeResult::new(String::new(), String::new());
-    let luminance = crate::scene::luminance_weights();
     let mut worst_ratio = 1.0f32;
     let max = range_max(format);
     for p in 0..bf.adding.len() {
         let k = bf.adding[p];
-        // (accumulated, lightless, brute force) per compared channel.
-        let mut channels: [(f32, f32, f32); 6] = [(0.0, 0.0, 0.0); 6];
-        // Channel c of the accumulated diffuse and specular targets, and of the lightless frame's.
-        let diffuse = |c: usize| (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c]);
-        let specular = |c: usize| (lit.specular[4 * p + c], dark.specular[4 * p + c]);
-        let n = if path == RenderPath::LightPrepass {
-            for (c, slot) in channels.iter_mut().take(3).enumerate() {
-                *slot = (diffuse(c).0, diffuse(c).1, bf.diffuse[p][c]);
-            }
-            let s = glam::Vec3::from_array(bf.specular[p]).dot(luminance);
-            channels[3] = (specular(0).0, specular(0).1, s);
-            4
-        } else if one_target {
-            for (c, slot) in channels.iter_mut().take(3).enumerate() {
-                *slot = (diffuse(c).0, diffuse(c).1, bf.lit[p][c]);
-            }
-            3
-        } else {
-            for c in 0..3 {
-                let (d, s) = (diffuse(c), specular(c));
-                channels[c] = (d.0, d.1, bf.diffuse[p][c]);
-                channels[3 + c] = (s.0, s.1, bf.specular[p][c]);
-            }
-            6
-        };
+        let (channels, n) = pixel_channels(p, lit, dark, bf, (path, one_target));
         let (mut missed, mut extra, mut saturated) = (false, false, false);
         let mut pixel_worst = 0f32;
         for &(acc, rest, reference) in &channels[..n] {
@@ -455,6 +431,43 @@ fn compare_into(
         r.saturated += saturated as usize;
     }
     r
+}
+
+/// The channels compared at pixel `p`, each (accumulated, lightless, brute force), and how many
+/// there are: diffuse and specular RGB; the light pre-pass's diffuse RGB and the specular's
+/// luminance; seed 000's one target's lit colour.
+fn pixel_channels(
+    p: usize,
+    lit: &Light,
+    dark: &Light,
+    bf: &crate::renderer::explain::brute::BruteForce,
+    (path, one_target): (RenderPath, bool),
+) -> ([(f32, f32, f32); 6], usize) {
+    let mut channels: [(f32, f32, f32); 6] = [(0.0, 0.0, 0.0); 6];
+    // Channel c of the accumulated diffuse and specular targets, and of the lightless frame's.
+    let diffuse = |c: usize| (lit.diffuse[4 * p + c], dark.diffuse[4 * p + c]);
+    let specular = |c: usize| (lit.specular[4 * p + c], dark.specular[4 * p + c]);
+    let n = if path == RenderPath::LightPrepass {
+        for (c, slot) in channels.iter_mut().take(3).enumerate() {
+            *slot = (diffuse(c).0, diffuse(c).1, bf.diffuse[p][c]);
+        }
+        let s = glam::Vec3::from_array(bf.specular[p]).dot(crate::scene::luminance_weights());
+        channels[3] = (specular(0).0, specular(0).1, s);
+        4
+    } else if one_target {
+        for (c, slot) in channels.iter_mut().take(3).enumerate() {
+            *slot = (diffuse(c).0, diffuse(c).1, bf.lit[p][c]);
+        }
+        3
+    } else {
+        for c in 0..3 {
+            let (d, s) = (diffuse(c), specular(c));
+            channels[c] = (d.0, d.1, bf.diffuse[p][c]);
+            channels[3 + c] = (s.0, s.1, bf.specular[p][c]);
+        }
+        6
+    };
+    (channels, n)
 }
 
 /// What a frame under engine-style caps (`renderer::caps`) lost against brute force over every

@@ -37,6 +37,7 @@ mod scale;
 mod shader_contract;
 mod shadows;
 mod soak;
+mod stochastic;
 mod suite;
 mod tidy;
 mod tiled;

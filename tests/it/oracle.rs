@@ -81,3 +81,30 @@ fn the_regression_cases_miss_no_light() {
         assert_eq!(result.modes.len(), 20, "{}", p.display());
     }
 }
+
+/// The expectation rule (`oracle::expectation`) on generated cases: each stochastic mode's mean
+/// over 32 frames held to brute force, per pixel and per region, family-wise at 1e-3, on the
+/// deferred path and the light pre-pass. The first case of each of four settings blocks of the
+/// fast subset's stream (so their layouts, accumulations, depth formats and shadows).
+#[test]
+fn stochastic_modes_hold_their_expectation_on_generated_cases() {
+    use oracle::expectation::{check_case, ExpectationTest};
+    let gpu = lampshade::Gpu::headless().expect("a device for the oracle");
+    let mut renderer = oracle::renderer(&gpu).expect("renderer");
+    let limits = case::Limits { width: 48, height: 27, max_lights: 64, min_lights: 1 };
+    let test = ExpectationTest { frames: 32, ..Default::default() };
+    let (mut failures, mut checked) = (Vec::new(), 0);
+    let mut prepass = 0;
+    for block in 0..4 {
+        let c = case::generate(20261129, block * case::SETTINGS_BLOCK, limits);
+        for m in check_case(&gpu, &mut renderer, &c, &test).expect("expectation") {
+            checked += 1;
+            prepass += usize::from(m.path == "light-prepass");
+            if !m.passed() {
+                failures.push(format!("case {}: {} {}: {:?}", c.index, m.path, m.label, m.expectation));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(checked >= 4 * oracle::expectation::STOCHASTIC_MODES.len() && prepass > 0, "{checked} checked");
+}

@@ -1,0 +1,169 @@
+//! The stochastic estimators (`renderer::stochastic`) held to their expectation: N frames with
+//! different noise seeds against brute force in linear f32 (`oracle::expectation`: per pixel
+//! and per region, Bonferroni at 1e-3 for the whole test), a planted bias the same test must
+//! catch, and the same seed giving the same bytes.
+
+use crate::common::{gpu, hard_case_size, scene, HARD_CASES};
+use lampshade::headless::render_image;
+use lampshade::oracle::expectation::{expectation, Expectation, ExpectationTest};
+use lampshade::renderer::{AccumFormat, CullingMode, Renderer, Settings, OUTPUT_FORMAT};
+use lampshade::scene::Scene;
+use lampshade::LayoutChoice;
+
+/// Full precision (the reference layout, an Rgba32Float accumulation, whose per-light clamp is
+/// off), shadows as the default casts them (the sun's and the spots').
+fn base(culling: CullingMode) -> Settings {
+    Settings {
+        culling,
+        layout: LayoutChoice::Reference,
+        accumulation: AccumFormat::Rgba32Float,
+        count_ideal: false,
+        ..Settings::default()
+    }
+}
+
+fn ris(culling: CullingMode, samples: u32, candidates: u32) -> Settings {
+    Settings { ris_samples: samples, ris_candidates: candidates, ..base(culling) }
+}
+
+fn culled(culling: CullingMode, threshold: f32) -> Settings {
+    Settings { stochastic_culling: true, stochastic_threshold: threshold, ..base(culling) }
+}
+
+fn planted(s: Settings) -> Settings {
+    Settings { planted_bias: 0.97, ..s }
+}
+
+fn test_of(scene: &Scene, settings: &Settings, size: (u32, u32), frames: u32) -> Expectation {
+    let gpu = gpu();
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, settings).expect("renderer");
+    let t = ExpectationTest { frames, ..Default::default() };
+    expectation(gpu, &mut r, scene, settings, size, &t).expect("expectation test")
+}
+
+fn show(what: &str, e: &Expectation) -> String {
+    let region = e.regions.iter().cloned().fold(0.0, f64::max);
+    format!(
+        "{what}: {} px ({} steady); worst |t| {:.2} at {:?} (mean {:.4e}, brute force {:.4e}, sd {:.3e}), above {:.2}, \
+         limit {:.2}; beyond 3: {} (independent pixels: {:.1}); regions' worst {region:.2}, limit {:.2}; bias {:+.4}",
+        e.pixels,
+        e.steady,
+        e.worst_pixel,
+        e.worst_at,
+        e.worst_mean,
+        e.worst_reference,
+        e.worst_deviation,
+        e.worst_above,
+        e.pixel_limit,
+        e.beyond_three,
+        e.beyond_three_expected,
+        e.region_limit,
+        e.relative_bias,
+    )
+}
+
+/// RIS with 16 samples of 64 candidates, enough for the per-pixel test, on every hard case
+/// (the list modes in turn) at its size, 32 frames each; and with shadows on `demo`.
+#[test]
+fn reservoir_resampling_is_unbiased_on_the_hard_cases() {
+    let modes = [CullingMode::Tiled, CullingMode::Clustered, CullingMode::Zbin];
+    let mut failures = Vec::new();
+    for (i, name) in HARD_CASES.iter().enumerate() {
+        let s = ris(modes[i % 3], 16, 64);
+        let e = test_of(&scene(name), &s, hard_case_size(name), 32);
+        if !e.passed() {
+            failures.push(show(&format!("{name} {:?}", s.culling), &e));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// RIS with few samples (1 and 2 of 8 candidates) is heavy-tailed at a pixel: its regions and
+/// the upper side of its pixels (`Expectation::passed_skewed`), 64 frames.
+#[test]
+fn reservoir_resampling_with_few_samples_is_unbiased_in_its_regions() {
+    for (name, s) in [
+        ("demo", ris(CullingMode::Tiled, 2, 8)),
+        ("demo", ris(CullingMode::Zbin, 1, 8)),
+        ("sphere-wall", ris(CullingMode::Clustered, 1, 8)),
+    ] {
+        let e = test_of(&scene(name), &s, (96, 54), 64);
+        assert!(e.passed_skewed(), "{}", show(name, &e));
+    }
+}
+
+/// Stochastic light culling on every culling mode (stencil volumes included) at the default
+/// threshold, 64 frames each, and at threshold 1 (every contribution randomised, so a pixel's
+/// tail of rarely reaching strong lights is longer) on two, 256 frames each.
+#[test]
+fn stochastic_culling_is_unbiased_on_every_mode() {
+    let demo = scene("demo");
+    let mut failures = Vec::new();
+    let runs = CullingMode::ALL.iter().map(|&m| (culled(m, 0.25), 64));
+    let ones = [(culled(CullingMode::StencilReplace, 1.0), 256), (culled(CullingMode::Zbin, 1.0), 256)];
+    for (s, frames) in runs.chain(ones) {
+        let e = test_of(&demo, &s, (96, 54), frames);
+        if !e.passed() {
+            failures.push(show(&format!("{:?} at {}", s.culling, s.stochastic_threshold), &e));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The share of each pixel's light that the lights of odd index carry (brute force over them
+/// alone against brute force over all), at the lit pixels of `scene` drawn with `settings`.
+fn odd_shares(scene: &Scene, settings: &Settings, (w, h): (u32, u32)) -> Vec<f32> {
+    let gpu = gpu();
+    let exact = Settings { ris_samples: 0, stochastic_culling: false, planted_bias: 1.0, ..settings.clone() };
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &exact).expect("renderer");
+    let mut sums = Vec::new();
+    let mut odd = scene.clone();
+    let lights: Vec<_> = scene.lights.iter().cloned().enumerate().filter(|(i, _)| i % 2 == 1).map(|(_, l)| l).collect();
+    *odd.lights_mut() = lights;
+    for s in [scene, &odd] {
+        render_image(gpu, &mut r, s, &exact, w, h).expect("render");
+        let b = r.last_frame().brute_force(gpu).expect("brute force");
+        sums.push(b.diffuse.iter().zip(&b.specular).map(|(d, s)| d.iter().chain(s).sum::<f32>()).collect::<Vec<f32>>());
+    }
+    sums[0].iter().zip(&sums[1]).filter(|(all, _)| **all > 0.0).map(|(all, odd)| odd / all).collect()
+}
+
+/// x0.97 on the lights of odd index, which carry at least 20% of the light at most of the
+/// pixels, fails each estimator's test at the frames the test draws; the same run without it
+/// passes. RIS: 2 samples of 8 on `demo`, 64 frames; stochastic culling: threshold 1 on
+/// `sphere-wall` (4,096 lights), 256 frames (its pixels share each frame's ranges, so a frame's
+/// region means vary together: it takes more frames to see 1.5% in them).
+#[test]
+fn a_planted_bias_fails_the_unbiasedness_tests() {
+    for (name, s, frames) in
+        [("demo", ris(CullingMode::Tiled, 2, 8), 64), ("sphere-wall", culled(CullingMode::Tiled, 1.0), 256)]
+    {
+        let sc = scene(name);
+        let shares = odd_shares(&sc, &s, (96, 54));
+        let carrying = shares.iter().filter(|&&x| x >= 0.2).count();
+        assert!(carrying * 2 > shares.len(), "{name}: odd lights carry 20% at {carrying} of {} pixels", shares.len());
+        let clean = test_of(&sc, &s, (96, 54), frames);
+        assert!(clean.passed_skewed(), "{}", show(name, &clean));
+        let biased = test_of(&sc, &planted(s.clone()), (96, 54), frames);
+        assert!(!biased.passed_skewed(), "the planted bias went unseen: {}", show(name, &biased));
+    }
+}
+
+/// The same noise seed gives the same frame, byte for byte; another seed another frame.
+#[test]
+fn the_same_seed_gives_the_same_bytes() {
+    let gpu = gpu();
+    let demo = scene("demo");
+    for s in [ris(CullingMode::Zbin, 2, 8), culled(CullingMode::StencilInvert, 0.5)] {
+        let mut frames = Vec::new();
+        for seed in [7, 7, 8] {
+            let s = Settings { noise_seed: seed, ..s.clone() };
+            let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
+            let (image, _) = render_image(gpu, &mut r, &demo, &s, 96, 54).expect("render");
+            let (d, sp) = r.last_frame().read_accumulation(gpu).expect("accumulation");
+            frames.push((image.into_raw(), d, sp));
+        }
+        assert!(frames[0] == frames[1], "{:?}: seed 7 twice differs", s.culling);
+        assert!(frames[0].1 != frames[2].1, "{:?}: seeds 7 and 8 draw the same light", s.culling);
+    }
+}

@@ -355,7 +355,10 @@ pub struct BenchArgs {
     /// accumulation, depth, cutoff, tessellation, resolution, lights, radius, ambient, forward,
     /// post, shadows, path; ledger (the per-light cost model fitted and checked by removing
     /// lights, per culling mode); and gbuffer (the G-buffer span split: an empty scene's clears,
-    /// one triangle, the scene with and without timestamps and debug groups, a bare wgpu pass).
+    /// one triangle, the scene with and without timestamps and debug groups, a bare wgpu pass);
+    /// and stochastic (run only when named: RIS and stochastic culling against the exact modes
+    /// and the engines' caps over eleven layouts of their own, written to stochastic.md and
+    /// stochastic.png).
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 

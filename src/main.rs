@@ -99,6 +99,11 @@ fn bench(args: BenchArgs) -> Result<()> {
     if scaling {
         bench::plot_scaling(rows, &args.out.join("scaling.png"))?;
     }
+    let stochastic = rows.iter().any(|r| r.group == bench::STOCHASTIC_GROUP);
+    if stochastic {
+        std::fs::write(args.out.join("stochastic.md"), bench::stochastic_markdown(rows))?;
+        bench::plot_stochastic(rows, &args.out.join("stochastic.png"))?;
+    }
     println!("{md}");
     for group in ["lights", "radius"] {
         for (x, mode, ms) in bench::winners(rows, group) {
@@ -106,10 +111,11 @@ fn bench(args: BenchArgs) -> Result<()> {
         }
     }
     println!(
-        "wrote {}/bench.csv, bench.md, bench.png{}{}",
+        "wrote {}/bench.csv, bench.md, bench.png{}{}{}",
         args.out.display(),
         if scaling { ", scaling.png" } else { "" },
-        if paths { ", paths.png" } else { "" }
+        if paths { ", paths.png" } else { "" },
+        if stochastic { ", stochastic.md, stochastic.png" } else { "" }
     );
     Ok(())
 }

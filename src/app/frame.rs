@@ -120,6 +120,10 @@ impl App {
         if self.state.animate {
             self.state.time += dt * self.state.time_speed;
         }
+        if self.state.animate_noise {
+            let s = &mut self.state.settings;
+            s.noise_seed = s.noise_seed.wrapping_add(1) % u32::MAX;
+        }
         (post, commands)
     }
 

@@ -19,7 +19,7 @@
 //! wire-colour light | efficiency
 //! tab NAME               left panel tab: scene | lights | materials | camera | help
 //! set NAME VALUE         a panel value, validated as the panel does (see `UiState::set`):
-//!                        lights scale exposure time speed move-speed animate counts ideal
+//!                        lights scale exposure time speed move-speed animate animate-noise counts ideal
 //!                        costliest-first (the light list as the ledger's cost table)
 //!                        panel-left panel-right panel-gbuffer panel-shadows panel-pipelines
 //!                        timestamps reversed-z depth-clamp accumulation radius-scale intensity-scale

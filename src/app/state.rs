@@ -134,6 +134,10 @@ pub struct UiState {
     /// Animation time in seconds.
     pub time: f64,
     pub animate: bool,
+    /// A new noise seed each frame (the stochastic estimators' noise moves, as a renderer that
+    /// reuses nothing across frames shows it).
+    #[serde(default)]
+    pub animate_noise: bool,
     /// Animation speed factor.
     pub time_speed: f64,
     pub settings: Settings,
@@ -236,6 +240,7 @@ impl Default for UiState {
             lights: None,
             time: 0.0,
             animate: true,
+            animate_noise: false,
             time_speed: 1.0,
             settings: Settings { count_ideal: false, ..Settings::default() },
             resolution_scale: DEFAULT_SCALE,
@@ -350,6 +355,7 @@ impl UiState {
             "speed" => self.time_speed = in_range("time speed", parse_f64(value)?, -100.0, 100.0)?,
             "move-speed" => self.move_speed = in_range("move speed", parse_f64(value)?, 0.01, 1000.0)?,
             "animate" => self.animate = parse_bool(value)?,
+            "animate-noise" => self.animate_noise = parse_bool(value)?,
             "costliest-first" => self.lights_by_cost = parse_bool(value)?,
             "panel-left" => self.panels.left = parse_bool(value)?,
             "panel-right" => self.panels.right = parse_bool(value)?,

@@ -1,18 +1,20 @@
 //! The sweep: every group's table (`groups/`) in the order the report lists them, then the
 //! calibration rows at each scene and size the sweep renders.
 
-use super::groups::{Sweep, ENGINES_GROUP, TABLES};
+use super::groups::{Sweep, ENGINES_GROUP, STOCHASTIC_GROUP, TABLES};
 use super::options::{BenchOptions, Config};
 use crate::renderer::{CullingMode, Settings};
 
 /// The sweep. Every configuration differs from the default (`volume` culling, `compact`
 /// layout, Rgba16Float accumulation, Depth32FloatStencil8, exact radii, an 80-triangle sphere
 /// and a 12-sided cone) in one knob; `--quick` keeps a subset of each group. Each group's
-/// table is in its own file of `groups/`, and `groups::TABLES` runs them in order.
+/// table is in its own file of `groups/`, and `groups::TABLES` runs them in order. The
+/// `stochastic` group, a sweep over eleven layouts of its own, runs only when named.
 pub fn configs(o: &BenchOptions) -> Vec<Config> {
     let sweep = Sweep::new(o);
     let mut v: Vec<Config> = TABLES.iter().flat_map(|rows| rows(&sweep)).collect();
-    v.retain(|c| o.groups.is_empty() || o.groups.iter().any(|g| g == c.group));
+    let named = |c: &Config| o.groups.iter().any(|g| g == c.group);
+    v.retain(|c| named(c) || (o.groups.is_empty() && c.group != STOCHASTIC_GROUP));
     let calibration = calibration_rows(&sweep, &v);
     v.extend(calibration);
     v
@@ -81,6 +83,7 @@ pub const GROUPS: &[&str] = &[
     "post",
     "shadows",
     "path",
+    STOCHASTIC_GROUP,
 ];
 
 /// Scales every light's radius (and so its reach and volume) by `k`.

@@ -24,6 +24,7 @@ mod path;
 mod plot;
 mod report;
 mod run;
+mod stochastic;
 
 pub use configs::*;
 pub use gbuffer_split::{split_markdown, SplitRow, GBUFFER_GROUP};
@@ -35,6 +36,7 @@ pub use path::*;
 pub use plot::*;
 pub use report::*;
 pub use run::*;
+pub use stochastic::{lighting_ms, lights_per_pixel, plot_stochastic, stochastic_markdown, FLIP_TARGET};
 
 use crate::compare::flip;
 use crate::gpu::Gpu;

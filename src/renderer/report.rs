@@ -77,6 +77,10 @@ impl Renderer {
             shader_lookups: key.features.names(),
             path: settings.path,
             prepass: drawn.prepass,
+            stochastic: crate::renderer::stochastic::StochasticStats::of(
+                &settings.stochastic_options(),
+                &prepared.records.lights,
+            ),
             ..Default::default()
         };
         let m = self.measured(settings, shape, prepared);
@@ -294,6 +298,9 @@ pub struct FrameStats {
     /// What the engine-style caps dropped (`caps`); `None` with no cap set.
     #[serde(default)]
     pub caps: Option<crate::renderer::caps::CapStats>,
+    /// The stochastic estimators the frame was drawn with (`stochastic`); `None` with neither.
+    #[serde(default)]
+    pub stochastic: Option<crate::renderer::stochastic::StochasticStats>,
     /// The frame's pipelines: declared by its passes, built before it recorded, and compiled
     /// while it recorded (a pipeline no pass declared; none when the declarations are whole).
     pub pipelines: Pipelines,

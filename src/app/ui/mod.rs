@@ -22,6 +22,7 @@ mod lights_tab;
 mod overlaps;
 mod probe;
 mod shadow_atlas;
+mod stochastic;
 mod tabs;
 mod top_bar;
 mod viewport;

@@ -93,6 +93,7 @@ pub(super) fn scene_tab(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo, out:
     egui::CollapsingHeader::new(RichText::new("Engine caps").strong()).id_salt("engine-caps").show(ui, |ui| {
         engine_caps(ui, st, f, out);
     });
+    super::stochastic::section(ui, st, f);
     ui.separator();
     // The shadow knobs (also in the shadow-atlas window, top bar "shadows").
     ui.label(RichText::new("Shadows").strong());

@@ -19,6 +19,7 @@ mod presets;
 mod radius;
 mod resolution;
 mod shadows;
+mod stochastic;
 mod sweep;
 mod tessellation;
 
@@ -28,6 +29,7 @@ pub use lights::{FULLSCREEN_MAX_LIGHTS, LIGHT_COUNTS};
 pub use path::{PATH_LIGHT_COUNTS, ROOM};
 pub use radius::RADIUS_SCALES;
 pub use shadows::CUBE_LIGHTS;
+pub use stochastic::{EXACT_MODES as STOCHASTIC_EXACT_MODES, LAYOUTS as STOCHASTIC_LAYOUTS, STOCHASTIC_GROUP};
 pub(super) use sweep::Sweep;
 pub use sweep::{reference_culling, REFERENCE_FULLSCREEN_BUDGET};
 
@@ -53,4 +55,5 @@ pub(super) const TABLES: &[fn(&Sweep) -> Vec<Config>] = &[
     materials::rows,
     presets::rows,
     engines::rows,
+    stochastic::rows,
 ];

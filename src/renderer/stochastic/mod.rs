@@ -65,6 +65,40 @@ pub fn randomise_ranges(lights: &mut [LightRecord], o: &StochasticOptions) -> us
     cut
 }
 
+/// A frame's stochastic estimators, for its stats (`FrameStats::stochastic`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StochasticStats {
+    pub noise_seed: u32,
+    /// RIS's samples a pixel and candidates a sample (0 and 0: the lists shaded exactly).
+    pub ris_samples: u32,
+    pub ris_candidates: u32,
+    /// Stochastic culling's threshold (`None`: off), how many lights' ranges it cut this frame,
+    /// and the mean over all lights of the range kept, as a fraction of the falloff radius.
+    pub culling_threshold: Option<f32>,
+    pub ranges_cut: usize,
+    pub mean_range: f64,
+}
+
+impl StochasticStats {
+    /// The stats of a frame drawn with `o` whose light records are `lights`; `None` when no
+    /// estimator is on.
+    pub fn of(o: &StochasticOptions, lights: &[LightRecord]) -> Option<Self> {
+        if !o.any() {
+            return None;
+        }
+        let cut = lights.iter().filter(|l| l.radius < l.falloff).count();
+        let kept: f64 = lights.iter().map(|l| f64::from(l.radius) / f64::from(l.falloff).max(1e-30)).sum();
+        Some(Self {
+            noise_seed: o.noise_seed,
+            ris_samples: if o.ris() { o.ris_samples } else { 0 },
+            ris_candidates: if o.ris() { o.ris_candidates } else { 0 },
+            culling_threshold: o.stochastic_culling.then_some(o.stochastic_threshold),
+            ranges_cut: if o.stochastic_culling { cut } else { 0 },
+            mean_range: if lights.is_empty() { 1.0 } else { kept / lights.len() as f64 },
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,65 @@
+//! The scene tab's "Stochastic shading" section: RIS's samples and candidates on the list
+//! modes, stochastic light culling and its threshold on every mode, the noise seed (and a
+//! new seed each frame), and what the last frame drew with (`FrameStats::stochastic`).
+
+use super::common::FrameInfo;
+use crate::app::state::UiState;
+use egui::RichText;
+
+pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
+    egui::CollapsingHeader::new(RichText::new("Stochastic shading").strong()).id_salt("stochastic").show(ui, |ui| {
+        let s = &mut st.settings;
+        let lists = matches!(
+            s.culling,
+            crate::renderer::CullingMode::Tiled
+                | crate::renderer::CullingMode::Clustered
+                | crate::renderer::CullingMode::Zbin
+                | crate::renderer::CullingMode::Auto
+        );
+        ui.add_enabled_ui(lists, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("RIS samples K");
+                ui.add(egui::Slider::new(&mut s.ris_samples, 0..=64))
+                    .on_hover_text("samples each pixel keeps from its list and shades with its shadow; 0: exact");
+            });
+            ui.horizontal(|ui| {
+                ui.label("candidates M");
+                ui.add(egui::Slider::new(&mut s.ris_candidates, 1..=256).logarithmic(true))
+                    .on_hover_text("lights drawn uniformly from the pixel's list for each sample");
+            });
+        })
+        .response
+        .on_disabled_hover_text("RIS draws from light lists: culling tiled, clustered, zbin or auto");
+        ui.checkbox(&mut s.stochastic_culling, "stochastic light culling (every mode)");
+        ui.add_enabled_ui(s.stochastic_culling, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("threshold");
+                ui.add(egui::Slider::new(&mut s.stochastic_threshold, 0.01..=1.0))
+                    .on_hover_text("attenuation below which a light's range is drawn at random each frame");
+            });
+        });
+        ui.horizontal(|ui| {
+            ui.label("noise seed");
+            ui.add(egui::DragValue::new(&mut s.noise_seed));
+            ui.checkbox(&mut st.animate_noise, "a new seed each frame");
+        });
+        match f.stats.and_then(|s| s.stochastic.as_ref()) {
+            Some(x) => {
+                let culled = x.culling_threshold.map_or("off".to_string(), |t| {
+                    format!(
+                        "{} ranges cut at threshold {t}, {:.0}% of the radius kept on average",
+                        x.ranges_cut,
+                        x.mean_range * 100.0
+                    )
+                });
+                ui.label(format!(
+                    "last frame: seed {}, RIS {} x {}, culling {culled}",
+                    x.noise_seed, x.ris_samples, x.ris_candidates
+                ));
+            }
+            None => {
+                ui.label("last frame: exact");
+            }
+        }
+    });
+}

@@ -52,7 +52,10 @@
 #   renderdoc     where `renderdoccmd` is installed: the viewer under RenderDoc, F11 on frame 5;
 #                 the capture's XML export is searched for the frame's debug groups (`shadows`,
 #                 `gbuffer`, `lights`, `compose`); where it is not, the step says so
-# The stochastic shading rows go after `scale` when that technique lands.
+#   stochastic    `lampshade bench sphere-wall --only stochastic`: RIS (K = 1 to 16) and
+#                 stochastic culling against the exact modes and the engines' caps over the
+#                 eleven layouts; stochastic.md gives per layout the first K at FLIP 0.05 and its
+#                 time against the fastest exact mode: the crossover on this adapter
 set -u
 bin=${1:-target/release}
 out=${2:-gpu-check}
@@ -122,6 +125,8 @@ for scene in demo sphere-wall; do
     step "scale-$scene" 120 "$bin/lampshade" bench "$scene" --adapter "$adapter" --only lights \
         --counts "$scale_counts" --size "$size" --frames "$frames" "${cal[@]}" --out "$out/scale-$scene"
 done
+step stochastic 150 "$bin/lampshade" bench sphere-wall --adapter "$adapter" --only stochastic \
+    --size "$size" --frames "$frames" "${cal[@]}" --out "$out/stochastic"
 step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows \
     --size "$size" --frames "$frames" --out "$out/shadows"
 step camera-path 90 "$bin/lampshade" bench demo --adapter "$adapter" --camera-path assets/paths/demo.json \

@@ -140,7 +140,7 @@ pub fn plot_stochastic(rows: &[Row], path: &Path) -> Result<()> {
     )?;
     let legend = [
         (Family::Exact, "exact modes", super::PALETTE[1]),
-        (Family::Ris, "RIS K = 1..16", super::PALETTE[0]),
+        (Family::Ris, "RIS, K from 1 to 16", super::PALETTE[0]),
         (Family::StochasticCulling, "stochastic culling", super::PALETTE[2]),
         (Family::Engine, "engine caps", super::PALETTE[5]),
     ];

@@ -330,7 +330,7 @@ pub struct PathFigures {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -339,14 +339,20 @@ mod tests {
             let o = BenchOptions::new("demo", quick);
             let list = configs(&o);
             assert!(list.len() >= 8, "{} configurations", list.len());
-            for g in GROUPS {
+            for g in GROUPS.iter().filter(|g| **g != STOCHASTIC_GROUP) {
                 assert!(list.iter().any(|c| c.group == *g), "quick {quick}: no {g} configuration");
             }
-            for c in &list {
+            // The stochastic group's own sweep runs only when named.
+            assert!(!list.iter().any(|c| c.group == STOCHASTIC_GROUP), "quick {quick}: stochastic unasked");
+            let named = configs(&BenchOptions { groups: vec![STOCHASTIC_GROUP.into()], ..o.clone() });
+            assert!(named.iter().any(|c| c.group == STOCHASTIC_GROUP), "quick {quick}: no stochastic configuration");
+            for c in list.iter().chain(&named) {
                 c.settings.validate().unwrap();
             }
-            let labels: std::collections::HashSet<_> = list.iter().map(|c| (c.group, c.label.clone())).collect();
-            assert_eq!(labels.len(), list.len(), "duplicate labels");
+            for l in [&list, &named] {
+                let labels: std::collections::HashSet<_> = l.iter().map(|c| (c.group, c.label.clone())).collect();
+                assert_eq!(labels.len(), l.len(), "duplicate labels");
+            }
         }
         let full = configs(&BenchOptions::new("demo", false));
         let cutoffs: Vec<f32> = full.iter().filter(|c| c.group == "cutoff").map(|c| c.settings.light_cutoff).collect();
@@ -376,7 +382,7 @@ mod tests {
     }
 
     /// A row of scene `s`, 10 lights at 8x8, every figure zero.
-    fn blank_row() -> Row {
+    pub(crate) fn blank_row() -> Row {
         Row {
             group: "g".into(),
             label: String::new(),

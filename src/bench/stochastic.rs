@@ -207,3 +207,43 @@ pub fn plot_stochastic(rows: &[Row], path: &Path) -> Result<()> {
     root.present()?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(label: &str, lighting_ms: f64, flip_mean: f32) -> Row {
+        Row {
+            group: STOCHASTIC_GROUP.into(),
+            label: label.into(),
+            lighting_ms,
+            flip_mean,
+            width: 10,
+            height: 10,
+            ideal_fragments: 250,
+            ..crate::bench::tests::blank_row()
+        }
+    }
+
+    #[test]
+    fn the_summary_names_the_fewest_samples_that_reach_the_target_against_the_fastest_exact_mode() {
+        let rows = vec![
+            row("wall: clustered", 10.0, 0.01),
+            row("wall: zbin", 8.0, 0.01),
+            row("wall: zbin stochastic culling", 6.0, 0.07),
+            row("wall: clustered RIS K1", 4.0, 0.2),
+            row("wall: clustered RIS K8", 16.0, 0.03),
+            row("wall: clustered RIS K2", 12.0, 0.04),
+            row("wall: zbin RIS K16", 30.0, 0.06),
+            row("wall: bevy-default", 3.0, 0.5),
+        ];
+        let md = stochastic_markdown(&rows);
+        let line = md.lines().find(|l| l.starts_with("| wall | 2.50 |")).expect("the layout's line");
+        assert!(line.contains("zbin (8.00 ms, 0.0100)"), "{line}");
+        assert!(line.contains("K2 (12.00 ms, x1.50)"), "{line}");
+        assert!(line.contains("| not reached |"), "{line}");
+        assert!(line.contains("zbin stochastic culling (6.00 ms, 0.0700)"), "{line}");
+        assert_eq!(family("bevy-default"), Family::Engine);
+        assert_eq!(family("tiled"), Family::Exact);
+    }
+}

@@ -164,6 +164,30 @@ fn t_sides(sum: f64, squares: f64, n: f64, bound: f64, varied: bool) -> (f64, f6
     }
 }
 
+/// Per pixel: brute force's sum over the compared channels, and the oracle's rounding bound
+/// summed over them (as the exact rule bounds each channel).
+fn reference_and_bounds(
+    dark: &Light,
+    bf: &crate::renderer::explain::brute::BruteForce,
+    path: (RenderPath, bool),
+    (format, flush): (crate::renderer::AccumFormat, f32),
+) -> (Vec<f64>, Vec<f64>) {
+    let pixels = bf.adding.len();
+    let zero = Light { diffuse: vec![0.0; 4 * pixels], specular: vec![0.0; 4 * pixels] };
+    (0..pixels)
+        .map(|p| {
+            let (c, n) = pixel_channels(p, &zero, dark, bf, path);
+            let k = bf.adding[p];
+            let value: f64 = c[..n].iter().map(|&(_, _, r)| f64::from(r)).sum();
+            let e: f64 = c[..n]
+                .iter()
+                .map(|&(_, rest, r)| f64::from(rounding_bound(format, rest + r, k) + k as f32 * flush))
+                .sum();
+            (value, e)
+        })
+        .unzip()
+}
+
 /// `settings` (a stochastic configuration on a G-buffer path) drawn `test.frames` times with
 /// noise seeds from `test.first_seed`, held to brute force over the same configuration made
 /// exact (RIS off, stochastic culling off, no planted bias).
@@ -193,20 +217,8 @@ pub fn expectation(
     let path = (settings.path, one_target);
     let pixels = (w * h) as usize;
     let flush = flush_bound(&scene.lights);
-    let zero = Light { diffuse: vec![0.0; 4 * pixels], specular: vec![0.0; 4 * pixels] };
     // Per pixel: brute force's sum over the compared channels and the rounding bound there.
-    let (reference, bound): (Vec<f64>, Vec<f64>) = (0..pixels)
-        .map(|p| {
-            let (c, n) = pixel_channels(p, &zero, &dark, &bf, path);
-            let k = bf.adding[p];
-            let value: f64 = c[..n].iter().map(|&(_, _, r)| f64::from(r)).sum();
-            let e: f64 = c[..n]
-                .iter()
-                .map(|&(_, rest, r)| f64::from(rounding_bound(settings.accumulation, rest + r, k) + k as f32 * flush))
-                .sum();
-            (value, e)
-        })
-        .unzip();
+    let (reference, bound) = reference_and_bounds(&dark, &bf, path, (settings.accumulation, flush));
     let regions = (REGION_GRID * REGION_GRID + 1) as usize;
     let region_of = |p: usize| {
         let (x, y) = (p as u32 % w, p as u32 / w);

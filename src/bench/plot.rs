@@ -139,18 +139,7 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
             .x_label_area_size(36)
             .y_label_area_size(64)
             .build_cartesian_2d((t_lo..t_hi).log_scale(), 0.0..e_hi)?;
-        chart
-            .configure_mesh()
-            .x_desc("GPU ms per frame (median)")
-            .y_desc("FLIP mean")
-            .label_style(("sans-serif", 13))
-            .disable_mesh()
-            .x_labels(0)
-            .y_labels(0)
-            // The log axis still labels its powers of ten: blank, the ticks are drawn below.
-            .x_label_formatter(&|_| String::new())
-            .y_label_formatter(&|_| String::new())
-            .draw()?;
+        blank_mesh(&mut chart, ("GPU ms per frame (median)", "FLIP mean"), 13)?;
         let font: TextStyle = ("sans-serif", 13).into_font().into();
         let (xr, yr) = chart.plotting_area().get_pixel_range();
         let base = area.get_base_pixel();
@@ -214,6 +203,33 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
     }
     root.present()?;
     Ok(())
+}
+
+/// The axes' descriptions without plotters' own labels or grid: its log axis labels only its
+/// powers of ten, so the charts blank them and draw their own ticks ([`draw_ticks`]).
+pub(crate) fn blank_mesh<DB, X, Y>(
+    chart: &mut plotters::chart::ChartContext<'_, DB, plotters::coord::cartesian::Cartesian2d<X, Y>>,
+    (x_desc, y_desc): (&str, &str),
+    size: u32,
+) -> Result<()>
+where
+    DB: plotters::prelude::DrawingBackend,
+    DB::ErrorType: 'static,
+    X: plotters::coord::ranged1d::Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(("sans-serif", size))
+        .disable_mesh()
+        .x_labels(0)
+        .y_labels(0)
+        .x_label_formatter(&|_| String::new())
+        .y_label_formatter(&|_| String::new())
+        .draw()
+        .map_err(|e| anyhow::anyhow!("drawing the plot: {e}"))
 }
 
 /// Grid lines and labels at our own ticks (`plot_layout`): plotters' log axes label only

@@ -169,17 +169,7 @@ pub fn plot_stochastic(rows: &[Row], path: &Path) -> Result<()> {
             .x_label_area_size(32)
             .y_label_area_size(52)
             .build_cartesian_2d((lo..hi).log_scale(), 0.0..e_hi)?;
-        chart
-            .configure_mesh()
-            .x_desc("lighting ms")
-            .y_desc("FLIP mean")
-            .label_style(("sans-serif", 12))
-            .disable_mesh()
-            .x_labels(0)
-            .y_labels(0)
-            .x_label_formatter(&|_| String::new())
-            .y_label_formatter(&|_| String::new())
-            .draw()?;
+        super::plot::blank_mesh(&mut chart, ("lighting ms", "FLIP mean"), 12)?;
         let x_ticks = crate::plot_layout::log_ticks(lo, hi);
         let y_ticks = crate::plot_layout::linear_ticks(0.0, e_hi);
         let decimals = (crate::plot_layout::tick_decimals(&x_ticks), crate::plot_layout::tick_decimals(&y_ticks));

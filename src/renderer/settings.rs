@@ -52,9 +52,7 @@ impl Settings {
         if self.msaa != Msaa::X1 && self.blended == BlendedMode::Peeled {
             return Err("depth peeling peels single-sampled depth; use --msaa 1 or another --blended mode".into());
         }
-        let lists =
-            matches!(self.culling, CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin | CullingMode::Auto);
-        if self.ris_samples > 0 && !(lists && self.path.keeps_gbuffer()) {
+        if self.ris_samples > 0 && !(self.culling.can_list() && self.path.keeps_gbuffer()) {
             return Err(format!(
                 "RIS (ris-samples {}) draws its samples from the light lists of a G-buffer path: use culling tiled, clustered, zbin or auto on the deferred or light pre-pass path, or ris-samples 0 (culling {}, path {})",
                 self.ris_samples,

@@ -9,14 +9,7 @@ use egui::RichText;
 pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
     egui::CollapsingHeader::new(RichText::new("Stochastic shading").strong()).id_salt("stochastic").show(ui, |ui| {
         let s = &mut st.settings;
-        let lists = matches!(
-            s.culling,
-            crate::renderer::CullingMode::Tiled
-                | crate::renderer::CullingMode::Clustered
-                | crate::renderer::CullingMode::Zbin
-                | crate::renderer::CullingMode::Auto
-        );
-        ui.add_enabled_ui(lists, |ui| {
+        ui.add_enabled_ui(s.culling.can_list(), |ui| {
             ui.horizontal(|ui| {
                 ui.label("RIS samples K");
                 ui.add(egui::Slider::new(&mut s.ris_samples, 0..=64))

@@ -90,6 +90,12 @@ pub enum CullingMode {
 }
 
 impl CullingMode {
+    /// Whether the mode can shade from light lists (tiled, clustered, z-binned, or `auto`,
+    /// which lists where it picks a list mode): what RIS draws its candidates from.
+    pub fn can_list(self) -> bool {
+        matches!(self, CullingMode::Tiled | CullingMode::Clustered | CullingMode::Zbin | CullingMode::Auto)
+    }
+
     pub const ALL: [CullingMode; 9] = [
         CullingMode::Fullscreen,
         CullingMode::Volume,

@@ -163,6 +163,12 @@ fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Feature
         max_color_attachments: adapter_limits.max_color_attachments,
         max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
         max_buffer_size: adapter_limits.max_buffer_size,
+        // RIS's reuse passes bind the tiled pass's 8 and their reservoirs
+        // (`stochastic::reuse::STORAGE_BUFFERS`); an adapter with fewer refuses reuse alone.
+        max_storage_buffers_per_shader_stage: adapter_limits
+            .max_storage_buffers_per_shader_stage
+            .min(crate::renderer::stochastic::reuse::STORAGE_BUFFERS)
+            .max(wgpu::Limits::default().max_storage_buffers_per_shader_stage),
         ..wgpu::Limits::default()
     };
     (features, limits, lacks)

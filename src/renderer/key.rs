@@ -69,6 +69,14 @@ pub fn pipeline_key(
             "use --lightmaps off, or the light-prepass or forward paths",
         ));
     }
+    let reuse_buffers = crate::renderer::stochastic::reuse::STORAGE_BUFFERS;
+    if settings.stochastic_options().reuse() && caps.limits.max_storage_buffers_per_shader_stage < reuse_buffers {
+        return Err(caps.refuse(
+            "RIS reuse (ris-spatial, ris-temporal)",
+            &format!("{reuse_buffers} storage buffers a shader stage"),
+            "use ris-spatial 0 and ris-temporal off",
+        ));
+    }
     Ok(PipelineKey {
         ambient_in_gbuffer: !prepass
             && (settings.ambient_in_gbuffer || emission_in_accumulation || lightmapped)

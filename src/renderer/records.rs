@@ -580,6 +580,8 @@ pub struct FrameRecords {
     pub objects: Vec<ObjectRecord>,
     /// The projection the frame is drawn with (f64, for the probe and the plans).
     pub proj: DMat4,
+    /// World to view.
+    pub view: DMat4,
 }
 
 impl FrameRecords {
@@ -622,6 +624,7 @@ impl FrameRecords {
                 .map(|ob| ObjectRecord::new(scene, ob, view, o.surfaces.brdf.brdf()))
                 .collect(),
             proj: cam.projection(size.0 as f64 / size.1 as f64, o.frame.reversed_z),
+            view,
         }
     }
 }

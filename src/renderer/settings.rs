@@ -60,6 +60,19 @@ impl Settings {
                 self.path.name()
             ));
         }
+        let reuse = self.ris_spatial > 0 || self.ris_temporal;
+        if reuse && self.ris_samples == 0 {
+            return Err(
+                "ris-spatial and ris-temporal reuse RIS's samples: set ris-samples 1 to 4, or turn reuse off".into()
+            );
+        }
+        if reuse && self.ris_samples > crate::renderer::stochastic::reuse::MAX_SAMPLES {
+            return Err(format!(
+                "reuse keeps every RIS sample of every pixel twice, 32 bytes each: at most {} samples (ris-samples {})",
+                crate::renderer::stochastic::reuse::MAX_SAMPLES,
+                self.ris_samples
+            ));
+        }
         Ok(())
     }
 }

@@ -37,6 +37,8 @@ pub struct LastFrame {
     pub mode: CullingMode,
     /// The projection it was drawn with (the probe unprojects depth with its inverse).
     pub proj: DMat4,
+    /// World to view of that frame.
+    pub view: DMat4,
     /// What the next frame may take as it is when its inputs are the same (`prepare`).
     pub reusable: Option<super::Reusable>,
 }
@@ -54,6 +56,7 @@ impl LastFrame {
             path: settings.path,
             mode: settings.culling,
             proj: records.proj,
+            view: records.view,
             reusable: Some(super::Reusable { key, camera: records.camera, objects: records.objects, path_lists }),
         }
     }

@@ -376,6 +376,7 @@ impl Renderer {
             lights: std::mem::take(&mut last.lights),
             objects: r.objects,
             proj: last.proj,
+            view: last.view,
         };
         let (plan, shadows) = (std::mem::take(&mut last.plan), std::mem::take(&mut last.shadows));
         self.queries.ensure_lights(&self.device, plan.lights.len());
@@ -547,6 +548,8 @@ impl Renderer {
             reused: prepared.reused,
             progress: self.progress.as_ref(),
             debug_groups: self.debug_groups,
+            view: prepared.records.view,
+            proj: prepared.records.proj,
         })
     }
 }

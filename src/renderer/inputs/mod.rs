@@ -83,6 +83,9 @@ pub struct FrameInputs<'a> {
     /// The steps are recorded inside debug groups (`paths::record`), which `flush` closes and
     /// reopens around its cut.
     pub debug_groups: bool,
+    /// The frame's world to view and projection (RIS's temporal reuse reprojects with them).
+    pub view: glam::DMat4,
+    pub proj: glam::DMat4,
 }
 
 impl FrameInputs<'_> {

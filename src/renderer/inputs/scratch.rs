@@ -14,4 +14,6 @@ pub struct Scratch {
     pub shadows: ShadowTimes,
     pub forward: ForwardScratch,
     pub atlas_view: AtlasScratch,
+    /// RIS's reservoirs, kept from frame to frame for temporal reuse.
+    pub reuse: crate::renderer::stochastic::reuse::ReuseScratch,
 }

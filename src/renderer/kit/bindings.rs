@@ -237,8 +237,17 @@ pub const EXPLAIN: Group = Group {
     ],
 };
 
-pub const GROUPS: [&Group; 10] =
-    [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW, &PEEL, &PEELED, &EXPLAIN];
+/// Group 3 of RIS's reuse passes (`stochastic::reuse`): one buffer, its header then two
+/// regions of reservoirs (`reuse.wgsl`). One binding: the tiled pass's groups already take 8
+/// storage buffers a stage (WebGPU's default limit; `reuse::STORAGE_BUFFERS`). Slots from 80.
+pub const REUSE: Group = Group {
+    label: "reuse",
+    index: 3,
+    bindings: &[Binding { slot: 80, name: "reuse", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite }],
+};
+
+pub const GROUPS: [&Group; 11] =
+    [&FRAME, &MATERIAL, &COMPOSE, &HDR, &TILES, &POST, &ATLAS_VIEW, &PEEL, &PEELED, &EXPLAIN, &REUSE];
 
 impl Group {
     /// The WGSL declarations of the group's bindings.

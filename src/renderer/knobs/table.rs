@@ -864,6 +864,30 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "ris-spatial",
+        what: "RIS spatial reuse",
+        help: "Neighbours each RIS sample is combined with (ReSTIR's spatial reuse, unbiased 1/Z weights; 0: off)",
+        values: Values::Whole { min: 0, max: 16 },
+        cli: true,
+        get: |s| s.ris_spatial.to_string(),
+        put: |s, v| {
+            s.ris_spatial = whole(v)?;
+            Ok(())
+        },
+    },
+    Knob {
+        name: "ris-temporal",
+        what: "RIS temporal reuse",
+        help: "Combine each RIS sample with the last frame's at the reprojected point (ReSTIR's temporal reuse; biased where things move)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.ris_temporal),
+        put: |s, v| {
+            s.ris_temporal = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "stochastic-culling",
         what: "stochastic light culling",
         help: "Draw each light's range anew each frame and compensate its attenuation (every culling mode; unbiased)",

@@ -197,6 +197,15 @@ macro_rules! settings_fields {
             [stochastic] ris_samples: u32 = 0,
             /// The candidates M each RIS sample is drawn from (its cost: M unshadowed evaluations).
             [stochastic] ris_candidates: u32 = 8,
+            /// ReSTIR's spatial reuse (Bitterli et al. 2020, with its unbiased 1/Z weights): each
+            /// RIS sample is combined with this many neighbours' samples within 16 pixels, those
+            /// with another depth or normal left out; 0: off.
+            [stochastic] ris_spatial: u32 = 0,
+            /// ReSTIR's temporal reuse: each RIS sample is combined with the last frame's final
+            /// sample at the point reprojected through the last camera (rejected on depth and
+            /// normal), its count capped at 20 M. Biased where the surface or the lights changed
+            /// (the 1/M weights); docs/stochastic.md measures it.
+            [stochastic] ris_temporal: bool = false,
             /// Stochastic light culling (Tokuyoshi and Harada 2016), on every culling mode: each
             /// light's range is drawn anew for the frame and its attenuation below
             /// `stochastic_threshold` compensated, so the frame's expectation is the exact sum.

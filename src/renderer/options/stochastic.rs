@@ -9,6 +9,11 @@ impl StochasticOptions {
         self.ris_samples > 0
     }
 
+    /// Whether RIS reuses samples across pixels or frames (ReSTIR: `stochastic::reuse`).
+    pub fn reuse(&self) -> bool {
+        self.ris() && (self.ris_spatial > 0 || self.ris_temporal)
+    }
+
     /// Whether the frame is drawn by a stochastic estimator at all (its pixels are random
     /// variables whose expectation is the exact frame).
     pub fn any(&self) -> bool {

@@ -16,6 +16,7 @@
 //!
 //! What each is unbiased for, and the tests that hold them to it, are in docs/stochastic.md.
 
+pub mod reuse;
 pub mod ris;
 
 use crate::renderer::options::StochasticOptions;

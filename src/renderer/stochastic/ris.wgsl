@@ -72,6 +72,76 @@ fn ris_target(d: vec3<f32>, sp: vec3<f32>) -> f32 {
     return dot(d + sp, vec3<f32>(0.2126, 0.7152, 0.0722));
 }
 
+// p^ of light i at surface s: the luminance of its unshadowed, clamped contribution; 0 for no
+// light (0xffffffff), an index past the lights, or a light that does not reach s.
+fn ris_light_target(s: Surface, view: vec3<f32>, i: u32) -> f32 {
+    if i >= tile_params.light_count {
+        return 0.0;
+    }
+    let l = light_at(i);
+    let to_light = l.position - s.position;
+    if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
+        return 0.0;
+    }
+    let lit = shade_light_view(s, view, l, false);
+    return ris_target(min(lit.diffuse, vec3<f32>(l.clamp)), min(lit.specular, vec3<f32>(l.clamp)));
+}
+
+// One RIS sample: the light kept, its p^, and its contribution weight W = (1 / p^) (1 / M) x
+// the sum of the candidates' p^ / p.
+struct RisPick {
+    light: u32,
+    goal: f32,
+    weight: f32,
+};
+
+// One sample from M candidates of cell c, streamed through a weighted reservoir (Chao 1982).
+fn ris_pick(s: Surface, view: vec3<f32>, c: RisCell, m: u32, state: ptr<function, u32>) -> RisPick {
+    var pick = RisPick(0xffffffffu, 0.0, 0.0);
+    if c.count == 0u {
+        return pick;
+    }
+    let n = f32(c.count);
+    var total = 0.0;
+    for (var j = 0u; j < m; j++) {
+        let i = ris_candidate(c, ris_below(state, c.count));
+        let u = ris_unit(state);
+        let w = ris_light_target(s, view, i) * n;
+        total += w;
+        if w > 0.0 && u * total < w {
+            pick.light = i;
+            pick.goal = w / n;
+        }
+    }
+    if pick.goal > 0.0 {
+        pick.weight = total / (f32(m) * pick.goal);
+    }
+    return pick;
+}
+
+// Light i shaded at s with its shadow, clamped, times `weight` (the planted bias on lights of
+// odd index).
+fn ris_shade_light(s: Surface, view: vec3<f32>, i: u32, weight: f32) -> Lighting {
+    var out = Lighting(vec3<f32>(0.0), vec3<f32>(0.0));
+    if i >= tile_params.light_count || weight <= 0.0 {
+        return out;
+    }
+    let l = light_at(i);
+    let lit = shade_light_view(s, view, l, true);
+    var w = weight;
+    if (i & 1u) == 1u {
+        w *= camera.stochastic.y;
+    }
+    out.diffuse = min(lit.diffuse, vec3<f32>(l.clamp)) * w;
+    out.specular = min(lit.specular, vec3<f32>(l.clamp)) * w;
+    return out;
+}
+
+// The pixel's stream of random numbers under the frame's seed; `salt` separates the passes'.
+fn ris_stream(p: vec2<i32>, salt: u32) -> u32 {
+    return ris_pcg(camera.noise.x ^ salt ^ ris_pcg(u32(p.x) ^ ris_pcg(u32(p.y))));
+}
+
 fn ris_shade(s: Surface, view: vec3<f32>, c: RisCell, p: vec2<i32>) -> Lighting {
     var out = Lighting(vec3<f32>(0.0), vec3<f32>(0.0));
     if c.count == 0u {
@@ -79,45 +149,34 @@ fn ris_shade(s: Surface, view: vec3<f32>, c: RisCell, p: vec2<i32>) -> Lighting 
     }
     let m = max(camera.noise.y, 1u);
     let k = max(camera.noise.z, 1u);
-    let n = f32(c.count);
-    var state = ris_pcg(camera.noise.x ^ ris_pcg(u32(p.x) ^ ris_pcg(u32(p.y))));
+    var state = ris_stream(p, 0u);
     for (var r = 0u; r < k; r++) {
-        var total = 0.0;
-        var kept = 0xffffffffu;
-        var kept_target = 0.0;
-        for (var j = 0u; j < m; j++) {
-            let i = ris_candidate(c, ris_below(&state, c.count));
-            let u = ris_unit(&state);
-            if i == 0xffffffffu {
-                continue;
-            }
-            let l = light_at(i);
-            let to_light = l.position - s.position;
-            if dot(to_light, to_light) > l.radius * l.radius * 1.0001 {
-                continue;
-            }
-            let lit = shade_light_view(s, view, l, false);
-            let w = ris_target(min(lit.diffuse, vec3<f32>(l.clamp)), min(lit.specular, vec3<f32>(l.clamp))) * n;
-            total += w;
-            if w > 0.0 && u * total < w {
-                kept = i;
-                kept_target = w / n;
-            }
-        }
-        if kept_target > 0.0 {
-            let l = light_at(kept);
-            let lit = shade_light_view(s, view, l, true);
-            var weight = total / (f32(m) * kept_target);
-            if (kept & 1u) == 1u {
-                weight *= camera.stochastic.y;
-            }
-            out.diffuse += min(lit.diffuse, vec3<f32>(l.clamp)) * weight;
-            out.specular += min(lit.specular, vec3<f32>(l.clamp)) * weight;
-        }
+        let pick = ris_pick(s, view, c, m, &state);
+        let lit = ris_shade_light(s, view, pick.light, pick.weight);
+        out.diffuse += lit.diffuse;
+        out.specular += lit.specular;
     }
     out.diffuse /= f32(k);
     out.specular /= f32(k);
     return out;
+}
+
+// The candidates of a pixel of the tile and cluster lists.
+fn ris_list_cell(p: vec2<i32>, s: Surface) -> RisCell {
+    let cell = tile_cell(p, s);
+    var c = RisCell(0u, tile_lists[2u * cell], tile_lists[2u * cell + 1u], 0u);
+    if c.count == LS_TILE_ALL {
+        c = RisCell(1u, 0u, tile_params.light_count, 0u);
+    }
+    return c;
+}
+
+// The candidates of a pixel of the z-bins.
+fn ris_zbin_cell(p: vec2<i32>, s: Surface) -> RisCell {
+    let k = zbin_bin(-s.position.z);
+    let first = tile_lists[2u * k];
+    let end = max(tile_lists[2u * k + 1u], first);
+    return RisCell(2u, first, end - first, zbin_tile(p));
 }
 
 @fragment
@@ -126,12 +185,7 @@ fn fs_tiled_ris(in: TiledVarying) -> LightTargets {
     let s = gbuffer_load(p);
     var r = Lighting(vec3<f32>(0.0), vec3<f32>(0.0));
     if s.valid {
-        let cell = tile_cell(p, s);
-        var c = RisCell(0u, tile_lists[2u * cell], tile_lists[2u * cell + 1u], 0u);
-        if c.count == LS_TILE_ALL {
-            c = RisCell(1u, 0u, tile_params.light_count, 0u);
-        }
-        r = ris_shade(s, view_dir(s), c, p);
+        r = ris_shade(s, view_dir(s), ris_list_cell(p, s), p);
     }
     return light_targets(s, r.diffuse, r.specular);
 }
@@ -142,10 +196,7 @@ fn fs_zbin_ris(in: TiledVarying) -> LightTargets {
     let s = gbuffer_load(p);
     var r = Lighting(vec3<f32>(0.0), vec3<f32>(0.0));
     if s.valid {
-        let k = zbin_bin(-s.position.z);
-        let first = tile_lists[2u * k];
-        let end = max(tile_lists[2u * k + 1u], first);
-        r = ris_shade(s, view_dir(s), RisCell(2u, first, end - first, zbin_tile(p)), p);
+        r = ris_shade(s, view_dir(s), ris_zbin_cell(p, s), p);
     }
     return light_targets(s, r.diffuse, r.specular);
 }

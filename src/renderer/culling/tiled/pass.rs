@@ -132,6 +132,8 @@ pub struct TiledPass {
     zbin_counted: std::sync::OnceLock<crate::renderer::kit::RenderPipe>,
     /// The reservoir-resampled shading of either (`stochastic::ris`).
     ris: crate::renderer::stochastic::ris::RisPipes,
+    /// RIS with reuse: the candidates and spatial passes and the resolve (`stochastic::reuse`).
+    reuse: crate::renderer::stochastic::reuse::ReusePipes,
 }
 
 fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -181,6 +183,7 @@ impl TiledPass {
         let shade = pipe("tiled shade", "vs_tiled", "fs_tiled", &targets);
         let count_view = pipe("tile lights view", "vs_compose", "fs_tile_count", &[Some(debug.clone())]);
         let waste_view = pipe("waste view (lists)", "vs_compose", "fs_tile_waste", &[Some(debug)]);
+        let reuse = crate::renderer::stochastic::reuse::ReusePipes::new([&shared.frame_bgl, &shared.gbuffer_bgl, &bgl]);
         Self {
             bgl,
             build,
@@ -193,6 +196,7 @@ impl TiledPass {
             zbin: std::sync::OnceLock::new(),
             zbin_counted: std::sync::OnceLock::new(),
             ris: Default::default(),
+            reuse,
         }
     }
 
@@ -232,6 +236,10 @@ impl TiledPass {
     /// The shading pipeline: z-binned or tiled/clustered, reservoir-resampled, or exact and
     /// counting each light's pairs or not (a resampled frame counts none).
     fn shade(&self, f: &FrameInputs<'_>, zbin: bool) -> &crate::renderer::kit::RenderPipe {
+        if f.options.stochastic.reuse() {
+            let (module, _, targets) = &self.counted_from;
+            return self.reuse.resolve(f.device, module, targets);
+        }
         if f.options.stochastic.ris() {
             let (module, layout, targets) = &self.counted_from;
             return self.ris.get(f.device, (module, layout, targets), zbin);
@@ -318,6 +326,9 @@ impl Pass for TiledPass {
             return Ok(());
         }
         let fr = Frame::of(f);
+        if f.plan.tiled.is_some() && f.options.stochastic.reuse() {
+            f.scratch.reuse.fit(f, &self.reuse)?;
+        }
         let mut state = f.scratch.tiled.state.lock().map_err(|_| anyhow::anyhow!("tile lists lock poisoned"))?;
         self.fit_buffers(f.device, &mut state.0, fr.list_words, fr.count_words);
         Ok(())
@@ -344,6 +355,9 @@ impl Pass for TiledPass {
         }
         if f.plan.tiled.is_some() {
             out.add(self.shade(f, fr.zbins.is_some()));
+            if f.options.stochastic.reuse() {
+                out.add_all(self.reuse.compute(f.device, &self.counted_from.0, fr.zbins.is_some()));
+            }
         }
     }
 
@@ -394,7 +408,7 @@ impl Pass for TiledPass {
         let shade = self.shade(f, fr.zbins.is_some());
         let zbin = fr.zbins.map(|z| (self.zbin_pipelines(f.device, f.counts).0, z));
         let (method, cells) = (fr.method, fr.cells);
-        self.record(encoder, f, b, (method, fr.gpu_job().is_some(), view), (shade, &fr.params, zbin), cells);
+        self.record(encoder, f, b, (method, fr.gpu_job().is_some(), view), (shade, &fr.params, zbin), cells)?;
         if f.counts {
             if fr.zbins.is_none() {
                 encoder.copy_buffer_to_buffer(&b.lists, 0, &b.lists_read, 0, cells * 8);
@@ -469,7 +483,7 @@ impl TiledPass {
             Option<(&[crate::renderer::kit::ComputePipe; 2], &ZBinJob)>,
         ),
         cells: u64,
-    ) {
+    ) -> Result<()> {
         let n = f.plan.lights.len();
         let bind = |pass: &mut dyn SetGroups| {
             pass.groups(&f.frame.group, &f.targets.gbuffer_group, &b.group);
@@ -514,6 +528,15 @@ impl TiledPass {
             bind(&mut pass);
             pass.dispatch_workgroups(params.tiles_x, params.tiles_y, 1);
         }
+        // RIS with reuse: the candidates and spatial passes, then the resolve with the
+        // reservoirs bound.
+        let reservoirs = match f.plan.tiled.is_some() && f.options.stochastic.reuse() {
+            true => {
+                let pipes = self.reuse.compute(f.device, &self.counted_from.0, zbin.is_some());
+                Some(f.scratch.reuse.record(encoder, f, pipes, &|pass| bind(pass))?)
+            }
+            false => None,
+        };
         if f.plan.tiled.is_some() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("tiled shade"),
@@ -525,6 +548,9 @@ impl TiledPass {
             });
             pass.set_pipeline(shade);
             bind(&mut pass);
+            if let Some(group) = &reservoirs {
+                pass.set_bind_group(3, group, &[]);
+            }
             // One instance per `SHADE_CHUNK` list entries (lavapipe's loop limit), or per
             // `ZBinJob::chunk` sorted lights.
             // A resampled frame visits M x K entries a pixel, in one instance.
@@ -548,6 +574,7 @@ impl TiledPass {
             bind(&mut pass);
             pass.draw(0..3, 0..1);
         }
+        Ok(())
     }
 }
 

@@ -1,0 +1,215 @@
+//! ReSTIR's reuse of RIS samples (Bitterli et al. 2020, "Spatiotemporal reservoir resampling
+//! for real-time ray tracing with dynamic direct lighting"), on the list modes: in place of the
+//! one RIS pass, three passes over one buffer of reservoirs (`reuse.wgsl`):
+//!
+//! 1. **candidates** (compute): each pixel's K fresh RIS samples; with `ris_temporal`, each
+//!    combined with the last frame's final sample at the point reprojected through the last
+//!    camera, rejected where depth or normal differ; ReSTIR's 1/M weights, the history's
+//!    count capped at [`TEMPORAL_CAP`] x M (biased where the surface or the lights moved);
+//! 2. **spatial** (compute): with `ris_spatial` neighbours, each sample combined with those
+//!    of that many pixels within [`RADIUS`], with the unbiased 1/Z weights (Algorithm 6 of the
+//!    paper); the result is the frame's final reservoirs, kept for the next frame;
+//! 3. **resolve** (the tiled pass's shading): each final sample shaded with its shadow.
+//!
+//! The reservoirs are each renderer's ([`ReuseScratch`]): K a pixel, two regions of 32 bytes a
+//! sample, so reuse takes at most [`MAX_SAMPLES`] samples.
+
+use crate::renderer::inputs::FrameInputs;
+use crate::renderer::kit::{ComputePipe, RenderPipe};
+use crate::renderer::stats::Span;
+use anyhow::{bail, Result};
+use glam::DMat4;
+use std::sync::{Mutex, OnceLock};
+
+/// The most samples a pixel keeps with reuse: 2 x 32 bytes each a pixel (1280x720 at 4: 236 MB).
+pub const MAX_SAMPLES: u32 = 4;
+/// The disc the spatial pass draws its neighbours from, in pixels (ReSTIR's 30 at 1920x1080,
+/// scaled to 1280x720 and rounded down).
+pub const RADIUS: u32 = 16;
+/// The temporal history's count is capped at this many times M (ReSTIR's 20).
+pub const TEMPORAL_CAP: u32 = 20;
+/// Storage buffers a stage the reuse passes bind: the tiled pass's 8 and the reservoirs.
+pub const STORAGE_BUFFERS: u32 = 9;
+/// The buffer's header, in vec4<u32> (`reuse.wgsl`).
+const HEADER_VEC4: u64 = 10;
+
+/// The candidates pass's timestamps (part of the lighting span).
+pub const CANDIDATES_SPAN: Span = Span("ris candidates");
+/// The spatial pass's timestamps (part of the lighting span).
+pub const SPATIAL_SPAN: Span = Span("ris spatial");
+
+/// The reuse passes' pipelines, each built when a frame first draws with it, on the tiled pass's
+/// groups and the reservoirs' (`bindings::REUSE`).
+pub struct ReusePipes {
+    /// The tiled pass's groups 0-2.
+    groups: [wgpu::BindGroupLayout; 3],
+    /// The reservoirs' group and the four groups' layout, made on first use (an adapter that
+    /// cannot bind them never makes them: `key::pipeline_key` refuses reuse there).
+    layout: OnceLock<(wgpu::BindGroupLayout, wgpu::PipelineLayout)>,
+    candidates: OnceLock<ComputePipe>,
+    candidates_zbin: OnceLock<ComputePipe>,
+    spatial: OnceLock<ComputePipe>,
+    resolve: OnceLock<RenderPipe>,
+}
+
+impl ReusePipes {
+    /// On the tiled pass's groups 0-2 (`groups`).
+    pub fn new(groups: [&wgpu::BindGroupLayout; 3]) -> Self {
+        Self {
+            groups: groups.map(Clone::clone),
+            layout: OnceLock::new(),
+            candidates: OnceLock::new(),
+            candidates_zbin: OnceLock::new(),
+            spatial: OnceLock::new(),
+            resolve: OnceLock::new(),
+        }
+    }
+
+    /// The reservoirs' group layout and the passes' pipeline layout.
+    fn layouts(&self, device: &wgpu::Device) -> &(wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+        self.layout.get_or_init(|| {
+            let bgl = crate::renderer::kit::bindings::REUSE.layout(device);
+            let g = &self.groups;
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ris reuse"),
+                bind_group_layouts: &[Some(&g[0]), Some(&g[1]), Some(&g[2]), Some(&bgl)],
+                immediate_size: 0,
+            });
+            (bgl, layout)
+        })
+    }
+
+    /// The candidates pass (over z-bins or tile and cluster lists) and the spatial pass.
+    pub fn compute(&self, device: &wgpu::Device, module: &wgpu::ShaderModule, zbin: bool) -> [&ComputePipe; 2] {
+        let (cell, label, entry) = match zbin {
+            true => (&self.candidates_zbin, "ris candidates, z-bins", "cs_ris_candidates_zbin"),
+            false => (&self.candidates, "ris candidates", "cs_ris_candidates"),
+        };
+        let layout = Some(&self.layouts(device).1);
+        let candidates = cell.get_or_init(|| crate::renderer::kit::compute_pipe(device, label, layout, module, entry));
+        let spatial = self.spatial.get_or_init(|| {
+            crate::renderer::kit::compute_pipe(device, "ris spatial", layout, module, "cs_ris_spatial")
+        });
+        [candidates, spatial]
+    }
+
+    /// The resolve: the tiled pass's shading pipeline with reuse.
+    pub fn resolve(
+        &self,
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> &RenderPipe {
+        self.resolve.get_or_init(|| {
+            let stages = ("vs_tiled", "fs_ris_resolve");
+            let layout = &self.layouts(device).1;
+            crate::renderer::kit::screen_pipeline(device, module, "ris resolve", layout, stages, targets)
+        })
+    }
+}
+
+/// One renderer's reservoirs and the camera of the frame that wrote them.
+#[derive(Default)]
+pub struct ReuseScratch {
+    state: Mutex<Option<ReuseState>>,
+}
+
+struct ReuseState {
+    buffer: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    /// Width, height, samples a pixel.
+    size: (u32, u32, u32),
+    /// The last frame's world-to-view and projection, and its light count: the history is
+    /// read only when the lights are the same list.
+    last: Option<(DMat4, DMat4, usize)>,
+}
+
+/// The header `reuse.wgsl` reads: the matrices as f32 bits, the mode, the size.
+fn header(to_last: DMat4, last_proj: DMat4, mode: [u32; 4], size: (u32, u32, u32)) -> Vec<u32> {
+    let mut words = Vec::with_capacity(HEADER_VEC4 as usize * 4);
+    words.extend(to_last.as_mat4().to_cols_array().iter().map(|v| v.to_bits()));
+    words.extend(last_proj.as_mat4().to_cols_array().iter().map(|v| v.to_bits()));
+    words.extend(mode);
+    words.extend([size.0, size.1, size.2, 0]);
+    words
+}
+
+impl ReuseScratch {
+    /// Makes the reservoirs anew for `size` (forgetting the history) when they are missing or
+    /// of another size; refuses an adapter that cannot bind them.
+    pub fn fit(&self, f: &FrameInputs<'_>, pipes: &ReusePipes) -> Result<()> {
+        let limit = f.device.limits().max_storage_buffers_per_shader_stage;
+        if limit < STORAGE_BUFFERS {
+            bail!(
+                "RIS reuse binds {STORAGE_BUFFERS} storage buffers a stage and this adapter allows {limit}: \
+                 use ris-spatial 0 and ris-temporal off"
+            );
+        }
+        let size = (f.targets.width, f.targets.height, f.options.stochastic.ris_samples.clamp(1, MAX_SAMPLES));
+        let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
+        if state.as_ref().is_some_and(|s| s.size == size) {
+            return Ok(());
+        }
+        let bytes = 16 * (HEADER_VEC4 + 4 * size.0 as u64 * size.1 as u64 * size.2 as u64);
+        if bytes > f.device.limits().max_storage_buffer_binding_size as u64 {
+            bail!(
+                "RIS reuse needs {} MB of reservoirs at {}x{} with {} samples, past the adapter's {} MB a binding: \
+                 use fewer ris-samples or a smaller frame",
+                bytes >> 20,
+                size.0,
+                size.1,
+                size.2,
+                f.device.limits().max_storage_buffer_binding_size >> 20
+            );
+        }
+        let buffer = f.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ris reservoirs"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let group = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ris reservoirs"),
+            layout: &pipes.layouts(f.device).0,
+            entries: &crate::renderer::kit::bindings::REUSE.entries(vec![buffer.as_entire_binding()]),
+        });
+        *state = Some(ReuseState { buffer, group, size, last: None });
+        Ok(())
+    }
+
+    /// Records the candidates and spatial passes (`pipes`, from [`ReusePipes::compute`]) with
+    /// groups 0-2 bound by `bind`, after writing the header; returns the reservoirs' group for
+    /// the resolve. The frame's camera becomes the history's.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameInputs<'_>,
+        pipes: [&ComputePipe; 2],
+        bind: &dyn Fn(&mut wgpu::ComputePass<'_>),
+    ) -> Result<wgpu::BindGroup> {
+        let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
+        let Some(s) = state.as_mut() else { bail!("internal: the reservoirs were not made before recording") };
+        let o = &f.options.stochastic;
+        let lights = f.plan.lights.len();
+        let history = s.last.filter(|l| o.ris_temporal && l.2 == lights);
+        let (to_last, last_proj) =
+            history.map_or((DMat4::IDENTITY, DMat4::IDENTITY), |(view, proj, _)| (view * f.view.inverse(), proj));
+        let mode = [u32::from(history.is_some()), o.ris_spatial.min(16), RADIUS, TEMPORAL_CAP];
+        f.queue.write_buffer(&s.buffer, 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, s.size)));
+        s.last = Some((f.view, f.proj, lights));
+        let groups = (s.size.0.div_ceil(8), s.size.1.div_ceil(8));
+        for (pipe, span, label) in
+            [(pipes[0], CANDIDATES_SPAN, "ris candidates"), (pipes[1], SPATIAL_SPAN, "ris spatial")]
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: f.compute_timestamps(span),
+            });
+            pass.set_pipeline(pipe);
+            bind(&mut pass);
+            pass.set_bind_group(3, &s.group, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        }
+        Ok(s.group.clone())
+    }
+}

@@ -224,6 +224,7 @@ pub fn shader_source_for(
             include_str!("culling/zbin/zbin.wgsl"),
             include_str!("stochastic/ris.wgsl"),
             include_str!("stochastic/reuse.wgsl"),
+            include_str!("stochastic/denoise.wgsl"),
             include_str!("post/post.wgsl"),
             include_str!("shadows/casters.wgsl"),
             include_str!("paths/prepass.wgsl"),

@@ -60,10 +60,11 @@ impl Settings {
                 self.path.name()
             ));
         }
-        let reuse = self.ris_spatial > 0 || self.ris_temporal;
+        let reuse = self.ris_spatial > 0 || self.ris_temporal || self.ris_denoise;
         if reuse && self.ris_samples == 0 {
             return Err(
-                "ris-spatial and ris-temporal reuse RIS's samples: set ris-samples 1 to 4, or turn reuse off".into()
+                "ris-spatial, ris-temporal and ris-denoise work on RIS's samples: set ris-samples 1 to 4, or turn them off"
+                    .into(),
             );
         }
         if reuse && self.ris_samples > crate::renderer::stochastic::reuse::MAX_SAMPLES {

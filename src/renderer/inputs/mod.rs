@@ -136,6 +136,22 @@ impl FrameInputs<'_> {
     }
 
     /// Span `span` over one compute pass.
+    /// Timestamps for one of a run of compute passes that `span` covers: its beginning written
+    /// by the `first`, its end by the `last`, none by those between.
+    pub fn compute_timestamps_of_run(
+        &self,
+        span: Span,
+        (first, last): (bool, bool),
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        self.compute_timestamps(span)
+            .map(|t| wgpu::ComputePassTimestampWrites {
+                beginning_of_pass_write_index: t.beginning_of_pass_write_index.filter(|_| first),
+                end_of_pass_write_index: t.end_of_pass_write_index.filter(|_| last),
+                ..t
+            })
+            .filter(|t| t.beginning_of_pass_write_index.is_some() || t.end_of_pass_write_index.is_some())
+    }
+
     pub fn compute_timestamps(&self, span: Span) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         let (begin, end) = (span.begin(), span.end());
         if !self.times || begin.is_none() {

@@ -888,6 +888,18 @@ pub const KNOBS: &[Knob] = &[
         },
     },
     Knob {
+        name: "ris-denoise",
+        what: "RIS denoiser",
+        help: "Filter RIS's light: temporal accumulation and an edge-aware a-trous filter guided by its variance (SVGF; biased)",
+        values: Values::Switch,
+        cli: true,
+        get: |s| switch_name(s.ris_denoise),
+        put: |s, v| {
+            s.ris_denoise = parse_switch(v)?;
+            Ok(())
+        },
+    },
+    Knob {
         name: "stochastic-culling",
         what: "stochastic light culling",
         help: "Draw each light's range anew each frame and compensate its attenuation (every culling mode; unbiased)",

@@ -206,6 +206,9 @@ macro_rules! settings_fields {
             /// normal), its count capped at 20 M. Biased where the surface or the lights changed
             /// (the 1/M weights); docs/stochastic.md measures it.
             [stochastic] ris_temporal: bool = false,
+            /// A denoiser for RIS's light: temporal accumulation and a variance-guided, edge-aware
+            /// a-trous filter (Schied et al. 2017, SVGF). Biased by design; the bench measures it.
+            [stochastic] ris_denoise: bool = false,
             /// Stochastic light culling (Tokuyoshi and Harada 2016), on every culling mode: each
             /// light's range is drawn anew for the frame and its attenuation below
             /// `stochastic_threshold` compensated, so the frame's expectation is the exact sum.

@@ -9,9 +9,10 @@ impl StochasticOptions {
         self.ris_samples > 0
     }
 
-    /// Whether RIS reuses samples across pixels or frames (ReSTIR: `stochastic::reuse`).
+    /// Whether RIS runs as passes over kept reservoirs (`stochastic::reuse`): to reuse samples
+    /// across pixels or frames (ReSTIR), or to denoise its light.
     pub fn reuse(&self) -> bool {
-        self.ris() && (self.ris_spatial > 0 || self.ris_temporal)
+        self.ris() && (self.ris_spatial > 0 || self.ris_temporal || self.ris_denoise)
     }
 
     /// Whether the frame is drawn by a stochastic estimator at all (its pixels are random

@@ -9,10 +9,13 @@
 //! 2. **spatial** (compute): with `ris_spatial` neighbours, each sample combined with those
 //!    of that many pixels within [`RADIUS`], with the unbiased 1/Z weights (Algorithm 6 of the
 //!    paper); the result is the frame's final reservoirs, kept for the next frame;
-//! 3. **resolve** (the tiled pass's shading): each final sample shaded with its shadow.
+//! 3. **resolve** (the tiled pass's shading): each final sample shaded with its shadow;
+//!    with `ris_denoise`, into the denoiser's buffer instead, then its temporal accumulation
+//!    and three a-trous steps (`denoise.wgsl`), and the tiled pass's shading adds the result.
 //!
 //! The reservoirs are each renderer's ([`ReuseScratch`]): K a pixel, two regions of 32 bytes a
-//! sample, so reuse takes at most [`MAX_SAMPLES`] samples.
+//! sample, so reuse takes at most [`MAX_SAMPLES`] samples; the denoiser's four regions add 48
+//! bytes a pixel each.
 
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{ComputePipe, RenderPipe};
@@ -37,6 +40,12 @@ const HEADER_VEC4: u64 = 10;
 pub const CANDIDATES_SPAN: Span = Span("ris candidates");
 /// The spatial pass's timestamps (part of the lighting span).
 pub const SPATIAL_SPAN: Span = Span("ris spatial");
+/// The denoiser's passes' timestamps, from its resolve to its last filter step (part of the
+/// lighting span).
+pub const DENOISE_SPAN: Span = Span("ris denoise");
+/// The denoiser's passes: its resolve, the temporal accumulation, three a-trous steps.
+const DENOISE_ENTRIES: [&str; 5] =
+    ["cs_denoise_resolve", "cs_denoise_temporal", "cs_denoise_atrous1", "cs_denoise_atrous2", "cs_denoise_atrous4"];
 
 /// The reuse passes' pipelines, each built when a frame first draws with it, on the tiled pass's
 /// groups and the reservoirs' (`bindings::REUSE`).
@@ -50,6 +59,8 @@ pub struct ReusePipes {
     candidates_zbin: OnceLock<ComputePipe>,
     spatial: OnceLock<ComputePipe>,
     resolve: OnceLock<RenderPipe>,
+    denoise: OnceLock<[ComputePipe; 5]>,
+    denoised: OnceLock<RenderPipe>,
 }
 
 impl ReusePipes {
@@ -62,6 +73,8 @@ impl ReusePipes {
             candidates_zbin: OnceLock::new(),
             spatial: OnceLock::new(),
             resolve: OnceLock::new(),
+            denoise: OnceLock::new(),
+            denoised: OnceLock::new(),
         }
     }
 
@@ -93,17 +106,30 @@ impl ReusePipes {
         [candidates, spatial]
     }
 
-    /// The resolve: the tiled pass's shading pipeline with reuse.
+    /// The denoiser's compute passes ([`DENOISE_ENTRIES`]).
+    pub fn denoise(&self, device: &wgpu::Device, module: &wgpu::ShaderModule) -> &[ComputePipe; 5] {
+        self.denoise.get_or_init(|| {
+            let layout = Some(&self.layouts(device).1);
+            DENOISE_ENTRIES.map(|entry| crate::renderer::kit::compute_pipe(device, entry, layout, module, entry))
+        })
+    }
+
+    /// The resolve: the tiled pass's shading pipeline with reuse (`denoised`: adding the
+    /// denoiser's result).
     pub fn resolve(
         &self,
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
         targets: &[Option<wgpu::ColorTargetState>],
+        denoised: bool,
     ) -> &RenderPipe {
-        self.resolve.get_or_init(|| {
-            let stages = ("vs_tiled", "fs_ris_resolve");
+        let (cell, label, fs) = match denoised {
+            true => (&self.denoised, "ris denoised", "fs_ris_denoised"),
+            false => (&self.resolve, "ris resolve", "fs_ris_resolve"),
+        };
+        cell.get_or_init(|| {
             let layout = &self.layouts(device).1;
-            crate::renderer::kit::screen_pipeline(device, module, "ris resolve", layout, stages, targets)
+            crate::renderer::kit::screen_pipeline(device, module, label, layout, ("vs_tiled", fs), targets)
         })
     }
 }
@@ -117,20 +143,23 @@ pub struct ReuseScratch {
 struct ReuseState {
     buffer: wgpu::Buffer,
     group: wgpu::BindGroup,
-    /// Width, height, samples a pixel.
-    size: (u32, u32, u32),
-    /// The last frame's world-to-view and projection, and its light count: the history is
-    /// read only when the lights are the same list.
-    last: Option<(DMat4, DMat4, usize)>,
+    /// Width, height, samples a pixel, and whether the denoiser's regions follow.
+    size: (u32, u32, u32, bool),
+    /// The last frame's world-to-view and projection, its light count (the history is read
+    /// only when the lights are the same list), and whether it denoised.
+    last: Option<(DMat4, DMat4, usize, bool)>,
+    /// Which of the denoiser's histories the next frame reads.
+    parity: bool,
 }
 
 /// The header `reuse.wgsl` reads: the matrices as f32 bits, the mode, the size.
-fn header(to_last: DMat4, last_proj: DMat4, mode: [u32; 4], size: (u32, u32, u32)) -> Vec<u32> {
+/// `size`: width, height, samples a pixel, and the denoiser's flags.
+fn header(to_last: DMat4, last_proj: DMat4, mode: [u32; 4], size: [u32; 4]) -> Vec<u32> {
     let mut words = Vec::with_capacity(HEADER_VEC4 as usize * 4);
     words.extend(to_last.as_mat4().to_cols_array().iter().map(|v| v.to_bits()));
     words.extend(last_proj.as_mat4().to_cols_array().iter().map(|v| v.to_bits()));
     words.extend(mode);
-    words.extend([size.0, size.1, size.2, 0]);
+    words.extend(size);
     words
 }
 
@@ -145,12 +174,14 @@ impl ReuseScratch {
                  use ris-spatial 0 and ris-temporal off"
             );
         }
-        let size = (f.targets.width, f.targets.height, f.options.stochastic.ris_samples.clamp(1, MAX_SAMPLES));
+        let o = &f.options.stochastic;
+        let size = (f.targets.width, f.targets.height, o.ris_samples.clamp(1, MAX_SAMPLES), o.ris_denoise);
         let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
         if state.as_ref().is_some_and(|s| s.size == size) {
             return Ok(());
         }
-        let bytes = 16 * (HEADER_VEC4 + 4 * size.0 as u64 * size.1 as u64 * size.2 as u64);
+        let pixels = size.0 as u64 * size.1 as u64;
+        let bytes = 16 * (HEADER_VEC4 + 4 * pixels * size.2 as u64 + if size.3 { 12 * pixels } else { 0 });
         if bytes > f.device.limits().max_storage_buffer_binding_size as u64 {
             bail!(
                 "RIS reuse needs {} MB of reservoirs at {}x{} with {} samples, past the adapter's {} MB a binding: \
@@ -173,38 +204,47 @@ impl ReuseScratch {
             layout: &pipes.layouts(f.device).0,
             entries: &crate::renderer::kit::bindings::REUSE.entries(vec![buffer.as_entire_binding()]),
         });
-        *state = Some(ReuseState { buffer, group, size, last: None });
+        *state = Some(ReuseState { buffer, group, size, last: None, parity: false });
         Ok(())
     }
 
-    /// Records the candidates and spatial passes (`pipes`, from [`ReusePipes::compute`]) with
-    /// groups 0-2 bound by `bind`, after writing the header; returns the reservoirs' group for
-    /// the resolve. The frame's camera becomes the history's.
+    /// Records the candidates and spatial passes (`pipes`, from [`ReusePipes::compute`]) and,
+    /// with `denoise` (from [`ReusePipes::denoise`]), the denoiser's, with groups 0-2 bound by
+    /// `bind`, after writing the header; returns the reservoirs' group for the resolve. The
+    /// frame's camera becomes the history's.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
-        pipes: [&ComputePipe; 2],
+        (pipes, denoise): ([&ComputePipe; 2], Option<&[ComputePipe; 5]>),
         bind: &dyn Fn(&mut wgpu::ComputePass<'_>),
     ) -> Result<wgpu::BindGroup> {
         let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
         let Some(s) = state.as_mut() else { bail!("internal: the reservoirs were not made before recording") };
         let o = &f.options.stochastic;
         let lights = f.plan.lights.len();
-        let history = s.last.filter(|l| o.ris_temporal && l.2 == lights);
+        let last = s.last.filter(|l| l.2 == lights);
+        let temporal = last.filter(|_| o.ris_temporal);
+        let denoise_history = last.filter(|l| denoise.is_some() && l.3);
         let (to_last, last_proj) =
-            history.map_or((DMat4::IDENTITY, DMat4::IDENTITY), |(view, proj, _)| (view * f.view.inverse(), proj));
-        let mode = [u32::from(history.is_some()), o.ris_spatial.min(16), RADIUS, TEMPORAL_CAP];
-        f.queue.write_buffer(&s.buffer, 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, s.size)));
-        s.last = Some((f.view, f.proj, lights));
+            last.map_or((DMat4::IDENTITY, DMat4::IDENTITY), |(view, proj, ..)| (view * f.view.inverse(), proj));
+        let mode = [u32::from(temporal.is_some()), o.ris_spatial.min(16), RADIUS, TEMPORAL_CAP];
+        let flags = u32::from(denoise.is_some()) | u32::from(denoise_history.is_some()) << 1 | u32::from(s.parity) << 2;
+        let size = [s.size.0, s.size.1, s.size.2, flags];
+        f.queue.write_buffer(&s.buffer, 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, size)));
+        s.last = Some((f.view, f.proj, lights, denoise.is_some()));
+        if denoise.is_some() {
+            s.parity = !s.parity;
+        }
         let groups = (s.size.0.div_ceil(8), s.size.1.div_ceil(8));
-        for (pipe, span, label) in
-            [(pipes[0], CANDIDATES_SPAN, "ris candidates"), (pipes[1], SPATIAL_SPAN, "ris spatial")]
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: f.compute_timestamps(span),
-            });
+        let mut run: Vec<(&ComputePipe, Option<wgpu::ComputePassTimestampWrites<'_>>)> =
+            vec![(pipes[0], f.compute_timestamps(CANDIDATES_SPAN)), (pipes[1], f.compute_timestamps(SPATIAL_SPAN))];
+        for (i, pipe) in denoise.into_iter().flatten().enumerate() {
+            run.push((pipe, f.compute_timestamps_of_run(DENOISE_SPAN, (i == 0, i + 1 == DENOISE_ENTRIES.len()))));
+        }
+        for (pipe, timestamp_writes) in run {
+            let mut pass =
+                encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("ris reuse"), timestamp_writes });
             pass.set_pipeline(pipe);
             bind(&mut pass);
             pass.set_bind_group(3, &s.group, &[]);

@@ -238,7 +238,7 @@ impl TiledPass {
     fn shade(&self, f: &FrameInputs<'_>, zbin: bool) -> &crate::renderer::kit::RenderPipe {
         if f.options.stochastic.reuse() {
             let (module, _, targets) = &self.counted_from;
-            return self.reuse.resolve(f.device, module, targets);
+            return self.reuse.resolve(f.device, module, targets, f.options.stochastic.ris_denoise);
         }
         if f.options.stochastic.ris() {
             let (module, layout, targets) = &self.counted_from;
@@ -357,6 +357,9 @@ impl Pass for TiledPass {
             out.add(self.shade(f, fr.zbins.is_some()));
             if f.options.stochastic.reuse() {
                 out.add_all(self.reuse.compute(f.device, &self.counted_from.0, fr.zbins.is_some()));
+                if f.options.stochastic.ris_denoise {
+                    out.add_all(self.reuse.denoise(f.device, &self.counted_from.0));
+                }
             }
         }
     }
@@ -533,7 +536,9 @@ impl TiledPass {
         let reservoirs = match f.plan.tiled.is_some() && f.options.stochastic.reuse() {
             true => {
                 let pipes = self.reuse.compute(f.device, &self.counted_from.0, zbin.is_some());
-                Some(f.scratch.reuse.record(encoder, f, pipes, &|pass| bind(pass))?)
+                let denoise =
+                    f.options.stochastic.ris_denoise.then(|| self.reuse.denoise(f.device, &self.counted_from.0));
+                Some(f.scratch.reuse.record(encoder, f, (pipes, denoise), &|pass| bind(pass))?)
             }
             false => None,
         };

@@ -163,7 +163,7 @@ fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Feature
         max_color_attachments: adapter_limits.max_color_attachments,
         max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
         max_buffer_size: adapter_limits.max_buffer_size,
-        // RIS's reuse passes bind the tiled pass's 8 and their reservoirs
+        // RIS's passes over kept reservoirs bind the tiled pass's 8 and their 6
         // (`stochastic::reuse::STORAGE_BUFFERS`); an adapter with fewer refuses reuse alone.
         max_storage_buffers_per_shader_stage: adapter_limits
             .max_storage_buffers_per_shader_stage

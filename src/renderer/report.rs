@@ -388,6 +388,13 @@ fn fill_gpu_ms(stats: &mut FrameStats, q: &Readback) {
     stats.gpu_ms.lighting = span(culling::light_pass::SPAN);
     stats.gpu_ms.compose = span(compose);
     stats.gpu_ms.lists = span(culling::tiled::pass::SPAN).filter(|_| stats.lists_on_gpu);
+    if stats.stochastic.as_ref().is_some_and(|s| s.reuse) {
+        use crate::renderer::stochastic::reuse;
+        stats.gpu_ms.ris_candidates = span(reuse::CANDIDATES_SPAN);
+        stats.gpu_ms.ris_spatial = span(reuse::SPATIAL_SPAN);
+        stats.gpu_ms.ris_denoise =
+            span(reuse::DENOISE_SPAN).filter(|_| stats.stochastic.as_ref().is_some_and(|s| s.denoise));
+    }
     if stats.prepass.is_some() {
         // The light pre-pass has no compose: its pass 3 writes the HDR colour, and
         // what follows it (forward pass, tonemap or post chain) is the compose span.

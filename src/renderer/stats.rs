@@ -92,6 +92,14 @@ pub struct GpuMs {
     /// the frame built none on the GPU).
     #[serde(default)]
     pub lists: Option<f64>,
+    /// RIS's passes over kept reservoirs (`stochastic::reuse`), each part of `lighting`: the
+    /// candidates (with temporal reuse), the spatial reuse, the denoiser (`None` when not run).
+    #[serde(default)]
+    pub ris_candidates: Option<f64>,
+    #[serde(default)]
+    pub ris_spatial: Option<f64>,
+    #[serde(default)]
+    pub ris_denoise: Option<f64>,
     /// The light pre-pass's final pass (pass 3; its passes 1 and 2 are `gbuffer` and
     /// `lighting`).
     #[serde(default)]

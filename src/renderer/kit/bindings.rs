@@ -237,13 +237,22 @@ pub const EXPLAIN: Group = Group {
     ],
 };
 
-/// Group 3 of RIS's reuse passes (`stochastic::reuse`): one buffer, its header then two
-/// regions of reservoirs (`reuse.wgsl`). One binding: the tiled pass's groups already take 8
-/// storage buffers a stage (WebGPU's default limit; `reuse::STORAGE_BUFFERS`). Slots from 80.
+/// Group 3 of RIS's passes over kept reservoirs (`stochastic::reuse`): the header and this
+/// frame's reservoirs, the final reservoirs (`reuse.wgsl`), and the denoiser's four regions
+/// (`denoise.wgsl`; 16-byte stand-ins without it). Each its own binding, as one region may
+/// fill WebGPU's 128 MiB binding at 1280x720: with the tiled pass's 8 that is 14 storage
+/// buffers a stage (`reuse::STORAGE_BUFFERS`). Slots from 80.
 pub const REUSE: Group = Group {
     label: "reuse",
     index: 3,
-    bindings: &[Binding { slot: 80, name: "reuse", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite }],
+    bindings: &[
+        Binding { slot: 80, name: "reuse", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 81, name: "reuse_final", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 82, name: "denoise_a", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 83, name: "denoise_b", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 84, name: "denoise_h0", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 85, name: "denoise_h1", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+    ],
 };
 
 pub const GROUPS: [&Group; 11] =

@@ -1,10 +1,11 @@
 // The denoiser of RIS's light (stochastic/reuse.rs, `ris_denoise`): temporal accumulation and a
 // variance-guided, edge-aware a-trous filter, after Schied et al. 2017, "Spatiotemporal
 // variance-guided filtering" (SVGF). It filters only the stochastic light (the lights'
-// diffuse and specular, before the albedo: the accumulation holds them without it), in the
-// reservoir buffer's denoise regions after the reservoirs (`reuse.wgsl`): A and B, the
-// ping-pong of the filter, and H0 and H1, the history each frame reads one of and writes the
-// other (header word [9].w: bit 0 denoise, bit 1 the history is valid, bit 2 which one is read).
+// diffuse and specular, before the albedo: the accumulation holds them without it), in four
+// buffers of a record a pixel: A and B (`denoise_a`, `denoise_b`), the ping-pong of the
+// filter, and H0 and H1, the history each frame reads one of and writes the other (the
+// header's word [9].w, `reuse.wgsl`: bit 0 denoise, bit 1 the history is valid, bit 2 which
+// one is read).
 // A record is three vec4: (diffuse, variance), (specular, luminance), (depth, octahedral normal
 // bits, 1 where a surface is, history length).
 //
@@ -22,27 +23,61 @@ struct Denoised {
     length: f32,
 };
 
-// Where pixel p's record starts in region 0 (A), 1 (B), 2 (H0) or 3 (H1).
-fn denoise_slot(region: u32, p: vec2<i32>) -> u32 {
-    let size = reuse[9u];
-    let pixels = size.x * size.y;
-    let reservoirs = REUSE_HEADER + 4u * pixels * size.z;
-    return reservoirs + 3u * (region * pixels + u32(p.y) * size.x + u32(p.x));
+// Where pixel p's record starts in its region (0: A, 1: B, 2: H0, 3: H1).
+fn denoise_slot(p: vec2<i32>) -> u32 {
+    return 3u * (u32(p.y) * reuse[9u].x + u32(p.x));
 }
 
-fn denoise_load(at: u32) -> Denoised {
-    let a = bitcast<vec4<f32>>(reuse[at]);
-    let b = bitcast<vec4<f32>>(reuse[at + 1u]);
-    let c = reuse[at + 2u];
+fn denoise_word(region: u32, at: u32) -> vec4<u32> {
+    switch region {
+        case 0u: {
+            return denoise_a[at];
+        }
+        case 1u: {
+            return denoise_b[at];
+        }
+        case 2u: {
+            return denoise_h0[at];
+        }
+        default: {
+            return denoise_h1[at];
+        }
+    }
+}
+
+fn denoise_put(region: u32, at: u32, v: vec4<u32>) {
+    switch region {
+        case 0u: {
+            denoise_a[at] = v;
+        }
+        case 1u: {
+            denoise_b[at] = v;
+        }
+        case 2u: {
+            denoise_h0[at] = v;
+        }
+        default: {
+            denoise_h1[at] = v;
+        }
+    }
+}
+
+fn denoise_load(region: u32, p: vec2<i32>) -> Denoised {
+    let at = denoise_slot(p);
+    let a = bitcast<vec4<f32>>(denoise_word(region, at));
+    let b = bitcast<vec4<f32>>(denoise_word(region, at + 1u));
+    let c = denoise_word(region, at + 2u);
     let n = oct_decode(unpack2x16snorm(c.y));
     return Denoised(a.xyz, a.w, b.xyz, b.w, bitcast<f32>(c.x), n, c.z == 1u, bitcast<f32>(c.w));
 }
 
-fn denoise_store(at: u32, d: Denoised) {
-    reuse[at] = bitcast<vec4<u32>>(vec4<f32>(d.diffuse, d.variance));
-    reuse[at + 1u] = bitcast<vec4<u32>>(vec4<f32>(d.specular, d.luminance));
+fn denoise_store(region: u32, p: vec2<i32>, d: Denoised) {
+    let at = denoise_slot(p);
+    denoise_put(region, at, bitcast<vec4<u32>>(vec4<f32>(d.diffuse, d.variance)));
+    denoise_put(region, at + 1u, bitcast<vec4<u32>>(vec4<f32>(d.specular, d.luminance)));
     let valid = select(0u, 1u, d.valid);
-    reuse[at + 2u] = vec4<u32>(bitcast<u32>(d.depth), pack2x16snorm(oct_encode(d.normal)), valid, bitcast<u32>(d.length));
+    let c = vec4<u32>(bitcast<u32>(d.depth), pack2x16snorm(oct_encode(d.normal)), valid, bitcast<u32>(d.length));
+    denoise_put(region, at + 2u, c);
 }
 
 fn denoise_luminance(d: vec3<f32>, sp: vec3<f32>) -> f32 {
@@ -63,7 +98,7 @@ fn cs_denoise_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     if s.valid {
         let view = view_dir(s);
         for (var j = 0u; j < size.z; j++) {
-            let r = reuse_load(reuse_slot(1u, p, j));
+            let r = reuse_load(1u, reuse_slot(1u, p, j));
             let lit = ris_shade_light(s, view, r.light, r.weight);
             out.diffuse += lit.diffuse;
             out.specular += lit.specular;
@@ -72,7 +107,7 @@ fn cs_denoise_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         out.specular /= f32(max(size.z, 1u));
     }
     let l = denoise_luminance(out.diffuse, out.specular);
-    denoise_store(denoise_slot(1u, p), Denoised(out.diffuse, 0.0, out.specular, l, -s.position.z, s.normal, s.valid, 0.0));
+    denoise_store(1u, p, Denoised(out.diffuse, 0.0, out.specular, l, -s.position.z, s.normal, s.valid, 0.0));
 }
 
 // Temporal accumulation, B into A and the history: the last frame's history at the reprojected
@@ -89,7 +124,7 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let p = vec2<i32>(id.xy);
-    var d = denoise_load(denoise_slot(1u, p));
+    var d = denoise_load(1u, p);
     let read = 2u + ((flags >> 2u) & 1u);
     let write = 5u - read;
     var m1 = d.luminance;
@@ -103,7 +138,7 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
             let ndc = clip.xy / clip.w;
             let q = vec2<i32>(floor(vec2<f32>(0.5 * ndc.x + 0.5, 0.5 - 0.5 * ndc.y) * vec2<f32>(size.xy)));
             if all(q >= vec2<i32>(0)) && all(q < vec2<i32>(size.xy)) {
-                let h = denoise_load(denoise_slot(read, q));
+                let h = denoise_load(read, q);
                 let normal = normalize((reuse_matrix(0u) * vec4<f32>(s.normal, 0.0)).xyz);
                 if h.valid && reuse_alike(h.depth, h.normal, -here.z, normal) {
                     length = min(h.length + 1.0, 32.0);
@@ -117,10 +152,7 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     // The history keeps the moments in the variance and luminance fields.
-    denoise_store(
-        denoise_slot(write, p),
-        Denoised(d.diffuse, m1, d.specular, m2, d.depth, d.normal, d.valid, length),
-    );
+    denoise_store(write, p, Denoised(d.diffuse, m1, d.specular, m2, d.depth, d.normal, d.valid, length));
     var variance = max(m2 - m1 * m1, 0.0);
     if length < 4.0 {
         var s1 = 0.0;
@@ -129,7 +161,7 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
         for (var y = -1; y <= 1; y++) {
             for (var x = -1; x <= 1; x++) {
                 let q = clamp(p + vec2<i32>(x, y), vec2<i32>(0), vec2<i32>(size.xy) - 1);
-                let o = denoise_load(denoise_slot(1u, q));
+                let o = denoise_load(1u, q);
                 if o.valid {
                     s1 += o.luminance;
                     s2 += o.luminance * o.luminance;
@@ -143,7 +175,7 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
     d.variance = variance;
     d.luminance = denoise_luminance(d.diffuse, d.specular);
     d.length = length;
-    denoise_store(denoise_slot(0u, p), d);
+    denoise_store(0u, p, d);
 }
 
 // One a-trous step (Dammertz et al. 2010, "Edge-avoiding a-trous wavelet transform for fast
@@ -153,9 +185,9 @@ fn cs_denoise_temporal(@builtin(global_invocation_id) id: vec3<u32>) {
 // squared weights.
 fn denoise_atrous(p: vec2<i32>, step: i32, source: u32, dest: u32) {
     let size = reuse[9u];
-    let c = denoise_load(denoise_slot(source, p));
+    let c = denoise_load(source, p);
     if !c.valid {
-        denoise_store(denoise_slot(dest, p), c);
+        denoise_store(dest, p, c);
         return;
     }
     let kernel = array<f32, 3>(0.375, 0.25, 0.0625);
@@ -170,7 +202,7 @@ fn denoise_atrous(p: vec2<i32>, step: i32, source: u32, dest: u32) {
             if any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size.xy)) {
                 continue;
             }
-            let o = denoise_load(denoise_slot(source, q));
+            let o = denoise_load(source, q);
             if !o.valid {
                 continue;
             }
@@ -190,7 +222,7 @@ fn denoise_atrous(p: vec2<i32>, step: i32, source: u32, dest: u32) {
     out.specular = specular / total;
     out.variance = variance / (total * total);
     out.luminance = denoise_luminance(out.diffuse, out.specular);
-    denoise_store(denoise_slot(dest, p), out);
+    denoise_store(dest, p, out);
 }
 
 @compute @workgroup_size(8, 8)
@@ -219,7 +251,7 @@ fn cs_denoise_atrous4(@builtin(global_invocation_id) id: vec3<u32>) {
 fn fs_ris_denoised(in: TiledVarying) -> LightTargets {
     let p = vec2<i32>(in.clip.xy);
     let s = gbuffer_load(p);
-    let d = denoise_load(denoise_slot(1u, p));
+    let d = denoise_load(1u, p);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
     if s.valid && d.valid {

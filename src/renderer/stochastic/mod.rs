@@ -73,6 +73,16 @@ pub struct StochasticStats {
     /// RIS's samples a pixel and candidates a sample (0 and 0: the lists shaded exactly).
     pub ris_samples: u32,
     pub ris_candidates: u32,
+    /// RIS's reuse: the spatial neighbours (0: none), temporal reuse; and the denoiser; `reuse`
+    /// when any of them runs (RIS then runs as passes over kept reservoirs).
+    #[serde(default)]
+    pub ris_spatial: u32,
+    #[serde(default)]
+    pub ris_temporal: bool,
+    #[serde(default)]
+    pub denoise: bool,
+    #[serde(default)]
+    pub reuse: bool,
     /// Stochastic culling's threshold (`None`: off), how many lights' ranges it cut this frame,
     /// and the mean over all lights of the range kept, as a fraction of the falloff radius.
     pub culling_threshold: Option<f32>,
@@ -93,6 +103,10 @@ impl StochasticStats {
             noise_seed: o.noise_seed,
             ris_samples: if o.ris() { o.ris_samples } else { 0 },
             ris_candidates: if o.ris() { o.ris_candidates } else { 0 },
+            ris_spatial: if o.reuse() { o.ris_spatial } else { 0 },
+            ris_temporal: o.reuse() && o.ris_temporal,
+            denoise: o.reuse() && o.ris_denoise,
+            reuse: o.reuse(),
             culling_threshold: o.stochastic_culling.then_some(o.stochastic_threshold),
             ranges_cut: if o.stochastic_culling { cut } else { 0 },
             mean_range: if lights.is_empty() { 1.0 } else { kept / lights.len() as f64 },

@@ -15,7 +15,7 @@
 //!
 //! The reservoirs are each renderer's ([`ReuseScratch`]): K a pixel, two regions of 32 bytes a
 //! sample, so reuse takes at most [`MAX_SAMPLES`] samples; the denoiser's four regions add 48
-//! bytes a pixel each.
+//! bytes a pixel each. Each region is a binding of its own (at most 118 MB at 1280x720).
 
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{ComputePipe, RenderPipe};
@@ -24,15 +24,17 @@ use anyhow::{bail, Result};
 use glam::DMat4;
 use std::sync::{Mutex, OnceLock};
 
-/// The most samples a pixel keeps with reuse: 2 x 32 bytes each a pixel (1280x720 at 4: 236 MB).
+/// The most samples a pixel keeps with reuse: 32 bytes each a pixel in each of two buffers
+/// (1280x720 at 4: 118 MB each, within WebGPU's 128 MiB binding).
 pub const MAX_SAMPLES: u32 = 4;
 /// The disc the spatial pass draws its neighbours from, in pixels (ReSTIR's 30 at 1920x1080,
 /// scaled to 1280x720 and rounded down).
 pub const RADIUS: u32 = 16;
 /// The temporal history's count is capped at this many times M (ReSTIR's 20).
 pub const TEMPORAL_CAP: u32 = 20;
-/// Storage buffers a stage the reuse passes bind: the tiled pass's 8 and the reservoirs.
-pub const STORAGE_BUFFERS: u32 = 9;
+/// Storage buffers a stage the reuse passes bind: the tiled pass's 8, the reservoirs' two and
+/// the denoiser's four (`bindings::REUSE`).
+pub const STORAGE_BUFFERS: u32 = 14;
 /// The buffer's header, in vec4<u32> (`reuse.wgsl`).
 const HEADER_VEC4: u64 = 10;
 
@@ -141,7 +143,8 @@ pub struct ReuseScratch {
 }
 
 struct ReuseState {
-    buffer: wgpu::Buffer,
+    /// The header and this frame's reservoirs; the final ones; the denoiser's four regions.
+    buffers: Vec<wgpu::Buffer>,
     group: wgpu::BindGroup,
     /// Width, height, samples a pixel, and whether the denoiser's regions follow.
     size: (u32, u32, u32, bool),
@@ -181,30 +184,39 @@ impl ReuseScratch {
             return Ok(());
         }
         let pixels = size.0 as u64 * size.1 as u64;
-        let bytes = 16 * (HEADER_VEC4 + 4 * pixels * size.2 as u64 + if size.3 { 12 * pixels } else { 0 });
-        if bytes > f.device.limits().max_storage_buffer_binding_size as u64 {
+        let reservoirs = 32 * pixels * size.2 as u64;
+        let denoised = if size.3 { 48 * pixels } else { 16 };
+        let bytes = [16 * HEADER_VEC4 + reservoirs, reservoirs, denoised, denoised, denoised, denoised];
+        let most = f.device.limits().max_storage_buffer_binding_size as u64;
+        if bytes[0] > most {
             bail!(
-                "RIS reuse needs {} MB of reservoirs at {}x{} with {} samples, past the adapter's {} MB a binding: \
-                 use fewer ris-samples or a smaller frame",
-                bytes >> 20,
+                "RIS reuse keeps {} MB of reservoirs a region at {}x{} with {} samples, past the adapter's {} MB a \
+                 binding: use fewer ris-samples or a smaller frame",
+                bytes[0] >> 20,
                 size.0,
                 size.1,
                 size.2,
-                f.device.limits().max_storage_buffer_binding_size >> 20
+                most >> 20
             );
         }
-        let buffer = f.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ris reservoirs"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let buffers: Vec<wgpu::Buffer> = bytes
+            .iter()
+            .map(|&size| {
+                f.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("ris reservoirs"),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
         let group = f.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("ris reservoirs"),
             layout: &pipes.layouts(f.device).0,
-            entries: &crate::renderer::kit::bindings::REUSE.entries(vec![buffer.as_entire_binding()]),
+            entries: &crate::renderer::kit::bindings::REUSE
+                .entries(buffers.iter().map(|b| b.as_entire_binding()).collect()),
         });
-        *state = Some(ReuseState { buffer, group, size, last: None, parity: false });
+        *state = Some(ReuseState { buffers, group, size, last: None, parity: false });
         Ok(())
     }
 
@@ -231,7 +243,7 @@ impl ReuseScratch {
         let mode = [u32::from(temporal.is_some()), o.ris_spatial.min(16), RADIUS, TEMPORAL_CAP];
         let flags = u32::from(denoise.is_some()) | u32::from(denoise_history.is_some()) << 1 | u32::from(s.parity) << 2;
         let size = [s.size.0, s.size.1, s.size.2, flags];
-        f.queue.write_buffer(&s.buffer, 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, size)));
+        f.queue.write_buffer(&s.buffers[0], 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, size)));
         s.last = Some((f.view, f.proj, lights, denoise.is_some()));
         if denoise.is_some() {
             s.parity = !s.parity;

@@ -1,12 +1,13 @@
 // ReSTIR's reuse of RIS samples (Bitterli et al. 2020, "Spatiotemporal reservoir resampling for
 // real-time ray tracing with dynamic direct lighting"; stochastic/reuse.rs): three passes over
-// one buffer, `reuse`, whose header (REUSE_HEADER vec4s) holds
+// two buffers of reservoirs. `reuse` starts with the header (REUSE_HEADER vec4s):
 //   [0, 4)  the current view space to the last frame's view space (f32 bits, columns),
 //   [4, 8)  the last frame's projection,
 //   [8]     (temporal reuse with a history, spatial neighbours, radius in pixels, temporal cap),
 //   [9]     (width, height, K, 0),
-// then two regions of K reservoirs a pixel: 0, this frame's candidates after temporal reuse;
-// 1, the final reservoirs (after spatial reuse), which the next frame's temporal reuse reads.
+// then holds region 0, this frame's candidates after temporal reuse; `reuse_final` holds region
+// 1, the final reservoirs (after spatial reuse), which the next frame's temporal reuse reads;
+// each K reservoirs a pixel.
 // A reservoir is two vec4<u32>: (light, W, M, depth) and (octahedral normal, p^ at its pixel,
 // 0, 0), W its contribution weight, M the candidates it stands for, depth and normal its
 // pixel's (view space). Reservoir r's weight in a combination at pixel q is p^_q(y_r) W_r M_r.
@@ -33,23 +34,37 @@ fn reuse_matrix(at: u32) -> mat4x4<f32> {
     );
 }
 
-// Where sample k of pixel p starts in region `region`.
+// Where sample k of pixel p starts in region `region` (0 after the header of `reuse`, 1 in
+// `reuse_final`).
 fn reuse_slot(region: u32, p: vec2<i32>, k: u32) -> u32 {
     let size = reuse[9u];
-    let per_region = 2u * size.x * size.y * size.z;
-    return REUSE_HEADER + region * per_region + 2u * ((u32(p.y) * size.x + u32(p.x)) * size.z + k);
+    return select(0u, REUSE_HEADER, region == 0u) + 2u * ((u32(p.y) * size.x + u32(p.x)) * size.z + k);
 }
 
-fn reuse_load(at: u32) -> Reservoir {
-    let a = reuse[at];
-    let b = reuse[at + 1u];
+fn reuse_load(region: u32, at: u32) -> Reservoir {
+    var a: vec4<u32>;
+    var b: vec4<u32>;
+    if region == 0u {
+        a = reuse[at];
+        b = reuse[at + 1u];
+    } else {
+        a = reuse_final[at];
+        b = reuse_final[at + 1u];
+    }
     let n = oct_decode(unpack2x16snorm(b.x));
     return Reservoir(a.x, bitcast<f32>(a.y), bitcast<f32>(a.z), bitcast<f32>(a.w), n, bitcast<f32>(b.y));
 }
 
-fn reuse_store(at: u32, r: Reservoir) {
-    reuse[at] = vec4<u32>(r.light, bitcast<u32>(r.weight), bitcast<u32>(r.m), bitcast<u32>(r.depth));
-    reuse[at + 1u] = vec4<u32>(pack2x16snorm(oct_encode(r.normal)), bitcast<u32>(r.goal), 0u, 0u);
+fn reuse_store(region: u32, at: u32, r: Reservoir) {
+    let a = vec4<u32>(r.light, bitcast<u32>(r.weight), bitcast<u32>(r.m), bitcast<u32>(r.depth));
+    let b = vec4<u32>(pack2x16snorm(oct_encode(r.normal)), bitcast<u32>(r.goal), 0u, 0u);
+    if region == 0u {
+        reuse[at] = a;
+        reuse[at + 1u] = b;
+    } else {
+        reuse_final[at] = a;
+        reuse_final[at + 1u] = b;
+    }
 }
 
 // Whether a reservoir of a surface at `depth` with `normal` may be reused at one at `depth_here`
@@ -97,7 +112,7 @@ fn reuse_candidates(p: vec2<i32>, s: Surface, c: RisCell) {
         }
         let u = ris_unit(&state);
         if prev.x >= 0 {
-            let h = reuse_load(reuse_slot(1u, prev, k));
+            let h = reuse_load(1u, reuse_slot(1u, prev, k));
             if h.m > 0.0 && reuse_alike(h.depth, h.normal, prev_depth, prev_normal) {
                 let hm = min(h.m, f32(mode.w) * f32(m));
                 let own = r.goal * r.weight * r.m;
@@ -112,7 +127,7 @@ fn reuse_candidates(p: vec2<i32>, s: Surface, c: RisCell) {
                 r.weight = select(0.0, total / (r.m * r.goal), r.goal > 0.0);
             }
         }
-        reuse_store(reuse_slot(0u, p, k), r);
+        reuse_store(0u, reuse_slot(0u, p, k), r);
     }
 }
 
@@ -162,9 +177,9 @@ fn cs_ris_spatial(@builtin(global_invocation_id) id: vec3<u32>) {
     var state = ris_stream(p, 0x5bd1e995u);
     let n = min(mode.y, 16u);
     for (var k = 0u; k < size.z; k++) {
-        let own = reuse_load(reuse_slot(0u, p, k));
+        let own = reuse_load(0u, reuse_slot(0u, p, k));
         if !s.valid || n == 0u {
-            reuse_store(reuse_slot(1u, p, k), own);
+            reuse_store(1u, reuse_slot(1u, p, k), own);
             continue;
         }
         var out = own;
@@ -180,7 +195,7 @@ fn cs_ris_spatial(@builtin(global_invocation_id) id: vec3<u32>) {
             if any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size.xy)) || all(q == p) {
                 continue;
             }
-            let r = reuse_load(reuse_slot(0u, q, k));
+            let r = reuse_load(0u, reuse_slot(0u, q, k));
             if r.m <= 0.0 || !reuse_alike(r.depth, r.normal, own.depth, own.normal) {
                 continue;
             }
@@ -209,7 +224,7 @@ fn cs_ris_spatial(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             out.weight = total / (z * out.goal);
         }
-        reuse_store(reuse_slot(1u, p, k), out);
+        reuse_store(1u, reuse_slot(1u, p, k), out);
     }
 }
 
@@ -224,7 +239,7 @@ fn fs_ris_resolve(in: TiledVarying) -> LightTargets {
         let view = view_dir(s);
         let k = reuse[9u].z;
         for (var j = 0u; j < k; j++) {
-            let r = reuse_load(reuse_slot(1u, p, j));
+            let r = reuse_load(1u, reuse_slot(1u, p, j));
             let lit = ris_shade_light(s, view, r.light, r.weight);
             out.diffuse += lit.diffuse;
             out.specular += lit.specular;

@@ -53,14 +53,16 @@ fn bench(args: BenchArgs) -> Result<()> {
         );
     }
     for g in &args.only {
-        if !bench::GROUPS.contains(&g.as_str()) && g != bench::LEDGER_GROUP && g != bench::GBUFFER_GROUP {
-            bail!(
-                "--only {g}: groups are {}, {}, {}",
-                bench::GROUPS.join(", "),
-                bench::LEDGER_GROUP,
-                bench::GBUFFER_GROUP
-            );
+        let apart = [bench::LEDGER_GROUP, bench::GBUFFER_GROUP, bench::RESTIR_GROUP];
+        if !bench::GROUPS.contains(&g.as_str()) && !apart.contains(&g.as_str()) {
+            bail!("--only {g}: groups are {}, {}", bench::GROUPS.join(", "), apart.join(", "));
         }
+    }
+    if args.only.iter().any(|g| g == bench::RESTIR_GROUP) {
+        if args.only.len() > 1 {
+            bail!("--only {}: the equal-time replays run alone", bench::RESTIR_GROUP);
+        }
+        return bench_restir(&args);
     }
     o.groups = args.only.clone();
     if let Some(&bad) = args.counts.iter().find(|&&n| n == 0 || n > lampshade::scene::builtin::MAX_LIGHTS) {
@@ -117,6 +119,38 @@ fn bench(args: BenchArgs) -> Result<()> {
         if paths { ", paths.png" } else { "" },
         if stochastic { ", stochastic.md, stochastic.png" } else { "" }
     );
+    Ok(())
+}
+
+/// `bench --only restir`: the equal-time comparison on a moving camera (`bench::run_restir`),
+/// every layout of `bench::RESTIR_LAYOUTS` (with --quick, the first alone), at 1280x720 unless
+/// --size says otherwise.
+fn bench_restir(args: &BenchArgs) -> Result<()> {
+    use lampshade::bench;
+    let size = args.size.unwrap_or((1280, 720));
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let gpu = Gpu::open(&args.adapter.choice())?;
+    let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
+    let configs = bench::restir_configs(&Settings::default());
+    let layouts = &bench::RESTIR_LAYOUTS[..if args.quick { 1 } else { bench::RESTIR_LAYOUTS.len() }];
+    let bar = indicatif::ProgressBar::new((configs.len() * layouts.len()) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .map_err(|e| anyhow::anyhow!("{e}"))?,
+    );
+    let mut rows = Vec::new();
+    for l in layouts {
+        rows.extend(bench::run_restir(&gpu, l, &configs, size, &costs, &mut |label| {
+            bar.inc(1);
+            bar.set_message(label.to_string());
+        })?);
+        std::fs::write(args.out.join("restir.json"), serde_json::to_string_pretty(&rows)?)?;
+    }
+    bar.finish_and_clear();
+    let md = bench::restir_markdown(&rows, size, &gpu.info.name);
+    std::fs::write(args.out.join("restir.md"), &md)?;
+    bench::plot_restir(&rows, &args.out.join("restir.png"))?;
+    println!("{md}\nwrote {}/restir.md, restir.json, restir.png", args.out.display());
     Ok(())
 }
 

@@ -29,7 +29,9 @@ pub use lights::{FULLSCREEN_MAX_LIGHTS, LIGHT_COUNTS};
 pub use path::{PATH_LIGHT_COUNTS, ROOM};
 pub use radius::RADIUS_SCALES;
 pub use shadows::CUBE_LIGHTS;
-pub use stochastic::{EXACT_MODES as STOCHASTIC_EXACT_MODES, LAYOUTS as STOCHASTIC_LAYOUTS, STOCHASTIC_GROUP};
+pub use stochastic::{
+    EXACT_MODES as STOCHASTIC_EXACT_MODES, LAYOUTS as STOCHASTIC_LAYOUTS, RIS_CANDIDATES, STOCHASTIC_GROUP,
+};
 pub(super) use sweep::Sweep;
 pub use sweep::{reference_culling, REFERENCE_FULLSCREEN_BUDGET};
 

@@ -23,8 +23,8 @@ mod pair;
 mod path;
 mod plot;
 mod report;
-mod run;
 mod restir;
+mod run;
 mod stochastic;
 
 pub use configs::*;
@@ -36,8 +36,8 @@ pub use pair::*;
 pub use path::*;
 pub use plot::*;
 pub use report::*;
-pub use run::*;
 pub use restir::{plot_restir, restir_configs, restir_markdown, run_restir, RestirRow, RESTIR_GROUP, RESTIR_LAYOUTS};
+pub use run::*;
 pub use stochastic::{lighting_ms, lights_per_pixel, plot_stochastic, stochastic_markdown, FLIP_TARGET};
 
 use crate::compare::flip;

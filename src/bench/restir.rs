@@ -79,9 +79,12 @@ pub fn restir_configs(base: &Settings) -> Vec<RestirConfig> {
         });
     }
     for k in RESTIR_SAMPLES {
-        for (reuse, spatial, temporal) in
-            [("", 0, false), (" spatial", SPATIAL_NEIGHBOURS, false), (" temporal", 0, true), (" both", SPATIAL_NEIGHBOURS, true)]
-        {
+        for (reuse, spatial, temporal) in [
+            ("", 0, false),
+            (" spatial", SPATIAL_NEIGHBOURS, false),
+            (" temporal", 0, true),
+            (" both", SPATIAL_NEIGHBOURS, true),
+        ] {
             for denoise in [false, true] {
                 let settings = Settings {
                     culling: CullingMode::Clustered,
@@ -198,7 +201,8 @@ pub fn run_restir(
         let mut last: Option<image::RgbaImage> = None;
         for n in 0..=FLIP_FRAME {
             scene.camera = path.frame(n, step);
-            let s = Settings { noise_seed: n as u32 + 1, timestamps: true, count_fragments: false, ..c.settings.clone() };
+            let s =
+                Settings { noise_seed: n as u32 + 1, timestamps: true, count_fragments: false, ..c.settings.clone() };
             let (image, stats) = render_image(gpu, &mut renderer, &scene, &s, w, h)?;
             ms.push(stats.gpu_ms.lighting.unwrap_or(f64::NAN));
             let g = &stats.gpu_ms;
@@ -309,9 +313,8 @@ pub fn restir_markdown(rows: &[RestirRow], size: (u32, u32), adapter: &str) -> S
             .iter()
             .filter(|e| e.family == RestirFamily::Engine)
             .filter(|e| {
-                of.iter().any(|s| {
-                    s.family == RestirFamily::Stochastic && e.lighting_ms < s.lighting_ms && e.flip < s.flip
-                })
+                of.iter()
+                    .any(|s| s.family == RestirFamily::Stochastic && e.lighting_ms < s.lighting_ms && e.flip < s.flip)
             })
             .map(|e| e.label.clone())
             .collect();
@@ -335,7 +338,10 @@ pub fn plot_restir(rows: &[RestirRow], path: &Path) -> Result<()> {
     let root = BitMapBackend::new(path, (460 * cols as u32, 440)).into_drawing_area();
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(80);
-    title.titled("Stochastic against exact on a moving camera: time over the fastest exact mode's against FLIP", ("sans-serif", 22))?;
+    title.titled(
+        "Stochastic against exact on a moving camera: time over the fastest exact mode's against FLIP",
+        ("sans-serif", 22),
+    )?;
     let kind = |r: &RestirRow| match r.family {
         RestirFamily::Exact => 0,
         RestirFamily::Stochastic if r.label.ends_with("denoised") => 2,
@@ -377,7 +383,14 @@ pub fn plot_restir(rows: &[RestirRow], path: &Path) -> Result<()> {
         let x_ticks = crate::plot_layout::log_ticks(lo, hi);
         let y_ticks = crate::plot_layout::linear_ticks(0.0, e_hi);
         let decimals = (crate::plot_layout::tick_decimals(&x_ticks), crate::plot_layout::tick_decimals(&y_ticks));
-        super::plot::draw_ticks(&mut chart, area, (&x_ticks, decimals.0), (&y_ticks, decimals.1), (lo, hi), (0.0, e_hi))?;
+        super::plot::draw_ticks(
+            &mut chart,
+            area,
+            (&x_ticks, decimals.0),
+            (&y_ticks, decimals.1),
+            (lo, hi),
+            (0.0, e_hi),
+        )?;
         chart.draw_series(LineSeries::new([(lo, 0.02), (0.5, 0.02), (0.5, 0.0)], BLACK.mix(0.4)))?;
         for (k, _, c) in legend {
             chart.draw_series(pts.iter().filter(|p| p.2 == k).map(|p| Circle::new((p.0, p.1), 4, c.filled())))?;

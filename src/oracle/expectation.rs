@@ -206,14 +206,7 @@ pub fn expectation(
         bail!("the expectation is held to brute force over a G-buffer: the {} path keeps none", settings.path.name());
     }
     let stochastic = Settings { count_fragments: false, count_ideal: false, timestamps: false, ..settings.clone() };
-    let exact = Settings {
-        ris_samples: 0,
-        ris_spatial: 0,
-        ris_temporal: false,
-        stochastic_culling: false,
-        planted_bias: 1.0,
-        ..stochastic.clone()
-    };
+    let exact = stochastic.made_exact();
     let mut dark_scene = scene.clone();
     dark_scene.lights_mut().clear();
     render_image(gpu, renderer, &dark_scene, &exact, w, h)?;

@@ -279,6 +279,20 @@ impl Settings {
         self.into()
     }
 
+    /// These settings with every stochastic estimator off (RIS, its reuse and denoiser,
+    /// stochastic culling, the planted bias): the exact frame they are held to.
+    pub fn made_exact(&self) -> Settings {
+        Settings {
+            ris_samples: 0,
+            ris_spatial: 0,
+            ris_temporal: false,
+            ris_denoise: false,
+            stochastic_culling: false,
+            planted_bias: 1.0,
+            ..self.clone()
+        }
+    }
+
     pub fn stochastic_options(&self) -> super::options::StochasticOptions {
         self.into()
     }

@@ -1,5 +1,5 @@
 //! The scene tab's "Stochastic shading" section: RIS's samples and candidates on the list
-//! modes, stochastic light culling and its threshold on every mode, the noise seed (and a
+//! modes, its spatial and temporal reuse and its denoiser, stochastic light culling and its threshold on every mode, the noise seed (and a
 //! new seed each frame), and what the last frame drew with (`FrameStats::stochastic`).
 
 use super::common::FrameInfo;
@@ -20,6 +20,26 @@ pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                 ui.add(egui::Slider::new(&mut s.ris_candidates, 1..=256).logarithmic(true))
                     .on_hover_text("lights drawn uniformly from the pixel's list for each sample");
             });
+            let reuse = s.ris_samples > 0 && s.ris_samples <= crate::renderer::stochastic::reuse::MAX_SAMPLES;
+            ui.add_enabled_ui(reuse, |ui| {
+                ui.horizontal(|ui| {
+                    ui.label("spatial reuse");
+                    ui.add(egui::Slider::new(&mut s.ris_spatial, 0..=16)).on_hover_text(
+                        "neighbours each sample is combined with (ReSTIR, unbiased 1/Z weights); 0: off",
+                    );
+                });
+                ui.checkbox(&mut s.ris_temporal, "temporal reuse").on_hover_text(
+                    "combine each sample with the last frame's at the reprojected point (biased where things move)",
+                );
+                ui.checkbox(&mut s.ris_denoise, "denoise").on_hover_text(
+                    "temporal accumulation and an edge-aware filter guided by the variance (SVGF; biased)",
+                );
+            })
+            .response
+            .on_disabled_hover_text(format!(
+                "reuse and the denoiser keep 1 to {} RIS samples a pixel",
+                crate::renderer::stochastic::reuse::MAX_SAMPLES
+            ));
         })
         .response
         .on_disabled_hover_text("RIS draws from light lists: culling tiled, clustered, zbin or auto");
@@ -45,8 +65,18 @@ pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
                         x.mean_range * 100.0
                     )
                 });
+                let reuse = match (x.ris_spatial, x.ris_temporal) {
+                    (0, false) => String::new(),
+                    (n, t) => format!(
+                        ", reuse {}{}{}",
+                        if n > 0 { format!("{n} neighbours") } else { String::new() },
+                        if n > 0 && t { " and " } else { "" },
+                        if t { "temporal" } else { "" }
+                    ),
+                };
+                let denoised = if x.denoise { ", denoised" } else { "" };
                 ui.label(format!(
-                    "last frame: seed {}, RIS {} x {}, culling {culled}",
+                    "last frame: seed {}, RIS {} x {}{reuse}{denoised}, culling {culled}",
                     x.noise_seed, x.ris_samples, x.ris_candidates
                 ));
             }

@@ -120,7 +120,8 @@ impl App {
         if self.state.animate {
             self.state.time += dt * self.state.time_speed;
         }
-        if self.state.animate_noise {
+        // The views that average RIS's frames need a new seed each frame to average anything.
+        if self.state.animate_noise || self.state.settings.debug_view.converges() {
             let s = &mut self.state.settings;
             s.noise_seed = s.noise_seed.wrapping_add(1) % u32::MAX;
         }

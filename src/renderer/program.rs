@@ -225,6 +225,7 @@ pub fn shader_source_for(
             include_str!("stochastic/ris.wgsl"),
             include_str!("stochastic/reuse.wgsl"),
             include_str!("stochastic/denoise.wgsl"),
+            include_str!("stochastic/converge.wgsl"),
             include_str!("post/post.wgsl"),
             include_str!("shadows/casters.wgsl"),
             include_str!("paths/prepass.wgsl"),

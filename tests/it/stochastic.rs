@@ -303,3 +303,28 @@ fn the_denoiser_lowers_the_error() {
         );
     }
 }
+
+/// The `converge` view averages RIS's frames while the camera, the lights and the settings but
+/// the seed hold still: its accumulation after 16 frames lies nearer the exact one than the
+/// first frame's (mean absolute difference below half: the noise of a mean of 16 falls to a
+/// quarter); a setting changed starts it anew (the next frame is as far as a first).
+#[test]
+fn the_converge_view_averages_riss_frames() {
+    let gpu = gpu();
+    let demo = scene("demo");
+    let s = Settings { debug_view: lampshade::renderer::DebugView::Converge, ..ris(CullingMode::Clustered, 1, 8) };
+    let exact = s.made_exact();
+    let accumulation = |s: &Settings, r: &mut Renderer| {
+        render_image(gpu, r, &demo, s, 96, 54).expect("render");
+        r.last_frame().read_accumulation(gpu).expect("accumulation")
+    };
+    let reference = accumulation(&exact, &mut Renderer::new(gpu, OUTPUT_FORMAT, &exact).expect("renderer"));
+    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
+    let errors: Vec<f64> = (1..=16)
+        .map(|seed| mean_difference(&accumulation(&Settings { noise_seed: seed, ..s.clone() }, &mut r), &reference))
+        .collect();
+    assert!(errors[15] < 0.5 * errors[0], "mean error by frame {errors:?}");
+    let changed = Settings { noise_seed: 17, ris_candidates: 9, ..s.clone() };
+    let anew = mean_difference(&accumulation(&changed, &mut r), &reference);
+    assert!(anew > 0.5 * errors[0], "a changed setting did not start the average anew: {anew} after {errors:?}");
+}

@@ -1317,3 +1317,4 @@ fn a_switch_keeps_drawing_the_last_configuration_while_the_new_one_compiles() {
 }
 
 mod compare;
+mod stochastic;

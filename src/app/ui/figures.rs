@@ -306,8 +306,12 @@ fn brdf_legend(ui: &mut egui::Ui) {
 /// The legend of the `tile-lights` view: a colour bar from 0 to `tiles::HEAT_MAX` lights per
 /// list (longer lists saturate at the right end), with counts under it.
 fn tile_legend(ui: &mut egui::Ui) {
-    let max = crate::renderer::tiles::HEAT_MAX;
-    ui.label(RichText::new("lights per tile / cluster list").small());
+    heat_legend(ui, "lights per tile / cluster list", crate::renderer::tiles::HEAT_MAX, 0);
+}
+
+/// The heatmap views' scale: `title`, 0 to `max` (the last label `max+`), `decimals` places.
+pub(super) fn heat_legend(ui: &mut egui::Ui, title: &str, max: f32, decimals: usize) {
+    ui.label(RichText::new(title).small());
     let width = ui.available_width().clamp(120.0, 260.0);
     let (rect, _) = ui.allocate_exact_size(Vec2::new(width, 26.0), Sense::hover());
     let p = ui.painter_at(rect);
@@ -330,7 +334,7 @@ fn tile_legend(ui: &mut egui::Ui) {
             4 => egui::Align2::RIGHT_TOP,
             _ => egui::Align2::CENTER_TOP,
         };
-        let label = if k == 4 { format!("{v:.0}+") } else { format!("{v:.0}") };
+        let label = if k == 4 { format!("{v:.decimals$}+") } else { format!("{v:.decimals$}") };
         p.text(
             Pos2::new(x, bar.bottom() + 1.0),
             align,

@@ -4,6 +4,7 @@
 
 use super::common::FrameInfo;
 use crate::app::state::UiState;
+use crate::renderer::DebugView;
 use egui::RichText;
 
 pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
@@ -43,6 +44,22 @@ pub(super) fn section(ui: &mut egui::Ui, st: &mut UiState, f: &FrameInfo) {
         })
         .response
         .on_disabled_hover_text("RIS draws from light lists: culling tiled, clustered, zbin or auto");
+        ui.add_enabled_ui(s.ris_samples > 0, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("view");
+                for v in [DebugView::Lit, DebugView::Converge, DebugView::Variance] {
+                    ui.selectable_value(&mut s.debug_view, v, v.name());
+                }
+            })
+            .response
+            .on_hover_text(
+                "converge: RIS's frames averaged while the camera, the lights and the settings hold still (a new seed \
+                 each frame); variance: how much each pixel's light varies from frame to frame over them",
+            );
+        });
+        if s.debug_view == DebugView::Variance {
+            super::figures::heat_legend(ui, "RIS's light: deviation over mean, frame to frame", 2.0, 1);
+        }
         ui.checkbox(&mut s.stochastic_culling, "stochastic light culling (every mode)");
         ui.add_enabled_ui(s.stochastic_culling, |ui| {
             ui.horizontal(|ui| {

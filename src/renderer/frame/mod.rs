@@ -151,6 +151,11 @@ pub struct FrameKey {
 }
 
 impl FrameKey {
+    /// The light list the frame was computed from.
+    pub fn lights(&self) -> &std::sync::Arc<Vec<crate::scene::Light>> {
+        &self.lights
+    }
+
     fn of(scene: &Scene, settings: &Settings, size: (u32, u32), pipeline: &super::kit::pipeline::PipelineKey) -> Self {
         Self {
             lights: scene.lights.clone(),
@@ -550,6 +555,7 @@ impl Renderer {
             debug_groups: self.debug_groups,
             view: prepared.records.view,
             proj: prepared.records.proj,
+            scene_lights: prepared.key.lights(),
         })
     }
 }

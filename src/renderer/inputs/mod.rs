@@ -86,6 +86,8 @@ pub struct FrameInputs<'a> {
     /// The frame's world to view and projection (RIS's temporal reuse reprojects with them).
     pub view: glam::DMat4,
     pub proj: glam::DMat4,
+    /// The scene's light list (shared, copied on write: another list is another allocation).
+    pub scene_lights: &'a std::sync::Arc<Vec<crate::scene::Light>>,
 }
 
 impl FrameInputs<'_> {

@@ -239,8 +239,9 @@ pub const EXPLAIN: Group = Group {
 
 /// Group 3 of RIS's passes over kept reservoirs (`stochastic::reuse`): the header and this
 /// frame's reservoirs, the final reservoirs (`reuse.wgsl`), and the denoiser's four regions
-/// (`denoise.wgsl`; 16-byte stand-ins without it). Each its own binding, as one region may
-/// fill WebGPU's 128 MiB binding at 1280x720: with the tiled pass's 8 that is 14 storage
+/// (`denoise.wgsl`), and the sums the views that average RIS's frames keep (`converge.wgsl`);
+/// 16-byte stand-ins for those a frame does not use. Each its own binding, as one region may
+/// fill WebGPU's 128 MiB binding at 1280x720: with the tiled pass's 8 that is 15 storage
 /// buffers a stage (`reuse::STORAGE_BUFFERS`). Slots from 80.
 pub const REUSE: Group = Group {
     label: "reuse",
@@ -252,6 +253,7 @@ pub const REUSE: Group = Group {
         Binding { slot: 83, name: "denoise_b", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
         Binding { slot: 84, name: "denoise_h0", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
         Binding { slot: 85, name: "denoise_h1", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
+        Binding { slot: 86, name: "converge", wgsl_type: "array<vec4<u32>>", kind: Kind::StorageReadWrite },
     ],
 };
 

@@ -274,10 +274,18 @@ pub enum DebugView {
     /// own culling (its stencil marks, its tile or cluster list): a heatmap on the tile-lights
     /// scale; with a selected light, that light's alone. Deferred path.
     Waste = 18,
+    /// RIS's estimate averaged over the frames drawn since the camera, the lights or a setting
+    /// other than the noise seed last changed (`stochastic::reuse`): the lit picture it
+    /// converges to. Exact frames show the lit picture.
+    Converge = 19,
+    /// How much RIS's light at each pixel varies from frame to frame over the same frames: its
+    /// standard deviation over its mean, a heatmap from 0 to 2 (the legend in the viewer).
+    /// Exact frames show none.
+    Variance = 20,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 19] = [
+    pub const ALL: [DebugView; 21] = [
         DebugView::Lit,
         DebugView::Albedo,
         DebugView::Normal,
@@ -297,7 +305,14 @@ impl DebugView {
         DebugView::Shadow,
         DebugView::Cascades,
         DebugView::Waste,
+        DebugView::Converge,
+        DebugView::Variance,
     ];
+
+    /// Whether the view averages RIS's frames (`Converge`, `Variance`).
+    pub fn converges(self) -> bool {
+        matches!(self, DebugView::Converge | DebugView::Variance)
+    }
 
     /// The name of the view's generated WGSL constant (`LS_VIEW_…`): its name in capitals.
     pub fn wgsl_name(self) -> String {

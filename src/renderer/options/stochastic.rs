@@ -34,3 +34,11 @@ impl StochasticOptions {
         [threshold, self.planted_bias, 0.0, 0.0]
     }
 }
+
+impl super::Options {
+    /// Whether RIS runs as passes over kept reservoirs (`stochastic::reuse`): for its reuse or
+    /// denoiser, or for the views that average its frames.
+    pub fn ris_passes(&self) -> bool {
+        self.stochastic.reuse() || (self.stochastic.ris() && self.frame.debug_view.converges())
+    }
+}

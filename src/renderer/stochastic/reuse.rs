@@ -19,6 +19,7 @@
 
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{ComputePipe, RenderPipe};
+use crate::renderer::options::{DebugView, Options};
 use crate::renderer::stats::Span;
 use anyhow::{bail, Result};
 use glam::DMat4;
@@ -32,9 +33,9 @@ pub const MAX_SAMPLES: u32 = 4;
 pub const RADIUS: u32 = 16;
 /// The temporal history's count is capped at this many times M (ReSTIR's 20).
 pub const TEMPORAL_CAP: u32 = 20;
-/// Storage buffers a stage the reuse passes bind: the tiled pass's 8, the reservoirs' two and
-/// the denoiser's four (`bindings::REUSE`).
-pub const STORAGE_BUFFERS: u32 = 14;
+/// Storage buffers a stage the reuse passes bind: the tiled pass's 8, the reservoirs' two, the
+/// denoiser's four and the averaging views' sums (`bindings::REUSE`).
+pub const STORAGE_BUFFERS: u32 = 15;
 /// The buffer's header, in vec4<u32> (`reuse.wgsl`).
 const HEADER_VEC4: u64 = 10;
 
@@ -63,6 +64,9 @@ pub struct ReusePipes {
     resolve: OnceLock<RenderPipe>,
     denoise: OnceLock<[ComputePipe; 5]>,
     denoised: OnceLock<RenderPipe>,
+    converge: OnceLock<ComputePipe>,
+    converged: OnceLock<RenderPipe>,
+    variance: OnceLock<RenderPipe>,
 }
 
 impl ReusePipes {
@@ -77,6 +81,9 @@ impl ReusePipes {
             resolve: OnceLock::new(),
             denoise: OnceLock::new(),
             denoised: OnceLock::new(),
+            converge: OnceLock::new(),
+            converged: OnceLock::new(),
+            variance: OnceLock::new(),
         }
     }
 
@@ -116,22 +123,58 @@ impl ReusePipes {
         })
     }
 
-    /// The resolve: the tiled pass's shading pipeline with reuse (`denoised`: adding the
-    /// denoiser's result).
+    /// The compute passes after the spatial pass for options `o`: the denoiser's; or, for the
+    /// views that average frames, its resolve into region B alone; then the averaging.
+    pub fn after_spatial(&self, device: &wgpu::Device, module: &wgpu::ShaderModule, o: &Options) -> Vec<&ComputePipe> {
+        let converges = o.frame.debug_view.converges();
+        let mut v: Vec<&ComputePipe> = match (o.stochastic.ris_denoise, converges) {
+            (true, _) => self.denoise(device, module).iter().collect(),
+            (false, true) => vec![&self.denoise(device, module)[0]],
+            (false, false) => Vec::new(),
+        };
+        if converges {
+            v.push(self.converge.get_or_init(|| {
+                let layout = Some(&self.layouts(device).1);
+                crate::renderer::kit::compute_pipe(device, "ris converge", layout, module, "cs_converge")
+            }));
+        }
+        v
+    }
+
+    /// The resolve: the tiled pass's shading pipeline with reuse for options `o`: the mean of
+    /// the frames averaged (the `converge` view), the light in region B (denoised, or for the
+    /// `variance` view), or the final samples shaded.
     pub fn resolve(
         &self,
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
         targets: &[Option<wgpu::ColorTargetState>],
-        denoised: bool,
+        o: &Options,
     ) -> &RenderPipe {
-        let (cell, label, fs) = match denoised {
-            true => (&self.denoised, "ris denoised", "fs_ris_denoised"),
-            false => (&self.resolve, "ris resolve", "fs_ris_resolve"),
+        let (cell, label, fs) = match o.frame.debug_view {
+            DebugView::Converge => (&self.converged, "ris converged", "fs_ris_converged"),
+            _ if o.stochastic.ris_denoise || o.frame.debug_view.converges() => {
+                (&self.denoised, "ris denoised", "fs_ris_denoised")
+            }
+            _ => (&self.resolve, "ris resolve", "fs_ris_resolve"),
         };
         cell.get_or_init(|| {
             let layout = &self.layouts(device).1;
             crate::renderer::kit::screen_pipeline(device, module, label, layout, ("vs_tiled", fs), targets)
+        })
+    }
+
+    /// The `variance` view's pass into the debug target (`target`).
+    pub fn variance(
+        &self,
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        target: wgpu::ColorTargetState,
+    ) -> &RenderPipe {
+        self.variance.get_or_init(|| {
+            let layout = &self.layouts(device).1;
+            let stages = ("vs_tiled", "fs_ris_variance");
+            crate::renderer::kit::screen_pipeline(device, module, "ris variance view", layout, stages, &[Some(target)])
         })
     }
 }
@@ -146,13 +189,17 @@ struct ReuseState {
     /// The header and this frame's reservoirs; the final ones; the denoiser's four regions.
     buffers: Vec<wgpu::Buffer>,
     group: wgpu::BindGroup,
-    /// Width, height, samples a pixel, and whether the denoiser's regions follow.
-    size: (u32, u32, u32, bool),
+    /// Width, height, samples a pixel, whether the denoiser's regions are made (for the
+    /// denoiser or the averaging views), and the averaging views' sums.
+    size: (u32, u32, u32, bool, bool),
     /// The last frame's world-to-view and projection, its light count (the history is read
     /// only when the lights are the same list), and whether it denoised.
     last: Option<(DMat4, DMat4, usize, bool)>,
     /// Which of the denoiser's histories the next frame reads.
     parity: bool,
+    /// What the averaging views' sums hold: the frames' camera, lights and options (the noise
+    /// seed set to 0), and how many frames.
+    averaged: Option<(DMat4, DMat4, std::sync::Arc<Vec<crate::scene::Light>>, Options, u32)>,
 }
 
 /// The header `reuse.wgsl` reads: the matrices as f32 bits, the mode, the size.
@@ -178,7 +225,14 @@ impl ReuseScratch {
             );
         }
         let o = &f.options.stochastic;
-        let size = (f.targets.width, f.targets.height, o.ris_samples.clamp(1, MAX_SAMPLES), o.ris_denoise);
+        let converges = f.options.frame.debug_view.converges();
+        let size = (
+            f.targets.width,
+            f.targets.height,
+            o.ris_samples.clamp(1, MAX_SAMPLES),
+            o.ris_denoise || converges,
+            converges,
+        );
         let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
         if state.as_ref().is_some_and(|s| s.size == size) {
             return Ok(());
@@ -186,7 +240,8 @@ impl ReuseScratch {
         let pixels = size.0 as u64 * size.1 as u64;
         let reservoirs = 32 * pixels * size.2 as u64;
         let denoised = if size.3 { 48 * pixels } else { 16 };
-        let bytes = [16 * HEADER_VEC4 + reservoirs, reservoirs, denoised, denoised, denoised, denoised];
+        let sums = if size.4 { 32 * pixels } else { 16 };
+        let bytes = [16 * HEADER_VEC4 + reservoirs, reservoirs, denoised, denoised, denoised, denoised, sums];
         let most = f.device.limits().max_storage_buffer_binding_size as u64;
         if bytes[0] > most {
             bail!(
@@ -216,19 +271,19 @@ impl ReuseScratch {
             entries: &crate::renderer::kit::bindings::REUSE
                 .entries(buffers.iter().map(|b| b.as_entire_binding()).collect()),
         });
-        *state = Some(ReuseState { buffers, group, size, last: None, parity: false });
+        *state = Some(ReuseState { buffers, group, size, last: None, parity: false, averaged: None });
         Ok(())
     }
 
-    /// Records the candidates and spatial passes (`pipes`, from [`ReusePipes::compute`]) and,
-    /// with `denoise` (from [`ReusePipes::denoise`]), the denoiser's, with groups 0-2 bound by
-    /// `bind`, after writing the header; returns the reservoirs' group for the resolve. The
-    /// frame's camera becomes the history's.
+    /// Records the candidates and spatial passes (`pipes`, from [`ReusePipes::compute`]) and
+    /// those after (`after`, from [`ReusePipes::after_spatial`]: the denoiser's, the averaging),
+    /// with groups 0-2 bound by `bind`, after writing the header; returns the reservoirs' group
+    /// for the resolve. The frame's camera becomes the history's.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameInputs<'_>,
-        (pipes, denoise): ([&ComputePipe; 2], Option<&[ComputePipe; 5]>),
+        (pipes, after): ([&ComputePipe; 2], Vec<&ComputePipe>),
         bind: &dyn Fn(&mut wgpu::ComputePass<'_>),
     ) -> Result<wgpu::BindGroup> {
         let mut state = self.state.lock().map_err(|_| anyhow::anyhow!("reservoirs lock poisoned"))?;
@@ -237,22 +292,36 @@ impl ReuseScratch {
         let lights = f.plan.lights.len();
         let last = s.last.filter(|l| l.2 == lights);
         let temporal = last.filter(|_| o.ris_temporal);
-        let denoise_history = last.filter(|l| denoise.is_some() && l.3);
+        let denoising = o.ris_denoise;
+        let denoise_history = last.filter(|l| denoising && l.3);
         let (to_last, last_proj) =
             last.map_or((DMat4::IDENTITY, DMat4::IDENTITY), |(view, proj, ..)| (view * f.view.inverse(), proj));
         let mode = [u32::from(temporal.is_some()), o.ris_spatial.min(16), RADIUS, TEMPORAL_CAP];
-        let flags = u32::from(denoise.is_some()) | u32::from(denoise_history.is_some()) << 1 | u32::from(s.parity) << 2;
+        let averaged = match f.options.frame.debug_view.converges() {
+            true => s.average(f),
+            false => {
+                s.averaged = None;
+                0
+            }
+        };
+        let flags =
+            u32::from(denoising) | u32::from(denoise_history.is_some()) << 1 | u32::from(s.parity) << 2 | averaged << 8;
         let size = [s.size.0, s.size.1, s.size.2, flags];
         f.queue.write_buffer(&s.buffers[0], 0, bytemuck::cast_slice(&header(to_last, last_proj, mode, size)));
-        s.last = Some((f.view, f.proj, lights, denoise.is_some()));
-        if denoise.is_some() {
+        s.last = Some((f.view, f.proj, lights, denoising));
+        if denoising {
             s.parity = !s.parity;
         }
         let groups = (s.size.0.div_ceil(8), s.size.1.div_ceil(8));
         let mut run: Vec<(&ComputePipe, Option<wgpu::ComputePassTimestampWrites<'_>>)> =
             vec![(pipes[0], f.compute_timestamps(CANDIDATES_SPAN)), (pipes[1], f.compute_timestamps(SPATIAL_SPAN))];
-        for (i, pipe) in denoise.into_iter().flatten().enumerate() {
-            run.push((pipe, f.compute_timestamps_of_run(DENOISE_SPAN, (i == 0, i + 1 == DENOISE_ENTRIES.len()))));
+        let timed = if denoising { DENOISE_ENTRIES.len() } else { 0 };
+        for (i, pipe) in after.into_iter().enumerate() {
+            let timestamps = match i < timed {
+                true => f.compute_timestamps_of_run(DENOISE_SPAN, (i == 0, i + 1 == timed)),
+                false => None,
+            };
+            run.push((pipe, timestamps));
         }
         for (pipe, timestamp_writes) in run {
             let mut pass =
@@ -263,5 +332,29 @@ impl ReuseScratch {
             pass.dispatch_workgroups(groups.0, groups.1, 1);
         }
         Ok(s.group.clone())
+    }
+}
+
+impl ReuseState {
+    /// The averaging views' count of frames with this frame's: one more when the camera, the
+    /// lights (the same list, or an equal one: the viewer builds its scene's list anew each
+    /// frame) and every option but the noise seed are the last frame's, else 1 (the sums start
+    /// anew).
+    fn average(&mut self, f: &FrameInputs<'_>) -> u32 {
+        let mut options = f.options.clone();
+        options.stochastic.noise_seed = 0;
+        let n = match &self.averaged {
+            Some((view, proj, lights, o, n))
+                if *view == f.view
+                    && *proj == f.proj
+                    && (std::sync::Arc::ptr_eq(lights, f.scene_lights) || **lights == **f.scene_lights)
+                    && *o == options =>
+            {
+                n.saturating_add(1).min(1 << 23)
+            }
+            _ => 1,
+        };
+        self.averaged = Some((f.view, f.proj, f.scene_lights.clone(), options, n));
+        n
     }
 }

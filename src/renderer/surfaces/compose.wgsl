@@ -178,6 +178,11 @@ fn fs_compose_view(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32>
         // Lights evaluated at the pixel for nothing, on the tile-lights scale and legend.
         let n = textureLoad(debug_tex, p, 0).r;
         c = select(vec3<f32>(0.02), heat(n / LS_TILE_HEAT_MAX), n > 0.0);
+    } else if view == LS_VIEW_VARIANCE {
+        // RIS's light's deviation over its mean across the frames averaged, 0 to 2 (written
+        // only by RIS's frames: none when exact).
+        let v = select(0.0, textureLoad(debug_tex, p, 0).r, camera.noise.z > 0u);
+        c = select(vec3<f32>(0.02), heat(v / 2.0), v > 0.0);
     } else if view == LS_VIEW_MATERIAL_ID {
         // The pixel's reflectance model, one colour each; the viewer draws the legend.
         c = select(vec3<f32>(0.0), brdf_debug_color(s.brdf), s.valid);

@@ -236,9 +236,9 @@ impl TiledPass {
     /// The shading pipeline: z-binned or tiled/clustered, reservoir-resampled, or exact and
     /// counting each light's pairs or not (a resampled frame counts none).
     fn shade(&self, f: &FrameInputs<'_>, zbin: bool) -> &crate::renderer::kit::RenderPipe {
-        if f.options.stochastic.reuse() {
+        if f.options.ris_passes() {
             let (module, _, targets) = &self.counted_from;
-            return self.reuse.resolve(f.device, module, targets, f.options.stochastic.ris_denoise);
+            return self.reuse.resolve(f.device, module, targets, f.options);
         }
         if f.options.stochastic.ris() {
             let (module, layout, targets) = &self.counted_from;
@@ -326,7 +326,7 @@ impl Pass for TiledPass {
             return Ok(());
         }
         let fr = Frame::of(f);
-        if f.plan.tiled.is_some() && f.options.stochastic.reuse() {
+        if f.plan.tiled.is_some() && f.options.ris_passes() {
             f.scratch.reuse.fit(f, &self.reuse)?;
         }
         let mut state = f.scratch.tiled.state.lock().map_err(|_| anyhow::anyhow!("tile lists lock poisoned"))?;
@@ -355,10 +355,12 @@ impl Pass for TiledPass {
         }
         if f.plan.tiled.is_some() {
             out.add(self.shade(f, fr.zbins.is_some()));
-            if f.options.stochastic.reuse() {
-                out.add_all(self.reuse.compute(f.device, &self.counted_from.0, fr.zbins.is_some()));
-                if f.options.stochastic.ris_denoise {
-                    out.add_all(self.reuse.denoise(f.device, &self.counted_from.0));
+            if f.options.ris_passes() {
+                let module = &self.counted_from.0;
+                out.add_all(self.reuse.compute(f.device, module, fr.zbins.is_some()));
+                out.add_all(self.reuse.after_spatial(f.device, module, f.options));
+                if f.options.frame.debug_view == DebugView::Variance {
+                    out.add(self.reuse.variance(f.device, module, debug_target()));
                 }
             }
         }
@@ -533,12 +535,12 @@ impl TiledPass {
         }
         // RIS with reuse: the candidates and spatial passes, then the resolve with the
         // reservoirs bound.
-        let reservoirs = match f.plan.tiled.is_some() && f.options.stochastic.reuse() {
+        let reservoirs = match f.plan.tiled.is_some() && f.options.ris_passes() {
             true => {
-                let pipes = self.reuse.compute(f.device, &self.counted_from.0, zbin.is_some());
-                let denoise =
-                    f.options.stochastic.ris_denoise.then(|| self.reuse.denoise(f.device, &self.counted_from.0));
-                Some(f.scratch.reuse.record(encoder, f, (pipes, denoise), &|pass| bind(pass))?)
+                let module = &self.counted_from.0;
+                let pipes = self.reuse.compute(f.device, module, zbin.is_some());
+                let after = self.reuse.after_spatial(f.device, module, f.options);
+                Some(f.scratch.reuse.record(encoder, f, (pipes, after), &|pass| bind(pass))?)
             }
             false => None,
         };
@@ -565,6 +567,20 @@ impl TiledPass {
                 Some((_, z)) => z.draws(),
             };
             pass.draw(0..3, 0..draws);
+        }
+        if let Some(group) = reservoirs.as_ref().filter(|_| f.options.frame.debug_view == DebugView::Variance) {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("ris variance view"),
+                color_attachments: &[attachment(&f.targets.debug_view, Some(wgpu::Color::TRANSPARENT))],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(self.reuse.variance(f.device, &self.counted_from.0, debug_target()));
+            bind(&mut pass);
+            pass.set_bind_group(3, group, &[]);
+            pass.draw(0..3, 0..1);
         }
         if let Some(pipeline) = view {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -762,6 +778,11 @@ pub fn tile_room(rects: &[u32]) -> u64 {
 
 /// The three bind groups every tiled pass reads (frame, G-buffer, tiles), for render and
 /// compute passes alike.
+/// The debug target's colour state (the views' passes write it unblended).
+fn debug_target() -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState { format: DEBUG_FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL }
+}
+
 trait SetGroups {
     fn groups(&mut self, frame: &wgpu::BindGroup, gbuffer: &wgpu::BindGroup, tiles: &wgpu::BindGroup);
 }

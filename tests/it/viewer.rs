@@ -837,6 +837,7 @@ fn soak_lengths() {
         ("viewer", "demo", "640x400", soak_plan(3000, 10), 3000, 500),
         ("atlas panel", "shadows", ATLAS_SOAK_WINDOW, atlas_soak_plan(3000, 10), 3000, 300),
         ("split view", "demo", ATLAS_SOAK_WINDOW, compare::split_soak_plan(3000, 10), 3000, 300),
+        ("stochastic", "demo", ATLAS_SOAK_WINDOW, stochastic::stochastic_soak_plan(3000, 10), 3000, 300),
     ] {
         if std::env::var("LAMPSHADE_SOAK").is_ok_and(|only| only != name) {
             continue;

@@ -53,3 +53,59 @@ fn the_stochastic_views_average_riss_frames_and_the_reuse_knobs_apply() {
     assert!(variance > 0.02 * pixels, "the variance view shows little: {variance} of {pixels} pixels");
     assert_eq!(none, 0.0, "the variance view shows deviation in an exact frame");
 }
+
+/// The stochastic soak's schedule for `frames` frames, resident memory every `memory_every`:
+/// the demo's 256 lights on the clustered lists with RIS (2 samples, 4 neighbours' spatial
+/// reuse, temporal reuse, the denoiser) while its camera path replays (looping every 721
+/// frames); the view through lit, converge and variance every 40 frames, the samples between 1
+/// and 2 every 120 (the reservoirs made anew), the denoiser off and on every 200 (its regions
+/// made anew) and temporal reuse off and on every 280.
+pub(super) fn stochastic_soak_plan(frames: u64, memory_every: u64) -> String {
+    let path = root().join("assets/paths/demo.json");
+    let mut plan = format!(
+        "1 set scale 0.25\n1 set lights 256\n1 set shadows none\n1 culling clustered\n1 set ris-samples 2\n\
+         1 set ris-spatial 4\n1 set ris-temporal on\n1 set ris-denoise on\n1 replay {}\n",
+        path.display()
+    );
+    let views = ["lit", "converge", "variance"];
+    for (k, f) in (40..frames).step_by(40).enumerate() {
+        plan += &format!("{f} view {}\n", views[k % views.len()]);
+        if k % 3 == 0 {
+            plan += &format!("{f} set ris-samples {}\n", 1 + (k / 3) % 2);
+        }
+        if k % 5 == 0 {
+            plan += &format!("{f} set ris-denoise {}\n", if (k / 5) % 2 == 0 { "off" } else { "on" });
+        }
+        if k % 7 == 0 {
+            plan += &format!("{f} set ris-temporal {}\n", if (k / 7) % 2 == 0 { "off" } else { "on" });
+        }
+    }
+    for f in (memory_every..=frames).step_by(memory_every as usize) {
+        plan += &format!("{f} memory\n");
+    }
+    plan
+}
+
+/// RIS with its reuse and denoiser left on while the demo's camera path replays, as a user
+/// watches a flythrough with the stochastic path (`stochastic_soak_plan`), in the soaks'
+/// smallest window at a quarter scale. Resident memory every 50 frames, judged by
+/// `memory::judge_soak_compiling` after a warm-up of 300 (docs/testing.md "Soaks").
+#[test]
+fn riss_reuse_and_denoiser_on_a_replaying_path_run_in_constant_memory() {
+    need_display!();
+    const FRAMES: u64 = 1050;
+    const WARMUP: u64 = 300;
+    let dir = out_dir("stochastic-soak");
+    let script = dir.join("soak.script");
+    let mut plan = stochastic_soak_plan(FRAMES, 50);
+    plan += &format!("{0} view lit\n{1} screenshot last.png\n{1} quit\n", FRAMES + 1, FRAMES + 2);
+    std::fs::write(&script, plan).unwrap();
+    let out = view("demo", &script, &["--size", ATLAS_SOAK_WINDOW, "--no-state"], &dir);
+    let stdout = text(&out).0;
+    if !judge_memory_lines(&stdout, FRAMES / 50, WARMUP, " with RIS's reuse and denoiser on a replaying path") {
+        return;
+    }
+    let doc = json(&dir, "last-viewport.json");
+    assert!(doc["ris_samples"].as_u64().is_some_and(|k| k > 0), "RIS was off at the end: {doc}");
+    assert!(lit_share(&load(&dir, "last-viewport.png")) > 0.05, "the last viewport is black");
+}

@@ -56,6 +56,11 @@
 #                 stochastic culling against the exact modes and the engines' caps over the
 #                 eleven layouts; stochastic.md gives per layout the first K at FLIP 0.05 and its
 #                 time against the fastest exact mode: the crossover on this adapter
+#   restir-N      `lampshade bench sphere-wall --only restir --quick --lights N`: the equal-time
+#                 comparison on a moving camera (RIS with one sample, reuse off or spatial and
+#                 temporal, the denoiser off or on, against clustered and zbin) at 10^5 and 10^6
+#                 lights, in ns a pixel beside Helio's 1.05 (no brute force: the exact frame is
+#                 clustered's)
 set -u
 bin=${1:-target/release}
 out=${2:-gpu-check}
@@ -127,6 +132,10 @@ for scene in demo sphere-wall; do
 done
 step stochastic 150 "$bin/lampshade" bench sphere-wall --adapter "$adapter" --only stochastic \
     --size "$size" --frames "$frames" "${cal[@]}" --out "$out/stochastic"
+for n in 100000 1000000; do
+    step "restir-$n" 150 "$bin/lampshade" bench sphere-wall --adapter "$adapter" --only restir --quick \
+        --lights "$n" --size "$size" "${cal[@]}" --out "$out/restir-$n"
+done
 step shadows 90 "$bin/lampshade" bench demo --adapter "$adapter" --only shadows \
     --size "$size" --frames "$frames" --out "$out/shadows"
 step camera-path 90 "$bin/lampshade" bench demo --adapter "$adapter" --camera-path assets/paths/demo.json \

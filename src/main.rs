@@ -123,23 +123,26 @@ fn bench(args: BenchArgs) -> Result<()> {
 }
 
 /// `bench --only restir`: the equal-time comparison on a moving camera (`bench::run_restir`),
-/// every layout of `bench::RESTIR_LAYOUTS` (with --quick, the first alone), at 1280x720 unless
-/// --size says otherwise.
+/// every layout of `bench::restir_layouts` (with --lights N, the sphere wall with N lights
+/// alone; with --quick, the quick rows), at 1280x720 unless --size says otherwise.
 fn bench_restir(args: &BenchArgs) -> Result<()> {
     use lampshade::bench;
     let size = args.size.unwrap_or((1280, 720));
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let gpu = Gpu::open(&args.adapter.choice())?;
     let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
-    let configs = bench::restir_configs(&Settings::default());
-    let layouts = &bench::RESTIR_LAYOUTS[..if args.quick { 1 } else { bench::RESTIR_LAYOUTS.len() }];
+    let configs = bench::restir_configs(&Settings::default(), args.quick);
+    let layouts = match lampshade::cli::requested_lights(args.lights, args.light_grid) {
+        Some(n) => vec![bench::restir_wall(n, 1.0)],
+        None => bench::restir_layouts(),
+    };
     let bar = indicatif::ProgressBar::new((configs.len() * layouts.len()) as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
             .map_err(|e| anyhow::anyhow!("{e}"))?,
     );
     let mut rows = Vec::new();
-    for l in layouts {
+    for l in &layouts {
         rows.extend(bench::run_restir(&gpu, l, &configs, size, &costs, &mut |label| {
             bar.inc(1);
             bar.set_message(label.to_string());

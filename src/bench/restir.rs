@@ -7,9 +7,10 @@
 //! - **time**: the mean lighting span over the path (list builds, candidates, reuse and
 //!   denoising included), each of RIS's passes apart;
 //! - **error**: FLIP of frame [`FLIP_FRAME`] against the exact frame there (an exact mode,
-//!   which the oracle holds to brute force), and the signed mean difference of its light over
-//!   the exact one's (the bias; for an unbiased row it is that frame's noise, for the denoiser
-//!   and the engines' caps mostly their bias);
+//!   which the oracle holds to brute force), and the signed difference of its lights' light
+//!   from the exact one's, summed over the linear accumulation (the bias; for an unbiased row
+//!   it is that frame's noise, for the denoiser and the engines' caps mostly their bias), and
+//!   of its sRGB output;
 //! - **flicker**: the mean FLIP between adjacent frames, beside the fastest exact mode's (the
 //!   motion's own).
 //!
@@ -38,7 +39,7 @@ pub const RESTIR_SAMPLES: [u32; 3] = [1, 2, 4];
 
 /// A layout of the comparison: a stochastic-group layout and its scene's camera path.
 pub struct RestirLayout {
-    pub label: &'static str,
+    pub label: String,
     pub scene: &'static str,
     pub lights: usize,
     pub radius_scale: f64,
@@ -46,11 +47,18 @@ pub struct RestirLayout {
 
 /// The dense sphere wall and the radius sweep's densest point (about 40 lights a pixel each),
 /// and the sphere wall at 1,024 lights (a few).
-pub const RESTIR_LAYOUTS: [RestirLayout; 3] = [
-    RestirLayout { label: "wall 16384", scene: "sphere-wall", lights: 16384, radius_scale: 1.0 },
-    RestirLayout { label: "wall 1024 r x4", scene: "sphere-wall", lights: 1024, radius_scale: 4.0 },
-    RestirLayout { label: "wall 1024", scene: "sphere-wall", lights: 1024, radius_scale: 1.0 },
-];
+pub fn restir_layouts() -> Vec<RestirLayout> {
+    vec![wall(16384, 1.0), wall(1024, 4.0), wall(1024, 1.0)]
+}
+
+/// The sphere wall with `lights` lights, their radii times `radius_scale`.
+pub fn wall(lights: usize, radius_scale: f64) -> RestirLayout {
+    let label = match radius_scale {
+        1.0 => format!("wall {lights}"),
+        r => format!("wall {lights} r x{r}"),
+    };
+    RestirLayout { label, scene: "sphere-wall", lights, radius_scale }
+}
 
 /// What kind of row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -68,8 +76,22 @@ pub struct RestirConfig {
     pub settings: Settings,
 }
 
-/// The rows of one layout on `base`.
-pub fn restir_configs(base: &Settings) -> Vec<RestirConfig> {
+/// The rows of one layout on `base`; `quick`: the clustered and z-binned exact modes, and RIS
+/// with one sample, reuse off or both, the denoiser off or on (the GPU check's rows at 10^5
+/// and 10^6 lights).
+pub fn restir_configs(base: &Settings, quick: bool) -> Vec<RestirConfig> {
+    if quick {
+        return restir_configs(base, false)
+            .into_iter()
+            .filter(|c| match c.family {
+                RestirFamily::Exact => matches!(c.settings.culling, CullingMode::Clustered | CullingMode::Zbin),
+                RestirFamily::Stochastic => {
+                    c.settings.ris_samples == 1 && (c.settings.ris_spatial > 0) == c.settings.ris_temporal
+                }
+                RestirFamily::Engine => false,
+            })
+            .collect();
+    }
     let mut v = Vec::new();
     for culling in super::groups::STOCHASTIC_EXACT_MODES {
         v.push(RestirConfig {
@@ -117,6 +139,8 @@ pub struct RestirRow {
     /// The exact frame's lights a pixel at frame [`FLIP_FRAME`] (its G-buffer points inside a
     /// light's shape, over the pixels).
     pub lights_per_pixel: f64,
+    /// The frame's pixels.
+    pub pixels: u64,
     /// Mean over the path's frames, in ms: the lighting span, and RIS's candidates, spatial
     /// and denoise passes (NaN where they did not run).
     pub lighting_ms: f64,
@@ -125,9 +149,14 @@ pub struct RestirRow {
     pub denoise_ms: f64,
     /// FLIP of frame [`FLIP_FRAME`] against the exact frame there (mean).
     pub flip: f64,
-    /// (Its light less the exact light) over the exact light, summed over the frame's pixels
-    /// (sRGB output, all channels): signed.
+    /// Its lights' light less the exact frame's over the exact frame's, summed over the pixels
+    /// and channels of the linear accumulation less the lightless frame's: signed. One frame's:
+    /// for an unbiased row its noise, for the denoiser, temporal reuse on a moving camera and
+    /// the engines' caps mostly their bias.
     pub bias: f64,
+    /// The same of the sRGB output (after the tonemap, whose curve and clipping make a noisy
+    /// frame darker on average however unbiased its light).
+    pub display_bias: f64,
     /// Mean FLIP between adjacent frames, and the fastest exact mode's.
     pub flicker: f64,
     pub exact_flicker: f64,
@@ -156,6 +185,11 @@ fn finite_mean(v: &[f64]) -> f64 {
     }
 }
 
+/// The sum of an accumulation's channels (diffuse and specular).
+fn light_sum(a: &(Vec<f32>, Vec<f32>)) -> f64 {
+    a.0.iter().chain(&a.1).map(|&v| f64::from(v)).sum()
+}
+
 /// The summed difference of `image`'s channels from `exact`'s over `exact`'s sum.
 fn relative_difference(image: &image::RgbaImage, exact: &image::RgbaImage) -> f64 {
     let sum = |i: &image::RgbaImage| i.pixels().map(|p| p.0[..3].iter().map(|&c| c as f64).sum::<f64>()).sum::<f64>();
@@ -181,12 +215,20 @@ pub fn run_restir(
     let step = path.step(None);
     // The exact frame at FLIP_FRAME, with its lights a pixel.
     scene.camera = path.frame(FLIP_FRAME, step);
-    let exact_settings = Settings { culling: CullingMode::Clustered, count_ideal: true, ..Settings::default() };
+    // Lights a pixel counted up to 16,384 lights (the count is one occlusion query a light).
+    let count_ideal = layout.lights <= 16384;
+    let exact_settings = Settings { culling: CullingMode::Clustered, count_ideal, ..Settings::default() };
     let mut exact = Renderer::new(gpu, OUTPUT_FORMAT, &exact_settings)?;
     exact.set_calibration(costs.clone());
     let (reference, stats) = render_image(gpu, &mut exact, &scene, &exact_settings, w, h)?;
+    let reference_light = light_sum(&exact.last_frame().read_accumulation(gpu)?);
+    let mut dark = scene.clone();
+    dark.lights_mut().clear();
+    render_image(gpu, &mut exact, &dark, &exact_settings, w, h)?;
+    let dark_light = light_sum(&exact.last_frame().read_accumulation(gpu)?);
     drop(exact);
-    let lights_per_pixel = stats.ideal_fragments.unwrap_or(0) as f64 / (w as f64 * h as f64);
+    let lights_light = (reference_light - dark_light).max(f64::MIN_POSITIVE);
+    let lights_per_pixel = stats.ideal_fragments.map_or(f64::NAN, |n| n as f64 / (w as f64 * h as f64));
     let mut rows = Vec::new();
     for c in configs {
         progress(&format!("{}: {}", layout.label, c.label));
@@ -215,17 +257,20 @@ pub fn run_restir(
             last = Some(image);
         }
         let last = last.context("no frame drawn")?;
+        let light = light_sum(&renderer.last_frame().read_accumulation(gpu)?);
         rows.push(RestirRow {
-            layout: layout.label.into(),
+            layout: layout.label.clone(),
             label: c.label.clone(),
             family: c.family,
             lights_per_pixel,
+            pixels: w as u64 * h as u64,
             lighting_ms: finite_mean(&ms),
             candidates_ms: finite_mean(&passes[0]),
             spatial_ms: finite_mean(&passes[1]),
             denoise_ms: finite_mean(&passes[2]),
             flip: flip(&reference, &last)?.0.mean as f64,
-            bias: relative_difference(&last, &reference),
+            bias: (light - reference_light) / lights_light,
+            display_bias: relative_difference(&last, &reference),
             flicker: finite_mean(&flicker),
             exact_flicker: f64::NAN,
             time_ratio: f64::NAN,
@@ -259,8 +304,10 @@ pub fn restir_markdown(rows: &[RestirRow], size: (u32, u32), adapter: &str) -> S
     let mut md = format!(
         "# Stochastic against exact, equal time on a moving camera\n\n{}x{} on {adapter}; each row replays frames \
          0-{FLIP_FRAME} of its scene's camera path. ms: mean lighting span over the frames (lists, candidates, \
-         reuse and denoising included; RIS's passes apart); FLIP and bias at frame {FLIP_FRAME} against the exact \
-         frame; flicker: mean FLIP between adjacent frames (the fastest exact mode's is the motion's own).\n",
+         reuse and denoising included; RIS's passes apart); ns/px: that time a pixel (Helio publishes 1.05 ns/px); \
+         FLIP and bias at frame {FLIP_FRAME} against the exact frame (bias: the lights' linear light, summed; \
+         display bias: the sRGB output's); flicker: mean FLIP between adjacent frames (the fastest exact mode's is \
+         the motion's own).\n",
         size.0, size.1
     );
     let mut layouts: Vec<&str> = rows.iter().map(|r| r.layout.as_str()).collect();
@@ -270,20 +317,22 @@ pub fn restir_markdown(rows: &[RestirRow], size: (u32, u32), adapter: &str) -> S
         let of: Vec<&RestirRow> = rows.iter().filter(|r| r.layout == l).collect();
         let lpp = of.first().map_or(f64::NAN, |r| r.lights_per_pixel);
         md += &format!(
-            "\n## {l} ({lpp:.1} lights a pixel)\n\n| configuration | ms | × fastest exact | candidates ms | spatial ms | \
-             denoise ms | FLIP | bias | flicker | exact flicker |\n|---|---|---|---|---|---|---|---|---|---|\n"
+            "\n## {l} ({lpp:.1} lights a pixel)\n\n| configuration | ms | ns/px | × fastest exact | candidates ms | \
+             spatial ms | denoise ms | FLIP | bias | display bias | flicker | exact flicker |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
         );
         for r in &of {
             md += &format!(
-                "| {} | {} | {:.2} | {} | {} | {} | {:.4} | {:+.4} | {:.4} | {:.4} |\n",
+                "| {} | {} | {:.2} | {:.2} | {} | {} | {} | {:.4} | {:+.4} | {:+.4} | {:.4} | {:.4} |\n",
                 r.label,
                 ms(r.lighting_ms),
+                r.lighting_ms * 1e6 / r.pixels.max(1) as f64,
                 r.time_ratio,
                 ms(r.candidates_ms),
                 ms(r.spatial_ms),
                 ms(r.denoise_ms),
                 r.flip,
                 r.bias,
+                r.display_bias,
                 r.flicker,
                 r.exact_flicker
             );
@@ -406,7 +455,7 @@ mod tests {
 
     #[test]
     fn every_restir_configuration_is_valid_and_named_once() {
-        let configs = restir_configs(&Settings::default());
+        let configs = restir_configs(&Settings::default(), false);
         let mut labels: Vec<&str> = configs.iter().map(|c| c.label.as_str()).collect();
         for c in &configs {
             c.settings.validate().unwrap_or_else(|e| panic!("{}: {e}", c.label));
@@ -415,5 +464,18 @@ mod tests {
         labels.sort_unstable();
         labels.dedup();
         assert_eq!(labels.len(), configs.len(), "a label repeats");
+        let quick = restir_configs(&Settings::default(), true);
+        let names: Vec<&str> = quick.iter().map(|c| c.label.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "clustered",
+                "zbin",
+                "clustered RIS K1",
+                "clustered RIS K1 denoised",
+                "clustered RIS K1 both",
+                "clustered RIS K1 both denoised"
+            ]
+        );
     }
 }

@@ -368,6 +368,10 @@ pub struct BenchArgs {
     pub counts: Vec<usize>,
     #[command(flatten)]
     pub calibration: CalibrationArgs,
+    /// With --only restir: write restir.md and restir.png from the rows of a run's restir.json
+    /// (a run cut short writes it after each layout) instead of measuring.
+    #[arg(long, value_name = "FILE")]
+    pub restir_json: Option<PathBuf>,
     /// Replay the configurations along the camera path in FILE (as the viewer records it; see
     /// `assets/paths/`) instead of the sweep: per configuration the GPU frame time's p50, p95
     /// and p99, the worst frame and where on the path, and the flicker (mean FLIP between

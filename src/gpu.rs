@@ -144,6 +144,11 @@ pub struct Gpu {
 
 /// What a device on `adapter` is made with: the optional features it has (less those
 /// `restrict` masks), the limits, and each missing feature's name with what is lost without it.
+/// Storage buffers a shader stage the device asks for where the adapter has them: the most any
+/// pass binds, RIS's passes over kept reservoirs (the tiled pass's 8 and their 7,
+/// `stochastic::reuse::STORAGE_BUFFERS`); an adapter with fewer refuses those passes alone.
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 15;
+
 fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Features, wgpu::Limits, Vec<String>) {
     let masked = restrict.map_or(wgpu::Features::empty(), |p| p.missing_features());
     let available = adapter.features() - masked;
@@ -163,11 +168,9 @@ fn request(adapter: &wgpu::Adapter, restrict: Option<Profile>) -> (wgpu::Feature
         max_color_attachments: adapter_limits.max_color_attachments,
         max_storage_buffer_binding_size: adapter_limits.max_storage_buffer_binding_size,
         max_buffer_size: adapter_limits.max_buffer_size,
-        // RIS's passes over kept reservoirs bind the tiled pass's 8 and their 6
-        // (`stochastic::reuse::STORAGE_BUFFERS`); an adapter with fewer refuses reuse alone.
         max_storage_buffers_per_shader_stage: adapter_limits
             .max_storage_buffers_per_shader_stage
-            .min(crate::renderer::stochastic::reuse::STORAGE_BUFFERS)
+            .min(STORAGE_BUFFERS_PER_STAGE)
             .max(wgpu::Limits::default().max_storage_buffers_per_shader_stage),
         ..wgpu::Limits::default()
     };

@@ -129,6 +129,16 @@ fn bench_restir(args: &BenchArgs) -> Result<()> {
     use lampshade::bench;
     let size = args.size.unwrap_or((1280, 720));
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    if let Some(file) = &args.restir_json {
+        let text = std::fs::read_to_string(file).with_context(|| format!("reading {}", file.display()))?;
+        let rows = bench::read_restir_json(&text).with_context(|| format!("parsing {}", file.display()))?;
+        let size = rows.first().map_or(size, |r| (size.0, (r.pixels / size.0.max(1) as u64) as u32));
+        let md = bench::restir_markdown(&rows, size, "the adapter of that run");
+        std::fs::write(args.out.join("restir.md"), &md)?;
+        bench::plot_restir(&rows, &args.out.join("restir.png"))?;
+        println!("{md}\nwrote {}/restir.md, restir.png from {}", args.out.display(), file.display());
+        return Ok(());
+    }
     let gpu = Gpu::open(&args.adapter.choice())?;
     let costs = lampshade::calibration::resolve(&gpu.info, args.calibration.calibration.as_deref())?;
     let configs = bench::restir_configs(&Settings::default(), args.quick);

@@ -37,8 +37,8 @@ pub use path::*;
 pub use plot::*;
 pub use report::*;
 pub use restir::{
-    plot_restir, restir_configs, restir_layouts, restir_markdown, run_restir, wall as restir_wall, RestirRow,
-    RESTIR_GROUP,
+    plot_restir, read_restir_json, restir_configs, restir_layouts, restir_markdown, run_restir, wall as restir_wall,
+    RestirRow, RESTIR_GROUP,
 };
 pub use run::*;
 pub use stochastic::{lighting_ms, lights_per_pixel, plot_stochastic, stochastic_markdown, FLIP_TARGET};

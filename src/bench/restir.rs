@@ -61,7 +61,7 @@ pub fn wall(lights: usize, radius_scale: f64) -> RestirLayout {
 }
 
 /// What kind of row.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub enum RestirFamily {
     Exact,
     Stochastic,
@@ -130,8 +130,10 @@ pub fn restir_configs(base: &Settings, quick: bool) -> Vec<RestirConfig> {
     v
 }
 
-/// One configuration's replay on one layout.
-#[derive(Clone, Debug, Serialize)]
+/// One configuration's replay on one layout (`restir.json`; a field a run before it did not
+/// write reads as NaN).
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RestirRow {
     pub layout: String,
     pub label: String,
@@ -201,6 +203,39 @@ fn relative_difference(image: &image::RgbaImage, exact: &image::RgbaImage) -> f6
     }
 }
 
+impl Default for RestirRow {
+    fn default() -> Self {
+        RestirRow {
+            layout: String::new(),
+            label: String::new(),
+            family: RestirFamily::Exact,
+            lights_per_pixel: f64::NAN,
+            pixels: 0,
+            lighting_ms: f64::NAN,
+            candidates_ms: f64::NAN,
+            spatial_ms: f64::NAN,
+            denoise_ms: f64::NAN,
+            flip: f64::NAN,
+            bias: f64::NAN,
+            display_bias: f64::NAN,
+            flicker: f64::NAN,
+            exact_flicker: f64::NAN,
+            time_ratio: f64::NAN,
+        }
+    }
+}
+
+/// Rows read back from `restir.json`: serde_json writes NaN as null, read back here as NaN.
+pub fn read_restir_json(text: &str) -> Result<Vec<RestirRow>> {
+    let mut value: serde_json::Value = serde_json::from_str(text)?;
+    if let Some(rows) = value.as_array_mut() {
+        for row in rows.iter_mut().filter_map(|r| r.as_object_mut()) {
+            row.retain(|_, v| !v.is_null());
+        }
+    }
+    Ok(serde_json::from_value(value)?)
+}
+
 /// Replays `configs` on `layout` at `size`; `progress(label)` is called as each starts.
 pub fn run_restir(
     gpu: &Gpu,
@@ -246,7 +281,9 @@ pub fn run_restir(
             let s =
                 Settings { noise_seed: n as u32 + 1, timestamps: true, count_fragments: false, ..c.settings.clone() };
             let (image, stats) = render_image(gpu, &mut renderer, &scene, &s, w, h)?;
-            ms.push(stats.gpu_ms.lighting.unwrap_or(f64::NAN));
+            // A forward path has no lighting span: its passes' (depth pre-pass included).
+            let forward = stats.forward_path.as_ref().map(|fp| fp.passes.iter().filter_map(|p| p.gpu_ms).sum());
+            ms.push(stats.gpu_ms.lighting.or(forward).unwrap_or(f64::NAN));
             let g = &stats.gpu_ms;
             for (v, t) in passes.iter_mut().zip([g.ris_candidates, g.ris_spatial, g.ris_denoise]) {
                 v.push(t.unwrap_or(f64::NAN));

@@ -166,6 +166,21 @@ impl FrameInputs<'_> {
         })
     }
 
+    /// A full-screen render pass into the debug target (cleared), nothing else attached.
+    pub fn debug_target_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder, label: &str) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[crate::renderer::targets::attachment(
+                &self.targets.debug_view,
+                Some(wgpu::Color::TRANSPARENT),
+            )],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
     /// A render pass of per-light draws into the debug target (cleared), against the scene's
     /// depth with the stencil cleared, the light inputs bound: the debug views' and the waste
     /// view's.

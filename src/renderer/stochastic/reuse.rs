@@ -36,6 +36,7 @@ pub const TEMPORAL_CAP: u32 = 20;
 /// Storage buffers a stage the reuse passes bind: the tiled pass's 8, the reservoirs' two, the
 /// denoiser's four and the averaging views' sums (`bindings::REUSE`).
 pub const STORAGE_BUFFERS: u32 = 15;
+const _: () = assert!(crate::gpu::STORAGE_BUFFERS_PER_STAGE >= STORAGE_BUFFERS);
 /// The buffer's header, in vec4<u32> (`reuse.wgsl`).
 const HEADER_VEC4: u64 = 10;
 
@@ -197,9 +198,18 @@ struct ReuseState {
     last: Option<(DMat4, DMat4, usize, bool)>,
     /// Which of the denoiser's histories the next frame reads.
     parity: bool,
-    /// What the averaging views' sums hold: the frames' camera, lights and options (the noise
-    /// seed set to 0), and how many frames.
-    averaged: Option<(DMat4, DMat4, std::sync::Arc<Vec<crate::scene::Light>>, Options, u32)>,
+    /// What the averaging views' sums hold.
+    averaged: Option<Averaged>,
+}
+
+/// The frames the averaging views' sums hold: their camera, lights and options (the noise seed
+/// set to 0), and how many.
+struct Averaged {
+    view: DMat4,
+    proj: DMat4,
+    lights: std::sync::Arc<Vec<crate::scene::Light>>,
+    options: Options,
+    frames: u32,
 }
 
 /// The header `reuse.wgsl` reads: the matrices as f32 bits, the mode, the size.
@@ -242,7 +252,7 @@ impl ReuseScratch {
         let denoised = if size.3 { 48 * pixels } else { 16 };
         let sums = if size.4 { 32 * pixels } else { 16 };
         let bytes = [16 * HEADER_VEC4 + reservoirs, reservoirs, denoised, denoised, denoised, denoised, sums];
-        let most = f.device.limits().max_storage_buffer_binding_size as u64;
+        let most = f.device.limits().max_storage_buffer_binding_size;
         if bytes[0] > most {
             bail!(
                 "RIS reuse keeps {} MB of reservoirs a region at {}x{} with {} samples, past the adapter's {} MB a \
@@ -344,17 +354,18 @@ impl ReuseState {
         let mut options = f.options.clone();
         options.stochastic.noise_seed = 0;
         let n = match &self.averaged {
-            Some((view, proj, lights, o, n))
-                if *view == f.view
-                    && *proj == f.proj
-                    && (std::sync::Arc::ptr_eq(lights, f.scene_lights) || **lights == **f.scene_lights)
-                    && *o == options =>
+            Some(a)
+                if a.view == f.view
+                    && a.proj == f.proj
+                    && (std::sync::Arc::ptr_eq(&a.lights, f.scene_lights) || *a.lights == **f.scene_lights)
+                    && a.options == options =>
             {
-                n.saturating_add(1).min(1 << 23)
+                a.frames.saturating_add(1).min(1 << 23)
             }
             _ => 1,
         };
-        self.averaged = Some((f.view, f.proj, f.scene_lights.clone(), options, n));
+        let lights = f.scene_lights.clone();
+        self.averaged = Some(Averaged { view: f.view, proj: f.proj, lights, options, frames: n });
         n
     }
 }

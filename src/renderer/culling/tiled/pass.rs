@@ -29,7 +29,6 @@ use crate::renderer::plan::{LightPlan, Method};
 use crate::renderer::records::TileParams;
 use crate::renderer::settings::DebugView;
 use crate::renderer::stats::Span;
-use crate::renderer::targets::attachment;
 use crate::renderer::tiles::{ClusterBuild, ALL_LIGHTS, TILE};
 use anyhow::Result;
 
@@ -569,28 +568,15 @@ impl TiledPass {
             pass.draw(0..3, 0..draws);
         }
         if let Some(group) = reservoirs.as_ref().filter(|_| f.options.frame.debug_view == DebugView::Variance) {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("ris variance view"),
-                color_attachments: &[attachment(&f.targets.debug_view, Some(wgpu::Color::TRANSPARENT))],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(self.reuse.variance(f.device, &self.counted_from.0, debug_target()));
+            let pipe = self.reuse.variance(f.device, &self.counted_from.0, debug_target());
+            let mut pass = f.debug_target_pass(encoder, "ris variance view");
+            pass.set_pipeline(pipe);
             bind(&mut pass);
             pass.set_bind_group(3, group, &[]);
             pass.draw(0..3, 0..1);
         }
         if let Some(pipeline) = view {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("tile lights view"),
-                color_attachments: &[attachment(&f.targets.debug_view, Some(wgpu::Color::TRANSPARENT))],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = f.debug_target_pass(encoder, "tile lights view");
             pass.set_pipeline(pipeline);
             bind(&mut pass);
             pass.draw(0..3, 0..1);

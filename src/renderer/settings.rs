@@ -60,20 +60,7 @@ impl Settings {
                 self.path.name()
             ));
         }
-        let reuse = self.ris_spatial > 0 || self.ris_temporal || self.ris_denoise;
-        if reuse && self.ris_samples == 0 {
-            return Err(
-                "ris-spatial, ris-temporal and ris-denoise work on RIS's samples: set ris-samples 1 to 4, or turn them off"
-                    .into(),
-            );
-        }
-        if reuse && self.ris_samples > crate::renderer::stochastic::reuse::MAX_SAMPLES {
-            return Err(format!(
-                "reuse keeps every RIS sample of every pixel twice, 32 bytes each: at most {} samples (ris-samples {})",
-                crate::renderer::stochastic::reuse::MAX_SAMPLES,
-                self.ris_samples
-            ));
-        }
+        self.stochastic_options().validate()?;
         Ok(())
     }
 }

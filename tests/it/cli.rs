@@ -345,6 +345,8 @@ fn bad_input_is_a_clear_error() {
     std::fs::write(&bad_settings, "{\"culling\": \"sideways\"}").unwrap();
     let bad_gltf = tmp("bad.glb");
     std::fs::write(&bad_gltf, b"glTF\x02\x00\x00\x00\xff\xff").unwrap();
+    let restir_dir = tmp("restir-out");
+    let restir_out = restir_dir.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["render", "nowhere", "--out", p], "unknown scene"),
         (vec!["render", "spot", "--out", p, "--size", "0x10"], "size"),
@@ -376,6 +378,17 @@ fn bad_input_is_a_clear_error() {
             "use a larger --cluster-tile",
         ),
         (vec!["render", "spot", "--out", p, "--max-lights=-3"], "not a whole number"),
+        (vec!["render", "spot", "--out", p, "--culling", "tiled", "--ris-spatial", "4"], "work on RIS's samples"),
+        (
+            vec!["render", "spot", "--out", p, "--culling", "tiled", "--ris-samples", "8", "--ris-denoise", "on"],
+            "at most 4 samples",
+        ),
+        (
+            vec!["render", "spot", "--out", p, "--culling", "volume", "--ris-samples", "1"],
+            "draws its samples from the light lists",
+        ),
+        (vec!["bench", "--out", restir_out, "--only", "restir", "--restir-json", "/no/such/restir.json"], "reading"),
+        (vec!["bench", "--out", p, "--only", "restir,culling"], "replays run alone"),
         (vec!["advise", "demo", "--lights", "0"], "at least 1"),
         (vec!["advise", "spot", "--lights", "9"], "it can be advised at that many or fewer"),
         (vec!["advise", "demo", "--frames", "0"], "at least 1"),

@@ -15,6 +15,26 @@ impl StochasticOptions {
         self.ris() && (self.ris_spatial > 0 || self.ris_temporal || self.ris_denoise)
     }
 
+    /// Why these options cannot be drawn, apart from the path and mode (`Settings::validate`):
+    /// reuse and the denoiser need RIS's samples, at most `reuse::MAX_SAMPLES` of them.
+    pub fn validate(&self) -> Result<(), String> {
+        let reuse = self.ris_spatial > 0 || self.ris_temporal || self.ris_denoise;
+        if reuse && self.ris_samples == 0 {
+            return Err(
+                "ris-spatial, ris-temporal and ris-denoise work on RIS's samples: set ris-samples 1 to 4, or turn them off"
+                    .into(),
+            );
+        }
+        let most = crate::renderer::stochastic::reuse::MAX_SAMPLES;
+        if reuse && self.ris_samples > most {
+            return Err(format!(
+                "reuse keeps every RIS sample of every pixel twice, 32 bytes each: at most {most} samples (ris-samples {})",
+                self.ris_samples
+            ));
+        }
+        Ok(())
+    }
+
     /// Whether the frame is drawn by a stochastic estimator at all (its pixels are random
     /// variables whose expectation is the exact frame).
     pub fn any(&self) -> bool {

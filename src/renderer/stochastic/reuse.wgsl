@@ -131,32 +131,31 @@ fn reuse_candidates(p: vec2<i32>, s: Surface, c: RisCell) {
     }
 }
 
-@compute @workgroup_size(8, 8)
-fn cs_ris_candidates(@builtin(global_invocation_id) id: vec3<u32>) {
+// The candidates pass at invocation `id`, from the z-bins (`zbin`) or the tile and cluster
+// lists.
+fn reuse_candidates_at(id: vec3<u32>, zbin: bool) {
     if id.x >= reuse[9u].x || id.y >= reuse[9u].y {
         return;
     }
     let p = vec2<i32>(id.xy);
     let s = gbuffer_load(p);
     var c = RisCell(0u, 0u, 0u, 0u);
-    if s.valid {
+    if s.valid && zbin {
+        c = ris_zbin_cell(p, s);
+    } else if s.valid {
         c = ris_list_cell(p, s);
     }
     reuse_candidates(p, s, c);
 }
 
 @compute @workgroup_size(8, 8)
+fn cs_ris_candidates(@builtin(global_invocation_id) id: vec3<u32>) {
+    reuse_candidates_at(id, false);
+}
+
+@compute @workgroup_size(8, 8)
 fn cs_ris_candidates_zbin(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= reuse[9u].x || id.y >= reuse[9u].y {
-        return;
-    }
-    let p = vec2<i32>(id.xy);
-    let s = gbuffer_load(p);
-    var c = RisCell(0u, 0u, 0u, 0u);
-    if s.valid {
-        c = ris_zbin_cell(p, s);
-    }
-    reuse_candidates(p, s, c);
+    reuse_candidates_at(id, true);
 }
 
 // The spatial pass: each of the pixel's K samples combined with those of `mode.y` neighbours

@@ -1,6 +1,6 @@
 //! ReSTIR's reuse of RIS samples (Bitterli et al. 2020, "Spatiotemporal reservoir resampling
 //! for real-time ray tracing with dynamic direct lighting"), on the list modes: in place of the
-//! one RIS pass, three passes over one buffer of reservoirs (`reuse.wgsl`):
+//! one RIS pass, three passes over kept reservoirs (`reuse.wgsl`):
 //!
 //! 1. **candidates** (compute): each pixel's K fresh RIS samples; with `ris_temporal`, each
 //!    combined with the last frame's final sample at the point reprojected through the last
@@ -11,11 +11,14 @@
 //!    paper); the result is the frame's final reservoirs, kept for the next frame;
 //! 3. **resolve** (the tiled pass's shading): each final sample shaded with its shadow;
 //!    with `ris_denoise`, into the denoiser's buffer instead, then its temporal accumulation
-//!    and three a-trous steps (`denoise.wgsl`), and the tiled pass's shading adds the result.
+//!    and three a-trous steps (`denoise.wgsl`), and the tiled pass's shading adds the result;
+//!    with the `converge` or `variance` view, each frame's light is also added to the sums
+//!    those views draw from (`converge.wgsl`).
 //!
 //! The reservoirs are each renderer's ([`ReuseScratch`]): K a pixel, two regions of 32 bytes a
 //! sample, so reuse takes at most [`MAX_SAMPLES`] samples; the denoiser's four regions add 48
-//! bytes a pixel each. Each region is a binding of its own (at most 118 MB at 1280x720).
+//! bytes a pixel each, the averaging views' sums 32. Each region is a buffer and a binding of
+//! its own (at most 118 MB at 1280x720).
 
 use crate::renderer::inputs::FrameInputs;
 use crate::renderer::kit::{ComputePipe, RenderPipe};

@@ -231,6 +231,35 @@ fn mean_difference(a: &(Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>)) -> f64 {
     (d(&a.0, &b.0) + d(&a.1, &b.1)) / (a.0.len() + a.1.len()).max(1) as f64
 }
 
+/// The accumulation (diffuse, specular) of `s` drawn on `scene` at `size` by `r`.
+fn accumulation(scene: &Scene, s: &Settings, r: &mut Renderer, (w, h): (u32, u32)) -> (Vec<f32>, Vec<f32>) {
+    render_image(gpu(), r, scene, s, w, h).expect("render");
+    r.last_frame().read_accumulation(gpu()).expect("accumulation")
+}
+
+/// The accumulation of `s` made exact, by a renderer of its own.
+fn exact_accumulation(scene: &Scene, s: &Settings, size: (u32, u32)) -> (Vec<f32>, Vec<f32>) {
+    let exact = s.made_exact();
+    accumulation(scene, &exact, &mut Renderer::new(gpu(), OUTPUT_FORMAT, &exact).expect("renderer"), size)
+}
+
+/// The mean absolute difference from `reference` of `s` drawn by `r` with the noise seeds
+/// `seeds`, one frame each, in order.
+fn errors_by_seed(
+    scene: &Scene,
+    s: &Settings,
+    r: &mut Renderer,
+    reference: &(Vec<f32>, Vec<f32>),
+    seeds: std::ops::RangeInclusive<u32>,
+    size: (u32, u32),
+) -> Vec<f64> {
+    seeds
+        .map(|seed| {
+            mean_difference(&accumulation(scene, &Settings { noise_seed: seed, ..s.clone() }, r, size), reference)
+        })
+        .collect()
+}
+
 /// Temporal reuse on a still camera: each frame's samples are combined with the history of the
 /// frames before at the same surface, so the error against the exact frame falls frame after
 /// frame, towards what one sample drawn in proportion to the target leaves (RIS's floor: the
@@ -241,24 +270,14 @@ fn mean_difference(a: &(Vec<f32>, Vec<f32>), b: &(Vec<f32>, Vec<f32>)) -> f64 {
 /// with and without spatial reuse.
 #[test]
 fn temporal_reuse_converges_on_a_still_camera() {
-    let gpu = gpu();
     let demo = scene("demo");
     for s in [reused(CullingMode::Tiled, 1, 0, true), reused(CullingMode::Clustered, 1, 4, true)] {
-        let exact = s.made_exact();
-        let accumulation = |s: &Settings, r: &mut Renderer| {
-            render_image(gpu, r, &demo, s, 96, 54).expect("render");
-            r.last_frame().read_accumulation(gpu).expect("accumulation")
-        };
-        let reference = accumulation(&exact, &mut Renderer::new(gpu, OUTPUT_FORMAT, &exact).expect("renderer"));
-        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
-        let errors: Vec<f64> = (1..=8)
-            .map(|seed| mean_difference(&accumulation(&Settings { noise_seed: seed, ..s.clone() }, &mut r), &reference))
-            .collect();
+        let reference = exact_accumulation(&demo, &s, (96, 54));
+        let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &s).expect("renderer");
+        let errors = errors_by_seed(&demo, &s, &mut r, &reference, 1..=8, (96, 54));
         let alone = Settings { noise_seed: 8, ris_temporal: false, ..s.clone() };
-        let alone = mean_difference(
-            &accumulation(&alone, &mut Renderer::new(gpu, OUTPUT_FORMAT, &alone).expect("renderer")),
-            &reference,
-        );
+        let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &alone).expect("renderer");
+        let alone = mean_difference(&accumulation(&demo, &alone, &mut r, (96, 54)), &reference);
         assert!(
             errors[7] < errors[0] && errors[7] < alone,
             "{:?} spatial {}: mean error by frame {errors:?}, frame 8 alone {alone}",
@@ -277,21 +296,13 @@ fn temporal_reuse_converges_on_a_still_camera() {
 /// design, so no test holds it to its expectation; the bench reports its error and bias.
 #[test]
 fn the_denoiser_lowers_the_error() {
-    let gpu = gpu();
     let demo = scene("demo");
     let s = Settings { ris_denoise: true, ..reused(CullingMode::Tiled, 1, 4, true) };
     let raw = Settings { ris_denoise: false, ..s.clone() };
-    let exact = s.made_exact();
-    let accumulation = |s: &Settings, r: &mut Renderer| {
-        render_image(gpu, r, &demo, s, 192, 108).expect("render");
-        r.last_frame().read_accumulation(gpu).expect("accumulation")
-    };
-    let reference = accumulation(&exact, &mut Renderer::new(gpu, OUTPUT_FORMAT, &exact).expect("renderer"));
-    let errors = |s: &Settings| -> Vec<f64> {
-        let mut r = Renderer::new(gpu, OUTPUT_FORMAT, s).expect("renderer");
-        (1..=8)
-            .map(|seed| mean_difference(&accumulation(&Settings { noise_seed: seed, ..s.clone() }, &mut r), &reference))
-            .collect()
+    let reference = exact_accumulation(&demo, &s, (192, 108));
+    let errors = |s: &Settings| {
+        let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, s).expect("renderer");
+        errors_by_seed(&demo, s, &mut r, &reference, 1..=8, (192, 108))
     };
     let (denoised, raw) = (errors(&s), errors(&raw));
     eprintln!("mean error by frame, denoised {denoised:?}, raw {raw:?}");
@@ -310,21 +321,13 @@ fn the_denoiser_lowers_the_error() {
 /// quarter); a setting changed starts it anew (the next frame is as far as a first).
 #[test]
 fn the_converge_view_averages_riss_frames() {
-    let gpu = gpu();
     let demo = scene("demo");
     let s = Settings { debug_view: lampshade::renderer::DebugView::Converge, ..ris(CullingMode::Clustered, 1, 8) };
-    let exact = s.made_exact();
-    let accumulation = |s: &Settings, r: &mut Renderer| {
-        render_image(gpu, r, &demo, s, 96, 54).expect("render");
-        r.last_frame().read_accumulation(gpu).expect("accumulation")
-    };
-    let reference = accumulation(&exact, &mut Renderer::new(gpu, OUTPUT_FORMAT, &exact).expect("renderer"));
-    let mut r = Renderer::new(gpu, OUTPUT_FORMAT, &s).expect("renderer");
-    let errors: Vec<f64> = (1..=16)
-        .map(|seed| mean_difference(&accumulation(&Settings { noise_seed: seed, ..s.clone() }, &mut r), &reference))
-        .collect();
+    let reference = exact_accumulation(&demo, &s, (96, 54));
+    let mut r = Renderer::new(gpu(), OUTPUT_FORMAT, &s).expect("renderer");
+    let errors = errors_by_seed(&demo, &s, &mut r, &reference, 1..=16, (96, 54));
     assert!(errors[15] < 0.5 * errors[0], "mean error by frame {errors:?}");
     let changed = Settings { noise_seed: 17, ris_candidates: 9, ..s.clone() };
-    let anew = mean_difference(&accumulation(&changed, &mut r), &reference);
+    let anew = mean_difference(&accumulation(&demo, &changed, &mut r, (96, 54)), &reference);
     assert!(anew > 0.5 * errors[0], "a changed setting did not start the average anew: {anew} after {errors:?}");
 }
